@@ -1,0 +1,286 @@
+//! The friction dataset: one row per (pin, velocity plateau), and its CSV schema.
+//!
+//! Columns (units in the names): `pin`, `step`, `normal_force_N` (planned),
+//! `normal_force_measured_N`, `sliding_velocity_m_per_min`, `hertz_pressure_MPa`,
+//! `pressure_convention`, `cof_apparent`, `cof_apparent_std`, `n_samples`,
+//! `plateau_start_s`, `plateau_end_s`, `cof_trend_per_s`, `stationary`, `flags`
+//! and, once the ploughing correction has run, `cof_adhesive`.
+
+use crate::atomic::write_atomic;
+use crate::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header};
+use crate::{units, Error, Result, SourcePos};
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::Path;
+
+/// Which Hertz pressure a dataset's `hertz_pressure_MPa` column holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PressureConvention {
+    /// Textbook maximum (central) Hertz pressure p0 (Johnson 1985, ch. 4).
+    #[default]
+    TextbookMax,
+    /// Textbook mean pressure F / (π a²) = (2/3) p0.
+    TextbookMean,
+    /// The seed article's eq. 7 as evaluated there: (1/π)·cbrt(3 F E*² / (2 r²)) = p0 / 4^(1/3).
+    ArticleEq7,
+}
+
+impl PressureConvention {
+    pub const ALL: [PressureConvention; 3] =
+        [PressureConvention::TextbookMax, PressureConvention::TextbookMean, PressureConvention::ArticleEq7];
+    pub fn name(self) -> &'static str {
+        match self {
+            PressureConvention::TextbookMax => "textbook-max",
+            PressureConvention::TextbookMean => "textbook-mean",
+            PressureConvention::ArticleEq7 => "article-eq7",
+        }
+    }
+    pub fn parse(s: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|c| c.name() == s.trim())
+    }
+}
+
+/// Quality flags raised while identifying one plateau.
+pub mod flags {
+    /// μ drifts within the plateau more than the tolerance.
+    pub const TREND: &str = "trend";
+    /// Stick-slip: low-frequency oscillation of μ above the threshold.
+    pub const STICK_SLIP: &str = "stick-slip";
+    /// The end of the spindle ramp could not be confirmed from the signal.
+    pub const RAMP_UNCONFIRMED: &str = "ramp-unconfirmed";
+    /// Spikes were removed before averaging.
+    pub const SPIKES_REMOVED: &str = "spikes-removed";
+}
+
+/// One identified friction coefficient (SI units).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FrictionRecord {
+    pub pin: u32,
+    pub step: u32,
+    /// Planned normal force, N.
+    pub normal_force_n: f64,
+    /// Mean measured normal force over the plateau, N.
+    pub normal_force_measured_n: f64,
+    /// Planned sliding velocity, m/s.
+    pub sliding_velocity_m_s: f64,
+    /// Hertz pressure of the planned force under `pressure_convention`, Pa.
+    pub hertz_pressure_pa: f64,
+    pub pressure_convention: PressureConvention,
+    /// Mean of F_t/F_N over the plateau.
+    pub cof_apparent: f64,
+    /// Sample standard deviation of F_t/F_N over the plateau.
+    pub cof_apparent_std: f64,
+    pub n_samples: u64,
+    /// Plateau used, seconds after the recording trigger.
+    pub plateau_start_s: f64,
+    pub plateau_end_s: f64,
+    /// Linear trend of μ within the plateau, 1/s.
+    pub cof_trend_per_s: f64,
+    pub stationary: bool,
+    pub flags: Vec<String>,
+    /// Adhesive COF after the ploughing correction, if computed.
+    pub cof_adhesive: Option<f64>,
+}
+
+/// A friction dataset: the records in campaign order.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct FrictionDataset {
+    pub records: Vec<FrictionRecord>,
+}
+
+const COLUMNS: [&str; 16] = [
+    "pin",
+    "step",
+    "normal_force_N",
+    "normal_force_measured_N",
+    "sliding_velocity_m_per_min",
+    "hertz_pressure_MPa",
+    "pressure_convention",
+    "cof_apparent",
+    "cof_apparent_std",
+    "n_samples",
+    "plateau_start_s",
+    "plateau_end_s",
+    "cof_trend_per_s",
+    "stationary",
+    "flags",
+    "cof_adhesive",
+];
+const OPTIONAL: [&str; 1] = ["cof_adhesive"];
+
+impl FrictionDataset {
+    /// Write the dataset CSV atomically. `cof_adhesive` is written only if every record has it.
+    pub fn write_csv(&self, path: &Path) -> Result<()> {
+        let with_adhesive = !self.records.is_empty() && self.records.iter().all(|r| r.cof_adhesive.is_some());
+        write_atomic(path, |w| self.write_csv_to(w, with_adhesive))
+    }
+
+    fn write_csv_to(&self, w: &mut dyn Write, with_adhesive: bool) -> std::io::Result<()> {
+        let ncol = if with_adhesive { COLUMNS.len() } else { COLUMNS.len() - 1 };
+        writeln!(w, "{}", COLUMNS[..ncol].join(","))?;
+        for r in &self.records {
+            write!(
+                w,
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                r.pin,
+                r.step,
+                r.normal_force_n,
+                r.normal_force_measured_n,
+                units::m_per_s_to_m_per_min(r.sliding_velocity_m_s),
+                r.hertz_pressure_pa / units::PA_PER_MPA,
+                r.pressure_convention.name(),
+                r.cof_apparent,
+                r.cof_apparent_std,
+                r.n_samples,
+                r.plateau_start_s,
+                r.plateau_end_s,
+                r.cof_trend_per_s,
+                r.stationary,
+                r.flags.join(";"),
+            )?;
+            if with_adhesive {
+                write!(w, ",{}", r.cof_adhesive.unwrap_or(f64::NAN))?;
+            }
+            writeln!(w)?;
+        }
+        Ok(())
+    }
+
+    /// Read a dataset CSV strictly: every required column, finite numbers, positive forces.
+    pub fn read_csv(path: &Path) -> Result<Self> {
+        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        Self::read_csv_from(file, &path.display().to_string())
+    }
+
+    pub fn read_csv_from(reader: impl std::io::Read, source: &str) -> Result<Self> {
+        let mut rdr = csv::ReaderBuilder::new().has_headers(true).from_reader(reader);
+        let header = Header::new(source, rdr.headers().map_err(|e| csv_error(source, e))?);
+        header.reject_unknown(&COLUMNS)?;
+        let idx: Vec<Option<usize>> = COLUMNS
+            .iter()
+            .map(|c| if OPTIONAL.contains(c) { Ok(header.find(c)) } else { header.require(c).map(Some) })
+            .collect::<Result<_>>()?;
+        let col = |i: usize| idx[i].expect("required column resolved");
+        let mut records = Vec::new();
+        for (k, rec) in rdr.records().enumerate() {
+            let rec = rec.map_err(|e| csv_error(source, e))?;
+            let line = record_line(rec.position(), k as u64 + 2);
+            let f = |i: usize| parse_f64(&rec[col(i)], source, line, COLUMNS[i]);
+            let u = |i: usize| parse_u64(&rec[col(i)], source, line, COLUMNS[i]);
+            let pos = |i: usize| SourcePos::file(source).line(line).field(COLUMNS[i]);
+            let positive = |i: usize| -> Result<f64> {
+                let v = f(i)?;
+                if v <= 0.0 {
+                    return Err(Error::input(pos(i), format!("expected a positive value, found {v}")));
+                }
+                Ok(v)
+            };
+            let convention = PressureConvention::parse(&rec[col(6)]).ok_or_else(|| {
+                Error::input(
+                    pos(6),
+                    format!(
+                        "unknown pressure convention '{}'; expected one of textbook-max, textbook-mean, article-eq7",
+                        &rec[col(6)]
+                    ),
+                )
+            })?;
+            let stationary = match rec[col(13)].trim() {
+                "true" => true,
+                "false" => false,
+                other => return Err(Error::input(pos(13), format!("expected true or false, found '{other}'"))),
+            };
+            let flags = rec[col(14)].split(';').map(str::trim).filter(|s| !s.is_empty()).map(String::from).collect();
+            let cof_adhesive = match idx[15] {
+                Some(i) => Some(parse_f64(&rec[i], source, line, COLUMNS[15])?),
+                None => None,
+            };
+            records.push(FrictionRecord {
+                pin: u(0)? as u32,
+                step: u(1)? as u32,
+                normal_force_n: positive(2)?,
+                normal_force_measured_n: f(3)?,
+                sliding_velocity_m_s: units::m_per_min_to_m_per_s(positive(4)?),
+                hertz_pressure_pa: positive(5)? * units::PA_PER_MPA,
+                pressure_convention: convention,
+                cof_apparent: f(7)?,
+                cof_apparent_std: f(8)?,
+                n_samples: u(9)?,
+                plateau_start_s: f(10)?,
+                plateau_end_s: f(11)?,
+                cof_trend_per_s: f(12)?,
+                stationary,
+                flags,
+                cof_adhesive,
+            });
+        }
+        if records.is_empty() {
+            return Err(Error::input(SourcePos::file(source), "the dataset has no rows"));
+        }
+        Ok(FrictionDataset { records })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> FrictionDataset {
+        FrictionDataset {
+            records: vec![FrictionRecord {
+                pin: 1,
+                step: 1,
+                normal_force_n: 150.0,
+                normal_force_measured_n: 149.8,
+                sliding_velocity_m_s: 20.0 / 60.0,
+                hertz_pressure_pa: 914.7e6,
+                pressure_convention: PressureConvention::ArticleEq7,
+                cof_apparent: 0.41,
+                cof_apparent_std: 0.01,
+                n_samples: 450,
+                plateau_start_s: 2.1,
+                plateau_end_s: 2.55,
+                cof_trend_per_s: 0.001,
+                stationary: true,
+                flags: vec!["spikes-removed".into()],
+                cof_adhesive: None,
+            }],
+        }
+    }
+
+    #[test]
+    fn csv_round_trip() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("d.csv");
+        let d = sample();
+        d.write_csv(&p).unwrap();
+        let back = FrictionDataset::read_csv(&p).unwrap();
+        assert_eq!(back.records.len(), 1);
+        let (a, b) = (&d.records[0], &back.records[0]);
+        assert!((a.sliding_velocity_m_s - b.sliding_velocity_m_s).abs() < 1e-15);
+        assert!((a.hertz_pressure_pa - b.hertz_pressure_pa).abs() < 1e-6);
+        assert_eq!(a.flags, b.flags);
+        assert_eq!(a.pressure_convention, b.pressure_convention);
+    }
+
+    fn err_of(text: &str) -> String {
+        FrictionDataset::read_csv_from(text.as_bytes(), "t.csv").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn bad_inputs_are_named() {
+        let mut buf = Vec::new();
+        sample().write_csv_to(&mut buf, false).unwrap();
+        let good = String::from_utf8(buf).unwrap();
+        let e = err_of(&good.replace("149.8", "NaN"));
+        assert!(e.contains("line 2") && e.contains("normal_force_measured_N") && e.contains("finite"), "{e}");
+        let e = err_of(&good.replacen("150,", "-150,", 1));
+        assert!(e.contains("normal_force_N") && e.contains("positive"), "{e}");
+        let e = err_of(&good.replace("hertz_pressure_MPa", "hertz_pressure_kPa"));
+        assert!(e.contains("unknown column 'hertz_pressure_kPa'"), "{e}");
+        let e = err_of(&good.replace("article-eq7", "mystery"));
+        assert!(e.contains("unknown pressure convention"), "{e}");
+        let e = err_of(&format!("{good}1,2\n"));
+        assert!(e.contains("line 3") && e.contains("expected 15 fields"), "{e}");
+    }
+}

@@ -1,0 +1,87 @@
+//! Errors. Every error caused by user input names where it happened.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Where in an input something went wrong: file (or other source), and as much of
+/// line / field / byte offset as the reader knows.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct SourcePos {
+    /// File name or other description of the source.
+    pub source: String,
+    /// 1-based line number (text formats).
+    pub line: Option<u64>,
+    /// Column or field name.
+    pub field: Option<String>,
+    /// Byte offset from the start of the file (binary formats).
+    pub byte: Option<u64>,
+}
+
+impl SourcePos {
+    pub fn file(source: impl Into<String>) -> Self {
+        SourcePos { source: source.into(), ..Default::default() }
+    }
+    pub fn path(path: &Path) -> Self {
+        Self::file(path.display().to_string())
+    }
+    pub fn line(mut self, line: u64) -> Self {
+        self.line = Some(line);
+        self
+    }
+    pub fn field(mut self, field: impl Into<String>) -> Self {
+        self.field = Some(field.into());
+        self
+    }
+    pub fn byte(mut self, byte: u64) -> Self {
+        self.byte = Some(byte);
+        self
+    }
+}
+
+impl fmt::Display for SourcePos {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.source)?;
+        if let Some(l) = self.line {
+            write!(f, ", line {l}")?;
+        }
+        if let Some(b) = self.byte {
+            write!(f, ", byte {b}")?;
+        }
+        if let Some(c) = &self.field {
+            write!(f, ", field '{c}'")?;
+        }
+        Ok(())
+    }
+}
+
+/// The one error type of the greybox library crates.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// Malformed or physically impossible input data, with its position.
+    #[error("{pos}: {message}")]
+    Input { pos: SourcePos, message: String },
+    /// An invalid parameter (plan, configuration, function argument).
+    #[error("invalid {what}: {message}")]
+    Invalid { what: String, message: String },
+    /// An I/O failure on a named path.
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+impl Error {
+    pub fn input(pos: SourcePos, message: impl Into<String>) -> Self {
+        Error::Input { pos, message: message.into() }
+    }
+    pub fn invalid(what: impl Into<String>, message: impl Into<String>) -> Self {
+        Error::Invalid { what: what.into(), message: message.into() }
+    }
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io { path: path.into(), source }
+    }
+}
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,23 @@
+//! greybox-core: the types every other greybox crate meets at.
+//!
+//! * [`units`] — SI conversion helpers for the edges (CLI flags, file columns).
+//! * [`contact`] — [`ContactState`], what a friction law sees.
+//! * [`law`] — the [`FrictionLaw`] seam (μ for a contact state).
+//! * [`dataset`] — the friction dataset and its strict CSV schema.
+//! * [`error`] — one error type whose input errors name file, line/byte and field.
+//! * [`atomic`] — write-to-temp-then-rename output.
+//! * [`csvutil`] — strict numeric field parsing shared by every CSV reader.
+//!
+//! SI units everywhere inside: Pa, m/s, N, K, s.
+
+pub mod atomic;
+pub mod contact;
+pub mod csvutil;
+pub mod dataset;
+pub mod error;
+pub mod law;
+pub mod units;
+
+pub use contact::ContactState;
+pub use error::{Error, Result, SourcePos};
+pub use law::FrictionLaw;
