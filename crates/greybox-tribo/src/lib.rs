@@ -1,1 +1,17 @@
+//! greybox-tribo: from a tribometer campaign plan to a friction dataset.
+//!
+//! * [`plan`] — full-factorial plans with nominal timing; [`gcode`] — NC programs per pin.
+//! * [`hertz`] — Hertzian contact pressure (textbook and the article's convention).
+//! * [`recording`] — raw force recordings; [`csv_recording`] and [`tdms`] read and write them.
+//! * [`synth`] — a virtual tribometer that writes realistic recordings from a ground-truth law.
+//! * [`identify`] — plateau detection and apparent COF identification.
 
+pub mod csv_recording;
+pub mod gcode;
+pub mod hertz;
+pub mod identify;
+pub mod plan;
+pub mod recording;
+pub mod signal;
+pub mod synth;
+pub mod tdms;

@@ -1,0 +1,388 @@
+//! Apparent friction coefficients from raw recordings: alignment, drift compensation,
+//! plateau detection and per-plateau statistics.
+//!
+//! Per pin:
+//! 1. **Align** the plan with the recording: the trigger's rising edge (linear
+//!    interpolation of the threshold crossing), or — without a trigger — the onset of sliding
+//!    taken as the first S command.
+//! 2. **Check** the recording covers the plan, and that the loaded level matches the
+//!    planned force (catches wrong units or channel mapping).
+//! 3. **Latency**: the onset of sliding (tangential force leaving its unloaded baseline)
+//!    against the first S command gives the NC-to-spindle delay; all nominal times shift by it.
+//! 4. **Drift**: per channel, the medians of the unloaded windows at the start and end of
+//!    the pin define a linear offset, subtracted from the whole recording.
+//! 5. **Plateaus**: within each step, spikes are masked (Hampel filter), μ = F_t/F_N is
+//!    smoothed, the plateau level is taken from the tail of the step, and the end of the
+//!    spindle ramp is the last time the smoothed μ is outside a robust band around that
+//!    level. The plateau starts at the later of that time and the nominal ramp end, plus a
+//!    settle time; it ends a margin before the next S command.
+//! 6. **Statistics**: mean and standard deviation of F_t/F_N, sample count, linear trend
+//!    (flag `trend`), and the peak-to-peak of the smoothed, detrended μ (flag `stick-slip`).
+
+use crate::hertz::PinContact;
+use crate::plan::Plan;
+use crate::recording::Recording;
+use crate::signal::{hampel_outliers, linear_fit, mad_sigma, mean_std, median, moving_average, running_median};
+use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
+use greybox_core::{Error, Result, SourcePos};
+use serde::{Deserialize, Serialize};
+
+/// How the plan's time zero is found in a recording.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Alignment {
+    /// Rising edge of the trigger channel.
+    #[default]
+    Trigger,
+    /// The onset of sliding is the first S command (no trigger channel needed).
+    FirstPlateau,
+}
+
+/// Identification settings (study TOML `[identify]`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct IdentifyConfig {
+    pub align: Alignment,
+    /// Trigger threshold, V (default: midway between the channel's extremes).
+    pub trigger_threshold_v: Option<f64>,
+    /// Time dropped after the end of the spindle ramp, s (0.05).
+    pub settle_time_s: f64,
+    /// Time dropped before the next S command, s (0.01).
+    pub end_margin_s: f64,
+    /// Smoothing window for ramp detection and stick-slip, s (0.025).
+    pub smoothing_s: f64,
+    /// Hampel spike threshold in robust standard deviations (6).
+    pub spike_threshold_sigma: f64,
+    /// Hampel half window, s (0.01).
+    pub spike_half_window_s: f64,
+    /// A μ change over the plateau above this (and significant) is a trend (0.01).
+    pub trend_tolerance: f64,
+    /// Peak-to-peak of smoothed, detrended μ above this is stick-slip (0.03).
+    pub stick_slip_threshold: f64,
+    /// Largest NC-to-spindle latency accepted, s (0.5).
+    pub max_latency_s: f64,
+    /// Fewest samples for a plateau (50).
+    pub min_plateau_samples: usize,
+}
+
+impl Default for IdentifyConfig {
+    fn default() -> Self {
+        IdentifyConfig {
+            align: Alignment::Trigger,
+            trigger_threshold_v: None,
+            settle_time_s: 0.05,
+            end_margin_s: 0.01,
+            smoothing_s: 0.025,
+            spike_threshold_sigma: 6.0,
+            spike_half_window_s: 0.01,
+            trend_tolerance: 0.01,
+            stick_slip_threshold: 0.03,
+            max_latency_s: 0.5,
+            min_plateau_samples: 50,
+        }
+    }
+}
+
+/// What was found about a pin's recording besides the plateaus.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PinDiagnostics {
+    pub pin: u32,
+    pub source: String,
+    /// Trigger edge, s on the recording's clock.
+    pub trigger_s: f64,
+    /// NC-to-spindle latency, s.
+    pub latency_s: f64,
+    /// Drift of the normal and tangential channels over the pin, N.
+    pub drift_normal_n: f64,
+    pub drift_tangential_n: f64,
+    /// Samples masked as spikes in the plateaus.
+    pub spikes_removed: usize,
+}
+
+/// Index of the first sample with time ≥ t.
+fn index_at(time: &[f64], t: f64) -> usize {
+    time.partition_point(|x| *x < t)
+}
+
+fn trigger_edge(rec: &Recording, cfg: &IdentifyConfig) -> Result<f64> {
+    let trig = rec.trigger_v.as_ref().ok_or_else(|| {
+        Error::input(SourcePos::file(&rec.source).field("trigger"), "no trigger channel mapped; map one or use --align first-plateau")
+    })?;
+    let (lo, hi) = trig.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
+    let thr = cfg.trigger_threshold_v.unwrap_or(0.5 * (lo + hi));
+    if !(hi - lo > 0.5) || thr <= lo || thr >= hi {
+        return Err(Error::input(
+            SourcePos::file(&rec.source).field("trigger"),
+            format!("the trigger channel never switches (range {lo:.3}..{hi:.3} V, threshold {thr:.3} V)"),
+        ));
+    }
+    if trig[0] >= thr {
+        return Err(Error::input(
+            SourcePos::file(&rec.source).field("trigger"),
+            "the trigger is already high at the first sample: the recording misses the trigger edge (use --align first-plateau)",
+        ));
+    }
+    let i = trig.windows(2).position(|w| w[0] < thr && w[1] >= thr).expect("a crossing exists between lo and hi") + 1;
+    let f = (thr - trig[i - 1]) / (trig[i] - trig[i - 1]);
+    Ok(rec.time_s[i - 1] + f * (rec.time_s[i] - rec.time_s[i - 1]))
+}
+
+/// Median of `x` over the samples with t in [a, b).
+fn window_median(rec: &Recording, x: &[f64], a: f64, b: f64) -> Option<f64> {
+    let (i, j) = (index_at(&rec.time_s, a), index_at(&rec.time_s, b));
+    (j > i + 2).then(|| median(&x[i..j]))
+}
+
+/// First time after `from` where the running median of (x − base) exceeds `thr`.
+fn onset_after(rec: &Recording, x: &[f64], base: f64, from: f64, thr: f64) -> Option<f64> {
+    let i0 = index_at(&rec.time_s, from);
+    let dev: Vec<f64> = x[i0..].iter().map(|v| v - base).collect();
+    let rm = running_median(&dev, 5);
+    rm.iter().position(|v| *v > thr).map(|k| rec.time_s[i0 + k])
+}
+
+/// Identify every plateau of one pin (1-based).
+pub fn identify_pin(
+    rec: &Recording,
+    plan: &Plan,
+    pin: u32,
+    contact: &PinContact,
+    cfg: &IdentifyConfig,
+) -> Result<(Vec<FrictionRecord>, PinDiagnostics)> {
+    rec.validate()?;
+    let src = || SourcePos::file(&rec.source);
+    let sched = plan.pins.get(pin as usize - 1).ok_or_else(|| Error::invalid("identify", format!("no pin {pin} in the plan")))?;
+    let steps = plan.pin_steps(pin);
+    let spec = &plan.spec;
+    let fs = rec.sample_rate_hz();
+    let z = spec.zero_time_s;
+    let f_nom = sched.normal_force_n;
+
+    // 1. alignment
+    let (t0, latency) = match cfg.align {
+        Alignment::Trigger => {
+            let t0 = trigger_edge(rec, cfg)?;
+            (t0, None)
+        }
+        Alignment::FirstPlateau => {
+            // unloaded baseline = first zero window of the recording
+            let t_first = rec.time_s[0];
+            let base_n = window_median(rec, &rec.normal_n, t_first, t_first + 0.5 * z)
+                .ok_or_else(|| Error::input(src(), "recording too short for an unloaded baseline"))?;
+            let load = onset_after(rec, &rec.normal_n, base_n, t_first, 0.5 * f_nom)
+                .ok_or_else(|| Error::input(src().field("normal"), format!("the normal force never reaches half the planned {f_nom} N")))?;
+            let base_t = window_median(rec, &rec.tangential_n, t_first, t_first + 0.5 * z).unwrap_or(0.0);
+            let level = window_median(rec, &rec.tangential_n, load + spec.load_time_s, rec.time_s[rec.len() - 1]).unwrap_or(0.0) - base_t;
+            let onset = onset_after(rec, &rec.tangential_n, base_t, load, 0.3 * level.abs().max(1e-9))
+                .ok_or_else(|| Error::input(src().field("tangential"), "no onset of sliding found"))?;
+            (onset - steps[0].step_start_s, Some(0.0))
+        }
+    };
+
+    // 2. the recording must cover the plan (up to the middle of the final unloaded window)
+    let needed = t0 + sched.end_s - 0.5 * z;
+    let last = rec.time_s[rec.len() - 1];
+    if last < needed {
+        return Err(Error::input(
+            src(),
+            format!(
+                "recording is shorter than the plan: it ends {:.3} s after the trigger, pin {pin} needs {:.3} s",
+                last - t0,
+                sched.end_s - 0.5 * z
+            ),
+        ));
+    }
+
+    // 3. latency from the onset of sliding
+    let base_t = window_median(rec, &rec.tangential_n, t0 + 0.05 * z, t0 + 0.9 * z)
+        .ok_or_else(|| Error::input(src(), "no samples in the unloaded window after the trigger"))?;
+    let base_n = window_median(rec, &rec.normal_n, t0 + 0.05 * z, t0 + 0.9 * z).expect("same window");
+    let s0 = &steps[0];
+    let latency = match latency {
+        Some(l) => l,
+        None => {
+            let level = window_median(rec, &rec.tangential_n, t0 + s0.plateau_start_s + 0.1 * spec.dwell_s, t0 + s0.plateau_end_s)
+                .ok_or_else(|| Error::input(src(), "no samples in the first plateau"))?
+                - base_t;
+            let from = t0 + s0.step_start_s - cfg.max_latency_s;
+            let onset = onset_after(rec, &rec.tangential_n, base_t, from, 0.3 * level.abs().max(1e-9))
+                .ok_or_else(|| Error::input(src().field("tangential"), "no onset of sliding found near the first S command"))?;
+            let l = onset - (t0 + s0.step_start_s);
+            if l.abs() > cfg.max_latency_s {
+                return Err(Error::input(
+                    src(),
+                    format!("sliding starts {l:.3} s after the first S command (max ±{} s): check the plan and the alignment", cfg.max_latency_s),
+                ));
+            }
+            l
+        }
+    };
+    let ts = t0 + latency; // plan time zero on the recording clock
+
+    // 4. drift: linear offset between the unloaded windows at the start and the end
+    let pre = (ts + 0.05 * z, ts + 0.9 * z);
+    let post_start = ts + sched.unload_start_s + spec.load_time_s + 0.1 * z;
+    let post = (post_start, (ts + sched.end_s - 0.05 * z).min(last));
+    let pre_mid = 0.5 * (pre.0 + pre.1);
+    let post_mid = 0.5 * (post.0 + post.1);
+    let drift_line = |x: &[f64], name: &str| -> Result<(f64, f64)> {
+        let a = window_median(rec, x, pre.0, pre.1);
+        let b = window_median(rec, x, post.0, post.1);
+        match (a, b) {
+            (Some(a), Some(b)) => Ok((a, (b - a) / (post_mid - pre_mid))),
+            _ => Err(Error::input(src().field(name), "the unloaded windows at the start and end of the pin are empty")),
+        }
+    };
+    let (off_n, slope_n) = drift_line(&rec.normal_n, "normal")?;
+    let (off_t, slope_t) = drift_line(&rec.tangential_n, "tangential")?;
+    let _ = base_n;
+    let fn_c: Vec<f64> = rec.time_s.iter().zip(&rec.normal_n).map(|(t, v)| v - off_n - slope_n * (t - pre_mid)).collect();
+    let ft_c: Vec<f64> = rec.time_s.iter().zip(&rec.tangential_n).map(|(t, v)| v - off_t - slope_t * (t - pre_mid)).collect();
+
+    // loaded level must match the plan (units and mapping check)
+    let loaded = window_median(rec, &fn_c, ts + s0.plateau_start_s, ts + s0.plateau_end_s).unwrap_or(0.0);
+    if !(loaded > 0.5 * f_nom && loaded < 2.0 * f_nom) {
+        return Err(Error::input(
+            src().field("normal"),
+            format!("measured normal force {loaded:.3} N during the first plateau, planned {f_nom} N: check the channel mapping and units"),
+        ));
+    }
+
+    // 5./6. plateaus
+    let h_spike = ((cfg.spike_half_window_s * fs).round() as usize).max(2);
+    let w_smooth = ((cfg.smoothing_s * fs).round() as usize).max(3);
+    let mut out = Vec::with_capacity(steps.len());
+    let mut spikes_total = 0usize;
+    for s in steps {
+        let a = ts + s.step_start_s;
+        let b = ts + s.plateau_end_s;
+        let (i, j) = (index_at(&rec.time_s, a), index_at(&rec.time_s, b));
+        let pos = || src().field(format!("pin {pin} step {}", s.step));
+        if j < i + 2 * cfg.min_plateau_samples {
+            return Err(Error::input(pos(), "too few samples in the step window"));
+        }
+        let outl_n = hampel_outliers(&fn_c[i..j], h_spike, cfg.spike_threshold_sigma);
+        let outl_t = hampel_outliers(&ft_c[i..j], h_spike, cfg.spike_threshold_sigma);
+        let mut mu = Vec::with_capacity(j - i);
+        let mut good = Vec::with_capacity(j - i);
+        for k in 0..(j - i) {
+            let f_n = fn_c[i + k];
+            let is_spike = outl_n[k] || outl_t[k];
+            if !is_spike && f_n <= 0.1 * f_nom {
+                return Err(Error::input(
+                    pos(),
+                    format!("normal force {f_n:.3} N at t = {:.3} s: zero or negative during a plateau (planned {f_nom} N)", rec.time_s[i + k]),
+                ));
+            }
+            mu.push(ft_c[i + k] / f_n);
+            good.push(!is_spike);
+        }
+        // spikes replaced by the running median for smoothing
+        let rm = running_median(&mu, h_spike);
+        let clean: Vec<f64> = mu.iter().zip(&good).zip(&rm).map(|((m, g), r)| if *g { *m } else { *r }).collect();
+        let sm = moving_average(&clean, w_smooth);
+        let n = sm.len();
+        let tail = &sm[(n * 6) / 10..];
+        let level = median(tail);
+        let sigma = mad_sigma(tail, level).max(1e-4);
+        let band = (5.0 * sigma).max(0.002);
+        let head_end = (n * 7) / 10;
+        let ramp_end_k = sm[..head_end].iter().rposition(|v| (v - level).abs() > band).map(|k| k + w_smooth / 2);
+        let nominal_start = ts + s.plateau_start_s;
+        let detected = ramp_end_k.map(|k| rec.time_s[i + k.min(n - 1)]).unwrap_or(a);
+        let mut fl = Vec::new();
+        if detected > nominal_start + 0.5 * spec.dwell_s {
+            fl.push(flags::RAMP_UNCONFIRMED.to_string());
+        }
+        let p_start = detected.max(nominal_start) + cfg.settle_time_s;
+        let p_end = b - cfg.end_margin_s;
+        let (pi, pj) = (index_at(&rec.time_s, p_start) - i, index_at(&rec.time_s, p_end) - i);
+        let idx: Vec<usize> = (pi..pj.max(pi)).filter(|k| good[*k]).collect();
+        if idx.len() < cfg.min_plateau_samples {
+            return Err(Error::input(
+                pos(),
+                format!("only {} usable samples in the plateau (min {}): the spindle ramp overran the dwell", idx.len(), cfg.min_plateau_samples),
+            ));
+        }
+        let spikes = (pi..pj).filter(|k| !good[*k]).count();
+        spikes_total += spikes;
+        if spikes > 0 {
+            fl.push(flags::SPIKES_REMOVED.to_string());
+        }
+        let vals: Vec<f64> = idx.iter().map(|k| mu[*k]).collect();
+        let times: Vec<f64> = idx.iter().map(|k| rec.time_s[i + k] - ts).collect();
+        let (mean, std) = mean_std(&vals);
+        let (_, slope, se) = linear_fit(&times, &vals);
+        let duration = times[times.len() - 1] - times[0];
+        let trend = (slope * duration).abs() > cfg.trend_tolerance && slope.abs() > 4.0 * se;
+        let sm_p: Vec<f64> = sm[pi..pj].to_vec();
+        let t_p: Vec<f64> = (pi..pj).map(|k| rec.time_s[i + k] - ts).collect();
+        let (ia, ib, _) = linear_fit(&t_p, &sm_p);
+        let detr: Vec<f64> = sm_p.iter().zip(&t_p).map(|(v, t)| v - ia - ib * t).collect();
+        let h = w_smooth / 2;
+        let inner = if detr.len() > 2 * h + 2 { &detr[h..detr.len() - h] } else { &detr[..] };
+        let p2p = inner.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - inner.iter().cloned().fold(f64::INFINITY, f64::min);
+        let stick = p2p > cfg.stick_slip_threshold;
+        if trend {
+            fl.push(flags::TREND.to_string());
+        }
+        if stick {
+            fl.push(flags::STICK_SLIP.to_string());
+        }
+        let f_meas = idx.iter().map(|k| fn_c[i + k]).sum::<f64>() / idx.len() as f64;
+        out.push(FrictionRecord {
+            pin,
+            step: s.step,
+            normal_force_n: s.normal_force_n,
+            normal_force_measured_n: f_meas,
+            sliding_velocity_m_s: s.sliding_velocity_m_s,
+            hertz_pressure_pa: contact.pressure_pa(s.normal_force_n)?,
+            pressure_convention: contact.convention,
+            cof_apparent: mean,
+            cof_apparent_std: std,
+            n_samples: idx.len() as u64,
+            plateau_start_s: times[0],
+            plateau_end_s: times[times.len() - 1],
+            cof_trend_per_s: slope,
+            stationary: !trend && !stick,
+            flags: fl,
+            cof_adhesive: None,
+        });
+    }
+    let span = post_mid - pre_mid;
+    Ok((
+        out,
+        PinDiagnostics {
+            pin,
+            source: rec.source.clone(),
+            trigger_s: t0,
+            latency_s: latency,
+            drift_normal_n: slope_n * span,
+            drift_tangential_n: slope_t * span,
+            spikes_removed: spikes_total,
+        },
+    ))
+}
+
+/// Identify a whole campaign: `recordings[k]` is pin k + 1.
+pub fn identify_campaign(
+    plan: &Plan,
+    recordings: &[Recording],
+    contact: &PinContact,
+    cfg: &IdentifyConfig,
+) -> Result<(FrictionDataset, Vec<PinDiagnostics>)> {
+    if recordings.len() != plan.pins.len() {
+        return Err(Error::invalid(
+            "identify",
+            format!("the plan has {} pins but {} recordings were given", plan.pins.len(), recordings.len()),
+        ));
+    }
+    let mut records = Vec::with_capacity(plan.steps.len());
+    let mut diags = Vec::with_capacity(recordings.len());
+    for (k, rec) in recordings.iter().enumerate() {
+        let (r, d) = identify_pin(rec, plan, k as u32 + 1, contact, cfg)?;
+        records.extend(r);
+        diags.push(d);
+    }
+    Ok((FrictionDataset { records }, diags))
+}

@@ -1,0 +1,113 @@
+//! Small robust signal-processing helpers used by plateau detection.
+
+/// Median of a slice (copies; NaN-free input expected). Empty → NaN.
+pub fn median(values: &[f64]) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    let mut v = values.to_vec();
+    let mid = v.len() / 2;
+    let (_, m, _) = v.select_nth_unstable_by(mid, f64::total_cmp);
+    let m = *m;
+    if v.len() % 2 == 1 {
+        m
+    } else {
+        let lower = v[..mid].iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        0.5 * (lower + m)
+    }
+}
+
+/// Robust standard deviation: 1.4826 × median |x − center| (consistent for Gaussian noise).
+pub fn mad_sigma(values: &[f64], center: f64) -> f64 {
+    let dev: Vec<f64> = values.iter().map(|v| (v - center).abs()).collect();
+    1.4826 * median(&dev)
+}
+
+/// Running median with a centered window of `2 h + 1` samples (shrinking at the edges).
+pub fn running_median(x: &[f64], h: usize) -> Vec<f64> {
+    let n = x.len();
+    let mut out = Vec::with_capacity(n);
+    let mut buf = Vec::with_capacity(2 * h + 1);
+    for i in 0..n {
+        let lo = i.saturating_sub(h);
+        let hi = (i + h + 1).min(n);
+        buf.clear();
+        buf.extend_from_slice(&x[lo..hi]);
+        let mid = buf.len() / 2;
+        let (_, m, _) = buf.select_nth_unstable_by(mid, f64::total_cmp);
+        out.push(*m);
+    }
+    out
+}
+
+/// Hampel outlier mask: `true` where |x − running median| > k · σ, with σ the robust spread
+/// of the residuals over the whole slice (Pearson 2002, "Outliers in process modeling").
+pub fn hampel_outliers(x: &[f64], h: usize, k: f64) -> Vec<bool> {
+    let rm = running_median(x, h);
+    let resid: Vec<f64> = x.iter().zip(&rm).map(|(a, b)| a - b).collect();
+    let sigma = mad_sigma(&resid, 0.0).max(1e-12);
+    resid.iter().map(|r| r.abs() > k * sigma).collect()
+}
+
+/// Centered moving average over `w` samples (shrinking at the edges).
+pub fn moving_average(x: &[f64], w: usize) -> Vec<f64> {
+    let n = x.len();
+    let h = w / 2;
+    let mut prefix = Vec::with_capacity(n + 1);
+    prefix.push(0.0);
+    for v in x {
+        prefix.push(prefix.last().copied().unwrap_or(0.0) + v);
+    }
+    (0..n)
+        .map(|i| {
+            let lo = i.saturating_sub(h);
+            let hi = (i + h + 1).min(n);
+            (prefix[hi] - prefix[lo]) / (hi - lo) as f64
+        })
+        .collect()
+}
+
+/// Least-squares line y = a + b t. Returns (a, b, standard error of b).
+pub fn linear_fit(t: &[f64], y: &[f64]) -> (f64, f64, f64) {
+    let n = t.len() as f64;
+    let tm = t.iter().sum::<f64>() / n;
+    let ym = y.iter().sum::<f64>() / n;
+    let sxx: f64 = t.iter().map(|ti| (ti - tm).powi(2)).sum();
+    let sxy: f64 = t.iter().zip(y).map(|(ti, yi)| (ti - tm) * (yi - ym)).sum();
+    if sxx <= 0.0 || n < 3.0 {
+        return (ym, 0.0, f64::INFINITY);
+    }
+    let b = sxy / sxx;
+    let a = ym - b * tm;
+    let rss: f64 = t.iter().zip(y).map(|(ti, yi)| (yi - a - b * ti).powi(2)).sum();
+    let se = (rss / (n - 2.0) / sxx).sqrt();
+    (a, b, se)
+}
+
+/// Mean and sample standard deviation.
+pub fn mean_std(x: &[f64]) -> (f64, f64) {
+    let n = x.len() as f64;
+    let m = x.iter().sum::<f64>() / n;
+    let var = if x.len() > 1 { x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0) } else { 0.0 };
+    (m, var.sqrt())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[test]
+    fn basics() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
+        let x: Vec<f64> = (0..50).map(|i| (i as f64 * 0.7).sin() * 0.01).collect();
+        let mut y = x.clone();
+        y[20] += 5.0;
+        let m = hampel_outliers(&y, 5, 6.0);
+        assert!(m[20] && m.iter().filter(|b| **b).count() == 1);
+        let t: Vec<f64> = (0..10).map(|i| i as f64).collect();
+        let y: Vec<f64> = t.iter().map(|v| 2.0 + 0.5 * v).collect();
+        let (a, b, _) = linear_fit(&t, &y);
+        assert!((a - 2.0).abs() < 1e-12 && (b - 0.5).abs() < 1e-12);
+        assert_eq!(moving_average(&[1.0, 2.0, 3.0], 3), vec![1.5, 2.0, 2.5]);
+    }
+}
