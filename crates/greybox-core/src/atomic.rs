@@ -49,7 +49,11 @@ mod tests {
         });
         assert!(r.is_err());
         assert!(!p.exists());
-        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "temp file left behind");
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            0,
+            "temp file left behind"
+        );
         write_string_atomic(&p, "ok\n").unwrap();
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "ok\n");
     }

@@ -18,6 +18,10 @@ impl ContactState {
     pub const ROOM_TEMPERATURE_K: f64 = 293.15;
 
     pub fn new(pressure_pa: f64, sliding_velocity_m_s: f64) -> Self {
-        ContactState { pressure_pa, sliding_velocity_m_s, temperature_k: Self::ROOM_TEMPERATURE_K }
+        ContactState {
+            pressure_pa,
+            sliding_velocity_m_s,
+            temperature_k: Self::ROOM_TEMPERATURE_K,
+        }
     }
 }

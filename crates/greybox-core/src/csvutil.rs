@@ -11,7 +11,10 @@ pub struct Header {
 
 impl Header {
     pub fn new(source: &str, record: &csv::StringRecord) -> Self {
-        Header { source: source.to_string(), names: record.iter().map(|s| s.trim().to_string()).collect() }
+        Header {
+            source: source.to_string(),
+            names: record.iter().map(|s| s.trim().to_string()).collect(),
+        }
     }
     pub fn names(&self) -> &[String] {
         &self.names
@@ -21,7 +24,10 @@ impl Header {
         self.find(name).ok_or_else(|| {
             Error::input(
                 SourcePos::file(&self.source).line(1).field(name),
-                format!("missing column '{name}'; the header has: {}", self.names.join(", ")),
+                format!(
+                    "missing column '{name}'; the header has: {}",
+                    self.names.join(", ")
+                ),
             )
         })
     }
@@ -35,7 +41,10 @@ impl Header {
             if !known.contains(&n.as_str()) {
                 return Err(Error::input(
                     SourcePos::file(&self.source).line(1).field(n.clone()),
-                    format!("unknown column '{n}'; expected columns: {}", known.join(", ")),
+                    format!(
+                        "unknown column '{n}'; expected columns: {}",
+                        known.join(", ")
+                    ),
                 ));
             }
         }
@@ -95,7 +104,9 @@ pub fn csv_error(source: &str, e: csv::Error) -> Error {
         pos = pos.line(p.line()).byte(p.byte());
     }
     let message = match e.kind() {
-        csv::ErrorKind::UnequalLengths { expected_len, len, .. } => {
+        csv::ErrorKind::UnequalLengths {
+            expected_len, len, ..
+        } => {
             format!("malformed CSV: expected {expected_len} fields, found {len}")
         }
         csv::ErrorKind::Utf8 { .. } => "malformed CSV: invalid UTF-8".to_string(),

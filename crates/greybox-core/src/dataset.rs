@@ -27,8 +27,11 @@ pub enum PressureConvention {
 }
 
 impl PressureConvention {
-    pub const ALL: [PressureConvention; 3] =
-        [PressureConvention::TextbookMax, PressureConvention::TextbookMean, PressureConvention::ArticleEq7];
+    pub const ALL: [PressureConvention; 3] = [
+        PressureConvention::TextbookMax,
+        PressureConvention::TextbookMean,
+        PressureConvention::ArticleEq7,
+    ];
     pub fn name(self) -> &'static str {
         match self {
             PressureConvention::TextbookMax => "textbook-max",
@@ -112,17 +115,22 @@ const OPTIONAL: [&str; 1] = ["cof_adhesive"];
 impl FrictionDataset {
     /// Write the dataset CSV atomically. `cof_adhesive` is written only if every record has it.
     pub fn write_csv(&self, path: &Path) -> Result<()> {
-        let with_adhesive = !self.records.is_empty() && self.records.iter().all(|r| r.cof_adhesive.is_some());
+        let with_adhesive =
+            !self.records.is_empty() && self.records.iter().all(|r| r.cof_adhesive.is_some());
         write_atomic(path, |w| self.write_csv_to(w, with_adhesive))
     }
 
     fn write_csv_to(&self, w: &mut dyn Write, with_adhesive: bool) -> std::io::Result<()> {
-        let ncol = if with_adhesive { COLUMNS.len() } else { COLUMNS.len() - 1 };
+        let ncol = if with_adhesive {
+            COLUMNS.len()
+        } else {
+            COLUMNS.len() - 1
+        };
         writeln!(w, "{}", COLUMNS[..ncol].join(","))?;
         for r in &self.records {
             write!(
                 w,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{:.4},{:.4},{},{},{}",
                 r.pin,
                 r.step,
                 r.normal_force_n,
@@ -154,12 +162,20 @@ impl FrictionDataset {
     }
 
     pub fn read_csv_from(reader: impl std::io::Read, source: &str) -> Result<Self> {
-        let mut rdr = csv::ReaderBuilder::new().has_headers(true).from_reader(reader);
+        let mut rdr = csv::ReaderBuilder::new()
+            .has_headers(true)
+            .from_reader(reader);
         let header = Header::new(source, rdr.headers().map_err(|e| csv_error(source, e))?);
         header.reject_unknown(&COLUMNS)?;
         let idx: Vec<Option<usize>> = COLUMNS
             .iter()
-            .map(|c| if OPTIONAL.contains(c) { Ok(header.find(c)) } else { header.require(c).map(Some) })
+            .map(|c| {
+                if OPTIONAL.contains(c) {
+                    Ok(header.find(c))
+                } else {
+                    header.require(c).map(Some)
+                }
+            })
             .collect::<Result<_>>()?;
         let col = |i: usize| idx[i].expect("required column resolved");
         let mut records = Vec::new();
@@ -172,7 +188,10 @@ impl FrictionDataset {
             let positive = |i: usize| -> Result<f64> {
                 let v = f(i)?;
                 if v <= 0.0 {
-                    return Err(Error::input(pos(i), format!("expected a positive value, found {v}")));
+                    return Err(Error::input(
+                        pos(i),
+                        format!("expected a positive value, found {v}"),
+                    ));
                 }
                 Ok(v)
             };
@@ -188,9 +207,19 @@ impl FrictionDataset {
             let stationary = match rec[col(13)].trim() {
                 "true" => true,
                 "false" => false,
-                other => return Err(Error::input(pos(13), format!("expected true or false, found '{other}'"))),
+                other => {
+                    return Err(Error::input(
+                        pos(13),
+                        format!("expected true or false, found '{other}'"),
+                    ))
+                }
             };
-            let flags = rec[col(14)].split(';').map(str::trim).filter(|s| !s.is_empty()).map(String::from).collect();
+            let flags = rec[col(14)]
+                .split(';')
+                .map(str::trim)
+                .filter(|s| !s.is_empty())
+                .map(String::from)
+                .collect();
             let cof_adhesive = match idx[15] {
                 Some(i) => Some(parse_f64(&rec[i], source, line, COLUMNS[15])?),
                 None => None,
@@ -215,7 +244,10 @@ impl FrictionDataset {
             });
         }
         if records.is_empty() {
-            return Err(Error::input(SourcePos::file(source), "the dataset has no rows"));
+            return Err(Error::input(
+                SourcePos::file(source),
+                "the dataset has no rows",
+            ));
         }
         Ok(FrictionDataset { records })
     }
@@ -264,7 +296,9 @@ mod tests {
     }
 
     fn err_of(text: &str) -> String {
-        FrictionDataset::read_csv_from(text.as_bytes(), "t.csv").unwrap_err().to_string()
+        FrictionDataset::read_csv_from(text.as_bytes(), "t.csv")
+            .unwrap_err()
+            .to_string()
     }
 
     #[test]
@@ -273,14 +307,23 @@ mod tests {
         sample().write_csv_to(&mut buf, false).unwrap();
         let good = String::from_utf8(buf).unwrap();
         let e = err_of(&good.replace("149.8", "NaN"));
-        assert!(e.contains("line 2") && e.contains("normal_force_measured_N") && e.contains("finite"), "{e}");
+        assert!(
+            e.contains("line 2") && e.contains("normal_force_measured_N") && e.contains("finite"),
+            "{e}"
+        );
         let e = err_of(&good.replacen("150,", "-150,", 1));
-        assert!(e.contains("normal_force_N") && e.contains("positive"), "{e}");
+        assert!(
+            e.contains("normal_force_N") && e.contains("positive"),
+            "{e}"
+        );
         let e = err_of(&good.replace("hertz_pressure_MPa", "hertz_pressure_kPa"));
         assert!(e.contains("unknown column 'hertz_pressure_kPa'"), "{e}");
         let e = err_of(&good.replace("article-eq7", "mystery"));
         assert!(e.contains("unknown pressure convention"), "{e}");
         let e = err_of(&format!("{good}1,2\n"));
-        assert!(e.contains("line 3") && e.contains("expected 15 fields"), "{e}");
+        assert!(
+            e.contains("line 3") && e.contains("expected 15 fields"),
+            "{e}"
+        );
     }
 }

@@ -19,7 +19,10 @@ pub struct SourcePos {
 
 impl SourcePos {
     pub fn file(source: impl Into<String>) -> Self {
-        SourcePos { source: source.into(), ..Default::default() }
+        SourcePos {
+            source: source.into(),
+            ..Default::default()
+        }
     }
     pub fn path(path: &Path) -> Self {
         Self::file(path.display().to_string())
@@ -74,13 +77,22 @@ pub enum Error {
 
 impl Error {
     pub fn input(pos: SourcePos, message: impl Into<String>) -> Self {
-        Error::Input { pos, message: message.into() }
+        Error::Input {
+            pos,
+            message: message.into(),
+        }
     }
     pub fn invalid(what: impl Into<String>, message: impl Into<String>) -> Self {
-        Error::Invalid { what: what.into(), message: message.into() }
+        Error::Invalid {
+            what: what.into(),
+            message: message.into(),
+        }
     }
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        Error::Io { path: path.into(), source }
+        Error::Io {
+            path: path.into(),
+            source,
+        }
     }
 }
 

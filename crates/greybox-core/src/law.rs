@@ -34,7 +34,9 @@ impl ValidityDomain {
     pub fn contains(&self, s: &ContactState) -> bool {
         self.pressure_pa.contains(s.pressure_pa)
             && self.sliding_velocity_m_s.contains(s.sliding_velocity_m_s)
-            && self.temperature_k.is_none_or(|t| t.contains(s.temperature_k))
+            && self
+                .temperature_k
+                .is_none_or(|t| t.contains(s.temperature_k))
     }
 }
 

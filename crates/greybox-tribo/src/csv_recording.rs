@@ -1,6 +1,8 @@
 //! CSV recordings: `time_s` plus force and trigger columns, units in the column names.
 
-use crate::recording::{force_unit_from_name, time_unit_from_name, ChannelMap, ChannelSpec, Recording};
+use crate::recording::{
+    force_unit_from_name, time_unit_from_name, ChannelMap, ChannelSpec, Recording,
+};
 use greybox_core::atomic::write_atomic;
 use greybox_core::csvutil::{csv_error, parse_f64_bytes, Header};
 use greybox_core::{Error, Result, SourcePos};
@@ -10,7 +12,11 @@ use std::path::Path;
 /// Read a CSV recording with a channel map.
 pub fn read_csv_recording(path: &Path, map: &ChannelMap) -> Result<Recording> {
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    read_csv_recording_from(std::io::BufReader::with_capacity(1 << 20, file), &path.display().to_string(), map)
+    read_csv_recording_from(
+        std::io::BufReader::with_capacity(1 << 20, file),
+        &path.display().to_string(),
+        map,
+    )
 }
 
 fn force_column(header: &Header, spec: &ChannelSpec, source: &str) -> Result<(usize, f64)> {
@@ -28,8 +34,14 @@ fn force_column(header: &Header, spec: &ChannelSpec, source: &str) -> Result<(us
 }
 
 /// Read a CSV recording from any reader (`source` names it in errors).
-pub fn read_csv_recording_from(reader: impl std::io::Read, source: &str, map: &ChannelMap) -> Result<Recording> {
-    let mut rdr = csv::ReaderBuilder::new().has_headers(true).from_reader(reader);
+pub fn read_csv_recording_from(
+    reader: impl std::io::Read,
+    source: &str,
+    map: &ChannelMap,
+) -> Result<Recording> {
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .from_reader(reader);
     let header = Header::new(source, rdr.headers().map_err(|e| csv_error(source, e))?);
     let time = match &map.time {
         Some(name) => {
@@ -46,8 +58,16 @@ pub fn read_csv_recording_from(reader: impl std::io::Read, source: &str, map: &C
     };
     let (ni, ns) = force_column(&header, &map.normal, source)?;
     let (ti, ts) = force_column(&header, &map.tangential, source)?;
-    let radial = map.radial.as_ref().map(|s| force_column(&header, s, source)).transpose()?;
-    let trigger = map.trigger.as_ref().map(|t| header.require(t)).transpose()?;
+    let radial = map
+        .radial
+        .as_ref()
+        .map(|s| force_column(&header, s, source))
+        .transpose()?;
+    let trigger = map
+        .trigger
+        .as_ref()
+        .map(|t| header.require(t))
+        .transpose()?;
 
     let mut rec = Recording {
         source: source.to_string(),
@@ -84,11 +104,20 @@ pub fn read_csv_recording_from(reader: impl std::io::Read, source: &str, map: &C
         k += 1;
     }
     if rec.time_s.windows(2).any(|w| !(w[1] > w[0])) {
-        let i = rec.time_s.windows(2).position(|w| !(w[1] > w[0])).unwrap_or(0) + 1;
+        let i = rec
+            .time_s
+            .windows(2)
+            .position(|w| !(w[1] > w[0]))
+            .unwrap_or(0)
+            + 1;
         let tname = map.time.clone().unwrap_or_default();
         return Err(Error::input(
             SourcePos::file(source).line(i as u64 + 2).field(tname),
-            format!("time must increase strictly: {} s follows {} s", rec.time_s[i], rec.time_s[i - 1]),
+            format!(
+                "time must increase strictly: {} s follows {} s",
+                rec.time_s[i],
+                rec.time_s[i - 1]
+            ),
         ));
     }
     rec.validate()?;
@@ -123,7 +152,11 @@ pub fn write_csv_recording_to(w: &mut dyn Write, rec: &Recording) -> std::io::Re
     use std::fmt::Write as _;
     for i in 0..rec.len() {
         line.clear();
-        let _ = write!(line, "{:.4},{:.4},{:.4}", rec.time_s[i], rec.normal_n[i], rec.tangential_n[i]);
+        let _ = write!(
+            line,
+            "{:.4},{:.4},{:.4}",
+            rec.time_s[i], rec.normal_n[i], rec.tangential_n[i]
+        );
         if let Some(r) = &rec.radial_n {
             let _ = write!(line, ",{:.4}", r[i]);
         }
@@ -158,7 +191,11 @@ mod tests {
     #[test]
     fn mapping_with_units_and_scale() {
         let text = "t_ms,Fz,Fx\n0,1.5,-0.2\n1,1.5,-0.3\n";
-        let mut map = ChannelMap { radial: None, trigger: None, ..Default::default() };
+        let mut map = ChannelMap {
+            radial: None,
+            trigger: None,
+            ..Default::default()
+        };
         map.apply_override("time=t_ms").unwrap();
         map.apply_override("normal=Fz:kN").unwrap();
         map.apply_override("tangential=Fx:kN:-1").unwrap();
@@ -171,36 +208,65 @@ mod tests {
     // one test per failure class
     #[test]
     fn missing_column() {
-        let e = read(&GOOD.replace("radial_force_N", "radial"), &ChannelMap::default()).unwrap_err().to_string();
-        assert!(e.contains("rec.csv, line 1") && e.contains("missing column 'radial_force_N'"), "{e}");
+        let e = read(
+            &GOOD.replace("radial_force_N", "radial"),
+            &ChannelMap::default(),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("rec.csv, line 1") && e.contains("missing column 'radial_force_N'"),
+            "{e}"
+        );
     }
     #[test]
     fn unknown_unit() {
         let mut map = ChannelMap::default();
         map.normal = ChannelSpec::named("normal_force_kgf");
-        let e = read(&GOOD.replace("normal_force_N", "normal_force_kgf"), &map).unwrap_err().to_string();
+        let e = read(&GOOD.replace("normal_force_N", "normal_force_kgf"), &map)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("has no force unit"), "{e}");
         let e = map.apply_override("normal=Fz:kgf").unwrap_err().to_string();
         assert!(e.contains("unknown force unit 'kgf'"), "{e}");
     }
     #[test]
     fn malformed_csv() {
-        let e = read(&format!("{GOOD}0.003,1.0\n"), &ChannelMap::default()).unwrap_err().to_string();
-        assert!(e.contains("line 5") && e.contains("expected 5 fields, found 2"), "{e}");
+        let e = read(&format!("{GOOD}0.003,1.0\n"), &ChannelMap::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 5") && e.contains("expected 5 fields, found 2"),
+            "{e}"
+        );
     }
     #[test]
     fn nan_and_inf() {
-        let e = read(&GOOD.replace("0.7", "NaN"), &ChannelMap::default()).unwrap_err().to_string();
-        assert!(e.contains("line 3") && e.contains("tangential_force_N") && e.contains("finite"), "{e}");
-        let e = read(&GOOD.replace("0.9", "inf"), &ChannelMap::default()).unwrap_err().to_string();
+        let e = read(&GOOD.replace("0.7", "NaN"), &ChannelMap::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 3") && e.contains("tangential_force_N") && e.contains("finite"),
+            "{e}"
+        );
+        let e = read(&GOOD.replace("0.9", "inf"), &ChannelMap::default())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("line 4") && e.contains("finite"), "{e}");
-        let e = read(&GOOD.replace("0.9", "abc"), &ChannelMap::default()).unwrap_err().to_string();
+        let e = read(&GOOD.replace("0.9", "abc"), &ChannelMap::default())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("expected a number, found 'abc'"), "{e}");
     }
     #[test]
     fn time_not_increasing() {
-        let e = read(&GOOD.replace("0.002,", "0.001,"), &ChannelMap::default()).unwrap_err().to_string();
-        assert!(e.contains("line 4") && e.contains("increase strictly"), "{e}");
+        let e = read(&GOOD.replace("0.002,", "0.001,"), &ChannelMap::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 4") && e.contains("increase strictly"),
+            "{e}"
+        );
     }
     #[test]
     fn write_read_round_trip() {

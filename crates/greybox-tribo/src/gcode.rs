@@ -24,19 +24,31 @@ pub fn write_program(plan: &Plan, pin: u32) -> String {
         let _ = writeln!(g, "N{n} {text}");
     };
     let _ = writeln!(g, "%");
-    let _ = writeln!(g, "O{} (GREYBOX TRIBOMETER PIN {} OF {})", 1000 + pin, pin, plan.pins.len());
+    let _ = writeln!(
+        g,
+        "O{} (GREYBOX TRIBOMETER PIN {} OF {})",
+        1000 + pin,
+        pin,
+        plan.pins.len()
+    );
     let v_first = units::m_per_s_to_m_per_min(steps[0].sliding_velocity_m_s);
     let v_last = units::m_per_s_to_m_per_min(steps[steps.len() - 1].sliding_velocity_m_s);
     for (k, v) in [
         ("PIN", format!("{pin}")),
         ("PINS", format!("{}", plan.pins.len())),
         ("NORMAL_FORCE_N", format!("{}", sched.normal_force_n)),
-        ("TRACK_RADIUS_MM", format!("{}", plan.track_radius_m() / units::M_PER_MM)),
+        (
+            "TRACK_RADIUS_MM",
+            format!("{}", plan.track_radius_m() / units::M_PER_MM),
+        ),
         ("VELOCITY_STEPS", format!("{}", steps.len())),
         ("VELOCITY_FIRST_M_PER_MIN", format!("{v_first}")),
         ("VELOCITY_LAST_M_PER_MIN", format!("{v_last}")),
         ("DWELL_S", format!("{}", spec.dwell_s)),
-        ("SPINDLE_ACCEL_RPM_PER_S", format!("{}", spec.spindle_accel_rpm_per_s)),
+        (
+            "SPINDLE_ACCEL_RPM_PER_S",
+            format!("{}", spec.spindle_accel_rpm_per_s),
+        ),
         ("MAX_SPINDLE_RPM", format!("{}", spec.max_spindle_rpm)),
         ("ZERO_TIME_S", format!("{}", spec.zero_time_s)),
         ("LOAD_TIME_S", format!("{}", spec.load_time_s)),
@@ -45,23 +57,53 @@ pub fn write_program(plan: &Plan, pin: u32) -> String {
     ] {
         let _ = writeln!(g, "(PLAN {k}={v})");
     }
-    let _ = writeln!(g, "(EACH G04 AFTER AN S WORD = NOMINAL SPINDLE RAMP + DWELL)");
+    let _ = writeln!(
+        g,
+        "(EACH G04 AFTER AN S WORD = NOMINAL SPINDLE RAMP + DWELL)"
+    );
     block(&mut g, "G97 M05");
-    block(&mut g, &format!("M{} (RECORDING TRIGGER ON)", spec.trigger_on_mcode));
-    block(&mut g, &format!("G04 X{:.3} (UNLOADED ZERO REFERENCE)", spec.zero_time_s));
-    block(&mut g, &format!("(APPLY NORMAL LOAD {} N)", sched.normal_force_n));
+    block(
+        &mut g,
+        &format!("M{} (RECORDING TRIGGER ON)", spec.trigger_on_mcode),
+    );
+    block(
+        &mut g,
+        &format!("G04 X{:.3} (UNLOADED ZERO REFERENCE)", spec.zero_time_s),
+    );
+    block(
+        &mut g,
+        &format!("(APPLY NORMAL LOAD {} N)", sched.normal_force_n),
+    );
     block(&mut g, &format!("G04 X{:.3}", spec.load_time_s));
     for s in steps {
         let v = units::m_per_s_to_m_per_min(s.sliding_velocity_m_s);
-        block(&mut g, &format!("S{:.d$} M03 (STEP {} V={v} M/MIN)", s.spindle_rpm, s.step));
-        block(&mut g, &format!("G04 X{:.3}", s.plateau_end_s - s.step_start_s));
+        block(
+            &mut g,
+            &format!("S{:.d$} M03 (STEP {} V={v} M/MIN)", s.spindle_rpm, s.step),
+        );
+        block(
+            &mut g,
+            &format!("G04 X{:.3}", s.plateau_end_s - s.step_start_s),
+        );
     }
     block(&mut g, "M05 (SPINDLE STOP)");
-    block(&mut g, &format!("G04 X{:.3} (SPINDLE RAMP DOWN)", sched.unload_start_s - sched.spindle_stop_s));
+    block(
+        &mut g,
+        &format!(
+            "G04 X{:.3} (SPINDLE RAMP DOWN)",
+            sched.unload_start_s - sched.spindle_stop_s
+        ),
+    );
     block(&mut g, "(RELEASE NORMAL LOAD)");
     block(&mut g, &format!("G04 X{:.3}", spec.load_time_s));
-    block(&mut g, &format!("G04 X{:.3} (UNLOADED ZERO REFERENCE)", spec.zero_time_s));
-    block(&mut g, &format!("M{} (RECORDING TRIGGER OFF)", spec.trigger_off_mcode));
+    block(
+        &mut g,
+        &format!("G04 X{:.3} (UNLOADED ZERO REFERENCE)", spec.zero_time_s),
+    );
+    block(
+        &mut g,
+        &format!("M{} (RECORDING TRIGGER OFF)", spec.trigger_off_mcode),
+    );
     block(&mut g, "M30");
     let _ = writeln!(g, "%");
     g
@@ -93,7 +135,12 @@ pub struct NcProgram {
 /// Parse an ISO program (the subset greybox writes, tolerant of spacing, `;` comments and
 /// word order; rejects unknown G-codes and malformed words with the line number).
 pub fn parse_program(text: &str, source: &str) -> Result<NcProgram> {
-    let mut prog = NcProgram { source: source.to_string(), program_number: None, plan_params: BTreeMap::new(), events: Vec::new() };
+    let mut prog = NcProgram {
+        source: source.to_string(),
+        program_number: None,
+        plan_params: BTreeMap::new(),
+        events: Vec::new(),
+    };
     let mut spindle_on = false;
     let mut s_word: Option<f64> = None;
     for (i, raw) in text.lines().enumerate() {
@@ -108,11 +155,17 @@ pub fn parse_program(text: &str, source: &str) -> Result<NcProgram> {
                 rest = "";
                 break;
             }
-            let close = rest[open..].find(')').ok_or_else(|| Error::input(pos(), "unclosed comment '('"))? + open;
+            let close = rest[open..]
+                .find(')')
+                .ok_or_else(|| Error::input(pos(), "unclosed comment '('"))?
+                + open;
             let comment = rest[open + 1..close].trim();
             if let Some(kv) = comment.strip_prefix("PLAN ") {
-                let (k, v) = kv.split_once('=').ok_or_else(|| Error::input(pos(), format!("plan comment without '=': '{comment}'")))?;
-                prog.plan_params.insert(k.trim().to_string(), v.trim().to_string());
+                let (k, v) = kv.split_once('=').ok_or_else(|| {
+                    Error::input(pos(), format!("plan comment without '=': '{comment}'"))
+                })?;
+                prog.plan_params
+                    .insert(k.trim().to_string(), v.trim().to_string());
             }
             code.push(' ');
             rest = &rest[close + 1..];
@@ -133,17 +186,22 @@ pub fn parse_program(text: &str, source: &str) -> Result<NcProgram> {
                 continue;
             }
             if !c.is_ascii_alphabetic() {
-                return Err(Error::input(pos(), format!("unexpected character '{c}' in '{code}'")));
+                return Err(Error::input(
+                    pos(),
+                    format!("unexpected character '{c}' in '{code}'"),
+                ));
             }
             let start = j + 1;
             let mut k = start;
-            while k < bytes.len() && (bytes[k].is_ascii_digit() || matches!(bytes[k], b'.' | b'-' | b'+')) {
+            while k < bytes.len()
+                && (bytes[k].is_ascii_digit() || matches!(bytes[k], b'.' | b'-' | b'+'))
+            {
                 k += 1;
             }
             let num = &code[start..k];
-            let value: f64 = num
-                .parse()
-                .map_err(|_| Error::input(pos(), format!("word '{c}' needs a number, found '{num}'")))?;
+            let value: f64 = num.parse().map_err(|_| {
+                Error::input(pos(), format!("word '{c}' needs a number, found '{num}'"))
+            })?;
             words.push((c.to_ascii_uppercase(), value, num));
             j = k;
         }
@@ -161,7 +219,10 @@ pub fn parse_program(text: &str, source: &str) -> Result<NcProgram> {
                 },
                 'S' => {
                     if value <= 0.0 {
-                        return Err(Error::input(pos(), format!("spindle speed must be positive, found S{num}")));
+                        return Err(Error::input(
+                            pos(),
+                            format!("spindle speed must be positive, found S{num}"),
+                        ));
                     }
                     s_word = Some(value);
                 }
@@ -170,7 +231,12 @@ pub fn parse_program(text: &str, source: &str) -> Result<NcProgram> {
                     dwell_s = Some(if letter == 'X' { value } else { value / 1000.0 });
                 }
                 'M' => mcodes.push(value as u32),
-                other => return Err(Error::input(pos(), format!("unsupported word {other}{num}"))),
+                other => {
+                    return Err(Error::input(
+                        pos(),
+                        format!("unsupported word {other}{num}"),
+                    ))
+                }
             }
         }
         if let Some(rpm) = s_word.filter(|_| words.iter().any(|w| w.0 == 'S')) {
@@ -182,7 +248,8 @@ pub fn parse_program(text: &str, source: &str) -> Result<NcProgram> {
             match m {
                 3 | 4 => {
                     if !spindle_on && !words.iter().any(|w| w.0 == 'S') {
-                        let rpm = s_word.ok_or_else(|| Error::input(pos(), "M03 without a spindle speed S"))?;
+                        let rpm = s_word
+                            .ok_or_else(|| Error::input(pos(), "M03 without a spindle speed S"))?;
                         prog.events.push(NcEvent::Spindle { rpm });
                     }
                     spindle_on = true;
@@ -198,9 +265,13 @@ pub fn parse_program(text: &str, source: &str) -> Result<NcProgram> {
             }
         }
         if dwell {
-            let s = dwell_s.ok_or_else(|| Error::input(pos(), "G04 without a dwell time X (s) or P (ms)"))?;
+            let s = dwell_s
+                .ok_or_else(|| Error::input(pos(), "G04 without a dwell time X (s) or P (ms)"))?;
             if !(s >= 0.0) {
-                return Err(Error::input(pos(), format!("dwell must be non-negative, found {s}")));
+                return Err(Error::input(
+                    pos(),
+                    format!("dwell must be non-negative, found {s}"),
+                ));
             }
             prog.events.push(NcEvent::Dwell { seconds: s });
         }
@@ -211,10 +282,16 @@ pub fn parse_program(text: &str, source: &str) -> Result<NcProgram> {
 impl NcProgram {
     fn param(&self, key: &str) -> Result<f64> {
         let v = self.plan_params.get(key).ok_or_else(|| {
-            Error::input(SourcePos::file(&self.source).field(key), format!("missing header comment (PLAN {key}=...)"))
+            Error::input(
+                SourcePos::file(&self.source).field(key),
+                format!("missing header comment (PLAN {key}=...)"),
+            )
         })?;
         v.trim_start_matches('M').parse().map_err(|_| {
-            Error::input(SourcePos::file(&self.source).field(key), format!("expected a number, found '{v}'"))
+            Error::input(
+                SourcePos::file(&self.source).field(key),
+                format!("expected a number, found '{v}'"),
+            )
         })
     }
 }
@@ -225,7 +302,10 @@ pub fn plan_spec_from_programs(programs: &[NcProgram]) -> Result<PlanSpec> {
     if programs.is_empty() {
         return Err(Error::invalid("NC programs", "no programs given"));
     }
-    let mut by_pin: Vec<(u32, &NcProgram)> = programs.iter().map(|p| Ok((p.param("PIN")? as u32, p))).collect::<Result<_>>()?;
+    let mut by_pin: Vec<(u32, &NcProgram)> = programs
+        .iter()
+        .map(|p| Ok((p.param("PIN")? as u32, p)))
+        .collect::<Result<_>>()?;
     by_pin.sort_by_key(|(pin, _)| *pin);
     let first = by_pin[0].1;
     let radius_mm = first.param("TRACK_RADIUS_MM")?;
@@ -243,16 +323,24 @@ pub fn plan_spec_from_programs(programs: &[NcProgram]) -> Result<PlanSpec> {
     for (k, (pin, prog)) in by_pin.iter().enumerate() {
         let err = |msg: String| Error::input(SourcePos::file(&prog.source), msg);
         if *pin != k as u32 + 1 {
-            return Err(err(format!("expected the program of pin {}, found pin {pin}", k + 1)));
+            return Err(err(format!(
+                "expected the program of pin {}, found pin {pin}",
+                k + 1
+            )));
         }
         forces.push(prog.param("NORMAL_FORCE_N")?);
         // The event sequence: trigger on, zero dwell, load dwell, (S, dwell)*, stop, ramp-down,
         // unload dwell, zero dwell, trigger off.
         let ev = &prog.events;
-        let on = ev.iter().position(|e| *e == NcEvent::MCode(spec.trigger_on_mcode)).ok_or_else(|| err(format!("no trigger-on M{}", spec.trigger_on_mcode)))?;
+        let on = ev
+            .iter()
+            .position(|e| *e == NcEvent::MCode(spec.trigger_on_mcode))
+            .ok_or_else(|| err(format!("no trigger-on M{}", spec.trigger_on_mcode)))?;
         let dwell_at = |i: usize| match ev.get(i) {
             Some(NcEvent::Dwell { seconds }) => Ok(*seconds),
-            other => Err(err(format!("expected a G04 dwell as event {i}, found {other:?}"))),
+            other => Err(err(format!(
+                "expected a G04 dwell as event {i}, found {other:?}"
+            ))),
         };
         spec.zero_time_s = dwell_at(on + 1)?;
         spec.load_time_s = dwell_at(on + 2)?;
@@ -263,23 +351,36 @@ pub fn plan_spec_from_programs(programs: &[NcProgram]) -> Result<PlanSpec> {
         while let Some(NcEvent::Spindle { rpm }) = ev.get(i) {
             let total = dwell_at(i + 1)?;
             dwells.push(total - (rpm - prev).abs() / accel);
-            vs.push(units::m_per_s_to_m_per_min(units::velocity_for_rpm(*rpm, radius_mm * units::M_PER_MM)));
+            vs.push(units::m_per_s_to_m_per_min(units::velocity_for_rpm(
+                *rpm,
+                radius_mm * units::M_PER_MM,
+            )));
             // rpm decimals as written
             prev = *rpm;
             i += 2;
         }
         if vs.is_empty() {
-            return Err(err("no spindle steps (S … M03 followed by G04) found".into()));
+            return Err(err(
+                "no spindle steps (S … M03 followed by G04) found".into()
+            ));
         }
         if ev.get(i) != Some(&NcEvent::SpindleStop) {
-            return Err(err(format!("expected M05 after the last step, found {:?}", ev.get(i))));
+            return Err(err(format!(
+                "expected M05 after the last step, found {:?}",
+                ev.get(i)
+            )));
         }
         if !ev[i..].contains(&NcEvent::MCode(spec.trigger_off_mcode)) {
-            return Err(err(format!("no trigger-off M{} after the spindle stop", spec.trigger_off_mcode)));
+            return Err(err(format!(
+                "no trigger-off M{} after the spindle stop",
+                spec.trigger_off_mcode
+            )));
         }
         let dwell = dwells.iter().sum::<f64>() / dwells.len() as f64;
         if dwells.iter().any(|d| (d - dwell).abs() > 2e-3) {
-            return Err(err(format!("plateau dwells differ between steps: {dwells:?}")));
+            return Err(err(format!(
+                "plateau dwells differ between steps: {dwells:?}"
+            )));
         }
         spec.dwell_s = (dwell * 1000.0).round() / 1000.0;
         match &velocities {
@@ -308,7 +409,12 @@ mod tests {
 
     #[test]
     fn round_trip_rebuilds_the_plan() {
-        let plan = PlanSpec { track_radius_mm: Some(100.0), ..Default::default() }.build().unwrap();
+        let plan = PlanSpec {
+            track_radius_mm: Some(100.0),
+            ..Default::default()
+        }
+        .build()
+        .unwrap();
         let programs: Vec<NcProgram> = (1..=plan.pins.len() as u32)
             .map(|p| parse_program(&write_program(&plan, p), &format!("pin{p}.nc")).unwrap())
             .collect();
@@ -330,9 +436,14 @@ mod tests {
 
     #[test]
     fn program_shape() {
-        let plan = PlanSpec { track_radius_mm: Some(100.0), trigger_on_mcode: 70, trigger_off_mcode: 71, ..Default::default() }
-            .build()
-            .unwrap();
+        let plan = PlanSpec {
+            track_radius_mm: Some(100.0),
+            trigger_on_mcode: 70,
+            trigger_off_mcode: 71,
+            ..Default::default()
+        }
+        .build()
+        .unwrap();
         let g = write_program(&plan, 1);
         assert!(g.contains("G97"));
         assert!(g.contains("N20 M70 (RECORDING TRIGGER ON)"));
@@ -344,11 +455,20 @@ mod tests {
 
     #[test]
     fn parser_errors_name_the_line() {
-        let e = parse_program("%\nN10 G97 M05\nN20 G04 XABC\n%\n", "p.nc").unwrap_err().to_string();
-        assert!(e.contains("p.nc, line 3") && e.contains("needs a number"), "{e}");
-        let e = parse_program("N10 G01 X5\n", "p.nc").unwrap_err().to_string();
+        let e = parse_program("%\nN10 G97 M05\nN20 G04 XABC\n%\n", "p.nc")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("p.nc, line 3") && e.contains("needs a number"),
+            "{e}"
+        );
+        let e = parse_program("N10 G01 X5\n", "p.nc")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("unsupported G-code G1"), "{e}");
-        let e = parse_program("N10 (open\n", "p.nc").unwrap_err().to_string();
+        let e = parse_program("N10 (open\n", "p.nc")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("unclosed comment"), "{e}");
     }
 }

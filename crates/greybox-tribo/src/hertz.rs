@@ -30,15 +30,33 @@ pub struct Elastic {
 
 impl Elastic {
     pub fn new(youngs_modulus_pa: f64, poisson_ratio: f64) -> Self {
-        Elastic { youngs_modulus_pa, poisson_ratio }
+        Elastic {
+            youngs_modulus_pa,
+            poisson_ratio,
+        }
     }
-    pub const RIGID: Elastic = Elastic { youngs_modulus_pa: f64::INFINITY, poisson_ratio: 0.0 };
+    pub const RIGID: Elastic = Elastic {
+        youngs_modulus_pa: f64::INFINITY,
+        poisson_ratio: 0.0,
+    };
     fn validate(&self, name: &str) -> Result<()> {
         if !(self.youngs_modulus_pa > 0.0) {
-            return Err(Error::invalid(name, format!("Young's modulus must be > 0, got {} Pa", self.youngs_modulus_pa)));
+            return Err(Error::invalid(
+                name,
+                format!(
+                    "Young's modulus must be > 0, got {} Pa",
+                    self.youngs_modulus_pa
+                ),
+            ));
         }
         if !(self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5) {
-            return Err(Error::invalid(name, format!("Poisson's ratio must be in (-1, 0.5), got {}", self.poisson_ratio)));
+            return Err(Error::invalid(
+                name,
+                format!(
+                    "Poisson's ratio must be in (-1, 0.5), got {}",
+                    self.poisson_ratio
+                ),
+            ));
         }
         Ok(())
     }
@@ -48,10 +66,19 @@ impl Elastic {
 pub fn effective_modulus(body1: Elastic, body2: Elastic) -> Result<f64> {
     body1.validate("body 1")?;
     body2.validate("body 2")?;
-    let c = |m: Elastic| if m.youngs_modulus_pa.is_infinite() { 0.0 } else { (1.0 - m.poisson_ratio.powi(2)) / m.youngs_modulus_pa };
+    let c = |m: Elastic| {
+        if m.youngs_modulus_pa.is_infinite() {
+            0.0
+        } else {
+            (1.0 - m.poisson_ratio.powi(2)) / m.youngs_modulus_pa
+        }
+    };
     let inv = c(body1) + c(body2);
     if inv <= 0.0 {
-        return Err(Error::invalid("materials", "both bodies are rigid: E* is infinite"));
+        return Err(Error::invalid(
+            "materials",
+            "both bodies are rigid: E* is infinite",
+        ));
     }
     Ok(1.0 / inv)
 }
@@ -73,7 +100,10 @@ fn positive(name: &str, v: f64, unit: &str) -> Result<()> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(Error::invalid(name, format!("must be a positive finite number, got {v} {unit}")))
+        Err(Error::invalid(
+            name,
+            format!("must be a positive finite number, got {v} {unit}"),
+        ))
     }
 }
 
@@ -93,7 +123,12 @@ pub fn sphere_on_flat(force_n: f64, radius_m: f64, e_star_pa: f64) -> Result<Her
 }
 
 /// Cylinder of radius `radius_m` and length `length_m` on a flat (line contact), load `force_n`.
-pub fn cylinder_on_flat(force_n: f64, length_m: f64, radius_m: f64, e_star_pa: f64) -> Result<HertzContact> {
+pub fn cylinder_on_flat(
+    force_n: f64,
+    length_m: f64,
+    radius_m: f64,
+    e_star_pa: f64,
+) -> Result<HertzContact> {
     positive("normal force", force_n, "N")?;
     positive("cylinder length", length_m, "m")?;
     positive("cylinder radius", radius_m, "m")?;
@@ -101,7 +136,12 @@ pub fn cylinder_on_flat(force_n: f64, length_m: f64, radius_m: f64, e_star_pa: f
     let p_line = force_n / length_m;
     let b = (4.0 * p_line * radius_m / (PI * e_star_pa)).sqrt();
     let p0 = 2.0 * p_line / (PI * b);
-    Ok(HertzContact { contact_half_width_m: b, max_pressure_pa: p0, mean_pressure_pa: p_line / (2.0 * b), approach_m: None })
+    Ok(HertzContact {
+        contact_half_width_m: b,
+        max_pressure_pa: p0,
+        mean_pressure_pa: p_line / (2.0 * b),
+        approach_m: None,
+    })
 }
 
 /// The seed article's eq. 7 value, Pa: (1/π)·cbrt(3 F E*² / (2 r²)).
@@ -149,8 +189,14 @@ impl PinContact {
     }
     pub fn effective_modulus_pa(&self) -> Result<f64> {
         effective_modulus(
-            Elastic::new(self.disk_youngs_modulus_gpa * units::PA_PER_GPA, self.disk_poisson_ratio),
-            Elastic::new(self.pin_youngs_modulus_gpa * units::PA_PER_GPA, self.pin_poisson_ratio),
+            Elastic::new(
+                self.disk_youngs_modulus_gpa * units::PA_PER_GPA,
+                self.disk_poisson_ratio,
+            ),
+            Elastic::new(
+                self.pin_youngs_modulus_gpa * units::PA_PER_GPA,
+                self.pin_poisson_ratio,
+            ),
         )
     }
     /// Full Hertz solution for a normal force.
@@ -166,7 +212,9 @@ impl PinContact {
         Ok(match convention {
             PressureConvention::TextbookMax => self.solve(force_n)?.max_pressure_pa,
             PressureConvention::TextbookMean => self.solve(force_n)?.mean_pressure_pa,
-            PressureConvention::ArticleEq7 => article_eq7_pressure(force_n, self.radius_m(), self.effective_modulus_pa()?)?,
+            PressureConvention::ArticleEq7 => {
+                article_eq7_pressure(force_n, self.radius_m(), self.effective_modulus_pa()?)?
+            }
         })
     }
     /// Validate (also used after deserializing).
@@ -192,8 +240,16 @@ mod tests {
         let steel = Elastic::new(210e9, 0.3);
         let e = effective_modulus(steel, steel).unwrap();
         let h = sphere_on_flat(10.0, 6.35e-3, e).unwrap();
-        assert!((h.mean_pressure_pa / MPA - 574.0).abs() < 0.5, "{}", h.mean_pressure_pa / MPA);
-        assert!((h.max_pressure_pa / MPA - 861.0).abs() < 0.5, "{}", h.max_pressure_pa / MPA);
+        assert!(
+            (h.mean_pressure_pa / MPA - 574.0).abs() < 0.5,
+            "{}",
+            h.mean_pressure_pa / MPA
+        );
+        assert!(
+            (h.max_pressure_pa / MPA - 861.0).abs() < 0.5,
+            "{}",
+            h.max_pressure_pa / MPA
+        );
     }
 
     /// H2: elastic sphere R = 8 mm, E = 1000 MPa, ν = 0.3 on a rigid flat, F = 188.5 N → a = 1.010 mm.
@@ -201,17 +257,26 @@ mod tests {
     fn soft_sphere_on_rigid_flat() {
         let e = effective_modulus(Elastic::new(1000.0 * MPA, 0.3), Elastic::RIGID).unwrap();
         let h = sphere_on_flat(30.0 * 2.0 * PI, 8e-3, e).unwrap();
-        assert!((h.contact_half_width_m * 1e3 - 1.010).abs() < 0.0006, "{}", h.contact_half_width_m * 1e3);
+        assert!(
+            (h.contact_half_width_m * 1e3 - 1.010).abs() < 0.0006,
+            "{}",
+            h.contact_half_width_m * 1e3
+        );
     }
 
     /// The article's convention reproduces its 914.7 MPa (150 N) and 2170 MPa (2000 N) within 0.5 %.
     #[test]
     fn article_convention() {
-        let c = PinContact { convention: PressureConvention::ArticleEq7, ..Default::default() };
+        let c = PinContact {
+            convention: PressureConvention::ArticleEq7,
+            ..Default::default()
+        };
         assert!(rel(c.pressure_pa(150.0).unwrap() / MPA, 914.7) < 0.005);
         assert!(rel(c.pressure_pa(2000.0).unwrap() / MPA, 2170.0) < 0.005);
         // and it is p0 / 4^(1/3) of the textbook maximum
-        let p0 = c.pressure_pa_as(150.0, PressureConvention::TextbookMax).unwrap();
+        let p0 = c
+            .pressure_pa_as(150.0, PressureConvention::TextbookMax)
+            .unwrap();
         assert!(rel(p0 / 4f64.cbrt(), c.pressure_pa(150.0).unwrap()) < 1e-12);
     }
 

@@ -22,7 +22,9 @@
 use crate::hertz::PinContact;
 use crate::plan::Plan;
 use crate::recording::Recording;
-use crate::signal::{hampel_outliers, linear_fit, mad_sigma, mean_std, median, moving_average, running_median};
+use crate::signal::{
+    hampel_outliers, linear_fit, mad_sigma, mean_std, median, moving_average, running_median,
+};
 use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
 use greybox_core::{Error, Result, SourcePos};
 use serde::{Deserialize, Serialize};
@@ -106,9 +108,16 @@ fn index_at(time: &[f64], t: f64) -> usize {
 
 fn trigger_edge(rec: &Recording, cfg: &IdentifyConfig) -> Result<f64> {
     let trig = rec.trigger_v.as_ref().ok_or_else(|| {
-        Error::input(SourcePos::file(&rec.source).field("trigger"), "no trigger channel mapped; map one or use --align first-plateau")
+        Error::input(
+            SourcePos::file(&rec.source).field("trigger"),
+            "no trigger channel mapped; map one or use --align first-plateau",
+        )
     })?;
-    let (lo, hi) = trig.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
+    let (lo, hi) = trig
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(*v), b.max(*v))
+        });
     let thr = cfg.trigger_threshold_v.unwrap_or(0.5 * (lo + hi));
     if !(hi - lo > 0.5) || thr <= lo || thr >= hi {
         return Err(Error::input(
@@ -122,7 +131,11 @@ fn trigger_edge(rec: &Recording, cfg: &IdentifyConfig) -> Result<f64> {
             "the trigger is already high at the first sample: the recording misses the trigger edge (use --align first-plateau)",
         ));
     }
-    let i = trig.windows(2).position(|w| w[0] < thr && w[1] >= thr).expect("a crossing exists between lo and hi") + 1;
+    let i = trig
+        .windows(2)
+        .position(|w| w[0] < thr && w[1] >= thr)
+        .expect("a crossing exists between lo and hi")
+        + 1;
     let f = (thr - trig[i - 1]) / (trig[i] - trig[i - 1]);
     Ok(rec.time_s[i - 1] + f * (rec.time_s[i] - rec.time_s[i - 1]))
 }
@@ -151,7 +164,10 @@ pub fn identify_pin(
 ) -> Result<(Vec<FrictionRecord>, PinDiagnostics)> {
     rec.validate()?;
     let src = || SourcePos::file(&rec.source);
-    let sched = plan.pins.get(pin as usize - 1).ok_or_else(|| Error::invalid("identify", format!("no pin {pin} in the plan")))?;
+    let sched = plan
+        .pins
+        .get(pin as usize - 1)
+        .ok_or_else(|| Error::invalid("identify", format!("no pin {pin} in the plan")))?;
     let steps = plan.pin_steps(pin);
     let spec = &plan.spec;
     let fs = rec.sample_rate_hz();
@@ -167,14 +183,35 @@ pub fn identify_pin(
         Alignment::FirstPlateau => {
             // unloaded baseline = first zero window of the recording
             let t_first = rec.time_s[0];
-            let base_n = window_median(rec, &rec.normal_n, t_first, t_first + 0.5 * z)
-                .ok_or_else(|| Error::input(src(), "recording too short for an unloaded baseline"))?;
-            let load = onset_after(rec, &rec.normal_n, base_n, t_first, 0.5 * f_nom)
-                .ok_or_else(|| Error::input(src().field("normal"), format!("the normal force never reaches half the planned {f_nom} N")))?;
-            let base_t = window_median(rec, &rec.tangential_n, t_first, t_first + 0.5 * z).unwrap_or(0.0);
-            let level = window_median(rec, &rec.tangential_n, load + spec.load_time_s, rec.time_s[rec.len() - 1]).unwrap_or(0.0) - base_t;
-            let onset = onset_after(rec, &rec.tangential_n, base_t, load, 0.3 * level.abs().max(1e-9))
-                .ok_or_else(|| Error::input(src().field("tangential"), "no onset of sliding found"))?;
+            let base_n =
+                window_median(rec, &rec.normal_n, t_first, t_first + 0.5 * z).ok_or_else(|| {
+                    Error::input(src(), "recording too short for an unloaded baseline")
+                })?;
+            let load =
+                onset_after(rec, &rec.normal_n, base_n, t_first, 0.5 * f_nom).ok_or_else(|| {
+                    Error::input(
+                        src().field("normal"),
+                        format!("the normal force never reaches half the planned {f_nom} N"),
+                    )
+                })?;
+            let base_t =
+                window_median(rec, &rec.tangential_n, t_first, t_first + 0.5 * z).unwrap_or(0.0);
+            let level = window_median(
+                rec,
+                &rec.tangential_n,
+                load + spec.load_time_s,
+                rec.time_s[rec.len() - 1],
+            )
+            .unwrap_or(0.0)
+                - base_t;
+            let onset = onset_after(
+                rec,
+                &rec.tangential_n,
+                base_t,
+                load,
+                0.3 * level.abs().max(1e-9),
+            )
+            .ok_or_else(|| Error::input(src().field("tangential"), "no onset of sliding found"))?;
             (onset - steps[0].step_start_s, Some(0.0))
         }
     };
@@ -194,19 +231,38 @@ pub fn identify_pin(
     }
 
     // 3. latency from the onset of sliding
-    let base_t = window_median(rec, &rec.tangential_n, t0 + 0.05 * z, t0 + 0.9 * z)
-        .ok_or_else(|| Error::input(src(), "no samples in the unloaded window after the trigger"))?;
-    let base_n = window_median(rec, &rec.normal_n, t0 + 0.05 * z, t0 + 0.9 * z).expect("same window");
+    let base_t =
+        window_median(rec, &rec.tangential_n, t0 + 0.05 * z, t0 + 0.9 * z).ok_or_else(|| {
+            Error::input(src(), "no samples in the unloaded window after the trigger")
+        })?;
+    let base_n =
+        window_median(rec, &rec.normal_n, t0 + 0.05 * z, t0 + 0.9 * z).expect("same window");
     let s0 = &steps[0];
     let latency = match latency {
         Some(l) => l,
         None => {
-            let level = window_median(rec, &rec.tangential_n, t0 + s0.plateau_start_s + 0.1 * spec.dwell_s, t0 + s0.plateau_end_s)
-                .ok_or_else(|| Error::input(src(), "no samples in the first plateau"))?
+            let level = window_median(
+                rec,
+                &rec.tangential_n,
+                t0 + s0.plateau_start_s + 0.1 * spec.dwell_s,
+                t0 + s0.plateau_end_s,
+            )
+            .ok_or_else(|| Error::input(src(), "no samples in the first plateau"))?
                 - base_t;
             let from = t0 + s0.step_start_s - cfg.max_latency_s;
-            let onset = onset_after(rec, &rec.tangential_n, base_t, from, 0.3 * level.abs().max(1e-9))
-                .ok_or_else(|| Error::input(src().field("tangential"), "no onset of sliding found near the first S command"))?;
+            let onset = onset_after(
+                rec,
+                &rec.tangential_n,
+                base_t,
+                from,
+                0.3 * level.abs().max(1e-9),
+            )
+            .ok_or_else(|| {
+                Error::input(
+                    src().field("tangential"),
+                    "no onset of sliding found near the first S command",
+                )
+            })?;
             let l = onset - (t0 + s0.step_start_s);
             if l.abs() > cfg.max_latency_s {
                 return Err(Error::input(
@@ -230,17 +286,31 @@ pub fn identify_pin(
         let b = window_median(rec, x, post.0, post.1);
         match (a, b) {
             (Some(a), Some(b)) => Ok((a, (b - a) / (post_mid - pre_mid))),
-            _ => Err(Error::input(src().field(name), "the unloaded windows at the start and end of the pin are empty")),
+            _ => Err(Error::input(
+                src().field(name),
+                "the unloaded windows at the start and end of the pin are empty",
+            )),
         }
     };
     let (off_n, slope_n) = drift_line(&rec.normal_n, "normal")?;
     let (off_t, slope_t) = drift_line(&rec.tangential_n, "tangential")?;
     let _ = base_n;
-    let fn_c: Vec<f64> = rec.time_s.iter().zip(&rec.normal_n).map(|(t, v)| v - off_n - slope_n * (t - pre_mid)).collect();
-    let ft_c: Vec<f64> = rec.time_s.iter().zip(&rec.tangential_n).map(|(t, v)| v - off_t - slope_t * (t - pre_mid)).collect();
+    let fn_c: Vec<f64> = rec
+        .time_s
+        .iter()
+        .zip(&rec.normal_n)
+        .map(|(t, v)| v - off_n - slope_n * (t - pre_mid))
+        .collect();
+    let ft_c: Vec<f64> = rec
+        .time_s
+        .iter()
+        .zip(&rec.tangential_n)
+        .map(|(t, v)| v - off_t - slope_t * (t - pre_mid))
+        .collect();
 
     // loaded level must match the plan (units and mapping check)
-    let loaded = window_median(rec, &fn_c, ts + s0.plateau_start_s, ts + s0.plateau_end_s).unwrap_or(0.0);
+    let loaded =
+        window_median(rec, &fn_c, ts + s0.plateau_start_s, ts + s0.plateau_end_s).unwrap_or(0.0);
     if !(loaded > 0.5 * f_nom && loaded < 2.0 * f_nom) {
         return Err(Error::input(
             src().field("normal"),
@@ -279,7 +349,12 @@ pub fn identify_pin(
         }
         // spikes replaced by the running median for smoothing
         let rm = running_median(&mu, h_spike);
-        let clean: Vec<f64> = mu.iter().zip(&good).zip(&rm).map(|((m, g), r)| if *g { *m } else { *r }).collect();
+        let clean: Vec<f64> = mu
+            .iter()
+            .zip(&good)
+            .zip(&rm)
+            .map(|((m, g), r)| if *g { *m } else { *r })
+            .collect();
         let sm = moving_average(&clean, w_smooth);
         let n = sm.len();
         let tail = &sm[(n * 6) / 10..];
@@ -287,16 +362,24 @@ pub fn identify_pin(
         let sigma = mad_sigma(tail, level).max(1e-4);
         let band = (5.0 * sigma).max(0.002);
         let head_end = (n * 7) / 10;
-        let ramp_end_k = sm[..head_end].iter().rposition(|v| (v - level).abs() > band).map(|k| k + w_smooth / 2);
+        let ramp_end_k = sm[..head_end]
+            .iter()
+            .rposition(|v| (v - level).abs() > band)
+            .map(|k| k + w_smooth / 2);
         let nominal_start = ts + s.plateau_start_s;
-        let detected = ramp_end_k.map(|k| rec.time_s[i + k.min(n - 1)]).unwrap_or(a);
+        let detected = ramp_end_k
+            .map(|k| rec.time_s[i + k.min(n - 1)])
+            .unwrap_or(a);
         let mut fl = Vec::new();
         if detected > nominal_start + 0.5 * spec.dwell_s {
             fl.push(flags::RAMP_UNCONFIRMED.to_string());
         }
         let p_start = detected.max(nominal_start) + cfg.settle_time_s;
         let p_end = b - cfg.end_margin_s;
-        let (pi, pj) = (index_at(&rec.time_s, p_start) - i, index_at(&rec.time_s, p_end) - i);
+        let (pi, pj) = (
+            index_at(&rec.time_s, p_start) - i,
+            index_at(&rec.time_s, p_end) - i,
+        );
         let idx: Vec<usize> = (pi..pj.max(pi)).filter(|k| good[*k]).collect();
         if idx.len() < cfg.min_plateau_samples {
             return Err(Error::input(
@@ -318,10 +401,19 @@ pub fn identify_pin(
         let sm_p: Vec<f64> = sm[pi..pj].to_vec();
         let t_p: Vec<f64> = (pi..pj).map(|k| rec.time_s[i + k] - ts).collect();
         let (ia, ib, _) = linear_fit(&t_p, &sm_p);
-        let detr: Vec<f64> = sm_p.iter().zip(&t_p).map(|(v, t)| v - ia - ib * t).collect();
+        let detr: Vec<f64> = sm_p
+            .iter()
+            .zip(&t_p)
+            .map(|(v, t)| v - ia - ib * t)
+            .collect();
         let h = w_smooth / 2;
-        let inner = if detr.len() > 2 * h + 2 { &detr[h..detr.len() - h] } else { &detr[..] };
-        let p2p = inner.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - inner.iter().cloned().fold(f64::INFINITY, f64::min);
+        let inner = if detr.len() > 2 * h + 2 {
+            &detr[h..detr.len() - h]
+        } else {
+            &detr[..]
+        };
+        let p2p = inner.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+            - inner.iter().cloned().fold(f64::INFINITY, f64::min);
         let stick = p2p > cfg.stick_slip_threshold;
         if trend {
             fl.push(flags::TREND.to_string());
@@ -374,7 +466,11 @@ pub fn identify_campaign(
     if recordings.len() != plan.pins.len() {
         return Err(Error::invalid(
             "identify",
-            format!("the plan has {} pins but {} recordings were given", plan.pins.len(), recordings.len()),
+            format!(
+                "the plan has {} pins but {} recordings were given",
+                plan.pins.len(),
+                recordings.len()
+            ),
         ));
     }
     let mut records = Vec::with_capacity(plan.steps.len());

@@ -129,33 +129,57 @@ fn equidistant(min: f64, max: f64, count: usize) -> Vec<f64> {
     if count == 1 {
         return vec![min];
     }
-    (0..count).map(|i| min + (max - min) * i as f64 / (count - 1) as f64).collect()
+    (0..count)
+        .map(|i| min + (max - min) * i as f64 / (count - 1) as f64)
+        .collect()
 }
 
-fn check_series(what: &str, unit: &str, min: f64, max: f64, count: usize, list: &Option<Vec<f64>>) -> Result<Vec<f64>> {
+fn check_series(
+    what: &str,
+    unit: &str,
+    min: f64,
+    max: f64,
+    count: usize,
+    list: &Option<Vec<f64>>,
+) -> Result<Vec<f64>> {
     let values = match list {
         Some(l) => {
             if l.is_empty() {
-                return Err(Error::invalid("plan", format!("the list of {what} is empty")));
+                return Err(Error::invalid(
+                    "plan",
+                    format!("the list of {what} is empty"),
+                ));
             }
             l.clone()
         }
         None => {
             if count == 0 {
-                return Err(Error::invalid("plan", format!("{what}: count must be at least 1 (empty range)")));
+                return Err(Error::invalid(
+                    "plan",
+                    format!("{what}: count must be at least 1 (empty range)"),
+                ));
             }
             if !(min.is_finite() && max.is_finite()) || max < min {
-                return Err(Error::invalid("plan", format!("{what}: empty range {min}..{max} {unit} (max must be ≥ min)")));
+                return Err(Error::invalid(
+                    "plan",
+                    format!("{what}: empty range {min}..{max} {unit} (max must be ≥ min)"),
+                ));
             }
             if count == 1 && max != min {
-                return Err(Error::invalid("plan", format!("{what}: a count of 1 needs min = max, got {min}..{max} {unit}")));
+                return Err(Error::invalid(
+                    "plan",
+                    format!("{what}: a count of 1 needs min = max, got {min}..{max} {unit}"),
+                ));
             }
             equidistant(min, max, count)
         }
     };
     for v in &values {
         if !(v.is_finite() && *v > 0.0) {
-            return Err(Error::invalid("plan", format!("{what} must be positive, got {v} {unit}")));
+            return Err(Error::invalid(
+                "plan",
+                format!("{what} must be positive, got {v} {unit}"),
+            ));
         }
     }
     Ok(values)
@@ -169,7 +193,14 @@ fn round_to(x: f64, decimals: u32) -> f64 {
 impl PlanSpec {
     /// The normal forces of the plan, N.
     pub fn normal_forces(&self) -> Result<Vec<f64>> {
-        check_series("normal forces", "N", self.normal_force_min_n, self.normal_force_max_n, self.normal_force_count, &self.normal_forces_n)
+        check_series(
+            "normal forces",
+            "N",
+            self.normal_force_min_n,
+            self.normal_force_max_n,
+            self.normal_force_count,
+            &self.normal_forces_n,
+        )
     }
     /// The sliding velocities of the plan, m/min.
     pub fn velocities_m_per_min(&self) -> Result<Vec<f64>> {
@@ -185,8 +216,14 @@ impl PlanSpec {
     pub fn track_radius_m(&self) -> Result<f64> {
         match self.track_radius_mm {
             Some(r) if r.is_finite() && r > 0.0 => Ok(r * units::M_PER_MM),
-            Some(r) => Err(Error::invalid("plan", format!("track radius must be positive, got {r} mm"))),
-            None => Err(Error::invalid("plan", "the track radius is required (track_radius_mm / --track-radius-mm)")),
+            Some(r) => Err(Error::invalid(
+                "plan",
+                format!("track radius must be positive, got {r} mm"),
+            )),
+            None => Err(Error::invalid(
+                "plan",
+                "the track radius is required (track_radius_mm / --track-radius-mm)",
+            )),
         }
     }
     /// Nominal spindle ramp time between two speeds, s.
@@ -195,7 +232,10 @@ impl PlanSpec {
     }
     /// Commanded spindle speed for a velocity (m/min), rounded to `rpm_decimals`.
     pub fn commanded_rpm(&self, velocity_m_per_min: f64, radius_m: f64) -> f64 {
-        round_to(units::rpm_for_velocity(units::m_per_min_to_m_per_s(velocity_m_per_min), radius_m), self.rpm_decimals)
+        round_to(
+            units::rpm_for_velocity(units::m_per_min_to_m_per_s(velocity_m_per_min), radius_m),
+            self.rpm_decimals,
+        )
     }
 
     /// Validate and derive every step's timing.
@@ -207,26 +247,42 @@ impl PlanSpec {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(Error::invalid("plan", format!("{name} must be positive, got {v} {unit}")))
+                Err(Error::invalid(
+                    "plan",
+                    format!("{name} must be positive, got {v} {unit}"),
+                ))
             }
         };
         positive("dwell_s", self.dwell_s, "s")?;
-        positive("spindle_accel_rpm_per_s", self.spindle_accel_rpm_per_s, "rpm/s")?;
+        positive(
+            "spindle_accel_rpm_per_s",
+            self.spindle_accel_rpm_per_s,
+            "rpm/s",
+        )?;
         positive("max_spindle_rpm", self.max_spindle_rpm, "rpm")?;
         positive("zero_time_s", self.zero_time_s, "s")?;
         positive("load_time_s", self.load_time_s, "s")?;
         if self.rpm_decimals > 4 {
-            return Err(Error::invalid("plan", format!("rpm_decimals must be 0..4, got {}", self.rpm_decimals)));
+            return Err(Error::invalid(
+                "plan",
+                format!("rpm_decimals must be 0..4, got {}", self.rpm_decimals),
+            ));
         }
         if self.trigger_on_mcode == self.trigger_off_mcode {
-            return Err(Error::invalid("plan", "trigger on and off M-codes must differ"));
+            return Err(Error::invalid(
+                "plan",
+                "trigger on and off M-codes must differ",
+            ));
         }
         for m in [self.trigger_on_mcode, self.trigger_off_mcode] {
             if matches!(m, 0..=6 | 30) {
                 return Err(Error::invalid("plan", format!("M{m} is a standard M-code (stop/spindle/end); choose another for the trigger")));
             }
         }
-        let rpms: Vec<f64> = velocities.iter().map(|&v| self.commanded_rpm(v, radius)).collect();
+        let rpms: Vec<f64> = velocities
+            .iter()
+            .map(|&v| self.commanded_rpm(v, radius))
+            .collect();
         for (v, n) in velocities.iter().zip(&rpms) {
             if *n > self.max_spindle_rpm {
                 return Err(Error::invalid(
@@ -239,7 +295,10 @@ impl PlanSpec {
                 ));
             }
             if *n <= 0.0 {
-                return Err(Error::invalid("plan", format!("{v} m/min rounds to 0 rpm; raise rpm_decimals")));
+                return Err(Error::invalid(
+                    "plan",
+                    format!("{v} m/min rounds to 0 rpm; raise rpm_decimals"),
+                ));
             }
         }
         let mut steps = Vec::with_capacity(forces.len() * velocities.len());
@@ -275,7 +334,11 @@ impl PlanSpec {
                 end_s: unload + self.load_time_s + self.zero_time_s,
             });
         }
-        Ok(Plan { spec: self.clone(), pins, steps })
+        Ok(Plan {
+            spec: self.clone(),
+            pins,
+            steps,
+        })
     }
 }
 
@@ -321,13 +384,15 @@ impl Plan {
     }
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     pub(crate) fn article_spec() -> PlanSpec {
-        PlanSpec { track_radius_mm: Some(100.0), ..Default::default() }
+        PlanSpec {
+            track_radius_mm: Some(100.0),
+            ..Default::default()
+        }
     }
 
     #[test]
@@ -336,11 +401,17 @@ mod tests {
         assert_eq!(plan.pins.len(), 10);
         assert_eq!(plan.steps.len(), 210);
         let forces: Vec<f64> = plan.pins.iter().map(|p| p.normal_force_n).collect();
-        let expected = [150.0, 355.6, 561.1, 766.7, 972.2, 1177.8, 1383.3, 1588.9, 1794.4, 2000.0];
+        let expected = [
+            150.0, 355.6, 561.1, 766.7, 972.2, 1177.8, 1383.3, 1588.9, 1794.4, 2000.0,
+        ];
         for (f, e) in forces.iter().zip(expected) {
             assert!((f - e).abs() < 0.05, "{f} vs {e}");
         }
-        let v: Vec<f64> = plan.pin_steps(1).iter().map(|s| units::m_per_s_to_m_per_min(s.sliding_velocity_m_s)).collect();
+        let v: Vec<f64> = plan
+            .pin_steps(1)
+            .iter()
+            .map(|s| units::m_per_s_to_m_per_min(s.sliding_velocity_m_s))
+            .collect();
         assert!((v[1] - v[0] - 11.5).abs() < 1e-9);
         assert!((v[20] - 250.0).abs() < 1e-9);
         // n = v / (2πR): 20 m/min on R = 100 mm → 31.83 rpm; 250 m/min → 397.89 rpm
@@ -354,21 +425,63 @@ mod tests {
 
     #[test]
     fn rejects_impossible_plans() {
-        let e = PlanSpec { track_radius_mm: Some(1.0), ..Default::default() }.build().unwrap_err().to_string();
+        let e = PlanSpec {
+            track_radius_mm: Some(1.0),
+            ..Default::default()
+        }
+        .build()
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("above the spindle limit"), "{e}");
         let e = PlanSpec::default().build().unwrap_err().to_string();
         assert!(e.contains("track radius is required"), "{e}");
-        let e = PlanSpec { normal_force_min_n: -5.0, ..article_spec() }.build().unwrap_err().to_string();
+        let e = PlanSpec {
+            normal_force_min_n: -5.0,
+            ..article_spec()
+        }
+        .build()
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("must be positive"), "{e}");
-        let e = PlanSpec { velocity_count: 0, ..article_spec() }.build().unwrap_err().to_string();
+        let e = PlanSpec {
+            velocity_count: 0,
+            ..article_spec()
+        }
+        .build()
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("empty range"), "{e}");
-        let e = PlanSpec { velocity_min_m_per_min: 300.0, ..article_spec() }.build().unwrap_err().to_string();
+        let e = PlanSpec {
+            velocity_min_m_per_min: 300.0,
+            ..article_spec()
+        }
+        .build()
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("empty range"), "{e}");
-        let e = PlanSpec { dwell_s: 0.0, ..article_spec() }.build().unwrap_err().to_string();
+        let e = PlanSpec {
+            dwell_s: 0.0,
+            ..article_spec()
+        }
+        .build()
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("dwell_s"), "{e}");
-        let e = PlanSpec { normal_forces_n: Some(vec![]), ..article_spec() }.build().unwrap_err().to_string();
+        let e = PlanSpec {
+            normal_forces_n: Some(vec![]),
+            ..article_spec()
+        }
+        .build()
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("empty"), "{e}");
-        let e = PlanSpec { trigger_on_mcode: 3, ..article_spec() }.build().unwrap_err().to_string();
+        let e = PlanSpec {
+            trigger_on_mcode: 3,
+            ..article_spec()
+        }
+        .build()
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("standard M-code"), "{e}");
     }
 }

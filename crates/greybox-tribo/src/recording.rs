@@ -51,7 +51,10 @@ impl Recording {
         let n = self.time_s.len();
         let pos = || SourcePos::file(&self.source);
         if n < 2 {
-            return Err(Error::input(pos(), format!("a recording needs at least 2 samples, found {n}")));
+            return Err(Error::input(
+                pos(),
+                format!("a recording needs at least 2 samples, found {n}"),
+            ));
         }
         let channels: [(&str, Option<&Vec<f64>>); 4] = [
             ("normal", Some(&self.normal_n)),
@@ -62,17 +65,28 @@ impl Recording {
         for (name, ch) in channels {
             if let Some(ch) = ch {
                 if ch.len() != n {
-                    return Err(Error::input(pos().field(name), format!("channel has {} samples, time has {n}", ch.len())));
+                    return Err(Error::input(
+                        pos().field(name),
+                        format!("channel has {} samples, time has {n}", ch.len()),
+                    ));
                 }
                 if let Some(i) = ch.iter().position(|v| !v.is_finite()) {
-                    return Err(Error::input(pos().field(name), format!("sample {i} is not finite ({})", ch[i])));
+                    return Err(Error::input(
+                        pos().field(name),
+                        format!("sample {i} is not finite ({})", ch[i]),
+                    ));
                 }
             }
         }
         if let Some(i) = self.time_s.windows(2).position(|w| !(w[1] > w[0])) {
             return Err(Error::input(
                 pos().field("time"),
-                format!("time must increase strictly: sample {} ({} s) follows {} s", i + 1, self.time_s[i + 1], self.time_s[i]),
+                format!(
+                    "time must increase strictly: sample {} ({} s) follows {} s",
+                    i + 1,
+                    self.time_s[i + 1],
+                    self.time_s[i]
+                ),
             ));
         }
         Ok(())
@@ -101,18 +115,28 @@ fn one() -> f64 {
 
 impl ChannelSpec {
     pub fn named(name: &str) -> Self {
-        ChannelSpec { name: name.to_string(), unit: None, scale: 1.0 }
+        ChannelSpec {
+            name: name.to_string(),
+            unit: None,
+            scale: 1.0,
+        }
     }
     /// Parse `NAME[:UNIT[:SCALE]]`, e.g. `Fz:kN:-1`.
     pub fn parse(text: &str) -> Result<Self> {
         let mut parts = text.split(':');
         let name = parts.next().unwrap_or("").trim();
         if name.is_empty() {
-            return Err(Error::invalid("channel mapping", format!("'{text}' has no column name (expected NAME[:UNIT[:SCALE]])")));
+            return Err(Error::invalid(
+                "channel mapping",
+                format!("'{text}' has no column name (expected NAME[:UNIT[:SCALE]])"),
+            ));
         }
         let unit = match parts.next() {
             Some(u) => Some(ForceUnit::parse(u).ok_or_else(|| {
-                Error::invalid("channel mapping", format!("unknown force unit '{u}' in '{text}'; expected N, kN, daN, mN or lbf"))
+                Error::invalid(
+                    "channel mapping",
+                    format!("unknown force unit '{u}' in '{text}'; expected N, kN, daN, mN or lbf"),
+                )
             })?),
             None => None,
         };
@@ -122,24 +146,38 @@ impl ChannelSpec {
                 .parse::<f64>()
                 .ok()
                 .filter(|v| v.is_finite() && *v != 0.0)
-                .ok_or_else(|| Error::invalid("channel mapping", format!("scale '{s}' in '{text}' must be a non-zero number")))?,
+                .ok_or_else(|| {
+                    Error::invalid(
+                        "channel mapping",
+                        format!("scale '{s}' in '{text}' must be a non-zero number"),
+                    )
+                })?,
             None => 1.0,
         };
         if parts.next().is_some() {
-            return Err(Error::invalid("channel mapping", format!("'{text}': too many ':' parts (expected NAME[:UNIT[:SCALE]])")));
+            return Err(Error::invalid(
+                "channel mapping",
+                format!("'{text}': too many ':' parts (expected NAME[:UNIT[:SCALE]])"),
+            ));
         }
-        Ok(ChannelSpec { name: name.to_string(), unit, scale })
+        Ok(ChannelSpec {
+            name: name.to_string(),
+            unit,
+            scale,
+        })
     }
 }
 
 /// Unit suffix of a column name: `normal_force_kN` → kN.
 pub fn force_unit_from_name(name: &str) -> Option<ForceUnit> {
-    name.rsplit_once('_').and_then(|(_, suffix)| ForceUnit::parse(suffix))
+    name.rsplit_once('_')
+        .and_then(|(_, suffix)| ForceUnit::parse(suffix))
 }
 
 /// Unit suffix of a time column: `time_ms` → ms.
 pub fn time_unit_from_name(name: &str) -> Option<TimeUnit> {
-    name.rsplit_once('_').and_then(|(_, suffix)| TimeUnit::parse(suffix))
+    name.rsplit_once('_')
+        .and_then(|(_, suffix)| TimeUnit::parse(suffix))
 }
 
 /// How to find the channels of a recording (study TOML `[recording]`).
@@ -182,7 +220,10 @@ impl ChannelMap {
     /// trigger; `radial=` or `trigger=` with an empty name removes the channel).
     pub fn apply_override(&mut self, text: &str) -> Result<()> {
         let (role, spec) = text.split_once('=').ok_or_else(|| {
-            Error::invalid("channel mapping", format!("'{text}' is not ROLE=NAME[:UNIT[:SCALE]]"))
+            Error::invalid(
+                "channel mapping",
+                format!("'{text}' is not ROLE=NAME[:UNIT[:SCALE]]"),
+            )
         })?;
         match role.trim() {
             "normal" => self.normal = ChannelSpec::parse(spec)?,
@@ -193,21 +234,68 @@ impl ChannelMap {
             "trigger" => self.trigger = Some(spec.trim().to_string()),
             "time" => {
                 let (name, unit) = match spec.split_once(':') {
-                    Some((n, u)) => (n, Some(TimeUnit::parse(u).ok_or_else(|| {
-                        Error::invalid("channel mapping", format!("unknown time unit '{u}'; expected s, ms or us"))
-                    })?)),
+                    Some((n, u)) => (
+                        n,
+                        Some(TimeUnit::parse(u).ok_or_else(|| {
+                            Error::invalid(
+                                "channel mapping",
+                                format!("unknown time unit '{u}'; expected s, ms or us"),
+                            )
+                        })?),
+                    ),
                     None => (spec, None),
                 };
-                self.time = if name.trim().is_empty() { None } else { Some(name.trim().to_string()) };
+                self.time = if name.trim().is_empty() {
+                    None
+                } else {
+                    Some(name.trim().to_string())
+                };
                 self.time_unit = unit;
             }
-            other => {
-                return Err(Error::invalid(
-                    "channel mapping",
-                    format!("unknown role '{other}'; expected time, normal, tangential, radial or trigger"),
-                ))
-            }
+            other => return Err(Error::invalid(
+                "channel mapping",
+                format!(
+                    "unknown role '{other}'; expected time, normal, tangential, radial or trigger"
+                ),
+            )),
         }
         Ok(())
+    }
+}
+
+/// File formats of raw recordings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RecordingFormat {
+    Csv,
+    Tdms,
+}
+
+impl RecordingFormat {
+    pub fn extension(self) -> &'static str {
+        match self {
+            RecordingFormat::Csv => "csv",
+            RecordingFormat::Tdms => "tdms",
+        }
+    }
+    /// The format a file name's extension says.
+    pub fn of_path(path: &std::path::Path) -> Option<Self> {
+        match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "csv" => Some(RecordingFormat::Csv),
+            "tdms" => Some(RecordingFormat::Tdms),
+            _ => None,
+        }
+    }
+}
+
+/// Read a recording, choosing the reader from the file extension (`.csv` or `.tdms`).
+pub fn read_recording(path: &std::path::Path, map: &ChannelMap) -> Result<Recording> {
+    match RecordingFormat::of_path(path) {
+        Some(RecordingFormat::Csv) => crate::csv_recording::read_csv_recording(path, map),
+        Some(RecordingFormat::Tdms) => crate::tdms::read_tdms_recording(path, map),
+        None => Err(Error::input(
+            SourcePos::path(path),
+            "unknown recording format: expected a .csv or .tdms file",
+        )),
     }
 }

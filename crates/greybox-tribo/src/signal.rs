@@ -79,7 +79,11 @@ pub fn linear_fit(t: &[f64], y: &[f64]) -> (f64, f64, f64) {
     }
     let b = sxy / sxx;
     let a = ym - b * tm;
-    let rss: f64 = t.iter().zip(y).map(|(ti, yi)| (yi - a - b * ti).powi(2)).sum();
+    let rss: f64 = t
+        .iter()
+        .zip(y)
+        .map(|(ti, yi)| (yi - a - b * ti).powi(2))
+        .sum();
     let se = (rss / (n - 2.0) / sxx).sqrt();
     (a, b, se)
 }
@@ -88,7 +92,11 @@ pub fn linear_fit(t: &[f64], y: &[f64]) -> (f64, f64, f64) {
 pub fn mean_std(x: &[f64]) -> (f64, f64) {
     let n = x.len() as f64;
     let m = x.iter().sum::<f64>() / n;
-    let var = if x.len() > 1 { x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0) } else { 0.0 };
+    let var = if x.len() > 1 {
+        x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0)
+    } else {
+        0.0
+    };
     (m, var.sqrt())
 }
 

@@ -73,8 +73,11 @@ impl FrictionLaw for ArticleLikeLaw {
     }
     fn mu(&self, s: &ContactState) -> f64 {
         let p_article_mpa = s.pressure_pa / 4f64.cbrt() / units::PA_PER_MPA;
-        let v = units::m_per_s_to_m_per_min(s.sliding_velocity_m_s.abs()).max(self.velocity_static_m_per_min);
-        let fp = 1.0 - self.pressure_slope * (p_article_mpa - self.pressure_ref_article_mpa) / self.pressure_ref_article_mpa;
+        let v = units::m_per_s_to_m_per_min(s.sliding_velocity_m_s.abs())
+            .max(self.velocity_static_m_per_min);
+        let fp = 1.0
+            - self.pressure_slope * (p_article_mpa - self.pressure_ref_article_mpa)
+                / self.pressure_ref_article_mpa;
         let fv = (v / self.velocity_ref_m_per_min).powf(-self.velocity_exponent);
         (self.mu_ref * fp * fv).max(self.mu_min)
     }
@@ -214,14 +217,26 @@ impl SynthConfig {
         ];
         for (name, v, strictly) in checks {
             if !v.is_finite() || v < 0.0 || (strictly && v == 0.0) {
-                return Err(Error::invalid("synth", format!("{name} must be {}, got {v}", if strictly { "> 0" } else { "≥ 0" })));
+                return Err(Error::invalid(
+                    "synth",
+                    format!(
+                        "{name} must be {}, got {v}",
+                        if strictly { "> 0" } else { "≥ 0" }
+                    ),
+                ));
             }
         }
         if !(0.0..0.9).contains(&self.spindle_accel_error) {
-            return Err(Error::invalid("synth", "spindle_accel_error must be in [0, 0.9)"));
+            return Err(Error::invalid(
+                "synth",
+                "spindle_accel_error must be in [0, 0.9)",
+            ));
         }
         if !(self.load_rise_fraction > 0.0 && self.load_rise_fraction <= 1.0) {
-            return Err(Error::invalid("synth", "load_rise_fraction must be in (0, 1]"));
+            return Err(Error::invalid(
+                "synth",
+                "load_rise_fraction must be in (0, 1]",
+            ));
         }
         Ok(())
     }
@@ -232,7 +247,8 @@ impl SynthConfig {
         plan.steps
             .iter()
             .map(|s| {
-                let p0 = contact.pressure_pa_as(s.normal_force_n, PressureConvention::TextbookMax)?;
+                let p0 =
+                    contact.pressure_pa_as(s.normal_force_n, PressureConvention::TextbookMax)?;
                 let v = units::velocity_for_rpm(s.spindle_rpm, radius);
                 Ok(TruthRow {
                     pin: s.pin,
@@ -249,14 +265,23 @@ impl SynthConfig {
     }
 
     /// Simulate the raw recording of one pin (1-based).
-    pub fn simulate_pin(&self, plan: &Plan, contact: &PinContact, pin: u32) -> Result<crate::recording::Recording> {
+    pub fn simulate_pin(
+        &self,
+        plan: &Plan,
+        contact: &PinContact,
+        pin: u32,
+    ) -> Result<crate::recording::Recording> {
         self.validate()?;
-        let sched = plan.pins.get(pin as usize - 1).ok_or_else(|| Error::invalid("synth", format!("no pin {pin} in the plan")))?;
+        let sched = plan
+            .pins
+            .get(pin as usize - 1)
+            .ok_or_else(|| Error::invalid("synth", format!("no pin {pin} in the plan")))?;
         let steps = plan.pin_steps(pin);
         let spec = &plan.spec;
         let radius = plan.track_radius_m();
         let p0 = contact.pressure_pa_as(sched.normal_force_n, PressureConvention::TextbookMax)?;
-        let mut rng = ChaCha8Rng::seed_from_u64(self.seed ^ (pin as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        let mut rng =
+            ChaCha8Rng::seed_from_u64(self.seed ^ (pin as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
         let k = self.disturbance_scale;
         let dt = 1.0 / self.sample_rate_hz;
         let t_start = -self.pre_trigger_s;
@@ -264,12 +289,21 @@ impl SynthConfig {
         let n = ((t_end - t_start) / dt).floor() as usize + 1;
 
         let latency = self.latency_s + self.latency_jitter_s * rng.gen_range(-1.0..=1.0);
-        let accel = spec.spindle_accel_rpm_per_s * (1.0 + self.spindle_accel_error * rng.gen_range(-1.0..=1.0));
-        let harmonics: Vec<(f64, f64)> = self.runout_rel.iter().map(|a| (*a, rng.gen_range(0.0..2.0 * PI))).collect();
+        let accel = spec.spindle_accel_rpm_per_s
+            * (1.0 + self.spindle_accel_error * rng.gen_range(-1.0..=1.0));
+        let harmonics: Vec<(f64, f64)> = self
+            .runout_rel
+            .iter()
+            .map(|a| (*a, rng.gen_range(0.0..2.0 * PI)))
+            .collect();
         let vib_phase: Vec<f64> = (0..3).map(|_| rng.gen_range(0.0..2.0 * PI)).collect();
         let std_normal = Normal::new(0.0, 1.0).expect("unit normal");
-        let offsets: Vec<f64> = (0..3).map(|_| self.offset_std_n * std_normal.sample(&mut rng)).collect();
-        let drifts: Vec<f64> = (0..3).map(|_| k * self.drift_std_n_per_s * std_normal.sample(&mut rng)).collect();
+        let offsets: Vec<f64> = (0..3)
+            .map(|_| self.offset_std_n * std_normal.sample(&mut rng))
+            .collect();
+        let drifts: Vec<f64> = (0..3)
+            .map(|_| k * self.drift_std_n_per_s * std_normal.sample(&mut rng))
+            .collect();
 
         // NC events shifted by the latency: (time, target rpm)
         let commands: Vec<(f64, f64)> = steps
@@ -311,7 +345,11 @@ impl SynthConfig {
             theta += 2.0 * PI * rpm / 60.0 * dt;
             let v = units::velocity_for_rpm(rpm, radius);
             let load = load_shape(t);
-            let runout: f64 = harmonics.iter().enumerate().map(|(h, (a, ph))| a * ((h + 1) as f64 * theta + ph).sin()).sum();
+            let runout: f64 = harmonics
+                .iter()
+                .enumerate()
+                .map(|(h, (a, ph))| a * ((h + 1) as f64 * theta + ph).sin())
+                .sum();
             let f_n = sched.normal_force_n * load * (1.0 + runout);
             let mut f_t = 0.0;
             if rpm > 1e-9 && load > 0.0 {
@@ -324,24 +362,41 @@ impl SynthConfig {
                         mu *= 1.0 + s.amplitude_rel * 2.0 * (phase - 0.5);
                     }
                 }
-                let vib: f64 = vib_phase.iter().enumerate().map(|(h, ph)| ((h + 1) as f64 * theta + ph).sin() / (h + 1) as f64).sum();
-                f_t = mu * f_n + self.tangential_vibration_rel * mu * sched.normal_force_n * load * vib;
+                let vib: f64 = vib_phase
+                    .iter()
+                    .enumerate()
+                    .map(|(h, ph)| ((h + 1) as f64 * theta + ph).sin() / (h + 1) as f64)
+                    .sum();
+                f_t = mu * f_n
+                    + self.tangential_vibration_rel * mu * sched.normal_force_n * load * vib;
             }
             let f_r = self.radial_fraction * f_n;
             let clock = t - t_start;
-            let noisy = |rng: &mut ChaCha8Rng, c: usize, x: f64, sd: f64| x + offsets[c] + drifts[c] * clock + k * sd * std_normal.sample(rng);
+            let noisy = |rng: &mut ChaCha8Rng, c: usize, x: f64, sd: f64| {
+                x + offsets[c] + drifts[c] * clock + k * sd * std_normal.sample(rng)
+            };
             rec.time_s.push(clock);
-            rec.normal_n.push(noisy(&mut rng, 0, f_n, self.noise_normal_n));
-            rec.tangential_n.push(noisy(&mut rng, 1, f_t, self.noise_tangential_n));
+            rec.normal_n
+                .push(noisy(&mut rng, 0, f_n, self.noise_normal_n));
+            rec.tangential_n
+                .push(noisy(&mut rng, 1, f_t, self.noise_tangential_n));
             let r = noisy(&mut rng, 2, f_r, self.noise_radial_n);
             rec.radial_n.as_mut().expect("radial").push(r);
-            let trig = if (0.0..sched.end_s).contains(&t) { self.trigger_high_v } else { 0.0 };
-            rec.trigger_v.as_mut().expect("trigger").push(trig + self.trigger_noise_v * std_normal.sample(&mut rng));
+            let trig = if (0.0..sched.end_s).contains(&t) {
+                self.trigger_high_v
+            } else {
+                0.0
+            };
+            rec.trigger_v
+                .as_mut()
+                .expect("trigger")
+                .push(trig + self.trigger_noise_v * std_normal.sample(&mut rng));
         }
         // spikes: Poisson arrivals per channel
         let rate = k * self.spike_rate_per_s * (t_end - t_start);
         if rate > 0.0 && self.spike_amplitude_n > 0.0 {
-            let poisson = Poisson::new(rate).map_err(|e| Error::invalid("synth", format!("spike rate: {e}")))?;
+            let poisson = Poisson::new(rate)
+                .map_err(|e| Error::invalid("synth", format!("spike rate: {e}")))?;
             for c in 0..3 {
                 let count = poisson.sample(&mut rng) as usize;
                 let ch = match c {
@@ -352,7 +407,10 @@ impl SynthConfig {
                 for _ in 0..count {
                     let at = rng.gen_range(0..n);
                     let width = rng.gen_range(1..=3usize);
-                    let amp = k * self.spike_amplitude_n * rng.gen_range(0.5..1.0) * if rng.gen_bool(0.5) { 1.0 } else { -1.0 };
+                    let amp = k
+                        * self.spike_amplitude_n
+                        * rng.gen_range(0.5..1.0)
+                        * if rng.gen_bool(0.5) { 1.0 } else { -1.0 };
                     for j in at..(at + width).min(n) {
                         ch[j] += amp;
                     }
@@ -385,7 +443,6 @@ pub fn write_ground_truth(path: &std::path::Path, rows: &[TruthRow]) -> Result<(
     })
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -395,7 +452,10 @@ mod tests {
     fn ground_truth_matches_the_article() {
         let law = ArticleLikeLaw::default();
         let at = |p_article_mpa: f64, v_m_min: f64| {
-            law.mu(&ContactState::new(p_article_mpa * 4f64.cbrt() * 1e6, v_m_min / 60.0))
+            law.mu(&ContactState::new(
+                p_article_mpa * 4f64.cbrt() * 1e6,
+                v_m_min / 60.0,
+            ))
         };
         for v in [60.0, 70.0, 80.0] {
             let mu = at(2000.0, v);
@@ -414,15 +474,27 @@ mod tests {
 
     #[test]
     fn same_seed_same_bytes() {
-        let plan = crate::plan::PlanSpec { track_radius_mm: Some(100.0), normal_force_count: 2, normal_force_max_n: 300.0, velocity_count: 3, velocity_max_m_per_min: 43.0, ..Default::default() }
-            .build()
-            .unwrap();
+        let plan = crate::plan::PlanSpec {
+            track_radius_mm: Some(100.0),
+            normal_force_count: 2,
+            normal_force_max_n: 300.0,
+            velocity_count: 3,
+            velocity_max_m_per_min: 43.0,
+            ..Default::default()
+        }
+        .build()
+        .unwrap();
         let cfg = SynthConfig::default();
         let c = PinContact::default();
         let a = cfg.simulate_pin(&plan, &c, 2).unwrap();
         let b = cfg.simulate_pin(&plan, &c, 2).unwrap();
         assert_eq!(a, b);
-        let other = SynthConfig { seed: 7, ..SynthConfig::default() }.simulate_pin(&plan, &c, 2).unwrap();
+        let other = SynthConfig {
+            seed: 7,
+            ..SynthConfig::default()
+        }
+        .simulate_pin(&plan, &c, 2)
+        .unwrap();
         assert_ne!(a.tangential_n, other.tangential_n);
     }
 }

@@ -77,7 +77,11 @@ pub struct TdmsObject {
 
 impl TdmsObject {
     pub fn property(&self, name: &str) -> Option<&PropValue> {
-        self.properties.iter().rev().find(|(n, _)| n == name).map(|(_, v)| v)
+        self.properties
+            .iter()
+            .rev()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v)
     }
     fn set_property(&mut self, name: String, value: PropValue) {
         match self.properties.iter_mut().find(|(n, _)| *n == name) {
@@ -96,7 +100,11 @@ pub struct TdmsFile {
 
 /// Object path of a channel: `/'group'/'channel'` (single quotes doubled inside names).
 pub fn channel_path(group: &str, channel: &str) -> String {
-    format!("/'{}'/'{}'", group.replace('\'', "''"), channel.replace('\'', "''"))
+    format!(
+        "/'{}'/'{}'",
+        group.replace('\'', "''"),
+        channel.replace('\'', "''")
+    )
 }
 pub fn group_path(group: &str) -> String {
     format!("/'{}'", group.replace('\'', "''"))
@@ -126,7 +134,10 @@ impl TdmsFile {
 
     /// Parse a TDMS byte buffer. `source` names the file in errors.
     pub fn parse(bytes: &[u8], source: &str) -> Result<Self> {
-        let mut file = TdmsFile { source: source.to_string(), objects: Vec::new() };
+        let mut file = TdmsFile {
+            source: source.to_string(),
+            objects: Vec::new(),
+        };
         let mut index_of: HashMap<String, usize> = HashMap::new();
         let mut last_index: HashMap<usize, RawIndex> = HashMap::new();
         let mut active: Vec<(usize, RawIndex)> = Vec::new();
@@ -134,25 +145,56 @@ impl TdmsFile {
         let mut segment = 0usize;
         let len = bytes.len();
         if len == 0 {
-            return Err(Error::input(SourcePos::file(source).byte(0), "empty file: not a TDMS file"));
+            return Err(Error::input(
+                SourcePos::file(source).byte(0),
+                "empty file: not a TDMS file",
+            ));
         }
         while pos < len {
             segment += 1;
-            let err = |at: usize, msg: String| Error::input(SourcePos::file(source).byte(at as u64), format!("segment {segment}: {msg}"));
+            let err = |at: usize, msg: String| {
+                Error::input(
+                    SourcePos::file(source).byte(at as u64),
+                    format!("segment {segment}: {msg}"),
+                )
+            };
             if len - pos < LEAD_IN {
-                return Err(err(pos, format!("truncated lead-in: {} of {LEAD_IN} bytes", len - pos)));
+                return Err(err(
+                    pos,
+                    format!("truncated lead-in: {} of {LEAD_IN} bytes", len - pos),
+                ));
             }
             let tag = &bytes[pos..pos + 4];
             if tag != b"TDSm" {
-                let hint = if tag == b"TDSh" { " (this is a .tdms_index file; read the .tdms file)" } else { "" };
-                return Err(err(pos, format!("expected segment tag 'TDSm', found {:?}{hint}", String::from_utf8_lossy(tag))));
+                let hint = if tag == b"TDSh" {
+                    " (this is a .tdms_index file; read the .tdms file)"
+                } else {
+                    ""
+                };
+                return Err(err(
+                    pos,
+                    format!(
+                        "expected segment tag 'TDSm', found {:?}{hint}",
+                        String::from_utf8_lossy(tag)
+                    ),
+                ));
             }
             let toc = u32::from_le_bytes(bytes[pos + 4..pos + 8].try_into().expect("4 bytes"));
             let big = toc & TOC_BIG_ENDIAN != 0;
-            let mut lead = Cursor { bytes, pos: pos + 8, end: pos + LEAD_IN, big, source, segment };
+            let mut lead = Cursor {
+                bytes,
+                pos: pos + 8,
+                end: pos + LEAD_IN,
+                big,
+                source,
+                segment,
+            };
             let version = lead.u32()?;
             if version != 4712 && version != 4713 {
-                return Err(err(pos + 8, format!("unsupported TDMS version {version} (expected 4712 or 4713)")));
+                return Err(err(
+                    pos + 8,
+                    format!("unsupported TDMS version {version} (expected 4712 or 4713)"),
+                ));
             }
             let next_offset = lead.u64()?;
             let raw_offset = lead.u64()?;
@@ -170,7 +212,10 @@ impl TdmsFile {
                 end as usize
             };
             if raw_offset > (seg_end - seg_start) as u64 {
-                return Err(err(pos + 20, format!("raw data offset {raw_offset} lies beyond the segment end")));
+                return Err(err(
+                    pos + 20,
+                    format!("raw data offset {raw_offset} lies beyond the segment end"),
+                ));
             }
             let meta_end = seg_start + raw_offset as usize;
             if toc & TOC_DAQMX != 0 {
@@ -180,13 +225,23 @@ impl TdmsFile {
                 if toc & TOC_NEW_OBJ_LIST != 0 {
                     active.clear();
                 }
-                let mut c = Cursor { bytes, pos: seg_start, end: meta_end, big, source, segment };
+                let mut c = Cursor {
+                    bytes,
+                    pos: seg_start,
+                    end: meta_end,
+                    big,
+                    source,
+                    segment,
+                };
                 let n_objects = c.u32()?;
                 for _ in 0..n_objects {
                     let at = c.pos;
                     let path = c.string()?;
                     let obj = *index_of.entry(path.clone()).or_insert_with(|| {
-                        file.objects.push(TdmsObject { path: path.clone(), ..Default::default() });
+                        file.objects.push(TdmsObject {
+                            path: path.clone(),
+                            ..Default::default()
+                        });
                         file.objects.len() - 1
                     });
                     let index_len = c.u32()?;
@@ -198,21 +253,42 @@ impl TdmsFile {
                             })?;
                             upsert(&mut active, obj, idx);
                         }
-                        0x6912_0000 | 0x6913_0000 => return Err(err(at, format!("object {path}: DAQmx raw data is not supported"))),
+                        0x6912_0000 | 0x6913_0000 => {
+                            return Err(err(
+                                at,
+                                format!("object {path}: DAQmx raw data is not supported"),
+                            ))
+                        }
                         _ => {
                             let dtype = c.u32()?;
                             let dim = c.u32()?;
                             if dim != 1 {
-                                return Err(err(at, format!("object {path}: array dimension {dim}, TDMS allows only 1")));
+                                return Err(err(
+                                    at,
+                                    format!(
+                                        "object {path}: array dimension {dim}, TDMS allows only 1"
+                                    ),
+                                ));
                             }
                             let n_values = c.u64()?;
                             let bytes_total = if dtype == T_STRING {
                                 c.u64()?
                             } else {
-                                let size = type_size(dtype).ok_or_else(|| err(at, format!("object {path}: unsupported data type 0x{dtype:x}")))?;
-                                n_values.checked_mul(size as u64).ok_or_else(|| err(at, "value count overflows".into()))?
+                                let size = type_size(dtype).ok_or_else(|| {
+                                    err(
+                                        at,
+                                        format!("object {path}: unsupported data type 0x{dtype:x}"),
+                                    )
+                                })?;
+                                n_values
+                                    .checked_mul(size as u64)
+                                    .ok_or_else(|| err(at, "value count overflows".into()))?
                             };
-                            let idx = RawIndex { dtype, n_values, bytes: bytes_total };
+                            let idx = RawIndex {
+                                dtype,
+                                n_values,
+                                bytes: bytes_total,
+                            };
                             if let Some(prev) = file.objects[obj].data_type {
                                 if prev != dtype {
                                     return Err(err(at, format!("object {path} changes data type from 0x{prev:x} to 0x{dtype:x}")));
@@ -244,11 +320,24 @@ impl TdmsFile {
                     ));
                 } else {
                     let n_chunks = data_len / chunk;
-                    let mut c = Cursor { bytes, pos: meta_end, end: seg_end, big, source, segment };
+                    let mut c = Cursor {
+                        bytes,
+                        pos: meta_end,
+                        end: seg_end,
+                        big,
+                        source,
+                        segment,
+                    };
                     if toc & TOC_INTERLEAVED != 0 {
                         let n = active[0].1.n_values;
-                        if active.iter().any(|(_, i)| i.n_values != n || i.dtype == T_STRING) {
-                            return Err(err(meta_end, "interleaved data needs equal-length numeric channels".into()));
+                        if active
+                            .iter()
+                            .any(|(_, i)| i.n_values != n || i.dtype == T_STRING)
+                        {
+                            return Err(err(
+                                meta_end,
+                                "interleaved data needs equal-length numeric channels".into(),
+                            ));
                         }
                         for _ in 0..n_chunks * n {
                             for (obj, idx) in &active {
@@ -319,7 +408,11 @@ impl Cursor<'_> {
         if self.end - self.pos < n {
             return Err(Error::input(
                 SourcePos::file(self.source).byte(self.pos as u64),
-                format!("segment {}: truncated: needed {n} more bytes, {} left", self.segment, self.end - self.pos),
+                format!(
+                    "segment {}: truncated: needed {n} more bytes, {} left",
+                    self.segment,
+                    self.end - self.pos
+                ),
             ));
         }
         let s = &self.bytes[self.pos..self.pos + n];
@@ -347,7 +440,10 @@ impl Cursor<'_> {
         let n = self.u32()? as usize;
         let b = self.take(n)?;
         String::from_utf8(b.to_vec()).map_err(|_| {
-            Error::input(SourcePos::file(self.source).byte(at as u64), format!("segment {}: string is not UTF-8", self.segment))
+            Error::input(
+                SourcePos::file(self.source).byte(at as u64),
+                format!("segment {}: string is not UTF-8", self.segment),
+            )
         })
     }
     fn timestamp(&mut self) -> Result<f64> {
@@ -378,7 +474,10 @@ impl Cursor<'_> {
             other => {
                 return Err(Error::input(
                     SourcePos::file(self.source).byte(self.pos as u64),
-                    format!("segment {}: unsupported data type 0x{other:x}", self.segment),
+                    format!(
+                        "segment {}: unsupported data type 0x{other:x}",
+                        self.segment
+                    ),
                 ))
             }
         })
@@ -397,7 +496,10 @@ impl Cursor<'_> {
             other => {
                 return Err(Error::input(
                     SourcePos::file(self.source).byte(self.pos as u64),
-                    format!("segment {}: unsupported property type 0x{other:x}", self.segment),
+                    format!(
+                        "segment {}: unsupported property type 0x{other:x}",
+                        self.segment
+                    ),
                 ))
             }
         })
@@ -419,7 +521,12 @@ fn put_str(buf: &mut Vec<u8>, s: &str) {
     buf.extend_from_slice(s.as_bytes());
 }
 
-fn put_lead_in(out: &mut dyn Write, toc: u32, meta_len: usize, raw_len: usize) -> std::io::Result<()> {
+fn put_lead_in(
+    out: &mut dyn Write,
+    toc: u32,
+    meta_len: usize,
+    raw_len: usize,
+) -> std::io::Result<()> {
     out.write_all(b"TDSm")?;
     out.write_all(&toc.to_le_bytes())?;
     out.write_all(&4713u32.to_le_bytes())?;
@@ -440,7 +547,10 @@ pub fn write_tdms(
     segment_samples: usize,
 ) -> std::io::Result<()> {
     let n = channels.first().map(|c| c.data.len()).unwrap_or(0);
-    assert!(channels.iter().all(|c| c.data.len() == n), "channels must have equal length");
+    assert!(
+        channels.iter().all(|c| c.data.len() == n),
+        "channels must have equal length"
+    );
     let seg = segment_samples.max(1);
     let mut start = 0usize;
     let mut first = true;
@@ -513,16 +623,41 @@ pub const DEFAULT_SEGMENT_SAMPLES: usize = 10_000;
 pub fn write_tdms_recording(path: &Path, rec: &Recording, group: &str) -> Result<()> {
     let dt = 1.0 / rec.sample_rate_hz();
     let mut channels = vec![
-        WriteChannel { name: "normal_force_N", unit: "N", data: &rec.normal_n },
-        WriteChannel { name: "tangential_force_N", unit: "N", data: &rec.tangential_n },
+        WriteChannel {
+            name: "normal_force_N",
+            unit: "N",
+            data: &rec.normal_n,
+        },
+        WriteChannel {
+            name: "tangential_force_N",
+            unit: "N",
+            data: &rec.tangential_n,
+        },
     ];
     if let Some(r) = &rec.radial_n {
-        channels.push(WriteChannel { name: "radial_force_N", unit: "N", data: r });
+        channels.push(WriteChannel {
+            name: "radial_force_N",
+            unit: "N",
+            data: r,
+        });
     }
     if let Some(t) = &rec.trigger_v {
-        channels.push(WriteChannel { name: "trigger_V", unit: "V", data: t });
+        channels.push(WriteChannel {
+            name: "trigger_V",
+            unit: "V",
+            data: t,
+        });
     }
-    write_atomic(path, |w| write_tdms(w, group, &channels, dt, rec.time_s[0], DEFAULT_SEGMENT_SAMPLES))
+    write_atomic(path, |w| {
+        write_tdms(
+            w,
+            group,
+            &channels,
+            dt,
+            rec.time_s[0],
+            DEFAULT_SEGMENT_SAMPLES,
+        )
+    })
 }
 
 /// Read a recording from a TDMS file through a channel map.
@@ -537,7 +672,10 @@ fn find_channel<'a>(file: &'a TdmsFile, group: &str, name: &str) -> Result<&'a T
         let msg = if file.object(&group_path(group)).is_none() && names.is_empty() {
             format!("no group '{group}' in the file")
         } else {
-            format!("no channel '{name}' in group '{group}'; it has: {}", names.join(", "))
+            format!(
+                "no channel '{name}' in group '{group}'; it has: {}",
+                names.join(", ")
+            )
         };
         Error::input(SourcePos::file(&file.source).field(name), msg)
     })
@@ -547,19 +685,32 @@ fn force_channel(file: &TdmsFile, group: &str, spec: &ChannelSpec) -> Result<Vec
     let obj = find_channel(file, group, &spec.name)?;
     let pos = || SourcePos::file(&file.source).field(&spec.name);
     let stored = match obj.property("unit_string").and_then(PropValue::as_str) {
-        Some(u) if !u.trim().is_empty() => Some(
-            ForceUnit::parse(u).ok_or_else(|| Error::input(pos(), format!("unknown unit_string '{u}'; expected N, kN, daN, mN or lbf")))?,
-        ),
+        Some(u) if !u.trim().is_empty() => Some(ForceUnit::parse(u).ok_or_else(|| {
+            Error::input(
+                pos(),
+                format!("unknown unit_string '{u}'; expected N, kN, daN, mN or lbf"),
+            )
+        })?),
         _ => None,
     };
     let unit = match (spec.unit, stored) {
         (Some(m), Some(s)) if m != s => {
-            return Err(Error::input(pos(), format!("mapped as {} but the file says unit_string '{}'", m.symbol(), s.symbol())))
+            return Err(Error::input(
+                pos(),
+                format!(
+                    "mapped as {} but the file says unit_string '{}'",
+                    m.symbol(),
+                    s.symbol()
+                ),
+            ))
         }
         (Some(m), _) => m,
         (None, Some(s)) => s,
         (None, None) => force_unit_from_name(&spec.name).ok_or_else(|| {
-            Error::input(pos(), "channel has no unit_string property and no unit suffix; map it as NAME:UNIT")
+            Error::input(
+                pos(),
+                "channel has no unit_string property and no unit suffix; map it as NAME:UNIT",
+            )
         })?,
     };
     let k = unit.to_newton() * spec.scale;
@@ -571,13 +722,26 @@ pub fn recording_from_tdms(file: &TdmsFile, map: &ChannelMap) -> Result<Recordin
     let g = &map.tdms_group;
     let normal = force_channel(file, g, &map.normal)?;
     let tangential = force_channel(file, g, &map.tangential)?;
-    let radial = map.radial.as_ref().map(|s| force_channel(file, g, s)).transpose()?;
-    let trigger = map.trigger.as_ref().map(|t| find_channel(file, g, t).map(|o| o.data.clone())).transpose()?;
+    let radial = map
+        .radial
+        .as_ref()
+        .map(|s| force_channel(file, g, s))
+        .transpose()?;
+    let trigger = map
+        .trigger
+        .as_ref()
+        .map(|t| find_channel(file, g, t).map(|o| o.data.clone()))
+        .transpose()?;
     let n = normal.len();
     let time_channel = map.time.as_ref().and_then(|t| file.channel(g, t));
     let time_s = match time_channel {
         Some(obj) => {
-            let unit = map.time_unit.or_else(|| crate::recording::time_unit_from_name(map.time.as_deref().unwrap_or(""))).unwrap_or(greybox_core::units::TimeUnit::Second);
+            let unit = map
+                .time_unit
+                .or_else(|| {
+                    crate::recording::time_unit_from_name(map.time.as_deref().unwrap_or(""))
+                })
+                .unwrap_or(greybox_core::units::TimeUnit::Second);
             obj.data.iter().map(|v| v * unit.to_second()).collect()
         }
         None => {
@@ -593,11 +757,21 @@ pub fn recording_from_tdms(file: &TdmsFile, map: &ChannelMap) -> Result<Recordin
                         "no time channel and no positive wf_increment property (or sample_rate_hz) for waveform timing",
                     )
                 })?;
-            let t0 = obj.property("wf_start_offset").and_then(PropValue::as_f64).unwrap_or(0.0);
+            let t0 = obj
+                .property("wf_start_offset")
+                .and_then(PropValue::as_f64)
+                .unwrap_or(0.0);
             (0..n).map(|i| t0 + i as f64 * dt).collect()
         }
     };
-    let rec = Recording { source: file.source.clone(), time_s, normal_n: normal, tangential_n: tangential, radial_n: radial, trigger_v: trigger };
+    let rec = Recording {
+        source: file.source.clone(),
+        time_s,
+        normal_n: normal,
+        tangential_n: tangential,
+        radial_n: radial,
+        trigger_v: trigger,
+    };
     rec.validate()?;
     Ok(rec)
 }
@@ -619,10 +793,26 @@ mod tests {
 
     fn to_bytes(rec: &Recording, seg: usize) -> Vec<u8> {
         let chans = [
-            WriteChannel { name: "normal_force_N", unit: "N", data: &rec.normal_n },
-            WriteChannel { name: "tangential_force_N", unit: "N", data: &rec.tangential_n },
-            WriteChannel { name: "radial_force_N", unit: "N", data: rec.radial_n.as_ref().unwrap() },
-            WriteChannel { name: "trigger_V", unit: "V", data: rec.trigger_v.as_ref().unwrap() },
+            WriteChannel {
+                name: "normal_force_N",
+                unit: "N",
+                data: &rec.normal_n,
+            },
+            WriteChannel {
+                name: "tangential_force_N",
+                unit: "N",
+                data: &rec.tangential_n,
+            },
+            WriteChannel {
+                name: "radial_force_N",
+                unit: "N",
+                data: rec.radial_n.as_ref().unwrap(),
+            },
+            WriteChannel {
+                name: "trigger_V",
+                unit: "V",
+                data: rec.trigger_v.as_ref().unwrap(),
+            },
         ];
         let mut buf = Vec::new();
         write_tdms(&mut buf, "Tribometer", &chans, 1e-3, 0.0, seg).unwrap();
@@ -638,7 +828,11 @@ mod tests {
             let back = recording_from_tdms(&file, &ChannelMap::default()).unwrap();
             assert_eq!(back.normal_n, rec.normal_n, "segments of {seg}");
             assert_eq!(back.trigger_v, rec.trigger_v);
-            assert!(back.time_s.iter().zip(&rec.time_s).all(|(a, b)| (a - b).abs() < 1e-12));
+            assert!(back
+                .time_s
+                .iter()
+                .zip(&rec.time_s)
+                .all(|(a, b)| (a - b).abs() < 1e-12));
         }
     }
 
@@ -646,7 +840,9 @@ mod tests {
     fn truncated_file_is_an_error_naming_the_byte() {
         let buf = to_bytes(&sample_recording(25), 10);
         for cut in [0, 5, 27, 60, buf.len() - 1] {
-            let e = TdmsFile::parse(&buf[..cut], "cut.tdms").unwrap_err().to_string();
+            let e = TdmsFile::parse(&buf[..cut], "cut.tdms")
+                .unwrap_err()
+                .to_string();
             assert!(e.starts_with("cut.tdms, byte"), "{cut}: {e}");
             assert!(e.contains("truncated") || e.contains("empty"), "{cut}: {e}");
         }
@@ -654,20 +850,31 @@ mod tests {
 
     #[test]
     fn not_tdms_and_missing_channels() {
-        let e = TdmsFile::parse(b"time_s,normal_force_N\n0,1\n1,2\n3,4\n5,6\n", "x.tdms").unwrap_err().to_string();
+        let e = TdmsFile::parse(b"time_s,normal_force_N\n0,1\n1,2\n3,4\n5,6\n", "x.tdms")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("expected segment tag 'TDSm'"), "{e}");
         let buf = to_bytes(&sample_recording(5), 10);
         let file = TdmsFile::parse(&buf, "m.tdms").unwrap();
         let mut map = ChannelMap::default();
         map.normal = ChannelSpec::named("Fz");
         let e = recording_from_tdms(&file, &map).unwrap_err().to_string();
-        assert!(e.contains("no channel 'Fz' in group 'Tribometer'") && e.contains("normal_force_N"), "{e}");
-        let map = ChannelMap { tdms_group: "Other".into(), ..Default::default() };
+        assert!(
+            e.contains("no channel 'Fz' in group 'Tribometer'") && e.contains("normal_force_N"),
+            "{e}"
+        );
+        let map = ChannelMap {
+            tdms_group: "Other".into(),
+            ..Default::default()
+        };
         let e = recording_from_tdms(&file, &map).unwrap_err().to_string();
         assert!(e.contains("no group 'Other'"), "{e}");
         let mut map = ChannelMap::default();
         map.normal.unit = Some(ForceUnit::Kilonewton);
         let e = recording_from_tdms(&file, &map).unwrap_err().to_string();
-        assert!(e.contains("mapped as kN but the file says unit_string 'N'"), "{e}");
+        assert!(
+            e.contains("mapped as kN but the file says unit_string 'N'"),
+            "{e}"
+        );
     }
 }

@@ -30,7 +30,10 @@ fn truth_error(cfg: &SynthConfig, id: &IdentifyConfig, strip_trigger: bool) -> f
         }
         let (rows, _) = identify_pin(&rec, &plan, pin, &c, id).unwrap();
         for r in rows {
-            let t = truth.iter().find(|t| t.pin == r.pin && t.step == r.step).unwrap();
+            let t = truth
+                .iter()
+                .find(|t| t.pin == r.pin && t.step == r.step)
+                .unwrap();
             worst = worst.max((r.cof_apparent - t.cof_true).abs());
         }
     }
@@ -39,7 +42,10 @@ fn truth_error(cfg: &SynthConfig, id: &IdentifyConfig, strip_trigger: bool) -> f
 
 #[test]
 fn first_plateau_alignment_without_trigger() {
-    let id = IdentifyConfig { align: Alignment::FirstPlateau, ..Default::default() };
+    let id = IdentifyConfig {
+        align: Alignment::FirstPlateau,
+        ..Default::default()
+    };
     let worst = truth_error(&SynthConfig::default(), &id, true);
     assert!(worst <= 0.003, "{worst}");
     // and with the trigger alignment the missing channel is a clear error
@@ -47,7 +53,9 @@ fn first_plateau_alignment_without_trigger() {
     let c = PinContact::default();
     let mut rec = SynthConfig::default().simulate_pin(&plan, &c, 1).unwrap();
     rec.trigger_v = None;
-    let e = identify_pin(&rec, &plan, 1, &c, &IdentifyConfig::default()).unwrap_err().to_string();
+    let e = identify_pin(&rec, &plan, 1, &c, &IdentifyConfig::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("no trigger channel"), "{e}");
 }
 
@@ -56,14 +64,24 @@ fn stick_slip_is_flagged_only_where_injected() {
     let plan = small_plan();
     let c = PinContact::default();
     let cfg = SynthConfig {
-        stick_slip: Some(StickSlip { below_m_per_min: 50.0, amplitude_rel: 0.15, frequency_hz: 12.0 }),
+        stick_slip: Some(StickSlip {
+            below_m_per_min: 50.0,
+            amplitude_rel: 0.15,
+            frequency_hz: 12.0,
+        }),
         ..Default::default()
     };
     let rec = cfg.simulate_pin(&plan, &c, 1).unwrap();
     let (rows, _) = identify_pin(&rec, &plan, 1, &c, &IdentifyConfig::default()).unwrap();
     for r in rows {
         let slow = r.sliding_velocity_m_s * 60.0 < 50.0;
-        assert_eq!(r.flags.iter().any(|f| f == "stick-slip"), slow, "step {} flags {:?}", r.step, r.flags);
+        assert_eq!(
+            r.flags.iter().any(|f| f == "stick-slip"),
+            slow,
+            "step {} flags {:?}",
+            r.step,
+            r.flags
+        );
         assert_eq!(r.stationary, !slow);
     }
 }
@@ -79,7 +97,9 @@ fn recording_shorter_than_the_plan() {
     rec.tangential_n.truncate(keep);
     rec.radial_n = None;
     rec.trigger_v.as_mut().unwrap().truncate(keep);
-    let e = identify_pin(&rec, &plan, 1, &c, &IdentifyConfig::default()).unwrap_err().to_string();
+    let e = identify_pin(&rec, &plan, 1, &c, &IdentifyConfig::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("shorter than the plan"), "{e}");
 }
 
@@ -96,8 +116,13 @@ fn zero_or_negative_normal_force() {
             *f = -3.0;
         }
     }
-    let e = identify_pin(&rec, &plan, 1, &c, &IdentifyConfig::default()).unwrap_err().to_string();
-    assert!(e.contains("zero or negative") && e.contains("step 3"), "{e}");
+    let e = identify_pin(&rec, &plan, 1, &c, &IdentifyConfig::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("zero or negative") && e.contains("step 3"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -108,6 +133,8 @@ fn wrong_units_are_caught_by_the_load_check() {
     for f in rec.normal_n.iter_mut() {
         *f /= 1000.0; // a kN column read as N
     }
-    let e = identify_pin(&rec, &plan, 2, &c, &IdentifyConfig::default()).unwrap_err().to_string();
+    let e = identify_pin(&rec, &plan, 2, &c, &IdentifyConfig::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("check the channel mapping and units"), "{e}");
 }

@@ -6,9 +6,16 @@ use greybox_tribo::plan::PlanSpec;
 use greybox_tribo::synth::SynthConfig;
 
 fn max_error(cfg: &SynthConfig) -> (f64, usize) {
-    let plan = PlanSpec { track_radius_mm: Some(100.0), ..Default::default() }.build().unwrap();
+    let plan = PlanSpec {
+        track_radius_mm: Some(100.0),
+        ..Default::default()
+    }
+    .build()
+    .unwrap();
     let contact = PinContact::default();
-    let recs: Vec<_> = (1..=plan.pins.len() as u32).map(|p| cfg.simulate_pin(&plan, &contact, p).unwrap()).collect();
+    let recs: Vec<_> = (1..=plan.pins.len() as u32)
+        .map(|p| cfg.simulate_pin(&plan, &contact, p).unwrap())
+        .collect();
     let truth = cfg.ground_truth(&plan, &contact).unwrap();
     let (ds, _) = identify_campaign(&plan, &recs, &contact, &IdentifyConfig::default()).unwrap();
     assert_eq!(ds.records.len(), 210);
@@ -31,7 +38,11 @@ fn recovers_ground_truth_at_default_noise() {
 
 #[test]
 fn recovers_ground_truth_with_doubled_noise_drift_and_spikes() {
-    let cfg = SynthConfig { disturbance_scale: 2.0, seed: 7, ..Default::default() };
+    let cfg = SynthConfig {
+        disturbance_scale: 2.0,
+        seed: 7,
+        ..Default::default()
+    };
     let (worst, _) = max_error(&cfg);
     eprintln!("doubled disturbances: max |mu_id - mu_true| = {worst:.5}");
     assert!(worst <= 0.006, "{worst}");

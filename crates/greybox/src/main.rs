@@ -1,1 +1,52 @@
-fn main(){}
+//! `greybox`: the command-line shell over the greybox library crates.
+
+mod cmd_bench;
+mod cmd_demo;
+mod cmd_hertz;
+mod cmd_identify;
+mod cmd_plan;
+mod cmd_synth;
+mod output;
+mod study;
+
+use clap::{Parser, Subcommand};
+
+/// greybox — tribometer measurements to data-driven friction models for cutting simulation.
+#[derive(Parser)]
+#[command(name = "greybox", version, about, long_about = None, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Plan a pin-on-disk campaign: run sheet CSV and one ISO lathe program per pin.
+    Plan(cmd_plan::Args),
+    /// Virtual tribometer: raw recordings (CSV and/or TDMS) and the ground truth of a plan.
+    Synth(cmd_synth::Args),
+    /// Identify apparent friction coefficients per plateau from raw recordings.
+    Identify(cmd_identify::Args),
+    /// Hertzian contact: contact size, maximum and mean pressure, approach.
+    Hertz(cmd_hertz::Args),
+    /// Run the whole pipeline on the bundled example study.
+    Demo(cmd_demo::Args),
+    /// Benchmarks (recording ingestion speed).
+    Bench(cmd_bench::Args),
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Plan(a) => cmd_plan::run(a),
+        Command::Synth(a) => cmd_synth::run(a),
+        Command::Identify(a) => cmd_identify::run(a),
+        Command::Hertz(a) => cmd_hertz::run(a),
+        Command::Demo(a) => cmd_demo::run(a),
+        Command::Bench(a) => cmd_bench::run(a),
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}

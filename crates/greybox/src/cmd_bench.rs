@@ -1,0 +1,154 @@
+//! `greybox bench`: measured speed of the things that must be fast.
+
+use crate::output::print_json;
+use crate::study::{Study, DEMO_STUDY};
+use anyhow::{bail, Result};
+use greybox_tribo::csv_recording::{read_csv_recording, write_csv_recording};
+use greybox_tribo::recording::{ChannelMap, Recording};
+use greybox_tribo::tdms::{read_tdms_recording, write_tdms_recording};
+use serde::Serialize;
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(clap::Subcommand, Debug)]
+pub enum Bench {
+    /// Ingestion speed of CSV and TDMS recordings (MB/s) on a large synthetic recording.
+    Ingest {
+        /// Minimum CSV file size, MB.
+        #[arg(long = "size-mb", default_value_t = 100.0)]
+        size_mb: f64,
+        /// Timed repetitions per format (the best and the median are reported).
+        #[arg(long, default_value_t = 3)]
+        repeats: usize,
+        /// Directory for the files (default: a temporary directory, removed afterwards).
+        #[arg(long)]
+        dir: Option<PathBuf>,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(subcommand)]
+    pub bench: Bench,
+}
+
+#[derive(Serialize)]
+struct IngestResult {
+    format: String,
+    file_mb: f64,
+    samples: usize,
+    best_s: f64,
+    median_s: f64,
+    best_mb_per_s: f64,
+    best_msamples_per_s: f64,
+}
+
+/// The demo campaign's pins back to back, repeated until the CSV would reach `size_mb`.
+fn big_recording(size_mb: f64) -> Result<Recording> {
+    let study = Study::parse(DEMO_STUDY, "demo")?;
+    let plan = study.plan.build()?;
+    let pins: Vec<Recording> = (1..=plan.pins.len() as u32)
+        .map(|p| study.synth.simulate_pin(&plan, &study.contact, p))
+        .collect::<Result<_, _>>()?;
+    const BYTES_PER_ROW: f64 = 48.0; // measured on synth output: "12.3450,150.1234,…"
+    let rows_needed = (size_mb * 1e6 / BYTES_PER_ROW).ceil() as usize;
+    let mut big = Recording {
+        source: "bench".into(),
+        time_s: Vec::with_capacity(rows_needed),
+        normal_n: Vec::with_capacity(rows_needed),
+        tangential_n: Vec::with_capacity(rows_needed),
+        radial_n: Some(Vec::with_capacity(rows_needed)),
+        trigger_v: Some(Vec::with_capacity(rows_needed)),
+    };
+    let dt = 1e-3;
+    while big.len() < rows_needed {
+        for p in &pins {
+            for i in 0..p.len() {
+                big.time_s.push(big.time_s.len() as f64 * dt);
+                big.normal_n.push(p.normal_n[i]);
+                big.tangential_n.push(p.tangential_n[i]);
+                big.radial_n
+                    .as_mut()
+                    .expect("radial")
+                    .push(p.radial_n.as_ref().expect("radial")[i]);
+                big.trigger_v
+                    .as_mut()
+                    .expect("trigger")
+                    .push(p.trigger_v.as_ref().expect("trigger")[i]);
+            }
+        }
+    }
+    Ok(big)
+}
+
+fn time_reads(f: impl Fn() -> Result<usize>, repeats: usize) -> Result<(Vec<f64>, usize)> {
+    let mut times = Vec::new();
+    let mut n = 0;
+    for _ in 0..repeats.max(1) {
+        let t = Instant::now();
+        n = f()?;
+        times.push(t.elapsed().as_secs_f64());
+    }
+    times.sort_by(f64::total_cmp);
+    Ok((times, n))
+}
+
+pub fn run(a: Args) -> Result<()> {
+    match a.bench {
+        Bench::Ingest {
+            size_mb,
+            repeats,
+            dir,
+            json,
+        } => {
+            if !(size_mb > 0.0) {
+                bail!("--size-mb must be positive");
+            }
+            let tmp = tempfile::tempdir()?;
+            let dir = dir.unwrap_or_else(|| tmp.path().to_path_buf());
+            let rec = big_recording(size_mb)?;
+            let csv = dir.join("bench.csv");
+            let tdms = dir.join("bench.tdms");
+            write_csv_recording(&csv, &rec)?;
+            write_tdms_recording(&tdms, &rec, "Tribometer")?;
+            let map = ChannelMap::default();
+            let mut results = Vec::new();
+            for (name, path) in [("csv", &csv), ("tdms", &tdms)] {
+                let bytes = std::fs::metadata(path)?.len() as f64;
+                let (times, n) = time_reads(
+                    || {
+                        let r = if name == "csv" {
+                            read_csv_recording(path, &map)?
+                        } else {
+                            read_tdms_recording(path, &map)?
+                        };
+                        Ok(r.len())
+                    },
+                    repeats,
+                )?;
+                results.push(IngestResult {
+                    format: name.into(),
+                    file_mb: bytes / 1e6,
+                    samples: n,
+                    best_s: times[0],
+                    median_s: times[times.len() / 2],
+                    best_mb_per_s: bytes / 1e6 / times[0],
+                    best_msamples_per_s: n as f64 / 1e6 / times[0],
+                });
+            }
+            if json {
+                return print_json(&results);
+            }
+            for r in &results {
+                println!(
+                    "ingest {:>4}: {:8.1} MB, {} samples x 5 channels: best {:.3} s (median {:.3} s) -> {:7.1} MB/s, {:.2} Msamples/s",
+                    r.format, r.file_mb, r.samples, r.best_s, r.median_s, r.best_mb_per_s, r.best_msamples_per_s
+                );
+            }
+            Ok(())
+        }
+    }
+}

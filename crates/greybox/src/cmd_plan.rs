@@ -1,0 +1,204 @@
+//! `greybox plan`.
+
+use crate::output::print_json;
+use crate::study::Study;
+use anyhow::{Context, Result};
+use greybox_core::atomic::write_string_atomic;
+use greybox_tribo::gcode::write_program;
+use greybox_tribo::plan::Plan;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// Plan overrides shared by commands that build a plan.
+#[derive(clap::Args, Debug, Default, Clone)]
+pub struct PlanFlags {
+    /// Study TOML ([plan], [contact], …); flags override it.
+    #[arg(long)]
+    pub study: Option<PathBuf>,
+    /// Track radius on the disk, mm (required unless the study gives it).
+    #[arg(long = "track-radius-mm")]
+    pub track_radius_mm: Option<f64>,
+    /// Smallest normal force, N.
+    #[arg(long = "normal-force-min-N")]
+    pub normal_force_min_n: Option<f64>,
+    /// Largest normal force, N.
+    #[arg(long = "normal-force-max-N")]
+    pub normal_force_max_n: Option<f64>,
+    /// Number of normal forces (one pin each).
+    #[arg(long = "normal-force-count")]
+    pub normal_force_count: Option<usize>,
+    /// Lowest sliding velocity, m/min.
+    #[arg(long = "velocity-min-m-per-min")]
+    pub velocity_min: Option<f64>,
+    /// Highest sliding velocity, m/min.
+    #[arg(long = "velocity-max-m-per-min")]
+    pub velocity_max: Option<f64>,
+    /// Number of sliding velocities.
+    #[arg(long = "velocity-count")]
+    pub velocity_count: Option<usize>,
+    /// Dwell per velocity once the spindle reached it, s.
+    #[arg(long = "dwell-s")]
+    pub dwell_s: Option<f64>,
+    /// Nominal spindle acceleration, rpm/s.
+    #[arg(long = "spindle-accel-rpm-per-s")]
+    pub spindle_accel: Option<f64>,
+    /// Spindle speed limit, rpm.
+    #[arg(long = "max-spindle-rpm")]
+    pub max_spindle_rpm: Option<f64>,
+    /// M-code switching the recording trigger on.
+    #[arg(long = "trigger-on-mcode")]
+    pub trigger_on: Option<u32>,
+    /// M-code switching the recording trigger off.
+    #[arg(long = "trigger-off-mcode")]
+    pub trigger_off: Option<u32>,
+}
+
+impl PlanFlags {
+    /// The study with the flags applied.
+    pub fn study(&self) -> Result<Study> {
+        let mut s = Study::load_or_default(self.study.as_deref())?;
+        let p = &mut s.plan;
+        macro_rules! set {
+            ($field:ident, $flag:expr) => {
+                if let Some(v) = $flag {
+                    p.$field = v;
+                }
+            };
+        }
+        if self.track_radius_mm.is_some() {
+            p.track_radius_mm = self.track_radius_mm;
+        }
+        set!(normal_force_min_n, self.normal_force_min_n);
+        set!(normal_force_max_n, self.normal_force_max_n);
+        set!(normal_force_count, self.normal_force_count);
+        set!(velocity_min_m_per_min, self.velocity_min);
+        set!(velocity_max_m_per_min, self.velocity_max);
+        set!(velocity_count, self.velocity_count);
+        set!(dwell_s, self.dwell_s);
+        set!(spindle_accel_rpm_per_s, self.spindle_accel);
+        set!(max_spindle_rpm, self.max_spindle_rpm);
+        set!(trigger_on_mcode, self.trigger_on);
+        set!(trigger_off_mcode, self.trigger_off);
+        if self.normal_force_min_n.is_some()
+            || self.normal_force_max_n.is_some()
+            || self.normal_force_count.is_some()
+        {
+            p.normal_forces_n = None;
+        }
+        if self.velocity_min.is_some()
+            || self.velocity_max.is_some()
+            || self.velocity_count.is_some()
+        {
+            p.velocities_m_per_min = None;
+        }
+        Ok(s)
+    }
+}
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    pub plan: PlanFlags,
+    /// Output directory: study.toml, run_sheet.csv, nc/pinNN.nc.
+    #[arg(long, default_value = "plan-out")]
+    pub out: PathBuf,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Serialize)]
+pub struct PlanSummary {
+    pub pins: usize,
+    pub steps: usize,
+    pub normal_forces_n: Vec<f64>,
+    pub velocity_min_m_per_min: f64,
+    pub velocity_max_m_per_min: f64,
+    pub spindle_rpm_min: f64,
+    pub spindle_rpm_max: f64,
+    pub pin_duration_s: f64,
+    pub campaign_recording_s: f64,
+    pub files: Vec<String>,
+}
+
+/// Write study.toml, run_sheet.csv and the NC programs of a plan into `out`.
+pub fn write_plan(study: &Study, plan: &Plan, out: &Path) -> Result<Vec<String>> {
+    let mut files = Vec::new();
+    let mut resolved = study.clone();
+    resolved.plan = plan.spec.clone();
+    let p = out.join("study.toml");
+    write_string_atomic(&p, &resolved.to_toml()?)?;
+    files.push(p.display().to_string());
+    let p = out.join("run_sheet.csv");
+    plan.write_run_sheet(&p)?;
+    files.push(p.display().to_string());
+    for pin in 1..=plan.pins.len() as u32 {
+        let p = out.join("nc").join(format!("pin{pin:02}.nc"));
+        write_string_atomic(&p, &write_program(plan, pin))?;
+        files.push(p.display().to_string());
+    }
+    Ok(files)
+}
+
+pub fn summarize(plan: &Plan, files: Vec<String>) -> PlanSummary {
+    let v: Vec<f64> = plan
+        .pin_steps(1)
+        .iter()
+        .map(|s| s.sliding_velocity_m_s * 60.0)
+        .collect();
+    let rpm: Vec<f64> = plan.pin_steps(1).iter().map(|s| s.spindle_rpm).collect();
+    PlanSummary {
+        pins: plan.pins.len(),
+        steps: plan.steps.len(),
+        normal_forces_n: plan.pins.iter().map(|p| p.normal_force_n).collect(),
+        velocity_min_m_per_min: v.iter().cloned().fold(f64::INFINITY, f64::min),
+        velocity_max_m_per_min: v.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+        spindle_rpm_min: rpm.iter().cloned().fold(f64::INFINITY, f64::min),
+        spindle_rpm_max: rpm.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+        pin_duration_s: plan.pins[0].end_s,
+        campaign_recording_s: plan.pins.iter().map(|p| p.end_s).sum(),
+        files,
+    }
+}
+
+pub fn print_summary(s: &PlanSummary) {
+    println!(
+        "plan: {} pins x {} velocities = {} plateaus",
+        s.pins,
+        s.steps / s.pins.max(1),
+        s.steps
+    );
+    println!(
+        "  normal forces {} N",
+        s.normal_forces_n
+            .iter()
+            .map(|f| format!("{f:.1}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    println!(
+        "  velocities {:.1}..{:.1} m/min -> spindle {:.2}..{:.2} rpm",
+        s.velocity_min_m_per_min, s.velocity_max_m_per_min, s.spindle_rpm_min, s.spindle_rpm_max
+    );
+    println!(
+        "  recording per pin {:.2} s, campaign {:.1} s",
+        s.pin_duration_s, s.campaign_recording_s
+    );
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let study = args.plan.study()?;
+    let plan = study.plan.build().context("cannot build the plan")?;
+    let files = write_plan(&study, &plan, &args.out)?;
+    let summary = summarize(&plan, files);
+    if args.json {
+        return print_json(&summary);
+    }
+    print_summary(&summary);
+    println!(
+        "  wrote {} files to {}",
+        summary.files.len(),
+        args.out.display()
+    );
+    Ok(())
+}

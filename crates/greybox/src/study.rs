@@ -1,0 +1,73 @@
+//! The study TOML file: one file drives plan, synth and identify.
+
+use anyhow::{Context, Result};
+use greybox_tribo::hertz::PinContact;
+use greybox_tribo::identify::IdentifyConfig;
+use greybox_tribo::plan::PlanSpec;
+use greybox_tribo::recording::ChannelMap;
+use greybox_tribo::synth::SynthConfig;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The bundled example study (drives `greybox demo`).
+pub const DEMO_STUDY: &str = include_str!("../../../examples/demo-study.toml");
+
+/// A whole study. Every section is optional and takes documented defaults.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Study {
+    pub plan: PlanSpec,
+    pub contact: PinContact,
+    pub synth: SynthConfig,
+    pub identify: IdentifyConfig,
+    pub recording: ChannelMap,
+}
+
+impl Study {
+    pub fn parse(text: &str, source: &str) -> Result<Self> {
+        let study: Study =
+            toml::from_str(text).with_context(|| format!("{source}: invalid study file"))?;
+        study
+            .contact
+            .validate()
+            .with_context(|| format!("{source}: [contact]"))?;
+        Ok(study)
+    }
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read study file {}", path.display()))?;
+        Self::parse(&text, &path.display().to_string())
+    }
+    /// The study from `--study`, or all defaults.
+    pub fn load_or_default(path: Option<&Path>) -> Result<Self> {
+        match path {
+            Some(p) => Self::load(p),
+            None => Ok(Study::default()),
+        }
+    }
+    pub fn to_toml(&self) -> Result<String> {
+        Ok(toml::to_string_pretty(self)?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[test]
+    fn demo_study_parses_and_round_trips() {
+        let s = Study::parse(DEMO_STUDY, "demo").unwrap();
+        assert_eq!(s.plan.track_radius_mm, Some(100.0));
+        let back = Study::parse(&s.to_toml().unwrap(), "round trip").unwrap();
+        assert_eq!(back.plan, s.plan);
+        assert_eq!(back.synth, s.synth);
+    }
+    #[test]
+    fn unknown_keys_are_rejected_with_position() {
+        let e = Study::parse("[plan]\ntrack_radius_m = 0.1\n", "s.toml").unwrap_err();
+        let msg = format!("{e:#}");
+        assert!(
+            msg.contains("s.toml") && msg.contains("track_radius_m") && msg.contains("line 2"),
+            "{msg}"
+        );
+    }
+}
