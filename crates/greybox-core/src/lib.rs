@@ -1,3 +1,4 @@
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too
 //! greybox-core: the types every other greybox crate meets at.
 //!
 //! * [`units`] — SI conversion helpers for the edges (CLI flags, file columns).

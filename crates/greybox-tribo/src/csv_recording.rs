@@ -221,8 +221,10 @@ mod tests {
     }
     #[test]
     fn unknown_unit() {
-        let mut map = ChannelMap::default();
-        map.normal = ChannelSpec::named("normal_force_kgf");
+        let mut map = ChannelMap {
+            normal: ChannelSpec::named("normal_force_kgf"),
+            ..Default::default()
+        };
         let e = read(&GOOD.replace("normal_force_N", "normal_force_kgf"), &map)
             .unwrap_err()
             .to_string();

@@ -1,3 +1,4 @@
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too
 //! greybox-tribo: from a tribometer campaign plan to a friction dataset.
 //!
 //! * [`plan`] — full-factorial plans with nominal timing; [`gcode`] — NC programs per pin.

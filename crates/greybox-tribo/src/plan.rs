@@ -419,7 +419,7 @@ mod tests {
         assert_eq!(plan.steps[20].spindle_rpm, 397.89);
         // dwell and ramp: first ramp 0 → 31.83 rpm at 100 rpm/s
         let s = &plan.steps[0];
-        assert!((s.plateau_start_s - s.step_start_s - 0.3183).abs() < 1e-9);
+        assert!((s.plateau_start_s - s.step_start_s - 31.83 / 100.0).abs() < 1e-9);
         assert!((s.plateau_end_s - s.plateau_start_s - 0.5).abs() < 1e-12);
     }
 

@@ -252,12 +252,14 @@ impl ChannelMap {
                 };
                 self.time_unit = unit;
             }
-            other => return Err(Error::invalid(
-                "channel mapping",
-                format!(
+            other => {
+                return Err(Error::invalid(
+                    "channel mapping",
+                    format!(
                     "unknown role '{other}'; expected time, normal, tangential, radial or trigger"
                 ),
-            )),
+                ))
+            }
         }
         Ok(())
     }

@@ -411,8 +411,8 @@ impl SynthConfig {
                         * self.spike_amplitude_n
                         * rng.gen_range(0.5..1.0)
                         * if rng.gen_bool(0.5) { 1.0 } else { -1.0 };
-                    for j in at..(at + width).min(n) {
-                        ch[j] += amp;
+                    for v in &mut ch[at..(at + width).min(n)] {
+                        *v += amp;
                     }
                 }
             }

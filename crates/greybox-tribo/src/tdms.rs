@@ -313,7 +313,7 @@ impl TdmsFile {
                 let data_len = (seg_end - meta_end) as u64;
                 if chunk == 0 {
                     // nothing to read
-                } else if data_len % chunk != 0 {
+                } else if !data_len.is_multiple_of(chunk) {
                     return Err(err(
                         meta_end,
                         format!("raw data truncated: {data_len} bytes is not a whole number of {chunk}-byte chunks"),
@@ -354,8 +354,16 @@ impl TdmsFile {
                                 }
                                 let data = &mut file.objects[*obj].data;
                                 data.reserve(idx.n_values as usize);
-                                for _ in 0..idx.n_values {
-                                    data.push(c.value(idx.dtype)?);
+                                if idx.dtype == T_F64 && !big {
+                                    // fast path for the common case: little-endian doubles
+                                    let raw = c.take(idx.bytes as usize)?;
+                                    data.extend(raw.chunks_exact(8).map(|b| {
+                                        f64::from_le_bytes(b.try_into().expect("8 bytes"))
+                                    }));
+                                } else {
+                                    for _ in 0..idx.n_values {
+                                        data.push(c.value(idx.dtype)?);
+                                    }
                                 }
                             }
                         }
@@ -856,8 +864,10 @@ mod tests {
         assert!(e.contains("expected segment tag 'TDSm'"), "{e}");
         let buf = to_bytes(&sample_recording(5), 10);
         let file = TdmsFile::parse(&buf, "m.tdms").unwrap();
-        let mut map = ChannelMap::default();
-        map.normal = ChannelSpec::named("Fz");
+        let map = ChannelMap {
+            normal: ChannelSpec::named("Fz"),
+            ..Default::default()
+        };
         let e = recording_from_tdms(&file, &map).unwrap_err().to_string();
         assert!(
             e.contains("no channel 'Fz' in group 'Tribometer'") && e.contains("normal_force_N"),

@@ -53,7 +53,7 @@ fn big_recording(size_mb: f64) -> Result<Recording> {
     let pins: Vec<Recording> = (1..=plan.pins.len() as u32)
         .map(|p| study.synth.simulate_pin(&plan, &study.contact, p))
         .collect::<Result<_, _>>()?;
-    const BYTES_PER_ROW: f64 = 48.0; // measured on synth output: "12.3450,150.1234,…"
+    const BYTES_PER_ROW: f64 = 42.0; // measured on synth output: "12.3450,150.1234,…"
     let rows_needed = (size_mb * 1e6 / BYTES_PER_ROW).ceil() as usize;
     let mut big = Recording {
         source: "bench".into(),
@@ -104,7 +104,7 @@ pub fn run(a: Args) -> Result<()> {
             dir,
             json,
         } => {
-            if !(size_mb > 0.0) {
+            if size_mb.is_nan() || size_mb <= 0.0 {
                 bail!("--size-mb must be positive");
             }
             let tmp = tempfile::tempdir()?;
