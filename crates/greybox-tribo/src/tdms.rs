@@ -630,6 +630,21 @@ pub const DEFAULT_SEGMENT_SAMPLES: usize = 10_000;
 /// Time is stored as waveform timing (uniform sampling required).
 pub fn write_tdms_recording(path: &Path, rec: &Recording, group: &str) -> Result<()> {
     let dt = 1.0 / rec.sample_rate_hz();
+    let channels = recording_channels(rec);
+    write_atomic(path, |w| {
+        write_tdms(
+            w,
+            group,
+            &channels,
+            dt,
+            rec.time_s[0],
+            DEFAULT_SEGMENT_SAMPLES,
+        )
+    })
+}
+
+/// The channels of a recording, named as the CSV columns.
+fn recording_channels(rec: &Recording) -> Vec<WriteChannel<'_>> {
     let mut channels = vec![
         WriteChannel {
             name: "normal_force_N",
@@ -656,16 +671,7 @@ pub fn write_tdms_recording(path: &Path, rec: &Recording, group: &str) -> Result
             data: t,
         });
     }
-    write_atomic(path, |w| {
-        write_tdms(
-            w,
-            group,
-            &channels,
-            dt,
-            rec.time_s[0],
-            DEFAULT_SEGMENT_SAMPLES,
-        )
-    })
+    channels
 }
 
 /// Read a recording from a TDMS file through a channel map.
@@ -800,28 +806,7 @@ mod tests {
     }
 
     fn to_bytes(rec: &Recording, seg: usize) -> Vec<u8> {
-        let chans = [
-            WriteChannel {
-                name: "normal_force_N",
-                unit: "N",
-                data: &rec.normal_n,
-            },
-            WriteChannel {
-                name: "tangential_force_N",
-                unit: "N",
-                data: &rec.tangential_n,
-            },
-            WriteChannel {
-                name: "radial_force_N",
-                unit: "N",
-                data: rec.radial_n.as_ref().unwrap(),
-            },
-            WriteChannel {
-                name: "trigger_V",
-                unit: "V",
-                data: rec.trigger_v.as_ref().unwrap(),
-            },
-        ];
+        let chans = recording_channels(rec);
         let mut buf = Vec::new();
         write_tdms(&mut buf, "Tribometer", &chans, 1e-3, 0.0, seg).unwrap();
         buf
