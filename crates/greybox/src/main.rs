@@ -2,9 +2,11 @@
 
 mod cmd_bench;
 mod cmd_demo;
+mod cmd_fit;
 mod cmd_hertz;
 mod cmd_identify;
 mod cmd_plan;
+mod cmd_predict;
 mod cmd_synth;
 mod output;
 mod study;
@@ -29,6 +31,10 @@ enum Command {
     Identify(cmd_identify::Args),
     /// Hertzian contact: contact size, maximum and mean pressure, approach.
     Hertz(cmd_hertz::Args),
+    /// Train and compare regressors (RF, SVR, boosting, MLP) with nested CV, CIs, importance.
+    Fit(cmd_fit::Args),
+    /// Evaluate a model file at points, with prediction intervals and a domain check.
+    Predict(cmd_predict::Args),
     /// Run the whole pipeline on the bundled example study.
     Demo(cmd_demo::Args),
     /// Benchmarks (recording ingestion speed).
@@ -42,6 +48,8 @@ fn main() {
         Command::Synth(a) => cmd_synth::run(a),
         Command::Identify(a) => cmd_identify::run(a),
         Command::Hertz(a) => cmd_hertz::run(a),
+        Command::Fit(a) => cmd_fit::run(a),
+        Command::Predict(a) => cmd_predict::run(a),
         Command::Demo(a) => cmd_demo::run(a),
         Command::Bench(a) => cmd_bench::run(a),
     };

@@ -1,6 +1,7 @@
 //! The study TOML file: one file drives plan, synth and identify.
 
 use anyhow::{Context, Result};
+use greybox_learn::protocol::FitConfig;
 use greybox_tribo::hertz::PinContact;
 use greybox_tribo::identify::IdentifyConfig;
 use greybox_tribo::plan::PlanSpec;
@@ -21,6 +22,7 @@ pub struct Study {
     pub synth: SynthConfig,
     pub identify: IdentifyConfig,
     pub recording: ChannelMap,
+    pub fit: FitConfig,
 }
 
 impl Study {

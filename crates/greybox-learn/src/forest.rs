@@ -1,0 +1,102 @@
+//! Random forest regression (Breiman, "Random Forests", Machine Learning 45, 2001): bagged
+//! CART trees grown to purity on bootstrap samples, averaged. Defaults follow
+//! scikit-learn's `RandomForestRegressor` (all features per split, min_samples_leaf = 1).
+
+use crate::model::Regressor;
+use crate::tree::{grow, GrowParams, TreeEnsemble};
+use crate::Matrix;
+use greybox_core::{Error, Result};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ForestParams {
+    pub n_estimators: usize,
+    /// Depth limit (`None`: grow until leaves are pure).
+    pub max_depth: Option<usize>,
+    pub min_samples_leaf: usize,
+    /// Features tried per split (`None`: all, scikit-learn's regression default).
+    pub max_features: Option<usize>,
+    /// Draw a bootstrap sample per tree.
+    pub bootstrap: bool,
+}
+
+impl Default for ForestParams {
+    fn default() -> Self {
+        ForestParams {
+            n_estimators: 100,
+            max_depth: None,
+            min_samples_leaf: 1,
+            max_features: None,
+            bootstrap: true,
+        }
+    }
+}
+
+impl Regressor for ForestParams {
+    type Fitted = TreeEnsemble;
+
+    fn validate(&self) -> Result<()> {
+        if self.n_estimators == 0 {
+            return Err(Error::invalid("random forest", "n_estimators must be ≥ 1"));
+        }
+        if self.min_samples_leaf == 0 {
+            return Err(Error::invalid(
+                "random forest",
+                "min_samples_leaf must be ≥ 1",
+            ));
+        }
+        if self.max_features == Some(0) || self.max_depth == Some(0) {
+            return Err(Error::invalid(
+                "random forest",
+                "max_features and max_depth must be ≥ 1",
+            ));
+        }
+        Ok(())
+    }
+
+    fn fit(&self, x: &Matrix, y: &[f64], seed: u64) -> Result<TreeEnsemble> {
+        let n = x.n_rows;
+        let g: Vec<f64> = y.iter().map(|v| -v).collect();
+        let h = vec![1.0; n];
+        let p = GrowParams {
+            max_depth: self.max_depth,
+            min_samples_leaf: self.min_samples_leaf,
+            min_child_weight: 0.0,
+            lambda: 0.0,
+            min_split_gain: 1e-14,
+            max_features: self.max_features,
+            leaf_scale: 1.0,
+        };
+        let trees: Vec<(Vec<crate::tree::Node>, u32)> = (0..self.n_estimators)
+            .into_par_iter()
+            .map(|t| {
+                let mut rng = ChaCha8Rng::seed_from_u64(
+                    seed ^ (t as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15),
+                );
+                let mut rows: Vec<usize> = if self.bootstrap {
+                    (0..n).map(|_| rng.gen_range(0..n)).collect()
+                } else {
+                    (0..n).collect()
+                };
+                let mut nodes = Vec::new();
+                let root = grow(x, &g, &h, &mut rows, p, &mut rng, &mut nodes);
+                (nodes, root)
+            })
+            .collect();
+        let mut ens = TreeEnsemble {
+            n_features: x.n_cols,
+            base: 0.0,
+            scale: 1.0 / self.n_estimators as f64,
+            roots: Vec::new(),
+            nodes: Vec::new(),
+        };
+        for (nodes, root) in trees {
+            ens.push_tree(nodes, root);
+        }
+        Ok(ens)
+    }
+}

@@ -1,0 +1,32 @@
+//! greybox-learn: data-driven friction models with honest validation.
+//!
+//! * [`matrix`] — a row-major feature matrix; [`table`] — strict numeric CSV tables.
+//! * [`model`] — the [`Regressor`](model::Regressor) seam: hyperparameters are serde data,
+//!   validated once; `fit` returns an immutable fitted model that predicts single points
+//!   without allocating.
+//! * Families: [`forest`] (random forest, CART), [`boost`] (XGBoost-style second-order
+//!   gradient boosting with L2 leaf regularisation), [`svr`] (ε-SVR, libsvm's SMO), [`mlp`]
+//!   (two-hidden-layer network, Adam, early stopping). Trees share [`tree`].
+//! * Protocol, written once against the seam: [`cv`] (k-fold, grid search, nested CV),
+//!   [`metrics`] (MAE, MSE, MAPE, R², bootstrap CIs), [`importance`] (permutation),
+//!   [`interval`] (CV-conformal prediction intervals), [`protocol`] (the article's study).
+//! * [`modelfile`] — versioned, hashed JSON model files; [`plot`] — SVG plots.
+
+pub mod boost;
+pub mod cv;
+pub mod forest;
+pub mod importance;
+pub mod interval;
+pub mod matrix;
+pub mod metrics;
+pub mod mlp;
+pub mod model;
+pub mod modelfile;
+pub mod plot;
+pub mod protocol;
+pub mod svr;
+pub mod table;
+pub mod tree;
+
+pub use matrix::Matrix;
+pub use model::{FittedModel, Hyperparameters, Predictor};

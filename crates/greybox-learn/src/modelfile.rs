@@ -1,0 +1,170 @@
+//! Model files: JSON with a schema version, feature names and units, the training domain,
+//! the prediction interval and a SHA-256 content hash over everything else.
+
+use crate::interval::PredictionInterval;
+use crate::model::{Family, FittedModel, Hyperparameters, Predictor};
+use crate::table::Column;
+use greybox_core::atomic::write_string_atomic;
+use greybox_core::{Error, Result, SourcePos};
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+use std::path::Path;
+
+pub const SCHEMA: &str = "greybox-model";
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// Closed range of one feature in the training data.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FeatureRange {
+    pub min: f64,
+    pub max: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModelFile {
+    pub schema: String,
+    pub schema_version: u32,
+    pub family: Family,
+    pub hyperparameters: Hyperparameters,
+    pub features: Vec<Column>,
+    pub target: Column,
+    /// Per feature, the range seen in training.
+    pub training_domain: Vec<FeatureRange>,
+    pub n_train: usize,
+    pub prediction_interval: PredictionInterval,
+    /// Held-out R² from nested cross-validation (for information).
+    pub held_out_r2: Option<f64>,
+    pub model: FittedModel,
+    /// Hex SHA-256 of this file's JSON with `content_hash` empty.
+    pub content_hash: String,
+}
+
+/// What to do when a point lies outside the training domain.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum DomainPolicy {
+    /// Predict and flag the point.
+    #[default]
+    Warn,
+    /// Return an error.
+    Refuse,
+}
+
+/// One prediction with its interval and domain status.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Prediction {
+    pub value: f64,
+    pub low: f64,
+    pub high: f64,
+    /// Whether the point lies within the training domain widened by the margin.
+    pub in_domain: bool,
+}
+
+impl ModelFile {
+    fn hash(&self) -> Result<String> {
+        let mut copy = self.clone();
+        copy.content_hash.clear();
+        let json =
+            serde_json::to_vec(&copy).map_err(|e| Error::invalid("model file", e.to_string()))?;
+        Ok(Sha256::digest(&json)
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect())
+    }
+
+    /// Fill in the content hash.
+    pub fn seal(mut self) -> Result<Self> {
+        self.content_hash = self.hash()?;
+        Ok(self)
+    }
+
+    pub fn save(&self, path: &Path) -> Result<()> {
+        let json = serde_json::to_string_pretty(self)
+            .map_err(|e| Error::invalid("model file", e.to_string()))?;
+        write_string_atomic(path, &json)
+    }
+
+    /// Load and verify schema, version and hash.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
+    pub fn parse(text: &str, source: &str) -> Result<Self> {
+        let pos = || SourcePos::file(source);
+        let v: serde_json::Value = serde_json::from_str(text)
+            .map_err(|e| Error::input(pos().line(e.line() as u64), format!("not JSON: {e}")))?;
+        if v.get("schema").and_then(|s| s.as_str()) != Some(SCHEMA) {
+            return Err(Error::input(
+                pos().field("schema"),
+                format!("not a greybox model file (schema must be \"{SCHEMA}\")"),
+            ));
+        }
+        let version = v.get("schema_version").and_then(|s| s.as_u64());
+        if version != Some(SCHEMA_VERSION as u64) {
+            return Err(Error::input(
+                pos().field("schema_version"),
+                format!("schema version {version:?} is not supported (this greybox reads version {SCHEMA_VERSION})"),
+            ));
+        }
+        let m: ModelFile = serde_json::from_value(v)
+            .map_err(|e| Error::input(pos(), format!("invalid model file: {e}")))?;
+        if m.hash()? != m.content_hash {
+            return Err(Error::input(
+                pos().field("content_hash"),
+                "content hash mismatch: the file was modified or corrupted",
+            ));
+        }
+        Ok(m)
+    }
+
+    /// Whether `x` lies inside the training domain widened by `margin` × range per feature.
+    pub fn in_domain(&self, x: &[f64], margin: f64) -> bool {
+        x.iter().zip(&self.training_domain).all(|(v, r)| {
+            let w = (r.max - r.min) * margin;
+            *v >= r.min - w && *v <= r.max + w
+        })
+    }
+
+    /// Predict with interval and domain check.
+    pub fn predict(&self, x: &[f64], policy: DomainPolicy, margin: f64) -> Result<Prediction> {
+        if x.len() != self.features.len() {
+            return Err(Error::invalid(
+                "prediction",
+                format!("expected {} features, got {}", self.features.len(), x.len()),
+            ));
+        }
+        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            return Err(Error::invalid(
+                "prediction",
+                format!("feature '{}' is not finite", self.features[i].name),
+            ));
+        }
+        let in_domain = self.in_domain(x, margin);
+        if !in_domain && policy == DomainPolicy::Refuse {
+            let detail: Vec<String> = x
+                .iter()
+                .zip(&self.features)
+                .zip(&self.training_domain)
+                .map(|((v, f), r)| {
+                    format!(
+                        "{} = {v} (trained on {}..{} {})",
+                        f.name, r.min, r.max, f.unit
+                    )
+                })
+                .collect();
+            return Err(Error::invalid(
+                "prediction",
+                format!("point outside the training domain: {}", detail.join(", ")),
+            ));
+        }
+        let value = self.model.predict_one(x);
+        let q = self.prediction_interval.half_width;
+        Ok(Prediction {
+            value,
+            low: value - q,
+            high: value + q,
+            in_domain,
+        })
+    }
+}

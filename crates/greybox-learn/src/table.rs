@@ -1,0 +1,212 @@
+//! Strict numeric tables read from CSV: chosen feature columns and a target column.
+
+use crate::Matrix;
+use greybox_core::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header};
+use greybox_core::{Error, Result, SourcePos};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// A column name and the unit its suffix names (`normal_force_N` → N).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Column {
+    pub name: String,
+    pub unit: String,
+}
+
+impl Column {
+    pub fn new(name: &str) -> Self {
+        Column {
+            name: name.to_string(),
+            unit: unit_of(name).to_string(),
+        }
+    }
+}
+
+/// The unit named by a column's suffix; "1" (dimensionless) when none is recognised.
+pub fn unit_of(name: &str) -> &'static str {
+    const SUFFIXES: [(&str, &str); 12] = [
+        ("_m_per_min", "m/min"),
+        ("_m_per_s", "m/s"),
+        ("_MPa", "MPa"),
+        ("_GPa", "GPa"),
+        ("_Pa", "Pa"),
+        ("_kN", "kN"),
+        ("_N", "N"),
+        ("_K", "K"),
+        ("_degC", "°C"),
+        ("_um", "µm"),
+        ("_mm", "mm"),
+        ("_s", "s"),
+    ];
+    SUFFIXES
+        .iter()
+        .find(|(s, _)| name.ends_with(s))
+        .map(|(_, u)| *u)
+        .unwrap_or("1")
+}
+
+/// Features, target and optional fold ids read from a CSV.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dataset {
+    pub source: String,
+    pub features: Vec<Column>,
+    pub target: Column,
+    pub x: Matrix,
+    pub y: Vec<f64>,
+    /// Fold id per row, if a fold column was read.
+    pub folds: Option<Vec<usize>>,
+}
+
+/// Read `features` and `target` (and optionally an integer `fold_column`) from a CSV file.
+/// Other columns are ignored. Every value must be a finite number.
+pub fn read_dataset(
+    path: &Path,
+    features: &[String],
+    target: &str,
+    fold_column: Option<&str>,
+) -> Result<Dataset> {
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    read_dataset_from(
+        file,
+        &path.display().to_string(),
+        features,
+        target,
+        fold_column,
+    )
+}
+
+pub fn read_dataset_from(
+    reader: impl std::io::Read,
+    source: &str,
+    features: &[String],
+    target: &str,
+    fold_column: Option<&str>,
+) -> Result<Dataset> {
+    if features.is_empty() {
+        return Err(Error::invalid(
+            "features",
+            "give at least one feature column",
+        ));
+    }
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .from_reader(reader);
+    let header = Header::new(source, rdr.headers().map_err(|e| csv_error(source, e))?);
+    let fi: Vec<usize> = features
+        .iter()
+        .map(|f| {
+            header.find(f).ok_or_else(|| {
+                Error::input(
+                    SourcePos::file(source).line(1).field(f.clone()),
+                    format!(
+                        "unknown feature '{f}'; the file has: {}",
+                        header.names().join(", ")
+                    ),
+                )
+            })
+        })
+        .collect::<Result<_>>()?;
+    if features.iter().any(|f| f == target) {
+        return Err(Error::invalid(
+            "features",
+            format!("the target '{target}' cannot also be a feature"),
+        ));
+    }
+    let ti = header.find(target).ok_or_else(|| {
+        Error::input(
+            SourcePos::file(source).line(1).field(target),
+            format!(
+                "unknown target '{target}'; the file has: {}",
+                header.names().join(", ")
+            ),
+        )
+    })?;
+    let foldi = fold_column.map(|c| header.require(c)).transpose()?;
+    let mut data = Vec::new();
+    let mut y = Vec::new();
+    let mut folds = foldi.map(|_| Vec::new());
+    for (k, rec) in rdr.records().enumerate() {
+        let rec = rec.map_err(|e| csv_error(source, e))?;
+        let line = record_line(rec.position(), k as u64 + 2);
+        for (&i, name) in fi.iter().zip(features) {
+            data.push(parse_f64(&rec[i], source, line, name)?);
+        }
+        y.push(parse_f64(&rec[ti], source, line, target)?);
+        if let (Some(i), Some(f)) = (foldi, folds.as_mut()) {
+            f.push(parse_u64(&rec[i], source, line, fold_column.unwrap_or_default())? as usize);
+        }
+    }
+    let n = y.len();
+    if n < 2 {
+        return Err(Error::input(
+            SourcePos::file(source),
+            format!("need at least 2 data rows, found {n}"),
+        ));
+    }
+    let (lo, hi) = y
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(*v), b.max(*v))
+        });
+    if lo == hi {
+        return Err(Error::input(
+            SourcePos::file(source).field(target),
+            format!("the target is constant ({lo}): there is nothing to learn"),
+        ));
+    }
+    Ok(Dataset {
+        source: source.to_string(),
+        features: features.iter().map(|f| Column::new(f)).collect(),
+        target: Column::new(target),
+        x: Matrix::new(n, features.len(), data),
+        y,
+        folds,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    const CSV: &str = "a_N,b_m_per_min,mu,fold\n1,2,0.3,0\n2,3,0.4,1\n3,4,0.5,0\n";
+
+    fn read(text: &str, feats: &[&str], target: &str) -> Result<Dataset> {
+        let f: Vec<String> = feats.iter().map(|s| s.to_string()).collect();
+        read_dataset_from(text.as_bytes(), "d.csv", &f, target, None)
+    }
+
+    #[test]
+    fn reads_and_names_units() {
+        let d = read(CSV, &["a_N", "b_m_per_min"], "mu").unwrap();
+        assert_eq!(d.x.row(1), &[2.0, 3.0]);
+        assert_eq!(d.features[1].unit, "m/min");
+        assert_eq!(d.target.unit, "1");
+    }
+
+    #[test]
+    fn bad_inputs() {
+        let e = read(CSV, &["a_N", "pressure"], "mu")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("unknown feature 'pressure'") && e.contains("a_N, b_m_per_min, mu, fold"),
+            "{e}"
+        );
+        let e = read(CSV, &["a_N"], "cof").unwrap_err().to_string();
+        assert!(e.contains("unknown target 'cof'"), "{e}");
+        let e = read(&CSV.replace("0.4", "NaN"), &["a_N"], "mu")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 3") && e.contains("'mu'") && e.contains("finite"),
+            "{e}"
+        );
+        let e = read(
+            &CSV.replace("0.4", "0.3").replace("0.5", "0.3"),
+            &["a_N"],
+            "mu",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("constant"), "{e}");
+    }
+}

@@ -1,0 +1,219 @@
+//! Regression trees, grown greedily on first- and second-order statistics, stored flat.
+//!
+//! One builder serves both ensembles. A node's statistics are G = Σ g and H = Σ h over its
+//! rows; a split's score is G_L²/(H_L+λ) + G_R²/(H_R+λ) − G²/(H+λ) and a leaf's value is
+//! −G/(H+λ) (Chen & Guestrin, "XGBoost", KDD 2016, eqs. 5–7).
+//! * Random forest (CART, Breiman 2001): g = −y, h = 1, λ = 0 — the score is the reduction
+//!   of the squared error and the leaf value is the mean of y.
+//! * Gradient boosting, squared loss: g = ŷ − y, h = 1, λ = L2 leaf regularisation.
+//!
+//! Split thresholds lie midway between consecutive distinct values; a row goes left when
+//! `x[f] <= threshold`. Trees are stored as flat node arrays; prediction walks them with
+//! no allocation.
+
+use crate::Matrix;
+use rand::seq::SliceRandom;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+/// Marks a leaf in [`Node::feature`].
+pub const LEAF: u32 = u32::MAX;
+
+/// One node of a flat tree.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Node {
+    /// Split feature, or [`LEAF`].
+    pub feature: u32,
+    pub threshold: f64,
+    pub left: u32,
+    pub right: u32,
+    /// Leaf value (already scaled by the learning rate for boosting).
+    pub value: f64,
+}
+
+/// Growth limits.
+#[derive(Debug, Clone, Copy)]
+pub struct GrowParams {
+    pub max_depth: Option<usize>,
+    pub min_samples_leaf: usize,
+    pub min_child_weight: f64,
+    pub lambda: f64,
+    /// A split must improve the score by more than this.
+    pub min_split_gain: f64,
+    /// Features tried per split (`None`: all).
+    pub max_features: Option<usize>,
+    /// Multiplies leaf values (the learning rate).
+    pub leaf_scale: f64,
+}
+
+struct Builder<'a> {
+    x: &'a Matrix,
+    g: &'a [f64],
+    h: &'a [f64],
+    p: GrowParams,
+    rng: &'a mut ChaCha8Rng,
+    nodes: &'a mut Vec<Node>,
+    features: Vec<usize>,
+    sorted: Vec<usize>,
+}
+
+/// Grow one tree over `rows` (repetitions allowed: bootstrap samples) and append its nodes;
+/// returns the root's index.
+pub fn grow(
+    x: &Matrix,
+    g: &[f64],
+    h: &[f64],
+    rows: &mut [usize],
+    p: GrowParams,
+    rng: &mut ChaCha8Rng,
+    nodes: &mut Vec<Node>,
+) -> u32 {
+    let mut b = Builder {
+        x,
+        g,
+        h,
+        p,
+        rng,
+        nodes,
+        features: (0..x.n_cols).collect(),
+        sorted: Vec::with_capacity(rows.len()),
+    };
+    b.build(rows, 0)
+}
+
+impl Builder<'_> {
+    fn leaf_value(&self, gs: f64, hs: f64) -> f64 {
+        -gs / (hs + self.p.lambda) * self.p.leaf_scale
+    }
+
+    fn build(&mut self, rows: &mut [usize], depth: usize) -> u32 {
+        let (gs, hs) = rows
+            .iter()
+            .fold((0.0, 0.0), |(a, b), &i| (a + self.g[i], b + self.h[i]));
+        let me = self.nodes.len() as u32;
+        self.nodes.push(Node {
+            feature: LEAF,
+            threshold: 0.0,
+            left: me,
+            right: me,
+            value: self.leaf_value(gs, hs),
+        });
+        let p = self.p;
+        if p.max_depth.is_some_and(|d| depth >= d)
+            || rows.len() < 2 * p.min_samples_leaf.max(1)
+            || hs < 2.0 * p.min_child_weight
+        {
+            return me;
+        }
+        let parent_score = gs * gs / (hs + p.lambda);
+        let n_try = p
+            .max_features
+            .unwrap_or(self.x.n_cols)
+            .clamp(1, self.x.n_cols);
+        if n_try < self.x.n_cols {
+            self.features.shuffle(self.rng);
+        }
+        let mut best: Option<(f64, usize, f64)> = None; // (gain, feature, threshold)
+        for fi in 0..n_try {
+            let f = self.features[fi];
+            self.sorted.clear();
+            self.sorted.extend_from_slice(rows);
+            let x = self.x;
+            self.sorted
+                .sort_by(|&a, &b| x.get(a, f).total_cmp(&x.get(b, f)));
+            let (mut gl, mut hl) = (0.0, 0.0);
+            let n = self.sorted.len();
+            for k in 0..n - 1 {
+                let i = self.sorted[k];
+                gl += self.g[i];
+                hl += self.h[i];
+                let (xv, xn) = (x.get(i, f), x.get(self.sorted[k + 1], f));
+                if xv >= xn {
+                    continue; // not a boundary between distinct values
+                }
+                if k + 1 < p.min_samples_leaf || n - k - 1 < p.min_samples_leaf {
+                    continue;
+                }
+                let (gr, hr) = (gs - gl, hs - hl);
+                if hl < p.min_child_weight || hr < p.min_child_weight {
+                    continue;
+                }
+                let gain = gl * gl / (hl + p.lambda) + gr * gr / (hr + p.lambda) - parent_score;
+                if best.is_none_or(|(bg, _, _)| gain > bg) {
+                    let mut thr = 0.5 * (xv + xn);
+                    if thr >= xn {
+                        thr = xv; // midpoint rounded up to the next value
+                    }
+                    best = Some((gain, f, thr));
+                }
+            }
+        }
+        let Some((gain, f, thr)) = best else {
+            return me;
+        };
+        if gain <= p.min_split_gain {
+            return me;
+        }
+        // partition rows: left = x <= thr
+        let mut split = 0;
+        for k in 0..rows.len() {
+            if self.x.get(rows[k], f) <= thr {
+                rows.swap(k, split);
+                split += 1;
+            }
+        }
+        let (l, r) = rows.split_at_mut(split);
+        let left = self.build(l, depth + 1);
+        let right = self.build(r, depth + 1);
+        self.nodes[me as usize] = Node {
+            feature: f as u32,
+            threshold: thr,
+            left,
+            right,
+            value: 0.0,
+        };
+        me
+    }
+}
+
+/// Value of the leaf that `x` falls into, starting at `root`.
+#[inline]
+pub fn walk(nodes: &[Node], root: u32, x: &[f64]) -> f64 {
+    let mut n = &nodes[root as usize];
+    while n.feature != LEAF {
+        n = &nodes[if x[n.feature as usize] <= n.threshold {
+            n.left
+        } else {
+            n.right
+        } as usize];
+    }
+    n.value
+}
+
+/// A fitted tree ensemble: prediction = base + scale · Σ_t tree_t(x).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TreeEnsemble {
+    pub n_features: usize,
+    pub base: f64,
+    pub scale: f64,
+    pub roots: Vec<u32>,
+    pub nodes: Vec<Node>,
+}
+
+impl TreeEnsemble {
+    #[inline]
+    pub fn predict_one(&self, x: &[f64]) -> f64 {
+        let s: f64 = self.roots.iter().map(|&r| walk(&self.nodes, r, x)).sum();
+        self.base + self.scale * s
+    }
+    /// Append a tree grown in its own node buffer.
+    pub fn push_tree(&mut self, nodes: Vec<Node>, root: u32) {
+        let off = self.nodes.len() as u32;
+        self.roots.push(root + off);
+        self.nodes.extend(nodes.into_iter().map(|mut n| {
+            n.left += off;
+            n.right += off;
+            n
+        }));
+    }
+}

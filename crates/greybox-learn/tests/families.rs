@@ -1,0 +1,170 @@
+//! Each model family learns a smooth friction-like surface; protocol pieces behave.
+
+use greybox_learn::boost::BoostParams;
+use greybox_learn::forest::ForestParams;
+use greybox_learn::importance::permutation_importance;
+use greybox_learn::metrics::r2;
+use greybox_learn::mlp::{Activation, MlpParams};
+use greybox_learn::model::{Hyperparameters, Predictor, Regressor};
+use greybox_learn::svr::{Kernel, SvrParams};
+use greybox_learn::Matrix;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// μ = 0.3 + 0.15 exp(−v/80) − 0.05 (p − 900)/1300 + N(0, σ), v ∈ [20, 250], p ∈ [900, 2200].
+fn data(n: usize, noise: f64, seed: u64, with_noise_feature: bool) -> (Matrix, Vec<f64>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let normal = rand_distr::Normal::new(0.0, 1.0).unwrap();
+    let mut rows = Vec::new();
+    let mut y = Vec::new();
+    for _ in 0..n {
+        let v: f64 = rng.gen_range(20.0..250.0);
+        let p: f64 = rng.gen_range(900.0..2200.0);
+        let e: f64 = rand_distr::Distribution::sample(&normal, &mut rng);
+        let mut r = vec![v, p];
+        if with_noise_feature {
+            r.push(rng.gen_range(0.0..1.0));
+        }
+        rows.push(r);
+        y.push(0.3 + 0.15 * (-v / 80.0).exp() - 0.05 * (p - 900.0) / 1300.0 + noise * e);
+    }
+    (Matrix::from_rows(&rows), y)
+}
+
+fn test_r2(hp: &Hyperparameters) -> f64 {
+    let (x, y) = data(300, 0.005, 1, false);
+    let (xt, yt) = data(200, 0.0, 2, false);
+    hp.validate().unwrap();
+    let m = hp.fit(&x, &y, 7).unwrap();
+    r2(&yt, &m.predict(&xt))
+}
+
+#[test]
+fn random_forest_learns() {
+    let r = test_r2(&Hyperparameters::RandomForest(ForestParams::default()));
+    assert!(r > 0.95, "{r}");
+}
+
+#[test]
+fn boosting_learns() {
+    let r = test_r2(&Hyperparameters::GradientBoosting(BoostParams {
+        n_estimators: 300,
+        max_depth: 3,
+        learning_rate: 0.1,
+        ..Default::default()
+    }));
+    assert!(r > 0.97, "{r}");
+}
+
+#[test]
+fn svr_learns_with_every_kernel() {
+    for (k, min) in [
+        (Kernel::Rbf, 0.97),
+        (Kernel::Poly, 0.8),
+        (Kernel::Linear, 0.8),
+        (Kernel::Sigmoid, f64::NEG_INFINITY),
+    ] {
+        let r = test_r2(&Hyperparameters::Svr(SvrParams {
+            kernel: k,
+            c: 10.0,
+            epsilon: 0.005,
+            ..Default::default()
+        }));
+        eprintln!("svr {k:?}: R² {r}");
+        assert!(r > min && r.is_finite(), "{k:?}: {r}");
+    }
+}
+
+#[test]
+fn mlp_learns() {
+    for a in [Activation::Relu, Activation::Tanh] {
+        let r = test_r2(&Hyperparameters::Mlp(MlpParams {
+            activation: a,
+            learning_rate: 0.01,
+            max_epochs: 500,
+            ..Default::default()
+        }));
+        eprintln!("mlp {a:?}: R² {r}");
+        assert!(r > 0.95, "{a:?}: {r}");
+    }
+}
+
+/// A one-round, depth-1 boosted stump against hand-computed XGBoost arithmetic:
+/// y = [0, 0, 1, 1] at x = [1, 2, 3, 4]; base 0.5; g = [0.5, 0.5, −0.5, −0.5], h = 1, λ = 1;
+/// split at 2.5; leaf weights −G/(H+λ) = −1/3 and +1/3, times η = 0.3.
+#[test]
+fn boosting_stump_matches_hand_computation() {
+    let x = Matrix::from_rows(&[vec![1.0], vec![2.0], vec![3.0], vec![4.0]]);
+    let y = [0.0, 0.0, 1.0, 1.0];
+    let m = BoostParams {
+        n_estimators: 1,
+        max_depth: 1,
+        learning_rate: 0.3,
+        ..Default::default()
+    }
+    .fit(&x, &y, 0)
+    .unwrap();
+    assert!((m.predict_one(&[1.5]) - (0.5 - 0.1)).abs() < 1e-15);
+    assert!((m.predict_one(&[3.5]) - (0.5 + 0.1)).abs() < 1e-15);
+    assert_eq!(m.nodes[m.roots[0] as usize].threshold, 2.5);
+}
+
+/// ε-SVR on exactly linear data: with a linear kernel, ε = 0.01 and large C the fitted line
+/// stays within ε (+ solver tolerance) of every training point.
+#[test]
+fn linear_svr_fits_a_line_within_the_tube() {
+    let rows: Vec<Vec<f64>> = (0..30).map(|i| vec![i as f64]).collect();
+    let y: Vec<f64> = (0..30).map(|i| 2.0 + 0.5 * i as f64).collect();
+    let x = Matrix::from_rows(&rows);
+    let m = SvrParams {
+        kernel: Kernel::Linear,
+        c: 1000.0,
+        epsilon: 0.01,
+        ..Default::default()
+    }
+    .fit(&x, &y, 0)
+    .unwrap();
+    for (i, yi) in y.iter().enumerate() {
+        assert!(
+            (m.predict_one(x.row(i)) - yi).abs() < 0.01 + 2e-3,
+            "row {i}"
+        );
+    }
+}
+
+#[test]
+fn same_seed_same_model() {
+    let (x, y) = data(120, 0.005, 3, false);
+    for hp in [
+        Hyperparameters::RandomForest(ForestParams {
+            n_estimators: 20,
+            ..Default::default()
+        }),
+        Hyperparameters::Mlp(MlpParams {
+            max_epochs: 30,
+            ..Default::default()
+        }),
+    ] {
+        assert_eq!(hp.fit(&x, &y, 5).unwrap(), hp.fit(&x, &y, 5).unwrap());
+        assert_ne!(hp.fit(&x, &y, 5).unwrap(), hp.fit(&x, &y, 6).unwrap());
+    }
+}
+
+/// Permutation importance of a pure-noise feature is ≈ 0; the real features matter.
+#[test]
+fn noise_feature_has_no_importance() {
+    let (x, y) = data(300, 0.003, 4, true);
+    let m = BoostParams {
+        n_estimators: 200,
+        max_depth: 3,
+        learning_rate: 0.1,
+        ..Default::default()
+    }
+    .fit(&x, &y, 0)
+    .unwrap();
+    let names = vec!["v".to_string(), "p".to_string(), "noise".to_string()];
+    let imp = permutation_importance(&m, &x, &y, &names, 30, 42);
+    eprintln!("{imp:?}");
+    assert!(imp[0].mean > 0.3 && imp[1].mean > 0.3);
+    assert!(imp[2].mean.abs() < 0.02, "noise importance {}", imp[2].mean);
+}
