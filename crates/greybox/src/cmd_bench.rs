@@ -27,6 +27,57 @@ pub enum Bench {
         #[arg(long)]
         json: bool,
     },
+    /// Single-point prediction latency of model files (the simulator's hot path).
+    Predict {
+        /// Model files from `greybox fit`.
+        #[arg(long, num_args = 1.., required = true)]
+        models: Vec<PathBuf>,
+        /// Timed calls per model.
+        #[arg(long, default_value_t = 200_000)]
+        calls: usize,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(Serialize)]
+struct PredictLatency {
+    model: String,
+    family: String,
+    calls: usize,
+    ns_per_call: f64,
+}
+
+/// Time `predict_one` on points spread over the model's training domain.
+fn predict_latency(path: &std::path::Path, calls: usize) -> Result<PredictLatency> {
+    use greybox_learn::Predictor;
+    let m = greybox_learn::modelfile::ModelFile::load(path)?;
+    let n_points = 1024;
+    let points: Vec<Vec<f64>> = (0..n_points)
+        .map(|k| {
+            m.training_domain
+                .iter()
+                .enumerate()
+                .map(|(j, r)| {
+                    // deterministic low-discrepancy spread (golden-ratio sequence per feature)
+                    let u = ((k as f64 + 1.0) * (0.618_033_988_75 + 0.1 * j as f64)).fract();
+                    r.min + u * (r.max - r.min)
+                })
+                .collect()
+        })
+        .collect();
+    let mut sink = 0.0;
+    for p in &points {
+        sink += m.model.predict_one(p);
+    }
+    let t = Instant::now();
+    for k in 0..calls {
+        sink += m.model.predict_one(std::hint::black_box(&points[k % n_points]));
+    }
+    let ns = t.elapsed().as_secs_f64() * 1e9 / calls as f64;
+    std::hint::black_box(sink);
+    Ok(PredictLatency { model: path.display().to_string(), family: m.family.name().into(), calls, ns_per_call: ns })
 }
 
 #[derive(clap::Args, Debug)]
@@ -98,6 +149,16 @@ fn time_reads(f: impl Fn() -> Result<usize>, repeats: usize) -> Result<(Vec<f64>
 
 pub fn run(a: Args) -> Result<()> {
     match a.bench {
+        Bench::Predict { models, calls, json } => {
+            let rows = models.iter().map(|m| predict_latency(m, calls.max(1))).collect::<Result<Vec<_>>>()?;
+            if json {
+                return print_json(&rows);
+            }
+            for r in &rows {
+                println!("predict {:>18}: {:8.1} ns per point ({} calls, {})", r.family, r.ns_per_call, r.calls, r.model);
+            }
+            Ok(())
+        }
         Bench::Ingest {
             size_mb,
             repeats,

@@ -2,7 +2,7 @@
 
 use crate::output::print_json;
 use crate::study::{Study, DEMO_STUDY};
-use crate::{cmd_identify, cmd_plan, cmd_synth};
+use crate::{cmd_fit, cmd_identify, cmd_plan, cmd_synth};
 use anyhow::Result;
 use greybox_tribo::recording::RecordingFormat;
 use serde::Serialize;
@@ -23,6 +23,8 @@ struct DemoSummary {
     plan: cmd_plan::PlanSummary,
     synth: cmd_synth::SynthSummary,
     identify: cmd_identify::IdentifySummary,
+    fit: greybox_learn::protocol::FitReport,
+    fit_outputs: cmd_fit::FitOutputs,
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -54,17 +56,15 @@ pub fn run(a: Args) -> Result<()> {
         pins: diags.clone(),
         truth: Some(truth),
     };
+    let fit_args = cmd_fit::Args::defaults(dataset.clone(), out.join("fit"));
+    let (fit, fit_outputs) = cmd_fit::fit(&fit_args)?;
     if a.json {
-        return print_json(&DemoSummary {
-            plan: plan_summary,
-            synth,
-            identify,
-        });
+        return print_json(&DemoSummary { plan: plan_summary, synth, identify, fit, fit_outputs });
     }
     println!("greybox demo — the seed article's tribometer campaign on a virtual rig\n");
-    println!("[1/3] plan -> {}", out.join("plan").display());
+    println!("[1/4] plan -> {}", out.join("plan").display());
     cmd_plan::print_summary(&plan_summary);
-    println!("\n[2/3] synth -> {}", rec_dir.display());
+    println!("\n[2/4] synth -> {}", rec_dir.display());
     cmd_synth::print_summary(&synth);
     println!(
         "\n[3/3] identify (TDMS recordings) -> {}",

@@ -97,14 +97,48 @@ pub struct Args {
     pub json: bool,
 }
 
+impl Args {
+    /// Defaults for `data` → `out` (the article's grids and protocol), as the demo uses them.
+    pub fn defaults(data: PathBuf, out: PathBuf) -> Self {
+        Args {
+            data,
+            target: "cof_apparent".into(),
+            features: vec!["normal_force_N".into(), "sliding_velocity_m_per_min".into()],
+            study: None,
+            families: None,
+            folds: None,
+            inner_folds: None,
+            fold_column: None,
+            seed: None,
+            bootstrap: None,
+            importance_repeats: None,
+            skip_nested: false,
+            rf_n_estimators: None,
+            svr_c: None,
+            svr_kernel: None,
+            svr_epsilon: None,
+            gb_n_estimators: None,
+            gb_max_depth: None,
+            gb_learning_rate: None,
+            mlp_hidden: None,
+            mlp_activation: None,
+            mlp_learning_rate: None,
+            mlp_max_epochs: None,
+            out,
+            json: false,
+        }
+    }
+}
+
 fn parse_list<T>(
     values: &[String],
     what: &str,
+    expected: &str,
     parse: impl Fn(&str) -> Option<T>,
 ) -> Result<Vec<T>> {
     values
         .iter()
-        .map(|v| parse(v).with_context(|| format!("unknown {what} '{v}'")))
+        .map(|v| parse(v).with_context(|| format!("unknown {what} '{v}'; expected {expected}")))
         .collect()
 }
 
@@ -115,11 +149,7 @@ pub fn config(a: &Args) -> Result<FitConfig> {
         None => FitConfig::default(),
     };
     if let Some(f) = &a.families {
-        c.families = parse_list(
-            f,
-            "model family (random-forest, svr, gradient-boosting, mlp)",
-            Family::parse,
-        )?;
+        c.families = parse_list(f, "model family", "random-forest, svr, gradient-boosting or mlp", Family::parse)?;
     }
     macro_rules! set {
         ($dst:expr, $src:expr) => {
@@ -138,7 +168,7 @@ pub fn config(a: &Args) -> Result<FitConfig> {
     set!(c.grid.svr.c, a.svr_c);
     set!(c.grid.svr.epsilon, a.svr_epsilon);
     if let Some(k) = &a.svr_kernel {
-        c.grid.svr.kernel = parse_list(k, "kernel (linear, poly, rbf, sigmoid)", |s| match s {
+        c.grid.svr.kernel = parse_list(k, "kernel", "linear, poly, rbf or sigmoid", |s| match s {
             "linear" => Some(Kernel::Linear),
             "poly" => Some(Kernel::Poly),
             "rbf" => Some(Kernel::Rbf),
@@ -150,12 +180,12 @@ pub fn config(a: &Args) -> Result<FitConfig> {
     set!(c.grid.gradient_boosting.max_depth, a.gb_max_depth);
     set!(c.grid.gradient_boosting.learning_rate, a.gb_learning_rate);
     if let Some(h) = &a.mlp_hidden {
-        c.grid.mlp.hidden_layers = parse_list(h, "hidden layer spec (e.g. 64x32)", |s| {
+        c.grid.mlp.hidden_layers = parse_list(h, "hidden layer spec", "sizes joined by x, e.g. 64x32", |s| {
             s.split('x').map(|n| n.parse().ok()).collect()
         })?;
     }
     if let Some(act) = &a.mlp_activation {
-        c.grid.mlp.activation = parse_list(act, "activation (relu, tanh)", |s| match s {
+        c.grid.mlp.activation = parse_list(act, "activation", "relu or tanh", |s| match s {
             "relu" => Some(Activation::Relu),
             "tanh" => Some(Activation::Tanh),
             _ => None,
