@@ -94,13 +94,13 @@ impl Regressor for BoostParams {
             roots: Vec::new(),
             nodes: Vec::new(),
         };
-        let mut rows: Vec<usize> = (0..n).collect();
+        let rows: Vec<usize> = (0..n).collect();
         for _ in 0..self.n_estimators {
             for i in 0..n {
                 g[i] = pred[i] - y[i];
             }
             let mut nodes = Vec::new();
-            let root = grow(x, &g, &h, &mut rows, p, &mut rng, &mut nodes);
+            let root = grow(x, &g, &h, &rows, p, &mut rng, &mut nodes);
             for (i, pi) in pred.iter_mut().enumerate() {
                 *pi += crate::tree::walk(&nodes, root, x.row(i));
             }

@@ -77,13 +77,13 @@ impl Regressor for ForestParams {
                 let mut rng = ChaCha8Rng::seed_from_u64(
                     seed ^ (t as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15),
                 );
-                let mut rows: Vec<usize> = if self.bootstrap {
+                let rows: Vec<usize> = if self.bootstrap {
                     (0..n).map(|_| rng.gen_range(0..n)).collect()
                 } else {
                     (0..n).collect()
                 };
                 let mut nodes = Vec::new();
-                let root = grow(x, &g, &h, &mut rows, p, &mut rng, &mut nodes);
+                let root = grow(x, &g, &h, &rows, p, &mut rng, &mut nodes);
                 (nodes, root)
             })
             .collect();

@@ -246,6 +246,7 @@ impl Regressor for MlpParams {
         let mut g_b = m_b.clone();
         let mut acts: Vec<Vec<f64>> = vec![Vec::new(); sizes.len()];
         let mut deltas: Vec<Vec<f64>> = vec![Vec::new(); sizes.len()];
+        let mut wt_buf: Vec<Vec<f64>> = vec![Vec::new(); sizes.len()];
         let mut xb = Vec::with_capacity(batch * x.n_cols);
         let mut yb = Vec::with_capacity(batch);
         let (beta1, beta2, eps) = (0.9f64, 0.999f64, 1e-8);
@@ -298,17 +299,29 @@ impl Regressor for MlpParams {
                     }
                     gb.iter_mut().for_each(|g| *g *= inv);
                     if k > 0 {
-                        // delta of the hidden layer below
+                        // delta of the hidden layer below: δ_k = (δ_{k+1} Wᵀ) ⊙ f'(a_k),
+                        // accumulated row by row as axpy over the transposed weights
+                        let wt = &mut wt_buf[k];
+                        wt.clear();
+                        wt.resize(fi * fo, 0.0);
+                        for i in 0..fi {
+                            for o in 0..fo {
+                                wt[o * fi + i] = net.w[k][i * fo + o];
+                            }
+                        }
                         let mut dk = std::mem::take(&mut deltas[k]);
                         dk.clear();
                         dk.resize(nb * fi, 0.0);
                         for r in 0..nb {
                             let d = &deltas[k + 1][r * fo..(r + 1) * fo];
-                            for i in 0..fi {
-                                let wrow = &net.w[k][i * fo..(i + 1) * fo];
-                                let s: f64 = wrow.iter().zip(d).map(|(w, dv)| w * dv).sum();
-                                dk[r * fi + i] =
-                                    s * self.activation.derivative_from_output(acts[k][r * fi + i]);
+                            let out = &mut dk[r * fi..(r + 1) * fi];
+                            for (o, dv) in d.iter().enumerate() {
+                                for (acc, w) in out.iter_mut().zip(&wt[o * fi..(o + 1) * fi]) {
+                                    *acc += dv * w;
+                                }
+                            }
+                            for (acc, a) in out.iter_mut().zip(&acts[k][r * fi..(r + 1) * fi]) {
+                                *acc *= self.activation.derivative_from_output(*a);
                             }
                         }
                         deltas[k] = dk;

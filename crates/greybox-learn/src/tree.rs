@@ -54,7 +54,10 @@ struct Builder<'a> {
     rng: &'a mut ChaCha8Rng,
     nodes: &'a mut Vec<Node>,
     features: Vec<usize>,
-    sorted: Vec<usize>,
+    /// Per feature, the node's rows sorted by that feature; a node owns the range
+    /// `start..end` of every list (presorting, as in exact greedy split finding).
+    order: Vec<Vec<usize>>,
+    scratch: Vec<usize>,
 }
 
 /// Grow one tree over `rows` (repetitions allowed: bootstrap samples) and append its nodes;
@@ -63,11 +66,18 @@ pub fn grow(
     x: &Matrix,
     g: &[f64],
     h: &[f64],
-    rows: &mut [usize],
+    rows: &[usize],
     p: GrowParams,
     rng: &mut ChaCha8Rng,
     nodes: &mut Vec<Node>,
 ) -> u32 {
+    let order: Vec<Vec<usize>> = (0..x.n_cols)
+        .map(|f| {
+            let mut o = rows.to_vec();
+            o.sort_by(|&a, &b| x.get(a, f).total_cmp(&x.get(b, f)));
+            o
+        })
+        .collect();
     let mut b = Builder {
         x,
         g,
@@ -76,9 +86,10 @@ pub fn grow(
         rng,
         nodes,
         features: (0..x.n_cols).collect(),
-        sorted: Vec::with_capacity(rows.len()),
+        order,
+        scratch: Vec::with_capacity(rows.len()),
     };
-    b.build(rows, 0)
+    b.build(0, rows.len(), 0)
 }
 
 impl Builder<'_> {
@@ -86,8 +97,9 @@ impl Builder<'_> {
         -gs / (hs + self.p.lambda) * self.p.leaf_scale
     }
 
-    fn build(&mut self, rows: &mut [usize], depth: usize) -> u32 {
-        let (gs, hs) = rows
+    fn build(&mut self, start: usize, end: usize, depth: usize) -> u32 {
+        let n = end - start;
+        let (gs, hs) = self.order[0][start..end]
             .iter()
             .fold((0.0, 0.0), |(a, b), &i| (a + self.g[i], b + self.h[i]));
         let me = self.nodes.len() as u32;
@@ -100,7 +112,7 @@ impl Builder<'_> {
         });
         let p = self.p;
         if p.max_depth.is_some_and(|d| depth >= d)
-            || rows.len() < 2 * p.min_samples_leaf.max(1)
+            || n < 2 * p.min_samples_leaf.max(1)
             || hs < 2.0 * p.min_child_weight
         {
             return me;
@@ -116,18 +128,14 @@ impl Builder<'_> {
         let mut best: Option<(f64, usize, f64)> = None; // (gain, feature, threshold)
         for fi in 0..n_try {
             let f = self.features[fi];
-            self.sorted.clear();
-            self.sorted.extend_from_slice(rows);
             let x = self.x;
-            self.sorted
-                .sort_by(|&a, &b| x.get(a, f).total_cmp(&x.get(b, f)));
+            let sorted = &self.order[f][start..end];
             let (mut gl, mut hl) = (0.0, 0.0);
-            let n = self.sorted.len();
             for k in 0..n - 1 {
-                let i = self.sorted[k];
+                let i = sorted[k];
                 gl += self.g[i];
                 hl += self.h[i];
-                let (xv, xn) = (x.get(i, f), x.get(self.sorted[k + 1], f));
+                let (xv, xn) = (x.get(i, f), x.get(sorted[k + 1], f));
                 if xv >= xn {
                     continue; // not a boundary between distinct values
                 }
@@ -154,17 +162,26 @@ impl Builder<'_> {
         if gain <= p.min_split_gain {
             return me;
         }
-        // partition rows: left = x <= thr
-        let mut split = 0;
-        for k in 0..rows.len() {
-            if self.x.get(rows[k], f) <= thr {
-                rows.swap(k, split);
-                split += 1;
+        // stable partition of every feature's list: left = x[f] <= thr
+        let mut n_left = 0;
+        for list in self.order.iter_mut() {
+            self.scratch.clear();
+            let seg = &mut list[start..end];
+            let mut w = 0;
+            for k in 0..seg.len() {
+                let r = seg[k];
+                if self.x.get(r, f) <= thr {
+                    seg[w] = r;
+                    w += 1;
+                } else {
+                    self.scratch.push(r);
+                }
             }
+            seg[w..].copy_from_slice(&self.scratch);
+            n_left = w;
         }
-        let (l, r) = rows.split_at_mut(split);
-        let left = self.build(l, depth + 1);
-        let right = self.build(r, depth + 1);
+        let left = self.build(start, start + n_left, depth + 1);
+        let right = self.build(start + n_left, end, depth + 1);
         self.nodes[me as usize] = Node {
             feature: f as u32,
             threshold: thr,

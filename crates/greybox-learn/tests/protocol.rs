@@ -16,13 +16,21 @@ fn csv(n: usize, seed: u64) -> String {
         let f: f64 = rng.gen_range(150.0..2000.0);
         let v: f64 = rng.gen_range(20.0..250.0);
         let e: f64 = rand_distr::Distribution::sample(&normal, &mut rng);
-        s.push_str(&format!("{f},{v},{}\n", 0.45 - 0.08 * (f / 2000.0) - 0.1 * (v / 250.0).sqrt() + e));
+        s.push_str(&format!(
+            "{f},{v},{}\n",
+            0.45 - 0.08 * (f / 2000.0) - 0.1 * (v / 250.0).sqrt() + e
+        ));
     }
     s
 }
 
 fn small_config() -> FitConfig {
-    let mut c = FitConfig { bootstrap_resamples: 200, importance_repeats: 5, inner_folds: 3, ..Default::default() };
+    let mut c = FitConfig {
+        bootstrap_resamples: 200,
+        importance_repeats: 5,
+        inner_folds: 3,
+        ..Default::default()
+    };
     c.grid.random_forest.n_estimators = vec![10, 30];
     c.grid.svr.c = vec![1.0, 10.0];
     c.grid.svr.kernel = vec![greybox_learn::svr::Kernel::Rbf];
@@ -37,16 +45,34 @@ fn small_config() -> FitConfig {
 }
 
 fn data(n: usize, seed: u64) -> greybox_learn::table::Dataset {
-    let feats = vec!["normal_force_N".to_string(), "sliding_velocity_m_per_min".to_string()];
-    read_dataset_from(csv(n, seed).as_bytes(), "synthetic.csv", &feats, "cof", None).unwrap()
+    let feats = vec![
+        "normal_force_N".to_string(),
+        "sliding_velocity_m_per_min".to_string(),
+    ];
+    read_dataset_from(
+        csv(n, seed).as_bytes(),
+        "synthetic.csv",
+        &feats,
+        "cof",
+        None,
+    )
+    .unwrap()
 }
 
 #[test]
 fn deterministic_whatever_the_thread_count() {
     let d = data(80, 1);
     let cfg = small_config();
-    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| run_protocol(&d, &cfg).unwrap());
-    let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| run_protocol(&d, &cfg).unwrap());
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| run_protocol(&d, &cfg).unwrap());
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap()
+        .install(|| run_protocol(&d, &cfg).unwrap());
     assert_eq!(one.1, two.1, "model files");
     for (a, b) in one.0.families.iter().zip(&two.0.families) {
         assert_eq!(a.training, b.training);
@@ -64,7 +90,10 @@ fn deterministic_whatever_the_thread_count() {
 #[test]
 fn model_files_round_trip_and_verify() {
     let d = data(80, 2);
-    let cfg = FitConfig { families: vec![Family::GradientBoosting, Family::Mlp], ..small_config() };
+    let cfg = FitConfig {
+        families: vec![Family::GradientBoosting, Family::Mlp],
+        ..small_config()
+    };
     let (_, files) = run_protocol(&d, &cfg).unwrap();
     let dir = tempfile::tempdir().unwrap();
     for f in &files {
@@ -73,19 +102,35 @@ fn model_files_round_trip_and_verify() {
         let back = ModelFile::load(&p).unwrap();
         assert_eq!(&back, f);
         let x = [1000.0, 100.0];
-        assert_eq!(back.predict(&x, DomainPolicy::Refuse, 0.0).unwrap(), f.predict(&x, DomainPolicy::Refuse, 0.0).unwrap());
+        assert_eq!(
+            back.predict(&x, DomainPolicy::Refuse, 0.0).unwrap(),
+            f.predict(&x, DomainPolicy::Refuse, 0.0).unwrap()
+        );
         // tampering is detected
-        let text = std::fs::read_to_string(&p).unwrap().replacen("\"n_train\": 80", "\"n_train\": 81", 1);
+        let text =
+            std::fs::read_to_string(&p)
+                .unwrap()
+                .replacen("\"n_train\": 80", "\"n_train\": 81", 1);
         let e = ModelFile::parse(&text, "t.json").unwrap_err().to_string();
         assert!(e.contains("content hash mismatch"), "{e}");
         // another schema version is refused
-        let text = std::fs::read_to_string(&p).unwrap().replacen("\"schema_version\": 1", "\"schema_version\": 2", 1);
+        let text = std::fs::read_to_string(&p).unwrap().replacen(
+            "\"schema_version\": 1",
+            "\"schema_version\": 2",
+            1,
+        );
         let e = ModelFile::parse(&text, "t.json").unwrap_err().to_string();
         assert!(e.contains("schema version Some(2) is not supported"), "{e}");
         // far outside the training domain: refused or flagged
         let far = [5000.0, 100.0];
-        let e = f.predict(&far, DomainPolicy::Refuse, 0.05).unwrap_err().to_string();
-        assert!(e.contains("outside the training domain") && e.contains("normal_force_N = 5000"), "{e}");
+        let e = f
+            .predict(&far, DomainPolicy::Refuse, 0.05)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("outside the training domain") && e.contains("normal_force_N = 5000"),
+            "{e}"
+        );
         assert!(!f.predict(&far, DomainPolicy::Warn, 0.05).unwrap().in_domain);
     }
 }
@@ -94,7 +139,11 @@ fn model_files_round_trip_and_verify() {
 #[test]
 fn prediction_interval_covers_fresh_data() {
     let d = data(200, 3);
-    let cfg = FitConfig { families: vec![Family::GradientBoosting], skip_nested: true, ..small_config() };
+    let cfg = FitConfig {
+        families: vec![Family::GradientBoosting],
+        skip_nested: true,
+        ..small_config()
+    };
     let (_, files) = run_protocol(&d, &cfg).unwrap();
     let fresh = data(2000, 4);
     let m = &files[0];

@@ -73,11 +73,18 @@ fn predict_latency(path: &std::path::Path, calls: usize) -> Result<PredictLatenc
     }
     let t = Instant::now();
     for k in 0..calls {
-        sink += m.model.predict_one(std::hint::black_box(&points[k % n_points]));
+        sink += m
+            .model
+            .predict_one(std::hint::black_box(&points[k % n_points]));
     }
     let ns = t.elapsed().as_secs_f64() * 1e9 / calls as f64;
     std::hint::black_box(sink);
-    Ok(PredictLatency { model: path.display().to_string(), family: m.family.name().into(), calls, ns_per_call: ns })
+    Ok(PredictLatency {
+        model: path.display().to_string(),
+        family: m.family.name().into(),
+        calls,
+        ns_per_call: ns,
+    })
 }
 
 #[derive(clap::Args, Debug)]
@@ -149,13 +156,23 @@ fn time_reads(f: impl Fn() -> Result<usize>, repeats: usize) -> Result<(Vec<f64>
 
 pub fn run(a: Args) -> Result<()> {
     match a.bench {
-        Bench::Predict { models, calls, json } => {
-            let rows = models.iter().map(|m| predict_latency(m, calls.max(1))).collect::<Result<Vec<_>>>()?;
+        Bench::Predict {
+            models,
+            calls,
+            json,
+        } => {
+            let rows = models
+                .iter()
+                .map(|m| predict_latency(m, calls.max(1)))
+                .collect::<Result<Vec<_>>>()?;
             if json {
                 return print_json(&rows);
             }
             for r in &rows {
-                println!("predict {:>18}: {:8.1} ns per point ({} calls, {})", r.family, r.ns_per_call, r.calls, r.model);
+                println!(
+                    "predict {:>18}: {:8.1} ns per point ({} calls, {})",
+                    r.family, r.ns_per_call, r.calls, r.model
+                );
             }
             Ok(())
         }

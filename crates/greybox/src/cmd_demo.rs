@@ -59,7 +59,13 @@ pub fn run(a: Args) -> Result<()> {
     let fit_args = cmd_fit::Args::defaults(dataset.clone(), out.join("fit"));
     let (fit, fit_outputs) = cmd_fit::fit(&fit_args)?;
     if a.json {
-        return print_json(&DemoSummary { plan: plan_summary, synth, identify, fit, fit_outputs });
+        return print_json(&DemoSummary {
+            plan: plan_summary,
+            synth,
+            identify,
+            fit,
+            fit_outputs,
+        });
     }
     println!("greybox demo — the seed article's tribometer campaign on a virtual rig\n");
     println!("[1/4] plan -> {}", out.join("plan").display());

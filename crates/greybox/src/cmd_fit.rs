@@ -149,7 +149,12 @@ pub fn config(a: &Args) -> Result<FitConfig> {
         None => FitConfig::default(),
     };
     if let Some(f) = &a.families {
-        c.families = parse_list(f, "model family", "random-forest, svr, gradient-boosting or mlp", Family::parse)?;
+        c.families = parse_list(
+            f,
+            "model family",
+            "random-forest, svr, gradient-boosting or mlp",
+            Family::parse,
+        )?;
     }
     macro_rules! set {
         ($dst:expr, $src:expr) => {
@@ -180,9 +185,12 @@ pub fn config(a: &Args) -> Result<FitConfig> {
     set!(c.grid.gradient_boosting.max_depth, a.gb_max_depth);
     set!(c.grid.gradient_boosting.learning_rate, a.gb_learning_rate);
     if let Some(h) = &a.mlp_hidden {
-        c.grid.mlp.hidden_layers = parse_list(h, "hidden layer spec", "sizes joined by x, e.g. 64x32", |s| {
-            s.split('x').map(|n| n.parse().ok()).collect()
-        })?;
+        c.grid.mlp.hidden_layers = parse_list(
+            h,
+            "hidden layer spec",
+            "sizes joined by x, e.g. 64x32",
+            |s| s.split('x').map(|n| n.parse().ok()).collect(),
+        )?;
     }
     if let Some(act) = &a.mlp_activation {
         c.grid.mlp.activation = parse_list(act, "activation", "relu or tanh", |s| match s {

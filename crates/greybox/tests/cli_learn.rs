@@ -4,27 +4,63 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 fn greybox(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_greybox")).args(args).current_dir(cwd).output().expect("run greybox")
+    Command::new(env!("CARGO_BIN_EXE_greybox"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("run greybox")
 }
 
 fn ok(out: &Output) -> String {
-    assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 fn err(out: &Output) -> String {
-    assert!(!out.status.success(), "expected failure: {}", String::from_utf8_lossy(&out.stdout));
+    assert!(
+        !out.status.success(),
+        "expected failure: {}",
+        String::from_utf8_lossy(&out.stdout)
+    );
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
 /// A small dataset from plan → synth → identify (3 loads × 6 velocities).
 fn dataset(p: &Path) {
     ok(&greybox(
-        &["plan", "--track-radius-mm", "100", "--normal-force-count", "4", "--velocity-count", "8", "--out", "plan"],
+        &[
+            "plan",
+            "--track-radius-mm",
+            "100",
+            "--normal-force-count",
+            "4",
+            "--velocity-count",
+            "8",
+            "--out",
+            "plan",
+        ],
         p,
     ));
-    ok(&greybox(&["synth", "--study", "plan/study.toml", "--out", "rec"], p));
-    ok(&greybox(&["identify", "--study", "plan/study.toml", "--recordings", "rec", "--out", "data.csv"], p));
+    ok(&greybox(
+        &["synth", "--study", "plan/study.toml", "--out", "rec"],
+        p,
+    ));
+    ok(&greybox(
+        &[
+            "identify",
+            "--study",
+            "plan/study.toml",
+            "--recordings",
+            "rec",
+            "--out",
+            "data.csv",
+        ],
+        p,
+    ));
 }
 
 const SMALL_GRID: [&str; 16] = [
@@ -51,7 +87,18 @@ fn fit_then_predict() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
     dataset(p);
-    let mut args = vec!["fit", "--data", "data.csv", "--out", "fit", "--bootstrap", "100", "--importance-repeats", "5", "--json"];
+    let mut args = vec![
+        "fit",
+        "--data",
+        "data.csv",
+        "--out",
+        "fit",
+        "--bootstrap",
+        "100",
+        "--importance-repeats",
+        "5",
+        "--json",
+    ];
     args.extend(SMALL_GRID);
     let s = ok(&greybox(&args, p));
     let v: serde_json::Value = serde_json::from_str(&s).unwrap();
@@ -64,28 +111,91 @@ fn fit_then_predict() {
         let ci = &f["training"]["mae"];
         assert!(ci["ci_low"].as_f64().unwrap() <= ci["value"].as_f64().unwrap());
     }
-    for f in ["report.json", "report.md", "models/svr.json", "models/mlp.json", "plots/gradient-boosting-surface.svg", "plots/random-forest-predicted-vs-measured.svg"] {
+    for f in [
+        "report.json",
+        "report.md",
+        "models/svr.json",
+        "models/mlp.json",
+        "plots/gradient-boosting-surface.svg",
+        "plots/random-forest-predicted-vs-measured.svg",
+    ] {
         assert!(p.join("fit").join(f).exists(), "{f}");
     }
     let md = std::fs::read_to_string(p.join("fit/report.md")).unwrap();
-    assert!(md.contains("Training metrics") && md.contains("Held-out metrics") && md.contains("Permutation importance"));
+    assert!(
+        md.contains("Training metrics")
+            && md.contains("Held-out metrics")
+            && md.contains("Permutation importance")
+    );
 
     // predict at points, with intervals
-    let s = ok(&greybox(&["predict", "--model", "fit/models/gradient-boosting.json", "--at", "1000,100", "--at", "500,200", "--json"], p));
+    let s = ok(&greybox(
+        &[
+            "predict",
+            "--model",
+            "fit/models/gradient-boosting.json",
+            "--at",
+            "1000,100",
+            "--at",
+            "500,200",
+            "--json",
+        ],
+        p,
+    ));
     let v: serde_json::Value = serde_json::from_str(&s).unwrap();
     assert_eq!(v.as_array().unwrap().len(), 2);
-    let (lo, val, hi) = (v[0]["low"].as_f64().unwrap(), v[0]["value"].as_f64().unwrap(), v[0]["high"].as_f64().unwrap());
-    assert!(lo < val && val < hi && (0.1..0.8).contains(&val), "{lo} {val} {hi}");
+    let (lo, val, hi) = (
+        v[0]["low"].as_f64().unwrap(),
+        v[0]["value"].as_f64().unwrap(),
+        v[0]["high"].as_f64().unwrap(),
+    );
+    assert!(
+        lo < val && val < hi && (0.1..0.8).contains(&val),
+        "{lo} {val} {hi}"
+    );
     // from a CSV: the dataset itself
-    let s = ok(&greybox(&["predict", "--model", "fit/models/svr.json", "--csv", "data.csv", "--json"], p));
+    let s = ok(&greybox(
+        &[
+            "predict",
+            "--model",
+            "fit/models/svr.json",
+            "--csv",
+            "data.csv",
+            "--json",
+        ],
+        p,
+    ));
     let v: serde_json::Value = serde_json::from_str(&s).unwrap();
     assert_eq!(v.as_array().unwrap().len(), 32);
     // far outside the domain
-    let e = err(&greybox(&["predict", "--model", "fit/models/mlp.json", "--at", "9000,100", "--outside", "refuse"], p));
+    let e = err(&greybox(
+        &[
+            "predict",
+            "--model",
+            "fit/models/mlp.json",
+            "--at",
+            "9000,100",
+            "--outside",
+            "refuse",
+        ],
+        p,
+    ));
     assert!(e.contains("outside the training domain"), "{e}");
-    let o = greybox(&["predict", "--model", "fit/models/mlp.json", "--at", "9000,100"], p);
+    let o = greybox(
+        &[
+            "predict",
+            "--model",
+            "fit/models/mlp.json",
+            "--at",
+            "9000,100",
+        ],
+        p,
+    );
     assert!(o.status.success() && String::from_utf8_lossy(&o.stderr).contains("warning: point"));
-    let e = err(&greybox(&["predict", "--model", "fit/models/mlp.json", "--at", "1000"], p));
+    let e = err(&greybox(
+        &["predict", "--model", "fit/models/mlp.json", "--at", "1000"],
+        p,
+    ));
     assert!(e.contains("expected 2 values"), "{e}");
 }
 
@@ -94,16 +204,50 @@ fn fit_bad_inputs() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
     dataset(p);
-    let e = err(&greybox(&["fit", "--data", "data.csv", "--features", "normal_force_N,temperature_K"], p));
+    let e = err(&greybox(
+        &[
+            "fit",
+            "--data",
+            "data.csv",
+            "--features",
+            "normal_force_N,temperature_K",
+        ],
+        p,
+    ));
     assert!(e.contains("unknown feature 'temperature_K'"), "{e}");
-    std::fs::write(p.join("const.csv"), "a_N,b_m_per_min,mu\n1,2,0.3\n2,3,0.3\n3,4,0.3\n").unwrap();
-    let e = err(&greybox(&["fit", "--data", "const.csv", "--target", "mu", "--features", "a_N,b_m_per_min"], p));
+    std::fs::write(
+        p.join("const.csv"),
+        "a_N,b_m_per_min,mu\n1,2,0.3\n2,3,0.3\n3,4,0.3\n",
+    )
+    .unwrap();
+    let e = err(&greybox(
+        &[
+            "fit",
+            "--data",
+            "const.csv",
+            "--target",
+            "mu",
+            "--features",
+            "a_N,b_m_per_min",
+        ],
+        p,
+    ));
     assert!(e.contains("the target is constant"), "{e}");
-    let e = err(&greybox(&["fit", "--data", "data.csv", "--families", "svm"], p));
+    let e = err(&greybox(
+        &["fit", "--data", "data.csv", "--families", "svm"],
+        p,
+    ));
     assert!(e.contains("unknown model family 'svm'"), "{e}");
     let e = err(&greybox(&["fit", "--data", "data.csv", "--folds", "40"], p));
     assert!(e.contains("too few for 40-fold"), "{e}");
-    std::fs::write(p.join("bad.json"), "{\"schema\": \"greybox-model\", \"schema_version\": 9}").unwrap();
-    let e = err(&greybox(&["predict", "--model", "bad.json", "--at", "1,2"], p));
+    std::fs::write(
+        p.join("bad.json"),
+        "{\"schema\": \"greybox-model\", \"schema_version\": 9}",
+    )
+    .unwrap();
+    let e = err(&greybox(
+        &["predict", "--model", "bad.json", "--at", "1,2"],
+        p,
+    ));
     assert!(e.contains("schema version Some(9) is not supported"), "{e}");
 }
