@@ -126,6 +126,15 @@ impl Net {
             let a_out = &mut rest[0];
             a_out.clear();
             a_out.resize(n * fo, 0.0);
+            if fo == 1 {
+                // output neuron: one dot product per row
+                let w = &self.w[k];
+                for r in 0..n {
+                    let a = &a_in[r * fi..(r + 1) * fi];
+                    a_out[r] = self.b[k][0] + a.iter().zip(w).map(|(x, y)| x * y).sum::<f64>();
+                }
+                continue;
+            }
             for r in 0..n {
                 let out = &mut a_out[r * fo..(r + 1) * fo];
                 out.copy_from_slice(&self.b[k]);
@@ -281,6 +290,13 @@ impl Regressor for MlpParams {
                     for r in 0..nb {
                         let d = &deltas[k + 1][r * fo..(r + 1) * fo];
                         let a = &acts[k][r * fi..(r + 1) * fi];
+                        if fo == 1 {
+                            for (g, av) in gw.iter_mut().zip(a) {
+                                *g += av * d[0];
+                            }
+                            gb[0] += d[0];
+                            continue;
+                        }
                         for i in 0..fi {
                             if a[i] != 0.0 {
                                 let row = &mut gw[i * fo..(i + 1) * fo];

@@ -8,8 +8,9 @@
 //! * Gradient boosting, squared loss: g = ŷ − y, h = 1, λ = L2 leaf regularisation.
 //!
 //! Split thresholds lie midway between consecutive distinct values; a row goes left when
-//! `x[f] <= threshold`. Trees are stored as flat node arrays; prediction walks them with
-//! no allocation.
+//! `x[f] <= threshold`. Trees are stored as flat arrays of 16-byte nodes whose two children
+//! are adjacent (right = left + 1), so prediction is a short branch-free walk with no
+//! allocation.
 
 use crate::Matrix;
 use rand::seq::SliceRandom;
@@ -19,16 +20,17 @@ use serde::{Deserialize, Serialize};
 /// Marks a leaf in [`Node::feature`].
 pub const LEAF: u32 = u32::MAX;
 
-/// One node of a flat tree.
+/// One node of a flat tree: a split (`x[feature] <= value` goes to `left`, otherwise to
+/// `left + 1`) or, when `feature` is [`LEAF`], a leaf whose prediction is `value` (already
+/// scaled by the learning rate for boosting).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Node {
+    /// Split threshold, or the leaf value.
+    pub value: f64,
     /// Split feature, or [`LEAF`].
     pub feature: u32,
-    pub threshold: f64,
+    /// Index of the left child; the right child follows it.
     pub left: u32,
-    pub right: u32,
-    /// Leaf value (already scaled by the learning rate for boosting).
-    pub value: f64,
 }
 
 /// Growth limits.
@@ -78,6 +80,12 @@ pub fn grow(
             o
         })
         .collect();
+    let root = nodes.len() as u32;
+    nodes.push(Node {
+        value: 0.0,
+        feature: LEAF,
+        left: 0,
+    });
     let mut b = Builder {
         x,
         g,
@@ -89,7 +97,8 @@ pub fn grow(
         order,
         scratch: Vec::with_capacity(rows.len()),
     };
-    b.build(0, rows.len(), 0)
+    b.build(0, rows.len(), 0, root);
+    root
 }
 
 impl Builder<'_> {
@@ -97,25 +106,23 @@ impl Builder<'_> {
         -gs / (hs + self.p.lambda) * self.p.leaf_scale
     }
 
-    fn build(&mut self, start: usize, end: usize, depth: usize) -> u32 {
+    /// Grow the subtree of rows `start..end` into the already allocated node `me`.
+    fn build(&mut self, start: usize, end: usize, depth: usize, me: u32) {
         let n = end - start;
         let (gs, hs) = self.order[0][start..end]
             .iter()
             .fold((0.0, 0.0), |(a, b), &i| (a + self.g[i], b + self.h[i]));
-        let me = self.nodes.len() as u32;
-        self.nodes.push(Node {
-            feature: LEAF,
-            threshold: 0.0,
-            left: me,
-            right: me,
+        self.nodes[me as usize] = Node {
             value: self.leaf_value(gs, hs),
-        });
+            feature: LEAF,
+            left: 0,
+        };
         let p = self.p;
         if p.max_depth.is_some_and(|d| depth >= d)
             || n < 2 * p.min_samples_leaf.max(1)
             || hs < 2.0 * p.min_child_weight
         {
-            return me;
+            return;
         }
         let parent_score = gs * gs / (hs + p.lambda);
         let n_try = p
@@ -157,10 +164,10 @@ impl Builder<'_> {
             }
         }
         let Some((gain, f, thr)) = best else {
-            return me;
+            return;
         };
         if gain <= p.min_split_gain {
-            return me;
+            return;
         }
         // stable partition of every feature's list: left = x[f] <= thr
         let mut n_left = 0;
@@ -180,16 +187,24 @@ impl Builder<'_> {
             seg[w..].copy_from_slice(&self.scratch);
             n_left = w;
         }
-        let left = self.build(start, start + n_left, depth + 1);
-        let right = self.build(start + n_left, end, depth + 1);
-        self.nodes[me as usize] = Node {
-            feature: f as u32,
-            threshold: thr,
-            left,
-            right,
+        let left = self.nodes.len() as u32;
+        self.nodes.push(Node {
             value: 0.0,
+            feature: LEAF,
+            left: 0,
+        });
+        self.nodes.push(Node {
+            value: 0.0,
+            feature: LEAF,
+            left: 0,
+        });
+        self.nodes[me as usize] = Node {
+            value: thr,
+            feature: f as u32,
+            left,
         };
-        me
+        self.build(start, start + n_left, depth + 1, left);
+        self.build(start + n_left, end, depth + 1, left + 1);
     }
 }
 
@@ -198,11 +213,7 @@ impl Builder<'_> {
 pub fn walk(nodes: &[Node], root: u32, x: &[f64]) -> f64 {
     let mut n = &nodes[root as usize];
     while n.feature != LEAF {
-        n = &nodes[if x[n.feature as usize] <= n.threshold {
-            n.left
-        } else {
-            n.right
-        } as usize];
+        n = &nodes[(n.left + u32::from(x[n.feature as usize] > n.value)) as usize];
     }
     n.value
 }
@@ -218,9 +229,32 @@ pub struct TreeEnsemble {
 }
 
 impl TreeEnsemble {
+    /// Prediction for one row. Eight trees are walked in lockstep so that their dependent
+    /// node loads overlap; leaves are summed in tree order.
     #[inline]
     pub fn predict_one(&self, x: &[f64]) -> f64 {
-        let s: f64 = self.roots.iter().map(|&r| walk(&self.nodes, r, x)).sum();
+        const LANES: usize = 8;
+        let mut s = 0.0;
+        for chunk in self.roots.chunks(LANES) {
+            let mut idx = [0u32; LANES];
+            idx[..chunk.len()].copy_from_slice(chunk);
+            loop {
+                let mut moved = false;
+                for k in idx.iter_mut().take(chunk.len()) {
+                    let n = &self.nodes[*k as usize];
+                    if n.feature != LEAF {
+                        *k = n.left + u32::from(x[n.feature as usize] > n.value);
+                        moved = true;
+                    }
+                }
+                if !moved {
+                    break;
+                }
+            }
+            for k in &idx[..chunk.len()] {
+                s += self.nodes[*k as usize].value;
+            }
+        }
         self.base + self.scale * s
     }
     /// Append a tree grown in its own node buffer.
@@ -228,8 +262,9 @@ impl TreeEnsemble {
         let off = self.nodes.len() as u32;
         self.roots.push(root + off);
         self.nodes.extend(nodes.into_iter().map(|mut n| {
-            n.left += off;
-            n.right += off;
+            if n.feature != LEAF {
+                n.left += off;
+            }
             n
         }));
     }

@@ -106,7 +106,7 @@ fn boosting_stump_matches_hand_computation() {
     .unwrap();
     assert!((m.predict_one(&[1.5]) - (0.5 - 0.1)).abs() < 1e-15);
     assert!((m.predict_one(&[3.5]) - (0.5 + 0.1)).abs() < 1e-15);
-    assert_eq!(m.nodes[m.roots[0] as usize].threshold, 2.5);
+    assert_eq!(m.nodes[m.roots[0] as usize].value, 2.5);
 }
 
 /// ε-SVR on exactly linear data: with a linear kernel, ε = 0.01 and large C the fitted line
