@@ -1,3 +1,4 @@
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too
 //! greybox-learn: data-driven friction models with honest validation.
 //!
 //! * [`matrix`] — a row-major feature matrix; [`table`] — strict numeric CSV tables.

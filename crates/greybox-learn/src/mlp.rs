@@ -176,7 +176,7 @@ impl Regressor for MlpParams {
                 ),
             ));
         }
-        if !(self.learning_rate > 0.0 && self.learning_rate.is_finite()) || !(self.alpha >= 0.0) {
+        if !(self.learning_rate > 0.0 && self.learning_rate.is_finite() && self.alpha >= 0.0) {
             return Err(Error::invalid(
                 "MLP",
                 "learning_rate must be positive and alpha ≥ 0",

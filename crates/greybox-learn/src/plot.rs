@@ -137,6 +137,7 @@ pub fn predicted_vs_measured(
 }
 
 /// Heat map of `f(x, y)` on a grid with a colour bar.
+#[allow(clippy::too_many_arguments)]
 pub fn surface(
     title: &str,
     x_label: &str,

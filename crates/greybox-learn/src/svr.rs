@@ -420,6 +420,7 @@ impl Smo {
     /// The j of WSS3 (Fan, Chen & Lin 2005) for a given i; `None` at convergence. The
     /// objective −b²/a is compared by cross-multiplication (a > 0), which avoids a division
     /// per candidate and selects the same j.
+    #[allow(clippy::needless_range_loop)] // t indexes five parallel arrays
     fn select_j(&self, gmax: f64, i: usize) -> Option<usize> {
         let ki = self.row(i);
         let qdi = self.qd[i];
