@@ -22,6 +22,7 @@ use crate::modelfile::{FeatureRange, ModelFile, SCHEMA, SCHEMA_VERSION};
 use crate::svr::{Kernel, SvrParams};
 use crate::table::Dataset;
 use greybox_core::{Error, Result};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Random-forest grid (article: n_estimators ∈ {10, 50, 100, 200}).
@@ -273,9 +274,38 @@ pub fn run_protocol(data: &Dataset, cfg: &FitConfig) -> Result<(FitReport, Vec<M
         return Err(Error::invalid("fit", "interval_coverage must be in (0, 1)"));
     }
     let names: Vec<String> = data.features.iter().map(|c| c.name.clone()).collect();
-    let mut reports = Vec::new();
-    let mut files = Vec::new();
-    for &family in &cfg.families {
+    // Families run concurrently (their jobs share one rayon pool, which evens out the long
+    // SVR fits); every fit's seed is independent of scheduling, so results are identical.
+    let per_family: Vec<(FamilyReport, ModelFile)> = cfg
+        .families
+        .par_iter()
+        .map(|&family| run_family(data, cfg, &ids, &names, family))
+        .collect::<Result<_>>()?;
+    let (reports, files): (Vec<_>, Vec<_>) = per_family.into_iter().unzip();
+    Ok((
+        FitReport {
+            source: data.source.clone(),
+            n_rows: n,
+            features: names,
+            target: data.target.name.clone(),
+            config: cfg.clone(),
+            families: reports,
+        },
+        files,
+    ))
+}
+
+/// Steps 1–6 for one family.
+fn run_family(
+    data: &Dataset,
+    cfg: &FitConfig,
+    ids: &[usize],
+    names: &[String],
+    family: Family,
+) -> Result<(FamilyReport, ModelFile)> {
+    let n = data.y.len();
+    {
+        let ids = ids.to_vec();
         let t0 = std::time::Instant::now();
         let grid = cfg.grid.expand(family)?;
         let (results, best) = grid_search(&grid, &data.x, &data.y, &ids, cfg.seed)?;
@@ -348,20 +378,8 @@ pub fn run_protocol(data: &Dataset, cfg: &FitConfig) -> Result<(FitReport, Vec<M
             content_hash: String::new(),
         }
         .seal()?;
-        reports.push(report);
-        files.push(file);
+        Ok((report, file))
     }
-    Ok((
-        FitReport {
-            source: data.source.clone(),
-            n_rows: n,
-            features: names,
-            target: data.target.name.clone(),
-            config: cfg.clone(),
-            families: reports,
-        },
-        files,
-    ))
 }
 
 /// The report as Markdown tables shaped like the article's Tables 7 and 8.
