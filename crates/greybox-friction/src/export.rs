@@ -1,0 +1,333 @@
+//! Friction tables for FE engines, evaluated from any law on a (p, v[, T]) grid.
+//!
+//! * Abaqus `*FRICTION` data lines (μ, slip rate, contact pressure[, temperature]); first
+//!   variable fastest, all ascending (Abaqus keyword reference, `*FRICTION`). Abaqus has no
+//!   unit system: the units are the user's choice and are stated in the header.
+//! * DEFORM `FRCFAC` (FricType 2 Coulomb, FricDefType 5: μ(pressure, temperature, stretch),
+//!   pressure fastest) at a reference velocity, and one `FRCWIN` per friction window with the
+//!   window's μ as a constant (FricDefType 0) — the syntax of the DEFORM v14 manual
+//!   (shared/docs/research/fe-engine-interfaces.md §3.1).
+//! * LS-DYNA `*DEFINE_TABLE` (abscissa: sliding velocity) with one `*DEFINE_CURVE` per velocity
+//!   (μ against contact pressure), for `*CONTACT_..._SURFACE_TO_SURFACE` with FS = 2, FD = table.
+//! * CSV of the grid itself.
+
+use greybox_core::{ContactState, Error, FrictionLaw, Result, SourcePos};
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+
+/// The grid a law is evaluated on (SI).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    pub pressure_pa: Vec<f64>,
+    pub velocity_m_s: Vec<f64>,
+    /// Temperatures, K (absent: room temperature, no temperature column).
+    pub temperature_k: Option<Vec<f64>>,
+}
+
+impl Grid {
+    pub fn validate(&self) -> Result<()> {
+        let asc = |v: &[f64], what: &str| -> Result<()> {
+            if v.is_empty() || v.iter().any(|x| !x.is_finite()) || v.windows(2).any(|w| !(w[1] > w[0])) {
+                return Err(Error::invalid("export grid", format!("{what} must be finite, strictly ascending and non-empty")));
+            }
+            Ok(())
+        };
+        asc(&self.pressure_pa, "pressures")?;
+        asc(&self.velocity_m_s, "velocities")?;
+        if let Some(t) = &self.temperature_k {
+            asc(t, "temperatures")?;
+        }
+        if self.pressure_pa[0] < 0.0 || self.velocity_m_s[0] < 0.0 {
+            return Err(Error::invalid("export grid", "pressures and velocities must be ≥ 0"));
+        }
+        Ok(())
+    }
+    fn temperatures(&self) -> Vec<f64> {
+        self.temperature_k.clone().unwrap_or_else(|| vec![ContactState::ROOM_TEMPERATURE_K])
+    }
+}
+
+/// Units of an Abaqus table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum PressureUnit {
+    Pa,
+    #[serde(rename = "MPa")]
+    MPa,
+}
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum SpeedUnit {
+    #[serde(rename = "m/s")]
+    MPerS,
+    #[serde(rename = "mm/s")]
+    MmPerS,
+    #[serde(rename = "m/min")]
+    MPerMin,
+}
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum TempUnit {
+    K,
+    C,
+}
+
+impl PressureUnit {
+    pub fn per_pa(self) -> f64 {
+        match self {
+            PressureUnit::Pa => 1.0,
+            PressureUnit::MPa => 1e-6,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            PressureUnit::Pa => "Pa",
+            PressureUnit::MPa => "MPa",
+        }
+    }
+}
+impl SpeedUnit {
+    pub fn per_m_s(self) -> f64 {
+        match self {
+            SpeedUnit::MPerS => 1.0,
+            SpeedUnit::MmPerS => 1e3,
+            SpeedUnit::MPerMin => 60.0,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            SpeedUnit::MPerS => "m/s",
+            SpeedUnit::MmPerS => "mm/s",
+            SpeedUnit::MPerMin => "m/min",
+        }
+    }
+}
+impl TempUnit {
+    pub fn from_k(self, t: f64) -> f64 {
+        match self {
+            TempUnit::K => t,
+            TempUnit::C => t - 273.15,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            TempUnit::K => "K",
+            TempUnit::C => "C",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Units {
+    pub pressure: PressureUnit,
+    pub speed: SpeedUnit,
+    pub temperature: TempUnit,
+}
+
+fn num(x: f64) -> String {
+    // shortest representation that round-trips, always with a decimal point (Fortran-friendly)
+    let s = format!("{x:?}");
+    if s.contains('.') || s.contains('e') || s.contains("inf") || s.contains("NaN") {
+        s
+    } else {
+        format!("{s}.")
+    }
+}
+
+fn mu_checked(law: &dyn FrictionLaw, s: &ContactState) -> Result<f64> {
+    let mu = law.mu(s);
+    if !mu.is_finite() || mu < 0.0 {
+        return Err(Error::invalid(
+            "export",
+            format!("the law gives μ = {mu} at p = {} Pa, v = {} m/s, T = {} K", s.pressure_pa, s.sliding_velocity_m_s, s.temperature_k),
+        ));
+    }
+    Ok(mu)
+}
+
+/// Abaqus `*FRICTION` table. `taumax_pa`: optional limiting shear stress.
+pub fn abaqus(law: &dyn FrictionLaw, grid: &Grid, u: Units, taumax_pa: Option<f64>) -> Result<String> {
+    grid.validate()?;
+    let mut s = String::new();
+    let with_t = grid.temperature_k.is_some();
+    let _ = writeln!(s, "** greybox export: Abaqus *FRICTION table");
+    let _ = writeln!(s, "** law: {}", law.name());
+    let _ = writeln!(
+        s,
+        "** Abaqus has no unit system. This table uses: slip rate in {}, contact pressure in {}{}{}.",
+        u.speed.name(),
+        u.pressure.name(),
+        if with_t { format!(", temperature in {}", u.temperature.name()) } else { String::new() },
+        if taumax_pa.is_some() { format!(", TAUMAX in {}", u.pressure.name()) } else { String::new() }
+    );
+    let _ = writeln!(s, "** The model must use consistent units. Outside the table Abaqus holds mu constant.");
+    let _ = writeln!(
+        s,
+        "** columns: mu, slip rate, contact pressure{}; slip rate varies fastest, then pressure{}",
+        if with_t { ", temperature" } else { "" },
+        if with_t { ", then temperature" } else { "" }
+    );
+    let _ = write!(s, "*FRICTION");
+    if let Some(t) = taumax_pa {
+        if !(t > 0.0) {
+            return Err(Error::invalid("export", "TAUMAX must be positive"));
+        }
+        let _ = write!(s, ", TAUMAX={}", num(t * u.pressure.per_pa()));
+    }
+    s.push('\n');
+    for &t in &grid.temperatures() {
+        for &p in &grid.pressure_pa {
+            for &v in &grid.velocity_m_s {
+                let mu = mu_checked(law, &ContactState { pressure_pa: p, sliding_velocity_m_s: v, temperature_k: t })?;
+                let _ = write!(s, " {}, {}, {}", num(mu), num(v * u.speed.per_m_s()), num(p * u.pressure.per_pa()));
+                if with_t {
+                    let _ = write!(s, ", {}", num(u.temperature.from_k(t)));
+                }
+                s.push('\n');
+            }
+        }
+    }
+    Ok(s)
+}
+
+/// Data lines of the first `*FRICTION` block of an Abaqus input text.
+pub fn parse_abaqus_friction(text: &str, source: &str) -> Result<Vec<Vec<f64>>> {
+    let mut rows = Vec::new();
+    let mut inside = false;
+    for (i, line) in text.lines().enumerate() {
+        let t = line.trim();
+        if t.starts_with("**") || t.is_empty() {
+            continue;
+        }
+        if t.starts_with('*') {
+            if inside {
+                break;
+            }
+            inside = t.to_ascii_uppercase().starts_with("*FRICTION");
+            continue;
+        }
+        if inside {
+            let row = t
+                .split(',')
+                .map(|f| {
+                    f.trim().parse::<f64>().map_err(|_| {
+                        Error::input(SourcePos::file(source).line(i as u64 + 1), format!("expected a number, found '{}'", f.trim()))
+                    })
+                })
+                .collect::<Result<Vec<f64>>>()?;
+            rows.push(row);
+        }
+    }
+    if rows.is_empty() {
+        return Err(Error::input(SourcePos::file(source), "no *FRICTION data lines"));
+    }
+    Ok(rows)
+}
+
+/// A friction window for DEFORM: a counter-clockwise polygon (m) and its representative state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DeformWindow {
+    /// Corner points, mm (counter-clockwise).
+    pub points_mm: Vec<[f64; 2]>,
+    pub pressure_mpa: f64,
+    pub velocity_m_per_min: f64,
+    #[serde(default = "room_k")]
+    pub temperature_k: f64,
+}
+
+fn room_k() -> f64 {
+    ContactState::ROOM_TEMPERATURE_K
+}
+
+/// DEFORM keyword blocks: a global `FRCFAC` μ(p, T) table at `reference_velocity_m_s` and one
+/// `FRCWIN` per window (constant μ of the window's state; the window follows object
+/// `objects.0`, the tool). Pressures in MPa, temperatures in °C (DEFORM's SI-mm convention).
+pub fn deform(law: &dyn FrictionLaw, grid: &Grid, reference_velocity_m_s: f64, windows: &[DeformWindow], objects: (u32, u32)) -> Result<String> {
+    grid.validate()?;
+    let (o1, o2) = objects;
+    let temps = grid.temperatures();
+    let mut s = String::new();
+    let _ = writeln!(s, "* greybox export: DEFORM inter-object friction (FRCFAC / FRCWIN)");
+    let _ = writeln!(s, "* law: {}", law.name());
+    let _ = writeln!(s, "* FRCFAC: Coulomb (FricType 2), FricDefType 5 = f(pressure MPa, temperature C, stretch), pressure fastest,");
+    let _ = writeln!(s, "* evaluated at the reference sliding velocity {} m/min (DEFORM tables cannot encode velocity)", reference_velocity_m_s * 60.0);
+    let _ = writeln!(s, "FRCFAC {o1} {o2} 2 5 {} {} 1", grid.pressure_pa.len(), temps.len());
+    let _ = writeln!(s, "{}", grid.pressure_pa.iter().map(|p| num(p * 1e-6)).collect::<Vec<_>>().join(" "));
+    let _ = writeln!(s, "{}", temps.iter().map(|t| num(t - 273.15)).collect::<Vec<_>>().join(" "));
+    let _ = writeln!(s, "0.");
+    for &t in &temps {
+        let row: Vec<String> = grid
+            .pressure_pa
+            .iter()
+            .map(|&p| mu_checked(law, &ContactState { pressure_pa: p, sliding_velocity_m_s: reference_velocity_m_s, temperature_k: t }).map(num))
+            .collect::<Result<_>>()?;
+        let _ = writeln!(s, "{}", row.join(" "));
+    }
+    for (k, w) in windows.iter().enumerate() {
+        if w.points_mm.len() < 3 {
+            return Err(Error::invalid("DEFORM window", format!("window {} needs at least 3 points", k + 1)));
+        }
+        let area2: f64 = (0..w.points_mm.len())
+            .map(|i| {
+                let (a, b) = (w.points_mm[i], w.points_mm[(i + 1) % w.points_mm.len()]);
+                a[0] * b[1] - b[0] * a[1]
+            })
+            .sum();
+        if area2 <= 0.0 {
+            return Err(Error::invalid("DEFORM window", format!("window {} is not counter-clockwise", k + 1)));
+        }
+        let state = ContactState { pressure_pa: w.pressure_mpa * 1e6, sliding_velocity_m_s: w.velocity_m_per_min / 60.0, temperature_k: w.temperature_k };
+        let mu = mu_checked(law, &state)?;
+        let _ = writeln!(s, "* window {}: p = {} MPa, v = {} m/min, T = {} K", k + 1, w.pressure_mpa, w.velocity_m_per_min, w.temperature_k);
+        let _ = writeln!(s, "FRCWIN {o1} {o2} {} {} 2 0 {} -{o1} 0. 0.", k + 1, w.points_mm.len(), num(mu));
+        for (i, p) in w.points_mm.iter().enumerate() {
+            let _ = writeln!(s, "{} {} {}", i + 1, num(p[0]), num(p[1]));
+        }
+    }
+    Ok(s)
+}
+
+/// LS-DYNA keyword cards: `*DEFINE_TABLE` over velocity with one `*DEFINE_CURVE` (μ vs
+/// pressure) per velocity. `table_id` and the following ids are used.
+pub fn lsdyna(law: &dyn FrictionLaw, grid: &Grid, u: Units, table_id: u32) -> Result<String> {
+    grid.validate()?;
+    if grid.temperature_k.is_some() {
+        return Err(Error::invalid("export", "the LS-DYNA table is μ(p, v) only; give no temperature axis"));
+    }
+    let t = ContactState::ROOM_TEMPERATURE_K;
+    let mut s = String::new();
+    let _ = writeln!(s, "$ greybox export: mu(pressure, sliding velocity) for LS-DYNA");
+    let _ = writeln!(s, "$ law: {}", law.name());
+    let _ = writeln!(s, "$ Consumed by *CONTACT_SURFACE_TO_SURFACE or *CONTACT_ONE_WAY_SURFACE_TO_SURFACE with FS = 2 and");
+    let _ = writeln!(s, "$ FD = {table_id}: table abscissa = relative sliding velocity, curve abscissa = contact pressure.");
+    let _ = writeln!(s, "$ (FS = 2 semantics as recalled from the LS-DYNA Keyword Manual; check them in your release.)");
+    let _ = writeln!(s, "$ Units: velocity in {}, pressure in {}; use a consistent unit system.", u.speed.name(), u.pressure.name());
+    let _ = writeln!(s, "*DEFINE_TABLE");
+    let _ = writeln!(s, "$     TBID       SFA      OFFA");
+    let _ = writeln!(s, "{table_id:>10}");
+    for v in &grid.velocity_m_s {
+        let _ = writeln!(s, "{:>20}", num(v * u.speed.per_m_s()));
+    }
+    for (i, &v) in grid.velocity_m_s.iter().enumerate() {
+        let _ = writeln!(s, "*DEFINE_CURVE");
+        let _ = writeln!(s, "$     LCID      SIDR       SFA       SFO      OFFA      OFFO");
+        let _ = writeln!(s, "{:>10}", table_id + 1 + i as u32);
+        for &p in &grid.pressure_pa {
+            let mu = mu_checked(law, &ContactState { pressure_pa: p, sliding_velocity_m_s: v, temperature_k: t })?;
+            let _ = writeln!(s, "{:>20}{:>20}", num(p * u.pressure.per_pa()), num(mu));
+        }
+    }
+    Ok(s)
+}
+
+/// The grid as CSV: `pressure_MPa,sliding_velocity_m_per_min,temperature_K,mu`.
+pub fn csv(law: &dyn FrictionLaw, grid: &Grid) -> Result<String> {
+    grid.validate()?;
+    let mut s = String::from("pressure_MPa,sliding_velocity_m_per_min,temperature_K,mu\n");
+    for &t in &grid.temperatures() {
+        for &p in &grid.pressure_pa {
+            for &v in &grid.velocity_m_s {
+                let mu = mu_checked(law, &ContactState { pressure_pa: p, sliding_velocity_m_s: v, temperature_k: t })?;
+                let _ = writeln!(s, "{},{},{},{}", p * 1e-6, v * 60.0, t, mu);
+            }
+        }
+    }
+    Ok(s)
+}

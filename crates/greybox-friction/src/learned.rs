@@ -1,0 +1,129 @@
+//! A model file from `greybox fit` as a friction law.
+//!
+//! Each model feature is mapped from the SI contact state by its unit: pressures (Pa, MPa,
+//! GPa), sliding velocities (m/s, m/min), temperatures (K, °C), and normal forces (N, kN) —
+//! the last through the inverse Hertz relation of the tribometer's pin contact
+//! (p ∝ F^(1/3), so F = (p / p(1 N))³ under the contact's pressure convention).
+
+use greybox_core::law::{Range, ValidityDomain};
+use greybox_core::{units, ContactState, Error, FrictionLaw, Result};
+use greybox_learn::modelfile::ModelFile;
+use greybox_learn::Predictor;
+use greybox_tribo::hertz::PinContact;
+
+/// Most features a learned law maps (stack buffer, no allocation per call).
+pub const MAX_FEATURES: usize = 8;
+
+/// How one model feature is computed from the contact state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Input {
+    /// Pressure in the model's unit: value = p / pa_per_unit.
+    Pressure { pa_per_unit: f64 },
+    /// Sliding velocity: value = v / m_s_per_unit.
+    Velocity { m_s_per_unit: f64 },
+    /// Temperature: value = T − offset_k.
+    Temperature { offset_k: f64 },
+    /// Normal force of the tribometer contact producing pressure p: F = (p / c)³ / n_per_unit.
+    NormalForce { c_pa_per_cbrt_n: f64, n_per_unit: f64 },
+}
+
+impl Input {
+    #[inline]
+    fn value(&self, s: &ContactState) -> f64 {
+        match *self {
+            Input::Pressure { pa_per_unit } => s.pressure_pa / pa_per_unit,
+            Input::Velocity { m_s_per_unit } => s.sliding_velocity_m_s.abs() / m_s_per_unit,
+            Input::Temperature { offset_k } => s.temperature_k - offset_k,
+            Input::NormalForce { c_pa_per_cbrt_n, n_per_unit } => (s.pressure_pa.max(0.0) / c_pa_per_cbrt_n).powi(3) / n_per_unit,
+        }
+    }
+    /// The SI contact variable value that gives model feature value `x`.
+    fn inverse(&self, x: f64) -> f64 {
+        match *self {
+            Input::Pressure { pa_per_unit } => x * pa_per_unit,
+            Input::Velocity { m_s_per_unit } => x * m_s_per_unit,
+            Input::Temperature { offset_k } => x + offset_k,
+            Input::NormalForce { c_pa_per_cbrt_n, n_per_unit } => c_pa_per_cbrt_n * (x.max(0.0) * n_per_unit).cbrt(),
+        }
+    }
+    fn variable(&self) -> usize {
+        match self {
+            Input::Pressure { .. } | Input::NormalForce { .. } => 0,
+            Input::Velocity { .. } => 1,
+            Input::Temperature { .. } => 2,
+        }
+    }
+}
+
+/// A learned friction law.
+#[derive(Debug, Clone)]
+pub struct LearnedLaw {
+    pub model: ModelFile,
+    pub inputs: Vec<Input>,
+    domain: ValidityDomain,
+}
+
+impl LearnedLaw {
+    /// Map the model's features onto the contact state. `contact` converts pressure to the
+    /// tribometer normal force for models trained on `normal_force_N`.
+    pub fn new(model: ModelFile, contact: &PinContact) -> Result<Self> {
+        if model.features.len() > MAX_FEATURES {
+            return Err(Error::invalid("learned law", format!("at most {MAX_FEATURES} features")));
+        }
+        let c = contact.pressure_pa(1.0)?;
+        let inputs: Vec<Input> = model
+            .features
+            .iter()
+            .map(|f| {
+                Ok(match f.unit.as_str() {
+                    "Pa" => Input::Pressure { pa_per_unit: 1.0 },
+                    "MPa" => Input::Pressure { pa_per_unit: units::PA_PER_MPA },
+                    "GPa" => Input::Pressure { pa_per_unit: units::PA_PER_GPA },
+                    "m/s" => Input::Velocity { m_s_per_unit: 1.0 },
+                    "m/min" => Input::Velocity { m_s_per_unit: 1.0 / units::S_PER_MIN },
+                    "K" => Input::Temperature { offset_k: 0.0 },
+                    "°C" => Input::Temperature { offset_k: 273.15 },
+                    "N" => Input::NormalForce { c_pa_per_cbrt_n: c, n_per_unit: 1.0 },
+                    "kN" => Input::NormalForce { c_pa_per_cbrt_n: c, n_per_unit: 1e3 },
+                    other => {
+                        return Err(Error::invalid(
+                            "learned law",
+                            format!(
+                                "cannot map feature '{}' (unit '{other}') to the contact state; features must be pressures, velocities, temperatures or normal forces",
+                                f.name
+                            ),
+                        ))
+                    }
+                })
+            })
+            .collect::<Result<_>>()?;
+        let mut ranges: [Option<Range>; 3] = [None, None, None];
+        for (inp, r) in inputs.iter().zip(&model.training_domain) {
+            let (a, b) = (inp.inverse(r.min), inp.inverse(r.max));
+            ranges[inp.variable()] = Some(Range { min: a.min(b), max: a.max(b) });
+        }
+        let domain = ValidityDomain {
+            pressure_pa: ranges[0].ok_or_else(|| Error::invalid("learned law", "the model has no pressure or normal-force feature"))?,
+            sliding_velocity_m_s: ranges[1].ok_or_else(|| Error::invalid("learned law", "the model has no sliding-velocity feature"))?,
+            temperature_k: ranges[2],
+        };
+        Ok(LearnedLaw { model, inputs, domain })
+    }
+}
+
+impl FrictionLaw for LearnedLaw {
+    fn name(&self) -> String {
+        format!("learned {} ({} → {})", self.model.family.name(), self.model.features.iter().map(|f| f.name.as_str()).collect::<Vec<_>>().join(", "), self.model.target.name)
+    }
+    #[inline]
+    fn mu(&self, s: &ContactState) -> f64 {
+        let mut x = [0.0; MAX_FEATURES];
+        for (xi, inp) in x.iter_mut().zip(&self.inputs) {
+            *xi = inp.value(s);
+        }
+        self.model.model.predict_one(&x[..self.inputs.len()])
+    }
+    fn domain(&self) -> Option<ValidityDomain> {
+        Some(self.domain)
+    }
+}

@@ -1,0 +1,174 @@
+//! Law files: JSON documents that describe any friction law. Units are in the field names.
+//!
+//! ```json
+//! {"law": "grey-box",
+//!  "inner": {"law": "learned", "model": "models/gradient-boosting.json"},
+//!  "outside": {"law": "power-fit"},
+//!  "blend_fraction": 0.1, "shear_cap_k_MPa": 450, "clamp": [0.05, 1.0]}
+//! ```
+//! A model file from `greybox fit` can be given directly wherever a law file is expected; it
+//! is read as `{"law": "learned", "model": <that file>}`. Relative paths are resolved against
+//! the directory of the file that names them.
+
+use crate::classical::{Coulomb, ExponentialVelocity, ShearFactor, ThermalSoftening, UsuiChilds, Zorev};
+use crate::greybox::{GreyBoxLaw, PowerLaw};
+use crate::learned::LearnedLaw;
+use crate::table::{TabulatedLaw, TABLE_SCHEMA};
+use greybox_core::{units, Error, FrictionLaw, Result, SourcePos};
+use greybox_learn::modelfile::{ModelFile, SCHEMA as MODEL_SCHEMA};
+use greybox_tribo::hertz::PinContact;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "law", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum LawSpec {
+    Coulomb {
+        mu: f64,
+    },
+    ShearFactor {
+        m: f64,
+        #[serde(rename = "k_MPa")]
+        k_mpa: f64,
+    },
+    Zorev {
+        mu: f64,
+        #[serde(rename = "k_MPa")]
+        k_mpa: f64,
+    },
+    UsuiChilds {
+        mu: f64,
+        m: f64,
+        n: f64,
+        #[serde(rename = "k_MPa")]
+        k_mpa: f64,
+    },
+    ExponentialVelocity {
+        mu_static: f64,
+        mu_dynamic: f64,
+        v_c_m_per_min: f64,
+    },
+    ThermalSoftening {
+        mu0: f64,
+        #[serde(rename = "t0_K")]
+        t0_k: f64,
+        #[serde(rename = "tm_K")]
+        tm_k: f64,
+        q: f64,
+    },
+    /// A model file; `contact` maps pressure to normal force for models trained on forces.
+    Learned {
+        model: PathBuf,
+        #[serde(default)]
+        contact: Option<PinContact>,
+    },
+    /// The power law μ = μ_ref (p/p_ref)^a (v/v_ref)^b fitted to the grey-box inner law.
+    PowerFit,
+    GreyBox {
+        inner: Box<LawSpec>,
+        outside: Box<LawSpec>,
+        #[serde(default = "default_blend")]
+        blend_fraction: f64,
+        #[serde(default, rename = "shear_cap_k_MPa")]
+        shear_cap_k_mpa: Option<f64>,
+        #[serde(default)]
+        clamp: Option<(f64, f64)>,
+    },
+    /// A table written by `greybox export --format table`.
+    Table {
+        file: PathBuf,
+    },
+}
+
+fn default_blend() -> f64 {
+    0.1
+}
+
+fn positive(what: &str, v: f64) -> Result<()> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid("law", format!("{what} must be positive, got {v}")))
+    }
+}
+
+impl LawSpec {
+    /// Build the law; relative paths are resolved against `base`.
+    pub fn build(&self, base: &Path) -> Result<Box<dyn FrictionLaw>> {
+        let mpa = units::PA_PER_MPA;
+        Ok(match self {
+            LawSpec::Coulomb { mu } => Box::new(Coulomb { mu: *mu }),
+            LawSpec::ShearFactor { m, k_mpa } => {
+                positive("k_MPa", *k_mpa)?;
+                Box::new(ShearFactor { m: *m, k_pa: k_mpa * mpa })
+            }
+            LawSpec::Zorev { mu, k_mpa } => {
+                positive("k_MPa", *k_mpa)?;
+                Box::new(Zorev { mu: *mu, k_pa: k_mpa * mpa })
+            }
+            LawSpec::UsuiChilds { mu, m, n, k_mpa } => {
+                positive("k_MPa", *k_mpa)?;
+                positive("m", *m)?;
+                positive("n", *n)?;
+                Box::new(UsuiChilds { mu: *mu, m: *m, n: *n, k_pa: k_mpa * mpa })
+            }
+            LawSpec::ExponentialVelocity { mu_static, mu_dynamic, v_c_m_per_min } => {
+                positive("v_c_m_per_min", *v_c_m_per_min)?;
+                Box::new(ExponentialVelocity { mu_static: *mu_static, mu_dynamic: *mu_dynamic, v_c_m_s: units::m_per_min_to_m_per_s(*v_c_m_per_min) })
+            }
+            LawSpec::ThermalSoftening { mu0, t0_k, tm_k, q } => {
+                if !(tm_k > t0_k) {
+                    return Err(Error::invalid("law", "thermal softening needs tm_K > t0_K"));
+                }
+                Box::new(ThermalSoftening { mu0: *mu0, t0_k: *t0_k, tm_k: *tm_k, q: *q })
+            }
+            LawSpec::Learned { model, contact } => {
+                let path = resolve(base, model);
+                let m = ModelFile::load(&path)?;
+                Box::new(LearnedLaw::new(m, &contact.unwrap_or_default())?)
+            }
+            LawSpec::PowerFit => return Err(Error::invalid("law", "power-fit is only valid as the 'outside' law of a grey-box law")),
+            LawSpec::GreyBox { inner, outside, blend_fraction, shear_cap_k_mpa, clamp } => {
+                let inner = inner.build(base)?;
+                let outside: Box<dyn FrictionLaw> = match **outside {
+                    LawSpec::PowerFit => Box::new(PowerLaw::fit_to(inner.as_ref(), 25)?),
+                    ref o => o.build(base)?,
+                };
+                Box::new(GreyBoxLaw::new(inner, outside, *blend_fraction, shear_cap_k_mpa.map(|k| k * mpa), *clamp)?)
+            }
+            LawSpec::Table { file } => {
+                let path = resolve(base, file);
+                let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+                let t: TabulatedLaw = serde_json::from_str(&text)
+                    .map_err(|e| Error::input(SourcePos::path(&path).line(e.line() as u64), format!("not a greybox table: {e}")))?;
+                if t.schema != TABLE_SCHEMA {
+                    return Err(Error::input(SourcePos::path(&path).field("schema"), format!("expected schema \"{TABLE_SCHEMA}\"")));
+                }
+                Box::new(t)
+            }
+        })
+    }
+}
+
+fn resolve(base: &Path, p: &Path) -> PathBuf {
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        base.join(p)
+    }
+}
+
+/// Load a law from a law file, a model file or a table file.
+pub fn load_law(path: &Path) -> Result<Box<dyn FrictionLaw>> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let v: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| Error::input(SourcePos::path(path).line(e.line() as u64), format!("not JSON: {e}")))?;
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let file_name = PathBuf::from(path.file_name().unwrap_or_default());
+    let spec = match v.get("schema").and_then(|s| s.as_str()) {
+        Some(s) if s == MODEL_SCHEMA => LawSpec::Learned { model: file_name, contact: None },
+        Some(s) if s == TABLE_SCHEMA => LawSpec::Table { file: file_name },
+        _ => serde_json::from_value(v).map_err(|e| Error::input(SourcePos::path(path), format!("invalid law file: {e}")))?,
+    };
+    spec.build(&base)
+}

@@ -1,0 +1,132 @@
+//! Learned, grey-box and tabulated laws on a model fitted here; Abaqus round trip; law files.
+
+use greybox_core::{ContactState, FrictionLaw};
+use greybox_friction::export::{abaqus, parse_abaqus_friction, Grid, PressureUnit, SpeedUnit, TempUnit, Units};
+use greybox_friction::greybox::{GreyBoxLaw, PowerLaw};
+use greybox_friction::learned::LearnedLaw;
+use greybox_friction::spec::load_law;
+use greybox_friction::table::{Axis, TabulatedLaw};
+use greybox_learn::model::Family;
+use greybox_learn::protocol::{run_protocol, FitConfig};
+use greybox_learn::table::read_dataset_from;
+use greybox_tribo::hertz::PinContact;
+
+/// A smooth SVR (rbf) model of μ(hertz_pressure_MPa, sliding_velocity_m_per_min).
+fn fitted_model(family: Family) -> greybox_learn::modelfile::ModelFile {
+    let mut csv = String::from("hertz_pressure_MPa,sliding_velocity_m_per_min,mu\n");
+    for i in 0..12 {
+        for j in 0..12 {
+            let p = 900.0 + 120.0 * i as f64;
+            let v = 20.0 + 20.0 * j as f64;
+            csv.push_str(&format!("{p},{v},{}\n", 0.5 - 0.1 * (p - 900.0) / 1300.0 - 0.1 * (v / 250.0).sqrt()));
+        }
+    }
+    let feats = vec!["hertz_pressure_MPa".to_string(), "sliding_velocity_m_per_min".to_string()];
+    let data = read_dataset_from(csv.as_bytes(), "mem.csv", &feats, "mu", None).unwrap();
+    let mut cfg = FitConfig { families: vec![family], skip_nested: true, bootstrap_resamples: 10, importance_repeats: 1, ..Default::default() };
+    cfg.grid.svr.kernel = vec![greybox_learn::svr::Kernel::Rbf];
+    cfg.grid.svr.c = vec![10.0];
+    cfg.grid.svr.epsilon = vec![0.001];
+    cfg.grid.gradient_boosting.n_estimators = vec![100];
+    cfg.grid.gradient_boosting.max_depth = vec![3];
+    cfg.grid.gradient_boosting.learning_rate = vec![0.1];
+    run_protocol(&data, &cfg).unwrap().1.remove(0)
+}
+
+fn st(p_mpa: f64, v_m_min: f64) -> ContactState {
+    ContactState::new(p_mpa * 1e6, v_m_min / 60.0)
+}
+
+#[test]
+fn learned_law_maps_units_and_domain() {
+    let m = fitted_model(Family::Svr);
+    let law = LearnedLaw::new(m.clone(), &PinContact::default()).unwrap();
+    let x = [1500.0, 100.0];
+    assert_eq!(law.mu(&st(1500.0, 100.0)), greybox_learn::Predictor::predict_one(&m.model, &x));
+    let d = law.domain().unwrap();
+    assert!((d.pressure_pa.min - 900e6).abs() < 1.0 && (d.pressure_pa.max - 2220e6).abs() < 1.0);
+    assert!((d.sliding_velocity_m_s.max - 240.0 / 60.0).abs() < 1e-12);
+}
+
+#[test]
+fn grey_box_is_continuous_and_never_extrapolates_trees() {
+    let m = fitted_model(Family::GradientBoosting);
+    let inner = LearnedLaw::new(m, &PinContact::default()).unwrap();
+    let outside = PowerLaw::fit_to(&inner, 20).unwrap();
+    let gb = GreyBoxLaw::new(Box::new(inner.clone()), Box::new(outside), 0.1, None, None).unwrap();
+    // inside: exactly the learned law
+    assert_eq!(gb.mu(&st(1500.0, 100.0)), inner.mu(&st(1500.0, 100.0)));
+    // far outside: exactly the physics law
+    let far = st(5000.0, 100.0);
+    assert_eq!(gb.mu(&far), outside.mu(&far));
+    // continuous across the band: small steps give small changes
+    let mut prev = gb.mu(&st(2200.0, 100.0));
+    for k in 1..=400 {
+        let p = 2200.0 + k as f64 * 1.0;
+        let mu = gb.mu(&st(p, 100.0));
+        assert!((mu - prev).abs() < 2e-3, "jump at {p} MPa: {prev} -> {mu}");
+        prev = mu;
+    }
+    // Zorev cap and clamp
+    let capped = GreyBoxLaw::new(Box::new(inner), Box::new(outside), 0.1, Some(300e6), Some((0.05, 0.25))).unwrap();
+    let s = st(2000.0, 100.0);
+    assert!(capped.mu(&s) * s.pressure_pa <= 300e6 * (1.0 + 1e-12));
+    assert!(capped.mu(&st(900.0, 20.0)) <= 0.25);
+}
+
+#[test]
+fn surrogate_table_within_1e4_of_its_source() {
+    let m = fitted_model(Family::Svr);
+    let law = LearnedLaw::new(m, &PinContact::default()).unwrap();
+    let mut t = TabulatedLaw::bake(&law, Axis::new(900e6, 2220e6, 121).unwrap(), Axis::new(20.0 / 60.0, 4.0, 101).unwrap(), None);
+    let dev = t.check(&law, 100_000, 7);
+    eprintln!("surrogate max deviation {dev:e}");
+    assert!(dev <= 1e-4, "{dev}");
+    // exact at grid nodes
+    assert_eq!(t.mu(&ContactState::new(t.pressure.value(3), t.velocity.value(5))), t.values[5 * 121 + 3]);
+}
+
+#[test]
+fn abaqus_table_round_trip() {
+    let m = fitted_model(Family::Svr);
+    let law = LearnedLaw::new(m, &PinContact::default()).unwrap();
+    let grid = Grid {
+        pressure_pa: vec![1000e6, 1500e6, 2000e6],
+        velocity_m_s: vec![0.5, 1.0, 2.0, 4.0],
+        temperature_k: Some(vec![293.15, 873.15]),
+    };
+    let u = Units { pressure: PressureUnit::MPa, speed: SpeedUnit::MmPerS, temperature: TempUnit::C };
+    let text = abaqus(&law, &grid, u, Some(450e6)).unwrap();
+    assert!(text.contains("*FRICTION, TAUMAX=450.0") && text.contains("Abaqus has no unit system"));
+    let rows = parse_abaqus_friction(&text, "t.inp").unwrap();
+    assert_eq!(rows.len(), 3 * 4 * 2);
+    // first variable (slip rate) fastest, ascending; μ reproduced at every grid point
+    assert_eq!((rows[0][1], rows[1][1], rows[4][1]), (500.0, 1000.0, 500.0));
+    for r in &rows {
+        let s = ContactState { pressure_pa: r[2] * 1e6, sliding_velocity_m_s: r[1] / 1e3, temperature_k: r[3] + 273.15 };
+        assert_eq!(r[0], law.mu(&s));
+    }
+}
+
+#[test]
+fn law_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = fitted_model(Family::Svr);
+    m.save(&dir.path().join("m.json")).unwrap();
+    std::fs::write(
+        dir.path().join("law.json"),
+        r#"{"law": "grey-box", "inner": {"law": "learned", "model": "m.json"}, "outside": {"law": "power-fit"}, "shear_cap_k_MPa": 500}"#,
+    )
+    .unwrap();
+    let law = load_law(&dir.path().join("law.json")).unwrap();
+    assert!(law.name().starts_with("grey-box"));
+    let direct = load_law(&dir.path().join("m.json")).unwrap();
+    assert_eq!(law.mu(&st(1000.0, 100.0)), direct.mu(&st(1000.0, 100.0)));
+    // the 500 MPa shear cap binds at 1500 MPa: μ = 500/1500
+    assert!((law.mu(&st(1500.0, 100.0)) - 1.0 / 3.0).abs() < 1e-15);
+    std::fs::write(dir.path().join("bad.json"), r#"{"law": "zorev", "mu": 0.3}"#).unwrap();
+    let e = load_law(&dir.path().join("bad.json")).err().unwrap().to_string();
+    assert!(e.contains("invalid law file") && e.contains("k_MPa"), "{e}");
+    let e = load_law(&dir.path().join("missing.json")).err().unwrap().to_string();
+    assert!(e.contains("missing.json"), "{e}");
+}
