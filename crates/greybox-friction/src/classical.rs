@@ -83,7 +83,10 @@ pub struct UsuiChilds {
 
 impl FrictionLaw for UsuiChilds {
     fn name(&self) -> String {
-        format!("Usui/Childs μ = {}, m = {}, n = {}", self.mu, self.m, self.n)
+        format!(
+            "Usui/Childs μ = {}, m = {}, n = {}",
+            self.mu, self.m, self.n
+        )
     }
     fn mu(&self, s: &ContactState) -> f64 {
         mu_from_tau(self.shear_stress(s, self.k_pa), s.pressure_pa, self.mu)
@@ -107,10 +110,15 @@ pub struct ExponentialVelocity {
 
 impl FrictionLaw for ExponentialVelocity {
     fn name(&self) -> String {
-        format!("exponential velocity decay μ_s = {}, μ_d = {}", self.mu_static, self.mu_dynamic)
+        format!(
+            "exponential velocity decay μ_s = {}, μ_d = {}",
+            self.mu_static, self.mu_dynamic
+        )
     }
     fn mu(&self, s: &ContactState) -> f64 {
-        self.mu_dynamic + (self.mu_static - self.mu_dynamic) * (-s.sliding_velocity_m_s.abs() / self.v_c_m_s).exp()
+        self.mu_dynamic
+            + (self.mu_static - self.mu_dynamic)
+                * (-s.sliding_velocity_m_s.abs() / self.v_c_m_s).exp()
     }
 }
 
@@ -140,17 +148,28 @@ impl FrictionLaw for ThermalSoftening {
 pub fn merchant_mu(cutting_force_n: f64, feed_force_n: f64, rake_rad: f64) -> Result<f64> {
     let den = cutting_force_n - feed_force_n * rake_rad.tan();
     if !(cutting_force_n > 0.0) || !(den > 0.0) || !feed_force_n.is_finite() {
-        return Err(Error::invalid("Merchant", "needs F_c > 0 and F_c − F_t tan γ > 0 (friction angle below 90°)"));
+        return Err(Error::invalid(
+            "Merchant",
+            "needs F_c > 0 and F_c − F_t tan γ > 0 (friction angle below 90°)",
+        ));
     }
     Ok((feed_force_n + cutting_force_n * rake_rad.tan()) / den)
 }
 
 /// Du et al.'s μ from tool geometry and flank wear:
 /// μ = tan(π/4 + γ0 + α0 − arccos(1 − (VB/r_n) sin α0)) (angles in radians).
-pub fn du_mu(rake_rad: f64, clearance_rad: f64, flank_wear_m: f64, edge_radius_m: f64) -> Result<f64> {
+pub fn du_mu(
+    rake_rad: f64,
+    clearance_rad: f64,
+    flank_wear_m: f64,
+    edge_radius_m: f64,
+) -> Result<f64> {
     let c = 1.0 - flank_wear_m / edge_radius_m * clearance_rad.sin();
     if !(edge_radius_m > 0.0) || !(-1.0..=1.0).contains(&c) {
-        return Err(Error::invalid("Du et al.", "needs r_n > 0 and |1 − (VB/r_n) sin α0| ≤ 1"));
+        return Err(Error::invalid(
+            "Du et al.",
+            "needs r_n > 0 and |1 − (VB/r_n) sin α0| ≤ 1",
+        ));
     }
     Ok((std::f64::consts::FRAC_PI_4 + rake_rad + clearance_rad - c.acos()).tan())
 }
@@ -165,15 +184,26 @@ mod tests {
 
     #[test]
     fn velocity_law_limits() {
-        let l = ExponentialVelocity { mu_static: 0.5, mu_dynamic: 0.2, v_c_m_s: 2.0 };
+        let l = ExponentialVelocity {
+            mu_static: 0.5,
+            mu_dynamic: 0.2,
+            v_c_m_s: 2.0,
+        };
         assert_eq!(l.mu(&ContactState::new(1e9, 0.0)), 0.5);
         assert!((l.mu(&ContactState::new(1e9, 1e6)) - 0.2).abs() < 1e-15);
-        assert!((l.mu(&ContactState::new(1e9, 2.0)) - (0.2 + 0.3 / std::f64::consts::E)).abs() < 1e-15);
+        assert!(
+            (l.mu(&ContactState::new(1e9, 2.0)) - (0.2 + 0.3 / std::f64::consts::E)).abs() < 1e-15
+        );
     }
 
     #[test]
     fn childs_with_n1_is_usui_and_limits() {
-        let c = UsuiChilds { mu: 0.4, m: 0.8, n: 1.0, k_pa: K };
+        let c = UsuiChilds {
+            mu: 0.4,
+            m: 0.8,
+            n: 1.0,
+            k_pa: K,
+        };
         for p in [1e6, 3e8, 1e9, 5e9] {
             let usui = 0.8 * K * (1.0 - (-0.4 * p / (0.8 * K)).exp());
             assert!((c.shear_stress(&at(p), K) - usui).abs() < 1e-6 * usui);
@@ -189,7 +219,10 @@ mod tests {
     fn zorev_switches_at_mu_p_equal_k() {
         let z = Zorev { mu: 0.5, k_pa: K };
         let p_switch = K / 0.5;
-        assert_eq!(z.shear_stress(&at(p_switch * (1.0 - 1e-12)), K), 0.5 * p_switch * (1.0 - 1e-12));
+        assert_eq!(
+            z.shear_stress(&at(p_switch * (1.0 - 1e-12)), K),
+            0.5 * p_switch * (1.0 - 1e-12)
+        );
         assert_eq!(z.shear_stress(&at(p_switch * (1.0 + 1e-12)), K), K);
         assert_eq!(z.mu(&at(0.5 * p_switch)), 0.5);
         assert!((z.mu(&at(2.0 * p_switch)) - 0.25).abs() < 1e-15);
@@ -199,8 +232,17 @@ mod tests {
 
     #[test]
     fn thermal_softening_bounds() {
-        let t = ThermalSoftening { mu0: 0.4, t0_k: 293.0, tm_k: 1773.0, q: 1.5 };
-        let st = |tk: f64| ContactState { pressure_pa: 1e9, sliding_velocity_m_s: 1.0, temperature_k: tk };
+        let t = ThermalSoftening {
+            mu0: 0.4,
+            t0_k: 293.0,
+            tm_k: 1773.0,
+            q: 1.5,
+        };
+        let st = |tk: f64| ContactState {
+            pressure_pa: 1e9,
+            sliding_velocity_m_s: 1.0,
+            temperature_k: tk,
+        };
         assert_eq!(t.mu(&st(200.0)), 0.4);
         assert_eq!(t.mu(&st(1773.0)), 0.0);
         assert!((t.mu(&st(1033.0)) - 0.4 * (1.0 - 0.5f64.powf(1.5))).abs() < 1e-15);

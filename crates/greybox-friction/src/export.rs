@@ -27,8 +27,14 @@ pub struct Grid {
 impl Grid {
     pub fn validate(&self) -> Result<()> {
         let asc = |v: &[f64], what: &str| -> Result<()> {
-            if v.is_empty() || v.iter().any(|x| !x.is_finite()) || v.windows(2).any(|w| !(w[1] > w[0])) {
-                return Err(Error::invalid("export grid", format!("{what} must be finite, strictly ascending and non-empty")));
+            if v.is_empty()
+                || v.iter().any(|x| !x.is_finite())
+                || v.windows(2).any(|w| !(w[1] > w[0]))
+            {
+                return Err(Error::invalid(
+                    "export grid",
+                    format!("{what} must be finite, strictly ascending and non-empty"),
+                ));
             }
             Ok(())
         };
@@ -38,12 +44,17 @@ impl Grid {
             asc(t, "temperatures")?;
         }
         if self.pressure_pa[0] < 0.0 || self.velocity_m_s[0] < 0.0 {
-            return Err(Error::invalid("export grid", "pressures and velocities must be ≥ 0"));
+            return Err(Error::invalid(
+                "export grid",
+                "pressures and velocities must be ≥ 0",
+            ));
         }
         Ok(())
     }
     fn temperatures(&self) -> Vec<f64> {
-        self.temperature_k.clone().unwrap_or_else(|| vec![ContactState::ROOM_TEMPERATURE_K])
+        self.temperature_k
+            .clone()
+            .unwrap_or_else(|| vec![ContactState::ROOM_TEMPERATURE_K])
     }
 }
 
@@ -136,14 +147,22 @@ fn mu_checked(law: &dyn FrictionLaw, s: &ContactState) -> Result<f64> {
     if !mu.is_finite() || mu < 0.0 {
         return Err(Error::invalid(
             "export",
-            format!("the law gives μ = {mu} at p = {} Pa, v = {} m/s, T = {} K", s.pressure_pa, s.sliding_velocity_m_s, s.temperature_k),
+            format!(
+                "the law gives μ = {mu} at p = {} Pa, v = {} m/s, T = {} K",
+                s.pressure_pa, s.sliding_velocity_m_s, s.temperature_k
+            ),
         ));
     }
     Ok(mu)
 }
 
 /// Abaqus `*FRICTION` table. `taumax_pa`: optional limiting shear stress.
-pub fn abaqus(law: &dyn FrictionLaw, grid: &Grid, u: Units, taumax_pa: Option<f64>) -> Result<String> {
+pub fn abaqus(
+    law: &dyn FrictionLaw,
+    grid: &Grid,
+    u: Units,
+    taumax_pa: Option<f64>,
+) -> Result<String> {
     grid.validate()?;
     let mut s = String::new();
     let with_t = grid.temperature_k.is_some();
@@ -157,7 +176,10 @@ pub fn abaqus(law: &dyn FrictionLaw, grid: &Grid, u: Units, taumax_pa: Option<f6
         if with_t { format!(", temperature in {}", u.temperature.name()) } else { String::new() },
         if taumax_pa.is_some() { format!(", TAUMAX in {}", u.pressure.name()) } else { String::new() }
     );
-    let _ = writeln!(s, "** The model must use consistent units. Outside the table Abaqus holds mu constant.");
+    let _ = writeln!(
+        s,
+        "** The model must use consistent units. Outside the table Abaqus holds mu constant."
+    );
     let _ = writeln!(
         s,
         "** columns: mu, slip rate, contact pressure{}; slip rate varies fastest, then pressure{}",
@@ -175,8 +197,21 @@ pub fn abaqus(law: &dyn FrictionLaw, grid: &Grid, u: Units, taumax_pa: Option<f6
     for &t in &grid.temperatures() {
         for &p in &grid.pressure_pa {
             for &v in &grid.velocity_m_s {
-                let mu = mu_checked(law, &ContactState { pressure_pa: p, sliding_velocity_m_s: v, temperature_k: t })?;
-                let _ = write!(s, " {}, {}, {}", num(mu), num(v * u.speed.per_m_s()), num(p * u.pressure.per_pa()));
+                let mu = mu_checked(
+                    law,
+                    &ContactState {
+                        pressure_pa: p,
+                        sliding_velocity_m_s: v,
+                        temperature_k: t,
+                    },
+                )?;
+                let _ = write!(
+                    s,
+                    " {}, {}, {}",
+                    num(mu),
+                    num(v * u.speed.per_m_s()),
+                    num(p * u.pressure.per_pa())
+                );
                 if with_t {
                     let _ = write!(s, ", {}", num(u.temperature.from_k(t)));
                 }
@@ -208,7 +243,10 @@ pub fn parse_abaqus_friction(text: &str, source: &str) -> Result<Vec<Vec<f64>>> 
                 .split(',')
                 .map(|f| {
                     f.trim().parse::<f64>().map_err(|_| {
-                        Error::input(SourcePos::file(source).line(i as u64 + 1), format!("expected a number, found '{}'", f.trim()))
+                        Error::input(
+                            SourcePos::file(source).line(i as u64 + 1),
+                            format!("expected a number, found '{}'", f.trim()),
+                        )
                     })
                 })
                 .collect::<Result<Vec<f64>>>()?;
@@ -216,7 +254,10 @@ pub fn parse_abaqus_friction(text: &str, source: &str) -> Result<Vec<Vec<f64>>> 
         }
     }
     if rows.is_empty() {
-        return Err(Error::input(SourcePos::file(source), "no *FRICTION data lines"));
+        return Err(Error::input(
+            SourcePos::file(source),
+            "no *FRICTION data lines",
+        ));
     }
     Ok(rows)
 }
@@ -239,30 +280,73 @@ fn room_k() -> f64 {
 /// DEFORM keyword blocks: a global `FRCFAC` μ(p, T) table at `reference_velocity_m_s` and one
 /// `FRCWIN` per window (constant μ of the window's state; the window follows object
 /// `objects.0`, the tool). Pressures in MPa, temperatures in °C (DEFORM's SI-mm convention).
-pub fn deform(law: &dyn FrictionLaw, grid: &Grid, reference_velocity_m_s: f64, windows: &[DeformWindow], objects: (u32, u32)) -> Result<String> {
+pub fn deform(
+    law: &dyn FrictionLaw,
+    grid: &Grid,
+    reference_velocity_m_s: f64,
+    windows: &[DeformWindow],
+    objects: (u32, u32),
+) -> Result<String> {
     grid.validate()?;
     let (o1, o2) = objects;
     let temps = grid.temperatures();
     let mut s = String::new();
-    let _ = writeln!(s, "* greybox export: DEFORM inter-object friction (FRCFAC / FRCWIN)");
+    let _ = writeln!(
+        s,
+        "* greybox export: DEFORM inter-object friction (FRCFAC / FRCWIN)"
+    );
     let _ = writeln!(s, "* law: {}", law.name());
     let _ = writeln!(s, "* FRCFAC: Coulomb (FricType 2), FricDefType 5 = f(pressure MPa, temperature C, stretch), pressure fastest,");
     let _ = writeln!(s, "* evaluated at the reference sliding velocity {} m/min (DEFORM tables cannot encode velocity)", reference_velocity_m_s * 60.0);
-    let _ = writeln!(s, "FRCFAC {o1} {o2} 2 5 {} {} 1", grid.pressure_pa.len(), temps.len());
-    let _ = writeln!(s, "{}", grid.pressure_pa.iter().map(|p| num(p * 1e-6)).collect::<Vec<_>>().join(" "));
-    let _ = writeln!(s, "{}", temps.iter().map(|t| num(t - 273.15)).collect::<Vec<_>>().join(" "));
+    let _ = writeln!(
+        s,
+        "FRCFAC {o1} {o2} 2 5 {} {} 1",
+        grid.pressure_pa.len(),
+        temps.len()
+    );
+    let _ = writeln!(
+        s,
+        "{}",
+        grid.pressure_pa
+            .iter()
+            .map(|p| num(p * 1e-6))
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
+    let _ = writeln!(
+        s,
+        "{}",
+        temps
+            .iter()
+            .map(|t| num(t - 273.15))
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
     let _ = writeln!(s, "0.");
     for &t in &temps {
         let row: Vec<String> = grid
             .pressure_pa
             .iter()
-            .map(|&p| mu_checked(law, &ContactState { pressure_pa: p, sliding_velocity_m_s: reference_velocity_m_s, temperature_k: t }).map(num))
+            .map(|&p| {
+                mu_checked(
+                    law,
+                    &ContactState {
+                        pressure_pa: p,
+                        sliding_velocity_m_s: reference_velocity_m_s,
+                        temperature_k: t,
+                    },
+                )
+                .map(num)
+            })
             .collect::<Result<_>>()?;
         let _ = writeln!(s, "{}", row.join(" "));
     }
     for (k, w) in windows.iter().enumerate() {
         if w.points_mm.len() < 3 {
-            return Err(Error::invalid("DEFORM window", format!("window {} needs at least 3 points", k + 1)));
+            return Err(Error::invalid(
+                "DEFORM window",
+                format!("window {} needs at least 3 points", k + 1),
+            ));
         }
         let area2: f64 = (0..w.points_mm.len())
             .map(|i| {
@@ -271,12 +355,32 @@ pub fn deform(law: &dyn FrictionLaw, grid: &Grid, reference_velocity_m_s: f64, w
             })
             .sum();
         if area2 <= 0.0 {
-            return Err(Error::invalid("DEFORM window", format!("window {} is not counter-clockwise", k + 1)));
+            return Err(Error::invalid(
+                "DEFORM window",
+                format!("window {} is not counter-clockwise", k + 1),
+            ));
         }
-        let state = ContactState { pressure_pa: w.pressure_mpa * 1e6, sliding_velocity_m_s: w.velocity_m_per_min / 60.0, temperature_k: w.temperature_k };
+        let state = ContactState {
+            pressure_pa: w.pressure_mpa * 1e6,
+            sliding_velocity_m_s: w.velocity_m_per_min / 60.0,
+            temperature_k: w.temperature_k,
+        };
         let mu = mu_checked(law, &state)?;
-        let _ = writeln!(s, "* window {}: p = {} MPa, v = {} m/min, T = {} K", k + 1, w.pressure_mpa, w.velocity_m_per_min, w.temperature_k);
-        let _ = writeln!(s, "FRCWIN {o1} {o2} {} {} 2 0 {} -{o1} 0. 0.", k + 1, w.points_mm.len(), num(mu));
+        let _ = writeln!(
+            s,
+            "* window {}: p = {} MPa, v = {} m/min, T = {} K",
+            k + 1,
+            w.pressure_mpa,
+            w.velocity_m_per_min,
+            w.temperature_k
+        );
+        let _ = writeln!(
+            s,
+            "FRCWIN {o1} {o2} {} {} 2 0 {} -{o1} 0. 0.",
+            k + 1,
+            w.points_mm.len(),
+            num(mu)
+        );
         for (i, p) in w.points_mm.iter().enumerate() {
             let _ = writeln!(s, "{} {} {}", i + 1, num(p[0]), num(p[1]));
         }
@@ -289,16 +393,27 @@ pub fn deform(law: &dyn FrictionLaw, grid: &Grid, reference_velocity_m_s: f64, w
 pub fn lsdyna(law: &dyn FrictionLaw, grid: &Grid, u: Units, table_id: u32) -> Result<String> {
     grid.validate()?;
     if grid.temperature_k.is_some() {
-        return Err(Error::invalid("export", "the LS-DYNA table is μ(p, v) only; give no temperature axis"));
+        return Err(Error::invalid(
+            "export",
+            "the LS-DYNA table is μ(p, v) only; give no temperature axis",
+        ));
     }
     let t = ContactState::ROOM_TEMPERATURE_K;
     let mut s = String::new();
-    let _ = writeln!(s, "$ greybox export: mu(pressure, sliding velocity) for LS-DYNA");
+    let _ = writeln!(
+        s,
+        "$ greybox export: mu(pressure, sliding velocity) for LS-DYNA"
+    );
     let _ = writeln!(s, "$ law: {}", law.name());
     let _ = writeln!(s, "$ Consumed by *CONTACT_SURFACE_TO_SURFACE or *CONTACT_ONE_WAY_SURFACE_TO_SURFACE with FS = 2 and");
     let _ = writeln!(s, "$ FD = {table_id}: table abscissa = relative sliding velocity, curve abscissa = contact pressure.");
     let _ = writeln!(s, "$ (FS = 2 semantics as recalled from the LS-DYNA Keyword Manual; check them in your release.)");
-    let _ = writeln!(s, "$ Units: velocity in {}, pressure in {}; use a consistent unit system.", u.speed.name(), u.pressure.name());
+    let _ = writeln!(
+        s,
+        "$ Units: velocity in {}, pressure in {}; use a consistent unit system.",
+        u.speed.name(),
+        u.pressure.name()
+    );
     let _ = writeln!(s, "*DEFINE_TABLE");
     let _ = writeln!(s, "$     TBID       SFA      OFFA");
     let _ = writeln!(s, "{table_id:>10}");
@@ -307,10 +422,20 @@ pub fn lsdyna(law: &dyn FrictionLaw, grid: &Grid, u: Units, table_id: u32) -> Re
     }
     for (i, &v) in grid.velocity_m_s.iter().enumerate() {
         let _ = writeln!(s, "*DEFINE_CURVE");
-        let _ = writeln!(s, "$     LCID      SIDR       SFA       SFO      OFFA      OFFO");
+        let _ = writeln!(
+            s,
+            "$     LCID      SIDR       SFA       SFO      OFFA      OFFO"
+        );
         let _ = writeln!(s, "{:>10}", table_id + 1 + i as u32);
         for &p in &grid.pressure_pa {
-            let mu = mu_checked(law, &ContactState { pressure_pa: p, sliding_velocity_m_s: v, temperature_k: t })?;
+            let mu = mu_checked(
+                law,
+                &ContactState {
+                    pressure_pa: p,
+                    sliding_velocity_m_s: v,
+                    temperature_k: t,
+                },
+            )?;
             let _ = writeln!(s, "{:>20}{:>20}", num(p * u.pressure.per_pa()), num(mu));
         }
     }
@@ -324,7 +449,14 @@ pub fn csv(law: &dyn FrictionLaw, grid: &Grid) -> Result<String> {
     for &t in &grid.temperatures() {
         for &p in &grid.pressure_pa {
             for &v in &grid.velocity_m_s {
-                let mu = mu_checked(law, &ContactState { pressure_pa: p, sliding_velocity_m_s: v, temperature_k: t })?;
+                let mu = mu_checked(
+                    law,
+                    &ContactState {
+                        pressure_pa: p,
+                        sliding_velocity_m_s: v,
+                        temperature_k: t,
+                    },
+                )?;
                 let _ = writeln!(s, "{},{},{},{}", p * 1e-6, v * 60.0, t, mu);
             }
         }

@@ -11,12 +11,38 @@ pub fn mu_and_gradient(law: &dyn FrictionLaw, s: &ContactState) -> (f64, [f64; 3
     let hv = 1e-6 * s.sliding_velocity_m_s.abs().max(1e-2);
     let ht = 1e-6 * s.temperature_k.abs().max(1.0);
     let d = |a: ContactState, b: ContactState, h: f64| (law.mu(&a) - law.mu(&b)) / (2.0 * h);
-    let dp = d(ContactState { pressure_pa: s.pressure_pa + hp, ..*s }, ContactState { pressure_pa: s.pressure_pa - hp, ..*s }, hp);
+    let dp = d(
+        ContactState {
+            pressure_pa: s.pressure_pa + hp,
+            ..*s
+        },
+        ContactState {
+            pressure_pa: s.pressure_pa - hp,
+            ..*s
+        },
+        hp,
+    );
     let dv = d(
-        ContactState { sliding_velocity_m_s: s.sliding_velocity_m_s + hv, ..*s },
-        ContactState { sliding_velocity_m_s: s.sliding_velocity_m_s - hv, ..*s },
+        ContactState {
+            sliding_velocity_m_s: s.sliding_velocity_m_s + hv,
+            ..*s
+        },
+        ContactState {
+            sliding_velocity_m_s: s.sliding_velocity_m_s - hv,
+            ..*s
+        },
         hv,
     );
-    let dt = d(ContactState { temperature_k: s.temperature_k + ht, ..*s }, ContactState { temperature_k: s.temperature_k - ht, ..*s }, ht);
+    let dt = d(
+        ContactState {
+            temperature_k: s.temperature_k + ht,
+            ..*s
+        },
+        ContactState {
+            temperature_k: s.temperature_k - ht,
+            ..*s
+        },
+        ht,
+    );
     (mu, [dp, dv, dt])
 }

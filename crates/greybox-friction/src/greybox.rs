@@ -30,16 +30,28 @@ impl GreyBoxLaw {
         shear_cap_k_pa: Option<f64>,
         clamp: Option<(f64, f64)>,
     ) -> Result<Self> {
-        let domain = inner.domain().ok_or_else(|| Error::invalid("grey-box law", "the inner law has no validity domain"))?;
+        let domain = inner.domain().ok_or_else(|| {
+            Error::invalid("grey-box law", "the inner law has no validity domain")
+        })?;
         if !(blend_fraction > 0.0 && blend_fraction.is_finite()) {
-            return Err(Error::invalid("grey-box law", "blend_fraction must be positive"));
+            return Err(Error::invalid(
+                "grey-box law",
+                "blend_fraction must be positive",
+            ));
         }
         if let Some((lo, hi)) = clamp {
             if !(lo <= hi) {
                 return Err(Error::invalid("grey-box law", "clamp needs min ≤ max"));
             }
         }
-        Ok(GreyBoxLaw { inner, outside, blend_fraction, shear_cap_k_pa, clamp, domain })
+        Ok(GreyBoxLaw {
+            inner,
+            outside,
+            blend_fraction,
+            shear_cap_k_pa,
+            clamp,
+            domain,
+        })
     }
 
     /// Weight of the learned law at a state, and the state projected onto the domain.
@@ -53,18 +65,29 @@ impl GreyBoxLaw {
             x.clamp(r.min, r.max)
         };
         proj.pressure_pa = axis(s.pressure_pa, self.domain.pressure_pa);
-        proj.sliding_velocity_m_s = axis(s.sliding_velocity_m_s.abs(), self.domain.sliding_velocity_m_s);
+        proj.sliding_velocity_m_s = axis(
+            s.sliding_velocity_m_s.abs(),
+            self.domain.sliding_velocity_m_s,
+        );
         if let Some(t) = self.domain.temperature_k {
             proj.temperature_k = axis(s.temperature_k, t);
         }
-        let w = if d >= 1.0 { 0.0 } else { 1.0 - d * d * (3.0 - 2.0 * d) };
+        let w = if d >= 1.0 {
+            0.0
+        } else {
+            1.0 - d * d * (3.0 - 2.0 * d)
+        };
         (w, proj)
     }
 }
 
 impl FrictionLaw for GreyBoxLaw {
     fn name(&self) -> String {
-        format!("grey-box [{} inside, {} outside]", self.inner.name(), self.outside.name())
+        format!(
+            "grey-box [{} inside, {} outside]",
+            self.inner.name(),
+            self.outside.name()
+        )
     }
     fn mu(&self, s: &ContactState) -> f64 {
         let (w, proj) = self.weight(s);
@@ -110,11 +133,19 @@ impl PowerLaw {
     /// Fit to a law over its domain (n × n log-spaced grid): the "fitted white-box form" used
     /// outside the training domain.
     pub fn fit_to(law: &dyn FrictionLaw, n: usize) -> Result<Self> {
-        let d = law.domain().ok_or_else(|| Error::invalid("power-law fit", "the law has no validity domain"))?;
+        let d = law
+            .domain()
+            .ok_or_else(|| Error::invalid("power-law fit", "the law has no validity domain"))?;
         let (p0, p1) = (d.pressure_pa.min.max(1.0), d.pressure_pa.max.max(1.0));
-        let (v0, v1) = (d.sliding_velocity_m_s.min.max(1e-6), d.sliding_velocity_m_s.max.max(1e-6));
+        let (v0, v1) = (
+            d.sliding_velocity_m_s.min.max(1e-6),
+            d.sliding_velocity_m_s.max.max(1e-6),
+        );
         let (p_ref, v_ref) = ((p0 * p1).sqrt(), (v0 * v1).sqrt());
-        let t = d.temperature_k.map(|r| 0.5 * (r.min + r.max)).unwrap_or(ContactState::ROOM_TEMPERATURE_K);
+        let t = d
+            .temperature_k
+            .map(|r| 0.5 * (r.min + r.max))
+            .unwrap_or(ContactState::ROOM_TEMPERATURE_K);
         // normal equations for ln μ = c + a ln(p/p_ref) + b ln(v/v_ref)
         let mut ata = [[0.0f64; 3]; 3];
         let mut atb = [0.0f64; 3];
@@ -124,9 +155,16 @@ impl PowerLaw {
             for j in 0..n {
                 let p = p0 * (p1 / p0).powf(i as f64 / (n - 1) as f64);
                 let v = v0 * (v1 / v0).powf(j as f64 / (n - 1) as f64);
-                let mu = law.mu(&ContactState { pressure_pa: p, sliding_velocity_m_s: v, temperature_k: t });
+                let mu = law.mu(&ContactState {
+                    pressure_pa: p,
+                    sliding_velocity_m_s: v,
+                    temperature_k: t,
+                });
                 if !(mu > 0.0) {
-                    return Err(Error::invalid("power-law fit", format!("μ = {mu} ≤ 0 at p = {p} Pa, v = {v} m/s")));
+                    return Err(Error::invalid(
+                        "power-law fit",
+                        format!("μ = {mu} ≤ 0 at p = {p} Pa, v = {v} m/s"),
+                    ));
                 }
                 lo = lo.min(mu);
                 hi = hi.max(mu);
@@ -139,8 +177,17 @@ impl PowerLaw {
                 }
             }
         }
-        let x = solve3(ata, atb).ok_or_else(|| Error::invalid("power-law fit", "singular fit (degenerate domain)"))?;
-        Ok(PowerLaw { mu_ref: x[0].exp(), p_ref_pa: p_ref, v_ref_m_s: v_ref, a: x[1], b: x[2], mu_min: 0.5 * lo, mu_max: 1.5 * hi })
+        let x = solve3(ata, atb)
+            .ok_or_else(|| Error::invalid("power-law fit", "singular fit (degenerate domain)"))?;
+        Ok(PowerLaw {
+            mu_ref: x[0].exp(),
+            p_ref_pa: p_ref,
+            v_ref_m_s: v_ref,
+            a: x[1],
+            b: x[2],
+            mu_min: 0.5 * lo,
+            mu_max: 1.5 * hi,
+        })
     }
 }
 
@@ -154,8 +201,9 @@ fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
         b.swap(k, piv);
         for i in k + 1..3 {
             let f = a[i][k] / a[k][k];
-            for j in k..3 {
-                a[i][j] -= f * a[k][j];
+            let pivot_row = a[k];
+            for (aij, akj) in a[i].iter_mut().zip(pivot_row.iter()).skip(k) {
+                *aij -= f * akj;
             }
             b[i] -= f * b[k];
         }
@@ -169,7 +217,10 @@ fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
 
 impl FrictionLaw for PowerLaw {
     fn name(&self) -> String {
-        format!("power law μ = {:.4} (p/p_ref)^{:.3} (v/v_ref)^{:.3}", self.mu_ref, self.a, self.b)
+        format!(
+            "power law μ = {:.4} (p/p_ref)^{:.3} (v/v_ref)^{:.3}",
+            self.mu_ref, self.a, self.b
+        )
     }
     fn mu(&self, s: &ContactState) -> f64 {
         let p = s.pressure_pa.max(1.0) / self.p_ref_pa;

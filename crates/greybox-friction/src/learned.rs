@@ -24,7 +24,10 @@ pub enum Input {
     /// Temperature: value = T − offset_k.
     Temperature { offset_k: f64 },
     /// Normal force of the tribometer contact producing pressure p: F = (p / c)³ / n_per_unit.
-    NormalForce { c_pa_per_cbrt_n: f64, n_per_unit: f64 },
+    NormalForce {
+        c_pa_per_cbrt_n: f64,
+        n_per_unit: f64,
+    },
 }
 
 impl Input {
@@ -34,7 +37,10 @@ impl Input {
             Input::Pressure { pa_per_unit } => s.pressure_pa / pa_per_unit,
             Input::Velocity { m_s_per_unit } => s.sliding_velocity_m_s.abs() / m_s_per_unit,
             Input::Temperature { offset_k } => s.temperature_k - offset_k,
-            Input::NormalForce { c_pa_per_cbrt_n, n_per_unit } => (s.pressure_pa.max(0.0) / c_pa_per_cbrt_n).powi(3) / n_per_unit,
+            Input::NormalForce {
+                c_pa_per_cbrt_n,
+                n_per_unit,
+            } => (s.pressure_pa.max(0.0) / c_pa_per_cbrt_n).powi(3) / n_per_unit,
         }
     }
     /// The SI contact variable value that gives model feature value `x`.
@@ -43,7 +49,10 @@ impl Input {
             Input::Pressure { pa_per_unit } => x * pa_per_unit,
             Input::Velocity { m_s_per_unit } => x * m_s_per_unit,
             Input::Temperature { offset_k } => x + offset_k,
-            Input::NormalForce { c_pa_per_cbrt_n, n_per_unit } => c_pa_per_cbrt_n * (x.max(0.0) * n_per_unit).cbrt(),
+            Input::NormalForce {
+                c_pa_per_cbrt_n,
+                n_per_unit,
+            } => c_pa_per_cbrt_n * (x.max(0.0) * n_per_unit).cbrt(),
         }
     }
     fn variable(&self) -> usize {
@@ -68,7 +77,10 @@ impl LearnedLaw {
     /// tribometer normal force for models trained on `normal_force_N`.
     pub fn new(model: ModelFile, contact: &PinContact) -> Result<Self> {
         if model.features.len() > MAX_FEATURES {
-            return Err(Error::invalid("learned law", format!("at most {MAX_FEATURES} features")));
+            return Err(Error::invalid(
+                "learned law",
+                format!("at most {MAX_FEATURES} features"),
+            ));
         }
         let c = contact.pressure_pa(1.0)?;
         let inputs: Vec<Input> = model
@@ -100,20 +112,44 @@ impl LearnedLaw {
         let mut ranges: [Option<Range>; 3] = [None, None, None];
         for (inp, r) in inputs.iter().zip(&model.training_domain) {
             let (a, b) = (inp.inverse(r.min), inp.inverse(r.max));
-            ranges[inp.variable()] = Some(Range { min: a.min(b), max: a.max(b) });
+            ranges[inp.variable()] = Some(Range {
+                min: a.min(b),
+                max: a.max(b),
+            });
         }
         let domain = ValidityDomain {
-            pressure_pa: ranges[0].ok_or_else(|| Error::invalid("learned law", "the model has no pressure or normal-force feature"))?,
-            sliding_velocity_m_s: ranges[1].ok_or_else(|| Error::invalid("learned law", "the model has no sliding-velocity feature"))?,
+            pressure_pa: ranges[0].ok_or_else(|| {
+                Error::invalid(
+                    "learned law",
+                    "the model has no pressure or normal-force feature",
+                )
+            })?,
+            sliding_velocity_m_s: ranges[1].ok_or_else(|| {
+                Error::invalid("learned law", "the model has no sliding-velocity feature")
+            })?,
             temperature_k: ranges[2],
         };
-        Ok(LearnedLaw { model, inputs, domain })
+        Ok(LearnedLaw {
+            model,
+            inputs,
+            domain,
+        })
     }
 }
 
 impl FrictionLaw for LearnedLaw {
     fn name(&self) -> String {
-        format!("learned {} ({} → {})", self.model.family.name(), self.model.features.iter().map(|f| f.name.as_str()).collect::<Vec<_>>().join(", "), self.model.target.name)
+        format!(
+            "learned {} ({} → {})",
+            self.model.family.name(),
+            self.model
+                .features
+                .iter()
+                .map(|f| f.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+            self.model.target.name
+        )
     }
     #[inline]
     fn mu(&self, s: &ContactState) -> f64 {

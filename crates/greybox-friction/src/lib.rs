@@ -1,3 +1,4 @@
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too
 //! greybox-friction: every way greybox expresses friction, behind one trait
 //! ([`greybox_core::FrictionLaw`]).
 //!

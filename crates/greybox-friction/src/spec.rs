@@ -10,7 +10,9 @@
 //! is read as `{"law": "learned", "model": <that file>}`. Relative paths are resolved against
 //! the directory of the file that names them.
 
-use crate::classical::{Coulomb, ExponentialVelocity, ShearFactor, ThermalSoftening, UsuiChilds, Zorev};
+use crate::classical::{
+    Coulomb, ExponentialVelocity, ShearFactor, ThermalSoftening, UsuiChilds, Zorev,
+};
 use crate::greybox::{GreyBoxLaw, PowerLaw};
 use crate::learned::LearnedLaw;
 use crate::table::{TabulatedLaw, TABLE_SCHEMA};
@@ -88,7 +90,10 @@ fn positive(what: &str, v: f64) -> Result<()> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(Error::invalid("law", format!("{what} must be positive, got {v}")))
+        Err(Error::invalid(
+            "law",
+            format!("{what} must be positive, got {v}"),
+        ))
     }
 }
 
@@ -100,51 +105,101 @@ impl LawSpec {
             LawSpec::Coulomb { mu } => Box::new(Coulomb { mu: *mu }),
             LawSpec::ShearFactor { m, k_mpa } => {
                 positive("k_MPa", *k_mpa)?;
-                Box::new(ShearFactor { m: *m, k_pa: k_mpa * mpa })
+                Box::new(ShearFactor {
+                    m: *m,
+                    k_pa: k_mpa * mpa,
+                })
             }
             LawSpec::Zorev { mu, k_mpa } => {
                 positive("k_MPa", *k_mpa)?;
-                Box::new(Zorev { mu: *mu, k_pa: k_mpa * mpa })
+                Box::new(Zorev {
+                    mu: *mu,
+                    k_pa: k_mpa * mpa,
+                })
             }
             LawSpec::UsuiChilds { mu, m, n, k_mpa } => {
                 positive("k_MPa", *k_mpa)?;
                 positive("m", *m)?;
                 positive("n", *n)?;
-                Box::new(UsuiChilds { mu: *mu, m: *m, n: *n, k_pa: k_mpa * mpa })
+                Box::new(UsuiChilds {
+                    mu: *mu,
+                    m: *m,
+                    n: *n,
+                    k_pa: k_mpa * mpa,
+                })
             }
-            LawSpec::ExponentialVelocity { mu_static, mu_dynamic, v_c_m_per_min } => {
+            LawSpec::ExponentialVelocity {
+                mu_static,
+                mu_dynamic,
+                v_c_m_per_min,
+            } => {
                 positive("v_c_m_per_min", *v_c_m_per_min)?;
-                Box::new(ExponentialVelocity { mu_static: *mu_static, mu_dynamic: *mu_dynamic, v_c_m_s: units::m_per_min_to_m_per_s(*v_c_m_per_min) })
+                Box::new(ExponentialVelocity {
+                    mu_static: *mu_static,
+                    mu_dynamic: *mu_dynamic,
+                    v_c_m_s: units::m_per_min_to_m_per_s(*v_c_m_per_min),
+                })
             }
             LawSpec::ThermalSoftening { mu0, t0_k, tm_k, q } => {
                 if !(tm_k > t0_k) {
                     return Err(Error::invalid("law", "thermal softening needs tm_K > t0_K"));
                 }
-                Box::new(ThermalSoftening { mu0: *mu0, t0_k: *t0_k, tm_k: *tm_k, q: *q })
+                Box::new(ThermalSoftening {
+                    mu0: *mu0,
+                    t0_k: *t0_k,
+                    tm_k: *tm_k,
+                    q: *q,
+                })
             }
             LawSpec::Learned { model, contact } => {
                 let path = resolve(base, model);
                 let m = ModelFile::load(&path)?;
                 Box::new(LearnedLaw::new(m, &contact.unwrap_or_default())?)
             }
-            LawSpec::PowerFit => return Err(Error::invalid("law", "power-fit is only valid as the 'outside' law of a grey-box law")),
-            LawSpec::GreyBox { inner, outside, blend_fraction, shear_cap_k_mpa, clamp } => {
+            LawSpec::PowerFit => {
+                return Err(Error::invalid(
+                    "law",
+                    "power-fit is only valid as the 'outside' law of a grey-box law",
+                ))
+            }
+            LawSpec::GreyBox {
+                inner,
+                outside,
+                blend_fraction,
+                shear_cap_k_mpa,
+                clamp,
+            } => {
                 let inner = inner.build(base)?;
                 let outside: Box<dyn FrictionLaw> = match **outside {
                     LawSpec::PowerFit => Box::new(PowerLaw::fit_to(inner.as_ref(), 25)?),
                     ref o => o.build(base)?,
                 };
-                Box::new(GreyBoxLaw::new(inner, outside, *blend_fraction, shear_cap_k_mpa.map(|k| k * mpa), *clamp)?)
+                Box::new(GreyBoxLaw::new(
+                    inner,
+                    outside,
+                    *blend_fraction,
+                    shear_cap_k_mpa.map(|k| k * mpa),
+                    *clamp,
+                )?)
             }
             LawSpec::Table { file } => {
                 let path = resolve(base, file);
                 let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-                let t: TabulatedLaw = serde_json::from_str(&text)
-                    .map_err(|e| Error::input(SourcePos::path(&path).line(e.line() as u64), format!("not a greybox table: {e}")))?;
+                let t: TabulatedLaw = serde_json::from_str(&text).map_err(|e| {
+                    Error::input(
+                        SourcePos::path(&path).line(e.line() as u64),
+                        format!("not a greybox table: {e}"),
+                    )
+                })?;
                 if t.schema != TABLE_SCHEMA {
-                    return Err(Error::input(SourcePos::path(&path).field("schema"), format!("expected schema \"{TABLE_SCHEMA}\"")));
+                    return Err(Error::input(
+                        SourcePos::path(&path).field("schema"),
+                        format!("expected schema \"{TABLE_SCHEMA}\""),
+                    ));
                 }
-                Box::new(t)
+                t.validate()
+                    .map_err(|e| Error::input(SourcePos::path(&path), e.to_string()))?;
+                Box::new(t.prepare())
             }
         })
     }
@@ -161,14 +216,22 @@ fn resolve(base: &Path, p: &Path) -> PathBuf {
 /// Load a law from a law file, a model file or a table file.
 pub fn load_law(path: &Path) -> Result<Box<dyn FrictionLaw>> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let v: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| Error::input(SourcePos::path(path).line(e.line() as u64), format!("not JSON: {e}")))?;
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+        Error::input(
+            SourcePos::path(path).line(e.line() as u64),
+            format!("not JSON: {e}"),
+        )
+    })?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let file_name = PathBuf::from(path.file_name().unwrap_or_default());
     let spec = match v.get("schema").and_then(|s| s.as_str()) {
-        Some(s) if s == MODEL_SCHEMA => LawSpec::Learned { model: file_name, contact: None },
+        Some(s) if s == MODEL_SCHEMA => LawSpec::Learned {
+            model: file_name,
+            contact: None,
+        },
         Some(s) if s == TABLE_SCHEMA => LawSpec::Table { file: file_name },
-        _ => serde_json::from_value(v).map_err(|e| Error::input(SourcePos::path(path), format!("invalid law file: {e}")))?,
+        _ => serde_json::from_value(v)
+            .map_err(|e| Error::input(SourcePos::path(path), format!("invalid law file: {e}")))?,
     };
     spec.build(&base)
 }

@@ -19,7 +19,10 @@ pub struct Axis {
 impl Axis {
     pub fn new(min: f64, max: f64, n: usize) -> Result<Self> {
         if !(min.is_finite() && max.is_finite() && max > min) || n < 2 {
-            return Err(Error::invalid("table axis", format!("needs min < max and n ≥ 2, got {min}..{max}, n = {n}")));
+            return Err(Error::invalid(
+                "table axis",
+                format!("needs min < max and n ≥ 2, got {min}..{max}, n = {n}"),
+            ));
         }
         Ok(Axis { min, max, n })
     }
@@ -29,10 +32,14 @@ impl Axis {
     pub fn values(&self) -> Vec<f64> {
         (0..self.n).map(|i| self.value(i)).collect()
     }
-    /// Cell index and fraction of x (clamped to the axis).
+    /// Points per unit of x: (n − 1) / (max − min).
+    pub fn inv_step(&self) -> f64 {
+        (self.n - 1) as f64 / (self.max - self.min)
+    }
+    /// Cell index and fraction of x (clamped to the axis); `inv` is [`Axis::inv_step`].
     #[inline]
-    fn locate(&self, x: f64) -> (usize, f64) {
-        let u = ((x - self.min) / (self.max - self.min) * (self.n - 1) as f64).clamp(0.0, (self.n - 1) as f64);
+    fn locate(&self, x: f64, inv: f64) -> (usize, f64) {
+        let u = ((x - self.min) * inv).clamp(0.0, (self.n - 1) as f64);
         let i = (u as usize).min(self.n - 2);
         (i, u - i as f64)
     }
@@ -53,13 +60,21 @@ pub struct TabulatedLaw {
     pub values: Vec<f64>,
     /// Largest |table − source| on the check set, if checked.
     pub max_deviation: Option<f64>,
+    /// Cached inverse grid steps (p, v, T); rebuilt by [`TabulatedLaw::prepare`].
+    #[serde(skip)]
+    inv: [f64; 3],
 }
 
 pub const TABLE_SCHEMA: &str = "greybox-table";
 
 impl TabulatedLaw {
     /// Evaluate `law` at every grid node.
-    pub fn bake(law: &dyn FrictionLaw, pressure: Axis, velocity: Axis, temperature: Option<Axis>) -> Self {
+    pub fn bake(
+        law: &dyn FrictionLaw,
+        pressure: Axis,
+        velocity: Axis,
+        temperature: Option<Axis>,
+    ) -> Self {
         let tk = ContactState::ROOM_TEMPERATURE_K;
         let nt = temperature.map(|a| a.n).unwrap_or(1);
         let mut values = Vec::with_capacity(pressure.n * velocity.n * nt);
@@ -67,11 +82,54 @@ impl TabulatedLaw {
             let t = temperature.map(|a| a.value(it)).unwrap_or(tk);
             for iv in 0..velocity.n {
                 for ip in 0..pressure.n {
-                    values.push(law.mu(&ContactState { pressure_pa: pressure.value(ip), sliding_velocity_m_s: velocity.value(iv), temperature_k: t }));
+                    values.push(law.mu(&ContactState {
+                        pressure_pa: pressure.value(ip),
+                        sliding_velocity_m_s: velocity.value(iv),
+                        temperature_k: t,
+                    }));
                 }
             }
         }
-        TabulatedLaw { schema: TABLE_SCHEMA.into(), source: law.name(), pressure, velocity, temperature, temperature_k: tk, values, max_deviation: None }
+        TabulatedLaw {
+            schema: TABLE_SCHEMA.into(),
+            source: law.name(),
+            pressure,
+            velocity,
+            temperature,
+            temperature_k: tk,
+            values,
+            max_deviation: None,
+            inv: [0.0; 3],
+        }
+        .prepare()
+    }
+
+    /// Validate the grid and cache the inverse steps (call after deserialising).
+    pub fn prepare(mut self) -> Self {
+        self.inv = [
+            self.pressure.inv_step(),
+            self.velocity.inv_step(),
+            self.temperature.map(|a| a.inv_step()).unwrap_or(0.0),
+        ];
+        self
+    }
+
+    /// Check the deserialised table is consistent.
+    pub fn validate(&self) -> Result<()> {
+        for a in [Some(self.pressure), Some(self.velocity), self.temperature]
+            .into_iter()
+            .flatten()
+        {
+            Axis::new(a.min, a.max, a.n)?;
+        }
+        let n = self.pressure.n * self.velocity.n * self.temperature.map(|a| a.n).unwrap_or(1);
+        if self.values.len() != n || self.values.iter().any(|v| !v.is_finite()) {
+            return Err(Error::invalid(
+                "table",
+                format!("expected {n} finite values, found {}", self.values.len()),
+            ));
+        }
+        Ok(())
     }
 
     /// Largest |table − law| over `n` seeded random points inside the grid box; stored.
@@ -82,7 +140,10 @@ impl TabulatedLaw {
             let s = ContactState {
                 pressure_pa: rng.gen_range(self.pressure.min..=self.pressure.max),
                 sliding_velocity_m_s: rng.gen_range(self.velocity.min..=self.velocity.max),
-                temperature_k: self.temperature.map(|a| rng.gen_range(a.min..=a.max)).unwrap_or(self.temperature_k),
+                temperature_k: self
+                    .temperature
+                    .map(|a| rng.gen_range(a.min..=a.max))
+                    .unwrap_or(self.temperature_k),
             };
             worst = worst.max((self.mu(&s) - law.mu(&s)).abs());
         }
@@ -98,7 +159,8 @@ impl TabulatedLaw {
     #[inline]
     fn bilinear(&self, ip: usize, fp: f64, iv: usize, fv: f64, it: usize) -> f64 {
         let a = self.at(ip, iv, it) + fp * (self.at(ip + 1, iv, it) - self.at(ip, iv, it));
-        let b = self.at(ip, iv + 1, it) + fp * (self.at(ip + 1, iv + 1, it) - self.at(ip, iv + 1, it));
+        let b =
+            self.at(ip, iv + 1, it) + fp * (self.at(ip + 1, iv + 1, it) - self.at(ip, iv + 1, it));
         a + fv * (b - a)
     }
 }
@@ -109,12 +171,14 @@ impl FrictionLaw for TabulatedLaw {
     }
     #[inline]
     fn mu(&self, s: &ContactState) -> f64 {
-        let (ip, fp) = self.pressure.locate(s.pressure_pa);
-        let (iv, fv) = self.velocity.locate(s.sliding_velocity_m_s.abs());
+        let (ip, fp) = self.pressure.locate(s.pressure_pa, self.inv[0]);
+        let (iv, fv) = self
+            .velocity
+            .locate(s.sliding_velocity_m_s.abs(), self.inv[1]);
         match self.temperature {
             None => self.bilinear(ip, fp, iv, fv, 0),
             Some(t) => {
-                let (it, ft) = t.locate(s.temperature_k);
+                let (it, ft) = t.locate(s.temperature_k, self.inv[2]);
                 let a = self.bilinear(ip, fp, iv, fv, it);
                 let b = self.bilinear(ip, fp, iv, fv, it + 1);
                 a + ft * (b - a)
@@ -123,9 +187,18 @@ impl FrictionLaw for TabulatedLaw {
     }
     fn domain(&self) -> Option<ValidityDomain> {
         Some(ValidityDomain {
-            pressure_pa: Range { min: self.pressure.min, max: self.pressure.max },
-            sliding_velocity_m_s: Range { min: self.velocity.min, max: self.velocity.max },
-            temperature_k: self.temperature.map(|a| Range { min: a.min, max: a.max }),
+            pressure_pa: Range {
+                min: self.pressure.min,
+                max: self.pressure.max,
+            },
+            sliding_velocity_m_s: Range {
+                min: self.velocity.min,
+                max: self.velocity.max,
+            },
+            temperature_k: self.temperature.map(|a| Range {
+                min: a.min,
+                max: a.max,
+            }),
         })
     }
 }

@@ -1,7 +1,9 @@
 //! Learned, grey-box and tabulated laws on a model fitted here; Abaqus round trip; law files.
 
 use greybox_core::{ContactState, FrictionLaw};
-use greybox_friction::export::{abaqus, parse_abaqus_friction, Grid, PressureUnit, SpeedUnit, TempUnit, Units};
+use greybox_friction::export::{
+    abaqus, parse_abaqus_friction, Grid, PressureUnit, SpeedUnit, TempUnit, Units,
+};
 use greybox_friction::greybox::{GreyBoxLaw, PowerLaw};
 use greybox_friction::learned::LearnedLaw;
 use greybox_friction::spec::load_law;
@@ -18,12 +20,24 @@ fn fitted_model(family: Family) -> greybox_learn::modelfile::ModelFile {
         for j in 0..12 {
             let p = 900.0 + 120.0 * i as f64;
             let v = 20.0 + 20.0 * j as f64;
-            csv.push_str(&format!("{p},{v},{}\n", 0.5 - 0.1 * (p - 900.0) / 1300.0 - 0.1 * (v / 250.0).sqrt()));
+            csv.push_str(&format!(
+                "{p},{v},{}\n",
+                0.5 - 0.1 * (p - 900.0) / 1300.0 - 0.1 * (v / 250.0).sqrt()
+            ));
         }
     }
-    let feats = vec!["hertz_pressure_MPa".to_string(), "sliding_velocity_m_per_min".to_string()];
+    let feats = vec![
+        "hertz_pressure_MPa".to_string(),
+        "sliding_velocity_m_per_min".to_string(),
+    ];
     let data = read_dataset_from(csv.as_bytes(), "mem.csv", &feats, "mu", None).unwrap();
-    let mut cfg = FitConfig { families: vec![family], skip_nested: true, bootstrap_resamples: 10, importance_repeats: 1, ..Default::default() };
+    let mut cfg = FitConfig {
+        families: vec![family],
+        skip_nested: true,
+        bootstrap_resamples: 10,
+        importance_repeats: 1,
+        ..Default::default()
+    };
     cfg.grid.svr.kernel = vec![greybox_learn::svr::Kernel::Rbf];
     cfg.grid.svr.c = vec![10.0];
     cfg.grid.svr.epsilon = vec![0.001];
@@ -42,7 +56,10 @@ fn learned_law_maps_units_and_domain() {
     let m = fitted_model(Family::Svr);
     let law = LearnedLaw::new(m.clone(), &PinContact::default()).unwrap();
     let x = [1500.0, 100.0];
-    assert_eq!(law.mu(&st(1500.0, 100.0)), greybox_learn::Predictor::predict_one(&m.model, &x));
+    assert_eq!(
+        law.mu(&st(1500.0, 100.0)),
+        greybox_learn::Predictor::predict_one(&m.model, &x)
+    );
     let d = law.domain().unwrap();
     assert!((d.pressure_pa.min - 900e6).abs() < 1.0 && (d.pressure_pa.max - 2220e6).abs() < 1.0);
     assert!((d.sliding_velocity_m_s.max - 240.0 / 60.0).abs() < 1e-12);
@@ -68,7 +85,14 @@ fn grey_box_is_continuous_and_never_extrapolates_trees() {
         prev = mu;
     }
     // Zorev cap and clamp
-    let capped = GreyBoxLaw::new(Box::new(inner), Box::new(outside), 0.1, Some(300e6), Some((0.05, 0.25))).unwrap();
+    let capped = GreyBoxLaw::new(
+        Box::new(inner),
+        Box::new(outside),
+        0.1,
+        Some(300e6),
+        Some((0.05, 0.25)),
+    )
+    .unwrap();
     let s = st(2000.0, 100.0);
     assert!(capped.mu(&s) * s.pressure_pa <= 300e6 * (1.0 + 1e-12));
     assert!(capped.mu(&st(900.0, 20.0)) <= 0.25);
@@ -78,12 +102,20 @@ fn grey_box_is_continuous_and_never_extrapolates_trees() {
 fn surrogate_table_within_1e4_of_its_source() {
     let m = fitted_model(Family::Svr);
     let law = LearnedLaw::new(m, &PinContact::default()).unwrap();
-    let mut t = TabulatedLaw::bake(&law, Axis::new(900e6, 2220e6, 121).unwrap(), Axis::new(20.0 / 60.0, 4.0, 101).unwrap(), None);
+    let mut t = TabulatedLaw::bake(
+        &law,
+        Axis::new(900e6, 2220e6, 121).unwrap(),
+        Axis::new(20.0 / 60.0, 4.0, 101).unwrap(),
+        None,
+    );
     let dev = t.check(&law, 100_000, 7);
     eprintln!("surrogate max deviation {dev:e}");
     assert!(dev <= 1e-4, "{dev}");
     // exact at grid nodes
-    assert_eq!(t.mu(&ContactState::new(t.pressure.value(3), t.velocity.value(5))), t.values[5 * 121 + 3]);
+    assert_eq!(
+        t.mu(&ContactState::new(t.pressure.value(3), t.velocity.value(5))),
+        t.values[5 * 121 + 3]
+    );
 }
 
 #[test]
@@ -95,7 +127,11 @@ fn abaqus_table_round_trip() {
         velocity_m_s: vec![0.5, 1.0, 2.0, 4.0],
         temperature_k: Some(vec![293.15, 873.15]),
     };
-    let u = Units { pressure: PressureUnit::MPa, speed: SpeedUnit::MmPerS, temperature: TempUnit::C };
+    let u = Units {
+        pressure: PressureUnit::MPa,
+        speed: SpeedUnit::MmPerS,
+        temperature: TempUnit::C,
+    };
     let text = abaqus(&law, &grid, u, Some(450e6)).unwrap();
     assert!(text.contains("*FRICTION, TAUMAX=450.0") && text.contains("Abaqus has no unit system"));
     let rows = parse_abaqus_friction(&text, "t.inp").unwrap();
@@ -103,7 +139,11 @@ fn abaqus_table_round_trip() {
     // first variable (slip rate) fastest, ascending; μ reproduced at every grid point
     assert_eq!((rows[0][1], rows[1][1], rows[4][1]), (500.0, 1000.0, 500.0));
     for r in &rows {
-        let s = ContactState { pressure_pa: r[2] * 1e6, sliding_velocity_m_s: r[1] / 1e3, temperature_k: r[3] + 273.15 };
+        let s = ContactState {
+            pressure_pa: r[2] * 1e6,
+            sliding_velocity_m_s: r[1] / 1e3,
+            temperature_k: r[3] + 273.15,
+        };
         assert_eq!(r[0], law.mu(&s));
     }
 }
@@ -124,9 +164,19 @@ fn law_files() {
     assert_eq!(law.mu(&st(1000.0, 100.0)), direct.mu(&st(1000.0, 100.0)));
     // the 500 MPa shear cap binds at 1500 MPa: μ = 500/1500
     assert!((law.mu(&st(1500.0, 100.0)) - 1.0 / 3.0).abs() < 1e-15);
-    std::fs::write(dir.path().join("bad.json"), r#"{"law": "zorev", "mu": 0.3}"#).unwrap();
-    let e = load_law(&dir.path().join("bad.json")).err().unwrap().to_string();
+    std::fs::write(
+        dir.path().join("bad.json"),
+        r#"{"law": "zorev", "mu": 0.3}"#,
+    )
+    .unwrap();
+    let e = load_law(&dir.path().join("bad.json"))
+        .err()
+        .unwrap()
+        .to_string();
     assert!(e.contains("invalid law file") && e.contains("k_MPa"), "{e}");
-    let e = load_law(&dir.path().join("missing.json")).err().unwrap().to_string();
+    let e = load_law(&dir.path().join("missing.json"))
+        .err()
+        .unwrap()
+        .to_string();
     assert!(e.contains("missing.json"), "{e}");
 }

@@ -329,7 +329,7 @@ fn run_family(
             &model,
             &data.x,
             &data.y,
-            &names,
+            names,
             cfg.importance_repeats,
             cfg.importance_seed,
         );

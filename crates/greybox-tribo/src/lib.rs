@@ -12,6 +12,7 @@ pub mod gcode;
 pub mod hertz;
 pub mod identify;
 pub mod plan;
+pub mod ploughing;
 pub mod recording;
 pub mod signal;
 pub mod synth;

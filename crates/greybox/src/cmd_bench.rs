@@ -27,6 +27,18 @@ pub enum Bench {
         #[arg(long)]
         json: bool,
     },
+    /// Evaluations per second of a law (raw) and of its surrogate table, one core.
+    Surrogate {
+        /// Law, model or table file.
+        #[arg(long)]
+        law: PathBuf,
+        /// Surrogate grid points per axis (pressure, velocity).
+        #[arg(long, default_value_t = 201)]
+        points: usize,
+        /// Timed evaluations per law.
+        #[arg(long, default_value_t = 20_000_000)]
+        calls: usize,
+    },
     /// Single-point prediction latency of model files (the simulator's hot path).
     Predict {
         /// Model files from `greybox fit`.
@@ -154,8 +166,67 @@ fn time_reads(f: impl Fn() -> Result<usize>, repeats: usize) -> Result<(Vec<f64>
     Ok((times, n))
 }
 
+/// Time `law.mu` over a cycle of states, ns per call.
+fn time_law(
+    law: &dyn greybox_core::FrictionLaw,
+    states: &[greybox_core::ContactState],
+    calls: usize,
+) -> f64 {
+    let mut sink = 0.0;
+    let t = Instant::now();
+    for k in 0..calls {
+        sink += law.mu(std::hint::black_box(&states[k % states.len()]));
+    }
+    std::hint::black_box(sink);
+    t.elapsed().as_secs_f64() * 1e9 / calls as f64
+}
+
+fn bench_surrogate(path: &std::path::Path, points: usize, calls: usize) -> Result<()> {
+    use greybox_friction::table::{Axis, TabulatedLaw};
+    let law = greybox_friction::spec::load_law(path)?;
+    let d = law
+        .domain()
+        .ok_or_else(|| anyhow::anyhow!("the law has no domain to tabulate over"))?;
+    let mut table = TabulatedLaw::bake(
+        law.as_ref(),
+        Axis::new(d.pressure_pa.min, d.pressure_pa.max, points)?,
+        Axis::new(
+            d.sliding_velocity_m_s.min,
+            d.sliding_velocity_m_s.max,
+            points,
+        )?,
+        None,
+    );
+    let dev = table.check(law.as_ref(), 100_000, 1);
+    let states: Vec<greybox_core::ContactState> = (0..4096)
+        .map(|k| {
+            let u = ((k as f64 + 1.0) * 0.618_033_988_75).fract();
+            let w = ((k as f64 + 1.0) * 0.754_877_666_2).fract();
+            greybox_core::ContactState::new(
+                d.pressure_pa.min + u * (d.pressure_pa.max - d.pressure_pa.min),
+                d.sliding_velocity_m_s.min
+                    + w * (d.sliding_velocity_m_s.max - d.sliding_velocity_m_s.min),
+            )
+        })
+        .collect();
+    let raw_calls = (calls / 100).max(10_000);
+    let raw = time_law(law.as_ref(), &states, raw_calls);
+    let tab = time_law(&table, &states, calls);
+    println!(
+        "law:       {:8.1} ns per call, {:.3e} evaluations/s/core ({})",
+        raw,
+        1e9 / raw,
+        law.name()
+    );
+    println!("surrogate: {:8.1} ns per call, {:.3e} evaluations/s/core ({points} x {points} grid, max deviation {dev:.2e})", tab, 1e9 / tab);
+    Ok(())
+}
+
 pub fn run(a: Args) -> Result<()> {
     match a.bench {
+        Bench::Surrogate { law, points, calls } => {
+            bench_surrogate(&law, points.max(2), calls.max(1))
+        }
         Bench::Predict {
             models,
             calls,

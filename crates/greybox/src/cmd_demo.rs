@@ -2,8 +2,9 @@
 
 use crate::output::print_json;
 use crate::study::{Study, DEMO_STUDY};
-use crate::{cmd_fit, cmd_identify, cmd_plan, cmd_synth};
+use crate::{cmd_adhesive, cmd_export, cmd_fit, cmd_identify, cmd_plan, cmd_synth};
 use anyhow::Result;
+use greybox_core::atomic::write_string_atomic;
 use greybox_tribo::recording::RecordingFormat;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -23,8 +24,10 @@ struct DemoSummary {
     plan: cmd_plan::PlanSummary,
     synth: cmd_synth::SynthSummary,
     identify: cmd_identify::IdentifySummary,
+    correction: greybox_tribo::ploughing::Correction,
     fit: greybox_learn::protocol::FitReport,
     fit_outputs: cmd_fit::FitOutputs,
+    law: String,
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -56,27 +59,111 @@ pub fn run(a: Args) -> Result<()> {
         pins: diags.clone(),
         truth: Some(truth),
     };
-    let fit_args = cmd_fit::Args::defaults(dataset.clone(), out.join("fit"));
+    // ploughing correction with the article's Table 3 track widths
+    let adhesive_args = cmd_adhesive::Args {
+        data: dataset.clone(),
+        method: cmd_adhesive::Method::Analytic,
+        pin_radius_mm: study.contact.pin_tip_radius_mm,
+        track_width: Vec::new(),
+        track_widths_csv: None,
+        out: out.join("dataset_adhesive.csv"),
+        json: false,
+    };
+    let (_, correction) = cmd_adhesive::adhesive(&adhesive_args)?;
+    // the article's protocol on the adhesive COF
+    let mut fit_args = cmd_fit::Args::defaults(adhesive_args.out.clone(), out.join("fit"));
+    fit_args.target = "cof_adhesive".into();
     let (fit, fit_outputs) = cmd_fit::fit(&fit_args)?;
+    // grey-box law around the family with the best held-out R², exported for Abaqus, plus the C ABI files
+    let best = fit
+        .families
+        .iter()
+        .max_by(|a, b| {
+            let r = |f: &greybox_learn::protocol::FamilyReport| {
+                f.held_out
+                    .as_ref()
+                    .map(|h| h.metrics.r2.value)
+                    .unwrap_or(f64::NEG_INFINITY)
+            };
+            r(a).total_cmp(&r(b))
+        })
+        .ok_or_else(|| anyhow::anyhow!("no model family was fitted"))?;
+    let law = serde_json::json!({
+        "law": "grey-box",
+        "inner": {"law": "learned", "model": format!("fit/models/{}.json", best.family.name()), "contact": study.contact},
+        "outside": {"law": "power-fit"},
+        "blend_fraction": 0.1,
+        "shear_cap_k_MPa": DEMO_SHEAR_CAP_MPA,
+        "clamp": [0.05, 1.0]
+    });
+    let law_path = out.join("law.json");
+    write_string_atomic(&law_path, &serde_json::to_string_pretty(&law)?)?;
+    let export_args = cmd_export::Args {
+        law: law_path.clone(),
+        format: cmd_export::Format::Abaqus,
+        out: out.join("abaqus_friction.inp"),
+        pressure_mpa: "900:2200:14".into(),
+        velocity: "20:250:24".into(),
+        temperature: None,
+        pressure_unit: "MPa".into(),
+        speed_unit: "mm/s".into(),
+        temperature_unit: "C".into(),
+        taumax_mpa: Some(DEMO_SHEAR_CAP_MPA),
+        deform_windows: None,
+        deform_reference_velocity_m_per_min: 150.0,
+        deform_objects: vec![2, 1],
+        lsdyna_table_id: 1000,
+        check_points: 0,
+    };
+    let export_line = cmd_export::export(&export_args)?;
+    write_string_atomic(&out.join("ffi/greybox.h"), GREYBOX_H)?;
+    write_string_atomic(&out.join("ffi/greybox.f90"), GREYBOX_F90)?;
     if a.json {
         return print_json(&DemoSummary {
             plan: plan_summary,
             synth,
             identify,
+            correction,
             fit,
             fit_outputs,
+            law: law_path.display().to_string(),
         });
     }
     println!("greybox demo — the seed article's tribometer campaign on a virtual rig\n");
-    println!("[1/4] plan -> {}", out.join("plan").display());
+    println!("[1/6] plan -> {}", out.join("plan").display());
     cmd_plan::print_summary(&plan_summary);
-    println!("\n[2/4] synth -> {}", rec_dir.display());
+    println!("\n[2/6] synth -> {}", rec_dir.display());
     cmd_synth::print_summary(&synth);
     println!(
-        "\n[3/3] identify (TDMS recordings) -> {}",
+        "\n[3/6] identify (TDMS recordings) -> {}",
         dataset.display()
     );
     print!("{}", cmd_identify::summary_table(&ds, &diags));
     cmd_identify::print_identify_footer(&identify);
+    println!(
+        "\n[4/6] adhesive COF (Bowden-Tabor ploughing, the article's Table 3 track widths) -> {}",
+        adhesive_args.out.display()
+    );
+    cmd_adhesive::print_correction(&correction);
+    println!(
+        "\n[5/6] fit: the article's four model families and grids on cof_adhesive -> {}",
+        out.join("fit").display()
+    );
+    println!("{}", greybox_learn::protocol::markdown(&fit));
+    println!("models: {}", fit_outputs.models.join(", "));
+    println!("plots:  {}", fit_outputs.plots.join(", "));
+    println!("\n[6/6] grey-box law ({} inside its training domain, fitted power law outside, Zorev cap {DEMO_SHEAR_CAP_MPA} MPa) -> {}", best.family.name(), law_path.display());
+    println!("{export_line}");
+    println!(
+        "C ABI for user routines: {} and {} (library: cargo build --release -p greybox-ffi)",
+        out.join("ffi/greybox.h").display(),
+        out.join("ffi/greybox.f90").display()
+    );
     Ok(())
 }
+
+/// Shear flow stress used for the demo's Zorev cap, MPa (≈ AISI 1045 at cutting strain rates).
+const DEMO_SHEAR_CAP_MPA: f64 = 600.0;
+/// The C header and Fortran module of the C ABI, copied into the demo output.
+const GREYBOX_H: &str = include_str!("../../greybox-ffi/include/greybox.h");
+const GREYBOX_F90: &str = include_str!("../../greybox-ffi/fortran/greybox.f90");

@@ -1,7 +1,10 @@
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too
 //! `greybox`: the command-line shell over the greybox library crates.
 
+mod cmd_adhesive;
 mod cmd_bench;
 mod cmd_demo;
+mod cmd_export;
 mod cmd_fit;
 mod cmd_hertz;
 mod cmd_identify;
@@ -31,6 +34,10 @@ enum Command {
     Identify(cmd_identify::Args),
     /// Hertzian contact: contact size, maximum and mean pressure, approach.
     Hertz(cmd_hertz::Args),
+    /// Ploughing correction: adhesive COF from the apparent COF and measured track widths.
+    Adhesive(cmd_adhesive::Args),
+    /// Export a friction law as Abaqus/DEFORM/LS-DYNA tables, CSV, or a surrogate table.
+    Export(cmd_export::Args),
     /// Train and compare regressors (RF, SVR, boosting, MLP) with nested CV, CIs, importance.
     Fit(cmd_fit::Args),
     /// Evaluate a model file at points, with prediction intervals and a domain check.
@@ -49,6 +56,8 @@ fn main() {
         Command::Identify(a) => cmd_identify::run(a),
         Command::Hertz(a) => cmd_hertz::run(a),
         Command::Fit(a) => cmd_fit::run(a),
+        Command::Adhesive(a) => cmd_adhesive::run(a),
+        Command::Export(a) => cmd_export::run(a),
         Command::Predict(a) => cmd_predict::run(a),
         Command::Demo(a) => cmd_demo::run(a),
         Command::Bench(a) => cmd_bench::run(a),

@@ -251,3 +251,108 @@ fn fit_bad_inputs() {
     ));
     assert!(e.contains("schema version Some(9) is not supported"), "{e}");
 }
+
+#[test]
+fn adhesive_and_export() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    dataset(p);
+    let s = ok(&greybox(
+        &[
+            "adhesive", "--data", "data.csv", "--out", "adh.csv", "--json",
+        ],
+        p,
+    ));
+    let v: serde_json::Value = serde_json::from_str(&s).unwrap();
+    assert_eq!(v["per_load"].as_array().unwrap().len(), 4);
+    let adh = greybox_core::dataset::FrictionDataset::read_csv(&p.join("adh.csv")).unwrap();
+    for r in &adh.records {
+        let a = r.cof_adhesive.unwrap();
+        assert!(
+            a < r.cof_apparent && a > 0.8 * r.cof_apparent,
+            "{a} vs {}",
+            r.cof_apparent
+        );
+    }
+    assert!(p.join("adh.correction.json").exists());
+    let e = err(&greybox(
+        &["adhesive", "--data", "data.csv", "--method", "simulation"],
+        p,
+    ));
+    assert!(e.contains("needs the built-in simulator"), "{e}");
+    let e = err(&greybox(
+        &["adhesive", "--data", "data.csv", "--track-width", "150:abc"],
+        p,
+    ));
+    assert!(e.contains("'abc' is not a number"), "{e}");
+
+    std::fs::write(
+        p.join("zorev.json"),
+        r#"{"law": "zorev", "mu": 0.4, "k_MPa": 500}"#,
+    )
+    .unwrap();
+    ok(&greybox(
+        &[
+            "export",
+            "--law",
+            "zorev.json",
+            "--format",
+            "abaqus",
+            "--out",
+            "f.inp",
+            "--pressure-MPa",
+            "1000,1250,1500",
+        ],
+        p,
+    ));
+    let inp = std::fs::read_to_string(p.join("f.inp")).unwrap();
+    let rows = greybox_friction::export::parse_abaqus_friction(&inp, "f.inp").unwrap();
+    assert_eq!(rows.len(), 3 * 30);
+    // Zorev: μ = 0.4 below 1250 MPa, k/p above
+    assert_eq!(rows[0][0], 0.4);
+    assert!((rows[60][0] - 500.0 / 1500.0).abs() < 1e-15);
+    for fmt in ["csv", "lsdyna", "deform", "table"] {
+        ok(&greybox(
+            &[
+                "export",
+                "--law",
+                "zorev.json",
+                "--format",
+                fmt,
+                "--out",
+                &format!("out.{fmt}"),
+            ],
+            p,
+        ));
+    }
+    let e = err(&greybox(
+        &[
+            "export",
+            "--law",
+            "zorev.json",
+            "--format",
+            "abaqus",
+            "--out",
+            "x.inp",
+            "--pressure-unit",
+            "psi",
+        ],
+        p,
+    ));
+    assert!(e.contains("unknown pressure unit 'psi'"), "{e}");
+    let e = err(&greybox(
+        &[
+            "export",
+            "--law",
+            "zorev.json",
+            "--format",
+            "csv",
+            "--out",
+            "x.csv",
+            "--pressure-MPa",
+            "2000:1000:5",
+        ],
+        p,
+    ));
+    assert!(e.contains("MIN < MAX"), "{e}");
+}

@@ -1,0 +1,261 @@
+//! The greybox C ABI: load a friction law (law file, model file or table) once, evaluate μ —
+//! and ∂μ/∂p, ∂μ/∂v, ∂μ/∂T for implicit solvers — for batches of contact states, free it.
+//!
+//! Contract (see `include/greybox.h` and `fortran/greybox.f90`):
+//! * every function returns a status code (`GREYBOX_OK` = 0) and never unwinds a panic into
+//!   the caller; the message of the last failure on the calling thread is available from
+//!   `greybox_last_error`;
+//! * a loaded law is immutable: any number of threads may evaluate it at once;
+//! * evaluation does not allocate; inputs are validated first (NaN, negative pressure) and
+//!   the outputs are written only on success;
+//! * SI units: pressure in Pa, sliding velocity in m/s, temperature in K.
+
+use greybox_core::{ContactState, FrictionLaw};
+use greybox_friction::gradient::mu_and_gradient;
+use std::cell::RefCell;
+use std::ffi::{c_char, CStr};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::Path;
+
+pub const GREYBOX_OK: i32 = 0;
+pub const GREYBOX_ERR_NULL: i32 = 1;
+pub const GREYBOX_ERR_LOAD: i32 = 2;
+pub const GREYBOX_ERR_INPUT: i32 = 3;
+pub const GREYBOX_ERR_PANIC: i32 = 4;
+
+/// An opaque loaded law.
+pub struct GreyboxLaw {
+    law: Box<dyn FrictionLaw>,
+}
+
+thread_local! {
+    static LAST_ERROR: RefCell<String> = const { RefCell::new(String::new()) };
+}
+
+fn fail(code: i32, msg: impl Into<String>) -> i32 {
+    let msg = msg.into();
+    LAST_ERROR.with(|e| *e.borrow_mut() = msg);
+    code
+}
+
+fn guarded(f: impl FnOnce() -> i32) -> i32 {
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(code) => code,
+        Err(_) => fail(
+            GREYBOX_ERR_PANIC,
+            "internal error (panic caught at the C boundary)",
+        ),
+    }
+}
+
+/// Load a law from `path` (NUL-terminated UTF-8). On success `*out` holds a handle to free
+/// with `greybox_law_free`.
+///
+/// # Safety
+/// `path` must be a valid NUL-terminated string and `out` a valid pointer, or null (an
+/// error is returned).
+#[no_mangle]
+pub unsafe extern "C" fn greybox_law_load(path: *const c_char, out: *mut *mut GreyboxLaw) -> i32 {
+    guarded(|| {
+        if path.is_null() || out.is_null() {
+            return fail(
+                GREYBOX_ERR_NULL,
+                "greybox_law_load: null path or output pointer",
+            );
+        }
+        // SAFETY: checked non-null; the caller promises NUL termination.
+        let p = match unsafe { CStr::from_ptr(path) }.to_str() {
+            Ok(s) => s,
+            Err(_) => return fail(GREYBOX_ERR_LOAD, "greybox_law_load: path is not UTF-8"),
+        };
+        match greybox_friction::spec::load_law(Path::new(p)) {
+            Ok(law) => {
+                // SAFETY: checked non-null.
+                unsafe { *out = Box::into_raw(Box::new(GreyboxLaw { law })) };
+                GREYBOX_OK
+            }
+            Err(e) => fail(GREYBOX_ERR_LOAD, e.to_string()),
+        }
+    })
+}
+
+/// Free a law (null is ignored).
+///
+/// # Safety
+/// `law` must come from `greybox_law_load` and not be used afterwards.
+#[no_mangle]
+pub unsafe extern "C" fn greybox_law_free(law: *mut GreyboxLaw) {
+    if !law.is_null() {
+        let _ = catch_unwind(AssertUnwindSafe(|| {
+            // SAFETY: the caller passes a pointer from greybox_law_load exactly once.
+            drop(unsafe { Box::from_raw(law) });
+        }));
+    }
+}
+
+unsafe fn slice<'a>(p: *const f64, n: usize) -> Option<&'a [f64]> {
+    // SAFETY: the caller promises `n` readable values when non-null.
+    (!p.is_null()).then(|| unsafe { std::slice::from_raw_parts(p, n) })
+}
+
+unsafe fn slice_mut<'a>(p: *mut f64, n: usize) -> Option<&'a mut [f64]> {
+    // SAFETY: the caller promises `n` writable values when non-null.
+    (!p.is_null()).then(|| unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
+fn check_inputs(p: &[f64], v: &[f64], t: Option<&[f64]>) -> Result<(), String> {
+    for i in 0..p.len() {
+        if !p[i].is_finite() || p[i] < 0.0 {
+            return Err(format!(
+                "pressure[{i}] = {} Pa: must be finite and ≥ 0",
+                p[i]
+            ));
+        }
+        if !v[i].is_finite() {
+            return Err(format!("velocity[{i}] = {} m/s: must be finite", v[i]));
+        }
+        if let Some(t) = t {
+            if !t[i].is_finite() || t[i] <= 0.0 {
+                return Err(format!(
+                    "temperature[{i}] = {} K: must be finite and > 0",
+                    t[i]
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+#[inline]
+fn state(p: &[f64], v: &[f64], t: Option<&[f64]>, i: usize) -> ContactState {
+    ContactState {
+        pressure_pa: p[i],
+        sliding_velocity_m_s: v[i],
+        temperature_k: t.map(|t| t[i]).unwrap_or(ContactState::ROOM_TEMPERATURE_K),
+    }
+}
+
+/// μ for `n` contact states. `temperature_k` may be null (room temperature).
+///
+/// # Safety
+/// Non-null arrays must hold `n` values; `law` must be a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn greybox_law_mu(
+    law: *const GreyboxLaw,
+    n: usize,
+    pressure_pa: *const f64,
+    velocity_m_s: *const f64,
+    temperature_k: *const f64,
+    mu: *mut f64,
+) -> i32 {
+    // SAFETY: forwarded caller contract.
+    unsafe {
+        greybox_law_mu_grad(
+            law,
+            n,
+            pressure_pa,
+            velocity_m_s,
+            temperature_k,
+            mu,
+            std::ptr::null_mut(),
+            std::ptr::null_mut(),
+            std::ptr::null_mut(),
+        )
+    }
+}
+
+/// μ and, where the output pointers are non-null, ∂μ/∂p (1/Pa), ∂μ/∂v (s/m), ∂μ/∂T (1/K).
+///
+/// # Safety
+/// Non-null arrays must hold `n` values; `law` must be a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn greybox_law_mu_grad(
+    law: *const GreyboxLaw,
+    n: usize,
+    pressure_pa: *const f64,
+    velocity_m_s: *const f64,
+    temperature_k: *const f64,
+    mu: *mut f64,
+    dmu_dp: *mut f64,
+    dmu_dv: *mut f64,
+    dmu_dt: *mut f64,
+) -> i32 {
+    guarded(|| {
+        if law.is_null() {
+            return fail(GREYBOX_ERR_NULL, "null law handle");
+        }
+        // SAFETY: forwarded caller contract for every array and the handle.
+        let (l, p, v, t, m) = unsafe {
+            (
+                &*law,
+                slice(pressure_pa, n),
+                slice(velocity_m_s, n),
+                slice(temperature_k, n),
+                slice_mut(mu, n),
+            )
+        };
+        let (Some(p), Some(v), Some(m)) = (p, v, m) else {
+            return fail(GREYBOX_ERR_NULL, "null pressure, velocity or mu array");
+        };
+        if let Err(msg) = check_inputs(p, v, t) {
+            return fail(GREYBOX_ERR_INPUT, msg);
+        }
+        // SAFETY: forwarded caller contract.
+        let (gp, gv, gt) = unsafe {
+            (
+                slice_mut(dmu_dp, n),
+                slice_mut(dmu_dv, n),
+                slice_mut(dmu_dt, n),
+            )
+        };
+        if gp.is_none() && gv.is_none() && gt.is_none() {
+            for (i, out) in m.iter_mut().enumerate() {
+                *out = l.law.mu(&state(p, v, t, i));
+            }
+        } else {
+            let (mut gp, mut gv, mut gt) = (gp, gv, gt);
+            for i in 0..n {
+                let (mu_i, g) = mu_and_gradient(l.law.as_ref(), &state(p, v, t, i));
+                m[i] = mu_i;
+                if let Some(x) = gp.as_deref_mut() {
+                    x[i] = g[0];
+                }
+                if let Some(x) = gv.as_deref_mut() {
+                    x[i] = g[1];
+                }
+                if let Some(x) = gt.as_deref_mut() {
+                    x[i] = g[2];
+                }
+            }
+        }
+        GREYBOX_OK
+    })
+}
+
+/// Copy the calling thread's last error message into `buf` (NUL-terminated, truncated to
+/// `len`); returns the message length without the NUL.
+///
+/// # Safety
+/// `buf` must hold `len` bytes, or be null.
+#[no_mangle]
+pub unsafe extern "C" fn greybox_last_error(buf: *mut c_char, len: usize) -> usize {
+    LAST_ERROR.with(|e| {
+        let e = e.borrow();
+        let bytes = e.as_bytes();
+        if !buf.is_null() && len > 0 {
+            let k = bytes.len().min(len - 1);
+            // SAFETY: the caller promises `len` writable bytes.
+            unsafe {
+                std::ptr::copy_nonoverlapping(bytes.as_ptr(), buf as *mut u8, k);
+                *buf.add(k) = 0;
+            }
+        }
+        bytes.len()
+    })
+}
+
+/// The library version, a static NUL-terminated string.
+#[no_mangle]
+pub extern "C" fn greybox_version() -> *const c_char {
+    concat!(env!("CARGO_PKG_VERSION"), "\0").as_ptr() as *const c_char
+}

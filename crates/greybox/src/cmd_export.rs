@@ -1,0 +1,227 @@
+//! `greybox export`: a friction law as tables for FE engines, or as a surrogate table.
+
+use anyhow::{bail, Context, Result};
+use greybox_core::atomic::write_string_atomic;
+use greybox_friction::export::{
+    self, DeformWindow, Grid, PressureUnit, SpeedUnit, TempUnit, Units,
+};
+use greybox_friction::spec::load_law;
+use greybox_friction::table::{Axis, TabulatedLaw};
+use std::path::PathBuf;
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Abaqus *FRICTION data lines.
+    Abaqus,
+    /// DEFORM FRCFAC / FRCWIN keyword blocks.
+    Deform,
+    /// LS-DYNA *DEFINE_TABLE + *DEFINE_CURVE.
+    Lsdyna,
+    /// The grid as CSV.
+    Csv,
+    /// A greybox surrogate table (JSON) with its maximum deviation from the law.
+    Table,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Law file, model file from `greybox fit`, or table.
+    #[arg(long)]
+    pub law: PathBuf,
+    #[arg(long, value_enum)]
+    pub format: Format,
+    /// Output file.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Pressures, MPa: MIN:MAX:N (equidistant) or a comma list.
+    #[arg(long = "pressure-MPa", default_value = "500:2500:21")]
+    pub pressure_mpa: String,
+    /// Sliding velocities, m/min: MIN:MAX:N or a comma list.
+    #[arg(long = "velocity-m-per-min", default_value = "10:300:30")]
+    pub velocity: String,
+    /// Temperatures, K: MIN:MAX:N or a comma list (omit for μ(p, v) only).
+    #[arg(long = "temperature-K")]
+    pub temperature: Option<String>,
+    /// Abaqus/LS-DYNA pressure unit (Pa or MPa).
+    #[arg(long, default_value = "MPa")]
+    pub pressure_unit: String,
+    /// Abaqus slip-rate / LS-DYNA velocity unit (m/s, mm/s, m/min).
+    #[arg(long, default_value = "mm/s")]
+    pub speed_unit: String,
+    /// Abaqus temperature unit (K or C).
+    #[arg(long, default_value = "C")]
+    pub temperature_unit: String,
+    /// Abaqus TAUMAX (limiting shear stress), MPa.
+    #[arg(long = "taumax-MPa")]
+    pub taumax_mpa: Option<f64>,
+    /// DEFORM: JSON list of windows {points_mm, pressure_mpa, velocity_m_per_min, temperature_k}.
+    #[arg(long)]
+    pub deform_windows: Option<PathBuf>,
+    /// DEFORM: sliding velocity at which the FRCFAC p-T table is evaluated, m/min.
+    #[arg(long, default_value_t = 150.0)]
+    pub deform_reference_velocity_m_per_min: f64,
+    /// DEFORM: object numbers (tool, workpiece).
+    #[arg(long, value_delimiter = ',', default_value = "2,1")]
+    pub deform_objects: Vec<u32>,
+    /// LS-DYNA table id (curves take the following ids).
+    #[arg(long, default_value_t = 1000)]
+    pub lsdyna_table_id: u32,
+    /// Table: random points for the deviation check.
+    #[arg(long, default_value_t = 100_000)]
+    pub check_points: usize,
+}
+
+/// Parse `MIN:MAX:N` or a comma list.
+pub fn parse_values(text: &str, what: &str) -> Result<Vec<f64>> {
+    let nums = |s: &str| -> Result<f64> {
+        let v: f64 = s
+            .trim()
+            .parse()
+            .with_context(|| format!("{what}: '{s}' is not a number"))?;
+        if !v.is_finite() {
+            bail!("{what}: '{s}' is not finite");
+        }
+        Ok(v)
+    };
+    let parts: Vec<&str> = text.split(':').collect();
+    if parts.len() == 3 {
+        let (a, b) = (nums(parts[0])?, nums(parts[1])?);
+        let n: usize = parts[2]
+            .trim()
+            .parse()
+            .with_context(|| format!("{what}: count '{}' is not an integer", parts[2]))?;
+        if n < 2 || !(b > a) {
+            bail!("{what}: MIN:MAX:N needs MIN < MAX and N ≥ 2");
+        }
+        return Ok((0..n)
+            .map(|i| a + (b - a) * i as f64 / (n - 1) as f64)
+            .collect());
+    }
+    text.split(',').map(nums).collect()
+}
+
+fn units(a: &Args) -> Result<Units> {
+    Ok(Units {
+        pressure: match a.pressure_unit.as_str() {
+            "Pa" => PressureUnit::Pa,
+            "MPa" => PressureUnit::MPa,
+            o => bail!("unknown pressure unit '{o}'; expected Pa or MPa"),
+        },
+        speed: match a.speed_unit.as_str() {
+            "m/s" => SpeedUnit::MPerS,
+            "mm/s" => SpeedUnit::MmPerS,
+            "m/min" => SpeedUnit::MPerMin,
+            o => bail!("unknown speed unit '{o}'; expected m/s, mm/s or m/min"),
+        },
+        temperature: match a.temperature_unit.as_str() {
+            "K" => TempUnit::K,
+            "C" => TempUnit::C,
+            o => bail!("unknown temperature unit '{o}'; expected K or C"),
+        },
+    })
+}
+
+/// Export; returns a one-line description.
+pub fn export(a: &Args) -> Result<String> {
+    let law = load_law(&a.law)?;
+    let grid = Grid {
+        pressure_pa: parse_values(&a.pressure_mpa, "--pressure-MPa")?
+            .iter()
+            .map(|p| p * 1e6)
+            .collect(),
+        velocity_m_s: parse_values(&a.velocity, "--velocity-m-per-min")?
+            .iter()
+            .map(|v| v / 60.0)
+            .collect(),
+        temperature_k: a
+            .temperature
+            .as_deref()
+            .map(|t| parse_values(t, "--temperature-K"))
+            .transpose()?,
+    };
+    grid.validate()?;
+    let (text, note) = match a.format {
+        Format::Abaqus => (
+            export::abaqus(
+                law.as_ref(),
+                &grid,
+                units(a)?,
+                a.taumax_mpa.map(|t| t * 1e6),
+            )?,
+            String::new(),
+        ),
+        Format::Lsdyna => (
+            export::lsdyna(law.as_ref(), &grid, units(a)?, a.lsdyna_table_id)?,
+            String::new(),
+        ),
+        Format::Csv => (export::csv(law.as_ref(), &grid)?, String::new()),
+        Format::Deform => {
+            let windows: Vec<DeformWindow> = match &a.deform_windows {
+                Some(p) => serde_json::from_str(
+                    &std::fs::read_to_string(p)
+                        .with_context(|| format!("cannot read {}", p.display()))?,
+                )
+                .with_context(|| format!("{}: expected a JSON list of windows", p.display()))?,
+                None => Vec::new(),
+            };
+            if a.deform_objects.len() != 2 {
+                bail!("--deform-objects takes two object numbers");
+            }
+            let objs = (a.deform_objects[0], a.deform_objects[1]);
+            (
+                export::deform(
+                    law.as_ref(),
+                    &grid,
+                    a.deform_reference_velocity_m_per_min / 60.0,
+                    &windows,
+                    objs,
+                )?,
+                format!(", {} windows", windows.len()),
+            )
+        }
+        Format::Table => {
+            let axis = |v: &[f64], what: &str| -> Result<Axis> {
+                let n = v.len();
+                let ax = Axis::new(v[0], v[n - 1], n)?;
+                if v.iter()
+                    .enumerate()
+                    .any(|(i, x)| (x - ax.value(i)).abs() > 1e-9 * x.abs().max(1.0))
+                {
+                    bail!("{what}: a surrogate table needs equidistant values (MIN:MAX:N)");
+                }
+                Ok(ax)
+            };
+            let t_axis = grid
+                .temperature_k
+                .as_deref()
+                .map(|t| axis(t, "--temperature-K"))
+                .transpose()?;
+            let mut t = TabulatedLaw::bake(
+                law.as_ref(),
+                axis(&grid.pressure_pa, "--pressure-MPa")?,
+                axis(&grid.velocity_m_s, "--velocity-m-per-min")?,
+                t_axis,
+            );
+            let dev = t.check(law.as_ref(), a.check_points, 42);
+            (
+                serde_json::to_string(&t)?,
+                format!(
+                    ", max deviation from the law {dev:.3e} on {} random points",
+                    a.check_points
+                ),
+            )
+        }
+    };
+    write_string_atomic(&a.out, &text)?;
+    Ok(format!(
+        "exported {} as {:?} to {}{note}",
+        law.name(),
+        a.format,
+        a.out.display()
+    ))
+}
+
+pub fn run(a: Args) -> Result<()> {
+    println!("{}", export(&a)?);
+    Ok(())
+}
