@@ -1,0 +1,126 @@
+//! The evaluation path of the C ABI does not allocate: a counting global allocator sees zero
+//! allocations across thousands of batch calls (learned grey-box law and surrogate table).
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+struct Counting;
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        // SAFETY: forwarded to the system allocator with the caller's layout.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: forwarded to the system allocator.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn batch_evaluation_does_not_allocate() {
+    let dir = tempfile::tempdir().unwrap();
+    // a smooth learned model inside a grey-box law
+    let mut csv = String::from("hertz_pressure_MPa,sliding_velocity_m_per_min,mu\n");
+    for i in 0..8 {
+        for j in 0..8 {
+            let (p, v) = (900.0 + 180.0 * i as f64, 20.0 + 30.0 * j as f64);
+            csv.push_str(&format!(
+                "{p},{v},{}\n",
+                0.5 - 0.1 * (p - 900.0) / 1300.0 - 0.05 * (v / 250.0)
+            ));
+        }
+    }
+    let feats = vec![
+        "hertz_pressure_MPa".to_string(),
+        "sliding_velocity_m_per_min".to_string(),
+    ];
+    let data =
+        greybox_learn::table::read_dataset_from(csv.as_bytes(), "mem.csv", &feats, "mu", None)
+            .unwrap();
+    for family in [
+        greybox_learn::model::Family::Mlp,
+        greybox_learn::model::Family::GradientBoosting,
+        greybox_learn::model::Family::Svr,
+    ] {
+        let mut cfg = greybox_learn::protocol::FitConfig {
+            families: vec![family],
+            skip_nested: true,
+            bootstrap_resamples: 5,
+            importance_repeats: 1,
+            ..Default::default()
+        };
+        cfg.grid.mlp.hidden_layers = vec![vec![8, 4]];
+        cfg.grid.mlp.activation = vec![greybox_learn::mlp::Activation::Relu];
+        cfg.grid.mlp.learning_rate = vec![0.01];
+        cfg.grid.gradient_boosting.n_estimators = vec![50];
+        cfg.grid.gradient_boosting.max_depth = vec![3];
+        cfg.grid.gradient_boosting.learning_rate = vec![0.1];
+        cfg.grid.svr.kernel = vec![greybox_learn::svr::Kernel::Rbf];
+        cfg.grid.svr.c = vec![10.0];
+        cfg.grid.svr.epsilon = vec![0.01];
+        let model = greybox_learn::protocol::run_protocol(&data, &cfg)
+            .unwrap()
+            .1
+            .remove(0);
+        model.save(&dir.path().join("m.json")).unwrap();
+        std::fs::write(dir.path().join("law.json"), r#"{"law": "grey-box", "inner": {"law": "learned", "model": "m.json"}, "outside": {"law": "power-fit"}, "shear_cap_k_MPa": 600, "clamp": [0.05, 1.0]}"#).unwrap();
+        let path = std::ffi::CString::new(dir.path().join("law.json").to_str().unwrap()).unwrap();
+        let mut law = std::ptr::null_mut();
+        // SAFETY: valid C string and out pointer.
+        assert_eq!(
+            unsafe { greybox_ffi::greybox_law_load(path.as_ptr(), &mut law) },
+            greybox_ffi::GREYBOX_OK
+        );
+        let n = 256;
+        let p: Vec<f64> = (0..n).map(|i| 5e8 + 1e7 * i as f64).collect();
+        let v: Vec<f64> = (0..n).map(|i| 0.1 + 0.02 * i as f64).collect();
+        let t = vec![300.0; n];
+        let (mut mu, mut dp, mut dv, mut dt) =
+            (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let before = ALLOCS.load(Ordering::SeqCst);
+        for _ in 0..200 {
+            // SAFETY: arrays of n values, live handle.
+            let rc = unsafe {
+                greybox_ffi::greybox_law_mu(
+                    law,
+                    n,
+                    p.as_ptr(),
+                    v.as_ptr(),
+                    t.as_ptr(),
+                    mu.as_mut_ptr(),
+                )
+            };
+            assert_eq!(rc, greybox_ffi::GREYBOX_OK);
+            // SAFETY: as above.
+            let rc = unsafe {
+                greybox_ffi::greybox_law_mu_grad(
+                    law,
+                    n,
+                    p.as_ptr(),
+                    v.as_ptr(),
+                    t.as_ptr(),
+                    mu.as_mut_ptr(),
+                    dp.as_mut_ptr(),
+                    dv.as_mut_ptr(),
+                    dt.as_mut_ptr(),
+                )
+            };
+            assert_eq!(rc, greybox_ffi::GREYBOX_OK);
+        }
+        let after = ALLOCS.load(Ordering::SeqCst);
+        assert_eq!(
+            after - before,
+            0,
+            "{family:?}: {} allocations on the evaluation path",
+            after - before
+        );
+        // SAFETY: handle from greybox_law_load, freed once.
+        unsafe { greybox_ffi::greybox_law_free(law) };
+    }
+}
