@@ -8,6 +8,7 @@
 //! * [`error`] — one error type whose input errors name file, line/byte and field.
 //! * [`atomic`] — write-to-temp-then-rename output.
 //! * [`csvutil`] — strict numeric field parsing shared by every CSV reader.
+//! * [`plot`] — small self-contained SVG plots.
 //!
 //! SI units everywhere inside: Pa, m/s, N, K, s.
 
@@ -17,6 +18,7 @@ pub mod csvutil;
 pub mod dataset;
 pub mod error;
 pub mod law;
+pub mod plot;
 pub mod units;
 
 pub use contact::ContactState;

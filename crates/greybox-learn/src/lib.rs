@@ -23,11 +23,11 @@ pub mod metrics;
 pub mod mlp;
 pub mod model;
 pub mod modelfile;
-pub mod plot;
 pub mod protocol;
 pub mod svr;
 pub mod table;
 pub mod tree;
 
+pub use greybox_core::plot;
 pub use matrix::Matrix;
 pub use model::{FittedModel, Hyperparameters, Predictor};

@@ -8,6 +8,7 @@
 //! * [`identify`] — plateau detection and apparent COF identification.
 
 pub mod csv_recording;
+pub mod frf;
 pub mod gcode;
 pub mod hertz;
 pub mod identify;

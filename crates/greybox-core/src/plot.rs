@@ -1,5 +1,6 @@
 //! Minimal self-contained SVG plots (no fonts or system libraries needed): predicted vs
-//! measured scatter, and a μ surface as a heat map over two features.
+//! measured scatter, a μ surface as a heat map over two features, and line plots (linear or
+//! logarithmic y, with shaded x bands) for spectra.
 
 use std::fmt::Write as _;
 
@@ -206,4 +207,42 @@ fn colour(t: f64) -> String {
     let b = (255.0 * (1.0 - t)) as u8;
     let g = (255.0 * (1.0 - (2.0 * t - 1.0).abs()) * 0.8) as u8;
     format!("#{r:02x}{g:02x}{b:02x}")
+}
+
+/// One line of a line plot: label, colour, x and y values.
+pub struct Line<'a> {
+    pub label: &'a str,
+    pub colour: &'a str,
+    pub x: &'a [f64],
+    pub y: &'a [f64],
+}
+
+/// Line plot; `log_y` plots log10(y) (non-positive values are skipped); `bands` are shaded
+/// x ranges with a label (e.g. an excitation band).
+pub fn lines(title: &str, x_label: &str, y_label: &str, series: &[Line], log_y: bool, bands: &[(f64, f64, &str)]) -> String {
+    let ty = |v: f64| if log_y { if v > 0.0 { Some(v.log10()) } else { None } } else { Some(v) };
+    let xr = range(series.iter().flat_map(|l| l.x.iter().copied()));
+    let yr = range(series.iter().flat_map(|l| l.y.iter().filter_map(|v| ty(*v))));
+    let mut svg = String::new();
+    let yl = if log_y { format!("log10 {y_label}") } else { y_label.to_string() };
+    frame(&mut svg, title, x_label, &yl, xr, yr);
+    for (a, b, label) in bands {
+        let (x0, x1) = (sx(a.max(xr.0), xr), sx(b.min(xr.1), xr));
+        if x1 > x0 {
+            let _ = write!(svg, r#"<rect x="{x0:.1}" y="{MT}" width="{:.1}" height="{}" fill="orange" fill-opacity="0.25"/><text x="{:.1}" y="{}" font-size="10">{label}</text>"#, x1 - x0, H - MT - MB, x0 + 2.0, MT + 12.0);
+        }
+    }
+    for (k, l) in series.iter().enumerate() {
+        let pts: Vec<String> = l
+            .x
+            .iter()
+            .zip(l.y.iter())
+            .filter_map(|(x, y)| ty(*y).map(|v| format!("{:.1},{:.1}", sx(*x, xr), sy(v, yr))))
+            .collect();
+        let _ = write!(svg, r#"<polyline fill="none" stroke="{}" stroke-width="1.2" points="{}"/>"#, l.colour, pts.join(" "));
+        let ly = MT + 16.0 + 16.0 * k as f64;
+        let _ = write!(svg, r#"<line x1="{}" y1="{ly}" x2="{}" y2="{ly}" stroke="{}" stroke-width="2"/><text x="{}" y="{}">{}</text>"#, W - MR - 150.0, W - MR - 130.0, l.colour, W - MR - 125.0, ly + 4.0, l.label);
+    }
+    svg.push_str("</svg>\n");
+    svg
 }
