@@ -219,29 +219,74 @@ pub struct Line<'a> {
 
 /// Line plot; `log_y` plots log10(y) (non-positive values are skipped); `bands` are shaded
 /// x ranges with a label (e.g. an excitation band).
-pub fn lines(title: &str, x_label: &str, y_label: &str, series: &[Line], log_y: bool, bands: &[(f64, f64, &str)]) -> String {
-    let ty = |v: f64| if log_y { if v > 0.0 { Some(v.log10()) } else { None } } else { Some(v) };
+pub fn lines(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Line],
+    log_y: bool,
+    bands: &[(f64, f64, &str)],
+) -> String {
+    let ty = |v: f64| {
+        if log_y {
+            if v > 0.0 {
+                Some(v.log10())
+            } else {
+                None
+            }
+        } else {
+            Some(v)
+        }
+    };
     let xr = range(series.iter().flat_map(|l| l.x.iter().copied()));
-    let yr = range(series.iter().flat_map(|l| l.y.iter().filter_map(|v| ty(*v))));
+    let yr = range(
+        series
+            .iter()
+            .flat_map(|l| l.y.iter().filter_map(|v| ty(*v))),
+    );
     let mut svg = String::new();
-    let yl = if log_y { format!("log10 {y_label}") } else { y_label.to_string() };
+    let yl = if log_y {
+        format!("log10 {y_label}")
+    } else {
+        y_label.to_string()
+    };
     frame(&mut svg, title, x_label, &yl, xr, yr);
     for (a, b, label) in bands {
         let (x0, x1) = (sx(a.max(xr.0), xr), sx(b.min(xr.1), xr));
         if x1 > x0 {
-            let _ = write!(svg, r#"<rect x="{x0:.1}" y="{MT}" width="{:.1}" height="{}" fill="orange" fill-opacity="0.25"/><text x="{:.1}" y="{}" font-size="10">{label}</text>"#, x1 - x0, H - MT - MB, x0 + 2.0, MT + 12.0);
+            let _ = write!(
+                svg,
+                r#"<rect x="{x0:.1}" y="{MT}" width="{:.1}" height="{}" fill="orange" fill-opacity="0.25"/><text x="{:.1}" y="{}" font-size="10">{label}</text>"#,
+                x1 - x0,
+                H - MT - MB,
+                x0 + 2.0,
+                MT + 12.0
+            );
         }
     }
     for (k, l) in series.iter().enumerate() {
-        let pts: Vec<String> = l
-            .x
-            .iter()
-            .zip(l.y.iter())
-            .filter_map(|(x, y)| ty(*y).map(|v| format!("{:.1},{:.1}", sx(*x, xr), sy(v, yr))))
-            .collect();
-        let _ = write!(svg, r#"<polyline fill="none" stroke="{}" stroke-width="1.2" points="{}"/>"#, l.colour, pts.join(" "));
+        let pts: Vec<String> =
+            l.x.iter()
+                .zip(l.y.iter())
+                .filter_map(|(x, y)| ty(*y).map(|v| format!("{:.1},{:.1}", sx(*x, xr), sy(v, yr))))
+                .collect();
+        let _ = write!(
+            svg,
+            r#"<polyline fill="none" stroke="{}" stroke-width="1.2" points="{}"/>"#,
+            l.colour,
+            pts.join(" ")
+        );
         let ly = MT + 16.0 + 16.0 * k as f64;
-        let _ = write!(svg, r#"<line x1="{}" y1="{ly}" x2="{}" y2="{ly}" stroke="{}" stroke-width="2"/><text x="{}" y="{}">{}</text>"#, W - MR - 150.0, W - MR - 130.0, l.colour, W - MR - 125.0, ly + 4.0, l.label);
+        let _ = write!(
+            svg,
+            r#"<line x1="{}" y1="{ly}" x2="{}" y2="{ly}" stroke="{}" stroke-width="2"/><text x="{}" y="{}">{}</text>"#,
+            W - MR - 150.0,
+            W - MR - 130.0,
+            l.colour,
+            W - MR - 125.0,
+            ly + 4.0,
+            l.label
+        );
     }
     svg.push_str("</svg>\n");
     svg

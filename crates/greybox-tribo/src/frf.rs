@@ -119,17 +119,31 @@ fn err(src: &str, msg: impl Into<String>) -> Error {
 }
 
 /// Find and validate the impacts of a recording; returns the record start indices.
-pub fn find_impacts(rec: &ImpactRecording, cfg: &ImpactConfig) -> Result<(Vec<usize>, Vec<Rejected>)> {
+pub fn find_impacts(
+    rec: &ImpactRecording,
+    cfg: &ImpactConfig,
+) -> Result<(Vec<usize>, Vec<Rejected>)> {
     let fs = rec.sample_rate_hz;
     if !(fs > 0.0) || rec.hammer.len() != rec.response.len() || rec.hammer.is_empty() {
         return Err(err(&rec.source, "hammer and response need the same, non-zero number of samples and a positive sample rate"));
     }
-    if let Some(i) = rec.hammer.iter().chain(&rec.response).position(|v| !v.is_finite()) {
-        return Err(err(&rec.source, format!("sample {} is not finite", i % rec.hammer.len())));
+    if let Some(i) = rec
+        .hammer
+        .iter()
+        .chain(&rec.response)
+        .position(|v| !v.is_finite())
+    {
+        return Err(err(
+            &rec.source,
+            format!("sample {} is not finite", i % rec.hammer.len()),
+        ));
     }
     let peak = rec.hammer.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     if peak == 0.0 {
-        return Err(err(&rec.source, "no impact found: the hammer channel is zero"));
+        return Err(err(
+            &rec.source,
+            "no impact found: the hammer channel is zero",
+        ));
     }
     let thr = cfg.trigger_fraction * peak;
     let block = (cfg.block_s * fs).round() as usize;
@@ -144,20 +158,38 @@ pub fn find_impacts(rec: &ImpactRecording, cfg: &ImpactConfig) -> Result<(Vec<us
             let t = i as f64 / fs;
             let start = i.saturating_sub(pre);
             if start + block > n {
-                rejected.push(Rejected { time_s: t, reason: "record runs past the end of the file".into() });
+                rejected.push(Rejected {
+                    time_s: t,
+                    reason: "record runs past the end of the file".into(),
+                });
                 break;
             }
             // pulse: from the trigger until the force falls below 5 % of the local peak
             let seg = &rec.hammer[i..(i + fw).min(n)];
             let local = seg.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let held = seg.windows(3).any(|w| w.iter().all(|v| (v.abs() - local).abs() <= 1e-12 * local.max(1.0)));
+            let held = seg.windows(3).any(|w| {
+                w.iter()
+                    .all(|v| (v.abs() - local).abs() <= 1e-12 * local.max(1.0))
+            });
             let clipped = cfg.clip_level.is_some_and(|c| local >= c);
-            let end_pulse = seg.iter().position(|v| v.abs() < 0.05 * local).map(|k| i + k).unwrap_or(i + seg.len());
-            let double = rec.hammer[end_pulse..(start + block).min(n)].iter().any(|v| v.abs() >= thr);
+            let end_pulse = seg
+                .iter()
+                .position(|v| v.abs() < 0.05 * local)
+                .map(|k| i + k)
+                .unwrap_or(i + seg.len());
+            let double = rec.hammer[end_pulse..(start + block).min(n)]
+                .iter()
+                .any(|v| v.abs() >= thr);
             if held || clipped {
-                rejected.push(Rejected { time_s: t, reason: "overload: the hammer signal is clipped".into() });
+                rejected.push(Rejected {
+                    time_s: t,
+                    reason: "overload: the hammer signal is clipped".into(),
+                });
             } else if double {
-                rejected.push(Rejected { time_s: t, reason: "double hit within the record".into() });
+                rejected.push(Rejected {
+                    time_s: t,
+                    reason: "double hit within the record".into(),
+                });
             } else {
                 starts.push(start);
             }
@@ -167,7 +199,18 @@ pub fn find_impacts(rec: &ImpactRecording, cfg: &ImpactConfig) -> Result<(Vec<us
         i += 1;
     }
     if starts.is_empty() {
-        let why = if rejected.is_empty() { "no impact found".to_string() } else { format!("no usable impact: {}", rejected.iter().map(|r| format!("{:.3} s {}", r.time_s, r.reason)).collect::<Vec<_>>().join("; ")) };
+        let why = if rejected.is_empty() {
+            "no impact found".to_string()
+        } else {
+            format!(
+                "no usable impact: {}",
+                rejected
+                    .iter()
+                    .map(|r| format!("{:.3} s {}", r.time_s, r.reason))
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            )
+        };
         return Err(err(&rec.source, why));
     }
     Ok((starts, rejected))
@@ -175,25 +218,53 @@ pub fn find_impacts(rec: &ImpactRecording, cfg: &ImpactConfig) -> Result<(Vec<us
 
 /// H1, H2 and coherence over all usable impacts of the recordings (same sample rate).
 pub fn estimate(recs: &[ImpactRecording], cfg: &ImpactConfig) -> Result<Frf> {
-    let fs = recs.first().ok_or_else(|| Error::invalid("FRF", "no recordings"))?.sample_rate_hz;
-    if let Some(r) = recs.iter().find(|r| (r.sample_rate_hz - fs).abs() > 1e-9 * fs) {
-        return Err(err(&r.source, format!("sample rate {} Hz differs from {} Hz of the first recording", r.sample_rate_hz, fs)));
+    let fs = recs
+        .first()
+        .ok_or_else(|| Error::invalid("FRF", "no recordings"))?
+        .sample_rate_hz;
+    if let Some(r) = recs
+        .iter()
+        .find(|r| (r.sample_rate_hz - fs).abs() > 1e-9 * fs)
+    {
+        return Err(err(
+            &r.source,
+            format!(
+                "sample rate {} Hz differs from {} Hz of the first recording",
+                r.sample_rate_hz, fs
+            ),
+        ));
     }
-    if !(cfg.exponential_end > 0.0 && cfg.exponential_end <= 1.0) || !(cfg.block_s > 0.0) || cfg.zero_pad == 0 {
-        return Err(Error::invalid("FRF", "exponential_end must be in (0, 1], block_s > 0, zero_pad ≥ 1"));
+    if !(cfg.exponential_end > 0.0 && cfg.exponential_end <= 1.0)
+        || !(cfg.block_s > 0.0)
+        || cfg.zero_pad == 0
+    {
+        return Err(Error::invalid(
+            "FRF",
+            "exponential_end must be in (0, 1], block_s > 0, zero_pad ≥ 1",
+        ));
     }
     let block = (cfg.block_s * fs).round() as usize;
     let pre = (cfg.pretrigger_s * fs).round() as usize;
     let fw = ((cfg.force_window_s * fs).round() as usize).max(1);
-    let tau = if cfg.exponential_end < 1.0 { cfg.block_s / (1.0 / cfg.exponential_end).ln() } else { f64::INFINITY };
-    let w: Vec<f64> = (0..block).map(|k| (-((k as f64) / fs) / tau).exp()).collect();
+    let tau = if cfg.exponential_end < 1.0 {
+        cfg.block_s / (1.0 / cfg.exponential_end).ln()
+    } else {
+        f64::INFINITY
+    };
+    let w: Vec<f64> = (0..block)
+        .map(|k| (-((k as f64) / fs) / tau).exp())
+        .collect();
     let mut planner = RealFftPlanner::<f64>::new();
     let fft = planner.plan_fft_forward(block);
     let nfine = block * cfg.zero_pad;
     let fft_fine = planner.plan_fft_forward(nfine);
     let nf = block / 2 + 1;
     let nff = nfine / 2 + 1;
-    let (mut gff, mut gyy, mut gfy) = (vec![0.0; nf], vec![0.0; nf], vec![Complex64::new(0.0, 0.0); nf]);
+    let (mut gff, mut gyy, mut gfy) = (
+        vec![0.0; nf],
+        vec![0.0; nf],
+        vec![Complex64::new(0.0, 0.0); nf],
+    );
     let (mut gff_f, mut gfy_f) = (vec![0.0; nff], vec![Complex64::new(0.0, 0.0); nff]);
     let mut used = 0;
     let mut rejected = Vec::new();
@@ -211,17 +282,27 @@ pub fn estimate(recs: &[ImpactRecording], cfg: &ImpactConfig) -> Result<Frf> {
         for s in starts {
             for k in 0..block {
                 let force_kept = k < pre + fw;
-                xf[k] = if force_kept { rec.hammer[s + k] * w[k] } else { 0.0 };
+                xf[k] = if force_kept {
+                    rec.hammer[s + k] * w[k]
+                } else {
+                    0.0
+                };
                 xy[k] = rec.response[s + k] * w[k];
             }
             pf[..block].copy_from_slice(&xf);
             py[..block].copy_from_slice(&xy);
             pf[block..].iter_mut().for_each(|v| *v = 0.0);
             py[block..].iter_mut().for_each(|v| *v = 0.0);
-            fft.process(&mut xf, &mut sf).map_err(|e| Error::invalid("FFT", e.to_string()))?;
-            fft.process(&mut xy, &mut sy).map_err(|e| Error::invalid("FFT", e.to_string()))?;
-            fft_fine.process(&mut pf, &mut sff).map_err(|e| Error::invalid("FFT", e.to_string()))?;
-            fft_fine.process(&mut py, &mut sfy).map_err(|e| Error::invalid("FFT", e.to_string()))?;
+            fft.process(&mut xf, &mut sf)
+                .map_err(|e| Error::invalid("FFT", e.to_string()))?;
+            fft.process(&mut xy, &mut sy)
+                .map_err(|e| Error::invalid("FFT", e.to_string()))?;
+            fft_fine
+                .process(&mut pf, &mut sff)
+                .map_err(|e| Error::invalid("FFT", e.to_string()))?;
+            fft_fine
+                .process(&mut py, &mut sfy)
+                .map_err(|e| Error::invalid("FFT", e.to_string()))?;
             for k in 0..nf {
                 gff[k] += sf[k].norm_sqr();
                 gyy[k] += sy[k].norm_sqr();
@@ -235,15 +316,62 @@ pub fn estimate(recs: &[ImpactRecording], cfg: &ImpactConfig) -> Result<Frf> {
         }
     }
     let df = fs / block as f64;
-    let h1: Vec<Complex64Ser> = (0..nf).map(|k| Complex64Ser(if gff[k] > 0.0 { gfy[k] / gff[k] } else { Complex64::new(0.0, 0.0) })).collect();
-    let h2: Vec<Complex64Ser> =
-        (0..nf).map(|k| Complex64Ser(if gfy[k].norm() > 0.0 { Complex64::new(gyy[k], 0.0) / gfy[k].conj() } else { Complex64::new(0.0, 0.0) })).collect();
-    let coherence: Vec<f64> = (0..nf).map(|k| if gff[k] * gyy[k] > 0.0 { gfy[k].norm_sqr() / (gff[k] * gyy[k]) } else { 0.0 }).collect();
+    let h1: Vec<Complex64Ser> = (0..nf)
+        .map(|k| {
+            Complex64Ser(if gff[k] > 0.0 {
+                gfy[k] / gff[k]
+            } else {
+                Complex64::new(0.0, 0.0)
+            })
+        })
+        .collect();
+    let h2: Vec<Complex64Ser> = (0..nf)
+        .map(|k| {
+            Complex64Ser(if gfy[k].norm() > 0.0 {
+                Complex64::new(gyy[k], 0.0) / gfy[k].conj()
+            } else {
+                Complex64::new(0.0, 0.0)
+            })
+        })
+        .collect();
+    let coherence: Vec<f64> = (0..nf)
+        .map(|k| {
+            if gff[k] * gyy[k] > 0.0 {
+                gfy[k].norm_sqr() / (gff[k] * gyy[k])
+            } else {
+                0.0
+            }
+        })
+        .collect();
     let dff = fs / nfine as f64;
-    let fine: Vec<(f64, f64)> = (0..nff).map(|k| (k as f64 * dff, if gff_f[k] > 0.0 { (gfy_f[k] / gff_f[k]).norm() } else { 0.0 })).collect();
+    let fine: Vec<(f64, f64)> = (0..nff)
+        .map(|k| {
+            (
+                k as f64 * dff,
+                if gff_f[k] > 0.0 {
+                    (gfy_f[k] / gff_f[k]).norm()
+                } else {
+                    0.0
+                },
+            )
+        })
+        .collect();
     let g0 = gff[1.min(nf - 1)];
-    let usable_max_hz = (1..nf).find(|&k| gff[k] < 0.01 * g0).map(|k| k as f64 * df).unwrap_or(fs / 2.0);
-    Ok(Frf { frequency_hz: (0..nf).map(|k| k as f64 * df).collect(), h1, h2, coherence, impacts_used: used, rejected, tau_s: tau, usable_max_hz, fine })
+    let usable_max_hz = (1..nf)
+        .find(|&k| gff[k] < 0.01 * g0)
+        .map(|k| k as f64 * df)
+        .unwrap_or(fs / 2.0);
+    Ok(Frf {
+        frequency_hz: (0..nf).map(|k| k as f64 * df).collect(),
+        h1,
+        h2,
+        coherence,
+        impacts_used: used,
+        rejected,
+        tau_s: tau,
+        usable_max_hz,
+        fine,
+    })
 }
 
 impl Frf {
@@ -254,14 +382,22 @@ impl Frf {
         let mut peaks = Vec::new();
         for k in 1..f.len().saturating_sub(1) {
             let (fk, m) = f[k];
-            if fk < cfg.min_frequency_hz || fk > 0.8 * nyq || fk > self.usable_max_hz || !(m > f[k - 1].1 && m >= f[k + 1].1) {
+            if fk < cfg.min_frequency_hz
+                || fk > 0.8 * nyq
+                || fk > self.usable_max_hz
+                || !(m > f[k - 1].1 && m >= f[k + 1].1)
+            {
                 continue;
             }
             let half = m / std::f64::consts::SQRT_2;
             let left = (0..k).rev().find(|&j| f[j].1 < half);
             let right = (k + 1..f.len()).find(|&j| f[j].1 < half);
-            let (Some(l), Some(r)) = (left, right) else { continue };
-            let interp = |a: usize, b: usize| f[a].0 + (half - f[a].1) / (f[b].1 - f[a].1) * (f[b].0 - f[a].0);
+            let (Some(l), Some(r)) = (left, right) else {
+                continue;
+            };
+            let interp = |a: usize, b: usize| {
+                f[a].0 + (half - f[a].1) / (f[b].1 - f[a].1) * (f[b].0 - f[a].0)
+            };
             let (f1, f2) = (interp(l, l + 1), interp(r - 1, r));
             // a genuine resonance is a peak of its own half-power band
             if (l..=r).any(|j| f[j].1 > m) {
@@ -269,7 +405,12 @@ impl Frf {
             }
             let zm = (f2 - f1) / (2.0 * fk);
             let wn = 2.0 * std::f64::consts::PI * fk;
-            peaks.push(Resonance { frequency_hz: fk, magnitude: m, damping_measured: zm, damping: zm - 1.0 / (self.tau_s * wn) });
+            peaks.push(Resonance {
+                frequency_hz: fk,
+                magnitude: m,
+                damping_measured: zm,
+                damping: zm - 1.0 / (self.tau_s * wn),
+            });
         }
         peaks.sort_by(|a, b| b.magnitude.total_cmp(&a.magnitude));
         peaks.truncate(max_count);
@@ -291,13 +432,29 @@ pub struct ExcitationCheck {
 }
 
 /// Compare the lowest resonance with the plan's excitation frequencies.
-pub fn excitation_check(resonances: &[Resonance], plan: &crate::plan::Plan, harmonics: usize) -> Result<ExcitationCheck> {
-    let first = resonances.iter().map(|r| r.frequency_hz).fold(f64::INFINITY, f64::min);
+pub fn excitation_check(
+    resonances: &[Resonance],
+    plan: &crate::plan::Plan,
+    harmonics: usize,
+) -> Result<ExcitationCheck> {
+    let first = resonances
+        .iter()
+        .map(|r| r.frequency_hz)
+        .fold(f64::INFINITY, f64::min);
     if !first.is_finite() {
-        return Err(Error::invalid("excitation check", "no resonance found in the FRF"));
+        return Err(Error::invalid(
+            "excitation check",
+            "no resonance found in the FRF",
+        ));
     }
     let max_rpm = plan.steps.iter().map(|s| s.spindle_rpm).fold(0.0, f64::max);
     let max_exc = max_rpm / 60.0 * harmonics.max(1) as f64;
     let ratio = first / max_exc;
-    Ok(ExcitationCheck { first_resonance_hz: first, max_excitation_hz: max_exc, harmonics, ratio, pass: ratio >= 10.0 })
+    Ok(ExcitationCheck {
+        first_resonance_hz: first,
+        max_excitation_hz: max_exc,
+        harmonics,
+        ratio,
+        pass: ratio >= 10.0,
+    })
 }

@@ -9,6 +9,7 @@
 
 pub mod csv_recording;
 pub mod frf;
+pub mod frf_synth;
 pub mod gcode;
 pub mod hertz;
 pub mod identify;
@@ -18,3 +19,4 @@ pub mod recording;
 pub mod signal;
 pub mod synth;
 pub mod tdms;
+pub mod wear;
