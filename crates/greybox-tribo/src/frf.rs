@@ -13,7 +13,8 @@
 //!    G_fy = ⟨F* Y⟩; H1 = G_fy / G_ff (unbiased for noise on the response), H2 = G_yy / G_yf
 //!    (unbiased for noise on the force), coherence γ² = |G_fy|² / (G_ff G_yy).
 //! 4. **Resonances**: local maxima of |H1| (on a zero-padded, interpolated spectrum) inside the
-//!    usable band (force spectrum within 20 dB of its low-frequency level), damping
+//!    usable band (force spectrum within 20 dB of its low-frequency level) with coherence
+//!    ≥ 0.9 and at least 6 dB above the local median, damping
 //!    from the half-power (−3 dB) bandwidth ζ = (f₂ − f₁) / (2 f_n), then the window correction.
 
 use greybox_core::{Error, Result, SourcePos};
@@ -234,9 +235,10 @@ pub fn estimate(recs: &[ImpactRecording], cfg: &ImpactConfig) -> Result<Frf> {
             ),
         ));
     }
-    if !(cfg.exponential_end > 0.0 && cfg.exponential_end <= 1.0)
-        || !(cfg.block_s > 0.0)
-        || cfg.zero_pad == 0
+    if !(cfg.exponential_end > 0.0
+        && cfg.exponential_end <= 1.0
+        && cfg.block_s > 0.0
+        && cfg.zero_pad > 0)
     {
         return Err(Error::invalid(
             "FRF",
@@ -399,8 +401,24 @@ impl Frf {
                 f[a].0 + (half - f[a].1) / (f[b].1 - f[a].1) * (f[b].0 - f[a].0)
             };
             let (f1, f2) = (interp(l, l + 1), interp(r - 1, r));
-            // a genuine resonance is a peak of its own half-power band
+            // a genuine resonance is a peak of its own half-power band, measured coherently
             if (l..=r).any(|j| f[j].1 > m) {
+                continue;
+            }
+            // prominence: at least 6 dB above the median |H1| within ±20 % of the frequency
+            let mut around: Vec<f64> = f
+                .iter()
+                .filter(|p| (p.0 - fk).abs() <= 0.2 * fk)
+                .map(|p| p.1)
+                .collect();
+            let mid = around.len() / 2;
+            let (_, med, _) = around.select_nth_unstable_by(mid, f64::total_cmp);
+            if m < 2.0 * *med {
+                continue;
+            }
+            let df = self.frequency_hz.get(1).copied().unwrap_or(1.0);
+            let kc = ((fk / df).round() as usize).min(self.coherence.len().saturating_sub(1));
+            if self.coherence.get(kc).is_none_or(|c| *c < 0.9) {
                 continue;
             }
             let zm = (f2 - f1) / (2.0 * fk);

@@ -75,9 +75,10 @@ impl Chain {
         for k in 0..n {
             for i in k + 1..n {
                 let f = div(a[i][k], a[k][k]);
-                for j in k..n {
-                    let t = mul(f, a[k][j]);
-                    a[i][j] = (a[i][j].0 - t.0, a[i][j].1 - t.1);
+                let pivot_row = a[k].clone();
+                for (aij, akj) in a[i].iter_mut().zip(pivot_row).skip(k) {
+                    let t = mul(f, akj);
+                    *aij = (aij.0 - t.0, aij.1 - t.1);
                 }
                 let t = mul(f, b[k]);
                 b[i] = (b[i].0 - t.0, b[i].1 - t.1);
@@ -96,21 +97,23 @@ impl Chain {
     }
 
     /// Hammer and response recordings at `fs`: impacts of `amps` (N) every `period_s`, each a
-    /// 3 ms half-sine starting 20 ms into its period; white noise of standard deviation
-    /// `noise_y` (m) on the response; seeded.
+    /// half-sine of `pulse_s` starting 20 ms into its period (a harder hammer tip gives a
+    /// shorter pulse and a wider usable band, ≈ 1.3 / pulse_s); white noise of standard
+    /// deviation `noise_y` (m) on the response; seeded.
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         fs: f64,
         period_s: f64,
         amps: &[f64],
+        pulse_s: f64,
         noise_y: f64,
         seed: u64,
     ) -> ImpactRecording {
         let sub = 10;
         let n_samples = (period_s * amps.len() as f64 * fs) as usize + (0.05 * fs) as usize;
         let dt = 1.0 / fs / sub as f64;
-        let pulse = 3e-3;
+        let pulse = pulse_s;
         let force = |t: f64| {
             let k = (t / period_s).floor() as usize;
             let tl = t - k as f64 * period_s - 0.02;

@@ -14,7 +14,7 @@ fn sdof_without_noise() {
         block_s: 2.0,
         ..Default::default()
     };
-    let rec = sdof().record(10000.0, 2.2, &[100.0, 80.0, 120.0], 0.0, 1);
+    let rec = sdof().record(10000.0, 2.2, &[100.0, 80.0, 120.0], 3e-3, 0.0, 1);
     let frf = estimate(&[rec], &cfg).unwrap();
     assert_eq!(frf.impacts_used, 3);
     let df = frf.frequency_hz[1];
@@ -69,9 +69,9 @@ fn noise_on_the_response_two_dof() {
         k: vec![w1 * w1, w2 * w2],
         c: vec![2.0 * 0.01 * w1, 2.0 * 0.01 * w2],
     };
-    let clean = sys.record(10000.0, 2.2, &[100.0; 12], 0.0, 3);
+    let clean = sys.record(10000.0, 2.2, &[100.0; 12], 3e-3, 0.0, 3);
     let peak_y = clean.response.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let noisy = sys.record(10000.0, 2.2, &[100.0; 12], 0.01 * peak_y, 3);
+    let noisy = sys.record(10000.0, 2.2, &[100.0; 12], 3e-3, 0.01 * peak_y, 3);
     let cfg = ImpactConfig {
         block_s: 2.0,
         exponential_end: 0.05,
@@ -121,7 +121,7 @@ fn noise_on_the_response_two_dof() {
 #[test]
 fn bad_impact_recordings() {
     let cfg = ImpactConfig::default();
-    let mut rec = sdof().record(10000.0, 1.2, &[100.0, 100.0], 0.0, 1);
+    let mut rec = sdof().record(10000.0, 1.2, &[100.0, 100.0], 3e-3, 0.0, 1);
     // clipped: flatten the first pulse top
     let peak = rec.hammer.iter().cloned().fold(0.0, f64::max);
     for v in rec.hammer.iter_mut() {
@@ -144,7 +144,7 @@ fn bad_impact_recordings() {
     let e = find_impacts(&zero, &cfg).unwrap_err().to_string();
     assert!(e.contains("z.csv") && e.contains("no impact found"), "{e}");
     // double hit: a second tap 50 ms after the first
-    let mut dbl = sdof().record(10000.0, 1.2, &[100.0], 0.0, 1);
+    let mut dbl = sdof().record(10000.0, 1.2, &[100.0], 3e-3, 0.0, 1);
     let i0 = dbl.hammer.iter().position(|v| *v > 10.0).unwrap();
     for k in 0..5 {
         dbl.hammer[i0 + 500 + k] = 50.0;
@@ -152,7 +152,7 @@ fn bad_impact_recordings() {
     let e = find_impacts(&dbl, &cfg).unwrap_err().to_string();
     assert!(e.contains("double hit"), "{e}");
     // mismatched sampling rates
-    let a = sdof().record(10000.0, 1.2, &[100.0], 0.0, 1);
+    let a = sdof().record(10000.0, 1.2, &[100.0], 3e-3, 0.0, 1);
     let mut b = a.clone();
     b.sample_rate_hz = 4000.0;
     b.source = "b.csv".into();

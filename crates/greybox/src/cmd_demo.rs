@@ -2,7 +2,9 @@
 
 use crate::output::print_json;
 use crate::study::{Study, DEMO_STUDY};
-use crate::{cmd_adhesive, cmd_export, cmd_fit, cmd_identify, cmd_plan, cmd_synth};
+use crate::{
+    cmd_adhesive, cmd_characterize, cmd_export, cmd_fit, cmd_identify, cmd_plan, cmd_synth,
+};
 use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
 use greybox_tribo::recording::RecordingFormat;
@@ -28,6 +30,8 @@ struct DemoSummary {
     fit: greybox_learn::protocol::FitReport,
     fit_outputs: cmd_fit::FitOutputs,
     law: String,
+    dynamics: cmd_characterize::CharacterizeReport,
+    wear_tests: Vec<greybox_tribo::wear::WearTest>,
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -118,6 +122,52 @@ pub fn run(a: Args) -> Result<()> {
     let export_line = cmd_export::export(&export_args)?;
     write_string_atomic(&out.join("ffi/greybox.h"), GREYBOX_H)?;
     write_string_atomic(&out.join("ffi/greybox.f90"), GREYBOX_F90)?;
+    // rig dynamics: virtual impact-hammer tests at the article's three loads
+    let mut recordings = Vec::new();
+    for (load, f_hz, zeta) in VIRTUAL_RIG {
+        let rec = greybox_tribo::frf_synth::Chain::sdof(3.0, f_hz, zeta).record(
+            20_000.0,
+            1.2,
+            &[200.0; 5],
+            0.5e-3,
+            2e-9,
+            load as u64,
+        );
+        let mut csv = String::from("time_s,hammer_N,response_m\n");
+        for k in 0..rec.hammer.len() {
+            csv.push_str(&format!(
+                "{},{},{}\n",
+                k as f64 / rec.sample_rate_hz,
+                rec.hammer[k],
+                rec.response[k]
+            ));
+        }
+        let p = out.join("hammer").join(format!("hammer_{load:.0}N.csv"));
+        write_string_atomic(&p, &csv)?;
+        recordings.push(format!("{}@{load}", p.display()));
+    }
+    let char_args = cmd_characterize::Args {
+        recordings,
+        hammer: "hammer_N".into(),
+        response: "response_m".into(),
+        time: "time_s".into(),
+        sample_rate_hz: None,
+        tdms_group: "Hammer".into(),
+        block_s: None,
+        exponential_end: None,
+        harmonics: 3,
+        plan: cmd_plan::PlanFlags {
+            study: Some(out.join("plan").join("study.toml")),
+            ..Default::default()
+        },
+        out: out.join("characterize"),
+        json: false,
+    };
+    let dynamics = cmd_characterize::characterize(&char_args)?;
+    // wear: the article's five pin tests (digest §4), k → V = k F s → k
+    let wear_path = out.join("wear-tests.csv");
+    write_string_atomic(&wear_path, WEAR_TESTS)?;
+    let wear_tests = greybox_tribo::wear::read_wear_tests(&wear_path)?;
     if a.json {
         return print_json(&DemoSummary {
             plan: plan_summary,
@@ -127,9 +177,17 @@ pub fn run(a: Args) -> Result<()> {
             fit,
             fit_outputs,
             law: law_path.display().to_string(),
+            dynamics,
+            wear_tests,
         });
     }
     println!("greybox demo — the seed article's tribometer campaign on a virtual rig\n");
+    println!(
+        "[0/6] rig dynamics: virtual impact-hammer tests at 500, 1000, 2000 N -> {}",
+        out.join("characterize").display()
+    );
+    cmd_characterize::print_report(&dynamics);
+    println!();
     println!("[1/6] plan -> {}", out.join("plan").display());
     cmd_plan::print_summary(&plan_summary);
     println!("\n[2/6] synth -> {}", rec_dir.display());
@@ -159,11 +217,40 @@ pub fn run(a: Args) -> Result<()> {
         out.join("ffi/greybox.h").display(),
         out.join("ffi/greybox.f90").display()
     );
+    println!(
+        "\nwear (the article's pin tests, {}): implied volumes V = k F s and k back from V",
+        wear_path.display()
+    );
+    for w in &wear_tests {
+        let v = w.implied_volume_mm3();
+        let k_back = greybox_tribo::wear::archard_k(v, w.normal_force_n, w.distance_m())? * 1e7;
+        println!(
+            "  {}: {} N, {} m/min, {} s -> s = {:.1} m, V = {:.3e} mm3, k = {:.2}e-7 mm3/(N m)",
+            w.pin,
+            w.normal_force_n,
+            w.velocity_m_per_min,
+            w.duration_s,
+            w.distance_m(),
+            v,
+            k_back
+        );
+    }
     Ok(())
 }
 
+/// The demo's virtual rig, one single-degree-of-freedom model per normal load: (load N,
+/// natural frequency Hz, damping ratio). The contact stiffens and damps more with load
+/// (the article saw the vibration amplitude fall with load).
+const VIRTUAL_RIG: [(f64, f64, f64); 3] = [
+    (500.0, 420.0, 0.02),
+    (1000.0, 500.0, 0.026),
+    (2000.0, 590.0, 0.034),
+];
+
 /// Shear flow stress used for the demo's Zorev cap, MPa (≈ AISI 1045 at cutting strain rates).
 const DEMO_SHEAR_CAP_MPA: f64 = 600.0;
+/// The article's five wear tests (Table 2).
+const WEAR_TESTS: &str = include_str!("../../../examples/wear-tests.csv");
 /// The C header and Fortran module of the C ABI, copied into the demo output.
 const GREYBOX_H: &str = include_str!("../../greybox-ffi/include/greybox.h");
 const GREYBOX_F90: &str = include_str!("../../greybox-ffi/fortran/greybox.f90");

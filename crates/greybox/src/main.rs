@@ -3,6 +3,7 @@
 
 mod cmd_adhesive;
 mod cmd_bench;
+mod cmd_characterize;
 mod cmd_demo;
 mod cmd_export;
 mod cmd_fit;
@@ -11,6 +12,7 @@ mod cmd_identify;
 mod cmd_plan;
 mod cmd_predict;
 mod cmd_synth;
+mod cmd_wear;
 mod output;
 mod study;
 
@@ -42,6 +44,10 @@ enum Command {
     Fit(cmd_fit::Args),
     /// Evaluate a model file at points, with prediction intervals and a domain check.
     Predict(cmd_predict::Args),
+    /// Rig dynamics from impact-hammer tests (FRF, resonances) and the check against the plan.
+    Characterize(cmd_characterize::Args),
+    /// Archard wear rates from volumes, height maps or scar geometry.
+    Wear(cmd_wear::Args),
     /// Run the whole pipeline on the bundled example study.
     Demo(cmd_demo::Args),
     /// Benchmarks (recording ingestion speed).
@@ -60,6 +66,8 @@ fn main() {
         Command::Export(a) => cmd_export::run(a),
         Command::Predict(a) => cmd_predict::run(a),
         Command::Demo(a) => cmd_demo::run(a),
+        Command::Characterize(a) => cmd_characterize::run(a),
+        Command::Wear(a) => cmd_wear::run(a),
         Command::Bench(a) => cmd_bench::run(a),
     };
     if let Err(e) = result {
