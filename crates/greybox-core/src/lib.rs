@@ -18,6 +18,7 @@ pub mod csvutil;
 pub mod dataset;
 pub mod error;
 pub mod law;
+pub mod linalg;
 pub mod plot;
 pub mod units;
 

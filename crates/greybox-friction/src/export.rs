@@ -56,6 +56,24 @@ impl Grid {
             .clone()
             .unwrap_or_else(|| vec![ContactState::ROOM_TEMPERATURE_K])
     }
+
+    /// Visit every grid point with its checked μ: temperature slowest, then pressure, then
+    /// velocity fastest (the Abaqus table order).
+    fn for_each(&self, law: &dyn FrictionLaw, mut f: impl FnMut(&ContactState, f64)) -> Result<()> {
+        for &t in &self.temperatures() {
+            for &p in &self.pressure_pa {
+                for &v in &self.velocity_m_s {
+                    let s = ContactState {
+                        pressure_pa: p,
+                        sliding_velocity_m_s: v,
+                        temperature_k: t,
+                    };
+                    f(&s, mu_checked(law, &s)?);
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Units of an Abaqus table.
@@ -194,31 +212,19 @@ pub fn abaqus(
         let _ = write!(s, ", TAUMAX={}", num(t * u.pressure.per_pa()));
     }
     s.push('\n');
-    for &t in &grid.temperatures() {
-        for &p in &grid.pressure_pa {
-            for &v in &grid.velocity_m_s {
-                let mu = mu_checked(
-                    law,
-                    &ContactState {
-                        pressure_pa: p,
-                        sliding_velocity_m_s: v,
-                        temperature_k: t,
-                    },
-                )?;
-                let _ = write!(
-                    s,
-                    " {}, {}, {}",
-                    num(mu),
-                    num(v * u.speed.per_m_s()),
-                    num(p * u.pressure.per_pa())
-                );
-                if with_t {
-                    let _ = write!(s, ", {}", num(u.temperature.from_k(t)));
-                }
-                s.push('\n');
-            }
+    grid.for_each(law, |st, mu| {
+        let _ = write!(
+            s,
+            " {}, {}, {}",
+            num(mu),
+            num(st.sliding_velocity_m_s * u.speed.per_m_s()),
+            num(st.pressure_pa * u.pressure.per_pa())
+        );
+        if with_t {
+            let _ = write!(s, ", {}", num(u.temperature.from_k(st.temperature_k)));
         }
-    }
+        s.push('\n');
+    })?;
     Ok(s)
 }
 
@@ -446,20 +452,15 @@ pub fn lsdyna(law: &dyn FrictionLaw, grid: &Grid, u: Units, table_id: u32) -> Re
 pub fn csv(law: &dyn FrictionLaw, grid: &Grid) -> Result<String> {
     grid.validate()?;
     let mut s = String::from("pressure_MPa,sliding_velocity_m_per_min,temperature_K,mu\n");
-    for &t in &grid.temperatures() {
-        for &p in &grid.pressure_pa {
-            for &v in &grid.velocity_m_s {
-                let mu = mu_checked(
-                    law,
-                    &ContactState {
-                        pressure_pa: p,
-                        sliding_velocity_m_s: v,
-                        temperature_k: t,
-                    },
-                )?;
-                let _ = writeln!(s, "{},{},{},{}", p * 1e-6, v * 60.0, t, mu);
-            }
-        }
-    }
+    grid.for_each(law, |st, mu| {
+        let _ = writeln!(
+            s,
+            "{},{},{},{}",
+            st.pressure_pa * 1e-6,
+            st.sliding_velocity_m_s * 60.0,
+            st.temperature_k,
+            mu
+        );
+    })?;
     Ok(s)
 }

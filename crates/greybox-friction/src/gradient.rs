@@ -7,42 +7,23 @@ use greybox_core::{ContactState, FrictionLaw};
 /// (μ, [∂μ/∂p (1/Pa), ∂μ/∂v (s/m), ∂μ/∂T (1/K)]).
 pub fn mu_and_gradient(law: &dyn FrictionLaw, s: &ContactState) -> (f64, [f64; 3]) {
     let mu = law.mu(s);
-    let hp = 1e-6 * s.pressure_pa.abs().max(1e6);
-    let hv = 1e-6 * s.sliding_velocity_m_s.abs().max(1e-2);
-    let ht = 1e-6 * s.temperature_k.abs().max(1.0);
-    let d = |a: ContactState, b: ContactState, h: f64| (law.mu(&a) - law.mu(&b)) / (2.0 * h);
-    let dp = d(
-        ContactState {
-            pressure_pa: s.pressure_pa + hp,
-            ..*s
-        },
-        ContactState {
-            pressure_pa: s.pressure_pa - hp,
-            ..*s
-        },
-        hp,
-    );
-    let dv = d(
-        ContactState {
-            sliding_velocity_m_s: s.sliding_velocity_m_s + hv,
-            ..*s
-        },
-        ContactState {
-            sliding_velocity_m_s: s.sliding_velocity_m_s - hv,
-            ..*s
-        },
-        hv,
-    );
-    let dt = d(
-        ContactState {
-            temperature_k: s.temperature_k + ht,
-            ..*s
-        },
-        ContactState {
-            temperature_k: s.temperature_k - ht,
-            ..*s
-        },
-        ht,
-    );
-    (mu, [dp, dv, dt])
+    let steps = [
+        1e-6 * s.pressure_pa.abs().max(1e6),
+        1e-6 * s.sliding_velocity_m_s.abs().max(1e-2),
+        1e-6 * s.temperature_k.abs().max(1.0),
+    ];
+    let shifted = |axis: usize, h: f64| {
+        let mut x = *s;
+        match axis {
+            0 => x.pressure_pa += h,
+            1 => x.sliding_velocity_m_s += h,
+            _ => x.temperature_k += h,
+        }
+        x
+    };
+    let mut g = [0.0; 3];
+    for (axis, (gi, h)) in g.iter_mut().zip(steps).enumerate() {
+        *gi = (law.mu(&shifted(axis, h)) - law.mu(&shifted(axis, -h))) / (2.0 * h);
+    }
+    (mu, g)
 }

@@ -9,6 +9,7 @@
 //! onto its domain, so a tree ensemble is never extrapolated.
 
 use greybox_core::law::{Range, ValidityDomain};
+use greybox_core::linalg::solve3;
 use greybox_core::{ContactState, Error, FrictionLaw, Result};
 use serde::{Deserialize, Serialize};
 
@@ -189,30 +190,6 @@ impl PowerLaw {
             mu_max: 1.5 * hi,
         })
     }
-}
-
-fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
-    for k in 0..3 {
-        let piv = (k..3).max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))?;
-        if a[piv][k].abs() < 1e-300 {
-            return None;
-        }
-        a.swap(k, piv);
-        b.swap(k, piv);
-        for i in k + 1..3 {
-            let f = a[i][k] / a[k][k];
-            let pivot_row = a[k];
-            for (aij, akj) in a[i].iter_mut().zip(pivot_row.iter()).skip(k) {
-                *aij -= f * akj;
-            }
-            b[i] -= f * b[k];
-        }
-    }
-    let mut x = [0.0; 3];
-    for k in (0..3).rev() {
-        x[k] = (b[k] - (k + 1..3).map(|j| a[k][j] * x[j]).sum::<f64>()) / a[k][k];
-    }
-    Some(x)
 }
 
 impl FrictionLaw for PowerLaw {

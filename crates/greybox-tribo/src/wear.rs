@@ -14,6 +14,7 @@
 //! * Scar geometry of a sphere worn flat: h = R − √(R² − (d/2)²), V = π h² (3R − h) / 3.
 
 use greybox_core::csvutil::{csv_error, parse_f64, record_line, Header};
+use greybox_core::linalg::solve3;
 use greybox_core::{Error, Result, SourcePos};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -191,30 +192,6 @@ fn fit_plane(pts: &[(f64, f64, f64)]) -> Option<[f64; 3]> {
         }
     }
     solve3(a, b)
-}
-
-fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
-    for k in 0..3 {
-        let p = (k..3).max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))?;
-        if a[p][k].abs() < 1e-300 {
-            return None;
-        }
-        a.swap(k, p);
-        b.swap(k, p);
-        for i in k + 1..3 {
-            let f = a[i][k] / a[k][k];
-            let row = a[k];
-            for (x, y) in a[i].iter_mut().zip(row.iter()).skip(k) {
-                *x -= f * y;
-            }
-            b[i] -= f * b[k];
-        }
-    }
-    let mut x = [0.0; 3];
-    for k in (0..3).rev() {
-        x[k] = (b[k] - (k + 1..3).map(|j| a[k][j] * x[j]).sum::<f64>()) / a[k][k];
-    }
-    Some(x)
 }
 
 /// Sphere z = z_c + √(R² − (x−x₀)² − (y−y₀)²) fitted by Gauss–Newton (µm), radius fixed.

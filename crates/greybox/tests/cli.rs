@@ -1,34 +1,7 @@
 //! End-to-end tests of the `greybox` binary.
 
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn greybox(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_greybox"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run greybox")
-}
-
-fn ok(out: &Output) -> String {
-    assert!(
-        out.status.success(),
-        "stderr: {}\nstdout: {}",
-        String::from_utf8_lossy(&out.stderr),
-        String::from_utf8_lossy(&out.stdout)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-fn err(out: &Output) -> String {
-    assert!(
-        !out.status.success(),
-        "expected failure, stdout: {}",
-        String::from_utf8_lossy(&out.stdout)
-    );
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
+mod common;
+use common::{err, greybox, ok};
 
 #[test]
 fn every_subcommand_has_help() {

@@ -2,15 +2,8 @@
 
 use greybox_tribo::frf_synth::Chain;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn greybox(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_greybox"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run greybox")
-}
+mod common;
+use common::greybox;
 
 fn write_csv(path: &Path, fs: f64, f_hz: f64, zeta: f64) {
     let rec = Chain::sdof(2.0, f_hz, zeta).record(fs, 1.2, &[150.0; 4], 0.5e-3, 0.0, 1);

@@ -1,33 +1,8 @@
 //! `greybox fit` and `greybox predict` end to end on the demo dataset.
 
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn greybox(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_greybox"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run greybox")
-}
-
-fn ok(out: &Output) -> String {
-    assert!(
-        out.status.success(),
-        "stderr: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-fn err(out: &Output) -> String {
-    assert!(
-        !out.status.success(),
-        "expected failure: {}",
-        String::from_utf8_lossy(&out.stdout)
-    );
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
+mod common;
+use common::{err, greybox, ok};
 
 /// A small dataset from plan → synth → identify (3 loads × 6 velocities).
 fn dataset(p: &Path) {
