@@ -115,6 +115,51 @@ fn characterize_two_loads_and_check_the_plan() {
     assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("no impact found"));
 }
 
+#[test]
+fn characterize_reads_tdms() {
+    let d = tempfile::tempdir().unwrap();
+    let fs = 20_000.0;
+    let rec = Chain::sdof(2.0, 250.0, 0.02).record(fs, 1.2, &[150.0; 3], 0.5e-3, 0.0, 2);
+    let chans = [
+        greybox_tribo::tdms::WriteChannel {
+            name: "hammer_N",
+            unit: "N",
+            data: &rec.hammer,
+        },
+        greybox_tribo::tdms::WriteChannel {
+            name: "accel",
+            unit: "m",
+            data: &rec.response,
+        },
+    ];
+    let mut buf = Vec::new();
+    greybox_tribo::tdms::write_tdms(&mut buf, "Hammer", &chans, 1.0 / fs, 0.0, 10_000).unwrap();
+    std::fs::write(d.path().join("h.tdms"), buf).unwrap();
+    let out = greybox(
+        &[
+            "characterize",
+            "--recording",
+            "h.tdms",
+            "--response",
+            "accel",
+            "--json",
+        ],
+        d.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["loads"][0]["impacts_used"], 3);
+    let f = v["loads"][0]["resonances"][0]["frequency_hz"]
+        .as_f64()
+        .unwrap();
+    assert!((f - 250.0).abs() <= 1.0, "{f}");
+    assert!(v["excitation_check"].is_null(), "no plan given");
+}
+
 /// The article's five wear tests: V = K F s computed here, then `greybox wear` run the other
 /// way gives K back.
 #[test]
