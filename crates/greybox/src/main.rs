@@ -13,6 +13,7 @@ mod cmd_plan;
 mod cmd_predict;
 mod cmd_synth;
 mod cmd_wear;
+mod cmd_windows;
 mod output;
 mod study;
 
@@ -48,6 +49,8 @@ enum Command {
     Characterize(cmd_characterize::Args),
     /// Archard wear rates from volumes, height maps or scar geometry.
     Wear(cmd_wear::Args),
+    /// Friction windows from a coated tool mesh (Gmsh/Abaqus) → JSON, CSV, DEFORM FRCWIN, VTK.
+    Windows(cmd_windows::Args),
     /// Run the whole pipeline on the bundled example study.
     Demo(cmd_demo::Args),
     /// Benchmarks (recording ingestion speed).
@@ -68,6 +71,7 @@ fn main() {
         Command::Demo(a) => cmd_demo::run(a),
         Command::Characterize(a) => cmd_characterize::run(a),
         Command::Wear(a) => cmd_wear::run(a),
+        Command::Windows(a) => cmd_windows::run(a),
         Command::Bench(a) => cmd_bench::run(a),
     };
     if let Err(e) = result {

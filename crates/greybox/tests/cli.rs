@@ -6,7 +6,21 @@ use common::{err, greybox, ok};
 #[test]
 fn every_subcommand_has_help() {
     let d = tempfile::tempdir().unwrap();
-    for sub in ["plan", "synth", "identify", "hertz", "demo", "bench"] {
+    for sub in [
+        "plan",
+        "synth",
+        "identify",
+        "hertz",
+        "demo",
+        "bench",
+        "fit",
+        "predict",
+        "adhesive",
+        "export",
+        "characterize",
+        "wear",
+        "windows",
+    ] {
         let s = ok(&greybox(&[sub, "--help"], d.path()));
         assert!(s.contains("Usage:"), "{sub}");
     }

@@ -1,0 +1,11 @@
+//! greybox-couple: getting greybox's friction into external FE engines.
+//!
+//! * [`mesh`] — 2D tool meshes from Gmsh (`.msh` v4 ASCII) and Abaqus (`.inp`) files, with
+//!   element sets (Gmsh physical groups, Abaqus `*ELSET`).
+//! * [`windows`] — the article's friction windows (digest §8): the coating is one element thick,
+//!   so its elements on the tool's outer boundary define the surface; one 4-point window per
+//!   boundary segment (or per group of segments), extending outward and inward; writers for
+//!   JSON, CSV, DEFORM `FRCWIN` (with a reader for round trips) and VTK polygons.
+
+pub mod mesh;
+pub mod windows;
