@@ -6,6 +6,11 @@
 //!   so its elements on the tool's outer boundary define the surface; one 4-point window per
 //!   boundary segment (or per group of segments), extending outward and inward; writers for
 //!   JSON, CSV, DEFORM `FRCWIN` (with a reader for round trips) and VTK polygons.
+//! * [`engine`] — the restart loop behind an `Engine` trait; [`calculix`] — CalculiX as the
+//!   engine; [`example`] — a generated example deck.
 
+pub mod calculix;
+pub mod engine;
+pub mod example;
 pub mod mesh;
 pub mod windows;

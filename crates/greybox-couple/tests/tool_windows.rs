@@ -92,6 +92,7 @@ fn tool_mesh(seed: u64) -> (ToolMesh, Vec<[f64; 2]>) {
         norm([-(b[1] - a[1]), b[0] - a[0]]) // left of a→b = inside for a CCW polygon
     };
     let mut nodes = Vec::new();
+    #[allow(clippy::needless_range_loop)]
     for d in layers {
         for i in 0..m {
             let (na, nb) = (seg_in((i + m - 1) % m), seg_in(i));

@@ -32,6 +32,7 @@ struct DemoSummary {
     law: String,
     dynamics: cmd_characterize::CharacterizeReport,
     wear_tests: Vec<greybox_tribo::wear::WearTest>,
+    coupling: Option<greybox_couple::engine::CouplingResult>,
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -168,6 +169,32 @@ pub fn run(a: Args) -> Result<()> {
     let wear_path = out.join("wear-tests.csv");
     write_string_atomic(&wear_path, WEAR_TESTS)?;
     let wear_tests = greybox_tribo::wear::read_wear_tests(&wear_path)?;
+    // coupling: the bundled CalculiX example, run when ccx is installed
+    let couple_dir = out.join("couple");
+    greybox_couple::example::write_example(&couple_dir, 5)?;
+    let coupling = if std::process::Command::new("ccx").arg("-v").output().is_ok() {
+        let law = greybox_friction::spec::load_law(&couple_dir.join("law.json"))?;
+        let mut engine = greybox_couple::calculix::CalculixEngine::new(
+            greybox_couple::calculix::CalculixConfig {
+                ccx: "ccx".into(),
+                deck: couple_dir.join("model.inp"),
+                segment_template: couple_dir.join("segment.inp"),
+                work: couple_dir.join("run"),
+                pressure_pa_per_unit: 1e6,
+                length_m_per_unit: 1e-3,
+                segment_s: 1e-3,
+            },
+        )?;
+        Some(greybox_couple::engine::couple(
+            &mut engine,
+            law.as_ref(),
+            20,
+            1e-3,
+            Some(&couple_dir.join("run").join("history.csv")),
+        )?)
+    } else {
+        None
+    };
     if a.json {
         return print_json(&DemoSummary {
             plan: plan_summary,
@@ -179,6 +206,7 @@ pub fn run(a: Args) -> Result<()> {
             law: law_path.display().to_string(),
             dynamics,
             wear_tests,
+            coupling,
         });
     }
     println!("greybox demo — the seed article's tribometer campaign on a virtual rig\n");
@@ -234,6 +262,26 @@ pub fn run(a: Args) -> Result<()> {
             v,
             k_back
         );
+    }
+    match &coupling {
+        Some(r) => {
+            println!(
+                "\ncoupling with CalculiX ({}): the restart loop {} after {} cycles; final μ per window:",
+                couple_dir.display(),
+                if r.converged { "converged" } else { "did not converge" },
+                r.cycles
+            );
+            for (w, mu) in &r.final_mu {
+                println!("  {w}: {mu:.4}");
+            }
+        }
+        None => println!(
+            "\ncoupling: example deck written to {} (install calculix-ccx to run it: greybox couple --deck {}/model.inp --segment {}/segment.inp --law {}/law.json)",
+            couple_dir.display(),
+            couple_dir.display(),
+            couple_dir.display(),
+            couple_dir.display()
+        ),
     }
     Ok(())
 }

@@ -4,6 +4,7 @@
 mod cmd_adhesive;
 mod cmd_bench;
 mod cmd_characterize;
+mod cmd_couple;
 mod cmd_demo;
 mod cmd_export;
 mod cmd_fit;
@@ -51,6 +52,8 @@ enum Command {
     Wear(cmd_wear::Args),
     /// Friction windows from a coated tool mesh (Gmsh/Abaqus) → JSON, CSV, DEFORM FRCWIN, VTK.
     Windows(cmd_windows::Args),
+    /// Restart loop with an external FE engine (CalculiX, or a user command): per-window μ from the law.
+    Couple(cmd_couple::Args),
     /// Run the whole pipeline on the bundled example study.
     Demo(cmd_demo::Args),
     /// Benchmarks (recording ingestion speed).
@@ -72,6 +75,7 @@ fn main() {
         Command::Characterize(a) => cmd_characterize::run(a),
         Command::Wear(a) => cmd_wear::run(a),
         Command::Windows(a) => cmd_windows::run(a),
+        Command::Couple(a) => cmd_couple::run(a),
         Command::Bench(a) => cmd_bench::run(a),
     };
     if let Err(e) = result {
