@@ -1,7 +1,7 @@
 //! The bundled coupling example (`greybox couple --example DIR`): a deformable block pressed
 //! onto a tool plate and dragged along it. The tool's top surface is split into friction
 //! windows (one `*CONTACT PAIR` each); the pressure on the block rises from window to window,
-//! so a pressure-dependent law ends with a different μ in every window. Units: N, mm, MPa, and
+//! so the pressure-dependent grey-box law ends with a different μ in every window. Units: N, mm, MPa, and
 //! analysis time 1 per segment. CalculiX deck syntax as in fe-engine-interfaces.md §4.2.
 
 use greybox_core::atomic::write_string_atomic;

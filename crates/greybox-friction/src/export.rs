@@ -464,3 +464,154 @@ pub fn csv(law: &dyn FrictionLaw, grid: &Grid) -> Result<String> {
     })?;
     Ok(s)
 }
+
+/// A parsed DEFORM `FRCFAC` block (Coulomb or shear friction, constant or a p–T–stretch table).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrcFac {
+    pub objects: (u32, u32),
+    pub fric_type: u32,
+    /// Constant friction (FricDefType 0).
+    pub constant: Option<f64>,
+    /// FricDefType 5: pressures, temperatures, stretches and values (pressure fastest).
+    pub pressures: Vec<f64>,
+    pub temperatures: Vec<f64>,
+    pub stretches: Vec<f64>,
+    pub values: Vec<f64>,
+}
+
+/// Read the `FRCFAC` blocks (FricDefType 0 and 5) of DEFORM keyword text.
+pub fn parse_frcfac(text: &str, source: &str) -> Result<Vec<FrcFac>> {
+    let lines: Vec<&str> = text.lines().collect();
+    let split = |l: &str| -> Vec<String> {
+        l.split(|c: char| c.is_whitespace() || c == ',')
+            .filter(|s| !s.is_empty())
+            .map(String::from)
+            .collect()
+    };
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < lines.len() {
+        let f = split(lines[i]);
+        if f.first().is_none_or(|k| !k.eq_ignore_ascii_case("FRCFAC")) {
+            i += 1;
+            continue;
+        }
+        let line_no = i;
+        let pos = |k: usize| SourcePos::file(source).line(k as u64 + 1);
+        let num = |s: &str, k: usize| {
+            s.parse::<f64>()
+                .map_err(|_| Error::input(pos(k), format!("expected a number, found '{s}'")))
+        };
+        if f.len() < 5 {
+            return Err(Error::input(
+                pos(i),
+                "FRCFAC needs Object1 Object2 FricType FricDefType ...",
+            ));
+        }
+        let objects = (num(&f[1], i)? as u32, num(&f[2], i)? as u32);
+        let fric_type = num(&f[3], i)? as u32;
+        let def_type = num(&f[4], i)? as i64;
+        let mut block = FrcFac {
+            objects,
+            fric_type,
+            constant: None,
+            pressures: Vec::new(),
+            temperatures: Vec::new(),
+            stretches: Vec::new(),
+            values: Vec::new(),
+        };
+        match def_type {
+            0 => {
+                let v = f.get(5).ok_or_else(|| {
+                    Error::input(pos(line_no), "constant FRCFAC needs the friction value")
+                })?;
+                block.constant = Some(num(v, i)?);
+                i += 1;
+            }
+            5 => {
+                if f.len() < 8 {
+                    return Err(Error::input(
+                        pos(i),
+                        "FricDefType 5 needs NPres NTemp NStre",
+                    ));
+                }
+                let (np, nt, ns) = (
+                    num(&f[5], i)? as usize,
+                    num(&f[6], i)? as usize,
+                    num(&f[7], i)? as usize,
+                );
+                // the remaining numbers, in order: pressures, temperatures, stretches, values
+                let need = np + nt + ns + np * nt * ns;
+                let mut vals = Vec::with_capacity(need);
+                let mut k = i + 1;
+                while vals.len() < need {
+                    let l = lines.get(k).ok_or_else(|| {
+                        Error::input(
+                            pos(line_no),
+                            format!("FRCFAC table ends early: {} of {need} numbers", vals.len()),
+                        )
+                    })?;
+                    if !l.trim_start().starts_with('*') {
+                        for t in split(l) {
+                            vals.push(num(&t, k)?);
+                        }
+                    }
+                    k += 1;
+                }
+                if vals.len() != need {
+                    return Err(Error::input(
+                        pos(k - 1),
+                        format!("FRCFAC table has {} numbers, expected {need}", vals.len()),
+                    ));
+                }
+                block.pressures = vals[..np].to_vec();
+                block.temperatures = vals[np..np + nt].to_vec();
+                block.stretches = vals[np + nt..np + nt + ns].to_vec();
+                block.values = vals[np + nt + ns..].to_vec();
+                i = k;
+            }
+            other => {
+                return Err(Error::input(
+                    pos(i),
+                    format!("FricDefType {other} is not read (0 and 5 are)"),
+                ))
+            }
+        }
+        out.push(block);
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::classical::Zorev;
+
+    #[test]
+    fn deform_frcfac_round_trip() {
+        let law = Zorev {
+            mu: 0.4,
+            k_pa: 500e6,
+        };
+        let grid = Grid {
+            pressure_pa: vec![500e6, 1000e6, 1500e6],
+            velocity_m_s: vec![1.0],
+            temperature_k: Some(vec![293.15, 773.15]),
+        };
+        let text = deform(&law, &grid, 2.5, &[], (2, 1)).unwrap();
+        let b = parse_frcfac(&text, "d.key").unwrap();
+        assert_eq!(b.len(), 1);
+        assert_eq!(b[0].objects, (2, 1));
+        assert_eq!(b[0].pressures, vec![500.0, 1000.0, 1500.0]);
+        assert_eq!(b[0].values.len(), 6);
+        // Zorev: μ = 0.4 up to 1250 MPa, then k/p
+        assert_eq!(b[0].values[0], 0.4);
+        assert!((b[0].values[2] - 500.0 / 1500.0).abs() < 1e-15);
+        let c = parse_frcfac("FRCFAC 2 1 2 0 0.35\n", "c.key").unwrap();
+        assert_eq!(c[0].constant, Some(0.35));
+        assert!(parse_frcfac("FRCFAC 2 1 2 5 3 1 1\n1 2\n", "bad.key")
+            .unwrap_err()
+            .to_string()
+            .contains("ends early"));
+    }
+}
