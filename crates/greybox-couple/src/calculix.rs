@@ -118,7 +118,6 @@ impl CalculixEngine {
             return Err(missing(&dsrc, "no *CONTACT PAIR: every friction window needs its own contact pair and surface interaction".into()));
         }
         let inter_blocks = keyword_blocks(&deck, "*SURFACE INTERACTION");
-        let friction_blocks = keyword_blocks(&deck, "*FRICTION");
         let mut stick_slopes = Vec::new();
         for name in &interactions {
             if !inter_blocks.iter().any(|(h, _)| {
@@ -145,7 +144,6 @@ impl CalculixEngine {
                 .unwrap_or(0.0);
             stick_slopes.push(lambda);
         }
-        let _ = friction_blocks;
         let prints = |text: &str| -> Vec<String> {
             keyword_blocks(text, "*CONTACT PRINT")
                 .iter()
@@ -260,7 +258,7 @@ pub fn parse_dat(
         let t_last = heads.iter().map(|h| h.1).fold(f64::NEG_INFINITY, f64::max);
         let (mut area, mut normal, mut shear) = (0.0f64, 0.0f64, 0.0f64);
         let mut found = false;
-        for &(i, t) in heads.iter().filter(|h| h.1 == t_last) {
+        for &(i, _) in heads.iter().filter(|h| h.1 == t_last) {
             let Some(k) =
                 (i..lines.len().min(i + 20)).find(|&k| lines[k].contains("area,  normal force"))
             else {
@@ -280,7 +278,6 @@ pub fn parse_dat(
                 normal = normal.max(vals[1].abs());
                 shear = shear.max(vals[2].abs());
             }
-            let _ = t;
         }
         if !found {
             return Err(Error::input(

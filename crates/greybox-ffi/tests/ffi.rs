@@ -2,6 +2,7 @@
 //! threads at once, error codes instead of crashes. The library is built by a nested
 //! `cargo build` into the same target directory.
 
+mod common;
 use greybox_core::ContactState;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -64,37 +65,10 @@ fn parse_hex_float(s: &str) -> f64 {
 
 /// A law file: a small learned model inside a grey-box law, plus a classical law.
 fn law_files(dir: &Path) -> Vec<PathBuf> {
-    let mut csv = String::from("hertz_pressure_MPa,sliding_velocity_m_per_min,mu\n");
-    for i in 0..10 {
-        for j in 0..10 {
-            let (p, v) = (900.0 + 140.0 * i as f64, 20.0 + 25.0 * j as f64);
-            csv.push_str(&format!(
-                "{p},{v},{}\n",
-                0.5 - 0.1 * (p - 900.0) / 1300.0 - 0.1 * (v / 250.0).sqrt()
-            ));
-        }
-    }
-    let feats = vec![
-        "hertz_pressure_MPa".to_string(),
-        "sliding_velocity_m_per_min".to_string(),
-    ];
-    let data =
-        greybox_learn::table::read_dataset_from(csv.as_bytes(), "mem.csv", &feats, "mu", None)
-            .unwrap();
-    let mut cfg = greybox_learn::protocol::FitConfig {
-        families: vec![greybox_learn::model::Family::Mlp],
-        skip_nested: true,
-        bootstrap_resamples: 10,
-        importance_repeats: 1,
-        ..Default::default()
-    };
-    cfg.grid.mlp.hidden_layers = vec![vec![16, 8]];
-    cfg.grid.mlp.activation = vec![greybox_learn::mlp::Activation::Tanh];
-    cfg.grid.mlp.learning_rate = vec![0.01];
-    let model = greybox_learn::protocol::run_protocol(&data, &cfg)
-        .unwrap()
-        .1
-        .remove(0);
+    let model = common::small_model(
+        greybox_learn::model::Family::Mlp,
+        greybox_learn::mlp::Activation::Tanh,
+    );
     model.save(&dir.join("mlp.json")).unwrap();
     std::fs::write(
         dir.join("greybox-law.json"),

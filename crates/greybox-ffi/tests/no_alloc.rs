@@ -1,6 +1,7 @@
 //! The evaluation path of the C ABI does not allocate: a counting global allocator sees zero
 //! allocations across thousands of batch calls (learned grey-box law and surrogate table).
 
+mod common;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -26,48 +27,12 @@ static GLOBAL: Counting = Counting;
 fn batch_evaluation_does_not_allocate() {
     let dir = tempfile::tempdir().unwrap();
     // a smooth learned model inside a grey-box law
-    let mut csv = String::from("hertz_pressure_MPa,sliding_velocity_m_per_min,mu\n");
-    for i in 0..8 {
-        for j in 0..8 {
-            let (p, v) = (900.0 + 180.0 * i as f64, 20.0 + 30.0 * j as f64);
-            csv.push_str(&format!(
-                "{p},{v},{}\n",
-                0.5 - 0.1 * (p - 900.0) / 1300.0 - 0.05 * (v / 250.0)
-            ));
-        }
-    }
-    let feats = vec![
-        "hertz_pressure_MPa".to_string(),
-        "sliding_velocity_m_per_min".to_string(),
-    ];
-    let data =
-        greybox_learn::table::read_dataset_from(csv.as_bytes(), "mem.csv", &feats, "mu", None)
-            .unwrap();
     for family in [
         greybox_learn::model::Family::Mlp,
         greybox_learn::model::Family::GradientBoosting,
         greybox_learn::model::Family::Svr,
     ] {
-        let mut cfg = greybox_learn::protocol::FitConfig {
-            families: vec![family],
-            skip_nested: true,
-            bootstrap_resamples: 5,
-            importance_repeats: 1,
-            ..Default::default()
-        };
-        cfg.grid.mlp.hidden_layers = vec![vec![8, 4]];
-        cfg.grid.mlp.activation = vec![greybox_learn::mlp::Activation::Relu];
-        cfg.grid.mlp.learning_rate = vec![0.01];
-        cfg.grid.gradient_boosting.n_estimators = vec![50];
-        cfg.grid.gradient_boosting.max_depth = vec![3];
-        cfg.grid.gradient_boosting.learning_rate = vec![0.1];
-        cfg.grid.svr.kernel = vec![greybox_learn::svr::Kernel::Rbf];
-        cfg.grid.svr.c = vec![10.0];
-        cfg.grid.svr.epsilon = vec![0.01];
-        let model = greybox_learn::protocol::run_protocol(&data, &cfg)
-            .unwrap()
-            .1
-            .remove(0);
+        let model = common::small_model(family, greybox_learn::mlp::Activation::Relu);
         model.save(&dir.path().join("m.json")).unwrap();
         std::fs::write(dir.path().join("law.json"), r#"{"law": "grey-box", "inner": {"law": "learned", "model": "m.json"}, "outside": {"law": "power-fit"}, "shear_cap_k_MPa": 600, "clamp": [0.05, 1.0]}"#).unwrap();
         let path = std::ffi::CString::new(dir.path().join("law.json").to_str().unwrap()).unwrap();

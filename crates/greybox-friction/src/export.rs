@@ -380,18 +380,24 @@ pub fn deform(
             w.velocity_m_per_min,
             w.temperature_k
         );
-        let _ = writeln!(
-            s,
-            "FRCWIN {o1} {o2} {} {} 2 0 {} -{o1} 0. 0.",
-            k + 1,
-            w.points_mm.len(),
-            num(mu)
-        );
-        for (i, p) in w.points_mm.iter().enumerate() {
-            let _ = writeln!(s, "{} {} {}", i + 1, num(p[0]), num(p[1]));
-        }
+        s.push_str(&frcwin_block(k + 1, &w.points_mm, mu, objects));
     }
     Ok(s)
+}
+
+/// One 2D `FRCWIN` block: Coulomb friction (FricType 2) with constant μ (FricDefType 0); the
+/// window follows object `objects.0` (SpdType −n). Points counter-clockwise.
+pub fn frcwin_block(number: usize, points: &[[f64; 2]], mu: f64, objects: (u32, u32)) -> String {
+    let (o1, o2) = objects;
+    let mut s = format!(
+        "FRCWIN {o1} {o2} {number} {} 2 0 {} -{o1} 0. 0.\n",
+        points.len(),
+        num(mu)
+    );
+    for (i, p) in points.iter().enumerate() {
+        let _ = writeln!(s, "{} {} {}", i + 1, num(p[0]), num(p[1]));
+    }
+    s
 }
 
 /// LS-DYNA keyword cards: `*DEFINE_TABLE` over velocity with one `*DEFINE_CURVE` (μ vs
@@ -463,6 +469,74 @@ pub fn csv(law: &dyn FrictionLaw, grid: &Grid) -> Result<String> {
         );
     })?;
     Ok(s)
+}
+
+/// A parsed `FRCWIN` block: window number, points, constant μ.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrcWin {
+    pub number: usize,
+    pub points: Vec<[f64; 2]>,
+    pub mu: f64,
+}
+
+/// Read the 2D `FRCWIN` blocks with constant friction (FricDefType 0) from keyword text.
+pub fn parse_frcwin(text: &str, source: &str) -> Result<Vec<FrcWin>> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < lines.len() {
+        let l = lines[i].trim();
+        if !l.to_ascii_uppercase().starts_with("FRCWIN") {
+            i += 1;
+            continue;
+        }
+        let pos = || SourcePos::file(source).line(i as u64 + 1);
+        let f: Vec<&str> = l
+            .split(|c: char| c.is_whitespace() || c == ',')
+            .filter(|s| !s.is_empty())
+            .collect();
+        if f.len() < 8 {
+            return Err(Error::input(
+                pos(),
+                "FRCWIN needs Object1 Object2 WinNo Npoints FricType FricDefType Friction ...",
+            ));
+        }
+        let num = |s: &str| {
+            s.parse::<f64>()
+                .map_err(|_| Error::input(pos(), format!("expected a number, found '{s}'")))
+        };
+        let n = num(f[4])? as usize;
+        if num(f[6])? != 0.0 {
+            return Err(Error::input(
+                pos(),
+                "only constant window friction (FricDefType 0) is read",
+            ));
+        }
+        let mut points = Vec::with_capacity(n);
+        for k in 0..n {
+            let line = lines
+                .get(i + 1 + k)
+                .ok_or_else(|| Error::input(pos(), "FRCWIN block ends before its points"))?;
+            let p: Vec<&str> = line
+                .split(|c: char| c.is_whitespace() || c == ',')
+                .filter(|s| !s.is_empty())
+                .collect();
+            if p.len() < 3 {
+                return Err(Error::input(
+                    SourcePos::file(source).line((i + 2 + k) as u64),
+                    "a window point needs index, x, y",
+                ));
+            }
+            points.push([num(p[1])?, num(p[2])?]);
+        }
+        out.push(FrcWin {
+            number: num(f[3])? as usize,
+            points,
+            mu: num(f[7])?,
+        });
+        i += 1 + n;
+    }
+    Ok(out)
 }
 
 /// A parsed DEFORM `FRCFAC` block (Coulomb or shear friction, constant or a p–T–stretch table).

@@ -235,8 +235,6 @@ pub fn identify_pin(
         window_median(rec, &rec.tangential_n, t0 + 0.05 * z, t0 + 0.9 * z).ok_or_else(|| {
             Error::input(src(), "no samples in the unloaded window after the trigger")
         })?;
-    let base_n =
-        window_median(rec, &rec.normal_n, t0 + 0.05 * z, t0 + 0.9 * z).expect("same window");
     let s0 = &steps[0];
     let latency = match latency {
         Some(l) => l,
@@ -294,7 +292,6 @@ pub fn identify_pin(
     };
     let (off_n, slope_n) = drift_line(&rec.normal_n, "normal")?;
     let (off_t, slope_t) = drift_line(&rec.tangential_n, "tangential")?;
-    let _ = base_n;
     let fn_c: Vec<f64> = rec
         .time_s
         .iter()

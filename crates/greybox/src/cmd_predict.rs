@@ -3,7 +3,6 @@
 use crate::output::{print_json, Table};
 use anyhow::{bail, Context, Result};
 use greybox_learn::modelfile::{DomainPolicy, ModelFile, Prediction};
-use greybox_learn::table::read_dataset;
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -67,7 +66,6 @@ pub fn run(a: Args) -> Result<()> {
         points.push(v);
     }
     if let Some(csv) = &a.csv {
-        // the target column is not needed: read the first feature twice as a stand-in target
         let data = read_points(csv, &names)?;
         points.extend(data);
     }
@@ -154,6 +152,5 @@ fn read_points(path: &std::path::Path, names: &[String]) -> Result<Vec<Vec<f64>>
             .collect::<Result<_>>()?;
         out.push(row);
     }
-    let _ = read_dataset; // the training-table reader needs a target; points have none
     Ok(out)
 }
