@@ -1,0 +1,95 @@
+//! The time loop. Everything that is not the physics of a step — output writers, progress,
+//! checkpoints, force histories, the grey-box window update — is an [`Observer`] the executor
+//! calls after every step.
+//!
+//! Robustness: the executor keeps an in-memory copy of the last state that passed the checks
+//! (refreshed every `snapshot_every` steps); when a step goes unstable the copy is handed to
+//! every observer's [`Observer::on_failure`] (the checkpoint writer stores it) and the error
+//! names the step and particle.
+
+use crate::particles::Particles;
+use crate::solver::{SimError, Solver};
+
+/// What an observer wants after a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Control {
+    Continue,
+    Stop,
+}
+
+pub trait Observer {
+    /// Called once before the first step.
+    fn start(&mut self, _sim: &mut Solver) -> Result<(), SimError> {
+        Ok(())
+    }
+    /// Called after every step.
+    fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError>;
+    /// Called once after the last step.
+    fn finish(&mut self, _sim: &mut Solver) -> Result<(), SimError> {
+        Ok(())
+    }
+    /// Called when a step failed, with the last good particle state and its step/time.
+    fn on_failure(&mut self, _sim: &Solver, _last_good: &Particles, _step: u64, _time: f64) {}
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunSummary {
+    pub steps: u64,
+    pub time_s: f64,
+    pub wall_s: f64,
+    /// Particle-steps per second of wall time.
+    pub particle_steps_per_s: f64,
+    pub stopped_by_observer: bool,
+}
+
+/// Runs until `end_time_s` (simulated) or until an observer stops.
+pub fn run(
+    sim: &mut Solver,
+    end_time_s: f64,
+    observers: &mut [&mut dyn Observer],
+) -> Result<RunSummary, SimError> {
+    const SNAPSHOT_EVERY: u64 = 200;
+    for o in observers.iter_mut() {
+        o.start(sim)?;
+    }
+    let t0 = std::time::Instant::now();
+    let step0 = sim.step;
+    let mut last_good = sim.particles.clone();
+    let mut last_good_at = (sim.step, sim.time);
+    let mut stopped = false;
+    while sim.time < end_time_s - 0.5 * sim.dt {
+        if let Err(e) = sim.step() {
+            for o in observers.iter_mut() {
+                o.on_failure(sim, &last_good, last_good_at.0, last_good_at.1);
+            }
+            return Err(e);
+        }
+        if sim.step % SNAPSHOT_EVERY == 0 {
+            last_good.clone_from(&sim.particles);
+            last_good_at = (sim.step, sim.time);
+        }
+        let mut stop = false;
+        for o in observers.iter_mut() {
+            if o.after_step(sim)? == Control::Stop {
+                stop = true;
+            }
+        }
+        if stop {
+            stopped = true;
+            break;
+        }
+    }
+    for o in observers.iter_mut() {
+        o.finish(sim)?;
+    }
+    let wall = t0.elapsed().as_secs_f64();
+    let steps = sim.step - step0;
+    Ok(RunSummary {
+        steps,
+        time_s: sim.time,
+        wall_s: wall,
+        particle_steps_per_s: steps as f64 * sim.particle_count() as f64 / wall.max(1e-12),
+        stopped_by_observer: stopped,
+    })
+}

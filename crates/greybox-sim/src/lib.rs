@@ -1,0 +1,29 @@
+//! greybox-sim: a 2D plane-strain updated-Lagrangian SPH solver for solids with rigid tools,
+//! penalty contact and friction windows — the tribometer pin sliding and orthogonal cutting.
+//!
+//! Layout (the argmin split: problem / one step / executor with observers):
+//! * [`model`] what is simulated (particles, material, tools, boundary groups, numerics);
+//! * [`solver`] one explicit step ([`solver::Solver::step`]) with its pure per-particle kernels;
+//! * [`executor`] the time loop; outputs, progress and checkpoints are [`executor::Observer`]s;
+//! * [`pin`] the pin-sliding set-up and the inverse search for the adhesive μ.
+
+pub mod checkpoint;
+pub(crate) mod contact;
+pub mod executor;
+pub mod geometry;
+pub mod kernel;
+pub mod model;
+pub mod neighbours;
+pub mod output;
+pub mod particles;
+pub mod pin;
+pub mod plasticity;
+pub mod solver;
+pub mod tool;
+
+pub use executor::{run, Control, Observer, RunSummary};
+pub use geometry::RoundedPolygon;
+pub use model::{BoundaryGroup, Model, Numerics};
+pub use particles::Particles;
+pub use solver::{SimError, Solver};
+pub use tool::{ConstantMu, Motion, MotionSegment, Tool, Window};

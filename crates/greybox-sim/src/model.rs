@@ -1,0 +1,101 @@
+//! What is simulated: particles, material, tools, boundary groups and numerical settings.
+
+use crate::particles::Particles;
+use crate::tool::Tool;
+use greybox_material::Material;
+use serde::{Deserialize, Serialize};
+
+/// Numerical settings. Defaults follow the ETH IWF SPH cutting recipe (Röthlin et al. 2019;
+/// Afrasiabi et al. 2019) where it states a value.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Numerics {
+    /// Smoothing length over particle spacing, h/Δx.
+    pub smoothing_ratio: f64,
+    /// Courant number: Δt = cfl · h / (c + v_max), with c the longitudinal wave speed.
+    pub cfl: f64,
+    /// Monaghan artificial viscosity α (linear) and β (quadratic).
+    pub av_alpha: f64,
+    pub av_beta: f64,
+    /// Gray–Monaghan artificial stress ε (exponent 4).
+    pub artificial_stress: f64,
+    /// XSPH velocity smoothing ε.
+    pub xsph: f64,
+    /// Penalty factor α of the contact force f_N = α m g / Δt².
+    pub contact_penalty: f64,
+    /// Share of the friction work that heats the workpiece (the tool is rigid and adiabatic).
+    pub friction_heat_share: f64,
+    /// Mass scaling factor (≥ 1): density and masses × f, so Δt × √f; heat capacity per
+    /// volume is kept physical.
+    pub mass_scaling: f64,
+    /// Factor applied to the strain rate seen by the flow stress (for time-scaled quasi-static
+    /// runs: physical speed / simulated speed; 1 = physical).
+    pub strain_rate_scale: f64,
+    /// Heat conduction and heating on/off (off: isothermal).
+    pub thermal: bool,
+    /// Verlet skin over h.
+    pub skin_ratio: f64,
+    /// Instability guard: stop when a particle moves faster than this × the wave speed.
+    pub max_speed_ratio: f64,
+}
+
+impl Default for Numerics {
+    fn default() -> Self {
+        Numerics {
+            smoothing_ratio: 1.5,
+            cfl: 0.5,
+            av_alpha: 1.0,
+            av_beta: 1.0,
+            artificial_stress: 0.3,
+            xsph: 0.5,
+            contact_penalty: 0.1,
+            friction_heat_share: 1.0,
+            mass_scaling: 1.0,
+            strain_rate_scale: 1.0,
+            thermal: true,
+            skin_ratio: 0.3,
+            max_speed_ratio: 0.5,
+        }
+    }
+}
+
+impl Numerics {
+    pub fn validate(&self) -> greybox_core::Result<()> {
+        let checks: [(&str, bool); 9] = [
+            ("smoothing_ratio (expected 1–3)", (1.0..=3.0).contains(&self.smoothing_ratio)),
+            ("cfl (expected 0 < cfl ≤ 1)", self.cfl > 0.0 && self.cfl <= 1.0),
+            ("av_alpha/av_beta (expected ≥ 0)", self.av_alpha >= 0.0 && self.av_beta >= 0.0),
+            ("artificial_stress (expected 0–1)", (0.0..=1.0).contains(&self.artificial_stress)),
+            ("xsph (expected 0–1)", (0.0..=1.0).contains(&self.xsph)),
+            ("contact_penalty (expected 0 < α ≤ 1)", self.contact_penalty > 0.0 && self.contact_penalty <= 1.0),
+            ("friction_heat_share (expected 0–1)", (0.0..=1.0).contains(&self.friction_heat_share)),
+            ("mass_scaling (expected ≥ 1)", self.mass_scaling >= 1.0 && self.mass_scaling.is_finite()),
+            ("strain_rate_scale/skin_ratio/max_speed_ratio (expected > 0)", self.strain_rate_scale > 0.0 && self.skin_ratio > 0.0 && self.max_speed_ratio > 0.0),
+        ];
+        for (what, ok) in checks {
+            if !ok {
+                return Err(greybox_core::Error::invalid("numerics", what.to_string()));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A group of particles with prescribed velocity components (None = free in that direction).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BoundaryGroup {
+    pub name: String,
+    pub vx: Option<f64>,
+    pub vy: Option<f64>,
+}
+
+/// Everything the solver needs to start.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub particles: Particles,
+    pub material: Material,
+    pub tools: Vec<Tool>,
+    /// Boundary groups; particle group k ≥ 1 refers to `groups[k − 1]`.
+    pub groups: Vec<BoundaryGroup>,
+    pub numerics: Numerics,
+}

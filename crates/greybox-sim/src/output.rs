@@ -1,0 +1,245 @@
+//! Outputs: VTK legacy particle files for ParaView, force histories and friction-window CSV.
+//! Every file is written atomically (temporary file, then rename).
+
+use crate::executor::{Control, Observer};
+use crate::particles::Particles;
+use crate::solver::{SimError, Solver};
+use crate::tool::{Tool, WindowStats};
+use greybox_core::atomic::write_atomic;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+fn io_err(e: greybox_core::Error) -> SimError {
+    SimError::Invalid(e.to_string())
+}
+
+/// Writes particles as a VTK legacy ASCII poly-data file (points + vertices + point data:
+/// velocity m/s, pressure Pa, von Mises Pa, plastic strain, plastic strain rate 1/s,
+/// temperature K, density kg/m³ (physical), boundary group).
+pub fn write_vtk(path: &Path, p: &Particles, mass_scaling: f64, time: f64) -> greybox_core::Result<()> {
+    write_atomic(path, |w| {
+        let n = p.len();
+        writeln!(w, "# vtk DataFile Version 3.0")?;
+        writeln!(w, "greybox-sim particles t={time:.9e} s")?;
+        writeln!(w, "ASCII\nDATASET POLYDATA\nPOINTS {n} double")?;
+        for i in 0..n {
+            writeln!(w, "{:e} {:e} 0", p.x[i], p.y[i])?;
+        }
+        writeln!(w, "VERTICES {n} {}", 2 * n)?;
+        for i in 0..n {
+            writeln!(w, "1 {i}")?;
+        }
+        writeln!(w, "POINT_DATA {n}\nVECTORS velocity_m_per_s double")?;
+        for i in 0..n {
+            writeln!(w, "{:e} {:e} 0", p.vx[i], p.vy[i])?;
+        }
+        let scalar = |w: &mut dyn Write, name: &str, f: &dyn Fn(usize) -> f64| -> std::io::Result<()> {
+            writeln!(w, "SCALARS {name} double 1\nLOOKUP_TABLE default")?;
+            for i in 0..n {
+                writeln!(w, "{:e}", f(i))?;
+            }
+            Ok(())
+        };
+        scalar(w, "pressure_Pa", &|i| p.p[i])?;
+        scalar(w, "von_mises_Pa", &|i| p.von_mises(i))?;
+        scalar(w, "plastic_strain", &|i| p.eps_p[i])?;
+        scalar(w, "plastic_strain_rate_per_s", &|i| p.eps_rate[i])?;
+        scalar(w, "temperature_K", &|i| p.temp[i])?;
+        scalar(w, "density_kg_per_m3", &|i| p.rho[i] / mass_scaling)?;
+        scalar(w, "boundary_group", &|i| p.group[i] as f64)?;
+        Ok(())
+    })
+}
+
+/// Writes the tool outline (closed poly-line, 2 points per µm of arc at most 2000) as VTK.
+pub fn write_tool_vtk(path: &Path, tool: &Tool) -> greybox_core::Result<()> {
+    let per = tool.shape.perimeter();
+    let n = 720usize;
+    // Sample by marching around the core polygon's offset curve via closest-point queries of a
+    // large circle of probe points around the tool centre.
+    let (lo, hi) = tool.shape.bounding_box();
+    let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    let r = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    let pts: Vec<[f64; 2]> = (0..n)
+        .map(|k| {
+            let a = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
+            let probe = [c[0] + r * a.cos(), c[1] + r * a.sin()];
+            let sp = tool.shape.closest(probe);
+            [
+                probe[0] - sp.distance * sp.normal[0] + tool.position[0],
+                probe[1] - sp.distance * sp.normal[1] + tool.position[1],
+            ]
+        })
+        .collect();
+    write_atomic(path, |w| {
+        writeln!(w, "# vtk DataFile Version 3.0")?;
+        writeln!(w, "greybox-sim tool {} (perimeter {per:e} m)", tool.name)?;
+        writeln!(w, "ASCII\nDATASET POLYDATA\nPOINTS {n} double")?;
+        for p in &pts {
+            writeln!(w, "{:e} {:e} 0", p[0], p[1])?;
+        }
+        writeln!(w, "LINES 1 {}", n + 2)?;
+        write!(w, "{}", n + 1)?;
+        for k in 0..n {
+            write!(w, " {k}")?;
+        }
+        writeln!(w, " 0")?;
+        Ok(())
+    })
+}
+
+/// Records the force on tool `tool` averaged over every `every` steps.
+pub struct ForceHistory {
+    pub tool: usize,
+    pub every: u64,
+    /// (time s, tool x m, tool y m, F_x N/m, F_y N/m, contacts).
+    pub rows: Vec<[f64; 6]>,
+    sum: [f64; 3],
+    count: u64,
+}
+
+impl ForceHistory {
+    pub fn new(tool: usize, every: u64) -> Self {
+        ForceHistory {
+            tool,
+            every: every.max(1),
+            rows: Vec::new(),
+            sum: [0.0; 3],
+            count: 0,
+        }
+    }
+
+    /// Writes `time_s,tool_x_mm,tool_y_mm,force_x_N_per_mm,force_y_N_per_mm,contacts`.
+    pub fn write_csv(&self, path: &Path) -> greybox_core::Result<()> {
+        write_atomic(path, |w| {
+            writeln!(w, "time_s,tool_x_mm,tool_y_mm,force_x_N_per_mm,force_y_N_per_mm,contact_particles")?;
+            for r in &self.rows {
+                writeln!(
+                    w,
+                    "{:.6e},{:.6},{:.6},{:.6},{:.6},{:.1}",
+                    r[0],
+                    r[1] * 1e3,
+                    r[2] * 1e3,
+                    r[3] * 1e-3,
+                    r[4] * 1e-3,
+                    r[5]
+                )?;
+            }
+            Ok(())
+        })
+    }
+
+    /// Mean force (N/m) over rows with time in [t0, t1].
+    pub fn mean_force(&self, t0: f64, t1: f64) -> Option<[f64; 2]> {
+        let sel: Vec<_> = self.rows.iter().filter(|r| r[0] >= t0 && r[0] <= t1).collect();
+        if sel.is_empty() {
+            return None;
+        }
+        let n = sel.len() as f64;
+        Some([
+            sel.iter().map(|r| r[3]).sum::<f64>() / n,
+            sel.iter().map(|r| r[4]).sum::<f64>() / n,
+        ])
+    }
+}
+
+impl Observer for ForceHistory {
+    fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
+        let t = &sim.tools[self.tool];
+        self.sum[0] += t.force[0];
+        self.sum[1] += t.force[1];
+        self.sum[2] += t.contacts as f64;
+        self.count += 1;
+        if self.count == self.every {
+            let n = self.count as f64;
+            self.rows.push([
+                sim.time,
+                t.position[0],
+                t.position[1],
+                self.sum[0] / n,
+                self.sum[1] / n,
+                self.sum[2] / n,
+            ]);
+            self.sum = [0.0; 3];
+            self.count = 0;
+        }
+        Ok(Control::Continue)
+    }
+}
+
+/// Writes a VTK file of the particles every `every` steps (and of the tools once).
+pub struct VtkSeries {
+    pub dir: PathBuf,
+    pub every: u64,
+    pub written: Vec<PathBuf>,
+}
+
+impl VtkSeries {
+    pub fn new(dir: &Path, every: u64) -> Self {
+        VtkSeries {
+            dir: dir.to_path_buf(),
+            every: every.max(1),
+            written: Vec::new(),
+        }
+    }
+    fn write(&mut self, sim: &Solver) -> Result<(), SimError> {
+        let path = self.dir.join(format!("particles_{:08}.vtk", sim.step));
+        write_vtk(&path, &sim.particles, sim.numerics.mass_scaling, sim.time).map_err(io_err)?;
+        for (k, t) in sim.tools.iter().enumerate() {
+            write_tool_vtk(&self.dir.join(format!("tool{k}_{:08}.vtk", sim.step)), t).map_err(io_err)?;
+        }
+        self.written.push(path);
+        Ok(())
+    }
+}
+
+impl Observer for VtkSeries {
+    fn start(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+        self.write(sim)
+    }
+    fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
+        if sim.step % self.every == 0 {
+            self.write(sim)?;
+        }
+        Ok(Control::Continue)
+    }
+    fn finish(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+        if sim.step % self.every != 0 {
+            self.write(sim)?;
+        }
+        Ok(())
+    }
+    fn on_failure(&mut self, sim: &Solver, last_good: &Particles, step: u64, time: f64) {
+        let path = self.dir.join(format!("last_good_{step:08}.vtk"));
+        if write_vtk(&path, last_good, sim.numerics.mass_scaling, time).is_ok() {
+            self.written.push(path);
+        }
+    }
+}
+
+/// Per-window statistics of a tool as CSV: s range (mm), μ in use, law and the time-averaged
+/// state (`pressure_MPa`, `sliding_velocity_m_per_min`, `temperature_C`, `shear_stress_MPa`,
+/// `mu_effective`, `contact_fraction`, `slip_fraction`; empty where never in contact).
+pub fn write_windows_csv(path: &Path, tool: &Tool, spacing: f64) -> greybox_core::Result<()> {
+    write_atomic(path, |w| {
+        writeln!(w, "window,s_start_mm,s_end_mm,law,mu,pressure_MPa,sliding_velocity_m_per_min,temperature_C,shear_stress_MPa,mu_effective,contact_fraction,slip_fraction")?;
+        for (k, win) in tool.windows.iter().enumerate() {
+            write!(w, "{k},{:.6},{:.6},\"{}\",{:.6}", win.s_start * 1e3, win.s_end * 1e3, win.law.name().replace('"', "'"), win.mu)?;
+            match win.acc.stats(spacing, win.length()) {
+                Some(WindowStats { pressure_pa, sliding_velocity_m_s, temperature_k, shear_stress_pa, mu_effective, contact_fraction, slip_fraction }) => writeln!(
+                    w,
+                    ",{:.3},{:.3},{:.2},{:.3},{:.5},{:.4},{:.4}",
+                    pressure_pa * 1e-6,
+                    sliding_velocity_m_s * 60.0,
+                    temperature_k - 273.15,
+                    shear_stress_pa * 1e-6,
+                    mu_effective,
+                    contact_fraction,
+                    slip_fraction
+                )?,
+                None => writeln!(w, ",,,,,,,")?,
+            }
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,99 @@
+//! Particle state, structure of arrays (one `Vec<f64>` per field, SI units, per metre of
+//! thickness in plane strain). Flat arrays and no pointers, so that a GPU port can copy them.
+
+use serde::{Deserialize, Serialize};
+
+/// Boundary group index of free particles.
+pub const FREE: u8 = 0;
+
+/// The workpiece particles.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct Particles {
+    /// Position, m.
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+    /// Velocity, m/s.
+    pub vx: Vec<f64>,
+    pub vy: Vec<f64>,
+    /// Density, kg/m³.
+    pub rho: Vec<f64>,
+    /// Pressure, Pa (from the equation of state).
+    pub p: Vec<f64>,
+    /// Deviatoric stress, Pa (plane strain: zz is carried).
+    pub sxx: Vec<f64>,
+    pub sxy: Vec<f64>,
+    pub syy: Vec<f64>,
+    pub szz: Vec<f64>,
+    /// Equivalent plastic strain.
+    pub eps_p: Vec<f64>,
+    /// Equivalent plastic strain rate of the last step, 1/s.
+    pub eps_rate: Vec<f64>,
+    /// Temperature, K.
+    pub temp: Vec<f64>,
+    /// Boundary group (0 = free; others index `Model::groups`).
+    pub group: Vec<u8>,
+    /// Particle mass per metre of thickness, kg/m (uniform).
+    pub mass: f64,
+    /// Initial spacing Δx, m.
+    pub spacing: f64,
+}
+
+impl Particles {
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// A rectangular block of particles on a square lattice with spacing `dx`, lower-left
+    /// corner (x0, y0), `nx` × `ny` particles, at rest, density `rho0`, temperature `t0`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn block(x0: f64, y0: f64, nx: usize, ny: usize, dx: f64, rho0: f64, t0: f64) -> Self {
+        let n = nx * ny;
+        let mut p = Particles {
+            mass: rho0 * dx * dx,
+            spacing: dx,
+            ..Default::default()
+        };
+        p.x.reserve(n);
+        p.y.reserve(n);
+        for j in 0..ny {
+            for i in 0..nx {
+                p.x.push(x0 + (i as f64 + 0.5) * dx);
+                p.y.push(y0 + (j as f64 + 0.5) * dx);
+            }
+        }
+        for v in [
+            &mut p.vx, &mut p.vy, &mut p.p, &mut p.sxx, &mut p.sxy, &mut p.syy, &mut p.szz,
+            &mut p.eps_p, &mut p.eps_rate,
+        ] {
+            *v = vec![0.0; n];
+        }
+        p.rho = vec![rho0; n];
+        p.temp = vec![t0; n];
+        p.group = vec![FREE; n];
+        p
+    }
+
+    /// Von Mises equivalent stress of particle `i`, Pa.
+    pub fn von_mises(&self, i: usize) -> f64 {
+        (1.5 * (self.sxx[i].powi(2)
+            + self.syy[i].powi(2)
+            + self.szz[i].powi(2)
+            + 2.0 * self.sxy[i].powi(2)))
+        .sqrt()
+    }
+
+    /// Checks that every array has the particle count (after reading a checkpoint).
+    pub fn check_lengths(&self) -> bool {
+        let n = self.len();
+        [
+            &self.y, &self.vx, &self.vy, &self.rho, &self.p, &self.sxx, &self.sxy, &self.syy,
+            &self.szz, &self.eps_p, &self.eps_rate, &self.temp,
+        ]
+        .iter()
+        .all(|v| v.len() == n)
+            && self.group.len() == n
+    }
+}

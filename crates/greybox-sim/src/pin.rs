@@ -1,0 +1,376 @@
+//! The tribometer pin in plane strain (the article's section 5): a rigid circle of the pin
+//! radius is pressed into a Johnson–Cook workpiece to the track depth d = r − √(r² − (w/2)²)
+//! and slid along it with a prescribed Coulomb μ; the simulated F_t/F_N exceeds μ by the
+//! ploughing (deformation) share. The inverse search finds the μ_adh whose simulated F_t/F_N
+//! equals the measured μ_app.
+//!
+//! Time scaling: the process is quasi-static (at 150 m/min the inertial stress ρv² is
+//! 0.05 MPa), so the pin slides at a fraction `mach` of the elastic wave speed instead of the
+//! physical speed, and the strain rate seen by Johnson–Cook is scaled back to the physical
+//! speed (`Numerics::strain_rate_scale`). The cost of a run is then set by the slide length
+//! over the spacing, not by the physical time.
+
+use crate::executor::{run, Observer, RunSummary};
+use crate::geometry::RoundedPolygon;
+use crate::model::{BoundaryGroup, Model, Numerics};
+use crate::output::ForceHistory;
+use crate::particles::Particles;
+use crate::solver::{SimError, Solver};
+use crate::tool::{ConstantMu, Motion, MotionSegment, Tool};
+use greybox_material::Material;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// The pin-sliding set-up (SI units).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PinSetup {
+    /// Pin tip radius r, m.
+    pub pin_radius_m: f64,
+    /// Indentation depth d below the workpiece surface, m.
+    pub depth_m: f64,
+    /// Coulomb μ on the pin surface.
+    pub mu: f64,
+    /// Physical sliding speed (sets the Johnson–Cook strain rate), m/s.
+    pub sliding_speed_m_s: f64,
+    /// Slide length after pressing, m.
+    pub slide_length_m: f64,
+    /// Particle spacing, m.
+    pub spacing_m: f64,
+    /// Workpiece height, m.
+    pub workpiece_height_m: f64,
+    /// Simulated sliding speed as a fraction of the longitudinal wave speed.
+    pub mach: f64,
+    /// Initial temperature, K.
+    pub initial_temperature_k: f64,
+    pub material: Material,
+    pub numerics: Numerics,
+}
+
+impl PinSetup {
+    /// The article's pin (r = 17 mm) on AISI 1045 at depth `depth_m`, 150 m/min, with a
+    /// resolution of `spacing_m`.
+    pub fn article(depth_m: f64, mu: f64, spacing_m: f64) -> Self {
+        PinSetup {
+            pin_radius_m: 17e-3,
+            depth_m,
+            mu,
+            sliding_speed_m_s: 150.0 / 60.0,
+            slide_length_m: 1.0e-3,
+            spacing_m,
+            workpiece_height_m: 0.5e-3,
+            mach: 0.01,
+            initial_temperature_k: 293.15,
+            material: Material::aisi1045_article(),
+            numerics: Numerics::default(),
+        }
+    }
+
+    /// Half chord of the contact at full depth, √(2 r d − d²), m.
+    pub fn half_chord(&self) -> f64 {
+        (2.0 * self.pin_radius_m * self.depth_m - self.depth_m.powi(2)).sqrt()
+    }
+
+    /// The plane-strain Bowden–Tabor ploughing term of a cylinder on a rigid-plastic flat with
+    /// uniform pressure on the leading arc of angle θ = acos(1 − d/r): μ_p = (1 − cos θ)/sin θ
+    /// = tan(θ/2).
+    pub fn analytic_ploughing(&self) -> f64 {
+        let th = (1.0 - self.depth_m / self.pin_radius_m).acos();
+        (0.5 * th).tan()
+    }
+
+    pub fn validate(&self) -> greybox_core::Result<()> {
+        let ok = self.pin_radius_m > 0.0
+            && self.depth_m > 0.0
+            && self.depth_m < self.pin_radius_m
+            && self.mu >= 0.0
+            && self.mu.is_finite()
+            && self.sliding_speed_m_s > 0.0
+            && self.slide_length_m > 0.0
+            && self.spacing_m > 0.0
+            && self.workpiece_height_m >= 6.0 * self.spacing_m
+            && self.mach > 0.0
+            && self.mach <= 0.1
+            && self.initial_temperature_k > 0.0;
+        if !ok {
+            return Err(greybox_core::Error::invalid(
+                "pin set-up",
+                "expected 0 < depth < pin radius, μ ≥ 0, positive speed, slide and spacing, \
+                 workpiece height ≥ 6 spacings, 0 < mach ≤ 0.1",
+            ));
+        }
+        if self.depth_m < self.spacing_m {
+            return Err(greybox_core::Error::invalid(
+                "pin set-up",
+                format!(
+                    "the depth {:.2} µm is below one particle spacing {:.2} µm; refine the spacing",
+                    self.depth_m * 1e6,
+                    self.spacing_m * 1e6
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Workpiece length: room for the pressed chord behind, the slide and the chord ahead.
+    pub fn workpiece_length(&self) -> f64 {
+        2.0 * (self.half_chord() + 0.2e-3 + 10.0 * self.spacing_m) + self.slide_length_m
+    }
+
+    /// Builds the model and the press / slide schedule (durations, s).
+    pub fn model(&self) -> greybox_core::Result<(Model, f64, f64)> {
+        self.validate()?;
+        let dx = self.spacing_m;
+        let nx = (self.workpiece_length() / dx).ceil() as usize;
+        let ny = (self.workpiece_height_m / dx).ceil() as usize;
+        let rho0 = self.material.density_kg_m3;
+        let mut p = Particles::block(0.0, -(ny as f64) * dx, nx, ny, dx, rho0, self.initial_temperature_k);
+        // Group 1: bottom two rows fixed; group 2: the two outer columns held in x.
+        for j in 0..ny {
+            for i in 0..nx {
+                let k = j * nx + i;
+                if j < 2 {
+                    p.group[k] = 1;
+                } else if i < 2 || i >= nx - 2 {
+                    p.group[k] = 2;
+                }
+            }
+        }
+        let groups = vec![
+            BoundaryGroup { name: "bottom".into(), vx: Some(0.0), vy: Some(0.0) },
+            BoundaryGroup { name: "sides".into(), vx: Some(0.0), vy: None },
+        ];
+        let c_long = (self.material.elastic.p_wave_modulus() / (rho0 * self.numerics.mass_scaling)).sqrt();
+        let v_slide = self.mach * c_long;
+        let v_press = 0.5 * v_slide;
+        let surface = -0.5 * dx; // the top particle centres
+        let gap = 0.5 * dx;
+        let press_time = (gap + self.depth_m) / v_press;
+        // The slide starts with a ramp over 20 % of its length (covered at half speed).
+        let ramp = 0.2 * self.slide_length_m / v_slide * 2.0;
+        let slide_time = self.slide_length_m / v_slide + 0.5 * ramp;
+        let x_start = self.half_chord() + 0.2e-3 + 10.0 * dx;
+        let centre = [x_start, surface + gap + self.pin_radius_m];
+        let motion = Motion {
+            segments: vec![
+                MotionSegment { duration_s: press_time, velocity: [0.0, -v_press], ramp_s: 0.0 },
+                MotionSegment { duration_s: slide_time, velocity: [v_slide, 0.0], ramp_s: ramp },
+                MotionSegment { duration_s: f64::INFINITY, velocity: [0.0, 0.0], ramp_s: 0.0 },
+            ],
+        };
+        let pin = Tool::with_uniform_law(
+            "pin",
+            RoundedPolygon::circle(self.pin_radius_m),
+            centre,
+            motion,
+            Arc::new(ConstantMu(self.mu)),
+        );
+        let mut numerics = self.numerics.clone();
+        numerics.strain_rate_scale = self.sliding_speed_m_s / v_slide;
+        Ok((
+            Model { particles: p, material: self.material.clone(), tools: vec![pin], groups, numerics },
+            press_time,
+            slide_time,
+        ))
+    }
+}
+
+/// Result of one pin simulation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PinResult {
+    pub mu: f64,
+    pub depth_m: f64,
+    /// Mean F_t/F_N over the second half of the slide.
+    pub force_ratio: f64,
+    /// Deformation (ploughing) share F_t/F_N − μ.
+    pub deformation_share: f64,
+    /// The analytic plane-strain value tan(θ/2) for the same geometry.
+    pub analytic_share: f64,
+    /// Mean normal and tangential force per mm of width, N/mm.
+    pub normal_force_n_per_mm: f64,
+    pub tangential_force_n_per_mm: f64,
+    /// Coefficient of variation of the force ratio over the measuring window.
+    pub ratio_cv: f64,
+    pub particles: usize,
+    pub steps: u64,
+    pub wall_s: f64,
+    pub particle_steps_per_s: f64,
+    pub simulated_speed_m_s: f64,
+    pub mass_scaling: f64,
+    /// Energy-balance residual at the end, relative to the external work.
+    pub energy_error: f64,
+}
+
+/// Runs the press and slide; extra observers (VTK, checkpoints) may be attached.
+pub fn simulate(
+    setup: &PinSetup,
+    extra: &mut [&mut dyn Observer],
+) -> Result<(PinResult, ForceHistory, Solver), SimError> {
+    let (model, press, slide) = setup.model().map_err(|e| SimError::Invalid(e.to_string()))?;
+    let mut sim = Solver::new(model)?;
+    let every = ((press + slide) / sim.dt / 400.0).ceil().max(1.0) as u64;
+    let mut hist = ForceHistory::new(0, every);
+    let summary: RunSummary = {
+        let mut obs: Vec<&mut dyn Observer> = vec![&mut hist];
+        for o in extra.iter_mut() {
+            obs.push(&mut **o);
+        }
+        run(&mut sim, press + slide, &mut obs)?
+    };
+    let (t0, t1) = (press + 0.5 * slide, press + slide);
+    let sel: Vec<&[f64; 6]> = hist.rows.iter().filter(|r| r[0] >= t0 && r[0] <= t1).collect();
+    if sel.is_empty() || sel.iter().all(|r| r[4] <= 0.0) {
+        return Err(SimError::Invalid("the pin never carried a normal load while sliding".into()));
+    }
+    let n = sel.len() as f64;
+    let fn_ = sel.iter().map(|r| r[4]).sum::<f64>() / n;
+    let ft = sel.iter().map(|r| -r[3]).sum::<f64>() / n;
+    let ratios: Vec<f64> = sel.iter().filter(|r| r[4] > 0.0).map(|r| -r[3] / r[4]).collect();
+    let rm = ratios.iter().sum::<f64>() / ratios.len() as f64;
+    let sd = (ratios.iter().map(|r| (r - rm).powi(2)).sum::<f64>() / ratios.len() as f64).sqrt();
+    let ratio = ft / fn_;
+    let res = PinResult {
+        mu: setup.mu,
+        depth_m: setup.depth_m,
+        force_ratio: ratio,
+        deformation_share: ratio - setup.mu,
+        analytic_share: setup.analytic_ploughing(),
+        normal_force_n_per_mm: fn_ * 1e-3,
+        tangential_force_n_per_mm: ft * 1e-3,
+        ratio_cv: sd / rm.abs().max(1e-12),
+        particles: sim.particle_count(),
+        steps: summary.steps,
+        wall_s: summary.wall_s,
+        particle_steps_per_s: summary.particle_steps_per_s,
+        simulated_speed_m_s: setup.mach * sim.wave_speed(),
+        mass_scaling: sim.numerics.mass_scaling,
+        energy_error: sim.energy_balance().relative_error,
+    };
+    Ok((res, hist, sim))
+}
+
+/// Result of the inverse search at one load.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InverseResult {
+    pub depth_m: f64,
+    /// Measured apparent μ to match.
+    pub mu_apparent: f64,
+    /// The adhesive μ found.
+    pub mu_adhesive: f64,
+    /// Deformation share μ_app − μ_adh.
+    pub deformation_share: f64,
+    /// |simulated F_t/F_N − μ_app| at the returned μ.
+    pub residual: f64,
+    /// Every run: (μ, simulated F_t/F_N).
+    pub runs: Vec<(f64, f64)>,
+}
+
+/// Finds μ_adh with simulated F_t/F_N(μ_adh) = μ_app by a bracketing Illinois search.
+///
+/// F_t/F_N(μ) increases with μ and F_t/F_N(μ_app) ≥ μ_app (ploughing only adds), so
+/// μ_app is an upper bracket; the lower bracket starts from the analytic share and moves down
+/// until it brackets. The two bracket runs go in parallel. Stops at |residual| ≤ `tol` or
+/// after `max_runs`.
+pub fn find_adhesive_mu(
+    base: &PinSetup,
+    mu_apparent: f64,
+    tol: f64,
+    max_runs: usize,
+) -> Result<InverseResult, SimError> {
+    let eval = |mu: f64| -> Result<f64, SimError> {
+        let mut s = base.clone();
+        s.mu = mu.max(0.0);
+        Ok(simulate(&s, &mut [])?.0.force_ratio - mu_apparent)
+    };
+    let guess = base.analytic_ploughing();
+    let mut lo = (mu_apparent - 2.0 * guess - 0.02).max(0.0);
+    let mut hi = mu_apparent;
+    let (flo, fhi) = rayon::join(|| eval(lo), || eval(hi));
+    let (mut flo, mut fhi) = (flo?, fhi?);
+    let mut runs = vec![(lo, flo + mu_apparent), (hi, fhi + mu_apparent)];
+    while flo > 0.0 && lo > 0.0 && runs.len() < max_runs {
+        hi = lo;
+        fhi = flo;
+        lo = (lo - 2.0 * guess - 0.05).max(0.0);
+        flo = eval(lo)?;
+        runs.push((lo, flo + mu_apparent));
+    }
+    let (mut best, mut best_f) = if flo.abs() < fhi.abs() { (lo, flo) } else { (hi, fhi) };
+    let mut side = 0i8;
+    while best_f.abs() > tol && runs.len() < max_runs && flo < 0.0 && fhi > 0.0 {
+        let mu = (lo * fhi - hi * flo) / (fhi - flo);
+        let f = eval(mu)?;
+        runs.push((mu, f + mu_apparent));
+        if f.abs() < best_f.abs() {
+            best = mu;
+            best_f = f;
+        }
+        if f > 0.0 {
+            hi = mu;
+            fhi = f;
+            if side == 1 {
+                flo *= 0.5;
+            }
+            side = 1;
+        } else {
+            lo = mu;
+            flo = f;
+            if side == -1 {
+                fhi *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    // Linear interpolation inside the final bracket refines below the run-to-run noise.
+    let mu_adh = if flo < 0.0 && fhi > 0.0 && best_f.abs() > tol {
+        (lo * fhi - hi * flo) / (fhi - flo)
+    } else {
+        best
+    };
+    Ok(InverseResult {
+        depth_m: base.depth_m,
+        mu_apparent,
+        mu_adhesive: mu_adh,
+        deformation_share: mu_apparent - mu_adh,
+        residual: best_f.abs(),
+        runs,
+    })
+}
+
+/// Power law share(F) = a F^b fitted in log space to (load, share) points (shares > 0).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ShareLaw {
+    pub a: f64,
+    pub b: f64,
+}
+
+impl ShareLaw {
+    pub fn fit(points: &[(f64, f64)]) -> greybox_core::Result<Self> {
+        let pts: Vec<(f64, f64)> = points
+            .iter()
+            .filter(|(f, s)| *f > 0.0 && *s > 0.0)
+            .map(|(f, s)| (f.ln(), s.ln()))
+            .collect();
+        if pts.is_empty() {
+            return Err(greybox_core::Error::invalid(
+                "deformation share fit",
+                "no load with a positive simulated deformation share",
+            ));
+        }
+        if pts.len() == 1 || pts.iter().all(|p| p.0 == pts[0].0) {
+            // One load: share ∝ √F (Bowden–Tabor scaling with w ∝ √F).
+            let (lf, ls) = pts[0];
+            return Ok(ShareLaw { a: (ls - 0.5 * lf).exp(), b: 0.5 });
+        }
+        let n = pts.len() as f64;
+        let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
+        let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
+        let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+        let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+        let b = sxy / sxx;
+        Ok(ShareLaw { a: (my - b * mx).exp(), b })
+    }
+    pub fn share(&self, force_n: f64) -> f64 {
+        self.a * force_n.powf(self.b)
+    }
+}

@@ -1,0 +1,667 @@
+//! The explicit SPH solver: one [`Solver::step`] advances the state by Δt.
+//!
+//! Per step (Röthlin et al., Int J Adv Manuf Technol 2019; Gray, Monaghan & Swift, CMAME 190,
+//! 2001; Libersky & Petschek 1991):
+//! 1. rebuild the Verlet lists if a particle moved more than half the skin;
+//! 2. per particle: pack σ/ρ², m/ρ, the artificial stress R and the conductivity (pure map);
+//! 3. force gather over neighbours (pure per particle, no writes to neighbours; the kernel
+//!    values of each pair are cached for step 6):
+//!    * momentum    dv_i/dt = Σ_j m (σ_i/ρ_i² + σ_j/ρ_j² − Π_ij I + f_ij⁴ (R_i + R_j))·∇_i W_ij,
+//!    * Brookshaw   ρ c dT/dt = Σ_j (m/ρ_j)(k_i + k_j)(T_i − T_j) r_ij·∇_i W_ij / (r² + 0.01h²);
+//! 4. rigid-tool contact: penalty f_N = α m g/Δt², incremental Coulomb friction per window;
+//! 5. kick: v ← v + Δt a, prescribed velocities;
+//! 6. kinematics gather with the *new* velocities:
+//!    * continuity  dρ_i/dt = Σ_j m (v_i − v_j)·∇_i W_ij,
+//!    * velocity gradient L_i = Σ_j (m/ρ_j)(v_j − v_i) ⊗ ∇_i W_ij,
+//!    * XSPH        v̂_i = v_i + ε Σ_j (m/ρ̄_ij)(v_j − v_i) W_ij;
+//! 7. drift and constitutive update: x ← x + Δt v̂, ρ ← ρ + Δt ρ̇, p = c₀²(ρ − ρ₀), Jaumann
+//!    stress rate, Johnson–Cook radial return, heating;
+//! 8. the tools move; energies are booked; non-finite or runaway states stop the run.
+//!
+//! Steps 5–7 make the velocity–stress update symplectic (the stress rate uses v_{n+1}):
+//! evaluating both from the old state is forward Euler for the elastic wave equation, which
+//! amplifies every mode and is only kept alive by artificial viscosity at small Courant numbers.
+
+use crate::contact;
+use crate::kernel::CubicSpline;
+use crate::model::{Model, Numerics};
+use crate::neighbours::NeighbourList;
+use crate::particles::{Particles, FREE};
+use crate::plasticity;
+use crate::tool::Tool;
+use greybox_material::Material;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// Why a run stopped early.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SimError {
+    Unstable {
+        step: u64,
+        time_s: f64,
+        particle: usize,
+        reason: String,
+    },
+    Invalid(String),
+}
+
+impl std::fmt::Display for SimError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SimError::Unstable { step, time_s, particle, reason } => write!(
+                f,
+                "simulation went unstable at step {step} (t = {time_s:.4e} s): particle {particle} {reason}; \
+                 try a smaller cfl, a larger smoothing_ratio or less mass scaling"
+            ),
+            SimError::Invalid(m) => write!(f, "{m}"),
+        }
+    }
+}
+
+impl std::error::Error for SimError {}
+
+/// Energy book-keeping, J per metre of thickness (cumulative works).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct EnergyBook {
+    /// Work done on the workpiece by the tools and the prescribed-velocity boundaries.
+    pub external_work: f64,
+    /// Plastic dissipation Σ (m/ρ) σ_y Δε_p.
+    pub plastic_work: f64,
+    /// Work of the tangential contact forces on the relative sliding (friction).
+    pub friction_work: f64,
+    /// Work of the normal penalty forces on the relative motion (≈ stored penalty energy).
+    pub penalty_work: f64,
+    /// Dissipation by artificial viscosity.
+    pub viscous_work: f64,
+}
+
+/// Energies of a state, J/m.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct EnergyBalance {
+    pub kinetic: f64,
+    pub elastic: f64,
+    pub plastic: f64,
+    pub friction: f64,
+    pub penalty: f64,
+    pub viscous: f64,
+    pub external: f64,
+    /// (kinetic + elastic + plastic + friction + penalty + viscous − external) / external.
+    pub relative_error: f64,
+}
+
+/// Per-particle rates from the neighbour gather.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Rates {
+    pub ax: f64,
+    pub ay: f64,
+    pub drho: f64,
+    pub lxx: f64,
+    pub lxy: f64,
+    pub lyx: f64,
+    pub lyy: f64,
+    pub xsx: f64,
+    pub xsy: f64,
+    /// dT/dt, K/s (conduction, then friction heating).
+    pub dtemp: f64,
+    /// Artificial-viscosity dissipation rate, W/m.
+    pub av_power: f64,
+}
+
+/// Per-particle data packed for the gather (one cache-friendly record per particle).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Packed {
+    x: f64,
+    y: f64,
+    vx: f64,
+    vy: f64,
+    /// m/ρ.
+    vol: f64,
+    rho: f64,
+    /// σ/ρ² (total stress, pressure included).
+    txx: f64,
+    txy: f64,
+    tyy: f64,
+    /// Artificial stress R (already /ρ²).
+    rxx: f64,
+    rxy: f64,
+    ryy: f64,
+    temp: f64,
+    /// Conductivity, W/(m·K).
+    k: f64,
+}
+
+/// Material constants derived once.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Derived {
+    pub rho0: f64,
+    pub shear: f64,
+    /// c₀² = K/ρ₀ for the equation of state.
+    pub c0_sq: f64,
+    /// Longitudinal wave speed √((K + 4G/3)/ρ₀), m/s.
+    pub c_long: f64,
+}
+
+/// The solver state.
+pub struct Solver {
+    pub particles: Particles,
+    pub material: Material,
+    pub tools: Vec<Tool>,
+    pub groups: Vec<crate::model::BoundaryGroup>,
+    pub numerics: Numerics,
+    pub kernel: CubicSpline,
+    pub neighbours: NeighbourList,
+    pub(crate) derived: Derived,
+    /// Time step, s.
+    pub dt: f64,
+    pub time: f64,
+    pub step: u64,
+    pub energy: EnergyBook,
+    /// Reaction force of each boundary group on the body (force the boundary applies), N/m.
+    pub group_force: Vec<[f64; 2]>,
+    pub(crate) rates: Vec<Rates>,
+    pub(crate) packed: Vec<Packed>,
+    /// Per neighbour-list entry: (1/r) dW/dr and W of the pair at the current positions.
+    pair_g: Vec<f64>,
+    pair_w: Vec<f64>,
+    /// Reciprocal of W(Δx) for the artificial-stress factor f = W(r)/W(Δx).
+    inv_w_dx: f64,
+}
+
+impl Solver {
+    /// Checks the model, applies mass scaling, builds neighbour lists and sets Δt.
+    pub fn new(model: Model) -> Result<Self, SimError> {
+        let Model {
+            mut particles,
+            material,
+            tools,
+            groups,
+            numerics,
+        } = model;
+        let inv = |e: greybox_core::Error| SimError::Invalid(e.to_string());
+        numerics.validate().map_err(inv)?;
+        material.validate().map_err(inv)?;
+        for t in &tools {
+            t.validate().map_err(inv)?;
+        }
+        if particles.is_empty() || !particles.check_lengths() {
+            return Err(SimError::Invalid("the model has no particles or inconsistent particle arrays".into()));
+        }
+        if let Some(&g) = particles.group.iter().find(|&&g| g as usize > groups.len()) {
+            return Err(SimError::Invalid(format!("particle boundary group {g} does not exist ({} groups)", groups.len())));
+        }
+        let f = numerics.mass_scaling;
+        particles.mass *= f;
+        particles.rho.iter_mut().for_each(|r| *r *= f);
+        let rho0 = material.density_kg_m3 * f;
+        let bulk = material.elastic.bulk_modulus();
+        let shear = material.elastic.shear_modulus();
+        let derived = Derived {
+            rho0,
+            shear,
+            c0_sq: bulk / rho0,
+            c_long: (material.elastic.p_wave_modulus() / rho0).sqrt(),
+        };
+        let h = numerics.smoothing_ratio * particles.spacing;
+        let kernel = CubicSpline::new(h);
+        let mut neighbours = NeighbourList::new(kernel.radius(), numerics.skin_ratio * h);
+        neighbours.build(&particles.x, &particles.y);
+        let vmax_tool = tools
+            .iter()
+            .flat_map(|t| t.motion.segments.iter())
+            .map(|s| s.velocity[0].hypot(s.velocity[1]))
+            .fold(0.0, f64::max);
+        let dt = numerics.cfl * h / (derived.c_long + vmax_tool);
+        let n = particles.len();
+        let ngroups = groups.len();
+        Ok(Solver {
+            inv_w_dx: 1.0 / kernel.w(particles.spacing),
+            particles,
+            material,
+            tools,
+            groups,
+            numerics,
+            kernel,
+            neighbours,
+            derived,
+            dt,
+            time: 0.0,
+            step: 0,
+            energy: EnergyBook::default(),
+            group_force: vec![[0.0; 2]; ngroups],
+            rates: vec![Rates::default(); n],
+            packed: vec![Packed::default(); n],
+            pair_g: Vec::new(),
+            pair_w: Vec::new(),
+        })
+    }
+
+    /// Longitudinal elastic wave speed used for the time step (with mass scaling), m/s.
+    pub fn wave_speed(&self) -> f64 {
+        self.derived.c_long
+    }
+
+    /// Advances one step.
+    pub fn step(&mut self) -> Result<(), SimError> {
+        if self.neighbours.needs_rebuild(&self.particles.x, &self.particles.y) {
+            self.neighbours.build(&self.particles.x, &self.particles.y);
+        }
+        self.pack();
+        self.gather_forces();
+        contact::apply(self);
+        self.book_boundaries();
+        self.kick();
+        self.gather_kinematics();
+        self.update()?;
+        let t = self.time;
+        let dt = self.dt;
+        for tool in &mut self.tools {
+            let v = tool.motion.velocity(t);
+            tool.position[0] += v[0] * dt;
+            tool.position[1] += v[1] * dt;
+        }
+        self.time += dt;
+        self.step += 1;
+        Ok(())
+    }
+
+    /// Step 2: the per-particle packed record.
+    fn pack(&mut self) {
+        let p = &self.particles;
+        let eps = self.numerics.artificial_stress;
+        let th = &self.material.thermal;
+        let thermal = self.numerics.thermal;
+        let m = p.mass;
+        self.packed.par_iter_mut().enumerate().for_each(|(i, q)| {
+            let rho = p.rho[i];
+            let ir2 = 1.0 / (rho * rho);
+            let sxx = p.sxx[i] - p.p[i];
+            let syy = p.syy[i] - p.p[i];
+            let sxy = p.sxy[i];
+            // Gray–Monaghan artificial stress: principal tensile stresses σ' > 0 get R' = −ε σ'/ρ².
+            let (mut rxx, mut rxy, mut ryy) = (0.0, 0.0, 0.0);
+            if eps > 0.0 {
+                let c = 0.5 * (sxx + syy);
+                let d = 0.5 * (sxx - syy);
+                let r = d.hypot(sxy);
+                let (s1, s2) = (c + r, c - r);
+                if s1 > 0.0 {
+                    let r1 = -eps * s1 * ir2;
+                    let r2 = if s2 > 0.0 { -eps * s2 * ir2 } else { 0.0 };
+                    // Principal direction: cos 2θ = d/r, sin 2θ = sxy/r.
+                    let (c2, s2t) = if r > 0.0 { (d / r, sxy / r) } else { (1.0, 0.0) };
+                    let cc = 0.5 * (1.0 + c2);
+                    let ss = 0.5 * (1.0 - c2);
+                    rxx = r1 * cc + r2 * ss;
+                    ryy = r1 * ss + r2 * cc;
+                    rxy = (r1 - r2) * 0.5 * s2t;
+                }
+            }
+            *q = Packed {
+                x: p.x[i],
+                y: p.y[i],
+                vx: p.vx[i],
+                vy: p.vy[i],
+                vol: m / rho,
+                rho,
+                txx: sxx * ir2,
+                txy: sxy * ir2,
+                tyy: syy * ir2,
+                rxx,
+                rxy,
+                ryy,
+                temp: p.temp[i],
+                k: if thermal { th.conductivity.eval(p.temp[i]) } else { 0.0 },
+            };
+        });
+    }
+
+    /// Step 3: forces and conduction (pure per particle); caches the pair kernel values.
+    fn gather_forces(&mut self) {
+        let kernel = self.kernel;
+        let h = kernel.h;
+        let r_max2 = kernel.radius() * kernel.radius();
+        let eta2 = 0.01 * h * h;
+        let m = self.particles.mass;
+        let (alpha, beta) = (self.numerics.av_alpha, self.numerics.av_beta);
+        let c = self.derived.c_long;
+        let inv_w_dx = self.inv_w_dx;
+        let use_as = self.numerics.artificial_stress > 0.0;
+        let thermal = self.numerics.thermal;
+        let packed = &self.packed;
+        let nl = &self.neighbours;
+        let stride = nl.stride;
+        self.pair_g.resize(nl.index.len(), 0.0);
+        self.pair_w.resize(nl.index.len(), 0.0);
+        const CH: usize = 64;
+        self.rates
+            .par_chunks_mut(CH)
+            .zip(self.pair_g.par_chunks_mut(CH * stride))
+            .zip(self.pair_w.par_chunks_mut(CH * stride))
+            .enumerate()
+            .for_each(|(ch, ((rates, pg), pw))| {
+                for (k, out) in rates.iter_mut().enumerate() {
+                    let i = ch * CH + k;
+                    let a = packed[i];
+                    let (mut ax, mut ay, mut dtemp, mut av_power) = (0.0, 0.0, 0.0, 0.0);
+                    let row = k * stride;
+                    for (q, &j) in nl.of(i).iter().enumerate() {
+                        let b = &packed[j as usize];
+                        let dx = a.x - b.x;
+                        let dy = a.y - b.y;
+                        let r2 = dx * dx + dy * dy;
+                        if r2 >= r_max2 {
+                            pg[row + q] = 0.0;
+                            pw[row + q] = 0.0;
+                            continue;
+                        }
+                        let dist = r2.sqrt();
+                        let g = kernel.dw_over_r(dist);
+                        let w = kernel.w(dist);
+                        pg[row + q] = g;
+                        pw[row + q] = w;
+                        let gx = g * dx;
+                        let gy = g * dy;
+                        let mut txx = a.txx + b.txx;
+                        let mut txy = a.txy + b.txy;
+                        let mut tyy = a.tyy + b.tyy;
+                        let dvx = a.vx - b.vx;
+                        let dvy = a.vy - b.vy;
+                        let vr = dvx * dx + dvy * dy;
+                        if vr < 0.0 {
+                            let mu = h * vr / (r2 + eta2);
+                            let pi = (-alpha * c * mu + beta * mu * mu) * 2.0 / (a.rho + b.rho);
+                            txx -= pi;
+                            tyy -= pi;
+                            av_power += 0.5 * m * m * pi * (dvx * gx + dvy * gy);
+                        }
+                        if use_as {
+                            let f = w * inv_w_dx;
+                            let f2 = f * f;
+                            let f4 = f2 * f2;
+                            txx += f4 * (a.rxx + b.rxx);
+                            txy += f4 * (a.rxy + b.rxy);
+                            tyy += f4 * (a.ryy + b.ryy);
+                        }
+                        ax += m * (txx * gx + txy * gy);
+                        ay += m * (txy * gx + tyy * gy);
+                        if thermal {
+                            dtemp += b.vol * (a.k + b.k) * (a.temp - b.temp) * g * r2 / (r2 + eta2);
+                        }
+                    }
+                    out.ax = ax;
+                    out.ay = ay;
+                    out.dtemp = dtemp;
+                    out.av_power = av_power;
+                }
+            });
+        // Conduction: divide by ρ c (heat capacity per volume kept physical under mass scaling).
+        if thermal {
+            let th = &self.material.thermal;
+            let f = self.numerics.mass_scaling;
+            let p = &self.particles;
+            self.rates.par_iter_mut().enumerate().for_each(|(i, r)| {
+                r.dtemp /= p.rho[i] / f * th.specific_heat.eval(p.temp[i]);
+            });
+        }
+    }
+
+    /// Step 5: v ← v + Δt a with the prescribed velocity components imposed.
+    fn kick(&mut self) {
+        let dt = self.dt;
+        let groups = &self.groups;
+        let rates = &self.rates;
+        let p = &mut self.particles;
+        p.vx.par_iter_mut()
+            .zip(p.vy.par_iter_mut())
+            .zip(self.packed.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, ((vx, vy), q))| {
+                let mut nvx = *vx + dt * rates[i].ax;
+                let mut nvy = *vy + dt * rates[i].ay;
+                let g = p.group[i];
+                if g != FREE {
+                    let g = &groups[g as usize - 1];
+                    if let Some(v) = g.vx {
+                        nvx = v;
+                    }
+                    if let Some(v) = g.vy {
+                        nvy = v;
+                    }
+                }
+                *vx = nvx;
+                *vy = nvy;
+                q.vx = nvx;
+                q.vy = nvy;
+            });
+    }
+
+    /// Step 6: continuity, velocity gradient and XSPH from the new velocities.
+    fn gather_kinematics(&mut self) {
+        let m = self.particles.mass;
+        let eps_x = self.numerics.xsph;
+        let packed = &self.packed;
+        let nl = &self.neighbours;
+        let stride = nl.stride;
+        let (pg, pw) = (&self.pair_g, &self.pair_w);
+        self.rates.par_iter_mut().with_min_len(64).enumerate().for_each(|(i, out)| {
+            let a = packed[i];
+            let (mut drho, mut lxx, mut lxy, mut lyx, mut lyy, mut xsx, mut xsy) =
+                (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+            let row = i * stride;
+            for (q, &j) in nl.of(i).iter().enumerate() {
+                let g = pg[row + q];
+                if g == 0.0 {
+                    continue;
+                }
+                let b = &packed[j as usize];
+                let gx = g * (a.x - b.x);
+                let gy = g * (a.y - b.y);
+                let dvx = a.vx - b.vx;
+                let dvy = a.vy - b.vy;
+                drho += m * (dvx * gx + dvy * gy);
+                lxx -= b.vol * dvx * gx;
+                lxy -= b.vol * dvx * gy;
+                lyx -= b.vol * dvy * gx;
+                lyy -= b.vol * dvy * gy;
+                let wv = 2.0 * m / (a.rho + b.rho) * pw[row + q];
+                xsx -= wv * dvx;
+                xsy -= wv * dvy;
+            }
+            out.drho = drho;
+            out.lxx = lxx;
+            out.lxy = lxy;
+            out.lyx = lyx;
+            out.lyy = lyy;
+            out.xsx = eps_x * xsx;
+            out.xsy = eps_x * xsy;
+        });
+    }
+
+    /// Reaction forces and external work of the prescribed-velocity groups.
+    fn book_boundaries(&mut self) {
+        if self.groups.is_empty() {
+            return;
+        }
+        let p = &self.particles;
+        for f in self.group_force.iter_mut() {
+            *f = [0.0; 2];
+        }
+        for i in 0..p.len() {
+            let g = p.group[i];
+            if g != FREE {
+                let gf = &mut self.group_force[g as usize - 1];
+                gf[0] -= p.mass * self.rates[i].ax;
+                gf[1] -= p.mass * self.rates[i].ay;
+            }
+        }
+        let mut w = 0.0;
+        for (gf, g) in self.group_force.iter().zip(&self.groups) {
+            w += gf[0] * g.vx.unwrap_or(0.0) + gf[1] * g.vy.unwrap_or(0.0);
+        }
+        self.energy.external_work += w * self.dt;
+    }
+
+    /// Step 7: drift, stress rate, plasticity, heating, checks.
+    fn update(&mut self) -> Result<(), SimError> {
+        let dt = self.dt;
+        let d = self.derived;
+        let jc = self.material.plasticity;
+        let th = &self.material.thermal;
+        let thermal = self.numerics.thermal;
+        let beta_tq = th.taylor_quinney;
+        let rate_scale = self.numerics.strain_rate_scale;
+        let f_mass = self.numerics.mass_scaling;
+        let vlim2 = (self.numerics.max_speed_ratio * d.c_long).powi(2);
+        let rates = &self.rates;
+        let m = self.particles.mass;
+        let p = &mut self.particles;
+        const CH: usize = 512;
+        // (plastic work, max speed², first bad particle)
+        let (plastic, bad) = (
+            p.x.par_chunks_mut(CH),
+            p.y.par_chunks_mut(CH),
+            p.vx.par_chunks(CH),
+            p.vy.par_chunks(CH),
+            p.rho.par_chunks_mut(CH),
+            p.p.par_chunks_mut(CH),
+            p.sxx.par_chunks_mut(CH),
+            p.sxy.par_chunks_mut(CH),
+            p.syy.par_chunks_mut(CH),
+            p.szz.par_chunks_mut(CH),
+            p.eps_p.par_chunks_mut(CH),
+            (p.temp.par_chunks_mut(CH), p.eps_rate.par_chunks_mut(CH)),
+        )
+            .into_par_iter()
+            .enumerate()
+            .map(|(c, (x, y, vx, vy, rho, pr, sxx, sxy, syy, szz, eps, (temp, erate)))| {
+                let mut wp = 0.0;
+                let mut bad = usize::MAX;
+                for k in 0..x.len() {
+                    let i = c * CH + k;
+                    let r = &rates[i];
+                    let (nvx, nvy) = (vx[k], vy[k]);
+                    x[k] += dt * (nvx + r.xsx);
+                    y[k] += dt * (nvy + r.xsy);
+                    rho[k] += dt * r.drho;
+                    pr[k] = d.c0_sq * (rho[k] - d.rho0);
+                    // Jaumann rate of the deviatoric stress (plane strain).
+                    let dxx = r.lxx;
+                    let dyy = r.lyy;
+                    let dxy = 0.5 * (r.lxy + r.lyx);
+                    let w = 0.5 * (r.lxy - r.lyx);
+                    let tr3 = (dxx + dyy) / 3.0;
+                    let g2 = 2.0 * d.shear;
+                    let (oxx, oxy, oyy) = (sxx[k], sxy[k], syy[k]);
+                    sxx[k] = oxx + dt * (g2 * (dxx - tr3) + 2.0 * w * oxy);
+                    syy[k] = oyy + dt * (g2 * (dyy - tr3) - 2.0 * w * oxy);
+                    sxy[k] = oxy + dt * (g2 * dxy + w * (oyy - oxx));
+                    szz[k] += dt * (-g2 * tr3);
+                    let mut t_new = temp[k];
+                    if thermal {
+                        t_new += dt * r.dtemp;
+                    }
+                    erate[k] = 0.0;
+                    if let Some(jc) = &jc {
+                        let mut s = [sxx[k], sxy[k], syy[k], szz[k]];
+                        let ret = plasticity::radial_return(
+                            jc, d.shear, &mut s, eps[k], temp[k], dt, rate_scale,
+                        );
+                        if ret.d_eps > 0.0 {
+                            sxx[k] = s[0];
+                            sxy[k] = s[1];
+                            syy[k] = s[2];
+                            szz[k] = s[3];
+                            eps[k] += ret.d_eps;
+                            erate[k] = ret.d_eps / dt;
+                            // Plastic work per volume σ_y Δε_p; volume m/ρ.
+                            let wv = ret.flow_stress * ret.d_eps;
+                            wp += wv * m / rho[k];
+                            if thermal {
+                                let c = th.specific_heat.eval(temp[k]);
+                                t_new += beta_tq * wv / (rho[k] / f_mass * c);
+                            }
+                        }
+                    }
+                    temp[k] = t_new;
+                    let v2 = nvx * nvx + nvy * nvy;
+                    let finite = x[k].is_finite()
+                        && y[k].is_finite()
+                        && rho[k].is_finite()
+                        && sxx[k].is_finite()
+                        && sxy[k].is_finite()
+                        && syy[k].is_finite()
+                        && temp[k].is_finite();
+                    if bad == usize::MAX && (!finite || v2 > vlim2 || rho[k] <= 0.0) {
+                        bad = i;
+                    }
+                }
+                (wp, bad)
+            })
+            .reduce(|| (0.0, usize::MAX), |a, b| (a.0 + b.0, a.1.min(b.1)));
+        self.energy.plastic_work += plastic;
+        self.energy.viscous_work += dt * self.rates.iter().map(|r| r.av_power).sum::<f64>();
+        if bad != usize::MAX {
+            let p = &self.particles;
+            let reason = if !(p.x[bad].is_finite() && p.rho[bad].is_finite() && p.sxx[bad].is_finite()) {
+                "has a non-finite state".to_string()
+            } else if p.rho[bad] <= 0.0 {
+                format!("has density {:.3e} kg/m³", p.rho[bad])
+            } else {
+                format!(
+                    "moves at {:.1} m/s, above {:.0} % of the wave speed {:.0} m/s",
+                    p.vx[bad].hypot(p.vy[bad]),
+                    100.0 * self.numerics.max_speed_ratio,
+                    d.c_long
+                )
+            };
+            return Err(SimError::Unstable {
+                step: self.step,
+                time_s: self.time,
+                particle: bad,
+                reason,
+            });
+        }
+        Ok(())
+    }
+
+    /// The energy balance of the current state.
+    pub fn energy_balance(&self) -> EnergyBalance {
+        let p = &self.particles;
+        let d = self.derived;
+        let g = d.shear;
+        let (kin, ela) = (0..p.len())
+            .into_par_iter()
+            .map(|i| {
+                let v2 = p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i];
+                let rho = p.rho[i];
+                let vol = p.mass / rho;
+                let ss = p.sxx[i].powi(2) + p.syy[i].powi(2) + p.szz[i].powi(2) + 2.0 * p.sxy[i].powi(2);
+                // Linear EOS: e = c₀² [ln(ρ/ρ₀) + ρ₀/ρ − 1] per mass.
+                let vol_e = p.mass * d.c0_sq * ((rho / d.rho0).ln() + d.rho0 / rho - 1.0);
+                (0.5 * p.mass * v2, vol * ss / (4.0 * g) + vol_e)
+            })
+            .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+        let e = &self.energy;
+        let stored = kin + ela + e.plastic_work + e.friction_work + e.penalty_work + e.viscous_work;
+        EnergyBalance {
+            kinetic: kin,
+            elastic: ela,
+            plastic: e.plastic_work,
+            friction: e.friction_work,
+            penalty: e.penalty_work,
+            viscous: e.viscous_work,
+            external: e.external_work,
+            relative_error: (stored - e.external_work) / e.external_work.abs().max(f64::MIN_POSITIVE),
+        }
+    }
+
+    /// Particle-steps per second helper: particle count.
+    pub fn particle_count(&self) -> usize {
+        self.particles.len()
+    }
+
+    /// Physical density of particle i (mass scaling removed), kg/m³.
+    pub fn physical_density(&self, i: usize) -> f64 {
+        self.particles.rho[i] / self.numerics.mass_scaling
+    }
+}
