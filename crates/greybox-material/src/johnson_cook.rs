@@ -121,7 +121,9 @@ impl JohnsonCook {
             && self.m > 0.0
             && self.ref_strain_rate > 0.0
             && self.melt_temperature_k > self.room_temperature_k
-            && [self.a_pa, self.b_pa, self.n, self.c, self.m].iter().all(|v| v.is_finite());
+            && [self.a_pa, self.b_pa, self.n, self.c, self.m]
+                .iter()
+                .all(|v| v.is_finite());
         if ok {
             Ok(())
         } else {

@@ -58,7 +58,8 @@ impl Checkpoint {
     }
 
     pub fn write(&self, path: &Path) -> greybox_core::Result<()> {
-        let s = serde_json::to_string(self).map_err(|e| greybox_core::Error::invalid("checkpoint", e.to_string()))?;
+        let s = serde_json::to_string(self)
+            .map_err(|e| greybox_core::Error::invalid("checkpoint", e.to_string()))?;
         write_string_atomic(path, &s)
     }
 
@@ -66,7 +67,12 @@ impl Checkpoint {
         let text = std::fs::read_to_string(path).map_err(|e| greybox_core::Error::io(path, e))?;
         let c: Checkpoint = serde_json::from_str(&text).map_err(|e| {
             greybox_core::Error::invalid(
-                format!("{}, line {}, column {}", path.display(), e.line(), e.column()),
+                format!(
+                    "{}, line {}, column {}",
+                    path.display(),
+                    e.line(),
+                    e.column()
+                ),
                 format!("not a greybox-sim checkpoint: {e}"),
             )
         })?;
@@ -99,7 +105,11 @@ impl Checkpoint {
         sim.energy = self.energy;
         for (t, s) in sim.tools.iter_mut().zip(self.tools) {
             t.position = s.position;
-            for (w, (mu, acc)) in t.windows.iter_mut().zip(s.window_mu.into_iter().zip(s.window_acc)) {
+            for (w, (mu, acc)) in t
+                .windows
+                .iter_mut()
+                .zip(s.window_mu.into_iter().zip(s.window_acc))
+            {
                 w.mu = mu;
                 w.acc = acc;
             }

@@ -50,7 +50,8 @@ pub(crate) fn apply(sim: &mut Solver) {
         for i in 0..p.len() {
             let lx = p.x[i] - x0;
             let ly = p.y[i] - y0;
-            if lx < lo[0] - reach || lx > hi[0] + reach || ly < lo[1] - reach || ly > hi[1] + reach {
+            if lx < lo[0] - reach || lx > hi[0] + reach || ly < lo[1] - reach || ly > hi[1] + reach
+            {
                 continue;
             }
             let sp = tool.shape.closest([lx, ly]);

@@ -177,7 +177,11 @@ impl RoundedPolygon {
         if k == 1 {
             let (dx, dy) = (p[0] - self.vertices[0][0], p[1] - self.vertices[0][1]);
             let d = dx.hypot(dy);
-            let n = if d > 0.0 { [dx / d, dy / d] } else { [0.0, 1.0] };
+            let n = if d > 0.0 {
+                [dx / d, dy / d]
+            } else {
+                [0.0, 1.0]
+            };
             return SurfacePoint {
                 distance: d - self.radius,
                 normal: n,
@@ -210,7 +214,8 @@ impl RoundedPolygon {
         let mut best = (f64::INFINITY, 0usize, 0.0);
         for e in 0..k {
             let v = self.vertices[e];
-            let t = (c.dir[e][0] * (p[0] - v[0]) + c.dir[e][1] * (p[1] - v[1])).clamp(0.0, c.len[e]);
+            let t =
+                (c.dir[e][0] * (p[0] - v[0]) + c.dir[e][1] * (p[1] - v[1])).clamp(0.0, c.len[e]);
             let q = [v[0] + t * c.dir[e][0], v[1] + t * c.dir[e][1]];
             let d2 = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
             if d2 < best.0 {
@@ -258,8 +263,8 @@ mod tests {
 
     #[test]
     fn rounded_square_layout() {
-        let sq = RoundedPolygon::new(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], 0.5)
-            .unwrap();
+        let sq =
+            RoundedPolygon::new(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], 0.5).unwrap();
         let pi = std::f64::consts::PI;
         assert!((sq.perimeter() - (4.0 + pi)).abs() < 1e-12);
         // Below edge 0: s in [0, 1].

@@ -9,6 +9,7 @@
 
 pub mod checkpoint;
 pub(crate) mod contact;
+pub mod cutting;
 pub mod executor;
 pub mod geometry;
 pub mod kernel;

@@ -63,11 +63,14 @@ impl NeighbourList {
         let ncy = (((ymax - ymin) / c).floor() as usize + 1).max(1);
         // Counting sort of particles into cells.
         self.cell_of.resize(n, 0);
-        self.cell_of.par_iter_mut().enumerate().for_each(|(i, cell)| {
-            let cx = ((x[i] - xmin) / c) as usize;
-            let cy = ((y[i] - ymin) / c) as usize;
-            *cell = (cy.min(ncy - 1) * ncx + cx.min(ncx - 1)) as u32;
-        });
+        self.cell_of
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, cell)| {
+                let cx = ((x[i] - xmin) / c) as usize;
+                let cy = ((y[i] - ymin) / c) as usize;
+                *cell = (cy.min(ncy - 1) * ncx + cx.min(ncx - 1)) as u32;
+            });
         self.cell_start.clear();
         self.cell_start.resize(ncx * ncy + 1, 0);
         for &cell in &self.cell_of {
@@ -114,13 +117,16 @@ impl NeighbourList {
         self.stride = stride;
         self.index.clear();
         self.index.resize(n * stride, 0);
-        self.index.par_chunks_mut(stride).enumerate().for_each(|(i, row)| {
-            let mut k = 0;
-            visit(i, &mut |j| {
-                row[k] = j;
-                k += 1;
+        self.index
+            .par_chunks_mut(stride)
+            .enumerate()
+            .for_each(|(i, row)| {
+                let mut k = 0;
+                visit(i, &mut |j| {
+                    row[k] = j;
+                    k += 1;
+                });
             });
-        });
         self.x0.clear();
         self.x0.extend_from_slice(x);
         self.y0.clear();
@@ -145,7 +151,9 @@ mod tests {
         let mut y = Vec::new();
         let mut s = 12345u64;
         let mut rnd = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         };
         for j in 0..30 {
@@ -162,7 +170,8 @@ mod tests {
             let want: Vec<u32> = (0..x.len() as u32)
                 .filter(|&j| {
                     j as usize != i
-                        && (x[i] - x[j as usize]).powi(2) + (y[i] - y[j as usize]).powi(2) < 3.3 * 3.3
+                        && (x[i] - x[j as usize]).powi(2) + (y[i] - y[j as usize]).powi(2)
+                            < 3.3 * 3.3
                 })
                 .collect();
             assert_eq!(got, want, "particle {i}");

@@ -16,7 +16,12 @@ fn io_err(e: greybox_core::Error) -> SimError {
 /// Writes particles as a VTK legacy ASCII poly-data file (points + vertices + point data:
 /// velocity m/s, pressure Pa, von Mises Pa, plastic strain, plastic strain rate 1/s,
 /// temperature K, density kg/m³ (physical), boundary group).
-pub fn write_vtk(path: &Path, p: &Particles, mass_scaling: f64, time: f64) -> greybox_core::Result<()> {
+pub fn write_vtk(
+    path: &Path,
+    p: &Particles,
+    mass_scaling: f64,
+    time: f64,
+) -> greybox_core::Result<()> {
     write_atomic(path, |w| {
         let n = p.len();
         writeln!(w, "# vtk DataFile Version 3.0")?;
@@ -33,13 +38,14 @@ pub fn write_vtk(path: &Path, p: &Particles, mass_scaling: f64, time: f64) -> gr
         for i in 0..n {
             writeln!(w, "{:e} {:e} 0", p.vx[i], p.vy[i])?;
         }
-        let scalar = |w: &mut dyn Write, name: &str, f: &dyn Fn(usize) -> f64| -> std::io::Result<()> {
-            writeln!(w, "SCALARS {name} double 1\nLOOKUP_TABLE default")?;
-            for i in 0..n {
-                writeln!(w, "{:e}", f(i))?;
-            }
-            Ok(())
-        };
+        let scalar =
+            |w: &mut dyn Write, name: &str, f: &dyn Fn(usize) -> f64| -> std::io::Result<()> {
+                writeln!(w, "SCALARS {name} double 1\nLOOKUP_TABLE default")?;
+                for i in 0..n {
+                    writeln!(w, "{:e}", f(i))?;
+                }
+                Ok(())
+            };
         scalar(w, "pressure_Pa", &|i| p.p[i])?;
         scalar(w, "von_mises_Pa", &|i| p.von_mises(i))?;
         scalar(w, "plastic_strain", &|i| p.eps_p[i])?;
@@ -112,7 +118,10 @@ impl ForceHistory {
     /// Writes `time_s,tool_x_mm,tool_y_mm,force_x_N_per_mm,force_y_N_per_mm,contacts`.
     pub fn write_csv(&self, path: &Path) -> greybox_core::Result<()> {
         write_atomic(path, |w| {
-            writeln!(w, "time_s,tool_x_mm,tool_y_mm,force_x_N_per_mm,force_y_N_per_mm,contact_particles")?;
+            writeln!(
+                w,
+                "time_s,tool_x_mm,tool_y_mm,force_x_N_per_mm,force_y_N_per_mm,contact_particles"
+            )?;
             for r in &self.rows {
                 writeln!(
                     w,
@@ -131,7 +140,11 @@ impl ForceHistory {
 
     /// Mean force (N/m) over rows with time in [t0, t1].
     pub fn mean_force(&self, t0: f64, t1: f64) -> Option<[f64; 2]> {
-        let sel: Vec<_> = self.rows.iter().filter(|r| r[0] >= t0 && r[0] <= t1).collect();
+        let sel: Vec<_> = self
+            .rows
+            .iter()
+            .filter(|r| r[0] >= t0 && r[0] <= t1)
+            .collect();
         if sel.is_empty() {
             return None;
         }
@@ -186,7 +199,8 @@ impl VtkSeries {
         let path = self.dir.join(format!("particles_{:08}.vtk", sim.step));
         write_vtk(&path, &sim.particles, sim.numerics.mass_scaling, sim.time).map_err(io_err)?;
         for (k, t) in sim.tools.iter().enumerate() {
-            write_tool_vtk(&self.dir.join(format!("tool{k}_{:08}.vtk", sim.step)), t).map_err(io_err)?;
+            write_tool_vtk(&self.dir.join(format!("tool{k}_{:08}.vtk", sim.step)), t)
+                .map_err(io_err)?;
         }
         self.written.push(path);
         Ok(())
@@ -224,9 +238,24 @@ pub fn write_windows_csv(path: &Path, tool: &Tool, spacing: f64) -> greybox_core
     write_atomic(path, |w| {
         writeln!(w, "window,s_start_mm,s_end_mm,law,mu,pressure_MPa,sliding_velocity_m_per_min,temperature_C,shear_stress_MPa,mu_effective,contact_fraction,slip_fraction")?;
         for (k, win) in tool.windows.iter().enumerate() {
-            write!(w, "{k},{:.6},{:.6},\"{}\",{:.6}", win.s_start * 1e3, win.s_end * 1e3, win.law.name().replace('"', "'"), win.mu)?;
+            write!(
+                w,
+                "{k},{:.6},{:.6},\"{}\",{:.6}",
+                win.s_start * 1e3,
+                win.s_end * 1e3,
+                win.law.name().replace('"', "'"),
+                win.mu
+            )?;
             match win.acc.stats(spacing, win.length()) {
-                Some(WindowStats { pressure_pa, sliding_velocity_m_s, temperature_k, shear_stress_pa, mu_effective, contact_fraction, slip_fraction }) => writeln!(
+                Some(WindowStats {
+                    pressure_pa,
+                    sliding_velocity_m_s,
+                    temperature_k,
+                    shear_stress_pa,
+                    mu_effective,
+                    contact_fraction,
+                    slip_fraction,
+                }) => writeln!(
                     w,
                     ",{:.3},{:.3},{:.2},{:.3},{:.5},{:.4},{:.4}",
                     pressure_pa * 1e-6,

@@ -65,8 +65,15 @@ impl Particles {
             }
         }
         for v in [
-            &mut p.vx, &mut p.vy, &mut p.p, &mut p.sxx, &mut p.sxy, &mut p.syy, &mut p.szz,
-            &mut p.eps_p, &mut p.eps_rate,
+            &mut p.vx,
+            &mut p.vy,
+            &mut p.p,
+            &mut p.sxx,
+            &mut p.sxy,
+            &mut p.syy,
+            &mut p.szz,
+            &mut p.eps_p,
+            &mut p.eps_rate,
         ] {
             *v = vec![0.0; n];
         }
@@ -89,8 +96,18 @@ impl Particles {
     pub fn check_lengths(&self) -> bool {
         let n = self.len();
         [
-            &self.y, &self.vx, &self.vy, &self.rho, &self.p, &self.sxx, &self.sxy, &self.syy,
-            &self.szz, &self.eps_p, &self.eps_rate, &self.temp,
+            &self.y,
+            &self.vx,
+            &self.vy,
+            &self.rho,
+            &self.p,
+            &self.sxx,
+            &self.sxy,
+            &self.syy,
+            &self.szz,
+            &self.eps_p,
+            &self.eps_rate,
+            &self.temp,
         ]
         .iter()
         .all(|v| v.len() == n)

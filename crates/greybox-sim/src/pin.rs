@@ -124,7 +124,15 @@ impl PinSetup {
         let nx = (self.workpiece_length() / dx).ceil() as usize;
         let ny = (self.workpiece_height_m / dx).ceil() as usize;
         let rho0 = self.material.density_kg_m3;
-        let mut p = Particles::block(0.0, -(ny as f64) * dx, nx, ny, dx, rho0, self.initial_temperature_k);
+        let mut p = Particles::block(
+            0.0,
+            -(ny as f64) * dx,
+            nx,
+            ny,
+            dx,
+            rho0,
+            self.initial_temperature_k,
+        );
         // Group 1: bottom two rows fixed; group 2: the two outer columns held in x.
         for j in 0..ny {
             for i in 0..nx {
@@ -137,10 +145,19 @@ impl PinSetup {
             }
         }
         let groups = vec![
-            BoundaryGroup { name: "bottom".into(), vx: Some(0.0), vy: Some(0.0) },
-            BoundaryGroup { name: "sides".into(), vx: Some(0.0), vy: None },
+            BoundaryGroup {
+                name: "bottom".into(),
+                vx: Some(0.0),
+                vy: Some(0.0),
+            },
+            BoundaryGroup {
+                name: "sides".into(),
+                vx: Some(0.0),
+                vy: None,
+            },
         ];
-        let c_long = (self.material.elastic.p_wave_modulus() / (rho0 * self.numerics.mass_scaling)).sqrt();
+        let c_long =
+            (self.material.elastic.p_wave_modulus() / (rho0 * self.numerics.mass_scaling)).sqrt();
         let v_slide = self.mach * c_long;
         let v_press = 0.5 * v_slide;
         let surface = -0.5 * dx; // the top particle centres
@@ -153,9 +170,21 @@ impl PinSetup {
         let centre = [x_start, surface + gap + self.pin_radius_m];
         let motion = Motion {
             segments: vec![
-                MotionSegment { duration_s: press_time, velocity: [0.0, -v_press], ramp_s: 0.0 },
-                MotionSegment { duration_s: slide_time, velocity: [v_slide, 0.0], ramp_s: ramp },
-                MotionSegment { duration_s: f64::INFINITY, velocity: [0.0, 0.0], ramp_s: 0.0 },
+                MotionSegment {
+                    duration_s: press_time,
+                    velocity: [0.0, -v_press],
+                    ramp_s: 0.0,
+                },
+                MotionSegment {
+                    duration_s: slide_time,
+                    velocity: [v_slide, 0.0],
+                    ramp_s: ramp,
+                },
+                MotionSegment {
+                    duration_s: f64::INFINITY,
+                    velocity: [0.0, 0.0],
+                    ramp_s: 0.0,
+                },
             ],
         };
         let pin = Tool::with_uniform_law(
@@ -168,7 +197,13 @@ impl PinSetup {
         let mut numerics = self.numerics.clone();
         numerics.strain_rate_scale = self.sliding_speed_m_s / v_slide;
         Ok((
-            Model { particles: p, material: self.material.clone(), tools: vec![pin], groups, numerics },
+            Model {
+                particles: p,
+                material: self.material.clone(),
+                tools: vec![pin],
+                groups,
+                numerics,
+            },
             press_time,
             slide_time,
         ))
@@ -206,7 +241,9 @@ pub fn simulate(
     setup: &PinSetup,
     extra: &mut [&mut dyn Observer],
 ) -> Result<(PinResult, ForceHistory, Solver), SimError> {
-    let (model, press, slide) = setup.model().map_err(|e| SimError::Invalid(e.to_string()))?;
+    let (model, press, slide) = setup
+        .model()
+        .map_err(|e| SimError::Invalid(e.to_string()))?;
     let mut sim = Solver::new(model)?;
     let every = ((press + slide) / sim.dt / 400.0).ceil().max(1.0) as u64;
     let mut hist = ForceHistory::new(0, every);
@@ -218,14 +255,24 @@ pub fn simulate(
         run(&mut sim, press + slide, &mut obs)?
     };
     let (t0, t1) = (press + 0.5 * slide, press + slide);
-    let sel: Vec<&[f64; 6]> = hist.rows.iter().filter(|r| r[0] >= t0 && r[0] <= t1).collect();
+    let sel: Vec<&[f64; 6]> = hist
+        .rows
+        .iter()
+        .filter(|r| r[0] >= t0 && r[0] <= t1)
+        .collect();
     if sel.is_empty() || sel.iter().all(|r| r[4] <= 0.0) {
-        return Err(SimError::Invalid("the pin never carried a normal load while sliding".into()));
+        return Err(SimError::Invalid(
+            "the pin never carried a normal load while sliding".into(),
+        ));
     }
     let n = sel.len() as f64;
     let fn_ = sel.iter().map(|r| r[4]).sum::<f64>() / n;
     let ft = sel.iter().map(|r| -r[3]).sum::<f64>() / n;
-    let ratios: Vec<f64> = sel.iter().filter(|r| r[4] > 0.0).map(|r| -r[3] / r[4]).collect();
+    let ratios: Vec<f64> = sel
+        .iter()
+        .filter(|r| r[4] > 0.0)
+        .map(|r| -r[3] / r[4])
+        .collect();
     let rm = ratios.iter().sum::<f64>() / ratios.len() as f64;
     let sd = (ratios.iter().map(|r| (r - rm).powi(2)).sum::<f64>() / ratios.len() as f64).sqrt();
     let ratio = ft / fn_;
@@ -295,7 +342,11 @@ pub fn find_adhesive_mu(
         flo = eval(lo)?;
         runs.push((lo, flo + mu_apparent));
     }
-    let (mut best, mut best_f) = if flo.abs() < fhi.abs() { (lo, flo) } else { (hi, fhi) };
+    let (mut best, mut best_f) = if flo.abs() < fhi.abs() {
+        (lo, flo)
+    } else {
+        (hi, fhi)
+    };
     let mut side = 0i8;
     while best_f.abs() > tol && runs.len() < max_runs && flo < 0.0 && fhi > 0.0 {
         let mu = (lo * fhi - hi * flo) / (fhi - flo);
@@ -360,7 +411,10 @@ impl ShareLaw {
         if pts.len() == 1 || pts.iter().all(|p| p.0 == pts[0].0) {
             // One load: share ∝ √F (Bowden–Tabor scaling with w ∝ √F).
             let (lf, ls) = pts[0];
-            return Ok(ShareLaw { a: (ls - 0.5 * lf).exp(), b: 0.5 });
+            return Ok(ShareLaw {
+                a: (ls - 0.5 * lf).exp(),
+                b: 0.5,
+            });
         }
         let n = pts.len() as f64;
         let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
@@ -368,7 +422,10 @@ impl ShareLaw {
         let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
         let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
         let b = sxy / sxx;
-        Ok(ShareLaw { a: (my - b * mx).exp(), b })
+        Ok(ShareLaw {
+            a: (my - b * mx).exp(),
+            b,
+        })
     }
     pub fn share(&self, force_n: f64) -> f64 {
         self.a * force_n.powf(self.b)

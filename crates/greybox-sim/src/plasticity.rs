@@ -29,21 +29,24 @@ pub fn radial_return(
 ) -> Return {
     let ss = s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + 2.0 * s[1] * s[1];
     let trial = (1.5 * ss).sqrt();
-    let hard = |d: f64| jc.flow_stress(eps_p + d, rate_scale * d / dt, temperature_k);
-    let y0 = hard(0.0);
+    let soft = jc.thermal_factor(temperature_k);
+    let y0 = jc.hardening(eps_p) * soft;
     if trial <= y0 {
         return Return {
             d_eps: 0.0,
             flow_stress: y0,
         };
     }
+    let hard = |d: f64| jc.hardening(eps_p + d) * jc.rate_factor(rate_scale * d / dt) * soft;
     let g3 = 3.0 * shear;
     let f = |d: f64| trial - g3 * d - hard(d);
-    let (mut lo, mut hi) = (0.0, trial / g3);
+    // σ_y only grows with Δε, so the perfectly plastic increment (σ_tr − σ_y(0))/3G is an
+    // upper bound: a tight bracket from the start.
+    let (mut lo, mut hi) = (0.0, (trial - y0) / g3);
     let (mut flo, mut fhi) = (trial - y0, f(hi));
     let mut d = hi;
     if fhi < 0.0 {
-        let tol = 1e-12 * hi;
+        let tol = 1e-10 * hi;
         let mut side = 0i8;
         for _ in 0..100 {
             d = (lo * fhi - hi * flo) / (fhi - flo);
@@ -94,12 +97,18 @@ mod tests {
             let r = radial_return(&jc, g, &mut s, 0.1, t, 1e-9, 1.0);
             let vm = (1.5 * (s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + 2.0 * s[1] * s[1])).sqrt();
             let want = jc.flow_stress(0.1 + r.d_eps, r.d_eps / 1e-9, t);
-            assert!((vm - want).abs() <= 1e-6 * want.max(1.0), "T {t}: {vm} vs {want}");
+            assert!(
+                (vm - want).abs() <= 1e-6 * want.max(1.0),
+                "T {t}: {vm} vs {want}"
+            );
             assert!(r.d_eps.is_finite() && r.d_eps >= 0.0);
         }
         // Elastic: untouched.
         let mut s = [1e6, 0.0, -1e6, 0.0];
-        assert_eq!(radial_return(&jc, g, &mut s, 0.0, 293.15, 1e-9, 1.0).d_eps, 0.0);
+        assert_eq!(
+            radial_return(&jc, g, &mut s, 0.0, 293.15, 1e-9, 1.0).d_eps,
+            0.0
+        );
         assert_eq!(s, [1e6, 0.0, -1e6, 0.0]);
     }
 }

@@ -13,7 +13,7 @@
 //! 6. kinematics gather with the *new* velocities:
 //!    * continuity  dρ_i/dt = Σ_j m (v_i − v_j)·∇_i W_ij,
 //!    * velocity gradient L_i = Σ_j (m/ρ_j)(v_j − v_i) ⊗ ∇_i W_ij,
-//!    * XSPH        v̂_i = v_i + ε Σ_j (m/ρ̄_ij)(v_j − v_i) W_ij;
+//!    * XSPH        v̂_i = v_i + ε Σ_j (m/ρ̄_ij)(v_j − v_i) W_ij, 1/ρ̄_ij = (1/ρ_i + 1/ρ_j)/2;
 //! 7. drift and constitutive update: x ← x + Δt v̂, ρ ← ρ + Δt ρ̇, p = c₀²(ρ − ρ₀), Jaumann
 //!    stress rate, Johnson–Cook radial return, heating;
 //! 8. the tools move; energies are booked; non-finite or runaway states stop the run.
@@ -23,7 +23,7 @@
 //! amplifies every mode and is only kept alive by artificial viscosity at small Courant numbers.
 
 use crate::contact;
-use crate::kernel::CubicSpline;
+use crate::kernel::{CubicSpline, PairTable};
 use crate::model::{Model, Numerics};
 use crate::neighbours::NeighbourList;
 use crate::particles::{Particles, FREE};
@@ -116,7 +116,8 @@ pub(crate) struct Packed {
     vy: f64,
     /// m/ρ.
     vol: f64,
-    rho: f64,
+    /// 1/ρ.
+    inv_rho: f64,
     /// σ/ρ² (total stress, pressure included).
     txx: f64,
     txy: f64,
@@ -149,6 +150,7 @@ pub struct Solver {
     pub groups: Vec<crate::model::BoundaryGroup>,
     pub numerics: Numerics,
     pub kernel: CubicSpline,
+    table: PairTable,
     pub neighbours: NeighbourList,
     pub(crate) derived: Derived,
     /// Time step, s.
@@ -160,7 +162,8 @@ pub struct Solver {
     pub group_force: Vec<[f64; 2]>,
     pub(crate) rates: Vec<Rates>,
     pub(crate) packed: Vec<Packed>,
-    /// Per neighbour-list entry: (1/r) dW/dr and W of the pair at the current positions.
+    /// Per neighbour-list entry: (1/r) dW/dr and W of the pair at the current positions
+    /// (computed by the force gather, reused by the kinematics gather).
     pair_g: Vec<f64>,
     pair_w: Vec<f64>,
     /// Reciprocal of W(Δx) for the artificial-stress factor f = W(r)/W(Δx).
@@ -184,10 +187,15 @@ impl Solver {
             t.validate().map_err(inv)?;
         }
         if particles.is_empty() || !particles.check_lengths() {
-            return Err(SimError::Invalid("the model has no particles or inconsistent particle arrays".into()));
+            return Err(SimError::Invalid(
+                "the model has no particles or inconsistent particle arrays".into(),
+            ));
         }
         if let Some(&g) = particles.group.iter().find(|&&g| g as usize > groups.len()) {
-            return Err(SimError::Invalid(format!("particle boundary group {g} does not exist ({} groups)", groups.len())));
+            return Err(SimError::Invalid(format!(
+                "particle boundary group {g} does not exist ({} groups)",
+                groups.len()
+            )));
         }
         let f = numerics.mass_scaling;
         particles.mass *= f;
@@ -220,6 +228,7 @@ impl Solver {
             tools,
             groups,
             numerics,
+            table: PairTable::new(&kernel),
             kernel,
             neighbours,
             derived,
@@ -242,7 +251,10 @@ impl Solver {
 
     /// Advances one step.
     pub fn step(&mut self) -> Result<(), SimError> {
-        if self.neighbours.needs_rebuild(&self.particles.x, &self.particles.y) {
+        if self
+            .neighbours
+            .needs_rebuild(&self.particles.x, &self.particles.y)
+        {
             self.neighbours.build(&self.particles.x, &self.particles.y);
         }
         self.pack();
@@ -288,7 +300,11 @@ impl Solver {
                     let r1 = -eps * s1 * ir2;
                     let r2 = if s2 > 0.0 { -eps * s2 * ir2 } else { 0.0 };
                     // Principal direction: cos 2θ = d/r, sin 2θ = sxy/r.
-                    let (c2, s2t) = if r > 0.0 { (d / r, sxy / r) } else { (1.0, 0.0) };
+                    let (c2, s2t) = if r > 0.0 {
+                        (d / r, sxy / r)
+                    } else {
+                        (1.0, 0.0)
+                    };
                     let cc = 0.5 * (1.0 + c2);
                     let ss = 0.5 * (1.0 - c2);
                     rxx = r1 * cc + r2 * ss;
@@ -302,7 +318,7 @@ impl Solver {
                 vx: p.vx[i],
                 vy: p.vy[i],
                 vol: m / rho,
-                rho,
+                inv_rho: 1.0 / rho,
                 txx: sxx * ir2,
                 txy: sxy * ir2,
                 tyy: syy * ir2,
@@ -310,23 +326,28 @@ impl Solver {
                 rxy,
                 ryy,
                 temp: p.temp[i],
-                k: if thermal { th.conductivity.eval(p.temp[i]) } else { 0.0 },
+                k: if thermal {
+                    th.conductivity.eval(p.temp[i])
+                } else {
+                    0.0
+                },
             };
         });
     }
 
     /// Step 3: forces and conduction (pure per particle); caches the pair kernel values.
     fn gather_forces(&mut self) {
-        let kernel = self.kernel;
-        let h = kernel.h;
-        let r_max2 = kernel.radius() * kernel.radius();
-        let eta2 = 0.01 * h * h;
+        let table = &self.table;
         let m = self.particles.mass;
         let (alpha, beta) = (self.numerics.av_alpha, self.numerics.av_beta);
         let c = self.derived.c_long;
         let inv_w_dx = self.inv_w_dx;
-        let use_as = self.numerics.artificial_stress > 0.0;
-        let thermal = self.numerics.thermal;
+        // Conduction needs no branch: k = 0 when thermal is off (see `pack`).
+        let as_on = if self.numerics.artificial_stress > 0.0 {
+            1.0
+        } else {
+            0.0
+        };
         let packed = &self.packed;
         let nl = &self.neighbours;
         let stride = nl.stride;
@@ -344,49 +365,33 @@ impl Solver {
                     let a = packed[i];
                     let (mut ax, mut ay, mut dtemp, mut av_power) = (0.0, 0.0, 0.0, 0.0);
                     let row = k * stride;
+                    // Branch-free: pairs in the skin (beyond 2h) get w = g = 0 and add nothing.
                     for (q, &j) in nl.of(i).iter().enumerate() {
                         let b = &packed[j as usize];
                         let dx = a.x - b.x;
                         let dy = a.y - b.y;
                         let r2 = dx * dx + dy * dy;
-                        if r2 >= r_max2 {
-                            pg[row + q] = 0.0;
-                            pw[row + q] = 0.0;
-                            continue;
-                        }
-                        let dist = r2.sqrt();
-                        let g = kernel.dw_over_r(dist);
-                        let w = kernel.w(dist);
+                        let [w, g, g_cond, h_visc] = table.at(r2);
                         pg[row + q] = g;
                         pw[row + q] = w;
                         let gx = g * dx;
                         let gy = g * dy;
-                        let mut txx = a.txx + b.txx;
-                        let mut txy = a.txy + b.txy;
-                        let mut tyy = a.tyy + b.tyy;
                         let dvx = a.vx - b.vx;
                         let dvy = a.vy - b.vy;
-                        let vr = dvx * dx + dvy * dy;
-                        if vr < 0.0 {
-                            let mu = h * vr / (r2 + eta2);
-                            let pi = (-alpha * c * mu + beta * mu * mu) * 2.0 / (a.rho + b.rho);
-                            txx -= pi;
-                            tyy -= pi;
-                            av_power += 0.5 * m * m * pi * (dvx * gx + dvy * gy);
-                        }
-                        if use_as {
-                            let f = w * inv_w_dx;
-                            let f2 = f * f;
-                            let f4 = f2 * f2;
-                            txx += f4 * (a.rxx + b.rxx);
-                            txy += f4 * (a.rxy + b.rxy);
-                            tyy += f4 * (a.ryy + b.ryy);
-                        }
+                        // Monaghan viscosity for approaching pairs (μ = 0 otherwise).
+                        // 1/ρ̄ taken as the mean of 1/ρ (equal to 1/mean ρ to O((Δρ/ρ)²)).
+                        let mu = h_visc * (dvx * dx + dvy * dy).min(0.0);
+                        let pi = (beta * mu - alpha * c) * mu * (a.inv_rho + b.inv_rho);
+                        av_power += 0.5 * m * m * pi * (dvx * gx + dvy * gy);
+                        let f = w * inv_w_dx;
+                        let f2 = f * f;
+                        let f4 = as_on * f2 * f2;
+                        let txx = a.txx + b.txx - pi + f4 * (a.rxx + b.rxx);
+                        let txy = a.txy + b.txy + f4 * (a.rxy + b.rxy);
+                        let tyy = a.tyy + b.tyy - pi + f4 * (a.ryy + b.ryy);
                         ax += m * (txx * gx + txy * gy);
                         ay += m * (txy * gx + tyy * gy);
-                        if thermal {
-                            dtemp += b.vol * (a.k + b.k) * (a.temp - b.temp) * g * r2 / (r2 + eta2);
-                        }
+                        dtemp += b.vol * (a.k + b.k) * (a.temp - b.temp) * g_cond;
                     }
                     out.ax = ax;
                     out.ay = ay;
@@ -395,7 +400,7 @@ impl Solver {
                 }
             });
         // Conduction: divide by ρ c (heat capacity per volume kept physical under mass scaling).
-        if thermal {
+        if self.numerics.thermal {
             let th = &self.material.thermal;
             let f = self.numerics.mass_scaling;
             let p = &self.particles;
@@ -443,38 +448,42 @@ impl Solver {
         let nl = &self.neighbours;
         let stride = nl.stride;
         let (pg, pw) = (&self.pair_g, &self.pair_w);
-        self.rates.par_iter_mut().with_min_len(64).enumerate().for_each(|(i, out)| {
-            let a = packed[i];
-            let (mut drho, mut lxx, mut lxy, mut lyx, mut lyy, mut xsx, mut xsy) =
-                (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-            let row = i * stride;
-            for (q, &j) in nl.of(i).iter().enumerate() {
-                let g = pg[row + q];
-                if g == 0.0 {
-                    continue;
+        self.rates
+            .par_iter_mut()
+            .with_min_len(64)
+            .enumerate()
+            .for_each(|(i, out)| {
+                let a = packed[i];
+                let (mut drho, mut lxx, mut lxy, mut lyx, mut lyy, mut xsx, mut xsy) =
+                    (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+                let row = i * stride;
+                for (q, &j) in nl.of(i).iter().enumerate() {
+                    let g = pg[row + q];
+                    if g == 0.0 {
+                        continue;
+                    }
+                    let b = &packed[j as usize];
+                    let gx = g * (a.x - b.x);
+                    let gy = g * (a.y - b.y);
+                    let dvx = a.vx - b.vx;
+                    let dvy = a.vy - b.vy;
+                    drho += m * (dvx * gx + dvy * gy);
+                    lxx -= b.vol * dvx * gx;
+                    lxy -= b.vol * dvx * gy;
+                    lyx -= b.vol * dvy * gx;
+                    lyy -= b.vol * dvy * gy;
+                    let wv = 0.5 * m * (a.inv_rho + b.inv_rho) * pw[row + q];
+                    xsx -= wv * dvx;
+                    xsy -= wv * dvy;
                 }
-                let b = &packed[j as usize];
-                let gx = g * (a.x - b.x);
-                let gy = g * (a.y - b.y);
-                let dvx = a.vx - b.vx;
-                let dvy = a.vy - b.vy;
-                drho += m * (dvx * gx + dvy * gy);
-                lxx -= b.vol * dvx * gx;
-                lxy -= b.vol * dvx * gy;
-                lyx -= b.vol * dvy * gx;
-                lyy -= b.vol * dvy * gy;
-                let wv = 2.0 * m / (a.rho + b.rho) * pw[row + q];
-                xsx -= wv * dvx;
-                xsy -= wv * dvy;
-            }
-            out.drho = drho;
-            out.lxx = lxx;
-            out.lxy = lxy;
-            out.lyx = lyx;
-            out.lyy = lyy;
-            out.xsx = eps_x * xsx;
-            out.xsy = eps_x * xsy;
-        });
+                out.drho = drho;
+                out.lxx = lxx;
+                out.lxy = lxy;
+                out.lyx = lyx;
+                out.lyy = lyy;
+                out.xsx = eps_x * xsx;
+                out.xsy = eps_x * xsy;
+            });
     }
 
     /// Reaction forces and external work of the prescribed-velocity groups.
@@ -533,87 +542,90 @@ impl Solver {
         )
             .into_par_iter()
             .enumerate()
-            .map(|(c, (x, y, vx, vy, rho, pr, sxx, sxy, syy, szz, eps, (temp, erate)))| {
-                let mut wp = 0.0;
-                let mut bad = usize::MAX;
-                for k in 0..x.len() {
-                    let i = c * CH + k;
-                    let r = &rates[i];
-                    let (nvx, nvy) = (vx[k], vy[k]);
-                    x[k] += dt * (nvx + r.xsx);
-                    y[k] += dt * (nvy + r.xsy);
-                    rho[k] += dt * r.drho;
-                    pr[k] = d.c0_sq * (rho[k] - d.rho0);
-                    // Jaumann rate of the deviatoric stress (plane strain).
-                    let dxx = r.lxx;
-                    let dyy = r.lyy;
-                    let dxy = 0.5 * (r.lxy + r.lyx);
-                    let w = 0.5 * (r.lxy - r.lyx);
-                    let tr3 = (dxx + dyy) / 3.0;
-                    let g2 = 2.0 * d.shear;
-                    let (oxx, oxy, oyy) = (sxx[k], sxy[k], syy[k]);
-                    sxx[k] = oxx + dt * (g2 * (dxx - tr3) + 2.0 * w * oxy);
-                    syy[k] = oyy + dt * (g2 * (dyy - tr3) - 2.0 * w * oxy);
-                    sxy[k] = oxy + dt * (g2 * dxy + w * (oyy - oxx));
-                    szz[k] += dt * (-g2 * tr3);
-                    let mut t_new = temp[k];
-                    if thermal {
-                        t_new += dt * r.dtemp;
-                    }
-                    erate[k] = 0.0;
-                    if let Some(jc) = &jc {
-                        let mut s = [sxx[k], sxy[k], syy[k], szz[k]];
-                        let ret = plasticity::radial_return(
-                            jc, d.shear, &mut s, eps[k], temp[k], dt, rate_scale,
-                        );
-                        if ret.d_eps > 0.0 {
-                            sxx[k] = s[0];
-                            sxy[k] = s[1];
-                            syy[k] = s[2];
-                            szz[k] = s[3];
-                            eps[k] += ret.d_eps;
-                            erate[k] = ret.d_eps / dt;
-                            // Plastic work per volume σ_y Δε_p; volume m/ρ.
-                            let wv = ret.flow_stress * ret.d_eps;
-                            wp += wv * m / rho[k];
-                            if thermal {
-                                let c = th.specific_heat.eval(temp[k]);
-                                t_new += beta_tq * wv / (rho[k] / f_mass * c);
+            .map(
+                |(c, (x, y, vx, vy, rho, pr, sxx, sxy, syy, szz, eps, (temp, erate)))| {
+                    let mut wp = 0.0;
+                    let mut bad = usize::MAX;
+                    for k in 0..x.len() {
+                        let i = c * CH + k;
+                        let r = &rates[i];
+                        let (nvx, nvy) = (vx[k], vy[k]);
+                        x[k] += dt * (nvx + r.xsx);
+                        y[k] += dt * (nvy + r.xsy);
+                        rho[k] += dt * r.drho;
+                        pr[k] = d.c0_sq * (rho[k] - d.rho0);
+                        // Jaumann rate of the deviatoric stress (plane strain).
+                        let dxx = r.lxx;
+                        let dyy = r.lyy;
+                        let dxy = 0.5 * (r.lxy + r.lyx);
+                        let w = 0.5 * (r.lxy - r.lyx);
+                        let tr3 = (dxx + dyy) / 3.0;
+                        let g2 = 2.0 * d.shear;
+                        let (oxx, oxy, oyy) = (sxx[k], sxy[k], syy[k]);
+                        sxx[k] = oxx + dt * (g2 * (dxx - tr3) + 2.0 * w * oxy);
+                        syy[k] = oyy + dt * (g2 * (dyy - tr3) - 2.0 * w * oxy);
+                        sxy[k] = oxy + dt * (g2 * dxy + w * (oyy - oxx));
+                        szz[k] += dt * (-g2 * tr3);
+                        let mut t_new = temp[k];
+                        if thermal {
+                            t_new += dt * r.dtemp;
+                        }
+                        erate[k] = 0.0;
+                        if let Some(jc) = &jc {
+                            let mut s = [sxx[k], sxy[k], syy[k], szz[k]];
+                            let ret = plasticity::radial_return(
+                                jc, d.shear, &mut s, eps[k], temp[k], dt, rate_scale,
+                            );
+                            if ret.d_eps > 0.0 {
+                                sxx[k] = s[0];
+                                sxy[k] = s[1];
+                                syy[k] = s[2];
+                                szz[k] = s[3];
+                                eps[k] += ret.d_eps;
+                                erate[k] = ret.d_eps / dt;
+                                // Plastic work per volume σ_y Δε_p; volume m/ρ.
+                                let wv = ret.flow_stress * ret.d_eps;
+                                wp += wv * m / rho[k];
+                                if thermal {
+                                    let c = th.specific_heat.eval(temp[k]);
+                                    t_new += beta_tq * wv / (rho[k] / f_mass * c);
+                                }
                             }
                         }
+                        temp[k] = t_new;
+                        let v2 = nvx * nvx + nvy * nvy;
+                        let finite = x[k].is_finite()
+                            && y[k].is_finite()
+                            && rho[k].is_finite()
+                            && sxx[k].is_finite()
+                            && sxy[k].is_finite()
+                            && syy[k].is_finite()
+                            && temp[k].is_finite();
+                        if bad == usize::MAX && (!finite || v2 > vlim2 || rho[k] <= 0.0) {
+                            bad = i;
+                        }
                     }
-                    temp[k] = t_new;
-                    let v2 = nvx * nvx + nvy * nvy;
-                    let finite = x[k].is_finite()
-                        && y[k].is_finite()
-                        && rho[k].is_finite()
-                        && sxx[k].is_finite()
-                        && sxy[k].is_finite()
-                        && syy[k].is_finite()
-                        && temp[k].is_finite();
-                    if bad == usize::MAX && (!finite || v2 > vlim2 || rho[k] <= 0.0) {
-                        bad = i;
-                    }
-                }
-                (wp, bad)
-            })
+                    (wp, bad)
+                },
+            )
             .reduce(|| (0.0, usize::MAX), |a, b| (a.0 + b.0, a.1.min(b.1)));
         self.energy.plastic_work += plastic;
         self.energy.viscous_work += dt * self.rates.iter().map(|r| r.av_power).sum::<f64>();
         if bad != usize::MAX {
             let p = &self.particles;
-            let reason = if !(p.x[bad].is_finite() && p.rho[bad].is_finite() && p.sxx[bad].is_finite()) {
-                "has a non-finite state".to_string()
-            } else if p.rho[bad] <= 0.0 {
-                format!("has density {:.3e} kg/m³", p.rho[bad])
-            } else {
-                format!(
-                    "moves at {:.1} m/s, above {:.0} % of the wave speed {:.0} m/s",
-                    p.vx[bad].hypot(p.vy[bad]),
-                    100.0 * self.numerics.max_speed_ratio,
-                    d.c_long
-                )
-            };
+            let reason =
+                if !(p.x[bad].is_finite() && p.rho[bad].is_finite() && p.sxx[bad].is_finite()) {
+                    "has a non-finite state".to_string()
+                } else if p.rho[bad] <= 0.0 {
+                    format!("has density {:.3e} kg/m³", p.rho[bad])
+                } else {
+                    format!(
+                        "moves at {:.1} m/s, above {:.0} % of the wave speed {:.0} m/s",
+                        p.vx[bad].hypot(p.vy[bad]),
+                        100.0 * self.numerics.max_speed_ratio,
+                        d.c_long
+                    )
+                };
             return Err(SimError::Unstable {
                 step: self.step,
                 time_s: self.time,
@@ -635,7 +647,8 @@ impl Solver {
                 let v2 = p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i];
                 let rho = p.rho[i];
                 let vol = p.mass / rho;
-                let ss = p.sxx[i].powi(2) + p.syy[i].powi(2) + p.szz[i].powi(2) + 2.0 * p.sxy[i].powi(2);
+                let ss =
+                    p.sxx[i].powi(2) + p.syy[i].powi(2) + p.szz[i].powi(2) + 2.0 * p.sxy[i].powi(2);
                 // Linear EOS: e = c₀² [ln(ρ/ρ₀) + ρ₀/ρ − 1] per mass.
                 let vol_e = p.mass * d.c0_sq * ((rho / d.rho0).ln() + d.rho0 / rho - 1.0);
                 (0.5 * p.mass * v2, vol * ss / (4.0 * g) + vol_e)
@@ -651,7 +664,8 @@ impl Solver {
             penalty: e.penalty_work,
             viscous: e.viscous_work,
             external: e.external_work,
-            relative_error: (stored - e.external_work) / e.external_work.abs().max(f64::MIN_POSITIVE),
+            relative_error: (stored - e.external_work)
+                / e.external_work.abs().max(f64::MIN_POSITIVE),
         }
     }
 

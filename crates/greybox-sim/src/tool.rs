@@ -113,7 +113,8 @@ impl WindowAccumulator {
             temperature_k: self.normal_x_temp / self.normal,
             shear_stress_pa: self.tangential / (self.contacts * spacing),
             mu_effective: self.tangential / self.normal,
-            contact_fraction: (self.contacts * spacing / (self.steps.max(1) as f64 * window_length))
+            contact_fraction: (self.contacts * spacing
+                / (self.steps.max(1) as f64 * window_length))
                 .min(1.0),
             slip_fraction: self.slipping / self.contacts,
         })
@@ -233,7 +234,10 @@ impl Tool {
             if !(w.s_end > w.s_start) || !(w.mu >= 0.0 && w.mu.is_finite()) {
                 return Err(greybox_core::Error::invalid(
                     format!("tool '{}', window {k}", self.name),
-                    format!("expected s_end > s_start and finite μ ≥ 0, got [{}, {}) μ = {}", w.s_start, w.s_end, w.mu),
+                    format!(
+                        "expected s_end > s_start and finite μ ≥ 0, got [{}, {}) μ = {}",
+                        w.s_start, w.s_end, w.mu
+                    ),
                 ));
             }
             if k > 0 && w.s_start < self.windows[k - 1].s_end {

@@ -12,7 +12,11 @@ fn bar_wave_speed_matches_plane_strain_strip_speed() {
     let dx = 10e-6;
     let (nx, ny) = (300, 20);
     let v0 = 1.0;
-    let groups = vec![BoundaryGroup { name: "driver".into(), vx: Some(v0), vy: None }];
+    let groups = vec![BoundaryGroup {
+        name: "driver".into(),
+        vx: Some(v0),
+        vy: None,
+    }];
     let model = common::block_model(nx, ny, dx, mat, groups, |i, _| (i < 2) as u8);
     let mut sim = Solver::new(model).unwrap();
     // Arrival time of half the driving velocity at two stations.
@@ -22,7 +26,8 @@ fn bar_wave_speed_matches_plane_strain_strip_speed() {
         sim.step().unwrap();
         for (k, &s) in stations.iter().enumerate() {
             if arrival[k].is_nan() {
-                let mean: f64 = (0..ny).map(|j| sim.particles.vx[j * nx + s]).sum::<f64>() / ny as f64;
+                let mean: f64 =
+                    (0..ny).map(|j| sim.particles.vx[j * nx + s]).sum::<f64>() / ny as f64;
                 if mean >= 0.5 * v0 {
                     arrival[k] = sim.time;
                 }

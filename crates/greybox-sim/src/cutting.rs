@@ -1,0 +1,216 @@
+//! Orthogonal cutting set-up: a rigid tool with rake angle, clearance angle and edge radius
+//! moving at the cutting speed through a rectangular workpiece at the uncut chip thickness.
+//!
+//! Frame: the workpiece occupies x ∈ [0, L], y ∈ [−H, 0]; the tool comes from x > L and moves
+//! in −x. The rake face leans back from the vertical by the rake angle γ (positive rake:
+//! away from the chip), the flank face rises from the horizontal by the clearance angle α.
+
+use crate::geometry::RoundedPolygon;
+use crate::model::{BoundaryGroup, Model, Numerics};
+use crate::particles::Particles;
+use crate::tool::{ConstantMu, Motion, MotionSegment, Tool};
+use greybox_core::FrictionLaw;
+use greybox_material::Material;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// The insert geometry (SI units, angles in degrees).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InsertGeometry {
+    pub rake_deg: f64,
+    pub clearance_deg: f64,
+    pub edge_radius_m: f64,
+    /// Length of the modelled rake face, m.
+    pub rake_length_m: f64,
+    /// Length of the modelled flank face, m.
+    pub flank_length_m: f64,
+}
+
+impl InsertGeometry {
+    /// The rounded wedge with its sharp-edge point at the origin (before placement): the core
+    /// polygon is the wedge offset inwards by the edge radius, so that the rounded shape's
+    /// rake and flank faces lie on the lines through the origin.
+    pub fn shape(&self) -> greybox_core::Result<RoundedPolygon> {
+        let g = self.rake_deg.to_radians();
+        let a = self.clearance_deg.to_radians();
+        let ur = [g.sin(), g.cos()];
+        let uf = [a.cos(), a.sin()];
+        // Wedge angle β between the faces, bisector b into the wedge.
+        let beta = (ur[0] * uf[0] + ur[1] * uf[1]).acos();
+        if !(beta > 0.1_f64.to_radians() && beta < 179.0_f64.to_radians())
+            || self.edge_radius_m < 0.0
+        {
+            return Err(greybox_core::Error::invalid(
+                "insert geometry",
+                format!(
+                    "rake {}° and clearance {}° do not make a wedge",
+                    self.rake_deg, self.clearance_deg
+                ),
+            ));
+        }
+        let b = {
+            let (x, y) = (ur[0] + uf[0], ur[1] + uf[1]);
+            let l = x.hypot(y);
+            [x / l, y / l]
+        };
+        let r = self.edge_radius_m;
+        let d = r / (0.5 * beta).sin();
+        let e = [d * b[0], d * b[1]];
+        let lf = self.flank_length_m;
+        let lr = self.rake_length_m;
+        let pf = [e[0] + lf * uf[0], e[1] + lf * uf[1]];
+        let pr = [e[0] + lr * ur[0], e[1] + lr * ur[1]];
+        // Far corner: where the back face (parallel to the rake, through pf) meets the top
+        // face (parallel to the flank, through pr), kept convex by taking the max.
+        let corner = [pf[0].max(pr[0] + lf * uf[0]), pr[1].max(pf[1] + lr * ur[1])];
+        RoundedPolygon::new(vec![e, pf, corner, pr], r)
+    }
+}
+
+/// An orthogonal cut (SI units).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CuttingSetup {
+    pub insert: InsertGeometry,
+    /// Cutting speed, m/s.
+    pub cutting_speed_m_s: f64,
+    /// Uncut chip thickness h, m.
+    pub uncut_chip_thickness_m: f64,
+    /// Length of cut, m.
+    pub cut_length_m: f64,
+    /// Particle spacing, m.
+    pub spacing_m: f64,
+    /// Workpiece height below the surface, m.
+    pub workpiece_height_m: f64,
+    /// Coulomb μ on the whole tool (windows come with the grey-box set-up).
+    pub mu: f64,
+    pub initial_temperature_k: f64,
+    pub material: Material,
+    pub numerics: Numerics,
+}
+
+impl CuttingSetup {
+    /// The ETH IWF CPU reference case (mfree_iwf-ul-cut-refine, single resolution): Ti6Al4V,
+    /// rake 0°, clearance 11°, h = 0.1 mm, 500 m/min, 1 mm of cut, μ = 0.35 (the IWF value),
+    /// 10 µm spacing (10 particles across h), edge radius 5 µm.
+    pub fn iwf_ti64_reference() -> Self {
+        CuttingSetup {
+            insert: InsertGeometry {
+                rake_deg: 0.0,
+                clearance_deg: 11.0,
+                edge_radius_m: 5e-6,
+                rake_length_m: 0.5e-3,
+                flank_length_m: 0.3e-3,
+            },
+            cutting_speed_m_s: 500.0 / 60.0,
+            uncut_chip_thickness_m: 0.1e-3,
+            cut_length_m: 1.0e-3,
+            spacing_m: 10e-6,
+            workpiece_height_m: 0.5e-3,
+            mu: 0.35,
+            initial_temperature_k: 300.0,
+            material: Material::ti6al4v(),
+            numerics: Numerics::default(),
+        }
+    }
+
+    /// Workpiece length: the cut plus a margin of 0.2 mm ahead.
+    pub fn workpiece_length(&self) -> f64 {
+        self.cut_length_m + 0.2e-3
+    }
+
+    pub fn validate(&self) -> greybox_core::Result<()> {
+        let h = self.uncut_chip_thickness_m;
+        let ok = self.cutting_speed_m_s > 0.0
+            && h > 0.0
+            && self.cut_length_m > 0.0
+            && self.spacing_m > 0.0
+            && self.workpiece_height_m > h + 4.0 * self.spacing_m
+            && self.mu >= 0.0
+            && self.initial_temperature_k > 0.0;
+        if !ok {
+            return Err(greybox_core::Error::invalid(
+                "cutting set-up",
+                "expected positive speed, uncut chip thickness, cut length and spacing, μ ≥ 0 \
+                 and a workpiece deeper than h + 4 spacings",
+            ));
+        }
+        if h < 4.0 * self.spacing_m {
+            return Err(greybox_core::Error::invalid(
+                "cutting set-up",
+                format!(
+                    "the uncut chip thickness {:.1} µm spans fewer than 4 particle spacings ({:.1} µm); refine the spacing",
+                    h * 1e6,
+                    self.spacing_m * 1e6
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Builds the model with a uniform friction law on the tool.
+    pub fn model_with_law(&self, law: Arc<dyn FrictionLaw>) -> greybox_core::Result<(Model, f64)> {
+        self.validate()?;
+        let dx = self.spacing_m;
+        let nx = (self.workpiece_length() / dx).ceil() as usize;
+        let ny = (self.workpiece_height_m / dx).ceil() as usize;
+        let mut p = Particles::block(
+            0.0,
+            -(ny as f64) * dx,
+            nx,
+            ny,
+            dx,
+            self.material.density_kg_m3,
+            self.initial_temperature_k,
+        );
+        for j in 0..ny {
+            for i in 0..nx {
+                if j < 2 || i < 2 {
+                    p.group[j * nx + i] = 1;
+                }
+            }
+        }
+        let groups = vec![BoundaryGroup {
+            name: "clamped".into(),
+            vx: Some(0.0),
+            vy: Some(0.0),
+        }];
+        let shape = self.insert.shape()?;
+        let (lo, _) = shape.bounding_box();
+        // Place the lowest point of the tool at depth h below the top particle centres and
+        // its leftmost point two spacings right of the workpiece.
+        let top = -0.5 * dx;
+        let lowest = shape.closest([0.0, -1.0]).distance; // distance from (0,−1) to the surface
+        let y_low = -1.0 + lowest; // local y of the lowest surface point (below the edge)
+        let position = [
+            nx as f64 * dx + 2.0 * dx - lo[0],
+            top - self.uncut_chip_thickness_m - y_low,
+        ];
+        let v = self.cutting_speed_m_s;
+        let ramp = 0.05 * self.cut_length_m / v;
+        let duration = (self.cut_length_m + 2.0 * dx) / v + 0.5 * ramp;
+        let motion = Motion {
+            segments: vec![MotionSegment {
+                duration_s: f64::INFINITY,
+                velocity: [-v, 0.0],
+                ramp_s: ramp,
+            }],
+        };
+        let tool = Tool::with_uniform_law("insert", shape, position, motion, law);
+        Ok((
+            Model {
+                particles: p,
+                material: self.material.clone(),
+                tools: vec![tool],
+                groups,
+                numerics: self.numerics.clone(),
+            },
+            duration,
+        ))
+    }
+
+    pub fn model(&self) -> greybox_core::Result<(Model, f64)> {
+        self.model_with_law(Arc::new(ConstantMu(self.mu)))
+    }
+}
