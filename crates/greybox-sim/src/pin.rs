@@ -241,10 +241,23 @@ pub fn simulate(
     setup: &PinSetup,
     extra: &mut [&mut dyn Observer],
 ) -> Result<(PinResult, ForceHistory, Solver), SimError> {
+    simulate_from(setup, None, extra)
+}
+
+/// As [`simulate`], optionally resuming from a checkpoint of the same set-up (the force
+/// history then starts at the checkpoint, so resume before the measuring window).
+pub fn simulate_from(
+    setup: &PinSetup,
+    resume: Option<crate::checkpoint::Checkpoint>,
+    extra: &mut [&mut dyn Observer],
+) -> Result<(PinResult, ForceHistory, Solver), SimError> {
     let (model, press, slide) = setup
         .model()
         .map_err(|e| SimError::Invalid(e.to_string()))?;
     let mut sim = Solver::new(model)?;
+    if let Some(c) = resume {
+        c.restore(&mut sim, &fingerprint(setup))?;
+    }
     let every = ((press + slide) / sim.dt / 400.0).ceil().max(1.0) as u64;
     let mut hist = ForceHistory::new(0, every);
     let summary: RunSummary = {
@@ -430,4 +443,40 @@ impl ShareLaw {
     pub fn share(&self, force_n: f64) -> f64 {
         self.a * force_n.powf(self.b)
     }
+}
+
+/// One simulated load of the inverse correction.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LoadInverse {
+    #[serde(rename = "normal_force_N")]
+    pub normal_force_n: f64,
+    pub result: InverseResult,
+}
+
+/// Runs [`find_adhesive_mu`] for several (normal force N, depth m, μ_app) in parallel on the
+/// base set-up (its depth and μ are replaced per load).
+pub fn inverse_over_loads(
+    base: &PinSetup,
+    loads: &[(f64, f64, f64)],
+    tol: f64,
+    max_runs: usize,
+) -> Result<Vec<LoadInverse>, SimError> {
+    use rayon::prelude::*;
+    loads
+        .par_iter()
+        .map(|&(force, depth, mu_app)| {
+            let mut s = base.clone();
+            s.depth_m = depth;
+            s.mu = mu_app;
+            Ok(LoadInverse {
+                normal_force_n: force,
+                result: find_adhesive_mu(&s, mu_app, tol, max_runs)?,
+            })
+        })
+        .collect()
+}
+
+/// The set-up identity a checkpoint is tied to.
+pub fn fingerprint(setup: &PinSetup) -> String {
+    serde_json::to_string(setup).unwrap_or_default()
 }

@@ -4,14 +4,17 @@ use crate::output::{print_json, Table};
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::dataset::FrictionDataset;
-use greybox_tribo::ploughing::{article_table3, correct_analytic, Correction, TrackWidth};
+use greybox_sim::pin::{inverse_over_loads, PinSetup, ShareLaw};
+use greybox_tribo::ploughing::{
+    article_table3, correct_analytic, track_depth, Correction, LoadCorrection, TrackWidth, WidthLaw,
+};
 use std::path::{Path, PathBuf};
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
     /// Bowden–Tabor sphere ploughing with measured track widths.
     Analytic,
-    /// Inverse pin-sliding simulation (comes with the simulator).
+    /// Inverse pin-sliding simulation with the built-in SPH solver (the article's method).
     Simulation,
 }
 
@@ -36,6 +39,25 @@ pub struct Args {
     pub out: PathBuf,
     #[arg(long)]
     pub json: bool,
+    /// Simulation: number of highest distinct loads simulated (the share is fitted against load
+    /// and applied to all loads, as in the article).
+    #[arg(long = "sim-loads", default_value_t = 3)]
+    pub sim_loads: usize,
+    /// Simulation: particle spacing, µm.
+    #[arg(long = "sim-spacing-um", default_value_t = 10.0)]
+    pub sim_spacing_um: f64,
+    /// Simulation: slide length, mm.
+    #[arg(long = "sim-slide-mm", default_value_t = 1.0)]
+    pub sim_slide_mm: f64,
+    /// Simulation: workpiece height, mm.
+    #[arg(long = "sim-height-mm", default_value_t = 0.5)]
+    pub sim_height_mm: f64,
+    /// Simulation: stop when |simulated F_t/F_N − μ_app| ≤ this.
+    #[arg(long = "sim-tolerance", default_value_t = 0.002)]
+    pub sim_tolerance: f64,
+    /// Simulation: maximum runs per load.
+    #[arg(long = "sim-max-runs", default_value_t = 5)]
+    pub sim_max_runs: usize,
 }
 
 fn widths(a: &Args) -> Result<Vec<TrackWidth>> {
@@ -75,17 +97,113 @@ fn widths(a: &Args) -> Result<Vec<TrackWidth>> {
 
 /// Apply the correction and write the dataset and the correction record.
 pub fn adhesive(a: &Args) -> Result<(FrictionDataset, Correction)> {
-    if a.method == Method::Simulation {
-        bail!("--method simulation (inverse pin-sliding simulation) needs the built-in simulator, which is not part of greybox yet; use --method analytic");
-    }
     let mut ds = FrictionDataset::read_csv(&a.data)?;
-    let corr = correct_analytic(&mut ds, a.pin_radius_mm * 1e-3, &widths(a)?)?;
+    let corr = match a.method {
+        Method::Analytic => correct_analytic(&mut ds, a.pin_radius_mm * 1e-3, &widths(a)?)?,
+        Method::Simulation => correct_by_simulation(&mut ds, a)?,
+    };
     ds.write_csv(&a.out)?;
     write_string_atomic(
         &correction_path(&a.out),
         &serde_json::to_string_pretty(&corr)?,
     )?;
     Ok((ds, corr))
+}
+
+/// The article's inverse step: simulate the highest loads, find μ_adh per load so that the
+/// simulated F_t/F_N equals the mean measured μ_app, fit the deformation share against load
+/// (power law) and subtract it at every load.
+fn correct_by_simulation(ds: &mut FrictionDataset, a: &Args) -> Result<Correction> {
+    let r = a.pin_radius_mm * 1e-3;
+    let measured = widths(a)?;
+    let law = WidthLaw::fit(&measured)?;
+    let mut forces: Vec<f64> = ds.records.iter().map(|r| r.normal_force_n).collect();
+    forces.sort_by(f64::total_cmp);
+    forces.dedup();
+    if a.sim_loads == 0 {
+        bail!("--sim-loads must be at least 1");
+    }
+    let simulated: Vec<f64> = forces.iter().rev().take(a.sim_loads).copied().collect();
+    let mut loads = Vec::new();
+    for &f in &simulated {
+        let rows: Vec<f64> = ds
+            .records
+            .iter()
+            .filter(|x| x.normal_force_n == f)
+            .map(|x| x.cof_apparent)
+            .collect();
+        let mu_app = rows.iter().sum::<f64>() / rows.len() as f64;
+        let depth = track_depth(r, law.width_um(f) * 1e-6)?;
+        loads.push((f, depth, mu_app));
+    }
+    let mut base = PinSetup::article(loads[0].1, loads[0].2, a.sim_spacing_um * 1e-6);
+    base.pin_radius_m = r;
+    base.slide_length_m = a.sim_slide_mm * 1e-3;
+    base.workpiece_height_m = a.sim_height_mm * 1e-3;
+    eprintln!(
+        "simulating {} load(s) ({} N) with up to {} pin runs each ...",
+        loads.len(),
+        simulated
+            .iter()
+            .map(|f| format!("{f:.0}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        a.sim_max_runs
+    );
+    let inv = inverse_over_loads(&base, &loads, a.sim_tolerance, a.sim_max_runs.max(2))?;
+    let share = ShareLaw::fit(
+        &inv.iter()
+            .map(|l| (l.normal_force_n, l.result.deformation_share))
+            .collect::<Vec<_>>(),
+    )?;
+    let per_load = forces
+        .iter()
+        .map(|&f| {
+            let w = law.width_um(f);
+            Ok(LoadCorrection {
+                normal_force_n: f,
+                width_um: w,
+                depth_um: track_depth(r, w * 1e-6)? * 1e6,
+                mu_plough: share.share(f),
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let mut ratio = 0.0;
+    for rec in ds.records.iter_mut() {
+        let mp = share.share(rec.normal_force_n);
+        rec.cof_adhesive = Some(rec.cof_apparent - mp);
+        ratio += mp / rec.cof_apparent;
+    }
+    let runs: Vec<String> = inv
+        .iter()
+        .map(|l| {
+            format!(
+                "{:.0} N: depth {:.1} um, mu_app {:.4} -> mu_adh {:.4} (residual {:.4}, {} runs)",
+                l.normal_force_n,
+                l.result.depth_m * 1e6,
+                l.result.mu_apparent,
+                l.result.mu_adhesive,
+                l.result.residual,
+                l.result.runs.len()
+            )
+        })
+        .collect();
+    Ok(Correction {
+        method: format!(
+            "simulation: plane-strain SPH pin (r = {} mm, spacing {} um, slide {} mm), deformation share = {:.4e} F^{:.3}; {}",
+            a.pin_radius_mm,
+            a.sim_spacing_um,
+            a.sim_slide_mm,
+            share.a,
+            share.b,
+            runs.join("; ")
+        ),
+        pin_tip_radius_mm: a.pin_radius_mm,
+        measured_widths: measured,
+        width_law: law,
+        per_load,
+        mean_reduction_percent: 100.0 * ratio / ds.records.len().max(1) as f64,
+    })
 }
 
 pub fn correction_path(out: &Path) -> PathBuf {
@@ -118,11 +236,20 @@ pub fn print_correction(c: &Correction) {
 }
 
 pub fn run(a: Args) -> Result<()> {
-    let (_, c) = adhesive(&a)?;
+    let (ds, c) = adhesive(&a)?;
     if a.json {
         return print_json(&c);
     }
     print_correction(&c);
+    if a.method == Method::Simulation {
+        // The analytic Bowden–Tabor correction beside it, for comparison.
+        let mut twin = ds.clone();
+        let bt = correct_analytic(&mut twin, a.pin_radius_mm * 1e-3, &widths(&a)?)?;
+        println!(
+            "  analytic Bowden-Tabor (sphere) for comparison: mean reduction {:.2} %",
+            bt.mean_reduction_percent
+        );
+    }
     println!(
         "wrote {} and {}",
         a.out.display(),

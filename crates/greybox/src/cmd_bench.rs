@@ -39,6 +39,17 @@ pub enum Bench {
         #[arg(long, default_value_t = 20_000_000)]
         calls: usize,
     },
+    /// SPH solver speed on a cutting set-up (default: the bundled ETH IWF Ti6Al4V case):
+    /// particle-steps per second per core and the wall time of the cut.
+    Sph {
+        #[arg(long, default_value = "examples/iwf-ti64-cut.toml")]
+        config: PathBuf,
+        /// Fraction of the configured cut to run (the full-cut time is extrapolated if < 1).
+        #[arg(long, default_value_t = 1.0)]
+        fraction: f64,
+        #[arg(long)]
+        json: bool,
+    },
     /// Single-point prediction latency of model files (the simulator's hot path).
     Predict {
         /// Model files from `greybox fit`.
@@ -222,8 +233,56 @@ fn bench_surrogate(path: &std::path::Path, points: usize, calls: usize) -> Resul
     Ok(())
 }
 
+fn bench_sph(config: &std::path::Path, fraction: f64, json: bool) -> Result<()> {
+    let setup = crate::cmd_simulate::read_cutting_setup(config)?;
+    let dir = tempfile::tempdir()?;
+    let out = crate::cmd_simulate::Output {
+        out: dir.path().to_path_buf(),
+        vtk_every: 0,
+        checkpoint_every: 0,
+        resume: None,
+        json: false,
+    };
+    let s = crate::cmd_simulate::run_cut(&setup, fraction, &out)?;
+    if json {
+        return print_json(&s);
+    }
+    let full = s.wall_s / fraction.clamp(1e-9, 1.0);
+    println!(
+        "SPH cutting benchmark ({}): {} particles, {} steps, dt {:.3e} s, mass scaling {}",
+        config.display(),
+        s.particles,
+        s.steps,
+        s.dt_s,
+        s.mass_scaling
+    );
+    println!(
+        "  {:.3e} particle-steps/s on {} threads = {:.3e} per core; {:.3} mm of cut in {:.1} s (full cut: {:.1} s{})",
+        s.particle_steps_per_s,
+        s.threads,
+        s.particle_steps_per_s_per_core,
+        s.simulated_cut_length_mm,
+        s.wall_s,
+        full,
+        if fraction < 1.0 { ", extrapolated" } else { "" }
+    );
+    println!(
+        "  reference: ETH IWF mfree_iwf-ul-cut-refine ~1.7e5 particle-steps/s/core, 59 min for the cut on one core"
+    );
+    println!(
+        "  cutting force {:.1} N/mm, feed force {:.1} N/mm",
+        s.cutting_force_n_per_mm, s.feed_force_n_per_mm
+    );
+    Ok(())
+}
+
 pub fn run(a: Args) -> Result<()> {
     match a.bench {
+        Bench::Sph {
+            config,
+            fraction,
+            json,
+        } => bench_sph(&config, fraction, json),
         Bench::Surrogate { law, points, calls } => {
             bench_surrogate(&law, points.max(2), calls.max(1))
         }

@@ -12,6 +12,7 @@ mod cmd_hertz;
 mod cmd_identify;
 mod cmd_plan;
 mod cmd_predict;
+mod cmd_simulate;
 mod cmd_synth;
 mod cmd_wear;
 mod cmd_windows;
@@ -54,9 +55,11 @@ enum Command {
     Windows(cmd_windows::Args),
     /// Restart loop with an external FE engine (CalculiX, or a user command): per-window μ from the law.
     Couple(cmd_couple::Args),
+    /// Built-in 2D SPH solver: pin sliding (ploughing share) and orthogonal cutting.
+    Simulate(cmd_simulate::Args),
     /// Run the whole pipeline on the bundled example study.
     Demo(cmd_demo::Args),
-    /// Benchmarks (recording ingestion speed).
+    /// Benchmarks: ingestion, prediction latency, surrogate tables, SPH solver speed.
     Bench(cmd_bench::Args),
 }
 
@@ -71,6 +74,7 @@ fn main() {
         Command::Adhesive(a) => cmd_adhesive::run(a),
         Command::Export(a) => cmd_export::run(a),
         Command::Predict(a) => cmd_predict::run(a),
+        Command::Simulate(a) => cmd_simulate::run(a),
         Command::Demo(a) => cmd_demo::run(a),
         Command::Characterize(a) => cmd_characterize::run(a),
         Command::Wear(a) => cmd_wear::run(a),
