@@ -140,7 +140,7 @@ impl Checkpointer {
 
 impl Observer for Checkpointer {
     fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
-        if sim.step % self.every == 0 {
+        if sim.step.is_multiple_of(self.every) {
             // Rebuild the neighbour lists here so that a resumed run (which rebuilds on
             // restore) sums in exactly the same order: resume is bit-for-bit.
             sim.neighbours.build(&sim.particles.x, &sim.particles.y);

@@ -20,6 +20,7 @@
 use crate::particles::FREE;
 use crate::solver::Solver;
 
+#[allow(clippy::needless_range_loop)] // several arrays are indexed by i
 pub(crate) fn apply(sim: &mut Solver) {
     let dt = sim.dt;
     let t = sim.time;

@@ -65,7 +65,7 @@ pub fn run(
             }
             return Err(e);
         }
-        if sim.step % SNAPSHOT_EVERY == 0 {
+        if sim.step.is_multiple_of(SNAPSHOT_EVERY) {
             last_good.clone_from(&sim.particles);
             last_good_at = (sim.step, sim.time);
         }

@@ -55,7 +55,7 @@ impl RoundedPolygon {
     /// (1 vertex: a disk; 2: a capsule).
     pub fn new(vertices: Vec<[f64; 2]>, radius: f64) -> greybox_core::Result<Self> {
         let bad = |m: &str| greybox_core::Error::invalid("tool geometry", m.to_string());
-        if vertices.is_empty() || !(radius >= 0.0) || !radius.is_finite() {
+        if vertices.is_empty() || radius.is_nan() || radius < 0.0 || !radius.is_finite() {
             return Err(bad("expected at least one vertex and a finite radius ≥ 0"));
         }
         if vertices.iter().flatten().any(|v| !v.is_finite()) {

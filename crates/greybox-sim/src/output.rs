@@ -212,13 +212,13 @@ impl Observer for VtkSeries {
         self.write(sim)
     }
     fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
-        if sim.step % self.every == 0 {
+        if sim.step.is_multiple_of(self.every) {
             self.write(sim)?;
         }
         Ok(Control::Continue)
     }
     fn finish(&mut self, sim: &mut Solver) -> Result<(), SimError> {
-        if sim.step % self.every != 0 {
+        if !sim.step.is_multiple_of(self.every) {
             self.write(sim)?;
         }
         Ok(())

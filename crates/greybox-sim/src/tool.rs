@@ -231,7 +231,11 @@ impl Tool {
     /// Checks that windows are ordered, non-overlapping and have finite μ ≥ 0.
     pub fn validate(&self) -> greybox_core::Result<()> {
         for (k, w) in self.windows.iter().enumerate() {
-            if !(w.s_end > w.s_start) || !(w.mu >= 0.0 && w.mu.is_finite()) {
+            if w.s_end.partial_cmp(&w.s_start) != Some(std::cmp::Ordering::Greater)
+                || w.mu.is_nan()
+                || w.mu < 0.0
+                || !w.mu.is_finite()
+            {
                 return Err(greybox_core::Error::invalid(
                     format!("tool '{}', window {k}", self.name),
                     format!(

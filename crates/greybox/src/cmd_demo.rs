@@ -81,21 +81,6 @@ pub fn run(a: Args) -> Result<()> {
         sim_max_runs: 5,
     };
     let (_, correction) = cmd_adhesive::adhesive(&adhesive_args)?;
-    // the built-in SPH pin at the highest load's track depth: the simulated ploughing share
-    // beside the analytic one (a short, coarse run; `greybox adhesive --method simulation`
-    // does the full inverse search)
-    if let Some(top) = correction.per_load.last() {
-        let mut pin = greybox_sim::pin::PinSetup::article(top.depth_um * 1e-6, 0.28, 10e-6);
-        pin.pin_radius_m = study.contact.pin_tip_radius_mm * 1e-3;
-        pin.slide_length_m = 0.6e-3;
-        pin.workpiece_height_m = 0.25e-3;
-        let (r, hist, _) = greybox_sim::pin::simulate(&pin, &mut [])?;
-        hist.write_csv(&out.join("pin_forces.csv"))?;
-        println!(
-            "  SPH pin at {:.0} N (depth {:.1} um, mu 0.28): F_t/F_N = {:.4}, deformation share {:.4} (Bowden-Tabor sphere {:.4}); {} particles, {:.1} s",
-            top.normal_force_n, top.depth_um, r.force_ratio, r.deformation_share, top.mu_plough, r.particles, r.wall_s
-        );
-    }
     // the article's protocol on the adhesive COF
     let mut fit_args = cmd_fit::Args::defaults(adhesive_args.out.clone(), out.join("fit"));
     fit_args.target = "cof_adhesive".into();
