@@ -251,10 +251,10 @@ fn adhesive_and_export() {
     }
     assert!(p.join("adh.correction.json").exists());
     let e = err(&greybox(
-        &["adhesive", "--data", "data.csv", "--method", "simulation"],
+        &["adhesive", "--data", "data.csv", "--method", "simulation", "--sim-loads", "0"],
         p,
     ));
-    assert!(e.contains("needs the built-in simulator"), "{e}");
+    assert!(e.contains("--sim-loads must be at least 1"), "{e}");
     let e = err(&greybox(
         &["adhesive", "--data", "data.csv", "--track-width", "150:abc"],
         p,
