@@ -251,7 +251,15 @@ fn adhesive_and_export() {
     }
     assert!(p.join("adh.correction.json").exists());
     let e = err(&greybox(
-        &["adhesive", "--data", "data.csv", "--method", "simulation", "--sim-loads", "0"],
+        &[
+            "adhesive",
+            "--data",
+            "data.csv",
+            "--method",
+            "simulation",
+            "--sim-loads",
+            "0",
+        ],
         p,
     ));
     assert!(e.contains("--sim-loads must be at least 1"), "{e}");
