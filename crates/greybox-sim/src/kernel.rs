@@ -45,19 +45,13 @@ impl CubicSpline {
     /// W = σ/4 [max(0, 2 − q)³ − 4 max(0, 1 − q)³]. `r` must be > 0.
     #[inline(always)]
     pub fn w_and_dw_over_r(&self, r: f64) -> (f64, f64) {
-        self.w_and_dw_over_r_inv(r, 1.0 / r)
-    }
-
-    /// As [`Self::w_and_dw_over_r`] with 1/r supplied (the caller shares one division).
-    #[inline(always)]
-    pub fn w_and_dw_over_r_inv(&self, r: f64, inv_r: f64) -> (f64, f64) {
         let q = r * self.inv_h;
         let a = (2.0 - q).max(0.0);
         let b = (1.0 - q).max(0.0);
         let a2 = a * a;
         let b2 = b * b;
         let w = 0.25 * self.sigma * (a2 * a - 4.0 * b2 * b);
-        let g = 0.25 * self.sigma * self.inv_h * (12.0 * b2 - 3.0 * a2) * inv_r;
+        let g = 0.25 * self.sigma * self.inv_h * (12.0 * b2 - 3.0 * a2) / r;
         (w, g)
     }
 

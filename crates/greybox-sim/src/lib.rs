@@ -28,3 +28,8 @@ pub use model::{BoundaryGroup, Model, Numerics};
 pub use particles::Particles;
 pub use solver::{SimError, Solver};
 pub use tool::{ConstantMu, Motion, MotionSegment, Tool, Window};
+
+/// Worker threads the solver runs on (rayon's pool: `RAYON_NUM_THREADS` or the core count).
+pub fn threads() -> usize {
+    rayon::current_num_threads()
+}

@@ -20,6 +20,7 @@ pub struct NeighbourList {
     /// Cell list scratch.
     cell_start: Vec<u32>,
     cell_items: Vec<u32>,
+    cell_fill: Vec<u32>,
     cell_of: Vec<u32>,
     /// Cut-off radius (2h + skin), m.
     pub cutoff: f64,
@@ -80,13 +81,11 @@ impl NeighbourList {
             self.cell_start[k + 1] += self.cell_start[k];
         }
         self.cell_items.resize(n, 0);
-        {
-            let mut fill = self.cell_start.clone();
-            for i in 0..n {
-                let cell = self.cell_of[i] as usize;
-                self.cell_items[fill[cell] as usize] = i as u32;
-                fill[cell] += 1;
-            }
+        self.cell_fill.clone_from(&self.cell_start);
+        for i in 0..n {
+            let cell = self.cell_of[i] as usize;
+            self.cell_items[self.cell_fill[cell] as usize] = i as u32;
+            self.cell_fill[cell] += 1;
         }
         let c2 = c * c;
         let (cs, ci, co) = (&self.cell_start, &self.cell_items, &self.cell_of);

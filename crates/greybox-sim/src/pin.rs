@@ -412,33 +412,19 @@ impl ShareLaw {
     pub fn fit(points: &[(f64, f64)]) -> greybox_core::Result<Self> {
         let pts: Vec<(f64, f64)> = points
             .iter()
-            .filter(|(f, s)| *f > 0.0 && *s > 0.0)
-            .map(|(f, s)| (f.ln(), s.ln()))
+            .copied()
+            .filter(|&(f, s)| f > 0.0 && s > 0.0)
             .collect();
-        if pts.is_empty() {
+        let Some(&(f0, s0)) = pts.first() else {
             return Err(greybox_core::Error::invalid(
                 "deformation share fit",
                 "no load with a positive simulated deformation share",
             ));
-        }
-        if pts.len() == 1 || pts.iter().all(|p| p.0 == pts[0].0) {
-            // One load: share ∝ √F (Bowden–Tabor scaling with w ∝ √F).
-            let (lf, ls) = pts[0];
-            return Ok(ShareLaw {
-                a: (ls - 0.5 * lf).exp(),
-                b: 0.5,
-            });
-        }
-        let n = pts.len() as f64;
-        let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-        let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-        let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-        let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-        let b = sxy / sxx;
-        Ok(ShareLaw {
-            a: (my - b * mx).exp(),
-            b,
-        })
+        };
+        // One distinct load: share ∝ √F (Bowden–Tabor scaling with w ∝ √F).
+        let (a, b) = greybox_core::linalg::fit_power_law(&pts)
+            .unwrap_or(((s0.ln() - 0.5 * f0.ln()).exp(), 0.5));
+        Ok(ShareLaw { a, b })
     }
     pub fn share(&self, force_n: f64) -> f64 {
         self.a * force_n.powf(self.b)

@@ -166,6 +166,8 @@ pub struct Solver {
     /// (computed by the force gather, reused by the kinematics gather).
     pair_g: Vec<f64>,
     pair_w: Vec<f64>,
+    /// Per update chunk: (plastic work, viscous power, first bad particle).
+    chunk_sums: Vec<(f64, f64, usize)>,
     /// Reciprocal of W(Δx) for the artificial-stress factor f = W(r)/W(Δx).
     inv_w_dx: f64,
 }
@@ -241,6 +243,7 @@ impl Solver {
             packed: vec![Packed::default(); n],
             pair_g: Vec::new(),
             pair_w: Vec::new(),
+            chunk_sums: Vec::new(),
         })
     }
 
@@ -526,7 +529,7 @@ impl Solver {
         let p = &mut self.particles;
         const CH: usize = 512;
         // (plastic work, max speed², first bad particle)
-        let (plastic, bad) = (
+        (
             p.x.par_chunks_mut(CH),
             p.y.par_chunks_mut(CH),
             p.vx.par_chunks(CH),
@@ -545,10 +548,12 @@ impl Solver {
             .map(
                 |(c, (x, y, vx, vy, rho, pr, sxx, sxy, syy, szz, eps, (temp, erate)))| {
                     let mut wp = 0.0;
+                    let mut av = 0.0;
                     let mut bad = usize::MAX;
                     for k in 0..x.len() {
                         let i = c * CH + k;
                         let r = &rates[i];
+                        av += r.av_power;
                         let (nvx, nvy) = (vx[k], vy[k]);
                         x[k] += dt * (nvx + r.xsx);
                         y[k] += dt * (nvy + r.xsy);
@@ -605,12 +610,20 @@ impl Solver {
                             bad = i;
                         }
                     }
-                    (wp, bad)
+                    (wp, av, bad)
                 },
             )
-            .reduce(|| (0.0, usize::MAX), |a, b| (a.0 + b.0, a.1.min(b.1)));
+            // Per-chunk sums in chunk order (an indexed collect), summed serially below:
+            // the energy book is the same bytes on every run, whatever the thread schedule.
+            .collect_into_vec(&mut self.chunk_sums);
+        let (mut plastic, mut viscous, mut bad) = (0.0, 0.0, usize::MAX);
+        for &(wp, av, b) in &self.chunk_sums {
+            plastic += wp;
+            viscous += av;
+            bad = bad.min(b);
+        }
         self.energy.plastic_work += plastic;
-        self.energy.viscous_work += dt * self.rates.iter().map(|r| r.av_power).sum::<f64>();
+        self.energy.viscous_work += dt * viscous;
         if bad != usize::MAX {
             let p = &self.particles;
             let reason =
@@ -672,10 +685,5 @@ impl Solver {
     /// Particle-steps per second helper: particle count.
     pub fn particle_count(&self) -> usize {
         self.particles.len()
-    }
-
-    /// Physical density of particle i (mass scaling removed), kg/m³.
-    pub fn physical_density(&self, i: usize) -> f64 {
-        self.particles.rho[i] / self.numerics.mass_scaling
     }
 }

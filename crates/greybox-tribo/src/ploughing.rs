@@ -82,27 +82,17 @@ impl WidthLaw {
                 "forces and widths must be positive",
             ));
         }
-        let n = points.len() as f64;
-        let xs: Vec<f64> = points.iter().map(|p| p.normal_force_n.ln()).collect();
-        let ys: Vec<f64> = points.iter().map(|p| p.width_um.ln()).collect();
-        let (xm, ym) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
-        let sxx: f64 = xs.iter().map(|x| (x - xm).powi(2)).sum();
-        if points.len() < 2 || sxx <= 0.0 {
-            return Err(Error::invalid(
+        let xy: Vec<(f64, f64)> = points
+            .iter()
+            .map(|p| (p.normal_force_n, p.width_um))
+            .collect();
+        let (a_um, b) = greybox_core::linalg::fit_power_law(&xy).ok_or_else(|| {
+            Error::invalid(
                 "track widths",
                 "need widths at two or more different loads to fit w(F)",
-            ));
-        }
-        let b = xs
-            .iter()
-            .zip(&ys)
-            .map(|(x, y)| (x - xm) * (y - ym))
-            .sum::<f64>()
-            / sxx;
-        Ok(WidthLaw {
-            a_um: (ym - b * xm).exp(),
-            b,
-        })
+            )
+        })?;
+        Ok(WidthLaw { a_um, b })
     }
     pub fn width_um(&self, force_n: f64) -> f64 {
         self.a_um * force_n.powf(self.b)
@@ -139,6 +129,25 @@ pub fn correct_analytic(
     pin_radius_m: f64,
     widths: &[TrackWidth],
 ) -> Result<Correction> {
+    correct_with(
+        ds,
+        pin_radius_m,
+        widths,
+        "analytic: Bowden-Tabor sphere ploughing, w(F) = a F^b fitted to measured track widths"
+            .into(),
+        |_, w_m| bowden_tabor_mu(pin_radius_m, w_m),
+    )
+}
+
+/// Fill `cof_adhesive` = μ_app − μ_p(F) for any ploughing model `mu_plough(F N, w m)`, with
+/// w(F) fitted to the measured widths; records the model under `method`.
+pub fn correct_with(
+    ds: &mut FrictionDataset,
+    pin_radius_m: f64,
+    widths: &[TrackWidth],
+    method: String,
+    mu_plough: impl Fn(f64, f64) -> Result<f64>,
+) -> Result<Correction> {
     let law = WidthLaw::fit(widths)?;
     let mut forces: Vec<f64> = ds.records.iter().map(|r| r.normal_force_n).collect();
     forces.sort_by(f64::total_cmp);
@@ -152,7 +161,7 @@ pub fn correct_analytic(
                 normal_force_n: f,
                 width_um: w,
                 depth_um: track_depth(pin_radius_m, wm)? * 1e6,
-                mu_plough: bowden_tabor_mu(pin_radius_m, wm)?,
+                mu_plough: mu_plough(f, wm)?,
             })
         })
         .collect::<Result<Vec<_>>>()?;
@@ -167,9 +176,7 @@ pub fn correct_analytic(
         ratio += mp / r.cof_apparent;
     }
     Ok(Correction {
-        method:
-            "analytic: Bowden-Tabor sphere ploughing, w(F) = a F^b fitted to measured track widths"
-                .into(),
+        method,
         pin_tip_radius_mm: pin_radius_m * 1e3,
         measured_widths: widths.to_vec(),
         width_law: law,

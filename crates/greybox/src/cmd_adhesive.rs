@@ -6,7 +6,7 @@ use greybox_core::atomic::write_string_atomic;
 use greybox_core::dataset::FrictionDataset;
 use greybox_sim::pin::{inverse_over_loads, PinSetup, ShareLaw};
 use greybox_tribo::ploughing::{
-    article_table3, correct_analytic, track_depth, Correction, LoadCorrection, TrackWidth, WidthLaw,
+    article_table3, correct_analytic, correct_with, track_depth, Correction, TrackWidth, WidthLaw,
 };
 use std::path::{Path, PathBuf};
 
@@ -156,24 +156,6 @@ fn correct_by_simulation(ds: &mut FrictionDataset, a: &Args) -> Result<Correctio
             .map(|l| (l.normal_force_n, l.result.deformation_share))
             .collect::<Vec<_>>(),
     )?;
-    let per_load = forces
-        .iter()
-        .map(|&f| {
-            let w = law.width_um(f);
-            Ok(LoadCorrection {
-                normal_force_n: f,
-                width_um: w,
-                depth_um: track_depth(r, w * 1e-6)? * 1e6,
-                mu_plough: share.share(f),
-            })
-        })
-        .collect::<Result<Vec<_>>>()?;
-    let mut ratio = 0.0;
-    for rec in ds.records.iter_mut() {
-        let mp = share.share(rec.normal_force_n);
-        rec.cof_adhesive = Some(rec.cof_apparent - mp);
-        ratio += mp / rec.cof_apparent;
-    }
     let runs: Vec<String> = inv
         .iter()
         .map(|l| {
@@ -188,22 +170,18 @@ fn correct_by_simulation(ds: &mut FrictionDataset, a: &Args) -> Result<Correctio
             )
         })
         .collect();
-    Ok(Correction {
-        method: format!(
-            "simulation: plane-strain SPH pin (r = {} mm, spacing {} um, slide {} mm), deformation share = {:.4e} F^{:.3}; {}",
-            a.pin_radius_mm,
-            a.sim_spacing_um,
-            a.sim_slide_mm,
-            share.a,
-            share.b,
-            runs.join("; ")
-        ),
-        pin_tip_radius_mm: a.pin_radius_mm,
-        measured_widths: measured,
-        width_law: law,
-        per_load,
-        mean_reduction_percent: 100.0 * ratio / ds.records.len().max(1) as f64,
-    })
+    let method = format!(
+        "simulation: plane-strain SPH pin (r = {} mm, spacing {} um, slide {} mm), deformation share = {:.4e} F^{:.3}; {}",
+        a.pin_radius_mm,
+        a.sim_spacing_um,
+        a.sim_slide_mm,
+        share.a,
+        share.b,
+        runs.join("; ")
+    );
+    Ok(correct_with(ds, r, &measured, method, |f, _| {
+        Ok(share.share(f))
+    })?)
 }
 
 pub fn correction_path(out: &Path) -> PathBuf {

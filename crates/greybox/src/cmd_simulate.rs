@@ -260,7 +260,7 @@ pub fn run_cut(setup: &CuttingSetup, fraction: f64, o: &Output) -> Result<CutSum
     }
     .map_err(|e| failure_context(e, &obs))?;
     let f = hist.mean_force(0.5 * end, end).unwrap_or([0.0, 0.0]);
-    let threads = rayon_threads();
+    let threads = greybox_sim::threads();
     let s = CutSummary {
         particles: sim.particle_count(),
         steps: summary.steps,
@@ -277,14 +277,6 @@ pub fn run_cut(setup: &CuttingSetup, fraction: f64, o: &Output) -> Result<CutSum
     };
     write_common(&o.out, &sim, &hist, &s)?;
     Ok(s)
-}
-
-fn rayon_threads() -> usize {
-    std::env::var("RAYON_NUM_THREADS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .filter(|&n: &usize| n > 0)
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
 pub fn run(a: Args) -> Result<()> {
