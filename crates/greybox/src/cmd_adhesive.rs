@@ -123,6 +123,12 @@ fn correct_by_simulation(ds: &mut FrictionDataset, a: &Args) -> Result<Correctio
     if a.sim_loads == 0 {
         bail!("--sim-loads must be at least 1");
     }
+    if !(a.sim_tolerance > 0.0 && a.sim_tolerance.is_finite()) {
+        bail!(
+            "--sim-tolerance: expected a positive number, got {}",
+            a.sim_tolerance
+        );
+    }
     let simulated: Vec<f64> = forces.iter().rev().take(a.sim_loads).copied().collect();
     let mut loads = Vec::new();
     for &f in &simulated {

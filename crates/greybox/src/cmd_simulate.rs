@@ -244,6 +244,9 @@ pub struct CutSummary {
 
 /// Runs a cut; returns the summary.
 pub fn run_cut(setup: &CuttingSetup, fraction: f64, o: &Output) -> Result<CutSummary> {
+    if !(fraction > 0.0 && fraction <= 1.0) {
+        anyhow::bail!("--fraction: expected a number in (0, 1], got {fraction}");
+    }
     let (model, duration) = setup.model()?;
     let mut sim = Solver::new(model)?;
     let id = serde_json::to_string(setup)?;

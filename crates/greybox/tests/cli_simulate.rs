@@ -71,6 +71,11 @@ fn pin_run_writes_outputs_and_resumes_bit_for_bit() {
         d.path(),
     ));
     assert!(e.contains("below one particle spacing"), "{e}");
+    let e = err(&greybox(
+        &["simulate", "cutting", "--config", "missing.toml"],
+        d.path(),
+    ));
+    assert!(e.contains("missing.toml"), "{e}");
 }
 
 #[test]
