@@ -8,8 +8,8 @@
 use crate::geometry::RoundedPolygon;
 use crate::model::{BoundaryGroup, Model, Numerics};
 use crate::particles::Particles;
-use crate::tool::{ConstantMu, Motion, MotionSegment, Tool};
-use greybox_core::FrictionLaw;
+use crate::tool::{ConstantMu, Motion, MotionSegment, Tool, Window};
+use greybox_core::{ContactState, FrictionLaw};
 use greybox_material::Material;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -64,7 +64,103 @@ impl InsertGeometry {
         // Far corner: where the back face (parallel to the rake, through pf) meets the top
         // face (parallel to the flank, through pr), kept convex by taking the max.
         let corner = [pf[0].max(pr[0] + lf * uf[0]), pr[1].max(pf[1] + lr * ur[1])];
-        RoundedPolygon::new(vec![e, pf, corner, pr], r)
+        // Vertex order (counter-clockwise) puts the rake face, the edge arc and the flank face
+        // first and contiguous in arc length: s runs down the rake from its top (s = 0) to
+        // the edge, round the edge, and out along the flank (see [`EdgeLayout`]).
+        RoundedPolygon::new(vec![pr, e, pf, corner], r)
+    }
+
+    /// Where the rake face, the edge and the flank face lie in the arc length of [`shape`].
+    pub fn layout(&self) -> greybox_core::Result<EdgeLayout> {
+        let shape = self.shape()?;
+        let (rake_start, rake_end) = shape.edge_span(0);
+        let (arc_start, arc_end) = shape.arc_span(1);
+        let (_, flank_end) = shape.edge_span(1);
+        debug_assert!(rake_start == 0.0 && (rake_end - arc_start).abs() < 1e-15);
+        Ok(EdgeLayout {
+            tip_s: 0.5 * (arc_start + arc_end),
+            rake_end_s: rake_end,
+            arc_end_s: arc_end,
+            flank_end_s: flank_end,
+        })
+    }
+}
+
+/// The cutting edge in the tool's arc length s (m): the rake face is s ∈ [0, `rake_end_s`)
+/// running down towards the edge, the edge arc [`rake_end_s`, `arc_end_s`), the flank face
+/// [`arc_end_s`, `flank_end_s`). Distances "from the edge" are measured along the surface
+/// from the middle of the edge arc (`tip_s`): positive up the rake face, negative along the
+/// flank.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct EdgeLayout {
+    pub tip_s: f64,
+    pub rake_end_s: f64,
+    pub arc_end_s: f64,
+    pub flank_end_s: f64,
+}
+
+/// Which face a point of the tool surface belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Face {
+    Rake,
+    Edge,
+    Flank,
+    Back,
+}
+
+impl Face {
+    pub fn name(self) -> &'static str {
+        match self {
+            Face::Rake => "rake",
+            Face::Edge => "edge",
+            Face::Flank => "flank",
+            Face::Back => "back",
+        }
+    }
+}
+
+impl EdgeLayout {
+    /// The face at arc length s and the signed distance from the edge along the surface, m
+    /// (positive on the rake side).
+    pub fn locate(&self, s: f64) -> (Face, f64) {
+        let face = if s < self.rake_end_s {
+            Face::Rake
+        } else if s < self.arc_end_s {
+            Face::Edge
+        } else if s < self.flank_end_s {
+            Face::Flank
+        } else {
+            Face::Back
+        };
+        (face, self.tip_s - s)
+    }
+
+    /// Friction windows of length `length` (m): from the tip up the rake face and from the tip
+    /// out along the flank face (the last window of each face may be shorter), then one
+    /// window for the rest of the insert; every window holds `law`, sorted by s.
+    pub fn windows(
+        &self,
+        length: f64,
+        perimeter: f64,
+        law: &Arc<dyn FrictionLaw>,
+        start: &ContactState,
+    ) -> Vec<Window> {
+        let mut cuts = vec![0.0, self.tip_s, self.flank_end_s, perimeter + 1e-12];
+        let mut s = self.tip_s - length;
+        while s > 0.5 * length {
+            cuts.push(s);
+            s -= length;
+        }
+        let mut s = self.tip_s + length;
+        while s < self.flank_end_s - 0.5 * length {
+            cuts.push(s);
+            s += length;
+        }
+        cuts.sort_by(f64::total_cmp);
+        cuts.windows(2)
+            .map(|c| Window::new(c[0], c[1], law.clone(), start))
+            .collect()
     }
 }
 
@@ -88,6 +184,59 @@ pub struct CuttingSetup {
     pub initial_temperature_k: f64,
     pub material: Material,
     pub numerics: Numerics,
+    /// Friction windows and the grey-box loop.
+    #[serde(default)]
+    pub friction: FrictionSetup,
+    /// Steady-force detection.
+    #[serde(default)]
+    pub steady: SteadySetup,
+}
+
+/// Friction windows along the rake and flank faces and the in-process grey-box loop.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FrictionSetup {
+    /// Window length along the tool surface, m.
+    pub window_length_m: f64,
+    /// Re-evaluate every window's μ from its time-averaged state every N steps.
+    pub update_every_steps: u64,
+    /// Law file (`greybox fit` model, law or table file; relative to the set-up file). Without
+    /// one the insert uses the constant `mu`.
+    pub law_file: Option<String>,
+}
+
+impl Default for FrictionSetup {
+    fn default() -> Self {
+        FrictionSetup {
+            window_length_m: 10e-6,
+            update_every_steps: 500,
+            law_file: None,
+        }
+    }
+}
+
+/// When the cutting force counts as steady: over the last `blocks` blocks of `block_length_m`
+/// of cut, the block means lie within `tolerance` (relative) of their common mean and their
+/// fitted trend changes by less than that (see [`crate::steady`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SteadySetup {
+    /// Stop the run once the force is steady (otherwise run the whole `cut_length_m`).
+    pub stop_when_steady: bool,
+    pub block_length_m: f64,
+    pub blocks: usize,
+    pub tolerance: f64,
+}
+
+impl Default for SteadySetup {
+    fn default() -> Self {
+        SteadySetup {
+            stop_when_steady: false,
+            block_length_m: 0.05e-3,
+            blocks: 4,
+            tolerance: 0.03,
+        }
+    }
 }
 
 impl CuttingSetup {
@@ -112,6 +261,8 @@ impl CuttingSetup {
             initial_temperature_k: 300.0,
             material: Material::ti6al4v(),
             numerics: Numerics::default(),
+            friction: FrictionSetup::default(),
+            steady: SteadySetup::default(),
         }
     }
 
@@ -128,12 +279,19 @@ impl CuttingSetup {
             && self.spacing_m > 0.0
             && self.workpiece_height_m > h + 4.0 * self.spacing_m
             && self.mu >= 0.0
-            && self.initial_temperature_k > 0.0;
+            && self.initial_temperature_k > 0.0
+            && self.friction.window_length_m > 0.0
+            && self.friction.update_every_steps > 0
+            && self.steady.block_length_m > 0.0
+            && self.steady.blocks >= 2
+            && self.steady.tolerance > 0.0;
         if !ok {
             return Err(greybox_core::Error::invalid(
                 "cutting set-up",
-                "expected positive speed, uncut chip thickness, cut length and spacing, μ ≥ 0 \
-                 and a workpiece deeper than h + 4 spacings",
+                "expected positive speed, uncut chip thickness, cut length and spacing, μ ≥ 0, \
+                 a workpiece deeper than h + 4 spacings, friction.window_length_m > 0, \
+                 friction.update_every_steps ≥ 1, steady.block_length_m > 0, steady.blocks ≥ 2 \
+                 and steady.tolerance > 0",
             ));
         }
         if h < 4.0 * self.spacing_m {
@@ -149,7 +307,18 @@ impl CuttingSetup {
         Ok(())
     }
 
-    /// Builds the model with a uniform friction law on the tool.
+    /// The contact state every window's law is evaluated at before its first update: the
+    /// J-C yield stress A (or 1 GPa without plasticity) as pressure, the cutting speed and
+    /// the initial temperature.
+    pub fn nominal_contact(&self) -> ContactState {
+        ContactState {
+            pressure_pa: self.material.plasticity.map_or(1e9, |jc| jc.a_pa),
+            sliding_velocity_m_s: self.cutting_speed_m_s,
+            temperature_k: self.initial_temperature_k,
+        }
+    }
+
+    /// Builds the model with `law` in every friction window of the insert.
     pub fn model_with_law(&self, law: Arc<dyn FrictionLaw>) -> greybox_core::Result<(Model, f64)> {
         self.validate()?;
         let dx = self.spacing_m;
@@ -197,7 +366,21 @@ impl CuttingSetup {
                 ramp_s: ramp,
             }],
         };
-        let tool = Tool::with_uniform_law("insert", shape, position, motion, law);
+        let windows = self.insert.layout()?.windows(
+            self.friction.window_length_m,
+            shape.perimeter(),
+            &law,
+            &self.nominal_contact(),
+        );
+        let tool = Tool {
+            name: "insert".into(),
+            shape,
+            position,
+            motion,
+            windows,
+            force: [0.0, 0.0],
+            contacts: 0,
+        };
         Ok((
             Model {
                 particles: p,

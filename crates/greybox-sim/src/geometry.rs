@@ -138,6 +138,18 @@ impl RoundedPolygon {
         self.cache.perimeter
     }
 
+    /// Arc-length range [start, end) of the straight edge from vertex `e` to vertex e+1, m.
+    pub fn edge_span(&self, e: usize) -> (f64, f64) {
+        let c = &self.cache;
+        (c.s_edge[e], c.s_edge[e] + c.len[e])
+    }
+
+    /// Arc-length range [start, end) of the rounded corner around vertex `v`, m.
+    pub fn arc_span(&self, v: usize) -> (f64, f64) {
+        let c = &self.cache;
+        (c.s_arc[v], c.s_arc[v] + self.radius * c.turn[v])
+    }
+
     /// Axis-aligned bounding box (min, max) in the local frame, m.
     pub fn bounding_box(&self) -> ([f64; 2], [f64; 2]) {
         let mut lo = [f64::INFINITY; 2];

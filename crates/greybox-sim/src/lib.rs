@@ -8,9 +8,13 @@
 //! * [`pin`] the pin-sliding set-up and the inverse search for the adhesive μ.
 
 pub mod checkpoint;
+pub mod chip;
 pub(crate) mod contact;
+pub(crate) mod cpu;
+pub mod cut_run;
 pub mod cutting;
 pub mod executor;
+pub mod friction_loop;
 pub mod geometry;
 pub mod kernel;
 pub mod model;
@@ -20,6 +24,7 @@ pub mod particles;
 pub mod pin;
 pub mod plasticity;
 pub mod solver;
+pub mod steady;
 pub mod tool;
 
 pub use executor::{run, Control, Observer, RunSummary};

@@ -33,7 +33,9 @@ pub struct Numerics {
     pub strain_rate_scale: f64,
     /// Heat conduction and heating on/off (off: isothermal).
     pub thermal: bool,
-    /// Verlet skin over h.
+    /// Verlet skin over h. Small is fast: a rebuild costs about one step, and at cutting
+    /// speeds particles cross half of a 0.05 h skin in ~40 steps, while every pair in the
+    /// skin costs work in every step (0.05 h: 3 % of the list entries; 0.3 h: 25 %).
     pub skin_ratio: f64,
     /// Instability guard: stop when a particle moves faster than this × the wave speed.
     pub max_speed_ratio: f64,
@@ -53,7 +55,7 @@ impl Default for Numerics {
             mass_scaling: 1.0,
             strain_rate_scale: 1.0,
             thermal: true,
-            skin_ratio: 0.3,
+            skin_ratio: 0.05,
             max_speed_ratio: 0.5,
         }
     }

@@ -1,7 +1,10 @@
 //! Outputs: VTK legacy particle files for ParaView, force histories and friction-window CSV.
 //! Every file is written atomically (temporary file, then rename).
 
+use crate::chip::ProfilePoint;
+use crate::cutting::EdgeLayout;
 use crate::executor::{Control, Observer};
+use crate::friction_loop::WindowUpdate;
 use crate::particles::Particles;
 use crate::solver::{SimError, Solver};
 use crate::tool::{Tool, WindowStats};
@@ -236,7 +239,7 @@ impl Observer for VtkSeries {
 /// `mu_effective`, `contact_fraction`, `slip_fraction`; empty where never in contact).
 pub fn write_windows_csv(path: &Path, tool: &Tool, spacing: f64) -> greybox_core::Result<()> {
     write_atomic(path, |w| {
-        writeln!(w, "window,s_start_mm,s_end_mm,law,mu,pressure_MPa,sliding_velocity_m_per_min,temperature_C,shear_stress_MPa,mu_effective,contact_fraction,slip_fraction")?;
+        writeln!(w, "window,s_start_mm,s_end_mm,law,mu,{STATS_HEADER}")?;
         for (k, win) in tool.windows.iter().enumerate() {
             write!(
                 w,
@@ -246,28 +249,79 @@ pub fn write_windows_csv(path: &Path, tool: &Tool, spacing: f64) -> greybox_core
                 win.law.name().replace('"', "'"),
                 win.mu
             )?;
-            match win.acc.stats(spacing, win.length()) {
-                Some(WindowStats {
-                    pressure_pa,
-                    sliding_velocity_m_s,
-                    temperature_k,
-                    shear_stress_pa,
-                    mu_effective,
-                    contact_fraction,
-                    slip_fraction,
-                }) => writeln!(
-                    w,
-                    ",{:.3},{:.3},{:.2},{:.3},{:.5},{:.4},{:.4}",
-                    pressure_pa * 1e-6,
-                    sliding_velocity_m_s * 60.0,
-                    temperature_k - 273.15,
-                    shear_stress_pa * 1e-6,
-                    mu_effective,
-                    contact_fraction,
-                    slip_fraction
-                )?,
-                None => writeln!(w, ",,,,,,,")?,
-            }
+            write_stats(w, win.acc.stats(spacing, win.length()).as_ref())?;
+        }
+        Ok(())
+    })
+}
+
+/// The columns after `STATS_HEADER`: the state in CSV units, empty fields without contact.
+const STATS_HEADER: &str = "pressure_MPa,sliding_velocity_m_per_min,temperature_C,shear_stress_MPa,mu_effective,contact_fraction,slip_fraction";
+
+fn write_stats(w: &mut dyn Write, stats: Option<&WindowStats>) -> std::io::Result<()> {
+    match stats {
+        Some(s) => writeln!(
+            w,
+            ",{:.3},{:.3},{:.2},{:.3},{:.5},{:.4},{:.4}",
+            s.pressure_pa * 1e-6,
+            s.sliding_velocity_m_s * 60.0,
+            s.temperature_k - 273.15,
+            s.shear_stress_pa * 1e-6,
+            s.mu_effective,
+            s.contact_fraction,
+            s.slip_fraction
+        ),
+        None => writeln!(w, ",,,,,,,"),
+    }
+}
+
+/// Contact profile along the tool (rake face from its top down to the edge, then the
+/// flank): `window,face,distance_from_edge_um,mu,` then the time-averaged state.
+pub fn write_profile_csv(path: &Path, profile: &[ProfilePoint]) -> greybox_core::Result<()> {
+    write_atomic(path, |w| {
+        writeln!(w, "window,face,distance_from_edge_um,mu,{STATS_HEADER}")?;
+        for p in profile {
+            write!(
+                w,
+                "{},{},{:.3},{:.6}",
+                p.window,
+                p.face.name(),
+                p.distance_m * 1e6,
+                p.mu
+            )?;
+            write_stats(w, p.stats.as_ref())?;
+        }
+        Ok(())
+    })
+}
+
+/// The μ history of the grey-box loop: one row per window update (`step,time_s,window,face,
+/// distance_from_edge_um,mu,` then the state averaged over the interval that ended there).
+pub fn write_mu_history_csv(
+    path: &Path,
+    history: &[WindowUpdate],
+    tool: &Tool,
+    layout: &EdgeLayout,
+) -> greybox_core::Result<()> {
+    write_atomic(path, |w| {
+        writeln!(
+            w,
+            "step,time_s,window,face,distance_from_edge_um,mu,{STATS_HEADER}"
+        )?;
+        for u in history {
+            let win = &tool.windows[u.window];
+            let (face, d) = layout.locate(0.5 * (win.s_start + win.s_end));
+            write!(
+                w,
+                "{},{:.6e},{},{},{:.3},{:.6}",
+                u.step,
+                u.time_s,
+                u.window,
+                face.name(),
+                d * 1e6,
+                u.mu
+            )?;
+            write_stats(w, Some(&u.stats))?;
         }
         Ok(())
     })

@@ -2,10 +2,10 @@
 //! §3.3) for the plane-strain deviatoric stress (xx, xy, yy, zz).
 //!
 //! With a trial von Mises stress σ_tr above the flow stress, the plastic increment Δε solves
-//! f(Δε) = σ_tr − 3GΔε − σ_JC(ε_p + Δε, Δε/Δt, T) = 0 on [0, σ_tr/3G], where f(0) > 0 and
-//! f(σ_tr/3G) ≤ 0: a bracketed Illinois (regula falsi) iteration always converges, also where
-//! the ε^n hardening has an infinite slope at ε = 0 and Newton would fail. The deviator is then
-//! scaled by σ_y/σ_tr.
+//! f(Δε) = σ_tr − 3GΔε − σ_JC(ε_p + Δε, Δε/Δt, T) = 0 on [0, (σ_tr − σ_y(0))/3G], where
+//! f(0) > 0 and f at the upper end ≤ 0: Newton's method kept inside the shrinking bracket
+//! (bisection when a step leaves it) always converges, also where the ε^n hardening has an
+//! infinite slope at ε = 0. The deviator is then scaled by σ_y/σ_tr.
 
 use greybox_material::JohnsonCook;
 
@@ -37,38 +37,55 @@ pub fn radial_return(
             flow_stress: y0,
         };
     }
-    let hard = |d: f64| jc.hardening(eps_p + d) * jc.rate_factor(rate_scale * d / dt) * soft;
     let g3 = 3.0 * shear;
-    let f = |d: f64| trial - g3 * d - hard(d);
+    // f and f' at d: one power and one logarithm per evaluation.
+    let eval = |d: f64| {
+        let e = eps_p + d;
+        let en = if e > 0.0 { e.powf(jc.n) } else { 0.0 };
+        let h = jc.a_pa + jc.b_pa * en;
+        let dh = if e > 0.0 {
+            jc.b_pa * jc.n * en / e
+        } else {
+            0.0
+        };
+        let r = rate_scale * d / (dt * jc.ref_strain_rate);
+        let (rf, drf) = if r > 1.0 {
+            (1.0 + jc.c * r.ln(), jc.c / d)
+        } else {
+            (1.0, 0.0)
+        };
+        let f = trial - g3 * d - h * rf * soft;
+        let df = -g3 - (dh * rf + h * drf) * soft;
+        (f, df)
+    };
     // σ_y only grows with Δε, so the perfectly plastic increment (σ_tr − σ_y(0))/3G is an
-    // upper bound: a tight bracket from the start.
+    // upper bound: a tight bracket from the start. Newton's method safeguarded by the
+    // bracket (bisection whenever a step leaves it): f is convex and decreasing, so Newton
+    // converges quadratically from the right end; the bracket guards the ε^n and ln(ε̇)
+    // terms, whose slopes are unbounded at ε = 0 and Δε = 0.
     let (mut lo, mut hi) = (0.0, (trial - y0) / g3);
-    let (mut flo, mut fhi) = (trial - y0, f(hi));
+    // Converged when the residual is below 10⁻¹⁰ of the trial stress (0.1 Pa per GPa) or
+    // the step stalls.
+    let (f_tol, d_tol) = (1e-10 * trial, 1e-14 * hi);
     let mut d = hi;
-    if fhi < 0.0 {
-        let tol = 1e-10 * hi;
-        let mut side = 0i8;
-        for _ in 0..100 {
-            d = (lo * fhi - hi * flo) / (fhi - flo);
-            let fd = f(d);
-            if fd == 0.0 || hi - lo < tol {
-                break;
-            }
-            if fd > 0.0 {
-                lo = d;
-                flo = fd;
-                if side == 1 {
-                    fhi *= 0.5;
-                }
-                side = 1;
-            } else {
-                hi = d;
-                fhi = fd;
-                if side == -1 {
-                    flo *= 0.5;
-                }
-                side = -1;
-            }
+    for _ in 0..100 {
+        let (f, df) = eval(d);
+        if f.abs() <= f_tol {
+            break;
+        }
+        if f > 0.0 {
+            lo = d;
+        } else {
+            hi = d;
+        }
+        let mut next = d - f / df;
+        if !(next > lo && next < hi) {
+            next = 0.5 * (lo + hi);
+        }
+        let step = (next - d).abs();
+        d = next;
+        if step <= d_tol {
+            break;
         }
     }
     let y = (trial - g3 * d).max(0.0);

@@ -363,44 +363,49 @@ impl Solver {
             .zip(self.pair_w.par_chunks_mut(CH * stride))
             .enumerate()
             .for_each(|(ch, ((rates, pg), pw))| {
-                for (k, out) in rates.iter_mut().enumerate() {
-                    let i = ch * CH + k;
-                    let a = packed[i];
-                    let (mut ax, mut ay, mut dtemp, mut av_power) = (0.0, 0.0, 0.0, 0.0);
-                    let row = k * stride;
-                    // Branch-free: pairs in the skin (beyond 2h) get w = g = 0 and add nothing.
-                    for (q, &j) in nl.of(i).iter().enumerate() {
-                        let b = &packed[j as usize];
-                        let dx = a.x - b.x;
-                        let dy = a.y - b.y;
-                        let r2 = dx * dx + dy * dy;
-                        let [w, g, g_cond, h_visc] = table.at(r2);
-                        pg[row + q] = g;
-                        pw[row + q] = w;
-                        let gx = g * dx;
-                        let gy = g * dy;
-                        let dvx = a.vx - b.vx;
-                        let dvy = a.vy - b.vy;
-                        // Monaghan viscosity for approaching pairs (μ = 0 otherwise).
-                        // 1/ρ̄ taken as the mean of 1/ρ (equal to 1/mean ρ to O((Δρ/ρ)²)).
-                        let mu = h_visc * (dvx * dx + dvy * dy).min(0.0);
-                        let pi = (beta * mu - alpha * c) * mu * (a.inv_rho + b.inv_rho);
-                        av_power += 0.5 * m * m * pi * (dvx * gx + dvy * gy);
-                        let f = w * inv_w_dx;
-                        let f2 = f * f;
-                        let f4 = as_on * f2 * f2;
-                        let txx = a.txx + b.txx - pi + f4 * (a.rxx + b.rxx);
-                        let txy = a.txy + b.txy + f4 * (a.rxy + b.rxy);
-                        let tyy = a.tyy + b.tyy - pi + f4 * (a.ryy + b.ryy);
-                        ax += m * (txx * gx + txy * gy);
-                        ay += m * (txy * gx + tyy * gy);
-                        dtemp += b.vol * (a.k + b.k) * (a.temp - b.temp) * g_cond;
+                crate::cpu::wide(|| {
+                    for (k, out) in rates.iter_mut().enumerate() {
+                        let i = ch * CH + k;
+                        let a = packed[i];
+                        let (mut ax, mut ay, mut dtemp, mut av_power) = (0.0, 0.0, 0.0, 0.0);
+                        let list = nl.of(i);
+                        let row = k * stride..k * stride + list.len();
+                        // Branch-free: pairs in the skin (beyond 2h) get w = g = 0 and add nothing.
+                        for ((&j, pg), pw) in
+                            list.iter().zip(&mut pg[row.clone()]).zip(&mut pw[row])
+                        {
+                            let b = &packed[j as usize];
+                            let dx = a.x - b.x;
+                            let dy = a.y - b.y;
+                            let r2 = dx * dx + dy * dy;
+                            let [w, g, g_cond, h_visc] = table.at(r2);
+                            *pg = g;
+                            *pw = w;
+                            let gx = g * dx;
+                            let gy = g * dy;
+                            let dvx = a.vx - b.vx;
+                            let dvy = a.vy - b.vy;
+                            // Monaghan viscosity for approaching pairs (μ = 0 otherwise).
+                            // 1/ρ̄ taken as the mean of 1/ρ (equal to 1/mean ρ to O((Δρ/ρ)²)).
+                            let mu = h_visc * (dvx * dx + dvy * dy).min(0.0);
+                            let pi = (beta * mu - alpha * c) * mu * (a.inv_rho + b.inv_rho);
+                            av_power += 0.5 * m * m * pi * (dvx * gx + dvy * gy);
+                            let f = w * inv_w_dx;
+                            let f2 = f * f;
+                            let f4 = as_on * f2 * f2;
+                            let txx = a.txx + b.txx - pi + f4 * (a.rxx + b.rxx);
+                            let txy = a.txy + b.txy + f4 * (a.rxy + b.rxy);
+                            let tyy = a.tyy + b.tyy - pi + f4 * (a.ryy + b.ryy);
+                            ax += m * (txx * gx + txy * gy);
+                            ay += m * (txy * gx + tyy * gy);
+                            dtemp += b.vol * (a.k + b.k) * (a.temp - b.temp) * g_cond;
+                        }
+                        out.ax = ax;
+                        out.ay = ay;
+                        out.dtemp = dtemp;
+                        out.av_power = av_power;
                     }
-                    out.ax = ax;
-                    out.ay = ay;
-                    out.dtemp = dtemp;
-                    out.av_power = av_power;
-                }
+                })
             });
         // Conduction: divide by ρ c (heat capacity per volume kept physical under mass scaling).
         if self.numerics.thermal {
@@ -456,36 +461,38 @@ impl Solver {
             .with_min_len(64)
             .enumerate()
             .for_each(|(i, out)| {
-                let a = packed[i];
-                let (mut drho, mut lxx, mut lxy, mut lyx, mut lyy, mut xsx, mut xsy) =
-                    (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-                let row = i * stride;
-                for (q, &j) in nl.of(i).iter().enumerate() {
-                    let g = pg[row + q];
-                    if g == 0.0 {
-                        continue;
+                crate::cpu::wide(|| {
+                    let a = packed[i];
+                    let (mut drho, mut lxx, mut lxy, mut lyx, mut lyy, mut xsx, mut xsy) =
+                        (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+                    let list = nl.of(i);
+                    let row = i * stride..i * stride + list.len();
+                    for ((&j, &g), &w) in list.iter().zip(&pg[row.clone()]).zip(&pw[row]) {
+                        if g == 0.0 {
+                            continue;
+                        }
+                        let b = &packed[j as usize];
+                        let gx = g * (a.x - b.x);
+                        let gy = g * (a.y - b.y);
+                        let dvx = a.vx - b.vx;
+                        let dvy = a.vy - b.vy;
+                        drho += m * (dvx * gx + dvy * gy);
+                        lxx -= b.vol * dvx * gx;
+                        lxy -= b.vol * dvx * gy;
+                        lyx -= b.vol * dvy * gx;
+                        lyy -= b.vol * dvy * gy;
+                        let wv = 0.5 * m * (a.inv_rho + b.inv_rho) * w;
+                        xsx -= wv * dvx;
+                        xsy -= wv * dvy;
                     }
-                    let b = &packed[j as usize];
-                    let gx = g * (a.x - b.x);
-                    let gy = g * (a.y - b.y);
-                    let dvx = a.vx - b.vx;
-                    let dvy = a.vy - b.vy;
-                    drho += m * (dvx * gx + dvy * gy);
-                    lxx -= b.vol * dvx * gx;
-                    lxy -= b.vol * dvx * gy;
-                    lyx -= b.vol * dvy * gx;
-                    lyy -= b.vol * dvy * gy;
-                    let wv = 0.5 * m * (a.inv_rho + b.inv_rho) * pw[row + q];
-                    xsx -= wv * dvx;
-                    xsy -= wv * dvy;
-                }
-                out.drho = drho;
-                out.lxx = lxx;
-                out.lxy = lxy;
-                out.lyx = lyx;
-                out.lyy = lyy;
-                out.xsx = eps_x * xsx;
-                out.xsy = eps_x * xsy;
+                    out.drho = drho;
+                    out.lxx = lxx;
+                    out.lxy = lxy;
+                    out.lyx = lyx;
+                    out.lyy = lyy;
+                    out.xsx = eps_x * xsx;
+                    out.xsy = eps_x * xsy;
+                })
             });
     }
 

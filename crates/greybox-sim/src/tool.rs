@@ -102,6 +102,17 @@ pub struct WindowStats {
 }
 
 impl WindowAccumulator {
+    /// Adds the sums of another interval.
+    pub fn add(&mut self, o: &WindowAccumulator) {
+        self.steps += o.steps;
+        self.contacts += o.contacts;
+        self.normal += o.normal;
+        self.tangential += o.tangential;
+        self.normal_x_slip += o.normal_x_slip;
+        self.normal_x_temp += o.normal_x_temp;
+        self.slipping += o.slipping;
+    }
+
     /// Averages; `None` when the window saw no contact.
     pub fn stats(&self, spacing: f64, window_length: f64) -> Option<WindowStats> {
         if self.contacts <= 0.0 || self.normal <= 0.0 {

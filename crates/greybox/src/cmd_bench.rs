@@ -234,7 +234,7 @@ fn bench_surrogate(path: &std::path::Path, points: usize, calls: usize) -> Resul
 }
 
 fn bench_sph(config: &std::path::Path, fraction: f64, json: bool) -> Result<()> {
-    let setup = crate::cmd_simulate::read_cutting_setup(config)?;
+    let case = crate::cmd_simulate::read_cutting_setup(config)?;
     let dir = tempfile::tempdir()?;
     let out = crate::cmd_simulate::Output {
         out: dir.path().to_path_buf(),
@@ -243,7 +243,7 @@ fn bench_sph(config: &std::path::Path, fraction: f64, json: bool) -> Result<()> 
         resume: None,
         json: false,
     };
-    let s = crate::cmd_simulate::run_cut(&setup, fraction, &out)?;
+    let s = crate::cmd_simulate::run_cut(&case, fraction, &out)?;
     if json {
         return print_json(&s);
     }

@@ -3,12 +3,20 @@
 use crate::output::print_json;
 use anyhow::{Context, Result};
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::FrictionLaw;
 use greybox_sim::checkpoint::{Checkpoint, Checkpointer};
+use greybox_sim::chip::{CutMeasures, ProfilePoint};
+use greybox_sim::cut_run::{fingerprint as fingerprint_cut, CutRun};
 use greybox_sim::cutting::CuttingSetup;
-use greybox_sim::output::{write_windows_csv, ForceHistory, VtkSeries};
+use greybox_sim::output::{
+    write_mu_history_csv, write_profile_csv, write_windows_csv, ForceHistory, VtkSeries,
+};
 use greybox_sim::pin::{fingerprint, simulate_from, PinSetup};
+use greybox_sim::tool::WindowStats;
+use greybox_sim::ConstantMu;
 use greybox_sim::{Observer, Solver};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 #[derive(clap::Subcommand, Debug)]
 pub enum Simulate {
@@ -215,14 +223,46 @@ fn run_pin(a: &PinArgs) -> Result<()> {
     Ok(())
 }
 
-/// Reads a cutting set-up TOML.
-pub fn read_cutting_setup(path: &Path) -> Result<CuttingSetup> {
+/// A cutting set-up TOML with the friction law it names.
+pub struct CutCase {
+    pub setup: CuttingSetup,
+    pub law: Arc<dyn FrictionLaw>,
+    /// Where the law came from (file path or "constant mu").
+    pub law_source: String,
+}
+
+/// Reads a cutting set-up TOML and loads its law file (relative to the set-up's folder).
+pub fn read_cutting_setup(path: &Path) -> Result<CutCase> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let s: CuttingSetup = toml::from_str(&text)
+    let setup: CuttingSetup = toml::from_str(&text)
         .with_context(|| format!("{}: not a cutting set-up", path.display()))?;
-    s.validate().with_context(|| path.display().to_string())?;
-    Ok(s)
+    setup
+        .validate()
+        .with_context(|| path.display().to_string())?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    cut_case(setup, base)
+}
+
+/// Pairs a set-up with its law: the law file (relative paths against `base`) or Coulomb `mu`.
+pub fn cut_case(setup: CuttingSetup, base: &Path) -> Result<CutCase> {
+    let (law, law_source): (Arc<dyn FrictionLaw>, String) = match &setup.friction.law_file {
+        Some(f) => {
+            let p = base.join(f);
+            let law = greybox_friction::spec::load_law(&p)
+                .with_context(|| format!("friction.law_file {}", p.display()))?;
+            (Arc::from(law), p.display().to_string())
+        }
+        None => (
+            Arc::new(ConstantMu(setup.mu)),
+            format!("constant mu = {}", setup.mu),
+        ),
+    };
+    Ok(CutCase {
+        setup,
+        law,
+        law_source,
+    })
 }
 
 #[derive(serde::Serialize)]
@@ -235,70 +275,268 @@ pub struct CutSummary {
     pub particle_steps_per_s: f64,
     pub particle_steps_per_s_per_core: f64,
     pub threads: usize,
-    /// Mean cutting and feed force over the last half of the run, N/mm.
+    pub mass_scaling: f64,
+    pub law: String,
+    pub windows: usize,
+    pub window_updates: usize,
+    /// Whether the steady-force criterion was met, and the cut length where the steady part starts.
+    pub steady: bool,
+    pub steady_from_mm: Option<f64>,
+    /// Mean cutting and feed force, N/mm: over the steady blocks, or the last half of the run.
     pub cutting_force_n_per_mm: f64,
     pub feed_force_n_per_mm: f64,
-    pub mass_scaling: f64,
+    /// Feed over cutting force.
+    pub force_ratio: f64,
+    /// Specific cutting force F'c / h, N/mm².
+    pub specific_cutting_force_n_per_mm2: f64,
+    /// Profiles and measures are time averages from this cut length on, mm.
+    pub averaged_from_mm: f64,
+    #[serde(flatten)]
+    pub measures: CutMeasures,
     pub energy_error: f64,
+    pub files: Vec<String>,
 }
 
-/// Runs a cut; returns the summary.
-pub fn run_cut(setup: &CuttingSetup, fraction: f64, o: &Output) -> Result<CutSummary> {
-    if !(fraction > 0.0 && fraction <= 1.0) {
-        anyhow::bail!("--fraction: expected a number in (0, 1], got {fraction}");
-    }
-    let (model, duration) = setup.model()?;
-    let mut sim = Solver::new(model)?;
-    let id = serde_json::to_string(setup)?;
-    if let Some(c) = read_checkpoint(&o.resume)? {
-        c.restore(&mut sim, &id)?;
-    }
-    let end = duration * fraction.clamp(0.0, 1.0);
-    let mut hist = ForceHistory::new(0, ((end / sim.dt) / 500.0).ceil().max(1.0) as u64);
+/// Runs a cut; writes forces, contact profile, μ history, plots and the summary to `o.out`.
+pub fn run_cut(case: &CutCase, fraction: f64, o: &Output) -> Result<CutSummary> {
+    let setup = &case.setup;
+    let id = fingerprint_cut(setup);
     let mut obs = Observers::new(o, &id);
-    let summary = {
-        let mut list = obs.list();
-        list.push(&mut hist);
-        greybox_sim::run(&mut sim, end, &mut list)
-    }
+    let r = CutRun::execute(
+        setup,
+        case.law.clone(),
+        fraction,
+        read_checkpoint(&o.resume)?,
+        &mut obs.list(),
+    )
     .map_err(|e| failure_context(e, &obs))?;
-    let f = hist.mean_force(0.5 * end, end).unwrap_or([0.0, 0.0]);
+    let v = setup.cutting_speed_m_s;
+    let tool = &r.sim.tools[0];
+    let out = &o.out;
+    let mut files = vec![
+        out.join("forces.csv"),
+        out.join("contact_profile.csv"),
+        out.join("mu_history.csv"),
+        out.join("summary.json"),
+    ];
+    r.forces.write_csv(&files[0])?;
+    write_profile_csv(&files[1], &r.profile)?;
+    write_mu_history_csv(&files[2], &r.updater.history, tool, &r.layout)?;
+    files.extend(write_cut_plots(out, &r.forces, &r.profile, v)?);
     let threads = greybox_sim::threads();
+    let f = r.force;
     let s = CutSummary {
-        particles: sim.particle_count(),
-        steps: summary.steps,
-        dt_s: sim.dt,
-        simulated_cut_length_mm: (end * setup.cutting_speed_m_s) * 1e3,
-        wall_s: summary.wall_s,
-        particle_steps_per_s: summary.particle_steps_per_s,
-        particle_steps_per_s_per_core: summary.particle_steps_per_s / threads as f64,
+        particles: r.sim.particle_count(),
+        steps: r.summary.steps,
+        dt_s: r.sim.dt,
+        simulated_cut_length_mm: r.sim.time * v * 1e3,
+        wall_s: r.summary.wall_s,
+        particle_steps_per_s: r.summary.particle_steps_per_s,
+        particle_steps_per_s_per_core: r.summary.particle_steps_per_s / threads as f64,
         threads,
+        mass_scaling: r.sim.numerics.mass_scaling,
+        law: format!("{} ({})", case.law.name(), case.law_source),
+        windows: tool.windows.len(),
+        window_updates: r.updater.history.len(),
+        steady: r.steady.steady_since_s.is_some(),
+        steady_from_mm: r.steady.steady_since_s.map(|t| t * v * 1e3),
         cutting_force_n_per_mm: f[0] * 1e-3,
         feed_force_n_per_mm: f[1] * 1e-3,
-        mass_scaling: sim.numerics.mass_scaling,
-        energy_error: sim.energy_balance().relative_error,
+        force_ratio: if f[0] != 0.0 { f[1] / f[0] } else { 0.0 },
+        specific_cutting_force_n_per_mm2: f[0] * 1e-3 / (setup.uncut_chip_thickness_m * 1e3),
+        averaged_from_mm: r.averaged_from_s * v * 1e3,
+        measures: r.measures,
+        energy_error: r.sim.energy_balance().relative_error,
+        files: files.iter().map(|p| p.display().to_string()).collect(),
     };
-    write_common(&o.out, &sim, &hist, &s)?;
+    write_string_atomic(&files[3], &serde_json::to_string_pretty(&s)?)?;
     Ok(s)
+}
+
+/// SVG plots of a cut: force history and the rake-face contact profile (the article's
+/// Fig. 15, bottom: pressure and shear stress, sliding velocity, μ, temperature).
+fn write_cut_plots(
+    out: &Path,
+    hist: &ForceHistory,
+    profile: &[ProfilePoint],
+    v: f64,
+) -> Result<Vec<PathBuf>> {
+    use greybox_core::plot::{lines, Line};
+    let cut_mm: Vec<f64> = hist.rows.iter().map(|r| r[0] * v * 1e3).collect();
+    let fc: Vec<f64> = hist.rows.iter().map(|r| r[3] * 1e-3).collect();
+    let ff: Vec<f64> = hist.rows.iter().map(|r| r[4] * 1e-3).collect();
+    let mut written = Vec::new();
+    let mut save = |name: &str, svg: String| -> Result<()> {
+        let p = out.join(name);
+        write_string_atomic(&p, &svg)?;
+        written.push(p);
+        Ok(())
+    };
+    save(
+        "forces.svg",
+        lines(
+            "Tool forces",
+            "cut length (mm)",
+            "force (N/mm)",
+            &[
+                Line {
+                    label: "cutting",
+                    colour: "#1f77b4",
+                    x: &cut_mm,
+                    y: &fc,
+                },
+                Line {
+                    label: "feed",
+                    colour: "#d62728",
+                    x: &cut_mm,
+                    y: &ff,
+                },
+            ],
+            false,
+            &[],
+        ),
+    )?;
+    // Rake side of the edge, in contact, ordered from the edge outwards.
+    let mut rake: Vec<(f64, WindowStats, f64)> = profile
+        .iter()
+        .filter(|p| p.distance_m >= 0.0)
+        .filter_map(|p| p.stats.map(|s| (p.distance_m * 1e3, s, p.mu)))
+        .collect();
+    rake.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let d: Vec<f64> = rake.iter().map(|r| r.0).collect();
+    let col = |f: &dyn Fn(&WindowStats, f64) -> f64| -> Vec<f64> {
+        rake.iter().map(|r| f(&r.1, r.2)).collect()
+    };
+    let p = col(&|s, _| s.pressure_pa * 1e-6);
+    let tau = col(&|s, _| s.shear_stress_pa * 1e-6);
+    let vs = col(&|s, _| s.sliding_velocity_m_s * 60.0);
+    let mu = col(&|_, m| m);
+    let mu_eff = col(&|s, _| s.mu_effective);
+    let temp = col(&|s, _| s.temperature_k - 273.15);
+    let x_label = "distance from the cutting edge along the rake face (mm)";
+    save(
+        "profile_stress.svg",
+        lines(
+            "Rake face: contact pressure and shear stress",
+            x_label,
+            "stress (MPa)",
+            &[
+                Line {
+                    label: "pressure",
+                    colour: "#1f77b4",
+                    x: &d,
+                    y: &p,
+                },
+                Line {
+                    label: "shear stress",
+                    colour: "#d62728",
+                    x: &d,
+                    y: &tau,
+                },
+            ],
+            false,
+            &[],
+        ),
+    )?;
+    save(
+        "profile_velocity.svg",
+        lines(
+            "Rake face: sliding velocity",
+            x_label,
+            "sliding velocity (m/min)",
+            &[Line {
+                label: "sliding velocity",
+                colour: "#2ca02c",
+                x: &d,
+                y: &vs,
+            }],
+            false,
+            &[],
+        ),
+    )?;
+    save(
+        "profile_mu.svg",
+        lines(
+            "Rake face: friction coefficient",
+            x_label,
+            "mu",
+            &[
+                Line {
+                    label: "law mu",
+                    colour: "#9467bd",
+                    x: &d,
+                    y: &mu,
+                },
+                Line {
+                    label: "tau/p",
+                    colour: "#ff7f0e",
+                    x: &d,
+                    y: &mu_eff,
+                },
+            ],
+            false,
+            &[],
+        ),
+    )?;
+    save(
+        "profile_temperature.svg",
+        lines(
+            "Rake face: contact temperature",
+            x_label,
+            "temperature (C)",
+            &[Line {
+                label: "temperature",
+                colour: "#8c564b",
+                x: &d,
+                y: &temp,
+            }],
+            false,
+            &[],
+        ),
+    )?;
+    Ok(written)
+}
+
+/// Prints the summary of a cut.
+pub fn print_cut_summary(s: &CutSummary) {
+    println!(
+        "{} particles, {} steps (dt {:.3e} s, mass scaling {}), {:.3} mm of cut in {:.1} s: {:.3e} particle-steps/s ({:.3e} per core, {} threads)",
+        s.particles, s.steps, s.dt_s, s.mass_scaling, s.simulated_cut_length_mm, s.wall_s, s.particle_steps_per_s, s.particle_steps_per_s_per_core, s.threads
+    );
+    println!(
+        "  friction: {}; {} windows, {} window updates",
+        s.law, s.windows, s.window_updates
+    );
+    let when = match s.steady_from_mm {
+        Some(mm) => format!("steady from {mm:.3} mm of cut"),
+        None => format!("not steady; mean from {:.3} mm of cut", s.averaged_from_mm),
+    };
+    println!(
+        "  cutting force {:.1} N/mm, feed force {:.1} N/mm (F_f/F_c = {:.3}, k_c = {:.0} N/mm²), {when}",
+        s.cutting_force_n_per_mm, s.feed_force_n_per_mm, s.force_ratio, s.specific_cutting_force_n_per_mm2
+    );
+    let opt = |v: Option<f64>, unit: &str| v.map_or("n/a".to_string(), |v| format!("{v:.3}{unit}"));
+    let m = &s.measures;
+    println!(
+        "  chip thickness {}, compression ratio {}, shear angle {}, contact length {}, max temperature {:.0} °C",
+        opt(m.chip_thickness_mm, " mm"),
+        opt(m.compression_ratio, ""),
+        opt(m.shear_angle_deg, "°"),
+        opt(m.contact_length_mm, " mm"),
+        m.max_temperature_c
+    );
 }
 
 pub fn run(a: Args) -> Result<()> {
     match a.what {
         Simulate::Pin(p) => run_pin(&p),
         Simulate::Cutting(c) => {
-            let setup = read_cutting_setup(&c.config)?;
-            let s = run_cut(&setup, c.fraction, &c.output)?;
+            let case = read_cutting_setup(&c.config)?;
+            let s = run_cut(&case, c.fraction, &c.output)?;
             if c.output.json {
                 return print_json(&s);
             }
-            println!(
-                "{} particles, {} steps (dt {:.3e} s), {:.3} mm of cut in {:.1} s: {:.3e} particle-steps/s ({:.3e} per core, {} threads)",
-                s.particles, s.steps, s.dt_s, s.simulated_cut_length_mm, s.wall_s, s.particle_steps_per_s, s.particle_steps_per_s_per_core, s.threads
-            );
-            println!(
-                "  cutting force {:.1} N/mm, feed force {:.1} N/mm (mean over the second half)",
-                s.cutting_force_n_per_mm, s.feed_force_n_per_mm
-            );
+            print_cut_summary(&s);
             println!("wrote {}", c.output.out.display());
             Ok(())
         }

@@ -1,0 +1,168 @@
+//! Steady-force detection: the tool force is averaged over consecutive blocks of simulated
+//! time; the force counts as steady once, over the last `blocks` blocks, (a) every block mean
+//! lies within a relative `tolerance` of their common mean and (b) the least-squares trend
+//! changes the force by less than the tolerance across those blocks (a slow rise of a few
+//! per cent per block passes (a) but not (b)). Both components are checked, the tolerance
+//! taken relative to the larger one, so that a small feed force does not stall the test on
+//! its noise.
+
+use crate::executor::{Control, Observer};
+use crate::solver::{SimError, Solver};
+
+/// Mean tool force over one block, N/m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ForceBlock {
+    pub t_start_s: f64,
+    pub t_end_s: f64,
+    pub force: [f64; 2],
+}
+
+#[derive(Debug, Clone)]
+pub struct SteadyForce {
+    pub tool: usize,
+    pub block_s: f64,
+    pub blocks_needed: usize,
+    pub tolerance: f64,
+    /// Stop the run when steady.
+    pub stop: bool,
+    pub blocks: Vec<ForceBlock>,
+    /// Start time of the first steady block, once steady.
+    pub steady_since_s: Option<f64>,
+    sum: [f64; 2],
+    n: u64,
+    t_start: f64,
+}
+
+impl SteadyForce {
+    pub fn new(tool: usize, block_s: f64, blocks: usize, tolerance: f64, stop: bool) -> Self {
+        SteadyForce {
+            tool,
+            block_s,
+            blocks_needed: blocks.max(2),
+            tolerance,
+            stop,
+            blocks: Vec::new(),
+            steady_since_s: None,
+            sum: [0.0; 2],
+            n: 0,
+            t_start: 0.0,
+        }
+    }
+
+    /// Whether the last `blocks_needed` blocks agree within the tolerance.
+    fn last_blocks_steady(&self) -> bool {
+        let k = self.blocks_needed;
+        if self.blocks.len() < k {
+            return false;
+        }
+        let tail = &self.blocks[self.blocks.len() - k..];
+        let mean = |c: usize| tail.iter().map(|b| b.force[c]).sum::<f64>() / k as f64;
+        let m = [mean(0), mean(1)];
+        let scale = m[0].abs().max(m[1].abs());
+        // Least-squares trend over the tail: a slow drift passes the scatter test block by
+        // block, so the fitted change across the tail must stay within the tolerance too.
+        let ic = 0.5 * (k - 1) as f64;
+        let sxx: f64 = (0..k).map(|i| (i as f64 - ic).powi(2)).sum();
+        let change = |c: usize| {
+            let sxy: f64 = tail
+                .iter()
+                .enumerate()
+                .map(|(i, b)| (i as f64 - ic) * (b.force[c] - m[c]))
+                .sum();
+            (sxy / sxx * (k - 1) as f64).abs()
+        };
+        let tol = self.tolerance * scale;
+        scale > 0.0
+            && (0..2).all(|c| change(c) <= tol)
+            && tail
+                .iter()
+                .all(|b| (0..2).all(|c| (b.force[c] - m[c]).abs() <= tol))
+    }
+
+    /// Mean force over the steady blocks (from `steady_since_s` on), N/m.
+    pub fn steady_mean(&self) -> Option<[f64; 2]> {
+        let t0 = self.steady_since_s?;
+        let b: Vec<&ForceBlock> = self.blocks.iter().filter(|b| b.t_start_s >= t0).collect();
+        let n = b.len() as f64;
+        Some([
+            b.iter().map(|b| b.force[0]).sum::<f64>() / n,
+            b.iter().map(|b| b.force[1]).sum::<f64>() / n,
+        ])
+    }
+}
+
+impl Observer for SteadyForce {
+    fn start(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+        self.t_start = sim.time;
+        Ok(())
+    }
+    fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
+        let f = sim.tools.get(self.tool).map_or([0.0; 2], |t| t.force);
+        self.sum[0] += f[0];
+        self.sum[1] += f[1];
+        self.n += 1;
+        if sim.time - self.t_start >= self.block_s * (1.0 - 1e-9) {
+            let n = self.n as f64;
+            self.blocks.push(ForceBlock {
+                t_start_s: self.t_start,
+                t_end_s: sim.time,
+                force: [self.sum[0] / n, self.sum[1] / n],
+            });
+            self.sum = [0.0; 2];
+            self.n = 0;
+            self.t_start = sim.time;
+            if self.steady_since_s.is_none() && self.last_blocks_steady() {
+                self.steady_since_s =
+                    Some(self.blocks[self.blocks.len() - self.blocks_needed].t_start_s);
+                if self.stop {
+                    return Ok(Control::Stop);
+                }
+            }
+        }
+        Ok(Control::Continue)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn detector(forces: &[[f64; 2]]) -> SteadyForce {
+        let mut d = SteadyForce::new(0, 1.0, 3, 0.03, true);
+        for (k, f) in forces.iter().enumerate() {
+            d.blocks.push(ForceBlock {
+                t_start_s: k as f64,
+                t_end_s: k as f64 + 1.0,
+                force: *f,
+            });
+            if d.steady_since_s.is_none() && d.last_blocks_steady() {
+                d.steady_since_s = Some(d.blocks[d.blocks.len() - 3].t_start_s);
+            }
+        }
+        d
+    }
+
+    #[test]
+    fn rising_force_is_not_steady_until_it_levels_off() {
+        let d = detector(&[
+            [50.0, 10.0],
+            [150.0, 40.0],
+            [250.0, 60.0],
+            [290.0, 70.0],
+            [300.0, 72.0],
+            [296.0, 71.0],
+            [302.0, 73.0],
+        ]);
+        // Blocks 3–5 (290, 300, 296) are the first three within 3 % of their mean.
+        assert_eq!(d.steady_since_s, Some(3.0));
+        let m = d.steady_mean().unwrap();
+        assert!((m[0] - 297.0).abs() < 1e-9 && (m[1] - 71.5).abs() < 1e-9);
+        // Still rising by 5 % per block: never steady.
+        let d = detector(&[[100.0, 0.0], [105.0, 0.0], [110.25, 0.0], [115.8, 0.0]]);
+        assert_eq!(d.steady_since_s, None);
+        // Rising by 2 % per block: each block within 3 % of the mean, but a 4 % trend.
+        let d = detector(&[[100.0, 0.0], [102.0, 0.0], [104.0, 0.0], [106.0, 0.0]]);
+        assert_eq!(d.steady_since_s, None);
+        assert_eq!(d.steady_mean(), None);
+    }
+}

@@ -1,0 +1,121 @@
+//! Orthogonal cutting with friction windows and the in-process grey-box loop (coarse and
+//! fast: AISI 1045 at 20 µm spacing, 5 particles across h).
+use greybox_core::{ContactState, FrictionLaw};
+use greybox_material::Material;
+use greybox_sim::cut_run::CutRun;
+use greybox_sim::cutting::{CuttingSetup, FrictionSetup, InsertGeometry, SteadySetup};
+use greybox_sim::{ConstantMu, Numerics};
+use std::sync::Arc;
+
+/// A strongly velocity-dependent law: μ = 0.15 + 0.45 exp(−v / 0.5 m/s) (0.6 when sticking,
+/// 0.21 at the chip's sliding speed).
+struct VelocityLaw;
+
+impl FrictionLaw for VelocityLaw {
+    fn name(&self) -> String {
+        "test velocity law".into()
+    }
+    fn mu(&self, s: &ContactState) -> f64 {
+        0.15 + 0.45 * (-s.sliding_velocity_m_s / 0.5).exp()
+    }
+}
+
+fn coarse_cut() -> CuttingSetup {
+    CuttingSetup {
+        insert: InsertGeometry {
+            rake_deg: 0.0,
+            clearance_deg: 7.0,
+            edge_radius_m: 20e-6,
+            rake_length_m: 0.4e-3,
+            flank_length_m: 0.2e-3,
+        },
+        cutting_speed_m_s: 2.5,
+        uncut_chip_thickness_m: 0.1e-3,
+        cut_length_m: 0.3e-3,
+        spacing_m: 20e-6,
+        workpiece_height_m: 0.24e-3,
+        mu: 0.35,
+        initial_temperature_k: 293.15,
+        material: Material::aisi1045_article(),
+        numerics: Numerics {
+            mass_scaling: 100.0,
+            ..Numerics::default()
+        },
+        friction: FrictionSetup {
+            window_length_m: 20e-6,
+            update_every_steps: 100,
+            law_file: None,
+        },
+        steady: SteadySetup::default(),
+    }
+}
+
+#[test]
+fn greybox_loop_sets_each_window_to_the_law_at_its_recorded_state() {
+    let setup = coarse_cut();
+    let law: Arc<dyn FrictionLaw> = Arc::new(VelocityLaw);
+    let r = CutRun::execute(&setup, law.clone(), 1.0, None, &mut []).unwrap();
+    let h = &r.updater.history;
+    assert!(h.len() > 50, "only {} window updates", h.len());
+    // Each update: μ is the law at the state averaged over that interval, to round-off.
+    for u in h {
+        let state = ContactState {
+            pressure_pa: u.stats.pressure_pa,
+            sliding_velocity_m_s: u.stats.sliding_velocity_m_s,
+            temperature_k: u.stats.temperature_k,
+        };
+        assert_eq!(u.mu, law.mu(&state));
+        assert!(u.stats.pressure_pa > 0.0 && u.stats.pressure_pa.is_finite());
+    }
+    // The window keeps the μ of its last update.
+    let tool = &r.sim.tools[0];
+    for (k, w) in tool.windows.iter().enumerate() {
+        if let Some(last) = h.iter().rev().find(|u| u.window == k) {
+            assert_eq!(w.mu, last.mu, "window {k}");
+        }
+    }
+    // A different, consistent profile: sticking windows near the edge carry a high μ,
+    // sliding windows further up the rake a low one.
+    let rake: Vec<_> = r
+        .profile
+        .iter()
+        .filter(|p| p.distance_m >= 0.0 && p.stats.is_some())
+        .collect();
+    let mu_max = rake.iter().map(|p| p.mu).fold(0.0, f64::max);
+    let mu_min = rake.iter().map(|p| p.mu).fold(1.0, f64::min);
+    assert!(mu_max - mu_min > 0.1, "μ spread {mu_min}..{mu_max}");
+    // Spearman-free check: the fastest-sliding window has a lower μ than the slowest.
+    let by_v = |a: &&&greybox_sim::chip::ProfilePoint, b: &&&greybox_sim::chip::ProfilePoint| {
+        let v = |p: &greybox_sim::chip::ProfilePoint| p.stats.unwrap().sliding_velocity_m_s;
+        v(a).total_cmp(&v(b))
+    };
+    let slow = rake.iter().min_by(by_v).unwrap();
+    let fast = rake.iter().max_by(by_v).unwrap();
+    assert!(fast.mu < slow.mu);
+
+    // Against a constant μ equal to the law's value at the nominal state: the forces differ.
+    let nominal = law.mu(&setup.nominal_contact());
+    let c = CutRun::execute(&setup, Arc::new(ConstantMu(nominal)), 1.0, None, &mut []).unwrap();
+    assert!(c.updater.history.iter().all(|u| u.mu == nominal));
+    let rel = (r.force[0] - c.force[0]).abs() / c.force[0];
+    println!(
+        "grey-box F'c {:.1} N/mm vs constant μ = {nominal:.3}: {:.1} N/mm; rake μ {mu_min:.3}..{mu_max:.3}",
+        r.force[0] * 1e-3,
+        c.force[0] * 1e-3
+    );
+    assert!(rel > 0.01, "forces differ by only {:.2} %", 100.0 * rel);
+}
+
+#[test]
+fn same_setup_same_bytes() {
+    let mut setup = coarse_cut();
+    setup.cut_length_m = 0.1e-3;
+    let run = || {
+        let r = CutRun::execute(&setup, Arc::new(VelocityLaw), 1.0, None, &mut []).unwrap();
+        (
+            r.forces.rows.clone(),
+            r.updater.history.iter().map(|u| u.mu).collect::<Vec<_>>(),
+        )
+    };
+    assert_eq!(run(), run());
+}
