@@ -9,6 +9,8 @@
 //! * [`atomic`] — write-to-temp-then-rename output.
 //! * [`csvutil`] — strict numeric field parsing shared by every CSV reader.
 //! * [`plot`] — small self-contained SVG plots.
+//! * [`roots`] — bracketing root finding for expensive functions.
+//! * [`linalg`] — small least-squares helpers.
 //!
 //! SI units everywhere inside: Pa, m/s, N, K, s.
 
@@ -20,6 +22,7 @@ pub mod error;
 pub mod law;
 pub mod linalg;
 pub mod plot;
+pub mod roots;
 pub mod units;
 
 pub use contact::ContactState;

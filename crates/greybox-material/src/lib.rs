@@ -2,6 +2,7 @@
 //! temperature-dependent thermal properties. SI units throughout (Pa, K, kg/m³, W/(m·K),
 //! J/(kg·K)).
 
+pub mod fit;
 pub mod johnson_cook;
 pub mod material;
 pub mod table;

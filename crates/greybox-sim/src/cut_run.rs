@@ -102,3 +102,76 @@ impl CutRun {
 pub fn fingerprint(setup: &CuttingSetup) -> String {
     serde_json::to_string(setup).unwrap_or_default()
 }
+
+/// Result of the inverse search for the Johnson–Cook rate sensitivity C.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct RateSensitivityFit {
+    /// The C found.
+    pub c: f64,
+    /// Measured cutting force to match, N/m.
+    pub measured_force_n_per_m: f64,
+    /// |simulated − measured| at the best evaluated C, N/m.
+    pub residual_n_per_m: f64,
+    /// Every run: (C, simulated steady cutting force N/m).
+    pub runs: Vec<(f64, f64)>,
+}
+
+/// The article's inverse step (digest §6): finds the J-C C for which the simulated steady
+/// cutting force equals `measured_force_n_per_m`, by an Illinois search over `c_range`
+/// (the force grows with C; the two end runs go in parallel). Stops when the force is matched
+/// within `tol_n_per_m` or after `max_runs` simulations.
+pub fn find_rate_sensitivity(
+    base: &CuttingSetup,
+    law: Arc<dyn FrictionLaw>,
+    measured_force_n_per_m: f64,
+    c_range: (f64, f64),
+    tol_n_per_m: f64,
+    max_runs: usize,
+) -> Result<RateSensitivityFit, SimError> {
+    let Some(jc) = base.material.plasticity else {
+        return Err(SimError::Invalid(
+            "the material has no Johnson-Cook plasticity to calibrate".into(),
+        ));
+    };
+    let (c_lo, c_hi) = c_range;
+    if !(c_lo >= 0.0 && c_hi > c_lo && measured_force_n_per_m > 0.0 && max_runs >= 2) {
+        return Err(SimError::Invalid(format!(
+            "expected 0 ≤ C_min < C_max, a positive measured force and at least 2 runs; got C in [{c_lo}, {c_hi}], {measured_force_n_per_m} N/m, {max_runs} runs"
+        )));
+    }
+    let eval = |c: f64| -> Result<f64, SimError> {
+        let mut s = base.clone();
+        s.material.plasticity = Some(greybox_material::JohnsonCook { c, ..jc });
+        let r = CutRun::execute(&s, law.clone(), 1.0, None, &mut [])?;
+        Ok(r.force[0] - measured_force_n_per_m)
+    };
+    let (flo, fhi) = rayon::join(|| eval(c_lo), || eval(c_hi));
+    let (flo, fhi) = (flo?, fhi?);
+    let mut log = vec![(c_lo, flo), (c_hi, fhi)];
+    if !(flo <= 0.0 && fhi >= 0.0) {
+        return Err(SimError::Invalid(format!(
+            "the measured cutting force {:.1} N/mm lies outside the simulated range {:.1}–{:.1} N/mm for C in [{c_lo}, {c_hi}]; widen the C range",
+            measured_force_n_per_m * 1e-3,
+            (flo + measured_force_n_per_m) * 1e-3,
+            (fhi + measured_force_n_per_m) * 1e-3
+        )));
+    }
+    let c = greybox_core::roots::illinois_increasing(
+        eval,
+        (c_lo, flo),
+        (c_hi, fhi),
+        tol_n_per_m,
+        max_runs - 2,
+        &mut log,
+    )?;
+    let residual = log.iter().map(|r| r.1.abs()).fold(f64::INFINITY, f64::min);
+    Ok(RateSensitivityFit {
+        c,
+        measured_force_n_per_m,
+        residual_n_per_m: residual,
+        runs: log
+            .iter()
+            .map(|&(c, f)| (c, f + measured_force_n_per_m))
+            .collect(),
+    })
+}

@@ -17,6 +17,7 @@ use crate::output::ForceHistory;
 use crate::particles::Particles;
 use crate::solver::{SimError, Solver};
 use crate::tool::{ConstantMu, Motion, MotionSegment, Tool};
+use greybox_core::roots::illinois_increasing;
 use greybox_material::Material;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -355,42 +356,15 @@ pub fn find_adhesive_mu(
         flo = eval(lo)?;
         runs.push((lo, flo + mu_apparent));
     }
-    let (mut best, mut best_f) = if flo.abs() < fhi.abs() {
-        (lo, flo)
-    } else {
-        (hi, fhi)
-    };
-    let mut side = 0i8;
-    while best_f.abs() > tol && runs.len() < max_runs && flo < 0.0 && fhi > 0.0 {
-        let mu = (lo * fhi - hi * flo) / (fhi - flo);
-        let f = eval(mu)?;
-        runs.push((mu, f + mu_apparent));
-        if f.abs() < best_f.abs() {
-            best = mu;
-            best_f = f;
-        }
-        if f > 0.0 {
-            hi = mu;
-            fhi = f;
-            if side == 1 {
-                flo *= 0.5;
-            }
-            side = 1;
-        } else {
-            lo = mu;
-            flo = f;
-            if side == -1 {
-                fhi *= 0.5;
-            }
-            side = -1;
-        }
-    }
-    // Linear interpolation inside the final bracket refines below the run-to-run noise.
-    let mu_adh = if flo < 0.0 && fhi > 0.0 && best_f.abs() > tol {
-        (lo * fhi - hi * flo) / (fhi - flo)
-    } else {
-        best
-    };
+    let mut log = Vec::new();
+    let budget = max_runs.saturating_sub(runs.len());
+    let mu_adh = illinois_increasing(&eval, (lo, flo), (hi, fhi), tol, budget, &mut log)?;
+    runs.extend(log.iter().map(|&(mu, f)| (mu, f + mu_apparent)));
+    let best_f = runs
+        .iter()
+        .map(|&(_, r)| r - mu_apparent)
+        .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+        .unwrap_or(f64::INFINITY);
     Ok(InverseResult {
         depth_m: base.depth_m,
         mu_apparent,

@@ -119,3 +119,44 @@ fn same_setup_same_bytes() {
     };
     assert_eq!(run(), run());
 }
+
+#[test]
+fn inverse_rate_sensitivity_recovers_the_c_that_made_the_force() {
+    // "Measured" force: the coarse cut with C = 0.03; search C in [0, 0.1].
+    let mut setup = coarse_cut();
+    let law: Arc<dyn FrictionLaw> = Arc::new(ConstantMu(0.35));
+    let mut truth = setup.clone();
+    truth.material.plasticity.as_mut().unwrap().c = 0.03;
+    let measured = CutRun::execute(&truth, law.clone(), 1.0, None, &mut [])
+        .unwrap()
+        .force[0];
+    setup.material.plasticity.as_mut().unwrap().c = 0.0;
+    let fit = greybox_sim::cut_run::find_rate_sensitivity(
+        &setup,
+        law,
+        measured,
+        (0.0, 0.1),
+        0.002 * measured,
+        8,
+    )
+    .unwrap();
+    println!(
+        "C = {:.4} after {} runs: {:?}",
+        fit.c,
+        fit.runs.len(),
+        fit.runs
+    );
+    assert!((fit.c - 0.03).abs() < 0.005, "C = {}", fit.c);
+    assert!(fit.runs.len() <= 8);
+    // Out of range: a clear error.
+    let e = greybox_sim::cut_run::find_rate_sensitivity(
+        &setup,
+        Arc::new(ConstantMu(0.35)),
+        10.0 * measured,
+        (0.0, 0.1),
+        1.0,
+        4,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("widen the C range"), "{e}");
+}

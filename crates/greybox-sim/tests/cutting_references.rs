@@ -19,7 +19,10 @@ fn example(name: &str) -> CuttingSetup {
 
 fn cut(setup: &CuttingSetup) -> CutRun {
     let r = CutRun::execute(setup, Arc::new(ConstantMu(setup.mu)), 1.0, None, &mut []).unwrap();
-    assert!(r.steady.steady_since_s.is_some(), "the force never became steady");
+    assert!(
+        r.steady.steady_since_s.is_some(),
+        "the force never became steady"
+    );
     r
 }
 
@@ -45,14 +48,21 @@ fn article_case_follows_kienzle_and_spans_the_tribometer_range() {
             r.summary.wall_s
         );
         if h_mm == 0.1 {
-            assert!((fc / kienzle - 1.0).abs() <= 0.3, "F'c {fc} vs Kienzle {kienzle}");
+            assert!(
+                (fc / kienzle - 1.0).abs() <= 0.3,
+                "F'c {fc} vs Kienzle {kienzle}"
+            );
             check_contact_states(&r, s.cutting_speed_m_s);
         }
         forces.push((h_mm, fc));
     }
     let (x, y): (Vec<f64>, Vec<f64>) = forces.iter().map(|(h, f)| (h.ln(), f.ln())).unzip();
     let (mx, my) = (x.iter().sum::<f64>() / 3.0, y.iter().sum::<f64>() / 3.0);
-    let slope = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum::<f64>()
+    let slope = x
+        .iter()
+        .zip(&y)
+        .map(|(a, b)| (a - mx) * (b - my))
+        .sum::<f64>()
         / x.iter().map(|a| (a - mx).powi(2)).sum::<f64>();
     println!("F'c ∝ h^{slope:.3} (Kienzle h^0.86)");
     assert!((slope / 0.86 - 1.0).abs() <= 0.2, "exponent {slope}");
@@ -65,10 +75,22 @@ fn check_contact_states(r: &CutRun, vc: f64) {
         .profile
         .iter()
         .filter(|p| p.distance_m >= 0.0)
-        .filter_map(|p| p.stats.filter(|s| s.contact_fraction >= 0.1).map(|s| (p.distance_m, s)))
+        .filter_map(|p| {
+            p.stats
+                .filter(|s| s.contact_fraction >= 0.1)
+                .map(|s| (p.distance_m, s))
+        })
         .collect();
-    assert!(rake.len() >= 5, "only {} rake windows in contact", rake.len());
-    let p_min = rake.iter().map(|(_, s)| s.pressure_pa).fold(f64::MAX, f64::min) * 1e-6;
+    assert!(
+        rake.len() >= 5,
+        "only {} rake windows in contact",
+        rake.len()
+    );
+    let p_min = rake
+        .iter()
+        .map(|(_, s)| s.pressure_pa)
+        .fold(f64::MAX, f64::min)
+        * 1e-6;
     let p_max = rake.iter().map(|(_, s)| s.pressure_pa).fold(0.0, f64::max) * 1e-6;
     let near: Vec<f64> = rake
         .iter()
@@ -76,16 +98,25 @@ fn check_contact_states(r: &CutRun, vc: f64) {
         .map(|(_, s)| s.sliding_velocity_m_s)
         .collect();
     let v_near = near.iter().sum::<f64>() / near.len() as f64;
-    let v_max = rake.iter().map(|(_, s)| s.sliding_velocity_m_s).fold(0.0, f64::max);
+    let v_max = rake
+        .iter()
+        .map(|(_, s)| s.sliding_velocity_m_s)
+        .fold(0.0, f64::max);
     println!(
         "rake contact: p {p_min:.0}–{p_max:.0} MPa; sliding velocity {:.1} m/min within 50 µm of the edge, up to {:.1} m/min (v_c {:.0} m/min)",
         v_near * 60.0,
         v_max * 60.0,
         vc * 60.0
     );
-    assert!(p_min < 1200.0 && p_max > 1800.0, "pressure {p_min}–{p_max} MPa");
+    assert!(
+        p_min < 1200.0 && p_max > 1800.0,
+        "pressure {p_min}–{p_max} MPa"
+    );
     assert!(v_near < 0.2 * vc, "near-edge sliding {v_near} m/s");
-    assert!(v_max > 0.3 * vc && v_max <= 1.1 * vc, "max sliding {v_max} m/s");
+    assert!(
+        v_max > 0.3 * vc && v_max <= 1.1 * vc,
+        "max sliding {v_max} m/s"
+    );
 }
 
 #[test]

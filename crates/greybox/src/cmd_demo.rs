@@ -3,7 +3,8 @@
 use crate::output::print_json;
 use crate::study::{Study, DEMO_STUDY};
 use crate::{
-    cmd_adhesive, cmd_characterize, cmd_export, cmd_fit, cmd_identify, cmd_plan, cmd_synth,
+    cmd_adhesive, cmd_characterize, cmd_export, cmd_fit, cmd_identify, cmd_material, cmd_plan,
+    cmd_simulate, cmd_synth,
 };
 use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
@@ -33,6 +34,8 @@ struct DemoSummary {
     dynamics: cmd_characterize::CharacterizeReport,
     wear_tests: Vec<greybox_tribo::wear::WearTest>,
     coupling: Option<greybox_couple::engine::CouplingResult>,
+    material: greybox_material::fit::JcFit,
+    cutting: cmd_simulate::CutSummary,
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -201,6 +204,51 @@ pub fn run(a: Args) -> Result<()> {
     } else {
         None
     };
+    // material: J-C A, B, n, m from the article's compression programme (virtual curves with
+    // 1 % noise and the blue-brittleness anomaly at 359 °C)
+    let curves = out.join("material").join("flow-curves.csv");
+    let truth = greybox_material::JohnsonCook {
+        room_temperature_k: 298.15,
+        ..greybox_material::JohnsonCook::aisi1045_article()
+    };
+    let temps: Vec<f64> = (0..7).map(|k| 25.0 + 167.0 * k as f64).collect();
+    let pts = greybox_material::fit::synthetic_flow_curves(&truth, &temps, 4e-3, 0.01, 7, &|tc| {
+        if (tc - 359.0).abs() < 1.0 {
+            1.12
+        } else {
+            1.0
+        }
+    });
+    greybox_material::fit::write_flow_curves(&curves, &pts)?;
+    let material = cmd_material::fit(&cmd_material::FitArgs {
+        curves: curves.clone(),
+        c: truth.c,
+        ref_strain_rate: Some(4e-3),
+        room_temperature_c: Some(25.0),
+        melt_temperature_k: truth.melt_temperature_k,
+        misfit_threshold: 0.05,
+        out: Some(out.join("material").join("jc-fit.json")),
+        json: false,
+    })?;
+    // cutting: the article's case (coarser: 12.5 µm spacing) with the grey-box law in 12.5 µm
+    // windows along rake and flank, re-evaluated every 500 steps, until the force is steady
+    let mut setup: greybox_sim::cutting::CuttingSetup = toml::from_str(DEMO_CUT)?;
+    setup.spacing_m = 12.5e-6;
+    setup.friction.window_length_m = 12.5e-6;
+    setup.cut_length_m = 0.6e-3;
+    let cut_case = cmd_simulate::CutCase {
+        law: std::sync::Arc::from(greybox_friction::spec::load_law(&law_path)?),
+        law_source: law_path.display().to_string(),
+        setup,
+    };
+    let cut_out = cmd_simulate::Output {
+        out: out.join("cutting"),
+        vtk_every: 0,
+        checkpoint_every: 0,
+        resume: None,
+        json: false,
+    };
+    let cutting = cmd_simulate::run_cut(&cut_case, 1.0, &cut_out)?;
     if a.json {
         return print_json(&DemoSummary {
             plan: plan_summary,
@@ -213,6 +261,8 @@ pub fn run(a: Args) -> Result<()> {
             dynamics,
             wear_tests,
             coupling,
+            material,
+            cutting,
         });
     }
     println!("greybox demo — the seed article's tribometer campaign on a virtual rig\n");
@@ -289,6 +339,20 @@ pub fn run(a: Args) -> Result<()> {
             couple_dir.display()
         ),
     }
+    println!(
+        "\nmaterial: Johnson-Cook A, B, n, m from virtual compression curves at 25-1027 °C ({}; truth: the article's Table 4, 1 % noise, 12 % dynamic strain ageing at 359 °C)",
+        curves.display()
+    );
+    cmd_material::print_fit(&material);
+    println!(
+        "\ncutting: AISI 1045, 150 m/min, h = 0.1 mm, grey-box law in friction windows along the tool -> {}",
+        cut_out.out.display()
+    );
+    cmd_simulate::print_cut_summary(&cutting);
+    println!(
+        "  contact profile along the rake face (pressure, sliding velocity, temperature, mu, shear stress): {}",
+        cut_out.out.join("contact_profile.csv").display()
+    );
     Ok(())
 }
 
@@ -303,6 +367,8 @@ const VIRTUAL_RIG: [(f64, f64, f64); 3] = [
 
 /// Shear flow stress used for the demo's Zorev cap, MPa (≈ AISI 1045 at cutting strain rates).
 const DEMO_SHEAR_CAP_MPA: f64 = 600.0;
+/// The article's cutting case (examples/aisi1045-cut.toml).
+const DEMO_CUT: &str = include_str!("../../../examples/aisi1045-cut.toml");
 /// The article's five wear tests (Table 2).
 const WEAR_TESTS: &str = include_str!("../../../examples/wear-tests.csv");
 /// The C header and Fortran module of the C ABI, copied into the demo output.

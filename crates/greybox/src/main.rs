@@ -10,6 +10,7 @@ mod cmd_export;
 mod cmd_fit;
 mod cmd_hertz;
 mod cmd_identify;
+mod cmd_material;
 mod cmd_plan;
 mod cmd_predict;
 mod cmd_simulate;
@@ -57,6 +58,8 @@ enum Command {
     Couple(cmd_couple::Args),
     /// Built-in 2D SPH solver: pin sliding (ploughing share) and orthogonal cutting.
     Simulate(cmd_simulate::Args),
+    /// Johnson-Cook parameters: fit to flow curves; C from a measured cutting force.
+    Material(cmd_material::Args),
     /// Run the whole pipeline on the bundled example study.
     Demo(cmd_demo::Args),
     /// Benchmarks: ingestion, prediction latency, surrogate tables, SPH solver speed.
@@ -75,6 +78,7 @@ fn main() {
         Command::Export(a) => cmd_export::run(a),
         Command::Predict(a) => cmd_predict::run(a),
         Command::Simulate(a) => cmd_simulate::run(a),
+        Command::Material(a) => cmd_material::run(a),
         Command::Demo(a) => cmd_demo::run(a),
         Command::Characterize(a) => cmd_characterize::run(a),
         Command::Wear(a) => cmd_wear::run(a),

@@ -1,0 +1,170 @@
+//! `greybox material`: Johnson–Cook parameters from compression flow curves (A, B, n, m) and
+//! the rate sensitivity C from a measured cutting force (inverse cutting simulations).
+
+use crate::cmd_simulate::read_cutting_setup;
+use crate::output::print_json;
+use anyhow::{Context, Result};
+use greybox_core::atomic::write_string_atomic;
+use greybox_material::fit::{fit_johnson_cook, read_flow_curves, FitOptions, JcFit};
+use greybox_sim::cut_run::find_rate_sensitivity;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(subcommand)]
+    pub what: Material,
+}
+
+#[derive(clap::Subcommand, Debug)]
+pub enum Material {
+    /// Fit J-C A, B, n, m to flow curves (CSV: strain,stress_MPa,temperature_C,strain_rate_per_s).
+    Fit(FitArgs),
+    /// Find J-C C so that the simulated steady cutting force matches a measured one.
+    FitC(FitCArgs),
+}
+
+#[derive(clap::Args, Debug)]
+pub struct FitArgs {
+    /// Flow-curve CSV.
+    #[arg(long)]
+    pub curves: PathBuf,
+    /// Strain-rate sensitivity C held fixed (find it with `material fit-c`).
+    #[arg(long, default_value_t = 0.0)]
+    pub c: f64,
+    /// Reference strain rate ε̇₀, 1/s (default: the lowest rate in the data).
+    #[arg(long = "ref-strain-rate-per-s")]
+    pub ref_strain_rate: Option<f64>,
+    /// Room temperature of the J-C T*, °C (default: the lowest test temperature).
+    #[arg(long = "room-temperature-c")]
+    pub room_temperature_c: Option<f64>,
+    /// Melting temperature, K (AISI 1045: 1773).
+    #[arg(long = "melt-temperature-k", default_value_t = 1773.0)]
+    pub melt_temperature_k: f64,
+    /// Flag temperatures whose relative RMS misfit exceeds this.
+    #[arg(long = "misfit-threshold", default_value_t = 0.05)]
+    pub misfit_threshold: f64,
+    /// Write the fit (parameters, residuals, warnings) as JSON here.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct FitCArgs {
+    /// Cutting set-up TOML (its material's C is replaced in each run).
+    #[arg(long)]
+    pub config: PathBuf,
+    /// Measured cutting force per unit width, N/mm.
+    #[arg(long = "measured-force-n-per-mm")]
+    pub measured_force_n_per_mm: f64,
+    #[arg(long = "c-min", default_value_t = 0.0)]
+    pub c_min: f64,
+    #[arg(long = "c-max", default_value_t = 0.1)]
+    pub c_max: f64,
+    /// Stop when the force is matched within this, N/mm.
+    #[arg(long = "tolerance-n-per-mm", default_value_t = 3.0)]
+    pub tolerance_n_per_mm: f64,
+    /// At most this many cutting simulations.
+    #[arg(long = "max-runs", default_value_t = 6)]
+    pub max_runs: usize,
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs the flow-curve fit.
+pub fn fit(a: &FitArgs) -> Result<JcFit> {
+    let pts = read_flow_curves(&a.curves)?;
+    let opts = FitOptions {
+        c: a.c,
+        ref_strain_rate: a.ref_strain_rate,
+        room_temperature_k: a.room_temperature_c.map(|t| t + 273.15),
+        melt_temperature_k: a.melt_temperature_k,
+        misfit_threshold: a.misfit_threshold,
+    };
+    let f = fit_johnson_cook(&pts, &opts).with_context(|| a.curves.display().to_string())?;
+    if let Some(p) = &a.out {
+        write_string_atomic(p, &serde_json::to_string_pretty(&f)?)?;
+    }
+    Ok(f)
+}
+
+/// Prints a flow-curve fit.
+pub fn print_fit(f: &JcFit) {
+    let p = &f.params;
+    println!(
+        "Johnson-Cook: A = {:.1} MPa, B = {:.1} MPa, n = {:.4}, m = {:.4} (C = {} fixed, ε̇₀ = {:.3e} 1/s, T_room = {:.1} °C, T_m = {:.0} K)",
+        p.a_pa * 1e-6,
+        p.b_pa * 1e-6,
+        p.n,
+        p.m,
+        p.c,
+        p.ref_strain_rate,
+        p.room_temperature_k - 273.15,
+        p.melt_temperature_k
+    );
+    println!(
+        "  residual RMS {:.2} MPa ({:.2} %), {} evaluations",
+        f.rms_mpa,
+        100.0 * f.relative_rms,
+        f.evaluations
+    );
+    println!("  temperature °C  points  RMS MPa  RMS %  bias %");
+    for t in &f.by_temperature {
+        println!(
+            "  {:>14.0}  {:>6}  {:>7.2}  {:>5.2}  {:>+6.2}{}",
+            t.temperature_c,
+            t.points,
+            t.rms_mpa,
+            100.0 * t.relative_rms,
+            100.0 * t.relative_bias,
+            if t.flagged { "  <- misfit" } else { "" }
+        );
+    }
+    for w in &f.warnings {
+        println!("warning: {w}");
+    }
+}
+
+pub fn run(a: Args) -> Result<()> {
+    match a.what {
+        Material::Fit(a) => {
+            let f = fit(&a)?;
+            if a.json {
+                return print_json(&f);
+            }
+            print_fit(&f);
+            Ok(())
+        }
+        Material::FitC(a) => {
+            let case = read_cutting_setup(&a.config)?;
+            let r = find_rate_sensitivity(
+                &case.setup,
+                case.law.clone(),
+                a.measured_force_n_per_mm * 1e3,
+                (a.c_min, a.c_max),
+                a.tolerance_n_per_mm * 1e3,
+                a.max_runs,
+            )?;
+            if let Some(p) = &a.out {
+                write_string_atomic(p, &serde_json::to_string_pretty(&r)?)?;
+            }
+            if a.json {
+                return print_json(&r);
+            }
+            println!(
+                "C = {:.5}: simulated cutting force within {:.2} N/mm of the measured {:.1} N/mm after {} runs",
+                r.c,
+                r.residual_n_per_m * 1e-3,
+                a.measured_force_n_per_mm,
+                r.runs.len()
+            );
+            for (c, f) in &r.runs {
+                println!("  C = {c:.5}: F'c = {:.2} N/mm", f * 1e-3);
+            }
+            Ok(())
+        }
+    }
+}
