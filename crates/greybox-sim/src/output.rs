@@ -256,14 +256,15 @@ pub fn write_windows_csv(path: &Path, tool: &Tool, spacing: f64) -> greybox_core
 }
 
 /// The columns after `STATS_HEADER`: the state in CSV units, empty fields without contact.
-const STATS_HEADER: &str = "pressure_MPa,sliding_velocity_m_per_min,temperature_C,shear_stress_MPa,mu_effective,contact_fraction,slip_fraction";
+const STATS_HEADER: &str = "pressure_MPa,normal_stress_MPa,sliding_velocity_m_per_min,temperature_C,shear_stress_MPa,mu_effective,contact_fraction,slip_fraction";
 
 fn write_stats(w: &mut dyn Write, stats: Option<&WindowStats>) -> std::io::Result<()> {
     match stats {
         Some(s) => writeln!(
             w,
-            ",{:.3},{:.3},{:.2},{:.3},{:.5},{:.4},{:.4}",
+            ",{:.3},{:.3},{:.3},{:.2},{:.3},{:.5},{:.4},{:.4}",
             s.pressure_pa * 1e-6,
+            s.normal_stress_pa * 1e-6,
             s.sliding_velocity_m_s * 60.0,
             s.temperature_k - 273.15,
             s.shear_stress_pa * 1e-6,
@@ -271,7 +272,7 @@ fn write_stats(w: &mut dyn Write, stats: Option<&WindowStats>) -> std::io::Resul
             s.contact_fraction,
             s.slip_fraction
         ),
-        None => writeln!(w, ",,,,,,,"),
+        None => writeln!(w, ",,,,,,,,"),
     }
 }
 

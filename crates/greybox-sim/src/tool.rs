@@ -85,8 +85,13 @@ pub struct WindowAccumulator {
 /// Time-averaged state of a window over an accumulation interval.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct WindowStats {
-    /// Mean contact pressure where in contact, Pa (Σ f_N / (Σ contacts · Δx)).
+    /// Mean contact pressure where in contact, Pa (Σ f_N / (Σ contacts · Δx)): what a node
+    /// in contact sees, and what the friction law is evaluated at.
     pub pressure_pa: f64,
+    /// Normal stress averaged over the whole window and interval, Pa (Σ f_N / (steps · L)):
+    /// the continuum contact-stress profile, which falls to zero where contact becomes
+    /// intermittent (= pressure × contact fraction).
+    pub normal_stress_pa: f64,
     /// Force-weighted mean sliding velocity, m/s.
     pub sliding_velocity_m_s: f64,
     /// Force-weighted mean temperature, K.
@@ -120,6 +125,7 @@ impl WindowAccumulator {
         }
         Some(WindowStats {
             pressure_pa: self.normal / (self.contacts * spacing),
+            normal_stress_pa: self.normal / (self.steps.max(1) as f64 * window_length),
             sliding_velocity_m_s: self.normal_x_slip / self.normal,
             temperature_k: self.normal_x_temp / self.normal,
             shear_stress_pa: self.tangential / (self.contacts * spacing),

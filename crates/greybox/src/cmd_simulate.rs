@@ -408,6 +408,7 @@ fn write_cut_plots(
         rake.iter().map(|r| f(&r.1, r.2)).collect()
     };
     let p = col(&|s, _| s.pressure_pa * 1e-6);
+    let sn = col(&|s, _| s.normal_stress_pa * 1e-6);
     let tau = col(&|s, _| s.shear_stress_pa * 1e-6);
     let vs = col(&|s, _| s.sliding_velocity_m_s * 60.0);
     let mu = col(&|_, m| m);
@@ -422,10 +423,16 @@ fn write_cut_plots(
             "stress (MPa)",
             &[
                 Line {
-                    label: "pressure",
+                    label: "pressure in contact",
                     colour: "#1f77b4",
                     x: &d,
                     y: &p,
+                },
+                Line {
+                    label: "mean normal stress",
+                    colour: "#2ca02c",
+                    x: &d,
+                    y: &sn,
                 },
                 Line {
                     label: "shear stress",
