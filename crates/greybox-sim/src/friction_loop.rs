@@ -118,15 +118,9 @@ impl FrictionUpdater {
 
 impl Observer for FrictionUpdater {
     fn start(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+        // The windows' sums are kept: after a resume they hold the interval in progress
+        // (restored from the checkpoint), so the μ updates continue as in an uninterrupted run.
         self.t_start = sim.time;
-        for w in sim
-            .tools
-            .get_mut(self.tool)
-            .into_iter()
-            .flat_map(|t| t.windows.iter_mut())
-        {
-            w.acc = WindowAccumulator::default();
-        }
         Ok(())
     }
     fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
