@@ -397,3 +397,52 @@ impl CuttingSetup {
         self.model_with_law(Arc::new(ConstantMu(self.mu)))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn windows_tile_the_rake_and_flank_from_the_edge() {
+        let g = InsertGeometry {
+            rake_deg: 0.0,
+            clearance_deg: 7.0,
+            edge_radius_m: 20e-6,
+            rake_length_m: 0.5e-3,
+            flank_length_m: 0.3e-3,
+        };
+        let shape = g.shape().unwrap();
+        let l = g.layout().unwrap();
+        // Rake face straight part: its length; the edge arc turns by 180° − wedge angle (83°).
+        assert!((l.rake_end_s - 0.5e-3).abs() < 1e-12);
+        let turn = 97f64.to_radians();
+        assert!((l.arc_end_s - l.rake_end_s - 20e-6 * turn).abs() < 1e-12);
+        assert!((l.tip_s - l.rake_end_s - 10e-6 * turn).abs() < 1e-12);
+        assert!((l.flank_end_s - l.arc_end_s - 0.3e-3).abs() < 1e-12);
+        let law: Arc<dyn FrictionLaw> = Arc::new(ConstantMu(0.3));
+        let w = l.windows(10e-6, shape.perimeter(), &law, &ContactState::new(1e9, 1.0));
+        // Sorted, contiguous, covering the whole surface; a window boundary at the tip.
+        assert_eq!(w[0].s_start, 0.0);
+        assert!(w.windows(2).all(|p| p[0].s_end == p[1].s_start));
+        assert!(w.last().unwrap().s_end >= shape.perimeter());
+        assert!(w.iter().any(|x| x.s_start == l.tip_s));
+        // Every window but the two face ends and the back is 10 µm long.
+        let full = w
+            .iter()
+            .filter(|x| (x.length() - 10e-6).abs() < 1e-12)
+            .count();
+        assert!(full >= w.len() - 4, "{full} of {}", w.len());
+        // Signed distance: positive up the rake, negative along the flank.
+        let (f, d) = l.locate(l.tip_s - 50e-6);
+        assert_eq!(f, Face::Rake);
+        assert!((d - 50e-6).abs() < 1e-12);
+        let (f, d) = l.locate(l.tip_s + 50e-6);
+        assert_eq!(f, Face::Flank);
+        assert!((d + 50e-6).abs() < 1e-12);
+        assert_eq!(l.locate(l.tip_s).0, Face::Edge);
+        // The rake face is where the shape's closest point says: a point left of the rake
+        // line, 0.2 mm up, maps to the rake face 0.2 mm from the sharp edge.
+        let q = shape.closest([-5e-6, 0.2e-3]);
+        assert_eq!(l.locate(q.s).0, Face::Rake);
+    }
+}
