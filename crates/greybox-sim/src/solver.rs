@@ -661,19 +661,18 @@ impl Solver {
         let p = &self.particles;
         let d = self.derived;
         let g = d.shear;
-        let (kin, ela) = (0..p.len())
-            .into_par_iter()
-            .map(|i| {
-                let v2 = p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i];
-                let rho = p.rho[i];
-                let vol = p.mass / rho;
-                let ss =
-                    p.sxx[i].powi(2) + p.syy[i].powi(2) + p.szz[i].powi(2) + 2.0 * p.sxy[i].powi(2);
-                // Linear EOS: e = c₀² [ln(ρ/ρ₀) + ρ₀/ρ − 1] per mass.
-                let vol_e = p.mass * d.c0_sq * ((rho / d.rho0).ln() + d.rho0 / rho - 1.0);
-                (0.5 * p.mass * v2, vol * ss / (4.0 * g) + vol_e)
-            })
-            .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+        // Serial sum in particle order: the same bytes whatever the thread count.
+        let (mut kin, mut ela) = (0.0, 0.0);
+        for i in 0..p.len() {
+            let v2 = p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i];
+            let rho = p.rho[i];
+            let vol = p.mass / rho;
+            let ss = p.sxx[i].powi(2) + p.syy[i].powi(2) + p.szz[i].powi(2) + 2.0 * p.sxy[i].powi(2);
+            // Linear EOS: e = c₀² [ln(ρ/ρ₀) + ρ₀/ρ − 1] per mass.
+            let vol_e = p.mass * d.c0_sq * ((rho / d.rho0).ln() + d.rho0 / rho - 1.0);
+            kin += 0.5 * p.mass * v2;
+            ela += vol * ss / (4.0 * g) + vol_e;
+        }
         let e = &self.energy;
         let stored = kin + ela + e.plastic_work + e.friction_work + e.penalty_work + e.viscous_work;
         EnergyBalance {
