@@ -37,6 +37,12 @@ impl NeighbourList {
         }
     }
 
+    /// Positions at the last build and the squared displacement (skin/2)² beyond which the
+    /// lists must be rebuilt (for callers that track the displacement in their own pass).
+    pub fn reference(&self) -> (&[f64], &[f64], f64) {
+        (&self.x0, &self.y0, 0.25 * self.skin * self.skin)
+    }
+
     /// Whether a particle has moved more than skin/2 since the last build.
     pub fn needs_rebuild(&self, x: &[f64], y: &[f64]) -> bool {
         if self.x0.len() != x.len() {

@@ -167,8 +167,8 @@ impl PinSetup {
         // least 20 wave transits through the workpiece, so the stress waves the press sends
         // stay small. A pin arriving at full speed sent a plastic wave (ρ c v ≈ 1.4 GPa at
         // 30 m/s) through the article-scale workpiece and threw its surface off.
-        let press_time = (4.0 * (gap + self.depth_m) / v_slide)
-            .max(40.0 * self.workpiece_height_m / c_long);
+        let press_time =
+            (4.0 * (gap + self.depth_m) / v_slide).max(40.0 * self.workpiece_height_m / c_long);
         let v_press = 2.0 * (gap + self.depth_m) / press_time;
         // The slide starts with a ramp over 20 % of its length (covered at half speed).
         let ramp = 0.2 * self.slide_length_m / v_slide * 2.0;

@@ -4,8 +4,7 @@
 //! 2001; Libersky & Petschek 1991):
 //! 1. rebuild the Verlet lists if a particle moved more than half the skin;
 //! 2. per particle: pack σ/ρ², m/ρ, the artificial stress R and the conductivity (pure map);
-//! 3. force gather over neighbours (pure per particle, no writes to neighbours; the kernel
-//!    values of each pair are cached for step 6):
+//! 3. force gather over neighbours (pure per particle, no writes to neighbours):
 //!    * momentum    dv_i/dt = Σ_j m (σ_i/ρ_i² + σ_j/ρ_j² − Π_ij I + f_ij⁴ (R_i + R_j))·∇_i W_ij,
 //!    * Brookshaw   ρ c dT/dt = Σ_j (m/ρ_j)(k_i + k_j)(T_i − T_j) r_ij·∇_i W_ij / (r² + 0.01h²);
 //! 4. rigid-tool contact: penalty f_N = α m g/Δt², incremental Coulomb friction per window;
@@ -162,12 +161,11 @@ pub struct Solver {
     pub group_force: Vec<[f64; 2]>,
     pub(crate) rates: Vec<Rates>,
     pub(crate) packed: Vec<Packed>,
-    /// Per neighbour-list entry: (1/r) dW/dr and W of the pair at the current positions
-    /// (computed by the force gather, reused by the kinematics gather).
-    pair_g: Vec<f64>,
-    pair_w: Vec<f64>,
-    /// Per update chunk: (plastic work, viscous power, first bad particle).
-    chunk_sums: Vec<(f64, f64, usize)>,
+    /// Per update chunk: (plastic work, viscous power, first bad particle, largest squared
+    /// displacement since the last neighbour build).
+    chunk_sums: Vec<(f64, f64, usize, f64)>,
+    /// Set by the update when a particle moved more than half the skin.
+    rebuild_due: bool,
     /// Reciprocal of W(Δx) for the artificial-stress factor f = W(r)/W(Δx).
     inv_w_dx: f64,
 }
@@ -241,9 +239,8 @@ impl Solver {
             group_force: vec![[0.0; 2]; ngroups],
             rates: vec![Rates::default(); n],
             packed: vec![Packed::default(); n],
-            pair_g: Vec::new(),
-            pair_w: Vec::new(),
             chunk_sums: Vec::new(),
+            rebuild_due: false,
         })
     }
 
@@ -254,11 +251,16 @@ impl Solver {
 
     /// Advances one step.
     pub fn step(&mut self) -> Result<(), SimError> {
-        if self
-            .neighbours
-            .needs_rebuild(&self.particles.x, &self.particles.y)
+        // The displacement test runs inside the previous update; a fresh or restored solver
+        // (lists built for other positions) is checked here.
+        if self.rebuild_due
+            || (self.step == 0 || self.neighbours.reference().0.len() != self.particles.len())
+                && self
+                    .neighbours
+                    .needs_rebuild(&self.particles.x, &self.particles.y)
         {
             self.neighbours.build(&self.particles.x, &self.particles.y);
+            self.rebuild_due = false;
         }
         self.pack();
         self.gather_forces();
@@ -338,7 +340,7 @@ impl Solver {
         });
     }
 
-    /// Step 3: forces and conduction (pure per particle); caches the pair kernel values.
+    /// Step 3: forces and conduction (pure per particle).
     fn gather_forces(&mut self) {
         let table = &self.table;
         let m = self.particles.mass;
@@ -351,71 +353,58 @@ impl Solver {
         } else {
             0.0
         };
+        // dT/dt = conduction sum / (ρ c): heat capacity per volume kept physical under mass
+        // scaling.
+        let thermal = self.numerics.thermal;
+        let cp = &self.material.thermal.specific_heat;
+        let f_mass = self.numerics.mass_scaling;
+        let rho = &self.particles.rho;
         let packed = &self.packed;
         let nl = &self.neighbours;
-        let stride = nl.stride;
-        self.pair_g.resize(nl.index.len(), 0.0);
-        self.pair_w.resize(nl.index.len(), 0.0);
-        const CH: usize = 64;
         self.rates
-            .par_chunks_mut(CH)
-            .zip(self.pair_g.par_chunks_mut(CH * stride))
-            .zip(self.pair_w.par_chunks_mut(CH * stride))
+            .par_iter_mut()
+            .with_min_len(64)
             .enumerate()
-            .for_each(|(ch, ((rates, pg), pw))| {
+            .for_each(|(i, out)| {
                 crate::cpu::wide(|| {
-                    for (k, out) in rates.iter_mut().enumerate() {
-                        let i = ch * CH + k;
-                        let a = packed[i];
-                        let (mut ax, mut ay, mut dtemp, mut av_power) = (0.0, 0.0, 0.0, 0.0);
-                        let list = nl.of(i);
-                        let row = k * stride..k * stride + list.len();
-                        // Branch-free: pairs in the skin (beyond 2h) get w = g = 0 and add nothing.
-                        for ((&j, pg), pw) in
-                            list.iter().zip(&mut pg[row.clone()]).zip(&mut pw[row])
-                        {
-                            let b = &packed[j as usize];
-                            let dx = a.x - b.x;
-                            let dy = a.y - b.y;
-                            let r2 = dx * dx + dy * dy;
-                            let [w, g, g_cond, h_visc] = table.at(r2);
-                            *pg = g;
-                            *pw = w;
-                            let gx = g * dx;
-                            let gy = g * dy;
-                            let dvx = a.vx - b.vx;
-                            let dvy = a.vy - b.vy;
-                            // Monaghan viscosity for approaching pairs (μ = 0 otherwise).
-                            // 1/ρ̄ taken as the mean of 1/ρ (equal to 1/mean ρ to O((Δρ/ρ)²)).
-                            let mu = h_visc * (dvx * dx + dvy * dy).min(0.0);
-                            let pi = (beta * mu - alpha * c) * mu * (a.inv_rho + b.inv_rho);
-                            av_power += 0.5 * m * m * pi * (dvx * gx + dvy * gy);
-                            let f = w * inv_w_dx;
-                            let f2 = f * f;
-                            let f4 = as_on * f2 * f2;
-                            let txx = a.txx + b.txx - pi + f4 * (a.rxx + b.rxx);
-                            let txy = a.txy + b.txy + f4 * (a.rxy + b.rxy);
-                            let tyy = a.tyy + b.tyy - pi + f4 * (a.ryy + b.ryy);
-                            ax += m * (txx * gx + txy * gy);
-                            ay += m * (txy * gx + tyy * gy);
-                            dtemp += b.vol * (a.k + b.k) * (a.temp - b.temp) * g_cond;
-                        }
-                        out.ax = ax;
-                        out.ay = ay;
-                        out.dtemp = dtemp;
-                        out.av_power = av_power;
+                    let a = packed[i];
+                    let (mut ax, mut ay, mut dtemp, mut av_power) = (0.0, 0.0, 0.0, 0.0);
+                    // Branch-free: pairs in the skin (beyond 2h) get w = g = 0 and add nothing.
+                    for &j in nl.of(i) {
+                        let b = &packed[j as usize];
+                        let dx = a.x - b.x;
+                        let dy = a.y - b.y;
+                        let r2 = dx * dx + dy * dy;
+                        let [w, g, g_cond, h_visc] = table.at(r2);
+                        let gx = g * dx;
+                        let gy = g * dy;
+                        let dvx = a.vx - b.vx;
+                        let dvy = a.vy - b.vy;
+                        // Monaghan viscosity for approaching pairs (μ = 0 otherwise).
+                        // 1/ρ̄ taken as the mean of 1/ρ (equal to 1/mean ρ to O((Δρ/ρ)²)).
+                        let mu = h_visc * (dvx * dx + dvy * dy).min(0.0);
+                        let pi = (beta * mu - alpha * c) * mu * (a.inv_rho + b.inv_rho);
+                        av_power += 0.5 * m * m * pi * (dvx * gx + dvy * gy);
+                        let f = w * inv_w_dx;
+                        let f2 = f * f;
+                        let f4 = as_on * f2 * f2;
+                        let txx = a.txx + b.txx - pi + f4 * (a.rxx + b.rxx);
+                        let txy = a.txy + b.txy + f4 * (a.rxy + b.rxy);
+                        let tyy = a.tyy + b.tyy - pi + f4 * (a.ryy + b.ryy);
+                        ax += m * (txx * gx + txy * gy);
+                        ay += m * (txy * gx + tyy * gy);
+                        dtemp += b.vol * (a.k + b.k) * (a.temp - b.temp) * g_cond;
                     }
+                    out.ax = ax;
+                    out.ay = ay;
+                    out.dtemp = if thermal {
+                        dtemp / (rho[i] / f_mass * cp.eval(a.temp))
+                    } else {
+                        0.0
+                    };
+                    out.av_power = av_power;
                 })
             });
-        // Conduction: divide by ρ c (heat capacity per volume kept physical under mass scaling).
-        if self.numerics.thermal {
-            let th = &self.material.thermal;
-            let f = self.numerics.mass_scaling;
-            let p = &self.particles;
-            self.rates.par_iter_mut().enumerate().for_each(|(i, r)| {
-                r.dtemp /= p.rho[i] / f * th.specific_heat.eval(p.temp[i]);
-            });
-        }
     }
 
     /// Step 5: v ← v + Δt a with the prescribed velocity components imposed.
@@ -448,14 +437,15 @@ impl Solver {
             });
     }
 
-    /// Step 6: continuity, velocity gradient and XSPH from the new velocities.
+    /// Step 6: continuity, velocity gradient and XSPH from the new velocities (positions are
+    /// those of step 3, so the kernel values are the same; recomputing them from the table is
+    /// cheaper than storing them per pair, which for 50 000 particles is 28 MB of traffic).
     fn gather_kinematics(&mut self) {
         let m = self.particles.mass;
         let eps_x = self.numerics.xsph;
+        let table = &self.table;
         let packed = &self.packed;
         let nl = &self.neighbours;
-        let stride = nl.stride;
-        let (pg, pw) = (&self.pair_g, &self.pair_w);
         self.rates
             .par_iter_mut()
             .with_min_len(64)
@@ -465,15 +455,16 @@ impl Solver {
                     let a = packed[i];
                     let (mut drho, mut lxx, mut lxy, mut lyx, mut lyy, mut xsx, mut xsy) =
                         (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-                    let list = nl.of(i);
-                    let row = i * stride..i * stride + list.len();
-                    for ((&j, &g), &w) in list.iter().zip(&pg[row.clone()]).zip(&pw[row]) {
+                    for &j in nl.of(i) {
+                        let b = &packed[j as usize];
+                        let dx = a.x - b.x;
+                        let dy = a.y - b.y;
+                        let (w, g) = table.w_g(dx * dx + dy * dy);
                         if g == 0.0 {
                             continue;
                         }
-                        let b = &packed[j as usize];
-                        let gx = g * (a.x - b.x);
-                        let gy = g * (a.y - b.y);
+                        let gx = g * dx;
+                        let gy = g * dy;
                         let dvx = a.vx - b.vx;
                         let dvy = a.vy - b.vy;
                         drho += m * (dvx * gx + dvy * gy);
@@ -533,6 +524,7 @@ impl Solver {
         let vlim2 = (self.numerics.max_speed_ratio * d.c_long).powi(2);
         let rates = &self.rates;
         let m = self.particles.mass;
+        let (x0, y0, moved_lim2) = self.neighbours.reference();
         let p = &mut self.particles;
         const CH: usize = 512;
         // (plastic work, max speed², first bad particle)
@@ -557,6 +549,7 @@ impl Solver {
                     let mut wp = 0.0;
                     let mut av = 0.0;
                     let mut bad = usize::MAX;
+                    let mut moved2: f64 = 0.0;
                     for k in 0..x.len() {
                         let i = c * CH + k;
                         let r = &rates[i];
@@ -564,6 +557,7 @@ impl Solver {
                         let (nvx, nvy) = (vx[k], vy[k]);
                         x[k] += dt * (nvx + r.xsx);
                         y[k] += dt * (nvy + r.xsy);
+                        moved2 = moved2.max((x[k] - x0[i]).powi(2) + (y[k] - y0[i]).powi(2));
                         rho[k] += dt * r.drho;
                         pr[k] = d.c0_sq * (rho[k] - d.rho0);
                         // Jaumann rate of the deviatoric stress (plane strain).
@@ -617,17 +611,19 @@ impl Solver {
                             bad = i;
                         }
                     }
-                    (wp, av, bad)
+                    (wp, av, bad, moved2)
                 },
             )
             // Per-chunk sums in chunk order (an indexed collect), summed serially below:
             // the energy book is the same bytes on every run, whatever the thread schedule.
             .collect_into_vec(&mut self.chunk_sums);
         let (mut plastic, mut viscous, mut bad) = (0.0, 0.0, usize::MAX);
-        for &(wp, av, b) in &self.chunk_sums {
+        for &(wp, av, b, moved2) in &self.chunk_sums {
             plastic += wp;
             viscous += av;
             bad = bad.min(b);
+            // NaN (an unstable particle) also forces a rebuild, never a missed pair.
+            self.rebuild_due |= !(moved2 <= moved_lim2);
         }
         self.energy.plastic_work += plastic;
         self.energy.viscous_work += dt * viscous;
@@ -667,7 +663,8 @@ impl Solver {
             let v2 = p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i];
             let rho = p.rho[i];
             let vol = p.mass / rho;
-            let ss = p.sxx[i].powi(2) + p.syy[i].powi(2) + p.szz[i].powi(2) + 2.0 * p.sxy[i].powi(2);
+            let ss =
+                p.sxx[i].powi(2) + p.syy[i].powi(2) + p.szz[i].powi(2) + 2.0 * p.sxy[i].powi(2);
             // Linear EOS: e = c₀² [ln(ρ/ρ₀) + ρ₀/ρ − 1] per mass.
             let vol_e = p.mass * d.c0_sq * ((rho / d.rho0).ln() + d.rho0 / rho - 1.0);
             kin += 0.5 * p.mass * v2;
