@@ -113,9 +113,15 @@ impl PinSetup {
         Ok(())
     }
 
-    /// Workpiece length: room for the pressed chord behind, the slide and the chord ahead.
+    /// Workpiece length: room for the pressed chord behind, the slide, the chord ahead and
+    /// the plastic zone in front of it.
     pub fn workpiece_length(&self) -> f64 {
-        2.0 * (self.half_chord() + 0.2e-3 + 10.0 * self.spacing_m) + self.slide_length_m
+        // Ahead of the pin's final position the plastic zone of the bow wave reaches about one
+        // workpiece height beyond the contact: twice that keeps it off the end wall (at r =
+        // 17 mm with a 1 mm margin the normal force doubled as the wave reached the wall).
+        2.0 * (self.half_chord() + 0.2e-3 + 10.0 * self.spacing_m)
+            + self.slide_length_m
+            + 2.0 * self.workpiece_height_m
     }
 
     /// Builds the model and the press / slide schedule (durations, s).
