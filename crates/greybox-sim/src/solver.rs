@@ -643,7 +643,7 @@ impl Solver {
             viscous += av;
             bad = bad.min(b);
             // NaN (an unstable particle) also forces a rebuild, never a missed pair.
-            self.rebuild_due |= !(moved2 <= moved_lim2);
+            self.rebuild_due |= moved2 > moved_lim2 || moved2.is_nan();
         }
         self.energy.plastic_work += plastic;
         self.energy.viscous_work += dt * viscous;

@@ -47,10 +47,10 @@ pub struct Args {
     #[arg(long = "sim-spacing-um", default_value_t = 10.0)]
     pub sim_spacing_um: f64,
     /// Simulation: slide length, mm.
-    #[arg(long = "sim-slide-mm", default_value_t = 1.0)]
+    #[arg(long = "sim-slide-mm", default_value_t = 1.5)]
     pub sim_slide_mm: f64,
-    /// Simulation: workpiece height, mm.
-    #[arg(long = "sim-height-mm", default_value_t = 0.5)]
+    /// Simulation: workpiece height, mm (the article's FE model: 1 mm).
+    #[arg(long = "sim-height-mm", default_value_t = 1.0)]
     pub sim_height_mm: f64,
     /// Simulation: stop when |simulated F_t/F_N − μ_app| ≤ this.
     #[arg(long = "sim-tolerance", default_value_t = 0.002)]

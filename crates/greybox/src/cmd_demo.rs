@@ -78,8 +78,8 @@ pub fn run(a: Args) -> Result<()> {
         json: false,
         sim_loads: 3,
         sim_spacing_um: 10.0,
-        sim_slide_mm: 1.0,
-        sim_height_mm: 0.5,
+        sim_slide_mm: 1.5,
+        sim_height_mm: 1.0,
         sim_tolerance: 0.002,
         sim_max_runs: 5,
     };

@@ -67,10 +67,10 @@ pub struct PinArgs {
     #[arg(long = "spacing-um", default_value_t = 10.0)]
     pub spacing_um: f64,
     /// Slide length after pressing, mm.
-    #[arg(long = "slide-mm", default_value_t = 1.0)]
+    #[arg(long = "slide-mm", default_value_t = 1.5)]
     pub slide_mm: f64,
-    /// Workpiece height, mm.
-    #[arg(long = "height-mm", default_value_t = 0.5)]
+    /// Workpiece height, mm (the article's FE model: 1 mm).
+    #[arg(long = "height-mm", default_value_t = 1.0)]
     pub height_mm: f64,
     /// Physical sliding speed (sets the J-C strain rate), m/min.
     #[arg(long = "speed-m-per-min", default_value_t = 150.0)]
