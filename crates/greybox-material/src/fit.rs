@@ -340,10 +340,16 @@ fn summarize(
     evaluations: usize,
     termination: String,
 ) -> JcFit {
-    let rel = |p: &FlowPoint| {
-        params.flow_stress(p.strain, p.strain_rate, p.temperature_k) / p.stress_pa - 1.0
-    };
-    let abs_mpa = |p: &FlowPoint| rel(p) * p.stress_pa * 1e-6;
+    // Relative and absolute (MPa) residual of every point, evaluated once.
+    let rel: Vec<f64> = points
+        .iter()
+        .map(|p| params.flow_stress(p.strain, p.strain_rate, p.temperature_k) / p.stress_pa - 1.0)
+        .collect();
+    let abs_mpa: Vec<f64> = rel
+        .iter()
+        .zip(points)
+        .map(|(r, p)| r * p.stress_pa * 1e-6)
+        .collect();
     let mut temps: Vec<f64> = points.iter().map(|p| p.temperature_k).collect();
     temps.sort_by(f64::total_cmp);
     temps.dedup_by(|a, b| (*a - *b).abs() < 0.5);
@@ -352,10 +358,11 @@ fn summarize(
     let by_temperature: Vec<TemperatureResidual> = temps
         .iter()
         .map(|&t| {
-            let sel: Vec<&FlowPoint> =
-                points.iter().filter(|p| (p.temperature_k - t).abs() < 0.5).collect();
-            let r: Vec<f64> = sel.iter().map(|p| rel(p)).collect();
-            let a: Vec<f64> = sel.iter().map(|p| abs_mpa(p)).collect();
+            let sel: Vec<usize> = (0..points.len())
+                .filter(|&k| (points[k].temperature_k - t).abs() < 0.5)
+                .collect();
+            let r: Vec<f64> = sel.iter().map(|&k| rel[k]).collect();
+            let a: Vec<f64> = sel.iter().map(|&k| abs_mpa[k]).collect();
             let relative_rms = rms(&r);
             let relative_bias = r.iter().sum::<f64>() / r.len() as f64;
             let flagged = relative_rms > opts.misfit_threshold;
@@ -386,12 +393,10 @@ fn summarize(
             }
         })
         .collect();
-    let all_rel: Vec<f64> = points.iter().map(rel).collect();
-    let all_abs: Vec<f64> = points.iter().map(abs_mpa).collect();
     JcFit {
         params,
-        rms_mpa: rms(&all_abs),
-        relative_rms: rms(&all_rel),
+        rms_mpa: rms(&abs_mpa),
+        relative_rms: rms(&rel),
         by_temperature,
         warnings,
         evaluations,

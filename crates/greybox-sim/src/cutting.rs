@@ -322,13 +322,9 @@ impl CuttingSetup {
     pub fn model_with_law(&self, law: Arc<dyn FrictionLaw>) -> greybox_core::Result<(Model, f64)> {
         self.validate()?;
         let dx = self.spacing_m;
-        let nx = (self.workpiece_length() / dx).ceil() as usize;
-        let ny = (self.workpiece_height_m / dx).ceil() as usize;
-        let mut p = Particles::block(
-            0.0,
-            -(ny as f64) * dx,
-            nx,
-            ny,
+        let (mut p, nx, ny) = Particles::workpiece(
+            self.workpiece_length(),
+            self.workpiece_height_m,
             dx,
             self.material.density_kg_m3,
             self.initial_temperature_k,

@@ -147,17 +147,6 @@ impl PairTable {
         }
     }
 
-    /// (W, g) at squared distance `r2` (the same values as the first two of [`Self::at`]).
-    #[inline(always)]
-    pub fn w_g(&self, r2: f64) -> (f64, f64) {
-        let t = (r2 * self.inv_dr2).min(self.last);
-        let k = t as usize;
-        let f = t - k as f64;
-        let a = &self.rows[k];
-        let b = &self.rows[k + 1];
-        (a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]))
-    }
-
     /// [W, g, g r²/(r²+η²), h/(r²+η²)] at squared distance `r2`.
     #[inline(always)]
     pub fn at(&self, r2: f64) -> [f64; 4] {

@@ -46,6 +46,25 @@ impl Particles {
         self.x.is_empty()
     }
 
+    /// A workpiece of `length` × `height` (m, rounded up to whole spacings) with its top
+    /// surface at y = 0 and its left edge at x = 0; returns the particles and the lattice
+    /// size (nx, ny), particle (i, j) at index j·nx + i (j = 0 the bottom row).
+    pub fn workpiece(
+        length: f64,
+        height: f64,
+        dx: f64,
+        rho0: f64,
+        t0: f64,
+    ) -> (Self, usize, usize) {
+        let nx = (length / dx).ceil() as usize;
+        let ny = (height / dx).ceil() as usize;
+        (
+            Self::block(0.0, -(ny as f64) * dx, nx, ny, dx, rho0, t0),
+            nx,
+            ny,
+        )
+    }
+
     /// A rectangular block of particles on a square lattice with spacing `dx`, lower-left
     /// corner (x0, y0), `nx` × `ny` particles, at rest, density `rho0`, temperature `t0`.
     #[allow(clippy::too_many_arguments)]

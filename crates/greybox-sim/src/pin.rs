@@ -128,14 +128,10 @@ impl PinSetup {
     pub fn model(&self) -> greybox_core::Result<(Model, f64, f64)> {
         self.validate()?;
         let dx = self.spacing_m;
-        let nx = (self.workpiece_length() / dx).ceil() as usize;
-        let ny = (self.workpiece_height_m / dx).ceil() as usize;
         let rho0 = self.material.density_kg_m3;
-        let mut p = Particles::block(
-            0.0,
-            -(ny as f64) * dx,
-            nx,
-            ny,
+        let (mut p, nx, ny) = Particles::workpiece(
+            self.workpiece_length(),
+            self.workpiece_height_m,
             dx,
             rho0,
             self.initial_temperature_k,

@@ -236,11 +236,8 @@ pub fn run(a: Args) -> Result<()> {
     setup.spacing_m = 12.5e-6;
     setup.friction.window_length_m = 12.5e-6;
     setup.cut_length_m = 0.6e-3;
-    let cut_case = cmd_simulate::CutCase {
-        law: std::sync::Arc::from(greybox_friction::spec::load_law(&law_path)?),
-        law_source: law_path.display().to_string(),
-        setup,
-    };
+    setup.friction.law_file = Some("law.json".into());
+    let cut_case = cmd_simulate::cut_case(setup, out)?;
     let cut_out = cmd_simulate::Output {
         out: out.join("cutting"),
         vtk_every: 0,

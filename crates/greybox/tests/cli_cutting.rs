@@ -1,7 +1,7 @@
 //! `greybox simulate cutting` with a law file (outputs, grey-box μ history, resume bit for
 //! bit, bad law file) and `greybox material fit|fit-c`.
 mod common;
-use common::{err, greybox, ok};
+use common::{err, greybox, last_particle_vtk, ok};
 use std::path::Path;
 
 /// The bundled article case made coarse and short (20 µm spacing, 0.25 mm of cut).
@@ -105,20 +105,7 @@ fn cutting_with_a_law_file_writes_profiles_and_resumes_bit_for_bit() {
         ],
         d.path(),
     ));
-    let last_vtk = |dir: &str| {
-        let mut v: Vec<_> = std::fs::read_dir(d.path().join(dir).join("vtk"))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| {
-                p.file_name()
-                    .unwrap()
-                    .to_string_lossy()
-                    .starts_with("particles_")
-            })
-            .collect();
-        v.sort();
-        std::fs::read_to_string(v.last().unwrap()).unwrap()
-    };
+    let last_vtk = |dir: &str| last_particle_vtk(&d.path().join(dir));
     assert_eq!(last_vtk("a"), last_vtk("b"));
 }
 

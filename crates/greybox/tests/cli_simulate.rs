@@ -1,7 +1,7 @@
 //! `greybox simulate pin` (outputs, checkpoint/resume bit-for-bit, set-up mismatch) and
 //! `greybox adhesive --method simulation` on a small pin.
 mod common;
-use common::{err, greybox, ok};
+use common::{err, greybox, last_particle_vtk, ok};
 
 const PIN: [&str; 12] = [
     "simulate",
@@ -45,20 +45,7 @@ fn pin_run_writes_outputs_and_resumes_bit_for_bit() {
     }
     // Resume from the checkpoint: the final particle state is identical.
     ok(&run(&["--out", "b", "--resume", "a/checkpoint.json"]));
-    let last = |dir: &str| {
-        let mut v: Vec<_> = std::fs::read_dir(d.path().join(dir).join("vtk"))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| {
-                p.file_name()
-                    .unwrap()
-                    .to_string_lossy()
-                    .starts_with("particles_")
-            })
-            .collect();
-        v.sort();
-        std::fs::read_to_string(v.last().unwrap()).unwrap()
-    };
+    let last = |dir: &str| last_particle_vtk(&d.path().join(dir));
     assert_eq!(last("a"), last("b"));
     // A checkpoint of another set-up is refused.
     let mut args: Vec<&str> = PIN.to_vec();

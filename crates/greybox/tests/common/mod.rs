@@ -33,3 +33,19 @@ pub fn err(out: &Output) -> String {
     );
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
+
+/// Text of the last `particles_*.vtk` written under `dir/vtk` (the final state of a run).
+pub fn last_particle_vtk(dir: &Path) -> String {
+    let mut v: Vec<_> = std::fs::read_dir(dir.join("vtk"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("particles_")
+        })
+        .collect();
+    v.sort();
+    std::fs::read_to_string(v.last().unwrap()).unwrap()
+}
