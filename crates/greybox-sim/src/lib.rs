@@ -13,6 +13,7 @@ pub(crate) mod contact;
 pub(crate) mod cpu;
 pub mod cut_run;
 pub mod cutting;
+pub(crate) mod disjoint;
 pub mod executor;
 pub mod friction_loop;
 pub mod geometry;

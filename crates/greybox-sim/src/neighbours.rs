@@ -1,27 +1,39 @@
-//! Verlet neighbour lists built from a cell list.
+//! Verlet neighbour lists built from a cell list, as symmetric half lists.
 //!
 //! Lists hold every pair closer than 2h + skin; they are rebuilt when any particle has moved
-//! more than skin/2 since the last build, so no pair inside 2h is ever missed. Storage is
-//! padded rows of a common width, built in two parallel passes (count, fill).
+//! more than skin/2 since the last build, so no pair inside 2h is ever missed.
+//!
+//! Every pair is stored once, with its lower index first (the half list): particle i's
+//! partners j > i are `index[start[i]..start[i+1]]` (compressed rows), and pair `p` is the
+//! position of j in `index`. A pair pass over the half list computes each pair's terms once,
+//! adds i's share in place and stores j's share in a per-pair slot; the reverse lists
+//! (`incoming(j)`: the pairs in which j is the second partner, in ascending pair order) then
+//! let every particle gather its stored shares. No two threads write the same memory and the
+//! sums run in a fixed order, so results are the same bytes on any thread count — the
+//! scatter-free layout a GPU port uses as well.
 
+use crate::disjoint::DisjointMut;
 use rayon::prelude::*;
 
 #[derive(Debug, Clone, Default)]
 pub struct NeighbourList {
-    /// Row width: particle i's neighbours are `index[i·stride .. i·stride + count[i]]`.
-    pub stride: usize,
-    /// Neighbour count per particle.
-    pub count: Vec<u32>,
-    /// Neighbour indices (self excluded), padded rows.
+    /// Row offsets of the half lists (n + 1 entries).
+    pub start: Vec<u32>,
+    /// Second partners j > i of every pair, row by row.
     pub index: Vec<u32>,
+    /// Row offsets of the reverse lists (n + 1 entries).
+    pub rev_start: Vec<u32>,
+    /// Pair numbers (positions in `index`) whose second partner is the row's particle.
+    pub rev_pair: Vec<u32>,
     /// Positions at the last build.
     x0: Vec<f64>,
     y0: Vec<f64>,
-    /// Cell list scratch.
+    /// Cell list and counting scratch.
     cell_start: Vec<u32>,
     cell_items: Vec<u32>,
     cell_fill: Vec<u32>,
     cell_of: Vec<u32>,
+    count: Vec<u32>,
     /// Cut-off radius (2h + skin), m.
     pub cutoff: f64,
     pub skin: f64,
@@ -78,14 +90,7 @@ impl NeighbourList {
                 let cy = ((y[i] - ymin) / c) as usize;
                 *cell = (cy.min(ncy - 1) * ncx + cx.min(ncx - 1)) as u32;
             });
-        self.cell_start.clear();
-        self.cell_start.resize(ncx * ncy + 1, 0);
-        for &cell in &self.cell_of {
-            self.cell_start[cell as usize + 1] += 1;
-        }
-        for k in 0..ncx * ncy {
-            self.cell_start[k + 1] += self.cell_start[k];
-        }
+        counting_offsets(&self.cell_of, ncx * ncy, &mut self.cell_start);
         self.cell_items.resize(n, 0);
         self.cell_fill.clone_from(&self.cell_start);
         for i in 0..n {
@@ -95,6 +100,7 @@ impl NeighbourList {
         }
         let c2 = c * c;
         let (cs, ci, co) = (&self.cell_start, &self.cell_items, &self.cell_of);
+        // Partners j > i of particle i within the cut-off.
         let visit = |i: usize, f: &mut dyn FnMut(u32)| {
             let cell = co[i] as usize;
             let (cx, cy) = (cell % ncx, cell / ncx);
@@ -103,7 +109,7 @@ impl NeighbourList {
                     let g = gy * ncx + gx;
                     for &j in &ci[cs[g] as usize..cs[g + 1] as usize] {
                         let ju = j as usize;
-                        if ju != i && (x[i] - x[ju]).powi(2) + (y[i] - y[ju]).powi(2) < c2 {
+                        if ju > i && (x[i] - x[ju]).powi(2) + (y[i] - y[ju]).powi(2) < c2 {
                             f(j);
                         }
                     }
@@ -116,22 +122,37 @@ impl NeighbourList {
             visit(i, &mut |_| m += 1);
             *k = m;
         });
-        // Padded rows of `stride` entries (the classic fixed-width neighbour list): uniform
-        // chunks parallelise without bookkeeping and port directly to a GPU.
-        let stride = self.count.iter().copied().max().unwrap_or(0).max(1) as usize;
-        self.stride = stride;
+        self.start.clear();
+        self.start.reserve(n + 1);
+        self.start.push(0);
+        let mut total = 0u32;
+        for &k in &self.count {
+            total += k;
+            self.start.push(total);
+        }
         self.index.clear();
-        self.index.resize(n * stride, 0);
-        self.index
-            .par_chunks_mut(stride)
-            .enumerate()
-            .for_each(|(i, row)| {
-                let mut k = 0;
-                visit(i, &mut |j| {
-                    row[k] = j;
-                    k += 1;
-                });
+        self.index.resize(total as usize, 0);
+        let rows = DisjointMut::new(&mut self.index);
+        let start = &self.start;
+        (0..n).into_par_iter().with_min_len(64).for_each(|i| {
+            // SAFETY: the rows of different particles are disjoint.
+            let row = unsafe { rows.range(start[i] as usize..start[i + 1] as usize) };
+            let mut k = 0;
+            visit(i, &mut |j| {
+                row[k] = j;
+                k += 1;
             });
+        });
+        // Reverse lists: counting sort of the pairs by their second partner, in pair order.
+        counting_offsets(&self.index, n, &mut self.rev_start);
+        self.rev_pair.clear();
+        self.rev_pair.resize(total as usize, 0);
+        self.cell_fill.clone_from(&self.rev_start);
+        for (p, &j) in self.index.iter().enumerate() {
+            let slot = &mut self.cell_fill[j as usize];
+            self.rev_pair[*slot as usize] = p as u32;
+            *slot += 1;
+        }
         self.x0.clear();
         self.x0.extend_from_slice(x);
         self.y0.clear();
@@ -139,9 +160,33 @@ impl NeighbourList {
         self.builds += 1;
     }
 
+    /// Pair numbers of particle i's half-list row (its partners are `index[pairs(i)]`).
     #[inline]
-    pub fn of(&self, i: usize) -> &[u32] {
-        &self.index[i * self.stride..i * self.stride + self.count[i] as usize]
+    pub fn pairs(&self, i: usize) -> std::ops::Range<usize> {
+        self.start[i] as usize..self.start[i + 1] as usize
+    }
+
+    /// The pairs in which particle j is the second partner.
+    #[inline]
+    pub fn incoming(&self, j: usize) -> &[u32] {
+        &self.rev_pair[self.rev_start[j] as usize..self.rev_start[j + 1] as usize]
+    }
+
+    /// Number of pairs (each counted once).
+    pub fn pair_count(&self) -> usize {
+        self.index.len()
+    }
+}
+
+/// Offsets of a counting sort: `offsets[k]..offsets[k + 1]` is where key k goes.
+fn counting_offsets(keys: &[u32], nkeys: usize, offsets: &mut Vec<u32>) {
+    offsets.clear();
+    offsets.resize(nkeys + 1, 0);
+    for &k in keys {
+        offsets[k as usize + 1] += 1;
+    }
+    for k in 0..nkeys {
+        offsets[k + 1] += offsets[k];
     }
 }
 
@@ -170,7 +215,14 @@ mod tests {
         let mut nl = NeighbourList::new(3.0, 0.3);
         nl.build(&x, &y);
         for i in 0..x.len() {
-            let mut got: Vec<u32> = nl.of(i).to_vec();
+            assert!(nl.index[nl.pairs(i)].iter().all(|&j| j as usize > i));
+            let mut got: Vec<u32> = nl.index[nl.pairs(i)].to_vec();
+            // The pairs in which i is the second partner, by their first partner.
+            for &p in nl.incoming(i) {
+                assert_eq!(nl.index[p as usize] as usize, i);
+                let first = nl.start.partition_point(|&s| s as usize <= p as usize) - 1;
+                got.push(first as u32);
+            }
             got.sort();
             let want: Vec<u32> = (0..x.len() as u32)
                 .filter(|&j| {
@@ -181,6 +233,13 @@ mod tests {
                 .collect();
             assert_eq!(got, want, "particle {i}");
         }
+        assert_eq!(
+            nl.pair_count() * 2,
+            (0..x.len())
+                .map(|i| nl.pairs(i).len() + nl.incoming(i).len())
+                .sum::<usize>()
+        );
+        assert!(nl.incoming(5).windows(2).all(|w| w[0] < w[1]));
         assert!(!nl.needs_rebuild(&x, &y));
         x[7] += 0.2;
         assert!(nl.needs_rebuild(&x, &y));

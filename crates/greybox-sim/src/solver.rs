@@ -23,6 +23,7 @@
 //! amplifies every mode and is only kept alive by artificial viscosity at small Courant numbers.
 
 use crate::contact;
+use crate::disjoint::DisjointMut;
 use crate::kernel::{CubicSpline, PairTable};
 use crate::model::{Model, Numerics};
 use crate::neighbours::NeighbourList;
@@ -32,6 +33,9 @@ use crate::tool::Tool;
 use greybox_material::Material;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+
+/// Particles per parallel task of the pair passes.
+const PAIR_CHUNK: usize = 64;
 
 /// Why a run stopped early.
 #[derive(Debug, Clone, PartialEq)]
@@ -94,13 +98,9 @@ pub struct EnergyBalance {
 pub(crate) struct Rates {
     pub ax: f64,
     pub ay: f64,
-    pub drho: f64,
-    pub lxx: f64,
-    pub lxy: f64,
-    pub lyx: f64,
-    pub lyy: f64,
-    pub xsx: f64,
-    pub xsy: f64,
+    /// Kinematics sums over the particle's own half-list row: ρ̇, L_xx, L_xy, L_yx, L_yy and
+    /// the XSPH sums (before ε); step 7 adds the shares stored by the other partners.
+    pub kin: [f64; 7],
     /// dT/dt, K/s (conduction, then friction heating).
     pub dtemp: f64,
     /// Artificial-viscosity dissipation rate, W/m.
@@ -162,10 +162,15 @@ pub struct Solver {
     pub group_force: Vec<[f64; 2]>,
     pub(crate) rates: Vec<Rates>,
     pub(crate) packed: Vec<Packed>,
-    /// Per neighbour-list entry: (1/r) dW/dr and W of the pair at the current positions
-    /// (computed by the force gather, reused by the kinematics gather).
-    pair_g: Vec<f64>,
-    pair_w: Vec<f64>,
+    /// Per pair of the half list: W and (1/r) dW/dr at the current positions (computed by
+    /// the force pass, reused by the kinematics pass).
+    pair_wg: Vec<[f64; 2]>,
+    /// Per pair: the second partner's share of the force pass (acceleration x, y and the
+    /// conduction sum), gathered through the reverse lists.
+    pair_force: Vec<[f64; 3]>,
+    /// Per pair: the second partner's share of the kinematics pass (ρ̇, L_xx, L_xy, L_yx,
+    /// L_yy and the XSPH sums before the factor ε).
+    pair_kin: Vec<[f64; 7]>,
     /// Per update chunk: (plastic work, viscous power, first bad particle, largest squared
     /// displacement since the last neighbour build).
     chunk_sums: Vec<(f64, f64, usize, f64)>,
@@ -244,8 +249,9 @@ impl Solver {
             group_force: vec![[0.0; 2]; ngroups],
             rates: vec![Rates::default(); n],
             packed: vec![Packed::default(); n],
-            pair_g: Vec::new(),
-            pair_w: Vec::new(),
+            pair_wg: Vec::new(),
+            pair_force: Vec::new(),
+            pair_kin: Vec::new(),
             chunk_sums: Vec::new(),
             rebuild_due: false,
         })
@@ -271,6 +277,7 @@ impl Solver {
         }
         self.pack();
         self.gather_forces();
+        self.gather_incoming_forces();
         contact::apply(self);
         self.book_boundaries();
         self.kick();
@@ -347,8 +354,10 @@ impl Solver {
         });
     }
 
-    /// Step 3: forces and conduction (pure per particle); caches the pair kernel values for
-    /// step 6 (re-reading the table there instead was 25 % slower overall).
+    /// Step 3a: forces and conduction over the half list. Each pair's terms are computed
+    /// once: the first partner's share is summed in place, the second partner's share
+    /// (equal and opposite force, opposite heat flow) is stored for step 3b; the pair kernel
+    /// values are kept for step 6.
     fn gather_forces(&mut self) {
         let table = &self.table;
         let m = self.particles.mass;
@@ -361,42 +370,45 @@ impl Solver {
         } else {
             0.0
         };
-        // dT/dt = conduction sum / (ρ c): heat capacity per volume kept physical under mass
-        // scaling.
-        let thermal = self.numerics.thermal;
-        let cp = &self.material.thermal.specific_heat;
-        let f_mass = self.numerics.mass_scaling;
-        let rho = &self.particles.rho;
         let packed = &self.packed;
         let nl = &self.neighbours;
-        let stride = nl.stride;
-        self.pair_g.resize(nl.index.len(), 0.0);
-        self.pair_w.resize(nl.index.len(), 0.0);
-        const CH: usize = 64;
+        let npairs = nl.pair_count();
+        self.pair_wg.resize(npairs, [0.0; 2]);
+        self.pair_force.resize(npairs, [0.0; 3]);
+        let pair_wg = DisjointMut::new(&mut self.pair_wg);
+        let pair_force = DisjointMut::new(&mut self.pair_force);
         self.rates
-            .par_chunks_mut(CH)
-            .zip(self.pair_g.par_chunks_mut(CH * stride))
-            .zip(self.pair_w.par_chunks_mut(CH * stride))
+            .par_chunks_mut(PAIR_CHUNK)
             .enumerate()
-            .for_each(|(ch, ((rates, pg), pw))| {
+            .for_each(|(ch, rates)| {
+                let first = ch * PAIR_CHUNK;
+                let pairs = nl.start[first] as usize..nl.start[first + rates.len()] as usize;
+                // SAFETY: chunks hold disjoint particles, hence disjoint half-list rows.
+                let (wg_out, force_out) = unsafe {
+                    (
+                        pair_wg.range(pairs.clone()),
+                        pair_force.range(pairs.clone()),
+                    )
+                };
                 crate::cpu::wide(|| {
                     for (k, out) in rates.iter_mut().enumerate() {
-                        let i = ch * CH + k;
+                        let i = first + k;
                         let a = packed[i];
-                        let (mut ax, mut ay, mut dtemp, mut av_power) = (0.0, 0.0, 0.0, 0.0);
-                        let list = nl.of(i);
-                        let row = k * stride..k * stride + list.len();
+                        let (mut ax, mut ay, mut cond, mut av_power) = (0.0, 0.0, 0.0, 0.0);
+                        let row = nl.pairs(i);
+                        let local = row.start - pairs.start..row.end - pairs.start;
                         // Branch-free: pairs in the skin (beyond 2h) get w = g = 0 and add nothing.
-                        for ((&j, pg), pw) in
-                            list.iter().zip(&mut pg[row.clone()]).zip(&mut pw[row])
+                        for ((&j, wg), to_j) in nl.index[row]
+                            .iter()
+                            .zip(&mut wg_out[local.clone()])
+                            .zip(&mut force_out[local])
                         {
                             let b = &packed[j as usize];
                             let dx = a.x - b.x;
                             let dy = a.y - b.y;
                             let r2 = dx * dx + dy * dy;
                             let [w, g, g_cond, h_visc] = table.at(r2);
-                            *pg = g;
-                            *pw = w;
+                            *wg = [w, g];
                             let gx = g * dx;
                             let gy = g * dy;
                             let dvx = a.vx - b.vx;
@@ -405,27 +417,61 @@ impl Solver {
                             // 1/ρ̄ taken as the mean of 1/ρ (equal to 1/mean ρ to O((Δρ/ρ)²)).
                             let mu = h_visc * (dvx * dx + dvy * dy).min(0.0);
                             let pi = (beta * mu - alpha * c) * mu * (a.inv_rho + b.inv_rho);
-                            av_power += 0.5 * m * m * pi * (dvx * gx + dvy * gy);
+                            // The pair's whole dissipation (both partners) is booked on i.
+                            av_power += m * m * pi * (dvx * gx + dvy * gy);
                             let f = w * inv_w_dx;
                             let f2 = f * f;
                             let f4 = as_on * f2 * f2;
                             let txx = a.txx + b.txx - pi + f4 * (a.rxx + b.rxx);
                             let txy = a.txy + b.txy + f4 * (a.rxy + b.rxy);
                             let tyy = a.tyy + b.tyy - pi + f4 * (a.ryy + b.ryy);
-                            ax += m * (txx * gx + txy * gy);
-                            ay += m * (txy * gx + tyy * gy);
-                            dtemp += b.vol * (a.k + b.k) * (a.temp - b.temp) * g_cond;
+                            let fx = m * (txx * gx + txy * gy);
+                            let fy = m * (txy * gx + tyy * gy);
+                            let q = (a.k + b.k) * (a.temp - b.temp) * g_cond;
+                            ax += fx;
+                            ay += fy;
+                            cond += b.vol * q;
+                            *to_j = [-fx, -fy, -a.vol * q];
                         }
                         out.ax = ax;
                         out.ay = ay;
-                        out.dtemp = if thermal {
-                            dtemp / (rho[i] / f_mass * cp.eval(a.temp))
-                        } else {
-                            0.0
-                        };
+                        out.dtemp = cond;
                         out.av_power = av_power;
                     }
                 })
+            });
+    }
+
+    /// Step 3b: every particle adds the shares stored for it by step 3a, then turns the
+    /// conduction sum into dT/dt = sum / (ρ c) (heat capacity per volume kept physical under
+    /// mass scaling).
+    fn gather_incoming_forces(&mut self) {
+        let thermal = self.numerics.thermal;
+        let cp = &self.material.thermal.specific_heat;
+        let f_mass = self.numerics.mass_scaling;
+        let rho = &self.particles.rho;
+        let temp = &self.particles.temp;
+        let nl = &self.neighbours;
+        let shares = &self.pair_force;
+        self.rates
+            .par_iter_mut()
+            .with_min_len(PAIR_CHUNK)
+            .enumerate()
+            .for_each(|(i, out)| {
+                let (mut ax, mut ay, mut cond) = (out.ax, out.ay, out.dtemp);
+                for &p in nl.incoming(i) {
+                    let [sx, sy, sc] = shares[p as usize];
+                    ax += sx;
+                    ay += sy;
+                    cond += sc;
+                }
+                out.ax = ax;
+                out.ay = ay;
+                out.dtemp = if thermal {
+                    cond / (rho[i] / f_mass * cp.eval(temp[i]))
+                } else {
+                    0.0
+                };
             });
     }
 
@@ -459,50 +505,65 @@ impl Solver {
             });
     }
 
-    /// Step 6: continuity, velocity gradient and XSPH from the new velocities.
+    /// Step 6: continuity, velocity gradient and XSPH from the new velocities, over the
+    /// half list (the second partner's share is stored and gathered in step 7).
     fn gather_kinematics(&mut self) {
         let m = self.particles.mass;
-        let eps_x = self.numerics.xsph;
         let packed = &self.packed;
         let nl = &self.neighbours;
-        let stride = nl.stride;
-        let (pg, pw) = (&self.pair_g, &self.pair_w);
+        let pair_wg = &self.pair_wg;
+        self.pair_kin.resize(nl.pair_count(), [0.0; 7]);
+        let pair_kin = DisjointMut::new(&mut self.pair_kin);
         self.rates
-            .par_iter_mut()
-            .with_min_len(64)
+            .par_chunks_mut(PAIR_CHUNK)
             .enumerate()
-            .for_each(|(i, out)| {
+            .for_each(|(ch, rates)| {
+                let first = ch * PAIR_CHUNK;
+                let pairs = nl.start[first] as usize..nl.start[first + rates.len()] as usize;
+                // SAFETY: chunks hold disjoint particles, hence disjoint half-list rows.
+                let kin_out = unsafe { pair_kin.range(pairs.clone()) };
                 crate::cpu::wide(|| {
-                    let a = packed[i];
-                    let (mut drho, mut lxx, mut lxy, mut lyx, mut lyy, mut xsx, mut xsy) =
-                        (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-                    let list = nl.of(i);
-                    let row = i * stride..i * stride + list.len();
-                    for ((&j, &g), &w) in list.iter().zip(&pg[row.clone()]).zip(&pw[row]) {
-                        if g == 0.0 {
-                            continue;
+                    for (k, out) in rates.iter_mut().enumerate() {
+                        let i = first + k;
+                        let a = packed[i];
+                        let mut s = [0.0; 7];
+                        let row = nl.pairs(i);
+                        let local = row.start - pairs.start..row.end - pairs.start;
+                        for ((&j, &[w, g]), to_j) in nl.index[row.clone()]
+                            .iter()
+                            .zip(&pair_wg[row])
+                            .zip(&mut kin_out[local])
+                        {
+                            let b = &packed[j as usize];
+                            let gx = g * (a.x - b.x);
+                            let gy = g * (a.y - b.y);
+                            let dvx = a.vx - b.vx;
+                            let dvy = a.vy - b.vy;
+                            // ρ̇ and the XSPH weight are symmetric in the pair; L takes the
+                            // partner's volume (∇_j W_ji = −∇_i W_ij and v_i − v_j flip
+                            // together, so the outer product is shared).
+                            let drho = m * (dvx * gx + dvy * gy);
+                            let (pxx, pxy, pyx, pyy) = (dvx * gx, dvx * gy, dvy * gx, dvy * gy);
+                            let wv = 0.5 * m * (a.inv_rho + b.inv_rho) * w;
+                            s[0] += drho;
+                            s[1] -= b.vol * pxx;
+                            s[2] -= b.vol * pxy;
+                            s[3] -= b.vol * pyx;
+                            s[4] -= b.vol * pyy;
+                            s[5] -= wv * dvx;
+                            s[6] -= wv * dvy;
+                            *to_j = [
+                                drho,
+                                -a.vol * pxx,
+                                -a.vol * pxy,
+                                -a.vol * pyx,
+                                -a.vol * pyy,
+                                wv * dvx,
+                                wv * dvy,
+                            ];
                         }
-                        let b = &packed[j as usize];
-                        let gx = g * (a.x - b.x);
-                        let gy = g * (a.y - b.y);
-                        let dvx = a.vx - b.vx;
-                        let dvy = a.vy - b.vy;
-                        drho += m * (dvx * gx + dvy * gy);
-                        lxx -= b.vol * dvx * gx;
-                        lxy -= b.vol * dvx * gy;
-                        lyx -= b.vol * dvy * gx;
-                        lyy -= b.vol * dvy * gy;
-                        let wv = 0.5 * m * (a.inv_rho + b.inv_rho) * w;
-                        xsx -= wv * dvx;
-                        xsy -= wv * dvy;
+                        out.kin = s;
                     }
-                    out.drho = drho;
-                    out.lxx = lxx;
-                    out.lxy = lxy;
-                    out.lyx = lyx;
-                    out.lyy = lyy;
-                    out.xsx = eps_x * xsx;
-                    out.xsy = eps_x * xsy;
                 })
             });
     }
@@ -544,7 +605,10 @@ impl Solver {
         let vlim2 = (self.numerics.max_speed_ratio * d.c_long).powi(2);
         let rates = &self.rates;
         let m = self.particles.mass;
-        let (x0, y0, moved_lim2) = self.neighbours.reference();
+        let eps_x = self.numerics.xsph;
+        let nl = &self.neighbours;
+        let kin_shares = &self.pair_kin;
+        let (x0, y0, moved_lim2) = nl.reference();
         let p = &mut self.particles;
         const CH: usize = 512;
         // (plastic work, max speed², first bad particle)
@@ -574,17 +638,24 @@ impl Solver {
                         let i = c * CH + k;
                         let r = &rates[i];
                         av += r.av_power;
+                        let mut kin = r.kin;
+                        for &q in nl.incoming(i) {
+                            for (s, t) in kin.iter_mut().zip(&kin_shares[q as usize]) {
+                                *s += t;
+                            }
+                        }
+                        let [drho, lxx, lxy, lyx, lyy, xsx, xsy] = kin;
                         let (nvx, nvy) = (vx[k], vy[k]);
-                        x[k] += dt * (nvx + r.xsx);
-                        y[k] += dt * (nvy + r.xsy);
+                        x[k] += dt * (nvx + eps_x * xsx);
+                        y[k] += dt * (nvy + eps_x * xsy);
                         moved2 = moved2.max((x[k] - x0[i]).powi(2) + (y[k] - y0[i]).powi(2));
-                        rho[k] += dt * r.drho;
+                        rho[k] += dt * drho;
                         pr[k] = d.c0_sq * (rho[k] - d.rho0);
                         // Jaumann rate of the deviatoric stress (plane strain).
-                        let dxx = r.lxx;
-                        let dyy = r.lyy;
-                        let dxy = 0.5 * (r.lxy + r.lyx);
-                        let w = 0.5 * (r.lxy - r.lyx);
+                        let dxx = lxx;
+                        let dyy = lyy;
+                        let dxy = 0.5 * (lxy + lyx);
+                        let w = 0.5 * (lxy - lyx);
                         let tr3 = (dxx + dyy) / 3.0;
                         let g2 = 2.0 * d.shear;
                         let (oxx, oxy, oyy) = (sxx[k], sxy[k], syy[k]);
