@@ -6,6 +6,10 @@
 //! f(0) > 0 and f at the upper end ≤ 0: Newton's method kept inside the shrinking bracket
 //! (bisection when a step leaves it) always converges, also where the ε^n hardening has an
 //! infinite slope at ε = 0. The deviator is then scaled by σ_y/σ_tr.
+//!
+//! Newton starts from the particle's previous increment when that lies inside the bracket:
+//! along a steady cut a particle's plastic rate changes little from step to step, so one or
+//! two evaluations (a power and a logarithm each) usually suffice.
 
 use greybox_material::JohnsonCook;
 
@@ -17,7 +21,10 @@ pub struct Return {
     pub flow_stress: f64,
 }
 
-/// Returns the deviator `s` = [xx, xy, yy, zz] to the yield surface in place.
+/// Returns the deviator `s` = [xx, xy, yy, zz] to the yield surface in place; `None` (and
+/// `s` untouched) when the trial stress is elastic. `guess` is a starting value for Δε (the
+/// previous step's increment; 0 when unknown).
+#[allow(clippy::too_many_arguments)] // the state of one particle and the step
 pub fn radial_return(
     jc: &JohnsonCook,
     shear: f64,
@@ -26,16 +33,18 @@ pub fn radial_return(
     temperature_k: f64,
     dt: f64,
     rate_scale: f64,
-) -> Return {
+    guess: f64,
+) -> Option<Return> {
     let ss = s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + 2.0 * s[1] * s[1];
     let trial = (1.5 * ss).sqrt();
     let soft = jc.thermal_factor(temperature_k);
+    // A·soft ≤ σ_y(0): most elastic particles need no power of ε_p.
+    if trial <= jc.a_pa * soft {
+        return None;
+    }
     let y0 = jc.hardening(eps_p) * soft;
     if trial <= y0 {
-        return Return {
-            d_eps: 0.0,
-            flow_stress: y0,
-        };
+        return None;
     }
     let g3 = 3.0 * shear;
     // f and f' at d: one power and one logarithm per evaluation.
@@ -67,7 +76,7 @@ pub fn radial_return(
     // Converged when the residual is below 10⁻¹⁰ of the trial stress (0.1 Pa per GPa) or
     // the step stalls.
     let (f_tol, d_tol) = (1e-10 * trial, 1e-14 * hi);
-    let mut d = hi;
+    let mut d = if guess > lo && guess < hi { guess } else { hi };
     for _ in 0..100 {
         let (f, df) = eval(d);
         if f.abs() <= f_tol {
@@ -93,10 +102,10 @@ pub fn radial_return(
     for v in s.iter_mut() {
         *v *= scale;
     }
-    Return {
+    Some(Return {
         d_eps: d,
         flow_stress: y,
-    }
+    })
 }
 
 #[cfg(test)]
@@ -111,7 +120,7 @@ mod tests {
         let g = 80e9;
         for (t, amp) in [(293.15, 2e9), (700.0, 1e9), (1700.0, 5e8), (2000.0, 5e8)] {
             let mut s = [amp, 0.3 * amp, -0.4 * amp, -0.6 * amp];
-            let r = radial_return(&jc, g, &mut s, 0.1, t, 1e-9, 1.0);
+            let r = radial_return(&jc, g, &mut s, 0.1, t, 1e-9, 1.0, 0.0).unwrap();
             let vm = (1.5 * (s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + 2.0 * s[1] * s[1])).sqrt();
             let want = jc.flow_stress(0.1 + r.d_eps, r.d_eps / 1e-9, t);
             assert!(
@@ -123,8 +132,8 @@ mod tests {
         // Elastic: untouched.
         let mut s = [1e6, 0.0, -1e6, 0.0];
         assert_eq!(
-            radial_return(&jc, g, &mut s, 0.0, 293.15, 1e-9, 1.0).d_eps,
-            0.0
+            radial_return(&jc, g, &mut s, 0.0, 293.15, 1e-9, 1.0, 0.0),
+            None
         );
         assert_eq!(s, [1e6, 0.0, -1e6, 0.0]);
     }

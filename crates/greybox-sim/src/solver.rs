@@ -313,7 +313,8 @@ impl Solver {
             if eps > 0.0 {
                 let c = 0.5 * (sxx + syy);
                 let d = 0.5 * (sxx - syy);
-                let r = d.hypot(sxy);
+                // sqrt, not hypot: stresses are far from overflow and hypot is slow.
+                let r = (d * d + sxy * sxy).sqrt();
                 let (s1, s2) = (c + r, c - r);
                 if s1 > 0.0 {
                     let r1 = -eps * s1 * ir2;
@@ -667,13 +668,20 @@ impl Solver {
                         if thermal {
                             t_new += dt * r.dtemp;
                         }
+                        let previous_increment = erate[k] * dt;
                         erate[k] = 0.0;
                         if let Some(jc) = &jc {
                             let mut s = [sxx[k], sxy[k], syy[k], szz[k]];
-                            let ret = plasticity::radial_return(
-                                jc, d.shear, &mut s, eps[k], temp[k], dt, rate_scale,
-                            );
-                            if ret.d_eps > 0.0 {
+                            if let Some(ret) = plasticity::radial_return(
+                                jc,
+                                d.shear,
+                                &mut s,
+                                eps[k],
+                                temp[k],
+                                dt,
+                                rate_scale,
+                                previous_increment,
+                            ) {
                                 sxx[k] = s[0];
                                 sxy[k] = s[1];
                                 syy[k] = s[2];
