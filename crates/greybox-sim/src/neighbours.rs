@@ -25,6 +25,8 @@ pub struct NeighbourList {
     pub rev_start: Vec<u32>,
     /// Pair numbers (positions in `index`) whose second partner is the row's particle.
     pub rev_pair: Vec<u32>,
+    /// The first partner of each of those pairs.
+    pub rev_first: Vec<u32>,
     /// Positions at the last build.
     x0: Vec<f64>,
     y0: Vec<f64>,
@@ -147,11 +149,16 @@ impl NeighbourList {
         counting_offsets(&self.index, n, &mut self.rev_start);
         self.rev_pair.clear();
         self.rev_pair.resize(total as usize, 0);
+        self.rev_first.clear();
+        self.rev_first.resize(total as usize, 0);
         self.cell_fill.clone_from(&self.rev_start);
-        for (p, &j) in self.index.iter().enumerate() {
-            let slot = &mut self.cell_fill[j as usize];
-            self.rev_pair[*slot as usize] = p as u32;
-            *slot += 1;
+        for i in 0..n {
+            for p in self.pairs(i) {
+                let slot = &mut self.cell_fill[self.index[p] as usize];
+                self.rev_pair[*slot as usize] = p as u32;
+                self.rev_first[*slot as usize] = i as u32;
+                *slot += 1;
+            }
         }
         self.x0.clear();
         self.x0.extend_from_slice(x);
@@ -169,7 +176,18 @@ impl NeighbourList {
     /// The pairs in which particle j is the second partner.
     #[inline]
     pub fn incoming(&self, j: usize) -> &[u32] {
-        &self.rev_pair[self.rev_start[j] as usize..self.rev_start[j + 1] as usize]
+        &self.rev_pair[self.incoming_range(j)]
+    }
+
+    /// The first partners of the pairs in which particle j is the second partner.
+    #[inline]
+    pub fn incoming_first(&self, j: usize) -> &[u32] {
+        &self.rev_first[self.incoming_range(j)]
+    }
+
+    #[inline]
+    fn incoming_range(&self, j: usize) -> std::ops::Range<usize> {
+        self.rev_start[j] as usize..self.rev_start[j + 1] as usize
     }
 
     /// Number of pairs (each counted once).
@@ -218,10 +236,10 @@ mod tests {
             assert!(nl.index[nl.pairs(i)].iter().all(|&j| j as usize > i));
             let mut got: Vec<u32> = nl.index[nl.pairs(i)].to_vec();
             // The pairs in which i is the second partner, by their first partner.
-            for &p in nl.incoming(i) {
+            for (&p, &f) in nl.incoming(i).iter().zip(nl.incoming_first(i)) {
                 assert_eq!(nl.index[p as usize] as usize, i);
-                let first = nl.start.partition_point(|&s| s as usize <= p as usize) - 1;
-                got.push(first as u32);
+                assert!(nl.pairs(f as usize).contains(&(p as usize)));
+                got.push(f);
             }
             got.sort();
             let want: Vec<u32> = (0..x.len() as u32)

@@ -98,8 +98,7 @@ pub struct EnergyBalance {
 pub(crate) struct Rates {
     pub ax: f64,
     pub ay: f64,
-    /// Kinematics sums over the particle's own half-list row: ρ̇, L_xx, L_xy, L_yx, L_yy and
-    /// the XSPH sums (before ε); step 7 adds the shares stored by the other partners.
+    /// Kinematics sums: ρ̇, L_xx, L_xy, L_yx, L_yy and the XSPH sums (before ε).
     pub kin: [f64; 7],
     /// dT/dt, K/s (conduction, then friction heating).
     pub dtemp: f64,
@@ -168,9 +167,6 @@ pub struct Solver {
     /// Per pair: the second partner's share of the force pass (acceleration x, y and the
     /// conduction sum), gathered through the reverse lists.
     pair_force: Vec<[f64; 3]>,
-    /// Per pair: the second partner's share of the kinematics pass (ρ̇, L_xx, L_xy, L_yx,
-    /// L_yy and the XSPH sums before the factor ε).
-    pair_kin: Vec<[f64; 7]>,
     /// Per update chunk: (plastic work, viscous power, first bad particle, largest squared
     /// displacement since the last neighbour build).
     chunk_sums: Vec<(f64, f64, usize, f64)>,
@@ -251,7 +247,6 @@ impl Solver {
             packed: vec![Packed::default(); n],
             pair_wg: Vec::new(),
             pair_force: Vec::new(),
-            pair_kin: Vec::new(),
             chunk_sums: Vec::new(),
             rebuild_due: false,
         })
@@ -506,65 +501,46 @@ impl Solver {
             });
     }
 
-    /// Step 6: continuity, velocity gradient and XSPH from the new velocities, over the
-    /// half list (the second partner's share is stored and gathered in step 7).
+    /// Step 6: continuity, velocity gradient and XSPH from the new velocities. Each
+    /// particle visits its own half-list row and its incoming pairs, with the pair kernel
+    /// values of step 3a (this light pass recomputes the pair terms from both sides: storing
+    /// the partner's seven shares per pair and reading them back was slower).
     fn gather_kinematics(&mut self) {
         let m = self.particles.mass;
         let packed = &self.packed;
         let nl = &self.neighbours;
         let pair_wg = &self.pair_wg;
-        self.pair_kin.resize(nl.pair_count(), [0.0; 7]);
-        let pair_kin = DisjointMut::new(&mut self.pair_kin);
         self.rates
-            .par_chunks_mut(PAIR_CHUNK)
+            .par_iter_mut()
+            .with_min_len(PAIR_CHUNK)
             .enumerate()
-            .for_each(|(ch, rates)| {
-                let first = ch * PAIR_CHUNK;
-                let pairs = nl.start[first] as usize..nl.start[first + rates.len()] as usize;
-                // SAFETY: chunks hold disjoint particles, hence disjoint half-list rows.
-                let kin_out = unsafe { pair_kin.range(pairs.clone()) };
+            .for_each(|(i, out)| {
                 crate::cpu::wide(|| {
-                    for (k, out) in rates.iter_mut().enumerate() {
-                        let i = first + k;
-                        let a = packed[i];
-                        let mut s = [0.0; 7];
-                        let row = nl.pairs(i);
-                        let local = row.start - pairs.start..row.end - pairs.start;
-                        for ((&j, &[w, g]), to_j) in nl.index[row.clone()]
-                            .iter()
-                            .zip(&pair_wg[row])
-                            .zip(&mut kin_out[local])
-                        {
-                            let b = &packed[j as usize];
-                            let gx = g * (a.x - b.x);
-                            let gy = g * (a.y - b.y);
-                            let dvx = a.vx - b.vx;
-                            let dvy = a.vy - b.vy;
-                            // ρ̇ and the XSPH weight are symmetric in the pair; L takes the
-                            // partner's volume (∇_j W_ji = −∇_i W_ij and v_i − v_j flip
-                            // together, so the outer product is shared).
-                            let drho = m * (dvx * gx + dvy * gy);
-                            let (pxx, pxy, pyx, pyy) = (dvx * gx, dvx * gy, dvy * gx, dvy * gy);
-                            let wv = 0.5 * m * (a.inv_rho + b.inv_rho) * w;
-                            s[0] += drho;
-                            s[1] -= b.vol * pxx;
-                            s[2] -= b.vol * pxy;
-                            s[3] -= b.vol * pyx;
-                            s[4] -= b.vol * pyy;
-                            s[5] -= wv * dvx;
-                            s[6] -= wv * dvy;
-                            *to_j = [
-                                drho,
-                                -a.vol * pxx,
-                                -a.vol * pxy,
-                                -a.vol * pyx,
-                                -a.vol * pyy,
-                                wv * dvx,
-                                wv * dvy,
-                            ];
-                        }
-                        out.kin = s;
+                    let a = &packed[i];
+                    let mut s = [0.0; 7];
+                    let mut add = |j: u32, [w, g]: [f64; 2]| {
+                        let b = &packed[j as usize];
+                        let gx = g * (a.x - b.x);
+                        let gy = g * (a.y - b.y);
+                        let dvx = a.vx - b.vx;
+                        let dvy = a.vy - b.vy;
+                        s[0] += m * (dvx * gx + dvy * gy);
+                        s[1] -= b.vol * dvx * gx;
+                        s[2] -= b.vol * dvx * gy;
+                        s[3] -= b.vol * dvy * gx;
+                        s[4] -= b.vol * dvy * gy;
+                        let wv = 0.5 * m * (a.inv_rho + b.inv_rho) * w;
+                        s[5] -= wv * dvx;
+                        s[6] -= wv * dvy;
+                    };
+                    let row = nl.pairs(i);
+                    for (&j, &wg) in nl.index[row.clone()].iter().zip(&pair_wg[row]) {
+                        add(j, wg);
                     }
+                    for (&p, &f) in nl.incoming(i).iter().zip(nl.incoming_first(i)) {
+                        add(f, pair_wg[p as usize]);
+                    }
+                    out.kin = s;
                 })
             });
     }
@@ -607,9 +583,7 @@ impl Solver {
         let rates = &self.rates;
         let m = self.particles.mass;
         let eps_x = self.numerics.xsph;
-        let nl = &self.neighbours;
-        let kin_shares = &self.pair_kin;
-        let (x0, y0, moved_lim2) = nl.reference();
+        let (x0, y0, moved_lim2) = self.neighbours.reference();
         let p = &mut self.particles;
         const CH: usize = 512;
         // (plastic work, max speed², first bad particle)
@@ -639,13 +613,7 @@ impl Solver {
                         let i = c * CH + k;
                         let r = &rates[i];
                         av += r.av_power;
-                        let mut kin = r.kin;
-                        for &q in nl.incoming(i) {
-                            for (s, t) in kin.iter_mut().zip(&kin_shares[q as usize]) {
-                                *s += t;
-                            }
-                        }
-                        let [drho, lxx, lxy, lyx, lyy, xsx, xsy] = kin;
+                        let [drho, lxx, lxy, lyx, lyy, xsx, xsy] = r.kin;
                         let (nvx, nvy) = (vx[k], vy[k]);
                         x[k] += dt * (nvx + eps_x * xsx);
                         y[k] += dt * (nvy + eps_x * xsy);
