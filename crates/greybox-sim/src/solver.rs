@@ -106,8 +106,10 @@ pub(crate) struct Rates {
     pub av_power: f64,
 }
 
-/// Per-particle data packed for the gather (one cache-friendly record per particle).
+/// Per-particle data packed for the gather: one record of exactly two cache lines, the
+/// fields of the kinematics pass in the first.
 #[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(64))]
 pub(crate) struct Packed {
     x: f64,
     y: f64,
