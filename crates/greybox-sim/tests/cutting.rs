@@ -106,6 +106,7 @@ fn greybox_loop_sets_each_window_to_the_law_at_its_recorded_state() {
     assert!(rel > 0.01, "forces differ by only {:.2} %", 100.0 * rel);
 }
 
+/// Same set-up, same bytes: twice, and on one and on two threads.
 #[test]
 fn same_setup_same_bytes() {
     let mut setup = coarse_cut();
@@ -117,7 +118,17 @@ fn same_setup_same_bytes() {
             r.updater.history.iter().map(|u| u.mu).collect::<Vec<_>>(),
         )
     };
-    assert_eq!(run(), run());
+    // The half-list sums run in one fixed order: the same bytes on any thread count.
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(run)
+    };
+    let one = on(1);
+    assert_eq!(one, on(2));
+    assert_eq!(one, run());
 }
 
 #[test]
