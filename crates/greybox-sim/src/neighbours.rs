@@ -15,18 +15,21 @@
 use crate::disjoint::DisjointMut;
 use rayon::prelude::*;
 
+/// The lists are private and written only by [`NeighbourList::build`]: the solver's
+/// parallel pair passes rely on the row offsets never decreasing (disjoint pair ranges per
+/// particle chunk).
 #[derive(Debug, Clone, Default)]
 pub struct NeighbourList {
-    /// Row offsets of the half lists (n + 1 entries).
-    pub start: Vec<u32>,
+    /// Row offsets of the half lists (n + 1 entries, non-decreasing).
+    start: Vec<u32>,
     /// Second partners j > i of every pair, row by row.
-    pub index: Vec<u32>,
+    index: Vec<u32>,
     /// Row offsets of the reverse lists (n + 1 entries).
-    pub rev_start: Vec<u32>,
+    rev_start: Vec<u32>,
     /// Pair numbers (positions in `index`) whose second partner is the row's particle.
-    pub rev_pair: Vec<u32>,
+    rev_pair: Vec<u32>,
     /// The first partner of each of those pairs.
-    pub rev_first: Vec<u32>,
+    rev_first: Vec<u32>,
     /// Positions at the last build.
     x0: Vec<f64>,
     y0: Vec<f64>,
@@ -129,7 +132,9 @@ impl NeighbourList {
         self.start.push(0);
         let mut total = 0u32;
         for &k in &self.count {
-            total += k;
+            total = total
+                .checked_add(k)
+                .expect("more than 2³² − 1 neighbour pairs: the model is too large for u32 lists");
             self.start.push(total);
         }
         self.index.clear();
@@ -167,10 +172,22 @@ impl NeighbourList {
         self.builds += 1;
     }
 
-    /// Pair numbers of particle i's half-list row (its partners are `index[pairs(i)]`).
+    /// Pair numbers of particle i's half-list row.
     #[inline]
     pub fn pairs(&self, i: usize) -> std::ops::Range<usize> {
         self.start[i] as usize..self.start[i + 1] as usize
+    }
+
+    /// Pair numbers of the rows of particles `first..last` (contiguous).
+    #[inline]
+    pub fn pairs_of_particles(&self, first: usize, last: usize) -> std::ops::Range<usize> {
+        self.start[first] as usize..self.start[last] as usize
+    }
+
+    /// Particle i's partners j > i, in the order of its pair numbers.
+    #[inline]
+    pub fn partners(&self, i: usize) -> &[u32] {
+        &self.index[self.pairs(i)]
     }
 
     /// The pairs in which particle j is the second partner.

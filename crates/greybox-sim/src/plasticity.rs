@@ -4,12 +4,15 @@
 //! With a trial von Mises stress σ_tr above the flow stress, the plastic increment Δε solves
 //! f(Δε) = σ_tr − 3GΔε − σ_JC(ε_p + Δε, Δε/Δt, T) = 0 on [0, (σ_tr − σ_y(0))/3G], where
 //! f(0) > 0 and f at the upper end ≤ 0: Newton's method kept inside the shrinking bracket
-//! (bisection when a step leaves it) always converges, also where the ε^n hardening has an
-//! infinite slope at ε = 0. The deviator is then scaled by σ_y/σ_tr.
+//! (bisection when a step leaves it or moves by less than 10⁻¹⁴ Δε) always converges, also
+//! where the ε^n hardening has an infinite slope at ε = 0. The deviator is then scaled by
+//! σ_y/σ_tr.
 //!
 //! Newton starts from the particle's previous increment when that lies inside the bracket:
-//! along a steady cut a particle's plastic rate changes little from step to step, so one or
-//! two evaluations (a power and a logarithm each) usually suffice.
+//! along a steady cut a particle's plastic rate changes little from step to step, and about
+//! three evaluations (a power and a logarithm each) remain. A start far from the root, such
+//! as a tiny first-yield increment on the steep ε^n branch, makes Newton crawl; bisection
+//! then takes over.
 
 use greybox_material::JohnsonCook;
 
@@ -38,7 +41,7 @@ pub fn radial_return(
     let ss = s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + 2.0 * s[1] * s[1];
     let trial = (1.5 * ss).sqrt();
     let soft = jc.thermal_factor(temperature_k);
-    // A·soft ≤ σ_y(0): most elastic particles need no power of ε_p.
+    // A·soft ≤ σ_y(0) since B ≥ 0 (validated): most elastic particles need no power of ε_p.
     if trial <= jc.a_pa * soft {
         return None;
     }
@@ -73,11 +76,12 @@ pub fn radial_return(
     // converges quadratically from the right end; the bracket guards the ε^n and ln(ε̇)
     // terms, whose slopes are unbounded at ε = 0 and Δε = 0.
     let (mut lo, mut hi) = (0.0, (trial - y0) / g3);
-    // Converged when the residual is below 10⁻¹⁰ of the trial stress (0.1 Pa per GPa) or
-    // the step stalls.
-    let (f_tol, d_tol) = (1e-10 * trial, 1e-14 * hi);
+    // Converged when the residual is below 10⁻¹⁰ of the trial stress (0.1 Pa per GPa), or
+    // when the bracket has shrunk to 10⁻¹⁴ of Δε (at the very first yield the ε^n slope can
+    // put the residual tolerance out of floating-point reach).
+    let (f_tol, rel) = (1e-10 * trial, 1e-14);
     let mut d = if guess > lo && guess < hi { guess } else { hi };
-    for _ in 0..100 {
+    for _ in 0..200 {
         let (f, df) = eval(d);
         if f.abs() <= f_tol {
             break;
@@ -87,15 +91,17 @@ pub fn radial_return(
         } else {
             hi = d;
         }
-        let mut next = d - f / df;
-        if !(next > lo && next < hi) {
-            next = 0.5 * (lo + hi);
-        }
-        let step = (next - d).abs();
-        d = next;
-        if step <= d_tol {
+        if hi - lo <= rel * hi {
             break;
         }
+        // Bisect when Newton leaves the bracket or crawls: a warm start far left of the
+        // root on the steep ε^n branch moves by less than the tolerance per step.
+        let newton = d - f / df;
+        d = if newton > lo && newton < hi && (newton - d).abs() > rel * d {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
     }
     let y = (trial - g3 * d).max(0.0);
     let scale = y / trial;
@@ -136,5 +142,34 @@ mod tests {
             None
         );
         assert_eq!(s, [1e6, 0.0, -1e6, 0.0]);
+    }
+
+    /// A warm start far left of the root (a previous first-yield increment of 10⁻²⁶ while
+    /// the next step's overstress is 0.24 MPa) still lands on the yield surface: on the
+    /// steep ε^n branch Newton's steps there are below the tolerance, and stopping on them
+    /// left the whole overstress in place.
+    #[test]
+    fn warm_start_far_from_the_root_still_converges() {
+        let jc = JohnsonCook::aisi1045_article();
+        let g = 80e9;
+        let dt = 1e-9;
+        for (eps_p, over, guess) in [
+            (0.0, 2.4e5, 1e-26),
+            (1e-20, 2.4e5, 1e-26),
+            (0.0, 1e2, 1e-12),
+            (0.05, 5e7, 1e-12),
+            (0.05, 5e7, 0.0),
+        ] {
+            let y0 = jc.hardening(eps_p);
+            let amp = (y0 + over) / (1.5f64 * 2.0).sqrt();
+            let mut s = [amp, 0.0, -amp, 0.0];
+            let r = radial_return(&jc, g, &mut s, eps_p, 293.15, dt, 1.0, guess).unwrap();
+            let vm = (1.5 * (s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + 2.0 * s[1] * s[1])).sqrt();
+            let want = jc.flow_stress(eps_p + r.d_eps, r.d_eps / dt, 293.15);
+            assert!(
+                (vm - want).abs() <= 1e-6 * want,
+                "eps_p {eps_p}, overstress {over} Pa, guess {guess}: {vm} vs {want}"
+            );
+        }
     }
 }

@@ -4,13 +4,17 @@
 //! 2001; Libersky & Petschek 1991):
 //! 1. rebuild the Verlet lists if a particle moved more than half the skin;
 //! 2. per particle: pack σ/ρ², m/ρ, the artificial stress R and the conductivity (pure map);
-//! 3. force gather over neighbours (pure per particle, no writes to neighbours; the kernel
-//!    values of each pair are cached for step 6):
+//! 3. forces and conduction over the symmetric half list (each pair once; the kernel values
+//!    of each pair are cached for step 6): (a) a pass over every particle's own row sums its
+//!    share and writes the partner's share (equal and opposite force — all particles have
+//!    the same mass — and opposite heat flow) into a per-pair slot; (b) every particle adds
+//!    the slots of its incoming pairs through the reverse lists. No two threads write the
+//!    same memory and every sum runs in a fixed order: the same bytes on any thread count.
 //!    * momentum    dv_i/dt = Σ_j m (σ_i/ρ_i² + σ_j/ρ_j² − Π_ij I + f_ij⁴ (R_i + R_j))·∇_i W_ij,
 //!    * Brookshaw   ρ c dT/dt = Σ_j (m/ρ_j)(k_i + k_j)(T_i − T_j) r_ij·∇_i W_ij / (r² + 0.01h²);
 //! 4. rigid-tool contact: penalty f_N = α m g/Δt², incremental Coulomb friction per window;
 //! 5. kick: v ← v + Δt a, prescribed velocities;
-//! 6. kinematics gather with the *new* velocities:
+//! 6. kinematics gather with the *new* velocities (own row and incoming pairs):
 //!    * continuity  dρ_i/dt = Σ_j m (v_i − v_j)·∇_i W_ij,
 //!    * velocity gradient L_i = Σ_j (m/ρ_j)(v_j − v_i) ⊗ ∇_i W_ij,
 //!    * XSPH        v̂_i = v_i + ε Σ_j (m/ρ̄_ij)(v_j − v_i) W_ij, 1/ρ̄_ij = (1/ρ_i + 1/ρ_j)/2;
@@ -98,11 +102,14 @@ pub struct EnergyBalance {
 pub(crate) struct Rates {
     pub ax: f64,
     pub ay: f64,
-    /// Kinematics sums: ρ̇, L_xx, L_xy, L_yx, L_yy and the XSPH sums (before ε).
+    /// Kinematics sums: ρ̇ (kg/(m³·s)), L_xx, L_xy, L_yx, L_yy (1/s) and the XSPH velocity
+    /// correction before the factor ε (m/s).
     pub kin: [f64; 7],
-    /// dT/dt, K/s (conduction, then friction heating).
+    /// dT/dt, K/s (conduction, then friction heating). Between steps 3a and 3b it holds the
+    /// raw conduction sum ρ c dT/dt, W/m³.
     pub dtemp: f64,
-    /// Artificial-viscosity dissipation rate, W/m.
+    /// Artificial-viscosity dissipation of the pairs whose first partner is this particle,
+    /// W/m (only the total over all particles is meaningful).
     pub av_power: f64,
 }
 
@@ -163,11 +170,11 @@ pub struct Solver {
     pub group_force: Vec<[f64; 2]>,
     pub(crate) rates: Vec<Rates>,
     pub(crate) packed: Vec<Packed>,
-    /// Per pair of the half list: W and (1/r) dW/dr at the current positions (computed by
-    /// the force pass, reused by the kinematics pass).
+    /// Per pair of the half list: W (1/m²) and (1/r) dW/dr (1/m⁴) at the current positions
+    /// (computed by the force pass, reused by the kinematics pass).
     pair_wg: Vec<[f64; 2]>,
-    /// Per pair: the second partner's share of the force pass (acceleration x, y and the
-    /// conduction sum), gathered through the reverse lists.
+    /// Per pair: the second partner's share of the force pass — acceleration x, y (m/s²) and
+    /// the conduction term ρ c dT/dt (W/m³) — gathered through the reverse lists.
     pair_force: Vec<[f64; 3]>,
     /// Per update chunk: (plastic work, viscous power, first bad particle, largest squared
     /// displacement since the last neighbour build).
@@ -380,8 +387,9 @@ impl Solver {
             .enumerate()
             .for_each(|(ch, rates)| {
                 let first = ch * PAIR_CHUNK;
-                let pairs = nl.start[first] as usize..nl.start[first + rates.len()] as usize;
-                // SAFETY: chunks hold disjoint particles, hence disjoint half-list rows.
+                let pairs = nl.pairs_of_particles(first, first + rates.len());
+                // SAFETY: chunks hold disjoint particles, hence disjoint half-list rows (the
+                // row offsets are non-decreasing, see `NeighbourList`).
                 let (wg_out, force_out) = unsafe {
                     (
                         pair_wg.range(pairs.clone()),
@@ -396,7 +404,8 @@ impl Solver {
                         let row = nl.pairs(i);
                         let local = row.start - pairs.start..row.end - pairs.start;
                         // Branch-free: pairs in the skin (beyond 2h) get w = g = 0 and add nothing.
-                        for ((&j, wg), to_j) in nl.index[row]
+                        for ((&j, wg), to_j) in nl
+                            .partners(i)
                             .iter()
                             .zip(&mut wg_out[local.clone()])
                             .zip(&mut force_out[local])
@@ -536,7 +545,7 @@ impl Solver {
                         s[6] -= wv * dvy;
                     };
                     let row = nl.pairs(i);
-                    for (&j, &wg) in nl.index[row.clone()].iter().zip(&pair_wg[row]) {
+                    for (&j, &wg) in nl.partners(i).iter().zip(&pair_wg[row]) {
                         add(j, wg);
                     }
                     for (&p, &f) in nl.incoming(i).iter().zip(nl.incoming_first(i)) {

@@ -69,7 +69,9 @@ enum Command {
 fn main() {
     // The main thread joins rayon's global pool as worker 0, so that every parallel pass of
     // the solver starts on a worker instead of being handed across threads (the hand-off
-    // was ≈ 7 % of a solver step on one thread). greybox starts no other threads.
+    // was ≈ 7 % of a solver step on one thread). greybox starts no other threads; code that
+    // did (or a `rayon::spawn` waited on outside the pool) could hang with
+    // RAYON_NUM_THREADS=1, where the main thread is the whole pool.
     if let Err(e) = rayon::ThreadPoolBuilder::new()
         .use_current_thread()
         .build_global()
