@@ -128,15 +128,10 @@ impl NeighbourList {
             *k = m;
         });
         self.start.clear();
-        self.start.reserve(n + 1);
         self.start.push(0);
-        let mut total = 0u32;
-        for &k in &self.count {
-            total = total
-                .checked_add(k)
-                .expect("more than 2³² − 1 neighbour pairs: the model is too large for u32 lists");
-            self.start.push(total);
-        }
+        self.start.extend_from_slice(&self.count);
+        accumulate(&mut self.start);
+        let total = self.start[n];
         self.index.clear();
         self.index.resize(total as usize, 0);
         let rows = DisjointMut::new(&mut self.index);
@@ -220,8 +215,15 @@ fn counting_offsets(keys: &[u32], nkeys: usize, offsets: &mut Vec<u32>) {
     for &k in keys {
         offsets[k as usize + 1] += 1;
     }
-    for k in 0..nkeys {
-        offsets[k + 1] += offsets[k];
+    accumulate(offsets);
+}
+
+/// Running sums in place: counts (after a leading 0) become row offsets.
+fn accumulate(offsets: &mut [u32]) {
+    for k in 1..offsets.len() {
+        offsets[k] = offsets[k]
+            .checked_add(offsets[k - 1])
+            .expect("more than 2³² − 1 neighbour pairs: the model is too large for u32 lists");
     }
 }
 
