@@ -76,6 +76,131 @@ impl ForceUnit {
     pub fn parse(s: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|u| u.symbol() == s.trim())
     }
+    /// Parse a unit as rig software spells it in column names: the SI symbols, and also
+    /// `KN`, `kn`, `n`, `DAN`, `LBF`, `lb`. `MN` stays unknown (meganewton or millinewton?).
+    pub fn parse_lenient(s: &str) -> Option<Self> {
+        let t = s.trim();
+        Self::parse(t).or(match t {
+            "n" => Some(ForceUnit::Newton),
+            "KN" | "kn" | "Kn" => Some(ForceUnit::Kilonewton),
+            "DAN" | "dan" | "DaN" => Some(ForceUnit::Decanewton),
+            "LBF" | "lb" | "lbs" | "Lbf" => Some(ForceUnit::PoundForce),
+            _ => None,
+        })
+    }
+}
+
+/// A speed unit of a recorded speed channel: a spindle speed (needs the track radius to
+/// become a sliding velocity) or a sliding velocity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum SpeedUnit {
+    /// Revolutions per minute.
+    #[serde(rename = "rpm")]
+    Rpm,
+    /// Revolutions per second.
+    #[serde(rename = "rps")]
+    RevPerSecond,
+    #[serde(rename = "m/s")]
+    MetrePerSecond,
+    #[serde(rename = "mm/s")]
+    MillimetrePerSecond,
+    #[serde(rename = "cm/s")]
+    CentimetrePerSecond,
+    #[serde(rename = "m/min")]
+    MetrePerMinute,
+}
+
+impl SpeedUnit {
+    pub const ALL: [SpeedUnit; 6] = [
+        SpeedUnit::Rpm,
+        SpeedUnit::RevPerSecond,
+        SpeedUnit::MetrePerSecond,
+        SpeedUnit::MillimetrePerSecond,
+        SpeedUnit::CentimetrePerSecond,
+        SpeedUnit::MetrePerMinute,
+    ];
+    pub fn symbol(self) -> &'static str {
+        match self {
+            SpeedUnit::Rpm => "rpm",
+            SpeedUnit::RevPerSecond => "rps",
+            SpeedUnit::MetrePerSecond => "m/s",
+            SpeedUnit::MillimetrePerSecond => "mm/s",
+            SpeedUnit::CentimetrePerSecond => "cm/s",
+            SpeedUnit::MetrePerMinute => "m/min",
+        }
+    }
+    /// True for spindle speeds (revolutions per time), false for sliding velocities.
+    pub fn is_rotational(self) -> bool {
+        matches!(self, SpeedUnit::Rpm | SpeedUnit::RevPerSecond)
+    }
+    /// Factor to rpm (rotational units) or to m/s (sliding units).
+    pub fn to_base(self) -> f64 {
+        match self {
+            SpeedUnit::Rpm => 1.0,
+            SpeedUnit::RevPerSecond => 60.0,
+            SpeedUnit::MetrePerSecond => 1.0,
+            SpeedUnit::MillimetrePerSecond => 1.0e-3,
+            SpeedUnit::CentimetrePerSecond => 1.0e-2,
+            SpeedUnit::MetrePerMinute => 1.0 / S_PER_MIN,
+        }
+    }
+    /// Parse the usual spellings: `rpm`, `1/min`, `min^-1`, `min-1`, `U/min`, `r/min`,
+    /// `rev/min`, `rps`, `1/s` is *not* accepted (ambiguous), `Hz`/`rev/s` for rps, `m/s`,
+    /// `mm/s`, `cm/s`, `m/min`, `mps`, the `_per_` forms (`m_per_s`, `m_per_min`, `mm_per_s`).
+    pub fn parse(s: &str) -> Option<Self> {
+        let t = s.trim().to_ascii_lowercase().replace(' ', "");
+        Some(match t.as_str() {
+            "rpm" | "1/min" | "min^-1" | "min-1" | "min⁻¹" | "u/min" | "r/min" | "rev/min"
+            | "rev_per_min" => SpeedUnit::Rpm,
+            "rps" | "rev/s" | "hz" | "rev_per_s" => SpeedUnit::RevPerSecond,
+            "m/s" | "mps" | "m_per_s" => SpeedUnit::MetrePerSecond,
+            "mm/s" | "mm_per_s" => SpeedUnit::MillimetrePerSecond,
+            "cm/s" | "cm_per_s" => SpeedUnit::CentimetrePerSecond,
+            "m/min" | "m_per_min" | "mpm" => SpeedUnit::MetrePerMinute,
+            _ => return None,
+        })
+    }
+}
+
+/// A length unit (track radius columns and flags); converts to metres.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum LengthUnit {
+    #[serde(rename = "m")]
+    Metre,
+    #[serde(rename = "cm")]
+    Centimetre,
+    #[serde(rename = "mm")]
+    Millimetre,
+    #[serde(rename = "um")]
+    Micrometre,
+}
+
+impl LengthUnit {
+    pub fn to_metre(self) -> f64 {
+        match self {
+            LengthUnit::Metre => 1.0,
+            LengthUnit::Centimetre => 1.0e-2,
+            LengthUnit::Millimetre => 1.0e-3,
+            LengthUnit::Micrometre => 1.0e-6,
+        }
+    }
+    pub fn symbol(self) -> &'static str {
+        match self {
+            LengthUnit::Metre => "m",
+            LengthUnit::Centimetre => "cm",
+            LengthUnit::Millimetre => "mm",
+            LengthUnit::Micrometre => "um",
+        }
+    }
+    pub fn parse(s: &str) -> Option<Self> {
+        match s.trim() {
+            "m" => Some(LengthUnit::Metre),
+            "cm" => Some(LengthUnit::Centimetre),
+            "mm" => Some(LengthUnit::Millimetre),
+            "um" | "µm" | "μm" => Some(LengthUnit::Micrometre),
+            _ => None,
+        }
+    }
 }
 
 /// A time unit as it may appear in a recording column; converts to seconds.
@@ -87,6 +212,10 @@ pub enum TimeUnit {
     Millisecond,
     #[serde(rename = "us")]
     Microsecond,
+    #[serde(rename = "min")]
+    Minute,
+    #[serde(rename = "h")]
+    Hour,
 }
 
 impl TimeUnit {
@@ -95,6 +224,8 @@ impl TimeUnit {
             TimeUnit::Second => 1.0,
             TimeUnit::Millisecond => 1.0e-3,
             TimeUnit::Microsecond => 1.0e-6,
+            TimeUnit::Minute => S_PER_MIN,
+            TimeUnit::Hour => 3600.0,
         }
     }
     pub fn symbol(self) -> &'static str {
@@ -102,13 +233,17 @@ impl TimeUnit {
             TimeUnit::Second => "s",
             TimeUnit::Millisecond => "ms",
             TimeUnit::Microsecond => "us",
+            TimeUnit::Minute => "min",
+            TimeUnit::Hour => "h",
         }
     }
     pub fn parse(s: &str) -> Option<Self> {
         match s.trim() {
-            "s" => Some(TimeUnit::Second),
-            "ms" => Some(TimeUnit::Millisecond),
-            "us" | "µs" => Some(TimeUnit::Microsecond),
+            "s" | "sec" | "S" => Some(TimeUnit::Second),
+            "ms" | "msec" => Some(TimeUnit::Millisecond),
+            "us" | "µs" | "μs" => Some(TimeUnit::Microsecond),
+            "min" => Some(TimeUnit::Minute),
+            "h" => Some(TimeUnit::Hour),
             _ => None,
         }
     }

@@ -1,137 +1,30 @@
-//! CSV recordings: `time_s` plus force and trigger columns, units in the column names.
+//! CSV recordings: reading any delimited-text layout (see [`crate::text_table`]) and writing
+//! greybox's own (`time_s` plus force and trigger columns, units in the column names).
 
-use crate::recording::{
-    force_unit_from_name, time_unit_from_name, ChannelMap, ChannelSpec, Recording,
-};
+use crate::recording::{recording_from_table, ChannelMap, Recording};
+use crate::text_table::parse_text_table;
 use greybox_core::atomic::write_atomic;
-use greybox_core::csvutil::{csv_error, parse_f64_bytes, Header};
-use greybox_core::{Error, Result, SourcePos};
+use greybox_core::{Error, Result};
 use std::io::Write;
 use std::path::Path;
 
-/// Read a CSV recording with a channel map.
+/// Read a delimited-text recording with a channel map.
 pub fn read_csv_recording(path: &Path, map: &ChannelMap) -> Result<Recording> {
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    read_csv_recording_from(
-        std::io::BufReader::with_capacity(1 << 20, file),
-        &path.display().to_string(),
-        map,
-    )
+    let table = crate::text_table::read_text_table(path, &map.text_options())?;
+    recording_from_table(table, map)
 }
 
-fn force_column(header: &Header, spec: &ChannelSpec, source: &str) -> Result<(usize, f64)> {
-    let idx = header.require(&spec.name)?;
-    let unit = spec.unit.or_else(|| force_unit_from_name(&spec.name)).ok_or_else(|| {
-        Error::input(
-            SourcePos::file(source).line(1).field(&spec.name),
-            format!(
-                "column '{}' has no force unit: name it with a unit suffix (e.g. {}_N) or map it as NAME:UNIT (N, kN, daN, mN, lbf)",
-                spec.name, spec.name
-            ),
-        )
-    })?;
-    Ok((idx, unit.to_newton() * spec.scale))
-}
-
-/// Read a CSV recording from any reader (`source` names it in errors).
+/// Read a delimited-text recording from any reader (`source` names it in errors).
 pub fn read_csv_recording_from(
-    reader: impl std::io::Read,
+    mut reader: impl std::io::Read,
     source: &str,
     map: &ChannelMap,
 ) -> Result<Recording> {
-    let mut rdr = csv::ReaderBuilder::new()
-        .has_headers(true)
-        .from_reader(reader);
-    let header = Header::new(source, rdr.headers().map_err(|e| csv_error(source, e))?);
-    let time = match &map.time {
-        Some(name) => {
-            let idx = header.require(name)?;
-            let unit = map.time_unit.or_else(|| time_unit_from_name(name)).ok_or_else(|| {
-                Error::input(
-                    SourcePos::file(source).line(1).field(name),
-                    format!("time column '{name}' has no unit: name it like time_s / time_ms or map it as time={name}:s"),
-                )
-            })?;
-            Some((idx, unit))
-        }
-        None => None,
-    };
-    let (ni, ns) = force_column(&header, &map.normal, source)?;
-    let (ti, ts) = force_column(&header, &map.tangential, source)?;
-    let radial = map
-        .radial
-        .as_ref()
-        .map(|s| force_column(&header, s, source))
-        .transpose()?;
-    let trigger = map
-        .trigger
-        .as_ref()
-        .map(|t| header.require(t))
-        .transpose()?;
-
-    let mut rec = Recording {
-        source: source.to_string(),
-        time_s: Vec::new(),
-        normal_n: Vec::new(),
-        tangential_n: Vec::new(),
-        radial_n: radial.map(|_| Vec::new()),
-        trigger_v: trigger.map(|_| Vec::new()),
-    };
-    let names = header.names().to_vec();
-    let mut row = csv::ByteRecord::new();
-    let mut line: u64 = 1;
-    let mut k: u64 = 0;
-    loop {
-        match rdr.read_byte_record(&mut row) {
-            Ok(true) => {}
-            Ok(false) => break,
-            Err(e) => return Err(csv_error(source, e)),
-        }
-        line = row.position().map(|p| p.line()).unwrap_or(line + 1);
-        let get = |i: usize| parse_f64_bytes(&row[i], source, line, &names[i]);
-        match time {
-            Some((i, unit)) => rec.time_s.push(get(i)? * unit.to_second()),
-            None => rec.time_s.push(k as f64 / sample_rate(map, source)?),
-        }
-        rec.normal_n.push(get(ni)? * ns);
-        rec.tangential_n.push(get(ti)? * ts);
-        if let (Some((i, s)), Some(v)) = (radial, rec.radial_n.as_mut()) {
-            v.push(get(i)? * s);
-        }
-        if let (Some(i), Some(v)) = (trigger, rec.trigger_v.as_mut()) {
-            v.push(get(i)?);
-        }
-        k += 1;
-    }
-    if rec.time_s.windows(2).any(|w| !(w[1] > w[0])) {
-        let i = rec
-            .time_s
-            .windows(2)
-            .position(|w| !(w[1] > w[0]))
-            .unwrap_or(0)
-            + 1;
-        let tname = map.time.clone().unwrap_or_default();
-        return Err(Error::input(
-            SourcePos::file(source).line(i as u64 + 2).field(tname),
-            format!(
-                "time must increase strictly: {} s follows {} s",
-                rec.time_s[i],
-                rec.time_s[i - 1]
-            ),
-        ));
-    }
-    rec.validate()?;
-    Ok(rec)
-}
-
-fn sample_rate(map: &ChannelMap, source: &str) -> Result<f64> {
-    match map.sample_rate_hz {
-        Some(f) if f.is_finite() && f > 0.0 => Ok(f),
-        _ => Err(Error::input(
-            SourcePos::file(source),
-            "no time column mapped and no positive sample_rate_hz given",
-        )),
-    }
+    let mut bytes = Vec::new();
+    reader
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(source, e))?;
+    recording_from_table(parse_text_table(&bytes, source, &map.text_options())?, map)
 }
 
 /// Write a recording as CSV (`time_s,normal_force_N,tangential_force_N,radial_force_N,trigger_V`).
@@ -191,11 +84,7 @@ mod tests {
     #[test]
     fn mapping_with_units_and_scale() {
         let text = "t_ms,Fz,Fx\n0,1.5,-0.2\n1,1.5,-0.3\n";
-        let mut map = ChannelMap {
-            radial: None,
-            trigger: None,
-            ..Default::default()
-        };
+        let mut map = ChannelMap::default();
         map.apply_override("time=t_ms").unwrap();
         map.apply_override("normal=Fz:kN").unwrap();
         map.apply_override("tangential=Fx:kN:-1").unwrap();
@@ -208,37 +97,63 @@ mod tests {
     // one test per failure class
     #[test]
     fn missing_column() {
-        let e = read(
-            &GOOD.replace("radial_force_N", "radial"),
-            &ChannelMap::default(),
-        )
-        .unwrap_err()
-        .to_string();
+        let mut map = ChannelMap::default();
+        map.apply_override("radial=radial_force_N").unwrap();
+        let e = read(&GOOD.replace("radial_force_N", "radial_F"), &map)
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("rec.csv, line 1") && e.contains("missing column 'radial_force_N'"),
             "{e}"
         );
+        // not mapped: a missing radial channel is simply absent
+        let r = read(&GOOD.replace("radial_force_N", "other_N"), &ChannelMap::default()).unwrap();
+        assert!(r.radial_n.is_none());
+        let e = read("time_s,Fz_N\n0,1\n1,2\n2,3\n", &ChannelMap::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no tangential force column"), "{e}");
     }
     #[test]
     fn unknown_unit() {
-        let mut map = ChannelMap {
-            normal: ChannelSpec::named("normal_force_kgf"),
-            ..Default::default()
-        };
-        let e = read(&GOOD.replace("normal_force_N", "normal_force_kgf"), &map)
+        let mut map = ChannelMap::default();
+        let e = read(&GOOD.replace("normal_force_N", "normal_force [kgf]"), &map)
             .unwrap_err()
             .to_string();
-        assert!(e.contains("has no force unit"), "{e}");
+        assert!(e.contains("unknown force unit 'kgf'"), "{e}");
+        let e = read(&GOOD.replace("normal_force_N", "normal_force"), &map)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("states no unit") && e.contains("--map normal="), "{e}");
         let e = map.apply_override("normal=Fz:kgf").unwrap_err().to_string();
         assert!(e.contains("unknown force unit 'kgf'"), "{e}");
     }
     #[test]
+    fn one_column_two_roles() {
+        let mut map = ChannelMap::default();
+        map.apply_override("tangential=normal_force_N").unwrap();
+        let e = read(GOOD, &map).unwrap_err().to_string();
+        assert!(e.contains("cannot be two roles"), "{e}");
+    }
+    #[test]
+    fn time_restarting_per_step() {
+        let text = "Step,Time (s),Fz (N),Fx (N)\n1,0,10,4\n1,0.1,10,4\n2,0,10,4\n2,0.1,10,4\n";
+        let r = read(text, &ChannelMap::default()).unwrap();
+        assert_eq!(r.time_s, vec![0.0, 0.1, 0.2, 0.30000000000000004]);
+        let notes = &r.provenance.as_ref().unwrap().notes;
+        assert!(notes[0].contains("restarts at 1 step change"), "{notes:?}");
+        let e = read(&text.replace("Step", "Stp"), &ChannelMap::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 4") && e.contains("--map step="), "{e}");
+    }
+    #[test]
     fn malformed_csv() {
-        let e = read(&format!("{GOOD}0.003,1.0\n"), &ChannelMap::default())
+        let e = read(&format!("{GOOD}0.003,1.0,4,5\n0.004,1,1,1,1\n"), &ChannelMap::default())
             .unwrap_err()
             .to_string();
         assert!(
-            e.contains("line 5") && e.contains("expected 5 fields, found 2"),
+            e.contains("line 5") && e.contains("expected 5 fields, found 4"),
             "{e}"
         );
     }
@@ -248,13 +163,13 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(
-            e.contains("line 3") && e.contains("tangential_force_N") && e.contains("finite"),
+            e.contains("line 3") && e.contains("tangential_force_N") && e.contains("'NaN'"),
             "{e}"
         );
         let e = read(&GOOD.replace("0.9", "inf"), &ChannelMap::default())
             .unwrap_err()
             .to_string();
-        assert!(e.contains("line 4") && e.contains("finite"), "{e}");
+        assert!(e.contains("line 4") && e.contains("'inf'"), "{e}");
         let e = read(&GOOD.replace("0.9", "abc"), &ChannelMap::default())
             .unwrap_err()
             .to_string();

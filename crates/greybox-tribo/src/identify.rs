@@ -22,9 +22,8 @@
 use crate::hertz::PinContact;
 use crate::plan::Plan;
 use crate::recording::Recording;
-use crate::signal::{
-    hampel_outliers, linear_fit, mad_sigma, mean_std, median, moving_average, running_median,
-};
+use crate::signal::{median, running_median};
+use crate::steady::{level_band, plateau_stats, step_signals};
 use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
 use greybox_core::{Error, Result, SourcePos};
 use serde::{Deserialize, Serialize};
@@ -316,8 +315,6 @@ pub fn identify_pin(
     }
 
     // 5./6. plateaus
-    let h_spike = ((cfg.spike_half_window_s * fs).round() as usize).max(2);
-    let w_smooth = ((cfg.smoothing_s * fs).round() as usize).max(3);
     let mut out = Vec::with_capacity(steps.len());
     let mut spikes_total = 0usize;
     for s in steps {
@@ -328,113 +325,60 @@ pub fn identify_pin(
         if j < i + 2 * cfg.min_plateau_samples {
             return Err(Error::input(pos(), "too few samples in the step window"));
         }
-        let outl_n = hampel_outliers(&fn_c[i..j], h_spike, cfg.spike_threshold_sigma);
-        let outl_t = hampel_outliers(&ft_c[i..j], h_spike, cfg.spike_threshold_sigma);
-        let mut mu = Vec::with_capacity(j - i);
-        let mut good = Vec::with_capacity(j - i);
-        for k in 0..(j - i) {
-            let f_n = fn_c[i + k];
-            let is_spike = outl_n[k] || outl_t[k];
-            if !is_spike && f_n <= 0.1 * f_nom {
+        let sig = step_signals(&fn_c, &ft_c, i, j, cfg, fs, |k, f_n| {
+            if f_n <= 0.1 * f_nom {
                 return Err(Error::input(
                     pos(),
-                    format!("normal force {f_n:.3} N at t = {:.3} s: zero or negative during a plateau (planned {f_nom} N)", rec.time_s[i + k]),
+                    format!("normal force {f_n:.3} N at t = {:.3} s: zero or negative during a plateau (planned {f_nom} N)", rec.time_s[k]),
                 ));
             }
-            mu.push(ft_c[i + k] / f_n);
-            good.push(!is_spike);
-        }
-        // spikes replaced by the running median for smoothing
-        let rm = running_median(&mu, h_spike);
-        let clean: Vec<f64> = mu
-            .iter()
-            .zip(&good)
-            .zip(&rm)
-            .map(|((m, g), r)| if *g { *m } else { *r })
-            .collect();
-        let sm = moving_average(&clean, w_smooth);
+            Ok(())
+        })?;
+        let sm = &sig.smooth;
         let n = sm.len();
-        let tail = &sm[(n * 6) / 10..];
-        let level = median(tail);
-        let sigma = mad_sigma(tail, level).max(1e-4);
-        let band = (5.0 * sigma).max(0.002);
+        let (level, band) = level_band(&sm[(n * 6) / 10..], 0.002);
         let head_end = (n * 7) / 10;
         let ramp_end_k = sm[..head_end]
             .iter()
             .rposition(|v| (v - level).abs() > band)
-            .map(|k| k + w_smooth / 2);
+            .map(|k| k + sig.w_smooth / 2);
         let nominal_start = ts + s.plateau_start_s;
         let detected = ramp_end_k
             .map(|k| rec.time_s[i + k.min(n - 1)])
             .unwrap_or(a);
-        let mut fl = Vec::new();
-        if detected > nominal_start + 0.5 * spec.dwell_s {
-            fl.push(flags::RAMP_UNCONFIRMED.to_string());
-        }
         let p_start = detected.max(nominal_start) + cfg.settle_time_s;
         let p_end = b - cfg.end_margin_s;
         let (pi, pj) = (
             index_at(&rec.time_s, p_start) - i,
             index_at(&rec.time_s, p_end) - i,
         );
-        let idx: Vec<usize> = (pi..pj.max(pi)).filter(|k| good[*k]).collect();
-        if idx.len() < cfg.min_plateau_samples {
-            return Err(Error::input(
+        let mut st = plateau_stats(&rec.time_s, &fn_c, &sig, pi, pj, ts, cfg).ok_or_else(|| {
+            let usable = (pi..pj.max(pi)).filter(|k| sig.good[*k]).count();
+            Error::input(
                 pos(),
-                format!("only {} usable samples in the plateau (min {}): the spindle ramp overran the dwell", idx.len(), cfg.min_plateau_samples),
-            ));
+                format!("only {usable} usable samples in the plateau (min {}): the spindle ramp overran the dwell", cfg.min_plateau_samples),
+            )
+        })?;
+        if detected > nominal_start + 0.5 * spec.dwell_s {
+            st.flags.insert(0, flags::RAMP_UNCONFIRMED.to_string());
         }
-        let spikes = (pi..pj).filter(|k| !good[*k]).count();
-        spikes_total += spikes;
-        if spikes > 0 {
-            fl.push(flags::SPIKES_REMOVED.to_string());
-        }
-        let vals: Vec<f64> = idx.iter().map(|k| mu[*k]).collect();
-        let times: Vec<f64> = idx.iter().map(|k| rec.time_s[i + k] - ts).collect();
-        let (mean, std) = mean_std(&vals);
-        let (_, slope, se) = linear_fit(&times, &vals);
-        let duration = times[times.len() - 1] - times[0];
-        let trend = (slope * duration).abs() > cfg.trend_tolerance && slope.abs() > 4.0 * se;
-        let sm_p: Vec<f64> = sm[pi..pj].to_vec();
-        let t_p: Vec<f64> = (pi..pj).map(|k| rec.time_s[i + k] - ts).collect();
-        let (ia, ib, _) = linear_fit(&t_p, &sm_p);
-        let detr: Vec<f64> = sm_p
-            .iter()
-            .zip(&t_p)
-            .map(|(v, t)| v - ia - ib * t)
-            .collect();
-        let h = w_smooth / 2;
-        let inner = if detr.len() > 2 * h + 2 {
-            &detr[h..detr.len() - h]
-        } else {
-            &detr[..]
-        };
-        let p2p = inner.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-            - inner.iter().cloned().fold(f64::INFINITY, f64::min);
-        let stick = p2p > cfg.stick_slip_threshold;
-        if trend {
-            fl.push(flags::TREND.to_string());
-        }
-        if stick {
-            fl.push(flags::STICK_SLIP.to_string());
-        }
-        let f_meas = idx.iter().map(|k| fn_c[i + k]).sum::<f64>() / idx.len() as f64;
+        spikes_total += st.spikes;
         out.push(FrictionRecord {
             pin,
             step: s.step,
             normal_force_n: s.normal_force_n,
-            normal_force_measured_n: f_meas,
+            normal_force_measured_n: st.normal_force_n,
             sliding_velocity_m_s: s.sliding_velocity_m_s,
             hertz_pressure_pa: contact.pressure_pa(s.normal_force_n)?,
             pressure_convention: contact.convention,
-            cof_apparent: mean,
-            cof_apparent_std: std,
-            n_samples: idx.len() as u64,
-            plateau_start_s: times[0],
-            plateau_end_s: times[times.len() - 1],
-            cof_trend_per_s: slope,
-            stationary: !trend && !stick,
-            flags: fl,
+            cof_apparent: st.mean,
+            cof_apparent_std: st.std,
+            n_samples: st.n_samples as u64,
+            plateau_start_s: st.start_s,
+            plateau_end_s: st.end_s,
+            cof_trend_per_s: st.trend_per_s,
+            stationary: st.stationary,
+            flags: st.flags,
             cof_adhesive: None,
         });
     }

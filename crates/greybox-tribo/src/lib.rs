@@ -8,6 +8,9 @@
 //! * [`identify`] — plateau detection and apparent COF identification.
 
 pub mod csv_recording;
+pub mod table;
+pub mod text_table;
+pub mod xlsx_table;
 pub mod frf;
 pub mod frf_synth;
 pub mod gcode;
@@ -17,6 +20,7 @@ pub mod plan;
 pub mod ploughing;
 pub mod recording;
 pub mod signal;
+pub mod steady;
 pub mod synth;
 pub mod tdms;
 pub mod wear;

@@ -1,6 +1,13 @@
-//! Raw tribometer recordings and how their channels map onto roles.
+//! Raw tribometer recordings and how a file's columns map onto roles.
+//!
+//! A reader gives a [`Table`] (named columns with their units); a [`ChannelMap`] says which
+//! column plays which role — time, normal and tangential force, and where the rig records
+//! them, radial force, trigger, step number, spindle or sliding speed, track radius — and
+//! [`recording_from_table`] converts them to SI. Roles not mapped explicitly are found by
+//! their usual names ([`ROLE_ALIASES`]), ignoring case, spaces and units in the header.
 
-use greybox_core::units::{ForceUnit, TimeUnit};
+use crate::table::{column_matches, Column, Table};
+use greybox_core::units::{ForceUnit, LengthUnit, SpeedUnit, TimeUnit};
 use greybox_core::{Error, Result, SourcePos};
 use serde::{Deserialize, Serialize};
 
@@ -19,9 +26,75 @@ pub struct Recording {
     pub radial_n: Option<Vec<f64>>,
     /// Recording-trigger channel, V.
     pub trigger_v: Option<Vec<f64>>,
+    /// Step (segment) number the rig software wrote per sample.
+    pub step: Option<Vec<f64>>,
+    /// Recorded spindle speed (rpm) or sliding velocity (m/s).
+    pub speed: Option<SpeedTrace>,
+    /// Recorded track radius per sample, m.
+    pub track_radius_m: Option<Vec<f64>>,
+    /// How the file was read: its layout and which column became which role.
+    pub provenance: Option<ReadReport>,
+}
+
+/// A recorded speed channel in SI-like base units.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SpeedTrace {
+    /// Spindle speed, rpm (needs the track radius to give a sliding velocity).
+    SpindleRpm(Vec<f64>),
+    /// Sliding velocity, m/s.
+    SlidingMPerS(Vec<f64>),
+}
+
+impl SpeedTrace {
+    pub fn values(&self) -> &[f64] {
+        match self {
+            SpeedTrace::SpindleRpm(v) | SpeedTrace::SlidingMPerS(v) => v,
+        }
+    }
+}
+
+/// What a reader found in a file, for `identify --inspect`.
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct ReadReport {
+    /// Dialect and layout, e.g. `semicolon-delimited, decimal comma, header on line 1`.
+    pub layout: String,
+    /// Role → column, unit and how it was found.
+    pub columns: Vec<MappedColumn>,
+    /// Footer lines after the data (reported, not an error): (line, text).
+    pub footer: Vec<(u64, String)>,
+    /// Preamble lines above the header.
+    pub preamble: Vec<String>,
+    /// Anything the reader repaired, e.g. a time that restarts per step.
+    pub notes: Vec<String>,
+}
+
+/// One role's column.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MappedColumn {
+    pub role: String,
+    pub column: String,
+    pub unit: String,
+    pub scale: f64,
+    /// `mapped` (named by the user) or `auto` (found by its usual name).
+    pub how: String,
 }
 
 impl Recording {
+    /// A recording of time and the two forces only.
+    pub fn new(source: &str, time_s: Vec<f64>, normal_n: Vec<f64>, tangential_n: Vec<f64>) -> Self {
+        Recording {
+            source: source.to_string(),
+            time_s,
+            normal_n,
+            tangential_n,
+            radial_n: None,
+            trigger_v: None,
+            step: None,
+            speed: None,
+            track_radius_m: None,
+            provenance: None,
+        }
+    }
     pub fn len(&self) -> usize {
         self.time_s.len()
     }
@@ -56,11 +129,15 @@ impl Recording {
                 format!("a recording needs at least 2 samples, found {n}"),
             ));
         }
-        let channels: [(&str, Option<&Vec<f64>>); 4] = [
+        let speed = self.speed.as_ref().map(SpeedTrace::values);
+        let channels: [(&str, Option<&[f64]>); 7] = [
             ("normal", Some(&self.normal_n)),
             ("tangential", Some(&self.tangential_n)),
-            ("radial", self.radial_n.as_ref()),
-            ("trigger", self.trigger_v.as_ref()),
+            ("radial", self.radial_n.as_deref()),
+            ("trigger", self.trigger_v.as_deref()),
+            ("step", self.step.as_deref()),
+            ("speed", speed),
+            ("radius", self.track_radius_m.as_deref()),
         ];
         for (name, ch) in channels {
             if let Some(ch) = ch {
@@ -93,17 +170,19 @@ impl Recording {
     }
 }
 
-/// Where a force channel comes from: column/channel name, unit and an extra scale (e.g. −1 to
-/// flip a dynamometer axis).
+
+/// Where a channel comes from: column (or TDMS channel) name, unit and an extra scale (e.g.
+/// −1 to flip a dynamometer axis).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ChannelSpec {
-    /// CSV column or TDMS channel name.
+    /// Column or TDMS channel name; matched ignoring case, surrounding spaces and the unit
+    /// in the header (`fz` finds ` DAQ.Fz (N)`).
     pub name: String,
-    /// Unit; if absent it is taken from the column-name suffix (`Fz_kN`) or the TDMS
-    /// `unit_string` property, and it is an error if neither names one.
+    /// Unit (`kN`, `rpm`, `mm/s`, `ms`, …); if absent it is taken from the header (`Fz (N)`,
+    /// `Fz [kN]`, `Fz_kN`, `Fz/N`) or the TDMS `unit_string`; an error if neither names one.
     #[serde(default)]
-    pub unit: Option<ForceUnit>,
+    pub unit: Option<String>,
     /// Multiplier applied after unit conversion.
     #[serde(default = "one")]
     pub scale: f64,
@@ -121,6 +200,13 @@ impl ChannelSpec {
             scale: 1.0,
         }
     }
+    pub fn with_unit(name: &str, unit: &str) -> Self {
+        ChannelSpec {
+            name: name.to_string(),
+            unit: Some(unit.to_string()),
+            scale: 1.0,
+        }
+    }
     /// Parse `NAME[:UNIT[:SCALE]]`, e.g. `Fz:kN:-1`.
     pub fn parse(text: &str) -> Result<Self> {
         let mut parts = text.split(':');
@@ -131,15 +217,10 @@ impl ChannelSpec {
                 format!("'{text}' has no column name (expected NAME[:UNIT[:SCALE]])"),
             ));
         }
-        let unit = match parts.next() {
-            Some(u) => Some(ForceUnit::parse(u).ok_or_else(|| {
-                Error::invalid(
-                    "channel mapping",
-                    format!("unknown force unit '{u}' in '{text}'; expected N, kN, daN, mN or lbf"),
-                )
-            })?),
-            None => None,
-        };
+        let unit = parts
+            .next()
+            .map(|u| u.trim().to_string())
+            .filter(|u| !u.is_empty());
         let scale = match parts.next() {
             Some(s) => s
                 .trim()
@@ -170,54 +251,188 @@ impl ChannelSpec {
 
 /// Unit suffix of a column name: `normal_force_kN` → kN.
 pub fn force_unit_from_name(name: &str) -> Option<ForceUnit> {
-    name.rsplit_once('_')
-        .and_then(|(_, suffix)| ForceUnit::parse(suffix))
+    crate::table::split_unit(name)
+        .1
+        .and_then(|u| ForceUnit::parse_lenient(&u))
 }
 
 /// Unit suffix of a time column: `time_ms` → ms.
 pub fn time_unit_from_name(name: &str) -> Option<TimeUnit> {
-    name.rsplit_once('_')
-        .and_then(|(_, suffix)| TimeUnit::parse(suffix))
+    crate::table::split_unit(name)
+        .1
+        .and_then(|u| TimeUnit::parse(&u))
 }
 
-/// How to find the channels of a recording (study TOML `[recording]`).
+/// The roles a column can play.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    Time,
+    Normal,
+    Tangential,
+    Radial,
+    Trigger,
+    Step,
+    Speed,
+    Radius,
+}
+
+impl Role {
+    pub const ALL: [Role; 8] = [
+        Role::Time,
+        Role::Normal,
+        Role::Tangential,
+        Role::Radial,
+        Role::Trigger,
+        Role::Step,
+        Role::Speed,
+        Role::Radius,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            Role::Time => "time",
+            Role::Normal => "normal",
+            Role::Tangential => "tangential",
+            Role::Radial => "radial",
+            Role::Trigger => "trigger",
+            Role::Step => "step",
+            Role::Speed => "speed",
+            Role::Radius => "radius",
+        }
+    }
+    pub fn parse(s: &str) -> Option<Role> {
+        Role::ALL.into_iter().find(|r| r.name() == s.trim())
+    }
+}
+
+/// The usual names of each role, tried in order when a role is not mapped explicitly
+/// (compared like [`column_matches`]: case, `_`/`-`/spaces and units ignored).
+pub const ROLE_ALIASES: [(Role, &[&str]); 8] = [
+    (
+        Role::Time,
+        &["time", "t", "zeit", "timestamp", "elapsed time", "relative time", "time elapsed", "sec"],
+    ),
+    (
+        Role::Normal,
+        &[
+            "normal force", "normal_force", "fn", "fz", "normal load", "load", "normalkraft",
+            "force normal", "normal", "f n", "f_n",
+        ],
+    ),
+    (
+        Role::Tangential,
+        &[
+            "tangential force", "friction force", "ft", "fx", "friction", "reibkraft",
+            "tangential", "force friction", "f t", "f_t", "ff",
+        ],
+    ),
+    (Role::Radial, &["radial force", "radial_force", "fy", "fr", "radial"]),
+    (Role::Trigger, &["trigger", "trig"]),
+    (
+        Role::Step,
+        &["step", "segment", "step no", "step number", "stage", "schritt", "sequence"],
+    ),
+    (
+        Role::Speed,
+        &[
+            "sliding velocity", "sliding speed", "sliding_velocity", "velocity", "speed",
+            "spindle speed", "spindle", "rotational speed", "rotation speed", "rpm", "drehzahl",
+            "geschwindigkeit", "v", "n",
+        ],
+    ),
+    (Role::Radius, &["track radius", "wear track radius", "radius", "r track"]),
+];
+
+/// How to find the channels of a recording (study TOML `[recording]`, `identify --map`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ChannelMap {
-    /// Time column/channel; its unit from the suffix (`time_s`, `time_ms`) or `time_unit`.
-    /// If absent, time comes from `sample_rate_hz` (CSV) or the TDMS `wf_increment` property.
+    /// Time column/channel; its unit from the header (`time_s`, `Time (ms)`) or `time_unit`.
+    /// If there is none, time comes from `sample_rate_hz` or the TDMS `wf_increment` property.
     pub time: Option<String>,
     pub time_unit: Option<TimeUnit>,
     /// Sample rate when there is no time column, Hz.
     pub sample_rate_hz: Option<f64>,
-    pub normal: ChannelSpec,
-    pub tangential: ChannelSpec,
+    pub normal: Option<ChannelSpec>,
+    pub tangential: Option<ChannelSpec>,
     pub radial: Option<ChannelSpec>,
     /// Trigger channel (volts).
     pub trigger: Option<String>,
-    /// TDMS group holding the channels.
-    pub tdms_group: String,
+    /// Step/segment number column written by the rig software.
+    pub step: Option<String>,
+    /// Spindle speed (rpm, rps) or sliding velocity (m/s, mm/s, m/min) channel.
+    pub speed: Option<ChannelSpec>,
+    /// Track-radius column (mm, m).
+    pub radius: Option<ChannelSpec>,
+    /// Track radius, mm: one value for the whole recording, or one per segment in the
+    /// order found (used with a speed channel in rpm when the file has no radius column).
+    pub track_radius_mm: Vec<f64>,
+    /// Find unmapped roles by their usual names (default true).
+    pub auto: bool,
+    /// Roles never to fill automatically (`--map speed=` adds `speed`).
+    pub ignore: Vec<String>,
+    /// TDMS group holding the channels (default: `Tribometer`, or the file's only group).
+    pub tdms_group: Option<String>,
+    /// Text files: 1-based header line (default: found automatically).
+    pub header_line: Option<u64>,
+    /// Text files: delimiter (default: sniffed).
+    pub delimiter: Option<crate::text_table::Delimiter>,
+    /// Text files: decimal comma (default: sniffed).
+    pub decimal_comma: Option<bool>,
+    /// Spreadsheets: sheet name (default: the first sheet holding a table).
+    pub sheet: Option<String>,
 }
 
 impl Default for ChannelMap {
-    /// The layout `greybox synth` writes.
+    /// Every role found by its usual name; the layout `greybox synth` writes is one of them.
     fn default() -> Self {
         ChannelMap {
-            time: Some("time_s".into()),
+            time: None,
             time_unit: None,
             sample_rate_hz: None,
-            normal: ChannelSpec::named("normal_force_N"),
-            tangential: ChannelSpec::named("tangential_force_N"),
-            radial: Some(ChannelSpec::named("radial_force_N")),
-            trigger: Some("trigger_V".into()),
-            tdms_group: "Tribometer".into(),
+            normal: None,
+            tangential: None,
+            radial: None,
+            trigger: None,
+            step: None,
+            speed: None,
+            radius: None,
+            track_radius_mm: Vec::new(),
+            auto: true,
+            ignore: Vec::new(),
+            tdms_group: None,
+            header_line: None,
+            delimiter: None,
+            decimal_comma: None,
+            sheet: None,
         }
     }
 }
 
+/// TDMS group used when none is named and the file has it.
+pub const DEFAULT_TDMS_GROUP: &str = "Tribometer";
+
 impl ChannelMap {
+    /// The explicit mapping of a role, if any.
+    fn spec(&self, role: Role) -> Option<ChannelSpec> {
+        match role {
+            Role::Time => self.time.as_ref().map(|t| ChannelSpec {
+                name: t.clone(),
+                unit: self.time_unit.map(|u| u.symbol().to_string()),
+                scale: 1.0,
+            }),
+            Role::Normal => self.normal.clone(),
+            Role::Tangential => self.tangential.clone(),
+            Role::Radial => self.radial.clone(),
+            Role::Trigger => self.trigger.as_deref().map(ChannelSpec::named),
+            Role::Step => self.step.as_deref().map(ChannelSpec::named),
+            Role::Speed => self.speed.clone(),
+            Role::Radius => self.radius.clone(),
+        }
+    }
+
     /// Apply a `ROLE=NAME[:UNIT[:SCALE]]` override (roles: time, normal, tangential, radial,
-    /// trigger; `radial=` or `trigger=` with an empty name removes the channel).
+    /// trigger, step, speed, radius). An empty name (`speed=`) means the file has no such
+    /// channel: the role is not searched for.
     pub fn apply_override(&mut self, text: &str) -> Result<()> {
         let (role, spec) = text.split_once('=').ok_or_else(|| {
             Error::invalid(
@@ -225,52 +440,387 @@ impl ChannelMap {
                 format!("'{text}' is not ROLE=NAME[:UNIT[:SCALE]]"),
             )
         })?;
-        match role.trim() {
-            "normal" => self.normal = ChannelSpec::parse(spec)?,
-            "tangential" => self.tangential = ChannelSpec::parse(spec)?,
-            "radial" if spec.trim().is_empty() => self.radial = None,
-            "radial" => self.radial = Some(ChannelSpec::parse(spec)?),
-            "trigger" if spec.trim().is_empty() => self.trigger = None,
-            "trigger" => self.trigger = Some(spec.trim().to_string()),
-            "time" => {
-                let (name, unit) = match spec.split_once(':') {
-                    Some((n, u)) => (
-                        n,
-                        Some(TimeUnit::parse(u).ok_or_else(|| {
-                            Error::invalid(
-                                "channel mapping",
-                                format!("unknown time unit '{u}'; expected s, ms or us"),
-                            )
-                        })?),
-                    ),
-                    None => (spec, None),
-                };
-                self.time = if name.trim().is_empty() {
-                    None
-                } else {
-                    Some(name.trim().to_string())
-                };
-                self.time_unit = unit;
-            }
-            other => {
-                return Err(Error::invalid(
-                    "channel mapping",
-                    format!(
-                    "unknown role '{other}'; expected time, normal, tangential, radial or trigger"
+        let role = Role::parse(role).ok_or_else(|| {
+            Error::invalid(
+                "channel mapping",
+                format!(
+                    "unknown role '{}'; expected time, normal, tangential, radial, trigger, step, speed or radius",
+                    role.trim()
                 ),
-                ))
+            )
+        })?;
+        if spec.trim().is_empty() {
+            self.set(role, None);
+            if !self.ignore.iter().any(|r| r == role.name()) {
+                self.ignore.push(role.name().to_string());
             }
+            return Ok(());
         }
+        let parsed = ChannelSpec::parse(spec)?;
+        if let Some(u) = &parsed.unit {
+            check_unit(role, u).map_err(|m| Error::invalid("channel mapping", format!("'{text}': {m}")))?;
+        }
+        self.ignore.retain(|r| r != role.name());
+        self.set(role, Some(parsed));
         Ok(())
     }
+
+    fn set(&mut self, role: Role, spec: Option<ChannelSpec>) {
+        match role {
+            Role::Time => {
+                self.time_unit = spec
+                    .as_ref()
+                    .and_then(|s| s.unit.as_deref())
+                    .and_then(TimeUnit::parse);
+                self.time = spec.map(|s| s.name);
+            }
+            Role::Normal => self.normal = spec,
+            Role::Tangential => self.tangential = spec,
+            Role::Radial => self.radial = spec,
+            Role::Trigger => self.trigger = spec.map(|s| s.name),
+            Role::Step => self.step = spec.map(|s| s.name),
+            Role::Speed => self.speed = spec,
+            Role::Radius => self.radius = spec,
+        }
+    }
+
+    /// Options for the text-table reader.
+    pub fn text_options(&self) -> crate::text_table::TextOptions {
+        crate::text_table::TextOptions {
+            header_line: self.header_line,
+            delimiter: self.delimiter,
+            decimal_comma: self.decimal_comma,
+        }
+    }
+}
+
+/// Check that a unit fits a role; the message lists the accepted spellings.
+fn check_unit(role: Role, unit: &str) -> std::result::Result<(), String> {
+    let ok = match role {
+        Role::Normal | Role::Tangential | Role::Radial => ForceUnit::parse_lenient(unit).is_some(),
+        Role::Time => TimeUnit::parse(unit).is_some(),
+        Role::Speed => SpeedUnit::parse(unit).is_some(),
+        Role::Radius => LengthUnit::parse(unit).is_some(),
+        Role::Trigger | Role::Step => true,
+    };
+    if ok {
+        return Ok(());
+    }
+    Err(match role {
+        Role::Normal | Role::Tangential | Role::Radial => {
+            format!("unknown force unit '{unit}'; expected N, kN, daN, mN or lbf")
+        }
+        Role::Time => format!("unknown time unit '{unit}'; expected s, ms, us, min or h"),
+        Role::Speed => format!(
+            "unknown speed unit '{unit}'; expected rpm (1/min), rps, m/s, mm/s, cm/s or m/min"
+        ),
+        Role::Radius => format!("unknown length unit '{unit}'; expected m, cm, mm or um"),
+        Role::Trigger | Role::Step => unreachable!("no unit check"),
+    })
+}
+
+/// Which column each role takes, and how it was found.
+fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, bool)>> {
+    let pos = || SourcePos::file(&table.source).line(table.header_line);
+    let mut taken: Vec<(Role, usize, bool)> = Vec::new();
+    // explicit mappings first, so that automatic ones never steal their columns
+    for role in Role::ALL {
+        if let Some(spec) = map.spec(role) {
+            let idx = table
+                .columns
+                .iter()
+                .position(|c| column_matches(c, &spec.name))
+                .ok_or_else(|| {
+                    Error::input(
+                        pos().field(&spec.name),
+                        format!(
+                            "missing column '{}' (mapped as {}); the header has: {}",
+                            spec.name,
+                            role.name(),
+                            table.header_list()
+                        ),
+                    )
+                })?;
+            if let Some((other, _, _)) = taken.iter().find(|(_, i, _)| *i == idx) {
+                return Err(Error::input(
+                    pos().field(&table.columns[idx].header),
+                    format!(
+                        "column '{}' is mapped to two roles, {} and {}: each role needs its own column",
+                        table.columns[idx].header,
+                        other.name(),
+                        role.name()
+                    ),
+                ));
+            }
+            taken.push((role, idx, true));
+        }
+    }
+    if map.auto {
+        for (role, aliases) in ROLE_ALIASES {
+            if taken.iter().any(|(r, _, _)| *r == role) || map.ignore.iter().any(|r| r == role.name())
+            {
+                continue;
+            }
+            let found = aliases
+                .iter()
+                .find_map(|a| table.columns.iter().position(|c| column_matches(c, a)));
+            match found {
+                Some(idx) => match taken.iter().find(|(_, i, _)| *i == idx) {
+                    // the role's usual column went to another role by an explicit mapping
+                    Some((other, _, true)) if matches!(role, Role::Normal | Role::Tangential) => {
+                        return Err(Error::input(
+                            pos().field(&table.columns[idx].header),
+                            format!(
+                                "column '{}' is mapped as {} but is the file's {} column: one column cannot be two roles; map {} to its own column",
+                                table.columns[idx].header,
+                                other.name(),
+                                role.name(),
+                                role.name()
+                            ),
+                        ));
+                    }
+                    Some(_) => {}
+                    None => taken.push((role, idx, false)),
+                },
+                None => {}
+            }
+        }
+    }
+    for role in [Role::Normal, Role::Tangential] {
+        if !taken.iter().any(|(r, _, _)| *r == role) {
+            return Err(Error::input(
+                pos(),
+                format!(
+                    "no {} force column: none is mapped and none has a usual name; map one with --map {}=NAME[:UNIT] (the header has: {})",
+                    role.name(),
+                    role.name(),
+                    table.header_list()
+                ),
+            ));
+        }
+    }
+    Ok(taken)
+}
+
+/// Convert a table into a recording through a channel map.
+pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Recording> {
+    let roles = assign_roles(&table, map)?;
+    let source = table.source.clone();
+    let mut report = ReadReport {
+        layout: table.layout.clone(),
+        footer: std::mem::take(&mut table.footer),
+        preamble: std::mem::take(&mut table.preamble),
+        ..Default::default()
+    };
+    let mut channels: Vec<(Role, Vec<f64>, String)> = Vec::new();
+    for (role, idx, mapped) in &roles {
+        let spec = map.spec(*role);
+        let col: &mut Column = &mut table.columns[*idx];
+        let header = col.header.clone();
+        let pos = || SourcePos::file(&source).line(table.header_line).field(&header);
+        let unit = match (spec.as_ref().and_then(|s| s.unit.clone()), col.unit.clone()) {
+            (Some(m), Some(f)) if *role != Role::Trigger && *role != Role::Step => {
+                if !same_unit(*role, &m, &f) {
+                    return Err(Error::input(
+                        pos(),
+                        format!("mapped as {m} but the file says the unit is '{f}'"),
+                    ));
+                }
+                Some(m)
+            }
+            (Some(m), _) => Some(m),
+            (None, f) => f,
+        };
+        let scale = spec.as_ref().map_or(1.0, |s| s.scale);
+        let (factor, unit_name) = match role {
+            Role::Trigger => (1.0, unit.clone().unwrap_or_else(|| "V".into())),
+            Role::Step => (1.0, "-".into()),
+            _ => {
+                let u = unit.clone().ok_or_else(|| {
+                    Error::input(
+                        pos(),
+                        format!(
+                            "column '{header}' ({}) states no unit: name it with one (e.g. '{} ({})') or map it as --map {}={}:{}",
+                            role.name(),
+                            col.name,
+                            example_unit(*role),
+                            role.name(),
+                            col.name,
+                            example_unit(*role)
+                        ),
+                    )
+                })?;
+                check_unit(*role, &u).map_err(|m| Error::input(pos(), m))?;
+                (unit_factor(*role, &u), u)
+            }
+        };
+        let mut values = col.take_values(&source)?;
+        let k = factor * scale;
+        if k != 1.0 {
+            values.iter_mut().for_each(|v| *v *= k);
+        }
+        report.columns.push(MappedColumn {
+            role: role.name().to_string(),
+            column: header.clone(),
+            unit: unit_name,
+            scale,
+            how: if *mapped { "mapped" } else { "auto" }.to_string(),
+        });
+        channels.push((*role, values, header));
+    }
+    let mut take = |role: Role| {
+        channels
+            .iter()
+            .position(|(r, _, _)| *r == role)
+            .map(|i| channels.swap_remove(i))
+    };
+    let normal = take(Role::Normal).expect("checked in assign_roles").1;
+    let tangential = take(Role::Tangential).expect("checked in assign_roles").1;
+    let n = normal.len();
+    let step = take(Role::Step).map(|c| c.1);
+    let time_s = match take(Role::Time) {
+        Some((_, t, header)) => {
+            continuous_time(t, step.as_deref(), &source, &header, table.header_line, &mut report)?
+        }
+        None => {
+            let dt = map
+                .sample_rate_hz
+                .map(|f| 1.0 / f)
+                .or(table.sample_interval_s)
+                .filter(|d| d.is_finite() && *d > 0.0)
+                .ok_or_else(|| {
+                    Error::input(
+                        SourcePos::file(&source),
+                        "no time column (none mapped, none with a usual name) and no sample rate: give --sample-rate-hz or map the time column with --map time=NAME:UNIT",
+                    )
+                })?;
+            let t0 = table.start_time_s.unwrap_or(0.0);
+            report.notes.push(format!("no time column: time from the sample rate {:.6} Hz", 1.0 / dt));
+            (0..n).map(|i| t0 + i as f64 * dt).collect()
+        }
+    };
+    let speed_unit = report
+        .columns
+        .iter()
+        .find(|c| c.role == "speed")
+        .and_then(|c| SpeedUnit::parse(&c.unit));
+    let speed = take(Role::Speed).map(|(_, v, _)| match speed_unit {
+        Some(u) if u.is_rotational() => SpeedTrace::SpindleRpm(v),
+        _ => SpeedTrace::SlidingMPerS(v),
+    });
+    let rec = Recording {
+        source: source.clone(),
+        time_s,
+        normal_n: normal,
+        tangential_n: tangential,
+        radial_n: take(Role::Radial).map(|c| c.1),
+        trigger_v: take(Role::Trigger).map(|c| c.1),
+        step,
+        speed,
+        track_radius_m: take(Role::Radius).map(|c| c.1),
+        provenance: Some(report),
+    };
+    rec.validate()?;
+    Ok(rec)
+}
+
+fn example_unit(role: Role) -> &'static str {
+    match role {
+        Role::Time => "s",
+        Role::Speed => "rpm",
+        Role::Radius => "mm",
+        Role::Trigger => "V",
+        _ => "N",
+    }
+}
+
+/// Factor from a unit to SI (forces N, time s, radius m) or the speed base (rpm or m/s).
+fn unit_factor(role: Role, unit: &str) -> f64 {
+    match role {
+        Role::Normal | Role::Tangential | Role::Radial => {
+            ForceUnit::parse_lenient(unit).map_or(1.0, ForceUnit::to_newton)
+        }
+        Role::Time => TimeUnit::parse(unit).map_or(1.0, TimeUnit::to_second),
+        Role::Speed => SpeedUnit::parse(unit).map_or(1.0, SpeedUnit::to_base),
+        Role::Radius => LengthUnit::parse(unit).map_or(1.0, LengthUnit::to_metre),
+        Role::Trigger | Role::Step => 1.0,
+    }
+}
+
+fn same_unit(role: Role, a: &str, b: &str) -> bool {
+    if a.trim() == b.trim() {
+        return true;
+    }
+    match role {
+        Role::Speed => match (SpeedUnit::parse(a), SpeedUnit::parse(b)) {
+            (Some(x), Some(y)) => x == y,
+            _ => false,
+        },
+        _ => check_unit(role, a).is_ok() && check_unit(role, b).is_ok() && unit_factor(role, a) == unit_factor(role, b),
+    }
+}
+
+/// Times in s, made continuous where the rig restarts its clock at every step (a time that
+/// falls where the step number changes is shifted to follow the previous step by one
+/// sample interval). A time that falls anywhere else is an error naming its line.
+fn continuous_time(
+    mut t: Vec<f64>,
+    step: Option<&[f64]>,
+    source: &str,
+    header: &str,
+    header_line: u64,
+    report: &mut ReadReport,
+) -> Result<Vec<f64>> {
+    let mut dts: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
+    let dt = if dts.is_empty() {
+        0.0
+    } else {
+        let mid = dts.len() / 2;
+        *dts.select_nth_unstable_by(mid, f64::total_cmp).1
+    };
+    let mut offset = 0.0;
+    let mut restarts = 0;
+    for i in 1..t.len() {
+        let raw = t[i] + offset;
+        let prev = t[i - 1];
+        if raw > prev {
+            t[i] = raw;
+            continue;
+        }
+        let step_changed = step.is_some_and(|s| s[i] != s[i - 1]);
+        if step_changed && dt > 0.0 {
+            offset += prev + dt - raw;
+            t[i] = prev + dt;
+            restarts += 1;
+            continue;
+        }
+        return Err(Error::input(
+            SourcePos::file(source).line(header_line + 1 + i as u64).field(header),
+            format!(
+                "time must increase strictly: {} s follows {} s{}",
+                t[i] + offset,
+                prev,
+                if step.is_some() { "" } else { " (a time that restarts per step needs the step column mapped: --map step=NAME)" }
+            ),
+        ));
+    }
+    if restarts > 0 {
+        report.notes.push(format!(
+            "time restarts at {restarts} step change(s): made continuous (next step follows after one sample interval, {dt:.6} s)"
+        ));
+    }
+    Ok(t)
 }
 
 /// File formats of raw recordings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum RecordingFormat {
+    /// Delimited text: `.csv`, `.txt`, `.tsv`, `.dat`, `.asc`, `.prn`.
     Csv,
     Tdms,
+    /// Spreadsheets: `.xlsx`, `.xlsm`, `.xls`, `.xlsb`, `.ods`.
+    Spreadsheet,
 }
 
 impl RecordingFormat {
@@ -278,26 +828,39 @@ impl RecordingFormat {
         match self {
             RecordingFormat::Csv => "csv",
             RecordingFormat::Tdms => "tdms",
+            RecordingFormat::Spreadsheet => "xlsx",
         }
     }
     /// The format a file name's extension says.
     pub fn of_path(path: &std::path::Path) -> Option<Self> {
         match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
-            "csv" => Some(RecordingFormat::Csv),
+            "csv" | "txt" | "tsv" | "dat" | "asc" | "prn" => Some(RecordingFormat::Csv),
             "tdms" => Some(RecordingFormat::Tdms),
+            "xlsx" | "xlsm" | "xls" | "xlsb" | "ods" => Some(RecordingFormat::Spreadsheet),
             _ => None,
         }
     }
 }
 
-/// Read a recording, choosing the reader from the file extension (`.csv` or `.tdms`).
-pub fn read_recording(path: &std::path::Path, map: &ChannelMap) -> Result<Recording> {
+/// Read a file's table, choosing the reader from the extension.
+pub fn read_table(path: &std::path::Path, map: &ChannelMap) -> Result<Table> {
     match RecordingFormat::of_path(path) {
-        Some(RecordingFormat::Csv) => crate::csv_recording::read_csv_recording(path, map),
-        Some(RecordingFormat::Tdms) => crate::tdms::read_tdms_recording(path, map),
+        Some(RecordingFormat::Csv) => crate::text_table::read_text_table(path, &map.text_options()),
+        Some(RecordingFormat::Tdms) => {
+            let file = crate::tdms::TdmsFile::read(path)?;
+            crate::tdms::table_from_tdms(file, map.tdms_group.as_deref())
+        }
+        Some(RecordingFormat::Spreadsheet) => {
+            crate::xlsx_table::read_spreadsheet(path, map.sheet.as_deref())
+        }
         None => Err(Error::input(
             SourcePos::path(path),
-            "unknown recording format: expected a .csv or .tdms file",
+            "unknown recording format: expected delimited text (.csv, .txt, .tsv, .dat), a spreadsheet (.xlsx, .xls, .ods) or .tdms",
         )),
     }
+}
+
+/// Read a recording (any supported format) through a channel map.
+pub fn read_recording(path: &std::path::Path, map: &ChannelMap) -> Result<Recording> {
+    recording_from_table(read_table(path, map)?, map)
 }

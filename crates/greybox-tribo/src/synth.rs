@@ -327,6 +327,7 @@ impl SynthConfig {
             tangential_n: Vec::with_capacity(n),
             radial_n: Some(Vec::with_capacity(n)),
             trigger_v: Some(Vec::with_capacity(n)),
+            ..crate::recording::Recording::new("", Vec::new(), Vec::new(), Vec::new())
         };
         let mut rpm = 0.0f64;
         let mut theta = 0.0f64;

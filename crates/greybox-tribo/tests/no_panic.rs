@@ -92,12 +92,12 @@ fn tdms_reader_survives_mutations() {
         trigger: None,
         ..Default::default()
     };
-    assert!(recording_from_tdms(&TdmsFile::parse(&base, "ok.tdms").unwrap(), &map).is_ok());
+    assert!(recording_from_tdms(TdmsFile::parse(&base, "ok.tdms").unwrap(), &map).is_ok());
     let mut rng = ChaCha8Rng::seed_from_u64(1);
     for _ in 0..20_000 {
         let m = mutate(&base, &mut rng);
         if let Ok(f) = TdmsFile::parse(&m, "m.tdms") {
-            let _ = recording_from_tdms(&f, &map);
+            let _ = recording_from_tdms(f, &map);
         }
     }
 }

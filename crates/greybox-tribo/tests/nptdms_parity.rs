@@ -17,9 +17,7 @@ fn fixtures() -> PathBuf {
 
 fn time_channel_map() -> ChannelMap {
     let mut m = ChannelMap {
-        radial: None,
-        trigger: None,
-        tdms_group: "Dyno".into(),
+        tdms_group: Some("Dyno".into()),
         ..Default::default()
     };
     m.apply_override("time=time:s").unwrap();
@@ -50,7 +48,7 @@ fn check_dir(dir: &Path) {
     let map = time_channel_map();
     let tdms = read_tdms_recording(&dir.join("timechannel.tdms"), &map).unwrap();
     let mut csv_map = map.clone();
-    csv_map.normal.unit = Some(greybox_core::units::ForceUnit::Kilonewton);
+    csv_map.apply_override("normal=Fz:kN").unwrap();
     let csv = read_csv_recording(&dir.join("timechannel.csv"), &csv_map).unwrap();
     assert_same(&tdms, &csv);
     assert!(tdms.tangential_n[0] > 300.0, "kN and the −1 scale applied");

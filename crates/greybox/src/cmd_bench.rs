@@ -143,6 +143,7 @@ fn big_recording(size_mb: f64) -> Result<Recording> {
         tangential_n: Vec::with_capacity(rows_needed),
         radial_n: Some(Vec::with_capacity(rows_needed)),
         trigger_v: Some(Vec::with_capacity(rows_needed)),
+        ..Recording::new("", Vec::new(), Vec::new(), Vec::new())
     };
     let dt = 1e-3;
     while big.len() < rows_needed {

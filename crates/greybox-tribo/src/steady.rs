@@ -1,0 +1,193 @@
+//! What one step's samples give: spike masking, the smoothed friction signal, the steady
+//! window found from the signal, and the plateau's statistics and quality flags.
+//!
+//! Shared by the plan-timed path ([`crate::identify`]) and the plan-free segmentation
+//! ([`crate::campaign`]).
+
+use crate::identify::IdentifyConfig;
+use crate::signal::{
+    hampel_outliers, linear_fit, mad_sigma, mean_std, median, moving_average, running_median,
+};
+use greybox_core::dataset::flags;
+
+/// The friction signal of one window of samples `[i, j)`.
+pub struct StepSignals {
+    /// First sample of the window.
+    pub i: usize,
+    /// F_t / F_N per sample.
+    pub mu: Vec<f64>,
+    /// False where a spike was masked in either force.
+    pub good: Vec<bool>,
+    /// μ with spikes replaced by the running median, then a moving average over
+    /// `smoothing_s`.
+    pub smooth: Vec<f64>,
+    /// Smoothing window, samples.
+    pub w_smooth: usize,
+}
+
+/// Spike half window and smoothing window in samples at sample rate `fs`.
+pub fn windows(cfg: &IdentifyConfig, fs: f64) -> (usize, usize) {
+    let h_spike = ((cfg.spike_half_window_s * fs).round() as usize).max(2);
+    let w_smooth = ((cfg.smoothing_s * fs).round() as usize).max(3);
+    (h_spike, w_smooth)
+}
+
+/// Mask spikes (Hampel filter on both forces) and smooth μ over `[i, j)`. `check_force(k,
+/// f_n)` is called for every unmasked sample and may reject a non-physical normal force.
+pub fn step_signals<E>(
+    fn_c: &[f64],
+    ft_c: &[f64],
+    i: usize,
+    j: usize,
+    cfg: &IdentifyConfig,
+    fs: f64,
+    mut check_force: impl FnMut(usize, f64) -> Result<(), E>,
+) -> Result<StepSignals, E> {
+    let (h_spike, w_smooth) = windows(cfg, fs);
+    let outl_n = hampel_outliers(&fn_c[i..j], h_spike, cfg.spike_threshold_sigma);
+    let outl_t = hampel_outliers(&ft_c[i..j], h_spike, cfg.spike_threshold_sigma);
+    let mut mu = Vec::with_capacity(j - i);
+    let mut good = Vec::with_capacity(j - i);
+    for k in 0..(j - i) {
+        let f_n = fn_c[i + k];
+        let is_spike = outl_n[k] || outl_t[k];
+        if !is_spike {
+            check_force(i + k, f_n)?;
+        }
+        mu.push(ft_c[i + k] / f_n);
+        good.push(!is_spike);
+    }
+    let rm = running_median(&mu, h_spike);
+    let clean: Vec<f64> = mu
+        .iter()
+        .zip(&good)
+        .zip(&rm)
+        .map(|((m, g), r)| if *g { *m } else { *r })
+        .collect();
+    let smooth = moving_average(&clean, w_smooth);
+    Ok(StepSignals {
+        i,
+        mu,
+        good,
+        smooth,
+        w_smooth,
+    })
+}
+
+/// Level and tolerance band of a smoothed signal over `part`: the median, and the larger of
+/// five robust standard deviations and `floor`.
+pub fn level_band(part: &[f64], floor: f64) -> (f64, f64) {
+    let level = median(part);
+    let sigma = mad_sigma(part, level).max(1e-4 * level.abs().max(1e-9));
+    (level, (5.0 * sigma).max(floor))
+}
+
+/// The steady part `[a, b)` (window-relative) of a segment whose ends may hold ramps,
+/// run-in or settling: the level and band come from the middle half of each signal; the
+/// steady part starts after the last sample of the first half outside the band and ends
+/// before the first sample of the second half outside it, for every signal. `None` when
+/// nothing is left.
+pub fn steady_span(signals: &[(&[f64], f64)], w_smooth: usize) -> Option<(usize, usize)> {
+    let n = signals.first()?.0.len();
+    if n < 8 {
+        return None;
+    }
+    let (mut a, mut b) = (0usize, n);
+    for (x, floor) in signals {
+        let (level, band) = level_band(&x[n / 4..(3 * n) / 4], *floor);
+        let out = |v: &f64| (v - level).abs() > band;
+        if let Some(k) = x[..n / 2].iter().rposition(out) {
+            a = a.max(k + 1 + w_smooth / 2);
+        }
+        if let Some(k) = x[n / 2..].iter().position(out) {
+            b = b.min((n / 2 + k).saturating_sub(w_smooth / 2));
+        }
+    }
+    (b > a).then_some((a, b))
+}
+
+/// Statistics of one plateau.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlateauStats {
+    pub mean: f64,
+    pub std: f64,
+    pub n_samples: usize,
+    /// First and last sample used, s relative to `t_ref`.
+    pub start_s: f64,
+    pub end_s: f64,
+    pub trend_per_s: f64,
+    pub stationary: bool,
+    /// `trend`, `stick-slip`, `spikes-removed` as found.
+    pub flags: Vec<String>,
+    pub spikes: usize,
+    /// Mean measured normal force over the samples used, N.
+    pub normal_force_n: f64,
+}
+
+/// Statistics over the window-relative samples `[pi, pj)` of `sig`: mean and standard
+/// deviation of F_t/F_N over the unmasked samples, linear trend (flag `trend` when the
+/// change over the plateau exceeds the tolerance and four standard errors), peak-to-peak of
+/// the smoothed, detrended μ (flag `stick-slip`). `None` when fewer than
+/// `min_plateau_samples` unmasked samples remain.
+pub fn plateau_stats(
+    time: &[f64],
+    fn_c: &[f64],
+    sig: &StepSignals,
+    pi: usize,
+    pj: usize,
+    t_ref: f64,
+    cfg: &IdentifyConfig,
+) -> Option<PlateauStats> {
+    let i = sig.i;
+    let idx: Vec<usize> = (pi..pj.max(pi)).filter(|k| sig.good[*k]).collect();
+    if idx.len() < cfg.min_plateau_samples.max(2) {
+        return None;
+    }
+    let spikes = (pi..pj).filter(|k| !sig.good[*k]).count();
+    let mut fl = Vec::new();
+    if spikes > 0 {
+        fl.push(flags::SPIKES_REMOVED.to_string());
+    }
+    let vals: Vec<f64> = idx.iter().map(|k| sig.mu[*k]).collect();
+    let times: Vec<f64> = idx.iter().map(|k| time[i + k] - t_ref).collect();
+    let (mean, std) = mean_std(&vals);
+    let (_, slope, se) = linear_fit(&times, &vals);
+    let duration = times[times.len() - 1] - times[0];
+    let trend = (slope * duration).abs() > cfg.trend_tolerance && slope.abs() > 4.0 * se;
+    let sm_p: Vec<f64> = sig.smooth[pi..pj].to_vec();
+    let t_p: Vec<f64> = (pi..pj).map(|k| time[i + k] - t_ref).collect();
+    let (ia, ib, _) = linear_fit(&t_p, &sm_p);
+    let detr: Vec<f64> = sm_p
+        .iter()
+        .zip(&t_p)
+        .map(|(v, t)| v - ia - ib * t)
+        .collect();
+    let h = sig.w_smooth / 2;
+    let inner = if detr.len() > 2 * h + 2 {
+        &detr[h..detr.len() - h]
+    } else {
+        &detr[..]
+    };
+    let p2p = inner.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+        - inner.iter().cloned().fold(f64::INFINITY, f64::min);
+    let stick = p2p > cfg.stick_slip_threshold;
+    if trend {
+        fl.push(flags::TREND.to_string());
+    }
+    if stick {
+        fl.push(flags::STICK_SLIP.to_string());
+    }
+    let f_meas = idx.iter().map(|k| fn_c[i + k]).sum::<f64>() / idx.len() as f64;
+    Some(PlateauStats {
+        mean,
+        std,
+        n_samples: idx.len(),
+        start_s: times[0],
+        end_s: times[times.len() - 1],
+        trend_per_s: slope,
+        stationary: !trend && !stick,
+        flags: fl,
+        spikes,
+        normal_force_n: f_meas,
+    })
+}

@@ -1,0 +1,224 @@
+//! Column tables as rigs export them, before any channel has a role.
+//!
+//! Every recording reader (delimited text in [`crate::text_table`], spreadsheets in
+//! [`crate::xlsx_table`], TDMS in [`crate::tdms`]) produces a [`Table`]: named columns with the
+//! unit their header states, and where they came from. [`crate::recording::ChannelMap`] then
+//! gives the columns roles (time, normal force, …) and converts them to SI.
+
+use greybox_core::units::{ForceUnit, LengthUnit, SpeedUnit, TimeUnit};
+use greybox_core::{Error, Result, SourcePos};
+
+/// One column of a table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Column {
+    /// The header text as written (trimmed), e.g. `DAQ.Fz (N)`.
+    pub header: String,
+    /// The header without its unit, e.g. `DAQ.Fz`.
+    pub name: String,
+    /// The unit the header (or a TDMS `unit_string`) states, e.g. `N`.
+    pub unit: Option<String>,
+    pub data: ColumnData,
+}
+
+/// A column's values, or where the first value that is not a number was found.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ColumnData {
+    Numbers(Vec<f64>),
+    /// The column holds text (a comment, a date) or an empty or broken cell; an error only
+    /// when a role is mapped to it.
+    NotNumeric {
+        /// 1-based line (text) or row (spreadsheet) of the first offending cell.
+        line: u64,
+        text: String,
+    },
+}
+
+/// A table read from one file.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Table {
+    /// File it was read from.
+    pub source: String,
+    pub columns: Vec<Column>,
+    /// Number of data rows.
+    pub rows: usize,
+    /// How the file was laid out (for `identify --inspect`), e.g. `semicolon-delimited,
+    /// decimal comma, header on line 3`.
+    pub layout: String,
+    /// 1-based line (row) of the header; 0 when the format has no header line (TDMS).
+    pub header_line: u64,
+    /// Lines above the header (instrument metadata), as text.
+    pub preamble: Vec<String>,
+    /// Non-data lines after the data: (1-based line, text). Reported, not an error.
+    pub footer: Vec<(u64, String)>,
+    /// Waveform sample interval from the file's own metadata (TDMS `wf_increment`), s.
+    pub sample_interval_s: Option<f64>,
+    /// Time of the first sample from the file's own metadata (TDMS `wf_start_offset`), s.
+    pub start_time_s: Option<f64>,
+}
+
+impl Column {
+    /// A numeric column from a header (the unit is split off the name).
+    pub fn numbers(header: &str, values: Vec<f64>) -> Self {
+        let (name, unit) = split_unit(header);
+        Column {
+            header: header.trim().to_string(),
+            name,
+            unit,
+            data: ColumnData::Numbers(values),
+        }
+    }
+    /// The values, or an error naming the file, line and column of the first non-number.
+    pub fn values(&self, source: &str) -> Result<&[f64]> {
+        match &self.data {
+            ColumnData::Numbers(v) => Ok(v),
+            ColumnData::NotNumeric { line, text } => Err(Error::input(
+                SourcePos::file(source).line(*line).field(&self.header),
+                if text.trim().is_empty() {
+                    "expected a number, found an empty field".to_string()
+                } else {
+                    format!("expected a number, found '{}'", text.trim())
+                },
+            )),
+        }
+    }
+    /// Take the values out (the column keeps an empty vector).
+    pub fn take_values(&mut self, source: &str) -> Result<Vec<f64>> {
+        self.values(source)?;
+        match &mut self.data {
+            ColumnData::Numbers(v) => Ok(std::mem::take(v)),
+            ColumnData::NotNumeric { .. } => unreachable!("checked above"),
+        }
+    }
+}
+
+impl Table {
+    /// Header names, for error messages.
+    pub fn header_list(&self) -> String {
+        self.columns
+            .iter()
+            .map(|c| c.header.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// Whether `text` is a unit greybox knows in a column name (force, time, speed, length,
+/// volts, dimensionless).
+pub fn is_known_unit(text: &str) -> bool {
+    let t = text.trim();
+    !t.is_empty()
+        && (ForceUnit::parse_lenient(t).is_some()
+            || TimeUnit::parse(t).is_some()
+            || SpeedUnit::parse(t).is_some()
+            || LengthUnit::parse(t).is_some()
+            || matches!(t, "V" | "mV" | "-" | "1" | "%" | "°C" | "K"))
+}
+
+/// Split a header into its name and the unit it states, in the spellings rig software uses:
+/// `Fz (N)`, `Fz [kN]`, `Fz_kN`, `Fz/N`, `Speed_mm/s`, `sliding_velocity_m_per_min`,
+/// `Velocity (rpm)`. A bracketed unit is taken as written (checked when the column is used);
+/// `_` and `/` suffixes only when they are a known unit, so `normal_force` keeps its name.
+pub fn split_unit(header: &str) -> (String, Option<String>) {
+    let h = header.trim().trim_matches('"').trim();
+    for (open, close) in [('(', ')'), ('[', ']'), ('{', '}')] {
+        if h.ends_with(close) {
+            if let Some(i) = h.rfind(open) {
+                let unit = h[i + 1..h.len() - 1].trim();
+                let name = h[..i].trim().trim_end_matches(['/', '_', ',']).trim();
+                if !name.is_empty() {
+                    return (
+                        name.to_string(),
+                        (!unit.is_empty()).then(|| unit.to_string()),
+                    );
+                }
+            }
+        }
+    }
+    // `_unit` suffixes, the longest known one first (`m_per_min` before `min`)
+    for (i, _) in h.match_indices('_') {
+        let suffix = &h[i + 1..];
+        if is_known_unit(suffix) && i > 0 {
+            return (h[..i].to_string(), Some(suffix.to_string()));
+        }
+    }
+    // `name/unit`, where the unit may itself contain a slash (`v/m/s` is unusual; `Ft/N`)
+    for (i, _) in h.match_indices('/') {
+        let suffix = &h[i + 1..];
+        if is_known_unit(suffix) && i > 0 {
+            return (h[..i].trim().to_string(), Some(suffix.to_string()));
+        }
+    }
+    (h.to_string(), None)
+}
+
+/// A name normalised for matching: lower case, `_`, `-` and runs of spaces as one space.
+pub fn normalise_name(name: &str) -> String {
+    let lower = name.trim().to_lowercase();
+    let mut out = String::with_capacity(lower.len());
+    for part in lower.split(|c: char| c.is_whitespace() || c == '_' || c == '-') {
+        if part.is_empty() {
+            continue;
+        }
+        if !out.is_empty() {
+            out.push(' ');
+        }
+        out.push_str(part);
+    }
+    out
+}
+
+/// Whether a column answers to `wanted` (a mapped name or an alias): the full header, the
+/// name without unit, or the name's last dotted component (`DAQ.Fz` answers to `Fz`), all
+/// compared after [`normalise_name`].
+pub fn column_matches(column: &Column, wanted: &str) -> bool {
+    let w = normalise_name(wanted);
+    if w.is_empty() {
+        return false;
+    }
+    let name = normalise_name(&column.name);
+    if normalise_name(&column.header) == w || name == w {
+        return true;
+    }
+    name.rsplit(['.', ':']).next().map(str::trim) == Some(w.as_str())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unit_spellings() {
+        let cases = [
+            ("Fz (N)", "Fz", Some("N")),
+            (" DAQ.Fz (N)", "DAQ.Fz", Some("N")),
+            ("Fz [kN]", "Fz", Some("kN")),
+            ("Fz_kN", "Fz", Some("kN")),
+            ("Fz/N", "Fz", Some("N")),
+            ("Ft/N", "Ft", Some("N")),
+            ("Speed_mm/s", "Speed", Some("mm/s")),
+            ("sliding_velocity_m_per_min", "sliding_velocity", Some("m_per_min")),
+            ("normal_force_N", "normal_force", Some("N")),
+            ("time_s", "time", Some("s")),
+            ("Velocity (rpm)", "Velocity", Some("rpm")),
+            ("v [m/min]", "v", Some("m/min")),
+            ("normal_force", "normal_force", None),
+            ("Step", "Step", None),
+            ("COF", "COF", None),
+        ];
+        for (h, name, unit) in cases {
+            let (n, u) = split_unit(h);
+            assert_eq!((n.as_str(), u.as_deref()), (name, unit), "{h}");
+        }
+    }
+
+    #[test]
+    fn matching_ignores_case_spaces_and_prefixes() {
+        let c = Column::numbers(" DAQ.Fz (N)", vec![]);
+        assert!(column_matches(&c, "fz"));
+        assert!(column_matches(&c, "DAQ.Fz"));
+        assert!(column_matches(&c, "daq.fz (n)"));
+        assert!(!column_matches(&c, "Fx"));
+        let c = Column::numbers("Normal Force (N)", vec![]);
+        assert!(column_matches(&c, "normal_force"));
+    }
+}

@@ -1,0 +1,717 @@
+//! Delimited text tables as rigs export them (CSV, TXT, DAT, TSV), dialect found from the file.
+//!
+//! What is sniffed from the first lines: a UTF-8 byte-order mark, CRLF or LF line ends, the
+//! delimiter (tab, semicolon, comma or runs of whitespace), decimal commas, the header line
+//! below any preamble (the last line above the first run of numeric rows that has as many
+//! fields), and a trailing delimiter on every line. Lines after the data that are not data
+//! (an `End of data` or a summary) are the footer: reported, not an error. A non-numeric cell
+//! inside the data only matters when a role is mapped to its column
+//! ([`crate::table::ColumnData::NotNumeric`]).
+//!
+//! The data lines are parsed in parallel chunks (rayon) with `fast-float2`, straight from the
+//! file's bytes; the result does not depend on the number of threads.
+
+use crate::table::{Column, ColumnData, Table};
+use greybox_core::{Error, Result, SourcePos};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// Field delimiter of a text table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Delimiter {
+    Tab,
+    Semicolon,
+    Comma,
+    /// One or more spaces or tabs.
+    Whitespace,
+}
+
+impl Delimiter {
+    /// In the order a tie is broken.
+    const ALL: [Delimiter; 4] = [
+        Delimiter::Tab,
+        Delimiter::Semicolon,
+        Delimiter::Comma,
+        Delimiter::Whitespace,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            Delimiter::Tab => "tab",
+            Delimiter::Semicolon => "semicolon",
+            Delimiter::Comma => "comma",
+            Delimiter::Whitespace => "whitespace",
+        }
+    }
+    fn byte(self) -> Option<u8> {
+        match self {
+            Delimiter::Tab => Some(b'\t'),
+            Delimiter::Semicolon => Some(b';'),
+            Delimiter::Comma => Some(b','),
+            Delimiter::Whitespace => None,
+        }
+    }
+}
+
+/// What the caller knows about the file's layout; everything else is sniffed.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TextOptions {
+    /// 1-based line of the header (default: found automatically).
+    pub header_line: Option<u64>,
+    pub delimiter: Option<Delimiter>,
+    pub decimal_comma: Option<bool>,
+}
+
+/// How many lines are looked at to find the layout.
+const SNIFF_LINES: usize = 200;
+/// Numeric rows that must follow a header for it to count.
+const CONFIRM_ROWS: usize = 3;
+
+/// Read a text table from a file.
+pub fn read_text_table(path: &std::path::Path, opts: &TextOptions) -> Result<Table> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    parse_text_table(&bytes, &path.display().to_string(), opts)
+}
+
+/// One line of the file: its 1-based number and its bytes without the line end.
+#[derive(Clone, Copy)]
+struct Line<'a> {
+    number: u64,
+    text: &'a [u8],
+}
+
+fn strip_cr(l: &[u8]) -> &[u8] {
+    l.strip_suffix(b"\r").unwrap_or(l)
+}
+
+fn is_blank(l: &[u8]) -> bool {
+    l.iter().all(|b| b.is_ascii_whitespace())
+}
+
+fn trim(b: &[u8]) -> &[u8] {
+    let s = b.iter().position(|c| !c.is_ascii_whitespace()).unwrap_or(b.len());
+    let e = b.iter().rposition(|c| !c.is_ascii_whitespace()).map_or(s, |e| e + 1);
+    &b[s..e.max(s)]
+}
+
+fn unquote(b: &[u8]) -> &[u8] {
+    let t = trim(b);
+    if t.len() >= 2 && t[0] == b'"' && t[t.len() - 1] == b'"' {
+        &t[1..t.len() - 1]
+    } else {
+        t
+    }
+}
+
+/// Split a line into fields (no quoting rules: numeric data has none; see [`split_header`]).
+fn split_fields(line: &[u8], d: Delimiter, out: &mut Vec<(usize, usize)>) {
+    out.clear();
+    match d.byte() {
+        Some(b) => {
+            let mut start = 0;
+            for i in memchr::memchr_iter(b, line) {
+                out.push((start, i));
+                start = i + 1;
+            }
+            out.push((start, line.len()));
+        }
+        None => {
+            let mut i = 0;
+            let n = line.len();
+            while i < n {
+                while i < n && (line[i] == b' ' || line[i] == b'\t') {
+                    i += 1;
+                }
+                if i == n {
+                    break;
+                }
+                let s = i;
+                while i < n && line[i] != b' ' && line[i] != b'\t' {
+                    i += 1;
+                }
+                out.push((s, i));
+            }
+        }
+    }
+}
+
+/// Parse a number; with `decimal_comma`, `,` is the decimal mark. `None` for anything else
+/// (including NaN and infinities, which a recording never legitimately holds).
+#[inline]
+fn parse_number(field: &[u8], decimal_comma: bool) -> Option<f64> {
+    let t = unquote(field);
+    if t.is_empty() {
+        return None;
+    }
+    let v = if decimal_comma && memchr::memchr(b',', t).is_some() {
+        if t.len() > 64 || memchr::memchr(b'.', t).is_some() {
+            return None;
+        }
+        let mut buf = [0u8; 64];
+        for (k, c) in t.iter().enumerate() {
+            buf[k] = if *c == b',' { b'.' } else { *c };
+        }
+        fast_float2::parse::<f64, _>(&buf[..t.len()]).ok()?
+    } else {
+        fast_float2::parse::<f64, _>(t).ok()?
+    };
+    v.is_finite().then_some(v)
+}
+
+/// Split a header line into names; double quotes may protect delimiters inside a name.
+fn split_header(line: &str, d: Delimiter) -> Vec<String> {
+    if d == Delimiter::Whitespace {
+        // names with single spaces ("Normal force") are separated by two or more spaces or tabs
+        let by_wide: Vec<String> = line
+            .split('\t')
+            .flat_map(|p| p.split("  "))
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .map(str::to_string)
+            .collect();
+        return by_wide;
+    }
+    let delim = d.byte().map(char::from).unwrap_or(',');
+    let mut out = Vec::new();
+    let mut cur = String::new();
+    let mut quoted = false;
+    for c in line.chars() {
+        match c {
+            '"' => quoted = !quoted,
+            c if c == delim && !quoted => out.push(std::mem::take(&mut cur)),
+            c => cur.push(c),
+        }
+    }
+    out.push(cur);
+    out.into_iter().map(|s| s.trim().to_string()).collect()
+}
+
+/// Fields of a line with a trailing empty field dropped (a trailing delimiter).
+fn field_count(line: &[u8], d: Delimiter, spans: &mut Vec<(usize, usize)>) -> (usize, bool) {
+    split_fields(line, d, spans);
+    let mut n = spans.len();
+    let trailing = n > 1 && trim(&line[spans[n - 1].0..spans[n - 1].1]).is_empty();
+    if trailing {
+        n -= 1;
+    }
+    (n, trailing)
+}
+
+/// At least two fields, and at least half of them, are numbers (a date or comment column
+/// may sit beside the numbers).
+fn mostly_numeric(line: &[u8], spans: &[(usize, usize)], dc: bool) -> bool {
+    let numbers = spans
+        .iter()
+        .filter(|&&(a, b)| parse_number(&line[a..b], dc).is_some())
+        .count();
+    numbers >= 2.min(spans.len()) && numbers > 0 && 2 * numbers >= spans.len()
+}
+
+/// Fewer than half of the fields are numbers (a header may have a numeric name or two).
+fn mostly_text(line: &[u8], d: Delimiter, dc: bool) -> bool {
+    let mut spans = Vec::new();
+    let (n, _) = field_count(line, d, &mut spans);
+    let numbers = spans[..n]
+        .iter()
+        .filter(|&&(a, b)| parse_number(&line[a..b], dc).is_some())
+        .count();
+    2 * numbers < n.max(1) || n == 1
+}
+
+/// The field count of a row of (mostly) numbers, with `decimal_comma` deciding the mark.
+fn numeric_row(line: &[u8], d: Delimiter, dc: bool, spans: &mut Vec<(usize, usize)>) -> Option<usize> {
+    let (n, _) = field_count(line, d, spans);
+    (n > 0 && mostly_numeric(line, &spans[..n], dc)).then_some(n)
+}
+
+/// The layout found for one delimiter.
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    delimiter: Delimiter,
+    decimal_comma: bool,
+    /// Index into the sniffed lines of the header (None: no header line).
+    header: Option<usize>,
+    /// Index of the first data line.
+    data: usize,
+    fields: usize,
+    /// Every field of the first data row is a number.
+    all_numeric: bool,
+}
+
+/// Find header and data start for one delimiter among the first lines.
+fn sniff(lines: &[Line], d: Delimiter, dc: bool, forced_header: Option<usize>) -> Option<Candidate> {
+    let mut spans = Vec::new();
+    let numeric: Vec<Option<usize>> = lines
+        .iter()
+        .map(|l| numeric_row(l.text, d, dc, &mut spans))
+        .collect();
+    let confirmed = |i: usize| -> Option<usize> {
+        let n = numeric[i]?;
+        if n < 2 {
+            return None;
+        }
+        // at least two rows of as many numbers (one if the file ends there)
+        let mut k = 0;
+        let mut ended = true;
+        for (j, l) in lines.iter().enumerate().skip(i) {
+            if is_blank(l.text) {
+                continue;
+            }
+            if numeric[j] != Some(n) {
+                ended = false;
+                break;
+            }
+            k += 1;
+            if k == CONFIRM_ROWS {
+                break;
+            }
+        }
+        (k >= 2 || (k == 1 && ended)).then_some(n)
+    };
+    let start = forced_header.map_or(0, |h| h + 1);
+    let data = (start..lines.len()).find(|&i| confirmed(i).is_some())?;
+    let fields = confirmed(data)?;
+    let header = match forced_header {
+        Some(h) => Some(h),
+        None => (0..data).rev().find(|&i| !is_blank(lines[i].text)),
+    };
+    // the header must name as many columns as the data has, and not be numbers itself
+    let header = header.filter(|&h| {
+        if numeric[h].is_some() || !mostly_text(lines[h].text, d, dc) {
+            return false;
+        }
+        let text = String::from_utf8_lossy(lines[h].text);
+        let mut names = split_header(&text, d);
+        if names.len() > fields && names.last().is_some_and(|s| s.is_empty()) {
+            names.pop();
+        }
+        names.len() == fields || forced_header.is_some()
+    });
+    field_count(lines[data].text, d, &mut spans);
+    let all_numeric = spans[..fields]
+        .iter()
+        .all(|&(a, b)| parse_number(&lines[data].text[a..b], dc).is_some());
+    Some(Candidate {
+        delimiter: d,
+        decimal_comma: dc,
+        header,
+        data,
+        fields,
+        all_numeric,
+    })
+}
+
+fn choose_layout(lines: &[Line], opts: &TextOptions, source: &str) -> Result<Candidate> {
+    let forced_header = match opts.header_line {
+        Some(0) => None,
+        Some(h) => Some(
+            lines
+                .iter()
+                .position(|l| l.number == h)
+                .ok_or_else(|| {
+                    Error::input(
+                        SourcePos::file(source).line(h),
+                        format!("--header-line {h}: the file has only {} lines", lines.len()),
+                    )
+                })?,
+        ),
+        None => None,
+    };
+    let delims: Vec<Delimiter> = match opts.delimiter {
+        Some(d) => vec![d],
+        None => Delimiter::ALL.to_vec(),
+    };
+    let mut best: Option<Candidate> = None;
+    for d in delims {
+        let marks: Vec<bool> = match (opts.decimal_comma, d) {
+            (Some(dc), _) => vec![dc],
+            (None, Delimiter::Comma) => vec![false],
+            (None, _) => vec![false, true],
+        };
+        for dc in marks {
+            let Some(c) = sniff(lines, d, dc, forced_header) else {
+                continue;
+            };
+            // prefer: a header found, rows of numbers only, more fields, the earlier data, then
+            // the delimiter order
+            let better = match &best {
+                None => true,
+                Some(b) => {
+                    (c.header.is_some(), c.all_numeric, c.fields, std::cmp::Reverse(c.data))
+                        > (b.header.is_some(), b.all_numeric, b.fields, std::cmp::Reverse(b.data))
+                }
+            };
+            if better {
+                best = Some(c);
+            }
+        }
+    }
+    let c = best.ok_or_else(|| {
+        Error::input(
+            SourcePos::file(source),
+            format!(
+                "no table found in the first {SNIFF_LINES} lines: expected a header line followed by rows of numbers separated by commas, semicolons, tabs or spaces"
+            ),
+        )
+    })?;
+    if c.header.is_none() {
+        return Err(Error::input(
+            SourcePos::file(source).line(lines[c.data].number),
+            format!(
+                "found {}-delimited numeric data from line {} but no header line above it that names its {} columns; give --header-line N",
+                c.delimiter.name(),
+                lines[c.data].number,
+                c.fields
+            ),
+        ));
+    }
+    Ok(c)
+}
+
+/// One parsed chunk of data lines.
+struct Chunk {
+    columns: Vec<Vec<f64>>,
+    /// First non-number per column: (line, text).
+    bad: Vec<Option<(u64, String)>>,
+    /// Lines that are not data rows: (line, text, wrong field count).
+    other: Vec<(u64, String, Option<usize>)>,
+    last_data_line: u64,
+}
+
+fn parse_chunk(lines: &[Line], c: &Candidate) -> Chunk {
+    let n = c.fields;
+    let mut ch = Chunk {
+        columns: (0..n).map(|_| Vec::with_capacity(lines.len())).collect(),
+        bad: vec![None; n],
+        other: Vec::new(),
+        last_data_line: 0,
+    };
+    let mut spans = Vec::with_capacity(n + 1);
+    for l in lines {
+        if is_blank(l.text) {
+            continue;
+        }
+        let (k, _) = field_count(l.text, c.delimiter, &mut spans);
+        // a data row is mostly numbers; a line that is not is a footer or comment
+        let starts_numeric = mostly_numeric(l.text, &spans[..k], c.decimal_comma);
+        if !starts_numeric || k != n {
+            let wrong = starts_numeric.then_some(k);
+            ch.other
+                .push((l.number, String::from_utf8_lossy(l.text).trim().to_string(), wrong));
+            continue;
+        }
+        for (col, &(a, b)) in spans[..n].iter().enumerate() {
+            let v = match parse_number(&l.text[a..b], c.decimal_comma) {
+                Some(v) => v,
+                None => {
+                    if ch.bad[col].is_none() {
+                        ch.bad[col] = Some((
+                            l.number,
+                            String::from_utf8_lossy(&l.text[a..b]).to_string(),
+                        ));
+                    }
+                    f64::NAN
+                }
+            };
+            ch.columns[col].push(v);
+        }
+        ch.last_data_line = l.number;
+    }
+    ch
+}
+
+/// Parse a text table from bytes (`source` names it in errors).
+pub fn parse_text_table(bytes: &[u8], source: &str, opts: &TextOptions) -> Result<Table> {
+    if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
+        return Err(Error::input(
+            SourcePos::file(source),
+            "the file is UTF-16 encoded: save it as UTF-8 (or ASCII) text",
+        ));
+    }
+    let bom = bytes.starts_with(&[0xEF, 0xBB, 0xBF]);
+    let body = if bom { &bytes[3..] } else { bytes };
+    let crlf = memchr::memchr(b'\n', body).is_some_and(|i| i > 0 && body[i - 1] == b'\r');
+
+    // the first lines, for sniffing
+    let mut head = Vec::with_capacity(SNIFF_LINES);
+    let mut pos = 0;
+    while head.len() < SNIFF_LINES && pos < body.len() {
+        let end = memchr::memchr(b'\n', &body[pos..]).map_or(body.len(), |i| pos + i);
+        head.push(Line {
+            number: head.len() as u64 + 1,
+            text: strip_cr(&body[pos..end]),
+        });
+        pos = end + 1;
+    }
+    let c = choose_layout(&head, opts, source)?;
+    let h = c.header.expect("checked in choose_layout");
+    let header_text = String::from_utf8_lossy(head[h].text).to_string();
+    let mut names = split_header(&header_text, c.delimiter);
+    while names.len() > c.fields && names.last().is_some_and(|s| s.is_empty()) {
+        names.pop();
+    }
+    if names.len() != c.fields {
+        return Err(Error::input(
+            SourcePos::file(source).line(head[h].number),
+            format!(
+                "the header names {} columns but the data rows have {} ({}-delimited)",
+                names.len(),
+                c.fields,
+                c.delimiter.name()
+            ),
+        ));
+    }
+    for (k, nm) in names.iter_mut().enumerate() {
+        if nm.is_empty() {
+            *nm = format!("column {}", k + 1);
+        }
+    }
+    let preamble: Vec<String> = head[..h]
+        .iter()
+        .filter(|l| !is_blank(l.text))
+        .map(|l| String::from_utf8_lossy(l.text).trim().to_string())
+        .collect();
+
+    // the data: byte offset of the first data line, then chunks split at line ends
+    let data_start = head[c.data].text.as_ptr() as usize - body.as_ptr() as usize;
+    let first_number = head[c.data].number;
+    let data = &body[data_start..];
+    let threads = rayon::current_num_threads().max(1);
+    let target = (data.len() / (4 * threads)).max(1 << 20);
+    let mut bounds = vec![0usize];
+    while *bounds.last().expect("non-empty") < data.len() {
+        let from = bounds.last().copied().expect("non-empty") + target;
+        if from >= data.len() {
+            bounds.push(data.len());
+            break;
+        }
+        let end = memchr::memchr(b'\n', &data[from..]).map_or(data.len(), |i| from + i + 1);
+        bounds.push(end);
+    }
+    // line numbers: count line ends per chunk first
+    let newlines: Vec<u64> = bounds
+        .par_windows(2)
+        .map(|w| memchr::memchr_iter(b'\n', &data[w[0]..w[1]]).count() as u64)
+        .collect();
+    let mut first_line = Vec::with_capacity(newlines.len());
+    let mut acc = first_number;
+    for n in &newlines {
+        first_line.push(acc);
+        acc += n;
+    }
+    let chunks: Vec<Chunk> = bounds
+        .par_windows(2)
+        .zip(first_line.par_iter())
+        .map(|(w, &l0)| {
+            let part = &data[w[0]..w[1]];
+            let mut lines = Vec::with_capacity(part.len() / 32 + 1);
+            let mut p = 0;
+            let mut num = l0;
+            while p < part.len() {
+                let end = memchr::memchr(b'\n', &part[p..]).map_or(part.len(), |i| p + i);
+                lines.push(Line {
+                    number: num,
+                    text: strip_cr(&part[p..end]),
+                });
+                num += 1;
+                p = end + 1;
+            }
+            parse_chunk(&lines, &c)
+        })
+        .collect();
+
+    // footer: non-data lines after the last data line; any earlier one is an error
+    let last_data = chunks.iter().map(|ch| ch.last_data_line).max().unwrap_or(0);
+    let mut footer = Vec::new();
+    for ch in &chunks {
+        for (line, text, wrong) in &ch.other {
+            if *line < last_data || wrong.is_some() {
+                let msg = match wrong {
+                    Some(k) => format!(
+                        "malformed row: expected {} fields, found {k} ({}-delimited, header on line {})",
+                        c.fields,
+                        c.delimiter.name(),
+                        head[h].number
+                    ),
+                    None => format!("a line that is not data inside the data: '{}'", clip(text)),
+                };
+                return Err(Error::input(SourcePos::file(source).line(*line), msg));
+            }
+            footer.push((*line, text.clone()));
+        }
+    }
+    let rows: usize = chunks.iter().map(|ch| ch.columns[0].len()).sum();
+    let mut columns: Vec<Column> = Vec::with_capacity(c.fields);
+    for (k, name) in names.iter().enumerate() {
+        let bad = chunks.iter().find_map(|ch| ch.bad[k].clone());
+        let data = match bad {
+            Some((line, text)) => ColumnData::NotNumeric { line, text },
+            None => {
+                let mut v = Vec::with_capacity(rows);
+                for ch in &chunks {
+                    v.extend_from_slice(&ch.columns[k]);
+                }
+                ColumnData::Numbers(v)
+            }
+        };
+        let mut col = Column::numbers(name, Vec::new());
+        col.data = data;
+        columns.push(col);
+    }
+    let trailing = {
+        let mut spans = Vec::new();
+        field_count(head[c.data].text, c.delimiter, &mut spans).1
+    };
+    let mut layout = format!("{}-delimited", c.delimiter.name());
+    if c.decimal_comma {
+        layout.push_str(", decimal comma");
+    }
+    if trailing {
+        layout.push_str(", trailing delimiter");
+    }
+    if bom {
+        layout.push_str(", UTF-8 BOM");
+    }
+    if crlf {
+        layout.push_str(", CRLF");
+    }
+    layout.push_str(&format!(", header on line {}", head[h].number));
+    if !preamble.is_empty() {
+        layout.push_str(&format!(", {} preamble line(s)", preamble.len()));
+    }
+    if !footer.is_empty() {
+        layout.push_str(&format!(", {} footer line(s)", footer.len()));
+    }
+    Ok(Table {
+        source: source.to_string(),
+        columns,
+        rows,
+        layout,
+        header_line: head[h].number,
+        preamble,
+        footer,
+        sample_interval_s: None,
+        start_time_s: None,
+    })
+}
+
+fn clip(s: &str) -> String {
+    if s.chars().count() > 60 {
+        format!("{}…", s.chars().take(60).collect::<String>())
+    } else {
+        s.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<Table> {
+        parse_text_table(text.as_bytes(), "t.csv", &TextOptions::default())
+    }
+    fn col<'a>(t: &'a Table, k: usize) -> &'a [f64] {
+        t.columns[k].values(&t.source).unwrap()
+    }
+
+    #[test]
+    fn plain_csv() {
+        let t = parse("time_s,normal_force_N\n0,1.5\n0.001,2.5\n0.002,3\n").unwrap();
+        assert_eq!(t.rows, 3);
+        assert_eq!(col(&t, 1), &[1.5, 2.5, 3.0]);
+        assert_eq!(t.columns[0].unit.as_deref(), Some("s"));
+        assert_eq!(t.header_line, 1);
+    }
+
+    #[test]
+    fn preamble_trailing_delimiter_footer() {
+        let text = "Instrument: RT,Serial 12\nTest: 2026-05-03 10:12,Operator: X\n\
+                    Step, Time (s), DAQ.Fz (N), DAQ.Fx (N),\n1,0.0,10.0,4.0,\n1,0.1,10.1,4.1,\n\
+                    2,0.0,10.2,4.2,\n2,0.1,10.3,4.3,\nEnd of data,\nTotal time: 250 s\n";
+        let t = parse(text).unwrap();
+        assert_eq!(t.header_line, 3);
+        assert_eq!(t.columns.len(), 4);
+        assert_eq!(t.columns[2].name, "DAQ.Fz");
+        assert_eq!(col(&t, 3), &[4.0, 4.1, 4.2, 4.3]);
+        assert_eq!(t.preamble.len(), 2);
+        assert_eq!(t.footer.len(), 2);
+        assert_eq!(t.footer[0].0, 8);
+        assert!(t.layout.contains("trailing delimiter"), "{}", t.layout);
+    }
+
+    #[test]
+    fn semicolon_decimal_comma_bom_crlf() {
+        let text = "\u{feff}Zeit [s];Fn [kN];Ft/N\r\n0,000;0,2001;80,5\r\n0,002;0,2002;80,6\r\n0,004;0,2003;80,7\r\n";
+        let t = parse(text).unwrap();
+        assert_eq!(col(&t, 1), &[0.2001, 0.2002, 0.2003]);
+        assert_eq!(col(&t, 2), &[80.5, 80.6, 80.7]);
+        assert!(t.layout.contains("decimal comma") && t.layout.contains("BOM"));
+        assert_eq!(t.columns[0].name, "Zeit");
+    }
+
+    #[test]
+    fn tab_and_whitespace() {
+        let t = parse("Fz_kN\tFx_N\tSpeed_mm/s\n0.4\t160\t500\n0.4\t161\t500\n0.4\t162\t501\n").unwrap();
+        assert_eq!(t.columns[2].unit.as_deref(), Some("mm/s"));
+        assert_eq!(col(&t, 1), &[160.0, 161.0, 162.0]);
+        let t = parse("Time  Normal force  Friction force\n0   10  4\n0.1 10  4.1\n0.2 10  4.2\n").unwrap();
+        assert_eq!(t.columns.len(), 3);
+        assert_eq!(t.columns[1].name, "Normal force");
+    }
+
+    #[test]
+    fn text_column_only_fails_when_used() {
+        let t = parse("t_s,F_N,comment\n0,1,ok\n1,2,fine\n2,3,x\n").unwrap();
+        assert_eq!(col(&t, 1), &[1.0, 2.0, 3.0]);
+        let e = t.columns[2].values(&t.source).unwrap_err().to_string();
+        assert!(e.contains("line 2") && e.contains("comment") && e.contains("'ok'"), "{e}");
+    }
+
+    #[test]
+    fn broken_rows_are_errors_with_lines() {
+        let e = parse("t_s,F_N\n0,1\n1,2\n2\n3,4\n").unwrap_err().to_string();
+        assert!(e.contains("line 4") && e.contains("expected 2 fields, found 1"), "{e}");
+        let e = parse("t_s,F_N\n0,1\n1,2\nsomething else here\n3,4\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 4") && e.contains("not data"), "{e}");
+        let t = parse("t_s,F_N,G_N\n0,1,1\n1,abc,2\n2,3,3\n").unwrap();
+        let e = t.columns[1].values(&t.source).unwrap_err().to_string();
+        assert!(e.contains("line 3") && e.contains("'abc'"), "{e}");
+        let e = parse("just some text\nno numbers\n").unwrap_err().to_string();
+        assert!(e.contains("no table found"), "{e}");
+        let e = parse("0,1\n1,2\n2,3\n").unwrap_err().to_string();
+        assert!(e.contains("no header line"), "{e}");
+        let e = parse("t_s,F_N\n0,1\n1,abc\n2,3\n").unwrap_err().to_string();
+        assert!(e.contains("line 4") && e.contains("no header line"), "{e}");
+    }
+
+    #[test]
+    fn forced_header_line() {
+        let text = "a,b\n1,2\nx_s,y_N\n0,1\n1,2\n2,3\n";
+        let t = parse_text_table(
+            text.as_bytes(),
+            "t.csv",
+            &TextOptions {
+                header_line: Some(3),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(t.columns[0].name, "x");
+        assert_eq!(t.rows, 3);
+    }
+
+    #[test]
+    fn same_result_in_many_chunks() {
+        let mut text = String::from("time_s,F_N\n");
+        for i in 0..200_000 {
+            text.push_str(&format!("{},{}\n", i as f64 * 1e-3, (i % 97) as f64 * 0.5));
+        }
+        let t = parse(&text).unwrap();
+        assert_eq!(t.rows, 200_000);
+        assert_eq!(col(&t, 1)[199_999], (199_999 % 97) as f64 * 0.5);
+        assert!(t.footer.is_empty());
+    }
+}
