@@ -11,9 +11,9 @@
 //! virtual tribometer), and every malformed or truncated file must yield an error that
 //! names the segment and byte offset, never a panic.
 
-use crate::recording::{force_unit_from_name, ChannelMap, ChannelSpec, Recording};
+use crate::recording::{ChannelMap, Recording, DEFAULT_TDMS_GROUP};
+use crate::table::{split_unit, Column, ColumnData, Table};
 use greybox_core::atomic::write_atomic;
-use greybox_core::units::ForceUnit;
 use greybox_core::{Error, Result, SourcePos};
 use std::collections::HashMap;
 use std::io::Write;
@@ -677,117 +677,104 @@ fn recording_channels(rec: &Recording) -> Vec<WriteChannel<'_>> {
 /// Read a recording from a TDMS file through a channel map.
 pub fn read_tdms_recording(path: &Path, map: &ChannelMap) -> Result<Recording> {
     let file = TdmsFile::read(path)?;
-    recording_from_tdms(&file, map)
-}
-
-fn find_channel<'a>(file: &'a TdmsFile, group: &str, name: &str) -> Result<&'a TdmsObject> {
-    file.channel(group, name).ok_or_else(|| {
-        let names = file.channel_names(group);
-        let msg = if file.object(&group_path(group)).is_none() && names.is_empty() {
-            format!("no group '{group}' in the file")
-        } else {
-            format!(
-                "no channel '{name}' in group '{group}'; it has: {}",
-                names.join(", ")
-            )
-        };
-        Error::input(SourcePos::file(&file.source).field(name), msg)
-    })
-}
-
-fn force_channel(file: &TdmsFile, group: &str, spec: &ChannelSpec) -> Result<Vec<f64>> {
-    let obj = find_channel(file, group, &spec.name)?;
-    let pos = || SourcePos::file(&file.source).field(&spec.name);
-    let stored = match obj.property("unit_string").and_then(PropValue::as_str) {
-        Some(u) if !u.trim().is_empty() => Some(ForceUnit::parse(u).ok_or_else(|| {
-            Error::input(
-                pos(),
-                format!("unknown unit_string '{u}'; expected N, kN, daN, mN or lbf"),
-            )
-        })?),
-        _ => None,
-    };
-    let unit = match (spec.unit, stored) {
-        (Some(m), Some(s)) if m != s => {
-            return Err(Error::input(
-                pos(),
-                format!(
-                    "mapped as {} but the file says unit_string '{}'",
-                    m.symbol(),
-                    s.symbol()
-                ),
-            ))
-        }
-        (Some(m), _) => m,
-        (None, Some(s)) => s,
-        (None, None) => force_unit_from_name(&spec.name).ok_or_else(|| {
-            Error::input(
-                pos(),
-                "channel has no unit_string property and no unit suffix; map it as NAME:UNIT",
-            )
-        })?,
-    };
-    let k = unit.to_newton() * spec.scale;
-    Ok(obj.data.iter().map(|v| v * k).collect())
+    recording_from_tdms(file, map)
 }
 
 /// Build a recording from a parsed TDMS file.
-pub fn recording_from_tdms(file: &TdmsFile, map: &ChannelMap) -> Result<Recording> {
-    let g = &map.tdms_group;
-    let normal = force_channel(file, g, &map.normal)?;
-    let tangential = force_channel(file, g, &map.tangential)?;
-    let radial = map
-        .radial
-        .as_ref()
-        .map(|s| force_channel(file, g, s))
-        .transpose()?;
-    let trigger = map
-        .trigger
-        .as_ref()
-        .map(|t| find_channel(file, g, t).map(|o| o.data.clone()))
-        .transpose()?;
-    let n = normal.len();
-    let time_channel = map.time.as_ref().and_then(|t| file.channel(g, t));
-    let time_s = match time_channel {
-        Some(obj) => {
-            let unit = map
-                .time_unit
-                .or_else(|| {
-                    crate::recording::time_unit_from_name(map.time.as_deref().unwrap_or(""))
-                })
-                .unwrap_or(greybox_core::units::TimeUnit::Second);
-            obj.data.iter().map(|v| v * unit.to_second()).collect()
-        }
+pub fn recording_from_tdms(file: TdmsFile, map: &ChannelMap) -> Result<Recording> {
+    crate::recording::recording_from_table(table_from_tdms(file, map.tdms_group.as_deref())?, map)
+}
+
+/// The channels of one group as a table (columns named by channel, units from
+/// `unit_string`, waveform timing from the first channel's `wf_increment` and
+/// `wf_start_offset`). Without a group name: `Tribometer` if present, else the file's only
+/// group holding channels.
+pub fn table_from_tdms(mut file: TdmsFile, group: Option<&str>) -> Result<Table> {
+    let groups: Vec<String> = file
+        .objects
+        .iter()
+        .filter_map(|o| {
+            let rest = o.path.strip_prefix("/'")?;
+            let end = rest.find("'/'")?;
+            Some(rest[..end].replace("''", "'"))
+        })
+        .fold(Vec::new(), |mut v, g| {
+            if !v.contains(&g) {
+                v.push(g);
+            }
+            v
+        });
+    let group = match group {
+        Some(g) => g.to_string(),
+        None if groups.iter().any(|g| g == DEFAULT_TDMS_GROUP) => DEFAULT_TDMS_GROUP.to_string(),
+        None if groups.len() == 1 => groups[0].clone(),
         None => {
-            let obj = find_channel(file, g, &map.normal.name)?;
-            let dt = obj
-                .property("wf_increment")
-                .and_then(PropValue::as_f64)
-                .or(map.sample_rate_hz.map(|f| 1.0 / f))
-                .filter(|d| d.is_finite() && *d > 0.0)
-                .ok_or_else(|| {
-                    Error::input(
-                        SourcePos::file(&file.source).field(&map.normal.name),
-                        "no time channel and no positive wf_increment property (or sample_rate_hz) for waveform timing",
-                    )
-                })?;
-            let t0 = obj
-                .property("wf_start_offset")
-                .and_then(PropValue::as_f64)
-                .unwrap_or(0.0);
-            (0..n).map(|i| t0 + i as f64 * dt).collect()
+            return Err(Error::input(
+                SourcePos::file(&file.source),
+                format!(
+                    "{} groups hold channels ({}): name one with --tdms-group",
+                    groups.len(),
+                    groups.join(", ")
+                ),
+            ))
         }
     };
-    let rec = Recording {
+    let names = file.channel_names(&group);
+    if names.is_empty() {
+        return Err(Error::input(
+            SourcePos::file(&file.source).field(&group),
+            if file.object(&group_path(&group)).is_none() {
+                format!("no group '{group}' in the file; it has: {}", groups.join(", "))
+            } else {
+                format!("group '{group}' has no channels")
+            },
+        ));
+    }
+    let mut columns = Vec::with_capacity(names.len());
+    let mut interval = None;
+    let mut start = None;
+    for name in &names {
+        let path = channel_path(&group, name);
+        let Some(obj) = file.objects.iter_mut().find(|o| o.path == path) else {
+            continue;
+        };
+        if obj.data_type == Some(T_STRING) || obj.data_type.is_none() {
+            continue;
+        }
+        if interval.is_none() {
+            interval = obj.property("wf_increment").and_then(PropValue::as_f64);
+            start = obj.property("wf_start_offset").and_then(PropValue::as_f64);
+        }
+        let unit = obj
+            .property("unit_string")
+            .and_then(PropValue::as_str)
+            .map(str::trim)
+            .filter(|u| !u.is_empty())
+            .map(str::to_string);
+        let (base, header_unit) = split_unit(name);
+        columns.push(Column {
+            header: name.clone(),
+            name: base,
+            unit: unit.or(header_unit),
+            data: ColumnData::Numbers(std::mem::take(&mut obj.data)),
+        });
+    }
+    let rows = columns.iter().map(|c| match &c.data {
+        ColumnData::Numbers(v) => v.len(),
+        ColumnData::NotNumeric { .. } => 0,
+    });
+    let rows = rows.max().unwrap_or(0);
+    Ok(Table {
         source: file.source.clone(),
-        time_s,
-        normal_n: normal,
-        tangential_n: tangential,
-        radial_n: radial,
-        trigger_v: trigger,
-    };
-    rec.validate()?;
-    Ok(rec)
+        columns,
+        rows,
+        layout: format!("TDMS, group '{group}'"),
+        header_line: 0,
+        preamble: Vec::new(),
+        footer: Vec::new(),
+        sample_interval_s: interval,
+        start_time_s: start,
+    })
 }
 
 #[cfg(test)]
@@ -802,6 +789,7 @@ mod tests {
             tangential_n: (0..n).map(|i| 30.0 + 0.5 * i as f64).collect(),
             radial_n: Some(vec![1.0; n]),
             trigger_v: Some((0..n).map(|i| if i > 3 { 5.0 } else { 0.0 }).collect()),
+            ..Recording::new("", Vec::new(), Vec::new(), Vec::new())
         }
     }
 
@@ -818,7 +806,7 @@ mod tests {
         for seg in [1, 7, 10, 25, 100] {
             let buf = to_bytes(&rec, seg);
             let file = TdmsFile::parse(&buf, "mem.tdms").unwrap();
-            let back = recording_from_tdms(&file, &ChannelMap::default()).unwrap();
+            let back = recording_from_tdms(file, &ChannelMap::default()).unwrap();
             assert_eq!(back.normal_n, rec.normal_n, "segments of {seg}");
             assert_eq!(back.trigger_v, rec.trigger_v);
             assert!(back
@@ -850,25 +838,25 @@ mod tests {
         let buf = to_bytes(&sample_recording(5), 10);
         let file = TdmsFile::parse(&buf, "m.tdms").unwrap();
         let map = ChannelMap {
-            normal: ChannelSpec::named("Fz"),
+            normal: Some(crate::recording::ChannelSpec::named("Fz")),
             ..Default::default()
         };
-        let e = recording_from_tdms(&file, &map).unwrap_err().to_string();
+        let e = recording_from_tdms(file.clone(), &map).unwrap_err().to_string();
         assert!(
-            e.contains("no channel 'Fz' in group 'Tribometer'") && e.contains("normal_force_N"),
+            e.contains("missing column 'Fz'") && e.contains("normal_force_N"),
             "{e}"
         );
         let map = ChannelMap {
-            tdms_group: "Other".into(),
+            tdms_group: Some("Other".into()),
             ..Default::default()
         };
-        let e = recording_from_tdms(&file, &map).unwrap_err().to_string();
+        let e = recording_from_tdms(file.clone(), &map).unwrap_err().to_string();
         assert!(e.contains("no group 'Other'"), "{e}");
         let mut map = ChannelMap::default();
-        map.normal.unit = Some(ForceUnit::Kilonewton);
-        let e = recording_from_tdms(&file, &map).unwrap_err().to_string();
+        map.apply_override("normal=normal_force_N:kN").unwrap();
+        let e = recording_from_tdms(file, &map).unwrap_err().to_string();
         assert!(
-            e.contains("mapped as kN but the file says unit_string 'N'"),
+            e.contains("mapped as kN but the file says the unit is 'N'"),
             "{e}"
         );
     }
