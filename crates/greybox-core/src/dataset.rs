@@ -54,6 +54,8 @@ pub mod flags {
     pub const RAMP_UNCONFIRMED: &str = "ramp-unconfirmed";
     /// Spikes were removed before averaging.
     pub const SPIKES_REMOVED: &str = "spikes-removed";
+    /// No unloaded window in the recording: force offsets could not be removed.
+    pub const NO_BASELINE: &str = "no-baseline";
 }
 
 /// One identified friction coefficient (SI units).

@@ -64,6 +64,23 @@ pub struct IdentifyConfig {
     pub max_latency_s: f64,
     /// Fewest samples for a plateau (50).
     pub min_plateau_samples: usize,
+    /// Which evidence cuts recordings into steps (`auto`).
+    pub segmentation: crate::campaign::Segmentation,
+    /// A sample is loaded above the unloaded level plus this share of the loaded range (0.04).
+    pub loaded_fraction: f64,
+    /// A loaded block slides when its μ exceeds this share of the typical μ (0.25).
+    pub sliding_fraction: f64,
+    /// Relative speed change that ends a constant-speed segment (0.01).
+    pub speed_tolerance: f64,
+    /// Shortest segment, s (0.3).
+    pub min_segment_s: f64,
+    /// Signal segmentation with a known step count: shortest step as a share of the mean
+    /// step length (0.5; keeps run-in from taking a boundary).
+    pub min_segment_fraction: f64,
+    /// Plan matching: largest relative load deviation (0.3).
+    pub match_load_tolerance: f64,
+    /// Plan matching: largest relative speed deviation (0.1).
+    pub match_speed_tolerance: f64,
 }
 
 impl Default for IdentifyConfig {
@@ -80,6 +97,14 @@ impl Default for IdentifyConfig {
             stick_slip_threshold: 0.03,
             max_latency_s: 0.5,
             min_plateau_samples: 50,
+            segmentation: crate::campaign::Segmentation::Auto,
+            loaded_fraction: 0.04,
+            sliding_fraction: 0.25,
+            speed_tolerance: 0.01,
+            min_segment_s: 0.3,
+            min_segment_fraction: 0.5,
+            match_load_tolerance: 0.3,
+            match_speed_tolerance: 0.1,
         }
     }
 }

@@ -7,6 +7,7 @@
 //! * [`synth`] — a virtual tribometer that writes realistic recordings from a ground-truth law.
 //! * [`identify`] — plateau detection and apparent COF identification.
 
+pub mod campaign;
 pub mod csv_recording;
 pub mod table;
 pub mod text_table;

@@ -97,6 +97,9 @@ fn read_channels(path: &Path, a: &Args) -> Result<ImpactRecording> {
                 response: r.data.clone(),
             })
         }
+        Some(RecordingFormat::Spreadsheet) => {
+            anyhow::bail!("{src}: impact recordings are read from CSV or TDMS files")
+        }
         Some(RecordingFormat::Csv) => {
             let mut rdr =
                 csv::Reader::from_path(path).with_context(|| format!("cannot read {src}"))?;

@@ -54,17 +54,18 @@ pub fn run(a: Args) -> Result<()> {
     let dataset = out.join("dataset.csv");
     let files = cmd_identify::recording_files(
         std::slice::from_ref(&rec_dir),
-        RecordingFormat::Tdms,
-        plan.pins.len(),
+        Some(RecordingFormat::Tdms),
+        Some(plan.pins.len()),
     )?;
-    let (ds, diags) = cmd_identify::identify(&study, &plan, &files, &dataset)?;
+    let expect = cmd_identify::Expectation::Plan(plan.clone());
+    let (ds, id) = cmd_identify::identify(&study, &expect, &files, &[], &dataset, None, true)?;
     let truth = cmd_identify::compare_with_truth(&ds, &rec_dir.join("ground_truth.csv"))?;
     let identify = cmd_identify::IdentifySummary {
         dataset: dataset.display().to_string(),
         plateaus: ds.records.len(),
         non_stationary: ds.records.iter().filter(|r| !r.stationary).count(),
         pressure_convention: study.contact.convention.name().into(),
-        pins: diags.clone(),
+        identification: id,
         truth: Some(truth),
     };
     // ploughing correction with the article's Table 3 track widths
@@ -277,7 +278,7 @@ pub fn run(a: Args) -> Result<()> {
         "\n[3/6] identify (TDMS recordings) -> {}",
         dataset.display()
     );
-    print!("{}", cmd_identify::summary_table(&ds, &diags));
+    print!("{}", cmd_identify::summary_table(&ds));
     cmd_identify::print_identify_footer(&identify);
     println!(
         "\n[4/6] adhesive COF (Bowden-Tabor ploughing, the article's Table 3 track widths) -> {}",

@@ -76,8 +76,17 @@ pub fn synthesize(
             let p = out.join(format!("pin{pin:02}.{}", f.extension()));
             match f {
                 RecordingFormat::Csv => write_csv_recording(&p, &rec)?,
-                RecordingFormat::Tdms => {
-                    write_tdms_recording(&p, &rec, &study.recording.tdms_group)?
+                RecordingFormat::Tdms => write_tdms_recording(
+                    &p,
+                    &rec,
+                    study
+                        .recording
+                        .tdms_group
+                        .as_deref()
+                        .unwrap_or(greybox_tribo::recording::DEFAULT_TDMS_GROUP),
+                )?,
+                RecordingFormat::Spreadsheet => {
+                    anyhow::bail!("synth writes CSV or TDMS recordings, not spreadsheets")
                 }
             }
             files.push(p.display().to_string());

@@ -1,0 +1,1198 @@
+//! Identification of recordings from any rig: segments found from what the recording
+//! shows, matched to a plan when there is one.
+//!
+//! Per file:
+//! 1. **Loaded samples**: block medians (10 ms) of F_N above the unloaded level plus
+//!    `loaded_fraction` of the loaded range.
+//! 2. **Baseline**: the unloaded windows at the start and end (where present) give a linear
+//!    offset per channel; with one window the offset is constant; with none the rows carry
+//!    the flag `no-baseline`.
+//! 3. **Sign**: a tangential channel whose loaded median is negative is flipped (reported).
+//! 4. **Segments**, from the best evidence available: a step column (runs of one step
+//!    number), a speed channel (runs of constant speed above rest), or the signals
+//!    (loaded-and-sliding runs, split at the level changes of μ into as many steps as the
+//!    plan expects, or by a penalised least-squares criterion without one).
+//! 5. **Steady part** of each segment from the signal ([`steady_span`]: μ, F_N and the
+//!    speed within their bands), then today's spike masking and statistics
+//!    ([`plateau_stats`]).
+//!
+//! Across files, segments are matched to the plan's steps by measured load and speed when
+//! every segment has a speed, else by order; missing, extra and reordered steps are reported
+//! by name. Without a plan, loads and velocities are the measured ones.
+
+use crate::hertz::PinContact;
+use crate::identify::{identify_pin, IdentifyConfig};
+use crate::plan::Plan;
+use crate::recording::{ReadReport, Recording, SpeedTrace};
+use crate::signal::{mad_sigma, median, moving_average};
+use crate::steady::{plateau_stats, step_signals, steady_span, windows};
+use greybox_core::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header};
+use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
+use greybox_core::units;
+use greybox_core::{Error, Result, SourcePos};
+use serde::{Deserialize, Serialize};
+
+/// Which evidence cuts a recording into steps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Segmentation {
+    /// The best available: step column, then speed channel, then the plan's timing (a
+    /// greybox NC-program recording with a trigger and a plan), then the signals.
+    #[default]
+    Auto,
+    /// The plan's nominal timing from the trigger edge (greybox's own NC programs).
+    PlanTiming,
+    /// Runs of one value of the step/segment column.
+    StepColumn,
+    /// Runs of constant speed in the speed channel.
+    Speed,
+    /// Change points of F_N and F_t/F_N.
+    Signals,
+}
+
+impl Segmentation {
+    pub fn name(self) -> &'static str {
+        match self {
+            Segmentation::Auto => "auto",
+            Segmentation::PlanTiming => "plan-timing",
+            Segmentation::StepColumn => "step-column",
+            Segmentation::Speed => "speed",
+            Segmentation::Signals => "signals",
+        }
+    }
+}
+
+/// One step a plan expects: pin, step, load and velocity (no timing).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ExpectedStep {
+    pub pin: u32,
+    pub step: u32,
+    pub normal_force_n: f64,
+    pub sliding_velocity_m_s: f64,
+}
+
+/// The steps of a greybox plan, in run order.
+pub fn expected_from_plan(plan: &Plan) -> Vec<ExpectedStep> {
+    plan.steps
+        .iter()
+        .map(|s| ExpectedStep {
+            pin: s.pin,
+            step: s.step,
+            normal_force_n: s.normal_force_n,
+            sliding_velocity_m_s: s.sliding_velocity_m_s,
+        })
+        .collect()
+}
+
+/// Read expected steps from a CSV in run order: `pin, normal_force_N,
+/// sliding_velocity_m_per_min` and optionally `step` (default: numbered per pin).
+pub fn read_expected_steps(path: &std::path::Path) -> Result<Vec<ExpectedStep>> {
+    let source = path.display().to_string();
+    let mut rdr = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_path(path)
+        .map_err(|e| csv_error(&source, e))?;
+    let header = Header::new(&source, rdr.headers().map_err(|e| csv_error(&source, e))?);
+    let (ip, inf, iv) = (
+        header.require("pin")?,
+        header.require("normal_force_N")?,
+        header.require("sliding_velocity_m_per_min")?,
+    );
+    let is = header.find("step");
+    let mut out: Vec<ExpectedStep> = Vec::new();
+    for (k, row) in rdr.records().enumerate() {
+        let row = row.map_err(|e| csv_error(&source, e))?;
+        let line = record_line(row.position(), k as u64 + 2);
+        let pin = parse_u64(&row[ip], &source, line, "pin")? as u32;
+        let f = parse_f64(&row[inf], &source, line, "normal_force_N")?;
+        let v = parse_f64(&row[iv], &source, line, "sliding_velocity_m_per_min")?;
+        if !(f > 0.0) || !(v > 0.0) || pin == 0 {
+            return Err(Error::input(
+                SourcePos::file(&source).line(line),
+                "pin must be ≥ 1, load and velocity positive",
+            ));
+        }
+        let step = match is {
+            Some(i) => parse_u64(&row[i], &source, line, "step")? as u32,
+            None => out.iter().filter(|s| s.pin == pin).count() as u32 + 1,
+        };
+        out.push(ExpectedStep {
+            pin,
+            step,
+            normal_force_n: f,
+            sliding_velocity_m_s: units::m_per_min_to_m_per_s(v),
+        });
+    }
+    if out.is_empty() {
+        return Err(Error::input(SourcePos::file(&source), "no steps in the file"));
+    }
+    Ok(out)
+}
+
+/// What was found in one segment of a recording.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SegmentReport {
+    /// 1-based, in the file.
+    pub index: usize,
+    /// Segment bounds on the recording's clock, s.
+    pub start_s: f64,
+    pub end_s: f64,
+    /// The steady part used for μ, s (absent when none was found).
+    pub steady_start_s: Option<f64>,
+    pub steady_end_s: Option<f64>,
+    /// Mean measured normal force over the steady part (or the segment), N.
+    pub normal_force_n: f64,
+    /// Recorded speed over the steady part, in the channel's unit base (rpm or m/s).
+    pub spindle_rpm: Option<f64>,
+    pub sliding_velocity_m_per_min: Option<f64>,
+    /// Step-column value, if the segment comes from one.
+    pub step_label: Option<f64>,
+    pub cof: Option<f64>,
+    pub cof_std: Option<f64>,
+    pub n_samples: usize,
+    pub flags: Vec<String>,
+    /// Plan pin and step it was matched to.
+    pub matched: Option<(u32, u32)>,
+    /// Why this segment gave no row.
+    pub problem: Option<String>,
+    #[serde(skip)]
+    stats: Option<crate::steady::PlateauStats>,
+}
+
+/// What was found in one file.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FileReport {
+    pub source: String,
+    /// Layout, mapped columns, footer and repairs, from the reader.
+    pub read: Option<ReadReport>,
+    pub sample_rate_hz: f64,
+    pub samples: usize,
+    pub duration_s: f64,
+    /// The segmentation used.
+    pub segmentation: String,
+    /// `start and end`, `start only`, `end only` or `none`.
+    pub baseline: String,
+    pub drift_normal_n: f64,
+    pub drift_tangential_n: f64,
+    pub tangential_sign_flipped: bool,
+    pub segments: Vec<SegmentReport>,
+    pub notes: Vec<String>,
+    /// Rows already identified (plan-timed path).
+    #[serde(skip)]
+    rows: Vec<FrictionRecord>,
+}
+
+/// How segments were matched to a plan.
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct MatchReport {
+    /// `speed and load`, `order`, or `none` (no plan).
+    pub method: String,
+    pub missing: Vec<String>,
+    pub extra: Vec<String>,
+    pub reordered: Vec<String>,
+}
+
+/// The result of identifying a set of recordings.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Identification {
+    #[serde(skip)]
+    pub dataset: FrictionDataset,
+    pub files: Vec<FileReport>,
+    pub matching: MatchReport,
+}
+
+/// Per-file signals after baseline and sign correction.
+struct Prepared<'a> {
+    rec: &'a Recording,
+    fn_c: Vec<f64>,
+    ft_c: Vec<f64>,
+    fs: f64,
+    /// Loaded and sliding per sample.
+    sliding: Vec<bool>,
+    no_baseline: bool,
+    report: FileReport,
+}
+
+/// Sample ranges of a segment, `[i, j)`, with its step label.
+#[derive(Debug, Clone, Copy)]
+struct Span {
+    i: usize,
+    j: usize,
+    label: Option<f64>,
+}
+
+fn quantile(x: &[f64], q: f64) -> f64 {
+    if x.is_empty() {
+        return f64::NAN;
+    }
+    let mut v = x.to_vec();
+    let k = ((v.len() - 1) as f64 * q).round() as usize;
+    *v.select_nth_unstable_by(k, f64::total_cmp).1
+}
+
+/// Block medians of `x` over blocks of `b` samples.
+fn block_medians(x: &[f64], b: usize) -> Vec<f64> {
+    x.chunks(b).map(median).collect()
+}
+
+/// Contiguous runs of `true`: `[start, end)`.
+fn runs(mask: &[bool]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut start = None;
+    for (k, m) in mask.iter().enumerate() {
+        match (m, start) {
+            (true, None) => start = Some(k),
+            (false, Some(s)) => {
+                out.push((s, k));
+                start = None;
+            }
+            _ => {}
+        }
+    }
+    if let Some(s) = start {
+        out.push((s, mask.len()));
+    }
+    out
+}
+
+fn prepare<'a>(rec: &'a Recording, cfg: &IdentifyConfig, segmentation: &str) -> Result<Prepared<'a>> {
+    rec.validate()?;
+    let n = rec.len();
+    let fs = rec.sample_rate_hz();
+    let b = ((0.01 * fs).round() as usize).clamp(1, (n / 20).max(1));
+    let bn = block_medians(&rec.normal_n, b);
+    let hi = quantile(&bn, 0.99);
+    let lo = quantile(&bn, 0.01);
+    if !(hi > 0.0) {
+        return Err(Error::input(
+            SourcePos::file(&rec.source).field("normal"),
+            format!("the normal force never rises above zero (99th percentile {hi:.3} N): check the channel mapping and its sign"),
+        ));
+    }
+    // an unloaded level exists only if the low end is far below the loaded range
+    let unloaded_level = if lo < 0.2 * hi { lo } else { 0.0 };
+    let thr = unloaded_level + cfg.loaded_fraction * (hi - unloaded_level);
+    let loaded_blocks: Vec<bool> = bn.iter().map(|v| *v > thr).collect();
+    let loaded: Vec<bool> = (0..n).map(|k| loaded_blocks[k / b]).collect();
+
+    // baseline from the unloaded runs at the start and the end
+    let unloaded = runs(&loaded.iter().map(|l| !l).collect::<Vec<_>>());
+    let min_len = ((0.05 * fs) as usize).max(5);
+    let start_win = unloaded
+        .first()
+        .filter(|(s, e)| *s == 0 && e - s >= min_len)
+        .map(|&(s, e)| (s, s + (e - s) * 8 / 10));
+    let end_win = unloaded
+        .last()
+        .filter(|(s, e)| *e == n && e - s >= min_len && Some(&(*s, *e)) != unloaded.first())
+        .map(|&(s, e)| (s + (e - s) * 2 / 10, e));
+    let level = |x: &[f64], w: (usize, usize)| median(&x[w.0..w.1]);
+    let mid = |w: (usize, usize)| 0.5 * (rec.time_s[w.0] + rec.time_s[w.1 - 1]);
+    let line = |x: &[f64]| -> (f64, f64, f64) {
+        match (start_win, end_win) {
+            (Some(a), Some(e)) => {
+                let (la, le) = (level(x, a), level(x, e));
+                (la, (le - la) / (mid(e) - mid(a)), mid(a))
+            }
+            (Some(a), None) => (level(x, a), 0.0, 0.0),
+            (None, Some(e)) => (level(x, e), 0.0, 0.0),
+            (None, None) => (0.0, 0.0, 0.0),
+        }
+    };
+    let (off_n, slope_n, t_n) = line(&rec.normal_n);
+    let (off_t, slope_t, t_t) = line(&rec.tangential_n);
+    let fn_c: Vec<f64> = rec
+        .time_s
+        .iter()
+        .zip(&rec.normal_n)
+        .map(|(t, v)| v - off_n - slope_n * (t - t_n))
+        .collect();
+    let mut ft_c: Vec<f64> = rec
+        .time_s
+        .iter()
+        .zip(&rec.tangential_n)
+        .map(|(t, v)| v - off_t - slope_t * (t - t_t))
+        .collect();
+    let baseline = match (start_win, end_win) {
+        (Some(_), Some(_)) => "start and end",
+        (Some(_), None) => "start only",
+        (None, Some(_)) => "end only",
+        (None, None) => "none",
+    };
+    let span = rec.duration_s();
+    let mut notes = Vec::new();
+
+    // sign of the tangential channel
+    let loaded_idx: Vec<usize> = (0..n).filter(|k| loaded[*k]).collect();
+    let mu_loaded: Vec<f64> = loaded_idx.iter().map(|&k| ft_c[k] / fn_c[k]).collect();
+    let flipped = median(&mu_loaded) < 0.0;
+    if flipped {
+        ft_c.iter_mut().for_each(|v| *v = -*v);
+        notes.push("the tangential force is negative while loaded: its sign was flipped".to_string());
+    }
+    // sliding: loaded blocks whose μ is a fair share of the typical sliding μ
+    let bt = block_medians(&ft_c, b);
+    let bnc = block_medians(&fn_c, b);
+    let mu_blocks: Vec<f64> = (0..bn.len())
+        .map(|k| if loaded_blocks[k] { bt[k] / bnc[k].max(1e-12) } else { 0.0 })
+        .collect();
+    let loaded_mu: Vec<f64> = (0..bn.len())
+        .filter(|k| loaded_blocks[*k])
+        .map(|k| mu_blocks[k])
+        .collect();
+    let typical = quantile(&loaded_mu, 0.75);
+    let sliding_blocks: Vec<bool> = (0..bn.len())
+        .map(|k| loaded_blocks[k] && mu_blocks[k] > cfg.sliding_fraction * typical)
+        .collect();
+    let sliding: Vec<bool> = (0..n).map(|k| sliding_blocks[k / b]).collect();
+    let no_baseline = baseline == "none";
+    if no_baseline {
+        notes.push("no unloaded window: offsets cannot be removed (rows flagged no-baseline)".to_string());
+    }
+    Ok(Prepared {
+        rec,
+        fn_c,
+        ft_c,
+        fs,
+        sliding,
+        no_baseline,
+        report: FileReport {
+            source: rec.source.clone(),
+            read: rec.provenance.clone(),
+            sample_rate_hz: fs,
+            samples: n,
+            duration_s: span,
+            segmentation: segmentation.to_string(),
+            baseline: baseline.to_string(),
+            drift_normal_n: slope_n * span,
+            drift_tangential_n: slope_t * span,
+            tangential_sign_flipped: flipped,
+            segments: Vec::new(),
+            notes,
+            rows: Vec::new(),
+        },
+    })
+}
+
+/// Runs of one step number, restricted to their loaded-and-sliding part.
+fn spans_from_steps(p: &Prepared, steps: &[f64]) -> Vec<Span> {
+    let mut out = Vec::new();
+    let mut s = 0;
+    for k in 1..=steps.len() {
+        if k == steps.len() || steps[k] != steps[s] {
+            let slide: Vec<usize> = (s..k).filter(|i| p.sliding[*i]).collect();
+            if let (Some(&a), Some(&b)) = (slide.first(), slide.last()) {
+                out.push(Span {
+                    i: a,
+                    j: b + 1,
+                    label: Some(steps[s]),
+                });
+            }
+            s = k;
+        }
+    }
+    out
+}
+
+/// Runs of constant speed above rest (block medians within `speed_tolerance` of the run's
+/// level), restricted to loaded samples.
+fn spans_from_speed(p: &Prepared, speed: &[f64], cfg: &IdentifyConfig) -> Vec<Span> {
+    let n = speed.len();
+    let b = ((0.02 * p.fs).round() as usize).max(1);
+    let sm = block_medians(speed, b);
+    let vmax = sm.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let abs_tol = 0.002 * vmax;
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < sm.len() {
+        if sm[k].abs() < 0.02 * vmax {
+            k += 1;
+            continue;
+        }
+        // grow a run while blocks stay near its running median
+        let start = k;
+        let mut members = vec![sm[k]];
+        k += 1;
+        while k < sm.len() {
+            let lvl = median(&members);
+            if (sm[k] - lvl).abs() > cfg.speed_tolerance * lvl.abs() + abs_tol {
+                break;
+            }
+            members.push(sm[k]);
+            k += 1;
+        }
+        let (i, j) = (start * b, (k * b).min(n));
+        // only the loaded part of the run
+        for (a, e) in runs(&p.sliding[i..j]) {
+            out.push(Span {
+                i: i + a,
+                j: i + e,
+                label: None,
+            });
+        }
+    }
+    out
+}
+
+/// Loaded-and-sliding runs (gaps under 50 ms closed).
+fn sliding_runs(p: &Prepared) -> Vec<Span> {
+    let gap = (0.05 * p.fs) as usize;
+    let mut out: Vec<Span> = Vec::new();
+    for (a, e) in runs(&p.sliding) {
+        match out.last_mut() {
+            Some(last) if a - last.j <= gap => last.j = e,
+            _ => out.push(Span {
+                i: a,
+                j: e,
+                label: None,
+            }),
+        }
+    }
+    out
+}
+
+/// Optimal split of `x` into `k` pieces of at least `min_len` by least squares (dynamic
+/// programming over prefix sums). Returns the `k − 1` inner boundaries.
+fn split_into(x: &[f64], k: usize, min_len: usize) -> Option<Vec<usize>> {
+    let n = x.len();
+    if k <= 1 {
+        return Some(Vec::new());
+    }
+    if k * min_len > n {
+        return None;
+    }
+    let mut s1 = vec![0.0; n + 1];
+    let mut s2 = vec![0.0; n + 1];
+    for (i, v) in x.iter().enumerate() {
+        s1[i + 1] = s1[i] + v;
+        s2[i + 1] = s2[i] + v * v;
+    }
+    let cost = |a: usize, b: usize| {
+        let m = (b - a) as f64;
+        let s = s1[b] - s1[a];
+        (s2[b] - s2[a]) - s * s / m
+    };
+    // best[j][e]: cost of splitting x[..e] into j + 1 pieces
+    let inf = f64::INFINITY;
+    let mut best = vec![vec![inf; n + 1]; k];
+    let mut arg = vec![vec![0usize; n + 1]; k];
+    for e in min_len..=n {
+        best[0][e] = cost(0, e);
+    }
+    for j in 1..k {
+        for e in (j + 1) * min_len..=n {
+            let mut b = inf;
+            let mut a_best = 0;
+            for a in j * min_len..=e - min_len {
+                let c = best[j - 1][a] + cost(a, e);
+                if c < b {
+                    b = c;
+                    a_best = a;
+                }
+            }
+            best[j][e] = b;
+            arg[j][e] = a_best;
+        }
+    }
+    let mut bounds = Vec::with_capacity(k - 1);
+    let mut e = n;
+    for j in (1..k).rev() {
+        e = arg[j][e];
+        bounds.push(e);
+    }
+    bounds.reverse();
+    Some(bounds)
+}
+
+/// Binary segmentation with a penalty of `12 σ² ln n` per split (σ from the block-to-block
+/// differences), for when the number of steps is unknown.
+fn split_penalised(x: &[f64], min_len: usize) -> Vec<usize> {
+    let n = x.len();
+    if n < 2 * min_len {
+        return Vec::new();
+    }
+    let d: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
+    let sigma = mad_sigma(&d, 0.0) / std::f64::consts::SQRT_2;
+    let penalty = 12.0 * sigma.max(1e-6).powi(2) * (n as f64).ln();
+    let mut bounds = Vec::new();
+    let mut stack = vec![(0usize, n)];
+    while let Some((a, b)) = stack.pop() {
+        if b - a < 2 * min_len {
+            continue;
+        }
+        let seg = &x[a..b];
+        let total = {
+            let m = seg.iter().sum::<f64>() / seg.len() as f64;
+            seg.iter().map(|v| (v - m).powi(2)).sum::<f64>()
+        };
+        let Some(s) = split_into(seg, 2, min_len) else {
+            continue;
+        };
+        let c = s[0];
+        let part = |p: &[f64]| {
+            let m = p.iter().sum::<f64>() / p.len() as f64;
+            p.iter().map(|v| (v - m).powi(2)).sum::<f64>()
+        };
+        let gain = total - part(&seg[..c]) - part(&seg[c..]);
+        if gain > penalty {
+            bounds.push(a + c);
+            stack.push((a, a + c));
+            stack.push((a + c, b));
+        }
+    }
+    bounds.sort_unstable();
+    bounds
+}
+
+/// Blocks `[a, b)` of a run without the transients at its ends: from each end, blocks are
+/// dropped while the mean over the last 0.2 s differs from the 0.2 s before it by more than
+/// five standard errors (or 0.002), i.e. while μ still drifts.
+fn trim_transients(x: &[f64]) -> (usize, usize) {
+    const W: usize = 4;
+    let n = x.len();
+    if n < 6 * W {
+        return (0, n);
+    }
+    let d: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
+    let sigma = mad_sigma(&d, 0.0) / std::f64::consts::SQRT_2;
+    let thr = (5.0 * sigma * (2.0 / W as f64).sqrt()).max(0.002);
+    let mean = |a: usize, b: usize| x[a..b].iter().sum::<f64>() / (b - a) as f64;
+    let mut e = n;
+    while e >= 2 * W + n / 2 && (mean(e - W, e) - mean(e - 2 * W, e - W)).abs() > thr {
+        e -= 1;
+    }
+    let mut a = 0;
+    while a + 2 * W <= n / 2 && (mean(a, a + W) - mean(a + W, a + 2 * W)).abs() > thr {
+        a += 1;
+    }
+    (a, e)
+}
+
+/// Split a sliding run into `k` steps (or as many as the signal says when `k` is `None`)
+/// at the level changes of μ (50 ms block means).
+fn split_run(p: &Prepared, run: Span, k: Option<usize>, cfg: &IdentifyConfig) -> Result<Vec<Span>> {
+    let b = ((0.05 * p.fs).round() as usize).max(1);
+    let mu: Vec<f64> = (run.i..run.j).map(|i| p.ft_c[i] / p.fn_c[i]).collect();
+    let all_blocks: Vec<f64> = mu.chunks(b).map(median).collect();
+    // the spindle's run-up and run-down and the run-in at the ends of a run are no steps
+    let (ta, tb) = trim_transients(&all_blocks);
+    let blocks = &all_blocks[ta..tb];
+    let run = Span {
+        i: run.i + ta * b,
+        j: (run.i + tb * b).min(run.j),
+        label: None,
+    };
+    let min_abs = ((cfg.min_segment_s * p.fs / b as f64).ceil() as usize).max(2);
+    let bounds = match k {
+        Some(k) => {
+            let min_len = ((cfg.min_segment_fraction * blocks.len() as f64 / k as f64) as usize)
+                .max(min_abs);
+            split_into(blocks, k, min_len).ok_or_else(|| {
+                Error::input(
+                    SourcePos::file(&p.rec.source),
+                    format!(
+                        "the sliding run {:.3}–{:.3} s is too short for the {k} steps the plan expects",
+                        p.rec.time_s[run.i],
+                        p.rec.time_s[run.j - 1]
+                    ),
+                )
+            })?
+        }
+        None => split_penalised(blocks, min_abs),
+    };
+    let mut edges = vec![run.i];
+    edges.extend(bounds.iter().map(|c| run.i + c * b));
+    edges.push(run.j);
+    Ok(edges
+        .windows(2)
+        .map(|w| Span {
+            i: w[0],
+            j: w[1],
+            label: None,
+        })
+        .collect())
+}
+
+/// Identify one segment: steady part, statistics, speed.
+fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> SegmentReport {
+    let rec = p.rec;
+    let (i, j) = (span.i, span.j);
+    let mut rep = SegmentReport {
+        index,
+        start_s: rec.time_s[i],
+        end_s: rec.time_s[j - 1],
+        steady_start_s: None,
+        steady_end_s: None,
+        normal_force_n: p.fn_c[i..j].iter().sum::<f64>() / (j - i) as f64,
+        spindle_rpm: None,
+        sliding_velocity_m_per_min: None,
+        step_label: span.label,
+        cof: None,
+        cof_std: None,
+        n_samples: 0,
+        flags: Vec::new(),
+        matched: None,
+        problem: None,
+        stats: None,
+    };
+    let f_ref = rep.normal_force_n.abs().max(1e-9);
+    let sig = match step_signals(&p.fn_c, &p.ft_c, i, j, cfg, p.fs, |k, f_n| {
+        if f_n <= 0.1 * f_ref {
+            Err(format!(
+                "normal force {f_n:.3} N at t = {:.3} s: zero or negative inside a loaded segment",
+                rec.time_s[k]
+            ))
+        } else {
+            Ok(())
+        }
+    }) {
+        Ok(s) => s,
+        Err(m) => {
+            rep.problem = Some(m);
+            return rep;
+        }
+    };
+    let (_, w) = windows(cfg, p.fs);
+    let fn_s = moving_average(&p.fn_c[i..j], w);
+    let speed: Option<Vec<f64>> = rec
+        .speed
+        .as_ref()
+        .map(|s| moving_average(&s.values()[i..j], w));
+    let mut signals: Vec<(&[f64], f64)> = vec![(&sig.smooth, 0.002), (&fn_s, 0.02 * f_ref)];
+    let v_floor;
+    if let Some(v) = &speed {
+        v_floor = 0.01 * median(v).abs() + 1e-9;
+        signals.push((v, v_floor));
+    }
+    let Some((a, b)) = steady_span(&signals, sig.w_smooth) else {
+        rep.problem = Some("no steady part: μ, F_N or the speed never settle inside the segment".into());
+        return rep;
+    };
+    let settle = (cfg.settle_time_s * p.fs).round() as usize;
+    let margin = (cfg.end_margin_s * p.fs).round() as usize;
+    let (pa, pb) = ((a + settle).min(b), b.saturating_sub(margin).max(a));
+    let Some(st) = plateau_stats(&rec.time_s, &p.fn_c, &sig, pa, pb, 0.0, cfg) else {
+        rep.problem = Some(format!(
+            "only {} samples in the steady part (min {}): the segment is too short or never settles",
+            pb.saturating_sub(pa),
+            cfg.min_plateau_samples
+        ));
+        return rep;
+    };
+    if let Some(s) = &rec.speed {
+        let v = median(&s.values()[i + pa..i + pb]);
+        match s {
+            SpeedTrace::SpindleRpm(_) => rep.spindle_rpm = Some(v),
+            SpeedTrace::SlidingMPerS(_) => {
+                rep.sliding_velocity_m_per_min = Some(units::m_per_s_to_m_per_min(v))
+            }
+        }
+    }
+    rep.steady_start_s = Some(st.start_s);
+    rep.steady_end_s = Some(st.end_s);
+    rep.normal_force_n = st.normal_force_n;
+    rep.cof = Some(st.mean);
+    rep.cof_std = Some(st.std);
+    rep.n_samples = st.n_samples;
+    rep.flags = st.flags.clone();
+    if p.no_baseline {
+        rep.flags.push(flags::NO_BASELINE.to_string());
+    }
+    rep.stats = Some(st);
+    rep
+}
+
+/// Inputs of [`identify_recordings`] beyond the recordings.
+#[derive(Debug, Clone, Copy)]
+pub struct Campaign<'a> {
+    /// Expected steps (a plan without timing, or a greybox plan's steps).
+    pub expected: Option<&'a [ExpectedStep]>,
+    /// A greybox plan with timing, for the plan-timing path and its track radius.
+    pub plan: Option<&'a Plan>,
+    pub contact: &'a PinContact,
+    pub cfg: &'a IdentifyConfig,
+    /// Track radius, mm: one value, one per segment of each file, or one per segment of the
+    /// campaign (for rpm speed channels without a radius column).
+    pub track_radius_mm: &'a [f64],
+}
+
+/// Which segmentation a file gets under `Auto`.
+fn resolve(method: Segmentation, rec: &Recording, plan: Option<&Plan>) -> Segmentation {
+    match method {
+        Segmentation::Auto if rec.step.is_some() => Segmentation::StepColumn,
+        Segmentation::Auto if rec.speed.is_some() => Segmentation::Speed,
+        Segmentation::Auto if plan.is_some() && rec.trigger_v.is_some() => Segmentation::PlanTiming,
+        Segmentation::Auto => Segmentation::Signals,
+        m => m,
+    }
+}
+
+/// Identify recordings (any layout: a file per step, per pin or for the whole campaign):
+/// [`segment_recordings`], then [`match_segments`].
+pub fn identify_recordings(recs: &[Recording], c: &Campaign) -> Result<Identification> {
+    let mut files = segment_recordings(recs, c)?;
+    let (dataset, matching) = match_segments(&mut files, c)?;
+    Ok(Identification {
+        dataset,
+        files,
+        matching,
+    })
+}
+
+/// Segment every recording and measure every segment (no plan matching yet). The plan-timed
+/// path also fills the matched pin and step.
+pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileReport>> {
+    let cfg = c.cfg;
+    let methods: Vec<Segmentation> = recs
+        .iter()
+        .map(|r| resolve(cfg.segmentation, r, c.plan))
+        .collect();
+    if methods.contains(&Segmentation::PlanTiming) {
+        if methods.iter().any(|m| *m != Segmentation::PlanTiming) {
+            return Err(Error::invalid(
+                "identify",
+                "some recordings have a trigger for the plan's timing and others do not: choose one segmentation for all with --segment",
+            ));
+        }
+        let plan = c.plan.ok_or_else(|| {
+            Error::invalid("identify", "--segment plan-timing needs a plan with timing (--study)")
+        })?;
+        return plan_timed(recs, plan, c);
+    }
+    for (rec, m) in recs.iter().zip(&methods) {
+        let missing = match m {
+            Segmentation::StepColumn if rec.step.is_none() => Some("a step column (--map step=NAME)"),
+            Segmentation::Speed if rec.speed.is_none() => Some("a speed channel (--map speed=NAME:UNIT)"),
+            _ => None,
+        };
+        if let Some(what) = missing {
+            return Err(Error::input(
+                SourcePos::file(&rec.source),
+                format!("--segment {} needs {what}, and none was found", m.name()),
+            ));
+        }
+    }
+    let mut prepared: Vec<Prepared> = recs
+        .iter()
+        .zip(&methods)
+        .map(|(r, m)| prepare(r, cfg, m.name()))
+        .collect::<Result<_>>()?;
+    // segments per file
+    let mut spans: Vec<Vec<Span>> = Vec::with_capacity(recs.len());
+    let mut signal_runs: Vec<(usize, Span)> = Vec::new();
+    for (f, (p, m)) in prepared.iter().zip(&methods).enumerate() {
+        match m {
+            Segmentation::StepColumn => {
+                spans.push(spans_from_steps(p, p.rec.step.as_deref().expect("checked")))
+            }
+            Segmentation::Speed => spans.push(spans_from_speed(
+                p,
+                p.rec.speed.as_ref().expect("checked").values(),
+                cfg,
+            )),
+            _ => {
+                spans.push(Vec::new());
+                signal_runs.extend(sliding_runs(p).into_iter().map(|s| (f, s)));
+            }
+        }
+    }
+    // signal runs: split into the plan's steps when the run count says which pin each is
+    if !signal_runs.is_empty() {
+        let pins: Vec<usize> = c.expected.map_or(Vec::new(), |e| {
+            let mut counts: Vec<usize> = Vec::new();
+            let mut last = None;
+            for s in e {
+                if last != Some(s.pin) {
+                    counts.push(0);
+                    last = Some(s.pin);
+                }
+                *counts.last_mut().expect("pushed") += 1;
+            }
+            counts
+        });
+        let total_steps = c.expected.map_or(0, <[ExpectedStep]>::len);
+        let counts: Vec<Option<usize>> = if !pins.is_empty() && signal_runs.len() == pins.len() {
+            pins.iter().map(|k| Some(*k)).collect()
+        } else if total_steps > 0 && signal_runs.len() == total_steps {
+            vec![Some(1); signal_runs.len()]
+        } else {
+            if c.expected.is_some() {
+                for p in prepared.iter_mut() {
+                    p.report.notes.push(format!(
+                        "{} loaded sliding runs in all files, the plan has {} pins and {} steps: runs split by the signal alone",
+                        signal_runs.len(),
+                        pins.len(),
+                        total_steps
+                    ));
+                }
+            }
+            vec![None; signal_runs.len()]
+        };
+        for ((f, run), k) in signal_runs.iter().zip(counts) {
+            let parts = split_run(&prepared[*f], *run, k, cfg)?;
+            spans[*f].extend(parts);
+        }
+    }
+    let min_len = |p: &Prepared| (cfg.min_segment_s * p.fs) as usize;
+    for (p, s) in prepared.iter_mut().zip(&spans) {
+        let kept: Vec<Span> = s.iter().copied().filter(|s| s.j - s.i >= min_len(p).max(4)).collect();
+        let segs: Vec<SegmentReport> = kept
+            .iter()
+            .enumerate()
+            .map(|(k, sp)| measure(p, *sp, k + 1, cfg))
+            .collect();
+        p.report.segments = segs;
+        if p.report.segments.is_empty() {
+            let hint = match p.report.segmentation.as_str() {
+                "step-column" => "no step of the step column is loaded and sliding",
+                "speed" => "the speed channel never holds a constant speed above rest while loaded",
+                _ => "the normal force never holds a load while the tangential force shows sliding; a step column (--map step=NAME) or a speed channel (--map speed=NAME:UNIT) would segment it",
+            };
+            p.report.notes.push(format!("no segment found: {hint}"));
+        }
+    }
+    let mut files: Vec<FileReport> = prepared.into_iter().map(|p| p.report).collect();
+    resolve_velocities(&mut files, c)?;
+    Ok(files)
+}
+
+/// Sliding velocities of segments with a spindle speed: v = 2π R n / 60, R from the radius
+/// column, the given radii, or the plan.
+fn resolve_velocities(files: &mut [FileReport], c: &Campaign) -> Result<()> {
+    let total: usize = files.iter().map(|f| f.segments.iter().filter(|s| s.spindle_rpm.is_some()).count()).sum();
+    let radii = c.track_radius_mm;
+    let mut global = 0usize;
+    for f in files.iter_mut() {
+        let in_file = f.segments.iter().filter(|s| s.spindle_rpm.is_some()).count();
+        let mut local = 0usize;
+        for s in f.segments.iter_mut() {
+            let Some(rpm) = s.spindle_rpm else { continue };
+            let r_mm = match radii.len() {
+                1 => Some(radii[0]),
+                n if n > 1 && n == in_file => Some(radii[local]),
+                n if n > 1 && n == total => Some(radii[global]),
+                0 => c.plan.and_then(|p| p.spec.track_radius_mm),
+                n => {
+                    return Err(Error::invalid(
+                        "track radius",
+                        format!(
+                            "{n} track radii given, but {} has {in_file} segments with a spindle speed and the campaign {total}: give one radius, one per segment of each file, or one per segment of the campaign",
+                            f.source
+                        ),
+                    ))
+                }
+            };
+            local += 1;
+            global += 1;
+            match r_mm {
+                Some(r) if r > 0.0 => {
+                    s.sliding_velocity_m_per_min = Some(units::m_per_s_to_m_per_min(
+                        units::velocity_for_rpm(rpm, r * units::M_PER_MM),
+                    ))
+                }
+                _ => {
+                    return Err(Error::input(
+                        SourcePos::file(&f.source),
+                        "the speed channel is a spindle speed (rpm) but no track radius is known: give --track-radius-mm (one value or one per segment) or map a radius column",
+                    ))
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Match segments to the plan (or number them without one) and build the dataset.
+pub fn match_segments(
+    files: &mut [FileReport],
+    c: &Campaign,
+) -> Result<(FrictionDataset, MatchReport)> {
+    if files.iter().all(|f| f.segmentation == Segmentation::PlanTiming.name()) {
+        let records = files.iter_mut().flat_map(|f| std::mem::take(&mut f.rows)).collect();
+        return Ok((
+            FrictionDataset { records },
+            MatchReport {
+                method: "plan timing".into(),
+                ..Default::default()
+            },
+        ));
+    }
+    // every measured segment, in campaign order
+    let mut segs: Vec<(usize, usize)> = Vec::new();
+    for (f, file) in files.iter().enumerate() {
+        for (k, s) in file.segments.iter().enumerate() {
+            if s.stats.is_some() {
+                segs.push((f, k));
+            }
+        }
+    }
+    let name = |f: &FileReport, s: &SegmentReport| {
+        format!("{} segment {} ({:.3}–{:.3} s)", f.source, s.index, s.start_s, s.end_s)
+    };
+    let mut records = Vec::new();
+    let mut report = MatchReport::default();
+    let record = |e_pin: u32, e_step: u32, f_n: f64, v: f64, s: &SegmentReport| -> Result<FrictionRecord> {
+        let st = s.stats.as_ref().expect("measured");
+        Ok(FrictionRecord {
+            pin: e_pin,
+            step: e_step,
+            normal_force_n: f_n,
+            normal_force_measured_n: st.normal_force_n,
+            sliding_velocity_m_s: v,
+            hertz_pressure_pa: c.contact.pressure_pa(f_n)?,
+            pressure_convention: c.contact.convention,
+            cof_apparent: st.mean,
+            cof_apparent_std: st.std,
+            n_samples: st.n_samples as u64,
+            plateau_start_s: st.start_s,
+            plateau_end_s: st.end_s,
+            cof_trend_per_s: st.trend_per_s,
+            stationary: st.stationary,
+            flags: s.flags.clone(),
+            cof_adhesive: None,
+        })
+    };
+    let Some(expected) = c.expected else {
+        report.method = "none".into();
+        let mut pin = 0u32;
+        let mut step = 0u32;
+        let mut prev: Option<(usize, f64, f64)> = None; // file, load, end time
+        for &(f, k) in &segs {
+            let s = &files[f].segments[k];
+            let Some(v) = s.sliding_velocity_m_per_min else {
+                return Err(Error::input(
+                    SourcePos::file(&files[f].source),
+                    "without a plan the sliding velocity must come from the recording: map a speed channel (--map speed=NAME:UNIT, with --track-radius-mm for rpm) or give a plan (--study or --plan-steps)",
+                ));
+            };
+            let single = |ff: usize| files[ff].segments.iter().filter(|s| s.stats.is_some()).count() == 1;
+            let new_pin = match prev {
+                None => true,
+                Some((pf, load, _)) => {
+                    let load_changed = (s.normal_force_n / load - 1.0).abs() > 0.1;
+                    let new_file = pf != f && !(single(pf) && single(f));
+                    load_changed || new_file
+                }
+            };
+            if new_pin {
+                pin += 1;
+                step = 0;
+            }
+            step += 1;
+            prev = Some((f, s.normal_force_n, s.end_s));
+            files[f].segments[k].matched = Some((pin, step));
+            let s = &files[f].segments[k];
+            records.push(record(pin, step, s.normal_force_n, units::m_per_min_to_m_per_s(v), s)?);
+        }
+        return Ok((FrictionDataset { records }, report));
+    };
+    let describe = |e: &ExpectedStep| {
+        format!(
+            "pin {} step {} ({:.1} N, {:.1} m/min)",
+            e.pin,
+            e.step,
+            e.normal_force_n,
+            units::m_per_s_to_m_per_min(e.sliding_velocity_m_s)
+        )
+    };
+    let all_speed = segs
+        .iter()
+        .all(|&(f, k)| files[f].segments[k].sliding_velocity_m_per_min.is_some());
+    let mut assignment: Vec<Option<usize>> = vec![None; segs.len()];
+    if all_speed && !segs.is_empty() {
+        report.method = "speed and load".into();
+        let tol_f = c.cfg.match_load_tolerance;
+        let tol_v = c.cfg.match_speed_tolerance;
+        let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+        for (si, &(f, k)) in segs.iter().enumerate() {
+            let s = &files[f].segments[k];
+            let v = units::m_per_min_to_m_per_s(s.sliding_velocity_m_per_min.expect("all_speed"));
+            for (ei, e) in expected.iter().enumerate() {
+                let df = (s.normal_force_n / e.normal_force_n).ln().abs();
+                let dv = (v / e.sliding_velocity_m_s).ln().abs();
+                if df <= (1.0 + tol_f).ln() && dv <= (1.0 + tol_v).ln() {
+                    pairs.push((df / tol_f + dv / tol_v, si, ei));
+                }
+            }
+        }
+        pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+        let mut used = vec![false; expected.len()];
+        for (_, si, ei) in pairs {
+            if assignment[si].is_none() && !used[ei] {
+                assignment[si] = Some(ei);
+                used[ei] = true;
+            }
+        }
+    } else {
+        report.method = "order".into();
+        if segs.len() != expected.len() {
+            let per_file: Vec<String> = files
+                .iter()
+                .map(|f| format!("{}: {}", f.source, f.segments.iter().filter(|s| s.stats.is_some()).count()))
+                .collect();
+            return Err(Error::invalid(
+                "identify",
+                format!(
+                    "{} segments were found ({}) but the plan expects {} steps, and without a speed channel they can only be matched by order: map a speed channel (--map speed=NAME:UNIT) or a step column, or check the plan",
+                    segs.len(),
+                    per_file.join("; "),
+                    expected.len()
+                ),
+            ));
+        }
+        // by order: the measured load must not be closer to another pin's load
+        let pin_loads: Vec<(u32, f64)> = expected.iter().fold(Vec::new(), |mut v, e| {
+            if !v.iter().any(|(p, _)| *p == e.pin) {
+                v.push((e.pin, e.normal_force_n));
+            }
+            v
+        });
+        for (si, &(f, k)) in segs.iter().enumerate() {
+            let s = &files[f].segments[k];
+            let e = &expected[si];
+            let own = (s.normal_force_n / e.normal_force_n).ln().abs();
+            if let Some((p, l)) = pin_loads
+                .iter()
+                .filter(|(p, _)| *p != e.pin)
+                .min_by(|a, b| {
+                    (s.normal_force_n / a.1).ln().abs().total_cmp(&(s.normal_force_n / b.1).ln().abs())
+                })
+            {
+                if (s.normal_force_n / l).ln().abs() < own {
+                    return Err(Error::input(
+                        SourcePos::file(&files[f].source),
+                        format!(
+                            "segment {} measures {:.1} N, closer to pin {p} ({l:.1} N) than to pin {} ({:.1} N) it is matched to by order: are the recordings in the plan's pin order?",
+                            s.index, s.normal_force_n, e.pin, e.normal_force_n
+                        ),
+                    ));
+                }
+            }
+            assignment[si] = Some(si);
+        }
+    }
+    let mut last_ei: Option<usize> = None;
+    for (si, &(f, k)) in segs.iter().enumerate() {
+        match assignment[si] {
+            Some(ei) => {
+                let e = &expected[ei];
+                if let Some(prev) = last_ei {
+                    if ei < prev {
+                        report.reordered.push(format!(
+                            "{} recorded after {}",
+                            describe(e),
+                            describe(&expected[prev])
+                        ));
+                    }
+                }
+                last_ei = Some(last_ei.map_or(ei, |p| p.max(ei)));
+                files[f].segments[k].matched = Some((e.pin, e.step));
+                let s = &files[f].segments[k];
+                records.push(record(e.pin, e.step, e.normal_force_n, e.sliding_velocity_m_s, s)?);
+            }
+            None => {
+                let s = &files[f].segments[k];
+                let v = s
+                    .sliding_velocity_m_per_min
+                    .map_or(String::new(), |v| format!(", {v:.1} m/min"));
+                report
+                    .extra
+                    .push(format!("{} at {:.1} N{v}: no planned step within tolerance", name(&files[f], s), s.normal_force_n));
+            }
+        }
+    }
+    let matched: Vec<usize> = assignment.iter().flatten().copied().collect();
+    for (ei, e) in expected.iter().enumerate() {
+        if !matched.contains(&ei) {
+            report.missing.push(describe(e));
+        }
+    }
+    records.sort_by_key(|r| (r.pin, r.step));
+    Ok((FrictionDataset { records }, report))
+}
+
+/// The greybox NC-program path: one recording per pin, the plan's timing from the trigger.
+fn plan_timed(recs: &[Recording], plan: &Plan, c: &Campaign) -> Result<Vec<FileReport>> {
+    if recs.len() != plan.pins.len() {
+        return Err(Error::invalid(
+            "identify",
+            format!(
+                "the plan has {} pins but {} recordings were given (plan-timing needs one recording per pin, in pin order)",
+                plan.pins.len(),
+                recs.len()
+            ),
+        ));
+    }
+    let mut files = Vec::with_capacity(recs.len());
+    for (k, rec) in recs.iter().enumerate() {
+        let (rows, d) = identify_pin(rec, plan, k as u32 + 1, c.contact, c.cfg)?;
+        let ts = d.trigger_s + d.latency_s;
+        let segments = rows
+            .iter()
+            .enumerate()
+            .map(|(i, r)| SegmentReport {
+                index: i + 1,
+                start_s: ts + plan.pin_steps(r.pin)[i].step_start_s,
+                end_s: ts + plan.pin_steps(r.pin)[i].plateau_end_s,
+                steady_start_s: Some(ts + r.plateau_start_s),
+                steady_end_s: Some(ts + r.plateau_end_s),
+                normal_force_n: r.normal_force_measured_n,
+                spindle_rpm: None,
+                sliding_velocity_m_per_min: Some(units::m_per_s_to_m_per_min(r.sliding_velocity_m_s)),
+                step_label: None,
+                cof: Some(r.cof_apparent),
+                cof_std: Some(r.cof_apparent_std),
+                n_samples: r.n_samples as usize,
+                flags: r.flags.clone(),
+                matched: Some((r.pin, r.step)),
+                problem: None,
+                stats: None,
+            })
+            .collect();
+        files.push(FileReport {
+            source: rec.source.clone(),
+            read: rec.provenance.clone(),
+            sample_rate_hz: rec.sample_rate_hz(),
+            samples: rec.len(),
+            duration_s: rec.duration_s(),
+            segmentation: Segmentation::PlanTiming.name().into(),
+            baseline: "start and end".into(),
+            drift_normal_n: d.drift_normal_n,
+            drift_tangential_n: d.drift_tangential_n,
+            tangential_sign_flipped: false,
+            segments,
+            notes: vec![format!(
+                "trigger at {:.4} s, NC-to-spindle latency {:.4} s, {} spikes removed",
+                d.trigger_s, d.latency_s, d.spikes_removed
+            )],
+            rows,
+        });
+    }
+    Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn least_squares_split_finds_level_changes() {
+        let mut x = vec![0.40; 30];
+        x.extend(vec![0.38; 20]);
+        x.extend(vec![0.35; 25]);
+        // a run-in at the very start must not take a boundary when lengths are bounded
+        for (k, v) in x.iter_mut().take(4).enumerate() {
+            *v += 0.1 * (-(k as f64)).exp();
+        }
+        let b = split_into(&x, 3, 10).unwrap();
+        assert_eq!(b, vec![30, 50]);
+        let b = split_penalised(&x[4..], 3);
+        assert_eq!(b, vec![26, 46]);
+    }
+
+    #[test]
+    fn runs_of_true() {
+        assert_eq!(runs(&[false, true, true, false, true]), vec![(1, 3), (4, 5)]);
+        assert!(runs(&[false, false]).is_empty());
+    }
+}

@@ -1,0 +1,228 @@
+//! Recordings from rigs that did not run greybox's NC program: a second virtual rig written
+//! independently of `synth` (tests/support/rig2.rs) and four export layouts of other
+//! tribometers (tests/support/exports.rs), identified against their ground truth.
+
+mod support;
+
+use greybox_core::units;
+use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
+use greybox_tribo::hertz::PinContact;
+use greybox_tribo::identify::IdentifyConfig;
+use greybox_tribo::recording::{read_recording, ChannelMap, Recording};
+use std::path::PathBuf;
+use support::TruthStep;
+
+fn read_all(files: &[PathBuf], map: &ChannelMap) -> Vec<Recording> {
+    files.iter().map(|f| read_recording(f, map).unwrap()).collect()
+}
+
+fn files_of(truth: &[TruthStep]) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = Vec::new();
+    for t in truth {
+        if !v.contains(&t.file) {
+            v.push(t.file.clone());
+        }
+    }
+    v
+}
+
+fn expected_of(truth: &[TruthStep]) -> Vec<ExpectedStep> {
+    truth
+        .iter()
+        .map(|t| ExpectedStep {
+            pin: t.pin,
+            step: t.step,
+            normal_force_n: t.normal_force_n,
+            sliding_velocity_m_s: units::m_per_min_to_m_per_s(t.velocity_m_per_min),
+        })
+        .collect()
+}
+
+fn identify(
+    recs: &[Recording],
+    expected: Option<&[ExpectedStep]>,
+    radii: &[f64],
+) -> Identification {
+    let contact = PinContact::default();
+    let cfg = IdentifyConfig::default();
+    identify_recordings(
+        recs,
+        &Campaign {
+            expected,
+            plan: None,
+            contact: &contact,
+            cfg: &cfg,
+            track_radius_mm: radii,
+        },
+    )
+    .unwrap()
+}
+
+/// With a plan, rows carry the plan's pin and step: compare one to one.
+fn check_against_plan(id: &Identification, truth: &[TruthStep], tol: f64) {
+    assert_eq!(id.dataset.records.len(), truth.len(), "{:#?}", id.matching);
+    for t in truth {
+        let r = id
+            .dataset
+            .records
+            .iter()
+            .find(|r| r.pin == t.pin && r.step == t.step)
+            .unwrap_or_else(|| panic!("no row for pin {} step {}", t.pin, t.step));
+        assert!(
+            (r.cof_apparent - t.mu_true).abs() <= tol,
+            "pin {} step {} ({} N, {} m/min): {:.5} vs truth {:.5}",
+            t.pin,
+            t.step,
+            t.normal_force_n,
+            t.velocity_m_per_min,
+            r.cof_apparent,
+            t.mu_true
+        );
+    }
+    assert!(id.matching.missing.is_empty() && id.matching.extra.is_empty(), "{:#?}", id.matching);
+}
+
+/// Without a plan, rows are numbered in the order found and carry measured values.
+fn check_without_plan(id: &Identification, truth: &[TruthStep], tol: f64) {
+    assert_eq!(id.dataset.records.len(), truth.len());
+    for (r, t) in id.dataset.records.iter().zip(truth) {
+        assert!(
+            (r.cof_apparent - t.mu_true).abs() <= tol,
+            "pin {} step {}: {:.5} vs truth {:.5}",
+            t.pin,
+            t.step,
+            r.cof_apparent,
+            t.mu_true
+        );
+        let v = units::m_per_s_to_m_per_min(r.sliding_velocity_m_s);
+        assert!(
+            (v / t.velocity_m_per_min - 1.0).abs() < 0.01,
+            "pin {} step {}: measured {v:.2} m/min vs {}",
+            t.pin,
+            t.step,
+            t.velocity_m_per_min
+        );
+        assert!(
+            (r.normal_force_n / t.normal_force_n - 1.0).abs() < 0.02,
+            "pin {} step {}: measured {:.1} N vs {}",
+            t.pin,
+            t.step,
+            r.normal_force_n,
+            t.normal_force_n
+        );
+    }
+}
+
+fn lathe_rig() -> (tempfile::TempDir, Vec<TruthStep>) {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = support::rig2::LatheRig::new(7).write_campaign(dir.path(), &support::rig2::default_pins());
+    (dir, truth)
+}
+
+#[test]
+fn lathe_rig_with_a_plan_and_no_speed_channel() {
+    // the signals alone, matched by order to a plan of loads and velocities (no timing)
+    let (_dir, truth) = lathe_rig();
+    let mut map = ChannelMap::default();
+    map.apply_override("speed=").unwrap();
+    let recs = read_all(&files_of(&truth), &map);
+    assert!(recs.iter().all(|r| r.speed.is_none()));
+    let expected = expected_of(&truth);
+    let id = identify(&recs, Some(&expected), &[]);
+    assert!(id.files.iter().all(|f| f.segmentation == "signals"));
+    assert!(id.files.iter().all(|f| f.tangential_sign_flipped && f.baseline == "none"));
+    assert!(id
+        .dataset
+        .records
+        .iter()
+        .all(|r| r.flags.iter().any(|f| f == "no-baseline")));
+    check_against_plan(&id, &truth, 0.003);
+}
+
+#[test]
+fn lathe_rig_without_a_plan() {
+    // velocities from the spindle speed and the track radius, loads measured
+    let (_dir, truth) = lathe_rig();
+    let recs = read_all(&files_of(&truth), &ChannelMap::default());
+    let id = identify(&recs, None, &[100.0]);
+    assert!(id.files.iter().all(|f| f.segmentation == "speed"));
+    check_without_plan(&id, &truth, 0.003);
+    // one pin per file
+    let pins: Vec<u32> = id.dataset.records.iter().map(|r| r.pin).collect();
+    assert_eq!(pins.iter().max(), Some(&3));
+}
+
+#[test]
+fn lathe_rig_matched_by_speed_reports_a_reordered_pin() {
+    // a factorial plan lists every pin ascending; the rig ran pin 2 descending
+    let (_dir, truth) = lathe_rig();
+    let recs = read_all(&files_of(&truth), &ChannelMap::default());
+    let mut expected = expected_of(&truth);
+    for pin in 1..=3 {
+        let mut v: Vec<&mut ExpectedStep> = expected.iter_mut().filter(|e| e.pin == pin).collect();
+        let mut speeds: Vec<f64> = v.iter().map(|e| e.sliding_velocity_m_s).collect();
+        speeds.sort_by(f64::total_cmp);
+        for (k, e) in v.iter_mut().enumerate() {
+            e.sliding_velocity_m_s = speeds[k];
+            e.step = k as u32 + 1;
+        }
+    }
+    let id = identify(&recs, Some(&expected), &[100.0]);
+    assert_eq!(id.matching.method, "speed and load");
+    assert!(!id.matching.reordered.is_empty());
+    assert!(id.matching.reordered.iter().all(|r| r.contains("pin 2")), "{:#?}", id.matching);
+    for t in &truth {
+        let r = id
+            .dataset
+            .records
+            .iter()
+            .find(|r| {
+                r.pin == t.pin
+                    && (units::m_per_s_to_m_per_min(r.sliding_velocity_m_s) - t.velocity_m_per_min).abs() < 1e-6
+            })
+            .unwrap();
+        assert!((r.cof_apparent - t.mu_true).abs() <= 0.003);
+    }
+}
+
+#[test]
+fn a_missing_step_is_reported_by_name() {
+    let (_dir, truth) = lathe_rig();
+    let recs = read_all(&files_of(&truth), &ChannelMap::default());
+    let mut expected = expected_of(&truth);
+    expected.push(ExpectedStep {
+        pin: 3,
+        step: 7,
+        normal_force_n: 1800.0,
+        sliding_velocity_m_s: units::m_per_min_to_m_per_s(280.0),
+    });
+    let id = identify(&recs, Some(&expected), &[100.0]);
+    assert_eq!(id.matching.missing, vec!["pin 3 step 7 (1800.0 N, 280.0 m/min)".to_string()]);
+    assert_eq!(id.dataset.records.len(), truth.len());
+}
+
+#[test]
+fn swapped_files_are_caught_when_matching_by_order() {
+    let (_dir, truth) = lathe_rig();
+    let mut files = files_of(&truth);
+    files.swap(0, 2);
+    let mut map = ChannelMap::default();
+    map.apply_override("speed=").unwrap();
+    let recs = read_all(&files, &map);
+    let contact = PinContact::default();
+    let cfg = IdentifyConfig::default();
+    let expected = expected_of(&truth);
+    let e = identify_recordings(
+        &recs,
+        &Campaign {
+            expected: Some(&expected),
+            plan: None,
+            contact: &contact,
+            cfg: &cfg,
+            track_radius_mm: &[],
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("closer to pin") && e.contains("rig2_pin03.csv"), "{e}");
+}
