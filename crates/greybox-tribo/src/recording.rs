@@ -771,6 +771,9 @@ fn continuous_time(
     header_line: u64,
     report: &mut ReadReport,
 ) -> Result<Vec<f64>> {
+    if t.windows(2).all(|w| w[1] > w[0]) {
+        return Ok(t);
+    }
     let mut dts: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
     let dt = if dts.is_empty() {
         0.0

@@ -140,6 +140,12 @@ fn split_fields(line: &[u8], d: Delimiter, out: &mut Vec<(usize, usize)>) {
 /// (including NaN and infinities, which a recording never legitimately holds).
 #[inline]
 fn parse_number(field: &[u8], decimal_comma: bool) -> Option<f64> {
+    // fast path: a plain number without spaces or quotes
+    if !decimal_comma {
+        if let Ok(v) = fast_float2::parse::<f64, _>(field) {
+            return v.is_finite().then_some(v);
+        }
+    }
     let t = unquote(field);
     if t.is_empty() {
         return None;
@@ -379,42 +385,101 @@ struct Chunk {
     last_data_line: u64,
 }
 
-fn parse_chunk(lines: &[Line], c: &Candidate) -> Chunk {
+/// The common case in one pass: `row.len()` plain numbers separated by `d` (an optional
+/// trailing `d`), each finite. False for anything else (the caller takes the general path).
+#[inline]
+fn fast_row(line: &[u8], d: u8, row: &mut [f64]) -> bool {
+    let mut p = 0;
+    let n = row.len();
+    for (k, slot) in row.iter_mut().enumerate() {
+        let Ok((v, used)) = fast_float2::parse_partial::<f64, _>(&line[p..]) else {
+            return false;
+        };
+        if used == 0 || !v.is_finite() {
+            return false;
+        }
+        *slot = v;
+        p += used;
+        if k + 1 < n {
+            if line.get(p) != Some(&d) {
+                return false;
+            }
+            p += 1;
+        }
+    }
+    p == line.len() || (p + 1 == line.len() && line[p] == d)
+}
+
+/// Parse the lines of `part` (starting at line number `first_line`).
+fn parse_chunk(part: &[u8], first_line: u64, c: &Candidate) -> Chunk {
     let n = c.fields;
+    let estimate = part.len() / (8 * n).max(16) + 1;
     let mut ch = Chunk {
-        columns: (0..n).map(|_| Vec::with_capacity(lines.len())).collect(),
+        columns: (0..n).map(|_| Vec::with_capacity(estimate)).collect(),
         bad: vec![None; n],
         other: Vec::new(),
         last_data_line: 0,
     };
     let mut spans = Vec::with_capacity(n + 1);
-    for l in lines {
-        if is_blank(l.text) {
+    let mut values: Vec<Option<f64>> = Vec::with_capacity(n);
+    let mut row = vec![0.0; n];
+    let fast_delim = if c.decimal_comma { None } else { c.delimiter.byte() };
+    let mut p = 0;
+    let mut number = first_line;
+    while p < part.len() {
+        let end = memchr::memchr(b'\n', &part[p..]).map_or(part.len(), |i| p + i);
+        let l = Line {
+            number,
+            text: strip_cr(&part[p..end]),
+        };
+        number += 1;
+        p = end + 1;
+        // most lines start with a digit or sign: only scan for blank lines when not
+        if l.text.first().is_none_or(|b| b.is_ascii_whitespace()) && is_blank(l.text) {
             continue;
+        }
+        if let Some(d) = fast_delim {
+            if fast_row(l.text, d, &mut row) {
+                for (col, v) in row.iter().enumerate() {
+                    ch.columns[col].push(*v);
+                }
+                ch.last_data_line = l.number;
+                continue;
+            }
         }
         let (k, _) = field_count(l.text, c.delimiter, &mut spans);
-        // a data row is mostly numbers; a line that is not is a footer or comment
-        let starts_numeric = mostly_numeric(l.text, &spans[..k], c.decimal_comma);
-        if !starts_numeric || k != n {
-            let wrong = starts_numeric.then_some(k);
-            ch.other
-                .push((l.number, String::from_utf8_lossy(l.text).trim().to_string(), wrong));
+        if k != n {
+            // a data row is mostly numbers; a line that is not is a footer or comment
+            let numeric = mostly_numeric(l.text, &spans[..k], c.decimal_comma);
+            ch.other.push((
+                l.number,
+                String::from_utf8_lossy(l.text).trim().to_string(),
+                numeric.then_some(k),
+            ));
             continue;
         }
-        for (col, &(a, b)) in spans[..n].iter().enumerate() {
-            let v = match parse_number(&l.text[a..b], c.decimal_comma) {
-                Some(v) => v,
-                None => {
-                    if ch.bad[col].is_none() {
-                        ch.bad[col] = Some((
-                            l.number,
-                            String::from_utf8_lossy(&l.text[a..b]).to_string(),
-                        ));
-                    }
-                    f64::NAN
+        values.clear();
+        values.extend(
+            spans[..n]
+                .iter()
+                .map(|&(a, b)| parse_number(&l.text[a..b], c.decimal_comma)),
+        );
+        let numbers = values.iter().filter(|v| v.is_some()).count();
+        if numbers == n {
+            for (col, v) in values.iter().enumerate() {
+                ch.columns[col].push(v.unwrap_or(f64::NAN));
+            }
+        } else if numbers >= 2.min(n) && 2 * numbers >= n {
+            for (col, v) in values.iter().enumerate() {
+                if v.is_none() && ch.bad[col].is_none() {
+                    let (a, b) = spans[col];
+                    ch.bad[col] = Some((l.number, String::from_utf8_lossy(&l.text[a..b]).to_string()));
                 }
-            };
-            ch.columns[col].push(v);
+                ch.columns[col].push(v.unwrap_or(f64::NAN));
+            }
+        } else {
+            ch.other.push((l.number, String::from_utf8_lossy(l.text).trim().to_string(), None));
+            continue;
         }
         ch.last_data_line = l.number;
     }
@@ -503,22 +568,7 @@ pub fn parse_text_table(bytes: &[u8], source: &str, opts: &TextOptions) -> Resul
     let chunks: Vec<Chunk> = bounds
         .par_windows(2)
         .zip(first_line.par_iter())
-        .map(|(w, &l0)| {
-            let part = &data[w[0]..w[1]];
-            let mut lines = Vec::with_capacity(part.len() / 32 + 1);
-            let mut p = 0;
-            let mut num = l0;
-            while p < part.len() {
-                let end = memchr::memchr(b'\n', &part[p..]).map_or(part.len(), |i| p + i);
-                lines.push(Line {
-                    number: num,
-                    text: strip_cr(&part[p..end]),
-                });
-                num += 1;
-                p = end + 1;
-            }
-            parse_chunk(&lines, &c)
-        })
+        .map(|(w, &l0)| parse_chunk(&data[w[0]..w[1]], l0, &c))
         .collect();
 
     // footer: non-data lines after the last data line; any earlier one is an error

@@ -80,6 +80,17 @@ fn check_against_plan(id: &Identification, truth: &[TruthStep], tol: f64) {
         );
     }
     assert!(id.matching.missing.is_empty() && id.matching.extra.is_empty(), "{:#?}", id.matching);
+    report_error(id, truth);
+}
+
+/// Largest |μ − μ_true| (printed with `--nocapture`, for the docs).
+fn report_error(id: &Identification, truth: &[TruthStep]) {
+    let worst = truth
+        .iter()
+        .zip(&id.dataset.records)
+        .map(|(t, r)| (r.cof_apparent - t.mu_true).abs())
+        .fold(0.0, f64::max);
+    eprintln!("max |mu - mu_true| = {worst:.5} over {} steps", truth.len());
 }
 
 /// Without a plan, rows are numbered in the order found and carry measured values.
@@ -111,6 +122,7 @@ fn check_without_plan(id: &Identification, truth: &[TruthStep], tol: f64) {
             t.normal_force_n
         );
     }
+    report_error(id, truth);
 }
 
 fn lathe_rig() -> (tempfile::TempDir, Vec<TruthStep>) {
@@ -225,4 +237,61 @@ fn swapped_files_are_caught_when_matching_by_order() {
     .unwrap_err()
     .to_string();
     assert!(e.contains("closer to pin") && e.contains("rig2_pin03.csv"), "{e}");
+}
+
+/// Every export layout identifies within 0.002 of its ground truth, without a plan.
+fn check_export(truth: &[TruthStep], map: &ChannelMap, radii: &[f64]) -> Identification {
+    let recs = read_all(&files_of(truth), map);
+    let id = identify(&recs, None, radii);
+    check_without_plan(&id, truth, 0.002);
+    id
+}
+
+#[test]
+fn rotary_tribometer_export() {
+    // preamble, Step column, time restarting per step, trailing delimiter, footer, 10 Hz,
+    // rpm with a track radius that changes from step to step
+    let dir = tempfile::tempdir().unwrap();
+    let truth = support::exports::write_rotary_export(dir.path(), 3);
+    let id = check_export(&truth, &ChannelMap::default(), &support::exports::ROTARY_RADII_MM);
+    let f = &id.files[0];
+    assert_eq!(f.segmentation, "step-column");
+    let read = f.read.as_ref().unwrap();
+    assert!(read.layout.contains("trailing delimiter") && read.layout.contains("header on line 3"), "{}", read.layout);
+    assert_eq!(read.footer.len(), 2);
+    assert!(read.notes.iter().any(|n| n.contains("restarts at 4 step change")), "{:?}", read.notes);
+    let roles: Vec<(&str, &str)> = read.columns.iter().map(|c| (c.role.as_str(), c.column.as_str())).collect();
+    assert!(roles.contains(&("normal", "DAQ.Fz (N)")) && roles.contains(&("speed", "Velocity (rpm)")), "{roles:?}");
+}
+
+#[test]
+fn semicolon_decimal_comma_campaign_in_one_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = support::exports::write_semicolon_campaign(dir.path(), 4);
+    let id = check_export(&truth, &ChannelMap::default(), &[]);
+    assert_eq!(id.files[0].baseline, "start and end");
+    let pins: Vec<u32> = id.dataset.records.iter().map(|r| r.pin).collect();
+    assert_eq!(pins, vec![1, 1, 1, 1, 2, 2, 2, 2]);
+}
+
+#[test]
+fn tab_separated_files_per_step_without_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = support::exports::write_tab_per_step(dir.path(), 5);
+    let mut map = ChannelMap::default();
+    // without a time column the sample rate is required, and the error says so
+    let e = read_recording(&truth[0].file, &map).unwrap_err().to_string();
+    assert!(e.contains("--sample-rate-hz"), "{e}");
+    map.sample_rate_hz = Some(support::exports::TAB_SAMPLE_RATE_HZ);
+    let id = check_export(&truth, &map, &[]);
+    // one pin made of four files
+    assert!(id.dataset.records.iter().all(|r| r.pin == 1));
+}
+
+#[test]
+fn xlsx_workbook() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = support::exports::write_xlsx_workbook(dir.path(), 6);
+    let id = check_export(&truth, &ChannelMap::default(), &[]);
+    assert!(id.files[0].read.as_ref().unwrap().layout.contains("sheet 'Data'"));
 }
