@@ -156,3 +156,68 @@ fn gcode_parser_survives_mutations() {
         }
     }
 }
+
+mod support;
+
+/// Every reader of foreign layouts (sniffed text, spreadsheets) and the plan-free
+/// identification behind them return Ok or an error that names the file.
+#[test]
+fn foreign_layout_readers_survive_mutations() {
+    use greybox_tribo::campaign::{identify_recordings, Campaign};
+    use greybox_tribo::recording::recording_from_table;
+    use greybox_tribo::text_table::parse_text_table;
+    use greybox_tribo::xlsx_table::parse_spreadsheet;
+    let dir = tempfile::tempdir().unwrap();
+    let rotary = support::exports::write_rotary_export(&dir.path().join("a"), 1);
+    let campaign = support::exports::write_semicolon_campaign(&dir.path().join("b"), 1);
+    let tab = support::exports::write_tab_per_step(&dir.path().join("c"), 1);
+    let xlsx = support::exports::write_xlsx_workbook(&dir.path().join("d"), 1);
+    let head_tail = |path: &std::path::Path| {
+        let b = std::fs::read(path).unwrap();
+        let mut v = b[..b.len().min(2500)].to_vec();
+        v.extend_from_slice(&b[b.len().saturating_sub(600)..]);
+        v
+    };
+    let bases = [
+        head_tail(&rotary[0].file),
+        head_tail(&campaign[0].file),
+        head_tail(&tab[0].file),
+    ];
+    let contact = greybox_tribo::hertz::PinContact::default();
+    let cfg = greybox_tribo::identify::IdentifyConfig::default();
+    let campaign_inputs = Campaign {
+        expected: None,
+        plan: None,
+        contact: &contact,
+        cfg: &cfg,
+        track_radius_mm: &[5.0],
+    };
+    let map = ChannelMap {
+        sample_rate_hz: Some(1000.0),
+        ..Default::default()
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    for base in &bases {
+        for _ in 0..1500 {
+            let m = mutate(base, &mut rng);
+            let r = parse_text_table(&m, "m.csv", &map.text_options())
+                .and_then(|t| recording_from_table(t, &map));
+            match r {
+                Ok(rec) => {
+                    let _ = identify_recordings(std::slice::from_ref(&rec), &campaign_inputs);
+                }
+                Err(e) => assert!(e.to_string().starts_with("m.csv"), "{e}"),
+            }
+        }
+    }
+    let book = std::fs::read(&xlsx[0].file).unwrap();
+    for _ in 0..300 {
+        let m = mutate(&book, &mut rng);
+        match parse_spreadsheet(&m, "m.xlsx", None) {
+            Ok(t) => {
+                let _ = recording_from_table(t, &ChannelMap::default());
+            }
+            Err(e) => assert!(e.to_string().starts_with("m.xlsx"), "{e}"),
+        }
+    }
+}
