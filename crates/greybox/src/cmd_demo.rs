@@ -38,6 +38,13 @@ struct DemoSummary {
     cutting: cmd_simulate::CutSummary,
 }
 
+/// A rotary tribometer's CSV export (written by the independent test rig,
+/// `crates/greybox-tribo/tests/support/exports.rs`, seed 1) and its ground truth.
+const FOREIGN_EXPORT: &str = include_str!("../../../examples/foreign-rig/rotary-export.csv");
+const FOREIGN_TRUTH: &str = include_str!("../../../examples/foreign-rig/rotary-export-truth.csv");
+/// The export's wear-track radius per step, mm.
+const FOREIGN_RADII_MM: [f64; 5] = [5.0, 6.0, 7.0, 8.0, 9.0];
+
 pub fn run(a: Args) -> Result<()> {
     let study = Study::parse(DEMO_STUDY, "bundled examples/demo-study.toml")?;
     let plan = study.plan.build()?;
@@ -68,6 +75,25 @@ pub fn run(a: Args) -> Result<()> {
         identification: id,
         truth: Some(truth),
     };
+    // a recording from another rig: a rotary tribometer's CSV export (preamble, Step column,
+    // time restarting per step, trailing delimiters, footer, rpm on a per-step track radius)
+    let foreign_dir = out.join("foreign-rig");
+    std::fs::create_dir_all(&foreign_dir)?;
+    let foreign_file = foreign_dir.join("rotary-export.csv");
+    greybox_core::atomic::write_string_atomic(&foreign_file, FOREIGN_EXPORT)?;
+    let foreign_truth = foreign_dir.join("rotary-export-truth.csv");
+    greybox_core::atomic::write_string_atomic(&foreign_truth, FOREIGN_TRUTH)?;
+    let foreign_study = Study::default();
+    let (foreign_ds, foreign_id) = cmd_identify::identify(
+        &foreign_study,
+        &cmd_identify::Expectation::None,
+        std::slice::from_ref(&foreign_file),
+        &FOREIGN_RADII_MM,
+        &foreign_dir.join("dataset.csv"),
+        None,
+        true,
+    )?;
+    let foreign_error = cmd_identify::compare_with_truth(&foreign_ds, &foreign_truth)?;
     // ploughing correction with the article's Table 3 track widths
     let adhesive_args = cmd_adhesive::Args {
         data: dataset.clone(),
@@ -280,6 +306,15 @@ pub fn run(a: Args) -> Result<()> {
     );
     print!("{}", cmd_identify::summary_table(&ds));
     cmd_identify::print_identify_footer(&identify);
+    println!(
+        "\n[3b] identify a foreign rig's export (rotary tribometer CSV, no plan) -> {}",
+        foreign_dir.join("dataset.csv").display()
+    );
+    print!("{}", cmd_identify::inspect_text(&foreign_id.files));
+    println!(
+        "  against its ground truth: max |COF - COF_true| = {:.5} over {} steps",
+        foreign_error.max_abs_error, foreign_error.plateaus
+    );
     println!(
         "\n[4/6] adhesive COF (Bowden-Tabor ploughing, the article's Table 3 track widths) -> {}",
         adhesive_args.out.display()

@@ -204,11 +204,14 @@ fn identify_names_the_bad_file_and_line() {
         p,
     ));
     assert!(
-        e.contains("bad.csv, line 101, field 'normal_force_N'") && e.contains("finite"),
+        e.contains("bad.csv, line 101, field 'normal_force_N'")
+            && e.contains("expected a number, found 'NaN'"),
         "{e}"
     );
     assert!(!p.join("d.csv").exists(), "no dataset written on error");
     // wrong number of files
+    std::fs::copy(p.join("rec/pin01.csv"), p.join("a.csv")).unwrap();
+    std::fs::copy(p.join("rec/pin01.csv"), p.join("b.csv")).unwrap();
     let e = err(&greybox(
         &[
             "identify",
@@ -221,7 +224,7 @@ fn identify_names_the_bad_file_and_line() {
         p,
     ));
     assert!(
-        e.contains("the plan has 1 pins but 2 recording files"),
+        e.contains("the plan has 1 pins but 2 recordings were given"),
         "{e}"
     );
     // truncated TDMS
