@@ -8,7 +8,9 @@
 //! * [`identify`] — plateau detection and apparent COF identification.
 
 pub mod campaign;
+mod bulk;
 pub mod csv_recording;
+pub mod decimal;
 pub mod table;
 pub mod text_table;
 pub mod xlsx_table;

@@ -6,6 +6,7 @@
 //! [`recording_from_table`] converts them to SI. Roles not mapped explicitly are found by
 //! their usual names ([`ROLE_ALIASES`]), ignoring case, spaces and units in the header.
 
+use rayon::prelude::*;
 use crate::table::{column_matches, Column, Table};
 use greybox_core::units::{ForceUnit, LengthUnit, SpeedUnit, TimeUnit};
 use greybox_core::{Error, Result, SourcePos};
@@ -147,7 +148,7 @@ impl Recording {
                         format!("channel has {} samples, time has {n}", ch.len()),
                     ));
                 }
-                if let Some(i) = ch.iter().position(|v| !v.is_finite()) {
+                if let Some(i) = first_non_finite(ch) {
                     return Err(Error::input(
                         pos().field(name),
                         format!("sample {i} is not finite ({})", ch[i]),
@@ -155,7 +156,7 @@ impl Recording {
                 }
             }
         }
-        if let Some(i) = self.time_s.windows(2).position(|w| !(w[1] > w[0])) {
+        if let Some(i) = first_non_increasing(&self.time_s) {
             return Err(Error::input(
                 pos().field("time"),
                 format!(
@@ -170,6 +171,30 @@ impl Recording {
     }
 }
 
+/// Index of the first NaN or infinity. Blocks are screened in parallel with a branch-free OR
+/// that vectorises; only a failing block is searched.
+fn first_non_finite(values: &[f64]) -> Option<usize> {
+    const BLOCK: usize = 1 << 14;
+    values
+        .par_chunks(BLOCK)
+        .position_first(|b| b.iter().fold(false, |bad, v| bad | !v.is_finite()))
+        .and_then(|k| {
+            let start = k * BLOCK;
+            values[start..].iter().position(|v| !v.is_finite()).map(|i| start + i)
+        })
+}
+
+/// Index `i` of the first pair with `t[i+1] ≤ t[i]` (or a NaN), screened in parallel blocks
+/// like [`first_non_finite`].
+fn first_non_increasing(t: &[f64]) -> Option<usize> {
+    const BLOCK: usize = 1 << 14;
+    let bad = |s: &[f64]| s.windows(2).fold(false, |bad, w| bad | !(w[1] > w[0]));
+    let blocks = t.len().div_ceil(BLOCK);
+    (0..blocks)
+        .into_par_iter()
+        .position_first(|k| bad(&t[k * BLOCK..((k + 1) * BLOCK + 1).min(t.len())]))
+        .and_then(|k| t[k * BLOCK..].windows(2).position(|w| !(w[1] > w[0])).map(|i| k * BLOCK + i))
+}
 
 /// Where a channel comes from: column (or TDMS channel) name, unit and an extra scale (e.g.
 /// −1 to flip a dynamometer axis).
@@ -696,7 +721,7 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
                 })?;
             let t0 = table.start_time_s.unwrap_or(0.0);
             report.notes.push(format!("no time column: time from the sample rate {:.6} Hz", 1.0 / dt));
-            (0..n).map(|i| t0 + i as f64 * dt).collect()
+            (0..n).into_par_iter().map(|i| t0 + i as f64 * dt).collect()
         }
     };
     let speed_unit = report
@@ -866,4 +891,30 @@ pub fn read_table(path: &std::path::Path, map: &ChannelMap) -> Result<Table> {
 /// Read a recording (any supported format) through a channel map.
 pub fn read_recording(path: &std::path::Path, map: &ChannelMap) -> Result<Recording> {
     recording_from_table(read_table(path, map)?, map)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The parallel block screens find the same index as a plain scan, at block edges too.
+    #[test]
+    fn screens_find_the_first_bad_sample() {
+        let n = 3 * (1 << 14) + 17;
+        let good: Vec<f64> = (0..n).map(|i| i as f64 * 1e-3).collect();
+        assert_eq!(first_non_finite(&good), None);
+        assert_eq!(first_non_increasing(&good), None);
+        for at in [0, 1, (1 << 14) - 1, 1 << 14, (1 << 14) + 1, 2 * (1 << 14), n - 1] {
+            for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                let mut v = good.clone();
+                v[at] = bad;
+                v[n - 1] = f64::NAN;
+                assert_eq!(first_non_finite(&v), Some(at), "{bad} at {at}");
+            }
+            let mut t = good.clone();
+            t[at] = if at == 0 { 1e9 } else { t[at - 1] };
+            let want = t.windows(2).position(|w| !(w[1] > w[0]));
+            assert_eq!(first_non_increasing(&t), want, "repeat at {at}");
+        }
+    }
 }

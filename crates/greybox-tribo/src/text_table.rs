@@ -8,8 +8,9 @@
 //! inside the data only matters when a role is mapped to its column
 //! ([`crate::table::ColumnData::NotNumeric`]).
 //!
-//! The data lines are parsed in parallel chunks (rayon) with `fast-float2`, straight from the
-//! file's bytes; the result does not depend on the number of threads.
+//! The data lines are parsed in parallel chunks (rayon) straight from the memory-mapped file
+//! into the final columns: plain decimals exactly by [`crate::decimal`], other numbers with
+//! `fast-float2`. The result does not depend on the number of threads.
 
 use crate::table::{Column, ColumnData, Table};
 use greybox_core::{Error, Result, SourcePos};
@@ -69,9 +70,25 @@ const SNIFF_LINES: usize = 200;
 const CONFIRM_ROWS: usize = 3;
 
 /// Read a text table from a file.
+///
+/// A regular file is memory-mapped (no copy of a file of hundreds of MB into a buffer); the
+/// file must not be truncated while it is read, as with any reader that maps files. Anything
+/// else (a pipe, an empty file, a file system without mmap) is read into memory.
 pub fn read_text_table(path: &std::path::Path, opts: &TextOptions) -> Result<Table> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    parse_text_table(&bytes, &path.display().to_string(), opts)
+    let source = path.display().to_string();
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let regular = file.metadata().is_ok_and(|m| m.is_file() && m.len() > 0);
+    if regular {
+        // SAFETY: the map is read-only and lives only for this call. Like every reader that
+        // maps files (ripgrep, polars), this relies on no other process truncating or
+        // rewriting the recording while it is parsed, as the doc comment states.
+        if let Ok(map) = unsafe { memmap2::Mmap::map(&file) } {
+            return parse_text_table(&map, &source, opts);
+        }
+    }
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(&mut &file, &mut bytes).map_err(|e| Error::io(path, e))?;
+    parse_text_table(&bytes, &source, opts)
 }
 
 /// One line of the file: its 1-based number and its bytes without the line end.
@@ -377,7 +394,8 @@ fn choose_layout(lines: &[Line], opts: &TextOptions, source: &str) -> Result<Can
 
 /// One parsed chunk of data lines.
 struct Chunk {
-    columns: Vec<Vec<f64>>,
+    /// Data rows written to the front of the chunk's column slices.
+    rows: usize,
     /// First non-number per column: (line, text).
     bad: Vec<Option<(u64, String)>>,
     /// Lines that are not data rows: (line, text, wrong field count).
@@ -385,37 +403,104 @@ struct Chunk {
     last_data_line: u64,
 }
 
-/// The common case in one pass: `row.len()` plain numbers separated by `d` (an optional
-/// trailing `d`), each finite. False for anything else (the caller takes the general path).
+/// How the one-pass row parser ([`fast_row`]) sees a line: the field separator and the
+/// decimal mark.
+#[derive(Clone, Copy)]
+struct FastLayout {
+    /// `None`: runs of spaces or tabs separate fields (leading and trailing ones allowed).
+    separator: Option<u8>,
+    mark: u8,
+}
+
+impl FastLayout {
+    fn of(c: &Candidate) -> Self {
+        FastLayout {
+            separator: c.delimiter.byte(),
+            mark: if c.decimal_comma { b',' } else { b'.' },
+        }
+    }
+}
+
+/// One number at the start of `s`: a plain decimal exactly ([`crate::decimal`]), anything
+/// else through `fast-float2` (point mark only; a decimal-comma number with an exponent takes
+/// the general path).
 #[inline]
-fn fast_row(line: &[u8], d: u8, row: &mut [f64]) -> bool {
+fn number_prefix(s: &[u8], mark: u8) -> Option<(f64, usize)> {
+    if let Some(r) = crate::decimal::parse_plain_prefix(s, mark) {
+        return Some(r);
+    }
+    if mark != b'.' {
+        return None;
+    }
+    let (v, used) = fast_float2::parse_partial::<f64, _>(s).ok()?;
+    (used > 0 && v.is_finite()).then_some((v, used))
+}
+
+fn is_blank_byte(b: u8) -> bool {
+    b == b' ' || b == b'\t'
+}
+
+/// The common case in one pass over the bytes, without finding the line end first: a line of
+/// `row.len()` numbers separated as `f` says (an optional trailing delimiter), each finite,
+/// ended by LF, CRLF or the end of `text`. The bytes used, line end included; `None` for
+/// anything else (the caller takes the general path, which gives the same values or a
+/// precise error).
+#[inline]
+fn fast_row(text: &[u8], f: FastLayout, row: &mut [f64]) -> Option<usize> {
+    let line = text;
     let mut p = 0;
     let n = row.len();
-    for (k, slot) in row.iter_mut().enumerate() {
-        let Ok((v, used)) = fast_float2::parse_partial::<f64, _>(&line[p..]) else {
-            return false;
-        };
-        if used == 0 || !v.is_finite() {
-            return false;
+    let skip_blanks = |p: &mut usize| {
+        while line.get(*p).is_some_and(|b| is_blank_byte(*b)) {
+            *p += 1;
         }
+    };
+    if f.separator.is_none() {
+        skip_blanks(&mut p);
+    }
+    for (k, slot) in row.iter_mut().enumerate() {
+        let (v, used) = number_prefix(&line[p..], f.mark)?;
         *slot = v;
         p += used;
         if k + 1 < n {
-            if line.get(p) != Some(&d) {
-                return false;
+            match f.separator {
+                Some(d) => {
+                    if line.get(p) != Some(&d) {
+                        return None;
+                    }
+                    p += 1;
+                }
+                None => {
+                    let before = p;
+                    skip_blanks(&mut p);
+                    if p == before {
+                        return None;
+                    }
+                }
             }
-            p += 1;
         }
     }
-    p == line.len() || (p + 1 == line.len() && line[p] == d)
+    match f.separator {
+        Some(d) if line.get(p) == Some(&d) => p += 1,
+        Some(_) => {}
+        None => skip_blanks(&mut p),
+    }
+    if line.get(p) == Some(&b'\r') {
+        p += 1;
+    }
+    match line.get(p) {
+        None => Some(p),
+        Some(b'\n') => Some(p + 1),
+        Some(_) => None,
+    }
 }
 
-/// Parse the lines of `part` (starting at line number `first_line`).
-fn parse_chunk(part: &[u8], first_line: u64, c: &Candidate) -> Chunk {
+/// Parse the lines of `part` (starting at line number `first_line`) into `out`, one slice per
+/// column with room for every line of the part.
+fn parse_chunk(part: &[u8], first_line: u64, c: &Candidate, out: &mut [&mut [f64]]) -> Chunk {
     let n = c.fields;
-    let estimate = part.len() / (8 * n).max(16) + 1;
     let mut ch = Chunk {
-        columns: (0..n).map(|_| Vec::with_capacity(estimate)).collect(),
+        rows: 0,
         bad: vec![None; n],
         other: Vec::new(),
         last_data_line: 0,
@@ -423,10 +508,20 @@ fn parse_chunk(part: &[u8], first_line: u64, c: &Candidate) -> Chunk {
     let mut spans = Vec::with_capacity(n + 1);
     let mut values: Vec<Option<f64>> = Vec::with_capacity(n);
     let mut row = vec![0.0; n];
-    let fast_delim = if c.decimal_comma { None } else { c.delimiter.byte() };
+    let fast = FastLayout::of(c);
     let mut p = 0;
     let mut number = first_line;
     while p < part.len() {
+        if let Some(used) = fast_row(&part[p..], fast, &mut row) {
+            for (col, v) in out.iter_mut().zip(&row) {
+                col[ch.rows] = *v;
+            }
+            ch.rows += 1;
+            ch.last_data_line = number;
+            number += 1;
+            p += used;
+            continue;
+        }
         let end = memchr::memchr(b'\n', &part[p..]).map_or(part.len(), |i| p + i);
         let l = Line {
             number,
@@ -434,18 +529,8 @@ fn parse_chunk(part: &[u8], first_line: u64, c: &Candidate) -> Chunk {
         };
         number += 1;
         p = end + 1;
-        // most lines start with a digit or sign: only scan for blank lines when not
-        if l.text.first().is_none_or(|b| b.is_ascii_whitespace()) && is_blank(l.text) {
+        if is_blank(l.text) {
             continue;
-        }
-        if let Some(d) = fast_delim {
-            if fast_row(l.text, d, &mut row) {
-                for (col, v) in row.iter().enumerate() {
-                    ch.columns[col].push(*v);
-                }
-                ch.last_data_line = l.number;
-                continue;
-            }
         }
         let (k, _) = field_count(l.text, c.delimiter, &mut spans);
         if k != n {
@@ -465,29 +550,73 @@ fn parse_chunk(part: &[u8], first_line: u64, c: &Candidate) -> Chunk {
                 .map(|&(a, b)| parse_number(&l.text[a..b], c.decimal_comma)),
         );
         let numbers = values.iter().filter(|v| v.is_some()).count();
-        if numbers == n {
-            for (col, v) in values.iter().enumerate() {
-                ch.columns[col].push(v.unwrap_or(f64::NAN));
-            }
-        } else if numbers >= 2.min(n) && 2 * numbers >= n {
-            for (col, v) in values.iter().enumerate() {
-                if v.is_none() && ch.bad[col].is_none() {
-                    let (a, b) = spans[col];
-                    ch.bad[col] = Some((l.number, String::from_utf8_lossy(&l.text[a..b]).to_string()));
-                }
-                ch.columns[col].push(v.unwrap_or(f64::NAN));
-            }
-        } else {
+        if numbers < n && !(numbers >= 2.min(n) && 2 * numbers >= n) {
             ch.other.push((l.number, String::from_utf8_lossy(l.text).trim().to_string(), None));
             continue;
         }
+        for (col, v) in values.iter().enumerate() {
+            if v.is_none() && ch.bad[col].is_none() {
+                let (a, b) = spans[col];
+                ch.bad[col] = Some((l.number, String::from_utf8_lossy(&l.text[a..b]).to_string()));
+            }
+            out[col][ch.rows] = v.unwrap_or(f64::NAN);
+        }
+        ch.rows += 1;
         ch.last_data_line = l.number;
     }
     ch
 }
 
+/// Parse the chunks `bounds` of `data` in parallel straight into one vector per column:
+/// chunk k writes its rows into its own slice of `room[k]` slots (a data row is a line, so
+/// they fit); rows are then moved down over the slots of lines that were not data (blank,
+/// footer), and the columns cut to the rows found. No per-chunk vectors, no concatenation.
+fn parse_chunks(
+    data: &[u8],
+    bounds: &[usize],
+    first_line: &[u64],
+    room: &[usize],
+    c: &Candidate,
+) -> (Vec<Vec<f64>>, Vec<Chunk>) {
+    let total: usize = room.iter().sum();
+    // zeroed allocations: pages are touched first by the thread that parses into them
+    let mut columns: Vec<Vec<f64>> = (0..c.fields).map(|_| crate::bulk::zeroed_values(total)).collect();
+    let mut slices: Vec<Vec<&mut [f64]>> = room.iter().map(|_| Vec::with_capacity(c.fields)).collect();
+    for col in columns.iter_mut() {
+        let mut rest: &mut [f64] = col.as_mut_slice();
+        for (k, &len) in room.iter().enumerate() {
+            let (mine, after) = std::mem::take(&mut rest).split_at_mut(len);
+            slices[k].push(mine);
+            rest = after;
+        }
+    }
+    let chunks: Vec<Chunk> = slices
+        .into_par_iter()
+        .zip(bounds.par_windows(2))
+        .zip(first_line.par_iter())
+        .map(|((mut out, w), &l0)| parse_chunk(&data[w[0]..w[1]], l0, c, &mut out))
+        .collect();
+    for col in columns.iter_mut() {
+        let (mut from, mut to) = (0, 0);
+        for (ch, &len) in chunks.iter().zip(room) {
+            if from != to {
+                col.copy_within(from..from + ch.rows, to);
+            }
+            from += len;
+            to += ch.rows;
+        }
+        col.truncate(to);
+    }
+    (columns, chunks)
+}
+
 /// Parse a text table from bytes (`source` names it in errors).
 pub fn parse_text_table(bytes: &[u8], source: &str, opts: &TextOptions) -> Result<Table> {
+    parse_in_chunks(bytes, source, opts, 1 << 20)
+}
+
+/// [`parse_text_table`] with data chunks of at least `min_chunk` bytes (tests use tiny ones).
+fn parse_in_chunks(bytes: &[u8], source: &str, opts: &TextOptions, min_chunk: usize) -> Result<Table> {
     if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
         return Err(Error::input(
             SourcePos::file(source),
@@ -543,7 +672,7 @@ pub fn parse_text_table(bytes: &[u8], source: &str, opts: &TextOptions) -> Resul
     let first_number = head[c.data].number;
     let data = &body[data_start..];
     let threads = rayon::current_num_threads().max(1);
-    let target = (data.len() / (4 * threads)).max(1 << 20);
+    let target = (data.len() / (4 * threads)).max(min_chunk.max(1));
     let mut bounds = vec![0usize];
     while *bounds.last().expect("non-empty") < data.len() {
         let from = bounds.last().copied().expect("non-empty") + target;
@@ -554,23 +683,22 @@ pub fn parse_text_table(bytes: &[u8], source: &str, opts: &TextOptions) -> Resul
         let end = memchr::memchr(b'\n', &data[from..]).map_or(data.len(), |i| from + i + 1);
         bounds.push(end);
     }
-    // line numbers: count line ends per chunk first
-    let newlines: Vec<u64> = bounds
+    // line ends per chunk: the first line number of each, and room for every line
+    let newlines: Vec<usize> = bounds
         .par_windows(2)
-        .map(|w| memchr::memchr_iter(b'\n', &data[w[0]..w[1]]).count() as u64)
+        .map(|w| memchr::memchr_iter(b'\n', &data[w[0]..w[1]]).count())
         .collect();
     let mut first_line = Vec::with_capacity(newlines.len());
     let mut acc = first_number;
     for n in &newlines {
         first_line.push(acc);
-        acc += n;
+        acc += *n as u64;
     }
-    let chunks: Vec<Chunk> = bounds
-        .par_windows(2)
-        .zip(first_line.par_iter())
-        .map(|(w, &l0)| parse_chunk(&data[w[0]..w[1]], l0, &c))
-        .collect();
-
+    let mut room = newlines.clone();
+    if let Some(last) = room.last_mut() {
+        *last += usize::from(!data.ends_with(b"\n"));
+    }
+    let (columns_data, chunks) = parse_chunks(data, &bounds, &first_line, &room, &c);
     // footer: non-data lines after the last data line; any earlier one is an error
     let last_data = chunks.iter().map(|ch| ch.last_data_line).max().unwrap_or(0);
     let mut footer = Vec::new();
@@ -591,19 +719,13 @@ pub fn parse_text_table(bytes: &[u8], source: &str, opts: &TextOptions) -> Resul
             footer.push((*line, text.clone()));
         }
     }
-    let rows: usize = chunks.iter().map(|ch| ch.columns[0].len()).sum();
+    let rows: usize = chunks.iter().map(|ch| ch.rows).sum();
     let mut columns: Vec<Column> = Vec::with_capacity(c.fields);
-    for (k, name) in names.iter().enumerate() {
+    for ((k, name), values) in names.iter().enumerate().zip(columns_data) {
         let bad = chunks.iter().find_map(|ch| ch.bad[k].clone());
         let data = match bad {
             Some((line, text)) => ColumnData::NotNumeric { line, text },
-            None => {
-                let mut v = Vec::with_capacity(rows);
-                for ch in &chunks {
-                    v.extend_from_slice(&ch.columns[k]);
-                }
-                ColumnData::Numbers(v)
-            }
+            None => ColumnData::Numbers(values),
         };
         let mut col = Column::numbers(name, Vec::new());
         col.data = data;
@@ -763,5 +885,38 @@ mod tests {
         assert_eq!(t.rows, 200_000);
         assert_eq!(col(&t, 1)[199_999], (199_999 % 97) as f64 * 0.5);
         assert!(t.footer.is_empty());
+    }
+
+    /// Tiny chunks, blank lines, rows only the general path reads (quoted, padded, exponent
+    /// with a decimal comma) and a footer: every chunking gives the one-chunk table.
+    #[test]
+    fn chunk_boundaries_blank_lines_and_slow_rows() {
+        let mut text = String::from("Messung 7\n\nt [s];Fz [N];Fx [N];\n");
+        for i in 0..3_000 {
+            let row = match i % 11 {
+                0 => format!("\"{},{:03}\";\"{}\";1,5e2;\n", i / 1000, i % 1000, i % 7),
+                3 => format!(" {},{:03} ; {} ;-0,25;\r\n", i / 1000, i % 1000, i % 5),
+                5 => "\n".to_string(),
+                _ => format!("{},{:03};{};{},5;\n", i / 1000, i % 1000, i % 13, i % 3),
+            };
+            text.push_str(&row);
+        }
+        text.push_str("Ende der Messung\n");
+        let one = parse_in_chunks(text.as_bytes(), "t", &TextOptions::default(), usize::MAX).unwrap();
+        assert_eq!(one.rows, 3_000 - 3_000 / 11 - 1);
+        assert_eq!(one.footer.len(), 1);
+        assert!(one.layout.contains("decimal comma"), "{}", one.layout);
+        for min_chunk in [1, 7, 64, 1000] {
+            let t = parse_in_chunks(text.as_bytes(), "t", &TextOptions::default(), min_chunk).unwrap();
+            assert_eq!(t.rows, one.rows);
+            assert_eq!(t.footer, one.footer);
+            for k in 0..3 {
+                assert_eq!(col(&t, k), col(&one, k), "column {k}, chunks of {min_chunk} B");
+            }
+        }
+        assert_eq!(col(&one, 0)[0], 0.0);
+        assert_eq!(col(&one, 2)[0], 150.0);
+        assert_eq!(col(&one, 2)[3], -0.25);
+        assert_eq!(col(&one, 1)[1], 1.0);
     }
 }

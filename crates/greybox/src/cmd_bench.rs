@@ -119,12 +119,49 @@ pub struct Args {
 #[derive(Serialize)]
 struct IngestResult {
     format: String,
+    /// The file that was read (kept when `--dir` is given).
+    path: String,
     file_mb: f64,
     samples: usize,
     best_s: f64,
     median_s: f64,
     best_mb_per_s: f64,
     best_msamples_per_s: f64,
+    /// For a text dialect: the delimiter, decimal mark and lines above the header, so a peer
+    /// reader can be told what greybox sniffs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    sep: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    decimal: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    skiprows: Option<usize>,
+}
+
+/// A rig-export dialect of the benchmark recording: two metadata lines above the header,
+/// semicolons, decimal commas, units in parentheses, a trailing delimiter and CRLF.
+fn write_export_dialect(path: &std::path::Path, rec: &Recording) -> Result<()> {
+    greybox_core::atomic::write_atomic(path, |w| {
+        w.write_all(b"Instrument: virtual rig;Serial 1\r\nExported: 2026-11-22 10:00;\r\n")?;
+        w.write_all(b"Time (s);Fz (N);Fx (N);Fy (N);Trigger (V);\r\n")?;
+        let mut line = String::with_capacity(96);
+        for i in 0..rec.len() {
+            line.clear();
+            for v in [
+                rec.time_s[i],
+                rec.normal_n[i],
+                rec.tangential_n[i],
+                rec.radial_n.as_ref().map_or(0.0, |r| r[i]),
+                rec.trigger_v.as_ref().map_or(0.0, |t| t[i]),
+            ] {
+                use std::fmt::Write as _;
+                let _ = write!(line, "{v:.4};");
+            }
+            line.push_str("\r\n");
+            w.write_all(line.replace('.', ",").as_bytes())?;
+        }
+        Ok(())
+    })?;
+    Ok(())
 }
 
 /// The demo campaign's pins back to back, repeated until the CSV would reach `size_mb`.
@@ -330,31 +367,38 @@ pub fn run(a: Args) -> Result<()> {
             let rec = big_recording(size_mb)?;
             let csv = dir.join("bench.csv");
             let tdms = dir.join("bench.tdms");
+            let export = dir.join("bench-export.csv");
             write_csv_recording(&csv, &rec)?;
             write_tdms_recording(&tdms, &rec, "Tribometer")?;
+            write_export_dialect(&export, &rec)?;
             let map = ChannelMap::default();
             let mut results = Vec::new();
-            for (name, path) in [("csv", &csv), ("tdms", &tdms)] {
+            for (name, path) in [("csv", &csv), ("tdms", &tdms), ("csv-export", &export)] {
                 let bytes = std::fs::metadata(path)?.len() as f64;
                 let (times, n) = time_reads(
                     || {
-                        let r = if name == "csv" {
-                            read_csv_recording(path, &map)?
-                        } else {
-                            read_tdms_recording(path, &map)?
+                        let r = match name {
+                            "csv" => read_csv_recording(path, &map)?,
+                            "tdms" => read_tdms_recording(path, &map)?,
+                            _ => greybox_tribo::recording::read_recording(path, &map)?,
                         };
                         Ok(r.len())
                     },
                     repeats,
                 )?;
+                let export_dialect = name == "csv-export";
                 results.push(IngestResult {
                     format: name.into(),
+                    path: path.display().to_string(),
                     file_mb: bytes / 1e6,
                     samples: n,
                     best_s: times[0],
                     median_s: times[times.len() / 2],
                     best_mb_per_s: bytes / 1e6 / times[0],
                     best_msamples_per_s: n as f64 / 1e6 / times[0],
+                    sep: export_dialect.then(|| ";".into()),
+                    decimal: export_dialect.then(|| ",".into()),
+                    skiprows: export_dialect.then_some(2),
                 });
             }
             if json {
