@@ -1,9 +1,74 @@
-//! Atomic output: write to a temporary file in the target directory, then rename.
-//! A reader never sees a half-written file, and a failed write leaves no file.
+//! Atomic output: write to a temporary file beside the target, then rename.
+//!
+//! A reader never sees a half-written file, a failed write leaves no file, and an interrupted
+//! one leaves none either when the program removes [`crate::cleanup`]'s registered paths on
+//! a signal. What is replaced is looked at first: only a regular file (or a link to one, which
+//! stays a link: its target is replaced) is ever replaced; a FIFO, a device, a socket or a
+//! directory at the output path is an error, never turned into a regular file. A replaced
+//! file keeps its permission bits; a new one gets `0666` less the umask (`0644` usually), as
+//! any program's `open(2)` would give it.
 
-use crate::{Error, Result};
+use crate::{Error, Result, SourcePos};
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// The path a write to `path` really replaces: `path` itself, or the file a symbolic link
+/// there points to. An error if something other than a regular file is there.
+pub fn replaceable_target(path: &Path) -> Result<PathBuf> {
+    let meta = match std::fs::metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            // nothing there (or a dangling link: create what it points to)
+            return Ok(match std::fs::read_link(path) {
+                Ok(target) if target.is_absolute() => target,
+                Ok(target) => path.parent().unwrap_or(Path::new(".")).join(target),
+                Err(_) => path.to_path_buf(),
+            });
+        }
+        Err(e) => return Err(Error::io(path, e)),
+    };
+    if !meta.is_file() {
+        return Err(Error::input(
+            SourcePos::path(path),
+            format!(
+                "the output path is {}, not a regular file: greybox only replaces regular files (give a file path)",
+                describe_kind(&meta)
+            ),
+        ));
+    }
+    if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        return std::fs::canonicalize(path).map_err(|e| Error::io(path, e));
+    }
+    Ok(path.to_path_buf())
+}
+
+/// "a directory", "a FIFO", … for messages.
+pub fn describe_kind(meta: &std::fs::Metadata) -> &'static str {
+    let t = meta.file_type();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if t.is_char_device() {
+            return "a character device";
+        }
+        if t.is_block_device() {
+            return "a block device";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    if t.is_dir() {
+        "a directory"
+    } else if t.is_file() {
+        "a regular file"
+    } else {
+        "not a regular file"
+    }
+}
 
 /// Write `path` atomically. `fill` writes the content into a buffered writer.
 /// Parent directories are created.
@@ -11,23 +76,33 @@ pub fn write_atomic<F>(path: &Path, fill: F) -> Result<()>
 where
     F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
 {
-    let dir = match path.parent() {
+    let target = replaceable_target(path)?;
+    let dir = match target.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
+        _ => PathBuf::from("."),
     };
     std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
-    let tmp = tempfile::Builder::new()
-        .prefix(".greybox-")
-        .suffix(".tmp")
-        .tempfile_in(&dir)
-        .map_err(|e| Error::io(&dir, e))?;
+    let existing_mode = std::fs::metadata(&target).ok().map(|m| m.permissions());
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".greybox-").suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        // the mode passed to open(2): the umask applies, as for any new file
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let tmp = builder.tempfile_in(&dir).map_err(|e| Error::io(&dir, e))?;
+    let guard = crate::cleanup::register(tmp.path(), false);
     {
         let mut w = BufWriter::with_capacity(1 << 20, tmp.as_file());
         fill(&mut w).map_err(|e| Error::io(path, e))?;
         w.flush().map_err(|e| Error::io(path, e))?;
     }
+    if let Some(perm) = existing_mode {
+        tmp.as_file().set_permissions(perm).map_err(|e| Error::io(path, e))?;
+    }
     tmp.as_file().sync_all().map_err(|e| Error::io(path, e))?;
-    tmp.persist(path).map_err(|e| Error::io(path, e.error))?;
+    guard.complete(|| tmp.persist(&target).map(|_| ()).map_err(|e| Error::io(path, e.error)))?;
     Ok(())
 }
 
@@ -56,5 +131,54 @@ mod tests {
         );
         write_string_atomic(&p, "ok\n").unwrap();
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "ok\n");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn only_regular_files_are_replaced_and_modes_are_kept() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        // a FIFO, a device and a directory stay what they are
+        let fifo = dir.path().join("pipe");
+        assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        let e = write_string_atomic(&fifo, "x").unwrap_err().to_string();
+        assert!(e.contains("FIFO"), "{e}");
+        assert!(!std::fs::metadata(&fifo).unwrap().is_file());
+        let e = write_string_atomic(Path::new("/dev/null"), "x").unwrap_err().to_string();
+        assert!(e.contains("character device"), "{e}");
+        let e = write_string_atomic(dir.path(), "x").unwrap_err().to_string();
+        assert!(e.contains("a directory"), "{e}");
+        // a replaced file keeps its mode
+        let p = dir.path().join("law.json");
+        std::fs::write(&p, "old").unwrap();
+        std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o640)).unwrap();
+        write_string_atomic(&p, "new").unwrap();
+        assert_eq!(std::fs::metadata(&p).unwrap().permissions().mode() & 0o777, 0o640);
+        // a new file gets 0666 less the umask, like open(2) (not tempfile's private 0600)
+        let q = dir.path().join("new.csv");
+        write_string_atomic(&q, "x").unwrap();
+        let mode = std::fs::metadata(&q).unwrap().permissions().mode() & 0o777;
+        let mask = umask_now();
+        assert_eq!(mode, 0o666 & !mask, "mode {mode:o}, umask {mask:o}");
+        // a link stays a link; its target is replaced
+        let link = dir.path().join("link.json");
+        std::os::unix::fs::symlink(&p, &link).unwrap();
+        write_string_atomic(&link, "via link").unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "via link");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 4, "temp file left");
+    }
+
+    /// The process umask, read from /proc (Linux) without changing it.
+    #[cfg(unix)]
+    fn umask_now() -> u32 {
+        std::fs::read_to_string("/proc/self/status")
+            .ok()
+            .and_then(|s| {
+                s.lines()
+                    .find_map(|l| l.strip_prefix("Umask:"))
+                    .and_then(|v| u32::from_str_radix(v.trim(), 8).ok())
+            })
+            .unwrap_or(0o022)
     }
 }

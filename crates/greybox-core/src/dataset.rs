@@ -1,10 +1,15 @@
 //! The friction dataset: one row per (pin, velocity plateau), and its CSV schema.
 //!
-//! Columns (units in the names): `pin`, `step`, `normal_force_N` (planned),
-//! `normal_force_measured_N`, `sliding_velocity_m_per_min`, `hertz_pressure_MPa`,
+//! Columns (units in the names): `pin`, `step`, `normal_force_N` (measured: the mean over
+//! the steady part), `normal_force_planned_N` (empty without a plan), `sliding_velocity_m_per_min`, `hertz_pressure_MPa`
+//! (of the measured force),
 //! `pressure_convention`, `cof_apparent`, `cof_apparent_std`, `n_samples`,
 //! `plateau_start_s`, `plateau_end_s`, `cof_trend_per_s`, `stationary`, `flags`
 //! and, once the ploughing correction has run, `cof_adhesive`.
+//!
+//! Files written before the measured load became `normal_force_N` (they have
+//! `normal_force_measured_N` beside a planned `normal_force_N`) are still read, with the
+//! columns given their meaning.
 
 use crate::atomic::write_atomic;
 use crate::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header};
@@ -63,13 +68,13 @@ pub mod flags {
 pub struct FrictionRecord {
     pub pin: u32,
     pub step: u32,
-    /// Planned normal force, N.
+    /// Measured normal force: the mean over the plateau's steady part, N.
     pub normal_force_n: f64,
-    /// Mean measured normal force over the plateau, N.
-    pub normal_force_measured_n: f64,
+    /// The plan's normal force for this step, N (None without a plan).
+    pub normal_force_planned_n: Option<f64>,
     /// Planned sliding velocity, m/s.
     pub sliding_velocity_m_s: f64,
-    /// Hertz pressure of the planned force under `pressure_convention`, Pa.
+    /// Hertz pressure of the measured force under `pressure_convention`, Pa.
     pub hertz_pressure_pa: f64,
     pub pressure_convention: PressureConvention,
     /// Mean of F_t/F_N over the plateau.
@@ -98,7 +103,7 @@ const COLUMNS: [&str; 16] = [
     "pin",
     "step",
     "normal_force_N",
-    "normal_force_measured_N",
+    "normal_force_planned_N",
     "sliding_velocity_m_per_min",
     "hertz_pressure_MPa",
     "pressure_convention",
@@ -112,7 +117,9 @@ const COLUMNS: [&str; 16] = [
     "flags",
     "cof_adhesive",
 ];
-const OPTIONAL: [&str; 1] = ["cof_adhesive"];
+const OPTIONAL: [&str; 2] = ["normal_force_planned_N", "cof_adhesive"];
+/// The measured-load column of files written before `normal_force_N` became the measured load.
+const LEGACY_MEASURED: &str = "normal_force_measured_N";
 
 impl FrictionDataset {
     /// Write the dataset CSV atomically. `cof_adhesive` is written only if every record has it.
@@ -136,7 +143,7 @@ impl FrictionDataset {
                 r.pin,
                 r.step,
                 r.normal_force_n,
-                r.normal_force_measured_n,
+                r.normal_force_planned_n.map_or(String::new(), |f| f.to_string()),
                 units::m_per_s_to_m_per_min(r.sliding_velocity_m_s),
                 r.hertz_pressure_pa / units::PA_PER_MPA,
                 r.pressure_convention.name(),
@@ -168,7 +175,10 @@ impl FrictionDataset {
             .has_headers(true)
             .from_reader(reader);
         let header = Header::new(source, rdr.headers().map_err(|e| csv_error(source, e))?);
-        header.reject_unknown(&COLUMNS)?;
+        let legacy_measured = header.find(LEGACY_MEASURED);
+        let mut known = COLUMNS.to_vec();
+        known.push(LEGACY_MEASURED);
+        header.reject_unknown(&known)?;
         let idx: Vec<Option<usize>> = COLUMNS
             .iter()
             .map(|c| {
@@ -226,11 +236,30 @@ impl FrictionDataset {
                 Some(i) => Some(parse_f64(&rec[i], source, line, COLUMNS[15])?),
                 None => None,
             };
+            let (normal_force_n, normal_force_planned_n) = match legacy_measured {
+                Some(i) => {
+                    let measured = parse_f64(&rec[i], source, line, LEGACY_MEASURED)?;
+                    if !(measured > 0.0) {
+                        return Err(Error::input(
+                            SourcePos::file(source).line(line).field(LEGACY_MEASURED),
+                            format!("expected a positive value, found {measured}"),
+                        ));
+                    }
+                    (measured, Some(positive(2)?))
+                }
+                None => {
+                    let planned = match idx[3].map(|i| rec[i].trim()) {
+                        None | Some("") => None,
+                        Some(_) => Some(positive(3)?),
+                    };
+                    (positive(2)?, planned)
+                }
+            };
             records.push(FrictionRecord {
                 pin: u(0)? as u32,
                 step: u(1)? as u32,
-                normal_force_n: positive(2)?,
-                normal_force_measured_n: f(3)?,
+                normal_force_n,
+                normal_force_planned_n,
                 sliding_velocity_m_s: units::m_per_min_to_m_per_s(positive(4)?),
                 hertz_pressure_pa: positive(5)? * units::PA_PER_MPA,
                 pressure_convention: convention,
@@ -264,8 +293,8 @@ mod tests {
             records: vec![FrictionRecord {
                 pin: 1,
                 step: 1,
-                normal_force_n: 150.0,
-                normal_force_measured_n: 149.8,
+                normal_force_n: 149.8,
+                normal_force_planned_n: Some(150.0),
                 sliding_velocity_m_s: 20.0 / 60.0,
                 hertz_pressure_pa: 914.7e6,
                 pressure_convention: PressureConvention::ArticleEq7,
@@ -295,6 +324,26 @@ mod tests {
         assert!((a.hertz_pressure_pa - b.hertz_pressure_pa).abs() < 1e-6);
         assert_eq!(a.flags, b.flags);
         assert_eq!(a.pressure_convention, b.pressure_convention);
+        assert_eq!(b.normal_force_n, 149.8);
+        assert_eq!(b.normal_force_planned_n, Some(150.0));
+    }
+
+    /// A file of the earlier schema (planned `normal_force_N`, `normal_force_measured_N`)
+    /// reads with the measured load as the load.
+    #[test]
+    fn earlier_schema_reads_with_the_measured_load() {
+        let text = "pin,step,normal_force_N,normal_force_measured_N,sliding_velocity_m_per_min,hertz_pressure_MPa,pressure_convention,cof_apparent,cof_apparent_std,n_samples,plateau_start_s,plateau_end_s,cof_trend_per_s,stationary,flags\n2,1,561,751.6,20,914,article-eq7,0.4,0.01,400,2.1,2.5,0.0,true,\n";
+        let d = FrictionDataset::read_csv_from(text.as_bytes(), "old.csv").unwrap();
+        assert_eq!(d.records[0].normal_force_n, 751.6);
+        assert_eq!(d.records[0].normal_force_planned_n, Some(561.0));
+        // and a plan-free row leaves the planned load empty
+        let mut r = d.records[0].clone();
+        r.normal_force_planned_n = None;
+        let mut buf = Vec::new();
+        FrictionDataset { records: vec![r] }.write_csv_to(&mut buf, false).unwrap();
+        let back = FrictionDataset::read_csv_from(buf.as_slice(), "new.csv").unwrap();
+        assert_eq!(back.records[0].normal_force_planned_n, None);
+        assert_eq!(back.records[0].normal_force_n, 751.6);
     }
 
     fn err_of(text: &str) -> String {
@@ -310,12 +359,12 @@ mod tests {
         let good = String::from_utf8(buf).unwrap();
         let e = err_of(&good.replace("149.8", "NaN"));
         assert!(
-            e.contains("line 2") && e.contains("normal_force_measured_N") && e.contains("finite"),
+            e.contains("line 2") && e.contains("'normal_force_N'") && e.contains("finite"),
             "{e}"
         );
         let e = err_of(&good.replacen("150,", "-150,", 1));
         assert!(
-            e.contains("normal_force_N") && e.contains("positive"),
+            e.contains("normal_force_planned_N") && e.contains("positive"),
             "{e}"
         );
         let e = err_of(&good.replace("hertz_pressure_MPa", "hertz_pressure_kPa"));

@@ -6,7 +6,9 @@
 //! * [`law`] — the [`FrictionLaw`] seam (μ for a contact state).
 //! * [`dataset`] — the friction dataset and its strict CSV schema.
 //! * [`error`] — one error type whose input errors name file, line/byte and field.
-//! * [`atomic`] — write-to-temp-then-rename output.
+//! * [`atomic`] — write-to-temp-then-rename output that only ever replaces regular files.
+//! * [`outputs`] — outputs that cannot destroy inputs; output directories replaced whole.
+//! * [`cleanup`] — temporary paths an interrupt handler removes.
 //! * [`csvutil`] — strict numeric field parsing shared by every CSV reader.
 //! * [`plot`] — small self-contained SVG plots.
 //! * [`roots`] — bracketing root finding for expensive functions.
@@ -15,12 +17,14 @@
 //! SI units everywhere inside: Pa, m/s, N, K, s.
 
 pub mod atomic;
+pub mod cleanup;
 pub mod contact;
 pub mod csvutil;
 pub mod dataset;
 pub mod error;
 pub mod law;
 pub mod linalg;
+pub mod outputs;
 pub mod plot;
 pub mod roots;
 pub mod units;

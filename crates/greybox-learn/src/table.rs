@@ -55,6 +55,45 @@ pub struct Dataset {
     pub y: Vec<f64>,
     /// Fold id per row, if a fold column was read.
     pub folds: Option<Vec<usize>>,
+    /// What the reader noticed but did not refuse (duplicated rows), for the user and the
+    /// fit report.
+    pub warnings: Vec<String>,
+}
+
+/// Units whose quantities are positive in any friction experiment (forces, pressures,
+/// speeds, absolute temperatures, lengths): a zero or negative value there is not physical.
+const POSITIVE_UNITS: [&str; 10] = ["N", "kN", "Pa", "MPa", "GPa", "m/s", "m/min", "K", "µm", "mm"];
+
+/// Why a value of column `name` is not physical, if it is not: a quantity of a
+/// [`POSITIVE_UNITS`] unit ≤ 0, or a friction coefficient (`cof…`, `mu…`) < 0.
+fn non_physical(name: &str, v: f64) -> Option<String> {
+    let unit = unit_of(name);
+    if POSITIVE_UNITS.contains(&unit) && !(v > 0.0) {
+        return Some(format!("{v} {unit} is not physical: a quantity in {unit} must be positive"));
+    }
+    let lower = name.to_ascii_lowercase();
+    if (lower.starts_with("cof") || lower.starts_with("mu")) && v < 0.0 {
+        return Some(format!("{v} is not physical: a friction coefficient cannot be negative"));
+    }
+    None
+}
+
+/// Exact duplicates (same features and target): each later row with the first one it
+/// repeats, as 0-based row indices.
+fn duplicate_rows(x: &Matrix, y: &[f64]) -> Vec<(usize, usize)> {
+    let mut seen: std::collections::HashMap<Vec<u64>, usize> = std::collections::HashMap::new();
+    let mut dups = Vec::new();
+    for (i, yi) in y.iter().enumerate() {
+        let mut key: Vec<u64> = (0..x.n_cols).map(|j| x.get(i, j).to_bits()).collect();
+        key.push(yi.to_bits());
+        match seen.get(&key) {
+            Some(&first) => dups.push((first, i)),
+            None => {
+                seen.insert(key, i);
+            }
+        }
+    }
+    dups
 }
 
 /// Read `features` and `target` (and optionally an integer `fold_column`) from a CSV file.
@@ -128,10 +167,20 @@ pub fn read_dataset_from(
     for (k, rec) in rdr.records().enumerate() {
         let rec = rec.map_err(|e| csv_error(source, e))?;
         let line = record_line(rec.position(), k as u64 + 2);
-        for (&i, name) in fi.iter().zip(features) {
-            data.push(parse_f64(&rec[i], source, line, name)?);
+        for (&i, name) in fi.iter().zip(features).chain(std::iter::once((&ti, &target.to_string()))) {
+            let v = parse_f64(&rec[i], source, line, name)?;
+            if let Some(why) = non_physical(name, v) {
+                return Err(Error::input(
+                    SourcePos::file(source).line(line).field(name.clone()),
+                    format!("{why}; a training domain must hold only physical values (remove or fix the row)"),
+                ));
+            }
+            if i == ti {
+                y.push(v);
+            } else {
+                data.push(v);
+            }
         }
-        y.push(parse_f64(&rec[ti], source, line, target)?);
         if let (Some(i), Some(f)) = (foldi, folds.as_mut()) {
             f.push(parse_u64(&rec[i], source, line, fold_column.unwrap_or_default())? as usize);
         }
@@ -154,13 +203,45 @@ pub fn read_dataset_from(
             format!("the target is constant ({lo}): there is nothing to learn"),
         ));
     }
+    if let (Some(f), Some(name)) = (&folds, fold_column) {
+        let mut ids = f.clone();
+        ids.sort_unstable();
+        ids.dedup();
+        if ids.len() < 2 {
+            return Err(Error::input(
+                SourcePos::file(source).field(name),
+                format!(
+                    "the fold column has {} distinct value(s) ({}): cross-validation needs at least two folds",
+                    ids.len(),
+                    ids.iter().map(|i| i.to_string()).collect::<Vec<_>>().join(", ")
+                ),
+            ));
+        }
+    }
+    let x = Matrix::new(n, features.len(), data);
+    let dups = duplicate_rows(&x, &y);
+    let mut warnings = Vec::new();
+    if !dups.is_empty() {
+        let shown: Vec<String> = dups
+            .iter()
+            .take(5)
+            .map(|(a, b)| format!("row {} repeats row {}", b + 1, a + 1))
+            .collect();
+        warnings.push(format!(
+            "{source}: {} duplicated row(s) ({}{}): a row and its copy in different CV folds inflate the held-out scores and narrow the intervals; remove duplicates unless they are real repeats",
+            dups.len(),
+            shown.join(", "),
+            if dups.len() > 5 { ", …" } else { "" }
+        ));
+    }
     Ok(Dataset {
         source: source.to_string(),
         features: features.iter().map(|f| Column::new(f)).collect(),
         target: Column::new(target),
-        x: Matrix::new(n, features.len(), data),
+        x,
         y,
         folds,
+        warnings,
     })
 }
 
@@ -208,5 +289,27 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("constant"), "{e}");
+    }
+
+    #[test]
+    fn folds_physics_and_duplicates() {
+        let folds = |text: &str| {
+            let f = vec!["a_N".to_string()];
+            read_dataset_from(text.as_bytes(), "d.csv", &f, "mu", Some("fold"))
+        };
+        folds(CSV).unwrap();
+        let e = folds(&CSV.replace(",1\n", ",0\n")).unwrap_err().to_string();
+        assert!(e.contains("field 'fold'") && e.contains("at least two folds"), "{e}");
+        let e = read(&CSV.replace("2,3,0.4", "-2,3,0.4"), &["a_N", "b_m_per_min"], "mu").unwrap_err().to_string();
+        assert!(e.contains("line 3") && e.contains("'a_N'") && e.contains("not physical"), "{e}");
+        let e = read(&CSV.replace("0.4", "-0.4"), &["a_N"], "mu").unwrap_err().to_string();
+        assert!(e.contains("friction coefficient cannot be negative"), "{e}");
+        // a dimensionless or time feature may be anything
+        read("x,t_s,mu\n-1,-2,0.3\n1,2,0.4\n", &["x", "t_s"], "mu").unwrap();
+        let d = read(CSV, &["a_N"], "mu").unwrap();
+        assert!(d.warnings.is_empty());
+        let d = read(&format!("{CSV}2,3,0.4,1\n"), &["a_N", "b_m_per_min"], "mu").unwrap();
+        assert_eq!(d.warnings.len(), 1);
+        assert!(d.warnings[0].contains("row 4 repeats row 2"), "{:?}", d.warnings);
     }
 }

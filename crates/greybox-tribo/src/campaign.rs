@@ -907,6 +907,63 @@ pub fn match_segments(
     files: &mut [FileReport],
     c: &Campaign,
 ) -> Result<(FrictionDataset, MatchReport)> {
+    let (ds, report) = match_segments_unchecked(files, c)?;
+    check_levels(&ds, files)?;
+    Ok((ds, report))
+}
+
+/// How far (as a factor) one pin's median μ may lie from the other pins' before its channels
+/// are called implausible: friction coefficients of one campaign stay within a factor of a few
+/// of each other, a channel read in the wrong unit (kN as N, mN as N) moves them by 1000.
+pub const IMPLAUSIBLE_LEVEL_FACTOR: f64 = 20.0;
+
+/// Refuse a pin whose μ level is implausible against its neighbours (at least three pins):
+/// its median μ more than [`IMPLAUSIBLE_LEVEL_FACTOR`] from the median of the other pins'.
+pub fn check_levels(ds: &FrictionDataset, files: &[FileReport]) -> Result<()> {
+    let mut pins: Vec<u32> = ds.records.iter().map(|r| r.pin).collect();
+    pins.sort_unstable();
+    pins.dedup();
+    if pins.len() < 3 {
+        return Ok(());
+    }
+    let median_of = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let levels: Vec<(u32, f64)> = pins
+        .iter()
+        .map(|&p| (p, median_of(ds.records.iter().filter(|r| r.pin == p).map(|r| r.cof_apparent.abs()).collect())))
+        .collect();
+    for &(pin, level) in &levels {
+        let others = median_of(levels.iter().filter(|(p, _)| *p != pin).map(|(_, l)| *l).collect());
+        let factor = level.max(1e-12) / others.max(1e-12);
+        if factor > IMPLAUSIBLE_LEVEL_FACTOR || factor < 1.0 / IMPLAUSIBLE_LEVEL_FACTOR {
+            let source = files
+                .iter()
+                .find(|f| f.segments.iter().any(|s| s.matched.is_some_and(|(p, _)| p == pin)) || f.rows.iter().any(|r| r.pin == pin))
+                .map_or_else(|| format!("pin {pin}"), |f| f.source.clone());
+            let hint = if factor < 1.0 {
+                "is the tangential channel in kN (or the normal one in mN) read as N? state its unit: --map tangential=NAME:kN"
+            } else {
+                "is the normal channel in kN (or the tangential one in mN) read as N? state its unit: --map normal=NAME:kN"
+            };
+            return Err(Error::input(
+                SourcePos::file(source).field("tangential / normal"),
+                format!(
+                    "pin {pin}'s median μ {level:.4} is {:.0}× {} the other pins' {others:.4}: {hint}",
+                    if factor < 1.0 { 1.0 / factor } else { factor },
+                    if factor < 1.0 { "below" } else { "above" }
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn match_segments_unchecked(
+    files: &mut [FileReport],
+    c: &Campaign,
+) -> Result<(FrictionDataset, MatchReport)> {
     if files.iter().all(|f| f.segmentation == Segmentation::PlanTiming.name()) {
         let records = files.iter_mut().flat_map(|f| std::mem::take(&mut f.rows)).collect();
         return Ok((
@@ -931,15 +988,16 @@ pub fn match_segments(
     };
     let mut records = Vec::new();
     let mut report = MatchReport::default();
-    let record = |e_pin: u32, e_step: u32, f_n: f64, v: f64, s: &SegmentReport| -> Result<FrictionRecord> {
+    // the measured load is the row's load (and gives its pressure); the plan's beside it
+    let record = |e_pin: u32, e_step: u32, planned_n: Option<f64>, v: f64, s: &SegmentReport| -> Result<FrictionRecord> {
         let st = s.stats.as_ref().expect("measured");
         Ok(FrictionRecord {
             pin: e_pin,
             step: e_step,
-            normal_force_n: f_n,
-            normal_force_measured_n: st.normal_force_n,
+            normal_force_n: st.normal_force_n,
+            normal_force_planned_n: planned_n,
             sliding_velocity_m_s: v,
-            hertz_pressure_pa: c.contact.pressure_pa(f_n)?,
+            hertz_pressure_pa: c.contact.pressure_pa(st.normal_force_n)?,
             pressure_convention: c.contact.convention,
             cof_apparent: st.mean,
             cof_apparent_std: st.std,
@@ -982,7 +1040,7 @@ pub fn match_segments(
             prev = Some((f, s.normal_force_n, s.end_s));
             files[f].segments[k].matched = Some((pin, step));
             let s = &files[f].segments[k];
-            records.push(record(pin, step, s.normal_force_n, units::m_per_min_to_m_per_s(v), s)?);
+            records.push(record(pin, step, None, units::m_per_min_to_m_per_s(v), s)?);
         }
         return Ok((FrictionDataset { records }, report));
     };
@@ -1088,7 +1146,7 @@ pub fn match_segments(
                 last_ei = Some(last_ei.map_or(ei, |p| p.max(ei)));
                 files[f].segments[k].matched = Some((e.pin, e.step));
                 let s = &files[f].segments[k];
-                records.push(record(e.pin, e.step, e.normal_force_n, e.sliding_velocity_m_s, s)?);
+                records.push(record(e.pin, e.step, Some(e.normal_force_n), e.sliding_velocity_m_s, s)?);
             }
             None => {
                 let s = &files[f].segments[k];
@@ -1136,7 +1194,7 @@ fn plan_timed(recs: &[Recording], plan: &Plan, c: &Campaign) -> Result<Vec<FileR
                 end_s: ts + plan.pin_steps(r.pin)[i].plateau_end_s,
                 steady_start_s: Some(ts + r.plateau_start_s),
                 steady_end_s: Some(ts + r.plateau_end_s),
-                normal_force_n: r.normal_force_measured_n,
+                normal_force_n: r.normal_force_n,
                 spindle_rpm: None,
                 sliding_velocity_m_per_min: Some(units::m_per_s_to_m_per_min(r.sliding_velocity_m_s)),
                 step_label: None,

@@ -178,6 +178,42 @@ fn onset_after(rec: &Recording, x: &[f64], base: f64, from: f64, thr: f64) -> Op
     rm.iter().position(|v| *v > thr).map(|k| rec.time_s[i0 + k])
 }
 
+/// The load measured on a pin's first plateau against the plan: the error message when it
+/// is nearer another pin's planned load than its own (swapped or mislabelled recordings), or
+/// off its own by more than `tolerance` (relative: a channel in kN read as N, a wrong
+/// mapping).
+fn check_pin_load(loaded_n: f64, pin: u32, plan: &Plan, tolerance: f64) -> std::result::Result<(), String> {
+    let own = plan.pins[pin as usize - 1].normal_force_n;
+    let distance = |l: f64| (loaded_n / l).ln().abs();
+    if !(loaded_n > 0.0) {
+        return Err(format!(
+            "measured normal force {loaded_n:.3} N during the first plateau, planned {own} N: check the channel mapping, sign and units"
+        ));
+    }
+    if let Some((other, load)) = plan
+        .pins
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (k as u32 + 1, p.normal_force_n))
+        .filter(|(k, l)| *k != pin && *l != own)
+        .min_by(|a, b| distance(a.1).total_cmp(&distance(b.1)))
+    {
+        if distance(load) < distance(own) && (loaded_n / load - 1.0).abs() <= tolerance {
+            return Err(format!(
+                "measured {loaded_n:.1} N on the first plateau is nearer pin {other}'s planned {load} N than this pin's ({pin}) {own} N: are the recordings swapped or mislabelled? (the files are taken in pin order)"
+            ));
+        }
+    }
+    if (loaded_n / own - 1.0).abs() > tolerance {
+        return Err(format!(
+            "measured normal force {loaded_n:.3} N during the first plateau is {:+.0} % off the planned {own} N (tolerance {:.0} %): check the channel mapping and units",
+            100.0 * (loaded_n / own - 1.0),
+            100.0 * tolerance
+        ));
+    }
+    Ok(())
+}
+
 /// Identify every plateau of one pin (1-based).
 pub fn identify_pin(
     rec: &Recording,
@@ -332,12 +368,7 @@ pub fn identify_pin(
     // loaded level must match the plan (units and mapping check)
     let loaded =
         window_median(rec, &fn_c, ts + s0.plateau_start_s, ts + s0.plateau_end_s).unwrap_or(0.0);
-    if !(loaded > 0.5 * f_nom && loaded < 2.0 * f_nom) {
-        return Err(Error::input(
-            src().field("normal"),
-            format!("measured normal force {loaded:.3} N during the first plateau, planned {f_nom} N: check the channel mapping and units"),
-        ));
-    }
+    check_pin_load(loaded, pin, plan, cfg.match_load_tolerance).map_err(|m| Error::input(src().field("normal"), m))?;
 
     // 5./6. plateaus
     let mut out = Vec::with_capacity(steps.len());
@@ -391,10 +422,10 @@ pub fn identify_pin(
         out.push(FrictionRecord {
             pin,
             step: s.step,
-            normal_force_n: s.normal_force_n,
-            normal_force_measured_n: st.normal_force_n,
+            normal_force_n: st.normal_force_n,
+            normal_force_planned_n: Some(s.normal_force_n),
             sliding_velocity_m_s: s.sliding_velocity_m_s,
-            hertz_pressure_pa: contact.pressure_pa(s.normal_force_n)?,
+            hertz_pressure_pa: contact.pressure_pa(st.normal_force_n)?,
             pressure_convention: contact.convention,
             cof_apparent: st.mean,
             cof_apparent_std: st.std,

@@ -149,7 +149,10 @@ pub fn correct_with(
     mu_plough: impl Fn(f64, f64) -> Result<f64>,
 ) -> Result<Correction> {
     let law = WidthLaw::fit(widths)?;
-    let mut forces: Vec<f64> = ds.records.iter().map(|r| r.normal_force_n).collect();
+    // one correction per pin load: the planned load where there is a plan (the track width
+    // is measured per pin), else the measured one
+    let load_of = |r: &greybox_core::dataset::FrictionRecord| r.normal_force_planned_n.unwrap_or(r.normal_force_n);
+    let mut forces: Vec<f64> = ds.records.iter().map(load_of).collect();
     forces.sort_by(f64::total_cmp);
     forces.dedup();
     let per_load = forces
@@ -169,7 +172,7 @@ pub fn correct_with(
     for r in ds.records.iter_mut() {
         let mp = per_load
             .iter()
-            .find(|l| l.normal_force_n == r.normal_force_n)
+            .find(|l| l.normal_force_n == load_of(r))
             .expect("every force has a row")
             .mu_plough;
         r.cof_adhesive = Some(r.cof_apparent - mp);

@@ -3,6 +3,7 @@
 use crate::output::{print_json, Table};
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::outputs::check_file_output;
 use greybox_core::dataset::FrictionDataset;
 use greybox_sim::pin::{inverse_over_loads, PinSetup, ShareLaw};
 use greybox_tribo::ploughing::{
@@ -97,6 +98,12 @@ fn widths(a: &Args) -> Result<Vec<TrackWidth>> {
 
 /// Apply the correction and write the dataset and the correction record.
 pub fn adhesive(a: &Args) -> Result<(FrictionDataset, Correction)> {
+    let mut inputs = vec![("--data", a.data.as_path())];
+    if let Some(w) = &a.track_widths_csv {
+        inputs.push(("--track-widths-csv", w.as_path()));
+    }
+    check_file_output(&a.out, "--out", &inputs)?;
+    check_file_output(&correction_path(&a.out), "the correction record beside --out", &inputs)?;
     let mut ds = FrictionDataset::read_csv(&a.data)?;
     let corr = match a.method {
         Method::Analytic => correct_analytic(&mut ds, a.pin_radius_mm * 1e-3, &widths(a)?)?,

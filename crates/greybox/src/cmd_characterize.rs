@@ -1,8 +1,8 @@
 //! `greybox characterize`: FRF of the rig from impact-hammer recordings, and the article's
 //! dynamics check against the campaign's spindle excitation.
 
-use crate::cmd_plan::PlanFlags;
-use crate::output::{print_json, Table};
+use crate::cmd_plan::{study_input, PlanFlags};
+use crate::output::{print_json, stage_out_dir, Table};
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::plot::{lines, Line};
@@ -50,6 +50,10 @@ pub struct Args {
     /// Output directory: frf_<load>.csv, plots, report.json.
     #[arg(long, default_value = "characterize-out")]
     pub out: PathBuf,
+    /// Replace an existing, non-empty output directory (swapped out whole once this run is
+    /// complete; without it such a directory is refused).
+    #[arg(long)]
+    pub force: bool,
     #[arg(long)]
     pub json: bool,
 }
@@ -192,6 +196,9 @@ pub fn characterize(a: &Args) -> Result<CharacterizeReport> {
         cfg.exponential_end = e;
     }
     let mut groups: Vec<(Option<f64>, Vec<ImpactRecording>)> = Vec::new();
+    let specs: Vec<PathBuf> = a.recordings.iter().map(|s| parse_recording(s).map(|r| r.0)).collect::<Result<_>>()?;
+    let mut inputs: Vec<(&str, &Path)> = specs.iter().map(|p| ("--recordings", p.as_path())).collect();
+    inputs.extend(study_input(&a.plan));
     for spec in &a.recordings {
         let (path, load) = parse_recording(spec)?;
         let rec = read_channels(&path, a)?;
@@ -200,6 +207,8 @@ pub fn characterize(a: &Args) -> Result<CharacterizeReport> {
             None => groups.push((load, vec![rec])),
         }
     }
+    let staged = stage_out_dir(&a.out, a.force, &inputs)?;
+    let out = staged.path();
     let mut loads = Vec::new();
     let mut files = Vec::new();
     let mut all_res = Vec::new();
@@ -210,9 +219,9 @@ pub fn characterize(a: &Args) -> Result<CharacterizeReport> {
         let tag = load
             .map(|l| format!("{l:.0}N"))
             .unwrap_or_else(|| "all".into());
-        let p = a.out.join(format!("frf_{tag}.csv"));
+        let p = out.join(format!("frf_{tag}.csv"));
         write_frf_csv(&p, &frf)?;
-        files.push(p.display().to_string());
+        files.push(staged.shown(&p).display().to_string());
         all_res.extend(res.iter().copied());
         series_f.push((tag, frf.clone()));
         loads.push(LoadResult {
@@ -267,9 +276,9 @@ pub fn characterize(a: &Args) -> Result<CharacterizeReport> {
         true,
         &band,
     );
-    let p = a.out.join("frf_magnitude.svg");
+    let p = out.join("frf_magnitude.svg");
     write_string_atomic(&p, &svg)?;
-    files.push(p.display().to_string());
+    files.push(staged.shown(&p).display().to_string());
     let coh_lines: Vec<Line> = series_f
         .iter()
         .enumerate()
@@ -288,16 +297,17 @@ pub fn characterize(a: &Args) -> Result<CharacterizeReport> {
         false,
         &band,
     );
-    let p = a.out.join("coherence.svg");
+    let p = out.join("coherence.svg");
     write_string_atomic(&p, &svg)?;
-    files.push(p.display().to_string());
+    files.push(staged.shown(&p).display().to_string());
     let report = CharacterizeReport {
         loads,
         excitation_check: check,
         files,
     };
-    let p = a.out.join("report.json");
+    let p = out.join("report.json");
     write_string_atomic(&p, &serde_json::to_string_pretty(&report)?)?;
+    staged.commit()?;
     Ok(report)
 }
 

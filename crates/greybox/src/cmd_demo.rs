@@ -1,6 +1,6 @@
 //! `greybox demo`: the whole pipeline on the bundled example study.
 
-use crate::output::print_json;
+use crate::output::{print_json, stage_out_dir};
 use crate::study::{Study, DEMO_STUDY};
 use crate::{
     cmd_adhesive, cmd_characterize, cmd_export, cmd_fit, cmd_identify, cmd_material, cmd_plan,
@@ -10,13 +10,17 @@ use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
 use greybox_tribo::recording::RecordingFormat;
 use serde::Serialize;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "demo-out")]
     pub out: PathBuf,
+    /// Replace an existing, non-empty output directory (swapped out whole once the demo is
+    /// complete; without it such a directory is refused).
+    #[arg(long)]
+    pub force: bool,
     /// Print the result as JSON.
     #[arg(long)]
     pub json: bool,
@@ -48,7 +52,8 @@ const FOREIGN_RADII_MM: [f64; 5] = [5.0, 6.0, 7.0, 8.0, 9.0];
 pub fn run(a: Args) -> Result<()> {
     let study = Study::parse(DEMO_STUDY, "bundled examples/demo-study.toml")?;
     let plan = study.plan.build()?;
-    let out = &a.out;
+    let staged = stage_out_dir(&a.out, a.force, &[])?;
+    let out = staged.path();
     let plan_files = cmd_plan::write_plan(&study, &plan, &out.join("plan"))?;
     let plan_summary = cmd_plan::summarize(&plan, plan_files);
     let rec_dir = out.join("recordings");
@@ -198,6 +203,7 @@ pub fn run(a: Args) -> Result<()> {
             ..Default::default()
         },
         out: out.join("characterize"),
+        force: false,
         json: false,
     };
     let dynamics = cmd_characterize::characterize(&char_args)?;
@@ -273,8 +279,15 @@ pub fn run(a: Args) -> Result<()> {
         json: false,
     };
     let cutting = cmd_simulate::run_cut(&cut_case, 1.0, &cut_out)?;
+    // the run is complete: swap it in, then report the paths where the files now are
+    let staging = out.to_path_buf();
+    staged.commit()?;
+    let shown = |p: &Path| -> PathBuf {
+        p.strip_prefix(&staging).map_or_else(|_| p.to_path_buf(), |rel| a.out.join(rel))
+    };
+    let shown_text = |t: &str| t.replace(&staging.display().to_string(), &a.out.display().to_string());
     if a.json {
-        return print_json(&DemoSummary {
+        let mut v = serde_json::to_value(DemoSummary {
             plan: plan_summary,
             synth,
             identify,
@@ -287,8 +300,27 @@ pub fn run(a: Args) -> Result<()> {
             coupling,
             material,
             cutting,
-        });
+        })?;
+        relocate_strings(&mut v, &shown_text);
+        return print_json(&v);
     }
+    let out = a.out.as_path();
+    let (rec_dir, dataset, foreign_dir, law_path, wear_path, couple_dir, curves) = (
+        shown(&rec_dir),
+        shown(&dataset),
+        shown(&foreign_dir),
+        shown(&law_path),
+        shown(&wear_path),
+        shown(&couple_dir),
+        shown(&curves),
+    );
+    let adhesive_out = shown(&adhesive_args.out);
+    let cut_dir = shown(&cut_out.out);
+    let export_line = shown_text(&export_line);
+    let mut cutting = cutting;
+    cutting.law = shown_text(&cutting.law);
+    let models: Vec<String> = fit_outputs.models.iter().map(|m| shown_text(m)).collect();
+    let plots: Vec<String> = fit_outputs.plots.iter().map(|m| shown_text(m)).collect();
     println!("greybox demo — the seed article's tribometer campaign on a virtual rig\n");
     println!(
         "[0/6] rig dynamics: virtual impact-hammer tests at 500, 1000, 2000 N -> {}",
@@ -317,7 +349,7 @@ pub fn run(a: Args) -> Result<()> {
     );
     println!(
         "\n[4/6] adhesive COF (Bowden-Tabor ploughing, the article's Table 3 track widths) -> {}",
-        adhesive_args.out.display()
+        adhesive_out.display()
     );
     cmd_adhesive::print_correction(&correction);
     println!(
@@ -325,8 +357,8 @@ pub fn run(a: Args) -> Result<()> {
         out.join("fit").display()
     );
     println!("{}", greybox_learn::protocol::markdown(&fit));
-    println!("models: {}", fit_outputs.models.join(", "));
-    println!("plots:  {}", fit_outputs.plots.join(", "));
+    println!("models: {}", models.join(", "));
+    println!("plots:  {}", plots.join(", "));
     println!("\n[6/6] grey-box law ({} inside its training domain, fitted power law outside, Zorev cap {DEMO_SHEAR_CAP_MPA} MPa) -> {}", best.family.name(), law_path.display());
     println!("{export_line}");
     println!(
@@ -379,14 +411,24 @@ pub fn run(a: Args) -> Result<()> {
     cmd_material::print_fit(&material);
     println!(
         "\ncutting: AISI 1045, 150 m/min, h = 0.1 mm, grey-box law in friction windows along the tool -> {}",
-        cut_out.out.display()
+        cut_dir.display()
     );
     cmd_simulate::print_cut_summary(&cutting);
     println!(
         "  contact profile along the rake face (pressure, sliding velocity, temperature, mu, shear stress): {}",
-        cut_out.out.join("contact_profile.csv").display()
+        cut_dir.join("contact_profile.csv").display()
     );
     Ok(())
+}
+
+/// Rewrite every string in a JSON value (paths written under the staging directory).
+fn relocate_strings(v: &mut serde_json::Value, f: &dyn Fn(&str) -> String) {
+    match v {
+        serde_json::Value::String(s) => *s = f(s),
+        serde_json::Value::Array(a) => a.iter_mut().for_each(|x| relocate_strings(x, f)),
+        serde_json::Value::Object(o) => o.values_mut().for_each(|x| relocate_strings(x, f)),
+        _ => {}
+    }
 }
 
 /// The demo's virtual rig, one single-degree-of-freedom model per normal load: (load N,

@@ -2,6 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::outputs::check_file_output;
 use greybox_friction::export::{
     self, DeformWindow, Grid, PressureUnit, SpeedUnit, TempUnit, Units,
 };
@@ -123,6 +124,11 @@ fn units(a: &Args) -> Result<Units> {
 
 /// Export; returns a one-line description.
 pub fn export(a: &Args) -> Result<String> {
+    let mut inputs = vec![("--law", a.law.as_path())];
+    if let Some(w) = &a.deform_windows {
+        inputs.push(("--deform-windows", w.as_path()));
+    }
+    check_file_output(&a.out, "--out", &inputs)?;
     let law = load_law(&a.law)?;
     let grid = Grid {
         pressure_pa: parse_values(&a.pressure_mpa, "--pressure-MPa")?

@@ -1,6 +1,6 @@
 //! `greybox fit`: the article's learning protocol with honest validation.
 
-use crate::output::print_json;
+use crate::output::{print_json, stage_out_dir};
 use crate::study::Study;
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
@@ -92,6 +92,10 @@ pub struct Args {
     /// Output directory: report.json, report.md, models/, plots/.
     #[arg(long, default_value = "fit-out")]
     pub out: PathBuf,
+    /// Replace an existing, non-empty output directory (swapped out whole once this run is
+    /// complete; without it such a directory is refused).
+    #[arg(long)]
+    pub force: bool,
     /// Print the report as JSON instead of tables.
     #[arg(long)]
     pub json: bool,
@@ -125,6 +129,7 @@ impl Args {
             mlp_learning_rate: None,
             mlp_max_epochs: None,
             out,
+            force: false,
             json: false,
         }
     }
@@ -219,8 +224,24 @@ pub struct FitOutputs {
 pub fn fit(a: &Args) -> Result<(FitReport, FitOutputs)> {
     let cfg = config(a)?;
     let data = read_dataset(&a.data, &a.features, &a.target, a.fold_column.as_deref())?;
+    for w in &data.warnings {
+        eprintln!("warning: {w}");
+    }
+    let mut inputs = vec![("--data", a.data.as_path())];
+    if let Some(s) = &a.study {
+        inputs.push(("--study", s.as_path()));
+    }
+    let staged = stage_out_dir(&a.out, a.force, &inputs)?;
     let (report, models) = run_protocol(&data, &cfg)?;
-    let outputs = write_outputs(&a.out, &report, &models, &data)?;
+    let written = write_outputs(staged.path(), &report, &models, &data)?;
+    let shown = |v: &[String]| v.iter().map(|p| staged.shown_str(p)).collect();
+    let outputs = FitOutputs {
+        report_json: staged.shown_str(&written.report_json),
+        report_md: staged.shown_str(&written.report_md),
+        models: shown(&written.models),
+        plots: shown(&written.plots),
+    };
+    staged.commit()?;
     Ok((report, outputs))
 }
 

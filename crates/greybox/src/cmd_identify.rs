@@ -317,6 +317,8 @@ pub fn identify(
     inspect_dir: Option<&Path>,
     quiet: bool,
 ) -> Result<(FrictionDataset, Identification)> {
+    let inputs: Vec<(&str, &Path)> = files.iter().map(|f| ("--recordings", f.as_path())).collect();
+    greybox_core::outputs::check_file_output(out, "--out", &inputs)?;
     let recs: Vec<Recording> = files
         .iter()
         .map(|f| read_recording(f, &study.recording))
@@ -372,7 +374,7 @@ pub fn identify(
 pub fn summary_table(ds: &FrictionDataset) -> String {
     let mut t = Table::new(&[
         "pin",
-        "F_N [N]",
+        "F_N plan [N]",
         "F_N meas. [N]",
         "p_H [MPa]",
         "COF first",
@@ -388,8 +390,8 @@ pub fn summary_table(ds: &FrictionDataset) -> String {
         let (first, last) = (rows[0], rows[rows.len() - 1]);
         t.row(vec![
             pin.to_string(),
+            first.normal_force_planned_n.map_or("-".into(), |f| format!("{f:.1}")),
             format!("{:.1}", first.normal_force_n),
-            format!("{:.1}", first.normal_force_measured_n),
             format!("{:.1}", first.hertz_pressure_pa / units::PA_PER_MPA),
             format!("{:.4}", first.cof_apparent),
             format!("{:.4}", last.cof_apparent),
@@ -527,6 +529,14 @@ pub fn run(args: Args) -> Result<()> {
         _ => None,
     };
     let files = recording_files(&args.recordings, args.format.map(Into::into), pins)?;
+    let side_inputs = [
+        ("--study", args.plan.study.as_deref()),
+        ("--plan-steps", args.plan_steps.as_deref()),
+        ("--truth", args.truth.as_deref()),
+    ];
+    let side_inputs: Vec<(&str, &Path)> =
+        side_inputs.iter().filter_map(|(f, p)| p.map(|p| (*f, p))).collect();
+    greybox_core::outputs::check_file_output(&args.out, "--out", &side_inputs)?;
     let inspect_dir = args.inspect.then(|| {
         args.inspect_dir.clone().unwrap_or_else(|| {
             let stem = args

@@ -5,6 +5,7 @@ use crate::cmd_simulate::read_cutting_setup;
 use crate::output::print_json;
 use anyhow::{Context, Result};
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::outputs::check_file_output;
 use greybox_material::fit::{fit_johnson_cook, read_flow_curves, FitOptions, JcFit};
 use greybox_sim::cut_run::find_rate_sensitivity;
 use std::path::PathBuf;
@@ -76,6 +77,9 @@ pub struct FitCArgs {
 
 /// Runs the flow-curve fit.
 pub fn fit(a: &FitArgs) -> Result<JcFit> {
+    if let Some(p) = &a.out {
+        check_file_output(p, "--out", &[("--curves", a.curves.as_path())])?;
+    }
     let pts = read_flow_curves(&a.curves)?;
     let opts = FitOptions {
         c: a.c,
@@ -139,6 +143,9 @@ pub fn run(a: Args) -> Result<()> {
             Ok(())
         }
         Material::FitC(a) => {
+            if let Some(p) = &a.out {
+                check_file_output(p, "--out", &[("--config", a.config.as_path())])?;
+            }
             let case = read_cutting_setup(&a.config)?;
             let r = find_rate_sensitivity(
                 &case.setup,

@@ -1,6 +1,6 @@
 //! `greybox plan`.
 
-use crate::output::print_json;
+use crate::output::{print_json, stage_out_dir};
 use crate::study::Study;
 use anyhow::{Context, Result};
 use greybox_core::atomic::write_string_atomic;
@@ -53,6 +53,11 @@ pub struct PlanFlags {
     pub trigger_off: Option<u32>,
 }
 
+/// The `--study` file as a command input (when given).
+pub fn study_input(flags: &PlanFlags) -> Vec<(&'static str, &Path)> {
+    flags.study.as_deref().map(|p| ("--study", p)).into_iter().collect()
+}
+
 impl PlanFlags {
     /// The study with the flags applied.
     pub fn study(&self) -> Result<Study> {
@@ -102,6 +107,10 @@ pub struct Args {
     /// Output directory: study.toml, run_sheet.csv, nc/pinNN.nc.
     #[arg(long, default_value = "plan-out")]
     pub out: PathBuf,
+    /// Replace an existing, non-empty output directory (swapped out whole once this run is
+    /// complete; without it such a directory is refused).
+    #[arg(long)]
+    pub force: bool,
     /// Print the summary as JSON.
     #[arg(long)]
     pub json: bool,
@@ -189,7 +198,10 @@ pub fn print_summary(s: &PlanSummary) {
 pub fn run(args: Args) -> Result<()> {
     let study = args.plan.study()?;
     let plan = study.plan.build().context("cannot build the plan")?;
-    let files = write_plan(&study, &plan, &args.out)?;
+    let staged = stage_out_dir(&args.out, args.force, &study_input(&args.plan))?;
+    let files = write_plan(&study, &plan, staged.path())?;
+    let files = files.iter().map(|f| staged.shown_str(f)).collect();
+    staged.commit()?;
     let summary = summarize(&plan, files);
     if args.json {
         return print_json(&summary);

@@ -1,7 +1,7 @@
 //! `greybox synth`.
 
-use crate::cmd_plan::PlanFlags;
-use crate::output::print_json;
+use crate::cmd_plan::{study_input, PlanFlags};
+use crate::output::{print_json, stage_out_dir};
 use crate::study::Study;
 use anyhow::{Context, Result};
 use greybox_tribo::csv_recording::write_csv_recording;
@@ -36,6 +36,10 @@ pub struct Args {
     /// Output directory: pinNN.csv / pinNN.tdms and ground_truth.csv.
     #[arg(long, default_value = "synth-out")]
     pub out: PathBuf,
+    /// Replace an existing, non-empty output directory (swapped out whole once this run is
+    /// complete; without it such a directory is refused).
+    #[arg(long)]
+    pub force: bool,
     /// Recording format(s).
     #[arg(long, value_enum, default_value_t = OutFormat::Csv)]
     pub format: OutFormat,
@@ -123,7 +127,10 @@ pub fn run(args: Args) -> Result<()> {
         study.synth.disturbance_scale = k;
     }
     let plan = study.plan.build().context("cannot build the plan")?;
-    let summary = synthesize(&study, &plan, &args.out, &args.format.formats())?;
+    let staged = stage_out_dir(&args.out, args.force, &study_input(&args.plan))?;
+    let mut summary = synthesize(&study, &plan, staged.path(), &args.format.formats())?;
+    summary.files = summary.files.iter().map(|f| staged.shown_str(f)).collect();
+    staged.commit()?;
     if args.json {
         return print_json(&summary);
     }

@@ -1,5 +1,6 @@
 //! `greybox windows`: friction windows from a coated tool mesh.
 
+use crate::output::stage_out_dir;
 use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
 use greybox_couple::mesh::read_mesh;
@@ -34,6 +35,10 @@ pub struct Args {
     /// Output directory: windows.json, windows.csv, windows_frcwin.key, windows.vtk.
     #[arg(long, default_value = "windows-out")]
     pub out: PathBuf,
+    /// Replace an existing, non-empty output directory (swapped out whole once this run is
+    /// complete; without it such a directory is refused).
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -50,13 +55,16 @@ pub fn run(a: Args) -> Result<()> {
     if a.deform_objects.len() != 2 {
         anyhow::bail!("--deform-objects takes two object numbers");
     }
-    write_json(&a.out.join("windows.json"), &w)?;
-    write_csv(&a.out.join("windows.csv"), &w)?;
-    write_vtk(&a.out.join("windows.vtk"), &w)?;
+    let staged = stage_out_dir(&a.out, a.force, &[("--mesh", a.mesh.as_path())])?;
+    let out = staged.path();
+    write_json(&out.join("windows.json"), &w)?;
+    write_csv(&out.join("windows.csv"), &w)?;
+    write_vtk(&out.join("windows.vtk"), &w)?;
     write_string_atomic(
-        &a.out.join("windows_frcwin.key"),
+        &out.join("windows_frcwin.key"),
         &frcwin_text(&w, a.mu, (a.deform_objects[0], a.deform_objects[1])),
     )?;
+    staged.commit()?;
     let total: f64 = w.iter().map(|x| x.length).sum();
     println!(
         "{} windows on {:.4} length units of coated surface from {} ({} nodes, {} elements); wrote {}/windows.{{json,csv,vtk}} and windows_frcwin.key",

@@ -1,7 +1,17 @@
 //! Terminal and JSON output helpers.
 
 use anyhow::Result;
+use greybox_core::outputs::{check_dir_output, Existing, StagedDir};
 use serde::Serialize;
+use std::path::Path;
+
+/// Begin the output directory `--out`: refused if it holds one of `inputs` or (unless
+/// `force`) already holds files; written into a staging directory that
+/// [`StagedDir::commit`] swaps in whole.
+pub fn stage_out_dir(out: &Path, force: bool, inputs: &[(&str, &Path)]) -> Result<StagedDir> {
+    check_dir_output(out, "--out", inputs)?;
+    Ok(StagedDir::begin(out, "--out", Existing::from_force(force))?)
+}
 
 /// Print a value as pretty JSON on stdout.
 pub fn print_json<T: Serialize>(value: &T) -> Result<()> {

@@ -70,6 +70,7 @@ fn characterize_two_loads_and_check_the_plan() {
     let o = greybox(
         &[
             "characterize",
+            "--force",
             "--recording",
             "a.csv",
             "--recording",
@@ -87,6 +88,7 @@ fn characterize_two_loads_and_check_the_plan() {
     let o = greybox(
         &[
             "characterize",
+            "--force",
             "--recording",
             "a.csv",
             "--response",
@@ -105,6 +107,7 @@ fn characterize_two_loads_and_check_the_plan() {
     let o = greybox(
         &[
             "characterize",
+            "--force",
             "--recording",
             "z.csv",
             "--response",

@@ -1,0 +1,317 @@
+//! Output paths that cannot destroy inputs, and output directories replaced whole.
+//!
+//! * [`check_file_output`]: a file output must not be one of the command's inputs (same
+//!   canonical path or same file identity: a hard link or a bind mount counts) and must be a
+//!   regular file if it exists.
+//! * [`check_dir_output`]: a directory output, which is replaced whole, must not hold an input.
+//! * [`StagedDir`]: a directory output is written into a fresh staging directory beside it and
+//!   swapped in whole when complete, so the directory holds one complete run or the previous
+//!   one, never a mix; an existing non-empty directory is replaced only when asked
+//!   ([`Existing::Replace`], the CLI's `--force`).
+
+use crate::atomic::{describe_kind, replaceable_target};
+use crate::cleanup::{self, CleanupGuard};
+use crate::{Error, Result, SourcePos};
+use std::path::{Path, PathBuf};
+
+/// A command's input: the flag (or role) it came from and its path.
+pub type Input<'a> = (&'a str, &'a Path);
+
+fn canonical_or_lexical(p: &Path) -> PathBuf {
+    if let Ok(c) = std::fs::canonicalize(p) {
+        return c;
+    }
+    // not there yet: canonical parent + name
+    match (p.parent(), p.file_name()) {
+        (Some(parent), Some(name)) => {
+            let parent = if parent.as_os_str().is_empty() { Path::new(".") } else { parent };
+            std::fs::canonicalize(parent).map_or_else(|_| p.to_path_buf(), |c| c.join(name))
+        }
+        _ => p.to_path_buf(),
+    }
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    same_file::is_same_file(a, b).unwrap_or(false) || canonical_or_lexical(a) == canonical_or_lexical(b)
+}
+
+/// Refuse a file output (given as `out_flag`) that is one of `inputs` or is not a regular
+/// file.
+pub fn check_file_output(out: &Path, out_flag: &str, inputs: &[Input]) -> Result<()> {
+    replaceable_target(out)?;
+    for (flag, input) in inputs {
+        if same_file(out, input) {
+            return Err(Error::input(
+                SourcePos::path(out),
+                format!(
+                    "{out_flag} is the input {flag} ({}): writing it would destroy the input; choose another output path",
+                    input.display()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Refuse a directory output that is not a directory, or that is or holds one of `inputs`
+/// (replacing it would delete them).
+pub fn check_dir_output(out: &Path, out_flag: &str, inputs: &[Input]) -> Result<()> {
+    match std::fs::metadata(out) {
+        Ok(m) if !m.is_dir() => {
+            return Err(Error::input(
+                SourcePos::path(out),
+                format!("{out_flag} must be a directory, but the path is {}", describe_kind(&m)),
+            ))
+        }
+        Ok(_) => {}
+        Err(_) => return Ok(()),
+    }
+    let dir = canonical_or_lexical(out);
+    for (flag, input) in inputs {
+        if canonical_or_lexical(input).starts_with(&dir) {
+            return Err(Error::input(
+                SourcePos::path(out),
+                format!(
+                    "{out_flag} would be replaced whole, but it holds the input {flag} ({}); choose another output directory",
+                    input.display()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// What to do with an existing, non-empty output directory.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Existing {
+    /// Refuse with an error that names `--force`.
+    Refuse,
+    /// Replace it whole once the new run is complete.
+    Replace,
+}
+
+impl Existing {
+    pub fn from_force(force: bool) -> Self {
+        if force {
+            Existing::Replace
+        } else {
+            Existing::Refuse
+        }
+    }
+}
+
+/// A directory output under construction: write into [`StagedDir::path`], then
+/// [`StagedDir::commit`]. Dropped without a commit (an error, a panic), the staging directory
+/// is removed; on SIGINT/SIGTERM the program's handler removes it ([`crate::cleanup`]).
+#[derive(Debug)]
+pub struct StagedDir {
+    target: PathBuf,
+    staging: PathBuf,
+    guard: Option<CleanupGuard>,
+}
+
+fn non_empty_dir(p: &Path) -> bool {
+    std::fs::read_dir(p).is_ok_and(|mut d| d.next().is_some())
+}
+
+impl StagedDir {
+    /// Start writing the directory `target` (`flag` names it in errors).
+    pub fn begin(target: &Path, flag: &str, existing: Existing) -> Result<Self> {
+        if let Ok(m) = std::fs::metadata(target) {
+            if !m.is_dir() {
+                return Err(Error::input(
+                    SourcePos::path(target),
+                    format!("{flag} must be a directory, but the path is {}", describe_kind(&m)),
+                ));
+            }
+            if existing == Existing::Refuse && non_empty_dir(target) {
+                return Err(Error::input(
+                    SourcePos::path(target),
+                    format!(
+                        "{flag} already holds files (an earlier run?): give --force to replace the directory whole, or choose another {flag}"
+                    ),
+                ));
+            }
+        }
+        let (parent, name) = split(target)?;
+        std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
+        let mut b = tempfile::Builder::new();
+        let prefix = format!(".{name}.greybox-staging-");
+        b.prefix(&prefix);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            b.permissions(std::fs::Permissions::from_mode(0o777));
+        }
+        let staging = b.tempdir_in(&parent).map_err(|e| Error::io(&parent, e))?.keep();
+        let guard = cleanup::register(&staging, true);
+        Ok(StagedDir {
+            target: target.to_path_buf(),
+            staging,
+            guard: Some(guard),
+        })
+    }
+
+    /// Where the run writes its files.
+    pub fn path(&self) -> &Path {
+        &self.staging
+    }
+
+    /// The directory the run will become.
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// Where a path written under [`StagedDir::path`] will be once committed (for messages
+    /// and summaries); other paths are returned unchanged.
+    pub fn shown(&self, p: impl AsRef<Path>) -> PathBuf {
+        let p = p.as_ref();
+        p.strip_prefix(&self.staging).map_or_else(|_| p.to_path_buf(), |rel| self.target.join(rel))
+    }
+
+    /// [`StagedDir::shown`] for a path given as text.
+    pub fn shown_str(&self, p: &str) -> String {
+        self.shown(Path::new(p)).display().to_string()
+    }
+
+    /// Swap the complete run in: atomically where the system can exchange two paths (Linux
+    /// `renameat2(RENAME_EXCHANGE)`), else by two renames; the previous directory, if any, is
+    /// then deleted. The final path.
+    pub fn commit(mut self) -> Result<PathBuf> {
+        let guard = self.guard.take().expect("guard held until commit");
+        let old = guard.complete(|| swap_in(&self.staging, &self.target))?;
+        if let Some(old) = old {
+            // the previous run; losing it now is what --force asked for
+            let _ = std::fs::remove_dir_all(&old);
+        }
+        Ok(self.target.clone())
+    }
+}
+
+impl Drop for StagedDir {
+    fn drop(&mut self) {
+        if self.guard.take().is_some() {
+            let _ = std::fs::remove_dir_all(&self.staging);
+        }
+    }
+}
+
+fn split(target: &Path) -> Result<(PathBuf, String)> {
+    let name = target
+        .file_name()
+        .ok_or_else(|| Error::input(SourcePos::path(target), "an output directory needs a name"))?
+        .to_string_lossy()
+        .to_string();
+    let parent = match target.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    Ok((parent, name))
+}
+
+/// Put `staging` at `target`; the path where the previous `target` now is, if there was one.
+fn swap_in(staging: &Path, target: &Path) -> Result<Option<PathBuf>> {
+    if std::fs::symlink_metadata(target).is_err() {
+        std::fs::rename(staging, target).map_err(|e| Error::io(target, e))?;
+        return Ok(None);
+    }
+    // an existing empty or replaceable directory
+    #[cfg(target_os = "linux")]
+    if exchange(staging, target).is_ok() {
+        return Ok(Some(staging.to_path_buf()));
+    }
+    let old = staging.with_file_name(format!(
+        "{}.old",
+        staging.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default()
+    ));
+    std::fs::rename(target, &old).map_err(|e| Error::io(target, e))?;
+    std::fs::rename(staging, target).map_err(|e| Error::io(target, e))?;
+    Ok(Some(old))
+}
+
+#[cfg(target_os = "linux")]
+fn exchange(a: &Path, b: &Path) -> std::io::Result<()> {
+    use std::ffi::CString;
+    use std::os::unix::ffi::OsStrExt;
+    let ca = CString::new(a.as_os_str().as_bytes())?;
+    let cb = CString::new(b.as_os_str().as_bytes())?;
+    // SAFETY: two valid NUL-terminated paths, relative to the working directory.
+    let r = unsafe {
+        libc::renameat2(libc::AT_FDCWD, ca.as_ptr(), libc::AT_FDCWD, cb.as_ptr(), libc::RENAME_EXCHANGE)
+    };
+    if r == 0 {
+        Ok(())
+    } else {
+        Err(std::io::Error::last_os_error())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn output_equal_to_an_input_is_refused_also_through_a_hard_link() {
+        let d = tempfile::tempdir().unwrap();
+        let raw = d.path().join("pin01.csv");
+        std::fs::write(&raw, "raw").unwrap();
+        let e = check_file_output(&raw, "--out", &[("--recordings", &raw)]).unwrap_err().to_string();
+        assert!(e.contains("--out is the input --recordings"), "{e}");
+        let dotted = d.path().join(".").join("pin01.csv");
+        assert!(check_file_output(&dotted, "--out", &[("--recordings", &raw)]).is_err());
+        let link = d.path().join("hard.csv");
+        std::fs::hard_link(&raw, &link).unwrap();
+        assert!(check_file_output(&link, "--out", &[("--data", &raw)]).is_err());
+        let other = d.path().join("dataset.csv");
+        check_file_output(&other, "--out", &[("--recordings", &raw)]).unwrap();
+        assert_eq!(std::fs::read_to_string(&raw).unwrap(), "raw");
+    }
+
+    #[test]
+    fn directory_output_holding_an_input_is_refused() {
+        let d = tempfile::tempdir().unwrap();
+        let out = d.path().join("run");
+        std::fs::create_dir(&out).unwrap();
+        let data = out.join("dataset.csv");
+        std::fs::write(&data, "x").unwrap();
+        let e = check_dir_output(&out, "--out", &[("--data", &data)]).unwrap_err().to_string();
+        assert!(e.contains("holds the input --data"), "{e}");
+        check_dir_output(&d.path().join("elsewhere"), "--out", &[("--data", &data)]).unwrap();
+        let e = check_dir_output(&data, "--out", &[]).unwrap_err().to_string();
+        assert!(e.contains("must be a directory"), "{e}");
+    }
+
+    #[test]
+    fn staged_directory_is_one_run_or_the_other() {
+        let d = tempfile::tempdir().unwrap();
+        let out = d.path().join("fit");
+        // first run
+        let s = StagedDir::begin(&out, "--out", Existing::Refuse).unwrap();
+        std::fs::write(s.path().join("svr.json"), "old").unwrap();
+        std::fs::write(s.path().join("report.json"), "old").unwrap();
+        assert!(!out.exists(), "nothing visible before the commit");
+        s.commit().unwrap();
+        // second run refused without --force
+        let e = StagedDir::begin(&out, "--out", Existing::Refuse).unwrap_err().to_string();
+        assert!(e.contains("--force"), "{e}");
+        // a failed second run leaves the first one untouched and no staging behind
+        {
+            let s = StagedDir::begin(&out, "--out", Existing::Replace).unwrap();
+            std::fs::write(s.path().join("report.json"), "new").unwrap();
+            // dropped: the run failed
+        }
+        assert_eq!(std::fs::read_to_string(out.join("report.json")).unwrap(), "old");
+        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 1, "staging left behind");
+        // a complete second run replaces the first whole: no stale svr.json
+        let s = StagedDir::begin(&out, "--out", Existing::Replace).unwrap();
+        std::fs::write(s.path().join("report.json"), "new").unwrap();
+        s.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(out.join("report.json")).unwrap(), "new");
+        assert!(!out.join("svr.json").exists(), "stale file from the previous run");
+        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 1);
+        // an existing empty directory needs no --force
+        let empty = d.path().join("empty");
+        std::fs::create_dir(&empty).unwrap();
+        StagedDir::begin(&empty, "--out", Existing::Refuse).unwrap().commit().unwrap();
+    }
+}
