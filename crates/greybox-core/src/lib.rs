@@ -8,6 +8,7 @@
 //! * [`error`] — one error type whose input errors name file, line/byte and field.
 //! * [`atomic`] — write-to-temp-then-rename output that only ever replaces regular files.
 //! * [`outputs`] — outputs that cannot destroy inputs; output directories replaced whole.
+//! * [`provenance`] — what produced an output: command, version, inputs with SHA-256, seed.
 //! * [`cleanup`] — temporary paths an interrupt handler removes.
 //! * [`csvutil`] — strict numeric field parsing shared by every CSV reader.
 //! * [`plot`] — small self-contained SVG plots.
@@ -26,6 +27,7 @@ pub mod law;
 pub mod linalg;
 pub mod outputs;
 pub mod plot;
+pub mod provenance;
 pub mod roots;
 pub mod units;
 

@@ -114,6 +114,7 @@ pub fn adhesive(a: &Args) -> Result<(FrictionDataset, Correction)> {
         &correction_path(&a.out),
         &serde_json::to_string_pretty(&corr)?,
     )?;
+    crate::output::provenance(&inputs)?.write_beside(&a.out)?;
     Ok((ds, corr))
 }
 

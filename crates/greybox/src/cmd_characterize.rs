@@ -307,6 +307,7 @@ pub fn characterize(a: &Args) -> Result<CharacterizeReport> {
     };
     let p = out.join("report.json");
     write_string_atomic(&p, &serde_json::to_string_pretty(&report)?)?;
+    crate::output::provenance(&inputs)?.write_into(out)?;
     staged.commit()?;
     Ok(report)
 }

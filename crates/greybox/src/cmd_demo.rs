@@ -70,7 +70,7 @@ pub fn run(a: Args) -> Result<()> {
         Some(plan.pins.len()),
     )?;
     let expect = cmd_identify::Expectation::Plan(plan.clone());
-    let (ds, id) = cmd_identify::identify(&study, &expect, &files, &[], &dataset, None, true)?;
+    let (ds, id) = cmd_identify::identify(&study, &expect, &files, &[], &dataset, None, true, &[])?;
     let truth = cmd_identify::compare_with_truth(&ds, &rec_dir.join("ground_truth.csv"))?;
     let identify = cmd_identify::IdentifySummary {
         dataset: dataset.display().to_string(),
@@ -97,6 +97,7 @@ pub fn run(a: Args) -> Result<()> {
         &foreign_dir.join("dataset.csv"),
         None,
         true,
+        &[],
     )?;
     let foreign_error = cmd_identify::compare_with_truth(&foreign_ds, &foreign_truth)?;
     // ploughing correction with the article's Table 3 track widths
@@ -281,6 +282,7 @@ pub fn run(a: Args) -> Result<()> {
     let cutting = cmd_simulate::run_cut(&cut_case, 1.0, &cut_out)?;
     // the run is complete: swap it in, then report the paths where the files now are
     let staging = out.to_path_buf();
+    crate::output::provenance(&[])?.with_seed(study.synth.seed).write_into(out)?;
     staged.commit()?;
     let shown = |p: &Path| -> PathBuf {
         p.strip_prefix(&staging).map_or_else(|_| p.to_path_buf(), |rel| a.out.join(rel))

@@ -219,6 +219,7 @@ pub fn export(a: &Args) -> Result<String> {
         }
     };
     write_string_atomic(&a.out, &text)?;
+    crate::output::provenance(&inputs)?.write_beside(&a.out)?;
     Ok(format!(
         "exported {} as {:?} to {}{note}",
         law.name(),

@@ -234,6 +234,7 @@ pub fn fit(a: &Args) -> Result<(FitReport, FitOutputs)> {
     let staged = stage_out_dir(&a.out, a.force, &inputs)?;
     let (report, models) = run_protocol(&data, &cfg)?;
     let written = write_outputs(staged.path(), &report, &models, &data)?;
+    crate::output::provenance(&inputs)?.with_seed(cfg.seed).write_into(staged.path())?;
     let shown = |v: &[String]| v.iter().map(|p| staged.shown_str(p)).collect();
     let outputs = FitOutputs {
         report_json: staged.shown_str(&written.report_json),

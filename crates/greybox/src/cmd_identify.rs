@@ -316,6 +316,7 @@ pub fn identify(
     out: &Path,
     inspect_dir: Option<&Path>,
     quiet: bool,
+    side_inputs: &[(&str, &Path)],
 ) -> Result<(FrictionDataset, Identification)> {
     let inputs: Vec<(&str, &Path)> = files.iter().map(|f| ("--recordings", f.as_path())).collect();
     greybox_core::outputs::check_file_output(out, "--out", &inputs)?;
@@ -367,6 +368,9 @@ pub fn identify(
         bail!("no plateau was identified in any recording\n  {}", notes.join("\n  "));
     }
     id.dataset.write_csv(out)?;
+    let mut all_inputs = inputs.clone();
+    all_inputs.extend_from_slice(side_inputs);
+    crate::output::provenance(&all_inputs)?.write_beside(out)?;
     Ok((id.dataset.clone(), id))
 }
 
@@ -555,6 +559,7 @@ pub fn run(args: Args) -> Result<()> {
         &args.out,
         inspect_dir.as_deref(),
         args.json,
+        &side_inputs,
     )?;
     if args.inspect && !args.json {
         print!("{}", matching_text(&id.matching));

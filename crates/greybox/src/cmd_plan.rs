@@ -200,6 +200,7 @@ pub fn run(args: Args) -> Result<()> {
     let plan = study.plan.build().context("cannot build the plan")?;
     let staged = stage_out_dir(&args.out, args.force, &study_input(&args.plan))?;
     let files = write_plan(&study, &plan, staged.path())?;
+    crate::output::provenance(&study_input(&args.plan))?.write_into(staged.path())?;
     let files = files.iter().map(|f| staged.shown_str(f)).collect();
     staged.commit()?;
     let summary = summarize(&plan, files);

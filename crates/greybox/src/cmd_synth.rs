@@ -129,6 +129,9 @@ pub fn run(args: Args) -> Result<()> {
     let plan = study.plan.build().context("cannot build the plan")?;
     let staged = stage_out_dir(&args.out, args.force, &study_input(&args.plan))?;
     let mut summary = synthesize(&study, &plan, staged.path(), &args.format.formats())?;
+    crate::output::provenance(&study_input(&args.plan))?
+        .with_seed(study.synth.seed)
+        .write_into(staged.path())?;
     summary.files = summary.files.iter().map(|f| staged.shown_str(f)).collect();
     staged.commit()?;
     if args.json {

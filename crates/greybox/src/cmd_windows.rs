@@ -64,6 +64,7 @@ pub fn run(a: Args) -> Result<()> {
         &out.join("windows_frcwin.key"),
         &frcwin_text(&w, a.mu, (a.deform_objects[0], a.deform_objects[1])),
     )?;
+    crate::output::provenance(&[("--mesh", a.mesh.as_path())])?.write_into(out)?;
     staged.commit()?;
     let total: f64 = w.iter().map(|x| x.length).sum();
     println!(

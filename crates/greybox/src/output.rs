@@ -2,8 +2,15 @@
 
 use anyhow::Result;
 use greybox_core::outputs::{check_dir_output, Existing, StagedDir};
+use greybox_core::provenance::Provenance;
 use serde::Serialize;
 use std::path::Path;
+
+/// The provenance record of this run: greybox's version, the command line and `inputs`
+/// (hashed now).
+pub fn provenance(inputs: &[(&str, &Path)]) -> Result<Provenance> {
+    Ok(Provenance::new("greybox", env!("CARGO_PKG_VERSION"), std::env::args().collect()).inputs(inputs)?)
+}
 
 /// Begin the output directory `--out`: refused if it holds one of `inputs` or (unless
 /// `force`) already holds files; written into a staging directory that
