@@ -83,3 +83,18 @@ fn the_dataset_load_is_the_measured_one_with_the_plan_beside_it() {
         assert!((r.hertz_pressure_pa / p - 1.0).abs() < 1e-12, "pressure of the measured load");
     }
 }
+
+/// `--map tangential=normal_force_N` used to give μ ≡ 1.
+#[test]
+fn one_column_for_two_roles_is_refused() {
+    use greybox_tribo::recording::{read_recording, ChannelMap, ChannelSpec};
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path().join("pin01.csv");
+    std::fs::write(&p, "time_s,normal_force_N,tangential_force_N\n0,100,40\n0.001,100,41\n0.002,101,40\n").unwrap();
+    let map = ChannelMap {
+        tangential: Some(ChannelSpec::named("normal_force_N")),
+        ..ChannelMap::default()
+    };
+    let e = read_recording(&p, &map).unwrap_err().to_string();
+    assert!(e.contains("pin01.csv") && e.contains("two roles"), "{e}");
+}
