@@ -83,7 +83,7 @@ def greybox_oof_r2(bin_, data, features, target, family, flags, seeds, work):
     for s in seeds:
         cmd = [bin_, "fit", "--data", str(data), "--target", target, "--features", ",".join(features),
                "--fold-column", "fold", "--families", family, "--inner-folds", "2", "--bootstrap", "10",
-               "--importance-repeats", "1", "--seed", str(s), "--out", str(work / "gb"), "--json"] + flags
+               "--importance-repeats", "1", "--seed", str(s), "--out", str(work / "gb"), "--force", "--json"] + flags
         out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
         scores.append(json.loads(out)["families"][0]["held_out"]["metrics"]["r2"]["value"])
     return float(np.mean(scores)), float(np.std(scores))

@@ -108,6 +108,8 @@ pub struct StagedDir {
     target: PathBuf,
     staging: PathBuf,
     guard: Option<CleanupGuard>,
+    /// A resumable run's staging directory (`<target>.partial`) outlives an interruption.
+    resumable: bool,
 }
 
 fn non_empty_dir(p: &Path) -> bool {
@@ -149,6 +151,57 @@ impl StagedDir {
             target: target.to_path_buf(),
             staging,
             guard: Some(guard),
+            resumable: false,
+        })
+    }
+
+    /// The staging directory of a resumable run (one that writes checkpoints): the fixed path
+    /// `<target>.partial`, kept when the run fails or is interrupted so that it can be resumed
+    /// there, and swapped in whole when complete. `resume`: continue the run found there (an
+    /// error if there is none); otherwise start afresh, refusing a left-over partial run
+    /// unless `existing` is [`Existing::Replace`].
+    pub fn resumable(target: &Path, flag: &str, existing: Existing, resume: bool) -> Result<Self> {
+        let (parent, name) = split(target)?;
+        let staging = parent.join(format!("{name}.partial"));
+        let there = staging.is_dir();
+        if resume {
+            if !there {
+                return Err(Error::input(
+                    SourcePos::path(&staging),
+                    format!("no interrupted run to resume: {} does not exist (a run with checkpoints works there until it is complete)", staging.display()),
+                ));
+            }
+        } else {
+            if let Ok(m) = std::fs::metadata(target) {
+                if !m.is_dir() {
+                    return Err(Error::input(
+                        SourcePos::path(target),
+                        format!("{flag} must be a directory, but the path is {}", describe_kind(&m)),
+                    ));
+                }
+                if existing == Existing::Refuse && non_empty_dir(target) {
+                    return Err(Error::input(
+                        SourcePos::path(target),
+                        format!("{flag} already holds files (an earlier run?): give --force to replace the directory whole, or choose another {flag}"),
+                    ));
+                }
+            }
+            if there {
+                if existing == Existing::Refuse {
+                    return Err(Error::input(
+                        SourcePos::path(&staging),
+                        "an interrupted run is here: give --resume with its checkpoint to continue it, or --force to start afresh",
+                    ));
+                }
+                std::fs::remove_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
+            }
+            std::fs::create_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
+        }
+        Ok(StagedDir {
+            target: target.to_path_buf(),
+            staging,
+            guard: None,
+            resumable: true,
         })
     }
 
@@ -178,8 +231,11 @@ impl StagedDir {
     /// `renameat2(RENAME_EXCHANGE)`), else by two renames; the previous directory, if any, is
     /// then deleted. The final path.
     pub fn commit(mut self) -> Result<PathBuf> {
-        let guard = self.guard.take().expect("guard held until commit");
-        let old = guard.complete(|| swap_in(&self.staging, &self.target))?;
+        let old = match self.guard.take() {
+            Some(guard) => guard.complete(|| swap_in(&self.staging, &self.target))?,
+            None => swap_in(&self.staging, &self.target)?,
+        };
+        self.resumable = false;
         if let Some(old) = old {
             // the previous run; losing it now is what --force asked for
             let _ = std::fs::remove_dir_all(&old);
@@ -192,6 +248,9 @@ impl Drop for StagedDir {
     fn drop(&mut self) {
         if self.guard.take().is_some() {
             let _ = std::fs::remove_dir_all(&self.staging);
+        } else if self.resumable && !non_empty_dir(&self.staging) {
+            // nothing to resume: no clutter
+            let _ = std::fs::remove_dir(&self.staging);
         }
     }
 }
@@ -313,5 +372,27 @@ mod tests {
         let empty = d.path().join("empty");
         std::fs::create_dir(&empty).unwrap();
         StagedDir::begin(&empty, "--out", Existing::Refuse).unwrap().commit().unwrap();
+    }
+
+    #[test]
+    fn a_resumable_run_survives_failure_and_is_swapped_in_when_complete() {
+        let d = tempfile::tempdir().unwrap();
+        let out = d.path().join("sim");
+        let e = StagedDir::resumable(&out, "--out", Existing::Refuse, true).unwrap_err().to_string();
+        assert!(e.contains("no interrupted run"), "{e}");
+        {
+            let s = StagedDir::resumable(&out, "--out", Existing::Refuse, false).unwrap();
+            assert!(s.path().ends_with("sim.partial"));
+            std::fs::write(s.path().join("checkpoint.json"), "step 500").unwrap();
+            // the run fails or is killed here
+        }
+        assert!(d.path().join("sim.partial/checkpoint.json").exists(), "checkpoint lost");
+        let e = StagedDir::resumable(&out, "--out", Existing::Refuse, false).unwrap_err().to_string();
+        assert!(e.contains("--resume") && e.contains("--force"), "{e}");
+        let s = StagedDir::resumable(&out, "--out", Existing::Refuse, true).unwrap();
+        std::fs::write(s.path().join("forces.csv"), "done").unwrap();
+        s.commit().unwrap();
+        assert!(out.join("checkpoint.json").exists() && out.join("forces.csv").exists());
+        assert!(!d.path().join("sim.partial").exists());
     }
 }

@@ -1513,7 +1513,7 @@ mod reader_tests {
                 let next = u64::from_le_bytes(buf[pos + 12..pos + 20].try_into().unwrap());
                 pos += LEAD_IN + next as usize;
             }
-            let (mut ra, mut rb) = (Vec::new(), Vec::new());
+            let (mut ra, mut rb) = (Vec::<f64>::new(), Vec::<f64>::new());
             for start in (0..60).step_by(seg) {
                 let end = (start + seg).min(60);
                 let d: Vec<f64> = a[start..end]
