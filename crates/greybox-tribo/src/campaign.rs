@@ -30,37 +30,9 @@ use greybox_core::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header
 use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
 use greybox_core::units;
 use greybox_core::{Error, Result, SourcePos};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
-/// Which evidence cuts a recording into steps.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Segmentation {
-    /// The best available: step column, then speed channel, then the plan's timing (a
-    /// greybox NC-program recording with a trigger and a plan), then the signals.
-    #[default]
-    Auto,
-    /// The plan's nominal timing from the trigger edge (greybox's own NC programs).
-    PlanTiming,
-    /// Runs of one value of the step/segment column.
-    StepColumn,
-    /// Runs of constant speed in the speed channel.
-    Speed,
-    /// Change points of F_N and F_t/F_N.
-    Signals,
-}
-
-impl Segmentation {
-    pub fn name(self) -> &'static str {
-        match self {
-            Segmentation::Auto => "auto",
-            Segmentation::PlanTiming => "plan-timing",
-            Segmentation::StepColumn => "step-column",
-            Segmentation::Speed => "speed",
-            Segmentation::Signals => "signals",
-        }
-    }
-}
+pub use crate::identify_config::Segmentation;
 
 /// One step a plan expects: pin, step, load and velocity (no timing).
 #[derive(Debug, Clone, PartialEq, Serialize)]

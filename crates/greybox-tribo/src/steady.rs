@@ -4,7 +4,7 @@
 //! Shared by the plan-timed path ([`crate::identify`]) and the plan-free segmentation
 //! ([`crate::campaign`]).
 
-use crate::identify::IdentifyConfig;
+use crate::identify_config::IdentifyConfig;
 use crate::signal::{
     hampel_outliers, linear_fit, mad_sigma, mean_std, median, moving_average, running_median,
 };

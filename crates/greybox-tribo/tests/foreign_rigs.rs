@@ -8,7 +8,8 @@ use greybox_core::units;
 use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
 use greybox_tribo::hertz::PinContact;
 use greybox_tribo::identify::IdentifyConfig;
-use greybox_tribo::recording::{read_recording, ChannelMap, Recording};
+use greybox_tribo::readers::read_recording;
+use greybox_tribo::recording::{ChannelMap, Recording};
 use std::path::PathBuf;
 use support::TruthStep;
 

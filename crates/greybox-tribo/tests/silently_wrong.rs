@@ -87,7 +87,8 @@ fn the_dataset_load_is_the_measured_one_with_the_plan_beside_it() {
 /// `--map tangential=normal_force_N` used to give μ ≡ 1.
 #[test]
 fn one_column_for_two_roles_is_refused() {
-    use greybox_tribo::recording::{read_recording, ChannelMap, ChannelSpec};
+    use greybox_tribo::readers::read_recording;
+    use greybox_tribo::recording::{ChannelMap, ChannelSpec};
     let d = tempfile::tempdir().unwrap();
     let p = d.path().join("pin01.csv");
     std::fs::write(&p, "time_s,normal_force_N,tangential_force_N\n0,100,40\n0.001,100,41\n0.002,101,40\n").unwrap();

@@ -380,7 +380,7 @@ pub fn run(a: Args) -> Result<()> {
                         let r = match name {
                             "csv" => read_csv_recording(path, &map)?,
                             "tdms" => read_tdms_recording(path, &map)?,
-                            _ => greybox_tribo::recording::read_recording(path, &map)?,
+                            _ => greybox_tribo::readers::read_recording(path, &map)?,
                         };
                         Ok(r.len())
                     },

@@ -9,7 +9,7 @@ use greybox_core::plot::{lines, Line};
 use greybox_tribo::frf::{
     estimate, excitation_check, ExcitationCheck, Frf, ImpactConfig, ImpactRecording, Resonance,
 };
-use greybox_tribo::recording::RecordingFormat;
+use greybox_tribo::readers::RecordingFormat;
 use greybox_tribo::tdms::{PropValue, TdmsFile};
 use serde::Serialize;
 use std::path::{Path, PathBuf};

@@ -8,7 +8,7 @@ use crate::{
 };
 use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
-use greybox_tribo::recording::RecordingFormat;
+use greybox_tribo::readers::RecordingFormat;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 

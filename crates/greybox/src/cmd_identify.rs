@@ -12,7 +12,8 @@ use greybox_tribo::campaign::{
 };
 use greybox_tribo::identify::Alignment;
 use greybox_tribo::plan::Plan;
-use greybox_tribo::recording::{read_recording, Recording, RecordingFormat};
+use greybox_tribo::readers::{read_recording, RecordingFormat};
+use greybox_tribo::recording::Recording;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 

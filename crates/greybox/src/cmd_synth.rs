@@ -6,7 +6,7 @@ use crate::study::Study;
 use anyhow::{Context, Result};
 use greybox_tribo::csv_recording::write_csv_recording;
 use greybox_tribo::plan::Plan;
-use greybox_tribo::recording::RecordingFormat;
+use greybox_tribo::readers::RecordingFormat;
 use greybox_tribo::synth::write_ground_truth;
 use greybox_tribo::tdms::write_tdms_recording;
 use serde::Serialize;

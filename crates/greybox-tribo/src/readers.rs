@@ -1,0 +1,61 @@
+//! The recording readers' registry: which reader a file goes to (by extension), and the one
+//! call that reads any supported file into a [`Recording`]. It sits beside the readers and
+//! the [`Recording`] seam, so neither imports the other back (readers → table → recording).
+
+use crate::recording::{recording_from_table, ChannelMap, Recording};
+use crate::table::Table;
+use greybox_core::{Error, Result, SourcePos};
+use serde::{Deserialize, Serialize};
+
+/// File formats of raw recordings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RecordingFormat {
+    /// Delimited text: `.csv`, `.txt`, `.tsv`, `.dat`, `.asc`, `.prn`.
+    Csv,
+    Tdms,
+    /// Spreadsheets: `.xlsx`, `.xlsm`, `.xls`, `.xlsb`, `.ods`.
+    Spreadsheet,
+}
+
+impl RecordingFormat {
+    pub fn extension(self) -> &'static str {
+        match self {
+            RecordingFormat::Csv => "csv",
+            RecordingFormat::Tdms => "tdms",
+            RecordingFormat::Spreadsheet => "xlsx",
+        }
+    }
+    /// The format a file name's extension says.
+    pub fn of_path(path: &std::path::Path) -> Option<Self> {
+        match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "csv" | "txt" | "tsv" | "dat" | "asc" | "prn" => Some(RecordingFormat::Csv),
+            "tdms" => Some(RecordingFormat::Tdms),
+            "xlsx" | "xlsm" | "xls" | "xlsb" | "ods" => Some(RecordingFormat::Spreadsheet),
+            _ => None,
+        }
+    }
+}
+
+/// Read a file's table, choosing the reader from the extension.
+pub fn read_table(path: &std::path::Path, map: &ChannelMap) -> Result<Table> {
+    match RecordingFormat::of_path(path) {
+        Some(RecordingFormat::Csv) => crate::text_table::read_text_table(path, &map.text_options()),
+        Some(RecordingFormat::Tdms) => {
+            let file = crate::tdms::TdmsFile::read(path)?;
+            crate::tdms::table_from_tdms(file, map.tdms_group.as_deref())
+        }
+        Some(RecordingFormat::Spreadsheet) => {
+            crate::xlsx_table::read_spreadsheet(path, map.sheet.as_deref())
+        }
+        None => Err(Error::input(
+            SourcePos::path(path),
+            "unknown recording format: expected delimited text (.csv, .txt, .tsv, .dat), a spreadsheet (.xlsx, .xls, .ods) or .tdms",
+        )),
+    }
+}
+
+/// Read a recording (any supported format) through a channel map.
+pub fn read_recording(path: &std::path::Path, map: &ChannelMap) -> Result<Recording> {
+    recording_from_table(read_table(path, map)?, map)
+}
