@@ -144,165 +144,211 @@ pub fn identify_pin(
     cfg: &IdentifyConfig,
 ) -> Result<(Vec<FrictionRecord>, PinDiagnostics)> {
     rec.validate()?;
-    let src = || SourcePos::file(&rec.source);
     let sched = plan
         .pins
         .get(pin as usize - 1)
         .ok_or_else(|| Error::invalid("identify", format!("no pin {pin} in the plan")))?;
-    let steps = plan.pin_steps(pin);
-    let spec = &plan.spec;
-    let fs = rec.sample_rate_hz();
-    let z = spec.zero_time_s;
-    let f_nom = sched.normal_force_n;
+    let c = PinContext {
+        rec,
+        plan,
+        pin,
+        sched,
+        steps: plan.pin_steps(pin),
+        cfg,
+    };
+    let (t0, known_latency) = align(&c)?;
+    check_coverage(&c, t0)?;
+    let latency = match known_latency {
+        Some(l) => l,
+        None => sliding_latency(&c, t0)?,
+    };
+    let ts = t0 + latency; // plan time zero on the recording clock
+    let drift = remove_drift(&c, ts)?;
+    // the loaded level must match the plan (units, mapping and file order check)
+    let s0 = &c.steps[0];
+    let loaded = window_median(rec, &drift.normal_n, ts + s0.plateau_start_s, ts + s0.plateau_end_s).unwrap_or(0.0);
+    check_pin_load(loaded, pin, plan, cfg.match_load_tolerance)
+        .map_err(|m| Error::input(c.src().field("normal"), m))?;
+    let (rows, spikes_removed) = measure_plateaus(&c, ts, &drift, contact)?;
+    Ok((
+        rows,
+        PinDiagnostics {
+            pin,
+            source: rec.source.clone(),
+            trigger_s: t0,
+            latency_s: latency,
+            drift_normal_n: drift.drift_normal_n,
+            drift_tangential_n: drift.drift_tangential_n,
+            spikes_removed,
+        },
+    ))
+}
 
-    // 1. alignment
-    let (t0, latency) = match cfg.align {
-        Alignment::Trigger => {
-            let t0 = trigger_edge(rec, cfg)?;
-            (t0, None)
-        }
+/// What every stage of [`identify_pin`] looks at: the recording and the pin's part of the plan.
+struct PinContext<'a> {
+    rec: &'a Recording,
+    plan: &'a Plan,
+    pin: u32,
+    sched: &'a crate::plan::PinSchedule,
+    steps: &'a [crate::plan::PlanStep],
+    cfg: &'a IdentifyConfig,
+}
+
+impl PinContext<'_> {
+    fn src(&self) -> SourcePos {
+        SourcePos::file(&self.rec.source)
+    }
+}
+
+/// Stage 1, alignment: the plan's time zero on the recording clock, t0 (s), from the trigger
+/// edge, or from the onset of sliding (then the latency is zero by construction, returned
+/// as `Some(0)`).
+fn align(c: &PinContext) -> Result<(f64, Option<f64>)> {
+    let rec = c.rec;
+    let z = c.plan.spec.zero_time_s;
+    let f_nom = c.sched.normal_force_n;
+    Ok(match c.cfg.align {
+        Alignment::Trigger => (trigger_edge(rec, c.cfg)?, None),
         Alignment::FirstPlateau => {
             // unloaded baseline = first zero window of the recording
             let t_first = rec.time_s[0];
-            let base_n =
-                window_median(rec, &rec.normal_n, t_first, t_first + 0.5 * z).ok_or_else(|| {
-                    Error::input(src(), "recording too short for an unloaded baseline")
-                })?;
-            let load =
-                onset_after(rec, &rec.normal_n, base_n, t_first, 0.5 * f_nom).ok_or_else(|| {
-                    Error::input(
-                        src().field("normal"),
-                        format!("the normal force never reaches half the planned {f_nom} N"),
-                    )
-                })?;
-            let base_t =
-                window_median(rec, &rec.tangential_n, t_first, t_first + 0.5 * z).unwrap_or(0.0);
+            let base_n = window_median(rec, &rec.normal_n, t_first, t_first + 0.5 * z)
+                .ok_or_else(|| Error::input(c.src(), "recording too short for an unloaded baseline"))?;
+            let load = onset_after(rec, &rec.normal_n, base_n, t_first, 0.5 * f_nom).ok_or_else(|| {
+                Error::input(
+                    c.src().field("normal"),
+                    format!("the normal force never reaches half the planned {f_nom} N"),
+                )
+            })?;
+            let base_t = window_median(rec, &rec.tangential_n, t_first, t_first + 0.5 * z).unwrap_or(0.0);
             let level = window_median(
                 rec,
                 &rec.tangential_n,
-                load + spec.load_time_s,
+                load + c.plan.spec.load_time_s,
                 rec.time_s[rec.len() - 1],
             )
             .unwrap_or(0.0)
                 - base_t;
-            let onset = onset_after(
-                rec,
-                &rec.tangential_n,
-                base_t,
-                load,
-                0.3 * level.abs().max(1e-9),
-            )
-            .ok_or_else(|| Error::input(src().field("tangential"), "no onset of sliding found"))?;
-            (onset - steps[0].step_start_s, Some(0.0))
+            let onset = onset_after(rec, &rec.tangential_n, base_t, load, 0.3 * level.abs().max(1e-9))
+                .ok_or_else(|| Error::input(c.src().field("tangential"), "no onset of sliding found"))?;
+            (onset - c.steps[0].step_start_s, Some(0.0))
         }
-    };
+    })
+}
 
-    // 2. the recording must cover the plan (up to the middle of the final unloaded window)
-    let needed = t0 + sched.end_s - 0.5 * z;
-    let last = rec.time_s[rec.len() - 1];
+/// Stage 2: the recording must cover the plan up to the middle of the final unloaded window.
+fn check_coverage(c: &PinContext, t0: f64) -> Result<()> {
+    let z = c.plan.spec.zero_time_s;
+    let needed = t0 + c.sched.end_s - 0.5 * z;
+    let last = c.rec.time_s[c.rec.len() - 1];
     if last < needed {
         return Err(Error::input(
-            src(),
+            c.src(),
             format!(
-                "recording is shorter than the plan: it ends {:.3} s after the trigger, pin {pin} needs {:.3} s",
+                "recording is shorter than the plan: it ends {:.3} s after the trigger, pin {} needs {:.3} s",
                 last - t0,
-                sched.end_s - 0.5 * z
+                c.pin,
+                c.sched.end_s - 0.5 * z
             ),
         ));
     }
+    Ok(())
+}
 
-    // 3. latency from the onset of sliding
-    let base_t =
-        window_median(rec, &rec.tangential_n, t0 + 0.05 * z, t0 + 0.9 * z).ok_or_else(|| {
-            Error::input(src(), "no samples in the unloaded window after the trigger")
+/// Stage 3: the NC-to-spindle latency (s), from the onset of sliding after the first S
+/// command; more than `max_latency_s` is an error.
+fn sliding_latency(c: &PinContext, t0: f64) -> Result<f64> {
+    let (rec, cfg) = (c.rec, c.cfg);
+    let z = c.plan.spec.zero_time_s;
+    let base_t = window_median(rec, &rec.tangential_n, t0 + 0.05 * z, t0 + 0.9 * z)
+        .ok_or_else(|| Error::input(c.src(), "no samples in the unloaded window after the trigger"))?;
+    let s0 = &c.steps[0];
+    let level = window_median(
+        rec,
+        &rec.tangential_n,
+        t0 + s0.plateau_start_s + 0.1 * c.plan.spec.dwell_s,
+        t0 + s0.plateau_end_s,
+    )
+    .ok_or_else(|| Error::input(c.src(), "no samples in the first plateau"))?
+        - base_t;
+    let from = t0 + s0.step_start_s - cfg.max_latency_s;
+    let onset = onset_after(rec, &rec.tangential_n, base_t, from, 0.3 * level.abs().max(1e-9))
+        .ok_or_else(|| {
+            Error::input(c.src().field("tangential"), "no onset of sliding found near the first S command")
         })?;
-    let s0 = &steps[0];
-    let latency = match latency {
-        Some(l) => l,
-        None => {
-            let level = window_median(
-                rec,
-                &rec.tangential_n,
-                t0 + s0.plateau_start_s + 0.1 * spec.dwell_s,
-                t0 + s0.plateau_end_s,
-            )
-            .ok_or_else(|| Error::input(src(), "no samples in the first plateau"))?
-                - base_t;
-            let from = t0 + s0.step_start_s - cfg.max_latency_s;
-            let onset = onset_after(
-                rec,
-                &rec.tangential_n,
-                base_t,
-                from,
-                0.3 * level.abs().max(1e-9),
-            )
-            .ok_or_else(|| {
-                Error::input(
-                    src().field("tangential"),
-                    "no onset of sliding found near the first S command",
-                )
-            })?;
-            let l = onset - (t0 + s0.step_start_s);
-            if l.abs() > cfg.max_latency_s {
-                return Err(Error::input(
-                    src(),
-                    format!("sliding starts {l:.3} s after the first S command (max ±{} s): check the plan and the alignment", cfg.max_latency_s),
-                ));
-            }
-            l
-        }
-    };
-    let ts = t0 + latency; // plan time zero on the recording clock
+    let l = onset - (t0 + s0.step_start_s);
+    if l.abs() > cfg.max_latency_s {
+        return Err(Error::input(
+            c.src(),
+            format!(
+                "sliding starts {l:.3} s after the first S command (max ±{} s): check the plan and the alignment",
+                cfg.max_latency_s
+            ),
+        ));
+    }
+    Ok(l)
+}
 
-    // 4. drift: linear offset between the unloaded windows at the start and the end
+/// The forces with offset and linear drift removed, and the drift over the pin (N).
+struct Drift {
+    normal_n: Vec<f64>,
+    tangential_n: Vec<f64>,
+    drift_normal_n: f64,
+    drift_tangential_n: f64,
+}
+
+/// Stage 4: offset and drift, a line through the medians of the unloaded windows at the
+/// start and at the end of the pin (plan time zero `ts` on the recording clock), removed.
+fn remove_drift(c: &PinContext, ts: f64) -> Result<Drift> {
+    let rec = c.rec;
+    let (spec, z) = (&c.plan.spec, c.plan.spec.zero_time_s);
+    let last = rec.time_s[rec.len() - 1];
     let pre = (ts + 0.05 * z, ts + 0.9 * z);
-    let post_start = ts + sched.unload_start_s + spec.load_time_s + 0.1 * z;
-    let post = (post_start, (ts + sched.end_s - 0.05 * z).min(last));
+    let post_start = ts + c.sched.unload_start_s + spec.load_time_s + 0.1 * z;
+    let post = (post_start, (ts + c.sched.end_s - 0.05 * z).min(last));
     let pre_mid = 0.5 * (pre.0 + pre.1);
     let post_mid = 0.5 * (post.0 + post.1);
-    let drift_line = |x: &[f64], name: &str| -> Result<(f64, f64)> {
-        let a = window_median(rec, x, pre.0, pre.1);
-        let b = window_median(rec, x, post.0, post.1);
-        match (a, b) {
-            (Some(a), Some(b)) => Ok((a, (b - a) / (post_mid - pre_mid))),
-            _ => Err(Error::input(
-                src().field(name),
-                "the unloaded windows at the start and end of the pin are empty",
-            )),
-        }
+    let corrected = |x: &[f64], name: &str| -> Result<(Vec<f64>, f64)> {
+        let (a, b) = match (window_median(rec, x, pre.0, pre.1), window_median(rec, x, post.0, post.1)) {
+            (Some(a), Some(b)) => (a, b),
+            _ => {
+                return Err(Error::input(
+                    c.src().field(name),
+                    "the unloaded windows at the start and end of the pin are empty",
+                ))
+            }
+        };
+        let slope = (b - a) / (post_mid - pre_mid);
+        let v = rec.time_s.iter().zip(x).map(|(t, v)| v - a - slope * (t - pre_mid)).collect();
+        Ok((v, slope * (post_mid - pre_mid)))
     };
-    let (off_n, slope_n) = drift_line(&rec.normal_n, "normal")?;
-    let (off_t, slope_t) = drift_line(&rec.tangential_n, "tangential")?;
-    let fn_c: Vec<f64> = rec
-        .time_s
-        .iter()
-        .zip(&rec.normal_n)
-        .map(|(t, v)| v - off_n - slope_n * (t - pre_mid))
-        .collect();
-    let ft_c: Vec<f64> = rec
-        .time_s
-        .iter()
-        .zip(&rec.tangential_n)
-        .map(|(t, v)| v - off_t - slope_t * (t - pre_mid))
-        .collect();
+    let (normal_n, drift_normal_n) = corrected(&rec.normal_n, "normal")?;
+    let (tangential_n, drift_tangential_n) = corrected(&rec.tangential_n, "tangential")?;
+    Ok(Drift {
+        normal_n,
+        tangential_n,
+        drift_normal_n,
+        drift_tangential_n,
+    })
+}
 
-    // loaded level must match the plan (units and mapping check)
-    let loaded =
-        window_median(rec, &fn_c, ts + s0.plateau_start_s, ts + s0.plateau_end_s).unwrap_or(0.0);
-    check_pin_load(loaded, pin, plan, cfg.match_load_tolerance).map_err(|m| Error::input(src().field("normal"), m))?;
-
-    // 5./6. plateaus
-    let mut out = Vec::with_capacity(steps.len());
+/// Stages 5 and 6: per step, the end of the spindle ramp from the smoothed μ, the steady
+/// part after it, and μ with spikes masked; the rows and the number of spikes removed.
+fn measure_plateaus(c: &PinContext, ts: f64, d: &Drift, contact: &PinContact) -> Result<(Vec<FrictionRecord>, usize)> {
+    let (rec, cfg, pin) = (c.rec, c.cfg, c.pin);
+    let fs = rec.sample_rate_hz();
+    let f_nom = c.sched.normal_force_n;
+    let mut out = Vec::with_capacity(c.steps.len());
     let mut spikes_total = 0usize;
-    for s in steps {
+    for s in c.steps {
         let a = ts + s.step_start_s;
         let b = ts + s.plateau_end_s;
         let (i, j) = (index_at(&rec.time_s, a), index_at(&rec.time_s, b));
-        let pos = || src().field(format!("pin {pin} step {}", s.step));
+        let pos = || c.src().field(format!("pin {pin} step {}", s.step));
         if j < i + 2 * cfg.min_plateau_samples {
             return Err(Error::input(pos(), "too few samples in the step window"));
         }
-        let sig = step_signals(&fn_c, &ft_c, i, j, cfg, fs, |k, f_n| {
+        let sig = step_signals(&d.normal_n, &d.tangential_n, i, j, cfg, fs, |k, f_n| {
             if f_n <= 0.1 * f_nom {
                 return Err(Error::input(
                     pos(),
@@ -320,23 +366,18 @@ pub fn identify_pin(
             .rposition(|v| (v - level).abs() > band)
             .map(|k| k + sig.w_smooth / 2);
         let nominal_start = ts + s.plateau_start_s;
-        let detected = ramp_end_k
-            .map(|k| rec.time_s[i + k.min(n - 1)])
-            .unwrap_or(a);
+        let detected = ramp_end_k.map(|k| rec.time_s[i + k.min(n - 1)]).unwrap_or(a);
         let p_start = detected.max(nominal_start) + cfg.settle_time_s;
         let p_end = b - cfg.end_margin_s;
-        let (pi, pj) = (
-            index_at(&rec.time_s, p_start) - i,
-            index_at(&rec.time_s, p_end) - i,
-        );
-        let mut st = plateau_stats(&rec.time_s, &fn_c, &sig, pi, pj, ts, cfg).ok_or_else(|| {
+        let (pi, pj) = (index_at(&rec.time_s, p_start) - i, index_at(&rec.time_s, p_end) - i);
+        let mut st = plateau_stats(&rec.time_s, &d.normal_n, &sig, pi, pj, ts, cfg).ok_or_else(|| {
             let usable = (pi..pj.max(pi)).filter(|k| sig.good[*k]).count();
             Error::input(
                 pos(),
                 format!("only {usable} usable samples in the plateau (min {}): the spindle ramp overran the dwell", cfg.min_plateau_samples),
             )
         })?;
-        if detected > nominal_start + 0.5 * spec.dwell_s {
+        if detected > nominal_start + 0.5 * c.plan.spec.dwell_s {
             st.flags.insert(0, flags::RAMP_UNCONFIRMED.to_string());
         }
         spikes_total += st.spikes;
@@ -359,19 +400,7 @@ pub fn identify_pin(
             cof_adhesive: None,
         });
     }
-    let span = post_mid - pre_mid;
-    Ok((
-        out,
-        PinDiagnostics {
-            pin,
-            source: rec.source.clone(),
-            trigger_s: t0,
-            latency_s: latency,
-            drift_normal_n: slope_n * span,
-            drift_tangential_n: slope_t * span,
-            spikes_removed: spikes_total,
-        },
-    ))
+    Ok((out, spikes_total))
 }
 
 /// Identify a whole campaign: `recordings[k]` is pin k + 1.
