@@ -626,8 +626,71 @@ fn parse_in_chunks(bytes: &[u8], source: &str, opts: &TextOptions, min_chunk: us
     let bom = bytes.starts_with(&[0xEF, 0xBB, 0xBF]);
     let body = if bom { &bytes[3..] } else { bytes };
     let crlf = memchr::memchr(b'\n', body).is_some_and(|i| i > 0 && body[i - 1] == b'\r');
+    let head = head_lines(body);
+    let c = choose_layout(&head, opts, source)?;
+    let h = c.header.expect("checked in choose_layout");
+    let names = column_names(&head[h], &c, source)?;
+    let preamble: Vec<String> = head[..h]
+        .iter()
+        .filter(|l| !is_blank(l.text))
+        .map(|l| String::from_utf8_lossy(l.text).trim().to_string())
+        .collect();
 
-    // the first lines, for sniffing
+    // the data: from the first data line, in chunks split at line ends
+    let data_start = head[c.data].text.as_ptr() as usize - body.as_ptr() as usize;
+    let data = &body[data_start..];
+    let threads = rayon::current_num_threads().max(1);
+    let bounds = chunk_bounds(data, (data.len() / (4 * threads)).max(min_chunk.max(1)));
+    // line ends per chunk: the first line number of each, and room for every line
+    let newlines: Vec<usize> = bounds
+        .par_windows(2)
+        .map(|w| memchr::memchr_iter(b'\n', &data[w[0]..w[1]]).count())
+        .collect();
+    let first_line: Vec<u64> = newlines
+        .iter()
+        .scan(head[c.data].number, |acc, n| {
+            let first = *acc;
+            *acc += *n as u64;
+            Some(first)
+        })
+        .collect();
+    let mut room = newlines;
+    if let Some(last) = room.last_mut() {
+        *last += usize::from(!data.ends_with(b"\n"));
+    }
+    let (columns_data, chunks) = parse_chunks(data, &bounds, &first_line, &room, &c);
+    let footer = footer_lines(&chunks, &c, head[h].number, source)?;
+    let rows: usize = chunks.iter().map(|ch| ch.rows).sum();
+    let columns = names
+        .iter()
+        .enumerate()
+        .zip(columns_data)
+        .map(|((k, name), values)| {
+            let mut col = Column::numbers(name, Vec::new());
+            col.data = match chunks.iter().find_map(|ch| ch.bad[k].clone()) {
+                Some((line, text)) => ColumnData::NotNumeric { line, text },
+                None => ColumnData::Numbers(values),
+            };
+            col
+        })
+        .collect();
+    let trailing = field_count(head[c.data].text, c.delimiter, &mut Vec::new()).1;
+    let layout = describe_layout(&c, trailing, bom, crlf, head[h].number, preamble.len(), footer.len());
+    Ok(Table {
+        source: source.to_string(),
+        columns,
+        rows,
+        layout,
+        header_line: head[h].number,
+        preamble,
+        footer,
+        sample_interval_s: None,
+        start_time_s: None,
+    })
+}
+
+/// The first [`SNIFF_LINES`] lines of the body, for sniffing.
+fn head_lines(body: &[u8]) -> Vec<Line<'_>> {
     let mut head = Vec::with_capacity(SNIFF_LINES);
     let mut pos = 0;
     while head.len() < SNIFF_LINES && pos < body.len() {
@@ -638,16 +701,19 @@ fn parse_in_chunks(bytes: &[u8], source: &str, opts: &TextOptions, min_chunk: us
         });
         pos = end + 1;
     }
-    let c = choose_layout(&head, opts, source)?;
-    let h = c.header.expect("checked in choose_layout");
-    let header_text = String::from_utf8_lossy(head[h].text).to_string();
-    let mut names = split_header(&header_text, c.delimiter);
+    head
+}
+
+/// The header's column names, one per data field (a trailing empty name dropped, an empty
+/// one named `column K`); an error when the counts differ.
+fn column_names(header: &Line, c: &Candidate, source: &str) -> Result<Vec<String>> {
+    let mut names = split_header(&String::from_utf8_lossy(header.text), c.delimiter);
     while names.len() > c.fields && names.last().is_some_and(|s| s.is_empty()) {
         names.pop();
     }
     if names.len() != c.fields {
         return Err(Error::input(
-            SourcePos::file(source).line(head[h].number),
+            SourcePos::file(source).line(header.number),
             format!(
                 "the header names {} columns but the data rows have {} ({}-delimited)",
                 names.len(),
@@ -661,111 +727,75 @@ fn parse_in_chunks(bytes: &[u8], source: &str, opts: &TextOptions, min_chunk: us
             *nm = format!("column {}", k + 1);
         }
     }
-    let preamble: Vec<String> = head[..h]
-        .iter()
-        .filter(|l| !is_blank(l.text))
-        .map(|l| String::from_utf8_lossy(l.text).trim().to_string())
-        .collect();
+    Ok(names)
+}
 
-    // the data: byte offset of the first data line, then chunks split at line ends
-    let data_start = head[c.data].text.as_ptr() as usize - body.as_ptr() as usize;
-    let first_number = head[c.data].number;
-    let data = &body[data_start..];
-    let threads = rayon::current_num_threads().max(1);
-    let target = (data.len() / (4 * threads)).max(min_chunk.max(1));
+/// Chunk boundaries of about `target` bytes, each after a line end.
+fn chunk_bounds(data: &[u8], target: usize) -> Vec<usize> {
     let mut bounds = vec![0usize];
-    while *bounds.last().expect("non-empty") < data.len() {
-        let from = bounds.last().copied().expect("non-empty") + target;
+    while let Some(&last) = bounds.last().filter(|b| **b < data.len()) {
+        let from = last + target;
         if from >= data.len() {
             bounds.push(data.len());
             break;
         }
-        let end = memchr::memchr(b'\n', &data[from..]).map_or(data.len(), |i| from + i + 1);
-        bounds.push(end);
+        bounds.push(memchr::memchr(b'\n', &data[from..]).map_or(data.len(), |i| from + i + 1));
     }
-    // line ends per chunk: the first line number of each, and room for every line
-    let newlines: Vec<usize> = bounds
-        .par_windows(2)
-        .map(|w| memchr::memchr_iter(b'\n', &data[w[0]..w[1]]).count())
-        .collect();
-    let mut first_line = Vec::with_capacity(newlines.len());
-    let mut acc = first_number;
-    for n in &newlines {
-        first_line.push(acc);
-        acc += *n as u64;
-    }
-    let mut room = newlines.clone();
-    if let Some(last) = room.last_mut() {
-        *last += usize::from(!data.ends_with(b"\n"));
-    }
-    let (columns_data, chunks) = parse_chunks(data, &bounds, &first_line, &room, &c);
-    // footer: non-data lines after the last data line; any earlier one is an error
+    bounds
+}
+
+/// The footer: the non-data lines after the last data line. A non-data line before it, or a
+/// numeric row with the wrong field count anywhere, is an error naming its line.
+fn footer_lines(chunks: &[Chunk], c: &Candidate, header_line: u64, source: &str) -> Result<Vec<(u64, String)>> {
     let last_data = chunks.iter().map(|ch| ch.last_data_line).max().unwrap_or(0);
     let mut footer = Vec::new();
-    for ch in &chunks {
-        for (line, text, wrong) in &ch.other {
-            if *line < last_data || wrong.is_some() {
-                let msg = match wrong {
-                    Some(k) => format!(
-                        "malformed row: expected {} fields, found {k} ({}-delimited, header on line {})",
-                        c.fields,
-                        c.delimiter.name(),
-                        head[h].number
-                    ),
-                    None => format!("a line that is not data inside the data: '{}'", clip(text)),
-                };
-                return Err(Error::input(SourcePos::file(source).line(*line), msg));
-            }
-            footer.push((*line, text.clone()));
+    for (line, text, wrong) in chunks.iter().flat_map(|ch| &ch.other) {
+        if *line < last_data || wrong.is_some() {
+            let msg = match wrong {
+                Some(k) => format!(
+                    "malformed row: expected {} fields, found {k} ({}-delimited, header on line {header_line})",
+                    c.fields,
+                    c.delimiter.name(),
+                ),
+                None => format!("a line that is not data inside the data: '{}'", clip(text)),
+            };
+            return Err(Error::input(SourcePos::file(source).line(*line), msg));
+        }
+        footer.push((*line, text.clone()));
+    }
+    Ok(footer)
+}
+
+/// The layout in words, for reports: "semicolon-delimited, decimal comma, header on line 3, …".
+fn describe_layout(
+    c: &Candidate,
+    trailing: bool,
+    bom: bool,
+    crlf: bool,
+    header_line: u64,
+    preamble: usize,
+    footer: usize,
+) -> String {
+    let mut layout = format!("{}-delimited", c.delimiter.name());
+    for (on, what) in [
+        (c.decimal_comma, "decimal comma"),
+        (trailing, "trailing delimiter"),
+        (bom, "UTF-8 BOM"),
+        (crlf, "CRLF"),
+    ] {
+        if on {
+            layout.push_str(", ");
+            layout.push_str(what);
         }
     }
-    let rows: usize = chunks.iter().map(|ch| ch.rows).sum();
-    let mut columns: Vec<Column> = Vec::with_capacity(c.fields);
-    for ((k, name), values) in names.iter().enumerate().zip(columns_data) {
-        let bad = chunks.iter().find_map(|ch| ch.bad[k].clone());
-        let data = match bad {
-            Some((line, text)) => ColumnData::NotNumeric { line, text },
-            None => ColumnData::Numbers(values),
-        };
-        let mut col = Column::numbers(name, Vec::new());
-        col.data = data;
-        columns.push(col);
+    layout.push_str(&format!(", header on line {header_line}"));
+    if preamble > 0 {
+        layout.push_str(&format!(", {preamble} preamble line(s)"));
     }
-    let trailing = {
-        let mut spans = Vec::new();
-        field_count(head[c.data].text, c.delimiter, &mut spans).1
-    };
-    let mut layout = format!("{}-delimited", c.delimiter.name());
-    if c.decimal_comma {
-        layout.push_str(", decimal comma");
+    if footer > 0 {
+        layout.push_str(&format!(", {footer} footer line(s)"));
     }
-    if trailing {
-        layout.push_str(", trailing delimiter");
-    }
-    if bom {
-        layout.push_str(", UTF-8 BOM");
-    }
-    if crlf {
-        layout.push_str(", CRLF");
-    }
-    layout.push_str(&format!(", header on line {}", head[h].number));
-    if !preamble.is_empty() {
-        layout.push_str(&format!(", {} preamble line(s)", preamble.len()));
-    }
-    if !footer.is_empty() {
-        layout.push_str(&format!(", {} footer line(s)", footer.len()));
-    }
-    Ok(Table {
-        source: source.to_string(),
-        columns,
-        rows,
-        layout,
-        header_line: head[h].number,
-        preamble,
-        footer,
-        sample_interval_s: None,
-        start_time_s: None,
-    })
+    layout
 }
 
 fn clip(s: &str) -> String {
