@@ -9,7 +9,7 @@ use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::{units, ContactState, Error, FrictionLaw, Result};
 use greybox_learn::modelfile::ModelFile;
 use greybox_learn::Predictor;
-use greybox_tribo::hertz::PinContact;
+use greybox_contact::PinContact;
 
 /// Most features a learned law maps (stack buffer, no allocation per call).
 pub const MAX_FEATURES: usize = 8;

@@ -11,7 +11,7 @@ use greybox_friction::table::{Axis, TabulatedLaw};
 use greybox_learn::model::Family;
 use greybox_learn::protocol::{run_protocol, FitConfig};
 use greybox_learn::table::read_dataset_from;
-use greybox_tribo::hertz::PinContact;
+use greybox_contact::PinContact;
 
 /// A smooth SVR (rbf) model of μ(hertz_pressure_MPa, sliding_velocity_m_per_min).
 fn fitted_model(family: Family) -> greybox_learn::modelfile::ModelFile {

@@ -17,7 +17,8 @@ pub mod xlsx_table;
 pub mod frf;
 pub mod frf_synth;
 pub mod gcode;
-pub mod hertz;
+/// Hertzian contact, from `greybox-contact` (kept here under its old path).
+pub use greybox_contact::hertz;
 pub mod identify;
 pub mod identify_config;
 pub mod plan;
