@@ -24,6 +24,7 @@ pub mod mlp;
 pub mod model;
 pub mod modelfile;
 pub mod protocol;
+pub mod structure;
 pub mod svr;
 pub mod table;
 pub mod tree;

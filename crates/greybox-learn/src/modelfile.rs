@@ -115,7 +115,35 @@ impl ModelFile {
                 "content hash mismatch: the file was modified or corrupted",
             ));
         }
+        m.check_structure(source)?;
         Ok(m)
+    }
+
+    /// Everything evaluation relies on (see [`crate::structure`]): indices in range, sizes
+    /// consistent, trees acyclic, finite numbers; the error names the field.
+    pub fn check_structure(&self, source: &str) -> Result<()> {
+        let n = self.features.len();
+        let bad = |field: String, message: String| Error::input(SourcePos::file(source).field(field), message);
+        if n == 0 {
+            return Err(bad("features".into(), "a model needs at least one feature".into()));
+        }
+        if self.training_domain.len() != n {
+            return Err(bad(
+                "training_domain".into(),
+                format!("{} ranges for {n} features", self.training_domain.len()),
+            ));
+        }
+        for (k, r) in self.training_domain.iter().enumerate() {
+            if !(r.min.is_finite() && r.max.is_finite() && r.min <= r.max) {
+                return Err(bad(format!("training_domain[{k}]"), format!("{}..{} is not a range", r.min, r.max)));
+            }
+        }
+        let q = self.prediction_interval.half_width;
+        if !(q.is_finite() && q >= 0.0) {
+            return Err(bad("prediction_interval.half_width".into(), format!("{q} is not a width")));
+        }
+        crate::structure::check_model(&self.model, n)
+            .map_err(|e| bad(format!("model.{}", e.field), e.message))
     }
 
     /// Whether `x` lies inside the training domain widened by `margin` × range per feature.
@@ -159,6 +187,12 @@ impl ModelFile {
             ));
         }
         let value = self.model.predict_one(x);
+        if !value.is_finite() {
+            return Err(Error::invalid(
+                "prediction",
+                format!("the model gives {value} at this point (its weights overflow there)"),
+            ));
+        }
         let q = self.prediction_interval.half_width;
         Ok(Prediction {
             value,
