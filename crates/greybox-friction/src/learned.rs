@@ -64,6 +64,35 @@ impl Input {
     }
 }
 
+/// c in p = c·F^(1/3) (Pa at 1 N) for a model's normal-force features, or NaN when it has
+/// none; see [`LearnedLaw::new`].
+fn force_pressure_constant(model: &ModelFile, contact: Option<&PinContact>) -> Result<f64> {
+    let uses_force = model.features.iter().any(|f| f.unit == "N" || f.unit == "kN");
+    let recorded = model.force_to_pressure;
+    let given = contact.map(|c| c.pressure_pa(1.0)).transpose()?;
+    match (given, recorded) {
+        (Some(g), Some(r)) if (g / r.pressure_pa_at_1_n - 1.0).abs() > 1e-9 && uses_force => Err(Error::invalid(
+            "learned law",
+            format!(
+                "the law's contact gives {:.6e} Pa at 1 N, but the model was trained on a dataset with {:.6e} Pa at 1 N ({} convention): state the dataset's contact, or drop it to use the model's",
+                g,
+                r.pressure_pa_at_1_n,
+                r.pressure_convention.name()
+            ),
+        )),
+        (Some(g), _) => Ok(g),
+        (None, Some(r)) => Ok(r.pressure_pa_at_1_n),
+        (None, None) if uses_force => Err(Error::invalid(
+            "learned law",
+            format!(
+                "the {} model is trained on a normal force but its file does not record the dataset's pressure convention and contact (a file from before schema version 2): re-fit it, or use it through a law file that states the contact, e.g. {{\"law\": \"learned\", \"model\": \"…\", \"contact\": {{\"convention\": \"article-eq7\", …}}}}",
+                model.family.name()
+            ),
+        )),
+        (None, None) => Ok(f64::NAN),
+    }
+}
+
 /// A learned friction law.
 #[derive(Debug, Clone)]
 pub struct LearnedLaw {
@@ -73,16 +102,18 @@ pub struct LearnedLaw {
 }
 
 impl LearnedLaw {
-    /// Map the model's features onto the contact state. `contact` converts pressure to the
-    /// tribometer normal force for models trained on `normal_force_N`.
-    pub fn new(model: ModelFile, contact: &PinContact) -> Result<Self> {
+    /// Map the model's features onto the contact state. A model trained on a normal force
+    /// (`normal_force_N`) needs the map from pressure back to that force: the one its file
+    /// records from the training dataset, or `contact` when given (then both must agree). A
+    /// model without either is an error, never a default convention.
+    pub fn new(model: ModelFile, contact: Option<&PinContact>) -> Result<Self> {
         if model.features.len() > MAX_FEATURES {
             return Err(Error::invalid(
                 "learned law",
                 format!("at most {MAX_FEATURES} features"),
             ));
         }
-        let c = contact.pressure_pa(1.0)?;
+        let c = force_pressure_constant(&model, contact)?;
         let inputs: Vec<Input> = model
             .features
             .iter()

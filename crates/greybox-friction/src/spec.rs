@@ -154,7 +154,7 @@ impl LawSpec {
             LawSpec::Learned { model, contact } => {
                 let path = resolve(base, model);
                 let m = ModelFile::load(&path)?;
-                Box::new(LearnedLaw::new(m, &contact.unwrap_or_default())?)
+                Box::new(LearnedLaw::new(m, contact.as_ref()).map_err(|e| Error::input(SourcePos::path(&path), e.to_string()))?)
             }
             LawSpec::PowerFit => {
                 return Err(Error::invalid(

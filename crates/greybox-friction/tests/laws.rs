@@ -54,7 +54,7 @@ fn st(p_mpa: f64, v_m_min: f64) -> ContactState {
 #[test]
 fn learned_law_maps_units_and_domain() {
     let m = fitted_model(Family::Svr);
-    let law = LearnedLaw::new(m.clone(), &PinContact::default()).unwrap();
+    let law = LearnedLaw::new(m.clone(), Some(&PinContact::default())).unwrap();
     let x = [1500.0, 100.0];
     assert_eq!(
         law.mu(&st(1500.0, 100.0)),
@@ -68,7 +68,7 @@ fn learned_law_maps_units_and_domain() {
 #[test]
 fn grey_box_is_continuous_and_never_extrapolates_trees() {
     let m = fitted_model(Family::GradientBoosting);
-    let inner = LearnedLaw::new(m, &PinContact::default()).unwrap();
+    let inner = LearnedLaw::new(m, Some(&PinContact::default())).unwrap();
     let outside = PowerLaw::fit_to(&inner, 20).unwrap();
     let gb = GreyBoxLaw::new(Box::new(inner.clone()), Box::new(outside), 0.1, None, None).unwrap();
     // inside: exactly the learned law
@@ -101,7 +101,7 @@ fn grey_box_is_continuous_and_never_extrapolates_trees() {
 #[test]
 fn surrogate_table_within_1e4_of_its_source() {
     let m = fitted_model(Family::Svr);
-    let law = LearnedLaw::new(m, &PinContact::default()).unwrap();
+    let law = LearnedLaw::new(m, Some(&PinContact::default())).unwrap();
     let mut t = TabulatedLaw::bake(
         &law,
         Axis::new(900e6, 2220e6, 121).unwrap(),
@@ -121,7 +121,7 @@ fn surrogate_table_within_1e4_of_its_source() {
 #[test]
 fn abaqus_table_round_trip() {
     let m = fitted_model(Family::Svr);
-    let law = LearnedLaw::new(m, &PinContact::default()).unwrap();
+    let law = LearnedLaw::new(m, Some(&PinContact::default())).unwrap();
     let grid = Grid {
         pressure_pa: vec![1000e6, 1500e6, 2000e6],
         velocity_m_s: vec![0.5, 1.0, 2.0, 4.0],
@@ -179,4 +179,32 @@ fn law_files() {
         .unwrap()
         .to_string();
     assert!(e.contains("missing.json"), "{e}");
+}
+
+/// A model trained on a normal force: without a recorded or stated contact it is refused
+/// (never the textbook-max default); with its recorded map it needs none.
+#[test]
+fn force_feature_models_need_their_datasets_contact() {
+    use greybox_core::dataset::PressureConvention;
+    use greybox_learn::modelfile::ForcePressure;
+    let mut m = fitted_model(Family::GradientBoosting);
+    m.features[0] = greybox_learn::table::Column::new("normal_force_N");
+    let e = LearnedLaw::new(m.clone(), None).unwrap_err().to_string();
+    assert!(e.contains("does not record") && e.contains("contact"), "{e}");
+    let eq7 = PinContact {
+        convention: PressureConvention::ArticleEq7,
+        ..PinContact::default()
+    };
+    let c = eq7.pressure_pa(1.0).unwrap();
+    m.force_to_pressure = Some(ForcePressure {
+        pressure_convention: PressureConvention::ArticleEq7,
+        pressure_pa_at_1_n: c,
+    });
+    let bare = LearnedLaw::new(m.clone(), None).unwrap();
+    let stated = LearnedLaw::new(m.clone(), Some(&eq7)).unwrap();
+    let s = st(1200.0, 100.0);
+    assert_eq!(bare.mu(&s), stated.mu(&s));
+    // the textbook maximum is 4^(1/3) ≈ 1.59 × the article's value: a different force, refused
+    let e = LearnedLaw::new(m, Some(&PinContact::default())).unwrap_err().to_string();
+    assert!(e.contains("article-eq7"), "{e}");
 }

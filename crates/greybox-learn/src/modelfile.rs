@@ -11,7 +11,21 @@ use sha2::{Digest, Sha256};
 use std::path::Path;
 
 pub const SCHEMA: &str = "greybox-model";
-pub const SCHEMA_VERSION: u32 = 1;
+/// Version 2 added `force_to_pressure` and `provenance`; version-1 files still load (they
+/// lack both, so a law built from one needs its contact stated).
+pub const SCHEMA_VERSION: u32 = 2;
+const READABLE_VERSIONS: [u64; 2] = [1, 2];
+
+/// How the training dataset's normal force maps to contact pressure: Hertz, p = c·F^(1/3),
+/// under the dataset's convention. Recorded by `greybox fit` from a friction dataset so that a
+/// law built from the bare model maps pressure to the force it was trained on exactly as the
+/// dataset did (never a default convention).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ForcePressure {
+    pub pressure_convention: greybox_core::dataset::PressureConvention,
+    /// c: the contact pressure at 1 N, Pa.
+    pub pressure_pa_at_1_n: f64,
+}
 
 /// Closed range of one feature in the training data.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -35,8 +49,40 @@ pub struct ModelFile {
     /// Held-out R² from nested cross-validation (for information).
     pub held_out_r2: Option<f64>,
     pub model: FittedModel,
+    /// The dataset's force-to-pressure map (friction datasets; absent in version-1 files).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub force_to_pressure: Option<ForcePressure>,
+    /// What produced the model: command, version, the dataset with its SHA-256, seed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub provenance: Option<greybox_core::provenance::Provenance>,
     /// Hex SHA-256 of this file's JSON with `content_hash` empty.
     pub content_hash: String,
+}
+
+impl ForcePressure {
+    /// The map a friction dataset used: its one pressure convention, and c = p / F^(1/3)
+    /// agreeing over every row (to 1e-6) for the row's load (the measured one, or for files of
+    /// the earlier schema the planned one). `None` when the rows do not share one map.
+    pub fn of_dataset(ds: &greybox_core::dataset::FrictionDataset) -> Option<Self> {
+        let first = ds.records.first()?;
+        if ds.records.iter().any(|r| r.pressure_convention != first.pressure_convention) {
+            return None;
+        }
+        let loads: [fn(&greybox_core::dataset::FrictionRecord) -> Option<f64>; 2] =
+            [|r| Some(r.normal_force_n), |r| r.normal_force_planned_n];
+        loads.iter().find_map(|load| {
+            let cs: Vec<f64> = ds
+                .records
+                .iter()
+                .map(|r| load(r).map(|f| r.hertz_pressure_pa / f.cbrt()))
+                .collect::<Option<_>>()?;
+            let c = cs[0];
+            (c.is_finite() && c > 0.0 && cs.iter().all(|x| (x / c - 1.0).abs() < 1e-6)).then_some(ForcePressure {
+                pressure_convention: first.pressure_convention,
+                pressure_pa_at_1_n: c,
+            })
+        })
+    }
 }
 
 /// What to do when a point lies outside the training domain.
@@ -101,10 +147,10 @@ impl ModelFile {
             ));
         }
         let version = v.get("schema_version").and_then(|s| s.as_u64());
-        if version != Some(SCHEMA_VERSION as u64) {
+        if !version.is_some_and(|v| READABLE_VERSIONS.contains(&v)) {
             return Err(Error::input(
                 pos().field("schema_version"),
-                format!("schema version {version:?} is not supported (this greybox reads version {SCHEMA_VERSION})"),
+                format!("schema version {version:?} is not supported (this greybox reads versions 1 and {SCHEMA_VERSION})"),
             ));
         }
         let m: ModelFile = serde_json::from_value(v)

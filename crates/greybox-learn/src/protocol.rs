@@ -375,6 +375,8 @@ fn run_family(
             prediction_interval: interval,
             held_out_r2: report.held_out.as_ref().map(|h| h.metrics.r2.value),
             model,
+            force_to_pressure: None,
+            provenance: None,
             content_hash: String::new(),
         }
         .seal()?;

@@ -43,6 +43,8 @@ fn file(hp: Hyperparameters, model: FittedModel) -> ModelFile {
         },
         held_out_r2: None,
         model,
+        force_to_pressure: None,
+        provenance: None,
         content_hash: String::new(),
     }
     .seal()

@@ -6,7 +6,7 @@ use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_learn::mlp::Activation;
 use greybox_learn::model::Family;
-use greybox_learn::modelfile::ModelFile;
+use greybox_learn::modelfile::{ForcePressure, ModelFile};
 use greybox_learn::plot;
 use greybox_learn::protocol::{markdown, run_protocol, FitConfig, FitReport};
 use greybox_learn::svr::Kernel;
@@ -232,9 +232,19 @@ pub fn fit(a: &Args) -> Result<(FitReport, FitOutputs)> {
         inputs.push(("--study", s.as_path()));
     }
     let staged = stage_out_dir(&a.out, a.force, &inputs)?;
-    let (report, models) = run_protocol(&data, &cfg)?;
+    let (report, mut models) = run_protocol(&data, &cfg)?;
+    // what a law built from a bare model needs, and where the model came from
+    let force_to_pressure = greybox_core::dataset::FrictionDataset::read_csv(&a.data)
+        .ok()
+        .and_then(|ds| ForcePressure::of_dataset(&ds));
+    let provenance = crate::output::provenance(&inputs)?.with_seed(cfg.seed);
+    for m in models.iter_mut() {
+        m.force_to_pressure = force_to_pressure;
+        m.provenance = Some(provenance.clone());
+        *m = m.clone().seal()?;
+    }
     let written = write_outputs(staged.path(), &report, &models, &data)?;
-    crate::output::provenance(&inputs)?.with_seed(cfg.seed).write_into(staged.path())?;
+    provenance.write_into(staged.path())?;
     let shown = |v: &[String]| v.iter().map(|p| staged.shown_str(p)).collect();
     let outputs = FitOutputs {
         report_json: staged.shown_str(&written.report_json),

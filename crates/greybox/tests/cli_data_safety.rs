@@ -145,3 +145,42 @@ fn an_interrupted_run_leaves_no_temporaries() {
         .collect();
     assert!(left.is_empty(), "left behind after SIGTERM: {left:?}");
 }
+
+/// A bare model used as a law used to assume the textbook-max convention whatever its
+/// dataset used (μ +26 % at the demo's point); the model now records its dataset's map from
+/// pressure to force, and a law that states a different contact is refused.
+#[test]
+fn a_bare_model_law_uses_its_datasets_pressure_convention() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    campaign(p);
+    ok(&greybox(
+        &["identify", "--study", "plan/study.toml", "--recordings", "r", "--convention", "article-eq7", "--out", "data.csv"],
+        p,
+    ));
+    ok(&greybox(
+        &["fit", "--data", "data.csv", "--families", "gradient-boosting", "--skip-nested", "--out", "fit"],
+        p,
+    ));
+    let model: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(p.join("fit/models/gradient-boosting.json")).unwrap()).unwrap();
+    assert_eq!(model["force_to_pressure"]["pressure_convention"], "article-eq7");
+    assert!(model["provenance"]["inputs"][0]["sha256"].as_str().unwrap().len() == 64);
+    let law = |contact: &str| {
+        format!(r#"{{"law": "learned", "model": "fit/models/gradient-boosting.json", "contact": {{"convention": "{contact}"}}}}"#)
+    };
+    std::fs::write(p.join("eq7.json"), law("article-eq7")).unwrap();
+    std::fs::write(p.join("max.json"), law("textbook-max")).unwrap();
+    let export = |law: &str, out: &str| {
+        greybox(
+            &["export", "--law", law, "--format", "csv", "--out", out, "--pressure-MPa", "600:900:4", "--velocity-m-per-min", "30:90:3"],
+            p,
+        )
+    };
+    ok(&export("fit/models/gradient-boosting.json", "bare.csv"));
+    ok(&export("eq7.json", "eq7.csv"));
+    let bare = std::fs::read_to_string(p.join("bare.csv")).unwrap();
+    assert_eq!(bare, std::fs::read_to_string(p.join("eq7.csv")).unwrap(), "bare model and its dataset's convention differ");
+    let e = err(&export("max.json", "max.csv"));
+    assert!(e.contains("article-eq7") && e.contains("Pa at 1 N"), "{e}");
+}
