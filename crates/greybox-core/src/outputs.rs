@@ -157,21 +157,24 @@ impl StagedDir {
 
     /// The staging directory of a resumable run (one that writes checkpoints): the fixed path
     /// `<target>.partial`, kept when the run fails or is interrupted so that it can be resumed
-    /// there, and swapped in whole when complete. `resume`: continue the run found there (an
-    /// error if there is none); otherwise start afresh, refusing a left-over partial run
-    /// unless `existing` is [`Existing::Replace`].
+    /// there, and swapped in whole when complete. `resume`: continue the run found there (or,
+    /// when there is none, start one there from a checkpoint taken elsewhere); otherwise start
+    /// afresh, refusing a left-over partial run unless `existing` is [`Existing::Replace`].
     pub fn resumable(target: &Path, flag: &str, existing: Existing, resume: bool) -> Result<Self> {
         let (parent, name) = split(target)?;
         let staging = parent.join(format!("{name}.partial"));
         let there = staging.is_dir();
-        if resume {
-            if !there {
+        if there && !resume {
+            if existing == Existing::Refuse {
                 return Err(Error::input(
                     SourcePos::path(&staging),
-                    format!("no interrupted run to resume: {} does not exist (a run with checkpoints works there until it is complete)", staging.display()),
+                    "an interrupted run is here: give --resume with its checkpoint to continue it, or --force to start afresh",
                 ));
             }
-        } else {
+            std::fs::remove_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
+        }
+        if !(there && resume) {
+            // a new run (possibly continuing from a checkpoint taken elsewhere)
             if let Ok(m) = std::fs::metadata(target) {
                 if !m.is_dir() {
                     return Err(Error::input(
@@ -185,15 +188,6 @@ impl StagedDir {
                         format!("{flag} already holds files (an earlier run?): give --force to replace the directory whole, or choose another {flag}"),
                     ));
                 }
-            }
-            if there {
-                if existing == Existing::Refuse {
-                    return Err(Error::input(
-                        SourcePos::path(&staging),
-                        "an interrupted run is here: give --resume with its checkpoint to continue it, or --force to start afresh",
-                    ));
-                }
-                std::fs::remove_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
             }
             std::fs::create_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
         }
@@ -378,8 +372,6 @@ mod tests {
     fn a_resumable_run_survives_failure_and_is_swapped_in_when_complete() {
         let d = tempfile::tempdir().unwrap();
         let out = d.path().join("sim");
-        let e = StagedDir::resumable(&out, "--out", Existing::Refuse, true).unwrap_err().to_string();
-        assert!(e.contains("no interrupted run"), "{e}");
         {
             let s = StagedDir::resumable(&out, "--out", Existing::Refuse, false).unwrap();
             assert!(s.path().ends_with("sim.partial"));

@@ -4,7 +4,7 @@
 use crate::checkpoint::Checkpoint;
 use crate::chip::{contact_profile, measure, CutMeasures, ProfilePoint};
 use crate::cutting::{CuttingSetup, EdgeLayout};
-use crate::executor::{run, Observer, RunSummary};
+use crate::executor::{restored_state, run, Observer, RunSummary};
 use crate::friction_loop::FrictionUpdater;
 use crate::output::ForceHistory;
 use crate::solver::{SimError, Solver};
@@ -48,10 +48,17 @@ impl CutRun {
         let (model, duration) = setup.model_with_law(law).map_err(invalid)?;
         let layout = setup.insert.layout().map_err(invalid)?;
         let mut sim = Solver::new(model)?;
-        if let Some(c) = resume {
-            c.restore(&mut sim, &fingerprint(setup))?;
-        }
         let end = duration * fraction;
+        let fresh_dt = sim.dt;
+        let states = match resume {
+            Some(c) => {
+                let states = c.observers.clone();
+                c.restore(&mut sim, &fingerprint(setup))?;
+                Some(states)
+            }
+            None => None,
+        };
+        check_steps_ahead(&sim, end, states.is_some(), fraction, fresh_dt)?;
         let v = setup.cutting_speed_m_s;
         let mut forces = ForceHistory::new(0, ((end / sim.dt) / 500.0).ceil().max(1.0) as u64);
         let mut updater = FrictionUpdater::new(0, setup.friction.update_every_steps);
@@ -63,6 +70,14 @@ impl CutRun {
             st.tolerance,
             st.stop_when_steady,
         );
+        if let Some(states) = &states {
+            // the histories so far: the outputs and averages cover the whole run
+            forces = restored_state(states, "forces")?;
+            updater = restored_state(states, "friction_updates")?;
+            updater.resumed = true;
+            steady = restored_state(states, "steady")?;
+            steady.resumed = true;
+        }
         let summary = {
             let mut obs: Vec<&mut dyn Observer> = vec![&mut forces, &mut updater, &mut steady];
             for o in extra.iter_mut() {
@@ -96,6 +111,24 @@ impl CutRun {
             measures,
         })
     }
+}
+
+/// A run must have steps ahead of it: a checkpoint at or past the requested end, or a cut
+/// fraction shorter than one step, is an error (it used to report a force of zero).
+pub fn check_steps_ahead(sim: &Solver, end_s: f64, resumed: bool, fraction: f64, dt_s: f64) -> Result<(), SimError> {
+    if sim.time < end_s - 0.5 * sim.dt {
+        return Ok(());
+    }
+    Err(SimError::Invalid(if resumed {
+        format!(
+            "the checkpoint is at step {} (t = {:.6e} s), at or past the requested end t = {:.6e} s: nothing left to run (resume with a larger --fraction, or use the finished run)",
+            sim.step, sim.time, end_s
+        )
+    } else {
+        format!(
+            "--fraction {fraction} gives an end time of {end_s:.3e} s, less than one time step ({dt_s:.3e} s): no step would run"
+        )
+    }))
 }
 
 /// Identifies a set-up for checkpoints (a checkpoint only resumes the set-up that wrote it).

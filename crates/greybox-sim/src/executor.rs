@@ -30,6 +30,35 @@ pub trait Observer {
     }
     /// Called when a step failed, with the last good particle state and its step/time.
     fn on_failure(&mut self, _sim: &Solver, _last_good: &Particles, _step: u64, _time: f64) {}
+    /// What a resumed run needs of this observer (its history and running sums so far), under
+    /// a stable key; saved in every checkpoint so that a resumed run's outputs equal an
+    /// uninterrupted run's. `None`: nothing to carry over.
+    fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
+        None
+    }
+    /// Whether this observer writes a checkpoint after the current step.
+    fn checkpoint_due(&self, _sim: &Solver) -> bool {
+        false
+    }
+    /// Write a checkpoint holding `states`, every observer's [`Observer::save_state`].
+    fn write_checkpoint(&mut self, _sim: &mut Solver, _states: &ObserverStates) -> Result<(), SimError> {
+        Ok(())
+    }
+}
+
+/// Observers' saved states by key (see [`Observer::save_state`]).
+pub type ObserverStates = std::collections::BTreeMap<String, serde_json::Value>;
+
+/// An observer's state saved under `key`, for a resumed run; an error when the checkpoint
+/// does not hold it.
+pub fn restored_state<T: serde::de::DeserializeOwned>(states: &ObserverStates, key: &str) -> Result<T, SimError> {
+    let v = states.get(key).ok_or_else(|| {
+        SimError::Invalid(format!(
+            "the checkpoint holds no '{key}' history (written by an older greybox?): a resumed run could not reproduce the uninterrupted one; start afresh"
+        ))
+    })?;
+    serde_json::from_value(v.clone())
+        .map_err(|e| SimError::Invalid(format!("the checkpoint's '{key}' history is unreadable: {e}")))
 }
 
 /// How a run ended.
@@ -73,6 +102,18 @@ pub fn run(
         for o in observers.iter_mut() {
             if o.after_step(sim)? == Control::Stop {
                 stop = true;
+            }
+        }
+        if observers.iter().any(|o| o.checkpoint_due(sim)) {
+            let states: ObserverStates = observers
+                .iter()
+                .filter_map(|o| o.save_state())
+                .map(|(k, v)| (k.to_string(), v))
+                .collect();
+            for o in observers.iter_mut() {
+                if o.checkpoint_due(sim) {
+                    o.write_checkpoint(sim, &states)?;
+                }
             }
         }
         if stop {

@@ -13,7 +13,7 @@ use crate::tool::{WindowAccumulator, WindowStats};
 use greybox_core::ContactState;
 
 /// One re-evaluation of one window.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WindowUpdate {
     pub step: u64,
     pub time_s: f64,
@@ -25,7 +25,7 @@ pub struct WindowUpdate {
 }
 
 /// The accumulated sums of every window over one update interval.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Interval {
     pub t_start_s: f64,
     pub t_end_s: f64,
@@ -33,13 +33,16 @@ pub struct Interval {
 }
 
 /// Observer running the loop on one tool.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct FrictionUpdater {
     pub tool: usize,
     pub every: u64,
     pub history: Vec<WindowUpdate>,
     pub intervals: Vec<Interval>,
     t_start: f64,
+    /// Restored from a checkpoint: the interval in progress started before this run.
+    #[serde(skip)]
+    pub resumed: bool,
 }
 
 impl FrictionUpdater {
@@ -50,6 +53,7 @@ impl FrictionUpdater {
             history: Vec::new(),
             intervals: Vec::new(),
             t_start: 0.0,
+            resumed: false,
         }
     }
 
@@ -119,9 +123,15 @@ impl FrictionUpdater {
 impl Observer for FrictionUpdater {
     fn start(&mut self, sim: &mut Solver) -> Result<(), SimError> {
         // The windows' sums are kept: after a resume they hold the interval in progress
-        // (restored from the checkpoint), so the μ updates continue as in an uninterrupted run.
-        self.t_start = sim.time;
+        // (restored from the checkpoint), so the μ updates continue as in an uninterrupted run;
+        // so does the interval's start time, restored with the history.
+        if !self.resumed {
+            self.t_start = sim.time;
+        }
         Ok(())
+    }
+    fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
+        Some(("friction_updates", serde_json::to_value(self).ok()?))
     }
     fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
         if sim.step.is_multiple_of(self.every) {

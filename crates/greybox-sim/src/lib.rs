@@ -28,7 +28,7 @@ pub mod solver;
 pub mod steady;
 pub mod tool;
 
-pub use executor::{run, Control, Observer, RunSummary};
+pub use executor::{restored_state, run, Control, Observer, ObserverStates, RunSummary};
 pub use geometry::RoundedPolygon;
 pub use model::{BoundaryGroup, Model, Numerics};
 pub use particles::Particles;

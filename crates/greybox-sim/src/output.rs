@@ -98,6 +98,7 @@ pub fn write_tool_vtk(path: &Path, tool: &Tool) -> greybox_core::Result<()> {
 }
 
 /// Records the force on tool `tool` averaged over every `every` steps.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct ForceHistory {
     pub tool: usize,
     pub every: u64,
@@ -160,6 +161,9 @@ impl ForceHistory {
 }
 
 impl Observer for ForceHistory {
+    fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
+        Some(("forces", serde_json::to_value(self).ok()?))
+    }
     fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
         let t = &sim.tools[self.tool];
         self.sum[0] += t.force[0];

@@ -279,11 +279,21 @@ pub fn simulate_from(
         .model()
         .map_err(|e| SimError::Invalid(e.to_string()))?;
     let mut sim = Solver::new(model)?;
-    if let Some(c) = resume {
-        c.restore(&mut sim, &fingerprint(setup))?;
-    }
+    let fresh_dt = sim.dt;
+    let states = match resume {
+        Some(c) => {
+            let states = c.observers.clone();
+            c.restore(&mut sim, &fingerprint(setup))?;
+            Some(states)
+        }
+        None => None,
+    };
+    crate::cut_run::check_steps_ahead(&sim, press + slide, states.is_some(), 1.0, fresh_dt)?;
     let every = ((press + slide) / sim.dt / 400.0).ceil().max(1.0) as u64;
     let mut hist = ForceHistory::new(0, every);
+    if let Some(states) = &states {
+        hist = crate::executor::restored_state(states, "forces")?;
+    }
     let summary: RunSummary = {
         let mut obs: Vec<&mut dyn Observer> = vec![&mut hist];
         for o in extra.iter_mut() {

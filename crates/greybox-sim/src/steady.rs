@@ -10,14 +10,14 @@ use crate::executor::{Control, Observer};
 use crate::solver::{SimError, Solver};
 
 /// Mean tool force over one block, N/m.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ForceBlock {
     pub t_start_s: f64,
     pub t_end_s: f64,
     pub force: [f64; 2],
 }
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct SteadyForce {
     pub tool: usize,
     pub block_s: f64,
@@ -31,6 +31,9 @@ pub struct SteadyForce {
     sum: [f64; 2],
     n: u64,
     t_start: f64,
+    /// Restored from a checkpoint: the block in progress started before this run.
+    #[serde(skip)]
+    pub resumed: bool,
 }
 
 impl SteadyForce {
@@ -46,6 +49,7 @@ impl SteadyForce {
             sum: [0.0; 2],
             n: 0,
             t_start: 0.0,
+            resumed: false,
         }
     }
 
@@ -93,8 +97,13 @@ impl SteadyForce {
 
 impl Observer for SteadyForce {
     fn start(&mut self, sim: &mut Solver) -> Result<(), SimError> {
-        self.t_start = sim.time;
+        if !self.resumed {
+            self.t_start = sim.time;
+        }
         Ok(())
+    }
+    fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
+        Some(("steady", serde_json::to_value(self).ok()?))
     }
     fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
         let f = sim.tools.get(self.tool).map_or([0.0; 2], |t| t.force);

@@ -275,10 +275,11 @@ fn bench_sph(config: &std::path::Path, fraction: f64, json: bool) -> Result<()> 
     let case = crate::cmd_simulate::read_cutting_setup(config)?;
     let dir = tempfile::tempdir()?;
     let out = crate::cmd_simulate::Output {
-        out: dir.path().to_path_buf(),
+        out: dir.path().join("sph"),
         vtk_every: 0,
         checkpoint_every: 0,
         resume: None,
+        force: false,
         json: false,
     };
     let s = crate::cmd_simulate::run_cut(&case, fraction, &out)?;

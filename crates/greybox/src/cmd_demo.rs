@@ -277,6 +277,7 @@ pub fn run(a: Args) -> Result<()> {
         vtk_every: 0,
         checkpoint_every: 0,
         resume: None,
+        force: false,
         json: false,
     };
     let cutting = cmd_simulate::run_cut(&cut_case, 1.0, &cut_out)?;

@@ -3,6 +3,7 @@
 use crate::output::print_json;
 use anyhow::{Context, Result};
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::outputs::{check_dir_output, Existing, StagedDir};
 use greybox_core::FrictionLaw;
 use greybox_sim::checkpoint::{Checkpoint, Checkpointer};
 use greybox_sim::chip::{CutMeasures, ProfilePoint};
@@ -43,11 +44,29 @@ pub struct Output {
     /// Write a checkpoint every N steps (0: none).
     #[arg(long = "checkpoint-every", default_value_t = 0)]
     pub checkpoint_every: u64,
-    /// Resume from a checkpoint written by the same set-up.
+    /// Resume an interrupted run from its checkpoint (`OUT.partial/checkpoint.json`: a run
+    /// with checkpoints works in OUT.partial until it is complete, then becomes OUT). The
+    /// resumed run's outputs equal those of an uninterrupted one.
     #[arg(long)]
     pub resume: Option<PathBuf>,
+    /// Replace an existing, non-empty output directory (or a left-over OUT.partial) whole.
+    #[arg(long)]
+    pub force: bool,
     #[arg(long)]
     pub json: bool,
+}
+
+impl Output {
+    /// The directory this run writes into: a staging directory swapped in whole when the run
+    /// completes; for runs with checkpoints, the resumable `OUT.partial`.
+    fn stage(&self) -> Result<StagedDir> {
+        let existing = Existing::from_force(self.force);
+        if self.checkpoint_every > 0 || self.resume.is_some() {
+            return Ok(StagedDir::resumable(&self.out, "--out", existing, self.resume.is_some())?);
+        }
+        check_dir_output(&self.out, "--out", &[])?;
+        Ok(StagedDir::begin(&self.out, "--out", existing)?)
+    }
 }
 
 #[derive(clap::Args, Debug)]
@@ -124,10 +143,10 @@ struct Observers {
 }
 
 impl Observers {
-    fn new(o: &Output, setup_id: &str) -> Self {
+    fn new(o: &Output, dir: &Path, setup_id: &str) -> Self {
         Observers {
             vtk: VtkSeries::new(
-                &o.out.join("vtk"),
+                &dir.join("vtk"),
                 if o.vtk_every == 0 {
                     u64::MAX
                 } else {
@@ -135,7 +154,7 @@ impl Observers {
                 },
             ),
             ckpt: (o.checkpoint_every > 0).then(|| {
-                Checkpointer::new(&o.out.join("checkpoint.json"), o.checkpoint_every, setup_id)
+                Checkpointer::new(&dir.join("checkpoint.json"), o.checkpoint_every, setup_id)
             }),
         }
     }
@@ -194,11 +213,13 @@ fn write_common(
 
 fn run_pin(a: &PinArgs) -> Result<()> {
     let setup = a.setup()?;
-    let mut obs = Observers::new(&a.output, &fingerprint(&setup));
     let resume = read_checkpoint(&a.output.resume)?;
+    let staged = a.output.stage()?;
+    let mut obs = Observers::new(&a.output, staged.path(), &fingerprint(&setup));
     let (res, hist, sim) =
         simulate_from(&setup, resume, &mut obs.list()).map_err(|e| failure_context(e, &obs))?;
-    write_common(&a.output.out, &sim, &hist, &res)?;
+    write_common(staged.path(), &sim, &hist, &res)?;
+    staged.commit()?;
     if a.output.json {
         return print_json(&res);
     }
@@ -301,18 +322,20 @@ pub struct CutSummary {
 pub fn run_cut(case: &CutCase, fraction: f64, o: &Output) -> Result<CutSummary> {
     let setup = &case.setup;
     let id = fingerprint_cut(setup);
-    let mut obs = Observers::new(o, &id);
+    let resume = read_checkpoint(&o.resume)?;
+    let staged = o.stage()?;
+    let mut obs = Observers::new(o, staged.path(), &id);
     let r = CutRun::execute(
         setup,
         case.law.clone(),
         fraction,
-        read_checkpoint(&o.resume)?,
+        resume,
         &mut obs.list(),
     )
     .map_err(|e| failure_context(e, &obs))?;
     let v = setup.cutting_speed_m_s;
     let tool = &r.sim.tools[0];
-    let out = &o.out;
+    let out = staged.path();
     let mut files = vec![
         out.join("forces.csv"),
         out.join("contact_profile.csv"),
@@ -347,9 +370,10 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &Output) -> Result<CutSummary> 
         averaged_from_mm: r.averaged_from_s * v * 1e3,
         measures: r.measures,
         energy_error: r.sim.energy_balance().relative_error,
-        files: files.iter().map(|p| p.display().to_string()).collect(),
+        files: files.iter().map(|p| staged.shown(p).display().to_string()).collect(),
     };
     write_string_atomic(&files[3], &serde_json::to_string_pretty(&s)?)?;
+    staged.commit()?;
     Ok(s)
 }
 

@@ -43,6 +43,11 @@ fn pin_run_writes_outputs_and_resumes_bit_for_bit() {
     ] {
         assert!(d.path().join(f).exists(), "{f}");
     }
+    // Re-running into the finished run's directory is refused (old VTK frames and checkpoint
+    // would mix with the new run's); nothing was left beside it.
+    let e = err(&run(&["--out", "a"]));
+    assert!(e.contains("--force"), "{e}");
+    assert!(!d.path().join("a.partial").exists());
     // Resume from the checkpoint: the final particle state is identical.
     ok(&run(&["--out", "b", "--resume", "a/checkpoint.json"]));
     let last = |dir: &str| last_particle_vtk(&d.path().join(dir));
