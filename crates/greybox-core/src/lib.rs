@@ -12,6 +12,7 @@
 //! * [`cleanup`] — temporary paths an interrupt handler removes.
 //! * [`csvutil`] — strict numeric field parsing shared by every CSV reader.
 //! * [`plot`] — small self-contained SVG plots.
+//! * [`rules`] — field-by-field configuration checks whose errors name the field and the rule.
 //! * [`roots`] — bracketing root finding for expensive functions.
 //! * [`linalg`] — small least-squares helpers.
 //!
@@ -29,6 +30,7 @@ pub mod outputs;
 pub mod plot;
 pub mod provenance;
 pub mod roots;
+pub mod rules;
 pub mod units;
 
 pub use contact::ContactState;

@@ -31,20 +31,23 @@ impl GreyBoxLaw {
         shear_cap_k_pa: Option<f64>,
         clamp: Option<(f64, f64)>,
     ) -> Result<Self> {
+        let mut rules = greybox_core::rules::Rules::new("grey-box law");
+        rules.positive("blend_fraction", blend_fraction);
+        if let Some(k) = shear_cap_k_pa {
+            // a cap ≤ 0 made every window slide at the clamp's lower bound (μ = 0.05 everywhere)
+            rules.positive("shear_cap_k_MPa", k * 1e-6);
+        }
+        if let Some((lo, hi)) = clamp {
+            rules
+                .non_negative("clamp[0]", lo)
+                .finite("clamp[1]", hi)
+                .relation(lo <= hi, format!("clamp needs min ≤ max, got [{lo}, {hi}]"));
+        }
+        rules.finish()?;
         let domain = inner.domain().ok_or_else(|| {
             Error::invalid("grey-box law", "the inner law has no validity domain")
         })?;
-        if !(blend_fraction > 0.0 && blend_fraction.is_finite()) {
-            return Err(Error::invalid(
-                "grey-box law",
-                "blend_fraction must be positive",
-            ));
-        }
-        if let Some((lo, hi)) = clamp {
-            if !(lo <= hi) {
-                return Err(Error::invalid("grey-box law", "clamp needs min ≤ max"));
-            }
-        }
+
         Ok(GreyBoxLaw {
             inner,
             outside,

@@ -208,3 +208,19 @@ fn force_feature_models_need_their_datasets_contact() {
     let e = LearnedLaw::new(m, Some(&PinContact::default())).unwrap_err().to_string();
     assert!(e.contains("article-eq7"), "{e}");
 }
+
+/// A shear cap ≤ 0 used to be accepted and gave μ = 0.05 everywhere.
+#[test]
+fn a_non_positive_shear_cap_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    for k in ["0", "-600"] {
+        let p = d.path().join("law.json");
+        std::fs::write(
+            &p,
+            format!(r#"{{"law": "grey-box", "inner": {{"law": "coulomb", "mu": 0.4}}, "outside": {{"law": "coulomb", "mu": 0.4}}, "shear_cap_k_MPa": {k}}}"#),
+        )
+        .unwrap();
+        let e = load_law(&p).err().expect("refused").to_string();
+        assert!(e.contains("shear_cap_k_MPa must be > 0"), "{e}");
+    }
+}

@@ -113,25 +113,22 @@ impl JohnsonCook {
 
     /// Checks the parameters (positive A, B ≥ 0, 0 < n ≤ 1, C ≥ 0, m > 0, T_m > T_room).
     pub fn validate(&self) -> greybox_core::Result<()> {
-        let ok = self.a_pa > 0.0
-            && self.b_pa >= 0.0
-            && self.n > 0.0
-            && self.n <= 1.0
-            && self.c >= 0.0
-            && self.m > 0.0
-            && self.ref_strain_rate > 0.0
-            && self.melt_temperature_k > self.room_temperature_k
-            && [self.a_pa, self.b_pa, self.n, self.c, self.m]
-                .iter()
-                .all(|v| v.is_finite());
-        if ok {
-            Ok(())
-        } else {
-            Err(greybox_core::Error::invalid(
-                "Johnson-Cook parameters",
-                format!("expected A > 0, B ≥ 0, 0 < n ≤ 1, C ≥ 0, m > 0, ε̇0 > 0, Tm > Troom; got {self:?}"),
-            ))
-        }
+        greybox_core::rules::Rules::new("Johnson-Cook parameters")
+            .positive("a_pa", self.a_pa)
+            .non_negative("b_pa", self.b_pa)
+            .above_up_to("n", self.n, 0.0, 1.0)
+            .non_negative("c", self.c)
+            .positive("m", self.m)
+            .positive("ref_strain_rate", self.ref_strain_rate)
+            .positive("room_temperature_k", self.room_temperature_k)
+            .relation(
+                self.melt_temperature_k > self.room_temperature_k && self.melt_temperature_k.is_finite(),
+                format!(
+                    "melt_temperature_k ({}) must exceed room_temperature_k ({})",
+                    self.melt_temperature_k, self.room_temperature_k
+                ),
+            )
+            .finish()
     }
 }
 

@@ -145,17 +145,16 @@ impl Material {
 
     pub fn validate(&self) -> greybox_core::Result<()> {
         let e = &self.elastic;
-        let ok = self.density_kg_m3 > 0.0
-            && e.youngs_modulus_pa > 0.0
-            && e.poisson_ratio > -1.0
-            && e.poisson_ratio < 0.5
-            && (0.0..=1.0).contains(&self.thermal.taylor_quinney);
-        if !ok {
-            return Err(greybox_core::Error::invalid(
-                format!("material '{}'", self.name),
-                "expected density > 0, E > 0, −1 < ν < 0.5, 0 ≤ Taylor–Quinney ≤ 1",
-            ));
-        }
+        greybox_core::rules::Rules::new(format!("material '{}'", self.name))
+            .positive("density_kg_m3", self.density_kg_m3)
+            .section("elastic", |r| {
+                r.positive("youngs_modulus_pa", e.youngs_modulus_pa)
+                    .between("poisson_ratio", e.poisson_ratio, -1.0, 0.5);
+            })
+            .section("thermal", |r| {
+                r.within("taylor_quinney", self.thermal.taylor_quinney, 0.0, 1.0);
+            })
+            .finish()?;
         if let Some(jc) = &self.plasticity {
             jc.validate()?;
         }

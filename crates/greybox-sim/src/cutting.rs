@@ -273,38 +273,51 @@ impl CuttingSetup {
 
     pub fn validate(&self) -> greybox_core::Result<()> {
         let h = self.uncut_chip_thickness_m;
-        let ok = self.cutting_speed_m_s > 0.0
-            && h > 0.0
-            && self.cut_length_m > 0.0
-            && self.spacing_m > 0.0
-            && self.workpiece_height_m > h + 4.0 * self.spacing_m
-            && self.mu >= 0.0
-            && self.initial_temperature_k > 0.0
-            && self.friction.window_length_m > 0.0
-            && self.friction.update_every_steps > 0
-            && self.steady.block_length_m > 0.0
-            && self.steady.blocks >= 2
-            && self.steady.tolerance > 0.0;
-        if !ok {
-            return Err(greybox_core::Error::invalid(
-                "cutting set-up",
-                "expected positive speed, uncut chip thickness, cut length and spacing, μ ≥ 0, \
-                 a workpiece deeper than h + 4 spacings, friction.window_length_m > 0, \
-                 friction.update_every_steps ≥ 1, steady.block_length_m > 0, steady.blocks ≥ 2 \
-                 and steady.tolerance > 0",
-            ));
-        }
-        if h < 4.0 * self.spacing_m {
-            return Err(greybox_core::Error::invalid(
-                "cutting set-up",
+        let dx = self.spacing_m;
+        greybox_core::rules::Rules::new("cutting set-up")
+            .section("insert", |r| {
+                let g = &self.insert;
+                r.between("rake_deg", g.rake_deg, -45.0, 45.0)
+                    .between("clearance_deg", g.clearance_deg, 0.0, 45.0)
+                    .non_negative("edge_radius_m", g.edge_radius_m)
+                    .positive("rake_length_m", g.rake_length_m)
+                    .positive("flank_length_m", g.flank_length_m);
+            })
+            .positive("cutting_speed_m_s", self.cutting_speed_m_s)
+            .positive("uncut_chip_thickness_m", h)
+            .positive("cut_length_m", self.cut_length_m)
+            .positive("spacing_m", dx)
+            .positive("workpiece_height_m", self.workpiece_height_m)
+            .non_negative("mu", self.mu)
+            .positive("initial_temperature_k", self.initial_temperature_k)
+            .section("friction", |r| {
+                r.positive("window_length_m", self.friction.window_length_m)
+                    .at_least("update_every_steps", self.friction.update_every_steps, 1);
+            })
+            .section("steady", |r| {
+                r.positive("block_length_m", self.steady.block_length_m)
+                    .at_least("blocks", self.steady.blocks as u64, 2)
+                    .above_up_to("tolerance", self.steady.tolerance, 0.0, 1.0);
+            })
+            .relation(
+                !(self.workpiece_height_m <= h + 4.0 * dx),
+                format!(
+                    "workpiece_height_m ({:.1} µm) must exceed uncut_chip_thickness_m + 4 spacings ({:.1} µm)",
+                    self.workpiece_height_m * 1e6,
+                    (h + 4.0 * dx) * 1e6
+                ),
+            )
+            .relation(
+                !(h < 4.0 * dx),
                 format!(
                     "the uncut chip thickness {:.1} µm spans fewer than 4 particle spacings ({:.1} µm); refine the spacing",
                     h * 1e6,
-                    self.spacing_m * 1e6
+                    dx * 1e6
                 ),
-            ));
-        }
-        Ok(())
+            )
+            .finish()?;
+        self.numerics.validate()?;
+        self.material.validate()
     }
 
     /// The contact state every window's law is evaluated at before its first update: the

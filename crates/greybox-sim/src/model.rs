@@ -63,47 +63,20 @@ impl Default for Numerics {
 
 impl Numerics {
     pub fn validate(&self) -> greybox_core::Result<()> {
-        let checks: [(&str, bool); 9] = [
-            (
-                "smoothing_ratio (expected 1–3)",
-                (1.0..=3.0).contains(&self.smoothing_ratio),
-            ),
-            (
-                "cfl (expected 0 < cfl ≤ 1)",
-                self.cfl > 0.0 && self.cfl <= 1.0,
-            ),
-            (
-                "av_alpha/av_beta (expected ≥ 0)",
-                self.av_alpha >= 0.0 && self.av_beta >= 0.0,
-            ),
-            (
-                "artificial_stress (expected 0–1)",
-                (0.0..=1.0).contains(&self.artificial_stress),
-            ),
-            ("xsph (expected 0–1)", (0.0..=1.0).contains(&self.xsph)),
-            (
-                "contact_penalty (expected 0 < α ≤ 1)",
-                self.contact_penalty > 0.0 && self.contact_penalty <= 1.0,
-            ),
-            (
-                "friction_heat_share (expected 0–1)",
-                (0.0..=1.0).contains(&self.friction_heat_share),
-            ),
-            (
-                "mass_scaling (expected ≥ 1)",
-                self.mass_scaling >= 1.0 && self.mass_scaling.is_finite(),
-            ),
-            (
-                "strain_rate_scale/skin_ratio/max_speed_ratio (expected > 0)",
-                self.strain_rate_scale > 0.0 && self.skin_ratio > 0.0 && self.max_speed_ratio > 0.0,
-            ),
-        ];
-        for (what, ok) in checks {
-            if !ok {
-                return Err(greybox_core::Error::invalid("numerics", what.to_string()));
-            }
-        }
-        Ok(())
+        greybox_core::rules::Rules::new("numerics")
+            .within("smoothing_ratio", self.smoothing_ratio, 1.0, 3.0)
+            .above_up_to("cfl", self.cfl, 0.0, 1.0)
+            .non_negative("av_alpha", self.av_alpha)
+            .non_negative("av_beta", self.av_beta)
+            .within("artificial_stress", self.artificial_stress, 0.0, 1.0)
+            .within("xsph", self.xsph, 0.0, 1.0)
+            .above_up_to("contact_penalty", self.contact_penalty, 0.0, 1.0)
+            .within("friction_heat_share", self.friction_heat_share, 0.0, 1.0)
+            .within("mass_scaling", self.mass_scaling, 1.0, f64::MAX)
+            .positive("strain_rate_scale", self.strain_rate_scale)
+            .positive("skin_ratio", self.skin_ratio)
+            .positive("max_speed_ratio", self.max_speed_ratio)
+            .finish()
     }
 }
 

@@ -86,36 +86,37 @@ impl PinSetup {
     }
 
     pub fn validate(&self) -> greybox_core::Result<()> {
-        let ok = self.pin_radius_m > 0.0
-            && self.depth_m > 0.0
-            && self.depth_m < self.pin_radius_m
-            && self.mu >= 0.0
-            && self.mu.is_finite()
-            && self.sliding_speed_m_s > 0.0
-            && self.slide_length_m > 0.0
-            && self.spacing_m > 0.0
-            && self.workpiece_height_m >= 6.0 * self.spacing_m
-            && self.mach > 0.0
-            && self.mach <= 0.1
-            && self.initial_temperature_k > 0.0;
-        if !ok {
-            return Err(greybox_core::Error::invalid(
-                "pin set-up",
-                "expected 0 < depth < pin radius, μ ≥ 0, positive speed, slide and spacing, \
-                 workpiece height ≥ 6 spacings, 0 < mach ≤ 0.1",
-            ));
-        }
-        if self.depth_m < self.spacing_m {
-            return Err(greybox_core::Error::invalid(
-                "pin set-up",
+        greybox_core::rules::Rules::new("pin set-up")
+            .positive("pin_radius_m", self.pin_radius_m)
+            .positive("depth_m", self.depth_m)
+            .non_negative("mu", self.mu)
+            .positive("sliding_speed_m_s", self.sliding_speed_m_s)
+            .positive("slide_length_m", self.slide_length_m)
+            .positive("spacing_m", self.spacing_m)
+            .positive("workpiece_height_m", self.workpiece_height_m)
+            .above_up_to("mach", self.mach, 0.0, 0.1)
+            .positive("initial_temperature_k", self.initial_temperature_k)
+            .relation(
+                !(self.depth_m >= self.pin_radius_m),
+                format!("depth_m ({}) must be below pin_radius_m ({})", self.depth_m, self.pin_radius_m),
+            )
+            .relation(
+                !(self.workpiece_height_m < 6.0 * self.spacing_m),
+                format!(
+                    "workpiece_height_m ({:.1} µm) must be at least 6 spacings ({:.1} µm)",
+                    self.workpiece_height_m * 1e6,
+                    6e6 * self.spacing_m
+                ),
+            )
+            .relation(
+                !(self.depth_m < self.spacing_m),
                 format!(
                     "the depth {:.2} µm is below one particle spacing {:.2} µm; refine the spacing",
                     self.depth_m * 1e6,
                     self.spacing_m * 1e6
                 ),
-            ));
-        }
-        Ok(())
+            )
+            .finish()
     }
 
     /// Workpiece length: room for the pressed chord behind, the slide, the chord ahead and

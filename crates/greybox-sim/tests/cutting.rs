@@ -229,3 +229,50 @@ fn resume_equals_the_uninterrupted_run() {
     let e = CutRun::execute(&setup, law, 1e-9, None, &mut []).err().unwrap().to_string();
     assert!(e.contains("--fraction") && e.contains("no step would run"), "{e}");
 }
+
+/// Every numeric field of a cutting set-up: a bad value is refused with the field's name and
+/// the rule it breaks (they used to share one sentence listing every rule at once).
+#[test]
+fn bad_configurations_name_the_field_and_the_rule() {
+    type Mutation = fn(&mut CuttingSetup);
+    let cases: Vec<(Mutation, &str)> = vec![
+        (|s| s.cutting_speed_m_s = -5.0, "cutting_speed_m_s must be > 0, got -5"),
+        (|s| s.uncut_chip_thickness_m = 0.0, "uncut_chip_thickness_m must be > 0"),
+        (|s| s.cut_length_m = f64::NAN, "cut_length_m must be > 0, got NaN"),
+        (|s| s.spacing_m = f64::INFINITY, "spacing_m must be > 0, got inf"),
+        (|s| s.workpiece_height_m = 0.1e-3, "workpiece_height_m"),
+        (|s| s.mu = -0.1, "mu must be ≥ 0"),
+        (|s| s.initial_temperature_k = 0.0, "initial_temperature_k must be > 0"),
+        (|s| s.insert.rake_deg = 60.0, "insert.rake_deg must be in (-45, 45)"),
+        (|s| s.insert.clearance_deg = 0.0, "insert.clearance_deg must be in (0, 45)"),
+        (|s| s.insert.edge_radius_m = -1e-6, "insert.edge_radius_m must be ≥ 0"),
+        (|s| s.insert.rake_length_m = 0.0, "insert.rake_length_m must be > 0"),
+        (|s| s.insert.flank_length_m = -1.0, "insert.flank_length_m must be > 0"),
+        (|s| s.friction.window_length_m = 0.0, "friction.window_length_m must be > 0"),
+        (|s| s.friction.update_every_steps = 0, "friction.update_every_steps must be ≥ 1"),
+        (|s| s.steady.block_length_m = -1.0, "steady.block_length_m must be > 0"),
+        (|s| s.steady.blocks = 1, "steady.blocks must be ≥ 2"),
+        (|s| s.steady.tolerance = 0.0, "steady.tolerance must be in (0, 1]"),
+        (|s| s.numerics.cfl = 2.0, "cfl must be in (0, 1], got 2"),
+        (|s| s.numerics.mass_scaling = 0.5, "mass_scaling must be in [1,"),
+        (|s| s.numerics.friction_heat_share = 1.5, "friction_heat_share must be in [0, 1]"),
+        (|s| s.numerics.smoothing_ratio = 0.5, "smoothing_ratio must be in [1, 3]"),
+        (|s| s.material.density_kg_m3 = -1.0, "density_kg_m3 must be > 0"),
+        (|s| s.material.elastic.poisson_ratio = 0.5, "elastic.poisson_ratio must be in (-1, 0.5)"),
+        (
+            |s| s.material.plasticity.as_mut().unwrap().n = 1.5,
+            "n must be in (0, 1], got 1.5",
+        ),
+        (|s| s.spacing_m = 40e-6, "fewer than 4 particle spacings"),
+    ];
+    for (k, (mutate, want)) in cases.iter().enumerate() {
+        let mut s = coarse_cut();
+        mutate(&mut s);
+        let e = s.validate().expect_err(want).to_string();
+        assert!(e.contains(want), "case {k}: {e}");
+        // and it reaches the run as an error, never a panic or a NaN
+        let r = CutRun::execute(&s, Arc::new(ConstantMu(0.3)), 1.0, None, &mut []);
+        assert!(r.is_err(), "case {k}: ran");
+    }
+    coarse_cut().validate().unwrap();
+}
