@@ -270,3 +270,28 @@ fn example_user_routines_compile() {
         );
     }
 }
+
+/// A model file with a valid hash but a cyclic tree: the C ABI refuses it with an error
+/// naming the field (it used to panic inside the host solver, or hang on the cycle).
+#[test]
+fn a_corrupted_model_is_an_error_code_not_a_panic_or_a_hang() {
+    use greybox_learn::mlp::Activation;
+    use greybox_learn::model::{Family, FittedModel};
+    let mut m = common::small_model(Family::GradientBoosting, Activation::Relu);
+    let FittedModel::TreeEnsemble(t) = &mut m.model else { unreachable!() };
+    let k = t.nodes.iter().position(|n| n.feature != greybox_learn::tree::LEAF).unwrap();
+    t.nodes[k].left = k as u32; // points at itself
+    let m = m.seal().unwrap();
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path().join("cyclic.json");
+    m.save(&p).unwrap();
+    let path = std::ffi::CString::new(p.to_str().unwrap()).unwrap();
+    let mut law: *mut greybox_ffi::GreyboxLaw = std::ptr::null_mut();
+    let code = unsafe { greybox_ffi::greybox_law_load(path.as_ptr(), &mut law) };
+    assert_ne!(code, 0);
+    assert!(law.is_null());
+    let mut buf = vec![0 as std::ffi::c_char; 512];
+    unsafe { greybox_ffi::greybox_last_error(buf.as_mut_ptr(), buf.len()) };
+    let msg = unsafe { std::ffi::CStr::from_ptr(buf.as_ptr()) }.to_string_lossy().into_owned();
+    assert!(msg.contains("cyclic.json") && msg.contains("would loop"), "{msg}");
+}
