@@ -112,6 +112,28 @@ pub struct StagedDir {
     resumable: bool,
 }
 
+/// An existing `target` must be a directory, and empty unless `existing` allows replacing it.
+fn check_replaceable_dir(target: &Path, flag: &str, existing: Existing) -> Result<()> {
+    let Ok(m) = std::fs::metadata(target) else {
+        return Ok(());
+    };
+    if !m.is_dir() {
+        return Err(Error::input(
+            SourcePos::path(target),
+            format!("{flag} must be a directory, but the path is {}", describe_kind(&m)),
+        ));
+    }
+    if existing == Existing::Refuse && non_empty_dir(target) {
+        return Err(Error::input(
+            SourcePos::path(target),
+            format!(
+                "{flag} already holds files (an earlier run?): give --force to replace the directory whole, or choose another {flag}"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 fn non_empty_dir(p: &Path) -> bool {
     std::fs::read_dir(p).is_ok_and(|mut d| d.next().is_some())
 }
@@ -119,22 +141,7 @@ fn non_empty_dir(p: &Path) -> bool {
 impl StagedDir {
     /// Start writing the directory `target` (`flag` names it in errors).
     pub fn begin(target: &Path, flag: &str, existing: Existing) -> Result<Self> {
-        if let Ok(m) = std::fs::metadata(target) {
-            if !m.is_dir() {
-                return Err(Error::input(
-                    SourcePos::path(target),
-                    format!("{flag} must be a directory, but the path is {}", describe_kind(&m)),
-                ));
-            }
-            if existing == Existing::Refuse && non_empty_dir(target) {
-                return Err(Error::input(
-                    SourcePos::path(target),
-                    format!(
-                        "{flag} already holds files (an earlier run?): give --force to replace the directory whole, or choose another {flag}"
-                    ),
-                ));
-            }
-        }
+        check_replaceable_dir(target, flag, existing)?;
         let (parent, name) = split(target)?;
         std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
         let mut b = tempfile::Builder::new();
@@ -175,20 +182,7 @@ impl StagedDir {
         }
         if !(there && resume) {
             // a new run (possibly continuing from a checkpoint taken elsewhere)
-            if let Ok(m) = std::fs::metadata(target) {
-                if !m.is_dir() {
-                    return Err(Error::input(
-                        SourcePos::path(target),
-                        format!("{flag} must be a directory, but the path is {}", describe_kind(&m)),
-                    ));
-                }
-                if existing == Existing::Refuse && non_empty_dir(target) {
-                    return Err(Error::input(
-                        SourcePos::path(target),
-                        format!("{flag} already holds files (an earlier run?): give --force to replace the directory whole, or choose another {flag}"),
-                    ));
-                }
-            }
+            check_replaceable_dir(target, flag, existing)?;
             std::fs::create_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
         }
         Ok(StagedDir {

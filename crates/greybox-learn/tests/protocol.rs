@@ -115,12 +115,19 @@ fn model_files_round_trip_and_verify() {
         assert!(e.contains("content hash mismatch"), "{e}");
         // another schema version is refused
         let text = std::fs::read_to_string(&p).unwrap().replacen(
-            "\"schema_version\": 1",
             "\"schema_version\": 2",
+            "\"schema_version\": 3",
             1,
         );
         let e = ModelFile::parse(&text, "t.json").unwrap_err().to_string();
-        assert!(e.contains("schema version Some(2) is not supported"), "{e}");
+        assert!(e.contains("schema version Some(3) is not supported"), "{e}");
+        // a version-1 file (before force_to_pressure and provenance) still loads
+        let mut v1 = f.clone();
+        v1.schema_version = 1;
+        let v1 = v1.seal().unwrap();
+        let text = serde_json::to_string(&v1).unwrap();
+        assert!(!text.contains("force_to_pressure") && !text.contains("provenance"));
+        assert_eq!(ModelFile::parse(&text, "v1.json").unwrap(), v1);
         // far outside the training domain: refused or flagged
         let far = [5000.0, 100.0];
         let e = f

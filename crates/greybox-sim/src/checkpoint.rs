@@ -90,6 +90,16 @@ impl Checkpoint {
         Ok(c)
     }
 
+    /// Restore `resume` (if any) into `sim` and hand back the observers' saved histories.
+    pub fn resume_into(resume: Option<Self>, sim: &mut Solver, setup: &str) -> Result<Option<ObserverStates>, SimError> {
+        resume
+            .map(|c| {
+                let states = c.observers.clone();
+                c.restore(sim, setup).map(|()| states)
+            })
+            .transpose()
+    }
+
     /// Restores into a solver built from the same set-up.
     pub fn restore(self, sim: &mut Solver, setup: &str) -> Result<(), SimError> {
         let shape_ok = self.tools.len() == sim.tools.len()

@@ -50,14 +50,7 @@ impl CutRun {
         let mut sim = Solver::new(model)?;
         let end = duration * fraction;
         let fresh_dt = sim.dt;
-        let states = match resume {
-            Some(c) => {
-                let states = c.observers.clone();
-                c.restore(&mut sim, &fingerprint(setup))?;
-                Some(states)
-            }
-            None => None,
-        };
+        let states = Checkpoint::resume_into(resume, &mut sim, &fingerprint(setup))?;
         check_steps_ahead(&sim, end, states.is_some(), fraction, fresh_dt)?;
         let v = setup.cutting_speed_m_s;
         let mut forces = ForceHistory::new(0, ((end / sim.dt) / 500.0).ceil().max(1.0) as u64);

@@ -281,14 +281,7 @@ pub fn simulate_from(
         .map_err(|e| SimError::Invalid(e.to_string()))?;
     let mut sim = Solver::new(model)?;
     let fresh_dt = sim.dt;
-    let states = match resume {
-        Some(c) => {
-            let states = c.observers.clone();
-            c.restore(&mut sim, &fingerprint(setup))?;
-            Some(states)
-        }
-        None => None,
-    };
+    let states = crate::checkpoint::Checkpoint::resume_into(resume, &mut sim, &fingerprint(setup))?;
     crate::cut_run::check_steps_ahead(&sim, press + slide, states.is_some(), 1.0, fresh_dt)?;
     let every = ((press + slide) / sim.dt / 400.0).ceil().max(1.0) as u64;
     let mut hist = ForceHistory::new(0, every);
