@@ -91,6 +91,7 @@ pub fn fit(a: &FitArgs) -> Result<JcFit> {
     let f = fit_johnson_cook(&pts, &opts).with_context(|| a.curves.display().to_string())?;
     if let Some(p) = &a.out {
         write_string_atomic(p, &serde_json::to_string_pretty(&f)?)?;
+        crate::output::provenance(&[("--curves", a.curves.as_path())])?.write_beside(p)?;
     }
     Ok(f)
 }
@@ -157,6 +158,7 @@ pub fn run(a: Args) -> Result<()> {
             )?;
             if let Some(p) = &a.out {
                 write_string_atomic(p, &serde_json::to_string_pretty(&r)?)?;
+                crate::output::provenance(&[("--config", a.config.as_path())])?.write_beside(p)?;
             }
             if a.json {
                 return print_json(&r);

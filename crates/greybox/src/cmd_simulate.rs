@@ -219,6 +219,8 @@ fn run_pin(a: &PinArgs) -> Result<()> {
     let (res, hist, sim) =
         simulate_from(&setup, resume, &mut obs.list()).map_err(|e| failure_context(e, &obs))?;
     write_common(staged.path(), &sim, &hist, &res)?;
+    let resume_input: Vec<(&str, &Path)> = a.output.resume.iter().map(|r| ("--resume", r.as_path())).collect();
+    crate::output::provenance(&resume_input)?.write_into(staged.path())?;
     staged.commit()?;
     if a.output.json {
         return print_json(&res);
@@ -250,6 +252,8 @@ pub struct CutCase {
     pub law: Arc<dyn FrictionLaw>,
     /// Where the law came from (file path or "constant mu").
     pub law_source: String,
+    /// The files the case was read from (set-up TOML, law file), for the run's provenance.
+    pub inputs: Vec<(&'static str, PathBuf)>,
 }
 
 /// Reads a cutting set-up TOML and loads its law file (relative to the set-up's folder).
@@ -262,16 +266,20 @@ pub fn read_cutting_setup(path: &Path) -> Result<CutCase> {
         .validate()
         .with_context(|| path.display().to_string())?;
     let base = path.parent().unwrap_or(Path::new("."));
-    cut_case(setup, base)
+    let mut case = cut_case(setup, base)?;
+    case.inputs.insert(0, ("--config", path.to_path_buf()));
+    Ok(case)
 }
 
 /// Pairs a set-up with its law: the law file (relative paths against `base`) or Coulomb `mu`.
 pub fn cut_case(setup: CuttingSetup, base: &Path) -> Result<CutCase> {
+    let mut inputs = Vec::new();
     let (law, law_source): (Arc<dyn FrictionLaw>, String) = match &setup.friction.law_file {
         Some(f) => {
             let p = base.join(f);
             let law = greybox_friction::spec::load_law(&p)
                 .with_context(|| format!("friction.law_file {}", p.display()))?;
+            inputs.push(("friction.law_file", p.clone()));
             (Arc::from(law), p.display().to_string())
         }
         None => (
@@ -283,6 +291,7 @@ pub fn cut_case(setup: CuttingSetup, base: &Path) -> Result<CutCase> {
         setup,
         law,
         law_source,
+        inputs,
     })
 }
 
@@ -373,6 +382,11 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &Output) -> Result<CutSummary> 
         files: files.iter().map(|p| staged.shown(p).display().to_string()).collect(),
     };
     write_string_atomic(&files[3], &serde_json::to_string_pretty(&s)?)?;
+    let mut inputs: Vec<(&str, &Path)> = case.inputs.iter().map(|(r, p)| (*r, p.as_path())).collect();
+    if let Some(r) = &o.resume {
+        inputs.push(("--resume", r.as_path()));
+    }
+    crate::output::provenance(&inputs)?.write_into(out)?;
     staged.commit()?;
     Ok(s)
 }
