@@ -7,8 +7,8 @@
 
 use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::{units, ContactState, Error, FrictionLaw, Result};
-use greybox_learn::modelfile::ModelFile;
-use greybox_learn::Predictor;
+use greybox_model::modelfile::ModelFile;
+use greybox_model::Predictor;
 use greybox_contact::PinContact;
 
 /// Most features a learned law maps (stack buffer, no allocation per call).

@@ -17,7 +17,7 @@ use crate::greybox::{GreyBoxLaw, PowerLaw};
 use crate::learned::LearnedLaw;
 use crate::table::{TabulatedLaw, TABLE_SCHEMA};
 use greybox_core::{units, Error, FrictionLaw, Result, SourcePos};
-use greybox_learn::modelfile::{ModelFile, SCHEMA as MODEL_SCHEMA};
+use greybox_model::modelfile::{ModelFile, SCHEMA as MODEL_SCHEMA};
 use greybox_contact::PinContact;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};

@@ -11,34 +11,9 @@ use crate::Matrix;
 use greybox_core::{Error, Result};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use serde::{Deserialize, Serialize};
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct BoostParams {
-    pub n_estimators: usize,
-    pub max_depth: usize,
-    pub learning_rate: f64,
-    /// L2 regularisation of leaf weights λ.
-    pub lambda: f64,
-    /// Minimum sum of hessians (= rows, for squared loss) in a child.
-    pub min_child_weight: f64,
-    /// Minimum split gain γ.
-    pub gamma: f64,
-}
 
-impl Default for BoostParams {
-    fn default() -> Self {
-        BoostParams {
-            n_estimators: 100,
-            max_depth: 6,
-            learning_rate: 0.3,
-            lambda: 1.0,
-            min_child_weight: 1.0,
-            gamma: 0.0,
-        }
-    }
-}
+pub use greybox_model::ensemble::BoostParams;
 
 /// XGBoost's smallest accepted loss change (kRtEps).
 const MIN_LOSS_CHANGE: f64 = 1e-6;

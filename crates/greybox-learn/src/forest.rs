@@ -9,32 +9,9 @@ use greybox_core::{Error, Result};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct ForestParams {
-    pub n_estimators: usize,
-    /// Depth limit (`None`: grow until leaves are pure).
-    pub max_depth: Option<usize>,
-    pub min_samples_leaf: usize,
-    /// Features tried per split (`None`: all, scikit-learn's regression default).
-    pub max_features: Option<usize>,
-    /// Draw a bootstrap sample per tree.
-    pub bootstrap: bool,
-}
 
-impl Default for ForestParams {
-    fn default() -> Self {
-        ForestParams {
-            n_estimators: 100,
-            max_depth: None,
-            min_samples_leaf: 1,
-            max_features: None,
-            bootstrap: true,
-        }
-    }
-}
+pub use greybox_model::ensemble::ForestParams;
 
 impl Regressor for ForestParams {
     type Fitted = TreeEnsemble;

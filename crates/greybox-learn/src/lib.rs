@@ -13,18 +13,16 @@
 //!   [`interval`] (CV-conformal prediction intervals), [`protocol`] (the article's study).
 //! * [`modelfile`] — versioned, hashed JSON model files; [`plot`] — SVG plots.
 
+/// Inference types, from `greybox-model` (kept here under their old paths).
+pub use greybox_model::{interval, matrix, modelfile, structure};
 pub mod boost;
 pub mod cv;
 pub mod forest;
 pub mod importance;
-pub mod interval;
-pub mod matrix;
 pub mod metrics;
 pub mod mlp;
 pub mod model;
-pub mod modelfile;
 pub mod protocol;
-pub mod structure;
 pub mod svr;
 pub mod table;
 pub mod tree;

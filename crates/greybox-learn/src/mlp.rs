@@ -6,104 +6,29 @@
 //! epochs without an R² gain of `tol`, and the best weights are kept. Inputs and the target
 //! are standardised inside the model.
 
+pub use greybox_model::mlp::{Activation, MlpModel, MlpParams, MAX_WIDTH};
 use crate::matrix::{standardize_target, Standardizer};
-use crate::model::{Predictor, Regressor};
+use crate::model::Regressor;
 use crate::Matrix;
 use greybox_core::{Error, Result};
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use serde::{Deserialize, Serialize};
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Activation {
-    Relu,
-    Tanh,
-}
 
-impl Activation {
-    pub fn name(self) -> &'static str {
-        match self {
-            Activation::Relu => "relu",
-            Activation::Tanh => "tanh",
-        }
-    }
-    #[inline]
-    fn apply(self, v: f64) -> f64 {
-        match self {
-            Activation::Relu => v.max(0.0),
-            Activation::Tanh => v.tanh(),
-        }
-    }
-    /// Derivative expressed through the activation's output a.
-    #[inline]
-    fn derivative_from_output(self, a: f64) -> f64 {
-        match self {
-            Activation::Relu => {
-                if a > 0.0 {
-                    1.0
-                } else {
-                    0.0
-                }
+/// The activation's derivative expressed through its output a.
+#[inline]
+fn derivative_from_output(act: Activation, a: f64) -> f64 {
+    match act {
+        Activation::Relu => {
+            if a > 0.0 {
+                1.0
+            } else {
+                0.0
             }
-            Activation::Tanh => 1.0 - a * a,
         }
+        Activation::Tanh => 1.0 - a * a,
     }
-}
-
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct MlpParams {
-    pub hidden_layers: Vec<usize>,
-    pub activation: Activation,
-    /// Adam step size.
-    pub learning_rate: f64,
-    /// L2 penalty α.
-    pub alpha: f64,
-    /// Mini-batch size (`None`: min(200, n)).
-    pub batch_size: Option<usize>,
-    /// Epoch limit.
-    pub max_epochs: usize,
-    /// Hold out this fraction for early stopping (0: no early stopping, train all epochs).
-    pub validation_fraction: f64,
-    pub n_iter_no_change: usize,
-    pub tol: f64,
-}
-
-impl Default for MlpParams {
-    fn default() -> Self {
-        MlpParams {
-            hidden_layers: vec![32, 16],
-            activation: Activation::Relu,
-            learning_rate: 0.001,
-            alpha: 1e-4,
-            batch_size: None,
-            max_epochs: 200,
-            validation_fraction: 0.1,
-            n_iter_no_change: 10,
-            tol: 1e-4,
-        }
-    }
-}
-
-/// Widest layer a single-point prediction handles without allocating.
-pub const MAX_WIDTH: usize = 256;
-
-/// A fitted network. Layer k maps `sizes[k]` → `sizes[k+1]`; `weights[k]` is row-major
-/// (`sizes[k]` × `sizes[k+1]`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct MlpModel {
-    pub scaler: Standardizer,
-    pub y_mean: f64,
-    pub y_scale: f64,
-    pub activation: Activation,
-    pub sizes: Vec<usize>,
-    pub weights: Vec<Vec<f64>>,
-    pub biases: Vec<Vec<f64>>,
-    /// Epochs trained and the epoch whose weights were kept.
-    pub epochs: usize,
-    pub best_epoch: usize,
 }
 
 struct Net {
@@ -337,7 +262,7 @@ impl Regressor for MlpParams {
                                 }
                             }
                             for (acc, a) in out.iter_mut().zip(&acts[k][r * fi..(r + 1) * fi]) {
-                                *acc *= self.activation.derivative_from_output(*a);
+                                *acc *= derivative_from_output(self.activation, *a);
                             }
                         }
                         deltas[k] = dk;
@@ -420,32 +345,3 @@ impl Regressor for MlpParams {
     }
 }
 
-impl Predictor for MlpModel {
-    #[inline]
-    fn predict_one(&self, x: &[f64]) -> f64 {
-        let mut a = [0.0; MAX_WIDTH];
-        let mut b = [0.0; MAX_WIDTH];
-        let p = self.sizes[0];
-        a[..p].copy_from_slice(&x[..p]);
-        self.scaler.transform_in_place(&mut a[..p]);
-        let last = self.sizes.len() - 1;
-        for k in 0..last {
-            let (fi, fo) = (self.sizes[k], self.sizes[k + 1]);
-            b[..fo].copy_from_slice(&self.biases[k]);
-            let w = &self.weights[k];
-            for i in 0..fi {
-                let v = a[i];
-                for (o, wv) in b[..fo].iter_mut().zip(&w[i * fo..(i + 1) * fo]) {
-                    *o += v * wv;
-                }
-            }
-            if k + 1 < last {
-                for o in b[..fo].iter_mut() {
-                    *o = self.activation.apply(*o);
-                }
-            }
-            std::mem::swap(&mut a, &mut b);
-        }
-        a[0] * self.y_scale + self.y_mean
-    }
-}

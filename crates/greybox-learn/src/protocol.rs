@@ -10,6 +10,7 @@
 //! 6. a CV-conformal prediction interval from the selected configuration's out-of-fold
 //!    residuals of step 1.
 
+use crate::model::Train;
 use crate::boost::BoostParams;
 use crate::cv::{check_folds, grid_search, kfold_ids, nested_cv, OuterFold};
 use crate::forest::ForestParams;

@@ -3,47 +3,10 @@
 use crate::Matrix;
 use greybox_core::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header};
 use greybox_core::{Error, Result, SourcePos};
-use serde::{Deserialize, Serialize};
+
 use std::path::Path;
 
-/// A column name and the unit its suffix names (`normal_force_N` → N).
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Column {
-    pub name: String,
-    pub unit: String,
-}
-
-impl Column {
-    pub fn new(name: &str) -> Self {
-        Column {
-            name: name.to_string(),
-            unit: unit_of(name).to_string(),
-        }
-    }
-}
-
-/// The unit named by a column's suffix; "1" (dimensionless) when none is recognised.
-pub fn unit_of(name: &str) -> &'static str {
-    const SUFFIXES: [(&str, &str); 12] = [
-        ("_m_per_min", "m/min"),
-        ("_m_per_s", "m/s"),
-        ("_MPa", "MPa"),
-        ("_GPa", "GPa"),
-        ("_Pa", "Pa"),
-        ("_kN", "kN"),
-        ("_N", "N"),
-        ("_K", "K"),
-        ("_degC", "°C"),
-        ("_um", "µm"),
-        ("_mm", "mm"),
-        ("_s", "s"),
-    ];
-    SUFFIXES
-        .iter()
-        .find(|(s, _)| name.ends_with(s))
-        .map(|(_, u)| *u)
-        .unwrap_or("1")
-}
+pub use greybox_model::column::{unit_of, Column};
 
 /// Features, target and optional fold ids read from a CSV.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,5 +1,6 @@
 //! Each model family learns a smooth friction-like surface; protocol pieces behave.
 
+use greybox_learn::model::Train;
 use greybox_learn::boost::BoostParams;
 use greybox_learn::forest::ForestParams;
 use greybox_learn::importance::permutation_importance;

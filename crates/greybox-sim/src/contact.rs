@@ -17,29 +17,44 @@
 //! work (f_t on the mid-step relative velocity) heats the particle (share
 //! `friction_heat_share`).
 
-use crate::particles::FREE;
-use crate::solver::Solver;
+use crate::particles::{Particles, FREE};
+use crate::rates::Rates;
+use crate::tool::Tool;
+use greybox_material::Thermal;
+
+/// What contact needs of the solver besides the particles, their rates and the tools.
+pub(crate) struct ContactParams<'a> {
+    /// Time step and time, s.
+    pub dt: f64,
+    pub time: f64,
+    /// Penalty factor α (`contact_penalty`).
+    pub penalty: f64,
+    /// Reach around a tool's bounding box (the smoothing length), m.
+    pub reach: f64,
+    /// Share of the friction work that heats the particle (0 when not thermal).
+    pub heat_share: f64,
+    /// Mass scaling factor (heat capacity per volume stays physical).
+    pub mass_scaling: f64,
+    pub thermal: &'a Thermal,
+}
+
+/// Work of the contact forces in one step, J/m.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct ContactWork {
+    pub friction: f64,
+    pub penalty: f64,
+    pub external: f64,
+}
 
 #[allow(clippy::needless_range_loop)] // several arrays are indexed by i
-pub(crate) fn apply(sim: &mut Solver) {
-    let dt = sim.dt;
-    let t = sim.time;
-    let alpha = sim.numerics.contact_penalty;
-    let m = sim.particles.mass;
-    let reach = sim.kernel.h;
-    let heat = if sim.numerics.thermal {
-        sim.numerics.friction_heat_share
-    } else {
-        0.0
-    };
-    let f_mass = sim.numerics.mass_scaling;
-    let th = &sim.material.thermal;
-    let p = &mut sim.particles;
-    let rates = &mut sim.rates;
+pub(crate) fn apply(c: &ContactParams, p: &mut Particles, rates: &mut [Rates], tools: &mut [Tool]) -> ContactWork {
+    let (dt, t, alpha, reach, heat, f_mass, th) =
+        (c.dt, c.time, c.penalty, c.reach, c.heat_share, c.mass_scaling, c.thermal);
+    let m = p.mass;
     let mut friction_work = 0.0;
     let mut penalty_work = 0.0;
     let mut external_work = 0.0;
-    for tool in sim.tools.iter_mut() {
+    for tool in tools.iter_mut() {
         let vt = tool.motion.velocity(t);
         let (lo, hi) = tool.shape.bounding_box();
         let (x0, y0) = (tool.position[0], tool.position[1]);
@@ -119,7 +134,9 @@ pub(crate) fn apply(sim: &mut Solver) {
         tool.force = force;
         tool.contacts = contacts;
     }
-    sim.energy.friction_work += friction_work;
-    sim.energy.penalty_work += penalty_work;
-    sim.energy.external_work += external_work;
+    ContactWork {
+        friction: friction_work,
+        penalty: penalty_work,
+        external: external_work,
+    }
 }

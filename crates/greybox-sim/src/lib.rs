@@ -24,6 +24,7 @@ pub mod output;
 pub mod particles;
 pub mod pin;
 pub mod plasticity;
+mod rates;
 pub mod solver;
 pub mod steady;
 pub mod tool;

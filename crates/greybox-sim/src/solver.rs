@@ -27,6 +27,7 @@
 //! amplifies every mode and is only kept alive by artificial viscosity at small Courant numbers.
 
 use crate::contact;
+use crate::rates::Rates;
 use crate::disjoint::DisjointMut;
 use crate::kernel::{CubicSpline, PairTable};
 use crate::model::{Model, Numerics};
@@ -95,22 +96,6 @@ pub struct EnergyBalance {
     pub external: f64,
     /// (kinetic + elastic + plastic + friction + penalty + viscous − external) / external.
     pub relative_error: f64,
-}
-
-/// Per-particle rates from the neighbour gather.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct Rates {
-    pub ax: f64,
-    pub ay: f64,
-    /// Kinematics sums: ρ̇ (kg/(m³·s)), L_xx, L_xy, L_yx, L_yy (1/s) and the XSPH velocity
-    /// correction before the factor ε (m/s).
-    pub kin: [f64; 7],
-    /// dT/dt, K/s (conduction, then friction heating). Between steps 3a and 3b it holds the
-    /// raw conduction sum ρ c dT/dt, W/m³.
-    pub dtemp: f64,
-    /// Artificial-viscosity dissipation of the pairs whose first partner is this particle,
-    /// W/m (only the total over all particles is meaningful).
-    pub av_power: f64,
 }
 
 /// Per-particle data packed for the gather: one record of exactly two cache lines, the
@@ -282,7 +267,7 @@ impl Solver {
         self.pack();
         self.gather_forces();
         self.gather_incoming_forces();
-        contact::apply(self);
+        self.apply_contact();
         self.book_boundaries();
         self.kick();
         self.gather_kinematics();
@@ -557,6 +542,23 @@ impl Solver {
     }
 
     /// Reaction forces and external work of the prescribed-velocity groups.
+    /// Tool contact forces on the particles (see [`contact`]), and their work booked.
+    fn apply_contact(&mut self) {
+        let params = contact::ContactParams {
+            dt: self.dt,
+            time: self.time,
+            penalty: self.numerics.contact_penalty,
+            reach: self.kernel.h,
+            heat_share: if self.numerics.thermal { self.numerics.friction_heat_share } else { 0.0 },
+            mass_scaling: self.numerics.mass_scaling,
+            thermal: &self.material.thermal,
+        };
+        let w = contact::apply(&params, &mut self.particles, &mut self.rates, &mut self.tools);
+        self.energy.friction_work += w.friction;
+        self.energy.penalty_work += w.penalty;
+        self.energy.external_work += w.external;
+    }
+
     fn book_boundaries(&mut self) {
         if self.groups.is_empty() {
             return;

@@ -9,7 +9,7 @@
 
 use crate::matrix::{Matrix, Standardizer};
 use crate::mlp::{MlpModel, MAX_WIDTH};
-use crate::model::FittedModel;
+use crate::family::FittedModel;
 use crate::svr::{SvrModel, MAX_FEATURES};
 use crate::tree::{TreeEnsemble, LEAF};
 

@@ -2,8 +2,8 @@
 //! the prediction interval and a SHA-256 content hash over everything else.
 
 use crate::interval::PredictionInterval;
-use crate::model::{Family, FittedModel, Hyperparameters, Predictor};
-use crate::table::Column;
+use crate::family::{Family, FittedModel, Hyperparameters, Predictor};
+use crate::column::Column;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::{Error, Result, SourcePos};
 use serde::{Deserialize, Serialize};

@@ -1,0 +1,120 @@
+//! The registry of model families for inference: which families exist, their hyperparameters
+//! (plain serde data) and their fitted models, each predicting single points without
+//! allocating. Training (the `Regressor` seam) lives in `greybox-learn`.
+
+use crate::ensemble::{BoostParams, ForestParams};
+use crate::mlp::{MlpModel, MlpParams};
+use crate::svr::{SvrModel, SvrParams};
+use crate::tree::TreeEnsemble;
+use serde::{Deserialize, Serialize};
+
+pub use crate::predictor::Predictor;
+
+
+/// The four model families.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Family {
+    RandomForest,
+    Svr,
+    GradientBoosting,
+    Mlp,
+}
+
+impl Family {
+    pub const ALL: [Family; 4] = [
+        Family::RandomForest,
+        Family::Svr,
+        Family::GradientBoosting,
+        Family::Mlp,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::RandomForest => "random-forest",
+            Family::Svr => "svr",
+            Family::GradientBoosting => "gradient-boosting",
+            Family::Mlp => "mlp",
+        }
+    }
+    /// Column title as in the article's tables.
+    pub fn title(self) -> &'static str {
+        match self {
+            Family::RandomForest => "RF",
+            Family::Svr => "SV",
+            Family::GradientBoosting => "XGBoost-style",
+            Family::Mlp => "FFNN",
+        }
+    }
+    pub fn parse(s: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|f| f.name() == s.trim())
+    }
+}
+
+/// Hyperparameters of any family (the unit a grid enumerates and a model file stores).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "family", rename_all = "kebab-case")]
+pub enum Hyperparameters {
+    RandomForest(ForestParams),
+    Svr(SvrParams),
+    GradientBoosting(BoostParams),
+    Mlp(MlpParams),
+}
+
+/// A fitted model of any family.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum FittedModel {
+    TreeEnsemble(TreeEnsemble),
+    Svr(SvrModel),
+    Mlp(MlpModel),
+}
+
+impl Predictor for FittedModel {
+    #[inline]
+    fn predict_one(&self, x: &[f64]) -> f64 {
+        match self {
+            FittedModel::TreeEnsemble(m) => m.predict_one(x),
+            FittedModel::Svr(m) => m.predict_one(x),
+            FittedModel::Mlp(m) => m.predict_one(x),
+        }
+    }
+}
+
+impl Hyperparameters {
+    pub fn family(&self) -> Family {
+        match self {
+            Hyperparameters::RandomForest(_) => Family::RandomForest,
+            Hyperparameters::Svr(_) => Family::Svr,
+            Hyperparameters::GradientBoosting(_) => Family::GradientBoosting,
+            Hyperparameters::Mlp(_) => Family::Mlp,
+        }
+    }
+    /// Short description of the grid-relevant values, e.g. `n_estimators=100`.
+    pub fn label(&self) -> String {
+        match self {
+            Hyperparameters::RandomForest(p) => format!("n_estimators={}", p.n_estimators),
+            Hyperparameters::Svr(p) => format!(
+                "kernel={}, C={}, epsilon={}",
+                p.kernel.name(),
+                p.c,
+                p.epsilon
+            ),
+            Hyperparameters::GradientBoosting(p) => {
+                format!(
+                    "n_estimators={}, max_depth={}, learning_rate={}",
+                    p.n_estimators, p.max_depth, p.learning_rate
+                )
+            }
+            Hyperparameters::Mlp(p) => format!(
+                "hidden=({}), activation={}, learning_rate={}",
+                p.hidden_layers
+                    .iter()
+                    .map(|h| h.to_string())
+                    .collect::<Vec<_>>()
+                    .join(","),
+                p.activation.name(),
+                p.learning_rate
+            ),
+        }
+    }
+}
