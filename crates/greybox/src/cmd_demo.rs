@@ -8,6 +8,7 @@ use crate::{
 };
 use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
+use greybox_friction::spec::LawSpec;
 use greybox_tribo::readers::RecordingFormat;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -52,8 +53,13 @@ const FOREIGN_RADII_MM: [f64; 5] = [5.0, 6.0, 7.0, 8.0, 9.0];
 pub fn run(a: Args) -> Result<()> {
     let study = Study::parse(DEMO_STUDY, "bundled examples/demo-study.toml")?;
     let plan = study.plan.build()?;
-    let staged = stage_out_dir(&a.out, a.force, &[])?;
-    let out = staged.path();
+    let target = std::path::absolute(&a.out)?;
+    let staged = stage_out_dir(&target, a.force, &[])?;
+    // Every stage writes with paths relative to the demo's own directory, so that what the
+    // outputs record (report sources, provenance inputs, the law's model reference) holds
+    // after the swap, wherever the directory is moved.
+    let cwd = WorkingDir::enter(staged.path())?;
+    let out = Path::new("");
     let plan_files = cmd_plan::write_plan(&study, &plan, &out.join("plan"))?;
     let plan_summary = cmd_plan::summarize(&plan, plan_files);
     let rec_dir = out.join("recordings");
@@ -135,14 +141,16 @@ pub fn run(a: Args) -> Result<()> {
             r(a).total_cmp(&r(b))
         })
         .ok_or_else(|| anyhow::anyhow!("no model family was fitted"))?;
-    let law = serde_json::json!({
-        "law": "grey-box",
-        "inner": {"law": "learned", "model": format!("fit/models/{}.json", best.family.name()), "contact": study.contact},
-        "outside": {"law": "power-fit"},
-        "blend_fraction": 0.1,
-        "shear_cap_k_MPa": DEMO_SHEAR_CAP_MPA,
-        "clamp": [0.05, 1.0]
-    });
+    let law = LawSpec::GreyBox {
+        inner: Box::new(LawSpec::Learned {
+            model: PathBuf::from(format!("fit/models/{}.json", best.family.name())),
+            contact: Some(study.contact),
+        }),
+        outside: Box::new(LawSpec::PowerFit),
+        blend_fraction: 0.1,
+        shear_cap_k_mpa: Some(DEMO_SHEAR_CAP_MPA),
+        clamp: Some((0.05, 1.0)),
+    };
     let law_path = out.join("law.json");
     write_string_atomic(&law_path, &serde_json::to_string_pretty(&law)?)?;
     let export_args = cmd_export::Args {
@@ -282,15 +290,12 @@ pub fn run(a: Args) -> Result<()> {
     };
     let cutting = cmd_simulate::run_cut(&cut_case, 1.0, &cut_out)?;
     // the run is complete: swap it in, then report the paths where the files now are
-    let staging = out.to_path_buf();
-    crate::output::provenance(&[])?.with_seed(study.synth.seed).write_into(out)?;
+    crate::output::provenance(&[])?.with_seed(study.synth.seed).write_into(Path::new("."))?;
+    drop(cwd);
     staged.commit()?;
-    let shown = |p: &Path| -> PathBuf {
-        p.strip_prefix(&staging).map_or_else(|_| p.to_path_buf(), |rel| a.out.join(rel))
-    };
-    let shown_text = |t: &str| t.replace(&staging.display().to_string(), &a.out.display().to_string());
+    let shown = |p: &Path| -> PathBuf { a.out.join(p) };
     if a.json {
-        let mut v = serde_json::to_value(DemoSummary {
+        let v = serde_json::to_value(DemoSummary {
             plan: plan_summary,
             synth,
             identify,
@@ -304,7 +309,6 @@ pub fn run(a: Args) -> Result<()> {
             material,
             cutting,
         })?;
-        relocate_strings(&mut v, &shown_text);
         return print_json(&v);
     }
     let out = a.out.as_path();
@@ -319,11 +323,10 @@ pub fn run(a: Args) -> Result<()> {
     );
     let adhesive_out = shown(&adhesive_args.out);
     let cut_dir = shown(&cut_out.out);
-    let export_line = shown_text(&export_line);
-    let mut cutting = cutting;
-    cutting.law = shown_text(&cutting.law);
-    let models: Vec<String> = fit_outputs.models.iter().map(|m| shown_text(m)).collect();
-    let plots: Vec<String> = fit_outputs.plots.iter().map(|m| shown_text(m)).collect();
+    let mut identify = identify;
+    identify.dataset = shown(Path::new(&identify.dataset)).display().to_string();
+    let models: Vec<String> = fit_outputs.models.iter().map(|m| shown(Path::new(m)).display().to_string()).collect();
+    let plots: Vec<String> = fit_outputs.plots.iter().map(|m| shown(Path::new(m)).display().to_string()).collect();
     println!("greybox demo — the seed article's tribometer campaign on a virtual rig\n");
     println!(
         "[0/6] rig dynamics: virtual impact-hammer tests at 500, 1000, 2000 N -> {}",
@@ -424,13 +427,23 @@ pub fn run(a: Args) -> Result<()> {
     Ok(())
 }
 
-/// Rewrite every string in a JSON value (paths written under the staging directory).
-fn relocate_strings(v: &mut serde_json::Value, f: &dyn Fn(&str) -> String) {
-    match v {
-        serde_json::Value::String(s) => *s = f(s),
-        serde_json::Value::Array(a) => a.iter_mut().for_each(|x| relocate_strings(x, f)),
-        serde_json::Value::Object(o) => o.values_mut().for_each(|x| relocate_strings(x, f)),
-        _ => {}
+/// The process working directory set to a directory while the demo writes into it, and
+/// restored when dropped (also on an error).
+struct WorkingDir {
+    previous: PathBuf,
+}
+
+impl WorkingDir {
+    fn enter(dir: &Path) -> Result<Self> {
+        let previous = std::env::current_dir()?;
+        std::env::set_current_dir(dir)?;
+        Ok(WorkingDir { previous })
+    }
+}
+
+impl Drop for WorkingDir {
+    fn drop(&mut self) {
+        let _ = std::env::set_current_dir(&self.previous);
     }
 }
 
