@@ -1,3 +1,4 @@
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too
 //! greybox-contact: contact mechanics that both the tribometer pipeline (`greybox-tribo`) and
 //! the friction laws (`greybox-friction`, and through it the C ABI) need, so that neither
 //! depends on the other.

@@ -1,3 +1,4 @@
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too
 //! greybox-sim: a 2D plane-strain updated-Lagrangian SPH solver for solids with rigid tools,
 //! penalty contact and friction windows — the tribometer pin sliding and orthogonal cutting.
 //!

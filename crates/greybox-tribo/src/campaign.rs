@@ -909,7 +909,7 @@ pub fn check_levels(ds: &FrictionDataset, files: &[FileReport]) -> Result<()> {
     for &(pin, level) in &levels {
         let others = median_of(levels.iter().filter(|(p, _)| *p != pin).map(|(_, l)| *l).collect());
         let factor = level.max(1e-12) / others.max(1e-12);
-        if factor > IMPLAUSIBLE_LEVEL_FACTOR || factor < 1.0 / IMPLAUSIBLE_LEVEL_FACTOR {
+        if !(1.0 / IMPLAUSIBLE_LEVEL_FACTOR..=IMPLAUSIBLE_LEVEL_FACTOR).contains(&factor) {
             let source = files
                 .iter()
                 .find(|f| f.segments.iter().any(|s| s.matched.is_some_and(|(p, _)| p == pin)) || f.rows.iter().any(|r| r.pin == pin))
@@ -946,161 +946,134 @@ fn match_segments_unchecked(
             },
         ));
     }
-    // every measured segment, in campaign order
-    let mut segs: Vec<(usize, usize)> = Vec::new();
-    for (f, file) in files.iter().enumerate() {
-        for (k, s) in file.segments.iter().enumerate() {
-            if s.stats.is_some() {
-                segs.push((f, k));
-            }
-        }
+    let segs = measured_segments(files);
+    match c.expected {
+        None => number_without_plan(files, &segs, c),
+        Some(expected) => match_to_plan(files, &segs, expected, c),
     }
-    let name = |f: &FileReport, s: &SegmentReport| {
-        format!("{} segment {} ({:.3}–{:.3} s)", f.source, s.index, s.start_s, s.end_s)
-    };
-    let mut records = Vec::new();
-    let mut report = MatchReport::default();
-    // the measured load is the row's load (and gives its pressure); the plan's beside it
-    let record = |e_pin: u32, e_step: u32, planned_n: Option<f64>, v: f64, s: &SegmentReport| -> Result<FrictionRecord> {
-        let st = s.stats.as_ref().expect("measured");
-        Ok(FrictionRecord {
-            pin: e_pin,
-            step: e_step,
-            normal_force_n: st.normal_force_n,
-            normal_force_planned_n: planned_n,
-            sliding_velocity_m_s: v,
-            hertz_pressure_pa: c.contact.pressure_pa(st.normal_force_n)?,
-            pressure_convention: c.contact.convention,
-            cof_apparent: st.mean,
-            cof_apparent_std: st.std,
-            n_samples: st.n_samples as u64,
-            plateau_start_s: st.start_s,
-            plateau_end_s: st.end_s,
-            cof_trend_per_s: st.trend_per_s,
-            stationary: st.stationary,
-            flags: s.flags.clone(),
-            cof_adhesive: None,
+}
+
+/// Every measured segment as (file, segment) indices, in campaign order.
+fn measured_segments(files: &[FileReport]) -> Vec<(usize, usize)> {
+    files
+        .iter()
+        .enumerate()
+        .flat_map(|(f, file)| {
+            file.segments
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| s.stats.is_some())
+                .map(move |(k, _)| (f, k))
         })
-    };
-    let Some(expected) = c.expected else {
-        report.method = "none".into();
-        let mut pin = 0u32;
-        let mut step = 0u32;
-        let mut prev: Option<(usize, f64, f64)> = None; // file, load, end time
-        for &(f, k) in &segs {
-            let s = &files[f].segments[k];
-            let Some(v) = s.sliding_velocity_m_per_min else {
-                return Err(Error::input(
-                    SourcePos::file(&files[f].source),
-                    "without a plan the sliding velocity must come from the recording: map a speed channel (--map speed=NAME:UNIT, with --track-radius-mm for rpm) or give a plan (--study or --plan-steps)",
-                ));
-            };
-            let single = |ff: usize| files[ff].segments.iter().filter(|s| s.stats.is_some()).count() == 1;
-            let new_pin = match prev {
-                None => true,
-                Some((pf, load, _)) => {
-                    let load_changed = (s.normal_force_n / load - 1.0).abs() > 0.1;
-                    let new_file = pf != f && !(single(pf) && single(f));
-                    load_changed || new_file
-                }
-            };
-            if new_pin {
-                pin += 1;
-                step = 0;
+        .collect()
+}
+
+/// A dataset row from a measured segment: the measured load is the row's load (and gives
+/// its pressure); the plan's, if any, beside it.
+fn segment_record(
+    c: &Campaign,
+    (pin, step): (u32, u32),
+    planned_n: Option<f64>,
+    velocity_m_s: f64,
+    s: &SegmentReport,
+) -> Result<FrictionRecord> {
+    let st = s.stats.as_ref().expect("measured");
+    Ok(FrictionRecord {
+        pin,
+        step,
+        normal_force_n: st.normal_force_n,
+        normal_force_planned_n: planned_n,
+        sliding_velocity_m_s: velocity_m_s,
+        hertz_pressure_pa: c.contact.pressure_pa(st.normal_force_n)?,
+        pressure_convention: c.contact.convention,
+        cof_apparent: st.mean,
+        cof_apparent_std: st.std,
+        n_samples: st.n_samples as u64,
+        plateau_start_s: st.start_s,
+        plateau_end_s: st.end_s,
+        cof_trend_per_s: st.trend_per_s,
+        stationary: st.stationary,
+        flags: s.flags.clone(),
+        cof_adhesive: None,
+    })
+}
+
+/// Without a plan: pins and steps numbered from the recordings (a new pin where the load
+/// changes by more than 10 % or a new multi-step file starts); speeds must be measured.
+fn number_without_plan(
+    files: &mut [FileReport],
+    segs: &[(usize, usize)],
+    c: &Campaign,
+) -> Result<(FrictionDataset, MatchReport)> {
+    let mut records = Vec::new();
+    let (mut pin, mut step) = (0u32, 0u32);
+    let mut prev: Option<(usize, f64)> = None; // file, load
+    for &(f, k) in segs {
+        let s = &files[f].segments[k];
+        let Some(v) = s.sliding_velocity_m_per_min else {
+            return Err(Error::input(
+                SourcePos::file(&files[f].source),
+                "without a plan the sliding velocity must come from the recording: map a speed channel (--map speed=NAME:UNIT, with --track-radius-mm for rpm) or give a plan (--study or --plan-steps)",
+            ));
+        };
+        let single = |ff: usize| files[ff].segments.iter().filter(|s| s.stats.is_some()).count() == 1;
+        let new_pin = match prev {
+            None => true,
+            Some((pf, load)) => {
+                let load_changed = (s.normal_force_n / load - 1.0).abs() > 0.1;
+                let new_file = pf != f && !(single(pf) && single(f));
+                load_changed || new_file
             }
-            step += 1;
-            prev = Some((f, s.normal_force_n, s.end_s));
-            files[f].segments[k].matched = Some((pin, step));
-            let s = &files[f].segments[k];
-            records.push(record(pin, step, None, units::m_per_min_to_m_per_s(v), s)?);
+        };
+        if new_pin {
+            pin += 1;
+            step = 0;
         }
-        return Ok((FrictionDataset { records }, report));
+        step += 1;
+        prev = Some((f, s.normal_force_n));
+        files[f].segments[k].matched = Some((pin, step));
+        let s = &files[f].segments[k];
+        records.push(segment_record(c, (pin, step), None, units::m_per_min_to_m_per_s(v), s)?);
+    }
+    let report = MatchReport {
+        method: "none".into(),
+        ..Default::default()
     };
-    let describe = |e: &ExpectedStep| {
-        format!(
-            "pin {} step {} ({:.1} N, {:.1} m/min)",
-            e.pin,
-            e.step,
-            e.normal_force_n,
-            units::m_per_s_to_m_per_min(e.sliding_velocity_m_s)
-        )
-    };
+    Ok((FrictionDataset { records }, report))
+}
+
+/// "pin P step S (F N, v m/min)" for reports.
+fn describe_step(e: &ExpectedStep) -> String {
+    format!(
+        "pin {} step {} ({:.1} N, {:.1} m/min)",
+        e.pin,
+        e.step,
+        e.normal_force_n,
+        units::m_per_s_to_m_per_min(e.sliding_velocity_m_s)
+    )
+}
+
+/// With a plan: segments assigned to planned steps (by measured speed and load when every
+/// segment has a speed, else by order), then rows for the matched ones and a report of the
+/// missing, extra and reordered steps.
+fn match_to_plan(
+    files: &mut [FileReport],
+    segs: &[(usize, usize)],
+    expected: &[ExpectedStep],
+    c: &Campaign,
+) -> Result<(FrictionDataset, MatchReport)> {
+    let mut report = MatchReport::default();
     let all_speed = segs
         .iter()
         .all(|&(f, k)| files[f].segments[k].sliding_velocity_m_per_min.is_some());
-    let mut assignment: Vec<Option<usize>> = vec![None; segs.len()];
-    if all_speed && !segs.is_empty() {
+    let assignment = if all_speed && !segs.is_empty() {
         report.method = "speed and load".into();
-        let tol_f = c.cfg.match_load_tolerance;
-        let tol_v = c.cfg.match_speed_tolerance;
-        let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
-        for (si, &(f, k)) in segs.iter().enumerate() {
-            let s = &files[f].segments[k];
-            let v = units::m_per_min_to_m_per_s(s.sliding_velocity_m_per_min.expect("all_speed"));
-            for (ei, e) in expected.iter().enumerate() {
-                let df = (s.normal_force_n / e.normal_force_n).ln().abs();
-                let dv = (v / e.sliding_velocity_m_s).ln().abs();
-                if df <= (1.0 + tol_f).ln() && dv <= (1.0 + tol_v).ln() {
-                    pairs.push((df / tol_f + dv / tol_v, si, ei));
-                }
-            }
-        }
-        pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
-        let mut used = vec![false; expected.len()];
-        for (_, si, ei) in pairs {
-            if assignment[si].is_none() && !used[ei] {
-                assignment[si] = Some(ei);
-                used[ei] = true;
-            }
-        }
+        assign_by_speed_and_load(files, segs, expected, c)
     } else {
         report.method = "order".into();
-        if segs.len() != expected.len() {
-            let per_file: Vec<String> = files
-                .iter()
-                .map(|f| format!("{}: {}", f.source, f.segments.iter().filter(|s| s.stats.is_some()).count()))
-                .collect();
-            return Err(Error::invalid(
-                "identify",
-                format!(
-                    "{} segments were found ({}) but the plan expects {} steps, and without a speed channel they can only be matched by order: map a speed channel (--map speed=NAME:UNIT) or a step column, or check the plan",
-                    segs.len(),
-                    per_file.join("; "),
-                    expected.len()
-                ),
-            ));
-        }
-        // by order: the measured load must not be closer to another pin's load
-        let pin_loads: Vec<(u32, f64)> = expected.iter().fold(Vec::new(), |mut v, e| {
-            if !v.iter().any(|(p, _)| *p == e.pin) {
-                v.push((e.pin, e.normal_force_n));
-            }
-            v
-        });
-        for (si, &(f, k)) in segs.iter().enumerate() {
-            let s = &files[f].segments[k];
-            let e = &expected[si];
-            let own = (s.normal_force_n / e.normal_force_n).ln().abs();
-            if let Some((p, l)) = pin_loads
-                .iter()
-                .filter(|(p, _)| *p != e.pin)
-                .min_by(|a, b| {
-                    (s.normal_force_n / a.1).ln().abs().total_cmp(&(s.normal_force_n / b.1).ln().abs())
-                })
-            {
-                if (s.normal_force_n / l).ln().abs() < own {
-                    return Err(Error::input(
-                        SourcePos::file(&files[f].source),
-                        format!(
-                            "segment {} measures {:.1} N, closer to pin {p} ({l:.1} N) than to pin {} ({:.1} N) it is matched to by order: are the recordings in the plan's pin order?",
-                            s.index, s.normal_force_n, e.pin, e.normal_force_n
-                        ),
-                    ));
-                }
-            }
-            assignment[si] = Some(si);
-        }
-    }
+        assign_by_order(files, segs, expected)?
+    };
+    let mut records = Vec::new();
     let mut last_ei: Option<usize> = None;
     for (si, &(f, k)) in segs.iter().enumerate() {
         match assignment[si] {
@@ -1110,35 +1083,121 @@ fn match_segments_unchecked(
                     if ei < prev {
                         report.reordered.push(format!(
                             "{} recorded after {}",
-                            describe(e),
-                            describe(&expected[prev])
+                            describe_step(e),
+                            describe_step(&expected[prev])
                         ));
                     }
                 }
                 last_ei = Some(last_ei.map_or(ei, |p| p.max(ei)));
                 files[f].segments[k].matched = Some((e.pin, e.step));
                 let s = &files[f].segments[k];
-                records.push(record(e.pin, e.step, Some(e.normal_force_n), e.sliding_velocity_m_s, s)?);
+                records.push(segment_record(c, (e.pin, e.step), Some(e.normal_force_n), e.sliding_velocity_m_s, s)?);
             }
             None => {
-                let s = &files[f].segments[k];
+                let (file, s) = (&files[f], &files[f].segments[k]);
                 let v = s
                     .sliding_velocity_m_per_min
                     .map_or(String::new(), |v| format!(", {v:.1} m/min"));
-                report
-                    .extra
-                    .push(format!("{} at {:.1} N{v}: no planned step within tolerance", name(&files[f], s), s.normal_force_n));
+                report.extra.push(format!(
+                    "{} segment {} ({:.3}–{:.3} s) at {:.1} N{v}: no planned step within tolerance",
+                    file.source, s.index, s.start_s, s.end_s, s.normal_force_n
+                ));
             }
         }
     }
     let matched: Vec<usize> = assignment.iter().flatten().copied().collect();
     for (ei, e) in expected.iter().enumerate() {
         if !matched.contains(&ei) {
-            report.missing.push(describe(e));
+            report.missing.push(describe_step(e));
         }
     }
     records.sort_by_key(|r| (r.pin, r.step));
     Ok((FrictionDataset { records }, report))
+}
+
+/// Greedy assignment of segments to planned steps by the combined relative distance of
+/// load and speed, within the tolerances; each step at most once.
+fn assign_by_speed_and_load(
+    files: &[FileReport],
+    segs: &[(usize, usize)],
+    expected: &[ExpectedStep],
+    c: &Campaign,
+) -> Vec<Option<usize>> {
+    let tol_f = c.cfg.match_load_tolerance;
+    let tol_v = c.cfg.match_speed_tolerance;
+    let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+    for (si, &(f, k)) in segs.iter().enumerate() {
+        let s = &files[f].segments[k];
+        let v = units::m_per_min_to_m_per_s(s.sliding_velocity_m_per_min.expect("every segment has a speed"));
+        for (ei, e) in expected.iter().enumerate() {
+            let df = (s.normal_force_n / e.normal_force_n).ln().abs();
+            let dv = (v / e.sliding_velocity_m_s).ln().abs();
+            if df <= (1.0 + tol_f).ln() && dv <= (1.0 + tol_v).ln() {
+                pairs.push((df / tol_f + dv / tol_v, si, ei));
+            }
+        }
+    }
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    let mut assignment = vec![None; segs.len()];
+    let mut used = vec![false; expected.len()];
+    for (_, si, ei) in pairs {
+        if assignment[si].is_none() && !used[ei] {
+            assignment[si] = Some(ei);
+            used[ei] = true;
+        }
+    }
+    assignment
+}
+
+/// Segment i to planned step i; the counts must agree, and a segment whose measured load is
+/// nearer another pin's than its own is an error (files out of the plan's pin order).
+fn assign_by_order(
+    files: &[FileReport],
+    segs: &[(usize, usize)],
+    expected: &[ExpectedStep],
+) -> Result<Vec<Option<usize>>> {
+    if segs.len() != expected.len() {
+        let per_file: Vec<String> = files
+            .iter()
+            .map(|f| format!("{}: {}", f.source, f.segments.iter().filter(|s| s.stats.is_some()).count()))
+            .collect();
+        return Err(Error::invalid(
+            "identify",
+            format!(
+                "{} segments were found ({}) but the plan expects {} steps, and without a speed channel they can only be matched by order: map a speed channel (--map speed=NAME:UNIT) or a step column, or check the plan",
+                segs.len(),
+                per_file.join("; "),
+                expected.len()
+            ),
+        ));
+    }
+    let pin_loads: Vec<(u32, f64)> = expected.iter().fold(Vec::new(), |mut v, e| {
+        if !v.iter().any(|(p, _)| *p == e.pin) {
+            v.push((e.pin, e.normal_force_n));
+        }
+        v
+    });
+    for (si, &(f, k)) in segs.iter().enumerate() {
+        let s = &files[f].segments[k];
+        let e = &expected[si];
+        let distance = |l: f64| (s.normal_force_n / l).ln().abs();
+        let nearest_other = pin_loads
+            .iter()
+            .filter(|(p, _)| *p != e.pin)
+            .min_by(|a, b| distance(a.1).total_cmp(&distance(b.1)));
+        if let Some((p, l)) = nearest_other {
+            if distance(*l) < distance(e.normal_force_n) {
+                return Err(Error::input(
+                    SourcePos::file(&files[f].source),
+                    format!(
+                        "segment {} measures {:.1} N, closer to pin {p} ({l:.1} N) than to pin {} ({:.1} N) it is matched to by order: are the recordings in the plan's pin order?",
+                        s.index, s.normal_force_n, e.pin, e.normal_force_n
+                    ),
+                ));
+            }
+        }
+    }
+    Ok((0..segs.len()).map(Some).collect())
 }
 
 /// The greybox NC-program path: one recording per pin, the plan's timing from the trigger.

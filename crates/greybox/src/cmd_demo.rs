@@ -76,7 +76,13 @@ pub fn run(a: Args) -> Result<()> {
         Some(plan.pins.len()),
     )?;
     let expect = cmd_identify::Expectation::Plan(plan.clone());
-    let (ds, id) = cmd_identify::identify(&study, &expect, &files, &[], &dataset, None, true, &[])?;
+    let (ds, id) = cmd_identify::identify(
+        &study,
+        &expect,
+        &files,
+        &[],
+        &cmd_identify::IdentifyOutput { dataset: &dataset, inspect_dir: None, quiet: true, side_inputs: &[] },
+    )?;
     let truth = cmd_identify::compare_with_truth(&ds, &rec_dir.join("ground_truth.csv"))?;
     let identify = cmd_identify::IdentifySummary {
         dataset: dataset.display().to_string(),
@@ -100,10 +106,12 @@ pub fn run(a: Args) -> Result<()> {
         &cmd_identify::Expectation::None,
         std::slice::from_ref(&foreign_file),
         &FOREIGN_RADII_MM,
-        &foreign_dir.join("dataset.csv"),
-        None,
-        true,
-        &[],
+        &cmd_identify::IdentifyOutput {
+            dataset: &foreign_dir.join("dataset.csv"),
+            inspect_dir: None,
+            quiet: true,
+            side_inputs: &[],
+        },
     )?;
     let foreign_error = cmd_identify::compare_with_truth(&foreign_ds, &foreign_truth)?;
     // ploughing correction with the article's Table 3 track widths

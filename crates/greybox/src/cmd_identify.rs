@@ -308,17 +308,25 @@ pub enum Expectation {
     None,
 }
 
+/// Where identification writes: the dataset, optional inspect plots, and the inputs besides
+/// the recordings (study, step list) that its provenance records.
+pub struct IdentifyOutput<'a> {
+    pub dataset: &'a Path,
+    pub inspect_dir: Option<&'a Path>,
+    /// Print nothing (the inspect text is the caller's).
+    pub quiet: bool,
+    pub side_inputs: &'a [(&'a str, &'a Path)],
+}
+
 /// Read all recordings and identify them; writes the dataset.
 pub fn identify(
     study: &Study,
     expect: &Expectation,
     files: &[PathBuf],
     track_radii_mm: &[f64],
-    out: &Path,
-    inspect_dir: Option<&Path>,
-    quiet: bool,
-    side_inputs: &[(&str, &Path)],
+    o: &IdentifyOutput,
 ) -> Result<(FrictionDataset, Identification)> {
+    let (out, inspect_dir, quiet, side_inputs) = (o.dataset, o.inspect_dir, o.quiet, o.side_inputs);
     let inputs: Vec<(&str, &Path)> = files.iter().map(|f| ("--recordings", f.as_path())).collect();
     greybox_core::outputs::check_file_output(out, "--out", &inputs)?;
     let recs: Vec<Recording> = files
@@ -557,10 +565,12 @@ pub fn run(args: Args) -> Result<()> {
         &expect,
         &files,
         &radii,
-        &args.out,
-        inspect_dir.as_deref(),
-        args.json,
-        &side_inputs,
+        &IdentifyOutput {
+            dataset: &args.out,
+            inspect_dir: inspect_dir.as_deref(),
+            quiet: args.json,
+            side_inputs: &side_inputs,
+        },
     )?;
     if args.inspect && !args.json {
         print!("{}", matching_text(&id.matching));
