@@ -968,8 +968,7 @@ fn measured_segments(files: &[FileReport]) -> Vec<(usize, usize)> {
         .collect()
 }
 
-/// A dataset row from a measured segment: the measured load is the row's load (and gives
-/// its pressure); the plan's, if any, beside it.
+/// A dataset row from a measured segment (see [`crate::steady::PlateauStats::record`]).
 fn segment_record(
     c: &Campaign,
     (pin, step): (u32, u32),
@@ -977,25 +976,14 @@ fn segment_record(
     velocity_m_s: f64,
     s: &SegmentReport,
 ) -> Result<FrictionRecord> {
-    let st = s.stats.as_ref().expect("measured");
-    Ok(FrictionRecord {
+    let place = crate::steady::PlateauPlace {
         pin,
         step,
-        normal_force_n: st.normal_force_n,
-        normal_force_planned_n: planned_n,
-        sliding_velocity_m_s: velocity_m_s,
-        hertz_pressure_pa: c.contact.pressure_pa(st.normal_force_n)?,
-        pressure_convention: c.contact.convention,
-        cof_apparent: st.mean,
-        cof_apparent_std: st.std,
-        n_samples: st.n_samples as u64,
-        plateau_start_s: st.start_s,
-        plateau_end_s: st.end_s,
-        cof_trend_per_s: st.trend_per_s,
-        stationary: st.stationary,
+        planned_n,
+        velocity_m_s,
         flags: s.flags.clone(),
-        cof_adhesive: None,
-    })
+    };
+    s.stats.as_ref().expect("measured").record(c.contact, place)
 }
 
 /// Without a plan: pins and steps numbered from the recordings (a new pin where the load

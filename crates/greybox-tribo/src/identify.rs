@@ -381,24 +381,17 @@ fn measure_plateaus(c: &PinContext, ts: f64, d: &Drift, contact: &PinContact) ->
             st.flags.insert(0, flags::RAMP_UNCONFIRMED.to_string());
         }
         spikes_total += st.spikes;
-        out.push(FrictionRecord {
-            pin,
-            step: s.step,
-            normal_force_n: st.normal_force_n,
-            normal_force_planned_n: Some(s.normal_force_n),
-            sliding_velocity_m_s: s.sliding_velocity_m_s,
-            hertz_pressure_pa: contact.pressure_pa(st.normal_force_n)?,
-            pressure_convention: contact.convention,
-            cof_apparent: st.mean,
-            cof_apparent_std: st.std,
-            n_samples: st.n_samples as u64,
-            plateau_start_s: st.start_s,
-            plateau_end_s: st.end_s,
-            cof_trend_per_s: st.trend_per_s,
-            stationary: st.stationary,
-            flags: st.flags,
-            cof_adhesive: None,
-        });
+        let flags = std::mem::take(&mut st.flags);
+        out.push(st.record(
+            contact,
+            crate::steady::PlateauPlace {
+                pin,
+                step: s.step,
+                planned_n: Some(s.normal_force_n),
+                velocity_m_s: s.sliding_velocity_m_s,
+                flags,
+            },
+        )?);
     }
     Ok((out, spikes_total))
 }

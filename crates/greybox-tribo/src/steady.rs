@@ -124,6 +124,45 @@ pub struct PlateauStats {
     pub normal_force_n: f64,
 }
 
+/// Where a plateau sits in the campaign: pin and step, the plan's load if any, the sliding
+/// velocity (m/s), and the row's flags.
+pub struct PlateauPlace {
+    pub pin: u32,
+    pub step: u32,
+    pub planned_n: Option<f64>,
+    pub velocity_m_s: f64,
+    pub flags: Vec<String>,
+}
+
+impl PlateauStats {
+    /// The dataset row: the measured load is the row's load and gives its Hertz pressure
+    /// under `contact`'s convention; the plan's load beside it.
+    pub fn record(
+        &self,
+        contact: &greybox_contact::PinContact,
+        at: PlateauPlace,
+    ) -> greybox_core::Result<greybox_core::dataset::FrictionRecord> {
+        Ok(greybox_core::dataset::FrictionRecord {
+            pin: at.pin,
+            step: at.step,
+            normal_force_n: self.normal_force_n,
+            normal_force_planned_n: at.planned_n,
+            sliding_velocity_m_s: at.velocity_m_s,
+            hertz_pressure_pa: contact.pressure_pa(self.normal_force_n)?,
+            pressure_convention: contact.convention,
+            cof_apparent: self.mean,
+            cof_apparent_std: self.std,
+            n_samples: self.n_samples as u64,
+            plateau_start_s: self.start_s,
+            plateau_end_s: self.end_s,
+            cof_trend_per_s: self.trend_per_s,
+            stationary: self.stationary,
+            flags: at.flags,
+            cof_adhesive: None,
+        })
+    }
+}
+
 /// Statistics over the window-relative samples `[pi, pj)` of `sig`: mean and standard
 /// deviation of F_t/F_N over the unmasked samples, linear trend (flag `trend` when the
 /// change over the plateau exceeds the tolerance and four standard errors), peak-to-peak of
