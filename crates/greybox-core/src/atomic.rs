@@ -99,10 +99,16 @@ where
         w.flush().map_err(|e| Error::io(path, e))?;
     }
     if let Some(perm) = existing_mode {
-        tmp.as_file().set_permissions(perm).map_err(|e| Error::io(path, e))?;
+        tmp.as_file()
+            .set_permissions(perm)
+            .map_err(|e| Error::io(path, e))?;
     }
     tmp.as_file().sync_all().map_err(|e| Error::io(path, e))?;
-    guard.complete(|| tmp.persist(&target).map(|_| ()).map_err(|e| Error::io(path, e.error)))?;
+    guard.complete(|| {
+        tmp.persist(&target)
+            .map(|_| ())
+            .map_err(|e| Error::io(path, e.error))
+    })?;
     Ok(())
 }
 
@@ -140,20 +146,31 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         // a FIFO, a device and a directory stay what they are
         let fifo = dir.path().join("pipe");
-        assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        assert!(std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success());
         let e = write_string_atomic(&fifo, "x").unwrap_err().to_string();
         assert!(e.contains("FIFO"), "{e}");
         assert!(!std::fs::metadata(&fifo).unwrap().is_file());
-        let e = write_string_atomic(Path::new("/dev/null"), "x").unwrap_err().to_string();
+        let e = write_string_atomic(Path::new("/dev/null"), "x")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("character device"), "{e}");
-        let e = write_string_atomic(dir.path(), "x").unwrap_err().to_string();
+        let e = write_string_atomic(dir.path(), "x")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("a directory"), "{e}");
         // a replaced file keeps its mode
         let p = dir.path().join("law.json");
         std::fs::write(&p, "old").unwrap();
         std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o640)).unwrap();
         write_string_atomic(&p, "new").unwrap();
-        assert_eq!(std::fs::metadata(&p).unwrap().permissions().mode() & 0o777, 0o640);
+        assert_eq!(
+            std::fs::metadata(&p).unwrap().permissions().mode() & 0o777,
+            0o640
+        );
         // a new file gets 0666 less the umask, like open(2) (not tempfile's private 0600)
         let q = dir.path().join("new.csv");
         write_string_atomic(&q, "x").unwrap();
@@ -164,9 +181,16 @@ mod tests {
         let link = dir.path().join("link.json");
         std::os::unix::fs::symlink(&p, &link).unwrap();
         write_string_atomic(&link, "via link").unwrap();
-        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "via link");
-        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 4, "temp file left");
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            4,
+            "temp file left"
+        );
     }
 
     /// The process umask, read from /proc (Linux) without changing it.

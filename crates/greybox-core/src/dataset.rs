@@ -143,7 +143,8 @@ impl FrictionDataset {
                 r.pin,
                 r.step,
                 r.normal_force_n,
-                r.normal_force_planned_n.map_or(String::new(), |f| f.to_string()),
+                r.normal_force_planned_n
+                    .map_or(String::new(), |f| f.to_string()),
                 units::m_per_s_to_m_per_min(r.sliding_velocity_m_s),
                 r.hertz_pressure_pa / units::PA_PER_MPA,
                 r.pressure_convention.name(),
@@ -340,7 +341,9 @@ mod tests {
         let mut r = d.records[0].clone();
         r.normal_force_planned_n = None;
         let mut buf = Vec::new();
-        FrictionDataset { records: vec![r] }.write_csv_to(&mut buf, false).unwrap();
+        FrictionDataset { records: vec![r] }
+            .write_csv_to(&mut buf, false)
+            .unwrap();
         let back = FrictionDataset::read_csv_from(buf.as_slice(), "new.csv").unwrap();
         assert_eq!(back.records[0].normal_force_planned_n, None);
         assert_eq!(back.records[0].normal_force_n, 751.6);

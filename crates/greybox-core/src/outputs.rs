@@ -24,7 +24,11 @@ fn canonical_or_lexical(p: &Path) -> PathBuf {
     // not there yet: canonical parent + name
     match (p.parent(), p.file_name()) {
         (Some(parent), Some(name)) => {
-            let parent = if parent.as_os_str().is_empty() { Path::new(".") } else { parent };
+            let parent = if parent.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                parent
+            };
             std::fs::canonicalize(parent).map_or_else(|_| p.to_path_buf(), |c| c.join(name))
         }
         _ => p.to_path_buf(),
@@ -32,7 +36,8 @@ fn canonical_or_lexical(p: &Path) -> PathBuf {
 }
 
 fn same_file(a: &Path, b: &Path) -> bool {
-    same_file::is_same_file(a, b).unwrap_or(false) || canonical_or_lexical(a) == canonical_or_lexical(b)
+    same_file::is_same_file(a, b).unwrap_or(false)
+        || canonical_or_lexical(a) == canonical_or_lexical(b)
 }
 
 /// Refuse a file output (given as `out_flag`) that is one of `inputs` or is not a regular
@@ -60,7 +65,10 @@ pub fn check_dir_output(out: &Path, out_flag: &str, inputs: &[Input]) -> Result<
         Ok(m) if !m.is_dir() => {
             return Err(Error::input(
                 SourcePos::path(out),
-                format!("{out_flag} must be a directory, but the path is {}", describe_kind(&m)),
+                format!(
+                    "{out_flag} must be a directory, but the path is {}",
+                    describe_kind(&m)
+                ),
             ))
         }
         Ok(_) => {}
@@ -120,7 +128,10 @@ fn check_replaceable_dir(target: &Path, flag: &str, existing: Existing) -> Resul
     if !m.is_dir() {
         return Err(Error::input(
             SourcePos::path(target),
-            format!("{flag} must be a directory, but the path is {}", describe_kind(&m)),
+            format!(
+                "{flag} must be a directory, but the path is {}",
+                describe_kind(&m)
+            ),
         ));
     }
     if existing == Existing::Refuse && non_empty_dir(target) {
@@ -152,7 +163,10 @@ impl StagedDir {
             use std::os::unix::fs::PermissionsExt;
             b.permissions(std::fs::Permissions::from_mode(0o777));
         }
-        let staging = b.tempdir_in(&parent).map_err(|e| Error::io(&parent, e))?.keep();
+        let staging = b
+            .tempdir_in(&parent)
+            .map_err(|e| Error::io(&parent, e))?
+            .keep();
         let guard = cleanup::register(&staging, true);
         Ok(StagedDir {
             target: target.to_path_buf(),
@@ -207,7 +221,8 @@ impl StagedDir {
     /// and summaries); other paths are returned unchanged.
     pub fn shown(&self, p: impl AsRef<Path>) -> PathBuf {
         let p = p.as_ref();
-        p.strip_prefix(&self.staging).map_or_else(|_| p.to_path_buf(), |rel| self.target.join(rel))
+        p.strip_prefix(&self.staging)
+            .map_or_else(|_| p.to_path_buf(), |rel| self.target.join(rel))
     }
 
     /// [`StagedDir::shown`] for a path given as text.
@@ -269,7 +284,10 @@ fn swap_in(staging: &Path, target: &Path) -> Result<Option<PathBuf>> {
     }
     let old = staging.with_file_name(format!(
         "{}.old",
-        staging.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default()
+        staging
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_default()
     ));
     std::fs::rename(target, &old).map_err(|e| Error::io(target, e))?;
     std::fs::rename(staging, target).map_err(|e| Error::io(target, e))?;
@@ -284,7 +302,13 @@ fn exchange(a: &Path, b: &Path) -> std::io::Result<()> {
     let cb = CString::new(b.as_os_str().as_bytes())?;
     // SAFETY: two valid NUL-terminated paths, relative to the working directory.
     let r = unsafe {
-        libc::renameat2(libc::AT_FDCWD, ca.as_ptr(), libc::AT_FDCWD, cb.as_ptr(), libc::RENAME_EXCHANGE)
+        libc::renameat2(
+            libc::AT_FDCWD,
+            ca.as_ptr(),
+            libc::AT_FDCWD,
+            cb.as_ptr(),
+            libc::RENAME_EXCHANGE,
+        )
     };
     if r == 0 {
         Ok(())
@@ -302,7 +326,9 @@ mod tests {
         let d = tempfile::tempdir().unwrap();
         let raw = d.path().join("pin01.csv");
         std::fs::write(&raw, "raw").unwrap();
-        let e = check_file_output(&raw, "--out", &[("--recordings", &raw)]).unwrap_err().to_string();
+        let e = check_file_output(&raw, "--out", &[("--recordings", &raw)])
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("--out is the input --recordings"), "{e}");
         let dotted = d.path().join(".").join("pin01.csv");
         assert!(check_file_output(&dotted, "--out", &[("--recordings", &raw)]).is_err());
@@ -321,10 +347,14 @@ mod tests {
         std::fs::create_dir(&out).unwrap();
         let data = out.join("dataset.csv");
         std::fs::write(&data, "x").unwrap();
-        let e = check_dir_output(&out, "--out", &[("--data", &data)]).unwrap_err().to_string();
+        let e = check_dir_output(&out, "--out", &[("--data", &data)])
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("holds the input --data"), "{e}");
         check_dir_output(&d.path().join("elsewhere"), "--out", &[("--data", &data)]).unwrap();
-        let e = check_dir_output(&data, "--out", &[]).unwrap_err().to_string();
+        let e = check_dir_output(&data, "--out", &[])
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("must be a directory"), "{e}");
     }
 
@@ -339,7 +369,9 @@ mod tests {
         assert!(!out.exists(), "nothing visible before the commit");
         s.commit().unwrap();
         // second run refused without --force
-        let e = StagedDir::begin(&out, "--out", Existing::Refuse).unwrap_err().to_string();
+        let e = StagedDir::begin(&out, "--out", Existing::Refuse)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("--force"), "{e}");
         // a failed second run leaves the first one untouched and no staging behind
         {
@@ -347,19 +379,35 @@ mod tests {
             std::fs::write(s.path().join("report.json"), "new").unwrap();
             // dropped: the run failed
         }
-        assert_eq!(std::fs::read_to_string(out.join("report.json")).unwrap(), "old");
-        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 1, "staging left behind");
+        assert_eq!(
+            std::fs::read_to_string(out.join("report.json")).unwrap(),
+            "old"
+        );
+        assert_eq!(
+            std::fs::read_dir(d.path()).unwrap().count(),
+            1,
+            "staging left behind"
+        );
         // a complete second run replaces the first whole: no stale svr.json
         let s = StagedDir::begin(&out, "--out", Existing::Replace).unwrap();
         std::fs::write(s.path().join("report.json"), "new").unwrap();
         s.commit().unwrap();
-        assert_eq!(std::fs::read_to_string(out.join("report.json")).unwrap(), "new");
-        assert!(!out.join("svr.json").exists(), "stale file from the previous run");
+        assert_eq!(
+            std::fs::read_to_string(out.join("report.json")).unwrap(),
+            "new"
+        );
+        assert!(
+            !out.join("svr.json").exists(),
+            "stale file from the previous run"
+        );
         assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 1);
         // an existing empty directory needs no --force
         let empty = d.path().join("empty");
         std::fs::create_dir(&empty).unwrap();
-        StagedDir::begin(&empty, "--out", Existing::Refuse).unwrap().commit().unwrap();
+        StagedDir::begin(&empty, "--out", Existing::Refuse)
+            .unwrap()
+            .commit()
+            .unwrap();
     }
 
     #[test]
@@ -372,8 +420,13 @@ mod tests {
             std::fs::write(s.path().join("checkpoint.json"), "step 500").unwrap();
             // the run fails or is killed here
         }
-        assert!(d.path().join("sim.partial/checkpoint.json").exists(), "checkpoint lost");
-        let e = StagedDir::resumable(&out, "--out", Existing::Refuse, false).unwrap_err().to_string();
+        assert!(
+            d.path().join("sim.partial/checkpoint.json").exists(),
+            "checkpoint lost"
+        );
+        let e = StagedDir::resumable(&out, "--out", Existing::Refuse, false)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("--resume") && e.contains("--force"), "{e}");
         let s = StagedDir::resumable(&out, "--out", Existing::Refuse, true).unwrap();
         std::fs::write(s.path().join("forces.csv"), "done").unwrap();

@@ -48,7 +48,10 @@ pub fn sha256_file(path: &Path) -> Result<(String, u64)> {
         h.update(&buf[..n]);
         total += n as u64;
     }
-    Ok((h.finalize().iter().map(|b| format!("{b:02x}")).collect(), total))
+    Ok((
+        h.finalize().iter().map(|b| format!("{b:02x}")).collect(),
+        total,
+    ))
 }
 
 impl Provenance {
@@ -77,7 +80,9 @@ impl Provenance {
 
     /// Add every input of a list of (role, path).
     pub fn inputs(self, inputs: &[(&str, &Path)]) -> Result<Self> {
-        inputs.iter().try_fold(self, |p, (role, path)| p.input(role, path))
+        inputs
+            .iter()
+            .try_fold(self, |p, (role, path)| p.input(role, path))
     }
 
     pub fn with_seed(mut self, seed: u64) -> Self {
@@ -87,7 +92,10 @@ impl Provenance {
 
     /// The record's path for a file output.
     pub fn path_beside(output: &Path) -> PathBuf {
-        let mut name = output.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+        let mut name = output
+            .file_name()
+            .map(|n| n.to_os_string())
+            .unwrap_or_default();
         name.push(".provenance.json");
         output.with_file_name(name)
     }
@@ -107,14 +115,16 @@ impl Provenance {
     }
 
     fn write_to(&self, p: &Path) -> Result<()> {
-        let text = serde_json::to_string_pretty(self).map_err(|e| Error::invalid("provenance", e.to_string()))?;
+        let text = serde_json::to_string_pretty(self)
+            .map_err(|e| Error::invalid("provenance", e.to_string()))?;
         write_string_atomic(p, &(text + "\n"))
     }
 
     /// Read a record.
     pub fn read(p: &Path) -> Result<Self> {
         let text = std::fs::read_to_string(p).map_err(|e| Error::io(p, e))?;
-        serde_json::from_str(&text).map_err(|e| Error::input(crate::SourcePos::path(p), e.to_string()))
+        serde_json::from_str(&text)
+            .map_err(|e| Error::input(crate::SourcePos::path(p), e.to_string()))
     }
 }
 
@@ -129,7 +139,10 @@ mod tests {
         let f = d.path().join("abc.txt");
         std::fs::write(&f, "abc").unwrap();
         let (h, n) = sha256_file(&f).unwrap();
-        assert_eq!(h, "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+        assert_eq!(
+            h,
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
         assert_eq!(n, 3);
         let p = Provenance::new("greybox", "0.1.0", vec!["greybox".into(), "fit".into()])
             .input("--data", &f)

@@ -30,9 +30,16 @@ impl Rules {
         self
     }
 
-    fn check(&mut self, field: &str, ok: bool, rule: &str, got: impl std::fmt::Display) -> &mut Self {
+    fn check(
+        &mut self,
+        field: &str,
+        ok: bool,
+        rule: &str,
+        got: impl std::fmt::Display,
+    ) -> &mut Self {
         if !ok {
-            self.broken.push(format!("{}{field} must be {rule}, got {got}", self.prefix));
+            self.broken
+                .push(format!("{}{field} must be {rule}, got {got}", self.prefix));
         }
         self
     }
@@ -79,7 +86,10 @@ impl Rules {
         if self.broken.is_empty() {
             return Ok(());
         }
-        Err(Error::invalid(std::mem::take(&mut self.what), self.broken.join("; ")))
+        Err(Error::invalid(
+            std::mem::take(&mut self.what),
+            self.broken.join("; "),
+        ))
     }
 }
 
@@ -101,7 +111,10 @@ mod tests {
             .to_string();
         assert!(e.contains("cutting_speed_m_s must be > 0, got -5"), "{e}");
         assert!(e.contains("spacing_m must be > 0, got NaN"), "{e}");
-        assert!(e.contains("insert.edge_radius_m must be ≥ 0, got -0.000001"), "{e}");
+        assert!(
+            e.contains("insert.edge_radius_m must be ≥ 0, got -0.000001"),
+            "{e}"
+        );
         assert!(!e.contains("tolerance"), "{e}");
         Rules::new("ok").positive("x", 1.0).finish().unwrap();
     }

@@ -278,8 +278,14 @@ fn a_corrupted_model_is_an_error_code_not_a_panic_or_a_hang() {
     use greybox_learn::mlp::Activation;
     use greybox_learn::model::{Family, FittedModel};
     let mut m = common::small_model(Family::GradientBoosting, Activation::Relu);
-    let FittedModel::TreeEnsemble(t) = &mut m.model else { unreachable!() };
-    let k = t.nodes.iter().position(|n| n.feature != greybox_learn::tree::LEAF).unwrap();
+    let FittedModel::TreeEnsemble(t) = &mut m.model else {
+        unreachable!()
+    };
+    let k = t
+        .nodes
+        .iter()
+        .position(|n| n.feature != greybox_learn::tree::LEAF)
+        .unwrap();
     t.nodes[k].left = k as u32; // points at itself
     let m = m.seal().unwrap();
     let d = tempfile::tempdir().unwrap();
@@ -292,6 +298,11 @@ fn a_corrupted_model_is_an_error_code_not_a_panic_or_a_hang() {
     assert!(law.is_null());
     let mut buf = vec![0 as std::ffi::c_char; 512];
     unsafe { greybox_ffi::greybox_last_error(buf.as_mut_ptr(), buf.len()) };
-    let msg = unsafe { std::ffi::CStr::from_ptr(buf.as_ptr()) }.to_string_lossy().into_owned();
-    assert!(msg.contains("cyclic.json") && msg.contains("would loop"), "{msg}");
+    let msg = unsafe { std::ffi::CStr::from_ptr(buf.as_ptr()) }
+        .to_string_lossy()
+        .into_owned();
+    assert!(
+        msg.contains("cyclic.json") && msg.contains("would loop"),
+        "{msg}"
+    );
 }

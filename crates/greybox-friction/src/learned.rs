@@ -5,11 +5,11 @@
 //! the last through the inverse Hertz relation of the tribometer's pin contact
 //! (p ∝ F^(1/3), so F = (p / p(1 N))³ under the contact's pressure convention).
 
+use greybox_contact::PinContact;
 use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::{units, ContactState, Error, FrictionLaw, Result};
 use greybox_model::modelfile::ModelFile;
 use greybox_model::Predictor;
-use greybox_contact::PinContact;
 
 /// Most features a learned law maps (stack buffer, no allocation per call).
 pub const MAX_FEATURES: usize = 8;
@@ -67,7 +67,10 @@ impl Input {
 /// c in p = c·F^(1/3) (Pa at 1 N) for a model's normal-force features, or NaN when it has
 /// none; see [`LearnedLaw::new`].
 fn force_pressure_constant(model: &ModelFile, contact: Option<&PinContact>) -> Result<f64> {
-    let uses_force = model.features.iter().any(|f| f.unit == "N" || f.unit == "kN");
+    let uses_force = model
+        .features
+        .iter()
+        .any(|f| f.unit == "N" || f.unit == "kN");
     let recorded = model.force_to_pressure;
     let given = contact.map(|c| c.pressure_pa(1.0)).transpose()?;
     match (given, recorded) {

@@ -16,9 +16,9 @@ use crate::classical::{
 use crate::greybox::{GreyBoxLaw, PowerLaw};
 use crate::learned::LearnedLaw;
 use crate::table::{TabulatedLaw, TABLE_SCHEMA};
+use greybox_contact::PinContact;
 use greybox_core::{units, Error, FrictionLaw, Result, SourcePos};
 use greybox_model::modelfile::{ModelFile, SCHEMA as MODEL_SCHEMA};
-use greybox_contact::PinContact;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -154,7 +154,10 @@ impl LawSpec {
             LawSpec::Learned { model, contact } => {
                 let path = resolve(base, model);
                 let m = ModelFile::load(&path)?;
-                Box::new(LearnedLaw::new(m, contact.as_ref()).map_err(|e| Error::input(SourcePos::path(&path), e.to_string()))?)
+                Box::new(
+                    LearnedLaw::new(m, contact.as_ref())
+                        .map_err(|e| Error::input(SourcePos::path(&path), e.to_string()))?,
+                )
             }
             LawSpec::PowerFit => {
                 return Err(Error::invalid(

@@ -1,5 +1,6 @@
 //! Learned, grey-box and tabulated laws on a model fitted here; Abaqus round trip; law files.
 
+use greybox_contact::PinContact;
 use greybox_core::{ContactState, FrictionLaw};
 use greybox_friction::export::{
     abaqus, parse_abaqus_friction, Grid, PressureUnit, SpeedUnit, TempUnit, Units,
@@ -11,7 +12,6 @@ use greybox_friction::table::{Axis, TabulatedLaw};
 use greybox_learn::model::Family;
 use greybox_learn::protocol::{run_protocol, FitConfig};
 use greybox_learn::table::read_dataset_from;
-use greybox_contact::PinContact;
 
 /// A smooth SVR (rbf) model of μ(hertz_pressure_MPa, sliding_velocity_m_per_min).
 fn fitted_model(family: Family) -> greybox_learn::modelfile::ModelFile {
@@ -190,7 +190,10 @@ fn force_feature_models_need_their_datasets_contact() {
     let mut m = fitted_model(Family::GradientBoosting);
     m.features[0] = greybox_learn::table::Column::new("normal_force_N");
     let e = LearnedLaw::new(m.clone(), None).unwrap_err().to_string();
-    assert!(e.contains("does not record") && e.contains("contact"), "{e}");
+    assert!(
+        e.contains("does not record") && e.contains("contact"),
+        "{e}"
+    );
     let eq7 = PinContact {
         convention: PressureConvention::ArticleEq7,
         ..PinContact::default()
@@ -205,7 +208,9 @@ fn force_feature_models_need_their_datasets_contact() {
     let s = st(1200.0, 100.0);
     assert_eq!(bare.mu(&s), stated.mu(&s));
     // the textbook maximum is 4^(1/3) ≈ 1.59 × the article's value: a different force, refused
-    let e = LearnedLaw::new(m, Some(&PinContact::default())).unwrap_err().to_string();
+    let e = LearnedLaw::new(m, Some(&PinContact::default()))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("article-eq7"), "{e}");
 }
 

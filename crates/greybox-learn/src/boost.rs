@@ -12,7 +12,6 @@ use greybox_core::{Error, Result};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-
 pub use greybox_model::ensemble::BoostParams;
 
 /// XGBoost's smallest accepted loss change (kRtEps).

@@ -2,8 +2,8 @@
 //! [`Hyperparameters`]. Every fit gets a seed derived from (base seed, candidate, fold), so
 //! results are identical whatever the number of threads.
 
-use crate::model::Train;
 use crate::metrics::{mse, r2};
+use crate::model::Train;
 use crate::model::{Hyperparameters, Predictor};
 use crate::Matrix;
 use greybox_core::{Error, Result};

@@ -10,7 +10,6 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
-
 pub use greybox_model::ensemble::ForestParams;
 
 impl Regressor for ForestParams {

@@ -6,15 +6,14 @@
 //! epochs without an R² gain of `tol`, and the best weights are kept. Inputs and the target
 //! are standardised inside the model.
 
-pub use greybox_model::mlp::{Activation, MlpModel, MlpParams, MAX_WIDTH};
 use crate::matrix::{standardize_target, Standardizer};
 use crate::model::Regressor;
 use crate::Matrix;
 use greybox_core::{Error, Result};
+pub use greybox_model::mlp::{Activation, MlpModel, MlpParams, MAX_WIDTH};
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-
 
 /// The activation's derivative expressed through its output a.
 #[inline]
@@ -344,4 +343,3 @@ impl Regressor for MlpParams {
         })
     }
 }
-

@@ -2,9 +2,9 @@
 //! immutable fitted model (which predicts through [`Predictor`]). The registry of families,
 //! their hyperparameters and fitted models is `greybox-model`'s, re-exported here.
 
-pub use greybox_model::family::{Family, FittedModel, Hyperparameters, Predictor};
 use crate::Matrix;
 use greybox_core::Result;
+pub use greybox_model::family::{Family, FittedModel, Hyperparameters, Predictor};
 
 /// A model family's hyperparameters.
 pub trait Regressor: Send + Sync {
@@ -14,7 +14,6 @@ pub trait Regressor: Send + Sync {
     /// Fit on (x, y). `seed` drives every random choice.
     fn fit(&self, x: &Matrix, y: &[f64], seed: u64) -> Result<Self::Fitted>;
 }
-
 
 /// Training for every family of the registry: validate and fit whatever
 /// [`Hyperparameters`] hold.

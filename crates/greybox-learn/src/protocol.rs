@@ -10,7 +10,6 @@
 //! 6. a CV-conformal prediction interval from the selected configuration's out-of-fold
 //!    residuals of step 1.
 
-use crate::model::Train;
 use crate::boost::BoostParams;
 use crate::cv::{check_folds, grid_search, kfold_ids, nested_cv, OuterFold};
 use crate::forest::ForestParams;
@@ -18,6 +17,7 @@ use crate::importance::{permutation_importance, Importance};
 use crate::interval::{conformal_half_width, IntervalMethod, PredictionInterval};
 use crate::metrics::{metrics_with_ci, Metrics};
 use crate::mlp::{Activation, MlpParams};
+use crate::model::Train;
 use crate::model::{Family, Hyperparameters, Predictor};
 use crate::modelfile::{FeatureRange, ModelFile, SCHEMA, SCHEMA_VERSION};
 use crate::svr::{Kernel, SvrParams};

@@ -8,12 +8,11 @@
 //! The kernel matrix is computed once (l² entries), which suits the few hundred to few
 //! thousand rows of a tribometer campaign; there is no shrinking heuristic.
 
-
-pub use greybox_model::svr::{dot, kernel_value, Kernel, SvrModel, SvrParams, MAX_FEATURES};
 use crate::matrix::Standardizer;
 use crate::model::Regressor;
 use crate::Matrix;
 use greybox_core::{Error, Result};
+pub use greybox_model::svr::{dot, kernel_value, Kernel, SvrModel, SvrParams, MAX_FEATURES};
 
 const TAU: f64 = 1e-12;
 
@@ -485,4 +484,3 @@ impl Smo {
         iter
     }
 }
-

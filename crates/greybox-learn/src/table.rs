@@ -25,18 +25,24 @@ pub struct Dataset {
 
 /// Units whose quantities are positive in any friction experiment (forces, pressures,
 /// speeds, absolute temperatures, lengths): a zero or negative value there is not physical.
-const POSITIVE_UNITS: [&str; 10] = ["N", "kN", "Pa", "MPa", "GPa", "m/s", "m/min", "K", "µm", "mm"];
+const POSITIVE_UNITS: [&str; 10] = [
+    "N", "kN", "Pa", "MPa", "GPa", "m/s", "m/min", "K", "µm", "mm",
+];
 
 /// Why a value of column `name` is not physical, if it is not: a quantity of a
 /// [`POSITIVE_UNITS`] unit ≤ 0, or a friction coefficient (`cof…`, `mu…`) < 0.
 fn non_physical(name: &str, v: f64) -> Option<String> {
     let unit = unit_of(name);
     if POSITIVE_UNITS.contains(&unit) && !(v > 0.0) {
-        return Some(format!("{v} {unit} is not physical: a quantity in {unit} must be positive"));
+        return Some(format!(
+            "{v} {unit} is not physical: a quantity in {unit} must be positive"
+        ));
     }
     let lower = name.to_ascii_lowercase();
     if (lower.starts_with("cof") || lower.starts_with("mu")) && v < 0.0 {
-        return Some(format!("{v} is not physical: a friction coefficient cannot be negative"));
+        return Some(format!(
+            "{v} is not physical: a friction coefficient cannot be negative"
+        ));
     }
     None
 }
@@ -130,7 +136,11 @@ pub fn read_dataset_from(
     for (k, rec) in rdr.records().enumerate() {
         let rec = rec.map_err(|e| csv_error(source, e))?;
         let line = record_line(rec.position(), k as u64 + 2);
-        for (&i, name) in fi.iter().zip(features).chain(std::iter::once((&ti, &target.to_string()))) {
+        for (&i, name) in fi
+            .iter()
+            .zip(features)
+            .chain(std::iter::once((&ti, &target.to_string())))
+        {
             let v = parse_f64(&rec[i], source, line, name)?;
             if let Some(why) = non_physical(name, v) {
                 return Err(Error::input(
@@ -262,10 +272,24 @@ mod tests {
         };
         folds(CSV).unwrap();
         let e = folds(&CSV.replace(",1\n", ",0\n")).unwrap_err().to_string();
-        assert!(e.contains("field 'fold'") && e.contains("at least two folds"), "{e}");
-        let e = read(&CSV.replace("2,3,0.4", "-2,3,0.4"), &["a_N", "b_m_per_min"], "mu").unwrap_err().to_string();
-        assert!(e.contains("line 3") && e.contains("'a_N'") && e.contains("not physical"), "{e}");
-        let e = read(&CSV.replace("0.4", "-0.4"), &["a_N"], "mu").unwrap_err().to_string();
+        assert!(
+            e.contains("field 'fold'") && e.contains("at least two folds"),
+            "{e}"
+        );
+        let e = read(
+            &CSV.replace("2,3,0.4", "-2,3,0.4"),
+            &["a_N", "b_m_per_min"],
+            "mu",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("line 3") && e.contains("'a_N'") && e.contains("not physical"),
+            "{e}"
+        );
+        let e = read(&CSV.replace("0.4", "-0.4"), &["a_N"], "mu")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("friction coefficient cannot be negative"), "{e}");
         // a dimensionless or time feature may be anything
         read("x,t_s,mu\n-1,-2,0.3\n1,2,0.4\n", &["x", "t_s"], "mu").unwrap();
@@ -273,6 +297,10 @@ mod tests {
         assert!(d.warnings.is_empty());
         let d = read(&format!("{CSV}2,3,0.4,1\n"), &["a_N", "b_m_per_min"], "mu").unwrap();
         assert_eq!(d.warnings.len(), 1);
-        assert!(d.warnings[0].contains("row 4 repeats row 2"), "{:?}", d.warnings);
+        assert!(
+            d.warnings[0].contains("row 4 repeats row 2"),
+            "{:?}",
+            d.warnings
+        );
     }
 }

@@ -12,11 +12,10 @@
 //! are adjacent (right = left + 1), so prediction is a short branch-free walk with no
 //! allocation.
 
-pub use greybox_model::tree::{walk, Node, TreeEnsemble, LEAF};
 use crate::Matrix;
+pub use greybox_model::tree::{walk, Node, TreeEnsemble, LEAF};
 use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
-
 
 /// Growth limits.
 #[derive(Debug, Clone, Copy)]
@@ -192,4 +191,3 @@ impl Builder<'_> {
         self.build(start + n_left, end, depth + 1, left + 1);
     }
 }
-

@@ -1,11 +1,11 @@
 //! Each model family learns a smooth friction-like surface; protocol pieces behave.
 
-use greybox_learn::model::Train;
 use greybox_learn::boost::BoostParams;
 use greybox_learn::forest::ForestParams;
 use greybox_learn::importance::permutation_importance;
 use greybox_learn::metrics::r2;
 use greybox_learn::mlp::{Activation, MlpParams};
+use greybox_learn::model::Train;
 use greybox_learn::model::{Hyperparameters, Predictor, Regressor};
 use greybox_learn::svr::{Kernel, SvrParams};
 use greybox_learn::Matrix;

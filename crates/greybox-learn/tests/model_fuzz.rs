@@ -32,9 +32,16 @@ fn file(hp: Hyperparameters, model: FittedModel) -> ModelFile {
         schema_version: SCHEMA_VERSION,
         family: hp.family(),
         hyperparameters: hp,
-        features: vec![Column::new("normal_force_N"), Column::new("sliding_velocity_m_per_min")],
+        features: vec![
+            Column::new("normal_force_N"),
+            Column::new("sliding_velocity_m_per_min"),
+        ],
         target: Column::new("cof_apparent"),
-        training_domain: x.column_ranges().into_iter().map(|(min, max)| FeatureRange { min, max }).collect(),
+        training_domain: x
+            .column_ranges()
+            .into_iter()
+            .map(|(min, max)| FeatureRange { min, max })
+            .collect(),
         n_train: x.n_rows,
         prediction_interval: PredictionInterval {
             coverage: 0.9,
@@ -53,15 +60,37 @@ fn file(hp: Hyperparameters, model: FittedModel) -> ModelFile {
 
 fn valid_files() -> Vec<ModelFile> {
     let (x, y) = data();
-    let rf = ForestParams { n_estimators: 5, ..Default::default() };
-    let gb = BoostParams { n_estimators: 5, ..Default::default() };
+    let rf = ForestParams {
+        n_estimators: 5,
+        ..Default::default()
+    };
+    let gb = BoostParams {
+        n_estimators: 5,
+        ..Default::default()
+    };
     let svr = SvrParams::default();
-    let mlp = MlpParams { hidden_layers: vec![4, 3], max_epochs: 20, ..Default::default() };
+    let mlp = MlpParams {
+        hidden_layers: vec![4, 3],
+        max_epochs: 20,
+        ..Default::default()
+    };
     vec![
-        file(Hyperparameters::RandomForest(rf.clone()), FittedModel::TreeEnsemble(rf.fit(&x, &y, 1).unwrap())),
-        file(Hyperparameters::GradientBoosting(gb.clone()), FittedModel::TreeEnsemble(gb.fit(&x, &y, 1).unwrap())),
-        file(Hyperparameters::Svr(svr.clone()), FittedModel::Svr(svr.fit(&x, &y, 1).unwrap())),
-        file(Hyperparameters::Mlp(mlp.clone()), FittedModel::Mlp(mlp.fit(&x, &y, 1).unwrap())),
+        file(
+            Hyperparameters::RandomForest(rf.clone()),
+            FittedModel::TreeEnsemble(rf.fit(&x, &y, 1).unwrap()),
+        ),
+        file(
+            Hyperparameters::GradientBoosting(gb.clone()),
+            FittedModel::TreeEnsemble(gb.fit(&x, &y, 1).unwrap()),
+        ),
+        file(
+            Hyperparameters::Svr(svr.clone()),
+            FittedModel::Svr(svr.fit(&x, &y, 1).unwrap()),
+        ),
+        file(
+            Hyperparameters::Mlp(mlp.clone()),
+            FittedModel::Mlp(mlp.fit(&x, &y, 1).unwrap()),
+        ),
     ]
 }
 
@@ -168,7 +197,10 @@ fn damaged_model_files_never_panic_or_hang() {
             Err(_) => panic!("round {round}: a damaged {:?} model panicked", base.family),
         }
     }
-    assert!(refused > 500 && loaded > 100, "refused {refused}, loaded {loaded}");
+    assert!(
+        refused > 500 && loaded > 100,
+        "refused {refused}, loaded {loaded}"
+    );
 }
 
 /// The two defects seen by hand: a child index out of range and a cycle.
@@ -177,19 +209,36 @@ fn tree_cycle_and_out_of_range_child_are_refused() {
     let files = valid_files();
     for (left, want) in [(0u32, "would loop"), (1_000_000, "do not exist")] {
         let mut m = files[0].clone();
-        let FittedModel::TreeEnsemble(t) = &mut m.model else { unreachable!() };
-        let k = t.nodes.iter().position(|n| n.feature != greybox_learn::tree::LEAF).unwrap();
+        let FittedModel::TreeEnsemble(t) = &mut m.model else {
+            unreachable!()
+        };
+        let k = t
+            .nodes
+            .iter()
+            .position(|n| n.feature != greybox_learn::tree::LEAF)
+            .unwrap();
         t.nodes[k].left = left;
         let text = serde_json::to_string(&m.seal().unwrap()).unwrap();
         let e = ModelFile::parse(&text, "m.json").unwrap_err().to_string();
-        assert!(e.contains(&format!("nodes[{k}].left")) && e.contains(want), "{e}");
+        assert!(
+            e.contains(&format!("nodes[{k}].left")) && e.contains(want),
+            "{e}"
+        );
     }
     // an MLP whose layer sizes do not match its weights
     let mut m = files[3].clone();
-    let FittedModel::Mlp(n) = &mut m.model else { unreachable!() };
+    let FittedModel::Mlp(n) = &mut m.model else {
+        unreachable!()
+    };
     n.sizes[1] += 1;
-    let e = ModelFile::parse(&serde_json::to_string(&m.seal().unwrap()).unwrap(), "m.json")
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("model.weights[0]") || e.contains("model.biases[0]"), "{e}");
+    let e = ModelFile::parse(
+        &serde_json::to_string(&m.seal().unwrap()).unwrap(),
+        "m.json",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("model.weights[0]") || e.contains("model.biases[0]"),
+        "{e}"
+    );
 }

@@ -122,7 +122,8 @@ impl JohnsonCook {
             .positive("ref_strain_rate", self.ref_strain_rate)
             .positive("room_temperature_k", self.room_temperature_k)
             .relation(
-                self.melt_temperature_k > self.room_temperature_k && self.melt_temperature_k.is_finite(),
+                self.melt_temperature_k > self.room_temperature_k
+                    && self.melt_temperature_k.is_finite(),
                 format!(
                     "melt_temperature_k ({}) must exceed room_temperature_k ({})",
                     self.melt_temperature_k, self.room_temperature_k

@@ -41,4 +41,3 @@ pub fn unit_of(name: &str) -> &'static str {
         .map(|(_, u)| *u)
         .unwrap_or("1")
 }
-

@@ -10,7 +10,6 @@ use serde::{Deserialize, Serialize};
 
 pub use crate::predictor::Predictor;
 
-
 /// The four model families.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]

@@ -2,8 +2,8 @@
 //! data, stored in model files) and the fitted network, which predicts one point without
 //! allocating. Training is `greybox-learn`'s `mlp` module.
 
-use crate::predictor::Predictor;
 use crate::matrix::Standardizer;
+use crate::predictor::Predictor;
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

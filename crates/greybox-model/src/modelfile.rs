@@ -1,9 +1,9 @@
 //! Model files: JSON with a schema version, feature names and units, the training domain,
 //! the prediction interval and a SHA-256 content hash over everything else.
 
-use crate::interval::PredictionInterval;
-use crate::family::{Family, FittedModel, Hyperparameters, Predictor};
 use crate::column::Column;
+use crate::family::{Family, FittedModel, Hyperparameters, Predictor};
+use crate::interval::PredictionInterval;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::{Error, Result, SourcePos};
 use serde::{Deserialize, Serialize};
@@ -65,7 +65,11 @@ impl ForcePressure {
     /// the earlier schema the planned one). `None` when the rows do not share one map.
     pub fn of_dataset(ds: &greybox_core::dataset::FrictionDataset) -> Option<Self> {
         let first = ds.records.first()?;
-        if ds.records.iter().any(|r| r.pressure_convention != first.pressure_convention) {
+        if ds
+            .records
+            .iter()
+            .any(|r| r.pressure_convention != first.pressure_convention)
+        {
             return None;
         }
         let loads: [fn(&greybox_core::dataset::FrictionRecord) -> Option<f64>; 2] =
@@ -77,10 +81,12 @@ impl ForcePressure {
                 .map(|r| load(r).map(|f| r.hertz_pressure_pa / f.cbrt()))
                 .collect::<Option<_>>()?;
             let c = cs[0];
-            (c.is_finite() && c > 0.0 && cs.iter().all(|x| (x / c - 1.0).abs() < 1e-6)).then_some(ForcePressure {
-                pressure_convention: first.pressure_convention,
-                pressure_pa_at_1_n: c,
-            })
+            (c.is_finite() && c > 0.0 && cs.iter().all(|x| (x / c - 1.0).abs() < 1e-6)).then_some(
+                ForcePressure {
+                    pressure_convention: first.pressure_convention,
+                    pressure_pa_at_1_n: c,
+                },
+            )
         })
     }
 }
@@ -169,9 +175,14 @@ impl ModelFile {
     /// consistent, trees acyclic, finite numbers; the error names the field.
     pub fn check_structure(&self, source: &str) -> Result<()> {
         let n = self.features.len();
-        let bad = |field: String, message: String| Error::input(SourcePos::file(source).field(field), message);
+        let bad = |field: String, message: String| {
+            Error::input(SourcePos::file(source).field(field), message)
+        };
         if n == 0 {
-            return Err(bad("features".into(), "a model needs at least one feature".into()));
+            return Err(bad(
+                "features".into(),
+                "a model needs at least one feature".into(),
+            ));
         }
         if self.training_domain.len() != n {
             return Err(bad(
@@ -181,12 +192,18 @@ impl ModelFile {
         }
         for (k, r) in self.training_domain.iter().enumerate() {
             if !(r.min.is_finite() && r.max.is_finite() && r.min <= r.max) {
-                return Err(bad(format!("training_domain[{k}]"), format!("{}..{} is not a range", r.min, r.max)));
+                return Err(bad(
+                    format!("training_domain[{k}]"),
+                    format!("{}..{} is not a range", r.min, r.max),
+                ));
             }
         }
         let q = self.prediction_interval.half_width;
         if !(q.is_finite() && q >= 0.0) {
-            return Err(bad("prediction_interval.half_width".into(), format!("{q} is not a width")));
+            return Err(bad(
+                "prediction_interval.half_width".into(),
+                format!("{q} is not a width"),
+            ));
         }
         crate::structure::check_model(&self.model, n)
             .map_err(|e| bad(format!("model.{}", e.field), e.message))

@@ -7,9 +7,9 @@
 //! (`predict`, a law in the cutting simulation, the C ABI inside an FE solver) can never
 //! index out of bounds, loop, or answer NaN from a corrupted file.
 
+use crate::family::FittedModel;
 use crate::matrix::{Matrix, Standardizer};
 use crate::mlp::{MlpModel, MAX_WIDTH};
-use crate::family::FittedModel;
 use crate::svr::{SvrModel, MAX_FEATURES};
 use crate::tree::{TreeEnsemble, LEAF};
 
@@ -31,7 +31,10 @@ fn fail(field: impl Into<String>, message: impl Into<String>) -> Check {
 
 fn finite(field: &str, values: &[f64]) -> Check {
     match values.iter().position(|v| !v.is_finite()) {
-        Some(i) => fail(format!("{field}[{i}]"), format!("{} is not a finite number", values[i])),
+        Some(i) => fail(
+            format!("{field}[{i}]"),
+            format!("{} is not a finite number", values[i]),
+        ),
         None => Ok(()),
     }
 }
@@ -59,7 +62,10 @@ fn check_scaler(field: &str, s: &Standardizer, n_features: usize) -> Check {
     finite(&format!("{field}.mean"), &s.mean)?;
     finite(&format!("{field}.scale"), &s.scale)?;
     match s.scale.iter().position(|v| !(*v > 0.0)) {
-        Some(i) => fail(format!("{field}.scale[{i}]"), format!("{} is not a positive scale", s.scale[i])),
+        Some(i) => fail(
+            format!("{field}.scale[{i}]"),
+            format!("{} is not a positive scale", s.scale[i]),
+        ),
         None => Ok(()),
     }
 }
@@ -68,7 +74,10 @@ fn check_scaler(field: &str, s: &Standardizer, n_features: usize) -> Check {
 /// every child after its parent (so every path ends: no cycle, no self-reference).
 pub fn check_trees(t: &TreeEnsemble, n_features: usize) -> Check {
     if t.n_features != n_features {
-        return fail("n_features", format!("{} but the file lists {n_features} features", t.n_features));
+        return fail(
+            "n_features",
+            format!("{} but the file lists {n_features} features", t.n_features),
+        );
     }
     finite("base", &[t.base])?;
     finite("scale", &[t.scale])?;
@@ -78,13 +87,19 @@ pub fn check_trees(t: &TreeEnsemble, n_features: usize) -> Check {
     }
     for (k, r) in t.roots.iter().enumerate() {
         if *r as usize >= n {
-            return fail(format!("roots[{k}]"), format!("node {r} does not exist ({n} nodes)"));
+            return fail(
+                format!("roots[{k}]"),
+                format!("node {r} does not exist ({n} nodes)"),
+            );
         }
     }
     for (i, node) in t.nodes.iter().enumerate() {
         let field = |what: &str| format!("nodes[{i}].{what}");
         if !node.value.is_finite() {
-            return fail(field("value"), format!("{} is not a finite number", node.value));
+            return fail(
+                field("value"),
+                format!("{} is not a finite number", node.value),
+            );
         }
         if node.feature == LEAF {
             continue;
@@ -92,7 +107,10 @@ pub fn check_trees(t: &TreeEnsemble, n_features: usize) -> Check {
         if node.feature as usize >= n_features {
             return fail(
                 field("feature"),
-                format!("split on feature {} but the model has {n_features} features", node.feature),
+                format!(
+                    "split on feature {} but the model has {n_features} features",
+                    node.feature
+                ),
             );
         }
         let left = node.left as usize;
@@ -103,7 +121,10 @@ pub fn check_trees(t: &TreeEnsemble, n_features: usize) -> Check {
             );
         }
         if left + 1 >= n {
-            return fail(field("left"), format!("children {left} and {} do not exist ({n} nodes)", left + 1));
+            return fail(
+                field("left"),
+                format!("children {left} and {} do not exist ({n} nodes)", left + 1),
+            );
         }
     }
     Ok(())
@@ -112,12 +133,22 @@ pub fn check_trees(t: &TreeEnsemble, n_features: usize) -> Check {
 /// SVR: support vectors of the input width, one coefficient each, finite numbers.
 pub fn check_svr(s: &SvrModel, n_features: usize) -> Check {
     if n_features > MAX_FEATURES {
-        return fail("support", format!("{n_features} features; SVR models take at most {MAX_FEATURES}"));
+        return fail(
+            "support",
+            format!("{n_features} features; SVR models take at most {MAX_FEATURES}"),
+        );
     }
     check_scaler("scaler", &s.scaler, n_features)?;
     check_matrix("support", &s.support, n_features)?;
     if s.coef.len() != s.support.n_rows {
-        return fail("coef", format!("{} coefficients for {} support vectors", s.coef.len(), s.support.n_rows));
+        return fail(
+            "coef",
+            format!(
+                "{} coefficients for {} support vectors",
+                s.coef.len(),
+                s.support.n_rows
+            ),
+        );
     }
     finite("coef", &s.coef)?;
     finite("support.data", &s.support.data)?;
@@ -132,7 +163,10 @@ pub fn check_svr(s: &SvrModel, n_features: usize) -> Check {
 
 fn check_matrix(field: &str, m: &Matrix, n_cols: usize) -> Check {
     if m.n_cols != n_cols {
-        return fail(format!("{field}.n_cols"), format!("{} but the model has {n_cols} features", m.n_cols));
+        return fail(
+            format!("{field}.n_cols"),
+            format!("{} but the model has {n_cols} features", m.n_cols),
+        );
     }
     if m.data.len() != m.n_rows.saturating_mul(m.n_cols) {
         return fail(
@@ -154,24 +188,39 @@ pub fn check_mlp(m: &MlpModel, n_features: usize) -> Check {
         );
     }
     if let Some(k) = s.iter().position(|w| *w == 0 || *w > MAX_WIDTH) {
-        return fail(format!("sizes[{k}]"), format!("{} (a layer has 1..{MAX_WIDTH} units)", s[k]));
+        return fail(
+            format!("sizes[{k}]"),
+            format!("{} (a layer has 1..{MAX_WIDTH} units)", s[k]),
+        );
     }
     let layers = s.len() - 1;
     if m.weights.len() != layers || m.biases.len() != layers {
         return fail(
             "weights",
-            format!("{} weight and {} bias arrays for {layers} layers", m.weights.len(), m.biases.len()),
+            format!(
+                "{} weight and {} bias arrays for {layers} layers",
+                m.weights.len(),
+                m.biases.len()
+            ),
         );
     }
     for k in 0..layers {
         if m.weights[k].len() != s[k] * s[k + 1] {
             return fail(
                 format!("weights[{k}]"),
-                format!("{} values for a {} × {} layer", m.weights[k].len(), s[k], s[k + 1]),
+                format!(
+                    "{} values for a {} × {} layer",
+                    m.weights[k].len(),
+                    s[k],
+                    s[k + 1]
+                ),
             );
         }
         if m.biases[k].len() != s[k + 1] {
-            return fail(format!("biases[{k}]"), format!("{} values for {} units", m.biases[k].len(), s[k + 1]));
+            return fail(
+                format!("biases[{k}]"),
+                format!("{} values for {} units", m.biases[k].len(), s[k + 1]),
+            );
         }
         finite(&format!("weights[{k}]"), &m.weights[k])?;
         finite(&format!("biases[{k}]"), &m.biases[k])?;

@@ -91,7 +91,11 @@ impl Checkpoint {
     }
 
     /// Restore `resume` (if any) into `sim` and hand back the observers' saved histories.
-    pub fn resume_into(resume: Option<Self>, sim: &mut Solver, setup: &str) -> Result<Option<ObserverStates>, SimError> {
+    pub fn resume_into(
+        resume: Option<Self>,
+        sim: &mut Solver,
+        setup: &str,
+    ) -> Result<Option<ObserverStates>, SimError> {
         resume
             .map(|c| {
                 let states = c.observers.clone();
@@ -160,13 +164,18 @@ impl Observer for Checkpointer {
     fn checkpoint_due(&self, sim: &Solver) -> bool {
         sim.step.is_multiple_of(self.every)
     }
-    fn write_checkpoint(&mut self, sim: &mut Solver, states: &ObserverStates) -> Result<(), SimError> {
+    fn write_checkpoint(
+        &mut self,
+        sim: &mut Solver,
+        states: &ObserverStates,
+    ) -> Result<(), SimError> {
         // Rebuild the neighbour lists here so that a resumed run (which rebuilds on restore)
         // sums in exactly the same order: resume is bit-for-bit.
         sim.neighbours.build(&sim.particles.x, &sim.particles.y);
         let mut c = Checkpoint::of(sim, &self.setup);
         c.observers = states.clone();
-        c.write(&self.path).map_err(|e| SimError::Invalid(e.to_string()))
+        c.write(&self.path)
+            .map_err(|e| SimError::Invalid(e.to_string()))
     }
     fn on_failure(&mut self, sim: &Solver, last_good: &Particles, step: u64, time: f64) {
         let path = self.path.with_extension("last_good.json");

@@ -47,9 +47,21 @@ pub(crate) struct ContactWork {
 }
 
 #[allow(clippy::needless_range_loop)] // several arrays are indexed by i
-pub(crate) fn apply(c: &ContactParams, p: &mut Particles, rates: &mut [Rates], tools: &mut [Tool]) -> ContactWork {
-    let (dt, t, alpha, reach, heat, f_mass, th) =
-        (c.dt, c.time, c.penalty, c.reach, c.heat_share, c.mass_scaling, c.thermal);
+pub(crate) fn apply(
+    c: &ContactParams,
+    p: &mut Particles,
+    rates: &mut [Rates],
+    tools: &mut [Tool],
+) -> ContactWork {
+    let (dt, t, alpha, reach, heat, f_mass, th) = (
+        c.dt,
+        c.time,
+        c.penalty,
+        c.reach,
+        c.heat_share,
+        c.mass_scaling,
+        c.thermal,
+    );
     let m = p.mass;
     let mut friction_work = 0.0;
     let mut penalty_work = 0.0;

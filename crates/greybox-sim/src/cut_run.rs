@@ -108,7 +108,13 @@ impl CutRun {
 
 /// A run must have steps ahead of it: a checkpoint at or past the requested end, or a cut
 /// fraction shorter than one step, is an error (it used to report a force of zero).
-pub fn check_steps_ahead(sim: &Solver, end_s: f64, resumed: bool, fraction: f64, dt_s: f64) -> Result<(), SimError> {
+pub fn check_steps_ahead(
+    sim: &Solver,
+    end_s: f64,
+    resumed: bool,
+    fraction: f64,
+    dt_s: f64,
+) -> Result<(), SimError> {
     if sim.time < end_s - 0.5 * sim.dt {
         return Ok(());
     }

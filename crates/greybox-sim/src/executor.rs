@@ -41,7 +41,11 @@ pub trait Observer {
         false
     }
     /// Write a checkpoint holding `states`, every observer's [`Observer::save_state`].
-    fn write_checkpoint(&mut self, _sim: &mut Solver, _states: &ObserverStates) -> Result<(), SimError> {
+    fn write_checkpoint(
+        &mut self,
+        _sim: &mut Solver,
+        _states: &ObserverStates,
+    ) -> Result<(), SimError> {
         Ok(())
     }
 }
@@ -51,14 +55,20 @@ pub type ObserverStates = std::collections::BTreeMap<String, serde_json::Value>;
 
 /// An observer's state saved under `key`, for a resumed run; an error when the checkpoint
 /// does not hold it.
-pub fn restored_state<T: serde::de::DeserializeOwned>(states: &ObserverStates, key: &str) -> Result<T, SimError> {
+pub fn restored_state<T: serde::de::DeserializeOwned>(
+    states: &ObserverStates,
+    key: &str,
+) -> Result<T, SimError> {
     let v = states.get(key).ok_or_else(|| {
         SimError::Invalid(format!(
             "the checkpoint holds no '{key}' history (written by an older greybox?): a resumed run could not reproduce the uninterrupted one; start afresh"
         ))
     })?;
-    serde_json::from_value(v.clone())
-        .map_err(|e| SimError::Invalid(format!("the checkpoint's '{key}' history is unreadable: {e}")))
+    serde_json::from_value(v.clone()).map_err(|e| {
+        SimError::Invalid(format!(
+            "the checkpoint's '{key}' history is unreadable: {e}"
+        ))
+    })
 }
 
 /// How a run ended.

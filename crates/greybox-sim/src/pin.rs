@@ -98,7 +98,10 @@ impl PinSetup {
             .positive("initial_temperature_k", self.initial_temperature_k)
             .relation(
                 !(self.depth_m >= self.pin_radius_m),
-                format!("depth_m ({}) must be below pin_radius_m ({})", self.depth_m, self.pin_radius_m),
+                format!(
+                    "depth_m ({}) must be below pin_radius_m ({})",
+                    self.depth_m, self.pin_radius_m
+                ),
             )
             .relation(
                 !(self.workpiece_height_m < 6.0 * self.spacing_m),

@@ -27,13 +27,13 @@
 //! amplifies every mode and is only kept alive by artificial viscosity at small Courant numbers.
 
 use crate::contact;
-use crate::rates::Rates;
 use crate::disjoint::DisjointMut;
 use crate::kernel::{CubicSpline, PairTable};
 use crate::model::{Model, Numerics};
 use crate::neighbours::NeighbourList;
 use crate::particles::{Particles, FREE};
 use crate::plasticity;
+use crate::rates::Rates;
 use crate::tool::Tool;
 use greybox_material::Material;
 use rayon::prelude::*;
@@ -549,11 +549,20 @@ impl Solver {
             time: self.time,
             penalty: self.numerics.contact_penalty,
             reach: self.kernel.h,
-            heat_share: if self.numerics.thermal { self.numerics.friction_heat_share } else { 0.0 },
+            heat_share: if self.numerics.thermal {
+                self.numerics.friction_heat_share
+            } else {
+                0.0
+            },
             mass_scaling: self.numerics.mass_scaling,
             thermal: &self.material.thermal,
         };
-        let w = contact::apply(&params, &mut self.particles, &mut self.rates, &mut self.tools);
+        let w = contact::apply(
+            &params,
+            &mut self.particles,
+            &mut self.rates,
+            &mut self.tools,
+        );
         self.energy.friction_work += w.friction;
         self.energy.penalty_work += w.penalty;
         self.energy.external_work += w.external;

@@ -175,7 +175,10 @@ fn inverse_rate_sensitivity_recovers_the_c_that_made_the_force() {
 /// Stops the run after a given step (stands in for `kill -9` after a checkpoint).
 struct KillAt(u64);
 impl greybox_sim::Observer for KillAt {
-    fn after_step(&mut self, sim: &mut greybox_sim::Solver) -> Result<greybox_sim::Control, greybox_sim::SimError> {
+    fn after_step(
+        &mut self,
+        sim: &mut greybox_sim::Solver,
+    ) -> Result<greybox_sim::Control, greybox_sim::SimError> {
         Ok(if sim.step >= self.0 {
             greybox_sim::Control::Stop
         } else {
@@ -205,7 +208,14 @@ fn resume_equals_the_uninterrupted_run() {
     let ck_path = d.path().join("killed.json");
     let mut ck = Checkpointer::new(&ck_path, every, &id);
     let kill_at = 2 * every + every / 2;
-    let _ = CutRun::execute(&setup, law.clone(), 1.0, None, &mut [&mut KillAt(kill_at), &mut ck]).unwrap();
+    let _ = CutRun::execute(
+        &setup,
+        law.clone(),
+        1.0,
+        None,
+        &mut [&mut KillAt(kill_at), &mut ck],
+    )
+    .unwrap();
     let c = Checkpoint::read(&ck_path).unwrap();
     assert_eq!(c.step, 2 * every);
     let mut ck = Checkpointer::new(&ck_path, every, &id);
@@ -213,7 +223,10 @@ fn resume_equals_the_uninterrupted_run() {
     assert_eq!(resumed.sim.step, steps);
     assert_eq!(resumed.forces.rows, clean.forces.rows, "force history");
     assert_eq!(resumed.steady.blocks, clean.steady.blocks, "steady blocks");
-    assert_eq!(resumed.updater.history, clean.updater.history, "window updates / μ history");
+    assert_eq!(
+        resumed.updater.history, clean.updater.history,
+        "window updates / μ history"
+    );
     assert_eq!(resumed.force, clean.force, "averaged forces");
     assert_eq!(resumed.averaged_from_s, clean.averaged_from_s);
     assert_eq!(resumed.profile.len(), clean.profile.len());
@@ -222,12 +235,27 @@ fn resume_equals_the_uninterrupted_run() {
     }
     // a checkpoint at the end: nothing left to run is an error, not a force of zero
     let end = Checkpoint::read(&ck_path).unwrap();
-    let done = CutRun::execute(&setup, law.clone(), (end.time_s / clean.sim.time).min(1.0) * 0.5, Some(end), &mut []);
-    let e = done.err().expect("a checkpoint past the end must be refused").to_string();
+    let done = CutRun::execute(
+        &setup,
+        law.clone(),
+        (end.time_s / clean.sim.time).min(1.0) * 0.5,
+        Some(end),
+        &mut [],
+    );
+    let e = done
+        .err()
+        .expect("a checkpoint past the end must be refused")
+        .to_string();
     assert!(e.contains("past the requested end"), "{e}");
     // and a fraction shorter than one step
-    let e = CutRun::execute(&setup, law, 1e-9, None, &mut []).err().unwrap().to_string();
-    assert!(e.contains("--fraction") && e.contains("no step would run"), "{e}");
+    let e = CutRun::execute(&setup, law, 1e-9, None, &mut [])
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        e.contains("--fraction") && e.contains("no step would run"),
+        "{e}"
+    );
 }
 
 /// Every numeric field of a cutting set-up: a bad value is refused with the field's name and
@@ -236,29 +264,86 @@ fn resume_equals_the_uninterrupted_run() {
 fn bad_configurations_name_the_field_and_the_rule() {
     type Mutation = fn(&mut CuttingSetup);
     let cases: Vec<(Mutation, &str)> = vec![
-        (|s| s.cutting_speed_m_s = -5.0, "cutting_speed_m_s must be > 0, got -5"),
-        (|s| s.uncut_chip_thickness_m = 0.0, "uncut_chip_thickness_m must be > 0"),
-        (|s| s.cut_length_m = f64::NAN, "cut_length_m must be > 0, got NaN"),
-        (|s| s.spacing_m = f64::INFINITY, "spacing_m must be > 0, got inf"),
+        (
+            |s| s.cutting_speed_m_s = -5.0,
+            "cutting_speed_m_s must be > 0, got -5",
+        ),
+        (
+            |s| s.uncut_chip_thickness_m = 0.0,
+            "uncut_chip_thickness_m must be > 0",
+        ),
+        (
+            |s| s.cut_length_m = f64::NAN,
+            "cut_length_m must be > 0, got NaN",
+        ),
+        (
+            |s| s.spacing_m = f64::INFINITY,
+            "spacing_m must be > 0, got inf",
+        ),
         (|s| s.workpiece_height_m = 0.1e-3, "workpiece_height_m"),
         (|s| s.mu = -0.1, "mu must be ≥ 0"),
-        (|s| s.initial_temperature_k = 0.0, "initial_temperature_k must be > 0"),
-        (|s| s.insert.rake_deg = 60.0, "insert.rake_deg must be in (-45, 45)"),
-        (|s| s.insert.clearance_deg = 0.0, "insert.clearance_deg must be in (0, 45)"),
-        (|s| s.insert.edge_radius_m = -1e-6, "insert.edge_radius_m must be ≥ 0"),
-        (|s| s.insert.rake_length_m = 0.0, "insert.rake_length_m must be > 0"),
-        (|s| s.insert.flank_length_m = -1.0, "insert.flank_length_m must be > 0"),
-        (|s| s.friction.window_length_m = 0.0, "friction.window_length_m must be > 0"),
-        (|s| s.friction.update_every_steps = 0, "friction.update_every_steps must be ≥ 1"),
-        (|s| s.steady.block_length_m = -1.0, "steady.block_length_m must be > 0"),
+        (
+            |s| s.initial_temperature_k = 0.0,
+            "initial_temperature_k must be > 0",
+        ),
+        (
+            |s| s.insert.rake_deg = 60.0,
+            "insert.rake_deg must be in (-45, 45)",
+        ),
+        (
+            |s| s.insert.clearance_deg = 0.0,
+            "insert.clearance_deg must be in (0, 45)",
+        ),
+        (
+            |s| s.insert.edge_radius_m = -1e-6,
+            "insert.edge_radius_m must be ≥ 0",
+        ),
+        (
+            |s| s.insert.rake_length_m = 0.0,
+            "insert.rake_length_m must be > 0",
+        ),
+        (
+            |s| s.insert.flank_length_m = -1.0,
+            "insert.flank_length_m must be > 0",
+        ),
+        (
+            |s| s.friction.window_length_m = 0.0,
+            "friction.window_length_m must be > 0",
+        ),
+        (
+            |s| s.friction.update_every_steps = 0,
+            "friction.update_every_steps must be ≥ 1",
+        ),
+        (
+            |s| s.steady.block_length_m = -1.0,
+            "steady.block_length_m must be > 0",
+        ),
         (|s| s.steady.blocks = 1, "steady.blocks must be ≥ 2"),
-        (|s| s.steady.tolerance = 0.0, "steady.tolerance must be in (0, 1]"),
+        (
+            |s| s.steady.tolerance = 0.0,
+            "steady.tolerance must be in (0, 1]",
+        ),
         (|s| s.numerics.cfl = 2.0, "cfl must be in (0, 1], got 2"),
-        (|s| s.numerics.mass_scaling = 0.5, "mass_scaling must be in [1,"),
-        (|s| s.numerics.friction_heat_share = 1.5, "friction_heat_share must be in [0, 1]"),
-        (|s| s.numerics.smoothing_ratio = 0.5, "smoothing_ratio must be in [1, 3]"),
-        (|s| s.material.density_kg_m3 = -1.0, "density_kg_m3 must be > 0"),
-        (|s| s.material.elastic.poisson_ratio = 0.5, "elastic.poisson_ratio must be in (-1, 0.5)"),
+        (
+            |s| s.numerics.mass_scaling = 0.5,
+            "mass_scaling must be in [1,",
+        ),
+        (
+            |s| s.numerics.friction_heat_share = 1.5,
+            "friction_heat_share must be in [0, 1]",
+        ),
+        (
+            |s| s.numerics.smoothing_ratio = 0.5,
+            "smoothing_ratio must be in [1, 3]",
+        ),
+        (
+            |s| s.material.density_kg_m3 = -1.0,
+            "density_kg_m3 must be > 0",
+        ),
+        (
+            |s| s.material.elastic.poisson_ratio = 0.5,
+            "elastic.poisson_ratio must be in (-1, 0.5)",
+        ),
         (
             |s| s.material.plasticity.as_mut().unwrap().n = 1.5,
             "n must be in (0, 1], got 1.5",

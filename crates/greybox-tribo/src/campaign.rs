@@ -25,7 +25,7 @@ use crate::identify::{identify_pin, IdentifyConfig};
 use crate::plan::Plan;
 use crate::recording::{ReadReport, Recording, SpeedTrace};
 use crate::signal::{mad_sigma, median, moving_average};
-use crate::steady::{plateau_stats, step_signals, steady_span, windows};
+use crate::steady::{plateau_stats, steady_span, step_signals, windows};
 use greybox_core::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header};
 use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
 use greybox_core::units;
@@ -96,7 +96,10 @@ pub fn read_expected_steps(path: &std::path::Path) -> Result<Vec<ExpectedStep>> 
         });
     }
     if out.is_empty() {
-        return Err(Error::input(SourcePos::file(&source), "no steps in the file"));
+        return Err(Error::input(
+            SourcePos::file(&source),
+            "no steps in the file",
+        ));
     }
     Ok(out)
 }
@@ -227,7 +230,11 @@ fn runs(mask: &[bool]) -> Vec<(usize, usize)> {
     out
 }
 
-fn prepare<'a>(rec: &'a Recording, cfg: &IdentifyConfig, segmentation: &str) -> Result<Prepared<'a>> {
+fn prepare<'a>(
+    rec: &'a Recording,
+    cfg: &IdentifyConfig,
+    segmentation: &str,
+) -> Result<Prepared<'a>> {
     rec.validate()?;
     let n = rec.len();
     let fs = rec.sample_rate_hz();
@@ -300,13 +307,21 @@ fn prepare<'a>(rec: &'a Recording, cfg: &IdentifyConfig, segmentation: &str) -> 
     let flipped = median(&mu_loaded) < 0.0;
     if flipped {
         ft_c.iter_mut().for_each(|v| *v = -*v);
-        notes.push("the tangential force is negative while loaded: its sign was flipped".to_string());
+        notes.push(
+            "the tangential force is negative while loaded: its sign was flipped".to_string(),
+        );
     }
     // sliding: loaded blocks whose μ is a fair share of the typical sliding μ
     let bt = block_medians(&ft_c, b);
     let bnc = block_medians(&fn_c, b);
     let mu_blocks: Vec<f64> = (0..bn.len())
-        .map(|k| if loaded_blocks[k] { bt[k] / bnc[k].max(1e-12) } else { 0.0 })
+        .map(|k| {
+            if loaded_blocks[k] {
+                bt[k] / bnc[k].max(1e-12)
+            } else {
+                0.0
+            }
+        })
         .collect();
     let loaded_mu: Vec<f64> = (0..bn.len())
         .filter(|k| loaded_blocks[*k])
@@ -319,7 +334,9 @@ fn prepare<'a>(rec: &'a Recording, cfg: &IdentifyConfig, segmentation: &str) -> 
     let sliding: Vec<bool> = (0..n).map(|k| sliding_blocks[k / b]).collect();
     let no_baseline = baseline == "none";
     if no_baseline {
-        notes.push("no unloaded window: offsets cannot be removed (rows flagged no-baseline)".to_string());
+        notes.push(
+            "no unloaded window: offsets cannot be removed (rows flagged no-baseline)".to_string(),
+        );
     }
     Ok(Prepared {
         rec,
@@ -557,8 +574,8 @@ fn split_run(p: &Prepared, run: Span, k: Option<usize>, cfg: &IdentifyConfig) ->
     let min_abs = ((cfg.min_segment_s * p.fs / b as f64).ceil() as usize).max(2);
     let bounds = match k {
         Some(k) => {
-            let min_len = ((cfg.min_segment_fraction * blocks.len() as f64 / k as f64) as usize)
-                .max(min_abs);
+            let min_len =
+                ((cfg.min_segment_fraction * blocks.len() as f64 / k as f64) as usize).max(min_abs);
             split_into(blocks, k, min_len).ok_or_else(|| {
                 Error::input(
                     SourcePos::file(&p.rec.source),
@@ -637,7 +654,8 @@ fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> Segm
         signals.push((v, v_floor));
     }
     let Some((a, b)) = steady_span(&signals, sig.w_smooth) else {
-        rep.problem = Some("no steady part: μ, F_N or the speed never settle inside the segment".into());
+        rep.problem =
+            Some("no steady part: μ, F_N or the speed never settle inside the segment".into());
         return rep;
     };
     let settle = (cfg.settle_time_s * p.fs).round() as usize;
@@ -727,14 +745,21 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
             ));
         }
         let plan = c.plan.ok_or_else(|| {
-            Error::invalid("identify", "--segment plan-timing needs a plan with timing (--study)")
+            Error::invalid(
+                "identify",
+                "--segment plan-timing needs a plan with timing (--study)",
+            )
         })?;
         return plan_timed(recs, plan, c);
     }
     for (rec, m) in recs.iter().zip(&methods) {
         let missing = match m {
-            Segmentation::StepColumn if rec.step.is_none() => Some("a step column (--map step=NAME)"),
-            Segmentation::Speed if rec.speed.is_none() => Some("a speed channel (--map speed=NAME:UNIT)"),
+            Segmentation::StepColumn if rec.step.is_none() => {
+                Some("a step column (--map step=NAME)")
+            }
+            Segmentation::Speed if rec.speed.is_none() => {
+                Some("a speed channel (--map speed=NAME:UNIT)")
+            }
             _ => None,
         };
         if let Some(what) = missing {
@@ -807,7 +832,11 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
     }
     let min_len = |p: &Prepared| (cfg.min_segment_s * p.fs) as usize;
     for (p, s) in prepared.iter_mut().zip(&spans) {
-        let kept: Vec<Span> = s.iter().copied().filter(|s| s.j - s.i >= min_len(p).max(4)).collect();
+        let kept: Vec<Span> = s
+            .iter()
+            .copied()
+            .filter(|s| s.j - s.i >= min_len(p).max(4))
+            .collect();
         let segs: Vec<SegmentReport> = kept
             .iter()
             .enumerate()
@@ -831,11 +860,23 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
 /// Sliding velocities of segments with a spindle speed: v = 2π R n / 60, R from the radius
 /// column, the given radii, or the plan.
 fn resolve_velocities(files: &mut [FileReport], c: &Campaign) -> Result<()> {
-    let total: usize = files.iter().map(|f| f.segments.iter().filter(|s| s.spindle_rpm.is_some()).count()).sum();
+    let total: usize = files
+        .iter()
+        .map(|f| {
+            f.segments
+                .iter()
+                .filter(|s| s.spindle_rpm.is_some())
+                .count()
+        })
+        .sum();
     let radii = c.track_radius_mm;
     let mut global = 0usize;
     for f in files.iter_mut() {
-        let in_file = f.segments.iter().filter(|s| s.spindle_rpm.is_some()).count();
+        let in_file = f
+            .segments
+            .iter()
+            .filter(|s| s.spindle_rpm.is_some())
+            .count();
         let mut local = 0usize;
         for s in f.segments.iter_mut() {
             let Some(rpm) = s.spindle_rpm else { continue };
@@ -904,15 +945,37 @@ pub fn check_levels(ds: &FrictionDataset, files: &[FileReport]) -> Result<()> {
     };
     let levels: Vec<(u32, f64)> = pins
         .iter()
-        .map(|&p| (p, median_of(ds.records.iter().filter(|r| r.pin == p).map(|r| r.cof_apparent.abs()).collect())))
+        .map(|&p| {
+            (
+                p,
+                median_of(
+                    ds.records
+                        .iter()
+                        .filter(|r| r.pin == p)
+                        .map(|r| r.cof_apparent.abs())
+                        .collect(),
+                ),
+            )
+        })
         .collect();
     for &(pin, level) in &levels {
-        let others = median_of(levels.iter().filter(|(p, _)| *p != pin).map(|(_, l)| *l).collect());
+        let others = median_of(
+            levels
+                .iter()
+                .filter(|(p, _)| *p != pin)
+                .map(|(_, l)| *l)
+                .collect(),
+        );
         let factor = level.max(1e-12) / others.max(1e-12);
         if !(1.0 / IMPLAUSIBLE_LEVEL_FACTOR..=IMPLAUSIBLE_LEVEL_FACTOR).contains(&factor) {
             let source = files
                 .iter()
-                .find(|f| f.segments.iter().any(|s| s.matched.is_some_and(|(p, _)| p == pin)) || f.rows.iter().any(|r| r.pin == pin))
+                .find(|f| {
+                    f.segments
+                        .iter()
+                        .any(|s| s.matched.is_some_and(|(p, _)| p == pin))
+                        || f.rows.iter().any(|r| r.pin == pin)
+                })
                 .map_or_else(|| format!("pin {pin}"), |f| f.source.clone());
             let hint = if factor < 1.0 {
                 "is the tangential channel in kN (or the normal one in mN) read as N? state its unit: --map tangential=NAME:kN"
@@ -936,8 +999,14 @@ fn match_segments_unchecked(
     files: &mut [FileReport],
     c: &Campaign,
 ) -> Result<(FrictionDataset, MatchReport)> {
-    if files.iter().all(|f| f.segmentation == Segmentation::PlanTiming.name()) {
-        let records = files.iter_mut().flat_map(|f| std::mem::take(&mut f.rows)).collect();
+    if files
+        .iter()
+        .all(|f| f.segmentation == Segmentation::PlanTiming.name())
+    {
+        let records = files
+            .iter_mut()
+            .flat_map(|f| std::mem::take(&mut f.rows))
+            .collect();
         return Ok((
             FrictionDataset { records },
             MatchReport {
@@ -1004,7 +1073,14 @@ fn number_without_plan(
                 "without a plan the sliding velocity must come from the recording: map a speed channel (--map speed=NAME:UNIT, with --track-radius-mm for rpm) or give a plan (--study or --plan-steps)",
             ));
         };
-        let single = |ff: usize| files[ff].segments.iter().filter(|s| s.stats.is_some()).count() == 1;
+        let single = |ff: usize| {
+            files[ff]
+                .segments
+                .iter()
+                .filter(|s| s.stats.is_some())
+                .count()
+                == 1
+        };
         let new_pin = match prev {
             None => true,
             Some((pf, load)) => {
@@ -1021,7 +1097,13 @@ fn number_without_plan(
         prev = Some((f, s.normal_force_n));
         files[f].segments[k].matched = Some((pin, step));
         let s = &files[f].segments[k];
-        records.push(segment_record(c, (pin, step), None, units::m_per_min_to_m_per_s(v), s)?);
+        records.push(segment_record(
+            c,
+            (pin, step),
+            None,
+            units::m_per_min_to_m_per_s(v),
+            s,
+        )?);
     }
     let report = MatchReport {
         method: "none".into(),
@@ -1079,7 +1161,13 @@ fn match_to_plan(
                 last_ei = Some(last_ei.map_or(ei, |p| p.max(ei)));
                 files[f].segments[k].matched = Some((e.pin, e.step));
                 let s = &files[f].segments[k];
-                records.push(segment_record(c, (e.pin, e.step), Some(e.normal_force_n), e.sliding_velocity_m_s, s)?);
+                records.push(segment_record(
+                    c,
+                    (e.pin, e.step),
+                    Some(e.normal_force_n),
+                    e.sliding_velocity_m_s,
+                    s,
+                )?);
             }
             None => {
                 let (file, s) = (&files[f], &files[f].segments[k]);
@@ -1116,7 +1204,10 @@ fn assign_by_speed_and_load(
     let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
     for (si, &(f, k)) in segs.iter().enumerate() {
         let s = &files[f].segments[k];
-        let v = units::m_per_min_to_m_per_s(s.sliding_velocity_m_per_min.expect("every segment has a speed"));
+        let v = units::m_per_min_to_m_per_s(
+            s.sliding_velocity_m_per_min
+                .expect("every segment has a speed"),
+        );
         for (ei, e) in expected.iter().enumerate() {
             let df = (s.normal_force_n / e.normal_force_n).ln().abs();
             let dv = (v / e.sliding_velocity_m_s).ln().abs();
@@ -1147,7 +1238,13 @@ fn assign_by_order(
     if segs.len() != expected.len() {
         let per_file: Vec<String> = files
             .iter()
-            .map(|f| format!("{}: {}", f.source, f.segments.iter().filter(|s| s.stats.is_some()).count()))
+            .map(|f| {
+                format!(
+                    "{}: {}",
+                    f.source,
+                    f.segments.iter().filter(|s| s.stats.is_some()).count()
+                )
+            })
             .collect();
         return Err(Error::invalid(
             "identify",
@@ -1215,7 +1312,9 @@ fn plan_timed(recs: &[Recording], plan: &Plan, c: &Campaign) -> Result<Vec<FileR
                 steady_end_s: Some(ts + r.plateau_end_s),
                 normal_force_n: r.normal_force_n,
                 spindle_rpm: None,
-                sliding_velocity_m_per_min: Some(units::m_per_s_to_m_per_min(r.sliding_velocity_m_s)),
+                sliding_velocity_m_per_min: Some(units::m_per_s_to_m_per_min(
+                    r.sliding_velocity_m_s,
+                )),
                 step_label: None,
                 cof: Some(r.cof_apparent),
                 cof_std: Some(r.cof_apparent_std),
@@ -1269,7 +1368,10 @@ mod tests {
 
     #[test]
     fn runs_of_true() {
-        assert_eq!(runs(&[false, true, true, false, true]), vec![(1, 3), (4, 5)]);
+        assert_eq!(
+            runs(&[false, true, true, false, true]),
+            vec![(1, 3), (4, 5)]
+        );
         assert!(runs(&[false, false]).is_empty());
     }
 }

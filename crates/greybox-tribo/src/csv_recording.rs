@@ -107,7 +107,11 @@ mod tests {
             "{e}"
         );
         // not mapped: a missing radial channel is simply absent
-        let r = read(&GOOD.replace("radial_force_N", "other_N"), &ChannelMap::default()).unwrap();
+        let r = read(
+            &GOOD.replace("radial_force_N", "other_N"),
+            &ChannelMap::default(),
+        )
+        .unwrap();
         assert!(r.radial_n.is_none());
         let e = read("time_s,Fz_N\n0,1\n1,2\n2,3\n", &ChannelMap::default())
             .unwrap_err()
@@ -124,7 +128,10 @@ mod tests {
         let e = read(&GOOD.replace("normal_force_N", "normal_force"), &map)
             .unwrap_err()
             .to_string();
-        assert!(e.contains("states no unit") && e.contains("--map normal="), "{e}");
+        assert!(
+            e.contains("states no unit") && e.contains("--map normal="),
+            "{e}"
+        );
         let e = map.apply_override("normal=Fz:kgf").unwrap_err().to_string();
         assert!(e.contains("unknown force unit 'kgf'"), "{e}");
     }
@@ -149,9 +156,12 @@ mod tests {
     }
     #[test]
     fn malformed_csv() {
-        let e = read(&format!("{GOOD}0.003,1.0,4,5\n0.004,1,1,1,1\n"), &ChannelMap::default())
-            .unwrap_err()
-            .to_string();
+        let e = read(
+            &format!("{GOOD}0.003,1.0,4,5\n0.004,1,1,1,1\n"),
+            &ChannelMap::default(),
+        )
+        .unwrap_err()
+        .to_string();
         assert!(
             e.contains("line 5") && e.contains("expected 5 fields, found 4"),
             "{e}"

@@ -107,7 +107,10 @@ mod tests {
         assert_eq!(parse_plain_prefix(b"+3", b'.'), Some((3.0, 2)));
         assert_eq!(parse_plain_prefix(b".5", b'.'), Some((0.5, 2)));
         assert_eq!(parse_plain_prefix(b"7.", b'.'), Some((7.0, 2)));
-        assert!(parse_plain_prefix(b"-0", b'.').unwrap().0.is_sign_negative());
+        assert!(parse_plain_prefix(b"-0", b'.')
+            .unwrap()
+            .0
+            .is_sign_negative());
         // the general parser's business
         assert_eq!(parse_plain_prefix(b"1e5", b'.'), None);
         assert_eq!(parse_plain_prefix(b"1.5E-3", b'.'), None);

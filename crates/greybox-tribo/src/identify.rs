@@ -103,7 +103,12 @@ fn onset_after(rec: &Recording, x: &[f64], base: f64, from: f64, thr: f64) -> Op
 /// is nearer another pin's planned load than its own (swapped or mislabelled recordings), or
 /// off its own by more than `tolerance` (relative: a channel in kN read as N, a wrong
 /// mapping).
-fn check_pin_load(loaded_n: f64, pin: u32, plan: &Plan, tolerance: f64) -> std::result::Result<(), String> {
+fn check_pin_load(
+    loaded_n: f64,
+    pin: u32,
+    plan: &Plan,
+    tolerance: f64,
+) -> std::result::Result<(), String> {
     let own = plan.pins[pin as usize - 1].normal_force_n;
     let distance = |l: f64| (loaded_n / l).ln().abs();
     if !(loaded_n > 0.0) {
@@ -166,7 +171,13 @@ pub fn identify_pin(
     let drift = remove_drift(&c, ts)?;
     // the loaded level must match the plan (units, mapping and file order check)
     let s0 = &c.steps[0];
-    let loaded = window_median(rec, &drift.normal_n, ts + s0.plateau_start_s, ts + s0.plateau_end_s).unwrap_or(0.0);
+    let loaded = window_median(
+        rec,
+        &drift.normal_n,
+        ts + s0.plateau_start_s,
+        ts + s0.plateau_end_s,
+    )
+    .unwrap_or(0.0);
     check_pin_load(loaded, pin, plan, cfg.match_load_tolerance)
         .map_err(|m| Error::input(c.src().field("normal"), m))?;
     let (rows, spikes_removed) = measure_plateaus(&c, ts, &drift, contact)?;
@@ -212,15 +223,19 @@ fn align(c: &PinContext) -> Result<(f64, Option<f64>)> {
         Alignment::FirstPlateau => {
             // unloaded baseline = first zero window of the recording
             let t_first = rec.time_s[0];
-            let base_n = window_median(rec, &rec.normal_n, t_first, t_first + 0.5 * z)
-                .ok_or_else(|| Error::input(c.src(), "recording too short for an unloaded baseline"))?;
-            let load = onset_after(rec, &rec.normal_n, base_n, t_first, 0.5 * f_nom).ok_or_else(|| {
-                Error::input(
-                    c.src().field("normal"),
-                    format!("the normal force never reaches half the planned {f_nom} N"),
-                )
-            })?;
-            let base_t = window_median(rec, &rec.tangential_n, t_first, t_first + 0.5 * z).unwrap_or(0.0);
+            let base_n =
+                window_median(rec, &rec.normal_n, t_first, t_first + 0.5 * z).ok_or_else(|| {
+                    Error::input(c.src(), "recording too short for an unloaded baseline")
+                })?;
+            let load =
+                onset_after(rec, &rec.normal_n, base_n, t_first, 0.5 * f_nom).ok_or_else(|| {
+                    Error::input(
+                        c.src().field("normal"),
+                        format!("the normal force never reaches half the planned {f_nom} N"),
+                    )
+                })?;
+            let base_t =
+                window_median(rec, &rec.tangential_n, t_first, t_first + 0.5 * z).unwrap_or(0.0);
             let level = window_median(
                 rec,
                 &rec.tangential_n,
@@ -229,8 +244,16 @@ fn align(c: &PinContext) -> Result<(f64, Option<f64>)> {
             )
             .unwrap_or(0.0)
                 - base_t;
-            let onset = onset_after(rec, &rec.tangential_n, base_t, load, 0.3 * level.abs().max(1e-9))
-                .ok_or_else(|| Error::input(c.src().field("tangential"), "no onset of sliding found"))?;
+            let onset = onset_after(
+                rec,
+                &rec.tangential_n,
+                base_t,
+                load,
+                0.3 * level.abs().max(1e-9),
+            )
+            .ok_or_else(|| {
+                Error::input(c.src().field("tangential"), "no onset of sliding found")
+            })?;
             (onset - c.steps[0].step_start_s, Some(0.0))
         }
     })
@@ -260,8 +283,13 @@ fn check_coverage(c: &PinContext, t0: f64) -> Result<()> {
 fn sliding_latency(c: &PinContext, t0: f64) -> Result<f64> {
     let (rec, cfg) = (c.rec, c.cfg);
     let z = c.plan.spec.zero_time_s;
-    let base_t = window_median(rec, &rec.tangential_n, t0 + 0.05 * z, t0 + 0.9 * z)
-        .ok_or_else(|| Error::input(c.src(), "no samples in the unloaded window after the trigger"))?;
+    let base_t =
+        window_median(rec, &rec.tangential_n, t0 + 0.05 * z, t0 + 0.9 * z).ok_or_else(|| {
+            Error::input(
+                c.src(),
+                "no samples in the unloaded window after the trigger",
+            )
+        })?;
     let s0 = &c.steps[0];
     let level = window_median(
         rec,
@@ -272,10 +300,19 @@ fn sliding_latency(c: &PinContext, t0: f64) -> Result<f64> {
     .ok_or_else(|| Error::input(c.src(), "no samples in the first plateau"))?
         - base_t;
     let from = t0 + s0.step_start_s - cfg.max_latency_s;
-    let onset = onset_after(rec, &rec.tangential_n, base_t, from, 0.3 * level.abs().max(1e-9))
-        .ok_or_else(|| {
-            Error::input(c.src().field("tangential"), "no onset of sliding found near the first S command")
-        })?;
+    let onset = onset_after(
+        rec,
+        &rec.tangential_n,
+        base_t,
+        from,
+        0.3 * level.abs().max(1e-9),
+    )
+    .ok_or_else(|| {
+        Error::input(
+            c.src().field("tangential"),
+            "no onset of sliding found near the first S command",
+        )
+    })?;
     let l = onset - (t0 + s0.step_start_s);
     if l.abs() > cfg.max_latency_s {
         return Err(Error::input(
@@ -309,7 +346,10 @@ fn remove_drift(c: &PinContext, ts: f64) -> Result<Drift> {
     let pre_mid = 0.5 * (pre.0 + pre.1);
     let post_mid = 0.5 * (post.0 + post.1);
     let corrected = |x: &[f64], name: &str| -> Result<(Vec<f64>, f64)> {
-        let (a, b) = match (window_median(rec, x, pre.0, pre.1), window_median(rec, x, post.0, post.1)) {
+        let (a, b) = match (
+            window_median(rec, x, pre.0, pre.1),
+            window_median(rec, x, post.0, post.1),
+        ) {
             (Some(a), Some(b)) => (a, b),
             _ => {
                 return Err(Error::input(
@@ -319,7 +359,12 @@ fn remove_drift(c: &PinContext, ts: f64) -> Result<Drift> {
             }
         };
         let slope = (b - a) / (post_mid - pre_mid);
-        let v = rec.time_s.iter().zip(x).map(|(t, v)| v - a - slope * (t - pre_mid)).collect();
+        let v = rec
+            .time_s
+            .iter()
+            .zip(x)
+            .map(|(t, v)| v - a - slope * (t - pre_mid))
+            .collect();
         Ok((v, slope * (post_mid - pre_mid)))
     };
     let (normal_n, drift_normal_n) = corrected(&rec.normal_n, "normal")?;
@@ -334,7 +379,12 @@ fn remove_drift(c: &PinContext, ts: f64) -> Result<Drift> {
 
 /// Stages 5 and 6: per step, the end of the spindle ramp from the smoothed μ, the steady
 /// part after it, and μ with spikes masked; the rows and the number of spikes removed.
-fn measure_plateaus(c: &PinContext, ts: f64, d: &Drift, contact: &PinContact) -> Result<(Vec<FrictionRecord>, usize)> {
+fn measure_plateaus(
+    c: &PinContext,
+    ts: f64,
+    d: &Drift,
+    contact: &PinContact,
+) -> Result<(Vec<FrictionRecord>, usize)> {
     let (rec, cfg, pin) = (c.rec, c.cfg, c.pin);
     let fs = rec.sample_rate_hz();
     let f_nom = c.sched.normal_force_n;
@@ -366,10 +416,15 @@ fn measure_plateaus(c: &PinContext, ts: f64, d: &Drift, contact: &PinContact) ->
             .rposition(|v| (v - level).abs() > band)
             .map(|k| k + sig.w_smooth / 2);
         let nominal_start = ts + s.plateau_start_s;
-        let detected = ramp_end_k.map(|k| rec.time_s[i + k.min(n - 1)]).unwrap_or(a);
+        let detected = ramp_end_k
+            .map(|k| rec.time_s[i + k.min(n - 1)])
+            .unwrap_or(a);
         let p_start = detected.max(nominal_start) + cfg.settle_time_s;
         let p_end = b - cfg.end_margin_s;
-        let (pi, pj) = (index_at(&rec.time_s, p_start) - i, index_at(&rec.time_s, p_end) - i);
+        let (pi, pj) = (
+            index_at(&rec.time_s, p_start) - i,
+            index_at(&rec.time_s, p_end) - i,
+        );
         let mut st = plateau_stats(&rec.time_s, &d.normal_n, &sig, pi, pj, ts, cfg).ok_or_else(|| {
             let usable = (pi..pj.max(pi)).filter(|k| sig.good[*k]).count();
             Error::input(

@@ -7,16 +7,16 @@
 //! * [`synth`] — a virtual tribometer that writes realistic recordings from a ground-truth law.
 //! * [`identify`] — plateau detection and apparent COF identification.
 
-pub mod campaign;
 mod bulk;
+pub mod campaign;
 pub mod csv_recording;
 pub mod decimal;
-pub mod table;
-pub mod text_table;
-pub mod xlsx_table;
 pub mod frf;
 pub mod frf_synth;
 pub mod gcode;
+pub mod table;
+pub mod text_table;
+pub mod xlsx_table;
 /// Hertzian contact, from `greybox-contact` (kept here under its old path).
 pub use greybox_contact::hertz;
 pub mod identify;

@@ -151,7 +151,9 @@ pub fn correct_with(
     let law = WidthLaw::fit(widths)?;
     // one correction per pin load: the planned load where there is a plan (the track width
     // is measured per pin), else the measured one
-    let load_of = |r: &greybox_core::dataset::FrictionRecord| r.normal_force_planned_n.unwrap_or(r.normal_force_n);
+    let load_of = |r: &greybox_core::dataset::FrictionRecord| {
+        r.normal_force_planned_n.unwrap_or(r.normal_force_n)
+    };
     let mut forces: Vec<f64> = ds.records.iter().map(load_of).collect();
     forces.sort_by(f64::total_cmp);
     forces.dedup();

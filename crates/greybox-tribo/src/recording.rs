@@ -6,10 +6,10 @@
 //! [`recording_from_table`] converts them to SI. Roles not mapped explicitly are found by
 //! their usual names ([`ROLE_ALIASES`]), ignoring case, spaces and units in the header.
 
-use rayon::prelude::*;
 use crate::table::{column_matches, Column, Table};
 use greybox_core::units::{ForceUnit, LengthUnit, SpeedUnit, TimeUnit};
 use greybox_core::{Error, Result, SourcePos};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// One pin's raw recording, SI units (s, N, V).
@@ -180,7 +180,10 @@ fn first_non_finite(values: &[f64]) -> Option<usize> {
         .position_first(|b| b.iter().fold(false, |bad, v| bad | !v.is_finite()))
         .and_then(|k| {
             let start = k * BLOCK;
-            values[start..].iter().position(|v| !v.is_finite()).map(|i| start + i)
+            values[start..]
+                .iter()
+                .position(|v| !v.is_finite())
+                .map(|i| start + i)
         })
 }
 
@@ -193,7 +196,12 @@ fn first_non_increasing(t: &[f64]) -> Option<usize> {
     (0..blocks)
         .into_par_iter()
         .position_first(|k| bad(&t[k * BLOCK..((k + 1) * BLOCK + 1).min(t.len())]))
-        .and_then(|k| t[k * BLOCK..].windows(2).position(|w| !(w[1] > w[0])).map(|i| k * BLOCK + i))
+        .and_then(|k| {
+            t[k * BLOCK..]
+                .windows(2)
+                .position(|w| !(w[1] > w[0]))
+                .map(|i| k * BLOCK + i)
+        })
 }
 
 /// Where a channel comes from: column (or TDMS channel) name, unit and an extra scale (e.g.
@@ -334,37 +342,89 @@ impl Role {
 pub const ROLE_ALIASES: [(Role, &[&str]); 8] = [
     (
         Role::Time,
-        &["time", "t", "zeit", "timestamp", "elapsed time", "relative time", "time elapsed", "sec"],
+        &[
+            "time",
+            "t",
+            "zeit",
+            "timestamp",
+            "elapsed time",
+            "relative time",
+            "time elapsed",
+            "sec",
+        ],
     ),
     (
         Role::Normal,
         &[
-            "normal force", "normal_force", "fn", "fz", "normal load", "load", "normalkraft",
-            "force normal", "normal", "f n", "f_n",
+            "normal force",
+            "normal_force",
+            "fn",
+            "fz",
+            "normal load",
+            "load",
+            "normalkraft",
+            "force normal",
+            "normal",
+            "f n",
+            "f_n",
         ],
     ),
     (
         Role::Tangential,
         &[
-            "tangential force", "friction force", "ft", "fx", "friction", "reibkraft",
-            "tangential", "force friction", "f t", "f_t", "ff",
+            "tangential force",
+            "friction force",
+            "ft",
+            "fx",
+            "friction",
+            "reibkraft",
+            "tangential",
+            "force friction",
+            "f t",
+            "f_t",
+            "ff",
         ],
     ),
-    (Role::Radial, &["radial force", "radial_force", "fy", "fr", "radial"]),
+    (
+        Role::Radial,
+        &["radial force", "radial_force", "fy", "fr", "radial"],
+    ),
     (Role::Trigger, &["trigger", "trig"]),
     (
         Role::Step,
-        &["step", "segment", "step no", "step number", "stage", "schritt", "sequence"],
+        &[
+            "step",
+            "segment",
+            "step no",
+            "step number",
+            "stage",
+            "schritt",
+            "sequence",
+        ],
     ),
     (
         Role::Speed,
         &[
-            "sliding velocity", "sliding speed", "sliding_velocity", "velocity", "speed",
-            "spindle speed", "spindle", "rotational speed", "rotation speed", "rpm", "drehzahl",
-            "geschwindigkeit", "v", "n",
+            "sliding velocity",
+            "sliding speed",
+            "sliding_velocity",
+            "velocity",
+            "speed",
+            "spindle speed",
+            "spindle",
+            "rotational speed",
+            "rotation speed",
+            "rpm",
+            "drehzahl",
+            "geschwindigkeit",
+            "v",
+            "n",
         ],
     ),
-    (Role::Radius, &["track radius", "wear track radius", "radius", "r track"]),
+    (
+        Role::Radius,
+        &["track radius", "wear track radius", "radius", "r track"],
+    ),
 ];
 
 /// How to find the channels of a recording (study TOML `[recording]`, `identify --map`).
@@ -483,7 +543,8 @@ impl ChannelMap {
         }
         let parsed = ChannelSpec::parse(spec)?;
         if let Some(u) = &parsed.unit {
-            check_unit(role, u).map_err(|m| Error::invalid("channel mapping", format!("'{text}': {m}")))?;
+            check_unit(role, u)
+                .map_err(|m| Error::invalid("channel mapping", format!("'{text}': {m}")))?;
         }
         self.ignore.retain(|r| r != role.name());
         self.set(role, Some(parsed));
@@ -582,7 +643,8 @@ fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, boo
     }
     if map.auto {
         for (role, aliases) in ROLE_ALIASES {
-            if taken.iter().any(|(r, _, _)| *r == role) || map.ignore.iter().any(|r| r == role.name())
+            if taken.iter().any(|(r, _, _)| *r == role)
+                || map.ignore.iter().any(|r| r == role.name())
             {
                 continue;
             }
@@ -642,7 +704,11 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
         let spec = map.spec(*role);
         let col: &mut Column = &mut table.columns[*idx];
         let header = col.header.clone();
-        let pos = || SourcePos::file(&source).line(table.header_line).field(&header);
+        let pos = || {
+            SourcePos::file(&source)
+                .line(table.header_line)
+                .field(&header)
+        };
         let unit = match (spec.as_ref().and_then(|s| s.unit.clone()), col.unit.clone()) {
             (Some(m), Some(f)) if *role != Role::Trigger && *role != Role::Step => {
                 if !same_unit(*role, &m, &f) {
@@ -704,9 +770,14 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
     let n = normal.len();
     let step = take(Role::Step).map(|c| c.1);
     let time_s = match take(Role::Time) {
-        Some((_, t, header)) => {
-            continuous_time(t, step.as_deref(), &source, &header, table.header_line, &mut report)?
-        }
+        Some((_, t, header)) => continuous_time(
+            t,
+            step.as_deref(),
+            &source,
+            &header,
+            table.header_line,
+            &mut report,
+        )?,
         None => {
             let dt = map
                 .sample_rate_hz
@@ -720,7 +791,10 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
                     )
                 })?;
             let t0 = table.start_time_s.unwrap_or(0.0);
-            report.notes.push(format!("no time column: time from the sample rate {:.6} Hz", 1.0 / dt));
+            report.notes.push(format!(
+                "no time column: time from the sample rate {:.6} Hz",
+                1.0 / dt
+            ));
             (0..n).into_par_iter().map(|i| t0 + i as f64 * dt).collect()
         }
     };
@@ -781,7 +855,11 @@ fn same_unit(role: Role, a: &str, b: &str) -> bool {
             (Some(x), Some(y)) => x == y,
             _ => false,
         },
-        _ => check_unit(role, a).is_ok() && check_unit(role, b).is_ok() && unit_factor(role, a) == unit_factor(role, b),
+        _ => {
+            check_unit(role, a).is_ok()
+                && check_unit(role, b).is_ok()
+                && unit_factor(role, a) == unit_factor(role, b)
+        }
     }
 }
 
@@ -799,7 +877,11 @@ fn continuous_time(
     if t.windows(2).all(|w| w[1] > w[0]) {
         return Ok(t);
     }
-    let mut dts: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
+    let mut dts: Vec<f64> = t
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|d| *d > 0.0)
+        .collect();
     let dt = if dts.is_empty() {
         0.0
     } else {
@@ -823,12 +905,18 @@ fn continuous_time(
             continue;
         }
         return Err(Error::input(
-            SourcePos::file(source).line(header_line + 1 + i as u64).field(header),
+            SourcePos::file(source)
+                .line(header_line + 1 + i as u64)
+                .field(header),
             format!(
                 "time must increase strictly: {} s follows {} s{}",
                 t[i] + offset,
                 prev,
-                if step.is_some() { "" } else { " (a time that restarts per step needs the step column mapped: --map step=NAME)" }
+                if step.is_some() {
+                    ""
+                } else {
+                    " (a time that restarts per step needs the step column mapped: --map step=NAME)"
+                }
             ),
         ));
     }
@@ -839,7 +927,6 @@ fn continuous_time(
     }
     Ok(t)
 }
-
 
 #[cfg(test)]
 mod tests {
@@ -852,7 +939,15 @@ mod tests {
         let good: Vec<f64> = (0..n).map(|i| i as f64 * 1e-3).collect();
         assert_eq!(first_non_finite(&good), None);
         assert_eq!(first_non_increasing(&good), None);
-        for at in [0, 1, (1 << 14) - 1, 1 << 14, (1 << 14) + 1, 2 * (1 << 14), n - 1] {
+        for at in [
+            0,
+            1,
+            (1 << 14) - 1,
+            1 << 14,
+            (1 << 14) + 1,
+            2 * (1 << 14),
+            n - 1,
+        ] {
             for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
                 let mut v = good.clone();
                 v[at] = bad;

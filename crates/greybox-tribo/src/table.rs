@@ -196,7 +196,11 @@ mod tests {
             ("Fz/N", "Fz", Some("N")),
             ("Ft/N", "Ft", Some("N")),
             ("Speed_mm/s", "Speed", Some("mm/s")),
-            ("sliding_velocity_m_per_min", "sliding_velocity", Some("m_per_min")),
+            (
+                "sliding_velocity_m_per_min",
+                "sliding_velocity",
+                Some("m_per_min"),
+            ),
             ("normal_force_N", "normal_force", Some("N")),
             ("time_s", "time", Some("s")),
             ("Velocity (rpm)", "Velocity", Some("rpm")),

@@ -1802,7 +1802,10 @@ pub fn table_from_tdms(mut file: TdmsFile, group: Option<&str>) -> Result<Table>
         return Err(Error::input(
             SourcePos::file(&file.source).field(&group),
             if file.object(&group_path(&group)).is_none() {
-                format!("no group '{group}' in the file; it has: {}", groups.join(", "))
+                format!(
+                    "no group '{group}' in the file; it has: {}",
+                    groups.join(", ")
+                )
             } else {
                 format!("group '{group}' has no channels")
             },
@@ -1919,7 +1922,9 @@ mod tests {
             normal: Some(crate::recording::ChannelSpec::named("Fz")),
             ..Default::default()
         };
-        let e = recording_from_tdms(file.clone(), &map).unwrap_err().to_string();
+        let e = recording_from_tdms(file.clone(), &map)
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("missing column 'Fz'") && e.contains("normal_force_N"),
             "{e}"
@@ -1928,7 +1933,9 @@ mod tests {
             tdms_group: Some("Other".into()),
             ..Default::default()
         };
-        let e = recording_from_tdms(file.clone(), &map).unwrap_err().to_string();
+        let e = recording_from_tdms(file.clone(), &map)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("no group 'Other'"), "{e}");
         let mut map = ChannelMap::default();
         map.apply_override("normal=normal_force_N:kN").unwrap();

@@ -107,8 +107,14 @@ fn is_blank(l: &[u8]) -> bool {
 }
 
 fn trim(b: &[u8]) -> &[u8] {
-    let s = b.iter().position(|c| !c.is_ascii_whitespace()).unwrap_or(b.len());
-    let e = b.iter().rposition(|c| !c.is_ascii_whitespace()).map_or(s, |e| e + 1);
+    let s = b
+        .iter()
+        .position(|c| !c.is_ascii_whitespace())
+        .unwrap_or(b.len());
+    let e = b
+        .iter()
+        .rposition(|c| !c.is_ascii_whitespace())
+        .map_or(s, |e| e + 1);
     &b[s..e.max(s)]
 }
 
@@ -243,7 +249,12 @@ fn mostly_text(line: &[u8], d: Delimiter, dc: bool) -> bool {
 }
 
 /// The field count of a row of (mostly) numbers, with `decimal_comma` deciding the mark.
-fn numeric_row(line: &[u8], d: Delimiter, dc: bool, spans: &mut Vec<(usize, usize)>) -> Option<usize> {
+fn numeric_row(
+    line: &[u8],
+    d: Delimiter,
+    dc: bool,
+    spans: &mut Vec<(usize, usize)>,
+) -> Option<usize> {
     let (n, _) = field_count(line, d, spans);
     (n > 0 && mostly_numeric(line, &spans[..n], dc)).then_some(n)
 }
@@ -263,7 +274,12 @@ struct Candidate {
 }
 
 /// Find header and data start for one delimiter among the first lines.
-fn sniff(lines: &[Line], d: Delimiter, dc: bool, forced_header: Option<usize>) -> Option<Candidate> {
+fn sniff(
+    lines: &[Line],
+    d: Delimiter,
+    dc: bool,
+    forced_header: Option<usize>,
+) -> Option<Candidate> {
     let mut spans = Vec::new();
     let numeric: Vec<Option<usize>> = lines
         .iter()
@@ -328,17 +344,12 @@ fn sniff(lines: &[Line], d: Delimiter, dc: bool, forced_header: Option<usize>) -
 fn choose_layout(lines: &[Line], opts: &TextOptions, source: &str) -> Result<Candidate> {
     let forced_header = match opts.header_line {
         Some(0) => None,
-        Some(h) => Some(
-            lines
-                .iter()
-                .position(|l| l.number == h)
-                .ok_or_else(|| {
-                    Error::input(
-                        SourcePos::file(source).line(h),
-                        format!("--header-line {h}: the file has only {} lines", lines.len()),
-                    )
-                })?,
-        ),
+        Some(h) => Some(lines.iter().position(|l| l.number == h).ok_or_else(|| {
+            Error::input(
+                SourcePos::file(source).line(h),
+                format!("--header-line {h}: the file has only {} lines", lines.len()),
+            )
+        })?),
         None => None,
     };
     let delims: Vec<Delimiter> = match opts.delimiter {
@@ -361,8 +372,17 @@ fn choose_layout(lines: &[Line], opts: &TextOptions, source: &str) -> Result<Can
             let better = match &best {
                 None => true,
                 Some(b) => {
-                    (c.header.is_some(), c.all_numeric, c.fields, std::cmp::Reverse(c.data))
-                        > (b.header.is_some(), b.all_numeric, b.fields, std::cmp::Reverse(b.data))
+                    (
+                        c.header.is_some(),
+                        c.all_numeric,
+                        c.fields,
+                        std::cmp::Reverse(c.data),
+                    ) > (
+                        b.header.is_some(),
+                        b.all_numeric,
+                        b.fields,
+                        std::cmp::Reverse(b.data),
+                    )
                 }
             };
             if better {
@@ -551,7 +571,11 @@ fn parse_chunk(part: &[u8], first_line: u64, c: &Candidate, out: &mut [&mut [f64
         );
         let numbers = values.iter().filter(|v| v.is_some()).count();
         if numbers < n && !(numbers >= 2.min(n) && 2 * numbers >= n) {
-            ch.other.push((l.number, String::from_utf8_lossy(l.text).trim().to_string(), None));
+            ch.other.push((
+                l.number,
+                String::from_utf8_lossy(l.text).trim().to_string(),
+                None,
+            ));
             continue;
         }
         for (col, v) in values.iter().enumerate() {
@@ -580,8 +604,11 @@ fn parse_chunks(
 ) -> (Vec<Vec<f64>>, Vec<Chunk>) {
     let total: usize = room.iter().sum();
     // zeroed allocations: pages are touched first by the thread that parses into them
-    let mut columns: Vec<Vec<f64>> = (0..c.fields).map(|_| crate::bulk::zeroed_values(total)).collect();
-    let mut slices: Vec<Vec<&mut [f64]>> = room.iter().map(|_| Vec::with_capacity(c.fields)).collect();
+    let mut columns: Vec<Vec<f64>> = (0..c.fields)
+        .map(|_| crate::bulk::zeroed_values(total))
+        .collect();
+    let mut slices: Vec<Vec<&mut [f64]>> =
+        room.iter().map(|_| Vec::with_capacity(c.fields)).collect();
     for col in columns.iter_mut() {
         let mut rest: &mut [f64] = col.as_mut_slice();
         for (k, &len) in room.iter().enumerate() {
@@ -616,7 +643,12 @@ pub fn parse_text_table(bytes: &[u8], source: &str, opts: &TextOptions) -> Resul
 }
 
 /// [`parse_text_table`] with data chunks of at least `min_chunk` bytes (tests use tiny ones).
-fn parse_in_chunks(bytes: &[u8], source: &str, opts: &TextOptions, min_chunk: usize) -> Result<Table> {
+fn parse_in_chunks(
+    bytes: &[u8],
+    source: &str,
+    opts: &TextOptions,
+    min_chunk: usize,
+) -> Result<Table> {
     if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
         return Err(Error::input(
             SourcePos::file(source),
@@ -675,7 +707,15 @@ fn parse_in_chunks(bytes: &[u8], source: &str, opts: &TextOptions, min_chunk: us
         })
         .collect();
     let trailing = field_count(head[c.data].text, c.delimiter, &mut Vec::new()).1;
-    let layout = describe_layout(&c, trailing, bom, crlf, head[h].number, preamble.len(), footer.len());
+    let layout = describe_layout(
+        &c,
+        trailing,
+        bom,
+        crlf,
+        head[h].number,
+        preamble.len(),
+        footer.len(),
+    );
     Ok(Table {
         source: source.to_string(),
         columns,
@@ -746,7 +786,12 @@ fn chunk_bounds(data: &[u8], target: usize) -> Vec<usize> {
 
 /// The footer: the non-data lines after the last data line. A non-data line before it, or a
 /// numeric row with the wrong field count anywhere, is an error naming its line.
-fn footer_lines(chunks: &[Chunk], c: &Candidate, header_line: u64, source: &str) -> Result<Vec<(u64, String)>> {
+fn footer_lines(
+    chunks: &[Chunk],
+    c: &Candidate,
+    header_line: u64,
+    source: &str,
+) -> Result<Vec<(u64, String)>> {
     let last_data = chunks.iter().map(|ch| ch.last_data_line).max().unwrap_or(0);
     let mut footer = Vec::new();
     for (line, text, wrong) in chunks.iter().flat_map(|ch| &ch.other) {
@@ -854,10 +899,12 @@ mod tests {
 
     #[test]
     fn tab_and_whitespace() {
-        let t = parse("Fz_kN\tFx_N\tSpeed_mm/s\n0.4\t160\t500\n0.4\t161\t500\n0.4\t162\t501\n").unwrap();
+        let t = parse("Fz_kN\tFx_N\tSpeed_mm/s\n0.4\t160\t500\n0.4\t161\t500\n0.4\t162\t501\n")
+            .unwrap();
         assert_eq!(t.columns[2].unit.as_deref(), Some("mm/s"));
         assert_eq!(col(&t, 1), &[160.0, 161.0, 162.0]);
-        let t = parse("Time  Normal force  Friction force\n0   10  4\n0.1 10  4.1\n0.2 10  4.2\n").unwrap();
+        let t = parse("Time  Normal force  Friction force\n0   10  4\n0.1 10  4.1\n0.2 10  4.2\n")
+            .unwrap();
         assert_eq!(t.columns.len(), 3);
         assert_eq!(t.columns[1].name, "Normal force");
     }
@@ -867,13 +914,21 @@ mod tests {
         let t = parse("t_s,F_N,comment\n0,1,ok\n1,2,fine\n2,3,x\n").unwrap();
         assert_eq!(col(&t, 1), &[1.0, 2.0, 3.0]);
         let e = t.columns[2].values(&t.source).unwrap_err().to_string();
-        assert!(e.contains("line 2") && e.contains("comment") && e.contains("'ok'"), "{e}");
+        assert!(
+            e.contains("line 2") && e.contains("comment") && e.contains("'ok'"),
+            "{e}"
+        );
     }
 
     #[test]
     fn broken_rows_are_errors_with_lines() {
-        let e = parse("t_s,F_N\n0,1\n1,2\n2\n3,4\n").unwrap_err().to_string();
-        assert!(e.contains("line 4") && e.contains("expected 2 fields, found 1"), "{e}");
+        let e = parse("t_s,F_N\n0,1\n1,2\n2\n3,4\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 4") && e.contains("expected 2 fields, found 1"),
+            "{e}"
+        );
         let e = parse("t_s,F_N\n0,1\n1,2\nsomething else here\n3,4\n")
             .unwrap_err()
             .to_string();
@@ -881,7 +936,9 @@ mod tests {
         let t = parse("t_s,F_N,G_N\n0,1,1\n1,abc,2\n2,3,3\n").unwrap();
         let e = t.columns[1].values(&t.source).unwrap_err().to_string();
         assert!(e.contains("line 3") && e.contains("'abc'"), "{e}");
-        let e = parse("just some text\nno numbers\n").unwrap_err().to_string();
+        let e = parse("just some text\nno numbers\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("no table found"), "{e}");
         let e = parse("0,1\n1,2\n2,3\n").unwrap_err().to_string();
         assert!(e.contains("no header line"), "{e}");
@@ -932,16 +989,22 @@ mod tests {
             text.push_str(&row);
         }
         text.push_str("Ende der Messung\n");
-        let one = parse_in_chunks(text.as_bytes(), "t", &TextOptions::default(), usize::MAX).unwrap();
+        let one =
+            parse_in_chunks(text.as_bytes(), "t", &TextOptions::default(), usize::MAX).unwrap();
         assert_eq!(one.rows, 3_000 - 3_000 / 11 - 1);
         assert_eq!(one.footer.len(), 1);
         assert!(one.layout.contains("decimal comma"), "{}", one.layout);
         for min_chunk in [1, 7, 64, 1000] {
-            let t = parse_in_chunks(text.as_bytes(), "t", &TextOptions::default(), min_chunk).unwrap();
+            let t =
+                parse_in_chunks(text.as_bytes(), "t", &TextOptions::default(), min_chunk).unwrap();
             assert_eq!(t.rows, one.rows);
             assert_eq!(t.footer, one.footer);
             for k in 0..3 {
-                assert_eq!(col(&t, k), col(&one, k), "column {k}, chunks of {min_chunk} B");
+                assert_eq!(
+                    col(&t, k),
+                    col(&one, k),
+                    "column {k}, chunks of {min_chunk} B"
+                );
             }
         }
         assert_eq!(col(&one, 0)[0], 0.0);

@@ -135,12 +135,15 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
         ));
     };
     let cols = numeric_cols(rows[data]);
-    let header = (0..data).rev().find(|&i| !is_empty(rows[i])).ok_or_else(|| {
-        Error::input(
-            SourcePos::file(source).field(sheet).line(row_no(data)),
-            "numeric rows without a header row above them that names the columns",
-        )
-    })?;
+    let header = (0..data)
+        .rev()
+        .find(|&i| !is_empty(rows[i]))
+        .ok_or_else(|| {
+            Error::input(
+                SourcePos::file(source).field(sheet).line(row_no(data)),
+                "numeric rows without a header row above them that names the columns",
+            )
+        })?;
     let preamble: Vec<String> = rows[..header]
         .iter()
         .filter(|r| !is_empty(r))
@@ -155,7 +158,10 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
     // the data ends at the first row with no number in the table's columns
     let mut end = data;
     while end < rows.len()
-        && (is_empty(rows[end]) || cols.iter().any(|&k| rows[end].get(k).and_then(cell_number).is_some()))
+        && (is_empty(rows[end])
+            || cols
+                .iter()
+                .any(|&k| rows[end].get(k).and_then(cell_number).is_some()))
     {
         end += 1;
     }
@@ -201,7 +207,10 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
         };
         columns.push(col);
     }
-    let mut layout = format!("spreadsheet, sheet '{sheet}', header on row {}", row_no(header));
+    let mut layout = format!(
+        "spreadsheet, sheet '{sheet}', header on row {}",
+        row_no(header)
+    );
     if !footer.is_empty() {
         layout.push_str(&format!(", {} footer row(s)", footer.len()));
     }

@@ -14,7 +14,10 @@ use std::path::PathBuf;
 use support::TruthStep;
 
 fn read_all(files: &[PathBuf], map: &ChannelMap) -> Vec<Recording> {
-    files.iter().map(|f| read_recording(f, map).unwrap()).collect()
+    files
+        .iter()
+        .map(|f| read_recording(f, map).unwrap())
+        .collect()
 }
 
 fn files_of(truth: &[TruthStep]) -> Vec<PathBuf> {
@@ -80,7 +83,11 @@ fn check_against_plan(id: &Identification, truth: &[TruthStep], tol: f64) {
             t.mu_true
         );
     }
-    assert!(id.matching.missing.is_empty() && id.matching.extra.is_empty(), "{:#?}", id.matching);
+    assert!(
+        id.matching.missing.is_empty() && id.matching.extra.is_empty(),
+        "{:#?}",
+        id.matching
+    );
     report_error(id, truth);
 }
 
@@ -128,7 +135,8 @@ fn check_without_plan(id: &Identification, truth: &[TruthStep], tol: f64) {
 
 fn lathe_rig() -> (tempfile::TempDir, Vec<TruthStep>) {
     let dir = tempfile::tempdir().unwrap();
-    let truth = support::rig2::LatheRig::new(7).write_campaign(dir.path(), &support::rig2::default_pins());
+    let truth =
+        support::rig2::LatheRig::new(7).write_campaign(dir.path(), &support::rig2::default_pins());
     (dir, truth)
 }
 
@@ -143,7 +151,10 @@ fn lathe_rig_with_a_plan_and_no_speed_channel() {
     let expected = expected_of(&truth);
     let id = identify(&recs, Some(&expected), &[]);
     assert!(id.files.iter().all(|f| f.segmentation == "signals"));
-    assert!(id.files.iter().all(|f| f.tangential_sign_flipped && f.baseline == "none"));
+    assert!(id
+        .files
+        .iter()
+        .all(|f| f.tangential_sign_flipped && f.baseline == "none"));
     assert!(id
         .dataset
         .records
@@ -183,7 +194,11 @@ fn lathe_rig_matched_by_speed_reports_a_reordered_pin() {
     let id = identify(&recs, Some(&expected), &[100.0]);
     assert_eq!(id.matching.method, "speed and load");
     assert!(!id.matching.reordered.is_empty());
-    assert!(id.matching.reordered.iter().all(|r| r.contains("pin 2")), "{:#?}", id.matching);
+    assert!(
+        id.matching.reordered.iter().all(|r| r.contains("pin 2")),
+        "{:#?}",
+        id.matching
+    );
     for t in &truth {
         let r = id
             .dataset
@@ -191,7 +206,9 @@ fn lathe_rig_matched_by_speed_reports_a_reordered_pin() {
             .iter()
             .find(|r| {
                 r.pin == t.pin
-                    && (units::m_per_s_to_m_per_min(r.sliding_velocity_m_s) - t.velocity_m_per_min).abs() < 1e-6
+                    && (units::m_per_s_to_m_per_min(r.sliding_velocity_m_s) - t.velocity_m_per_min)
+                        .abs()
+                        < 1e-6
             })
             .unwrap();
         assert!((r.cof_apparent - t.mu_true).abs() <= 0.003);
@@ -210,7 +227,10 @@ fn a_missing_step_is_reported_by_name() {
         sliding_velocity_m_s: units::m_per_min_to_m_per_s(280.0),
     });
     let id = identify(&recs, Some(&expected), &[100.0]);
-    assert_eq!(id.matching.missing, vec!["pin 3 step 7 (1800.0 N, 280.0 m/min)".to_string()]);
+    assert_eq!(
+        id.matching.missing,
+        vec!["pin 3 step 7 (1800.0 N, 280.0 m/min)".to_string()]
+    );
     assert_eq!(id.dataset.records.len(), truth.len());
 }
 
@@ -237,7 +257,10 @@ fn swapped_files_are_caught_when_matching_by_order() {
     )
     .unwrap_err()
     .to_string();
-    assert!(e.contains("closer to pin") && e.contains("rig2_pin03.csv"), "{e}");
+    assert!(
+        e.contains("closer to pin") && e.contains("rig2_pin03.csv"),
+        "{e}"
+    );
 }
 
 /// Every export layout identifies within 0.002 of its ground truth, without a plan.
@@ -254,15 +277,36 @@ fn rotary_tribometer_export() {
     // rpm with a track radius that changes from step to step
     let dir = tempfile::tempdir().unwrap();
     let truth = support::exports::write_rotary_export(dir.path(), 3);
-    let id = check_export(&truth, &ChannelMap::default(), &support::exports::ROTARY_RADII_MM);
+    let id = check_export(
+        &truth,
+        &ChannelMap::default(),
+        &support::exports::ROTARY_RADII_MM,
+    );
     let f = &id.files[0];
     assert_eq!(f.segmentation, "step-column");
     let read = f.read.as_ref().unwrap();
-    assert!(read.layout.contains("trailing delimiter") && read.layout.contains("header on line 3"), "{}", read.layout);
+    assert!(
+        read.layout.contains("trailing delimiter") && read.layout.contains("header on line 3"),
+        "{}",
+        read.layout
+    );
     assert_eq!(read.footer.len(), 2);
-    assert!(read.notes.iter().any(|n| n.contains("restarts at 4 step change")), "{:?}", read.notes);
-    let roles: Vec<(&str, &str)> = read.columns.iter().map(|c| (c.role.as_str(), c.column.as_str())).collect();
-    assert!(roles.contains(&("normal", "DAQ.Fz (N)")) && roles.contains(&("speed", "Velocity (rpm)")), "{roles:?}");
+    assert!(
+        read.notes
+            .iter()
+            .any(|n| n.contains("restarts at 4 step change")),
+        "{:?}",
+        read.notes
+    );
+    let roles: Vec<(&str, &str)> = read
+        .columns
+        .iter()
+        .map(|c| (c.role.as_str(), c.column.as_str()))
+        .collect();
+    assert!(
+        roles.contains(&("normal", "DAQ.Fz (N)")) && roles.contains(&("speed", "Velocity (rpm)")),
+        "{roles:?}"
+    );
 }
 
 #[test]
@@ -281,7 +325,9 @@ fn tab_separated_files_per_step_without_time() {
     let truth = support::exports::write_tab_per_step(dir.path(), 5);
     let mut map = ChannelMap::default();
     // without a time column the sample rate is required, and the error says so
-    let e = read_recording(&truth[0].file, &map).unwrap_err().to_string();
+    let e = read_recording(&truth[0].file, &map)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("--sample-rate-hz"), "{e}");
     map.sample_rate_hz = Some(support::exports::TAB_SAMPLE_RATE_HZ);
     let id = check_export(&truth, &map, &[]);
@@ -294,5 +340,10 @@ fn xlsx_workbook() {
     let dir = tempfile::tempdir().unwrap();
     let truth = support::exports::write_xlsx_workbook(dir.path(), 6);
     let id = check_export(&truth, &ChannelMap::default(), &[]);
-    assert!(id.files[0].read.as_ref().unwrap().layout.contains("sheet 'Data'"));
+    assert!(id.files[0]
+        .read
+        .as_ref()
+        .unwrap()
+        .layout
+        .contains("sheet 'Data'"));
 }

@@ -24,10 +24,15 @@ fn plan() -> Plan {
 
 fn recordings(plan: &Plan, synth: &SynthConfig) -> Vec<Recording> {
     let c = PinContact::default();
-    (1..=plan.pins.len() as u32).map(|p| synth.simulate_pin(plan, &c, p).unwrap()).collect()
+    (1..=plan.pins.len() as u32)
+        .map(|p| synth.simulate_pin(plan, &c, p).unwrap())
+        .collect()
 }
 
-fn identify(plan: &Plan, recs: &[Recording]) -> greybox_core::Result<greybox_tribo::campaign::Identification> {
+fn identify(
+    plan: &Plan,
+    recs: &[Recording],
+) -> greybox_core::Result<greybox_tribo::campaign::Identification> {
     let c = PinContact::default();
     let cfg = IdentifyConfig::default();
     let steps = expected_from_plan(plan);
@@ -60,7 +65,10 @@ fn a_channel_in_the_wrong_unit_is_refused_against_the_other_pins() {
     // pin 2's tangential force logged in kN and read as N
     recs[1].tangential_n.iter_mut().for_each(|v| *v *= 1e-3);
     let e = identify(&plan, &recs).unwrap_err().to_string();
-    assert!(e.contains("pin 2's median μ") && e.contains("below") && e.contains("kN"), "{e}");
+    assert!(
+        e.contains("pin 2's median μ") && e.contains("below") && e.contains("kN"),
+        "{e}"
+    );
     // the same with the normal channel in kN: caught by the plan's load already
     let mut recs = recordings(&plan, &SynthConfig::default());
     recs[0].normal_n.iter_mut().for_each(|v| *v *= 1e-3);
@@ -77,10 +85,17 @@ fn the_dataset_load_is_the_measured_one_with_the_plan_beside_it() {
         let planned = plan.pins[r.pin as usize - 1].normal_force_n;
         assert_eq!(r.normal_force_planned_n, Some(planned));
         // measured: close to the plan but not the plan's number itself
-        assert!((r.normal_force_n / planned - 1.0).abs() < 0.05, "{} vs {planned}", r.normal_force_n);
+        assert!(
+            (r.normal_force_n / planned - 1.0).abs() < 0.05,
+            "{} vs {planned}",
+            r.normal_force_n
+        );
         assert_ne!(r.normal_force_n, planned);
         let p = PinContact::default().pressure_pa(r.normal_force_n).unwrap();
-        assert!((r.hertz_pressure_pa / p - 1.0).abs() < 1e-12, "pressure of the measured load");
+        assert!(
+            (r.hertz_pressure_pa / p - 1.0).abs() < 1e-12,
+            "pressure of the measured load"
+        );
     }
 }
 
@@ -91,7 +106,11 @@ fn one_column_for_two_roles_is_refused() {
     use greybox_tribo::recording::{ChannelMap, ChannelSpec};
     let d = tempfile::tempdir().unwrap();
     let p = d.path().join("pin01.csv");
-    std::fs::write(&p, "time_s,normal_force_N,tangential_force_N\n0,100,40\n0.001,100,41\n0.002,101,40\n").unwrap();
+    std::fs::write(
+        &p,
+        "time_s,normal_force_N,tangential_force_N\n0,100,40\n0.001,100,41\n0.002,101,40\n",
+    )
+    .unwrap();
     let map = ChannelMap {
         tangential: Some(ChannelSpec::named("normal_force_N")),
         ..ChannelMap::default()

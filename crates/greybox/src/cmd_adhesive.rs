@@ -3,8 +3,8 @@
 use crate::output::{print_json, Table};
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
-use greybox_core::outputs::check_file_output;
 use greybox_core::dataset::FrictionDataset;
+use greybox_core::outputs::check_file_output;
 use greybox_sim::pin::{inverse_over_loads, PinSetup, ShareLaw};
 use greybox_tribo::ploughing::{
     article_table3, correct_analytic, correct_with, track_depth, Correction, TrackWidth, WidthLaw,
@@ -103,7 +103,11 @@ pub fn adhesive(a: &Args) -> Result<(FrictionDataset, Correction)> {
         inputs.push(("--track-widths-csv", w.as_path()));
     }
     check_file_output(&a.out, "--out", &inputs)?;
-    check_file_output(&correction_path(&a.out), "the correction record beside --out", &inputs)?;
+    check_file_output(
+        &correction_path(&a.out),
+        "the correction record beside --out",
+        &inputs,
+    )?;
     let mut ds = FrictionDataset::read_csv(&a.data)?;
     let corr = match a.method {
         Method::Analytic => correct_analytic(&mut ds, a.pin_radius_mm * 1e-3, &widths(a)?)?,

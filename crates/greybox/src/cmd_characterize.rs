@@ -196,8 +196,15 @@ pub fn characterize(a: &Args) -> Result<CharacterizeReport> {
         cfg.exponential_end = e;
     }
     let mut groups: Vec<(Option<f64>, Vec<ImpactRecording>)> = Vec::new();
-    let specs: Vec<PathBuf> = a.recordings.iter().map(|s| parse_recording(s).map(|r| r.0)).collect::<Result<_>>()?;
-    let mut inputs: Vec<(&str, &Path)> = specs.iter().map(|p| ("--recordings", p.as_path())).collect();
+    let specs: Vec<PathBuf> = a
+        .recordings
+        .iter()
+        .map(|s| parse_recording(s).map(|r| r.0))
+        .collect::<Result<_>>()?;
+    let mut inputs: Vec<(&str, &Path)> = specs
+        .iter()
+        .map(|p| ("--recordings", p.as_path()))
+        .collect();
     inputs.extend(study_input(&a.plan));
     for spec in &a.recordings {
         let (path, load) = parse_recording(spec)?;

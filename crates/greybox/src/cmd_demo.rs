@@ -81,7 +81,12 @@ pub fn run(a: Args) -> Result<()> {
         &expect,
         &files,
         &[],
-        &cmd_identify::IdentifyOutput { dataset: &dataset, inspect_dir: None, quiet: true, side_inputs: &[] },
+        &cmd_identify::IdentifyOutput {
+            dataset: &dataset,
+            inspect_dir: None,
+            quiet: true,
+            side_inputs: &[],
+        },
     )?;
     let truth = cmd_identify::compare_with_truth(&ds, &rec_dir.join("ground_truth.csv"))?;
     let identify = cmd_identify::IdentifySummary {
@@ -298,7 +303,9 @@ pub fn run(a: Args) -> Result<()> {
     };
     let cutting = cmd_simulate::run_cut(&cut_case, 1.0, &cut_out)?;
     // the run is complete: swap it in, then report the paths where the files now are
-    crate::output::provenance(&[])?.with_seed(study.synth.seed).write_into(Path::new("."))?;
+    crate::output::provenance(&[])?
+        .with_seed(study.synth.seed)
+        .write_into(Path::new("."))?;
     drop(cwd);
     staged.commit()?;
     let shown = |p: &Path| -> PathBuf { a.out.join(p) };
@@ -333,8 +340,16 @@ pub fn run(a: Args) -> Result<()> {
     let cut_dir = shown(&cut_out.out);
     let mut identify = identify;
     identify.dataset = shown(Path::new(&identify.dataset)).display().to_string();
-    let models: Vec<String> = fit_outputs.models.iter().map(|m| shown(Path::new(m)).display().to_string()).collect();
-    let plots: Vec<String> = fit_outputs.plots.iter().map(|m| shown(Path::new(m)).display().to_string()).collect();
+    let models: Vec<String> = fit_outputs
+        .models
+        .iter()
+        .map(|m| shown(Path::new(m)).display().to_string())
+        .collect();
+    let plots: Vec<String> = fit_outputs
+        .plots
+        .iter()
+        .map(|m| shown(Path::new(m)).display().to_string())
+        .collect();
     println!("greybox demo — the seed article's tribometer campaign on a virtual rig\n");
     println!(
         "[0/6] rig dynamics: virtual impact-hammer tests at 500, 1000, 2000 N -> {}",

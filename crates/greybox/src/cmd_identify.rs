@@ -210,7 +210,9 @@ pub fn recording_files(
         }
         if let Some(pins) = pins {
             let ext = format.unwrap_or(RecordingFormat::Csv).extension();
-            let named: Vec<PathBuf> = (1..=pins).map(|k| p.join(format!("pin{k:02}.{ext}"))).collect();
+            let named: Vec<PathBuf> = (1..=pins)
+                .map(|k| p.join(format!("pin{k:02}.{ext}")))
+                .collect();
             if named.iter().all(|f| f.is_file()) {
                 files.extend(named);
                 continue;
@@ -231,9 +233,18 @@ pub fn recording_files(
                 n != "ground_truth.csv" && n != "run_sheet.csv"
             })
             .collect();
-        found.sort_by_key(|f| natural_key(&f.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default()));
+        found.sort_by_key(|f| {
+            natural_key(
+                &f.file_name()
+                    .map(|n| n.to_string_lossy().to_string())
+                    .unwrap_or_default(),
+            )
+        });
         if found.is_empty() {
-            bail!("{}: no recording files (.csv, .txt, .tsv, .dat, .xlsx, .xls, .ods, .tdms)", p.display());
+            bail!(
+                "{}: no recording files (.csv, .txt, .tsv, .dat, .xlsx, .xls, .ods, .tdms)",
+                p.display()
+            );
         }
         files.extend(found);
     }
@@ -327,7 +338,10 @@ pub fn identify(
     o: &IdentifyOutput,
 ) -> Result<(FrictionDataset, Identification)> {
     let (out, inspect_dir, quiet, side_inputs) = (o.dataset, o.inspect_dir, o.quiet, o.side_inputs);
-    let inputs: Vec<(&str, &Path)> = files.iter().map(|f| ("--recordings", f.as_path())).collect();
+    let inputs: Vec<(&str, &Path)> = files
+        .iter()
+        .map(|f| ("--recordings", f.as_path()))
+        .collect();
     greybox_core::outputs::check_file_output(out, "--out", &inputs)?;
     let recs: Vec<Recording> = files
         .iter()
@@ -374,7 +388,10 @@ pub fn identify(
             .iter()
             .flat_map(|f| f.notes.iter().map(move |n| format!("{}: {n}", f.source)))
             .collect();
-        bail!("no plateau was identified in any recording\n  {}", notes.join("\n  "));
+        bail!(
+            "no plateau was identified in any recording\n  {}",
+            notes.join("\n  ")
+        );
     }
     id.dataset.write_csv(out)?;
     let mut all_inputs = inputs.clone();
@@ -403,7 +420,9 @@ pub fn summary_table(ds: &FrictionDataset) -> String {
         let (first, last) = (rows[0], rows[rows.len() - 1]);
         t.row(vec![
             pin.to_string(),
-            first.normal_force_planned_n.map_or("-".into(), |f| format!("{f:.1}")),
+            first
+                .normal_force_planned_n
+                .map_or("-".into(), |f| format!("{f:.1}")),
             format!("{:.1}", first.normal_force_n),
             format!("{:.1}", first.hertz_pressure_pa / units::PA_PER_MPA),
             format!("{:.4}", first.cof_apparent),
@@ -421,14 +440,25 @@ pub fn summary_table(ds: &FrictionDataset) -> String {
 
 /// One line per file: how it was segmented.
 pub fn files_table(id: &Identification) -> String {
-    let mut t = Table::new(&["file", "segmentation", "baseline", "segments", "rows", "notes"]);
+    let mut t = Table::new(&[
+        "file",
+        "segmentation",
+        "baseline",
+        "segments",
+        "rows",
+        "notes",
+    ]);
     for f in &id.files {
         t.row(vec![
             f.source.clone(),
             f.segmentation.clone(),
             f.baseline.clone(),
             f.segments.len().to_string(),
-            f.segments.iter().filter(|s| s.matched.is_some()).count().to_string(),
+            f.segments
+                .iter()
+                .filter(|s| s.matched.is_some())
+                .count()
+                .to_string(),
             f.notes.len().to_string(),
         ]);
     }
@@ -521,7 +551,11 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(c) = args.convention {
         study.contact.convention = c.into();
     }
-    if let Some(r) = args.track_radii_mm.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
+    if let Some(r) = args
+        .track_radii_mm
+        .iter()
+        .find(|r| !(r.is_finite() && **r > 0.0))
+    {
         bail!("--track-radii-mm: every radius must be positive, got {r}");
     }
     let expect = if let Some(path) = &args.plan_steps {
@@ -533,7 +567,9 @@ pub fn run(args: Args) -> Result<()> {
     };
     let mut radii = args.track_radii_mm.clone();
     if radii.is_empty() {
-        if let (Expectation::None | Expectation::Steps(_), Some(r)) = (&expect, args.plan.track_radius_mm) {
+        if let (Expectation::None | Expectation::Steps(_), Some(r)) =
+            (&expect, args.plan.track_radius_mm)
+        {
             radii.push(r);
         }
     }
@@ -547,8 +583,10 @@ pub fn run(args: Args) -> Result<()> {
         ("--plan-steps", args.plan_steps.as_deref()),
         ("--truth", args.truth.as_deref()),
     ];
-    let side_inputs: Vec<(&str, &Path)> =
-        side_inputs.iter().filter_map(|(f, p)| p.map(|p| (*f, p))).collect();
+    let side_inputs: Vec<(&str, &Path)> = side_inputs
+        .iter()
+        .filter_map(|(f, p)| p.map(|p| (*f, p)))
+        .collect();
     greybox_core::outputs::check_file_output(&args.out, "--out", &side_inputs)?;
     let inspect_dir = args.inspect.then(|| {
         args.inspect_dir.clone().unwrap_or_else(|| {
@@ -619,7 +657,11 @@ pub fn inspect_text(files: &[FileReport]) -> String {
                     c.role,
                     c.column,
                     c.unit,
-                    if c.scale != 1.0 { format!(" x {}", c.scale) } else { String::new() },
+                    if c.scale != 1.0 {
+                        format!(" x {}", c.scale)
+                    } else {
+                        String::new()
+                    },
                     c.how
                 );
             }
@@ -638,13 +680,26 @@ pub fn inspect_text(files: &[FileReport]) -> String {
             f.duration_s,
             f.segmentation,
             f.baseline,
-            if f.tangential_sign_flipped { "; tangential sign flipped" } else { "" }
+            if f.tangential_sign_flipped {
+                "; tangential sign flipped"
+            } else {
+                ""
+            }
         );
         for n in &f.notes {
             let _ = writeln!(s, "   note: {n}");
         }
         let mut t = Table::new(&[
-            "seg", "start [s]", "end [s]", "F_N [N]", "speed", "v [m/min]", "steady [s]", "COF", "flags", "plan",
+            "seg",
+            "start [s]",
+            "end [s]",
+            "F_N [N]",
+            "speed",
+            "v [m/min]",
+            "steady [s]",
+            "COF",
+            "flags",
+            "plan",
         ]);
         for g in &f.segments {
             t.row(vec![
@@ -653,7 +708,8 @@ pub fn inspect_text(files: &[FileReport]) -> String {
                 format!("{:.3}", g.end_s),
                 format!("{:.1}", g.normal_force_n),
                 g.spindle_rpm.map_or("-".into(), |r| format!("{r:.1} rpm")),
-                g.sliding_velocity_m_per_min.map_or("-".into(), |v| format!("{v:.1}")),
+                g.sliding_velocity_m_per_min
+                    .map_or("-".into(), |v| format!("{v:.1}")),
                 match (g.steady_start_s, g.steady_end_s) {
                     (Some(a), Some(b)) => format!("{a:.3}-{b:.3}"),
                     _ => "-".into(),
@@ -663,7 +719,8 @@ pub fn inspect_text(files: &[FileReport]) -> String {
                     Some(p) => p.clone(),
                     None => g.flags.join(";"),
                 },
-                g.matched.map_or("-".into(), |(p, k)| format!("pin {p} step {k}")),
+                g.matched
+                    .map_or("-".into(), |(p, k)| format!("pin {p} step {k}")),
             ]);
         }
         s.push_str(&t.render());
@@ -676,7 +733,11 @@ pub fn matching_text(m: &MatchReport) -> String {
     use std::fmt::Write as _;
     let mut s = String::new();
     let _ = writeln!(s, "matching to the plan: {}", m.method);
-    for (what, list) in [("missing", &m.missing), ("extra", &m.extra), ("reordered", &m.reordered)] {
+    for (what, list) in [
+        ("missing", &m.missing),
+        ("extra", &m.extra),
+        ("reordered", &m.reordered),
+    ] {
         for item in list {
             let _ = writeln!(s, "   {what}: {item}");
         }
@@ -690,7 +751,11 @@ fn write_inspect_plots(recs: &[Recording], found: &[FileReport], dir: &Path) -> 
     for (rec, f) in recs.iter().zip(found) {
         let n = rec.len();
         let step = (n / 3000).max(1);
-        let fmax = rec.normal_n.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
+        let fmax = rec
+            .normal_n
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+            .max(1e-12);
         let sign = if f.tangential_sign_flipped { -1.0 } else { 1.0 };
         let (mut t, mut mu, mut fnr) = (Vec::new(), Vec::new(), Vec::new());
         for c in (0..n).step_by(step) {
@@ -699,7 +764,11 @@ fn write_inspect_plots(recs: &[Recording], found: &[FileReport], dir: &Path) -> 
             let ft_m = rec.tangential_n[c..e].iter().sum::<f64>() / (e - c) as f64;
             t.push(rec.time_s[c]);
             fnr.push(fn_m / fmax);
-            mu.push(if fn_m.abs() > 0.02 * fmax { sign * ft_m / fn_m } else { 0.0 });
+            mu.push(if fn_m.abs() > 0.02 * fmax {
+                sign * ft_m / fn_m
+            } else {
+                0.0
+            });
         }
         let labels: Vec<String> = f.segments.iter().map(|g| format!("{}", g.index)).collect();
         let bands: Vec<(f64, f64, &str)> = f
@@ -717,8 +786,18 @@ fn write_inspect_plots(recs: &[Recording], found: &[FileReport], dir: &Path) -> 
             "time [s]",
             "F_t/F_N [-] and F_N/max F_N [-]",
             &[
-                greybox_core::plot::Line { label: "F_t/F_N", colour: "#1f4e9c", x: &t, y: &mu },
-                greybox_core::plot::Line { label: "F_N/max", colour: "#b2182b", x: &t, y: &fnr },
+                greybox_core::plot::Line {
+                    label: "F_t/F_N",
+                    colour: "#1f4e9c",
+                    x: &t,
+                    y: &mu,
+                },
+                greybox_core::plot::Line {
+                    label: "F_N/max",
+                    colour: "#b2182b",
+                    x: &t,
+                    y: &fnr,
+                },
             ],
             false,
             &bands,

@@ -55,7 +55,12 @@ pub struct PlanFlags {
 
 /// The `--study` file as a command input (when given).
 pub fn study_input(flags: &PlanFlags) -> Vec<(&'static str, &Path)> {
-    flags.study.as_deref().map(|p| ("--study", p)).into_iter().collect()
+    flags
+        .study
+        .as_deref()
+        .map(|p| ("--study", p))
+        .into_iter()
+        .collect()
 }
 
 impl PlanFlags {

@@ -62,7 +62,12 @@ impl Output {
     fn stage(&self) -> Result<StagedDir> {
         let existing = Existing::from_force(self.force);
         if self.checkpoint_every > 0 || self.resume.is_some() {
-            return Ok(StagedDir::resumable(&self.out, "--out", existing, self.resume.is_some())?);
+            return Ok(StagedDir::resumable(
+                &self.out,
+                "--out",
+                existing,
+                self.resume.is_some(),
+            )?);
         }
         check_dir_output(&self.out, "--out", &[])?;
         Ok(StagedDir::begin(&self.out, "--out", existing)?)
@@ -219,7 +224,12 @@ fn run_pin(a: &PinArgs) -> Result<()> {
     let (res, hist, sim) =
         simulate_from(&setup, resume, &mut obs.list()).map_err(|e| failure_context(e, &obs))?;
     write_common(staged.path(), &sim, &hist, &res)?;
-    let resume_input: Vec<(&str, &Path)> = a.output.resume.iter().map(|r| ("--resume", r.as_path())).collect();
+    let resume_input: Vec<(&str, &Path)> = a
+        .output
+        .resume
+        .iter()
+        .map(|r| ("--resume", r.as_path()))
+        .collect();
     crate::output::provenance(&resume_input)?.write_into(staged.path())?;
     staged.commit()?;
     if a.output.json {
@@ -334,14 +344,8 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &Output) -> Result<CutSummary> 
     let resume = read_checkpoint(&o.resume)?;
     let staged = o.stage()?;
     let mut obs = Observers::new(o, staged.path(), &id);
-    let r = CutRun::execute(
-        setup,
-        case.law.clone(),
-        fraction,
-        resume,
-        &mut obs.list(),
-    )
-    .map_err(|e| failure_context(e, &obs))?;
+    let r = CutRun::execute(setup, case.law.clone(), fraction, resume, &mut obs.list())
+        .map_err(|e| failure_context(e, &obs))?;
     let v = setup.cutting_speed_m_s;
     let tool = &r.sim.tools[0];
     let out = staged.path();
@@ -379,10 +383,14 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &Output) -> Result<CutSummary> 
         averaged_from_mm: r.averaged_from_s * v * 1e3,
         measures: r.measures,
         energy_error: r.sim.energy_balance().relative_error,
-        files: files.iter().map(|p| staged.shown(p).display().to_string()).collect(),
+        files: files
+            .iter()
+            .map(|p| staged.shown(p).display().to_string())
+            .collect(),
     };
     write_string_atomic(&files[3], &serde_json::to_string_pretty(&s)?)?;
-    let mut inputs: Vec<(&str, &Path)> = case.inputs.iter().map(|(r, p)| (*r, p.as_path())).collect();
+    let mut inputs: Vec<(&str, &Path)> =
+        case.inputs.iter().map(|(r, p)| (*r, p.as_path())).collect();
     if let Some(r) = &o.resume {
         inputs.push(("--resume", r.as_path()));
     }

@@ -82,7 +82,10 @@ fn remove_temporaries_on_interrupt() {
         if let Some(sig) = signals.forever().next() {
             let removed = greybox_core::cleanup::remove_registered();
             if !removed.is_empty() {
-                eprintln!("interrupted: removed {} unfinished output(s)", removed.len());
+                eprintln!(
+                    "interrupted: removed {} unfinished output(s)",
+                    removed.len()
+                );
             }
             let _ = signal_hook::low_level::emulate_default_handler(sig);
             std::process::exit(128 + sig);

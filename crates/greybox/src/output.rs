@@ -9,7 +9,12 @@ use std::path::Path;
 /// The provenance record of this run: greybox's version, the command line and `inputs`
 /// (hashed now).
 pub fn provenance(inputs: &[(&str, &Path)]) -> Result<Provenance> {
-    Ok(Provenance::new("greybox", env!("CARGO_PKG_VERSION"), std::env::args().collect()).inputs(inputs)?)
+    Ok(Provenance::new(
+        "greybox",
+        env!("CARGO_PKG_VERSION"),
+        std::env::args().collect(),
+    )
+    .inputs(inputs)?)
 }
 
 /// Begin the output directory `--out`: refused if it holds one of `inputs` or (unless
