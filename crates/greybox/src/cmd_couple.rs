@@ -2,12 +2,8 @@
 
 use crate::output::print_json;
 use anyhow::{bail, Context, Result};
-use greybox_core::atomic::write_string_atomic;
-use greybox_core::plot::{lines, Line};
-use greybox_couple::calculix::{CalculixConfig, CalculixEngine};
-use greybox_couple::engine::{couple, CommandEngine, CouplingResult, Engine};
-use greybox_friction::spec::load_law;
-use std::path::{Path, PathBuf};
+use greybox_pipeline::couple::{couple, CoupleOptions, EngineOptions};
+use std::path::PathBuf;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EngineArg {
@@ -66,45 +62,48 @@ pub struct Args {
     pub json: bool,
 }
 
-/// Plot μ per window over the cycles.
-fn plot_history(path: &Path, r: &CouplingResult) -> Result<()> {
-    let names: Vec<String> = r.final_mu.iter().map(|m| m.0.clone()).collect();
-    let colours = [
-        "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#7f7f7f",
-    ];
-    let series: Vec<(Vec<f64>, Vec<f64>)> = names
-        .iter()
-        .map(|n| {
-            let rows: Vec<_> = r.history.iter().filter(|h| &h.window == n).collect();
-            (
-                rows.iter().map(|h| h.cycle as f64).collect(),
-                rows.iter().map(|h| h.mu_new).collect(),
-            )
+impl Args {
+    /// The library's options for these flags.
+    pub fn options(&self) -> Result<CoupleOptions> {
+        let engine = match self.engine {
+            EngineArg::Calculix => EngineOptions::Calculix {
+                ccx: self.ccx.clone(),
+                deck: self
+                    .deck
+                    .clone()
+                    .context("--deck is required for --engine calculix")?,
+                segment: self
+                    .segment
+                    .clone()
+                    .context("--segment is required for --engine calculix")?,
+                pressure_pa_per_unit: match self.pressure_unit.as_str() {
+                    "MPa" => 1e6,
+                    "Pa" => 1.0,
+                    o => bail!("unknown pressure unit '{o}'; expected MPa or Pa"),
+                },
+                length_m_per_unit: match self.length_unit.as_str() {
+                    "mm" => 1e-3,
+                    "m" => 1.0,
+                    o => bail!("unknown length unit '{o}'; expected mm or m"),
+                },
+                segment_s: self.segment_s,
+            },
+            EngineArg::Command => EngineOptions::Command {
+                command: self
+                    .command
+                    .clone()
+                    .context("--command is required for --engine command")?,
+                windows: self.windows.clone(),
+            },
+        };
+        Ok(CoupleOptions {
+            engine,
+            law: self.law.clone().context("--law is required")?,
+            work: self.work.clone(),
+            max_cycles: self.max_cycles,
+            tol: self.tol,
         })
-        .collect();
-    let ls: Vec<Line> = names
-        .iter()
-        .zip(&series)
-        .enumerate()
-        .map(|(i, (n, (x, y)))| Line {
-            label: n,
-            colour: colours[i % 8],
-            x,
-            y,
-        })
-        .collect();
-    write_string_atomic(
-        path,
-        &lines(
-            "friction windows: μ from the law per cycle",
-            "cycle",
-            "μ",
-            &ls,
-            false,
-            &[],
-        ),
-    )?;
-    Ok(())
+    }
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -116,56 +115,7 @@ pub fn run(a: Args) -> Result<()> {
         );
         return Ok(());
     }
-    let law_path = a.law.as_ref().context("--law is required")?;
-    let law = load_law(law_path)?;
-    let pressure = match a.pressure_unit.as_str() {
-        "MPa" => 1e6,
-        "Pa" => 1.0,
-        o => bail!("unknown pressure unit '{o}'; expected MPa or Pa"),
-    };
-    let length = match a.length_unit.as_str() {
-        "mm" => 1e-3,
-        "m" => 1.0,
-        o => bail!("unknown length unit '{o}'; expected mm or m"),
-    };
-    let mut engine: Box<dyn Engine> = match a.engine {
-        EngineArg::Calculix => Box::new(CalculixEngine::new(CalculixConfig {
-            ccx: a.ccx.clone(),
-            deck: a
-                .deck
-                .clone()
-                .context("--deck is required for --engine calculix")?,
-            segment_template: a
-                .segment
-                .clone()
-                .context("--segment is required for --engine calculix")?,
-            work: a.work.clone(),
-            pressure_pa_per_unit: pressure,
-            length_m_per_unit: length,
-            segment_s: a.segment_s,
-        })?),
-        EngineArg::Command => {
-            if a.windows.is_empty() {
-                bail!("--engine command needs --windows");
-            }
-            Box::new(CommandEngine {
-                windows: a.windows.clone(),
-                command: a
-                    .command
-                    .clone()
-                    .context("--command is required for --engine command")?,
-                work: a.work.clone(),
-            })
-        }
-    };
-    let r = couple(
-        engine.as_mut(),
-        law.as_ref(),
-        a.max_cycles,
-        a.tol,
-        Some(&a.work.join("history.csv")),
-    )?;
-    plot_history(&a.work.join("mu_history.svg"), &r)?;
+    let r = couple(&a.options()?)?;
     if a.json {
         return print_json(&r);
     }

@@ -1,13 +1,8 @@
 //! `greybox export`: a friction law as tables for FE engines, or as a surrogate table.
 
 use anyhow::{bail, Context, Result};
-use greybox_core::atomic::write_string_atomic;
-use greybox_core::outputs::check_file_output;
-use greybox_friction::export::{
-    self, DeformWindow, Grid, PressureUnit, SpeedUnit, TempUnit, Units,
-};
-use greybox_friction::spec::load_law;
-use greybox_friction::table::{Axis, TabulatedLaw};
+use greybox_friction::export::{Grid, PressureUnit, SpeedUnit, TempUnit, Units};
+use greybox_pipeline::export::{equidistant, export, ExportFormat, ExportOptions};
 use std::path::PathBuf;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -94,9 +89,7 @@ pub fn parse_values(text: &str, what: &str) -> Result<Vec<f64>> {
         if n < 2 || !(b > a) {
             bail!("{what}: MIN:MAX:N needs MIN < MAX and N ≥ 2");
         }
-        return Ok((0..n)
-            .map(|i| a + (b - a) * i as f64 / (n - 1) as f64)
-            .collect());
+        return Ok(equidistant(a, b, n));
     }
     text.split(',').map(nums).collect()
 }
@@ -122,113 +115,55 @@ fn units(a: &Args) -> Result<Units> {
     })
 }
 
-/// Export; returns a one-line description.
-pub fn export(a: &Args) -> Result<String> {
-    let mut inputs = vec![("--law", a.law.as_path())];
-    if let Some(w) = &a.deform_windows {
-        inputs.push(("--deform-windows", w.as_path()));
+impl Args {
+    /// The library's options for these flags.
+    pub fn options(&self) -> Result<ExportOptions> {
+        if self.deform_objects.len() != 2 {
+            bail!("--deform-objects takes two object numbers");
+        }
+        Ok(ExportOptions {
+            law: self.law.clone(),
+            format: self.format.into(),
+            out: self.out.clone(),
+            grid: Grid {
+                pressure_pa: parse_values(&self.pressure_mpa, "--pressure-MPa")?
+                    .iter()
+                    .map(|p| p * 1e6)
+                    .collect(),
+                velocity_m_s: parse_values(&self.velocity, "--velocity-m-per-min")?
+                    .iter()
+                    .map(|v| v / 60.0)
+                    .collect(),
+                temperature_k: self
+                    .temperature
+                    .as_deref()
+                    .map(|t| parse_values(t, "--temperature-K"))
+                    .transpose()?,
+            },
+            units: units(self)?,
+            taumax_pa: self.taumax_mpa.map(|t| t * 1e6),
+            deform_windows: self.deform_windows.clone(),
+            deform_reference_velocity_m_s: self.deform_reference_velocity_m_per_min / 60.0,
+            deform_objects: (self.deform_objects[0], self.deform_objects[1]),
+            lsdyna_table_id: self.lsdyna_table_id,
+            check_points: self.check_points,
+        })
     }
-    check_file_output(&a.out, "--out", &inputs)?;
-    let law = load_law(&a.law)?;
-    let grid = Grid {
-        pressure_pa: parse_values(&a.pressure_mpa, "--pressure-MPa")?
-            .iter()
-            .map(|p| p * 1e6)
-            .collect(),
-        velocity_m_s: parse_values(&a.velocity, "--velocity-m-per-min")?
-            .iter()
-            .map(|v| v / 60.0)
-            .collect(),
-        temperature_k: a
-            .temperature
-            .as_deref()
-            .map(|t| parse_values(t, "--temperature-K"))
-            .transpose()?,
-    };
-    grid.validate()?;
-    let (text, note) = match a.format {
-        Format::Abaqus => (
-            export::abaqus(
-                law.as_ref(),
-                &grid,
-                units(a)?,
-                a.taumax_mpa.map(|t| t * 1e6),
-            )?,
-            String::new(),
-        ),
-        Format::Lsdyna => (
-            export::lsdyna(law.as_ref(), &grid, units(a)?, a.lsdyna_table_id)?,
-            String::new(),
-        ),
-        Format::Csv => (export::csv(law.as_ref(), &grid)?, String::new()),
-        Format::Deform => {
-            let windows: Vec<DeformWindow> = match &a.deform_windows {
-                Some(p) => serde_json::from_str(
-                    &std::fs::read_to_string(p)
-                        .with_context(|| format!("cannot read {}", p.display()))?,
-                )
-                .with_context(|| format!("{}: expected a JSON list of windows", p.display()))?,
-                None => Vec::new(),
-            };
-            if a.deform_objects.len() != 2 {
-                bail!("--deform-objects takes two object numbers");
-            }
-            let objs = (a.deform_objects[0], a.deform_objects[1]);
-            (
-                export::deform(
-                    law.as_ref(),
-                    &grid,
-                    a.deform_reference_velocity_m_per_min / 60.0,
-                    &windows,
-                    objs,
-                )?,
-                format!(", {} windows", windows.len()),
-            )
+}
+
+impl From<Format> for ExportFormat {
+    fn from(f: Format) -> Self {
+        match f {
+            Format::Abaqus => ExportFormat::Abaqus,
+            Format::Deform => ExportFormat::Deform,
+            Format::Lsdyna => ExportFormat::Lsdyna,
+            Format::Csv => ExportFormat::Csv,
+            Format::Table => ExportFormat::Table,
         }
-        Format::Table => {
-            let axis = |v: &[f64], what: &str| -> Result<Axis> {
-                let n = v.len();
-                let ax = Axis::new(v[0], v[n - 1], n)?;
-                if v.iter()
-                    .enumerate()
-                    .any(|(i, x)| (x - ax.value(i)).abs() > 1e-9 * x.abs().max(1.0))
-                {
-                    bail!("{what}: a surrogate table needs equidistant values (MIN:MAX:N)");
-                }
-                Ok(ax)
-            };
-            let t_axis = grid
-                .temperature_k
-                .as_deref()
-                .map(|t| axis(t, "--temperature-K"))
-                .transpose()?;
-            let mut t = TabulatedLaw::bake(
-                law.as_ref(),
-                axis(&grid.pressure_pa, "--pressure-MPa")?,
-                axis(&grid.velocity_m_s, "--velocity-m-per-min")?,
-                t_axis,
-            );
-            let dev = t.check(law.as_ref(), a.check_points, 42);
-            (
-                serde_json::to_string(&t)?,
-                format!(
-                    ", max deviation from the law {dev:.3e} on {} random points",
-                    a.check_points
-                ),
-            )
-        }
-    };
-    write_string_atomic(&a.out, &text)?;
-    crate::output::provenance(&inputs)?.write_beside(&a.out)?;
-    Ok(format!(
-        "exported {} as {:?} to {}{note}",
-        law.name(),
-        a.format,
-        a.out.display()
-    ))
+    }
 }
 
 pub fn run(a: Args) -> Result<()> {
-    println!("{}", export(&a)?);
+    println!("{}", export(&a.options()?)?);
     Ok(())
 }

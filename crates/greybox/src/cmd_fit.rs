@@ -1,18 +1,14 @@
 //! `greybox fit`: the article's learning protocol with honest validation.
 
-use crate::output::{print_json, stage_out_dir};
-use crate::study::Study;
-use anyhow::{bail, Context, Result};
-use greybox_core::atomic::write_string_atomic;
+use crate::output::print_json;
+use anyhow::{Context, Result};
 use greybox_learn::mlp::Activation;
 use greybox_learn::model::Family;
-use greybox_learn::modelfile::{ForcePressure, ModelFile};
-use greybox_learn::plot;
-use greybox_learn::protocol::{markdown, run_protocol, FitConfig, FitReport};
+use greybox_learn::protocol::{markdown, FitConfig};
 use greybox_learn::svr::Kernel;
-use greybox_learn::table::read_dataset;
-use serde::Serialize;
-use std::path::{Path, PathBuf};
+use greybox_pipeline::fit::{fit, FitOptions, FitResult};
+use greybox_pipeline::study::Study;
+use std::path::PathBuf;
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct Args {
@@ -101,40 +97,6 @@ pub struct Args {
     pub json: bool,
 }
 
-impl Args {
-    /// Defaults for `data` → `out` (the article's grids and protocol), as the demo uses them.
-    pub fn defaults(data: PathBuf, out: PathBuf) -> Self {
-        Args {
-            data,
-            target: "cof_apparent".into(),
-            features: vec!["normal_force_N".into(), "sliding_velocity_m_per_min".into()],
-            study: None,
-            families: None,
-            folds: None,
-            inner_folds: None,
-            fold_column: None,
-            seed: None,
-            bootstrap: None,
-            importance_repeats: None,
-            skip_nested: false,
-            rf_n_estimators: None,
-            svr_c: None,
-            svr_kernel: None,
-            svr_epsilon: None,
-            gb_n_estimators: None,
-            gb_max_depth: None,
-            gb_learning_rate: None,
-            mlp_hidden: None,
-            mlp_activation: None,
-            mlp_learning_rate: None,
-            mlp_max_epochs: None,
-            out,
-            force: false,
-            json: false,
-        }
-    }
-}
-
 fn parse_list<T>(
     values: &[String],
     what: &str,
@@ -206,141 +168,34 @@ pub fn config(a: &Args) -> Result<FitConfig> {
     }
     set!(c.grid.mlp.learning_rate, a.mlp_learning_rate);
     set!(c.grid.mlp.base.max_epochs, a.mlp_max_epochs);
-    if c.families.is_empty() {
-        bail!("no model family selected");
-    }
     Ok(c)
 }
 
-#[derive(Serialize)]
-pub struct FitOutputs {
-    pub report_json: String,
-    pub report_md: String,
-    pub models: Vec<String>,
-    pub plots: Vec<String>,
-}
-
-/// Run the protocol and write every output into `out`.
-pub fn fit(a: &Args) -> Result<(FitReport, FitOutputs)> {
-    let cfg = config(a)?;
-    let data = read_dataset(&a.data, &a.features, &a.target, a.fold_column.as_deref())?;
-    for w in &data.warnings {
-        eprintln!("warning: {w}");
+impl Args {
+    /// The library's options for these flags.
+    pub fn options(&self) -> Result<FitOptions> {
+        Ok(FitOptions {
+            data: self.data.clone(),
+            target: self.target.clone(),
+            features: self.features.clone(),
+            fold_column: self.fold_column.clone(),
+            config: config(self)?,
+            study: self.study.clone(),
+            out: self.out.clone(),
+            force: self.force,
+        })
     }
-    let mut inputs = vec![("--data", a.data.as_path())];
-    if let Some(s) = &a.study {
-        inputs.push(("--study", s.as_path()));
-    }
-    let staged = stage_out_dir(&a.out, a.force, &inputs)?;
-    let (report, mut models) = run_protocol(&data, &cfg)?;
-    // what a law built from a bare model needs, and where the model came from
-    let force_to_pressure = greybox_core::dataset::FrictionDataset::read_csv(&a.data)
-        .ok()
-        .and_then(|ds| ForcePressure::of_dataset(&ds));
-    let provenance = crate::output::provenance(&inputs)?.with_seed(cfg.seed);
-    for m in models.iter_mut() {
-        m.force_to_pressure = force_to_pressure;
-        m.provenance = Some(provenance.clone());
-        *m = m.clone().seal()?;
-    }
-    let written = write_outputs(staged.path(), &report, &models, &data)?;
-    provenance.write_into(staged.path())?;
-    let shown = |v: &[String]| v.iter().map(|p| staged.shown_str(p)).collect();
-    let outputs = FitOutputs {
-        report_json: staged.shown_str(&written.report_json),
-        report_md: staged.shown_str(&written.report_md),
-        models: shown(&written.models),
-        plots: shown(&written.plots),
-    };
-    staged.commit()?;
-    Ok((report, outputs))
-}
-
-fn write_outputs(
-    out: &Path,
-    report: &FitReport,
-    models: &[ModelFile],
-    data: &greybox_learn::table::Dataset,
-) -> Result<FitOutputs> {
-    let report_json = out.join("report.json");
-    write_string_atomic(&report_json, &serde_json::to_string_pretty(report)?)?;
-    let report_md = out.join("report.md");
-    write_string_atomic(
-        &report_md,
-        &format!("# greybox fit report\n\n{}", markdown(report)),
-    )?;
-    let mut model_paths = Vec::new();
-    let mut plots = Vec::new();
-    for (fam, m) in report.families.iter().zip(models) {
-        let p = out
-            .join("models")
-            .join(format!("{}.json", fam.family.name()));
-        m.save(&p)?;
-        model_paths.push(p.display().to_string());
-        let mut series: Vec<(&str, &str, &[f64], &[f64])> = vec![(
-            "training (final model)",
-            "#1f77b4",
-            &data.y,
-            &fam.training_predictions,
-        )];
-        if let Some(h) = &fam.held_out {
-            series.push(("held out (nested CV)", "#d62728", &data.y, &h.predictions));
-        }
-        let svg = plot::predicted_vs_measured(
-            &format!("{} — {}", fam.family.title(), report.target),
-            &report.target,
-            &series,
-        );
-        let p = out
-            .join("plots")
-            .join(format!("{}-predicted-vs-measured.svg", fam.family.name()));
-        write_string_atomic(&p, &svg)?;
-        plots.push(p.display().to_string());
-        if data.x.n_cols >= 2 {
-            let ranges = data.x.column_ranges();
-            let medians: Vec<f64> = (0..data.x.n_cols)
-                .map(|j| {
-                    let mut c = data.x.column(j);
-                    c.sort_by(f64::total_cmp);
-                    c[c.len() / 2]
-                })
-                .collect();
-            let f = |u: f64, v: f64| {
-                let mut row = medians.clone();
-                row[0] = u;
-                row[1] = v;
-                greybox_learn::Predictor::predict_one(&m.model, &row)
-            };
-            let pts: Vec<(f64, f64)> = (0..data.x.n_rows)
-                .map(|i| (data.x.get(i, 0), data.x.get(i, 1)))
-                .collect();
-            let svg = plot::surface(
-                &format!("{} — {} surface", fam.family.title(), report.target),
-                &report.features[0],
-                &report.features[1],
-                &report.target,
-                ranges[0],
-                ranges[1],
-                &f,
-                &pts,
-            );
-            let p = out
-                .join("plots")
-                .join(format!("{}-surface.svg", fam.family.name()));
-            write_string_atomic(&p, &svg)?;
-            plots.push(p.display().to_string());
-        }
-    }
-    Ok(FitOutputs {
-        report_json: report_json.display().to_string(),
-        report_md: report_md.display().to_string(),
-        models: model_paths,
-        plots,
-    })
 }
 
 pub fn run(a: Args) -> Result<()> {
-    let (report, outputs) = fit(&a)?;
+    let FitResult {
+        report,
+        outputs,
+        warnings,
+    } = fit(&a.options()?)?;
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
     if a.json {
         return print_json(&report);
     }

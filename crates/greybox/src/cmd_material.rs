@@ -1,13 +1,10 @@
 //! `greybox material`: Johnson–Cook parameters from compression flow curves (A, B, n, m) and
 //! the rate sensitivity C from a measured cutting force (inverse cutting simulations).
 
-use crate::cmd_simulate::read_cutting_setup;
 use crate::output::print_json;
-use anyhow::{Context, Result};
-use greybox_core::atomic::write_string_atomic;
-use greybox_core::outputs::check_file_output;
-use greybox_material::fit::{fit_johnson_cook, read_flow_curves, FitOptions, JcFit};
-use greybox_sim::cut_run::find_rate_sensitivity;
+use anyhow::Result;
+use greybox_material::fit::{FitOptions, JcFit};
+use greybox_pipeline::material::{fit_flow_curves, fit_rate_sensitivity, RateSensitivityOptions};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -77,10 +74,6 @@ pub struct FitCArgs {
 
 /// Runs the flow-curve fit.
 pub fn fit(a: &FitArgs) -> Result<JcFit> {
-    if let Some(p) = &a.out {
-        check_file_output(p, "--out", &[("--curves", a.curves.as_path())])?;
-    }
-    let pts = read_flow_curves(&a.curves)?;
     let opts = FitOptions {
         c: a.c,
         ref_strain_rate: a.ref_strain_rate,
@@ -88,12 +81,7 @@ pub fn fit(a: &FitArgs) -> Result<JcFit> {
         melt_temperature_k: a.melt_temperature_k,
         misfit_threshold: a.misfit_threshold,
     };
-    let f = fit_johnson_cook(&pts, &opts).with_context(|| a.curves.display().to_string())?;
-    if let Some(p) = &a.out {
-        write_string_atomic(p, &serde_json::to_string_pretty(&f)?)?;
-        crate::output::provenance(&[("--curves", a.curves.as_path())])?.write_beside(p)?;
-    }
-    Ok(f)
+    fit_flow_curves(&a.curves, &opts, a.out.as_deref())
 }
 
 /// Prints a flow-curve fit.
@@ -144,22 +132,14 @@ pub fn run(a: Args) -> Result<()> {
             Ok(())
         }
         Material::FitC(a) => {
-            if let Some(p) = &a.out {
-                check_file_output(p, "--out", &[("--config", a.config.as_path())])?;
-            }
-            let case = read_cutting_setup(&a.config)?;
-            let r = find_rate_sensitivity(
-                &case.setup,
-                case.law.clone(),
-                a.measured_force_n_per_mm * 1e3,
-                (a.c_min, a.c_max),
-                a.tolerance_n_per_mm * 1e3,
-                a.max_runs,
-            )?;
-            if let Some(p) = &a.out {
-                write_string_atomic(p, &serde_json::to_string_pretty(&r)?)?;
-                crate::output::provenance(&[("--config", a.config.as_path())])?.write_beside(p)?;
-            }
+            let r = fit_rate_sensitivity(&RateSensitivityOptions {
+                config: a.config.clone(),
+                measured_force_n_per_m: a.measured_force_n_per_mm * 1e3,
+                c_range: (a.c_min, a.c_max),
+                tolerance_n_per_m: a.tolerance_n_per_mm * 1e3,
+                max_runs: a.max_runs,
+                out: a.out.clone(),
+            })?;
             if a.json {
                 return print_json(&r);
             }

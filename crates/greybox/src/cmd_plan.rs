@@ -1,12 +1,9 @@
 //! `greybox plan`.
 
-use crate::output::{print_json, stage_out_dir};
-use crate::study::Study;
-use anyhow::{Context, Result};
-use greybox_core::atomic::write_string_atomic;
-use greybox_tribo::gcode::write_program;
-use greybox_tribo::plan::Plan;
-use serde::Serialize;
+use crate::output::print_json;
+use anyhow::Result;
+use greybox_pipeline::plan::{plan, PlanSummary};
+use greybox_pipeline::study::Study;
 use std::path::{Path, PathBuf};
 
 /// Plan overrides shared by commands that build a plan.
@@ -121,60 +118,6 @@ pub struct Args {
     pub json: bool,
 }
 
-#[derive(Serialize)]
-pub struct PlanSummary {
-    pub pins: usize,
-    pub steps: usize,
-    pub normal_forces_n: Vec<f64>,
-    pub velocity_min_m_per_min: f64,
-    pub velocity_max_m_per_min: f64,
-    pub spindle_rpm_min: f64,
-    pub spindle_rpm_max: f64,
-    pub pin_duration_s: f64,
-    pub campaign_recording_s: f64,
-    pub files: Vec<String>,
-}
-
-/// Write study.toml, run_sheet.csv and the NC programs of a plan into `out`.
-pub fn write_plan(study: &Study, plan: &Plan, out: &Path) -> Result<Vec<String>> {
-    let mut files = Vec::new();
-    let mut resolved = study.clone();
-    resolved.plan = plan.spec.clone();
-    let p = out.join("study.toml");
-    write_string_atomic(&p, &resolved.to_toml()?)?;
-    files.push(p.display().to_string());
-    let p = out.join("run_sheet.csv");
-    plan.write_run_sheet(&p)?;
-    files.push(p.display().to_string());
-    for pin in 1..=plan.pins.len() as u32 {
-        let p = out.join("nc").join(format!("pin{pin:02}.nc"));
-        write_string_atomic(&p, &write_program(plan, pin))?;
-        files.push(p.display().to_string());
-    }
-    Ok(files)
-}
-
-pub fn summarize(plan: &Plan, files: Vec<String>) -> PlanSummary {
-    let v: Vec<f64> = plan
-        .pin_steps(1)
-        .iter()
-        .map(|s| s.sliding_velocity_m_s * 60.0)
-        .collect();
-    let rpm: Vec<f64> = plan.pin_steps(1).iter().map(|s| s.spindle_rpm).collect();
-    PlanSummary {
-        pins: plan.pins.len(),
-        steps: plan.steps.len(),
-        normal_forces_n: plan.pins.iter().map(|p| p.normal_force_n).collect(),
-        velocity_min_m_per_min: v.iter().cloned().fold(f64::INFINITY, f64::min),
-        velocity_max_m_per_min: v.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
-        spindle_rpm_min: rpm.iter().cloned().fold(f64::INFINITY, f64::min),
-        spindle_rpm_max: rpm.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
-        pin_duration_s: plan.pins[0].end_s,
-        campaign_recording_s: plan.pins.iter().map(|p| p.end_s).sum(),
-        files,
-    }
-}
-
 pub fn print_summary(s: &PlanSummary) {
     println!(
         "plan: {} pins x {} velocities = {} plateaus",
@@ -202,13 +145,7 @@ pub fn print_summary(s: &PlanSummary) {
 
 pub fn run(args: Args) -> Result<()> {
     let study = args.plan.study()?;
-    let plan = study.plan.build().context("cannot build the plan")?;
-    let staged = stage_out_dir(&args.out, args.force, &study_input(&args.plan))?;
-    let files = write_plan(&study, &plan, staged.path())?;
-    crate::output::provenance(&study_input(&args.plan))?.write_into(staged.path())?;
-    let files = files.iter().map(|f| staged.shown_str(f)).collect();
-    staged.commit()?;
-    let summary = summarize(&plan, files);
+    let summary = plan(&study, &args.out, args.force, &study_input(&args.plan))?;
     if args.json {
         return print_json(&summary);
     }

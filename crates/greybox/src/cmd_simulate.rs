@@ -1,23 +1,10 @@
 //! `greybox simulate`: the built-in 2D SPH solver — pin sliding and orthogonal cutting.
 
 use crate::output::print_json;
-use anyhow::{Context, Result};
-use greybox_core::atomic::write_string_atomic;
-use greybox_core::outputs::{check_dir_output, Existing, StagedDir};
-use greybox_core::FrictionLaw;
-use greybox_sim::checkpoint::{Checkpoint, Checkpointer};
-use greybox_sim::chip::{CutMeasures, ProfilePoint};
-use greybox_sim::cut_run::{fingerprint as fingerprint_cut, CutRun};
-use greybox_sim::cutting::CuttingSetup;
-use greybox_sim::output::{
-    write_mu_history_csv, write_profile_csv, write_windows_csv, ForceHistory, VtkSeries,
-};
-use greybox_sim::pin::{fingerprint, simulate_from, PinSetup};
-use greybox_sim::tool::WindowStats;
-use greybox_sim::ConstantMu;
-use greybox_sim::{Observer, Solver};
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use anyhow::Result;
+use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, CutSummary, RunOutput};
+use greybox_sim::pin::PinSetup;
+use std::path::PathBuf;
 
 #[derive(clap::Subcommand, Debug)]
 pub enum Simulate {
@@ -54,24 +41,6 @@ pub struct Output {
     pub force: bool,
     #[arg(long)]
     pub json: bool,
-}
-
-impl Output {
-    /// The directory this run writes into: a staging directory swapped in whole when the run
-    /// completes; for runs with checkpoints, the resumable `OUT.partial`.
-    fn stage(&self) -> Result<StagedDir> {
-        let existing = Existing::from_force(self.force);
-        if self.checkpoint_every > 0 || self.resume.is_some() {
-            return Ok(StagedDir::resumable(
-                &self.out,
-                "--out",
-                existing,
-                self.resume.is_some(),
-            )?);
-        }
-        check_dir_output(&self.out, "--out", &[])?;
-        Ok(StagedDir::begin(&self.out, "--out", existing)?)
-    }
 }
 
 #[derive(clap::Args, Debug)]
@@ -141,97 +110,22 @@ impl PinArgs {
     }
 }
 
-/// Output observers shared by pin and cutting runs.
-struct Observers {
-    vtk: VtkSeries,
-    ckpt: Option<Checkpointer>,
-}
-
-impl Observers {
-    fn new(o: &Output, dir: &Path, setup_id: &str) -> Self {
-        Observers {
-            vtk: VtkSeries::new(
-                &dir.join("vtk"),
-                if o.vtk_every == 0 {
-                    u64::MAX
-                } else {
-                    o.vtk_every
-                },
-            ),
-            ckpt: (o.checkpoint_every > 0).then(|| {
-                Checkpointer::new(&dir.join("checkpoint.json"), o.checkpoint_every, setup_id)
-            }),
+impl Output {
+    /// The library's output options for these flags.
+    pub fn options(&self) -> RunOutput {
+        RunOutput {
+            out: self.out.clone(),
+            vtk_every: self.vtk_every,
+            checkpoint_every: self.checkpoint_every,
+            resume: self.resume.clone(),
+            force: self.force,
         }
     }
-    fn list(&mut self) -> Vec<&mut dyn Observer> {
-        let mut v: Vec<&mut dyn Observer> = vec![&mut self.vtk];
-        if let Some(c) = self.ckpt.as_mut() {
-            v.push(c);
-        }
-        v
-    }
 }
 
-fn read_checkpoint(p: &Option<PathBuf>) -> Result<Option<Checkpoint>> {
-    p.as_ref().map(|p| Ok(Checkpoint::read(p)?)).transpose()
-}
-
-/// Adds the files a failed run left behind to the error.
-fn failure_context(e: greybox_sim::SimError, obs: &Observers) -> anyhow::Error {
-    let mut files: Vec<String> = obs
-        .vtk
-        .written
-        .iter()
-        .filter(|p| p.to_string_lossy().contains("last_good"))
-        .map(|p| p.display().to_string())
-        .collect();
-    if let Some(p) = obs.ckpt.as_ref().and_then(|c| c.failure_path.as_ref()) {
-        files.push(p.display().to_string());
-    }
-    if files.is_empty() {
-        anyhow::anyhow!(e)
-    } else {
-        anyhow::anyhow!("{e}\nlast good state written to: {}", files.join(", "))
-    }
-}
-
-fn write_common(
-    out: &Path,
-    sim: &Solver,
-    hist: &ForceHistory,
-    summary: &impl serde::Serialize,
-) -> Result<()> {
-    hist.write_csv(&out.join("forces.csv"))?;
-    for (k, t) in sim.tools.iter().enumerate() {
-        write_windows_csv(
-            &out.join(format!("windows_tool{k}.csv")),
-            t,
-            sim.particles.spacing,
-        )?;
-    }
-    write_string_atomic(
-        &out.join("summary.json"),
-        &serde_json::to_string_pretty(summary)?,
-    )?;
-    Ok(())
-}
-
-fn run_pin(a: &PinArgs) -> Result<()> {
+fn pin(a: &PinArgs) -> Result<()> {
     let setup = a.setup()?;
-    let resume = read_checkpoint(&a.output.resume)?;
-    let staged = a.output.stage()?;
-    let mut obs = Observers::new(&a.output, staged.path(), &fingerprint(&setup));
-    let (res, hist, sim) =
-        simulate_from(&setup, resume, &mut obs.list()).map_err(|e| failure_context(e, &obs))?;
-    write_common(staged.path(), &sim, &hist, &res)?;
-    let resume_input: Vec<(&str, &Path)> = a
-        .output
-        .resume
-        .iter()
-        .map(|r| ("--resume", r.as_path()))
-        .collect();
-    crate::output::provenance(&resume_input)?.write_into(staged.path())?;
-    staged.commit()?;
+    let res = run_pin(&setup, &a.output.options())?;
     if a.output.json {
         return print_json(&res);
     }
@@ -256,299 +150,6 @@ fn run_pin(a: &PinArgs) -> Result<()> {
     Ok(())
 }
 
-/// A cutting set-up TOML with the friction law it names.
-pub struct CutCase {
-    pub setup: CuttingSetup,
-    pub law: Arc<dyn FrictionLaw>,
-    /// Where the law came from (file path or "constant mu").
-    pub law_source: String,
-    /// The files the case was read from (set-up TOML, law file), for the run's provenance.
-    pub inputs: Vec<(&'static str, PathBuf)>,
-}
-
-/// Reads a cutting set-up TOML and loads its law file (relative to the set-up's folder).
-pub fn read_cutting_setup(path: &Path) -> Result<CutCase> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let setup: CuttingSetup = toml::from_str(&text)
-        .with_context(|| format!("{}: not a cutting set-up", path.display()))?;
-    setup
-        .validate()
-        .with_context(|| path.display().to_string())?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    let mut case = cut_case(setup, base)?;
-    case.inputs.insert(0, ("--config", path.to_path_buf()));
-    Ok(case)
-}
-
-/// Pairs a set-up with its law: the law file (relative paths against `base`) or Coulomb `mu`.
-pub fn cut_case(setup: CuttingSetup, base: &Path) -> Result<CutCase> {
-    let mut inputs = Vec::new();
-    let (law, law_source): (Arc<dyn FrictionLaw>, String) = match &setup.friction.law_file {
-        Some(f) => {
-            let p = base.join(f);
-            let law = greybox_friction::spec::load_law(&p)
-                .with_context(|| format!("friction.law_file {}", p.display()))?;
-            inputs.push(("friction.law_file", p.clone()));
-            (Arc::from(law), p.display().to_string())
-        }
-        None => (
-            Arc::new(ConstantMu(setup.mu)),
-            format!("constant mu = {}", setup.mu),
-        ),
-    };
-    Ok(CutCase {
-        setup,
-        law,
-        law_source,
-        inputs,
-    })
-}
-
-#[derive(serde::Serialize)]
-pub struct CutSummary {
-    pub particles: usize,
-    pub steps: u64,
-    pub dt_s: f64,
-    pub simulated_cut_length_mm: f64,
-    pub wall_s: f64,
-    pub particle_steps_per_s: f64,
-    pub particle_steps_per_s_per_core: f64,
-    pub threads: usize,
-    pub mass_scaling: f64,
-    pub law: String,
-    pub windows: usize,
-    pub window_updates: usize,
-    /// Whether the steady-force criterion was met, and the cut length where the steady part starts.
-    pub steady: bool,
-    pub steady_from_mm: Option<f64>,
-    /// Mean cutting and feed force, N/mm: over the steady blocks, or the last half of the run.
-    pub cutting_force_n_per_mm: f64,
-    pub feed_force_n_per_mm: f64,
-    /// Feed over cutting force.
-    pub force_ratio: f64,
-    /// Specific cutting force F'c / h, N/mm².
-    pub specific_cutting_force_n_per_mm2: f64,
-    /// Profiles and measures are time averages from this cut length on, mm.
-    pub averaged_from_mm: f64,
-    #[serde(flatten)]
-    pub measures: CutMeasures,
-    pub energy_error: f64,
-    pub files: Vec<String>,
-}
-
-/// Runs a cut; writes forces, contact profile, μ history, plots and the summary to `o.out`.
-pub fn run_cut(case: &CutCase, fraction: f64, o: &Output) -> Result<CutSummary> {
-    let setup = &case.setup;
-    let id = fingerprint_cut(setup);
-    let resume = read_checkpoint(&o.resume)?;
-    let staged = o.stage()?;
-    let mut obs = Observers::new(o, staged.path(), &id);
-    let r = CutRun::execute(setup, case.law.clone(), fraction, resume, &mut obs.list())
-        .map_err(|e| failure_context(e, &obs))?;
-    let v = setup.cutting_speed_m_s;
-    let tool = &r.sim.tools[0];
-    let out = staged.path();
-    let mut files = vec![
-        out.join("forces.csv"),
-        out.join("contact_profile.csv"),
-        out.join("mu_history.csv"),
-        out.join("summary.json"),
-    ];
-    r.forces.write_csv(&files[0])?;
-    write_profile_csv(&files[1], &r.profile)?;
-    write_mu_history_csv(&files[2], &r.updater.history, tool, &r.layout)?;
-    files.extend(write_cut_plots(out, &r.forces, &r.profile, v)?);
-    let threads = greybox_sim::threads();
-    let f = r.force;
-    let s = CutSummary {
-        particles: r.sim.particle_count(),
-        steps: r.summary.steps,
-        dt_s: r.sim.dt,
-        simulated_cut_length_mm: r.sim.time * v * 1e3,
-        wall_s: r.summary.wall_s,
-        particle_steps_per_s: r.summary.particle_steps_per_s,
-        particle_steps_per_s_per_core: r.summary.particle_steps_per_s / threads as f64,
-        threads,
-        mass_scaling: r.sim.numerics.mass_scaling,
-        law: format!("{} ({})", case.law.name(), case.law_source),
-        windows: tool.windows.len(),
-        window_updates: r.updater.history.len(),
-        steady: r.steady.steady_since_s.is_some(),
-        steady_from_mm: r.steady.steady_since_s.map(|t| t * v * 1e3),
-        cutting_force_n_per_mm: f[0] * 1e-3,
-        feed_force_n_per_mm: f[1] * 1e-3,
-        force_ratio: if f[0] != 0.0 { f[1] / f[0] } else { 0.0 },
-        specific_cutting_force_n_per_mm2: f[0] * 1e-3 / (setup.uncut_chip_thickness_m * 1e3),
-        averaged_from_mm: r.averaged_from_s * v * 1e3,
-        measures: r.measures,
-        energy_error: r.sim.energy_balance().relative_error,
-        files: files
-            .iter()
-            .map(|p| staged.shown(p).display().to_string())
-            .collect(),
-    };
-    write_string_atomic(&files[3], &serde_json::to_string_pretty(&s)?)?;
-    let mut inputs: Vec<(&str, &Path)> =
-        case.inputs.iter().map(|(r, p)| (*r, p.as_path())).collect();
-    if let Some(r) = &o.resume {
-        inputs.push(("--resume", r.as_path()));
-    }
-    crate::output::provenance(&inputs)?.write_into(out)?;
-    staged.commit()?;
-    Ok(s)
-}
-
-/// SVG plots of a cut: force history and the rake-face contact profile (the article's
-/// Fig. 15, bottom: pressure and shear stress, sliding velocity, μ, temperature).
-fn write_cut_plots(
-    out: &Path,
-    hist: &ForceHistory,
-    profile: &[ProfilePoint],
-    v: f64,
-) -> Result<Vec<PathBuf>> {
-    use greybox_core::plot::{lines, Line};
-    let cut_mm: Vec<f64> = hist.rows.iter().map(|r| r[0] * v * 1e3).collect();
-    let fc: Vec<f64> = hist.rows.iter().map(|r| r[3] * 1e-3).collect();
-    let ff: Vec<f64> = hist.rows.iter().map(|r| r[4] * 1e-3).collect();
-    let mut written = Vec::new();
-    let mut save = |name: &str, svg: String| -> Result<()> {
-        let p = out.join(name);
-        write_string_atomic(&p, &svg)?;
-        written.push(p);
-        Ok(())
-    };
-    save(
-        "forces.svg",
-        lines(
-            "Tool forces",
-            "cut length (mm)",
-            "force (N/mm)",
-            &[
-                Line {
-                    label: "cutting",
-                    colour: "#1f77b4",
-                    x: &cut_mm,
-                    y: &fc,
-                },
-                Line {
-                    label: "feed",
-                    colour: "#d62728",
-                    x: &cut_mm,
-                    y: &ff,
-                },
-            ],
-            false,
-            &[],
-        ),
-    )?;
-    // Rake side of the edge, in contact, ordered from the edge outwards.
-    let mut rake: Vec<(f64, WindowStats, f64)> = profile
-        .iter()
-        .filter(|p| p.distance_m >= 0.0)
-        .filter_map(|p| p.stats.map(|s| (p.distance_m * 1e3, s, p.mu)))
-        .collect();
-    rake.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let d: Vec<f64> = rake.iter().map(|r| r.0).collect();
-    let col = |f: &dyn Fn(&WindowStats, f64) -> f64| -> Vec<f64> {
-        rake.iter().map(|r| f(&r.1, r.2)).collect()
-    };
-    let p = col(&|s, _| s.pressure_pa * 1e-6);
-    let sn = col(&|s, _| s.normal_stress_pa * 1e-6);
-    let tau = col(&|s, _| s.shear_stress_pa * 1e-6);
-    let vs = col(&|s, _| s.sliding_velocity_m_s * 60.0);
-    let mu = col(&|_, m| m);
-    let mu_eff = col(&|s, _| s.mu_effective);
-    let temp = col(&|s, _| s.temperature_k - 273.15);
-    let x_label = "distance from the cutting edge along the rake face (mm)";
-    save(
-        "profile_stress.svg",
-        lines(
-            "Rake face: contact pressure and shear stress",
-            x_label,
-            "stress (MPa)",
-            &[
-                Line {
-                    label: "pressure in contact",
-                    colour: "#1f77b4",
-                    x: &d,
-                    y: &p,
-                },
-                Line {
-                    label: "mean normal stress",
-                    colour: "#2ca02c",
-                    x: &d,
-                    y: &sn,
-                },
-                Line {
-                    label: "shear stress",
-                    colour: "#d62728",
-                    x: &d,
-                    y: &tau,
-                },
-            ],
-            false,
-            &[],
-        ),
-    )?;
-    save(
-        "profile_velocity.svg",
-        lines(
-            "Rake face: sliding velocity",
-            x_label,
-            "sliding velocity (m/min)",
-            &[Line {
-                label: "sliding velocity",
-                colour: "#2ca02c",
-                x: &d,
-                y: &vs,
-            }],
-            false,
-            &[],
-        ),
-    )?;
-    save(
-        "profile_mu.svg",
-        lines(
-            "Rake face: friction coefficient",
-            x_label,
-            "mu",
-            &[
-                Line {
-                    label: "law mu",
-                    colour: "#9467bd",
-                    x: &d,
-                    y: &mu,
-                },
-                Line {
-                    label: "tau/p",
-                    colour: "#ff7f0e",
-                    x: &d,
-                    y: &mu_eff,
-                },
-            ],
-            false,
-            &[],
-        ),
-    )?;
-    save(
-        "profile_temperature.svg",
-        lines(
-            "Rake face: contact temperature",
-            x_label,
-            "temperature (C)",
-            &[Line {
-                label: "temperature",
-                colour: "#8c564b",
-                x: &d,
-                y: &temp,
-            }],
-            false,
-            &[],
-        ),
-    )?;
-    Ok(written)
-}
 
 /// Prints the summary of a cut.
 pub fn print_cut_summary(s: &CutSummary) {
@@ -582,10 +183,10 @@ pub fn print_cut_summary(s: &CutSummary) {
 
 pub fn run(a: Args) -> Result<()> {
     match a.what {
-        Simulate::Pin(p) => run_pin(&p),
+        Simulate::Pin(p) => pin(&p),
         Simulate::Cutting(c) => {
             let case = read_cutting_setup(&c.config)?;
-            let s = run_cut(&case, c.fraction, &c.output)?;
+            let s = run_cut(&case, c.fraction, &c.output.options())?;
             if c.output.json {
                 return print_json(&s);
             }

@@ -1,16 +1,11 @@
 //! `greybox synth`.
 
 use crate::cmd_plan::{study_input, PlanFlags};
-use crate::output::{print_json, stage_out_dir};
-use crate::study::Study;
-use anyhow::{Context, Result};
-use greybox_tribo::csv_recording::write_csv_recording;
-use greybox_tribo::plan::Plan;
+use crate::output::print_json;
+use anyhow::Result;
+use greybox_pipeline::synth::{synth, SynthSummary};
 use greybox_tribo::readers::RecordingFormat;
-use greybox_tribo::synth::write_ground_truth;
-use greybox_tribo::tdms::write_tdms_recording;
-use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OutFormat {
@@ -54,63 +49,6 @@ pub struct Args {
     pub json: bool,
 }
 
-#[derive(Serialize)]
-pub struct SynthSummary {
-    pub pins: usize,
-    pub samples: usize,
-    pub seed: u64,
-    pub cof_true_min: f64,
-    pub cof_true_max: f64,
-    pub files: Vec<String>,
-}
-
-/// Simulate every pin of the plan and write recordings and the ground truth into `out`.
-pub fn synthesize(
-    study: &Study,
-    plan: &Plan,
-    out: &Path,
-    formats: &[RecordingFormat],
-) -> Result<SynthSummary> {
-    let mut files = Vec::new();
-    let mut samples = 0;
-    for pin in 1..=plan.pins.len() as u32 {
-        let rec = study.synth.simulate_pin(plan, &study.contact, pin)?;
-        samples += rec.len();
-        for f in formats {
-            let p = out.join(format!("pin{pin:02}.{}", f.extension()));
-            match f {
-                RecordingFormat::Csv => write_csv_recording(&p, &rec)?,
-                RecordingFormat::Tdms => write_tdms_recording(
-                    &p,
-                    &rec,
-                    study
-                        .recording
-                        .tdms_group
-                        .as_deref()
-                        .unwrap_or(greybox_tribo::recording::DEFAULT_TDMS_GROUP),
-                )?,
-                RecordingFormat::Spreadsheet => {
-                    anyhow::bail!("synth writes CSV or TDMS recordings, not spreadsheets")
-                }
-            }
-            files.push(p.display().to_string());
-        }
-    }
-    let truth = study.synth.ground_truth(plan, &study.contact)?;
-    let p = out.join("ground_truth.csv");
-    write_ground_truth(&p, &truth)?;
-    files.push(p.display().to_string());
-    let mu = truth.iter().map(|t| t.cof_true);
-    Ok(SynthSummary {
-        pins: plan.pins.len(),
-        samples,
-        seed: study.synth.seed,
-        cof_true_min: mu.clone().fold(f64::INFINITY, f64::min),
-        cof_true_max: mu.fold(f64::NEG_INFINITY, f64::max),
-        files,
-    })
-}
-
 pub fn print_summary(s: &SynthSummary) {
     println!(
         "synth: {} pins, {} samples (seed {}), true COF {:.3}..{:.3}",
@@ -126,14 +64,13 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(k) = args.disturbance_scale {
         study.synth.disturbance_scale = k;
     }
-    let plan = study.plan.build().context("cannot build the plan")?;
-    let staged = stage_out_dir(&args.out, args.force, &study_input(&args.plan))?;
-    let mut summary = synthesize(&study, &plan, staged.path(), &args.format.formats())?;
-    crate::output::provenance(&study_input(&args.plan))?
-        .with_seed(study.synth.seed)
-        .write_into(staged.path())?;
-    summary.files = summary.files.iter().map(|f| staged.shown_str(f)).collect();
-    staged.commit()?;
+    let summary = synth(
+        &study,
+        &args.format.formats(),
+        &args.out,
+        args.force,
+        &study_input(&args.plan),
+    )?;
     if args.json {
         return print_json(&summary);
     }

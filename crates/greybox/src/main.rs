@@ -18,7 +18,6 @@ mod cmd_synth;
 mod cmd_wear;
 mod cmd_windows;
 mod output;
-mod study;
 
 use clap::{Parser, Subcommand};
 

@@ -2,7 +2,7 @@
 
 use anyhow::{Context, Result};
 use greybox_learn::protocol::FitConfig;
-use greybox_tribo::hertz::PinContact;
+use greybox_contact::PinContact;
 use greybox_tribo::identify::IdentifyConfig;
 use greybox_tribo::plan::PlanSpec;
 use greybox_tribo::recording::ChannelMap;

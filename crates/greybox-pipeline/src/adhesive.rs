@@ -1,0 +1,225 @@
+//! Stage 3: the ploughing correction μ_adh = μ_app − μ_plough, by the analytic
+//! Bowden–Tabor model or by inverse pin-sliding simulation (the article's method).
+
+use crate::output::provenance;
+use anyhow::{bail, Context, Result};
+use greybox_core::atomic::write_string_atomic;
+use greybox_core::dataset::FrictionDataset;
+use greybox_core::outputs::check_file_output;
+use greybox_sim::pin::{inverse_over_loads, PinSetup, ShareLaw};
+use greybox_tribo::ploughing::{
+    article_table3, correct_analytic, correct_with, track_depth, Correction, TrackWidth, WidthLaw,
+};
+use std::path::{Path, PathBuf};
+
+/// How the ploughing share is found.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AdhesiveMethod {
+    /// Bowden–Tabor sphere ploughing with measured track widths.
+    Analytic,
+    /// Inverse pin-sliding simulation with the built-in SPH solver (the article's method).
+    Simulation(SimulationOptions),
+}
+
+/// The inverse pin-sliding simulation of [`AdhesiveMethod::Simulation`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulationOptions {
+    /// Number of highest distinct loads simulated (the share is fitted against load and
+    /// applied to all loads, as in the article).
+    pub loads: usize,
+    /// Particle spacing, µm.
+    pub spacing_um: f64,
+    /// Slide length, mm.
+    pub slide_mm: f64,
+    /// Workpiece height, mm (the article's FE model: 1 mm).
+    pub height_mm: f64,
+    /// Stop when |simulated F_t/F_N − μ_app| ≤ this.
+    pub tolerance: f64,
+    /// Maximum runs per load.
+    pub max_runs: usize,
+}
+
+impl Default for SimulationOptions {
+    fn default() -> Self {
+        SimulationOptions {
+            loads: 3,
+            spacing_um: 10.0,
+            slide_mm: 1.5,
+            height_mm: 1.0,
+            tolerance: 0.002,
+            max_runs: 5,
+        }
+    }
+}
+
+/// Options of [`adhesive`].
+#[derive(Debug, Clone)]
+pub struct AdhesiveOptions {
+    /// Friction dataset CSV (from identification).
+    pub data: PathBuf,
+    pub method: AdhesiveMethod,
+    /// Pin tip radius, mm.
+    pub pin_radius_mm: f64,
+    /// Measured track widths; with `track_widths_csv` empty too, the article's Table 3.
+    pub track_widths: Vec<TrackWidth>,
+    /// CSV of measured track widths (columns normal_force_N, track_width_um).
+    pub track_widths_csv: Option<PathBuf>,
+    /// Output dataset with the cof_adhesive column; the correction goes beside it
+    /// ([`correction_path`]).
+    pub out: PathBuf,
+}
+
+impl AdhesiveOptions {
+    /// The analytic correction of `data` into `out` with the article's pin (17 mm) and
+    /// track widths (Table 3).
+    pub fn analytic(data: PathBuf, out: PathBuf) -> Self {
+        AdhesiveOptions {
+            data,
+            method: AdhesiveMethod::Analytic,
+            pin_radius_mm: 17.0,
+            track_widths: Vec::new(),
+            track_widths_csv: None,
+            out,
+        }
+    }
+}
+
+/// The measured track widths: those given, then those of the CSV, else the article's Table 3.
+pub fn track_widths(a: &AdhesiveOptions) -> Result<Vec<TrackWidth>> {
+    let mut w = a.track_widths.clone();
+    if let Some(p) = &a.track_widths_csv {
+        let mut rdr =
+            csv::Reader::from_path(p).with_context(|| format!("cannot read {}", p.display()))?;
+        for (k, r) in rdr.deserialize::<TrackWidth>().enumerate() {
+            w.push(r.with_context(|| {
+                format!(
+                    "{}, line {}: expected normal_force_N,track_width_um",
+                    p.display(),
+                    k + 2
+                )
+            })?);
+        }
+    }
+    if w.is_empty() {
+        w = article_table3();
+    }
+    Ok(w)
+}
+
+/// Apply the correction and write the dataset and the correction record.
+pub fn adhesive(a: &AdhesiveOptions) -> Result<(FrictionDataset, Correction)> {
+    let mut inputs = vec![("--data", a.data.as_path())];
+    if let Some(w) = &a.track_widths_csv {
+        inputs.push(("--track-widths-csv", w.as_path()));
+    }
+    check_file_output(&a.out, "--out", &inputs)?;
+    check_file_output(
+        &correction_path(&a.out),
+        "the correction record beside --out",
+        &inputs,
+    )?;
+    let mut ds = FrictionDataset::read_csv(&a.data)?;
+    let corr = match &a.method {
+        AdhesiveMethod::Analytic => {
+            correct_analytic(&mut ds, a.pin_radius_mm * 1e-3, &track_widths(a)?)?
+        },
+        AdhesiveMethod::Simulation(sim) => correct_by_simulation(&mut ds, a, sim)?,
+    };
+    ds.write_csv(&a.out)?;
+    write_string_atomic(
+        &correction_path(&a.out),
+        &serde_json::to_string_pretty(&corr)?,
+    )?;
+    provenance(&inputs)?.write_beside(&a.out)?;
+    Ok((ds, corr))
+}
+
+/// The article's inverse step: simulate the highest loads, find μ_adh per load so that the
+/// simulated F_t/F_N equals the mean measured μ_app, fit the deformation share against load
+/// (power law) and subtract it at every load.
+fn correct_by_simulation(
+    ds: &mut FrictionDataset,
+    a: &AdhesiveOptions,
+    sim: &SimulationOptions,
+) -> Result<Correction> {
+    let r = a.pin_radius_mm * 1e-3;
+    let measured = track_widths(a)?;
+    let law = WidthLaw::fit(&measured)?;
+    let mut forces: Vec<f64> = ds.records.iter().map(|r| r.normal_force_n).collect();
+    forces.sort_by(f64::total_cmp);
+    forces.dedup();
+    if sim.loads == 0 {
+        bail!("--sim-loads must be at least 1");
+    }
+    if !(sim.tolerance > 0.0 && sim.tolerance.is_finite()) {
+        bail!(
+            "--sim-tolerance: expected a positive number, got {}",
+            sim.tolerance
+        );
+    }
+    let simulated: Vec<f64> = forces.iter().rev().take(sim.loads).copied().collect();
+    let mut loads = Vec::new();
+    for &f in &simulated {
+        let rows: Vec<f64> = ds
+            .records
+            .iter()
+            .filter(|x| x.normal_force_n == f)
+            .map(|x| x.cof_apparent)
+            .collect();
+        let mu_app = rows.iter().sum::<f64>() / rows.len() as f64;
+        let depth = track_depth(r, law.width_um(f) * 1e-6)?;
+        loads.push((f, depth, mu_app));
+    }
+    let mut base = PinSetup::article(loads[0].1, loads[0].2, sim.spacing_um * 1e-6);
+    base.pin_radius_m = r;
+    base.slide_length_m = sim.slide_mm * 1e-3;
+    base.workpiece_height_m = sim.height_mm * 1e-3;
+    eprintln!(
+        "simulating {} load(s) ({} N) with up to {} pin runs each ...",
+        loads.len(),
+        simulated
+            .iter()
+            .map(|f| format!("{f:.0}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        sim.max_runs
+    );
+    let inv = inverse_over_loads(&base, &loads, sim.tolerance, sim.max_runs.max(2))?;
+    let share = ShareLaw::fit(
+        &inv.iter()
+            .map(|l| (l.normal_force_n, l.result.deformation_share))
+            .collect::<Vec<_>>(),
+    )?;
+    let runs: Vec<String> = inv
+        .iter()
+        .map(|l| {
+            format!(
+                "{:.0} N: depth {:.1} um, mu_app {:.4} -> mu_adh {:.4} (residual {:.4}, {} runs)",
+                l.normal_force_n,
+                l.result.depth_m * 1e6,
+                l.result.mu_apparent,
+                l.result.mu_adhesive,
+                l.result.residual,
+                l.result.runs.len()
+            )
+        })
+        .collect();
+    let method = format!(
+        "simulation: plane-strain SPH pin (r = {} mm, spacing {} um, slide {} mm), deformation share = {:.4e} F^{:.3}; {}",
+        a.pin_radius_mm,
+        sim.spacing_um,
+        sim.slide_mm,
+        share.a,
+        share.b,
+        runs.join("; ")
+    );
+    Ok(correct_with(ds, r, &measured, method, |f, _| {
+        Ok(share.share(f))
+    })?)
+}
+
+/// Where the correction record goes beside the corrected dataset `out`.
+pub fn correction_path(out: &Path) -> PathBuf {
+    out.with_extension("correction.json")
+}
+

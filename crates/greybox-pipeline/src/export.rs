@@ -1,0 +1,148 @@
+//! A friction law as tables for FE engines (Abaqus, DEFORM, LS-DYNA, CSV), or as a
+//! surrogate table with its measured deviation from the law.
+
+use crate::output::provenance;
+use anyhow::{bail, Context, Result};
+use greybox_core::atomic::write_string_atomic;
+use greybox_core::outputs::check_file_output;
+use greybox_friction::export::{self, DeformWindow, Grid, Units};
+use greybox_friction::spec::load_law;
+use greybox_friction::table::{Axis, TabulatedLaw};
+use std::path::PathBuf;
+
+/// The exported form.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExportFormat {
+    /// Abaqus *FRICTION data lines.
+    Abaqus,
+    /// DEFORM FRCFAC / FRCWIN keyword blocks.
+    Deform,
+    /// LS-DYNA *DEFINE_TABLE + *DEFINE_CURVE.
+    Lsdyna,
+    /// The grid as CSV.
+    Csv,
+    /// A greybox surrogate table (JSON) with its maximum deviation from the law.
+    Table,
+}
+
+/// Options of [`export`].
+#[derive(Debug, Clone)]
+pub struct ExportOptions {
+    /// Law file, model file or table.
+    pub law: PathBuf,
+    pub format: ExportFormat,
+    /// Output file.
+    pub out: PathBuf,
+    /// Pressures, sliding velocities (and temperatures) of the table, SI.
+    pub grid: Grid,
+    /// Units of the Abaqus/LS-DYNA tables.
+    pub units: Units,
+    /// Abaqus TAUMAX (limiting shear stress), Pa.
+    pub taumax_pa: Option<f64>,
+    /// DEFORM: JSON list of windows {points_mm, pressure_mpa, velocity_m_per_min, temperature_k}.
+    pub deform_windows: Option<PathBuf>,
+    /// DEFORM: sliding velocity at which the FRCFAC p-T table is evaluated, m/s.
+    pub deform_reference_velocity_m_s: f64,
+    /// DEFORM: object numbers (tool, workpiece).
+    pub deform_objects: (u32, u32),
+    /// LS-DYNA table id (curves take the following ids).
+    pub lsdyna_table_id: u32,
+    /// Surrogate table: random points of the deviation check.
+    pub check_points: usize,
+}
+
+/// `n` equidistant values from `min` to `max` (both included): `min + (max − min)·i/(n − 1)`.
+pub fn equidistant(min: f64, max: f64, n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| min + (max - min) * i as f64 / (n - 1) as f64)
+        .collect()
+}
+
+/// Export; returns a one-line description.
+pub fn export(a: &ExportOptions) -> Result<String> {
+    let mut inputs = vec![("--law", a.law.as_path())];
+    if let Some(w) = &a.deform_windows {
+        inputs.push(("--deform-windows", w.as_path()));
+    }
+    check_file_output(&a.out, "--out", &inputs)?;
+    let law = load_law(&a.law)?;
+    let grid = &a.grid;
+    grid.validate()?;
+    let (text, note) = match a.format {
+        ExportFormat::Abaqus => (
+            export::abaqus(
+                law.as_ref(),
+                grid,
+                a.units,
+                a.taumax_pa,
+            )?,
+            String::new(),
+        ),
+        ExportFormat::Lsdyna => (
+            export::lsdyna(law.as_ref(), grid, a.units, a.lsdyna_table_id)?,
+            String::new(),
+        ),
+        ExportFormat::Csv => (export::csv(law.as_ref(), &grid)?, String::new()),
+        ExportFormat::Deform => {
+            let windows: Vec<DeformWindow> = match &a.deform_windows {
+                Some(p) => serde_json::from_str(
+                    &std::fs::read_to_string(p)
+                        .with_context(|| format!("cannot read {}", p.display()))?,
+                )
+                .with_context(|| format!("{}: expected a JSON list of windows", p.display()))?,
+                None => Vec::new(),
+            };
+            (
+                export::deform(
+                    law.as_ref(),
+                    grid,
+                    a.deform_reference_velocity_m_s,
+                    &windows,
+                    a.deform_objects,
+                )?,
+                format!(", {} windows", windows.len()),
+            )
+        }
+        ExportFormat::Table => {
+            let axis = |v: &[f64], what: &str| -> Result<Axis> {
+                let n = v.len();
+                let ax = Axis::new(v[0], v[n - 1], n)?;
+                if v.iter()
+                    .enumerate()
+                    .any(|(i, x)| (x - ax.value(i)).abs() > 1e-9 * x.abs().max(1.0))
+                {
+                    bail!("{what}: a surrogate table needs equidistant values (MIN:MAX:N)");
+                }
+                Ok(ax)
+            };
+            let t_axis = grid
+                .temperature_k
+                .as_deref()
+                .map(|t| axis(t, "--temperature-K"))
+                .transpose()?;
+            let mut t = TabulatedLaw::bake(
+                law.as_ref(),
+                axis(&grid.pressure_pa, "--pressure-MPa")?,
+                axis(&grid.velocity_m_s, "--velocity-m-per-min")?,
+                t_axis,
+            );
+            let dev = t.check(law.as_ref(), a.check_points, 42);
+            (
+                serde_json::to_string(&t)?,
+                format!(
+                    ", max deviation from the law {dev:.3e} on {} random points",
+                    a.check_points
+                ),
+            )
+        }
+    };
+    write_string_atomic(&a.out, &text)?;
+    provenance(&inputs)?.write_beside(&a.out)?;
+    Ok(format!(
+        "exported {} as {:?} to {}{note}",
+        law.name(),
+        a.format,
+        a.out.display()
+    ))
+}
+

@@ -1,0 +1,592 @@
+//! Stage 2: identify a campaign — recordings from any rig to apparent friction coefficients
+//! per plateau (the dataset), with what was found per file and how it matched the plan.
+
+use crate::output::provenance;
+use crate::study::Study;
+use crate::text::Table;
+use anyhow::{bail, Context, Result};
+use greybox_core::dataset::FrictionDataset;
+use greybox_core::units;
+use greybox_tribo::campaign::{
+    expected_from_plan, match_segments, segment_recordings, Campaign, ExpectedStep, FileReport,
+    Identification, MatchReport,
+};
+use greybox_tribo::plan::Plan;
+use greybox_tribo::readers::{read_recording, RecordingFormat};
+use greybox_tribo::recording::Recording;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// Natural order: digit runs compare as numbers (`pin2` before `pin10`).
+fn natural_key(name: &str) -> Vec<(u8, u64, String)> {
+    let mut out = Vec::new();
+    let mut chars = name.chars().peekable();
+    while let Some(&c) = chars.peek() {
+        if c.is_ascii_digit() {
+            let mut n = String::new();
+            while let Some(&d) = chars.peek().filter(|d| d.is_ascii_digit()) {
+                n.push(d);
+                chars.next();
+            }
+            out.push((0, n.parse().unwrap_or(u64::MAX), n));
+        } else {
+            let mut t = String::new();
+            while let Some(&d) = chars.peek().filter(|d| !d.is_ascii_digit()) {
+                t.push(d.to_ascii_lowercase());
+                chars.next();
+            }
+            out.push((1, 0, t));
+        }
+    }
+    out
+}
+
+/// Resolve the recording files: explicit files as given; a directory gives `pinNN.<ext>`
+/// for every pin of the plan when they all exist, else every recording file in it (of
+/// `format`, if given) in natural order.
+pub fn recording_files(
+    paths: &[PathBuf],
+    format: Option<RecordingFormat>,
+    pins: Option<usize>,
+) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for p in paths {
+        if !p.is_dir() {
+            files.push(p.clone());
+            continue;
+        }
+        if let Some(pins) = pins {
+            let ext = format.unwrap_or(RecordingFormat::Csv).extension();
+            let named: Vec<PathBuf> = (1..=pins)
+                .map(|k| p.join(format!("pin{k:02}.{ext}")))
+                .collect();
+            if named.iter().all(|f| f.is_file()) {
+                files.extend(named);
+                continue;
+            }
+        }
+        let mut found: Vec<PathBuf> = std::fs::read_dir(p)
+            .with_context(|| format!("cannot read directory {}", p.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|f| f.is_file())
+            .filter(|f| match (RecordingFormat::of_path(f), format) {
+                (Some(have), Some(want)) => have == want,
+                (Some(_), None) => true,
+                (None, _) => false,
+            })
+            .filter(|f| {
+                // greybox's own side files are not recordings
+                let n = f.file_name().and_then(|n| n.to_str()).unwrap_or("");
+                n != "ground_truth.csv" && n != "run_sheet.csv"
+            })
+            .collect();
+        found.sort_by_key(|f| {
+            natural_key(
+                &f.file_name()
+                    .map(|n| n.to_string_lossy().to_string())
+                    .unwrap_or_default(),
+            )
+        });
+        if found.is_empty() {
+            bail!(
+                "{}: no recording files (.csv, .txt, .tsv, .dat, .xlsx, .xls, .ods, .tdms)",
+                p.display()
+            );
+        }
+        files.extend(found);
+    }
+    Ok(files)
+}
+
+/// Identified against true COFs (a virtual rig's ground truth).
+#[derive(Debug, Clone, Serialize)]
+pub struct TruthComparison {
+    pub max_abs_error: f64,
+    pub mean_abs_error: f64,
+    pub plateaus: usize,
+}
+
+/// Compare identified COFs to a ground truth CSV written by `greybox synth`.
+pub fn compare_with_truth(ds: &FrictionDataset, truth_csv: &Path) -> Result<TruthComparison> {
+    let mut rdr = csv::Reader::from_path(truth_csv)
+        .with_context(|| format!("cannot read {}", truth_csv.display()))?;
+    let header = rdr.headers()?.clone();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .with_context(|| format!("{}: missing column '{name}'", truth_csv.display()))
+    };
+    let (ip, is, ic) = (col("pin")?, col("step")?, col("cof_true")?);
+    let mut truth = std::collections::HashMap::new();
+    for (k, r) in rdr.records().enumerate() {
+        let r = r.with_context(|| format!("{}: line {}", truth_csv.display(), k + 2))?;
+        let parse = |i: usize| -> Result<f64> {
+            r[i].parse::<f64>().with_context(|| {
+                format!(
+                    "{}: line {}: bad number '{}'",
+                    truth_csv.display(),
+                    k + 2,
+                    &r[i]
+                )
+            })
+        };
+        truth.insert((parse(ip)? as u32, parse(is)? as u32), parse(ic)?);
+    }
+    let mut errs = Vec::new();
+    for rec in &ds.records {
+        let t = truth
+            .get(&(rec.pin, rec.step))
+            .with_context(|| format!("no ground truth for pin {} step {}", rec.pin, rec.step))?;
+        errs.push((rec.cof_apparent - t).abs());
+    }
+    Ok(TruthComparison {
+        max_abs_error: errs.iter().cloned().fold(0.0, f64::max),
+        mean_abs_error: errs.iter().sum::<f64>() / errs.len() as f64,
+        plateaus: errs.len(),
+    })
+}
+
+/// What identification found and wrote.
+#[derive(Debug, Clone, Serialize)]
+pub struct IdentifySummary {
+    pub dataset: String,
+    pub plateaus: usize,
+    pub non_stationary: usize,
+    pub pressure_convention: String,
+    #[serde(flatten)]
+    pub identification: Identification,
+    pub truth: Option<TruthComparison>,
+}
+
+/// What identification is matched against.
+#[derive(Debug, Clone)]
+pub enum Expectation {
+    /// A greybox plan with timing (also gives its steps and track radius).
+    Plan(Plan),
+    /// Steps without timing.
+    Steps(Vec<ExpectedStep>),
+    None,
+}
+
+/// Where identification writes: the dataset, optional inspect plots, and the inputs besides
+/// the recordings (study, step list) that its provenance records.
+pub struct IdentifyOutput<'a> {
+    pub dataset: &'a Path,
+    pub inspect_dir: Option<&'a Path>,
+    /// Called with the segments found per file and the inspect directory, once the
+    /// recordings are segmented and before they are matched to the plan (so that a caller
+    /// can show them even when matching fails).
+    pub on_segments: Option<&'a dyn Fn(&[FileReport], &Path)>,
+    pub side_inputs: &'a [(&'a str, &'a Path)],
+}
+
+/// Read all recordings and identify them; writes the dataset.
+pub fn identify(
+    study: &Study,
+    expect: &Expectation,
+    files: &[PathBuf],
+    track_radii_mm: &[f64],
+    o: &IdentifyOutput,
+) -> Result<(FrictionDataset, Identification)> {
+    let (out, inspect_dir, side_inputs) = (o.dataset, o.inspect_dir, o.side_inputs);
+    let inputs: Vec<(&str, &Path)> = files
+        .iter()
+        .map(|f| ("--recordings", f.as_path()))
+        .collect();
+    greybox_core::outputs::check_file_output(out, "--out", &inputs)?;
+    let recs: Vec<Recording> = files
+        .iter()
+        .map(|f| read_recording(f, &study.recording))
+        .collect::<Result<Vec<_>, _>>()?;
+    let steps;
+    let (expected, plan) = match expect {
+        Expectation::Plan(p) => {
+            steps = expected_from_plan(p);
+            (Some(steps.as_slice()), Some(p))
+        }
+        Expectation::Steps(s) => (Some(s.as_slice()), None),
+        Expectation::None => (None, None),
+    };
+    let radii: Vec<f64> = if track_radii_mm.is_empty() {
+        study.recording.track_radius_mm.clone()
+    } else {
+        track_radii_mm.to_vec()
+    };
+    let campaign = Campaign {
+        expected,
+        plan,
+        contact: &study.contact,
+        cfg: &study.identify,
+        track_radius_mm: &radii,
+    };
+    let mut files_found = segment_recordings(&recs, &campaign)?;
+    if let Some(dir) = inspect_dir {
+        write_inspect_plots(&recs, &files_found, dir)?;
+        if let Some(show) = o.on_segments {
+            show(&files_found, dir);
+        }
+    }
+    let (dataset, matching) = match_segments(&mut files_found, &campaign)?;
+    let id = Identification {
+        dataset,
+        files: files_found,
+        matching,
+    };
+    if id.dataset.records.is_empty() {
+        let notes: Vec<String> = id
+            .files
+            .iter()
+            .flat_map(|f| f.notes.iter().map(move |n| format!("{}: {n}", f.source)))
+            .collect();
+        bail!(
+            "no plateau was identified in any recording\n  {}",
+            notes.join("\n  ")
+        );
+    }
+    id.dataset.write_csv(out)?;
+    let mut all_inputs = inputs.clone();
+    all_inputs.extend_from_slice(side_inputs);
+    provenance(&all_inputs)?.write_beside(out)?;
+    Ok((id.dataset.clone(), id))
+}
+
+/// Per-pin summary table.
+pub fn summary_table(ds: &FrictionDataset) -> String {
+    let mut t = Table::new(&[
+        "pin",
+        "F_N plan [N]",
+        "F_N meas. [N]",
+        "p_H [MPa]",
+        "COF first",
+        "COF last",
+        "std max",
+        "steps",
+        "flagged",
+    ]);
+    let mut pins: Vec<u32> = ds.records.iter().map(|r| r.pin).collect();
+    pins.dedup();
+    for pin in pins {
+        let rows: Vec<_> = ds.records.iter().filter(|r| r.pin == pin).collect();
+        let (first, last) = (rows[0], rows[rows.len() - 1]);
+        t.row(vec![
+            pin.to_string(),
+            first
+                .normal_force_planned_n
+                .map_or("-".into(), |f| format!("{f:.1}")),
+            format!("{:.1}", first.normal_force_n),
+            format!("{:.1}", first.hertz_pressure_pa / units::PA_PER_MPA),
+            format!("{:.4}", first.cof_apparent),
+            format!("{:.4}", last.cof_apparent),
+            format!(
+                "{:.4}",
+                rows.iter().map(|r| r.cof_apparent_std).fold(0.0, f64::max)
+            ),
+            rows.len().to_string(),
+            rows.iter().filter(|r| !r.stationary).count().to_string(),
+        ]);
+    }
+    t.render()
+}
+
+/// One line per file: how it was segmented.
+pub fn files_table(id: &Identification) -> String {
+    let mut t = Table::new(&[
+        "file",
+        "segmentation",
+        "baseline",
+        "segments",
+        "rows",
+        "notes",
+    ]);
+    for f in &id.files {
+        t.row(vec![
+            f.source.clone(),
+            f.segmentation.clone(),
+            f.baseline.clone(),
+            f.segments.len().to_string(),
+            f.segments
+                .iter()
+                .filter(|s| s.matched.is_some())
+                .count()
+                .to_string(),
+            f.notes.len().to_string(),
+        ]);
+    }
+    t.render()
+}
+
+/// Every plateau, one row each.
+pub fn all_rows_table(ds: &FrictionDataset) -> String {
+    let mut t = Table::new(&[
+        "pin",
+        "step",
+        "F_N [N]",
+        "v [m/min]",
+        "p_H [MPa]",
+        "COF",
+        "std",
+        "n",
+        "flags",
+    ]);
+    for r in &ds.records {
+        t.row(vec![
+            r.pin.to_string(),
+            r.step.to_string(),
+            format!("{:.1}", r.normal_force_n),
+            format!("{:.1}", units::m_per_s_to_m_per_min(r.sliding_velocity_m_s)),
+            format!("{:.1}", r.hertz_pressure_pa / units::PA_PER_MPA),
+            format!("{:.4}", r.cof_apparent),
+            format!("{:.4}", r.cof_apparent_std),
+            r.n_samples.to_string(),
+            r.flags.join(";"),
+        ]);
+    }
+    t.render()
+}
+
+/// The per-file report of `--inspect`.
+pub fn inspect_text(files: &[FileReport]) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    for f in files {
+        let _ = writeln!(s, "== {}", f.source);
+        if let Some(r) = &f.read {
+            let _ = writeln!(s, "   layout: {}", r.layout);
+            for c in &r.columns {
+                let _ = writeln!(
+                    s,
+                    "   {:<10} <- '{}' [{}]{} ({})",
+                    c.role,
+                    c.column,
+                    c.unit,
+                    if c.scale != 1.0 {
+                        format!(" x {}", c.scale)
+                    } else {
+                        String::new()
+                    },
+                    c.how
+                );
+            }
+            for (line, text) in &r.footer {
+                let _ = writeln!(s, "   footer line {line}: {text}");
+            }
+            for n in &r.notes {
+                let _ = writeln!(s, "   note: {n}");
+            }
+        }
+        let _ = writeln!(
+            s,
+            "   {} samples at {:.3} Hz over {:.3} s; segmentation: {}; baseline: {}{}",
+            f.samples,
+            f.sample_rate_hz,
+            f.duration_s,
+            f.segmentation,
+            f.baseline,
+            if f.tangential_sign_flipped {
+                "; tangential sign flipped"
+            } else {
+                ""
+            }
+        );
+        for n in &f.notes {
+            let _ = writeln!(s, "   note: {n}");
+        }
+        let mut t = Table::new(&[
+            "seg",
+            "start [s]",
+            "end [s]",
+            "F_N [N]",
+            "speed",
+            "v [m/min]",
+            "steady [s]",
+            "COF",
+            "flags",
+            "plan",
+        ]);
+        for g in &f.segments {
+            t.row(vec![
+                g.index.to_string(),
+                format!("{:.3}", g.start_s),
+                format!("{:.3}", g.end_s),
+                format!("{:.1}", g.normal_force_n),
+                g.spindle_rpm.map_or("-".into(), |r| format!("{r:.1} rpm")),
+                g.sliding_velocity_m_per_min
+                    .map_or("-".into(), |v| format!("{v:.1}")),
+                match (g.steady_start_s, g.steady_end_s) {
+                    (Some(a), Some(b)) => format!("{a:.3}-{b:.3}"),
+                    _ => "-".into(),
+                },
+                g.cof.map_or("-".into(), |c| format!("{c:.4}")),
+                match &g.problem {
+                    Some(p) => p.clone(),
+                    None => g.flags.join(";"),
+                },
+                g.matched
+                    .map_or("-".into(), |(p, k)| format!("pin {p} step {k}")),
+            ]);
+        }
+        s.push_str(&t.render());
+    }
+    s
+}
+
+/// How segments were matched to the plan, with what is missing, extra or reordered.
+pub fn matching_text(m: &MatchReport) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let _ = writeln!(s, "matching to the plan: {}", m.method);
+    for (what, list) in [
+        ("missing", &m.missing),
+        ("extra", &m.extra),
+        ("reordered", &m.reordered),
+    ] {
+        for item in list {
+            let _ = writeln!(s, "   {what}: {item}");
+        }
+    }
+    s
+}
+
+/// Options of [`identify_campaign`]: the recordings, what they are matched against and
+/// where the dataset goes.
+#[derive(Debug, Clone)]
+pub struct IdentifyOptions {
+    /// Recording files, or directories (see [`recording_files`]).
+    pub recordings: Vec<PathBuf>,
+    /// Which files to pick from a directory (`None`: every supported format).
+    pub format: Option<RecordingFormat>,
+    /// The plan or step list the segments are matched to.
+    pub expect: Expectation,
+    /// Track radius per segment for rpm speed channels, mm (empty: the study's
+    /// `[recording] track_radius_mm`).
+    pub track_radii_mm: Vec<f64>,
+    /// The dataset CSV written.
+    pub dataset: PathBuf,
+    /// Write an SVG per recording with the steady windows shaded here.
+    pub inspect_dir: Option<PathBuf>,
+    /// A ground truth CSV (`greybox synth`) to compare the identified COFs with.
+    pub truth: Option<PathBuf>,
+    /// Further inputs recorded in the dataset's provenance (role, path), e.g. the study file.
+    pub side_inputs: Vec<(String, PathBuf)>,
+}
+
+/// The dataset and what identification found.
+pub struct IdentifyResult {
+    pub dataset: FrictionDataset,
+    pub summary: IdentifySummary,
+}
+
+/// Identify a campaign: resolve the recording files, segment, match and write the dataset;
+/// compare with a ground truth when one is given. `on_segments` as in [`IdentifyOutput`].
+pub fn identify_campaign(
+    study: &Study,
+    o: &IdentifyOptions,
+    on_segments: Option<&dyn Fn(&[FileReport], &Path)>,
+) -> Result<IdentifyResult> {
+    if let Some(r) = o.track_radii_mm.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
+        bail!("--track-radii-mm: every radius must be positive, got {r}");
+    }
+    let side_inputs: Vec<(&str, &Path)> = o
+        .side_inputs
+        .iter()
+        .map(|(r, p)| (r.as_str(), p.as_path()))
+        .collect();
+    greybox_core::outputs::check_file_output(&o.dataset, "--out", &side_inputs)?;
+    let pins = match &o.expect {
+        Expectation::Plan(p) => Some(p.pins.len()),
+        _ => None,
+    };
+    let files = recording_files(&o.recordings, o.format, pins)?;
+    let (ds, id) = identify(
+        study,
+        &o.expect,
+        &files,
+        &o.track_radii_mm,
+        &IdentifyOutput {
+            dataset: &o.dataset,
+            inspect_dir: o.inspect_dir.as_deref(),
+            on_segments,
+            side_inputs: &side_inputs,
+        },
+    )?;
+    let truth = o
+        .truth
+        .as_deref()
+        .map(|p| compare_with_truth(&ds, p))
+        .transpose()?;
+    let summary = IdentifySummary {
+        dataset: o.dataset.display().to_string(),
+        plateaus: ds.records.len(),
+        non_stationary: ds.records.iter().filter(|r| !r.stationary).count(),
+        pressure_convention: study.contact.convention.name().to_string(),
+        identification: id,
+        truth,
+    };
+    Ok(IdentifyResult {
+        dataset: ds,
+        summary,
+    })
+}
+
+/// One SVG per recording: μ = F_t/F_N and F_N / max F_N over time, steady windows shaded.
+fn write_inspect_plots(recs: &[Recording], found: &[FileReport], dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    for (rec, f) in recs.iter().zip(found) {
+        let n = rec.len();
+        let step = (n / 3000).max(1);
+        let fmax = rec
+            .normal_n
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+            .max(1e-12);
+        let sign = if f.tangential_sign_flipped { -1.0 } else { 1.0 };
+        let (mut t, mut mu, mut fnr) = (Vec::new(), Vec::new(), Vec::new());
+        for c in (0..n).step_by(step) {
+            let e = (c + step).min(n);
+            let fn_m = rec.normal_n[c..e].iter().sum::<f64>() / (e - c) as f64;
+            let ft_m = rec.tangential_n[c..e].iter().sum::<f64>() / (e - c) as f64;
+            t.push(rec.time_s[c]);
+            fnr.push(fn_m / fmax);
+            mu.push(if fn_m.abs() > 0.02 * fmax {
+                sign * ft_m / fn_m
+            } else {
+                0.0
+            });
+        }
+        let labels: Vec<String> = f.segments.iter().map(|g| format!("{}", g.index)).collect();
+        let bands: Vec<(f64, f64, &str)> = f
+            .segments
+            .iter()
+            .zip(&labels)
+            .filter_map(|(g, l)| Some((g.steady_start_s?, g.steady_end_s?, l.as_str())))
+            .collect();
+        let name = Path::new(&f.source)
+            .file_name()
+            .map(|s| s.to_string_lossy().to_string())
+            .unwrap_or_else(|| "recording".into());
+        let svg = greybox_core::plot::lines(
+            &format!("{name}: steady windows shaded ({})", f.segmentation),
+            "time [s]",
+            "F_t/F_N [-] and F_N/max F_N [-]",
+            &[
+                greybox_core::plot::Line {
+                    label: "F_t/F_N",
+                    colour: "#1f4e9c",
+                    x: &t,
+                    y: &mu,
+                },
+                greybox_core::plot::Line {
+                    label: "F_N/max",
+                    colour: "#b2182b",
+                    x: &t,
+                    y: &fnr,
+                },
+            ],
+            false,
+            &bands,
+        );
+        greybox_core::atomic::write_string_atomic(&dir.join(format!("{name}.svg")), &svg)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,43 @@
+//! greybox's workflows as library calls: each stage of the seed article's pipeline takes
+//! plain option types (no command-line types), writes its outputs safely (staged, swapped
+//! in whole, with provenance) and returns what it found. The `greybox` command line only
+//! parses arguments into these options, calls them and prints.
+//!
+//! The data path, left to right:
+//!
+//! | stage | module | in → out |
+//! |---|---|---|
+//! | plan a campaign | [`plan`] | study → run sheet, NC programs |
+//! | virtual rig | [`synth`] | plan → recordings, ground truth |
+//! | identify | [`identify`] | recordings (any rig) → dataset of μ per load × speed |
+//! | ploughing correction | [`adhesive`] | dataset → adhesive μ (analytic or inverse simulation) |
+//! | learn | [`fit`] | dataset → model files, reports, plots |
+//! | grey-box law | [`law`] | model → law file |
+//! | tables for FE engines | [`export`] | law → Abaqus / DEFORM / LS-DYNA / surrogate table |
+//! | cut, pin | [`simulate`] | set-up + law → forces, contact profile, chip |
+//! | rig dynamics | [`characterize`] | hammer recordings → FRF, excitation check |
+//! | FE restart loop | [`couple`] | deck + law → μ per window |
+//! | material | [`material`] | flow curves → Johnson–Cook |
+//! | everything | [`demo`] | bundled study → all of the above |
+//! | speed | [`bench`] | ingestion, prediction latency, surrogate tables, SPH |
+//!
+//! Errors are [`anyhow::Error`]s whose messages name the file, line or field at fault.
+
+pub mod adhesive;
+pub mod bench;
+pub mod characterize;
+pub mod couple;
+pub mod demo;
+pub mod export;
+pub mod fit;
+pub mod identify;
+pub mod law;
+pub mod material;
+pub mod output;
+pub mod plan;
+pub mod simulate;
+pub mod study;
+pub mod synth;
+pub mod text;
+
+pub use study::Study;
