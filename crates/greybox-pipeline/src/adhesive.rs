@@ -122,7 +122,7 @@ pub fn adhesive(a: &AdhesiveOptions) -> Result<(FrictionDataset, Correction)> {
     let corr = match &a.method {
         AdhesiveMethod::Analytic => {
             correct_analytic(&mut ds, a.pin_radius_mm * 1e-3, &track_widths(a)?)?
-        },
+        }
         AdhesiveMethod::Simulation(sim) => correct_by_simulation(&mut ds, a, sim)?,
     };
     ds.write_csv(&a.out)?;
@@ -222,4 +222,3 @@ fn correct_by_simulation(
 pub fn correction_path(out: &Path) -> PathBuf {
     out.with_extension("correction.json")
 }
-

@@ -1,7 +1,7 @@
 //! Measured speed of what must be fast: recording ingestion, prediction latency, law and
 //! surrogate-table evaluation, the SPH solver.
 
-use crate::simulate::{read_cutting_setup, run_cut, CutSummary, CutCase, RunOutput};
+use crate::simulate::{read_cutting_setup, run_cut, CutCase, CutSummary, RunOutput};
 use crate::study::{Study, DEMO_STUDY};
 use anyhow::{bail, Result};
 use greybox_tribo::csv_recording::{read_csv_recording, write_csv_recording};
@@ -283,4 +283,3 @@ pub fn surrogate(path: &Path, points: usize, calls: usize) -> Result<SurrogateSp
         max_deviation: dev,
     })
 }
-

@@ -301,4 +301,3 @@ pub fn characterize(a: &CharacterizeOptions) -> Result<CharacterizeReport> {
     staged.commit()?;
     Ok(report)
 }
-

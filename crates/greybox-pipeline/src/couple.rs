@@ -131,4 +131,3 @@ fn plot_history(path: &Path, r: &CouplingResult) -> Result<()> {
     )?;
     Ok(())
 }
-

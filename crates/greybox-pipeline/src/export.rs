@@ -70,12 +70,7 @@ pub fn export(a: &ExportOptions) -> Result<String> {
     grid.validate()?;
     let (text, note) = match a.format {
         ExportFormat::Abaqus => (
-            export::abaqus(
-                law.as_ref(),
-                grid,
-                a.units,
-                a.taumax_pa,
-            )?,
+            export::abaqus(law.as_ref(), grid, a.units, a.taumax_pa)?,
             String::new(),
         ),
         ExportFormat::Lsdyna => (
@@ -145,4 +140,3 @@ pub fn export(a: &ExportOptions) -> Result<String> {
         a.out.display()
     ))
 }
-

@@ -189,4 +189,3 @@ fn write_outputs(
         plots,
     })
 }
-

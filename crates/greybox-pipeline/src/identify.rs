@@ -471,6 +471,28 @@ pub struct IdentifyOptions {
     pub side_inputs: Vec<(String, PathBuf)>,
 }
 
+impl IdentifyOptions {
+    /// Identify `recordings` (files or directories) into the dataset CSV `dataset`, with
+    /// loads and velocities as measured (no plan; see [`IdentifyOptions::with_plan`]).
+    pub fn new(recordings: Vec<PathBuf>, dataset: impl Into<PathBuf>) -> Self {
+        IdentifyOptions {
+            recordings,
+            format: None,
+            expect: Expectation::None,
+            track_radii_mm: Vec::new(),
+            dataset: dataset.into(),
+            inspect_dir: None,
+            truth: None,
+            side_inputs: Vec::new(),
+        }
+    }
+    /// Match the segments to the steps of `plan` (a greybox plan with timing).
+    pub fn with_plan(mut self, plan: Plan) -> Self {
+        self.expect = Expectation::Plan(plan);
+        self
+    }
+}
+
 /// The dataset and what identification found.
 pub struct IdentifyResult {
     pub dataset: FrictionDataset,
@@ -484,7 +506,11 @@ pub fn identify_campaign(
     o: &IdentifyOptions,
     on_segments: Option<&dyn Fn(&[FileReport], &Path)>,
 ) -> Result<IdentifyResult> {
-    if let Some(r) = o.track_radii_mm.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
+    if let Some(r) = o
+        .track_radii_mm
+        .iter()
+        .find(|r| !(r.is_finite() && **r > 0.0))
+    {
         bail!("--track-radii-mm: every radius must be positive, got {r}");
     }
     let side_inputs: Vec<(&str, &Path)> = o

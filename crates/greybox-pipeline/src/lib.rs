@@ -18,6 +18,10 @@
 //! | rig dynamics | [`characterize`] | hammer recordings → FRF, excitation check |
 //! | FE restart loop | [`couple`] | deck + law → μ per window |
 //! | material | [`material`] | flow curves → Johnson–Cook |
+//! | Hertz contact | [`hertz`] | load, geometry → contact size, pressures |
+//! | model evaluation | [`predict`] | model file + points → μ with intervals |
+//! | wear | [`wear`] | volumes, height maps, scars → Archard k |
+//! | tool windows | [`windows`] | coated tool mesh → friction windows |
 //! | everything | [`demo`] | bundled study → all of the above |
 //! | speed | [`bench`] | ingestion, prediction latency, surrogate tables, SPH |
 //!
@@ -30,14 +34,18 @@ pub mod couple;
 pub mod demo;
 pub mod export;
 pub mod fit;
+pub mod hertz;
 pub mod identify;
 pub mod law;
 pub mod material;
 pub mod output;
 pub mod plan;
+pub mod predict;
 pub mod simulate;
 pub mod study;
 pub mod synth;
 pub mod text;
+pub mod wear;
+pub mod windows;
 
 pub use study::Study;

@@ -24,3 +24,31 @@ pub fn stage_out_dir(out: &Path, force: bool, inputs: &[(&str, &Path)]) -> Resul
     check_dir_output(out, "--out", inputs)?;
     Ok(StagedDir::begin(out, "--out", Existing::from_force(force))?)
 }
+
+/// On SIGINT, SIGTERM or SIGHUP: delete the temporary files and staging directories being
+/// written ([`greybox_core::cleanup`]), then die of the signal as if unhandled (exit status
+/// 128 + signal). A thread that only waits for signals; it never touches rayon's pool.
+/// For programs (the command line); a library call never installs it by itself.
+pub fn remove_temporaries_on_interrupt() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let mut signals = match signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("warning: cannot watch for interrupts ({e}); an interrupted run may leave temporary files");
+            return;
+        }
+    };
+    std::thread::spawn(move || {
+        if let Some(sig) = signals.forever().next() {
+            let removed = greybox_core::cleanup::remove_registered();
+            if !removed.is_empty() {
+                eprintln!(
+                    "interrupted: removed {} unfinished output(s)",
+                    removed.len()
+                );
+            }
+            let _ = signal_hook::low_level::emulate_default_handler(sig);
+            std::process::exit(128 + sig);
+        }
+    });
+}

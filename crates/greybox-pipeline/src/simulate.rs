@@ -447,4 +447,3 @@ pub fn write_cut_plots(
     )?;
     Ok(written)
 }
-

@@ -1,8 +1,8 @@
 //! The study TOML file: one file drives plan, synth and identify.
 
 use anyhow::{Context, Result};
-use greybox_learn::protocol::FitConfig;
 use greybox_contact::PinContact;
+use greybox_learn::protocol::FitConfig;
 use greybox_tribo::identify::IdentifyConfig;
 use greybox_tribo::plan::PlanSpec;
 use greybox_tribo::recording::ChannelMap;
@@ -47,6 +47,16 @@ impl Study {
             None => Ok(Study::default()),
         }
     }
+    /// Whether the study file at `path` has a `[plan]` section (its other sections are not
+    /// checked here).
+    pub fn declares_plan(path: &Path) -> Result<bool> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read study file {}", path.display()))?;
+        let value: toml::Value = toml::from_str(&text)
+            .with_context(|| format!("{}: invalid study file", path.display()))?;
+        Ok(value.get("plan").is_some())
+    }
+    /// The study as TOML.
     pub fn to_toml(&self) -> Result<String> {
         Ok(toml::to_string_pretty(self)?)
     }

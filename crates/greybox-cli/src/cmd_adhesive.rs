@@ -5,8 +5,7 @@ use anyhow::{Context, Result};
 use greybox_pipeline::adhesive::{
     adhesive, correction_path, track_widths, AdhesiveMethod, AdhesiveOptions, SimulationOptions,
 };
-use greybox_pipeline::text::Table;
-use greybox_tribo::ploughing::{correct_analytic, Correction, TrackWidth};
+use greybox_tribo::ploughing::{correct_analytic, TrackWidth};
 use std::path::PathBuf;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -98,38 +97,13 @@ impl Args {
     }
 }
 
-pub fn print_correction(c: &Correction) {
-    println!(
-        "ploughing correction ({}), pin radius {} mm",
-        c.method, c.pin_tip_radius_mm
-    );
-    println!(
-        "  w(F) = {:.2} um * F^{:.4}",
-        c.width_law.a_um, c.width_law.b
-    );
-    let mut t = Table::new(&["F_N [N]", "track width [um]", "depth [um]", "mu_plough"]);
-    for l in &c.per_load {
-        t.row(vec![
-            format!("{:.1}", l.normal_force_n),
-            format!("{:.0}", l.width_um),
-            format!("{:.2}", l.depth_um),
-            format!("{:.4}", l.mu_plough),
-        ]);
-    }
-    print!("{}", t.render());
-    println!(
-        "  mean reduction of the COF: {:.2} % (article: 7.29 % at its highest loads)",
-        c.mean_reduction_percent
-    );
-}
-
 pub fn run(a: Args) -> Result<()> {
     let options = a.options()?;
     let (ds, c) = adhesive(&options)?;
     if a.json {
         return print_json(&c);
     }
-    print_correction(&c);
+    print!("{}", greybox_pipeline::text::correction(&c));
     if a.method == Method::Simulation {
         // The analytic Bowden–Tabor correction beside it, for comparison.
         let mut twin = ds.clone();

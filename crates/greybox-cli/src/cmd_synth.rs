@@ -3,7 +3,7 @@
 use crate::cmd_plan::{study_input, PlanFlags};
 use crate::output::print_json;
 use anyhow::Result;
-use greybox_pipeline::synth::{synth, SynthSummary};
+use greybox_pipeline::synth::synth;
 use greybox_tribo::readers::RecordingFormat;
 use std::path::PathBuf;
 
@@ -49,13 +49,6 @@ pub struct Args {
     pub json: bool,
 }
 
-pub fn print_summary(s: &SynthSummary) {
-    println!(
-        "synth: {} pins, {} samples (seed {}), true COF {:.3}..{:.3}",
-        s.pins, s.samples, s.seed, s.cof_true_min, s.cof_true_max
-    );
-}
-
 pub fn run(args: Args) -> Result<()> {
     let mut study = args.plan.study()?;
     if let Some(s) = args.seed {
@@ -74,7 +67,7 @@ pub fn run(args: Args) -> Result<()> {
     if args.json {
         return print_json(&summary);
     }
-    print_summary(&summary);
+    print!("{}", greybox_pipeline::text::synth(&summary));
     println!(
         "  wrote {} files to {}",
         summary.files.len(),

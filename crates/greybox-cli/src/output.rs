@@ -1,7 +1,6 @@
 //! Terminal and JSON output helpers (the tables and output directories are the library's).
 
 use anyhow::Result;
-pub use greybox_pipeline::output::{provenance, stage_out_dir};
 pub use greybox_pipeline::text::Table;
 use serde::Serialize;
 
@@ -10,4 +9,3 @@ pub fn print_json<T: Serialize>(value: &T) -> Result<()> {
     println!("{}", serde_json::to_string_pretty(value)?);
     Ok(())
 }
-

@@ -1,12 +1,8 @@
 //! `greybox windows`: friction windows from a coated tool mesh.
 
-use crate::output::stage_out_dir;
 use anyhow::Result;
-use greybox_core::atomic::write_string_atomic;
-use greybox_couple::mesh::read_mesh;
-use greybox_couple::windows::{
-    build_windows, frcwin_text, write_csv, write_json, write_vtk, WindowOptions,
-};
+use greybox_couple::windows::WindowOptions;
+use greybox_pipeline::windows::windows;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -42,30 +38,22 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<()> {
-    let mesh = read_mesh(&a.mesh)?;
-    let w = build_windows(
-        &mesh,
+    if a.deform_objects.len() != 2 {
+        anyhow::bail!("--deform-objects takes two object numbers");
+    }
+    let (mesh, w) = windows(
+        &a.mesh,
         &a.coating_set,
         WindowOptions {
             outward: a.outward,
             inward: a.inward,
             segment_length: a.segment_length,
         },
+        a.mu,
+        (a.deform_objects[0], a.deform_objects[1]),
+        &a.out,
+        a.force,
     )?;
-    if a.deform_objects.len() != 2 {
-        anyhow::bail!("--deform-objects takes two object numbers");
-    }
-    let staged = stage_out_dir(&a.out, a.force, &[("--mesh", a.mesh.as_path())])?;
-    let out = staged.path();
-    write_json(&out.join("windows.json"), &w)?;
-    write_csv(&out.join("windows.csv"), &w)?;
-    write_vtk(&out.join("windows.vtk"), &w)?;
-    write_string_atomic(
-        &out.join("windows_frcwin.key"),
-        &frcwin_text(&w, a.mu, (a.deform_objects[0], a.deform_objects[1])),
-    )?;
-    crate::output::provenance(&[("--mesh", a.mesh.as_path())])?.write_into(out)?;
-    staged.commit()?;
     let total: f64 = w.iter().map(|x| x.length).sum();
     println!(
         "{} windows on {:.4} length units of coated surface from {} ({} nodes, {} elements); wrote {}/windows.{{json,csv,vtk}} and windows_frcwin.key",

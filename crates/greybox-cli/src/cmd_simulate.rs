@@ -2,7 +2,7 @@
 
 use crate::output::print_json;
 use anyhow::Result;
-use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, CutSummary, RunOutput};
+use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, RunOutput};
 use greybox_sim::pin::PinSetup;
 use std::path::PathBuf;
 
@@ -150,37 +150,6 @@ fn pin(a: &PinArgs) -> Result<()> {
     Ok(())
 }
 
-
-/// Prints the summary of a cut.
-pub fn print_cut_summary(s: &CutSummary) {
-    println!(
-        "{} particles, {} steps (dt {:.3e} s, mass scaling {}), {:.3} mm of cut in {:.1} s: {:.3e} particle-steps/s ({:.3e} per core, {} threads)",
-        s.particles, s.steps, s.dt_s, s.mass_scaling, s.simulated_cut_length_mm, s.wall_s, s.particle_steps_per_s, s.particle_steps_per_s_per_core, s.threads
-    );
-    println!(
-        "  friction: {}; {} windows, {} window updates",
-        s.law, s.windows, s.window_updates
-    );
-    let when = match s.steady_from_mm {
-        Some(mm) => format!("steady from {mm:.3} mm of cut"),
-        None => format!("not steady; mean from {:.3} mm of cut", s.averaged_from_mm),
-    };
-    println!(
-        "  cutting force {:.1} N/mm, feed force {:.1} N/mm (F_f/F_c = {:.3}, k_c = {:.0} N/mm²), {when}",
-        s.cutting_force_n_per_mm, s.feed_force_n_per_mm, s.force_ratio, s.specific_cutting_force_n_per_mm2
-    );
-    let opt = |v: Option<f64>, unit: &str| v.map_or("n/a".to_string(), |v| format!("{v:.3}{unit}"));
-    let m = &s.measures;
-    println!(
-        "  chip thickness {}, compression ratio {}, shear angle {}, contact length {}, max temperature {:.0} °C",
-        opt(m.chip_thickness_mm, " mm"),
-        opt(m.compression_ratio, ""),
-        opt(m.shear_angle_deg, "°"),
-        opt(m.contact_length_mm, " mm"),
-        m.max_temperature_c
-    );
-}
-
 pub fn run(a: Args) -> Result<()> {
     match a.what {
         Simulate::Pin(p) => pin(&p),
@@ -190,7 +159,7 @@ pub fn run(a: Args) -> Result<()> {
             if c.output.json {
                 return print_json(&s);
             }
-            print_cut_summary(&s);
+            print!("{}", greybox_pipeline::text::cut(&s));
             println!("wrote {}", c.output.out.display());
             Ok(())
         }

@@ -4,9 +4,10 @@ use crate::cmd_plan::PlanFlags;
 use crate::output::print_json;
 use anyhow::{bail, Context, Result};
 use greybox_core::dataset::PressureConvention;
+use greybox_pipeline::study::Study;
 use greybox_pipeline::identify::{
     all_rows_table, files_table, identify_campaign, inspect_text, matching_text, summary_table,
-    Expectation, IdentifyOptions, IdentifyResult, IdentifySummary,
+    Expectation, IdentifyOptions, IdentifyResult,
 };
 use greybox_tribo::campaign::{read_expected_steps, FileReport, Segmentation};
 use greybox_tribo::identify::Alignment;
@@ -176,13 +177,7 @@ fn plan_given(args: &Args) -> Result<bool> {
         || f.velocity_max.is_some()
         || f.velocity_count.is_some();
     let in_study = match &f.study {
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("cannot read study file {}", path.display()))?;
-            let value: toml::Value = toml::from_str(&text)
-                .with_context(|| format!("{}: invalid study file", path.display()))?;
-            value.get("plan").is_some()
-        }
+        Some(path) => Study::declares_plan(path)?,
         None => false,
     };
     Ok(flags || in_study)
@@ -291,19 +286,6 @@ pub fn run(args: Args) -> Result<()> {
         }
     );
     print!("{}", files_table(&summary.identification));
-    print_identify_footer(&summary);
+    print!("{}", greybox_pipeline::text::identify_footer(&summary));
     Ok(())
-}
-
-pub fn print_identify_footer(s: &IdentifySummary) {
-    println!(
-        "identify: {} plateaus ({} non-stationary), pressure convention {}, dataset {}",
-        s.plateaus, s.non_stationary, s.pressure_convention, s.dataset
-    );
-    if let Some(t) = &s.truth {
-        println!(
-            "  against the ground truth: max |COF - COF_true| = {:.5}, mean = {:.5} over {} plateaus",
-            t.max_abs_error, t.mean_abs_error, t.plateaus
-        );
-    }
 }

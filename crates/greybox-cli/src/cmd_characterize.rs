@@ -4,10 +4,7 @@
 use crate::cmd_plan::PlanFlags;
 use crate::output::print_json;
 use anyhow::{Context, Result};
-use greybox_pipeline::characterize::{
-    characterize, CharacterizeOptions, CharacterizeReport, ImpactChannels,
-};
-use greybox_pipeline::text::Table;
+use greybox_pipeline::characterize::{characterize, CharacterizeOptions, ImpactChannels};
 use greybox_tribo::frf::ImpactConfig;
 use std::path::PathBuf;
 
@@ -102,69 +99,12 @@ impl Args {
     }
 }
 
-pub fn print_report(r: &CharacterizeReport) {
-    let mut t = Table::new(&[
-        "load [N]",
-        "impacts",
-        "rejected",
-        "f1 [Hz]",
-        "zeta1",
-        "|H1| at f1",
-        "f2 [Hz]",
-    ]);
-    for l in &r.loads {
-        let first = l
-            .resonances
-            .iter()
-            .min_by(|a, b| a.frequency_hz.total_cmp(&b.frequency_hz));
-        let second = l
-            .resonances
-            .iter()
-            .map(|x| x.frequency_hz)
-            .filter(|f| Some(*f) != first.map(|x| x.frequency_hz))
-            .fold(f64::INFINITY, f64::min);
-        t.row(vec![
-            l.load_n
-                .map(|x| format!("{x:.0}"))
-                .unwrap_or_else(|| "-".into()),
-            l.impacts_used.to_string(),
-            l.rejected.len().to_string(),
-            first
-                .map(|x| format!("{:.1}", x.frequency_hz))
-                .unwrap_or_else(|| "-".into()),
-            first
-                .map(|x| format!("{:.4}", x.damping))
-                .unwrap_or_else(|| "-".into()),
-            first
-                .map(|x| format!("{:.3e}", x.magnitude))
-                .unwrap_or_else(|| "-".into()),
-            if second.is_finite() {
-                format!("{second:.1}")
-            } else {
-                "-".into()
-            },
-        ]);
-    }
-    print!("{}", t.render());
-    match &r.excitation_check {
-        Some(c) => println!(
-            "dynamics check: first resonance {:.1} Hz vs highest spindle excitation {:.2} Hz ({} harmonics): ratio {:.1} -> {}",
-            c.first_resonance_hz,
-            c.max_excitation_hz,
-            c.harmonics,
-            c.ratio,
-            if c.pass { "PASS (at least an order of magnitude)" } else { "FAIL (less than an order of magnitude)" }
-        ),
-        None => println!("dynamics check: no plan given (--study or --track-radius-mm)"),
-    }
-}
-
 pub fn run(a: Args) -> Result<()> {
     let r = characterize(&a.options()?)?;
     if a.json {
         return print_json(&r);
     }
-    print_report(&r);
+    print!("{}", greybox_pipeline::text::characterize(&r));
     println!("wrote {}", r.files.join(", "));
     Ok(())
 }

@@ -2,11 +2,8 @@
 
 use crate::output::{print_json, Table};
 use anyhow::{bail, Result};
-use greybox_tribo::wear::{
-    analyze_height_map, archard_dimensionless, archard_k, cap_volume_from_scar, read_height_map,
-    read_wear_tests, Reference, WearScar,
-};
-use serde::Serialize;
+use greybox_pipeline::wear::{one_volume, wear_rate, wear_tests, WearInput};
+use greybox_tribo::wear::Reference;
 use std::path::PathBuf;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -49,42 +46,9 @@ pub struct Args {
     pub json: bool,
 }
 
-#[derive(Serialize)]
-struct WearResult {
-    volume_mm3: f64,
-    volume_source: String,
-    sliding_distance_m: f64,
-    /// mm³/(N·m)
-    k_mm3_per_nm: f64,
-    k_dimensionless: Option<f64>,
-    scar: Option<WearScar>,
-}
-
-#[derive(Serialize)]
-struct TestRow {
-    pin: String,
-    sliding_distance_m: f64,
-    implied_volume_mm3: f64,
-    k_back_1e_7: f64,
-    k_article_1e_7: f64,
-}
-
 pub fn run(a: Args) -> Result<()> {
     if let Some(t) = &a.tests {
-        let tests = read_wear_tests(t)?;
-        let rows: Vec<TestRow> = tests
-            .iter()
-            .map(|w| {
-                let v = w.implied_volume_mm3();
-                Ok(TestRow {
-                    pin: w.pin.clone(),
-                    sliding_distance_m: w.distance_m(),
-                    implied_volume_mm3: v,
-                    k_back_1e_7: archard_k(v, w.normal_force_n, w.distance_m())? * 1e7,
-                    k_article_1e_7: w.k_1e7,
-                })
-            })
-            .collect::<Result<_>>()?;
+        let rows = wear_tests(t)?;
         if a.json {
             return print_json(&rows);
         }
@@ -110,40 +74,25 @@ pub fn run(a: Args) -> Result<()> {
     let (Some(f), Some(v), Some(t)) = (a.force_n, a.velocity, a.duration_s) else {
         bail!("give --force-N, --velocity-m-per-min and --duration-s (or --tests FILE)");
     };
-    let s = v / 60.0 * t;
-    let (volume, source, scar) = match (a.volume_mm3, &a.height_map, a.scar_diameter_mm) {
-        (Some(vol), None, None) => (vol, "measured".to_string(), None),
-        (None, Some(p), None) => {
-            let map = read_height_map(p)?;
-            let reference = match a.reference {
-                RefArg::Sphere => Reference::Sphere {
-                    radius_mm: a.pin_radius_mm,
-                },
-                RefArg::Plane => Reference::Plane,
-            };
-            let sc = analyze_height_map(&map, reference)?;
-            (
-                sc.volume_mm3,
-                format!("height map {}", p.display()),
-                Some(sc),
-            )
-        }
-        (None, None, Some(d)) => (
-            cap_volume_from_scar(a.pin_radius_mm, d)?.0,
-            format!("spherical cap, scar diameter {d} mm"),
-            None,
-        ),
-        _ => bail!("give exactly one of --volume-mm3, --height-map, --scar-diameter-mm"),
+    let reference = match a.reference {
+        RefArg::Sphere => Reference::Sphere {
+            radius_mm: a.pin_radius_mm,
+        },
+        RefArg::Plane => Reference::Plane,
     };
-    let k = archard_k(volume, f, s)?;
-    let r = WearResult {
-        volume_mm3: volume,
-        volume_source: source,
-        sliding_distance_m: s,
-        k_mm3_per_nm: k,
-        k_dimensionless: a.hardness_gpa.map(|h| archard_dimensionless(k, h * 1e9)),
-        scar,
-    };
+    let r = wear_rate(&WearInput {
+        normal_force_n: f,
+        velocity_m_per_min: v,
+        duration_s: t,
+        volume: one_volume(
+            a.volume_mm3,
+            a.height_map.clone().map(|p| (p, reference)),
+            a.scar_diameter_mm,
+        )?,
+        pin_radius_mm: a.pin_radius_mm,
+        hardness_gpa: a.hardness_gpa,
+    })?;
+    let k = r.k_mm3_per_nm;
     if a.json {
         return print_json(&r);
     }

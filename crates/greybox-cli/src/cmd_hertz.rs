@@ -4,9 +4,8 @@ use crate::cmd_identify::ConventionArg;
 use crate::output::{print_json, Table};
 use anyhow::Result;
 use greybox_core::dataset::PressureConvention;
-use greybox_core::units::{M_PER_MM, PA_PER_GPA, PA_PER_MPA};
-use greybox_tribo::hertz::{cylinder_on_flat, effective_modulus, Elastic, PinContact};
-use serde::Serialize;
+use greybox_core::units::PA_PER_GPA;
+use greybox_pipeline::hertz::{hertz, Geometry as HertzGeometry, HertzOptions};
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Geometry {
@@ -49,63 +48,28 @@ pub struct Args {
     pub json: bool,
 }
 
-#[derive(Serialize)]
-struct Row {
-    force_n: f64,
-    contact_half_width_mm: f64,
-    max_pressure_mpa: f64,
-    mean_pressure_mpa: f64,
-    approach_um: Option<f64>,
-    convention: String,
-    convention_pressure_mpa: f64,
-}
-
 pub fn run(a: Args) -> Result<()> {
-    let e_star = effective_modulus(
-        Elastic::new(a.e1_gpa * PA_PER_GPA, a.nu1),
-        Elastic::new(a.e2_gpa * PA_PER_GPA, a.nu2),
-    )?;
     let conv: PressureConvention = a.convention.into();
-    let mut rows = Vec::new();
-    for &f in &a.force_n {
-        let (h, pc) = match a.geometry {
-            Geometry::Sphere => {
-                let contact = PinContact {
-                    pin_tip_radius_mm: a.radius_mm,
-                    disk_youngs_modulus_gpa: a.e1_gpa,
-                    disk_poisson_ratio: a.nu1,
-                    pin_youngs_modulus_gpa: a.e2_gpa,
-                    pin_poisson_ratio: a.nu2,
-                    convention: conv,
-                };
-                (contact.solve(f)?, contact.pressure_pa(f)?)
-            }
-            Geometry::Cylinder => {
-                let l = a
-                    .length_mm
-                    .ok_or_else(|| anyhow::anyhow!("--geometry cylinder needs --length-mm"))?;
-                if conv == PressureConvention::ArticleEq7 {
-                    anyhow::bail!("the article's convention is defined for a sphere only");
-                }
-                let h = cylinder_on_flat(f, l * M_PER_MM, a.radius_mm * M_PER_MM, e_star)?;
-                let pc = if conv == PressureConvention::TextbookMean {
-                    h.mean_pressure_pa
-                } else {
-                    h.max_pressure_pa
-                };
-                (h, pc)
-            }
-        };
-        rows.push(Row {
-            force_n: f,
-            contact_half_width_mm: h.contact_half_width_m / M_PER_MM,
-            max_pressure_mpa: h.max_pressure_pa / PA_PER_MPA,
-            mean_pressure_mpa: h.mean_pressure_pa / PA_PER_MPA,
-            approach_um: h.approach_m.map(|d| d * 1e6),
-            convention: conv.name().into(),
-            convention_pressure_mpa: pc / PA_PER_MPA,
-        });
-    }
+    let geometry = match a.geometry {
+        Geometry::Sphere => HertzGeometry::Sphere,
+        Geometry::Cylinder => HertzGeometry::Cylinder {
+            length_mm: a
+                .length_mm
+                .ok_or_else(|| anyhow::anyhow!("--geometry cylinder needs --length-mm"))?,
+        },
+    };
+    let (e_star, rows) = hertz(
+        &HertzOptions {
+            geometry,
+            radius_mm: a.radius_mm,
+            e1_gpa: a.e1_gpa,
+            nu1: a.nu1,
+            e2_gpa: a.e2_gpa,
+            nu2: a.nu2,
+            convention: conv,
+        },
+        &a.force_n,
+    )?;
     if a.json {
         return print_json(&rows);
     }

@@ -2,8 +2,8 @@
 
 use crate::output::{print_json, Table};
 use anyhow::{bail, Context, Result};
-use greybox_learn::modelfile::{DomainPolicy, ModelFile, Prediction};
-use serde::Serialize;
+use greybox_model::modelfile::{DomainPolicy, ModelFile};
+use greybox_pipeline::predict::{predict_points, read_points};
 use std::path::PathBuf;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,13 +36,6 @@ pub struct Args {
     pub json: bool,
 }
 
-#[derive(Serialize)]
-struct Row {
-    features: Vec<f64>,
-    #[serde(flatten)]
-    prediction: Prediction,
-}
-
 pub fn run(a: Args) -> Result<()> {
     let m = ModelFile::load(&a.model)?;
     let names: Vec<String> = m.features.iter().map(|f| f.name.clone()).collect();
@@ -66,8 +59,7 @@ pub fn run(a: Args) -> Result<()> {
         points.push(v);
     }
     if let Some(csv) = &a.csv {
-        let data = read_points(csv, &names)?;
-        points.extend(data);
+        points.extend(read_points(csv, &names)?);
     }
     if points.is_empty() {
         bail!("give points with --at or --csv");
@@ -76,16 +68,12 @@ pub fn run(a: Args) -> Result<()> {
         Outside::Warn => DomainPolicy::Warn,
         Outside::Refuse => DomainPolicy::Refuse,
     };
-    let mut rows = Vec::new();
-    for p in points {
-        let pred = m.predict(&p, policy, a.margin)?;
-        if !pred.in_domain {
-            eprintln!("warning: point {p:?} lies outside the training domain; the prediction is an extrapolation");
-        }
-        rows.push(Row {
-            features: p,
-            prediction: pred,
-        });
+    let rows = predict_points(&m, points, policy, a.margin)?;
+    for r in rows.iter().filter(|r| !r.prediction.in_domain) {
+        eprintln!(
+            "warning: point {:?} lies outside the training domain; the prediction is an extrapolation",
+            r.features
+        );
     }
     if a.json {
         return print_json(&rows);
@@ -106,51 +94,4 @@ pub fn run(a: Args) -> Result<()> {
     }
     print!("{}", t.render());
     Ok(())
-}
-
-/// Feature rows of a CSV (strict, by column name).
-fn read_points(path: &std::path::Path, names: &[String]) -> Result<Vec<Vec<f64>>> {
-    let mut rdr =
-        csv::Reader::from_path(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let header = rdr.headers()?.clone();
-    let idx: Vec<usize> = names
-        .iter()
-        .map(|n| {
-            header.iter().position(|h| h.trim() == n).with_context(|| {
-                format!(
-                    "{}: missing feature column '{n}' (the model needs {})",
-                    path.display(),
-                    names.join(", ")
-                )
-            })
-        })
-        .collect::<Result<_>>()?;
-    let mut out = Vec::new();
-    for (k, r) in rdr.records().enumerate() {
-        let r =
-            r.with_context(|| format!("{}: malformed CSV near line {}", path.display(), k + 2))?;
-        let row: Vec<f64> = idx
-            .iter()
-            .zip(names)
-            .map(|(&i, n)| {
-                let v: f64 = r[i].trim().parse().with_context(|| {
-                    format!(
-                        "{}, line {}, field '{n}': not a number",
-                        path.display(),
-                        k + 2
-                    )
-                })?;
-                if !v.is_finite() {
-                    bail!(
-                        "{}, line {}, field '{n}': not finite",
-                        path.display(),
-                        k + 2
-                    );
-                }
-                Ok(v)
-            })
-            .collect::<Result<_>>()?;
-        out.push(row);
-    }
-    Ok(out)
 }

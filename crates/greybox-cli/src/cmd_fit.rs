@@ -2,10 +2,8 @@
 
 use crate::output::print_json;
 use anyhow::{Context, Result};
-use greybox_learn::mlp::Activation;
 use greybox_learn::model::Family;
 use greybox_learn::protocol::{markdown, FitConfig};
-use greybox_learn::svr::Kernel;
 use greybox_pipeline::fit::{fit, FitOptions, FitResult};
 use greybox_pipeline::study::Study;
 use std::path::PathBuf;
@@ -109,6 +107,11 @@ fn parse_list<T>(
         .collect()
 }
 
+/// A value of a lowercase-named enum (kernels, activations) by its name in files.
+fn by_name<T: serde::de::DeserializeOwned>(name: &str) -> Option<T> {
+    serde_json::from_value(serde_json::Value::String(name.into())).ok()
+}
+
 /// The protocol configuration: study [fit] section, then flags.
 pub fn config(a: &Args) -> Result<FitConfig> {
     let mut c = match &a.study {
@@ -140,13 +143,7 @@ pub fn config(a: &Args) -> Result<FitConfig> {
     set!(c.grid.svr.c, a.svr_c);
     set!(c.grid.svr.epsilon, a.svr_epsilon);
     if let Some(k) = &a.svr_kernel {
-        c.grid.svr.kernel = parse_list(k, "kernel", "linear, poly, rbf or sigmoid", |s| match s {
-            "linear" => Some(Kernel::Linear),
-            "poly" => Some(Kernel::Poly),
-            "rbf" => Some(Kernel::Rbf),
-            "sigmoid" => Some(Kernel::Sigmoid),
-            _ => None,
-        })?;
+        c.grid.svr.kernel = parse_list(k, "kernel", "linear, poly, rbf or sigmoid", by_name)?;
     }
     set!(c.grid.gradient_boosting.n_estimators, a.gb_n_estimators);
     set!(c.grid.gradient_boosting.max_depth, a.gb_max_depth);
@@ -160,11 +157,7 @@ pub fn config(a: &Args) -> Result<FitConfig> {
         )?;
     }
     if let Some(act) = &a.mlp_activation {
-        c.grid.mlp.activation = parse_list(act, "activation", "relu or tanh", |s| match s {
-            "relu" => Some(Activation::Relu),
-            "tanh" => Some(Activation::Tanh),
-            _ => None,
-        })?;
+        c.grid.mlp.activation = parse_list(act, "activation", "relu or tanh", by_name)?;
     }
     set!(c.grid.mlp.learning_rate, a.mlp_learning_rate);
     set!(c.grid.mlp.base.max_epochs, a.mlp_max_epochs);

@@ -2,7 +2,7 @@
 
 use crate::output::print_json;
 use anyhow::Result;
-use greybox_pipeline::plan::{plan, PlanSummary};
+use greybox_pipeline::plan::plan;
 use greybox_pipeline::study::Study;
 use std::path::{Path, PathBuf};
 
@@ -118,38 +118,13 @@ pub struct Args {
     pub json: bool,
 }
 
-pub fn print_summary(s: &PlanSummary) {
-    println!(
-        "plan: {} pins x {} velocities = {} plateaus",
-        s.pins,
-        s.steps / s.pins.max(1),
-        s.steps
-    );
-    println!(
-        "  normal forces {} N",
-        s.normal_forces_n
-            .iter()
-            .map(|f| format!("{f:.1}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
-    println!(
-        "  velocities {:.1}..{:.1} m/min -> spindle {:.2}..{:.2} rpm",
-        s.velocity_min_m_per_min, s.velocity_max_m_per_min, s.spindle_rpm_min, s.spindle_rpm_max
-    );
-    println!(
-        "  recording per pin {:.2} s, campaign {:.1} s",
-        s.pin_duration_s, s.campaign_recording_s
-    );
-}
-
 pub fn run(args: Args) -> Result<()> {
     let study = args.plan.study()?;
     let summary = plan(&study, &args.out, args.force, &study_input(&args.plan))?;
     if args.json {
         return print_json(&summary);
     }
-    print_summary(&summary);
+    print!("{}", greybox_pipeline::text::plan(&summary));
     println!(
         "  wrote {} files to {}",
         summary.files.len(),

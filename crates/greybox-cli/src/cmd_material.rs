@@ -84,43 +84,6 @@ pub fn fit(a: &FitArgs) -> Result<JcFit> {
     fit_flow_curves(&a.curves, &opts, a.out.as_deref())
 }
 
-/// Prints a flow-curve fit.
-pub fn print_fit(f: &JcFit) {
-    let p = &f.params;
-    println!(
-        "Johnson-Cook: A = {:.1} MPa, B = {:.1} MPa, n = {:.4}, m = {:.4} (C = {} fixed, ε̇₀ = {:.3e} 1/s, T_room = {:.1} °C, T_m = {:.0} K)",
-        p.a_pa * 1e-6,
-        p.b_pa * 1e-6,
-        p.n,
-        p.m,
-        p.c,
-        p.ref_strain_rate,
-        p.room_temperature_k - 273.15,
-        p.melt_temperature_k
-    );
-    println!(
-        "  residual RMS {:.2} MPa ({:.2} %), {} evaluations",
-        f.rms_mpa,
-        100.0 * f.relative_rms,
-        f.evaluations
-    );
-    println!("  temperature °C  points  RMS MPa  RMS %  bias %");
-    for t in &f.by_temperature {
-        println!(
-            "  {:>14.0}  {:>6}  {:>7.2}  {:>5.2}  {:>+6.2}{}",
-            t.temperature_c,
-            t.points,
-            t.rms_mpa,
-            100.0 * t.relative_rms,
-            100.0 * t.relative_bias,
-            if t.flagged { "  <- misfit" } else { "" }
-        );
-    }
-    for w in &f.warnings {
-        println!("warning: {w}");
-    }
-}
-
 pub fn run(a: Args) -> Result<()> {
     match a.what {
         Material::Fit(a) => {
@@ -128,7 +91,7 @@ pub fn run(a: Args) -> Result<()> {
             if a.json {
                 return print_json(&f);
             }
-            print_fit(&f);
+            print!("{}", greybox_pipeline::text::johnson_cook(&f));
             Ok(())
         }
         Material::FitC(a) => {

@@ -65,33 +65,6 @@ enum Command {
     Bench(cmd_bench::Args),
 }
 
-/// On SIGINT, SIGTERM or SIGHUP: delete the temporary files and staging directories being
-/// written ([`greybox_core::cleanup`]), then die of the signal as if unhandled (exit status
-/// 128 + signal). A thread that only waits for signals; it never touches rayon's pool.
-fn remove_temporaries_on_interrupt() {
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
-    let mut signals = match signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("warning: cannot watch for interrupts ({e}); an interrupted run may leave temporary files");
-            return;
-        }
-    };
-    std::thread::spawn(move || {
-        if let Some(sig) = signals.forever().next() {
-            let removed = greybox_core::cleanup::remove_registered();
-            if !removed.is_empty() {
-                eprintln!(
-                    "interrupted: removed {} unfinished output(s)",
-                    removed.len()
-                );
-            }
-            let _ = signal_hook::low_level::emulate_default_handler(sig);
-            std::process::exit(128 + sig);
-        }
-    });
-}
-
 fn main() {
     // The main thread joins rayon's global pool as worker 0, so that every parallel pass of
     // the solver starts on a worker instead of being handed across threads (the hand-off
@@ -105,7 +78,7 @@ fn main() {
     {
         eprintln!("warning: rayon thread pool: {e}");
     }
-    remove_temporaries_on_interrupt();
+    greybox_pipeline::output::remove_temporaries_on_interrupt();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Plan(a) => cmd_plan::run(a),
