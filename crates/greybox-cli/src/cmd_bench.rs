@@ -67,18 +67,7 @@ pub struct Args {
 
 fn bench_surrogate(path: &Path, points: usize, calls: usize) -> Result<()> {
     let s = bench::surrogate(path, points, calls)?;
-    println!(
-        "law:       {:8.1} ns per call, {:.3e} evaluations/s/core ({})",
-        s.law_ns_per_call,
-        1e9 / s.law_ns_per_call,
-        s.law
-    );
-    println!(
-        "surrogate: {:8.1} ns per call, {:.3e} evaluations/s/core ({points} x {points} grid, max deviation {:.2e})",
-        s.table_ns_per_call,
-        1e9 / s.table_ns_per_call,
-        s.max_deviation
-    );
+    print!("{}", greybox_pipeline::text::surrogate_speed(&s));
     Ok(())
 }
 
@@ -87,40 +76,9 @@ fn bench_sph(config: &Path, fraction: f64, json: bool) -> Result<()> {
     if json {
         return print_json(&s);
     }
-    // A run that stopped at a steady force is complete; otherwise extrapolate the fraction.
-    let (full, how) = match s.steady_from_mm {
-        Some(mm) if case.setup.steady.stop_when_steady => (
-            s.wall_s,
-            format!(", stopped at a steady force that set in at {mm:.3} mm"),
-        ),
-        _ if fraction < 1.0 => (s.wall_s / fraction, ", extrapolated".to_string()),
-        _ => (s.wall_s, String::new()),
-    };
-    println!(
-        "SPH cutting benchmark ({}): {} particles, {} steps, dt {:.3e} s, mass scaling {}",
-        config.display(),
-        s.particles,
-        s.steps,
-        s.dt_s,
-        s.mass_scaling
-    );
-    println!(
-        "  {:.3e} particle-steps/s on {} threads = {:.3e} per core; {:.3} mm of cut in {:.1} s (full run: {:.1} s{how})",
-        s.particle_steps_per_s,
-        s.threads,
-        s.particle_steps_per_s_per_core,
-        s.simulated_cut_length_mm,
-        s.wall_s,
-        full
-    );
-    if config.ends_with("iwf-ti64-cut.toml") {
-        println!(
-            "  reference: ETH IWF mfree_iwf-ul-cut-refine ~1.7e5 particle-steps/s/core, 59 min for the cut on one core"
-        );
-    }
-    println!(
-        "  cutting force {:.1} N/mm, feed force {:.1} N/mm",
-        s.cutting_force_n_per_mm, s.feed_force_n_per_mm
+    print!(
+        "{}",
+        greybox_pipeline::text::sph_bench(config, fraction, &case, &s)
     );
     Ok(())
 }
@@ -147,12 +105,7 @@ pub fn run(a: Args) -> Result<()> {
             if json {
                 return print_json(&rows);
             }
-            for r in &rows {
-                println!(
-                    "predict {:>18}: {:8.1} ns per point ({} calls, {})",
-                    r.family, r.ns_per_call, r.calls, r.model
-                );
-            }
+            print!("{}", greybox_pipeline::text::predict_latency(&rows));
             Ok(())
         }
         Bench::Ingest {
@@ -165,12 +118,7 @@ pub fn run(a: Args) -> Result<()> {
             if json {
                 return print_json(&results);
             }
-            for r in &results {
-                println!(
-                    "ingest {:>4}: {:8.1} MB, {} samples x 5 channels: best {:.3} s (median {:.3} s) -> {:7.1} MB/s, {:.2} Msamples/s",
-                    r.format, r.file_mb, r.samples, r.best_s, r.median_s, r.best_mb_per_s, r.best_msamples_per_s
-                );
-            }
+            print!("{}", greybox_pipeline::text::ingest(&results));
             Ok(())
         }
     }

@@ -119,30 +119,6 @@ pub fn run(a: Args) -> Result<()> {
     if a.json {
         return print_json(&r);
     }
-    println!(
-        "{} after {} cycles (tolerance {})",
-        if r.converged {
-            "converged"
-        } else {
-            "NOT converged"
-        },
-        r.cycles,
-        a.tol
-    );
-    for ((name, mu), h) in r
-        .final_mu
-        .iter()
-        .zip(r.history.iter().filter(|h| h.cycle == r.cycles))
-    {
-        println!(
-            "  {name}: p = {:.2} MPa, v = {:.3} m/min, mu = {:.4} (engine applied {:.4})",
-            h.pressure_mpa, h.velocity_m_per_min, mu, h.shear_ratio
-        );
-    }
-    println!(
-        "history: {}, plot: {}",
-        a.work.join("history.csv").display(),
-        a.work.join("mu_history.svg").display()
-    );
+    print!("{}", greybox_pipeline::text::coupling(&r, a.tol, &a.work));
     Ok(())
 }

@@ -1,8 +1,8 @@
 //! `greybox export`: a friction law as tables for FE engines, or as a surrogate table.
 
-use anyhow::{bail, Context, Result};
-use greybox_friction::export::{Grid, PressureUnit, SpeedUnit, TempUnit, Units};
-use greybox_pipeline::export::{equidistant, export, ExportFormat, ExportOptions};
+use anyhow::{bail, Result};
+use greybox_friction::export::Grid;
+use greybox_pipeline::export::{export, parse_values, units_by_name, ExportFormat, ExportOptions};
 use std::path::PathBuf;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -67,54 +67,6 @@ pub struct Args {
     pub check_points: usize,
 }
 
-/// Parse `MIN:MAX:N` or a comma list.
-pub fn parse_values(text: &str, what: &str) -> Result<Vec<f64>> {
-    let nums = |s: &str| -> Result<f64> {
-        let v: f64 = s
-            .trim()
-            .parse()
-            .with_context(|| format!("{what}: '{s}' is not a number"))?;
-        if !v.is_finite() {
-            bail!("{what}: '{s}' is not finite");
-        }
-        Ok(v)
-    };
-    let parts: Vec<&str> = text.split(':').collect();
-    if parts.len() == 3 {
-        let (a, b) = (nums(parts[0])?, nums(parts[1])?);
-        let n: usize = parts[2]
-            .trim()
-            .parse()
-            .with_context(|| format!("{what}: count '{}' is not an integer", parts[2]))?;
-        if n < 2 || !(b > a) {
-            bail!("{what}: MIN:MAX:N needs MIN < MAX and N ≥ 2");
-        }
-        return Ok(equidistant(a, b, n));
-    }
-    text.split(',').map(nums).collect()
-}
-
-fn units(a: &Args) -> Result<Units> {
-    Ok(Units {
-        pressure: match a.pressure_unit.as_str() {
-            "Pa" => PressureUnit::Pa,
-            "MPa" => PressureUnit::MPa,
-            o => bail!("unknown pressure unit '{o}'; expected Pa or MPa"),
-        },
-        speed: match a.speed_unit.as_str() {
-            "m/s" => SpeedUnit::MPerS,
-            "mm/s" => SpeedUnit::MmPerS,
-            "m/min" => SpeedUnit::MPerMin,
-            o => bail!("unknown speed unit '{o}'; expected m/s, mm/s or m/min"),
-        },
-        temperature: match a.temperature_unit.as_str() {
-            "K" => TempUnit::K,
-            "C" => TempUnit::C,
-            o => bail!("unknown temperature unit '{o}'; expected K or C"),
-        },
-    })
-}
-
 impl Args {
     /// The library's options for these flags.
     pub fn options(&self) -> Result<ExportOptions> {
@@ -140,7 +92,11 @@ impl Args {
                     .map(|t| parse_values(t, "--temperature-K"))
                     .transpose()?,
             },
-            units: units(self)?,
+            units: units_by_name(
+                &self.pressure_unit,
+                &self.speed_unit,
+                &self.temperature_unit,
+            )?,
             taumax_pa: self.taumax_mpa.map(|t| t * 1e6),
             deform_windows: self.deform_windows.clone(),
             deform_reference_velocity_m_s: self.deform_reference_velocity_m_per_min / 60.0,

@@ -3,7 +3,7 @@
 use crate::output::print_json;
 use anyhow::{Context, Result};
 use greybox_learn::model::Family;
-use greybox_learn::protocol::{markdown, FitConfig};
+use greybox_learn::protocol::FitConfig;
 use greybox_pipeline::fit::{fit, FitOptions, FitResult};
 use greybox_pipeline::study::Study;
 use std::path::PathBuf;
@@ -192,16 +192,6 @@ pub fn run(a: Args) -> Result<()> {
     if a.json {
         return print_json(&report);
     }
-    println!("{}", markdown(&report));
-    for f in &report.families {
-        println!("{}: {:.1} s", f.family.name(), f.seconds);
-    }
-    println!(
-        "wrote {}, {}, {} models, {} plots",
-        outputs.report_json,
-        outputs.report_md,
-        outputs.models.len(),
-        outputs.plots.len()
-    );
+    print!("{}", greybox_pipeline::text::fit(&report, &outputs));
     Ok(())
 }

@@ -1,10 +1,9 @@
 //! `greybox hertz`.
 
 use crate::cmd_identify::ConventionArg;
-use crate::output::{print_json, Table};
+use crate::output::print_json;
 use anyhow::Result;
 use greybox_core::dataset::PressureConvention;
-use greybox_core::units::PA_PER_GPA;
 use greybox_pipeline::hertz::{hertz, Geometry as HertzGeometry, HertzOptions};
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -73,27 +72,6 @@ pub fn run(a: Args) -> Result<()> {
     if a.json {
         return print_json(&rows);
     }
-    println!("E* = {:.1} GPa", e_star / PA_PER_GPA);
-    let mut t = Table::new(&[
-        "F [N]",
-        "a or b [mm]",
-        "p0 [MPa]",
-        "p_mean [MPa]",
-        "approach [um]",
-        &format!("{} [MPa]", conv.name()),
-    ]);
-    for r in &rows {
-        t.row(vec![
-            format!("{}", r.force_n),
-            format!("{:.5}", r.contact_half_width_mm),
-            format!("{:.1}", r.max_pressure_mpa),
-            format!("{:.1}", r.mean_pressure_mpa),
-            r.approach_um
-                .map(|d| format!("{d:.3}"))
-                .unwrap_or_else(|| "-".into()),
-            format!("{:.1}", r.convention_pressure_mpa),
-        ]);
-    }
-    print!("{}", t.render());
+    print!("{}", greybox_pipeline::text::hertz(e_star, &rows, conv));
     Ok(())
 }

@@ -4,11 +4,11 @@ use crate::cmd_plan::PlanFlags;
 use crate::output::print_json;
 use anyhow::{bail, Context, Result};
 use greybox_core::dataset::PressureConvention;
-use greybox_pipeline::study::Study;
 use greybox_pipeline::identify::{
     all_rows_table, files_table, identify_campaign, inspect_text, matching_text, summary_table,
     Expectation, IdentifyOptions, IdentifyResult,
 };
+use greybox_pipeline::study::Study;
 use greybox_tribo::campaign::{read_expected_steps, FileReport, Segmentation};
 use greybox_tribo::identify::Alignment;
 use greybox_tribo::readers::RecordingFormat;

@@ -106,16 +106,7 @@ pub fn run(a: Args) -> Result<()> {
             if a.json {
                 return print_json(&r);
             }
-            println!(
-                "C = {:.5}: simulated cutting force within {:.2} N/mm of the measured {:.1} N/mm after {} runs",
-                r.c,
-                r.residual_n_per_m * 1e-3,
-                a.measured_force_n_per_mm,
-                r.runs.len()
-            );
-            for (c, f) in &r.runs {
-                println!("  C = {c:.5}: F'c = {:.2} N/mm", f * 1e-3);
-            }
+            print!("{}", greybox_pipeline::text::rate_sensitivity(&r));
             Ok(())
         }
     }

@@ -1,6 +1,6 @@
 //! `greybox predict`: evaluate a model file at points.
 
-use crate::output::{print_json, Table};
+use crate::output::print_json;
 use anyhow::{bail, Context, Result};
 use greybox_model::modelfile::{DomainPolicy, ModelFile};
 use greybox_pipeline::predict::{predict_points, read_points};
@@ -78,20 +78,6 @@ pub fn run(a: Args) -> Result<()> {
     if a.json {
         return print_json(&rows);
     }
-    let mut head: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
-    let target = format!("{} ({})", m.target.name, m.family.name());
-    let low = format!("{:.0} % low", m.prediction_interval.coverage * 100.0);
-    let high = format!("{:.0} % high", m.prediction_interval.coverage * 100.0);
-    head.extend([target.as_str(), low.as_str(), high.as_str(), "in domain"]);
-    let mut t = Table::new(&head);
-    for r in &rows {
-        let mut cells: Vec<String> = r.features.iter().map(|v| format!("{v}")).collect();
-        cells.push(format!("{:.5}", r.prediction.value));
-        cells.push(format!("{:.5}", r.prediction.low));
-        cells.push(format!("{:.5}", r.prediction.high));
-        cells.push(r.prediction.in_domain.to_string());
-        t.row(cells);
-    }
-    print!("{}", t.render());
+    print!("{}", greybox_pipeline::text::predictions(&m, &rows));
     Ok(())
 }

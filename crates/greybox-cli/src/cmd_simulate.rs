@@ -129,22 +129,9 @@ fn pin(a: &PinArgs) -> Result<()> {
     if a.output.json {
         return print_json(&res);
     }
-    println!(
-        "pin r = {} mm, depth {:.2} µm, μ = {}: F_t/F_N = {:.4} (deformation share {:.4}; analytic cylinder tan(θ/2) = {:.4})",
-        setup.pin_radius_m * 1e3,
-        setup.depth_m * 1e6,
-        setup.mu,
-        res.force_ratio,
-        res.deformation_share,
-        res.analytic_share
-    );
-    println!(
-        "  F_N = {:.1} N/mm, F_t = {:.1} N/mm; {} particles, {} steps, {:.1} s wall ({:.2e} particle-steps/s), energy residual {:.2} %",
-        res.normal_force_n_per_mm, res.tangential_force_n_per_mm, res.particles, res.steps, res.wall_s, res.particle_steps_per_s, 100.0 * res.energy_error
-    );
-    println!(
-        "  simulated slide speed {:.1} m/s (strain rate scaled to {} m/min), mass scaling {}",
-        res.simulated_speed_m_s, a.speed_m_per_min, res.mass_scaling
+    print!(
+        "{}",
+        greybox_pipeline::text::pin(&setup, &res, a.speed_m_per_min)
     );
     println!("wrote {}", a.output.out.display());
     Ok(())

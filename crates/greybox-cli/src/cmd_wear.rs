@@ -1,6 +1,6 @@
 //! `greybox wear`: Archard specific wear rates from volumes, height maps or scar geometry.
 
-use crate::output::{print_json, Table};
+use crate::output::print_json;
 use anyhow::{bail, Result};
 use greybox_pipeline::wear::{one_volume, wear_rate, wear_tests, WearInput};
 use greybox_tribo::wear::Reference;
@@ -52,23 +52,7 @@ pub fn run(a: Args) -> Result<()> {
         if a.json {
             return print_json(&rows);
         }
-        let mut tab = Table::new(&[
-            "pin",
-            "s [m]",
-            "V = k F s [mm3]",
-            "k from V [1e-7 mm3/(N m)]",
-            "k article",
-        ]);
-        for r in &rows {
-            tab.row(vec![
-                r.pin.clone(),
-                format!("{:.2}", r.sliding_distance_m),
-                format!("{:.4e}", r.implied_volume_mm3),
-                format!("{:.2}", r.k_back_1e_7),
-                format!("{:.2}", r.k_article_1e_7),
-            ]);
-        }
-        print!("{}", tab.render());
+        print!("{}", greybox_pipeline::text::wear_tests(&rows));
         return Ok(());
     }
     let (Some(f), Some(v), Some(t)) = (a.force_n, a.velocity, a.duration_s) else {
@@ -92,27 +76,10 @@ pub fn run(a: Args) -> Result<()> {
         pin_radius_mm: a.pin_radius_mm,
         hardness_gpa: a.hardness_gpa,
     })?;
-    let k = r.k_mm3_per_nm;
+
     if a.json {
         return print_json(&r);
     }
-    println!(
-        "wear volume {:.4e} mm3 ({}), sliding distance {:.2} m",
-        r.volume_mm3, r.volume_source, r.sliding_distance_m
-    );
-    println!(
-        "Archard specific wear rate k = V/(F s) = {:.4e} mm3/(N m) = {:.3} x 1e-7 mm3/(N m)",
-        k,
-        k * 1e7
-    );
-    if let Some(kd) = r.k_dimensionless {
-        println!("dimensionless K = k H = {kd:.4e}");
-    }
-    if let Some(sc) = &r.scar {
-        println!(
-            "scar: mean depth {:.2} um, max depth {:.2} um, {:.3} x {:.3} mm, {} points, {} holes ({} filled), surface noise {:.3} um",
-            sc.mean_depth_um, sc.max_depth_um, sc.length_mm, sc.width_mm, sc.scar_points, sc.holes, sc.holes_filled, sc.noise_um
-        );
-    }
+    print!("{}", greybox_pipeline::text::wear(&r));
     Ok(())
 }

@@ -1,7 +1,6 @@
 //! Terminal and JSON output helpers (the tables and output directories are the library's).
 
 use anyhow::Result;
-pub use greybox_pipeline::text::Table;
 use serde::Serialize;
 
 /// Print a value as pretty JSON on stdout.

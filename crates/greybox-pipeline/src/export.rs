@@ -5,7 +5,9 @@ use crate::output::provenance;
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::outputs::check_file_output;
-use greybox_friction::export::{self, DeformWindow, Grid, Units};
+use greybox_friction::export::{
+    self, DeformWindow, Grid, PressureUnit, SpeedUnit, TempUnit, Units,
+};
 use greybox_friction::spec::load_law;
 use greybox_friction::table::{Axis, TabulatedLaw};
 use std::path::PathBuf;
@@ -56,6 +58,64 @@ pub fn equidistant(min: f64, max: f64, n: usize) -> Vec<f64> {
     (0..n)
         .map(|i| min + (max - min) * i as f64 / (n - 1) as f64)
         .collect()
+}
+
+/// Values from `MIN:MAX:N` (equidistant, both ends included) or a comma list; `what`
+/// names the field in errors.
+///
+/// ```
+/// use greybox_pipeline::export::parse_values;
+/// assert_eq!(parse_values("0:1:3", "x").unwrap(), [0.0, 0.5, 1.0]);
+/// assert_eq!(parse_values("2, 5", "x").unwrap(), [2.0, 5.0]);
+/// assert!(parse_values("1:0:3", "--pressure-MPa").unwrap_err().to_string().contains("--pressure-MPa"));
+/// ```
+pub fn parse_values(text: &str, what: &str) -> Result<Vec<f64>> {
+    let nums = |s: &str| -> Result<f64> {
+        let v: f64 = s
+            .trim()
+            .parse()
+            .with_context(|| format!("{what}: '{s}' is not a number"))?;
+        if !v.is_finite() {
+            bail!("{what}: '{s}' is not finite");
+        }
+        Ok(v)
+    };
+    let parts: Vec<&str> = text.split(':').collect();
+    if parts.len() == 3 {
+        let (a, b) = (nums(parts[0])?, nums(parts[1])?);
+        let n: usize = parts[2]
+            .trim()
+            .parse()
+            .with_context(|| format!("{what}: count '{}' is not an integer", parts[2]))?;
+        if n < 2 || !(b > a) {
+            bail!("{what}: MIN:MAX:N needs MIN < MAX and N ≥ 2");
+        }
+        return Ok(equidistant(a, b, n));
+    }
+    text.split(',').map(nums).collect()
+}
+
+/// Table units by their names: pressure "Pa" or "MPa"; speed "m/s", "mm/s" or "m/min";
+/// temperature "K" or "C".
+pub fn units_by_name(pressure: &str, speed: &str, temperature: &str) -> Result<Units> {
+    Ok(Units {
+        pressure: match pressure {
+            "Pa" => PressureUnit::Pa,
+            "MPa" => PressureUnit::MPa,
+            o => bail!("unknown pressure unit '{o}'; expected Pa or MPa"),
+        },
+        speed: match speed {
+            "m/s" => SpeedUnit::MPerS,
+            "mm/s" => SpeedUnit::MmPerS,
+            "m/min" => SpeedUnit::MPerMin,
+            o => bail!("unknown speed unit '{o}'; expected m/s, mm/s or m/min"),
+        },
+        temperature: match temperature {
+            "K" => TempUnit::K,
+            "C" => TempUnit::C,
+            o => bail!("unknown temperature unit '{o}'; expected K or C"),
+        },
+    })
 }
 
 /// Export; returns a one-line description.

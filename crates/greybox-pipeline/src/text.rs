@@ -1,14 +1,26 @@
 //! Plain-text reports of each stage's results (what the command line prints), and the
 //! table they are laid out in.
 
+use crate::bench::{IngestResult, PredictLatency, SurrogateSpeed};
 use crate::characterize::CharacterizeReport;
 use crate::demo::{Demo, DemoSummary, DEMO_SHEAR_CAP_MPA};
+use crate::fit::FitOutputs;
+use crate::hertz::HertzRow;
 use crate::identify::{inspect_text, summary_table, IdentifySummary};
 use crate::plan::PlanSummary;
-use crate::simulate::CutSummary;
+use crate::predict::PredictedPoint;
+use crate::simulate::{CutCase, CutSummary};
 use crate::synth::SynthSummary;
+use crate::wear::{WearResult, WearTestRow};
 use anyhow::Result;
+use greybox_core::dataset::PressureConvention;
+use greybox_core::units::PA_PER_GPA;
+use greybox_couple::engine::CouplingResult;
+use greybox_learn::protocol::FitReport;
 use greybox_material::fit::JcFit;
+use greybox_model::modelfile::ModelFile;
+use greybox_sim::cut_run::RateSensitivityFit;
+use greybox_sim::pin::{PinResult, PinSetup};
 use greybox_tribo::ploughing::Correction;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -453,4 +465,286 @@ pub fn demo(demo: &Demo, out: &Path) -> Result<String> {
         cut_dir.join("contact_profile.csv").display()
     );
     Ok(text)
+}
+
+/// The restart loop's outcome: convergence, the final μ per window, the files.
+pub fn coupling(r: &CouplingResult, tol: f64, work: &Path) -> String {
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "{} after {} cycles (tolerance {})",
+        if r.converged {
+            "converged"
+        } else {
+            "NOT converged"
+        },
+        r.cycles,
+        tol
+    );
+    for ((name, mu), h) in r
+        .final_mu
+        .iter()
+        .zip(r.history.iter().filter(|h| h.cycle == r.cycles))
+    {
+        let _ = writeln!(
+            text,
+            "  {name}: p = {:.2} MPa, v = {:.3} m/min, mu = {:.4} (engine applied {:.4})",
+            h.pressure_mpa, h.velocity_m_per_min, mu, h.shear_ratio
+        );
+    }
+    let _ = writeln!(
+        text,
+        "history: {}, plot: {}",
+        work.join("history.csv").display(),
+        work.join("mu_history.svg").display()
+    );
+    text
+}
+
+/// Prediction latency per model file.
+pub fn predict_latency(rows: &[PredictLatency]) -> String {
+    let mut text = String::new();
+    for r in rows {
+        let _ = writeln!(
+            text,
+            "predict {:>18}: {:8.1} ns per point ({} calls, {})",
+            r.family, r.ns_per_call, r.calls, r.model
+        );
+    }
+    text
+}
+
+/// Read speed per recording format.
+pub fn ingest(results: &[IngestResult]) -> String {
+    let mut text = String::new();
+    for r in results {
+        let _ = writeln!(text,
+            "ingest {:>4}: {:8.1} MB, {} samples x 5 channels: best {:.3} s (median {:.3} s) -> {:7.1} MB/s, {:.2} Msamples/s",
+            r.format, r.file_mb, r.samples, r.best_s, r.median_s, r.best_mb_per_s, r.best_msamples_per_s
+        );
+    }
+    text
+}
+
+/// The SPH benchmark: speed per core and the full run's time.
+pub fn sph_bench(config: &Path, fraction: f64, case: &CutCase, s: &CutSummary) -> String {
+    let mut text = String::new();
+    // A run that stopped at a steady force is complete; otherwise extrapolate the fraction.
+    let (full, how) = match s.steady_from_mm {
+        Some(mm) if case.setup.steady.stop_when_steady => (
+            s.wall_s,
+            format!(", stopped at a steady force that set in at {mm:.3} mm"),
+        ),
+        _ if fraction < 1.0 => (s.wall_s / fraction, ", extrapolated".to_string()),
+        _ => (s.wall_s, String::new()),
+    };
+    let _ = writeln!(
+        text,
+        "SPH cutting benchmark ({}): {} particles, {} steps, dt {:.3e} s, mass scaling {}",
+        config.display(),
+        s.particles,
+        s.steps,
+        s.dt_s,
+        s.mass_scaling
+    );
+    let _ = writeln!(text,
+        "  {:.3e} particle-steps/s on {} threads = {:.3e} per core; {:.3} mm of cut in {:.1} s (full run: {:.1} s{how})",
+        s.particle_steps_per_s,
+        s.threads,
+        s.particle_steps_per_s_per_core,
+        s.simulated_cut_length_mm,
+        s.wall_s,
+        full
+    );
+    if config.ends_with("iwf-ti64-cut.toml") {
+        let _ = writeln!(text,
+            "  reference: ETH IWF mfree_iwf-ul-cut-refine ~1.7e5 particle-steps/s/core, 59 min for the cut on one core"
+        );
+    }
+    let _ = writeln!(
+        text,
+        "  cutting force {:.1} N/mm, feed force {:.1} N/mm",
+        s.cutting_force_n_per_mm, s.feed_force_n_per_mm
+    );
+    text
+}
+
+/// Law and surrogate-table evaluation speed.
+pub fn surrogate_speed(s: &SurrogateSpeed) -> String {
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "law:       {:8.1} ns per call, {:.3e} evaluations/s/core ({})",
+        s.law_ns_per_call,
+        1e9 / s.law_ns_per_call,
+        s.law
+    );
+    let _ = writeln!(text,
+        "surrogate: {:8.1} ns per call, {:.3e} evaluations/s/core ({} x {} grid, max deviation {:.2e})",
+        s.table_ns_per_call,
+        1e9 / s.table_ns_per_call,
+        s.points,
+        s.points,
+        s.max_deviation
+    );
+    text
+}
+
+/// A pin run: force ratio, deformation share, forces, speed.
+pub fn pin(setup: &PinSetup, res: &PinResult, speed_m_per_min: f64) -> String {
+    let mut text = String::new();
+    let _ = writeln!(text,
+        "pin r = {} mm, depth {:.2} µm, μ = {}: F_t/F_N = {:.4} (deformation share {:.4}; analytic cylinder tan(θ/2) = {:.4})",
+        setup.pin_radius_m * 1e3,
+        setup.depth_m * 1e6,
+        setup.mu,
+        res.force_ratio,
+        res.deformation_share,
+        res.analytic_share
+    );
+    let _ = writeln!(text,
+        "  F_N = {:.1} N/mm, F_t = {:.1} N/mm; {} particles, {} steps, {:.1} s wall ({:.2e} particle-steps/s), energy residual {:.2} %",
+        res.normal_force_n_per_mm, res.tangential_force_n_per_mm, res.particles, res.steps, res.wall_s, res.particle_steps_per_s, 100.0 * res.energy_error
+    );
+    let _ = writeln!(
+        text,
+        "  simulated slide speed {:.1} m/s (strain rate scaled to {} m/min), mass scaling {}",
+        res.simulated_speed_m_s, speed_m_per_min, res.mass_scaling
+    );
+    text
+}
+
+/// The article's wear tests re-derived.
+pub fn wear_tests(rows: &[WearTestRow]) -> String {
+    let mut text = String::new();
+    let mut tab = Table::new(&[
+        "pin",
+        "s [m]",
+        "V = k F s [mm3]",
+        "k from V [1e-7 mm3/(N m)]",
+        "k article",
+    ]);
+    for r in rows {
+        tab.row(vec![
+            r.pin.clone(),
+            format!("{:.2}", r.sliding_distance_m),
+            format!("{:.4e}", r.implied_volume_mm3),
+            format!("{:.2}", r.k_back_1e_7),
+            format!("{:.2}", r.k_article_1e_7),
+        ]);
+    }
+    let _ = write!(text, "{}", tab.render());
+    text
+}
+
+/// A specific wear rate with its volume and scar.
+pub fn wear(r: &WearResult) -> String {
+    let mut text = String::new();
+    let k = r.k_mm3_per_nm;
+    let _ = writeln!(
+        text,
+        "wear volume {:.4e} mm3 ({}), sliding distance {:.2} m",
+        r.volume_mm3, r.volume_source, r.sliding_distance_m
+    );
+    let _ = writeln!(
+        text,
+        "Archard specific wear rate k = V/(F s) = {:.4e} mm3/(N m) = {:.3} x 1e-7 mm3/(N m)",
+        k,
+        k * 1e7
+    );
+    if let Some(kd) = r.k_dimensionless {
+        let _ = writeln!(text, "dimensionless K = k H = {kd:.4e}");
+    }
+    if let Some(sc) = &r.scar {
+        let _ = writeln!(text,
+            "scar: mean depth {:.2} um, max depth {:.2} um, {:.3} x {:.3} mm, {} points, {} holes ({} filled), surface noise {:.3} um",
+            sc.mean_depth_um, sc.max_depth_um, sc.length_mm, sc.width_mm, sc.scar_points, sc.holes, sc.holes_filled, sc.noise_um
+        );
+    }
+    text
+}
+
+/// Hertzian contact per normal force.
+pub fn hertz(e_star_pa: f64, rows: &[HertzRow], convention: PressureConvention) -> String {
+    let mut text = String::new();
+    let _ = writeln!(text, "E* = {:.1} GPa", e_star_pa / PA_PER_GPA);
+    let mut t = Table::new(&[
+        "F [N]",
+        "a or b [mm]",
+        "p0 [MPa]",
+        "p_mean [MPa]",
+        "approach [um]",
+        &format!("{} [MPa]", convention.name()),
+    ]);
+    for r in rows {
+        t.row(vec![
+            format!("{}", r.force_n),
+            format!("{:.5}", r.contact_half_width_mm),
+            format!("{:.1}", r.max_pressure_mpa),
+            format!("{:.1}", r.mean_pressure_mpa),
+            r.approach_um
+                .map(|d| format!("{d:.3}"))
+                .unwrap_or_else(|| "-".into()),
+            format!("{:.1}", r.convention_pressure_mpa),
+        ]);
+    }
+    let _ = write!(text, "{}", t.render());
+    text
+}
+
+/// Predictions with their intervals, one row per point.
+pub fn predictions(m: &ModelFile, rows: &[PredictedPoint]) -> String {
+    let mut text = String::new();
+    let names: Vec<String> = m.features.iter().map(|f| f.name.clone()).collect();
+    let mut head: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
+    let target = format!("{} ({})", m.target.name, m.family.name());
+    let low = format!("{:.0} % low", m.prediction_interval.coverage * 100.0);
+    let high = format!("{:.0} % high", m.prediction_interval.coverage * 100.0);
+    head.extend([target.as_str(), low.as_str(), high.as_str(), "in domain"]);
+    let mut t = Table::new(&head);
+    for r in rows {
+        let mut cells: Vec<String> = r.features.iter().map(|v| format!("{v}")).collect();
+        cells.push(format!("{:.5}", r.prediction.value));
+        cells.push(format!("{:.5}", r.prediction.low));
+        cells.push(format!("{:.5}", r.prediction.high));
+        cells.push(r.prediction.in_domain.to_string());
+        t.row(cells);
+    }
+    let _ = write!(text, "{}", t.render());
+    text
+}
+
+/// The rate sensitivity C found, with every simulated run.
+pub fn rate_sensitivity(r: &RateSensitivityFit) -> String {
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "C = {:.5}: simulated cutting force within {:.2} N/mm of the measured {:.1} N/mm after {} runs",
+        r.c,
+        r.residual_n_per_m * 1e-3,
+        r.measured_force_n_per_m * 1e-3,
+        r.runs.len()
+    );
+    for (c, f) in &r.runs {
+        let _ = writeln!(text, "  C = {c:.5}: F'c = {:.2} N/mm", f * 1e-3);
+    }
+    text
+}
+
+/// The fit report (markdown tables), time per family and the files written.
+pub fn fit(report: &FitReport, outputs: &FitOutputs) -> String {
+    let mut text = String::new();
+    let _ = writeln!(text, "{}", greybox_learn::protocol::markdown(report));
+    for f in &report.families {
+        let _ = writeln!(text, "{}: {:.1} s", f.family.name(), f.seconds);
+    }
+    let _ = writeln!(
+        text,
+        "wrote {}, {}, {} models, {} plots",
+        outputs.report_json,
+        outputs.report_md,
+        outputs.models.len(),
+        outputs.plots.len()
+    );
+    text
 }
