@@ -1,9 +1,9 @@
 //! `greybox bench`: measured speed of the things that must be fast.
 
-use crate::output::print_json;
+use crate::output::emit;
 use anyhow::Result;
-use greybox_pipeline::bench;
-use std::path::{Path, PathBuf};
+use greybox_pipeline::{bench, text};
+use std::path::PathBuf;
 
 #[derive(clap::Subcommand, Debug)]
 pub enum Bench {
@@ -65,33 +65,19 @@ pub struct Args {
     pub bench: Bench,
 }
 
-fn bench_surrogate(path: &Path, points: usize, calls: usize) -> Result<()> {
-    let s = bench::surrogate(path, points, calls)?;
-    print!("{}", greybox_pipeline::text::surrogate_speed(&s));
-    Ok(())
-}
-
-fn bench_sph(config: &Path, fraction: f64, json: bool) -> Result<()> {
-    let (case, s) = bench::sph(config, fraction)?;
-    if json {
-        return print_json(&s);
-    }
-    print!(
-        "{}",
-        greybox_pipeline::text::sph_bench(config, fraction, &case, &s)
-    );
-    Ok(())
-}
-
 pub fn run(a: Args) -> Result<()> {
     match a.bench {
         Bench::Sph {
             config,
             fraction,
             json,
-        } => bench_sph(&config, fraction, json),
+        } => {
+            let (case, s) = bench::sph(&config, fraction)?;
+            emit(json, &s, |s| text::sph_bench(&config, fraction, &case, s))
+        }
         Bench::Surrogate { law, points, calls } => {
-            bench_surrogate(&law, points.max(2), calls.max(1))
+            let s = bench::surrogate(&law, points.max(2), calls.max(1))?;
+            emit(false, &s, text::surrogate_speed)
         }
         Bench::Predict {
             models,
@@ -102,24 +88,15 @@ pub fn run(a: Args) -> Result<()> {
                 .iter()
                 .map(|m| bench::predict_latency(m, calls.max(1)))
                 .collect::<Result<Vec<_>>>()?;
-            if json {
-                return print_json(&rows);
-            }
-            print!("{}", greybox_pipeline::text::predict_latency(&rows));
-            Ok(())
+            emit(json, &rows, |r| text::predict_latency(r))
         }
         Bench::Ingest {
             size_mb,
             repeats,
             dir,
             json,
-        } => {
-            let results = bench::ingest(size_mb, repeats, dir)?;
-            if json {
-                return print_json(&results);
-            }
-            print!("{}", greybox_pipeline::text::ingest(&results));
-            Ok(())
-        }
+        } => emit(json, &bench::ingest(size_mb, repeats, dir)?, |r| {
+            text::ingest(r)
+        }),
     }
 }

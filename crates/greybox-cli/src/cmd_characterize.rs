@@ -3,8 +3,10 @@
 
 use crate::cmd_plan::PlanFlags;
 use crate::output::print_json;
-use anyhow::{Context, Result};
-use greybox_pipeline::characterize::{characterize, CharacterizeOptions, ImpactChannels};
+use anyhow::Result;
+use greybox_pipeline::characterize::{
+    characterize, recording_with_load, CharacterizeOptions, ImpactChannels,
+};
 use greybox_tribo::frf::ImpactConfig;
 use std::path::PathBuf;
 
@@ -52,20 +54,6 @@ pub struct Args {
     pub json: bool,
 }
 
-fn parse_recording(spec: &str) -> Result<(PathBuf, Option<f64>)> {
-    match spec.rsplit_once('@') {
-        Some((p, load)) => {
-            Ok((
-                PathBuf::from(p),
-                Some(load.parse().with_context(|| {
-                    format!("--recording '{spec}': '{load}' is not a load in N")
-                })?),
-            ))
-        }
-        None => Ok((PathBuf::from(spec), None)),
-    }
-}
-
 impl Args {
     /// The library's options for these flags.
     pub fn options(&self) -> Result<CharacterizeOptions> {
@@ -80,7 +68,7 @@ impl Args {
             recordings: self
                 .recordings
                 .iter()
-                .map(|s| parse_recording(s))
+                .map(|s| recording_with_load(s))
                 .collect::<Result<_>>()?,
             channels: ImpactChannels {
                 hammer: self.hammer.clone(),

@@ -1,8 +1,8 @@
 //! `greybox couple`: the restart loop with an external FE engine.
 
 use crate::output::print_json;
-use anyhow::{bail, Context, Result};
-use greybox_pipeline::couple::{couple, CoupleOptions, EngineOptions};
+use anyhow::{Context, Result};
+use greybox_pipeline::couple::{couple, m_per_unit, pa_per_unit, CoupleOptions, EngineOptions};
 use std::path::PathBuf;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -76,16 +76,8 @@ impl Args {
                     .segment
                     .clone()
                     .context("--segment is required for --engine calculix")?,
-                pressure_pa_per_unit: match self.pressure_unit.as_str() {
-                    "MPa" => 1e6,
-                    "Pa" => 1.0,
-                    o => bail!("unknown pressure unit '{o}'; expected MPa or Pa"),
-                },
-                length_m_per_unit: match self.length_unit.as_str() {
-                    "mm" => 1e-3,
-                    "m" => 1.0,
-                    o => bail!("unknown length unit '{o}'; expected mm or m"),
-                },
+                pressure_pa_per_unit: pa_per_unit(&self.pressure_unit)?,
+                length_m_per_unit: m_per_unit(&self.length_unit)?,
                 segment_s: self.segment_s,
             },
             EngineArg::Command => EngineOptions::Command {

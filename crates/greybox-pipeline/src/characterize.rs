@@ -41,6 +41,21 @@ impl Default for ImpactChannels {
     }
 }
 
+/// A recording named as `PATH[@LOAD_N]`: the path and the normal load, N, if given.
+pub fn recording_with_load(spec: &str) -> Result<(PathBuf, Option<f64>)> {
+    match spec.rsplit_once('@') {
+        Some((p, load)) => {
+            Ok((
+                PathBuf::from(p),
+                Some(load.parse().with_context(|| {
+                    format!("--recording '{spec}': '{load}' is not a load in N")
+                })?),
+            ))
+        }
+        None => Ok((PathBuf::from(spec), None)),
+    }
+}
+
 /// Options of [`characterize`].
 #[derive(Debug, Clone)]
 pub struct CharacterizeOptions {
