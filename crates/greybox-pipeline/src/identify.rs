@@ -3,7 +3,7 @@
 
 use crate::output::provenance;
 use crate::study::Study;
-use crate::text::Table;
+use crate::table::Table;
 use anyhow::{bail, Context, Result};
 use greybox_core::dataset::FrictionDataset;
 use greybox_core::units;

@@ -44,6 +44,7 @@ pub mod predict;
 pub mod simulate;
 pub mod study;
 pub mod synth;
+pub mod table;
 pub mod text;
 pub mod wear;
 pub mod windows;
