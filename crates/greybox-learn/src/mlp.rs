@@ -133,197 +133,9 @@ impl Regressor for MlpParams {
         let mut sizes = vec![x.n_cols];
         sizes.extend(&self.hidden_layers);
         sizes.push(1);
-        let mut net = Net {
-            sizes: sizes.clone(),
-            w: Vec::new(),
-            b: Vec::new(),
-            act: self.activation,
-        };
-        for k in 0..sizes.len() - 1 {
-            let (fi, fo) = (sizes[k], sizes[k + 1]);
-            let bound = (6.0 / (fi + fo) as f64).sqrt();
-            net.w
-                .push((0..fi * fo).map(|_| rng.gen_range(-bound..bound)).collect());
-            net.b
-                .push((0..fo).map(|_| rng.gen_range(-bound..bound)).collect());
-        }
-        // split train / validation
-        let mut idx: Vec<usize> = (0..x.n_rows).collect();
-        idx.shuffle(&mut rng);
-        let n_val = if self.validation_fraction > 0.0 {
-            ((x.n_rows as f64) * self.validation_fraction).ceil() as usize
-        } else {
-            0
-        };
-        if x.n_rows < n_val + 2 {
-            return Err(Error::invalid(
-                "MLP",
-                format!("too few rows ({}) for the validation split", x.n_rows),
-            ));
-        }
-        let (val_idx, train_idx) = idx.split_at(n_val);
-        let mut train_idx = train_idx.to_vec();
-        let val_x: Vec<f64> = val_idx
-            .iter()
-            .flat_map(|&i| z.row(i).iter().copied())
-            .collect();
-        let val_y: Vec<f64> = val_idx.iter().map(|&i| ys[i]).collect();
-        let n_train = train_idx.len();
-        let batch = self.batch_size.unwrap_or(200).min(n_train);
-        let layers = sizes.len() - 1;
-        let mut m_w: Vec<Vec<f64>> = net.w.iter().map(|w| vec![0.0; w.len()]).collect();
-        let mut v_w = m_w.clone();
-        let mut m_b: Vec<Vec<f64>> = net.b.iter().map(|b| vec![0.0; b.len()]).collect();
-        let mut v_b = m_b.clone();
-        let mut g_w = m_w.clone();
-        let mut g_b = m_b.clone();
-        let mut acts: Vec<Vec<f64>> = vec![Vec::new(); sizes.len()];
-        let mut deltas: Vec<Vec<f64>> = vec![Vec::new(); sizes.len()];
-        let mut wt_buf: Vec<Vec<f64>> = vec![Vec::new(); sizes.len()];
-        let mut xb = Vec::with_capacity(batch * x.n_cols);
-        let mut yb = Vec::with_capacity(batch);
-        let (beta1, beta2, eps) = (0.9f64, 0.999f64, 1e-8);
-        let mut t = 0i32;
-        let mut best_score = f64::NEG_INFINITY;
-        let mut best = (net.w.clone(), net.b.clone());
-        let mut best_epoch = 0;
-        let mut no_improve = 0;
-        let mut epochs = 0;
-        let mut val_acts: Vec<Vec<f64>> = vec![Vec::new(); sizes.len()];
-        for epoch in 0..self.max_epochs {
-            epochs = epoch + 1;
-            train_idx.shuffle(&mut rng);
-            for chunk in train_idx.chunks(batch) {
-                let nb = chunk.len();
-                xb.clear();
-                yb.clear();
-                for &i in chunk {
-                    xb.extend_from_slice(z.row(i));
-                    yb.push(ys[i]);
-                }
-                net.forward(&xb, nb, &mut acts);
-                // output delta: d(½ mean e²)/d out = (out − y) / nb
-                deltas[layers].clear();
-                deltas[layers].extend(acts[layers].iter().zip(&yb).map(|(o, y)| o - y));
-                for k in (0..layers).rev() {
-                    let (fi, fo) = (sizes[k], sizes[k + 1]);
-                    let gw = &mut g_w[k];
-                    let gb = &mut g_b[k];
-                    gw.iter_mut().for_each(|v| *v = 0.0);
-                    gb.iter_mut().for_each(|v| *v = 0.0);
-                    for r in 0..nb {
-                        let d = &deltas[k + 1][r * fo..(r + 1) * fo];
-                        let a = &acts[k][r * fi..(r + 1) * fi];
-                        if fo == 1 {
-                            for (g, av) in gw.iter_mut().zip(a) {
-                                *g += av * d[0];
-                            }
-                            gb[0] += d[0];
-                            continue;
-                        }
-                        for i in 0..fi {
-                            if a[i] != 0.0 {
-                                let row = &mut gw[i * fo..(i + 1) * fo];
-                                for (g, dv) in row.iter_mut().zip(d) {
-                                    *g += a[i] * dv;
-                                }
-                            }
-                        }
-                        for (g, dv) in gb.iter_mut().zip(d) {
-                            *g += dv;
-                        }
-                    }
-                    let inv = 1.0 / nb as f64;
-                    for (g, w) in gw.iter_mut().zip(&net.w[k]) {
-                        *g = (*g + self.alpha * w) * inv;
-                    }
-                    gb.iter_mut().for_each(|g| *g *= inv);
-                    if k > 0 {
-                        // delta of the hidden layer below: δ_k = (δ_{k+1} Wᵀ) ⊙ f'(a_k),
-                        // accumulated row by row as axpy over the transposed weights
-                        let wt = &mut wt_buf[k];
-                        wt.clear();
-                        wt.resize(fi * fo, 0.0);
-                        for i in 0..fi {
-                            for o in 0..fo {
-                                wt[o * fi + i] = net.w[k][i * fo + o];
-                            }
-                        }
-                        let mut dk = std::mem::take(&mut deltas[k]);
-                        dk.clear();
-                        dk.resize(nb * fi, 0.0);
-                        for r in 0..nb {
-                            let d = &deltas[k + 1][r * fo..(r + 1) * fo];
-                            let out = &mut dk[r * fi..(r + 1) * fi];
-                            for (o, dv) in d.iter().enumerate() {
-                                for (acc, w) in out.iter_mut().zip(&wt[o * fi..(o + 1) * fi]) {
-                                    *acc += dv * w;
-                                }
-                            }
-                            for (acc, a) in out.iter_mut().zip(&acts[k][r * fi..(r + 1) * fi]) {
-                                *acc *= derivative_from_output(self.activation, *a);
-                            }
-                        }
-                        deltas[k] = dk;
-                    }
-                }
-                t += 1;
-                let lr_t =
-                    self.learning_rate * (1.0 - beta2.powi(t)).sqrt() / (1.0 - beta1.powi(t));
-                for k in 0..layers {
-                    for (((w, g), m), v) in net.w[k]
-                        .iter_mut()
-                        .zip(&g_w[k])
-                        .zip(m_w[k].iter_mut())
-                        .zip(v_w[k].iter_mut())
-                    {
-                        *m = beta1 * *m + (1.0 - beta1) * g;
-                        *v = beta2 * *v + (1.0 - beta2) * g * g;
-                        *w -= lr_t * *m / (v.sqrt() + eps);
-                    }
-                    for (((b, g), m), v) in net.b[k]
-                        .iter_mut()
-                        .zip(&g_b[k])
-                        .zip(m_b[k].iter_mut())
-                        .zip(v_b[k].iter_mut())
-                    {
-                        *m = beta1 * *m + (1.0 - beta1) * g;
-                        *v = beta2 * *v + (1.0 - beta2) * g * g;
-                        *b -= lr_t * *m / (v.sqrt() + eps);
-                    }
-                }
-            }
-            if n_val == 0 {
-                continue;
-            }
-            net.forward(&val_x, n_val, &mut val_acts);
-            let score = r2_score(&val_y, &val_acts[layers]);
-            if !score.is_finite() {
-                return Err(Error::invalid(
-                    "MLP",
-                    "training diverged (non-finite validation score); lower the learning rate",
-                ));
-            }
-            if score < best_score + self.tol {
-                no_improve += 1;
-            } else {
-                no_improve = 0;
-            }
-            if score > best_score {
-                best_score = score;
-                best = (net.w.clone(), net.b.clone());
-                best_epoch = epoch + 1;
-            }
-            if no_improve > self.n_iter_no_change {
-                break;
-            }
-        }
-        if n_val > 0 {
-            net.w = best.0;
-            net.b = best.1;
-        } else {
-            best_epoch = epochs;
-        }
+        let mut net = Net::glorot(&sizes, self.activation, &mut rng);
+        let split = validation_split(self, &z, &ys, &mut rng)?;
+        let (epochs, best_epoch) = train(self, &mut net, &z, &ys, split, &mut rng)?;
         if net.w.iter().flatten().any(|v| !v.is_finite()) {
             return Err(Error::invalid(
                 "MLP",
@@ -342,4 +154,291 @@ impl Regressor for MlpParams {
             best_epoch,
         })
     }
+}
+
+/// Rows held out for early stopping: their standardized features (row-major) and targets.
+struct ValidationSplit {
+    train_idx: Vec<usize>,
+    val_x: Vec<f64>,
+    val_y: Vec<f64>,
+}
+
+impl ValidationSplit {
+    fn len(&self) -> usize {
+        self.val_y.len()
+    }
+}
+
+impl Net {
+    /// Glorot-uniform weights and biases in ±√(6 / (fan_in + fan_out)), drawn layer by layer.
+    fn glorot(sizes: &[usize], act: Activation, rng: &mut ChaCha8Rng) -> Net {
+        let mut net = Net {
+            sizes: sizes.to_vec(),
+            w: Vec::new(),
+            b: Vec::new(),
+            act,
+        };
+        for k in 0..sizes.len() - 1 {
+            let (fi, fo) = (sizes[k], sizes[k + 1]);
+            let bound = (6.0 / (fi + fo) as f64).sqrt();
+            net.w
+                .push((0..fi * fo).map(|_| rng.gen_range(-bound..bound)).collect());
+            net.b
+                .push((0..fo).map(|_| rng.gen_range(-bound..bound)).collect());
+        }
+        net
+    }
+}
+
+/// Gradients of ½·mean squared error + ½·α·|W|² over a mini-batch, by backpropagation,
+/// with the buffers reused from batch to batch.
+struct Backprop {
+    g_w: Vec<Vec<f64>>,
+    g_b: Vec<Vec<f64>>,
+    acts: Vec<Vec<f64>>,
+    deltas: Vec<Vec<f64>>,
+    wt_buf: Vec<Vec<f64>>,
+}
+
+impl Backprop {
+    fn new(net: &Net) -> Self {
+        let n = net.sizes.len();
+        Backprop {
+            g_w: net.w.iter().map(|w| vec![0.0; w.len()]).collect(),
+            g_b: net.b.iter().map(|b| vec![0.0; b.len()]).collect(),
+            acts: vec![Vec::new(); n],
+            deltas: vec![Vec::new(); n],
+            wt_buf: vec![Vec::new(); n],
+        }
+    }
+
+    /// Forward the batch `xb` (`nb` rows) and leave the gradients in `g_w`, `g_b`.
+    fn gradients(&mut self, net: &Net, xb: &[f64], yb: &[f64], nb: usize, alpha: f64) {
+        let sizes = &net.sizes;
+        let layers = sizes.len() - 1;
+        net.forward(xb, nb, &mut self.acts);
+        // output delta: d(½ mean e²)/d out = (out − y) / nb
+        self.deltas[layers].clear();
+        self.deltas[layers].extend(self.acts[layers].iter().zip(yb).map(|(o, y)| o - y));
+        for k in (0..layers).rev() {
+            self.layer_gradients(net, k, nb, alpha);
+            if k > 0 {
+                self.delta_below(net, k, nb);
+            }
+        }
+    }
+
+    /// ∂/∂W_k and ∂/∂b_k from the deltas of layer k + 1 and the activations of layer k.
+    fn layer_gradients(&mut self, net: &Net, k: usize, nb: usize, alpha: f64) {
+        let (fi, fo) = (net.sizes[k], net.sizes[k + 1]);
+        let gw = &mut self.g_w[k];
+        let gb = &mut self.g_b[k];
+        gw.iter_mut().for_each(|v| *v = 0.0);
+        gb.iter_mut().for_each(|v| *v = 0.0);
+        for r in 0..nb {
+            let d = &self.deltas[k + 1][r * fo..(r + 1) * fo];
+            let a = &self.acts[k][r * fi..(r + 1) * fi];
+            if fo == 1 {
+                for (g, av) in gw.iter_mut().zip(a) {
+                    *g += av * d[0];
+                }
+                gb[0] += d[0];
+                continue;
+            }
+            for i in 0..fi {
+                if a[i] != 0.0 {
+                    let row = &mut gw[i * fo..(i + 1) * fo];
+                    for (g, dv) in row.iter_mut().zip(d) {
+                        *g += a[i] * dv;
+                    }
+                }
+            }
+            for (g, dv) in gb.iter_mut().zip(d) {
+                *g += dv;
+            }
+        }
+        let inv = 1.0 / nb as f64;
+        for (g, w) in gw.iter_mut().zip(&net.w[k]) {
+            *g = (*g + alpha * w) * inv;
+        }
+        gb.iter_mut().for_each(|g| *g *= inv);
+    }
+
+    /// The delta of hidden layer k: δ_k = (δ_{k+1} Wᵀ) ⊙ f'(a_k), accumulated row by row as
+    /// axpy over the transposed weights.
+    fn delta_below(&mut self, net: &Net, k: usize, nb: usize) {
+        let (fi, fo) = (net.sizes[k], net.sizes[k + 1]);
+        let wt = &mut self.wt_buf[k];
+        wt.clear();
+        wt.resize(fi * fo, 0.0);
+        for i in 0..fi {
+            for o in 0..fo {
+                wt[o * fi + i] = net.w[k][i * fo + o];
+            }
+        }
+        let mut dk = std::mem::take(&mut self.deltas[k]);
+        dk.clear();
+        dk.resize(nb * fi, 0.0);
+        for r in 0..nb {
+            let d = &self.deltas[k + 1][r * fo..(r + 1) * fo];
+            let out = &mut dk[r * fi..(r + 1) * fi];
+            for (o, dv) in d.iter().enumerate() {
+                for (acc, w) in out.iter_mut().zip(&wt[o * fi..(o + 1) * fi]) {
+                    *acc += dv * w;
+                }
+            }
+            for (acc, a) in out.iter_mut().zip(&self.acts[k][r * fi..(r + 1) * fi]) {
+                *acc *= derivative_from_output(net.act, *a);
+            }
+        }
+        self.deltas[k] = dk;
+    }
+}
+
+/// Adam (Kingma & Ba 2015) with β₁ = 0.9, β₂ = 0.999, ε = 1e-8 and the bias correction
+/// folded into the step size, as scikit-learn's `MLPRegressor` does.
+struct Adam {
+    m_w: Vec<Vec<f64>>,
+    v_w: Vec<Vec<f64>>,
+    m_b: Vec<Vec<f64>>,
+    v_b: Vec<Vec<f64>>,
+    t: i32,
+}
+
+impl Adam {
+    const BETA1: f64 = 0.9;
+    const BETA2: f64 = 0.999;
+    const EPS: f64 = 1e-8;
+
+    fn new(net: &Net) -> Self {
+        let m_w: Vec<Vec<f64>> = net.w.iter().map(|w| vec![0.0; w.len()]).collect();
+        let m_b: Vec<Vec<f64>> = net.b.iter().map(|b| vec![0.0; b.len()]).collect();
+        Adam {
+            v_w: m_w.clone(),
+            v_b: m_b.clone(),
+            m_w,
+            m_b,
+            t: 0,
+        }
+    }
+
+    /// One update of every weight and bias with the gradients `g_w`, `g_b`.
+    fn step(&mut self, net: &mut Net, g_w: &[Vec<f64>], g_b: &[Vec<f64>], learning_rate: f64) {
+        let (beta1, beta2, eps) = (Self::BETA1, Self::BETA2, Self::EPS);
+        self.t += 1;
+        let lr_t = learning_rate * (1.0 - beta2.powi(self.t)).sqrt() / (1.0 - beta1.powi(self.t));
+        let update = |p: &mut [f64], g: &[f64], m: &mut [f64], v: &mut [f64]| {
+            for (((p, g), m), v) in p.iter_mut().zip(g).zip(m.iter_mut()).zip(v.iter_mut()) {
+                *m = beta1 * *m + (1.0 - beta1) * g;
+                *v = beta2 * *v + (1.0 - beta2) * g * g;
+                *p -= lr_t * *m / (v.sqrt() + eps);
+            }
+        };
+        for k in 0..net.w.len() {
+            update(&mut net.w[k], &g_w[k], &mut self.m_w[k], &mut self.v_w[k]);
+            update(&mut net.b[k], &g_b[k], &mut self.m_b[k], &mut self.v_b[k]);
+        }
+    }
+}
+
+/// Shuffle the rows and hold out `validation_fraction` of them (rounded up) for early
+/// stopping.
+fn validation_split(
+    p: &MlpParams,
+    z: &Matrix,
+    ys: &[f64],
+    rng: &mut ChaCha8Rng,
+) -> Result<ValidationSplit> {
+    let mut idx: Vec<usize> = (0..z.n_rows).collect();
+    idx.shuffle(rng);
+    let n_val = if p.validation_fraction > 0.0 {
+        ((z.n_rows as f64) * p.validation_fraction).ceil() as usize
+    } else {
+        0
+    };
+    if z.n_rows < n_val + 2 {
+        return Err(Error::invalid(
+            "MLP",
+            format!("too few rows ({}) for the validation split", z.n_rows),
+        ));
+    }
+    let (val_idx, train_idx) = idx.split_at(n_val);
+    Ok(ValidationSplit {
+        train_idx: train_idx.to_vec(),
+        val_x: val_idx
+            .iter()
+            .flat_map(|&i| z.row(i).iter().copied())
+            .collect(),
+        val_y: val_idx.iter().map(|&i| ys[i]).collect(),
+    })
+}
+
+/// Mini-batch Adam epochs with early stopping on the validation R² (the best weights
+/// are kept); returns (epochs run, best epoch).
+fn train(
+    p: &MlpParams,
+    net: &mut Net,
+    z: &Matrix,
+    ys: &[f64],
+    mut split: ValidationSplit,
+    rng: &mut ChaCha8Rng,
+) -> Result<(usize, usize)> {
+    let n_val = split.len();
+    let layers = net.sizes.len() - 1;
+    let batch = p.batch_size.unwrap_or(200).min(split.train_idx.len());
+    let mut backprop = Backprop::new(net);
+    let mut adam = Adam::new(net);
+    let mut xb = Vec::with_capacity(batch * z.n_cols);
+    let mut yb = Vec::with_capacity(batch);
+    let mut best_score = f64::NEG_INFINITY;
+    let mut best = (net.w.clone(), net.b.clone());
+    let mut best_epoch = 0;
+    let mut no_improve = 0;
+    let mut epochs = 0;
+    let mut val_acts: Vec<Vec<f64>> = vec![Vec::new(); net.sizes.len()];
+    for epoch in 0..p.max_epochs {
+        epochs = epoch + 1;
+        split.train_idx.shuffle(rng);
+        for chunk in split.train_idx.chunks(batch) {
+            xb.clear();
+            yb.clear();
+            for &i in chunk {
+                xb.extend_from_slice(z.row(i));
+                yb.push(ys[i]);
+            }
+            backprop.gradients(net, &xb, &yb, chunk.len(), p.alpha);
+            adam.step(net, &backprop.g_w, &backprop.g_b, p.learning_rate);
+        }
+        if n_val == 0 {
+            continue;
+        }
+        net.forward(&split.val_x, n_val, &mut val_acts);
+        let score = r2_score(&split.val_y, &val_acts[layers]);
+        if !score.is_finite() {
+            return Err(Error::invalid(
+                "MLP",
+                "training diverged (non-finite validation score); lower the learning rate",
+            ));
+        }
+        if score < best_score + p.tol {
+            no_improve += 1;
+        } else {
+            no_improve = 0;
+        }
+        if score > best_score {
+            best_score = score;
+            best = (net.w.clone(), net.b.clone());
+            best_epoch = epoch + 1;
+        }
+        if no_improve > p.n_iter_no_change {
+            break;
+        }
+    }
+    if n_val > 0 {
+        net.w = best.0;
+        net.b = best.1;
+    } else {
+        best_epoch = epochs;
+    }
+    Ok((epochs, best_epoch))
 }

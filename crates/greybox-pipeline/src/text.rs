@@ -11,6 +11,7 @@ use crate::plan::PlanSummary;
 use crate::predict::PredictedPoint;
 use crate::simulate::{CutCase, CutSummary};
 use crate::synth::SynthSummary;
+use crate::table::Table;
 use crate::wear::{WearResult, WearTestRow};
 use anyhow::Result;
 use greybox_core::dataset::PressureConvention;
@@ -22,7 +23,6 @@ use greybox_model::modelfile::ModelFile;
 use greybox_sim::cut_run::RateSensitivityFit;
 use greybox_sim::pin::{PinResult, PinSetup};
 use greybox_tribo::ploughing::Correction;
-use crate::table::Table;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 

@@ -388,18 +388,328 @@ fn columns(layout: &[Entry], interleaved: bool) -> Vec<Col> {
     cols
 }
 
+/// An error at byte `at` of segment `segment` of `source`.
+fn segment_error(source: &str, segment: usize, at: usize, msg: String) -> Error {
+    Error::input(
+        SourcePos::file(source).byte(at as u64),
+        format!("segment {segment}: {msg}"),
+    )
+}
+
+/// One segment's lead-in, checked: its table of contents and where its metadata and raw
+/// data lie in the file.
+struct LeadIn {
+    toc: u32,
+    big: bool,
+    /// First byte after the lead-in (the metadata).
+    seg_start: usize,
+    /// First byte of the raw data.
+    meta_end: usize,
+    /// First byte after the segment.
+    seg_end: usize,
+}
+
+/// Parse and check the 28-byte lead-in of the segment at `pos` of a `len`-byte file.
+fn read_lead_in(
+    lead_in: &[u8],
+    pos: usize,
+    len: usize,
+    source: &str,
+    segment: usize,
+) -> Result<LeadIn> {
+    let err = |at: usize, msg: String| segment_error(source, segment, at, msg);
+    let tag = &lead_in[..4];
+    if tag != b"TDSm" {
+        let hint = if tag == b"TDSh" {
+            " (this is a .tdms_index file; read the .tdms file)"
+        } else {
+            ""
+        };
+        return Err(err(
+            pos,
+            format!(
+                "expected segment tag 'TDSm', found {:?}{hint}",
+                String::from_utf8_lossy(tag)
+            ),
+        ));
+    }
+    let toc = u32::from_le_bytes(lead_in[4..8].try_into().expect("4 bytes"));
+    let big = toc & TOC_BIG_ENDIAN != 0;
+    let mut lead = Cursor {
+        bytes: lead_in,
+        base: pos,
+        pos: pos + 8,
+        end: pos + LEAD_IN,
+        big,
+        source,
+        segment,
+    };
+    let version = lead.u32()?;
+    if version != 4712 && version != 4713 {
+        return Err(err(
+            pos + 8,
+            format!("unsupported TDMS version {version} (expected 4712 or 4713)"),
+        ));
+    }
+    let next_offset = lead.u64()?;
+    let raw_offset = lead.u64()?;
+    let seg_start = pos + LEAD_IN;
+    let seg_end = if next_offset == u64::MAX {
+        len // segment left open by an interrupted writer: data runs to the end of file
+    } else {
+        match (seg_start as u64).checked_add(next_offset) {
+            Some(end) if end <= len as u64 => end as usize,
+            _ => {
+                return Err(err(
+                    pos,
+                    format!("truncated: the segment declares {next_offset} bytes after its lead-in, the file has {}", len - seg_start),
+                ))
+            }
+        }
+    };
+    if raw_offset > (seg_end - seg_start) as u64 {
+        return Err(err(
+            pos + 20,
+            format!("raw data offset {raw_offset} lies beyond the segment end"),
+        ));
+    }
+    if toc & TOC_DAQMX != 0 {
+        return Err(err(pos, "DAQmx raw data is not supported".into()));
+    }
+    Ok(LeadIn {
+        toc,
+        big,
+        seg_start,
+        meta_end: seg_start + raw_offset as usize,
+        seg_end,
+    })
+}
+
+/// The objects met so far, and which of them carry raw data in the current segment.
+struct Objects {
+    file: TdmsFile,
+    index_of: HashMap<String, usize>,
+    /// Each object's last raw data index (for "same as previous").
+    last_index: HashMap<usize, RawIndex>,
+    /// The objects with raw data in the current segment, in order.
+    active: Vec<(usize, RawIndex)>,
+    /// Whether `active` changed since the last layout was recorded.
+    active_changed: bool,
+}
+
+impl Objects {
+    /// Read a segment's metadata (`c` spans it): new objects, raw data indices, properties.
+    fn read_meta(&mut self, c: &mut Cursor, new_list: bool) -> Result<()> {
+        self.active_changed = true;
+        if new_list {
+            self.active.clear();
+        }
+        let n_objects = c.u32()?;
+        for _ in 0..n_objects {
+            let at = c.pos;
+            let path = c.string()?;
+            let obj = self.object(&path);
+            let index_len = c.u32()?;
+            self.read_raw_index(c, obj, &path, at, index_len)?;
+            let n_props = c.u32()?;
+            for _ in 0..n_props {
+                let name = c.string()?;
+                let ptype = c.u32()?;
+                let value = c.property(ptype)?;
+                self.file.objects[obj].set_property(name, value);
+            }
+        }
+        Ok(())
+    }
+
+    /// The index of the object `path`, added on first sight.
+    fn object(&mut self, path: &str) -> usize {
+        let objects = &mut self.file.objects;
+        *self.index_of.entry(path.to_string()).or_insert_with(|| {
+            objects.push(TdmsObject {
+                path: path.to_string(),
+                ..Default::default()
+            });
+            objects.len() - 1
+        })
+    }
+
+    /// An object's raw data index (`index_len` already read): none, the previous one, or a
+    /// new one (data type, dimension, value count, and for strings the byte count).
+    fn read_raw_index(
+        &mut self,
+        c: &mut Cursor,
+        obj: usize,
+        path: &str,
+        at: usize,
+        index_len: u32,
+    ) -> Result<()> {
+        let (source, segment) = (c.source, c.segment);
+        let err = |msg: String| segment_error(source, segment, at, msg);
+        match index_len {
+            NO_RAW_DATA => self.active.retain(|(o, _)| *o != obj),
+            SAME_AS_PREVIOUS => {
+                let idx = *self.last_index.get(&obj).ok_or_else(|| {
+                    err(format!(
+                        "object {path} reuses a previous raw data index but has none"
+                    ))
+                })?;
+                upsert(&mut self.active, obj, idx);
+            }
+            0x6912_0000 | 0x6913_0000 => {
+                return Err(err(format!(
+                    "object {path}: DAQmx raw data is not supported"
+                )))
+            }
+            _ => {
+                let dtype = c.u32()?;
+                let dim = c.u32()?;
+                if dim != 1 {
+                    return Err(err(format!(
+                        "object {path}: array dimension {dim}, TDMS allows only 1"
+                    )));
+                }
+                let n_values = c.u64()?;
+                let bytes_total = if dtype == T_STRING {
+                    c.u64()?
+                } else {
+                    let size = type_size(dtype).ok_or_else(|| {
+                        err(format!("object {path}: unsupported data type 0x{dtype:x}"))
+                    })?;
+                    n_values
+                        .checked_mul(size as u64)
+                        .ok_or_else(|| err("value count overflows".into()))?
+                };
+                let idx = RawIndex {
+                    dtype,
+                    n_values,
+                    bytes: bytes_total,
+                };
+                if let Some(prev) = self.file.objects[obj].data_type {
+                    if prev != dtype {
+                        return Err(err(format!(
+                            "object {path} changes data type from 0x{prev:x} to 0x{dtype:x}"
+                        )));
+                    }
+                }
+                self.file.objects[obj].data_type = Some(dtype);
+                self.last_index.insert(obj, idx);
+                upsert(&mut self.active, obj, idx);
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Plan {
+    /// Record where a segment's raw data lie: its chunks checked against the active objects,
+    /// appended to the current run when it continues it at the same step.
+    fn add_raw_data(
+        &mut self,
+        objects: &mut Objects,
+        seg: &LeadIn,
+        source: &str,
+        segment: usize,
+    ) -> Result<()> {
+        let err = |msg: String| segment_error(source, segment, seg.meta_end, msg);
+        let active = &objects.active;
+        let chunk = active
+            .iter()
+            .try_fold(0u64, |sum, (_, i)| sum.checked_add(i.bytes))
+            .ok_or_else(|| err("raw data chunk size overflows".into()))?;
+        let data_len = (seg.seg_end - seg.meta_end) as u64;
+        if chunk == 0 {
+            return Ok(()); // nothing to read
+        }
+        if !data_len.is_multiple_of(chunk) {
+            return Err(err(format!(
+                "raw data truncated: {data_len} bytes is not a whole number of {chunk}-byte chunks"
+            )));
+        }
+        let interleaved = seg.toc & TOC_INTERLEAVED != 0;
+        if interleaved {
+            let n = active[0].1.n_values;
+            if active
+                .iter()
+                .any(|(_, i)| i.n_values != n || i.dtype == T_STRING)
+            {
+                return Err(err(
+                    "interleaved data needs equal-length numeric channels".into()
+                ));
+            }
+        }
+        // chunk <= data_len <= len: both fit in usize
+        let n_chunks = (data_len / chunk) as usize;
+        if n_chunks == 0 {
+            return Ok(());
+        }
+        if objects.active_changed || self.layouts.is_empty() {
+            // every entry holds at least one byte of this segment: the layouts stay smaller
+            // than the file
+            let layout: Vec<Entry> = active
+                .iter()
+                .filter(|(_, i)| i.bytes > 0)
+                .map(|&(obj, idx)| Entry { obj, idx })
+                .collect();
+            if self.layouts.last() != Some(&layout) {
+                self.layouts.push(layout);
+            }
+            objects.active_changed = false;
+        }
+        let layout = self.layouts.len() - 1;
+        let (n_chunks, chunk) = if interleaved {
+            // rows: the values' sizes add up to chunk / n
+            let n = objects.active[0].1.n_values;
+            ((data_len / chunk * n) as usize, (chunk / n) as usize)
+        } else {
+            (n_chunks, chunk as usize)
+        };
+        let (big, start) = (seg.big, seg.meta_end);
+        match self.runs.last_mut() {
+            Some(run)
+                if (
+                    run.n_chunks,
+                    run.chunk,
+                    run.big,
+                    run.interleaved,
+                    run.layout,
+                ) == (n_chunks, chunk, big, interleaved, layout)
+                    && (run.repeat == 1 || start == run.start + run.repeat * run.step) =>
+            {
+                if run.repeat == 1 {
+                    run.step = start - run.start;
+                }
+                run.repeat += 1;
+            }
+            _ => self.runs.push(Run {
+                start,
+                step: 0,
+                repeat: 1,
+                n_chunks,
+                chunk,
+                big,
+                interleaved,
+                layout,
+            }),
+        }
+        Ok(())
+    }
+}
+
 /// First pass: lead-ins and metadata of every segment, checked; objects with their
 /// properties; where the raw data lies. No raw data is read.
 fn scan(src: &Source, source: &str, tuning: &Tuning) -> Result<(TdmsFile, Plan)> {
-    let mut file = TdmsFile {
-        source: source.to_string(),
-        objects: Vec::new(),
+    let mut objects = Objects {
+        file: TdmsFile {
+            source: source.to_string(),
+            objects: Vec::new(),
+        },
+        index_of: HashMap::new(),
+        last_index: HashMap::new(),
+        active: Vec::new(),
+        active_changed: true,
     };
     let mut plan = Plan::default();
-    let mut index_of: HashMap<String, usize> = HashMap::new();
-    let mut last_index: HashMap<usize, RawIndex> = HashMap::new();
-    let mut active: Vec<(usize, RawIndex)> = Vec::new();
-    let mut active_changed = true;
     let mut window = Window::default();
     let mut ahead = tuning.read_ahead;
     let mut pos = 0usize;
@@ -413,261 +723,40 @@ fn scan(src: &Source, source: &str, tuning: &Tuning) -> Result<(TdmsFile, Plan)>
     }
     while pos < len {
         segment += 1;
-        let err = |at: usize, msg: String| {
-            Error::input(
-                SourcePos::file(source).byte(at as u64),
-                format!("segment {segment}: {msg}"),
-            )
-        };
         if len - pos < LEAD_IN {
-            return Err(err(
+            return Err(segment_error(
+                source,
+                segment,
                 pos,
                 format!("truncated lead-in: {} of {LEAD_IN} bytes", len - pos),
             ));
         }
         let lead_in = window.get(src, pos, pos + LEAD_IN, ahead)?;
-        let tag = &lead_in[..4];
-        if tag != b"TDSm" {
-            let hint = if tag == b"TDSh" {
-                " (this is a .tdms_index file; read the .tdms file)"
-            } else {
-                ""
-            };
-            return Err(err(
-                pos,
-                format!(
-                    "expected segment tag 'TDSm', found {:?}{hint}",
-                    String::from_utf8_lossy(tag)
-                ),
-            ));
-        }
-        let toc = u32::from_le_bytes(lead_in[4..8].try_into().expect("4 bytes"));
-        let big = toc & TOC_BIG_ENDIAN != 0;
-        let mut lead = Cursor {
-            bytes: lead_in,
-            base: pos,
-            pos: pos + 8,
-            end: pos + LEAD_IN,
-            big,
-            source,
-            segment,
-        };
-        let version = lead.u32()?;
-        if version != 4712 && version != 4713 {
-            return Err(err(
-                pos + 8,
-                format!("unsupported TDMS version {version} (expected 4712 or 4713)"),
-            ));
-        }
-        let next_offset = lead.u64()?;
-        let raw_offset = lead.u64()?;
-        let seg_start = pos + LEAD_IN;
-        let seg_end = if next_offset == u64::MAX {
-            len // segment left open by an interrupted writer: data runs to the end of file
-        } else {
-            match (seg_start as u64).checked_add(next_offset) {
-                Some(end) if end <= len as u64 => end as usize,
-                _ => {
-                    return Err(err(
-                        pos,
-                        format!("truncated: the segment declares {next_offset} bytes after its lead-in, the file has {}", len - seg_start),
-                    ))
-                }
-            }
-        };
-        if raw_offset > (seg_end - seg_start) as u64 {
-            return Err(err(
-                pos + 20,
-                format!("raw data offset {raw_offset} lies beyond the segment end"),
-            ));
-        }
-        let meta_end = seg_start + raw_offset as usize;
-        if toc & TOC_DAQMX != 0 {
-            return Err(err(pos, "DAQmx raw data is not supported".into()));
-        }
-        if toc & TOC_META_DATA != 0 {
-            active_changed = true;
-            if toc & TOC_NEW_OBJ_LIST != 0 {
-                active.clear();
-            }
-            let meta = window.get(src, seg_start, meta_end, ahead)?;
+        let seg = read_lead_in(lead_in, pos, len, source, segment)?;
+        if seg.toc & TOC_META_DATA != 0 {
+            let meta = window.get(src, seg.seg_start, seg.meta_end, ahead)?;
             let mut c = Cursor {
                 bytes: meta,
-                base: seg_start,
-                pos: seg_start,
-                end: meta_end,
-                big,
+                base: seg.seg_start,
+                pos: seg.seg_start,
+                end: seg.meta_end,
+                big: seg.big,
                 source,
                 segment,
             };
-            let n_objects = c.u32()?;
-            for _ in 0..n_objects {
-                let at = c.pos;
-                let path = c.string()?;
-                let obj = *index_of.entry(path.clone()).or_insert_with(|| {
-                    file.objects.push(TdmsObject {
-                        path: path.clone(),
-                        ..Default::default()
-                    });
-                    file.objects.len() - 1
-                });
-                let index_len = c.u32()?;
-                match index_len {
-                    NO_RAW_DATA => active.retain(|(o, _)| *o != obj),
-                    SAME_AS_PREVIOUS => {
-                        let idx = *last_index.get(&obj).ok_or_else(|| {
-                            err(
-                                at,
-                                format!(
-                                    "object {path} reuses a previous raw data index but has none"
-                                ),
-                            )
-                        })?;
-                        upsert(&mut active, obj, idx);
-                    }
-                    0x6912_0000 | 0x6913_0000 => {
-                        return Err(err(
-                            at,
-                            format!("object {path}: DAQmx raw data is not supported"),
-                        ))
-                    }
-                    _ => {
-                        let dtype = c.u32()?;
-                        let dim = c.u32()?;
-                        if dim != 1 {
-                            return Err(err(
-                                at,
-                                format!("object {path}: array dimension {dim}, TDMS allows only 1"),
-                            ));
-                        }
-                        let n_values = c.u64()?;
-                        let bytes_total = if dtype == T_STRING {
-                            c.u64()?
-                        } else {
-                            let size = type_size(dtype).ok_or_else(|| {
-                                err(
-                                    at,
-                                    format!("object {path}: unsupported data type 0x{dtype:x}"),
-                                )
-                            })?;
-                            n_values
-                                .checked_mul(size as u64)
-                                .ok_or_else(|| err(at, "value count overflows".into()))?
-                        };
-                        let idx = RawIndex {
-                            dtype,
-                            n_values,
-                            bytes: bytes_total,
-                        };
-                        if let Some(prev) = file.objects[obj].data_type {
-                            if prev != dtype {
-                                return Err(err(at, format!("object {path} changes data type from 0x{prev:x} to 0x{dtype:x}")));
-                            }
-                        }
-                        file.objects[obj].data_type = Some(dtype);
-                        last_index.insert(obj, idx);
-                        upsert(&mut active, obj, idx);
-                    }
-                }
-                let n_props = c.u32()?;
-                for _ in 0..n_props {
-                    let name = c.string()?;
-                    let ptype = c.u32()?;
-                    let value = c.property(ptype)?;
-                    file.objects[obj].set_property(name, value);
-                }
-            }
+            objects.read_meta(&mut c, seg.toc & TOC_NEW_OBJ_LIST != 0)?;
         }
-        if toc & TOC_RAW_DATA != 0 && !active.is_empty() {
-            let chunk = active
-                .iter()
-                .try_fold(0u64, |sum, (_, i)| sum.checked_add(i.bytes))
-                .ok_or_else(|| err(meta_end, "raw data chunk size overflows".into()))?;
-            let data_len = (seg_end - meta_end) as u64;
-            if chunk == 0 {
-                // nothing to read
-            } else if !data_len.is_multiple_of(chunk) {
-                return Err(err(
-                    meta_end,
-                    format!("raw data truncated: {data_len} bytes is not a whole number of {chunk}-byte chunks"),
-                ));
-            } else {
-                let interleaved = toc & TOC_INTERLEAVED != 0;
-                if interleaved {
-                    let n = active[0].1.n_values;
-                    if active
-                        .iter()
-                        .any(|(_, i)| i.n_values != n || i.dtype == T_STRING)
-                    {
-                        return Err(err(
-                            meta_end,
-                            "interleaved data needs equal-length numeric channels".into(),
-                        ));
-                    }
-                }
-                // chunk <= data_len <= len: both fit in usize
-                let n_chunks = (data_len / chunk) as usize;
-                if n_chunks > 0 {
-                    if active_changed || plan.layouts.is_empty() {
-                        // every entry holds at least one byte of this segment: the layouts
-                        // stay smaller than the file
-                        let layout: Vec<Entry> = active
-                            .iter()
-                            .filter(|(_, i)| i.bytes > 0)
-                            .map(|&(obj, idx)| Entry { obj, idx })
-                            .collect();
-                        if plan.layouts.last() != Some(&layout) {
-                            plan.layouts.push(layout);
-                        }
-                        active_changed = false;
-                    }
-                    let layout = plan.layouts.len() - 1;
-                    let (n_chunks, chunk) = if interleaved {
-                        // rows: the values' sizes add up to chunk / n
-                        let n = active[0].1.n_values;
-                        ((data_len / chunk * n) as usize, (chunk / n) as usize)
-                    } else {
-                        (n_chunks, chunk as usize)
-                    };
-                    match plan.runs.last_mut() {
-                        Some(run)
-                            if (
-                                run.n_chunks,
-                                run.chunk,
-                                run.big,
-                                run.interleaved,
-                                run.layout,
-                            ) == (n_chunks, chunk, big, interleaved, layout)
-                                && (run.repeat == 1
-                                    || meta_end == run.start + run.repeat * run.step) =>
-                        {
-                            if run.repeat == 1 {
-                                run.step = meta_end - run.start;
-                            }
-                            run.repeat += 1;
-                        }
-                        _ => plan.runs.push(Run {
-                            start: meta_end,
-                            step: 0,
-                            repeat: 1,
-                            n_chunks,
-                            chunk,
-                            big,
-                            interleaved,
-                            layout,
-                        }),
-                    }
-                }
-            }
+        if seg.toc & TOC_RAW_DATA != 0 && !objects.active.is_empty() {
+            plan.add_raw_data(&mut objects, &seg, source, segment)?;
         }
-        ahead = if seg_end - pos <= tuning.read_ahead {
+        ahead = if seg.seg_end - pos <= tuning.read_ahead {
             tuning.read_ahead
         } else {
             0
         };
-        pos = seg_end;
+        pos = seg.seg_end;
     }
-    Ok((file, plan))
+    Ok((objects.file, plan))
 }
 
 /// Work for one thread: (run, blocks of the run).
