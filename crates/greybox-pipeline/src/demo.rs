@@ -5,11 +5,12 @@
 
 use crate::adhesive::{adhesive, AdhesiveOptions};
 use crate::characterize::{characterize, CharacterizeOptions, CharacterizeReport, ImpactChannels};
+use crate::couple::{couple, CoupleOptions, EngineOptions};
 use crate::export::{equidistant, export, ExportFormat, ExportOptions};
-use crate::fit::{fit, FitOptions, FitOutputs};
+use crate::fit::{fit, FitOptions, FitOutputs, FitResult};
 use crate::identify::{
-    compare_with_truth, identify_campaign, Expectation, IdentifyOptions, IdentifySummary,
-    TruthComparison,
+    compare_with_truth, identify_campaign, Expectation, IdentifyOptions, IdentifyResult,
+    IdentifySummary, TruthComparison,
 };
 use crate::law::{best_family, grey_box_law, write_law, GreyBoxOptions};
 use crate::material::fit_flow_curves;
@@ -21,9 +22,12 @@ use crate::synth::{synthesize, SynthSummary};
 use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::dataset::FrictionDataset;
+use greybox_couple::engine::CouplingResult;
 use greybox_friction::export::{Grid, PressureUnit, SpeedUnit, TempUnit, Units};
+use greybox_learn::model::Family;
 use greybox_tribo::campaign::FileReport;
 use greybox_tribo::frf::ImpactConfig;
+use greybox_tribo::plan::Plan;
 use greybox_tribo::readers::RecordingFormat;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -98,83 +102,169 @@ pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
     // outputs record (report sources, provenance inputs, the law's model reference) holds
     // after the swap, wherever the directory is moved.
     let cwd = WorkingDir::enter(staged.path())?;
-    let out = Path::new("");
-    let plan_files = write_plan(&study, &plan, &out.join("plan"))?;
-    let plan_summary = summarize(&plan, plan_files);
-    let rec_dir = out.join("recordings");
+    let campaign = campaign(&study, &plan)?;
+    let foreign = foreign_rig()?;
+    let law = grey_box(&study, &campaign.dataset_csv)?;
+    let dynamics = dynamics()?;
+    // wear: the article's five pin tests (digest §4), k → V = k F s → k
+    let wear_path = PathBuf::from("wear-tests.csv");
+    write_string_atomic(&wear_path, WEAR_TESTS)?;
+    let wear_tests = greybox_tribo::wear::read_wear_tests(&wear_path)?;
+    let (couple_dir, coupling) = coupling()?;
+    let (curves, material) = material()?;
+    let (cut_dir, cutting) = cut()?;
+    // the run is complete: swap it in
+    provenance(&[])?
+        .with_seed(study.synth.seed)
+        .write_into(Path::new("."))?;
+    drop(cwd);
+    staged.commit()?;
+    Ok(Demo {
+        summary: DemoSummary {
+            plan: campaign.plan,
+            synth: campaign.synth,
+            identify: campaign.identified.summary,
+            correction: law.correction,
+            fit: law.fitted.report,
+            fit_outputs: law.fitted.outputs,
+            law: law.path.display().to_string(),
+            dynamics,
+            wear_tests,
+            coupling,
+            material,
+            cutting,
+        },
+        dataset: campaign.identified.dataset,
+        foreign_files: foreign.identified.summary.identification.files,
+        foreign_error: foreign.error,
+        law_family: law.family.name().to_string(),
+        export_line: law.export_line,
+        paths: DemoPaths {
+            recordings: campaign.recordings,
+            dataset: campaign.dataset_csv,
+            foreign_rig: foreign.dir,
+            dataset_adhesive: law.dataset_adhesive,
+            law: law.path,
+            wear_tests: wear_path,
+            couple: couple_dir,
+            flow_curves: curves,
+            cutting: cut_dir,
+        },
+    })
+}
+
+/// The virtual campaign: the plan, its recordings and what identification found.
+struct Campaign {
+    plan: PlanSummary,
+    synth: SynthSummary,
+    recordings: PathBuf,
+    dataset_csv: PathBuf,
+    identified: IdentifyResult,
+}
+
+/// Plan the study's campaign, record it on the virtual rig (CSV and TDMS) and identify the
+/// TDMS recordings against the plan and the ground truth.
+fn campaign(study: &Study, plan: &Plan) -> Result<Campaign> {
+    let plan_files = write_plan(study, plan, Path::new("plan"))?;
+    let recordings = PathBuf::from("recordings");
     let synth = synthesize(
-        &study,
-        &plan,
-        &rec_dir,
+        study,
+        plan,
+        &recordings,
         &[RecordingFormat::Csv, RecordingFormat::Tdms],
     )?;
-    let dataset = out.join("dataset.csv");
-    let main = identify_campaign(
-        &study,
+    let dataset_csv = PathBuf::from("dataset.csv");
+    let identified = identify_campaign(
+        study,
         &IdentifyOptions {
-            recordings: vec![rec_dir.clone()],
+            recordings: vec![recordings.clone()],
             format: Some(RecordingFormat::Tdms),
             expect: Expectation::Plan(plan.clone()),
             track_radii_mm: Vec::new(),
-            dataset: dataset.clone(),
+            dataset: dataset_csv.clone(),
             inspect_dir: None,
-            truth: Some(rec_dir.join("ground_truth.csv")),
+            truth: Some(recordings.join("ground_truth.csv")),
             side_inputs: Vec::new(),
         },
         None,
     )?;
-    // a recording from another rig: a rotary tribometer's CSV export (preamble, Step column,
-    // time restarting per step, trailing delimiters, footer, rpm on a per-step track radius)
-    let foreign_dir = out.join("foreign-rig");
-    std::fs::create_dir_all(&foreign_dir)?;
-    let foreign_file = foreign_dir.join("rotary-export.csv");
-    greybox_core::atomic::write_string_atomic(&foreign_file, FOREIGN_EXPORT)?;
-    let foreign_truth = foreign_dir.join("rotary-export-truth.csv");
-    greybox_core::atomic::write_string_atomic(&foreign_truth, FOREIGN_TRUTH)?;
-    let foreign = identify_campaign(
-        &Study::default(),
-        &IdentifyOptions {
-            recordings: vec![foreign_file],
-            format: None,
-            expect: Expectation::None,
-            track_radii_mm: FOREIGN_RADII_MM.to_vec(),
-            dataset: foreign_dir.join("dataset.csv"),
-            inspect_dir: None,
-            truth: None,
-            side_inputs: Vec::new(),
-        },
-        None,
-    )?;
-    let foreign_error = compare_with_truth(&foreign.dataset, &foreign_truth)?;
-    // ploughing correction with the article's Table 3 track widths
+    Ok(Campaign {
+        plan: summarize(plan, plan_files),
+        synth,
+        recordings,
+        dataset_csv,
+        identified,
+    })
+}
+
+/// A recording from another rig, identified without a plan.
+struct ForeignRig {
+    dir: PathBuf,
+    identified: IdentifyResult,
+    error: TruthComparison,
+}
+
+/// A rotary tribometer's CSV export (preamble, Step column, time restarting per step,
+/// trailing delimiters, footer, rpm on a per-step track radius), identified and compared
+/// with its ground truth.
+fn foreign_rig() -> Result<ForeignRig> {
+    let dir = PathBuf::from("foreign-rig");
+    std::fs::create_dir_all(&dir)?;
+    let file = dir.join("rotary-export.csv");
+    write_string_atomic(&file, FOREIGN_EXPORT)?;
+    let truth = dir.join("rotary-export-truth.csv");
+    write_string_atomic(&truth, FOREIGN_TRUTH)?;
+    let mut options = IdentifyOptions::new(vec![file], dir.join("dataset.csv"));
+    options.track_radii_mm = FOREIGN_RADII_MM.to_vec();
+    let identified = identify_campaign(&Study::default(), &options, None)?;
+    let error = compare_with_truth(&identified.dataset, &truth)?;
+    Ok(ForeignRig {
+        dir,
+        identified,
+        error,
+    })
+}
+
+/// From the dataset to the grey-box law and its exports.
+struct GreyBox {
+    correction: greybox_tribo::ploughing::Correction,
+    dataset_adhesive: PathBuf,
+    fitted: FitResult,
+    family: Family,
+    path: PathBuf,
+    export_line: String,
+}
+
+/// The ploughing correction (the article's Table 3 track widths), the article's protocol on
+/// the adhesive COF, the grey-box law around the family with the best held-out R², its
+/// Abaqus table, and the C ABI's header and Fortran module.
+fn grey_box(study: &Study, dataset_csv: &Path) -> Result<GreyBox> {
     let mut adhesive_options =
-        AdhesiveOptions::analytic(dataset.clone(), out.join("dataset_adhesive.csv"));
+        AdhesiveOptions::analytic(dataset_csv.to_path_buf(), "dataset_adhesive.csv".into());
     adhesive_options.pin_radius_mm = study.contact.pin_tip_radius_mm;
     let (_, correction) = adhesive(&adhesive_options)?;
-    // the article's protocol on the adhesive COF
     let fitted = fit(&FitOptions::article(
         adhesive_options.out.clone(),
         "cof_adhesive",
-        out.join("fit"),
+        "fit".into(),
     ))?;
-    // grey-box law around the family with the best held-out R², exported for Abaqus, plus the C ABI files
-    let best = best_family(&fitted.report)
+    let family = best_family(&fitted.report)
         .ok_or_else(|| anyhow::anyhow!("no model family was fitted"))?
         .family;
     let law = grey_box_law(
-        PathBuf::from(format!("fit/models/{}.json", best.name())),
+        PathBuf::from(format!("fit/models/{}.json", family.name())),
         Some(study.contact),
         &GreyBoxOptions {
             shear_cap_k_mpa: Some(DEMO_SHEAR_CAP_MPA),
             ..GreyBoxOptions::default()
         },
     );
-    let law_path = out.join("law.json");
-    write_law(&law_path, &law)?;
+    let path = PathBuf::from("law.json");
+    write_law(&path, &law)?;
     let export_line = export(&ExportOptions {
-        law: law_path.clone(),
+        law: path.clone(),
         format: ExportFormat::Abaqus,
-        out: out.join("abaqus_friction.inp"),
+        out: "abaqus_friction.inp".into(),
         grid: Grid {
             pressure_pa: equidistant(900.0, 2200.0, 14)
                 .iter()
@@ -198,9 +288,21 @@ pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
         lsdyna_table_id: 1000,
         check_points: 0,
     })?;
-    write_string_atomic(&out.join("ffi/greybox.h"), GREYBOX_H)?;
-    write_string_atomic(&out.join("ffi/greybox.f90"), GREYBOX_F90)?;
-    // rig dynamics: virtual impact-hammer tests at the article's three loads
+    write_string_atomic(Path::new("ffi/greybox.h"), GREYBOX_H)?;
+    write_string_atomic(Path::new("ffi/greybox.f90"), GREYBOX_F90)?;
+    Ok(GreyBox {
+        correction,
+        dataset_adhesive: adhesive_options.out,
+        fitted,
+        family,
+        path,
+        export_line,
+    })
+}
+
+/// Rig dynamics: virtual impact-hammer tests at the article's three loads, characterised
+/// against the campaign's spindle excitation.
+fn dynamics() -> Result<CharacterizeReport> {
     let mut recordings = Vec::new();
     for (load, f_hz, zeta) in VIRTUAL_RIG {
         let rec = greybox_tribo::frf_synth::Chain::sdof(3.0, f_hz, zeta).record(
@@ -220,11 +322,12 @@ pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
                 rec.response[k]
             ));
         }
-        let p = out.join("hammer").join(format!("hammer_{load:.0}N.csv"));
+        let p = Path::new("hammer").join(format!("hammer_{load:.0}N.csv"));
         write_string_atomic(&p, &csv)?;
         recordings.push((p, Some(load)));
     }
-    let dynamics = characterize(&CharacterizeOptions {
+    let study_file = Path::new("plan").join("study.toml");
+    characterize(&CharacterizeOptions {
         recordings,
         channels: ImpactChannels {
             response: "response_m".into(),
@@ -232,46 +335,47 @@ pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
         },
         impact: ImpactConfig::default(),
         harmonics: 3,
-        plan: Study::load(&out.join("plan").join("study.toml"))
+        plan: Study::load(&study_file)
             .ok()
             .and_then(|s| s.plan.build().ok()),
-        study: Some(out.join("plan").join("study.toml")),
-        out: out.join("characterize"),
+        study: Some(study_file),
+        out: "characterize".into(),
         force: false,
+    })
+}
+
+/// The bundled CalculiX restart-loop example: written, and run when ccx is installed.
+fn coupling() -> Result<(PathBuf, Option<CouplingResult>)> {
+    let dir = PathBuf::from("couple");
+    greybox_couple::example::write_example(&dir, 5)?;
+    if std::process::Command::new("ccx")
+        .arg("-v")
+        .output()
+        .is_err()
+    {
+        return Ok((dir, None));
+    }
+    let result = couple(&CoupleOptions {
+        engine: EngineOptions::Calculix {
+            ccx: "ccx".into(),
+            deck: dir.join("model.inp"),
+            segment: dir.join("segment.inp"),
+            pressure_pa_per_unit: 1e6,
+            length_m_per_unit: 1e-3,
+            segment_s: 1e-3,
+        },
+        law: dir.join("law.json"),
+        work: dir.join("run"),
+        max_cycles: 20,
+        tol: 1e-3,
     })?;
-    // wear: the article's five pin tests (digest §4), k → V = k F s → k
-    let wear_path = out.join("wear-tests.csv");
-    write_string_atomic(&wear_path, WEAR_TESTS)?;
-    let wear_tests = greybox_tribo::wear::read_wear_tests(&wear_path)?;
-    // coupling: the bundled CalculiX example, run when ccx is installed
-    let couple_dir = out.join("couple");
-    greybox_couple::example::write_example(&couple_dir, 5)?;
-    let coupling = if std::process::Command::new("ccx").arg("-v").output().is_ok() {
-        let law = greybox_friction::spec::load_law(&couple_dir.join("law.json"))?;
-        let mut engine = greybox_couple::calculix::CalculixEngine::new(
-            greybox_couple::calculix::CalculixConfig {
-                ccx: "ccx".into(),
-                deck: couple_dir.join("model.inp"),
-                segment_template: couple_dir.join("segment.inp"),
-                work: couple_dir.join("run"),
-                pressure_pa_per_unit: 1e6,
-                length_m_per_unit: 1e-3,
-                segment_s: 1e-3,
-            },
-        )?;
-        Some(greybox_couple::engine::couple(
-            &mut engine,
-            law.as_ref(),
-            20,
-            1e-3,
-            Some(&couple_dir.join("run").join("history.csv")),
-        )?)
-    } else {
-        None
-    };
-    // material: J-C A, B, n, m from the article's compression programme (virtual curves with
-    // 1 % noise and the blue-brittleness anomaly at 359 °C)
-    let curves = out.join("material").join("flow-curves.csv");
+    Ok((dir, Some(result)))
+}
+
+/// J-C A, B, n, m from the article's compression programme: virtual curves with 1 % noise
+/// and the blue-brittleness anomaly at 359 °C.
+fn material() -> Result<(PathBuf, greybox_material::fit::JcFit)> {
+    let curves = Path::new("material").join("flow-curves.csv");
     let truth = greybox_material::JohnsonCook {
         room_temperature_k: 298.15,
         ..greybox_material::JohnsonCook::aisi1045_article()
@@ -285,7 +389,7 @@ pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
         }
     });
     greybox_material::fit::write_flow_curves(&curves, &pts)?;
-    let material = fit_flow_curves(
+    let fitted = fit_flow_curves(
         &curves,
         &greybox_material::fit::FitOptions {
             c: truth.c,
@@ -294,56 +398,23 @@ pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
             melt_temperature_k: truth.melt_temperature_k,
             misfit_threshold: 0.05,
         },
-        Some(&out.join("material").join("jc-fit.json")),
+        Some(&Path::new("material").join("jc-fit.json")),
     )?;
-    // cutting: the article's case (coarser: 12.5 µm spacing) with the grey-box law in 12.5 µm
-    // windows along rake and flank, re-evaluated every 500 steps, until the force is steady
+    Ok((curves, fitted))
+}
+
+/// The article's cut (coarser: 12.5 µm spacing) with the grey-box law in 12.5 µm windows
+/// along rake and flank, re-evaluated every 500 steps, until the force is steady.
+fn cut() -> Result<(PathBuf, CutSummary)> {
     let mut setup: greybox_sim::cutting::CuttingSetup = toml::from_str(DEMO_CUT)?;
     setup.spacing_m = 12.5e-6;
     setup.friction.window_length_m = 12.5e-6;
     setup.cut_length_m = 0.6e-3;
     setup.friction.law_file = Some("law.json".into());
-    let cut_case = cut_case(setup, out)?;
-    let cut_dir = out.join("cutting");
-    let cutting = run_cut(&cut_case, 1.0, &RunOutput::to(&cut_dir))?;
-    // the run is complete: swap it in
-    provenance(&[])?
-        .with_seed(study.synth.seed)
-        .write_into(Path::new("."))?;
-    drop(cwd);
-    staged.commit()?;
-    Ok(Demo {
-        summary: DemoSummary {
-            plan: plan_summary,
-            synth,
-            identify: main.summary,
-            correction,
-            fit: fitted.report,
-            fit_outputs: fitted.outputs,
-            law: law_path.display().to_string(),
-            dynamics,
-            wear_tests,
-            coupling,
-            material,
-            cutting,
-        },
-        dataset: main.dataset,
-        foreign_files: foreign.summary.identification.files,
-        foreign_error,
-        law_family: best.name().to_string(),
-        export_line,
-        paths: DemoPaths {
-            recordings: rec_dir,
-            dataset,
-            foreign_rig: foreign_dir,
-            dataset_adhesive: adhesive_options.out,
-            law: law_path,
-            wear_tests: wear_path,
-            couple: couple_dir,
-            flow_curves: curves,
-            cutting: cut_dir,
-        },
-    })
+    let case = cut_case(setup, Path::new(""))?;
+    let dir = PathBuf::from("cutting");
+    let summary = run_cut(&case, 1.0, &RunOutput::to(&dir))?;
+    Ok((dir, summary))
 }
 
 /// The process working directory set to a directory while the demo writes into it, and
