@@ -305,42 +305,56 @@ pub fn write_cut_plots(
     profile: &[ProfilePoint],
     v: f64,
 ) -> Result<Vec<PathBuf>> {
+    let mut written = vec![write_force_plot(out, hist, v)?];
+    written.extend(write_profile_plots(out, profile)?);
+    Ok(written)
+}
+
+/// `name` in `out`: an SVG of `series` (label, colour, x, y) against the x axis `x_label`.
+fn save_plot(
+    out: &Path,
+    name: &str,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[(&str, &str, &[f64], &[f64])],
+) -> Result<PathBuf> {
     use greybox_core::plot::{lines, Line};
+    let ls: Vec<Line> = series
+        .iter()
+        .map(|&(label, colour, x, y)| Line {
+            label,
+            colour,
+            x,
+            y,
+        })
+        .collect();
+    let p = out.join(name);
+    write_string_atomic(&p, &lines(title, x_label, y_label, &ls, false, &[]))?;
+    Ok(p)
+}
+
+/// forces.svg: cutting and feed force per unit width over the cut length.
+fn write_force_plot(out: &Path, hist: &ForceHistory, v: f64) -> Result<PathBuf> {
     let cut_mm: Vec<f64> = hist.rows.iter().map(|r| r[0] * v * 1e3).collect();
     let fc: Vec<f64> = hist.rows.iter().map(|r| r[3] * 1e-3).collect();
     let ff: Vec<f64> = hist.rows.iter().map(|r| r[4] * 1e-3).collect();
-    let mut written = Vec::new();
-    let mut save = |name: &str, svg: String| -> Result<()> {
-        let p = out.join(name);
-        write_string_atomic(&p, &svg)?;
-        written.push(p);
-        Ok(())
-    };
-    save(
+    save_plot(
+        out,
         "forces.svg",
-        lines(
-            "Tool forces",
-            "cut length (mm)",
-            "force (N/mm)",
-            &[
-                Line {
-                    label: "cutting",
-                    colour: "#1f77b4",
-                    x: &cut_mm,
-                    y: &fc,
-                },
-                Line {
-                    label: "feed",
-                    colour: "#d62728",
-                    x: &cut_mm,
-                    y: &ff,
-                },
-            ],
-            false,
-            &[],
-        ),
-    )?;
-    // Rake side of the edge, in contact, ordered from the edge outwards.
+        "Tool forces",
+        "cut length (mm)",
+        "force (N/mm)",
+        &[
+            ("cutting", "#1f77b4", &cut_mm, &fc),
+            ("feed", "#d62728", &cut_mm, &ff),
+        ],
+    )
+}
+
+/// The rake-face profiles in contact, ordered from the edge outwards: stresses, sliding
+/// velocity, μ and temperature.
+fn write_profile_plots(out: &Path, profile: &[ProfilePoint]) -> Result<Vec<PathBuf>> {
     let mut rake: Vec<(f64, WindowStats, f64)> = profile
         .iter()
         .filter(|p| p.distance_m >= 0.0)
@@ -358,92 +372,46 @@ pub fn write_cut_plots(
     let mu = col(&|_, m| m);
     let mu_eff = col(&|s, _| s.mu_effective);
     let temp = col(&|s, _| s.temperature_k - 273.15);
-    let x_label = "distance from the cutting edge along the rake face (mm)";
-    save(
-        "profile_stress.svg",
-        lines(
+    let x = "distance from the cutting edge along the rake face (mm)";
+    Ok(vec![
+        save_plot(
+            out,
+            "profile_stress.svg",
             "Rake face: contact pressure and shear stress",
-            x_label,
+            x,
             "stress (MPa)",
             &[
-                Line {
-                    label: "pressure in contact",
-                    colour: "#1f77b4",
-                    x: &d,
-                    y: &p,
-                },
-                Line {
-                    label: "mean normal stress",
-                    colour: "#2ca02c",
-                    x: &d,
-                    y: &sn,
-                },
-                Line {
-                    label: "shear stress",
-                    colour: "#d62728",
-                    x: &d,
-                    y: &tau,
-                },
+                ("pressure in contact", "#1f77b4", &d, &p),
+                ("mean normal stress", "#2ca02c", &d, &sn),
+                ("shear stress", "#d62728", &d, &tau),
             ],
-            false,
-            &[],
-        ),
-    )?;
-    save(
-        "profile_velocity.svg",
-        lines(
+        )?,
+        save_plot(
+            out,
+            "profile_velocity.svg",
             "Rake face: sliding velocity",
-            x_label,
+            x,
             "sliding velocity (m/min)",
-            &[Line {
-                label: "sliding velocity",
-                colour: "#2ca02c",
-                x: &d,
-                y: &vs,
-            }],
-            false,
-            &[],
-        ),
-    )?;
-    save(
-        "profile_mu.svg",
-        lines(
+            &[("sliding velocity", "#2ca02c", &d, &vs)],
+        )?,
+        save_plot(
+            out,
+            "profile_mu.svg",
             "Rake face: friction coefficient",
-            x_label,
+            x,
             "mu",
             &[
-                Line {
-                    label: "law mu",
-                    colour: "#9467bd",
-                    x: &d,
-                    y: &mu,
-                },
-                Line {
-                    label: "tau/p",
-                    colour: "#ff7f0e",
-                    x: &d,
-                    y: &mu_eff,
-                },
+                ("law mu", "#9467bd", &d, &mu),
+                ("tau/p", "#ff7f0e", &d, &mu_eff),
             ],
-            false,
-            &[],
-        ),
-    )?;
-    save(
-        "profile_temperature.svg",
-        lines(
+        )?,
+        save_plot(
+            out,
+            "profile_temperature.svg",
             "Rake face: contact temperature",
-            x_label,
+            x,
             "temperature (C)",
-            &[Line {
-                label: "temperature",
-                colour: "#8c564b",
-                x: &d,
-                y: &temp,
-            }],
-            false,
-            &[],
-        ),
-    )?;
-    Ok(written)
+            &[("temperature", "#8c564b", &d, &temp)],
+        )?,
+    ])
 }

@@ -3,7 +3,7 @@
 
 use crate::bench::{IngestResult, PredictLatency, SurrogateSpeed};
 use crate::characterize::CharacterizeReport;
-use crate::demo::{Demo, DemoSummary, DEMO_SHEAR_CAP_MPA};
+use crate::demo::{Demo, DEMO_SHEAR_CAP_MPA};
 use crate::fit::FitOutputs;
 use crate::hertz::HertzRow;
 use crate::identify::{inspect_text, summary_table, IdentifySummary};
@@ -257,45 +257,23 @@ pub fn cut(s: &CutSummary) -> String {
 /// directory is).
 pub fn demo(demo: &Demo, out: &Path) -> Result<String> {
     let mut text = String::new();
-    let shown = |p: &Path| -> PathBuf { out.join(p) };
-    let p = &demo.paths;
-    let (rec_dir, dataset, foreign_dir, law_path, wear_path, couple_dir, curves) = (
-        shown(&p.recordings),
-        shown(&p.dataset),
-        shown(&p.foreign_rig),
-        shown(&p.law),
-        shown(&p.wear_tests),
-        shown(&p.couple),
-        shown(&p.flow_curves),
-    );
-    let adhesive_out = shown(&p.dataset_adhesive);
-    let cut_dir = shown(&p.cutting);
-    let DemoSummary {
-        plan: plan_summary,
-        synth: synth_,
-        identify,
-        correction: correction_,
-        fit,
-        fit_outputs,
-        dynamics,
-        wear_tests,
-        coupling,
-        material,
-        cutting,
-        ..
-    } = &demo.summary;
-    let mut identify = identify.clone();
-    identify.dataset = shown(Path::new(&identify.dataset)).display().to_string();
-    let models: Vec<String> = fit_outputs
-        .models
-        .iter()
-        .map(|m| shown(Path::new(m)).display().to_string())
-        .collect();
-    let plots: Vec<String> = fit_outputs
-        .plots
-        .iter()
-        .map(|m| shown(Path::new(m)).display().to_string())
-        .collect();
+    demo_campaign(&mut text, demo, out);
+    demo_law(&mut text, demo, out);
+    demo_wear_and_coupling(&mut text, demo, out)?;
+    demo_material_and_cut(&mut text, demo, out);
+    Ok(text)
+}
+
+/// `p` (relative to the demo's directory) under `out`.
+fn under(out: &Path, p: impl AsRef<Path>) -> PathBuf {
+    out.join(p)
+}
+
+/// Rig dynamics, plan, recordings and their identification (also of the foreign rig).
+fn demo_campaign(text: &mut String, demo: &Demo, out: &Path) {
+    let (s, p) = (&demo.summary, &demo.paths);
+    let mut identify = s.identify.clone();
+    identify.dataset = under(out, &identify.dataset).display().to_string();
     let _ = writeln!(
         text,
         "greybox demo — the seed article's tribometer campaign on a virtual rig\n"
@@ -305,23 +283,27 @@ pub fn demo(demo: &Demo, out: &Path) -> Result<String> {
         "[0/6] rig dynamics: virtual impact-hammer tests at 500, 1000, 2000 N -> {}",
         out.join("characterize").display()
     );
-    text.push_str(&characterize(dynamics));
+    text.push_str(&characterize(&s.dynamics));
     let _ = writeln!(text);
     let _ = writeln!(text, "[1/6] plan -> {}", out.join("plan").display());
-    text.push_str(&plan(plan_summary));
-    let _ = writeln!(text, "\n[2/6] synth -> {}", rec_dir.display());
-    text.push_str(&synth(synth_));
+    text.push_str(&plan(&s.plan));
+    let _ = writeln!(
+        text,
+        "\n[2/6] synth -> {}",
+        under(out, &p.recordings).display()
+    );
+    text.push_str(&synth(&s.synth));
     let _ = writeln!(
         text,
         "\n[3/6] identify (TDMS recordings) -> {}",
-        dataset.display()
+        under(out, &p.dataset).display()
     );
     let _ = write!(text, "{}", summary_table(&demo.dataset));
     text.push_str(&identify_footer(&identify));
     let _ = writeln!(
         text,
         "\n[3b] identify a foreign rig's export (rotary tribometer CSV, no plan) -> {}",
-        foreign_dir.join("dataset.csv").display()
+        under(out, p.foreign_rig.join("dataset.csv")).display()
     );
     let _ = write!(text, "{}", inspect_text(&demo.foreign_files));
     let _ = writeln!(
@@ -329,21 +311,37 @@ pub fn demo(demo: &Demo, out: &Path) -> Result<String> {
         "  against its ground truth: max |COF - COF_true| = {:.5} over {} steps",
         demo.foreign_error.max_abs_error, demo.foreign_error.plateaus
     );
-    let _ =
-        writeln!(text,
+}
+
+/// Ploughing correction, the fit, the grey-box law and its exports.
+fn demo_law(text: &mut String, demo: &Demo, out: &Path) {
+    let (s, p) = (&demo.summary, &demo.paths);
+    let shown = |v: &[String]| -> String {
+        v.iter()
+            .map(|m| under(out, m).display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let _ = writeln!(
+        text,
         "\n[4/6] adhesive COF (Bowden-Tabor ploughing, the article's Table 3 track widths) -> {}",
-        adhesive_out.display()
+        under(out, &p.dataset_adhesive).display()
     );
-    text.push_str(&correction(correction_));
+    text.push_str(&correction(&s.correction));
     let _ = writeln!(
         text,
         "\n[5/6] fit: the article's four model families and grids on cof_adhesive -> {}",
         out.join("fit").display()
     );
-    let _ = writeln!(text, "{}", greybox_learn::protocol::markdown(fit));
-    let _ = writeln!(text, "models: {}", models.join(", "));
-    let _ = writeln!(text, "plots:  {}", plots.join(", "));
-    let _ = writeln!(text, "\n[6/6] grey-box law ({} inside its training domain, fitted power law outside, Zorev cap {DEMO_SHEAR_CAP_MPA} MPa) -> {}", demo.law_family, law_path.display());
+    let _ = writeln!(text, "{}", greybox_learn::protocol::markdown(&s.fit));
+    let _ = writeln!(text, "models: {}", shown(&s.fit_outputs.models));
+    let _ = writeln!(text, "plots:  {}", shown(&s.fit_outputs.plots));
+    let _ = writeln!(
+        text,
+        "\n[6/6] grey-box law ({} inside its training domain, fitted power law outside, Zorev cap {DEMO_SHEAR_CAP_MPA} MPa) -> {}",
+        demo.law_family,
+        under(out, &p.law).display()
+    );
     let _ = writeln!(text, "{}", demo.export_line);
     let _ = writeln!(
         text,
@@ -351,12 +349,17 @@ pub fn demo(demo: &Demo, out: &Path) -> Result<String> {
         out.join("ffi/greybox.h").display(),
         out.join("ffi/greybox.f90").display()
     );
+}
+
+/// The article's wear tests re-derived, and the CalculiX restart loop (or how to run it).
+fn demo_wear_and_coupling(text: &mut String, demo: &Demo, out: &Path) -> Result<()> {
+    let (s, p) = (&demo.summary, &demo.paths);
     let _ = writeln!(
         text,
         "\nwear (the article's pin tests, {}): implied volumes V = k F s and k back from V",
-        wear_path.display()
+        under(out, &p.wear_tests).display()
     );
-    for w in wear_tests {
+    for w in &s.wear_tests {
         let v = w.implied_volume_mm3();
         let k_back = greybox_tribo::wear::archard_k(v, w.normal_force_n, w.distance_m())? * 1e7;
         let _ = writeln!(
@@ -371,9 +374,11 @@ pub fn demo(demo: &Demo, out: &Path) -> Result<String> {
             k_back
         );
     }
-    match &coupling {
+    let couple_dir = under(out, &p.couple);
+    match &s.coupling {
         Some(r) => {
-            let _ = writeln!(text,
+            let _ = writeln!(
+                text,
                 "\ncoupling with CalculiX ({}): the restart loop {} after {} cycles; final μ per window:",
                 couple_dir.display(),
                 if r.converged { "converged" } else { "did not converge" },
@@ -384,30 +389,37 @@ pub fn demo(demo: &Demo, out: &Path) -> Result<String> {
             }
         }
         None => {
-            let _ = writeln!(text,
-            "\ncoupling: example deck written to {} (install calculix-ccx to run it: greybox couple --deck {}/model.inp --segment {}/segment.inp --law {}/law.json)",
-            couple_dir.display(),
-            couple_dir.display(),
-            couple_dir.display(),
-            couple_dir.display()
-        );
+            let d = couple_dir.display();
+            let _ = writeln!(
+                text,
+                "\ncoupling: example deck written to {d} (install calculix-ccx to run it: greybox couple --deck {d}/model.inp --segment {d}/segment.inp --law {d}/law.json)"
+            );
         }
     }
-    let _ = writeln!(text,
+    Ok(())
+}
+
+/// The Johnson–Cook fit and the cut with the grey-box law.
+fn demo_material_and_cut(text: &mut String, demo: &Demo, out: &Path) {
+    let (s, p) = (&demo.summary, &demo.paths);
+    let _ = writeln!(
+        text,
         "\nmaterial: Johnson-Cook A, B, n, m from virtual compression curves at 25-1027 °C ({}; truth: the article's Table 4, 1 % noise, 12 % dynamic strain ageing at 359 °C)",
-        curves.display()
+        under(out, &p.flow_curves).display()
     );
-    text.push_str(&johnson_cook(material));
-    let _ = writeln!(text,
+    text.push_str(&johnson_cook(&s.material));
+    let cut_dir = under(out, &p.cutting);
+    let _ = writeln!(
+        text,
         "\ncutting: AISI 1045, 150 m/min, h = 0.1 mm, grey-box law in friction windows along the tool -> {}",
         cut_dir.display()
     );
-    text.push_str(&cut(cutting));
-    let _ = writeln!(text,
+    text.push_str(&cut(&s.cutting));
+    let _ = writeln!(
+        text,
         "  contact profile along the rake face (pressure, sliding velocity, temperature, mu, shear stress): {}",
         cut_dir.join("contact_profile.csv").display()
     );
-    Ok(text)
 }
 
 /// The restart loop's outcome: convergence, the final μ per window, the files.
