@@ -16,7 +16,7 @@ use greybox_core::atomic::write_string_atomic;
 use greybox_core::{Error, Result, SourcePos};
 pub use greybox_friction::export::{frcwin_block, parse_frcwin, FrcWin};
 use serde::{Deserialize, Serialize};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -67,8 +67,29 @@ pub fn build_windows(mesh: &Mesh, coating_set: &str, opt: WindowOptions) -> Resu
             "outward and inward extents must be ≥ 0 and not both 0",
         ));
     }
-    let coating: std::collections::HashSet<usize> =
-        mesh.set(coating_set)?.iter().copied().collect();
+    let coating: HashSet<usize> = mesh.set(coating_set)?.iter().copied().collect();
+    let next = coating_surface(mesh, &coating)?;
+    if next.is_empty() {
+        return Err(Error::input(
+            SourcePos::file(&mesh.source).field(coating_set),
+            format!("no element of set '{coating_set}' lies on the outer boundary of the mesh"),
+        ));
+    }
+    let mut windows = Vec::new();
+    for (chain, closed) in chains(mesh, &next) {
+        chain_windows(mesh, &next, &chain, closed, &opt, &mut windows);
+    }
+    Ok(windows)
+}
+
+/// The coating's outer surface: for each surface node, the next node along the surface and
+/// the outward unit normal of the edge between them. Edges are oriented so that the outward
+/// normal is the edge direction turned clockwise (the solid lies to the left when walking
+/// a → b).
+fn coating_surface(
+    mesh: &Mesh,
+    coating: &HashSet<usize>,
+) -> Result<HashMap<usize, (usize, [f64; 2])>> {
     // edge (sorted node pair) → owning elements
     let mut owners: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
     for (ei, e) in mesh.elements.iter().enumerate() {
@@ -85,10 +106,7 @@ pub fn build_windows(mesh: &Mesh, coating_set: &str, opt: WindowOptions) -> Resu
         });
         [s[0] / n, s[1] / n]
     };
-    // surface edges, oriented so that the outward normal is the edge direction turned clockwise
-    // (i.e. the solid lies to the left when walking a → b)
     let mut next: HashMap<usize, (usize, [f64; 2])> = HashMap::new();
-    let mut has_prev: std::collections::HashSet<usize> = std::collections::HashSet::new();
     for (&(a, b), own) in &owners {
         if own.len() != 1 || !coating.contains(&own[0]) {
             continue;
@@ -113,24 +131,24 @@ pub fn build_windows(mesh: &Mesh, coating_set: &str, opt: WindowOptions) -> Resu
                 ),
             ));
         }
-        has_prev.insert(to);
     }
-    if next.is_empty() {
-        return Err(Error::input(
-            SourcePos::file(&mesh.source).field(coating_set),
-            format!("no element of set '{coating_set}' lies on the outer boundary of the mesh"),
-        ));
-    }
-    // chains: start at nodes without a predecessor; then closed loops
+    Ok(next)
+}
+
+/// The surface as chains of nodes (and whether each closes on itself): open chains from the
+/// nodes without a predecessor first, then the closed loops, each started at its lowest node
+/// id so that the numbering does not depend on hashing.
+fn chains(mesh: &Mesh, next: &HashMap<usize, (usize, [f64; 2])>) -> Vec<(Vec<usize>, bool)> {
+    let has_prev: HashSet<usize> = next.values().map(|&(to, _)| to).collect();
     let mut starts: Vec<usize> = next
         .keys()
         .filter(|k| !has_prev.contains(k))
         .copied()
         .collect();
     starts.sort_by_key(|&k| mesh.node_ids[k]);
-    let mut visited: std::collections::HashSet<usize> = std::collections::HashSet::new();
+    let mut visited: HashSet<usize> = HashSet::new();
     let mut chains: Vec<(Vec<usize>, bool)> = Vec::new();
-    let walk = |start: usize, visited: &mut std::collections::HashSet<usize>| {
+    let walk = |start: usize, visited: &mut HashSet<usize>| {
         let mut chain = vec![start];
         let mut cur = start;
         let mut closed = false;
@@ -162,81 +180,90 @@ pub fn build_windows(mesh: &Mesh, coating_set: &str, opt: WindowOptions) -> Resu
             chains.push(walk(s, &mut visited));
         }
     }
-    let mut windows = Vec::new();
-    for (chain, closed) in chains {
-        let nseg = if closed { chain.len() } else { chain.len() - 1 };
-        let seg_normal = |k: usize| next[&chain[k % chain.len()]].1;
-        let seg_len = |k: usize| {
-            let d = sub(
-                mesh.nodes[chain[(k + 1) % chain.len()]],
-                mesh.nodes[chain[k % chain.len()]],
-            );
-            (d[0] * d[0] + d[1] * d[1]).sqrt()
+    chains
+}
+
+/// The windows along one chain: consecutive segments grouped until `segment_length` is
+/// reached (one per segment without it), each window the band from `inward` inside to
+/// `outward` outside the surface, offset along the vertex normals.
+fn chain_windows(
+    mesh: &Mesh,
+    next: &HashMap<usize, (usize, [f64; 2])>,
+    chain: &[usize],
+    closed: bool,
+    opt: &WindowOptions,
+    windows: &mut Vec<Window>,
+) {
+    let nseg = if closed { chain.len() } else { chain.len() - 1 };
+    let seg_normal = |k: usize| next[&chain[k % chain.len()]].1;
+    let seg_len = |k: usize| {
+        let d = sub(
+            mesh.nodes[chain[(k + 1) % chain.len()]],
+            mesh.nodes[chain[k % chain.len()]],
+        );
+        (d[0] * d[0] + d[1] * d[1]).sqrt()
+    };
+    // vertex normals (miter direction, scaled so the offset band keeps its thickness)
+    let vnormal = |k: usize| -> [f64; 2] {
+        let prev = if k > 0 {
+            Some(seg_normal(k - 1))
+        } else if closed {
+            Some(seg_normal(nseg - 1))
+        } else {
+            None
         };
-        // vertex normals (miter direction, scaled so the offset band keeps its thickness)
-        let vnormal = |k: usize| -> [f64; 2] {
-            let prev = if k > 0 {
-                Some(seg_normal(k - 1))
-            } else if closed {
-                Some(seg_normal(nseg - 1))
-            } else {
-                None
-            };
-            let cur = if k < nseg {
-                Some(seg_normal(k))
-            } else if closed {
-                Some(seg_normal(0))
-            } else {
-                None
-            };
-            match (prev, cur) {
-                (Some(a), Some(b)) => {
-                    let m = norm([a[0] + b[0], a[1] + b[1]]);
-                    let c = (m[0] * a[0] + m[1] * a[1]).max(0.3);
-                    [m[0] / c, m[1] / c]
-                }
-                (Some(a), None) | (None, Some(a)) => a,
-                (None, None) => [0.0, 0.0],
-            }
+        let cur = if k < nseg {
+            Some(seg_normal(k))
+        } else if closed {
+            Some(seg_normal(0))
+        } else {
+            None
         };
-        // group segments
-        let mut k = 0;
-        while k < nseg {
-            let first = k;
-            let mut len = 0.0;
-            loop {
-                len += seg_len(k);
-                k += 1;
-                if k >= nseg || opt.segment_length.is_none_or(|l| len >= l) {
-                    break;
-                }
+        match (prev, cur) {
+            (Some(a), Some(b)) => {
+                let m = norm([a[0] + b[0], a[1] + b[1]]);
+                let c = (m[0] * a[0] + m[1] * a[1]).max(0.3);
+                [m[0] / c, m[1] / c]
             }
-            let (a, b) = (chain[first % chain.len()], chain[k % chain.len()]);
-            let (na, nb) = (vnormal(first), vnormal(k));
-            let (pa, pb) = (mesh.nodes[a], mesh.nodes[b]);
-            let off = |p: [f64; 2], n: [f64; 2], d: f64| [p[0] + d * n[0], p[1] + d * n[1]];
-            let mut pts = [
-                off(pa, na, -opt.inward),
-                off(pb, nb, -opt.inward),
-                off(pb, nb, opt.outward),
-                off(pa, na, opt.outward),
-            ];
-            if signed_area(&pts) < 0.0 {
-                pts.reverse();
-            }
-            let mid = (first + k) / 2;
-            windows.push(Window {
-                number: windows.len() + 1,
-                points: pts,
-                surface_nodes: (first..=k)
-                    .map(|j| mesh.node_ids[chain[j % chain.len()]])
-                    .collect(),
-                normal: seg_normal(mid.min(nseg - 1)),
-                length: len,
-            });
+            (Some(a), None) | (None, Some(a)) => a,
+            (None, None) => [0.0, 0.0],
         }
+    };
+    let mut k = 0;
+    while k < nseg {
+        let first = k;
+        let mut len = 0.0;
+        loop {
+            len += seg_len(k);
+            k += 1;
+            if k >= nseg || opt.segment_length.is_none_or(|l| len >= l) {
+                break;
+            }
+        }
+        let (a, b) = (chain[first % chain.len()], chain[k % chain.len()]);
+        let (na, nb) = (vnormal(first), vnormal(k));
+        let (pa, pb) = (mesh.nodes[a], mesh.nodes[b]);
+        let off = |p: [f64; 2], n: [f64; 2], d: f64| [p[0] + d * n[0], p[1] + d * n[1]];
+        let mut pts = [
+            off(pa, na, -opt.inward),
+            off(pb, nb, -opt.inward),
+            off(pb, nb, opt.outward),
+            off(pa, na, opt.outward),
+        ];
+        if signed_area(&pts) < 0.0 {
+            pts.reverse();
+        }
+        let mid = (first + k) / 2;
+        windows.push(Window {
+            number: windows.len() + 1,
+            points: pts,
+            surface_nodes: (first..=k)
+                .map(|j| mesh.node_ids[chain[j % chain.len()]])
+                .collect(),
+            normal: seg_normal(mid.min(nseg - 1)),
+            length: len,
+        });
     }
-    Ok(windows)
 }
 
 /// Windows as JSON.
