@@ -19,8 +19,9 @@
 
 use greybox_core::{Error, Result, SourcePos};
 use realfft::num_complex::Complex64;
-use realfft::RealFftPlanner;
+use realfft::{RealFftPlanner, RealToComplex};
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// Impact-test settings (study TOML `[characterize]`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -219,6 +220,31 @@ pub fn find_impacts(
 
 /// H1, H2 and coherence over all usable impacts of the recordings (same sample rate).
 pub fn estimate(recs: &[ImpactRecording], cfg: &ImpactConfig) -> Result<Frf> {
+    let fs = common_sample_rate(recs)?;
+    if !(cfg.exponential_end > 0.0
+        && cfg.exponential_end <= 1.0
+        && cfg.block_s > 0.0
+        && cfg.zero_pad > 0)
+    {
+        return Err(Error::invalid(
+            "FRF",
+            "exponential_end must be in (0, 1], block_s > 0, zero_pad ≥ 1",
+        ));
+    }
+    let mut sums = SpectralSums::new(fs, cfg);
+    let mut rejected = Vec::new();
+    for rec in recs {
+        let (starts, rej) = find_impacts(rec, cfg)?;
+        rejected.extend(rej);
+        for s in starts {
+            sums.add(rec, s)?;
+        }
+    }
+    Ok(sums.frf(fs, rejected))
+}
+
+/// The sample rate shared by all recordings.
+fn common_sample_rate(recs: &[ImpactRecording]) -> Result<f64> {
     let fs = recs
         .first()
         .ok_or_else(|| Error::invalid("FRF", "no recordings"))?
@@ -235,145 +261,188 @@ pub fn estimate(recs: &[ImpactRecording], cfg: &ImpactConfig) -> Result<Frf> {
             ),
         ));
     }
-    if !(cfg.exponential_end > 0.0
-        && cfg.exponential_end <= 1.0
-        && cfg.block_s > 0.0
-        && cfg.zero_pad > 0)
-    {
-        return Err(Error::invalid(
-            "FRF",
-            "exponential_end must be in (0, 1], block_s > 0, zero_pad ≥ 1",
-        ));
-    }
-    let block = (cfg.block_s * fs).round() as usize;
-    let pre = (cfg.pretrigger_s * fs).round() as usize;
-    let fw = ((cfg.force_window_s * fs).round() as usize).max(1);
-    let tau = if cfg.exponential_end < 1.0 {
-        cfg.block_s / (1.0 / cfg.exponential_end).ln()
-    } else {
-        f64::INFINITY
-    };
-    let w: Vec<f64> = (0..block)
-        .map(|k| (-((k as f64) / fs) / tau).exp())
-        .collect();
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fft = planner.plan_fft_forward(block);
-    let nfine = block * cfg.zero_pad;
-    let fft_fine = planner.plan_fft_forward(nfine);
-    let nf = block / 2 + 1;
-    let nff = nfine / 2 + 1;
-    let (mut gff, mut gyy, mut gfy) = (
-        vec![0.0; nf],
-        vec![0.0; nf],
-        vec![Complex64::new(0.0, 0.0); nf],
-    );
-    let (mut gff_f, mut gfy_f) = (vec![0.0; nff], vec![Complex64::new(0.0, 0.0); nff]);
-    let mut used = 0;
-    let mut rejected = Vec::new();
-    let mut xf = vec![0.0; block];
-    let mut xy = vec![0.0; block];
-    let mut sf = fft.make_output_vec();
-    let mut sy = fft.make_output_vec();
-    let mut pf = vec![0.0; nfine];
-    let mut py = vec![0.0; nfine];
-    let mut sff = fft_fine.make_output_vec();
-    let mut sfy = fft_fine.make_output_vec();
-    for rec in recs {
-        let (starts, rej) = find_impacts(rec, cfg)?;
-        rejected.extend(rej);
-        for s in starts {
-            for k in 0..block {
-                let force_kept = k < pre + fw;
-                xf[k] = if force_kept {
-                    rec.hammer[s + k] * w[k]
-                } else {
-                    0.0
-                };
-                xy[k] = rec.response[s + k] * w[k];
-            }
-            pf[..block].copy_from_slice(&xf);
-            py[..block].copy_from_slice(&xy);
-            pf[block..].iter_mut().for_each(|v| *v = 0.0);
-            py[block..].iter_mut().for_each(|v| *v = 0.0);
-            fft.process(&mut xf, &mut sf)
-                .map_err(|e| Error::invalid("FFT", e.to_string()))?;
-            fft.process(&mut xy, &mut sy)
-                .map_err(|e| Error::invalid("FFT", e.to_string()))?;
-            fft_fine
-                .process(&mut pf, &mut sff)
-                .map_err(|e| Error::invalid("FFT", e.to_string()))?;
-            fft_fine
-                .process(&mut py, &mut sfy)
-                .map_err(|e| Error::invalid("FFT", e.to_string()))?;
-            for k in 0..nf {
-                gff[k] += sf[k].norm_sqr();
-                gyy[k] += sy[k].norm_sqr();
-                gfy[k] += sf[k].conj() * sy[k];
-            }
-            for k in 0..nff {
-                gff_f[k] += sff[k].norm_sqr();
-                gfy_f[k] += sff[k].conj() * sfy[k];
-            }
-            used += 1;
+    Ok(fs)
+}
+
+/// Auto- and cross-spectra G_ff, G_yy, G_fy summed over impacts, on the block's frequency
+/// grid and (G_ff, G_fy) on the zero-padded fine grid, with the FFT plans and buffers they
+/// are computed with. The force is kept only up to the end of the force window, both
+/// signals are weighted by the exponential window.
+struct SpectralSums {
+    block: usize,
+    /// Samples kept of the force: pre-trigger plus the force window.
+    force_kept: usize,
+    tau_s: f64,
+    window: Vec<f64>,
+    fft: Arc<dyn RealToComplex<f64>>,
+    fft_fine: Arc<dyn RealToComplex<f64>>,
+    gff: Vec<f64>,
+    gyy: Vec<f64>,
+    gfy: Vec<Complex64>,
+    gff_f: Vec<f64>,
+    gfy_f: Vec<Complex64>,
+    used: usize,
+    buffers: FftBuffers,
+}
+
+/// Time and frequency buffers of [`SpectralSums`], reused from impact to impact.
+struct FftBuffers {
+    xf: Vec<f64>,
+    xy: Vec<f64>,
+    sf: Vec<Complex64>,
+    sy: Vec<Complex64>,
+    pf: Vec<f64>,
+    py: Vec<f64>,
+    sff: Vec<Complex64>,
+    sfy: Vec<Complex64>,
+}
+
+impl SpectralSums {
+    fn new(fs: f64, cfg: &ImpactConfig) -> Self {
+        let block = (cfg.block_s * fs).round() as usize;
+        let pre = (cfg.pretrigger_s * fs).round() as usize;
+        let fw = ((cfg.force_window_s * fs).round() as usize).max(1);
+        let tau_s = if cfg.exponential_end < 1.0 {
+            cfg.block_s / (1.0 / cfg.exponential_end).ln()
+        } else {
+            f64::INFINITY
+        };
+        let window: Vec<f64> = (0..block)
+            .map(|k| (-((k as f64) / fs) / tau_s).exp())
+            .collect();
+        let mut planner = RealFftPlanner::<f64>::new();
+        let fft = planner.plan_fft_forward(block);
+        let nfine = block * cfg.zero_pad;
+        let fft_fine = planner.plan_fft_forward(nfine);
+        let (nf, nff) = (block / 2 + 1, nfine / 2 + 1);
+        let buffers = FftBuffers {
+            xf: vec![0.0; block],
+            xy: vec![0.0; block],
+            sf: fft.make_output_vec(),
+            sy: fft.make_output_vec(),
+            pf: vec![0.0; nfine],
+            py: vec![0.0; nfine],
+            sff: fft_fine.make_output_vec(),
+            sfy: fft_fine.make_output_vec(),
+        };
+        SpectralSums {
+            block,
+            force_kept: pre + fw,
+            tau_s,
+            window,
+            fft,
+            fft_fine,
+            gff: vec![0.0; nf],
+            gyy: vec![0.0; nf],
+            gfy: vec![Complex64::new(0.0, 0.0); nf],
+            gff_f: vec![0.0; nff],
+            gfy_f: vec![Complex64::new(0.0, 0.0); nff],
+            used: 0,
+            buffers,
         }
     }
-    let df = fs / block as f64;
-    let h1: Vec<Complex64Ser> = (0..nf)
-        .map(|k| {
-            Complex64Ser(if gff[k] > 0.0 {
-                gfy[k] / gff[k]
-            } else {
-                Complex64::new(0.0, 0.0)
-            })
-        })
-        .collect();
-    let h2: Vec<Complex64Ser> = (0..nf)
-        .map(|k| {
-            Complex64Ser(if gfy[k].norm() > 0.0 {
-                Complex64::new(gyy[k], 0.0) / gfy[k].conj()
-            } else {
-                Complex64::new(0.0, 0.0)
-            })
-        })
-        .collect();
-    let coherence: Vec<f64> = (0..nf)
-        .map(|k| {
-            if gff[k] * gyy[k] > 0.0 {
-                gfy[k].norm_sqr() / (gff[k] * gyy[k])
+
+    /// Add the impact of `rec` whose block starts at sample `s`.
+    fn add(&mut self, rec: &ImpactRecording, s: usize) -> Result<()> {
+        let block = self.block;
+        let b = &mut self.buffers;
+        for k in 0..block {
+            b.xf[k] = if k < self.force_kept {
+                rec.hammer[s + k] * self.window[k]
             } else {
                 0.0
-            }
-        })
-        .collect();
-    let dff = fs / nfine as f64;
-    let fine: Vec<(f64, f64)> = (0..nff)
-        .map(|k| {
-            (
-                k as f64 * dff,
-                if gff_f[k] > 0.0 {
-                    (gfy_f[k] / gff_f[k]).norm()
+            };
+            b.xy[k] = rec.response[s + k] * self.window[k];
+        }
+        b.pf[..block].copy_from_slice(&b.xf);
+        b.py[..block].copy_from_slice(&b.xy);
+        b.pf[block..].iter_mut().for_each(|v| *v = 0.0);
+        b.py[block..].iter_mut().for_each(|v| *v = 0.0);
+        let fft_err = |e: realfft::FftError| Error::invalid("FFT", e.to_string());
+        self.fft.process(&mut b.xf, &mut b.sf).map_err(fft_err)?;
+        self.fft.process(&mut b.xy, &mut b.sy).map_err(fft_err)?;
+        self.fft_fine
+            .process(&mut b.pf, &mut b.sff)
+            .map_err(fft_err)?;
+        self.fft_fine
+            .process(&mut b.py, &mut b.sfy)
+            .map_err(fft_err)?;
+        for k in 0..self.gff.len() {
+            self.gff[k] += b.sf[k].norm_sqr();
+            self.gyy[k] += b.sy[k].norm_sqr();
+            self.gfy[k] += b.sf[k].conj() * b.sy[k];
+        }
+        for k in 0..self.gff_f.len() {
+            self.gff_f[k] += b.sff[k].norm_sqr();
+            self.gfy_f[k] += b.sff[k].conj() * b.sfy[k];
+        }
+        self.used += 1;
+        Ok(())
+    }
+
+    /// H1 = G_fy / G_ff, H2 = G_yy / G_fy*, the coherence |G_fy|² / (G_ff G_yy), |H1| on the
+    /// fine grid, and the usable band (where G_ff is within 20 dB of its low-frequency value).
+    fn frf(self, fs: f64, rejected: Vec<Rejected>) -> Frf {
+        let (gff, gyy, gfy) = (&self.gff, &self.gyy, &self.gfy);
+        let nf = gff.len();
+        let df = fs / self.block as f64;
+        let zero = Complex64::new(0.0, 0.0);
+        let h1 = (0..nf)
+            .map(|k| Complex64Ser(if gff[k] > 0.0 { gfy[k] / gff[k] } else { zero }))
+            .collect();
+        let h2 = (0..nf)
+            .map(|k| {
+                Complex64Ser(if gfy[k].norm() > 0.0 {
+                    Complex64::new(gyy[k], 0.0) / gfy[k].conj()
+                } else {
+                    zero
+                })
+            })
+            .collect();
+        let coherence = (0..nf)
+            .map(|k| {
+                if gff[k] * gyy[k] > 0.0 {
+                    gfy[k].norm_sqr() / (gff[k] * gyy[k])
                 } else {
                     0.0
-                },
-            )
-        })
-        .collect();
-    let g0 = gff[1.min(nf - 1)];
-    let usable_max_hz = (1..nf)
-        .find(|&k| gff[k] < 0.01 * g0)
-        .map(|k| k as f64 * df)
-        .unwrap_or(fs / 2.0);
-    Ok(Frf {
-        frequency_hz: (0..nf).map(|k| k as f64 * df).collect(),
-        h1,
-        h2,
-        coherence,
-        impacts_used: used,
-        rejected,
-        tau_s: tau,
-        usable_max_hz,
-        fine,
-    })
+                }
+            })
+            .collect();
+        let dff = fs / self.fine_len() as f64;
+        let fine = (0..self.gff_f.len())
+            .map(|k| {
+                (
+                    k as f64 * dff,
+                    if self.gff_f[k] > 0.0 {
+                        (self.gfy_f[k] / self.gff_f[k]).norm()
+                    } else {
+                        0.0
+                    },
+                )
+            })
+            .collect();
+        let g0 = gff[1.min(nf - 1)];
+        let usable_max_hz = (1..nf)
+            .find(|&k| gff[k] < 0.01 * g0)
+            .map(|k| k as f64 * df)
+            .unwrap_or(fs / 2.0);
+        Frf {
+            frequency_hz: (0..nf).map(|k| k as f64 * df).collect(),
+            h1,
+            h2,
+            coherence,
+            impacts_used: self.used,
+            rejected,
+            tau_s: self.tau_s,
+            usable_max_hz,
+            fine,
+        }
+    }
+
+    /// Length of the zero-padded block.
+    fn fine_len(&self) -> usize {
+        self.buffers.pf.len()
+    }
 }
 
 impl Frf {
