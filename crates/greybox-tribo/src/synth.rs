@@ -288,22 +288,9 @@ impl SynthConfig {
         let t_end = sched.end_s + self.post_trigger_s;
         let n = ((t_end - t_start) / dt).floor() as usize + 1;
 
-        let latency = self.latency_s + self.latency_jitter_s * rng.gen_range(-1.0..=1.0);
-        let accel = spec.spindle_accel_rpm_per_s
-            * (1.0 + self.spindle_accel_error * rng.gen_range(-1.0..=1.0));
-        let harmonics: Vec<(f64, f64)> = self
-            .runout_rel
-            .iter()
-            .map(|a| (*a, rng.gen_range(0.0..2.0 * PI)))
-            .collect();
-        let vib_phase: Vec<f64> = (0..3).map(|_| rng.gen_range(0.0..2.0 * PI)).collect();
         let std_normal = Normal::new(0.0, 1.0).expect("unit normal");
-        let offsets: Vec<f64> = (0..3)
-            .map(|_| self.offset_std_n * std_normal.sample(&mut rng))
-            .collect();
-        let drifts: Vec<f64> = (0..3)
-            .map(|_| k * self.drift_std_n_per_s * std_normal.sample(&mut rng))
-            .collect();
+        let d = self.draw_pin(spec.spindle_accel_rpm_per_s, &mut rng, &std_normal);
+        let (latency, accel) = (d.latency_s, d.accel_rpm_per_s);
 
         // NC events shifted by the latency: (time, target rpm)
         let commands: Vec<(f64, f64)> = steps
@@ -334,7 +321,6 @@ impl SynthConfig {
         let mut next_cmd = 0usize;
         let mut target = 0.0f64;
         let mut slide_start: Option<f64> = None;
-        let stick = self.stick_slip;
         for i in 0..n {
             let t = t_start + i as f64 * dt;
             while next_cmd < commands.len() && t >= commands[next_cmd].0 {
@@ -346,35 +332,24 @@ impl SynthConfig {
             theta += 2.0 * PI * rpm / 60.0 * dt;
             let v = units::velocity_for_rpm(rpm, radius);
             let load = load_shape(t);
-            let runout: f64 = harmonics
-                .iter()
-                .enumerate()
-                .map(|(h, (a, ph))| a * ((h + 1) as f64 * theta + ph).sin())
-                .sum();
+            let runout = d.runout(theta);
             let f_n = sched.normal_force_n * load * (1.0 + runout);
-            let mut f_t = 0.0;
-            if rpm > 1e-9 && load > 0.0 {
-                let t0 = *slide_start.get_or_insert(t);
-                let mut mu = self.ground_truth.mu(&ContactState::new(p0, v));
-                mu *= 1.0 + self.run_in_rel * (-(t - t0) / self.run_in_time_s).exp();
-                if let Some(s) = stick {
-                    if units::m_per_s_to_m_per_min(v) < s.below_m_per_min {
-                        let phase = (t * s.frequency_hz).fract();
-                        mu *= 1.0 + s.amplitude_rel * 2.0 * (phase - 0.5);
-                    }
-                }
-                let vib: f64 = vib_phase
-                    .iter()
-                    .enumerate()
-                    .map(|(h, ph)| ((h + 1) as f64 * theta + ph).sin() / (h + 1) as f64)
-                    .sum();
-                f_t = mu * f_n
-                    + self.tangential_vibration_rel * mu * sched.normal_force_n * load * vib;
-            }
+            let f_t = if rpm > 1e-9 && load > 0.0 {
+                let since = t - *slide_start.get_or_insert(t);
+                let mu = self.mu_at(p0, v, t, since);
+                mu * f_n
+                    + self.tangential_vibration_rel
+                        * mu
+                        * sched.normal_force_n
+                        * load
+                        * d.vibration(theta)
+            } else {
+                0.0
+            };
             let f_r = self.radial_fraction * f_n;
             let clock = t - t_start;
             let noisy = |rng: &mut ChaCha8Rng, c: usize, x: f64, sd: f64| {
-                x + offsets[c] + drifts[c] * clock + k * sd * std_normal.sample(rng)
+                x + d.offsets[c] + d.drifts[c] * clock + k * sd * std_normal.sample(rng)
             };
             rec.time_s.push(clock);
             rec.normal_n
@@ -393,32 +368,129 @@ impl SynthConfig {
                 .expect("trigger")
                 .push(trig + self.trigger_noise_v * std_normal.sample(&mut rng));
         }
-        // spikes: Poisson arrivals per channel
-        let rate = k * self.spike_rate_per_s * (t_end - t_start);
-        if rate > 0.0 && self.spike_amplitude_n > 0.0 {
-            let poisson = Poisson::new(rate)
-                .map_err(|e| Error::invalid("synth", format!("spike rate: {e}")))?;
-            for c in 0..3 {
-                let count = poisson.sample(&mut rng) as usize;
-                let ch = match c {
-                    0 => &mut rec.normal_n,
-                    1 => &mut rec.tangential_n,
-                    _ => rec.radial_n.as_mut().expect("radial"),
-                };
-                for _ in 0..count {
-                    let at = rng.gen_range(0..n);
-                    let width = rng.gen_range(1..=3usize);
-                    let amp = k
-                        * self.spike_amplitude_n
-                        * rng.gen_range(0.5..1.0)
-                        * if rng.gen_bool(0.5) { 1.0 } else { -1.0 };
-                    for v in &mut ch[at..(at + width).min(n)] {
-                        *v += amp;
-                    }
+        self.add_spikes(&mut rec, &mut rng, t_end - t_start)?;
+        Ok(rec)
+    }
+}
+
+/// The random state of one pin's run, drawn from the pin's seed in a fixed order.
+struct PinDraws {
+    /// Delay of the NC events on the recording, s.
+    latency_s: f64,
+    /// Actual spindle acceleration, rpm/s.
+    accel_rpm_per_s: f64,
+    /// Run-out harmonics: (relative amplitude, phase).
+    harmonics: Vec<(f64, f64)>,
+    /// Phases of the three tangential vibration harmonics.
+    vib_phase: Vec<f64>,
+    /// Offsets (N) and drifts (N/s) of the normal, tangential and radial channels.
+    offsets: Vec<f64>,
+    drifts: Vec<f64>,
+}
+
+impl PinDraws {
+    /// Relative run-out of the normal force at the disk angle `theta`, rad.
+    fn runout(&self, theta: f64) -> f64 {
+        self.harmonics
+            .iter()
+            .enumerate()
+            .map(|(h, (a, ph))| a * ((h + 1) as f64 * theta + ph).sin())
+            .sum()
+    }
+    /// Shape of the tangential vibration at the disk angle `theta` (harmonics at 1/h).
+    fn vibration(&self, theta: f64) -> f64 {
+        self.vib_phase
+            .iter()
+            .enumerate()
+            .map(|(h, ph)| ((h + 1) as f64 * theta + ph).sin() / (h + 1) as f64)
+            .sum()
+    }
+}
+
+impl SynthConfig {
+    /// Draw a pin's latency, spindle acceleration, run-out, vibration phases and channel
+    /// offsets and drifts.
+    fn draw_pin(
+        &self,
+        nominal_accel_rpm_per_s: f64,
+        rng: &mut ChaCha8Rng,
+        std_normal: &Normal<f64>,
+    ) -> PinDraws {
+        let latency_s = self.latency_s + self.latency_jitter_s * rng.gen_range(-1.0..=1.0);
+        let accel_rpm_per_s =
+            nominal_accel_rpm_per_s * (1.0 + self.spindle_accel_error * rng.gen_range(-1.0..=1.0));
+        let harmonics: Vec<(f64, f64)> = self
+            .runout_rel
+            .iter()
+            .map(|a| (*a, rng.gen_range(0.0..2.0 * PI)))
+            .collect();
+        let vib_phase: Vec<f64> = (0..3).map(|_| rng.gen_range(0.0..2.0 * PI)).collect();
+        let offsets: Vec<f64> = (0..3)
+            .map(|_| self.offset_std_n * std_normal.sample(rng))
+            .collect();
+        let drifts: Vec<f64> = (0..3)
+            .map(|_| self.disturbance_scale * self.drift_std_n_per_s * std_normal.sample(rng))
+            .collect();
+        PinDraws {
+            latency_s,
+            accel_rpm_per_s,
+            harmonics,
+            vib_phase,
+            offsets,
+            drifts,
+        }
+    }
+
+    /// μ while sliding at pressure `p0` and speed `v` (m/s), time `t`, `since` s after the
+    /// slide began: the ground truth, raised during run-in, with stick-slip at low speed.
+    fn mu_at(&self, p0: f64, v: f64, t: f64, since: f64) -> f64 {
+        let mut mu = self.ground_truth.mu(&ContactState::new(p0, v));
+        mu *= 1.0 + self.run_in_rel * (-since / self.run_in_time_s).exp();
+        if let Some(s) = self.stick_slip {
+            if units::m_per_s_to_m_per_min(v) < s.below_m_per_min {
+                let phase = (t * s.frequency_hz).fract();
+                mu *= 1.0 + s.amplitude_rel * 2.0 * (phase - 0.5);
+            }
+        }
+        mu
+    }
+
+    /// Spikes on the force channels: Poisson arrivals over `duration_s`, 1–3 samples wide,
+    /// of random sign and 50–100 % of the spike amplitude.
+    fn add_spikes(
+        &self,
+        rec: &mut crate::recording::Recording,
+        rng: &mut ChaCha8Rng,
+        duration_s: f64,
+    ) -> Result<()> {
+        let k = self.disturbance_scale;
+        let n = rec.len();
+        let rate = k * self.spike_rate_per_s * duration_s;
+        if !(rate > 0.0 && self.spike_amplitude_n > 0.0) {
+            return Ok(());
+        }
+        let poisson =
+            Poisson::new(rate).map_err(|e| Error::invalid("synth", format!("spike rate: {e}")))?;
+        for c in 0..3 {
+            let count = poisson.sample(rng) as usize;
+            let ch = match c {
+                0 => &mut rec.normal_n,
+                1 => &mut rec.tangential_n,
+                _ => rec.radial_n.as_mut().expect("radial"),
+            };
+            for _ in 0..count {
+                let at = rng.gen_range(0..n);
+                let width = rng.gen_range(1..=3usize);
+                let amp = k
+                    * self.spike_amplitude_n
+                    * rng.gen_range(0.5..1.0)
+                    * if rng.gen_bool(0.5) { 1.0 } else { -1.0 };
+                for v in &mut ch[at..(at + width).min(n)] {
+                    *v += amp;
                 }
             }
         }
-        Ok(rec)
+        Ok(())
     }
 }
 

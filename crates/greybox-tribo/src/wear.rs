@@ -247,6 +247,29 @@ pub fn analyze_height_map(map: &HeightMap, reference: Reference) -> Result<WearS
         ));
     }
     let coords: Vec<(f64, f64)> = (0..n).map(|i| map.xy_um(i)).collect();
+    let (mut scar, refz, sigma) = separate_scar(map, &coords, reference)?;
+    let mut depth = vec![0.0; n];
+    for i in 0..n {
+        if scar[i] {
+            depth[i] = refz[i] - map.z_um[i];
+        }
+    }
+    let filled = fill_holes(map, &mut scar, &mut depth);
+    Ok(scar_measures(
+        map, &coords, &scar, &depth, holes, filled, sigma,
+    ))
+}
+
+/// Fit the reference form to the unworn points and take as scar every point more than 4 σ
+/// (robust σ of the residuals, from their median absolute deviation) below it; refit
+/// without the scar until it no longer changes (at most 6 rounds). Returns the scar mask,
+/// the reference height at every point, µm, and σ, µm.
+fn separate_scar(
+    map: &HeightMap,
+    coords: &[(f64, f64)],
+    reference: Reference,
+) -> Result<(Vec<bool>, Vec<f64>, f64)> {
+    let n = map.z_um.len();
     let valid: Vec<usize> = (0..n).filter(|&i| map.z_um[i].is_finite()).collect();
     let mut scar = vec![false; n];
     let mut refz = vec![0.0; n];
@@ -267,29 +290,7 @@ pub fn analyze_height_map(map: &HeightMap, reference: Reference) -> Result<WearS
                 "too few unworn points to fit the reference form",
             ));
         }
-        let eval: Box<dyn Fn(f64, f64) -> f64> = match reference {
-            Reference::Plane => {
-                let c = fit_plane(&pts).ok_or_else(|| {
-                    Error::input(
-                        SourcePos::file(&map.source),
-                        "plane fit failed (degenerate map)",
-                    )
-                })?;
-                Box::new(move |x, y| c[0] + c[1] * x + c[2] * y)
-            }
-            Reference::Sphere { radius_mm } => {
-                let r = radius_mm * 1e3;
-                let (ax, ay) = coords[apex];
-                let c = fit_sphere(&pts, r, [ax, ay, map.z_um[apex] - r]).ok_or_else(|| {
-                    Error::input(SourcePos::file(&map.source), "sphere fit failed")
-                })?;
-                Box::new(move |x, y| {
-                    c[2] + (r * r - (x - c[0]).powi(2) - (y - c[1]).powi(2))
-                        .max(0.0)
-                        .sqrt()
-                })
-            }
-        };
+        let eval = reference_form(map, &pts, reference, coords[apex], map.z_um[apex])?;
         for i in 0..n {
             refz[i] = eval(coords[i].0, coords[i].1);
         }
@@ -309,15 +310,47 @@ pub fn analyze_height_map(map: &HeightMap, reference: Reference) -> Result<WearS
         }
         scar = new;
     }
-    // holes inside the scar
-    let mut depth = vec![0.0; n];
-    for i in 0..n {
-        if scar[i] {
-            depth[i] = refz[i] - map.z_um[i];
+    Ok((scar, refz, sigma))
+}
+
+/// The reference form fitted to `pts` (x, y, z in µm): a plane, or a sphere of the given
+/// radius started at the apex (`apex` x, y and height `apex_z`).
+fn reference_form(
+    map: &HeightMap,
+    pts: &[(f64, f64, f64)],
+    reference: Reference,
+    apex: (f64, f64),
+    apex_z: f64,
+) -> Result<Box<dyn Fn(f64, f64) -> f64>> {
+    Ok(match reference {
+        Reference::Plane => {
+            let c = fit_plane(pts).ok_or_else(|| {
+                Error::input(
+                    SourcePos::file(&map.source),
+                    "plane fit failed (degenerate map)",
+                )
+            })?;
+            Box::new(move |x, y| c[0] + c[1] * x + c[2] * y)
         }
-    }
+        Reference::Sphere { radius_mm } => {
+            let r = radius_mm * 1e3;
+            let (ax, ay) = apex;
+            let c = fit_sphere(pts, r, [ax, ay, apex_z - r])
+                .ok_or_else(|| Error::input(SourcePos::file(&map.source), "sphere fit failed"))?;
+            Box::new(move |x, y| {
+                c[2] + (r * r - (x - c[0]).powi(2) - (y - c[1]).powi(2))
+                    .max(0.0)
+                    .sqrt()
+            })
+        }
+    })
+}
+
+/// Missing heights inside the scar: a hole whose valid neighbours (8-neighbourhood) are at
+/// least half scar joins the scar with their mean depth. Returns how many were filled.
+fn fill_holes(map: &HeightMap, scar: &mut [bool], depth: &mut [f64]) -> usize {
     let mut filled = 0;
-    for i in 0..n {
+    for i in 0..map.z_um.len() {
         if map.z_um[i].is_finite() {
             continue;
         }
@@ -350,10 +383,22 @@ pub fn analyze_height_map(map: &HeightMap, reference: Reference) -> Result<WearS
             filled += 1;
         }
     }
-    let cell_mm2 = map.dx_mm * map.dy_mm;
-    let idx: Vec<usize> = (0..n).filter(|&i| scar[i]).collect();
+    filled
+}
+
+/// Volume, depths and extent of the scar.
+fn scar_measures(
+    map: &HeightMap,
+    coords: &[(f64, f64)],
+    scar: &[bool],
+    depth: &[f64],
+    holes: usize,
+    filled: usize,
+    sigma: f64,
+) -> WearScar {
+    let idx: Vec<usize> = (0..scar.len()).filter(|&i| scar[i]).collect();
     if idx.is_empty() {
-        return Ok(WearScar {
+        return WearScar {
             volume_mm3: 0.0,
             mean_depth_um: 0.0,
             max_depth_um: 0.0,
@@ -363,8 +408,9 @@ pub fn analyze_height_map(map: &HeightMap, reference: Reference) -> Result<WearS
             holes,
             holes_filled: 0,
             noise_um: sigma,
-        });
+        };
     }
+    let cell_mm2 = map.dx_mm * map.dy_mm;
     let vol_um_mm2: f64 = idx.iter().map(|&i| depth[i]).sum::<f64>() * cell_mm2;
     let (mut xmin, mut xmax, mut ymin, mut ymax) = (
         f64::INFINITY,
@@ -379,7 +425,7 @@ pub fn analyze_height_map(map: &HeightMap, reference: Reference) -> Result<WearS
         ymin = ymin.min(y);
         ymax = ymax.max(y);
     }
-    Ok(WearScar {
+    WearScar {
         volume_mm3: vol_um_mm2 * 1e-3,
         mean_depth_um: idx.iter().map(|&i| depth[i]).sum::<f64>() / idx.len() as f64,
         max_depth_um: idx.iter().map(|&i| depth[i]).fold(0.0, f64::max),
@@ -389,7 +435,7 @@ pub fn analyze_height_map(map: &HeightMap, reference: Reference) -> Result<WearS
         holes,
         holes_filled: filled,
         noise_um: sigma,
-    })
+    }
 }
 
 /// One wear test: load, speed, duration and a volume (measured or implied).
