@@ -642,18 +642,19 @@ impl Solver {
                         moved2 = moved2.max((x[k] - x0[i]).powi(2) + (y[k] - y0[i]).powi(2));
                         rho[k] += dt * drho;
                         pr[k] = d.c0_sq * (rho[k] - d.rho0);
-                        // Jaumann rate of the deviatoric stress (plane strain).
-                        let dxx = lxx;
-                        let dyy = lyy;
-                        let dxy = 0.5 * (lxy + lyx);
-                        let w = 0.5 * (lxy - lyx);
-                        let tr3 = (dxx + dyy) / 3.0;
-                        let g2 = 2.0 * d.shear;
-                        let (oxx, oxy, oyy) = (sxx[k], sxy[k], syy[k]);
-                        sxx[k] = oxx + dt * (g2 * (dxx - tr3) + 2.0 * w * oxy);
-                        syy[k] = oyy + dt * (g2 * (dyy - tr3) - 2.0 * w * oxy);
-                        sxy[k] = oxy + dt * (g2 * dxy + w * (oyy - oxx));
-                        szz[k] += dt * (-g2 * tr3);
+                        let [nxx, nxy, nyy, dzz] = jaumann_update(
+                            [sxx[k], sxy[k], syy[k]],
+                            lxx,
+                            lxy,
+                            lyx,
+                            lyy,
+                            d.shear,
+                            dt,
+                        );
+                        sxx[k] = nxx;
+                        sxy[k] = nxy;
+                        syy[k] = nyy;
+                        szz[k] += dzz;
                         let mut t_new = temp[k];
                         if thermal {
                             t_new += dt * r.dtemp;
@@ -717,28 +718,34 @@ impl Solver {
         self.energy.plastic_work += plastic;
         self.energy.viscous_work += dt * viscous;
         if bad != usize::MAX {
-            let p = &self.particles;
-            let reason =
-                if !(p.x[bad].is_finite() && p.rho[bad].is_finite() && p.sxx[bad].is_finite()) {
-                    "has a non-finite state".to_string()
-                } else if p.rho[bad] <= 0.0 {
-                    format!("has density {:.3e} kg/m³", p.rho[bad])
-                } else {
-                    format!(
-                        "moves at {:.1} m/s, above {:.0} % of the wave speed {:.0} m/s",
-                        p.vx[bad].hypot(p.vy[bad]),
-                        100.0 * self.numerics.max_speed_ratio,
-                        d.c_long
-                    )
-                };
-            return Err(SimError::Unstable {
-                step: self.step,
-                time_s: self.time,
-                particle: bad,
-                reason,
-            });
+            return Err(self.instability(bad));
         }
         Ok(())
+    }
+
+    /// The error for the unstable particle `bad`: a non-finite state, a non-positive
+    /// density or a speed above the allowed fraction of the wave speed.
+    fn instability(&self, bad: usize) -> SimError {
+        let p = &self.particles;
+        let reason = if !(p.x[bad].is_finite() && p.rho[bad].is_finite() && p.sxx[bad].is_finite())
+        {
+            "has a non-finite state".to_string()
+        } else if p.rho[bad] <= 0.0 {
+            format!("has density {:.3e} kg/m³", p.rho[bad])
+        } else {
+            format!(
+                "moves at {:.1} m/s, above {:.0} % of the wave speed {:.0} m/s",
+                p.vx[bad].hypot(p.vy[bad]),
+                100.0 * self.numerics.max_speed_ratio,
+                self.derived.c_long
+            )
+        };
+        SimError::Unstable {
+            step: self.step,
+            time_s: self.time,
+            particle: bad,
+            reason,
+        }
     }
 
     /// The energy balance of the current state.
@@ -778,4 +785,31 @@ impl Solver {
     pub fn particle_count(&self) -> usize {
         self.particles.len()
     }
+}
+
+/// The deviatoric stress (s_xx, s_xy, s_yy) advanced by `dt` with its Jaumann rate under the
+/// velocity gradient L (plane strain, shear modulus G): ṡ = 2G (D − tr D/3 I) + W s − s W.
+/// Returns the new (s_xx, s_xy, s_yy) and the increment of s_zz.
+#[inline(always)]
+fn jaumann_update(
+    [oxx, oxy, oyy]: [f64; 3],
+    lxx: f64,
+    lxy: f64,
+    lyx: f64,
+    lyy: f64,
+    shear: f64,
+    dt: f64,
+) -> [f64; 4] {
+    let dxx = lxx;
+    let dyy = lyy;
+    let dxy = 0.5 * (lxy + lyx);
+    let w = 0.5 * (lxy - lyx);
+    let tr3 = (dxx + dyy) / 3.0;
+    let g2 = 2.0 * shear;
+    [
+        oxx + dt * (g2 * (dxx - tr3) + 2.0 * w * oxy),
+        oxy + dt * (g2 * dxy + w * (oyy - oxx)),
+        oyy + dt * (g2 * (dyy - tr3) - 2.0 * w * oxy),
+        dt * (-g2 * tr3),
+    ]
 }
