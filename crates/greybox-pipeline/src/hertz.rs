@@ -46,6 +46,30 @@ pub struct HertzRow {
 }
 
 /// The effective modulus E*, Pa, and the contact at each of `forces_n`.
+///
+/// Against the textbook sphere-on-flat formulas (Johnson, *Contact Mechanics*, §4.2):
+/// E* = 1 / ((1 − ν₁²)/E₁ + (1 − ν₂²)/E₂), a = (3FR / 4E*)^⅓, p₀ = 3F / (2πa²).
+///
+/// ```
+/// use greybox_pipeline::hertz::{hertz, Geometry, HertzOptions};
+/// use greybox_core::dataset::PressureConvention;
+/// let o = HertzOptions {
+///     geometry: Geometry::Sphere,
+///     radius_mm: 17.0,
+///     e1_gpa: 210.0,
+///     nu1: 0.3,
+///     e2_gpa: 650.0,
+///     nu2: 0.3,
+///     convention: PressureConvention::TextbookMax,
+/// };
+/// let (e_star, rows) = hertz(&o, &[1000.0]).unwrap();
+/// let e: f64 = 1.0 / ((1.0 - 0.09) / 210e9 + (1.0 - 0.09) / 650e9);
+/// let a: f64 = (3.0 * 1000.0 * 17e-3 / (4.0 * e)).cbrt();
+/// let p0 = 3.0 * 1000.0 / (2.0 * std::f64::consts::PI * a * a);
+/// assert!((e_star / e - 1.0).abs() < 1e-12);
+/// assert!((rows[0].contact_half_width_mm / (a * 1e3) - 1.0).abs() < 1e-9);
+/// assert!((rows[0].max_pressure_mpa / (p0 * 1e-6) - 1.0).abs() < 1e-9);
+/// ```
 pub fn hertz(o: &HertzOptions, forces_n: &[f64]) -> Result<(f64, Vec<HertzRow>)> {
     let e_star = effective_modulus(
         Elastic::new(o.e1_gpa * PA_PER_GPA, o.nu1),

@@ -501,6 +501,26 @@ pub struct IdentifyResult {
 
 /// Identify a campaign: resolve the recording files, segment, match and write the dataset;
 /// compare with a ground truth when one is given. `on_segments` as in [`IdentifyOutput`].
+///
+/// A small campaign on the virtual rig, identified against its plan and ground truth:
+///
+/// ```
+/// use greybox_pipeline::identify::{identify_campaign, IdentifyOptions};
+/// use greybox_pipeline::{synth::synth, Study};
+/// use greybox_tribo::readers::RecordingFormat;
+/// let dir = tempfile::tempdir().unwrap();
+/// let mut study = Study::parse(greybox_pipeline::study::DEMO_STUDY, "demo").unwrap();
+/// study.plan.normal_force_count = 2;
+/// study.plan.velocity_count = 3;
+/// let rec = dir.path().join("recordings");
+/// synth(&study, &[RecordingFormat::Csv], &rec, false, &[]).unwrap();
+/// let mut o = IdentifyOptions::new(vec![rec.clone()], dir.path().join("dataset.csv"))
+///     .with_plan(study.plan.build().unwrap());
+/// o.truth = Some(rec.join("ground_truth.csv"));
+/// let r = identify_campaign(&study, &o, None).unwrap();
+/// assert_eq!(r.dataset.records.len(), 6);
+/// assert!(r.summary.truth.unwrap().max_abs_error < 0.01);
+/// ```
 pub fn identify_campaign(
     study: &Study,
     o: &IdentifyOptions,

@@ -50,6 +50,15 @@ impl Default for GreyBoxOptions {
 /// relative paths are resolved against the law file's folder), trained on data measured
 /// with `contact` (how its force feature maps to contact pressure); a power law fitted to
 /// the model's training data outside its domain.
+///
+/// ```
+/// use greybox_pipeline::law::{grey_box_law, GreyBoxOptions};
+/// let law = grey_box_law("fit/models/svr.json".into(), None, &GreyBoxOptions::default());
+/// let json = serde_json::to_value(&law).unwrap();
+/// assert_eq!(json["law"], "grey-box");
+/// assert_eq!(json["inner"]["model"], "fit/models/svr.json");
+/// assert_eq!(json["outside"]["law"], "power-fit");
+/// ```
 pub fn grey_box_law(model: PathBuf, contact: Option<PinContact>, o: &GreyBoxOptions) -> LawSpec {
     LawSpec::GreyBox {
         inner: Box::new(LawSpec::Learned { model, contact }),

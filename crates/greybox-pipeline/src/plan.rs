@@ -28,6 +28,19 @@ pub struct PlanSummary {
 /// Build the study's plan and write it into the directory `out` (staged, swapped in whole;
 /// an existing non-empty `out` needs `force`). `inputs` are recorded in its provenance
 /// (e.g. the study file).
+///
+/// ```
+/// use greybox_pipeline::{plan::plan, Study};
+/// let dir = tempfile::tempdir().unwrap();
+/// let mut study = Study::default(); // the article's design: 10 loads × 21 velocities
+/// study.plan.track_radius_mm = Some(100.0);
+/// let out = dir.path().join("plan");
+/// let s = plan(&study, &out, false, &[]).unwrap();
+/// assert_eq!((s.pins, s.steps), (10, 210));
+/// assert!(out.join("nc/pin10.nc").is_file() && out.join("provenance.json").is_file());
+/// // n = v / (2π R): 20 m/min on a 100 mm track radius is 31.83 rpm (NC programs hold 0.01 rpm)
+/// assert!((s.spindle_rpm_min - 20.0 / (2.0 * std::f64::consts::PI * 0.1)).abs() <= 0.005);
+/// ```
 pub fn plan(
     study: &Study,
     out: &Path,

@@ -26,6 +26,16 @@ pub struct Study {
 }
 
 impl Study {
+    /// Parse a study TOML; `source` names it in errors. Every section is optional; unknown
+    /// keys are errors that name the line.
+    ///
+    /// ```
+    /// use greybox_pipeline::Study;
+    /// let s = Study::parse("[plan]\nvelocity_count = 5\ntrack_radius_mm = 80.0\n", "s.toml").unwrap();
+    /// assert_eq!((s.plan.velocity_count, s.plan.normal_force_count), (5, 10));
+    /// let e = Study::parse("[plan]\nvelocity_cnt = 5\n", "s.toml").unwrap_err();
+    /// assert!(format!("{e:#}").contains("velocity_cnt"));
+    /// ```
     pub fn parse(text: &str, source: &str) -> Result<Self> {
         let study: Study =
             toml::from_str(text).with_context(|| format!("{source}: invalid study file"))?;

@@ -47,6 +47,22 @@ pub struct WearResult {
 }
 
 /// Archard's k = V/(F s) of one measurement.
+///
+/// ```
+/// use greybox_pipeline::wear::{wear_rate, WearInput, WearVolume};
+/// // 0.01 mm³ worn off under 100 N over 100 m (60 m/min for 100 s): k = 1e-6 mm³/(N m)
+/// let r = wear_rate(&WearInput {
+///     normal_force_n: 100.0,
+///     velocity_m_per_min: 60.0,
+///     duration_s: 100.0,
+///     volume: WearVolume::Measured(0.01),
+///     pin_radius_mm: 17.0,
+///     hardness_gpa: None,
+/// })
+/// .unwrap();
+/// assert!((r.sliding_distance_m - 100.0).abs() < 1e-12);
+/// assert!((r.k_mm3_per_nm - 1e-6).abs() < 1e-18);
+/// ```
 pub fn wear_rate(w: &WearInput) -> Result<WearResult> {
     let s = w.velocity_m_per_min / 60.0 * w.duration_s;
     let (volume, source, scar) = match &w.volume {
