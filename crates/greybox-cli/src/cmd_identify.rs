@@ -6,7 +6,7 @@ use anyhow::{bail, Context, Result};
 use greybox_core::dataset::PressureConvention;
 use greybox_pipeline::identify::{
     all_rows_table, files_table, identify_campaign, inspect_text, matching_text, summary_table,
-    Expectation, IdentifyOptions, IdentifyResult,
+    Expectation, IdentifyOptions, IdentifyResult, SegmentsHook,
 };
 use greybox_pipeline::study::Study;
 use greybox_tribo::campaign::{read_expected_steps, FileReport, Segmentation};
@@ -266,7 +266,7 @@ pub fn run(args: Args) -> Result<()> {
         print!("{}", inspect_text(files));
         println!("inspect plots -> {}", dir.display());
     };
-    let show: Option<&dyn Fn(&[FileReport], &Path)> = (!args.json).then_some(&show as _);
+    let show: Option<SegmentsHook> = (!args.json).then_some(&show as _);
     let IdentifyResult {
         dataset: ds,
         summary,

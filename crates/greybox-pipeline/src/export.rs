@@ -137,7 +137,7 @@ pub fn export(a: &ExportOptions) -> Result<String> {
             export::lsdyna(law.as_ref(), grid, a.units, a.lsdyna_table_id)?,
             String::new(),
         ),
-        ExportFormat::Csv => (export::csv(law.as_ref(), &grid)?, String::new()),
+        ExportFormat::Csv => (export::csv(law.as_ref(), grid)?, String::new()),
         ExportFormat::Deform => {
             let windows: Vec<DeformWindow> = match &a.deform_windows {
                 Some(p) => serde_json::from_str(

@@ -159,6 +159,10 @@ pub struct IdentifySummary {
     pub truth: Option<TruthComparison>,
 }
 
+/// Called with the segments found per file and the inspect directory (see
+/// [`IdentifyOutput::on_segments`]).
+pub type SegmentsHook<'a> = &'a dyn Fn(&[FileReport], &Path);
+
 /// What identification is matched against.
 #[derive(Debug, Clone)]
 pub enum Expectation {
@@ -177,7 +181,7 @@ pub struct IdentifyOutput<'a> {
     /// Called with the segments found per file and the inspect directory, once the
     /// recordings are segmented and before they are matched to the plan (so that a caller
     /// can show them even when matching fails).
-    pub on_segments: Option<&'a dyn Fn(&[FileReport], &Path)>,
+    pub on_segments: Option<SegmentsHook<'a>>,
     pub side_inputs: &'a [(&'a str, &'a Path)],
 }
 
@@ -524,7 +528,7 @@ pub struct IdentifyResult {
 pub fn identify_campaign(
     study: &Study,
     o: &IdentifyOptions,
-    on_segments: Option<&dyn Fn(&[FileReport], &Path)>,
+    on_segments: Option<SegmentsHook>,
 ) -> Result<IdentifyResult> {
     if let Some(r) = o
         .track_radii_mm

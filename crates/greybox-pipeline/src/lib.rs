@@ -1,3 +1,4 @@
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too
 //! greybox's workflows as library calls: each stage of the seed article's pipeline takes
 //! plain option types (no command-line types), writes its outputs safely (staged, swapped
 //! in whole, with provenance) and returns what it found. The `greybox` command line only

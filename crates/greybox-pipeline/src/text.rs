@@ -177,7 +177,6 @@ pub fn characterize(r: &CharacterizeReport) -> String {
     text
 }
 
-/// Prints a flow-curve fit.
 /// A Johnson–Cook fit with its residuals per temperature.
 pub fn johnson_cook(f: &JcFit) -> String {
     let mut text = String::new();
@@ -219,7 +218,6 @@ pub fn johnson_cook(f: &JcFit) -> String {
     text
 }
 
-/// Prints the summary of a cut.
 /// A cut: speed of the run, friction windows, forces, chip measures.
 pub fn cut(s: &CutSummary) -> String {
     let mut text = String::new();
