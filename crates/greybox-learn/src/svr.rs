@@ -16,6 +16,15 @@ pub use greybox_model::svr::{dot, kernel_value, Kernel, SvrModel, SvrParams, MAX
 
 const TAU: f64 = 1e-12;
 
+/// Memory the SVR may take for its kernel matrices, bytes: the l × l matrix and its
+/// l × 2l copy in working order, 24 l² bytes in all (4 GiB: about 13 400 rows).
+pub const KERNEL_MEMORY_BYTES: usize = 4 << 30;
+
+/// The most training rows an SVR fit takes ([`KERNEL_MEMORY_BYTES`]).
+pub fn max_rows() -> usize {
+    ((KERNEL_MEMORY_BYTES / 24) as f64).sqrt() as usize
+}
+
 impl Regressor for SvrParams {
     type Fitted = SvrModel;
 
@@ -47,6 +56,17 @@ impl Regressor for SvrParams {
     }
 
     fn fit(&self, x: &Matrix, y: &[f64], _seed: u64) -> Result<SvrModel> {
+        if x.n_rows > max_rows() {
+            return Err(Error::invalid(
+                "SVR",
+                format!(
+                    "{} training rows: the kernel matrices would take {:.1} GB; an SVR fits at most {} rows (4 GiB). Subsample the dataset (e.g. one row per load × speed cell), or fit random forest / gradient boosting on all rows",
+                    x.n_rows,
+                    24.0 * (x.n_rows as f64).powi(2) / 1e9,
+                    max_rows()
+                ),
+            ));
+        }
         let scaler = Standardizer::fit(x);
         let z = scaler.transform(x);
         let l = z.n_rows;

@@ -169,3 +169,19 @@ fn noise_feature_has_no_importance() {
     assert!(imp[0].mean > 0.3 && imp[1].mean > 0.3);
     assert!(imp[2].mean.abs() < 0.02, "noise importance {}", imp[2].mean);
 }
+
+/// A dataset too large for the SVR's kernel matrices is refused with the size and what to do,
+/// before anything is allocated (100 000 rows would need 240 GB).
+#[test]
+fn svr_refuses_more_rows_than_its_kernel_memory_holds() {
+    use greybox_learn::svr::max_rows;
+    let n = 100_000;
+    let x = greybox_learn::Matrix::new(n, 2, (0..2 * n).map(|i| (i % 977) as f64).collect());
+    let y: Vec<f64> = (0..n).map(|i| (i % 13) as f64).collect();
+    let e = SvrParams::default().fit(&x, &y, 0).unwrap_err().to_string();
+    assert!(
+        e.contains("100000 training rows") && e.contains("240.0 GB") && e.contains("Subsample"),
+        "{e}"
+    );
+    assert_eq!(max_rows(), 13_377);
+}
