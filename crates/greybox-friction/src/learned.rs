@@ -8,7 +8,9 @@
 use greybox_contact::PinContact;
 use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::{units, ContactState, Error, FrictionLaw, Result};
+use greybox_model::family::FittedModel;
 use greybox_model::modelfile::ModelFile;
+use greybox_model::tree::DecisionGrid;
 use greybox_model::Predictor;
 
 /// Most features a learned law maps (stack buffer, no allocation per call).
@@ -96,12 +98,18 @@ fn force_pressure_constant(model: &ModelFile, contact: Option<&PinContact>) -> R
     }
 }
 
+/// Largest decision grid a tree-ensemble law compiles to (8 MB of cells).
+pub const MAX_GRID_CELLS: usize = 1 << 20;
+
 /// A learned friction law.
 #[derive(Debug, Clone)]
 pub struct LearnedLaw {
     pub model: ModelFile,
     pub inputs: Vec<Input>,
     domain: ValidityDomain,
+    /// A tree ensemble compiled to its exact lookup table ([`DecisionGrid`]), when it has at
+    /// most [`MAX_GRID_CELLS`] cells: the same μ bit for bit, one binary search per feature.
+    grid: Option<DecisionGrid>,
 }
 
 impl LearnedLaw {
@@ -163,10 +171,15 @@ impl LearnedLaw {
             })?,
             temperature_k: ranges[2],
         };
+        let grid = match &model.model {
+            FittedModel::TreeEnsemble(e) => DecisionGrid::build(e, MAX_GRID_CELLS),
+            _ => None,
+        };
         Ok(LearnedLaw {
             model,
             inputs,
             domain,
+            grid,
         })
     }
 }
@@ -191,7 +204,11 @@ impl FrictionLaw for LearnedLaw {
         for (xi, inp) in x.iter_mut().zip(&self.inputs) {
             *xi = inp.value(s);
         }
-        self.model.model.predict_one(&x[..self.inputs.len()])
+        let x = &x[..self.inputs.len()];
+        match &self.grid {
+            Some(g) => g.predict_one(x),
+            None => self.model.model.predict_one(x),
+        }
     }
     fn domain(&self) -> Option<ValidityDomain> {
         Some(self.domain)

@@ -185,3 +185,66 @@ fn svr_refuses_more_rows_than_its_kernel_memory_holds() {
     );
     assert_eq!(max_rows(), 13_377);
 }
+
+/// A forest and a boosted ensemble compiled to decision grids give their trees' predictions
+/// bit for bit: on random points, exactly on every split threshold and on its neighbouring
+/// floats, outside the data, and for NaN features.
+#[test]
+fn decision_grids_equal_their_tree_ensembles_bit_for_bit() {
+    use greybox_model::tree::{DecisionGrid, TreeEnsemble};
+    let (x, y) = data(210, 0.01, 7, false);
+    let forest = ForestParams {
+        n_estimators: 50,
+        ..Default::default()
+    }
+    .fit(&x, &y, 3)
+    .unwrap();
+    let boost = BoostParams {
+        n_estimators: 100,
+        max_depth: 5,
+        learning_rate: 0.1,
+        ..Default::default()
+    }
+    .fit(&x, &y, 3)
+    .unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for e in [&forest, &boost] {
+        let grid = DecisionGrid::build(e, 1 << 20).expect("a grid within the cap");
+        let thresholds = |f: u32| -> Vec<f64> {
+            e.nodes
+                .iter()
+                .filter(|n| n.feature == f)
+                .map(|n| n.value)
+                .collect()
+        };
+        let (t0, t1) = (thresholds(0), thresholds(1));
+        let ranges = x.column_ranges();
+        let mut points: Vec<[f64; 2]> = (0..20_000)
+            .map(|_| {
+                let mut u = |r: (f64, f64)| r.0 + (r.1 - r.0) * rng.gen_range(-0.2..1.2);
+                [u(ranges[0]), u(ranges[1])]
+            })
+            .collect();
+        for (k, &a) in t0.iter().enumerate() {
+            let b = t1[k % t1.len()];
+            for (p, q) in [
+                (a, b),
+                (a.next_up(), b),
+                (a.next_down(), b.next_up()),
+                (a, b.next_down()),
+            ] {
+                points.push([p, q]);
+            }
+        }
+        points.extend([[f64::NAN, 0.5], [1.0, f64::NAN], [f64::NAN, f64::NAN]]);
+        points.extend([[f64::INFINITY, f64::NEG_INFINITY], [-1e300, 1e300]]);
+        for p in &points {
+            let (want, got) = (e.predict_one(p), grid.predict_one(p));
+            assert_eq!(want.to_bits(), got.to_bits(), "at {p:?}: {want} vs {got}");
+        }
+        assert!(grid.len() <= (t0.len() + 1) * (t1.len() + 1));
+        // a cap below the size refuses to build
+        assert!(DecisionGrid::build(e, grid.len() - 1).is_none());
+        let _: &TreeEnsemble = e;
+    }
+}

@@ -87,3 +87,92 @@ impl crate::predictor::Predictor for TreeEnsemble {
         TreeEnsemble::predict_one(self, x)
     }
 }
+
+/// A tree ensemble compiled into a lookup table over the cells its split thresholds cut the
+/// feature space into. Within a cell every split of every tree goes the same way (a split
+/// sends `x` right exactly when `x > threshold`), so the cell holds the ensemble's
+/// prediction bit for bit: [`TreeEnsemble::predict_one`] at a point of the cell, whose
+/// leaves are summed in the same order for every point of it. A lookup is one binary search
+/// per feature instead of a walk down every tree.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DecisionGrid {
+    /// Per feature: the distinct split thresholds, ascending.
+    thresholds: Vec<Vec<f64>>,
+    /// Per feature: the index step of one cell along it.
+    strides: Vec<usize>,
+    /// Prediction per cell, row-major in feature order.
+    values: Vec<f64>,
+}
+
+impl DecisionGrid {
+    /// The grid of `ensemble`, or `None` when it would have more than `max_cells` cells (the
+    /// product over features of the distinct thresholds plus one).
+    pub fn build(ensemble: &TreeEnsemble, max_cells: usize) -> Option<Self> {
+        let n = ensemble.n_features;
+        let mut thresholds = vec![Vec::new(); n];
+        for node in ensemble.nodes.iter().filter(|node| node.feature != LEAF) {
+            thresholds.get_mut(node.feature as usize)?.push(node.value);
+        }
+        for t in &mut thresholds {
+            t.sort_by(f64::total_cmp);
+            t.dedup();
+        }
+        let mut strides = vec![0; n];
+        let mut cells = 1usize;
+        for f in (0..n).rev() {
+            strides[f] = cells;
+            cells = cells.checked_mul(thresholds[f].len() + 1)?;
+            if cells > max_cells {
+                return None;
+            }
+        }
+        let mut values = Vec::with_capacity(cells);
+        let mut x = vec![0.0; n];
+        for cell in 0..cells {
+            for f in 0..n {
+                x[f] = Self::inside(
+                    &thresholds[f],
+                    (cell / strides[f]) % (thresholds[f].len() + 1),
+                );
+            }
+            values.push(ensemble.predict_one(&x));
+        }
+        Some(DecisionGrid {
+            thresholds,
+            strides,
+            values,
+        })
+    }
+
+    /// A value of cell `c` along a feature with these thresholds: cell c holds the x with
+    /// t[c−1] < x ≤ t[c] (the first cell everything up to t[0], the last everything above
+    /// the largest threshold).
+    fn inside(t: &[f64], c: usize) -> f64 {
+        match (t.get(c), t.last()) {
+            (Some(&upper), _) => upper,
+            (None, Some(&largest)) => largest.next_up(),
+            (None, None) => 0.0,
+        }
+    }
+
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.values.len()
+    }
+
+    /// Whether the grid has no cells (never: a grid has at least one).
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
+
+    /// The ensemble's prediction at `x`: the value of the cell `x` lies in. A NaN feature
+    /// falls into the first cell, where every split sends it left, as the trees do.
+    #[inline]
+    pub fn predict_one(&self, x: &[f64]) -> f64 {
+        let mut cell = 0;
+        for ((t, stride), &xf) in self.thresholds.iter().zip(&self.strides).zip(x) {
+            cell += t.partition_point(|&v| v < xf) * stride;
+        }
+        self.values[cell]
+    }
+}
