@@ -11,7 +11,7 @@
 //!   [`Predictor`] seam.
 //! * Fitted models: [`tree`] (flat tree ensembles), [`svr`] (ε-SVR), [`mlp`] (networks);
 //!   hyperparameters of the tree ensembles in [`ensemble`].
-//! * [`matrix`] (feature matrix, standardiser), [`column`] (names with units), [`interval`]
+//! * [`matrix`] (feature matrix, standardiser), [`column`](mod@column) (names with units), [`interval`]
 //!   (conformal prediction intervals).
 
 pub mod column;

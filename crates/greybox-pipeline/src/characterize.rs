@@ -71,7 +71,7 @@ pub struct CharacterizeOptions {
     pub plan: Option<Plan>,
     /// The study file the plan came from, recorded in the provenance.
     pub study: Option<PathBuf>,
-    /// Output directory: frf_<load>.csv, plots, report.json.
+    /// Output directory: `frf_<load>.csv`, plots, report.json.
     pub out: PathBuf,
     /// Replace an existing, non-empty `out`.
     pub force: bool,

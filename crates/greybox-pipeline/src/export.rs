@@ -27,7 +27,7 @@ pub enum ExportFormat {
     Table,
 }
 
-/// Options of [`export`].
+/// Options of [`export()`].
 #[derive(Debug, Clone)]
 pub struct ExportOptions {
     /// Law file, model file or table.

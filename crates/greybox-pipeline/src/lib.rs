@@ -24,7 +24,7 @@
 //! | wear | [`wear`] | volumes, height maps, scars → Archard k |
 //! | tool windows | [`windows`] | coated tool mesh → friction windows |
 //! | everything | [`demo`] | bundled study → all of the above |
-//! | speed | [`bench`] | ingestion, prediction latency, surrogate tables, SPH |
+//! | speed | [`bench`](mod@bench) | ingestion, prediction latency, surrogate tables, SPH |
 //!
 //! Errors are [`anyhow::Error`]s whose messages name the file, line or field at fault.
 
