@@ -2,7 +2,7 @@
 
 use crate::output::print_json;
 use anyhow::Result;
-use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, RunOutput};
+use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, Indentation, RunOutput};
 use greybox_sim::pin::PinSetup;
 use std::path::PathBuf;
 
@@ -94,10 +94,11 @@ impl PinArgs {
     pub fn setup(&self) -> Result<PinSetup> {
         let r = self.pin_radius_mm * 1e-3;
         let depth = match (self.depth_um, self.track_width_um) {
-            (Some(d), None) => d * 1e-6,
-            (None, Some(w)) => greybox_tribo::ploughing::track_depth(r, w * 1e-6)?,
+            (Some(d), None) => Indentation::Depth(d * 1e-6),
+            (None, Some(w)) => Indentation::TrackWidth(w * 1e-6),
             _ => anyhow::bail!("give exactly one of --depth-um and --track-width-um"),
-        };
+        }
+        .depth_m(r)?;
         let mut s = PinSetup::article(depth, self.mu, self.spacing_um * 1e-6);
         s.pin_radius_m = r;
         s.slide_length_m = self.slide_mm * 1e-3;

@@ -137,6 +137,25 @@ fn write_common(
     Ok(())
 }
 
+/// How deep the pin is pressed in.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Indentation {
+    /// The depth, m.
+    Depth(f64),
+    /// A measured track width w, m: depth d = r − √(r² − (w/2)²) for a pin of radius r.
+    TrackWidth(f64),
+}
+
+impl Indentation {
+    /// The depth, m, for a pin of radius `pin_radius_m`.
+    pub fn depth_m(self, pin_radius_m: f64) -> Result<f64> {
+        Ok(match self {
+            Indentation::Depth(d) => d,
+            Indentation::TrackWidth(w) => greybox_tribo::ploughing::track_depth(pin_radius_m, w)?,
+        })
+    }
+}
+
 /// Press and slide a pin ([`PinSetup`]); writes forces, windows, VTK, the summary and
 /// the provenance into `o.out`.
 pub fn run_pin(setup: &PinSetup, o: &RunOutput) -> Result<PinResult> {
