@@ -105,7 +105,7 @@ pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
     let campaign = campaign(&study, &plan)?;
     let foreign = foreign_rig()?;
     let law = grey_box(&study, &campaign.dataset_csv)?;
-    let dynamics = dynamics()?;
+    let dynamics = dynamics(&plan)?;
     // wear: the article's five pin tests (digest §4), k → V = k F s → k
     let wear_path = PathBuf::from("wear-tests.csv");
     write_string_atomic(&wear_path, WEAR_TESTS)?;
@@ -301,8 +301,8 @@ fn grey_box(study: &Study, dataset_csv: &Path) -> Result<GreyBox> {
 }
 
 /// Rig dynamics: virtual impact-hammer tests at the article's three loads, characterised
-/// against the campaign's spindle excitation.
-fn dynamics() -> Result<CharacterizeReport> {
+/// against the spindle excitation of the campaign `plan`.
+fn dynamics(plan: &Plan) -> Result<CharacterizeReport> {
     let mut recordings = Vec::new();
     for (load, f_hz, zeta) in VIRTUAL_RIG {
         let rec = greybox_tribo::frf_synth::Chain::sdof(3.0, f_hz, zeta).record(
@@ -335,9 +335,7 @@ fn dynamics() -> Result<CharacterizeReport> {
         },
         impact: ImpactConfig::default(),
         harmonics: 3,
-        plan: Study::load(&study_file)
-            .ok()
-            .and_then(|s| s.plan.build().ok()),
+        plan: Some(plan.clone()),
         study: Some(study_file),
         out: "characterize".into(),
         force: false,

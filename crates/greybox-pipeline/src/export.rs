@@ -53,8 +53,19 @@ pub struct ExportOptions {
     pub check_points: usize,
 }
 
-/// `n` equidistant values from `min` to `max` (both included): `min + (max − min)·i/(n − 1)`.
+/// `n` equidistant values from `min` to `max` (both included): `min + (max − min)·i/(n − 1)`;
+/// `[min]` for n = 1, nothing for n = 0.
+///
+/// ```
+/// use greybox_pipeline::export::equidistant;
+/// assert_eq!(equidistant(20.0, 250.0, 3), [20.0, 135.0, 250.0]);
+/// assert_eq!(equidistant(20.0, 250.0, 1), [20.0]);
+/// assert!(equidistant(20.0, 250.0, 0).is_empty());
+/// ```
 pub fn equidistant(min: f64, max: f64, n: usize) -> Vec<f64> {
+    if n < 2 {
+        return vec![min; n];
+    }
     (0..n)
         .map(|i| min + (max - min) * i as f64 / (n - 1) as f64)
         .collect()

@@ -358,8 +358,7 @@ fn demo_wear_and_coupling(text: &mut String, demo: &Demo, out: &Path) -> Result<
         under(out, &p.wear_tests).display()
     );
     for w in &s.wear_tests {
-        let v = w.implied_volume_mm3();
-        let k_back = greybox_tribo::wear::archard_k(v, w.normal_force_n, w.distance_m())? * 1e7;
+        let r = crate::wear::wear_test_row(w)?;
         let _ = writeln!(
             text,
             "  {}: {} N, {} m/min, {} s -> s = {:.1} m, V = {:.3e} mm3, k = {:.2}e-7 mm3/(N m)",
@@ -367,9 +366,9 @@ fn demo_wear_and_coupling(text: &mut String, demo: &Demo, out: &Path) -> Result<
             w.normal_force_n,
             w.velocity_m_per_min,
             w.duration_s,
-            w.distance_m(),
-            v,
-            k_back
+            r.sliding_distance_m,
+            r.implied_volume_mm3,
+            r.k_back_1e_7
         );
     }
     let couple_dir = under(out, &p.couple);

@@ -4,7 +4,7 @@
 use anyhow::{bail, Result};
 use greybox_tribo::wear::{
     analyze_height_map, archard_dimensionless, archard_k, cap_volume_from_scar, read_height_map,
-    read_wear_tests, Reference, WearScar,
+    read_wear_tests, Reference, WearScar, WearTest,
 };
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -104,21 +104,21 @@ pub struct WearTestRow {
 }
 
 /// The wear tests of a CSV (pin, normal_force_N, velocity_m_per_min, duration_s,
-/// k_1e-7_mm3_per_Nm, mean_depth_um): the implied volume V = k F s, and k back from V.
+/// k_1e-7_mm3_per_Nm, mean_depth_um), each re-derived by [`wear_test_row`].
 pub fn wear_tests(path: &Path) -> Result<Vec<WearTestRow>> {
-    read_wear_tests(path)?
-        .iter()
-        .map(|w| {
-            let v = w.implied_volume_mm3();
-            Ok(WearTestRow {
-                pin: w.pin.clone(),
-                sliding_distance_m: w.distance_m(),
-                implied_volume_mm3: v,
-                k_back_1e_7: archard_k(v, w.normal_force_n, w.distance_m())? * 1e7,
-                k_article_1e_7: w.k_1e7,
-            })
-        })
-        .collect()
+    read_wear_tests(path)?.iter().map(wear_test_row).collect()
+}
+
+/// One wear test re-derived: the implied volume V = k F s, and k back from V.
+pub fn wear_test_row(w: &WearTest) -> Result<WearTestRow> {
+    let v = w.implied_volume_mm3();
+    Ok(WearTestRow {
+        pin: w.pin.clone(),
+        sliding_distance_m: w.distance_m(),
+        implied_volume_mm3: v,
+        k_back_1e_7: archard_k(v, w.normal_force_n, w.distance_m())? * 1e7,
+        k_article_1e_7: w.k_1e7,
+    })
 }
 
 /// Refuse an input that gives no or several ways to the volume.

@@ -627,16 +627,16 @@ impl Plan {
             )));
         }
         let interleaved = seg.toc & TOC_INTERLEAVED != 0;
-        if interleaved {
-            let n = active[0].1.n_values;
-            if active
+        // values per channel in a chunk: the rows of an interleaved chunk
+        let n = active[0].1.n_values;
+        if interleaved
+            && active
                 .iter()
                 .any(|(_, i)| i.n_values != n || i.dtype == T_STRING)
-            {
-                return Err(err(
-                    "interleaved data needs equal-length numeric channels".into()
-                ));
-            }
+        {
+            return Err(err(
+                "interleaved data needs equal-length numeric channels".into()
+            ));
         }
         // chunk <= data_len <= len: both fit in usize
         let n_chunks = (data_len / chunk) as usize;
@@ -659,7 +659,6 @@ impl Plan {
         let layout = self.layouts.len() - 1;
         let (n_chunks, chunk) = if interleaved {
             // rows: the values' sizes add up to chunk / n
-            let n = objects.active[0].1.n_values;
             ((data_len / chunk * n) as usize, (chunk / n) as usize)
         } else {
             (n_chunks, chunk as usize)
