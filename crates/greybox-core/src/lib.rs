@@ -13,12 +13,14 @@
 //! * [`csvutil`] — strict numeric field parsing shared by every CSV reader.
 //! * [`plot`] — small self-contained SVG plots.
 //! * [`rules`] — field-by-field configuration checks whose errors name the field and the rule.
+//! * [`boundary`] — exact boundaries of monotone floating-point predicates (split thresholds).
 //! * [`roots`] — bracketing root finding for expensive functions.
 //! * [`linalg`] — small least-squares helpers.
 //!
 //! SI units everywhere inside: Pa, m/s, N, K, s.
 
 pub mod atomic;
+pub mod boundary;
 pub mod cleanup;
 pub mod contact;
 pub mod csvutil;
