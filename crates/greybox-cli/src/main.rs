@@ -10,6 +10,7 @@ mod cmd_export;
 mod cmd_fit;
 mod cmd_hertz;
 mod cmd_identify;
+mod cmd_import;
 mod cmd_material;
 mod cmd_plan;
 mod cmd_predict;
@@ -45,6 +46,8 @@ enum Command {
     Export(cmd_export::Args),
     /// Train and compare regressors (RF, SVR, boosting, MLP) with nested CV, CIs, importance.
     Fit(cmd_fit::Args),
+    /// Import a model trained elsewhere (XGBoost JSON/UBJSON, scikit-learn via greybox.from_sklearn).
+    Import(cmd_import::Args),
     /// Evaluate a model file at points, with prediction intervals and a domain check.
     Predict(cmd_predict::Args),
     /// Rig dynamics from impact-hammer tests (FRF, resonances) and the check against the plan.
@@ -89,6 +92,7 @@ fn main() {
         Command::Adhesive(a) => cmd_adhesive::run(a),
         Command::Export(a) => cmd_export::run(a),
         Command::Predict(a) => cmd_predict::run(a),
+        Command::Import(a) => cmd_import::run(a),
         Command::Simulate(a) => cmd_simulate::run(a),
         Command::Material(a) => cmd_material::run(a),
         Command::Demo(a) => cmd_demo::run(a),

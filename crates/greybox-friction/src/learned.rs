@@ -34,7 +34,7 @@ pub enum Input {
 
 impl Input {
     #[inline]
-    fn value(&self, s: &ContactState) -> f64 {
+    pub fn value(&self, s: &ContactState) -> f64 {
         match *self {
             Input::Pressure { pa_per_unit } => s.pressure_pa / pa_per_unit,
             Input::Velocity { m_s_per_unit } => s.sliding_velocity_m_s.abs() / m_s_per_unit,

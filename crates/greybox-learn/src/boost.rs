@@ -61,13 +61,7 @@ impl Regressor for BoostParams {
             leaf_scale: self.learning_rate,
         };
         let mut rng = ChaCha8Rng::seed_from_u64(seed); // unused without column sampling; kept for the seam
-        let mut ens = TreeEnsemble {
-            n_features: x.n_cols,
-            base,
-            scale: 1.0,
-            roots: Vec::new(),
-            nodes: Vec::new(),
-        };
+        let mut ens = TreeEnsemble::new(x.n_cols, base, 1.0);
         let rows: Vec<usize> = (0..n).collect();
         for _ in 0..self.n_estimators {
             for i in 0..n {

@@ -63,13 +63,7 @@ impl Regressor for ForestParams {
                 (nodes, root)
             })
             .collect();
-        let mut ens = TreeEnsemble {
-            n_features: x.n_cols,
-            base: 0.0,
-            scale: 1.0 / self.n_estimators as f64,
-            roots: Vec::new(),
-            nodes: Vec::new(),
-        };
+        let mut ens = TreeEnsemble::new(x.n_cols, 0.0, 1.0 / self.n_estimators as f64);
         for (nodes, root) in trees {
             ens.push_tree(nodes, root);
         }

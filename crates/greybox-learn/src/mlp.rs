@@ -27,6 +27,8 @@ fn derivative_from_output(act: Activation, a: f64) -> f64 {
             }
         }
         Activation::Tanh => 1.0 - a * a,
+        Activation::Logistic => a * (1.0 - a),
+        Activation::Identity => 1.0,
     }
 }
 

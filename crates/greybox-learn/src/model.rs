@@ -29,6 +29,7 @@ impl Train for Hyperparameters {
             Hyperparameters::Svr(p) => p.validate(),
             Hyperparameters::GradientBoosting(p) => p.validate(),
             Hyperparameters::Mlp(p) => p.validate(),
+            Hyperparameters::Imported(i) => Err(refit_imported(i)),
         }
     }
     fn fit(&self, x: &Matrix, y: &[f64], seed: u64) -> Result<FittedModel> {
@@ -37,6 +38,17 @@ impl Train for Hyperparameters {
             Hyperparameters::Svr(p) => FittedModel::Svr(p.fit(x, y, seed)?),
             Hyperparameters::GradientBoosting(p) => FittedModel::TreeEnsemble(p.fit(x, y, seed)?),
             Hyperparameters::Mlp(p) => FittedModel::Mlp(p.fit(x, y, seed)?),
+            Hyperparameters::Imported(i) => return Err(refit_imported(i)),
         })
     }
+}
+
+fn refit_imported(i: &greybox_model::family::ImportedFrom) -> greybox_core::Error {
+    greybox_core::Error::invalid(
+        "hyperparameters",
+        format!(
+            "an imported {} ({}) carries no greybox training parameters and cannot be refitted here; retrain it where it was made, or fit a greybox family",
+            i.estimator, i.library
+        ),
+    )
 }

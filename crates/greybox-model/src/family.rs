@@ -57,6 +57,24 @@ pub enum Hyperparameters {
     Svr(SvrParams),
     GradientBoosting(BoostParams),
     Mlp(MlpParams),
+    /// A model trained elsewhere and imported (`greybox import`): no greybox training
+    /// parameters, only where it came from.
+    Imported(ImportedFrom),
+}
+
+/// Where an imported model came from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImportedFrom {
+    /// The greybox family it belongs to (tree ensembles: random forest or boosting).
+    pub as_family: Family,
+    /// The library and its version, e.g. "scikit-learn 1.9.1", "xgboost 3.2.0".
+    pub library: String,
+    /// The estimator, e.g. "Pipeline(StandardScaler, SVR)", "xgboost.Booster (gbtree)".
+    pub estimator: String,
+    /// The source file's name and SHA-256, when imported from a file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source: Option<String>,
 }
 
 /// A fitted model of any family.
@@ -86,6 +104,7 @@ impl Hyperparameters {
             Hyperparameters::Svr(_) => Family::Svr,
             Hyperparameters::GradientBoosting(_) => Family::GradientBoosting,
             Hyperparameters::Mlp(_) => Family::Mlp,
+            Hyperparameters::Imported(i) => i.as_family,
         }
     }
     /// Short description of the grid-relevant values, e.g. `n_estimators=100`.
@@ -114,6 +133,7 @@ impl Hyperparameters {
                 p.activation.name(),
                 p.learning_rate
             ),
+            Hyperparameters::Imported(i) => format!("imported {} ({})", i.estimator, i.library),
         }
     }
 }

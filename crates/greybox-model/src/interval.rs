@@ -15,14 +15,27 @@ pub struct PredictionInterval {
     pub coverage: f64,
     /// Half-width q (target units): the interval is ŷ ± q.
     pub half_width: f64,
-    /// Always "cv-conformal".
     pub method: IntervalMethod,
+}
+
+impl PredictionInterval {
+    /// No interval (coverage 0, half-width 0): a model whose held-out residuals are unknown.
+    pub const NONE: PredictionInterval = PredictionInterval {
+        coverage: 0.0,
+        half_width: 0.0,
+        method: IntervalMethod::None,
+    };
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum IntervalMethod {
+    /// Out-of-fold residuals of greybox's cross-validation.
     CvConformal,
+    /// Residuals on calibration rows the model was not trained on (an imported model).
+    SplitConformal,
+    /// No interval: a model imported without calibration data (half-width 0).
+    None,
 }
 
 /// Conformal half-width from out-of-fold residuals.

@@ -11,6 +11,10 @@ use serde::{Deserialize, Serialize};
 pub enum Activation {
     Relu,
     Tanh,
+    /// 1 / (1 + e^(−v)) (scikit-learn's `logistic`).
+    Logistic,
+    /// v (scikit-learn's `identity`).
+    Identity,
 }
 
 impl Activation {
@@ -18,6 +22,8 @@ impl Activation {
         match self {
             Activation::Relu => "relu",
             Activation::Tanh => "tanh",
+            Activation::Logistic => "logistic",
+            Activation::Identity => "identity",
         }
     }
     /// The activation of a pre-activation value.
@@ -26,6 +32,8 @@ impl Activation {
         match self {
             Activation::Relu => v.max(0.0),
             Activation::Tanh => v.tanh(),
+            Activation::Logistic => 1.0 / (1.0 + (-v).exp()),
+            Activation::Identity => v,
         }
     }
 }

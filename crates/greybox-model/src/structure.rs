@@ -81,6 +81,12 @@ pub fn check_trees(t: &TreeEnsemble, n_features: usize) -> Check {
     }
     finite("base", &[t.base])?;
     finite("scale", &[t.scale])?;
+    if t.accumulation == crate::tree::Accumulation::F32 && t.scale != 1.0 {
+        return fail(
+            "scale",
+            format!("{} with float32 accumulation (must be 1)", t.scale),
+        );
+    }
     let n = t.nodes.len();
     if t.roots.is_empty() {
         return fail("roots", "no trees");

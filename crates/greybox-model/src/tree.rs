@@ -30,7 +30,26 @@ pub fn walk(nodes: &[Node], root: u32, x: &[f64]) -> f64 {
     n.value
 }
 
-/// A fitted tree ensemble: prediction = base + scale · Σ_t tree_t(x).
+/// How the leaves of the trees are added up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Accumulation {
+    /// base + scale · Σ_t leaf_t in f64 (greybox's own ensembles, scikit-learn's).
+    #[default]
+    F64,
+    /// ((base + leaf_1) + leaf_2) + … in f32, tree by tree, as XGBoost's CPU predictor
+    /// adds leaf values to the margin (scale must be 1): reproduces its float32 output bit
+    /// for bit.
+    F32,
+}
+
+impl Accumulation {
+    fn is_f64(&self) -> bool {
+        *self == Accumulation::F64
+    }
+}
+
+/// A fitted tree ensemble: prediction = base + scale · Σ_t tree_t(x) (see [`Accumulation`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TreeEnsemble {
     pub n_features: usize,
@@ -38,15 +57,44 @@ pub struct TreeEnsemble {
     pub scale: f64,
     pub roots: Vec<u32>,
     pub nodes: Vec<Node>,
+    /// How leaves are summed (absent in files: f64).
+    #[serde(default, skip_serializing_if = "Accumulation::is_f64")]
+    pub accumulation: Accumulation,
 }
 
 impl TreeEnsemble {
+    /// An ensemble without trees yet (f64 accumulation): prediction = base + scale · Σ.
+    pub fn new(n_features: usize, base: f64, scale: f64) -> Self {
+        TreeEnsemble {
+            n_features,
+            base,
+            scale,
+            roots: Vec::new(),
+            nodes: Vec::new(),
+            accumulation: Accumulation::F64,
+        }
+    }
+
     /// Prediction for one row. Eight trees are walked in lockstep so that their dependent
     /// node loads overlap; leaves are summed in tree order.
     #[inline]
     pub fn predict_one(&self, x: &[f64]) -> f64 {
+        match self.accumulation {
+            Accumulation::F64 => self.base + self.scale * self.sum_leaves(x, 0.0f64, |v| v),
+            Accumulation::F32 => self.sum_leaves(x, self.base as f32, |v| v as f32) as f64,
+        }
+    }
+
+    /// `start` plus the leaves `x` falls into, converted by `leaf` and added in tree order.
+    #[inline]
+    fn sum_leaves<T: std::ops::AddAssign + Copy>(
+        &self,
+        x: &[f64],
+        start: T,
+        leaf: impl Fn(f64) -> T,
+    ) -> T {
         const LANES: usize = 8;
-        let mut s = 0.0;
+        let mut s = start;
         for chunk in self.roots.chunks(LANES) {
             let mut idx = [0u32; LANES];
             idx[..chunk.len()].copy_from_slice(chunk);
@@ -64,10 +112,10 @@ impl TreeEnsemble {
                 }
             }
             for k in &idx[..chunk.len()] {
-                s += self.nodes[*k as usize].value;
+                s += leaf(self.nodes[*k as usize].value);
             }
         }
-        self.base + self.scale * s
+        s
     }
     /// Append a tree grown in its own node buffer.
     pub fn push_tree(&mut self, nodes: Vec<Node>, root: u32) {

@@ -27,6 +27,29 @@ pub enum ExportFormat {
     Table,
 }
 
+impl ExportFormat {
+    pub const ALL: [ExportFormat; 5] = [
+        ExportFormat::Abaqus,
+        ExportFormat::Deform,
+        ExportFormat::Lsdyna,
+        ExportFormat::Csv,
+        ExportFormat::Table,
+    ];
+    /// The name on the command line and in the Python API.
+    pub fn name(self) -> &'static str {
+        match self {
+            ExportFormat::Abaqus => "abaqus",
+            ExportFormat::Deform => "deform",
+            ExportFormat::Lsdyna => "lsdyna",
+            ExportFormat::Csv => "csv",
+            ExportFormat::Table => "table",
+        }
+    }
+    pub fn parse(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|f| f.name() == name)
+    }
+}
+
 /// Options of [`export()`].
 #[derive(Debug, Clone)]
 pub struct ExportOptions {

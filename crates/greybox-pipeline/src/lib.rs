@@ -13,6 +13,7 @@
 //! | identify | [`identify`] | recordings (any rig) → dataset of μ per load × speed |
 //! | ploughing correction | [`adhesive`] | dataset → adhesive μ (analytic or inverse simulation) |
 //! | learn | [`fit`] | dataset → model files, reports, plots |
+//! | bring your own model | [`import`](mod@import) | XGBoost / scikit-learn model → model file |
 //! | grey-box law | [`law`] | model → law file |
 //! | tables for FE engines | [`export`] | law → Abaqus / DEFORM / LS-DYNA / surrogate table |
 //! | cut, pin | [`simulate`] | set-up + law → forces, contact profile, chip |
@@ -37,6 +38,7 @@ pub mod export;
 pub mod fit;
 pub mod hertz;
 pub mod identify;
+pub mod import;
 pub mod law;
 pub mod material;
 pub mod output;

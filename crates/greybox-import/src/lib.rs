@@ -1,0 +1,303 @@
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too
+//! greybox-import: models trained elsewhere as greybox model files, usable everywhere a
+//! greybox model is (friction laws, tables, the C ABI, the cutting simulation).
+//!
+//! * [`sklearn`] — scikit-learn forests, extra trees, gradient boosting, SVR and MLP, with
+//!   `StandardScaler`/`MinMaxScaler` pipelines (exported by `greybox.from_sklearn` in Python).
+//! * [`xgboost`] — XGBoost boosters saved as JSON or UBJSON ([`ubjson`]).
+//! * [`trees`], [`scaler`] — exact restatement of the libraries' splits and scalers.
+//!
+//! A source library's model knows nothing of units or of where it may be trusted, so the
+//! user states the feature names (their suffixes give the units, `normal_force_N`), the target,
+//! and the training domain — or gives the training data, from which the domain is taken. Rows
+//! the model was not trained on (`calibration`) give it a split-conformal prediction
+//! interval and a held-out R²; without them the model file says it has no interval.
+//!
+//! ```no_run
+//! use greybox_import::{import_file, Domain, ImportOptions};
+//! let opts = ImportOptions::new(Domain::Data("campaign.csv".into()))
+//!     .with_features(&["normal_force_N", "sliding_velocity_m_per_min"]);
+//! let model = import_file("booster.ubj".as_ref(), &opts).unwrap();
+//! model.save("model.json".as_ref()).unwrap();
+//! ```
+
+pub mod scaler;
+pub mod sklearn;
+pub mod trees;
+pub mod ubjson;
+pub mod xgboost;
+
+mod data;
+
+use greybox_core::provenance::sha256_file;
+use greybox_core::{Error, Result, SourcePos};
+use greybox_model::column::Column;
+use greybox_model::family::{FittedModel, Hyperparameters, ImportedFrom};
+use greybox_model::interval::{conformal_half_width, IntervalMethod, PredictionInterval};
+use greybox_model::modelfile::{FeatureRange, ModelFile, SCHEMA, SCHEMA_VERSION};
+use greybox_model::Predictor;
+use std::path::{Path, PathBuf};
+
+/// A model read from another library, before it meets units and a domain.
+#[derive(Debug, Clone)]
+pub struct Imported {
+    pub model: FittedModel,
+    pub from: ImportedFrom,
+    pub n_features: usize,
+    /// The feature names the source recorded, if any.
+    pub feature_names: Option<Vec<String>>,
+}
+
+/// Where the training domain comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Domain {
+    /// Per feature, the range the model was trained on (feature units).
+    Stated(Vec<FeatureRange>),
+    /// The training data: a CSV with a column per feature (a greybox friction dataset also
+    /// gives the force-to-pressure map of its contact).
+    Data(PathBuf),
+    /// The training rows themselves (feature units, one row per sample).
+    Rows(Vec<Vec<f64>>),
+}
+
+/// Rows the model was not trained on, with their target.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Calibration {
+    /// A CSV with the feature columns and the target column.
+    File(PathBuf),
+    /// Feature rows and targets.
+    Rows(Vec<Vec<f64>>, Vec<f64>),
+}
+
+/// What the source model does not know: names, units, domain, interval.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImportOptions {
+    /// Feature names with unit suffixes, in the model's input order (`None`: the names the
+    /// source recorded).
+    pub features: Option<Vec<String>>,
+    /// The target column's name.
+    pub target: String,
+    pub domain: Domain,
+    /// Rows not used in training: a split-conformal interval and a held-out R².
+    pub calibration: Option<Calibration>,
+    /// Nominal coverage of the interval.
+    pub coverage: f64,
+}
+
+impl ImportOptions {
+    /// Features as the source names them, target `cof_adhesive`, 95 % intervals.
+    pub fn new(domain: Domain) -> Self {
+        ImportOptions {
+            features: None,
+            target: "cof_adhesive".into(),
+            domain,
+            calibration: None,
+            coverage: 0.95,
+        }
+    }
+    pub fn with_features(mut self, names: &[&str]) -> Self {
+        self.features = Some(names.iter().map(|s| s.to_string()).collect());
+        self
+    }
+}
+
+/// The kind of a model file, from its content: a UBJSON object starts with `{` and a
+/// length marker for its first key (or a `$`/`#` header); a JSON object with `{` and a quote.
+fn detect(bytes: &[u8]) -> &'static str {
+    match bytes {
+        [b'{', b'i' | b'U' | b'I' | b'l' | b'L' | b'$' | b'#', ..] => "ubjson",
+        _ if std::str::from_utf8(bytes).is_ok_and(|t| t.trim_start().starts_with('{')) => "json",
+        _ => "unknown",
+    }
+}
+
+/// Read a model file of another library: an XGBoost booster (`.json` or `.ubj`) or a
+/// scikit-learn export (`greybox-sklearn` JSON).
+pub fn read_model(path: &Path) -> Result<Imported> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let source = path.display().to_string();
+    let (hash, _) = sha256_file(path)?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| source.clone());
+    let mut imported = match detect(&bytes) {
+        "json" => {
+            let text = std::str::from_utf8(&bytes).expect("checked by detect");
+            let v: serde_json::Value = serde_json::from_str(text).map_err(|e| {
+                Error::input(
+                    SourcePos::file(&source).line(e.line() as u64),
+                    format!("not JSON: {e}"),
+                )
+            })?;
+            from_json(v, &source)?
+        }
+        "ubjson" => from_xgboost(&ubjson::parse(&bytes, &source)?, &source)?,
+        _ => {
+            return Err(Error::input(
+                SourcePos::file(&source),
+                "not a model greybox can import: expected an XGBoost booster saved as JSON or UBJSON, or a scikit-learn model exported by greybox.from_sklearn (JSON); ONNX files are not supported yet",
+            ))
+        }
+    };
+    imported.from.source = Some(format!("{name} (sha256 {hash})"));
+    Ok(imported)
+}
+
+/// A JSON document: a scikit-learn export or an XGBoost booster.
+pub fn from_json(v: serde_json::Value, source: &str) -> Result<Imported> {
+    if v.get("schema").and_then(|s| s.as_str()) == Some(sklearn::SCHEMA) {
+        let e: sklearn::Export = serde_json::from_value(v).map_err(|e| {
+            Error::input(
+                SourcePos::file(source),
+                format!("invalid scikit-learn export: {e}"),
+            )
+        })?;
+        return from_sklearn(&e, source);
+    }
+    if v.get("learner").is_some() {
+        return from_xgboost(&v, source);
+    }
+    Err(Error::input(
+        SourcePos::file(source),
+        format!(
+            "a JSON document that is neither an XGBoost booster (no 'learner') nor a scikit-learn export (schema '{}')",
+            sklearn::SCHEMA
+        ),
+    ))
+}
+
+/// A scikit-learn export (`greybox.from_sklearn`).
+pub fn from_sklearn(e: &sklearn::Export, source: &str) -> Result<Imported> {
+    let (model, family) =
+        sklearn::convert(e).map_err(|m| Error::input(SourcePos::file(source), m))?;
+    Ok(Imported {
+        model,
+        from: ImportedFrom {
+            as_family: family,
+            library: format!("scikit-learn {}", e.library_version),
+            estimator: e.estimator.clone(),
+            source: None,
+        },
+        n_features: e.n_features,
+        feature_names: e.feature_names.clone(),
+    })
+}
+
+/// An XGBoost booster's JSON document (parsed from JSON or UBJSON).
+pub fn from_xgboost(v: &serde_json::Value, source: &str) -> Result<Imported> {
+    let b = xgboost::convert(v).map_err(|m| Error::input(SourcePos::file(source), m))?;
+    Ok(Imported {
+        n_features: b.ensemble.n_features,
+        model: FittedModel::TreeEnsemble(b.ensemble),
+        from: ImportedFrom {
+            as_family: greybox_model::Family::GradientBoosting,
+            library: format!("xgboost {}", b.version),
+            estimator: format!("xgboost.Booster (gbtree, {})", b.objective),
+            source: None,
+        },
+        feature_names: b.feature_names,
+    })
+}
+
+/// Read and convert a model file of another library in one call ([`read_model`] then
+/// [`model_file`]).
+pub fn import_file(path: &Path, opts: &ImportOptions) -> Result<ModelFile> {
+    model_file(read_model(path)?, opts)
+}
+
+/// The greybox model file of an imported model: names with units, domain, interval, hash.
+pub fn model_file(imported: Imported, opts: &ImportOptions) -> Result<ModelFile> {
+    let names = feature_names(&imported, opts)?;
+    let domain = data::domain(&opts.domain, &names)?;
+    let mut file = ModelFile {
+        schema: SCHEMA.into(),
+        schema_version: SCHEMA_VERSION,
+        family: imported.from.as_family,
+        hyperparameters: Hyperparameters::Imported(imported.from),
+        features: names.iter().map(|n| Column::new(n)).collect(),
+        target: Column::new(&opts.target),
+        training_domain: domain.ranges,
+        n_train: domain.rows,
+        prediction_interval: PredictionInterval::NONE,
+        held_out_r2: None,
+        model: imported.model,
+        force_to_pressure: domain.force_to_pressure,
+        provenance: None,
+        content_hash: String::new(),
+    };
+    file.check_structure("imported model")?;
+    if let Some(calibration) = &opts.calibration {
+        let (x, y) = match calibration {
+            Calibration::File(path) => {
+                let (x, y) = data::rows(path, &names, Some(&opts.target))?;
+                (x, y.expect("target requested"))
+            }
+            Calibration::Rows(x, y) => {
+                data::check_rows(x, names.len(), "calibration rows")?;
+                if y.len() != x.len() || y.iter().any(|v| !v.is_finite()) {
+                    return Err(Error::invalid(
+                        "calibration",
+                        format!(
+                            "{} finite targets needed for {} rows, got {}",
+                            x.len(),
+                            x.len(),
+                            y.len()
+                        ),
+                    ));
+                }
+                (x.clone(), y.clone())
+            }
+        };
+        let pred: Vec<f64> = x.iter().map(|r| file.model.predict_one(r)).collect();
+        if !(opts.coverage > 0.0 && opts.coverage < 1.0) {
+            return Err(Error::invalid(
+                "import",
+                format!("coverage {} is not in (0, 1)", opts.coverage),
+            ));
+        }
+        file.prediction_interval = PredictionInterval {
+            coverage: opts.coverage,
+            half_width: conformal_half_width(&y, &pred, opts.coverage),
+            method: IntervalMethod::SplitConformal,
+        };
+        file.held_out_r2 = Some(r2(&y, &pred));
+    }
+    file.seal()
+}
+
+fn r2(y: &[f64], pred: &[f64]) -> f64 {
+    let mean = y.iter().sum::<f64>() / y.len() as f64;
+    let ss_res: f64 = y.iter().zip(pred).map(|(a, b)| (a - b).powi(2)).sum();
+    let ss_tot: f64 = y.iter().map(|a| (a - mean).powi(2)).sum();
+    1.0 - ss_res / ss_tot
+}
+
+/// The stated names, or the source's; their number must match the model's inputs, and
+/// stated names must match recorded ones when both exist.
+fn feature_names(imported: &Imported, opts: &ImportOptions) -> Result<Vec<String>> {
+    let n = imported.n_features;
+    let names = match (&opts.features, &imported.feature_names) {
+        (Some(given), Some(recorded)) if given != recorded => {
+            return Err(Error::invalid(
+                "import features",
+                format!("the model was trained on features {recorded:?}, not {given:?}"),
+            ))
+        }
+        (Some(given), _) => given.clone(),
+        (None, Some(recorded)) => recorded.clone(),
+        (None, None) => {
+            return Err(Error::invalid(
+                "import features",
+                format!("the model records no feature names: state its {n} features with units, e.g. normal_force_N,sliding_velocity_m_per_min"),
+            ))
+        }
+    };
+    if names.len() != n {
+        return Err(Error::invalid(
+            "import features",
+            format!("{} names for a model of {n} features", names.len()),
+        ));
+    }
+    Ok(names)
+}

@@ -1,0 +1,469 @@
+"""greybox: tribometer recordings to data-driven friction laws for metal-cutting simulation.
+
+The Python face of the greybox Rust toolkit. The article's pipeline, end to end::
+
+    import greybox as gb
+    summary = gb.identify(["recordings/"], "dataset.csv")          # any rig's recordings
+    corr = gb.ploughing_correction("dataset.csv", "adhesive.csv")  # adhesive μ
+    report = gb.fit("adhesive.csv", "fit/")                         # RF, SVR, boosting, MLP
+    model = gb.load_model("fit/models/svr.json")
+    mu = model.mu(pressure_Pa=[1.2e9], velocity_m_per_s=[2.0])      # with intervals
+    gb.export_table(model, "abaqus", "friction.inp", pressure_Pa=..., velocity_m_per_s=...)
+    cut = gb.simulate_cut("cut.toml", "cut/", law=model)
+
+Models trained in scikit-learn or XGBoost come in through :func:`from_sklearn` and
+:func:`from_xgboost`. Arrays in and out are NumPy arrays; tables are pandas DataFrames when
+pandas is installed (``as_frame=None``), else dicts of arrays. Units are SI and named in
+every argument (``pressure_Pa``, ``velocity_m_per_s``, ``temperature_K``). Errors are
+:class:`GreyboxError` (a ``ValueError``) with the command line's message. Long calls release
+the GIL.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from typing import Any, NamedTuple, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _native
+from ._native import GreyboxError
+from ._sklearn import export_sklearn, export_sklearn_json
+from ._tables import read_csv, table
+
+__version__: str = _native.__version__
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+__all__ = [
+    "GreyboxError",
+    "Model",
+    "Law",
+    "Prediction",
+    "LawValues",
+    "hertz",
+    "identify",
+    "read_dataset",
+    "ploughing_correction",
+    "fit",
+    "load_model",
+    "load_law",
+    "from_sklearn",
+    "from_xgboost",
+    "export_sklearn",
+    "export_table",
+    "simulate_cut",
+]
+
+
+def _f64(x: Any, name: str) -> np.ndarray:
+    a = np.ascontiguousarray(np.asarray(x, dtype=np.float64))
+    if a.ndim == 0:
+        a = a.reshape(1)
+    if a.ndim != 1:
+        raise GreyboxError(f"{name}: expected a 1-D array, got shape {a.shape}")
+    return a
+
+
+def _f64_2d(x: Any, name: str) -> np.ndarray:
+    a = np.ascontiguousarray(np.asarray(x, dtype=np.float64))
+    if a.ndim == 1:
+        a = a.reshape(1, -1)
+    if a.ndim != 2:
+        raise GreyboxError(f"{name}: expected a 2-D array (rows × features), got shape {a.shape}")
+    return a
+
+
+class Prediction(NamedTuple):
+    """Model predictions: the value, the prediction interval (low, high) and whether each
+    point lies in the training domain (widened by the margin)."""
+
+    value: np.ndarray
+    low: np.ndarray
+    high: np.ndarray
+    in_domain: np.ndarray
+
+
+class LawValues(NamedTuple):
+    """Friction coefficients of a law and whether each state lies in its validity domain."""
+
+    mu: np.ndarray
+    in_domain: np.ndarray
+
+
+class Model:
+    """A greybox model file: features with units, training domain, prediction interval.
+
+    Load one with :func:`load_model`, or make one with :func:`from_sklearn` /
+    :func:`from_xgboost`.
+    """
+
+    def __init__(self, native: "_native.Model"):
+        self._m = native
+
+    @property
+    def family(self) -> str:
+        """random-forest, svr, gradient-boosting or mlp."""
+        return self._m.family
+
+    @property
+    def features(self) -> list:
+        """Feature names (their suffixes give the units)."""
+        return self._m.features
+
+    @property
+    def units(self) -> list:
+        """The unit of each feature."""
+        return self._m.units
+
+    @property
+    def target(self) -> str:
+        return self._m.target
+
+    @property
+    def training_domain(self) -> list:
+        """Per feature, (min, max) of the training data."""
+        return self._m.training_domain
+
+    @property
+    def interval(self) -> dict:
+        """The prediction interval: coverage, half_width, method."""
+        return json.loads(self._m.interval_json)
+
+    @property
+    def hyperparameters(self) -> dict:
+        """Selected hyperparameters, or where an imported model came from."""
+        return json.loads(self._m.hyperparameters_json)
+
+    @property
+    def held_out_r2(self) -> Optional[float]:
+        return self._m.held_out_r2
+
+    @property
+    def content_hash(self) -> str:
+        return self._m.content_hash
+
+    def predict(self, X: Any, outside: str = "warn", margin: float = 0.05) -> Prediction:
+        """Predictions at rows of ``X`` (n × features, in the features' units).
+
+        ``outside="refuse"`` raises for points beyond the training domain widened by
+        ``margin`` × each feature's range; ``"warn"`` predicts and flags them in ``in_domain``.
+        A DataFrame is reordered to the model's feature names.
+        """
+        if hasattr(X, "columns"):
+            missing = [f for f in self.features if f not in X.columns]
+            if missing:
+                raise GreyboxError(f"X lacks the model's feature columns {missing}")
+            X = X[self.features].to_numpy()
+        return Prediction(*self._m.predict(_f64_2d(X, "X"), outside, margin))
+
+    def mu(
+        self,
+        pressure_Pa: Any,
+        velocity_m_per_s: Any,
+        temperature_K: Any = None,
+        outside: str = "warn",
+        margin: float = 0.05,
+    ) -> Prediction:
+        """μ at contact states in SI, mapped to the model's feature units (a normal-force
+        feature through the training contact's Hertz relation), with intervals and the
+        domain check."""
+        p = _f64(pressure_Pa, "pressure_Pa")
+        v = _f64(velocity_m_per_s, "velocity_m_per_s")
+        t = None if temperature_K is None else _f64(temperature_K, "temperature_K")
+        return Prediction(*self._m.mu(p, v, t, outside, margin))
+
+    def law(self) -> "Law":
+        """This model as a friction law."""
+        return Law(_native.Law.from_model(self._m))
+
+    def save(self, path: PathLike) -> None:
+        """Write the model file (atomically)."""
+        self._m.save(os.fspath(path))
+
+    def to_json(self) -> str:
+        return self._m.to_json()
+
+    def __repr__(self) -> str:
+        return repr(self._m)
+
+
+class Law:
+    """A friction law: a law file, a model or a surrogate table."""
+
+    def __init__(self, native: "_native.Law"):
+        self._l = native
+
+    @property
+    def name(self) -> str:
+        return self._l.name
+
+    @property
+    def domain(self) -> Optional[dict]:
+        """Ranges of pressure_pa, sliding_velocity_m_s (and temperature_k) the law is valid
+        for, or None."""
+        d = self._l.domain_json
+        return None if d is None else json.loads(d)
+
+    def mu(self, pressure_Pa: Any, velocity_m_per_s: Any, temperature_K: Any = None) -> LawValues:
+        """μ at contact states in SI (Pa, m/s, K)."""
+        p = _f64(pressure_Pa, "pressure_Pa")
+        v = _f64(velocity_m_per_s, "velocity_m_per_s")
+        t = None if temperature_K is None else _f64(temperature_K, "temperature_K")
+        return LawValues(*self._l.mu(p, v, t))
+
+    def __repr__(self) -> str:
+        return repr(self._l)
+
+
+def load_model(path: PathLike) -> Model:
+    """Load and verify a greybox model file (schema, content hash, structure)."""
+    return Model(_native.Model.load(os.fspath(path)))
+
+
+def load_law(path: PathLike) -> Law:
+    """Load a law file, model file or surrogate table as a friction law."""
+    return Law(_native.Law.load(os.fspath(path)))
+
+
+def hertz(
+    normal_force_N: Any,
+    radius_mm: float,
+    youngs_modulus_1_GPa: float,
+    poisson_1: float,
+    youngs_modulus_2_GPa: float,
+    poisson_2: float,
+    length_mm: Optional[float] = None,
+    convention: str = "textbook-max",
+    as_frame: Optional[bool] = None,
+) -> Any:
+    """Hertz contact of a sphere (or a cylinder of ``length_mm``) on a flat, per normal force:
+    contact half-width, maximum and mean pressure, approach, and the pressure under
+    ``convention`` (textbook-max, textbook-mean, article-eq7). ``inf`` modulus: rigid."""
+    out = json.loads(
+        _native.hertz_rows(
+            _f64(normal_force_N, "normal_force_N"),
+            radius_mm,
+            youngs_modulus_1_GPa,
+            poisson_1,
+            youngs_modulus_2_GPa,
+            poisson_2,
+            length_mm,
+            convention,
+        )
+    )
+    rows = out["rows"]
+    cols = {k: [r[k] for r in rows] for k in (rows[0] if rows else {})}
+    cols = {k: (v if k == "convention" else np.array([np.nan if x is None else x for x in v], dtype=float)) for k, v in cols.items()}
+    return table(cols, as_frame)
+
+
+def read_dataset(path: PathLike, as_frame: Optional[bool] = None) -> Any:
+    """A friction dataset CSV as a table."""
+    return read_csv(path, as_frame)
+
+
+def identify(
+    recordings: Union[PathLike, Sequence[PathLike]],
+    dataset: PathLike,
+    study: Optional[PathLike] = None,
+    use_plan: bool = False,
+    truth: Optional[PathLike] = None,
+    track_radii_mm: Sequence[float] = (),
+    as_frame: Optional[bool] = None,
+) -> tuple:
+    """Identify apparent friction coefficients per plateau from recordings of any supported
+    rig (files or directories) into the dataset CSV ``dataset``; returns (dataset table,
+    summary dict). ``study`` is a study TOML (default: the bundled example study);
+    ``use_plan`` matches segments to its plan instead of taking loads and speeds from the
+    recordings."""
+    if isinstance(recordings, (str, os.PathLike)):
+        recordings = [recordings]
+    summary = json.loads(
+        _native.identify(
+            [os.fspath(r) for r in recordings],
+            os.fspath(dataset),
+            None if study is None else os.fspath(study),
+            use_plan,
+            None if truth is None else os.fspath(truth),
+            [float(r) for r in track_radii_mm],
+        )
+    )
+    return read_csv(dataset, as_frame), summary
+
+
+def ploughing_correction(
+    data: PathLike,
+    out: PathLike,
+    pin_radius_mm: float = 17.0,
+    track_widths_csv: Optional[PathLike] = None,
+    as_frame: Optional[bool] = None,
+) -> tuple:
+    """The analytic ploughing correction (adhesive μ) of a dataset into ``out``; returns
+    (dataset table with ``cof_adhesive``, correction dict). Track widths from a CSV
+    (normal_force_N, track_width_um), else the article's Table 3."""
+    corr = json.loads(
+        _native.ploughing_correction(
+            os.fspath(data),
+            os.fspath(out),
+            pin_radius_mm,
+            None if track_widths_csv is None else os.fspath(track_widths_csv),
+        )
+    )
+    return read_csv(out, as_frame), corr
+
+
+def fit(
+    data: PathLike,
+    out: PathLike,
+    target: str = "cof_adhesive",
+    features: Sequence[str] = ("normal_force_N", "sliding_velocity_m_per_min"),
+    config: Optional[dict] = None,
+    force: bool = False,
+) -> dict:
+    """The article's learning protocol (grid search, nested cross-validation, bootstrap CIs,
+    permutation importance, conformal intervals) on a dataset; model files, report and
+    plots go into ``out``. ``config`` holds ``[fit]`` settings (families, folds, seed,
+    skip_nested, grid …). Returns {"report", "outputs", "warnings"}."""
+    return json.loads(
+        _native.fit_models(
+            os.fspath(data),
+            os.fspath(out),
+            target,
+            list(features),
+            None if config is None else json.dumps(config),
+            force,
+        )
+    )
+
+
+def _import(source: str, is_json: bool, features, target, domain, X_train, X_cal, y_cal, coverage) -> Model:
+    return Model(
+        _native.import_model(
+            source,
+            None if features is None else list(features),
+            target,
+            None if domain is None else [(float(a), float(b)) for a, b in domain],
+            None if X_train is None else _f64_2d(X_train, "X_train"),
+            None if X_cal is None else _f64_2d(X_cal, "X_cal"),
+            None if y_cal is None else _f64(y_cal, "y_cal"),
+            coverage,
+            is_json,
+        )
+    )
+
+
+def from_sklearn(
+    estimator: Any,
+    features: Optional[Sequence[str]] = None,
+    target: str = "cof_adhesive",
+    domain: Optional[Sequence[tuple]] = None,
+    X_train: Any = None,
+    X_cal: Any = None,
+    y_cal: Any = None,
+    coverage: float = 0.95,
+) -> Model:
+    """A fitted scikit-learn regressor as a greybox model: RandomForestRegressor,
+    ExtraTreesRegressor, GradientBoostingRegressor, SVR (linear, poly, rbf, sigmoid) or
+    MLPRegressor, optionally in a Pipeline behind StandardScaler/MinMaxScaler.
+
+    ``features`` name the inputs with unit suffixes (default: ``feature_names_in_``). State
+    the training domain as ``domain=[(min, max), …]`` or give ``X_train``. Rows the model
+    was not trained on (``X_cal``, ``y_cal``) give a split-conformal interval. Tree
+    predictions agree with scikit-learn to rounding of the sum (splits bit-exact, including
+    its float32 input cast); SVR and MLP to rounding."""
+    return _import(export_sklearn_json(estimator), True, features, target, domain, X_train, X_cal, y_cal, coverage)
+
+
+def from_xgboost(
+    booster: Any,
+    features: Optional[Sequence[str]] = None,
+    target: str = "cof_adhesive",
+    domain: Optional[Sequence[tuple]] = None,
+    X_train: Any = None,
+    X_cal: Any = None,
+    y_cal: Any = None,
+    coverage: float = 0.95,
+) -> Model:
+    """An XGBoost model (a ``Booster``, an ``XGBRegressor`` or a path to a booster saved as
+    JSON or UBJSON) as a greybox model whose predictions equal ``Booster.predict`` bit for
+    bit (float32 splits and float32 sums reproduced). Other arguments as in
+    :func:`from_sklearn`."""
+    if isinstance(booster, (str, os.PathLike)):
+        return _import(os.fspath(booster), False, features, target, domain, X_train, X_cal, y_cal, coverage)
+    b = booster.get_booster() if hasattr(booster, "get_booster") else booster
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "booster.ubj")
+        b.save_model(path)
+        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage)
+
+
+def _law_path(law: Any, tmp: str) -> str:
+    """A path for a law given as a path, a Model or a Law file path."""
+    if isinstance(law, Model):
+        p = os.path.join(tmp, "model.json")
+        law.save(p)
+        return p
+    if isinstance(law, (str, os.PathLike)):
+        return os.fspath(law)
+    raise GreyboxError(f"law: expected a path or a greybox.Model, got {type(law).__name__}")
+
+
+def export_table(
+    law: Any,
+    format: str,
+    out: PathLike,
+    pressure_Pa: Sequence[float],
+    velocity_m_per_s: Sequence[float],
+    temperature_K: Optional[Sequence[float]] = None,
+    pressure_unit: str = "MPa",
+    speed_unit: str = "m/s",
+    temperature_unit: str = "C",
+    check_points: int = 100_000,
+) -> str:
+    """Export a law (path or Model) as ``format`` — abaqus, deform, lsdyna, csv or table — on
+    the grid given in SI; the engine's table units are ``pressure_unit`` (Pa, MPa),
+    ``speed_unit`` (m/s, mm/s, m/min), ``temperature_unit`` (K, C). Returns the export's
+    one-line description."""
+    with tempfile.TemporaryDirectory() as d:
+        return _native.export_table(
+            _law_path(law, d),
+            format,
+            os.fspath(out),
+            [float(x) for x in _f64(pressure_Pa, "pressure_Pa")],
+            [float(x) for x in _f64(velocity_m_per_s, "velocity_m_per_s")],
+            None if temperature_K is None else [float(x) for x in _f64(temperature_K, "temperature_K")],
+            pressure_unit,
+            speed_unit,
+            temperature_unit,
+            check_points,
+        )
+
+
+def simulate_cut(
+    setup: PathLike,
+    out: PathLike,
+    law: Any = None,
+    fraction: float = 1.0,
+    force: bool = False,
+    as_frame: Optional[bool] = None,
+) -> dict:
+    """Run greybox's 2D SPH orthogonal-cutting simulation of a set-up TOML into ``out``,
+    with the set-up's friction or ``law`` (a law/model/table path or a Model). Returns the
+    summary dict plus ``forces`` (force history) and ``contact_profile`` (along the rake
+    face) tables."""
+    with tempfile.TemporaryDirectory() as d:
+        summary = json.loads(
+            _native.simulate_cut(
+                os.fspath(setup),
+                os.fspath(out),
+                None if law is None else _law_path(law, d),
+                fraction,
+                force,
+            )
+        )
+    summary["forces"] = read_csv(os.path.join(os.fspath(out), "forces.csv"), as_frame)
+    summary["contact_profile"] = read_csv(os.path.join(os.fspath(out), "contact_profile.csv"), as_frame)
+    return summary

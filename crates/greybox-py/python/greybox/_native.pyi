@@ -1,0 +1,108 @@
+"""Type stubs of greybox's native module (PyO3). Use the ``greybox`` package's wrappers."""
+
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class GreyboxError(ValueError): ...
+
+_Arrays = Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.bool_]]
+
+class Model:
+    @staticmethod
+    def load(path: str) -> "Model": ...
+    @staticmethod
+    def from_json(text: str) -> "Model": ...
+    def to_json(self) -> str: ...
+    def save(self, path: str) -> None: ...
+    @property
+    def family(self) -> str: ...
+    @property
+    def features(self) -> list[str]: ...
+    @property
+    def units(self) -> list[str]: ...
+    @property
+    def target(self) -> str: ...
+    @property
+    def training_domain(self) -> list[tuple[float, float]]: ...
+    @property
+    def interval_json(self) -> str: ...
+    @property
+    def hyperparameters_json(self) -> str: ...
+    @property
+    def held_out_r2(self) -> Optional[float]: ...
+    @property
+    def content_hash(self) -> str: ...
+    def predict(self, x: npt.NDArray[np.float64], outside: str = "warn", margin: float = 0.05) -> _Arrays: ...
+    def mu(
+        self,
+        pressure_pa: npt.NDArray[np.float64],
+        velocity_m_s: npt.NDArray[np.float64],
+        temperature_k: Optional[npt.NDArray[np.float64]] = None,
+        outside: str = "warn",
+        margin: float = 0.05,
+    ) -> _Arrays: ...
+
+class Law:
+    @staticmethod
+    def load(path: str) -> "Law": ...
+    @staticmethod
+    def from_model(model: Model) -> "Law": ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def domain_json(self) -> Optional[str]: ...
+    def mu(
+        self,
+        pressure_pa: npt.NDArray[np.float64],
+        velocity_m_s: npt.NDArray[np.float64],
+        temperature_k: Optional[npt.NDArray[np.float64]] = None,
+    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]: ...
+
+def hertz_rows(
+    normal_force_n: npt.NDArray[np.float64],
+    radius_mm: float,
+    e1_gpa: float,
+    nu1: float,
+    e2_gpa: float,
+    nu2: float,
+    length_mm: Optional[float] = None,
+    convention: str = "textbook-max",
+) -> str: ...
+def identify(
+    recordings: Sequence[str],
+    dataset: str,
+    study: Optional[str] = None,
+    use_plan: bool = False,
+    truth: Optional[str] = None,
+    track_radii_mm: Sequence[float] = ...,
+) -> str: ...
+def ploughing_correction(data: str, out: str, pin_radius_mm: float = 17.0, track_widths_csv: Optional[str] = None) -> str: ...
+def fit_models(data: str, out: str, target: str, features: Sequence[str], config: Optional[str] = None, force: bool = False) -> str: ...
+def export_table(
+    law: str,
+    format: str,
+    out: str,
+    pressure_pa: Sequence[float],
+    velocity_m_s: Sequence[float],
+    temperature_k: Optional[Sequence[float]] = None,
+    pressure_unit: str = "MPa",
+    speed_unit: str = "m/s",
+    temperature_unit: str = "C",
+    check_points: int = 100000,
+) -> str: ...
+def simulate_cut(setup: str, out: str, law: Optional[str] = None, fraction: float = 1.0, force: bool = False) -> str: ...
+def import_model(
+    source: str,
+    features: Optional[Sequence[str]] = None,
+    target: str = "cof_adhesive",
+    domain: Optional[Sequence[tuple[float, float]]] = None,
+    x_train: Optional[npt.NDArray[np.float64]] = None,
+    x_cal: Optional[npt.NDArray[np.float64]] = None,
+    y_cal: Optional[npt.NDArray[np.float64]] = None,
+    coverage: float = 0.95,
+    is_json: bool = False,
+) -> Model: ...

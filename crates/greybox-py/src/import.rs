@@ -1,0 +1,87 @@
+//! Models trained elsewhere: XGBoost files and scikit-learn exports (built by the Python
+//! layer from the fitted estimator) into greybox models.
+
+use crate::laws::Model;
+use crate::py_err;
+use greybox_import::{Calibration, Domain, ImportOptions};
+use greybox_model::modelfile::FeatureRange;
+use numpy::{PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+use std::path::PathBuf;
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(import_model, m)?)?;
+    Ok(())
+}
+
+fn rows(x: &PyReadonlyArray2<'_, f64>) -> Vec<Vec<f64>> {
+    x.as_array()
+        .rows()
+        .into_iter()
+        .map(|r| r.to_vec())
+        .collect()
+}
+
+/// Import a model: `source` is a file path (XGBoost JSON/UBJSON, a greybox-sklearn JSON) or,
+/// with `is_json`, the JSON text of a scikit-learn export. The domain comes from `domain`
+/// ((min, max) per feature) or `x_train`; `x_cal`/`y_cal` give the split-conformal interval.
+#[pyfunction]
+#[pyo3(signature = (source, features = None, target = "cof_adhesive", domain = None, x_train = None, x_cal = None, y_cal = None, coverage = 0.95, is_json = false))]
+#[allow(clippy::too_many_arguments)]
+fn import_model(
+    py: Python<'_>,
+    source: &str,
+    features: Option<Vec<String>>,
+    target: &str,
+    domain: Option<Vec<(f64, f64)>>,
+    x_train: Option<PyReadonlyArray2<'_, f64>>,
+    x_cal: Option<PyReadonlyArray2<'_, f64>>,
+    y_cal: Option<PyReadonlyArray1<'_, f64>>,
+    coverage: f64,
+    is_json: bool,
+) -> PyResult<Model> {
+    let domain = match (domain, &x_train) {
+        (Some(d), None) => Domain::Stated(
+            d.into_iter()
+                .map(|(min, max)| FeatureRange { min, max })
+                .collect(),
+        ),
+        (None, Some(x)) => Domain::Rows(rows(x)),
+        _ => {
+            return Err(py_err(anyhow::anyhow!(
+                "state the training domain: domain=[(min, max), …] or the training rows x_train"
+            )))
+        }
+    };
+    let calibration = match (&x_cal, &y_cal) {
+        (Some(x), Some(y)) => Some(Calibration::Rows(rows(x), y.as_slice()?.to_vec())),
+        (None, None) => None,
+        _ => {
+            return Err(py_err(anyhow::anyhow!(
+                "calibration needs both x_cal and y_cal"
+            )))
+        }
+    };
+    let opts = ImportOptions {
+        features,
+        target: target.to_string(),
+        domain,
+        calibration,
+        coverage,
+    };
+    let source = source.to_string();
+    let file = py
+        .detach(|| -> greybox_core::Result<_> {
+            let imported = if is_json {
+                let v: serde_json::Value = serde_json::from_str(&source).map_err(|e| {
+                    greybox_core::Error::invalid("scikit-learn export", e.to_string())
+                })?;
+                greybox_import::from_json(v, "scikit-learn export")?
+            } else {
+                greybox_import::read_model(&PathBuf::from(&source))?
+            };
+            greybox_import::model_file(imported, &opts)
+        })
+        .map_err(py_err)?;
+    Ok(Model { file })
+}

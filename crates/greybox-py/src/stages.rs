@@ -1,0 +1,217 @@
+//! The pipeline's stages as Python functions: file paths and plain options in, a JSON report
+//! out (the Python layer turns it into a dict and reads the tables it wrote). Each releases
+//! the GIL while it works.
+
+use crate::{py_err, to_json};
+use greybox_core::dataset::PressureConvention;
+use greybox_pipeline::adhesive::{adhesive, AdhesiveOptions};
+use greybox_pipeline::export::{export, units_by_name, ExportFormat, ExportOptions};
+use greybox_pipeline::fit::{fit, FitOptions};
+use greybox_pipeline::hertz::{hertz, Geometry, HertzOptions};
+use greybox_pipeline::identify::{identify_campaign, IdentifyOptions};
+use greybox_pipeline::simulate::{read_cutting_setup, run_cut, RunOutput};
+use greybox_pipeline::study::Study;
+use numpy::PyReadonlyArray1;
+use pyo3::prelude::*;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(hertz_rows, m)?)?;
+    m.add_function(wrap_pyfunction!(identify, m)?)?;
+    m.add_function(wrap_pyfunction!(ploughing_correction, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_models, m)?)?;
+    m.add_function(wrap_pyfunction!(export_table, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_cut, m)?)?;
+    Ok(())
+}
+
+fn convention(name: &str) -> anyhow::Result<PressureConvention> {
+    PressureConvention::parse(name).ok_or_else(|| {
+        anyhow::anyhow!(
+            "convention '{name}': expected one of {}",
+            PressureConvention::ALL.map(|c| c.name()).join(", ")
+        )
+    })
+}
+
+/// Hertz contact of a sphere (or a cylinder of `length_mm`) on a flat for each normal force:
+/// JSON {"effective_modulus_pa", "rows": [{force_n, contact_half_width_mm, max_pressure_mpa,
+/// mean_pressure_mpa, approach_um, convention, convention_pressure_mpa}]}.
+#[pyfunction]
+#[pyo3(signature = (normal_force_n, radius_mm, e1_gpa, nu1, e2_gpa, nu2, length_mm = None, convention = "textbook-max"))]
+#[allow(clippy::too_many_arguments)]
+fn hertz_rows(
+    normal_force_n: PyReadonlyArray1<'_, f64>,
+    radius_mm: f64,
+    e1_gpa: f64,
+    nu1: f64,
+    e2_gpa: f64,
+    nu2: f64,
+    length_mm: Option<f64>,
+    convention: &str,
+) -> PyResult<String> {
+    let o = HertzOptions {
+        geometry: match length_mm {
+            Some(length_mm) => Geometry::Cylinder { length_mm },
+            None => Geometry::Sphere,
+        },
+        radius_mm,
+        e1_gpa,
+        nu1,
+        e2_gpa,
+        nu2,
+        convention: self::convention(convention).map_err(py_err)?,
+    };
+    let (e_star, rows) = hertz(&o, normal_force_n.as_slice()?).map_err(py_err)?;
+    to_json(&serde_json::json!({"effective_modulus_pa": e_star, "rows": rows}))
+}
+
+/// Identify a campaign's recordings (files or directories, any supported rig format) into
+/// the dataset CSV `dataset`: JSON summary. `study` is a study TOML (default: the bundled
+/// demo study); `use_plan` matches segments to its plan instead of taking loads and
+/// velocities from the recordings.
+#[pyfunction]
+#[pyo3(signature = (recordings, dataset, study = None, use_plan = false, truth = None, track_radii_mm = Vec::new()))]
+fn identify(
+    py: Python<'_>,
+    recordings: Vec<PathBuf>,
+    dataset: PathBuf,
+    study: Option<PathBuf>,
+    use_plan: bool,
+    truth: Option<PathBuf>,
+    track_radii_mm: Vec<f64>,
+) -> PyResult<String> {
+    let r = py.detach(|| -> anyhow::Result<_> {
+        let s = Study::load_or_default(study.as_deref())?;
+        let mut o = IdentifyOptions::new(recordings, dataset);
+        if use_plan {
+            o = o.with_plan(s.plan.build()?);
+        }
+        o.truth = truth;
+        o.track_radii_mm = track_radii_mm;
+        if let Some(p) = &study {
+            o.side_inputs.push(("study".into(), p.clone()));
+        }
+        identify_campaign(&s, &o, None)
+    });
+    to_json(&r.map_err(py_err)?.summary)
+}
+
+/// The analytic ploughing correction of a dataset into `out` (cof_adhesive column added):
+/// JSON of the correction. Track widths: a CSV (normal_force_N, track_width_um), else the
+/// article's Table 3.
+#[pyfunction]
+#[pyo3(signature = (data, out, pin_radius_mm = 17.0, track_widths_csv = None))]
+fn ploughing_correction(
+    py: Python<'_>,
+    data: PathBuf,
+    out: PathBuf,
+    pin_radius_mm: f64,
+    track_widths_csv: Option<PathBuf>,
+) -> PyResult<String> {
+    let mut o = AdhesiveOptions::analytic(data, out);
+    o.pin_radius_mm = pin_radius_mm;
+    o.track_widths_csv = track_widths_csv;
+    let (_, correction) = py.detach(|| adhesive(&o)).map_err(py_err)?;
+    to_json(&correction)
+}
+
+/// The article's learning protocol on a dataset: JSON {report, outputs, warnings}. `config`
+/// is JSON of the `[fit]` settings (families, folds, seed, grids …; absent: the article's).
+#[pyfunction]
+#[pyo3(signature = (data, out, target, features, config = None, force = false))]
+fn fit_models(
+    py: Python<'_>,
+    data: PathBuf,
+    out: PathBuf,
+    target: &str,
+    features: Vec<String>,
+    config: Option<&str>,
+    force: bool,
+) -> PyResult<String> {
+    let mut o = FitOptions::article(data, target, out);
+    o.features = features;
+    o.force = force;
+    if let Some(c) = config {
+        o.config =
+            serde_json::from_str(c).map_err(|e| py_err(anyhow::anyhow!("fit config: {e}")))?;
+    }
+    let r = py.detach(|| fit(&o)).map_err(py_err)?;
+    to_json(&serde_json::json!({
+        "report": r.report,
+        "outputs": r.outputs,
+        "warnings": r.warnings,
+    }))
+}
+
+/// Export a law (law, model or table file) as `format` (abaqus, deform, lsdyna, csv, table)
+/// on the SI grid given: returns the one-line description.
+#[pyfunction]
+#[pyo3(signature = (law, format, out, pressure_pa, velocity_m_s, temperature_k = None, pressure_unit = "MPa", speed_unit = "m/s", temperature_unit = "C", check_points = 100_000))]
+#[allow(clippy::too_many_arguments)]
+fn export_table(
+    py: Python<'_>,
+    law: PathBuf,
+    format: &str,
+    out: PathBuf,
+    pressure_pa: Vec<f64>,
+    velocity_m_s: Vec<f64>,
+    temperature_k: Option<Vec<f64>>,
+    pressure_unit: &str,
+    speed_unit: &str,
+    temperature_unit: &str,
+    check_points: usize,
+) -> PyResult<String> {
+    let format = ExportFormat::parse(format).ok_or_else(|| {
+        py_err(anyhow::anyhow!(
+            "format '{format}': expected one of {}",
+            ExportFormat::ALL.map(|f| f.name()).join(", ")
+        ))
+    })?;
+    let o = ExportOptions {
+        law,
+        format,
+        out,
+        grid: greybox_friction::export::Grid {
+            pressure_pa,
+            velocity_m_s,
+            temperature_k,
+        },
+        units: units_by_name(pressure_unit, speed_unit, temperature_unit).map_err(py_err)?,
+        taumax_pa: None,
+        deform_windows: None,
+        deform_reference_velocity_m_s: 1.0,
+        deform_objects: (1, 2),
+        lsdyna_table_id: 1,
+        check_points,
+    };
+    py.detach(|| export(&o)).map_err(py_err)
+}
+
+/// Run the orthogonal-cutting simulation of a set-up TOML into `out` (optionally with the
+/// friction law file `law` instead of the set-up's): JSON summary; forces.csv and
+/// contact_profile.csv are in `out`.
+#[pyfunction]
+#[pyo3(signature = (setup, out, law = None, fraction = 1.0, force = false))]
+fn simulate_cut(
+    py: Python<'_>,
+    setup: PathBuf,
+    out: PathBuf,
+    law: Option<PathBuf>,
+    fraction: f64,
+    force: bool,
+) -> PyResult<String> {
+    let summary = py.detach(|| -> anyhow::Result<_> {
+        let mut case = read_cutting_setup(&setup)?;
+        if let Some(l) = law {
+            case.law = Arc::from(greybox_friction::spec::load_law(&l)?);
+            case.law_source = l.display().to_string();
+            case.inputs.push(("law", l));
+        }
+        let mut o = RunOutput::to(out);
+        o.force = force;
+        run_cut(&case, fraction, &o)
+    });
+    to_json(&summary.map_err(py_err)?)
+}

@@ -1,0 +1,35 @@
+"""Shared data for the Python tests: a friction-like dataset over the article's ranges
+(normal force 150–2000 N, sliding velocity 20–250 m/min) and seeded random query points."""
+
+import numpy as np
+import pytest
+
+FEATURES = ["normal_force_N", "sliding_velocity_m_per_min"]
+DOMAIN = [(150.0, 2000.0), (20.0, 250.0)]
+
+
+def friction(X):
+    """A smooth μ(F, v) with the article's trends: falling with speed, mildly with load."""
+    F, v = X[:, 0], X[:, 1]
+    return 0.62 - 0.00009 * F - 0.25 * np.log(v / 20.0) / np.log(12.5) + 0.03 * np.sin(F / 300.0)
+
+
+@pytest.fixture(scope="session")
+def data():
+    rng = np.random.default_rng(7)
+    n = 300
+    X = np.column_stack([rng.uniform(*DOMAIN[0], n), rng.uniform(*DOMAIN[1], n)])
+    y = friction(X) + rng.normal(0, 0.01, n)
+    Xc = np.column_stack([rng.uniform(*DOMAIN[0], 100), rng.uniform(*DOMAIN[1], 100)])
+    yc = friction(Xc) + rng.normal(0, 0.01, 100)
+    return X, y, Xc, yc
+
+
+@pytest.fixture(scope="session")
+def queries():
+    """3000 seeded points over the domain widened by 10 % (some outside on purpose)."""
+    rng = np.random.default_rng(11)
+    lo = np.array([d[0] for d in DOMAIN])
+    hi = np.array([d[1] for d in DOMAIN])
+    w = hi - lo
+    return rng.uniform(lo - 0.1 * w, hi + 0.1 * w, (3000, 2))
