@@ -11,6 +11,8 @@ use greybox_pipeline::hertz::{hertz, Geometry, HertzOptions};
 use greybox_pipeline::identify::{identify_campaign, IdentifyOptions};
 use greybox_pipeline::simulate::{read_cutting_setup, run_cut, RunOutput};
 use greybox_pipeline::study::Study;
+use greybox_pipeline::synth::synth as synth_campaign;
+use greybox_tribo::readers::RecordingFormat;
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 use std::path::PathBuf;
@@ -18,12 +20,37 @@ use std::sync::Arc;
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(hertz_rows, m)?)?;
+    m.add_function(wrap_pyfunction!(synth, m)?)?;
     m.add_function(wrap_pyfunction!(identify, m)?)?;
     m.add_function(wrap_pyfunction!(ploughing_correction, m)?)?;
     m.add_function(wrap_pyfunction!(fit_models, m)?)?;
+    m.add_function(wrap_pyfunction!(grey_box_law, m)?)?;
     m.add_function(wrap_pyfunction!(export_table, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_cut, m)?)?;
     Ok(())
+}
+
+/// The study file, or the bundled example study (the article's campaign), with the plan's
+/// numbers of loads and velocities overridden where given.
+fn study_or_example(
+    path: Option<&std::path::Path>,
+    normal_force_count: Option<usize>,
+    velocity_count: Option<usize>,
+) -> anyhow::Result<Study> {
+    let mut s = match path {
+        Some(p) => Study::load(p)?,
+        None => Study::parse(
+            greybox_pipeline::study::DEMO_STUDY,
+            "the bundled example study",
+        )?,
+    };
+    if let Some(n) = normal_force_count {
+        s.plan.normal_force_count = n;
+    }
+    if let Some(n) = velocity_count {
+        s.plan.velocity_count = n;
+    }
+    Ok(s)
 }
 
 fn convention(name: &str) -> anyhow::Result<PressureConvention> {
@@ -67,12 +94,46 @@ fn hertz_rows(
     to_json(&serde_json::json!({"effective_modulus_pa": e_star, "rows": rows}))
 }
 
+/// The virtual tribometer: the study's plan (default: the bundled example study, optionally
+/// with fewer loads and velocities) simulated into recordings and `ground_truth.csv` in
+/// `out`: JSON summary.
+#[pyfunction]
+#[pyo3(signature = (out, study = None, formats = vec!["csv".to_string()], normal_force_count = None, velocity_count = None, force = false))]
+fn synth(
+    py: Python<'_>,
+    out: PathBuf,
+    study: Option<PathBuf>,
+    formats: Vec<String>,
+    normal_force_count: Option<usize>,
+    velocity_count: Option<usize>,
+    force: bool,
+) -> PyResult<String> {
+    let formats = formats
+        .iter()
+        .map(|f| match f.as_str() {
+            "csv" => Ok(RecordingFormat::Csv),
+            "tdms" => Ok(RecordingFormat::Tdms),
+            o => Err(py_err(anyhow::anyhow!(
+                "format '{o}': expected csv or tdms"
+            ))),
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let r = py.detach(|| -> anyhow::Result<_> {
+        let s = study_or_example(study.as_deref(), normal_force_count, velocity_count)?;
+        let inputs: Vec<(&str, &std::path::Path)> =
+            study.iter().map(|p| ("study", p.as_path())).collect();
+        synth_campaign(&s, &formats, &out, force, &inputs)
+    });
+    to_json(&r.map_err(py_err)?)
+}
+
 /// Identify a campaign's recordings (files or directories, any supported rig format) into
 /// the dataset CSV `dataset`: JSON summary. `study` is a study TOML (default: the bundled
-/// demo study); `use_plan` matches segments to its plan instead of taking loads and
-/// velocities from the recordings.
+/// example study, its plan's counts overridable); `use_plan` matches segments to its plan
+/// instead of taking loads and velocities from the recordings.
 #[pyfunction]
-#[pyo3(signature = (recordings, dataset, study = None, use_plan = false, truth = None, track_radii_mm = Vec::new()))]
+#[pyo3(signature = (recordings, dataset, study = None, use_plan = false, truth = None, track_radii_mm = Vec::new(), normal_force_count = None, velocity_count = None))]
+#[allow(clippy::too_many_arguments)]
 fn identify(
     py: Python<'_>,
     recordings: Vec<PathBuf>,
@@ -81,9 +142,11 @@ fn identify(
     use_plan: bool,
     truth: Option<PathBuf>,
     track_radii_mm: Vec<f64>,
+    normal_force_count: Option<usize>,
+    velocity_count: Option<usize>,
 ) -> PyResult<String> {
     let r = py.detach(|| -> anyhow::Result<_> {
-        let s = Study::load_or_default(study.as_deref())?;
+        let s = study_or_example(study.as_deref(), normal_force_count, velocity_count)?;
         let mut o = IdentifyOptions::new(recordings, dataset);
         if use_plan {
             o = o.with_plan(s.plan.build()?);
@@ -143,6 +206,31 @@ fn fit_models(
         "outputs": r.outputs,
         "warnings": r.warnings,
     }))
+}
+
+/// Write the grey-box law file `out` around the model file `model` (as the law file will
+/// refer to it): the model inside its domain, a power law fitted to its training data
+/// outside, blended over `blend_fraction` of each range, μ clamped and (optionally) the
+/// shear stress capped at k. Returns the law file's JSON.
+#[pyfunction]
+#[pyo3(signature = (model, out, blend_fraction = 0.1, clamp = Some((0.05, 1.0)), shear_cap_k_mpa = None))]
+fn grey_box_law(
+    model: PathBuf,
+    out: PathBuf,
+    blend_fraction: f64,
+    clamp: Option<(f64, f64)>,
+    shear_cap_k_mpa: Option<f64>,
+) -> PyResult<String> {
+    let o = greybox_pipeline::law::GreyBoxOptions {
+        blend_fraction,
+        shear_cap_k_mpa,
+        clamp,
+    };
+    let law = greybox_pipeline::law::grey_box_law(model, None, &o);
+    let check = out.parent().unwrap_or(std::path::Path::new("."));
+    law.build(check).map_err(py_err)?;
+    greybox_pipeline::law::write_law(&out, &law).map_err(py_err)?;
+    serde_json::to_string_pretty(&law).map_err(py_err)
 }
 
 /// Export a law (law, model or table file) as `format` (abaqus, deform, lsdyna, csv, table)

@@ -44,6 +44,7 @@ __all__ = [
     "Prediction",
     "LawValues",
     "hertz",
+    "synth",
     "identify",
     "read_dataset",
     "ploughing_correction",
@@ -53,6 +54,7 @@ __all__ = [
     "from_sklearn",
     "from_xgboost",
     "export_sklearn",
+    "grey_box_law",
     "export_table",
     "simulate_cut",
 ]
@@ -265,6 +267,29 @@ def read_dataset(path: PathLike, as_frame: Optional[bool] = None) -> Any:
     return read_csv(path, as_frame)
 
 
+def synth(
+    out: PathLike,
+    study: Optional[PathLike] = None,
+    formats: Sequence[str] = ("csv",),
+    normal_force_count: Optional[int] = None,
+    velocity_count: Optional[int] = None,
+    force: bool = False,
+) -> dict:
+    """The virtual tribometer: the study's campaign (default: the bundled example study,
+    optionally with fewer loads and velocities) simulated into raw recordings (csv, tdms)
+    and ``ground_truth.csv`` in ``out``. Returns the summary dict."""
+    return json.loads(
+        _native.synth(
+            os.fspath(out),
+            None if study is None else os.fspath(study),
+            list(formats),
+            normal_force_count,
+            velocity_count,
+            force,
+        )
+    )
+
+
 def identify(
     recordings: Union[PathLike, Sequence[PathLike]],
     dataset: PathLike,
@@ -272,12 +297,15 @@ def identify(
     use_plan: bool = False,
     truth: Optional[PathLike] = None,
     track_radii_mm: Sequence[float] = (),
+    normal_force_count: Optional[int] = None,
+    velocity_count: Optional[int] = None,
     as_frame: Optional[bool] = None,
 ) -> tuple:
     """Identify apparent friction coefficients per plateau from recordings of any supported
     rig (files or directories) into the dataset CSV ``dataset``; returns (dataset table,
     summary dict). ``study`` is a study TOML (default: the bundled example study);
-    ``use_plan`` matches segments to its plan instead of taking loads and speeds from the
+    ``use_plan`` matches segments to its plan (``normal_force_count``/``velocity_count``
+    override the study's, as in :func:`synth`) instead of taking loads and speeds from the
     recordings."""
     if isinstance(recordings, (str, os.PathLike)):
         recordings = [recordings]
@@ -289,6 +317,8 @@ def identify(
             use_plan,
             None if truth is None else os.fspath(truth),
             [float(r) for r in track_radii_mm],
+            normal_force_count,
+            velocity_count,
         )
     )
     return read_csv(dataset, as_frame), summary
@@ -400,8 +430,32 @@ def from_xgboost(
         return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage)
 
 
+def grey_box_law(
+    model: PathLike,
+    out: PathLike,
+    blend_fraction: float = 0.1,
+    clamp: Optional[tuple] = (0.05, 1.0),
+    shear_cap_k_MPa: Optional[float] = None,
+) -> Law:
+    """Write the grey-box law file ``out`` around the model file ``model`` (the article's
+    hybrid: the learned model inside its training domain, a power law fitted to its training
+    data outside, blended over ``blend_fraction`` of each range; μ clamped to ``clamp``;
+    optionally Zorev's cap τ ≤ k) and return it as a :class:`Law`. A relative ``model`` path
+    is resolved against the law file's folder, as the law file records it."""
+    _native.grey_box_law(
+        os.fspath(model),
+        os.fspath(out),
+        blend_fraction,
+        None if clamp is None else (float(clamp[0]), float(clamp[1])),
+        shear_cap_k_MPa,
+    )
+    return load_law(out)
+
+
 def _law_path(law: Any, tmp: str) -> str:
     """A path for a law given as a path, a Model or a Law file path."""
+    if isinstance(law, Law):
+        raise GreyboxError("law: pass the law's file path (a Law object has no file of its own)")
     if isinstance(law, Model):
         p = os.path.join(tmp, "model.json")
         law.save(p)

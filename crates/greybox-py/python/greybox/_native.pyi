@@ -72,6 +72,14 @@ def hertz_rows(
     length_mm: Optional[float] = None,
     convention: str = "textbook-max",
 ) -> str: ...
+def synth(
+    out: str,
+    study: Optional[str] = None,
+    formats: Sequence[str] = ...,
+    normal_force_count: Optional[int] = None,
+    velocity_count: Optional[int] = None,
+    force: bool = False,
+) -> str: ...
 def identify(
     recordings: Sequence[str],
     dataset: str,
@@ -79,9 +87,18 @@ def identify(
     use_plan: bool = False,
     truth: Optional[str] = None,
     track_radii_mm: Sequence[float] = ...,
+    normal_force_count: Optional[int] = None,
+    velocity_count: Optional[int] = None,
 ) -> str: ...
 def ploughing_correction(data: str, out: str, pin_radius_mm: float = 17.0, track_widths_csv: Optional[str] = None) -> str: ...
 def fit_models(data: str, out: str, target: str, features: Sequence[str], config: Optional[str] = None, force: bool = False) -> str: ...
+def grey_box_law(
+    model: str,
+    out: str,
+    blend_fraction: float = 0.1,
+    clamp: Optional[tuple[float, float]] = (0.05, 1.0),
+    shear_cap_k_mpa: Optional[float] = None,
+) -> str: ...
 def export_table(
     law: str,
     format: str,

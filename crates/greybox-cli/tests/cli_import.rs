@@ -1,0 +1,136 @@
+//! `greybox import`: a booster file becomes a model file that `greybox predict` evaluates as
+//! XGBoost does (float32 split and sum, checked by hand), with the domain stated or taken
+//! from training data, calibration rows giving the interval, and clear errors.
+
+mod common;
+use common::{err, greybox, ok};
+
+/// One stump on feature 0 at 0.1f32, base 0.33f32 (XGBoost's JSON schema).
+const BOOSTER: &str = r#"{"version": [3, 2, 0], "learner": {
+  "objective": {"name": "reg:squarederror"},
+  "feature_names": ["normal_force_N", "sliding_velocity_m_per_min"],
+  "learner_model_param": {"base_score": "[3.3E-1]", "num_feature": "2", "num_class": "0", "num_target": "1"},
+  "gradient_booster": {"name": "gbtree", "model": {"trees": [{
+    "left_children": [1, -1, -1], "right_children": [2, -1, -1], "split_indices": [0, 0, 0],
+    "split_conditions": [1000.5, 0.0123, -0.0456], "split_type": [0, 0, 0], "default_left": [0, 0, 0],
+    "tree_param": {"num_nodes": "3", "size_leaf_vector": "1"}}]}}}}"#;
+
+fn by_hand(force: f64) -> f64 {
+    let leaf = if (force as f32) < 1000.5f32 {
+        0.0123f32
+    } else {
+        -0.0456f32
+    };
+    (0.33f32 + leaf) as f64
+}
+
+#[test]
+fn import_then_predict_agrees_with_float32_arithmetic() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("booster.json"), BOOSTER).unwrap();
+    std::fs::write(
+        d.join("train.csv"),
+        "normal_force_N,sliding_velocity_m_per_min\n150,20\n2000,250\n",
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("cal.csv"),
+        "normal_force_N,sliding_velocity_m_per_min,cof_adhesive\n500,50,0.35\n1500,100,0.27\n",
+    )
+    .unwrap();
+    let out = ok(&greybox(
+        &[
+            "import",
+            "booster.json",
+            "--training-data",
+            "train.csv",
+            "--calibration",
+            "cal.csv",
+            "--out",
+            "model.json",
+        ],
+        d,
+    ));
+    assert!(out.contains("xgboost 3.2.0"), "{out}");
+    assert!(d.join("model.json.provenance.json").exists());
+    // 1000.5 itself, the f64 just above (still 1000.5 in float32) and the float32 above it
+    let above32 = f32::from_bits(1000.5f32.to_bits() + 1) as f64;
+    let tie = (1000.5 + above32) / 2.0;
+    let mut args = vec!["predict", "--model", "model.json", "--json"];
+    let pts: Vec<String> = [
+        999.0,
+        1000.5,
+        1000.5f64.next_up(),
+        tie,
+        tie.next_up(),
+        above32,
+    ]
+    .iter()
+    .map(|f| format!("{f:e},100"))
+    .collect();
+    for p in &pts {
+        args.extend(["--at", p.as_str()]);
+    }
+    let rows: serde_json::Value = serde_json::from_str(&ok(&greybox(&args, d))).unwrap();
+    for r in rows.as_array().unwrap() {
+        let f = r["features"][0].as_f64().unwrap();
+        assert_eq!(r["value"].as_f64().unwrap(), by_hand(f), "at {f:e}");
+        // split-conformal half-width from the two calibration rows: the larger residual
+        let q = (0.35 - by_hand(500.0))
+            .abs()
+            .max((0.27 - by_hand(1500.0)).abs());
+        assert!((r["high"].as_f64().unwrap() - by_hand(f) - q).abs() < 1e-12);
+    }
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("model.json")).unwrap()).unwrap();
+    assert_eq!(m["training_domain"][0]["max"], 2000.0);
+    assert_eq!(m["prediction_interval"]["method"], "split-conformal");
+}
+
+#[test]
+fn import_errors_name_what_is_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("booster.json"), BOOSTER).unwrap();
+    let e = err(&greybox(&["import", "booster.json", "--out", "m.json"], d));
+    assert!(e.contains("state the training domain"), "{e}");
+    let e = err(&greybox(
+        &[
+            "import",
+            "booster.json",
+            "--features",
+            "pressure_MPa,sliding_velocity_m_per_s",
+            "--domain",
+            "0:1,0:1",
+            "--out",
+            "m.json",
+        ],
+        d,
+    ));
+    assert!(e.contains("trained on features"), "{e}");
+    std::fs::write(d.join("bad.json"), "{\"hello\": 1}").unwrap();
+    let e = err(&greybox(
+        &[
+            "import", "bad.json", "--domain", "0:1,0:1", "--out", "m.json",
+        ],
+        d,
+    ));
+    assert!(
+        e.contains("bad.json") && e.contains("neither an XGBoost booster"),
+        "{e}"
+    );
+    let e = err(&greybox(
+        &[
+            "import",
+            "booster.json",
+            "--domain",
+            "0:1",
+            "--out",
+            "m.json",
+        ],
+        d,
+    ));
+    assert!(e.contains("1 ranges for 2 features"), "{e}");
+    assert!(!d.join("m.json").exists());
+}
