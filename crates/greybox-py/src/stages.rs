@@ -21,6 +21,7 @@ use std::sync::Arc;
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(hertz_rows, m)?)?;
     m.add_function(wrap_pyfunction!(synth, m)?)?;
+    m.add_function(wrap_pyfunction!(read_recording, m)?)?;
     m.add_function(wrap_pyfunction!(identify, m)?)?;
     m.add_function(wrap_pyfunction!(ploughing_correction, m)?)?;
     m.add_function(wrap_pyfunction!(fit_models, m)?)?;
@@ -125,6 +126,57 @@ fn synth(
         synth_campaign(&s, &formats, &out, force, &inputs)
     });
     to_json(&r.map_err(py_err)?)
+}
+
+/// One recording of any supported rig format, read through a channel map (`channels`: JSON
+/// of the study's `[recording]` settings; default: the study's, else found by name): a dict
+/// of NumPy arrays (time_s, normal_force_N, tangential_force_N and, where recorded,
+/// radial_force_N, trigger_V, step, spindle_speed_rpm or sliding_velocity_m_per_s,
+/// track_radius_m) and "how_read", the reader's JSON report.
+#[pyfunction]
+#[pyo3(signature = (path, study = None, channels = None))]
+fn read_recording<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    study: Option<PathBuf>,
+    channels: Option<&str>,
+) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+    use numpy::IntoPyArray;
+    let rec = py
+        .detach(|| -> anyhow::Result<_> {
+            let map = match channels {
+                Some(c) => serde_json::from_str(c).map_err(|e| anyhow::anyhow!("channels: {e}"))?,
+                None => study_or_example(study.as_deref(), None, None)?.recording,
+            };
+            Ok(greybox_tribo::readers::read_recording(&path, &map)?)
+        })
+        .map_err(py_err)?;
+    let d = pyo3::types::PyDict::new(py);
+    d.set_item("time_s", rec.time_s.into_pyarray(py))?;
+    d.set_item("normal_force_N", rec.normal_n.into_pyarray(py))?;
+    d.set_item("tangential_force_N", rec.tangential_n.into_pyarray(py))?;
+    let optional = [
+        ("radial_force_N", rec.radial_n),
+        ("trigger_V", rec.trigger_v),
+        ("step", rec.step),
+        ("track_radius_m", rec.track_radius_m),
+    ];
+    for (name, v) in optional {
+        if let Some(v) = v {
+            d.set_item(name, v.into_pyarray(py))?;
+        }
+    }
+    match rec.speed {
+        Some(greybox_tribo::recording::SpeedTrace::SpindleRpm(v)) => {
+            d.set_item("spindle_speed_rpm", v.into_pyarray(py))?
+        }
+        Some(greybox_tribo::recording::SpeedTrace::SlidingMPerS(v)) => {
+            d.set_item("sliding_velocity_m_per_s", v.into_pyarray(py))?
+        }
+        None => {}
+    }
+    d.set_item("how_read", to_json(&rec.provenance)?)?;
+    Ok(d)
 }
 
 /// Identify a campaign's recordings (files or directories, any supported rig format) into

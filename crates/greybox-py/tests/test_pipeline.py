@@ -46,6 +46,21 @@ def test_identify_recovers_the_virtual_rigs_friction(campaign):
     np.testing.assert_array_equal(on_disk["cof_apparent"], ds["cof_apparent"])
 
 
+def test_read_recording_gives_the_channels(campaign):
+    d = campaign[0]
+    rec, how = gb.read_recording(d / "recordings" / "pin01.csv", as_frame=False)
+    n = len(rec["time_s"])
+    assert n > 100 and np.all(np.diff(rec["time_s"]) > 0)
+    assert len(rec["normal_force_N"]) == n == len(rec["tangential_force_N"])
+    # the virtual rig's forces: μ = Ft/Fn within the campaign's range on the loaded samples
+    loaded = rec["normal_force_N"] > 0.5 * rec["normal_force_N"].max()
+    mu = rec["tangential_force_N"][loaded] / rec["normal_force_N"][loaded]
+    assert 0.05 < np.median(mu) < 1.0
+    assert how["columns"] and isinstance(how["layout"], str)
+    with pytest.raises(gb.GreyboxError, match="unknown recording format"):
+        gb.read_recording(d / "dataset.csv.provenance.json")
+
+
 def test_identify_returns_a_dataframe_with_pandas(campaign):
     pd = pytest.importorskip("pandas")
     d = campaign[0]

@@ -45,6 +45,7 @@ __all__ = [
     "LawValues",
     "hertz",
     "synth",
+    "read_recording",
     "identify",
     "read_dataset",
     "ploughing_correction",
@@ -288,6 +289,26 @@ def synth(
             force,
         )
     )
+
+
+def read_recording(
+    path: PathLike,
+    study: Optional[PathLike] = None,
+    channels: Optional[dict] = None,
+    as_frame: Optional[bool] = None,
+) -> tuple:
+    """One raw recording of any supported rig format (delimited text in any dialect, TDMS,
+    spreadsheets), its channels found by name or by ``channels`` (the study's
+    ``[recording]`` settings as a dict, e.g. ``{"normal": {"name": "Fz", "unit": "N"}}``).
+    Returns (table of the channels in SI: time_s, normal_force_N, tangential_force_N, …;
+    how the file was read, as a dict)."""
+    d = _native.read_recording(
+        os.fspath(path),
+        None if study is None else os.fspath(study),
+        None if channels is None else json.dumps(channels),
+    )
+    how = json.loads(d.pop("how_read"))
+    return table(d, as_frame), how
 
 
 def identify(

@@ -80,6 +80,7 @@ def synth(
     velocity_count: Optional[int] = None,
     force: bool = False,
 ) -> str: ...
+def read_recording(path: str, study: Optional[str] = None, channels: Optional[str] = None) -> dict: ...
 def identify(
     recordings: Sequence[str],
     dataset: str,
