@@ -8,8 +8,9 @@ use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// The model: an XGBoost booster saved as JSON (.json) or UBJSON (.ubj), or a scikit-learn
-    /// model exported by greybox's Python package (greybox.export_sklearn).
+    /// The model: an XGBoost booster saved as JSON (.json) or UBJSON (.ubj), an ONNX model
+    /// (.onnx), or a scikit-learn model exported by greybox's Python package
+    /// (greybox.export_sklearn).
     pub model: PathBuf,
     /// Feature names with unit suffixes in the model's input order, comma-separated
     /// (e.g. normal_force_N,sliding_velocity_m_per_min); default: the names the model records.

@@ -46,7 +46,7 @@ enum Command {
     Export(cmd_export::Args),
     /// Train and compare regressors (RF, SVR, boosting, MLP) with nested CV, CIs, importance.
     Fit(cmd_fit::Args),
-    /// Import a model trained elsewhere (XGBoost JSON/UBJSON, scikit-learn via greybox.from_sklearn).
+    /// Import a model trained elsewhere (XGBoost JSON/UBJSON, ONNX, scikit-learn via greybox.export_sklearn).
     Import(cmd_import::Args),
     /// Evaluate a model file at points, with prediction intervals and a domain check.
     Predict(cmd_predict::Args),

@@ -85,12 +85,11 @@ pub fn check_rows(x: &[Vec<f64>], n: usize, what: &str) -> Result<()> {
     Ok(())
 }
 
+/// Feature rows and, when asked for, the target column.
+pub type Rows = (Vec<Vec<f64>>, Option<Vec<f64>>);
+
 /// The named feature columns of every row (and the target's, when asked).
-pub fn rows(
-    path: &Path,
-    names: &[String],
-    target: Option<&str>,
-) -> Result<(Vec<Vec<f64>>, Option<Vec<f64>>)> {
+pub fn rows(path: &Path, names: &[String], target: Option<&str>) -> Result<Rows> {
     let source = path.display().to_string();
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)

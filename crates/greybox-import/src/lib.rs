@@ -5,6 +5,8 @@
 //! * [`sklearn`] — scikit-learn forests, extra trees, gradient boosting, SVR and MLP, with
 //!   `StandardScaler`/`MinMaxScaler` pipelines (exported by `greybox.from_sklearn` in Python).
 //! * [`xgboost`] — XGBoost boosters saved as JSON or UBJSON ([`ubjson`]).
+//! * [`onnx`] — ONNX graphs of tree ensembles, SVMs, linear models and networks, converted
+//!   into greybox models (no ONNX runtime at run time).
 //! * [`trees`], [`scaler`] — exact restatement of the libraries' splits and scalers.
 //!
 //! A source library's model knows nothing of units or of where it may be trusted, so the
@@ -21,6 +23,7 @@
 //! model.save("model.json".as_ref()).unwrap();
 //! ```
 
+pub mod onnx;
 pub mod scaler;
 pub mod sklearn;
 pub mod trees;
@@ -106,6 +109,8 @@ impl ImportOptions {
 fn detect(bytes: &[u8]) -> &'static str {
     match bytes {
         [b'{', b'i' | b'U' | b'I' | b'l' | b'L' | b'$' | b'#', ..] => "ubjson",
+        // ONNX: a protobuf ModelProto, which starts with field 1 (ir_version, varint)
+        [0x08, ..] => "onnx",
         _ if std::str::from_utf8(bytes).is_ok_and(|t| t.trim_start().starts_with('{')) => "json",
         _ => "unknown",
     }
@@ -133,10 +138,11 @@ pub fn read_model(path: &Path) -> Result<Imported> {
             from_json(v, &source)?
         }
         "ubjson" => from_xgboost(&ubjson::parse(&bytes, &source)?, &source)?,
+        "onnx" => from_onnx(&bytes, &source)?,
         _ => {
             return Err(Error::input(
                 SourcePos::file(&source),
-                "not a model greybox can import: expected an XGBoost booster saved as JSON or UBJSON, or a scikit-learn model exported by greybox.from_sklearn (JSON); ONNX files are not supported yet",
+                "not a model greybox can import: expected an XGBoost booster saved as JSON or UBJSON, a scikit-learn model exported by greybox.export_sklearn (JSON), or an ONNX model",
             ))
         }
     };
@@ -197,6 +203,22 @@ pub fn from_xgboost(v: &serde_json::Value, source: &str) -> Result<Imported> {
             source: None,
         },
         feature_names: b.feature_names,
+    })
+}
+
+/// An ONNX model ([`onnx`]).
+pub fn from_onnx(bytes: &[u8], source: &str) -> Result<Imported> {
+    let m = onnx::convert(bytes).map_err(|e| Error::input(SourcePos::file(source), e))?;
+    Ok(Imported {
+        n_features: m.n_features,
+        model: m.model,
+        from: ImportedFrom {
+            as_family: m.family,
+            library: format!("ONNX ({})", m.producer),
+            estimator: m.operators,
+            source: None,
+        },
+        feature_names: None,
     })
 }
 

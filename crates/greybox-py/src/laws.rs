@@ -9,6 +9,10 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
+/// μ and the in-domain flag per state.
+type LawArrays<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<bool>>);
+
+/// Value, low, high and the in-domain flag per point.
 type Arrays<'py> = (
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray1<f64>>,
@@ -267,7 +271,7 @@ impl Law {
         pressure_pa: PyReadonlyArray1<'py, f64>,
         velocity_m_s: PyReadonlyArray1<'py, f64>,
         temperature_k: Option<PyReadonlyArray1<'py, f64>>,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<bool>>)> {
+    ) -> PyResult<LawArrays<'py>> {
         let t = temperature_k.as_ref().map(|t| t.as_slice()).transpose()?;
         let s = states(pressure_pa.as_slice()?, velocity_m_s.as_slice()?, t).map_err(py_err)?;
         let (mu, inside) = py.detach(|| {

@@ -54,6 +54,7 @@ __all__ = [
     "load_law",
     "from_sklearn",
     "from_xgboost",
+    "from_onnx",
     "export_sklearn",
     "grey_box_law",
     "export_table",
@@ -471,6 +472,33 @@ def grey_box_law(
         shear_cap_k_MPa,
     )
     return load_law(out)
+
+
+def from_onnx(
+    model: Any,
+    features: Sequence[str],
+    target: str = "cof_adhesive",
+    domain: Optional[Sequence[tuple]] = None,
+    X_train: Any = None,
+    X_cal: Any = None,
+    y_cal: Any = None,
+    coverage: float = 0.95,
+) -> Model:
+    """An ONNX model (a path, the file's bytes, or an ``onnx.ModelProto``) converted into a
+    greybox model — tree ensembles (``TreeEnsembleRegressor``), SVMs (``SVMRegressor``),
+    linear models and feed-forward networks (``MatMul``/``Gemm`` with ``Relu``, ``Tanh`` or
+    ``Sigmoid``), behind ``Scaler`` or element-wise scaling; anything else is refused naming
+    the operator. Tree splits are exact; sums, networks and SVMs agree with onnxruntime to
+    float32 rounding (the runtime computes in float32). ONNX graphs carry no usable feature
+    names: state ``features`` with units. Other arguments as in :func:`from_sklearn`."""
+    if isinstance(model, (str, os.PathLike)):
+        return _import(os.fspath(model), False, features, target, domain, X_train, X_cal, y_cal, coverage)
+    data = model if isinstance(model, (bytes, bytearray)) else model.SerializeToString()
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "model.onnx")
+        with open(path, "wb") as f:
+            f.write(data)
+        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage)
 
 
 def _law_path(law: Any, tmp: str) -> str:
