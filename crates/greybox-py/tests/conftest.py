@@ -1,8 +1,23 @@
 """Shared data for the Python tests: a friction-like dataset over the article's ranges
 (normal force 150–2000 N, sliding velocity 20–250 m/min) and seeded random query points."""
 
+import os
+
 import numpy as np
 import pytest
+
+# Under CI the reference libraries and the CLI must be there: the tests that use them run,
+# never skip (GREYBOX_REQUIRE_REFERENCES=1 makes a missing one an error here).
+if os.environ.get("GREYBOX_REQUIRE_REFERENCES") == "1":
+    import onnx  # noqa: F401
+    import onnxruntime  # noqa: F401
+    import pandas  # noqa: F401
+    import skl2onnx  # noqa: F401
+    import sklearn  # noqa: F401
+    import xgboost  # noqa: F401
+
+    _cli = os.environ.get("GREYBOX_CLI") or os.path.join(os.path.dirname(__file__), "..", "..", "..", "target", "release", "greybox")
+    assert os.path.exists(_cli), f"GREYBOX_REQUIRE_REFERENCES=1 but the greybox binary {_cli} is missing"
 
 FEATURES = ["normal_force_N", "sliding_velocity_m_per_min"]
 DOMAIN = [(150.0, 2000.0), (20.0, 250.0)]

@@ -177,6 +177,35 @@ def test_imported_model_is_a_friction_law_and_saves(data, tmp_path):
         back.law()
 
 
+def test_an_export_file_imports_like_the_estimator(data, queries, tmp_path):
+    import json
+
+    X, y, _, _ = data
+    est = make_pipeline(MinMaxScaler(), GradientBoostingRegressor(n_estimators=20, random_state=0)).fit(X, y)
+    path = tmp_path / "export.json"
+    path.write_text(json.dumps(gb.export_sklearn(est)))
+    from_file = gb.import_model(path, features=FEATURES, domain=DOMAIN)
+    direct = gb.from_sklearn(est, features=FEATURES, domain=DOMAIN)
+    np.testing.assert_array_equal(from_file.predict(queries).value, direct.predict(queries).value)
+    assert "export.json (sha256 " in from_file.hyperparameters["source"]
+
+
+def test_python_and_the_command_line_report_the_same_error(tmp_path):
+    import os
+    import subprocess
+
+    cli = os.environ.get("GREYBOX_CLI") or os.path.join(os.path.dirname(__file__), "..", "..", "..", "target", "release", "greybox")
+    if not os.path.exists(cli):
+        pytest.skip("the greybox binary is not built (cargo build --release -p greybox-cli)")
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"hello": 1}')
+    r = subprocess.run([cli, "import", str(bad), "--domain", "0:1,0:1", "--out", str(tmp_path / "m.json")], capture_output=True, text=True)
+    cli_message = r.stderr.strip().removeprefix("error: ")
+    with pytest.raises(gb.GreyboxError) as e:
+        gb.import_model(bad, domain=[(0, 1), (0, 1)])
+    assert str(e.value) == cli_message
+
+
 def test_unsupported_models_and_bad_inputs_are_clear_errors(data):
     from sklearn.linear_model import LinearRegression
 

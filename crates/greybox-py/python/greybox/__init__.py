@@ -55,6 +55,7 @@ __all__ = [
     "from_sklearn",
     "from_xgboost",
     "from_onnx",
+    "import_model",
     "export_sklearn",
     "grey_box_law",
     "export_table",
@@ -472,6 +473,22 @@ def grey_box_law(
         shear_cap_k_MPa,
     )
     return load_law(out)
+
+
+def import_model(
+    path: PathLike,
+    features: Optional[Sequence[str]] = None,
+    target: str = "cof_adhesive",
+    domain: Optional[Sequence[tuple]] = None,
+    X_train: Any = None,
+    X_cal: Any = None,
+    y_cal: Any = None,
+    coverage: float = 0.95,
+) -> Model:
+    """A model file of another library, as ``greybox import`` reads it: an XGBoost booster
+    (JSON/UBJSON), an ONNX model, or a scikit-learn export written from
+    :func:`export_sklearn`. Other arguments as in :func:`from_sklearn`."""
+    return _import(os.fspath(path), False, features, target, domain, X_train, X_cal, y_cal, coverage)
 
 
 def from_onnx(
