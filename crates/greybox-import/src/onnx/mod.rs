@@ -161,7 +161,7 @@ pub fn convert(bytes: &[u8]) -> Result<OnnxModel, String> {
     )
     .trim()
     .to_string();
-    let (model, family, n_features) = assemble(stages, input_type(g) == Some(data_type::FLOAT))?;
+    let (model, family, n_features) = assemble(stages)?;
     Ok(OnnxModel {
         model,
         family,
@@ -351,10 +351,7 @@ fn gemm(
 }
 
 /// The greybox model of a chain of stages.
-fn assemble(
-    stages: Vec<Stage>,
-    _float_input: bool,
-) -> Result<(FittedModel, Family, usize), String> {
+fn assemble(stages: Vec<Stage>) -> Result<(FittedModel, Family, usize), String> {
     let terminal = stages.iter().position(|s| matches!(s, Stage::Terminal(_)));
     if let Some(t) = terminal {
         if t + 1 != stages.len()
