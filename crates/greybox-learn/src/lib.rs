@@ -24,6 +24,7 @@ pub mod mlp;
 pub mod model;
 pub mod protocol;
 pub mod svr;
+pub mod svr_lowrank;
 pub mod table;
 pub mod tree;
 

@@ -12,7 +12,9 @@ use crate::matrix::Standardizer;
 use crate::model::Regressor;
 use crate::Matrix;
 use greybox_core::{Error, Result};
-pub use greybox_model::svr::{dot, kernel_value, Kernel, SvrModel, SvrParams, MAX_FEATURES};
+pub use greybox_model::svr::{
+    dot, kernel_value, Kernel, SvrModel, SvrParams, SvrSolver, MAX_FEATURES,
+};
 
 const TAU: f64 = 1e-12;
 
@@ -69,7 +71,6 @@ impl Regressor for SvrParams {
         }
         let scaler = Standardizer::fit(x);
         let z = scaler.transform(x);
-        let l = z.n_rows;
         let gamma = self.gamma.unwrap_or_else(|| {
             let n = z.data.len() as f64;
             let m = z.data.iter().sum::<f64>() / n;
@@ -80,85 +81,127 @@ impl Regressor for SvrParams {
                 1.0
             }
         });
-        let k = |i: usize, j: usize| {
-            kernel_value(
-                self.kernel,
-                gamma,
-                self.degree,
-                self.coef0,
-                z.row(i),
-                z.row(j),
-            )
-        };
-        let mut kmat = vec![0.0; l * l];
-        for i in 0..l {
-            for j in 0..=i {
-                let v = k(i, j);
-                kmat[i * l + j] = v;
-                kmat[j * l + i] = v;
-            }
-        }
-        let n2 = 2 * l;
-        let c = self.c;
-        let max_iter = self.max_iter.unwrap_or((100 * l).max(10_000_000));
-        let mut smo = Smo::new(&kmat, l, c, self.tol, self.epsilon, y);
-        let iter = smo.solve(max_iter);
-        // back to the original variable order
-        let mut alpha = vec![0.0; n2];
-        let mut grad = vec![0.0; n2];
-        for t in 0..n2 {
-            alpha[smo.orig[t]] = smo.alpha[t];
-            grad[smo.orig[t]] = smo.grad[t];
-        }
-        let sign = |t: usize| if t < l { 1.0 } else { -1.0 };
-        // ρ from the free variables, else the middle of the feasible interval
-        let (mut ub, mut lb, mut sum_free, mut n_free) =
-            (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize);
-        for t in 0..n2 {
-            let yg = sign(t) * grad[t];
-            if alpha[t] >= c {
-                if sign(t) < 0.0 {
-                    ub = ub.min(yg);
-                } else {
-                    lb = lb.max(yg);
-                }
-            } else if alpha[t] <= 0.0 {
-                if sign(t) > 0.0 {
-                    ub = ub.min(yg);
-                } else {
-                    lb = lb.max(yg);
-                }
-            } else {
-                n_free += 1;
-                sum_free += yg;
-            }
-        }
-        let rho = if n_free > 0 {
-            sum_free / n_free as f64
+        let model = if self.solver == SvrSolver::Smo {
+            None
         } else {
-            0.5 * (ub + lb)
+            fit_low_rank(self, &z, y, gamma)
         };
-        let mut sv_rows = Vec::new();
-        let mut coef = Vec::new();
-        for r in 0..l {
-            let b = alpha[r] - alpha[r + l];
-            if b != 0.0 {
-                sv_rows.push(r);
-                coef.push(b);
-            }
-        }
-        Ok(SvrModel {
-            scaler,
-            kernel: self.kernel,
-            gamma,
-            degree: self.degree,
-            coef0: self.coef0,
-            support: z.select_rows(&sv_rows),
-            coef,
-            rho,
-            iterations: iter,
-        })
+        let model = model.unwrap_or_else(|| fit_smo(self, &z, y, gamma));
+        Ok(SvrModel { scaler, ..model })
     }
+}
+
+/// libsvm's route: the kernel matrix and SMO (any kernel). The scaler of the returned model
+/// is a placeholder.
+fn fit_smo(p: &SvrParams, z: &Matrix, y: &[f64], gamma: f64) -> SvrModel {
+    let l = z.n_rows;
+    let k =
+        |i: usize, j: usize| kernel_value(p.kernel, gamma, p.degree, p.coef0, z.row(i), z.row(j));
+    let mut kmat = vec![0.0; l * l];
+    for i in 0..l {
+        for j in 0..=i {
+            let v = k(i, j);
+            kmat[i * l + j] = v;
+            kmat[j * l + i] = v;
+        }
+    }
+    let n2 = 2 * l;
+    let c = p.c;
+    let max_iter = p.max_iter.unwrap_or((100 * l).max(10_000_000));
+    let mut smo = Smo::new(&kmat, l, c, p.tol, p.epsilon, y);
+    let iter = smo.solve(max_iter);
+    // back to the original variable order
+    let mut alpha = vec![0.0; n2];
+    let mut grad = vec![0.0; n2];
+    for t in 0..n2 {
+        alpha[smo.orig[t]] = smo.alpha[t];
+        grad[smo.orig[t]] = smo.grad[t];
+    }
+    let sign = |t: usize| if t < l { 1.0 } else { -1.0 };
+    // ρ from the free variables, else the middle of the feasible interval
+    let (mut ub, mut lb, mut sum_free, mut n_free) =
+        (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize);
+    for t in 0..n2 {
+        let yg = sign(t) * grad[t];
+        if alpha[t] >= c {
+            if sign(t) < 0.0 {
+                ub = ub.min(yg);
+            } else {
+                lb = lb.max(yg);
+            }
+        } else if alpha[t] <= 0.0 {
+            if sign(t) > 0.0 {
+                ub = ub.min(yg);
+            } else {
+                lb = lb.max(yg);
+            }
+        } else {
+            n_free += 1;
+            sum_free += yg;
+        }
+    }
+    let rho = if n_free > 0 {
+        sum_free / n_free as f64
+    } else {
+        0.5 * (ub + lb)
+    };
+    let mut sv_rows = Vec::new();
+    let mut coef = Vec::new();
+    for r in 0..l {
+        let b = alpha[r] - alpha[r + l];
+        if b != 0.0 {
+            sv_rows.push(r);
+            coef.push(b);
+        }
+    }
+    SvrModel {
+        scaler: Standardizer {
+            mean: Vec::new(),
+            scale: Vec::new(),
+        },
+        kernel: p.kernel,
+        gamma,
+        degree: p.degree,
+        coef0: p.coef0,
+        support: z.select_rows(&sv_rows),
+        coef,
+        rho,
+        iterations: iter,
+    }
+}
+
+/// Kernels with a small explicit feature map (linear; polynomial with c₀ ≥ 0) solved exactly
+/// in feature space ([`crate::svr_lowrank`]); `None` for the other kernels, or when the
+/// interior-point method does not converge (then SMO solves it). The scaler of the returned
+/// model is a placeholder.
+fn fit_low_rank(p: &SvrParams, z: &Matrix, y: &[f64], gamma: f64) -> Option<SvrModel> {
+    use crate::svr_lowrank::{solve, FeatureMap};
+    let map = match p.kernel {
+        Kernel::Linear => FeatureMap::new(z.n_cols, None)?,
+        Kernel::Poly => FeatureMap::new(z.n_cols, Some((gamma, p.coef0, p.degree)))?,
+        Kernel::Rbf | Kernel::Sigmoid => return None,
+    };
+    let dim = map.dimension();
+    let mut phi = vec![0.0; z.n_rows * dim];
+    for r in 0..z.n_rows {
+        map.apply(z.row(r), &mut phi[r * dim..(r + 1) * dim]);
+    }
+    let sol = solve(&phi, dim, y, p.c, p.epsilon)?;
+    let rows: Vec<usize> = (0..z.n_rows).filter(|&r| sol.beta[r] != 0.0).collect();
+    Some(SvrModel {
+        scaler: Standardizer {
+            mean: Vec::new(),
+            scale: Vec::new(),
+        },
+        kernel: p.kernel,
+        gamma,
+        degree: p.degree,
+        coef0: p.coef0,
+        support: z.select_rows(&rows),
+        coef: rows.iter().map(|&r| sol.beta[r]).collect(),
+        rho: -sol.bias,
+        iterations: sol.iterations,
+    })
 }
 
 /// libsvm's SMO solver for the ε-SVR dual over 2l variables (variable t < l is α_t with

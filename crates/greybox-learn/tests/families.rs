@@ -248,3 +248,88 @@ fn decision_grids_equal_their_tree_ensembles_bit_for_bit() {
         let _: &TreeEnsemble = e;
     }
 }
+
+/// ½ βᵀKβ + ε‖β‖₁ − yᵀβ of a fitted SVR (on its own standardised rows) — the ε-SVR dual
+/// objective both solvers minimise.
+fn svr_dual_objective(
+    m: &greybox_learn::svr::SvrModel,
+    z_rows: &Matrix,
+    y: &[f64],
+    epsilon: f64,
+) -> f64 {
+    use greybox_learn::svr::kernel_value;
+    // β per training row: match support vectors to rows
+    let mut beta = vec![0.0; z_rows.n_rows];
+    for (k, c) in m.coef.iter().enumerate() {
+        let sv = m.support.row(k);
+        let r = (0..z_rows.n_rows)
+            .find(|&r| z_rows.row(r) == sv)
+            .expect("a support vector is a row");
+        beta[r] += c;
+    }
+    let kv = |i: usize, j: usize| {
+        kernel_value(
+            m.kernel,
+            m.gamma,
+            m.degree,
+            m.coef0,
+            z_rows.row(i),
+            z_rows.row(j),
+        )
+    };
+    let mut quad = 0.0;
+    for i in 0..beta.len() {
+        if beta[i] == 0.0 {
+            continue;
+        }
+        for j in 0..beta.len() {
+            quad += beta[i] * beta[j] * kv(i, j);
+        }
+    }
+    0.5 * quad + epsilon * beta.iter().map(|b| b.abs()).sum::<f64>()
+        - y.iter().zip(&beta).map(|(a, b)| a * b).sum::<f64>()
+}
+
+#[test]
+fn interior_point_svr_reaches_the_dual_optimum_smo_approaches() {
+    use greybox_learn::svr::SvrSolver;
+    use greybox_model::matrix::Standardizer;
+    let (x, y) = data(200, 0.01, 11, false);
+    let z = Standardizer::fit(&x).transform(&x);
+    for kernel in [Kernel::Linear, Kernel::Poly] {
+        for c in [0.1, 10.0, 100.0] {
+            for eps in [0.005, 0.05] {
+                let p = SvrParams {
+                    kernel,
+                    c,
+                    epsilon: eps,
+                    ..Default::default()
+                };
+                let smo = SvrParams {
+                    solver: SvrSolver::Smo,
+                    ..p.clone()
+                };
+                let a = p.fit(&x, &y, 0).unwrap();
+                let b = smo.fit(&x, &y, 0).unwrap();
+                let (oa, ob) = (
+                    svr_dual_objective(&a, &z, &y, eps),
+                    svr_dual_objective(&b, &z, &y, eps),
+                );
+                let dev = (0..x.n_rows)
+                    .map(|r| (a.predict_one(x.row(r)) - b.predict_one(x.row(r))).abs())
+                    .fold(0.0, f64::max);
+                eprintln!("{kernel:?} C={c} eps={eps}: objective ipm {oa:.9} smo {ob:.9}; max |Δf| {dev:.2e}; {} vs {} iterations", a.iterations, b.iterations);
+                // the interior-point solution is optimal: never worse than SMO's, which stops at
+                // a KKT violation of 1e-3
+                assert!(
+                    oa <= ob + 1e-9 * ob.abs().max(1.0),
+                    "{kernel:?} C={c}: {oa} > {ob}"
+                );
+                assert!(
+                    dev < 5e-3,
+                    "{kernel:?} C={c} eps={eps}: predictions differ by {dev}"
+                );
+            }
+        }
+    }
+}

@@ -49,6 +49,27 @@ pub struct SvrParams {
     pub tol: f64,
     /// Iteration cap (`None`: max(10⁷, 100 l), as libsvm).
     pub max_iter: Option<usize>,
+    /// How the dual is solved (absent in files: `auto`).
+    #[serde(skip_serializing_if = "SvrSolver::is_auto")]
+    pub solver: SvrSolver,
+}
+
+/// The solver of the ε-SVR dual.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SvrSolver {
+    /// Exactly by an interior-point method in feature space for kernels with a small explicit
+    /// feature map (linear; polynomial with c₀ ≥ 0), SMO for the others.
+    #[default]
+    Auto,
+    /// SMO for every kernel (libsvm's route, to its stopping tolerance).
+    Smo,
+}
+
+impl SvrSolver {
+    fn is_auto(&self) -> bool {
+        *self == SvrSolver::Auto
+    }
 }
 
 impl Default for SvrParams {
@@ -62,6 +83,7 @@ impl Default for SvrParams {
             coef0: 0.0,
             tol: 1e-3,
             max_iter: None,
+            solver: SvrSolver::Auto,
         }
     }
 }
