@@ -18,11 +18,12 @@ pub use greybox_model::svr::{
 
 const TAU: f64 = 1e-12;
 
-/// Memory the SVR may take for its kernel matrices, bytes: the l × l matrix and its
-/// l × 2l copy in working order, 24 l² bytes in all (4 GiB: about 13 400 rows).
+/// Memory SMO may take for its kernel matrices, bytes: the l × l matrix and its l × 2l copy
+/// in working order, 24 l² bytes in all (4 GiB: about 13 400 rows). The linear and
+/// polynomial kernels, solved in feature space, need no kernel matrix and have no such limit.
 pub const KERNEL_MEMORY_BYTES: usize = 4 << 30;
 
-/// The most training rows an SVR fit takes ([`KERNEL_MEMORY_BYTES`]).
+/// The most training rows an SMO fit (rbf, sigmoid kernels) takes ([`KERNEL_MEMORY_BYTES`]).
 pub fn max_rows() -> usize {
     ((KERNEL_MEMORY_BYTES / 24) as f64).sqrt() as usize
 }
@@ -58,17 +59,6 @@ impl Regressor for SvrParams {
     }
 
     fn fit(&self, x: &Matrix, y: &[f64], _seed: u64) -> Result<SvrModel> {
-        if x.n_rows > max_rows() {
-            return Err(Error::invalid(
-                "SVR",
-                format!(
-                    "{} training rows: the kernel matrices would take {:.1} GB; an SVR fits at most {} rows (4 GiB). Subsample the dataset (e.g. one row per load × speed cell), or fit random forest / gradient boosting on all rows",
-                    x.n_rows,
-                    24.0 * (x.n_rows as f64).powi(2) / 1e9,
-                    max_rows()
-                ),
-            ));
-        }
         let scaler = Standardizer::fit(x);
         let z = scaler.transform(x);
         let gamma = self.gamma.unwrap_or_else(|| {
@@ -86,7 +76,24 @@ impl Regressor for SvrParams {
         } else {
             fit_low_rank(self, &z, y, gamma)
         };
-        let model = model.unwrap_or_else(|| fit_smo(self, &z, y, gamma));
+        let model = match model {
+            Some(m) => m,
+            None => {
+                if x.n_rows > max_rows() {
+                    return Err(Error::invalid(
+                        "SVR",
+                        format!(
+                            "{} training rows: the kernel matrices would take {:.1} GB; an SVR with the {} kernel fits at most {} rows (4 GiB; the linear and polynomial kernels have no such limit). Subsample the dataset (e.g. one row per load × speed cell), or fit random forest / gradient boosting on all rows",
+                            x.n_rows,
+                            24.0 * (x.n_rows as f64).powi(2) / 1e9,
+                            self.kernel.name(),
+                            max_rows()
+                        ),
+                    ));
+                }
+                fit_smo(self, &z, y, gamma)
+            }
+        };
         Ok(SvrModel { scaler, ..model })
     }
 }

@@ -170,8 +170,9 @@ fn noise_feature_has_no_importance() {
     assert!(imp[2].mean.abs() < 0.02, "noise importance {}", imp[2].mean);
 }
 
-/// A dataset too large for the SVR's kernel matrices is refused with the size and what to do,
-/// before anything is allocated (100 000 rows would need 240 GB).
+/// A dataset too large for SMO's kernel matrices is refused with the size and what to do,
+/// before anything is allocated (100 000 rows would need 240 GB); the linear kernel, solved
+/// in feature space, takes it.
 #[test]
 fn svr_refuses_more_rows_than_its_kernel_memory_holds() {
     use greybox_learn::svr::max_rows;
@@ -184,6 +185,18 @@ fn svr_refuses_more_rows_than_its_kernel_memory_holds() {
         "{e}"
     );
     assert_eq!(max_rows(), 13_377);
+    // The linear and polynomial kernels need no kernel matrix: 100 000 rows fit.
+    let y: Vec<f64> = (0..n).map(|r| 0.3 - 1e-4 * x.row(r)[0]).collect();
+    let m = SvrParams {
+        kernel: Kernel::Linear,
+        epsilon: 1e-3,
+        ..Default::default()
+    }
+    .fit(&x, &y, 0)
+    .unwrap();
+    for r in [0, 500, 976, 99_999] {
+        assert!((m.predict_one(x.row(r)) - y[r]).abs() < 2e-3, "row {r}");
+    }
 }
 
 /// A forest and a boosted ensemble compiled to decision grids give their trees' predictions
