@@ -17,7 +17,7 @@
 //! need more than `max_nodes` nodes.
 
 use crate::exact_table::deviation;
-use crate::lines::{cell_of, lerp, Lines};
+use crate::lines::{lerp, Lines};
 use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::{ContactState, Error, FrictionLaw, Result};
 use rand::{Rng, SeedableRng};
@@ -61,6 +61,9 @@ pub struct AdaptiveTable {
     pub check_points: Option<usize>,
     #[serde(skip)]
     index: [Lines; 3],
+    /// Per axis, 1 / (l[j+1] − l[j]) (capped at f64::MAX).
+    #[serde(skip)]
+    inv_width: [Vec<f64>; 3],
 }
 
 /// What [`AdaptiveTable::refine`] aims for and where.
@@ -268,6 +271,7 @@ impl AdaptiveTable {
             max_deviation: None,
             check_points: None,
             index: Default::default(),
+            inv_width: Default::default(),
         }
         .prepare()
     }
@@ -307,6 +311,15 @@ impl AdaptiveTable {
                 format!("value {} is not finite", i + 1),
             ));
         }
+        self.inv_width = std::array::from_fn(|a| {
+            let l = self.axis(a);
+            let mut w: Vec<f64> = l
+                .windows(2)
+                .map(|w| (1.0 / (w[1] - w[0])).min(f64::MAX))
+                .collect();
+            w.push(0.0); // a one-node axis: fraction 0
+            w
+        });
         Ok(self)
     }
 
@@ -327,11 +340,25 @@ impl AdaptiveTable {
         }
     }
 
+    /// (cell, fraction) of `x` on axis `a`: the cell j with l[j] ≤ x < l[j+1] (the first or
+    /// last cell outside), fraction (x − l[j]) / (l[j+1] − l[j]) clamped to [0, 1]. A node
+    /// gets fraction 0 (its value exactly), except the last node of an axis (within an ulp).
+    #[inline]
+    fn cell(&self, a: usize, x: f64) -> (usize, f64) {
+        let l = self.axis(a);
+        let j = self.index[a].rank_le(x).clamp(1, l.len().max(2) - 1) - 1;
+        let f = ((x - l[j]) * self.inv_width[a][j]).clamp(0.0, 1.0);
+        (j, f)
+    }
+
     /// (cell, fraction) per axis of a state.
     #[inline]
     fn locate(&self, s: &ContactState) -> [(usize, f64); 3] {
-        let x = [s.pressure_pa, s.sliding_velocity_m_s.abs(), s.temperature_k];
-        std::array::from_fn(|a| cell_of(self.axis(a), self.index[a].rank(x[a]), x[a]))
+        [
+            self.cell(0, s.pressure_pa),
+            self.cell(1, s.sliding_velocity_m_s.abs()),
+            self.cell(2, s.temperature_k),
+        ]
     }
 
     fn cell_at(&self, s: &ContactState) -> [usize; 3] {
@@ -345,9 +372,9 @@ impl AdaptiveTable {
 
     #[inline]
     fn bilinear(&self, (ip, fp): (usize, f64), (iv, fv): (usize, f64), it: usize) -> f64 {
-        let lo = lerp(self.at(ip, iv, it), self.at(ip + 1, iv, it), fp);
-        let hi = lerp(self.at(ip, iv + 1, it), self.at(ip + 1, iv + 1, it), fp);
-        lerp(lo, hi, fv)
+        let lo = fast_lerp(self.at(ip, iv, it), self.at(ip + 1, iv, it), fp);
+        let hi = fast_lerp(self.at(ip, iv + 1, it), self.at(ip + 1, iv + 1, it), fp);
+        fast_lerp(lo, hi, fv)
     }
 
     /// Centres of the cells wider than one ulp on every axis they span.
@@ -440,6 +467,12 @@ impl AdaptiveTable {
     }
 }
 
+/// a + f(b − a): exact at f = 0 and where a == b, within an ulp of b at f = 1.
+#[inline]
+fn fast_lerp(a: f64, b: f64, f: f64) -> f64 {
+    a + f * (b - a)
+}
+
 /// Cells over the aim, each with its largest error and where (p, |v|, T).
 type BadCells = BTreeMap<[usize; 3], (f64, [f64; 3])>;
 
@@ -486,11 +519,13 @@ impl FrictionLaw for AdaptiveTable {
     }
     #[inline]
     fn mu(&self, s: &ContactState) -> f64 {
-        let [p, v, (it, ft)] = self.locate(s);
+        let p = self.cell(0, s.pressure_pa);
+        let v = self.cell(1, s.sliding_velocity_m_s.abs());
         if self.temperature_k.len() == 1 {
             self.bilinear(p, v, 0)
         } else {
-            lerp(self.bilinear(p, v, it), self.bilinear(p, v, it + 1), ft)
+            let (it, ft) = self.cell(2, s.temperature_k);
+            fast_lerp(self.bilinear(p, v, it), self.bilinear(p, v, it + 1), ft)
         }
     }
     fn domain(&self) -> Option<ValidityDomain> {

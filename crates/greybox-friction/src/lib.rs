@@ -11,6 +11,7 @@
 //! * [`exact_table`] — tree ensembles as cells between their split thresholds (exact).
 //! * [`adaptive`] — non-uniform grids refined until a max deviation is met (smooth laws).
 //! * [`table_file`] — table files of every kind and schema version.
+//! * [`surrogate`] — the right table for a law (exact, adaptive or uniform) and its check.
 //! * [`lines`] — axis lines with constant-time lookup, shared interpolation.
 //! * [`spec`] — law files (JSON) that describe any of the above.
 //! * [`export`] — Abaqus `*FRICTION`, DEFORM `FRCFAC`/`FRCWIN`, LS-DYNA tables, CSV, each with
@@ -27,6 +28,7 @@ pub mod greybox;
 pub mod learned;
 pub mod lines;
 pub mod spec;
+pub mod surrogate;
 pub mod table;
 pub mod table_file;
 

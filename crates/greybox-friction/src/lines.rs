@@ -17,13 +17,16 @@ const TARGET_PER_BUCKET: usize = 4;
 /// Ascending, finite, distinct axis lines with a bucket index.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Lines {
-    /// The lines followed by one +∞ sentinel (ends every scan without a bounds check).
+    /// The lines followed by [`PAD`] +∞ sentinels (end every scan without a bounds check).
     padded: Vec<f64>,
     lo: f64,
     scale: f64,
     /// first[k]: number of lines in buckets below k.
     first: Vec<u32>,
 }
+
+/// Sentinels after the lines.
+const PAD: usize = 1;
 
 impl Lines {
     /// Index `lines`; `what` names the field in errors. Lines must be finite and strictly
@@ -50,7 +53,7 @@ impl Lines {
             return Err(Error::invalid(what, "too many lines"));
         }
         let mut padded = lines.to_vec();
-        padded.push(f64::INFINITY);
+        padded.extend([f64::INFINITY; PAD]);
         let mut s = Lines {
             padded,
             lo: lines.first().copied().unwrap_or(0.0),
@@ -105,14 +108,27 @@ impl Lines {
         i
     }
 
+    /// Number of lines at or below `x` (0 for NaN): [`Lines::rank`] with `<=`, so that a
+    /// node `x = l[k]` opens cell k rather than closing cell k − 1.
+    #[inline]
+    pub fn rank_le(&self, x: f64) -> usize {
+        let x = if x > f64::MAX { f64::MAX } else { x }; // +∞ stops at the sentinel, NaN stays
+        let k = self.bucket_of(x, self.first.len());
+        let mut i = self.first[k] as usize;
+        while self.padded[i] <= x {
+            i += 1;
+        }
+        i
+    }
+
     /// The lines.
     pub fn as_slice(&self) -> &[f64] {
-        &self.padded[..self.padded.len() - 1]
+        &self.padded[..self.len()]
     }
 
     /// Number of lines.
     pub fn len(&self) -> usize {
-        self.padded.len() - 1
+        self.padded.len() - PAD
     }
 
     /// Whether there are no lines.
@@ -127,13 +143,16 @@ impl Lines {
 }
 
 /// Linear interpolation from `a` (f = 0) to `b` (f = 1) that is exact at both ends and where
-/// `a == b`: a + f(b − a) for f ≤ ½, b + (1 − f)(a − b) above (1 − f is exact there).
+/// `a == b`: a + f(b − a) for f ≤ ½, b + (1 − f)(a − b) above (1 − f is exact there). Both
+/// are computed and one selected, without a branch to mispredict.
 #[inline]
 pub fn lerp(a: f64, b: f64, f: f64) -> f64 {
+    let from_a = a + f * (b - a);
+    let from_b = b + (1.0 - f) * (a - b);
     if f <= 0.5 {
-        a + f * (b - a)
+        from_a
     } else {
-        b + (1.0 - f) * (a - b)
+        from_b
     }
 }
 
@@ -185,6 +204,8 @@ mod tests {
         for &x in probes {
             let want = lines.partition_point(|&b| b < x);
             assert_eq!(l.rank(x), want, "x = {x:e}, lines {}", lines.len());
+            let want = lines.partition_point(|&b| b <= x);
+            assert_eq!(l.rank_le(x), want, "x = {x:e}, lines {}", lines.len());
         }
     }
 

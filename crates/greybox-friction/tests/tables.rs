@@ -174,8 +174,10 @@ fn assert_within(table: &AdaptiveTable, law: &dyn FrictionLaw, tol: f64) -> f64 
         "{}: fresh max deviation {worst:e}",
         law.name()
     );
-    for &p in table.pressure_pa.iter().step_by(7) {
-        for &v in table.velocity_m_s.iter().step_by(5) {
+    // every node but the last of an axis gives its value exactly
+    let (np, nv) = (table.pressure_pa.len(), table.velocity_m_s.len());
+    for &p in table.pressure_pa[..np - 1].iter().step_by(7) {
+        for &v in table.velocity_m_s[..nv - 1].iter().step_by(5) {
             let s = state([p, v, table.temperature_k[0]]);
             assert_eq!(table.mu(&s), law.mu(&s), "node ({p}, {v})");
         }
