@@ -88,7 +88,12 @@ pub struct Args {
     /// exact, adaptive (over the box of the grid) or uniform (the grid itself, equidistant).
     #[arg(long, value_enum, default_value = "auto")]
     pub table_kind: crate::cmd_bench::TableKindArg,
-    /// Adaptive table: max deviation from the law on its check set.
+    /// Engine tables (abaqus, lsdyna, deform, csv): grid lines of an adaptive table over the
+    /// box of --pressure-MPa, --velocity-m-per-min (and --temperature-K), refined to
+    /// --tolerance, instead of the given values.
+    #[arg(long)]
+    pub adaptive_grid: bool,
+    /// Adaptive table or grid: max deviation from the law on its check set.
     #[arg(long, default_value_t = 1e-4)]
     pub tolerance: f64,
     /// Surrogate table: most cells (exact) or nodes (adaptive).
@@ -140,6 +145,7 @@ impl Args {
             table_kind: self.table_kind.into(),
             tolerance: self.tolerance,
             max_table_size: self.max_table_size,
+            adaptive_grid: self.adaptive_grid,
         })
     }
 }

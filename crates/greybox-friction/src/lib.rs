@@ -9,7 +9,8 @@
 //!   fitted white-box law outside, smoothly blended, optional Zorev cap and clamping.
 //! * [`table`] — laws baked onto uniform (p, v[, T]) grids with bi/trilinear interpolation.
 //! * [`exact_table`] — tree ensembles as cells between their split thresholds (exact).
-//! * [`adaptive`] — non-uniform grids refined until a max deviation is met (smooth laws).
+//! * [`adaptive`] — non-uniform grids refined until a max deviation is met (smooth laws);
+//!   the refinement is [`refine`].
 //! * [`table_file`] — table files of every kind and schema version.
 //! * [`surrogate`] — the right table for a law (exact, adaptive or uniform) and its check.
 //! * [`lines`] — axis lines with constant-time lookup, shared interpolation.
@@ -27,6 +28,7 @@ pub mod gradient;
 pub mod greybox;
 pub mod learned;
 pub mod lines;
+pub mod refine;
 pub mod spec;
 pub mod surrogate;
 pub mod table;

@@ -97,7 +97,7 @@ impl Lines {
     }
 
     /// Number of lines strictly below `x` (0 for NaN): `x` lies in cell `rank` of the cells
-    /// l[r−1] < x ≤ l[r].
+    /// `l[r−1] < x ≤ l[r]`.
     #[inline]
     pub fn rank(&self, x: f64) -> usize {
         let k = self.bucket_of(x, self.first.len());

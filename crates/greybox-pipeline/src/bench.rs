@@ -215,17 +215,18 @@ fn time_reads(f: impl Fn() -> Result<usize>, repeats: usize) -> Result<(Vec<f64>
     Ok((times, n))
 }
 
-/// Time `law.mu` over a cycle of states: ns per call, the best of 5 rounds of `calls / 5`
+/// Time `law.mu` over a cycle of states: ns per call, the best of 10 rounds of `calls / 10`
 /// (on a shared machine the best round is the one least disturbed by other processes).
 fn time_law(
     law: &dyn greybox_core::FrictionLaw,
     states: &[greybox_core::ContactState],
     calls: usize,
 ) -> f64 {
-    let per_round = (calls / 5).max(1);
+    const ROUNDS: usize = 10;
+    let per_round = (calls / ROUNDS).max(1);
     let mut sink = 0.0;
     let mut best = f64::INFINITY;
-    for _ in 0..5 {
+    for _ in 0..ROUNDS {
         let t = Instant::now();
         for k in 0..per_round {
             sink += law.mu(std::hint::black_box(&states[k % states.len()]));
@@ -276,7 +277,7 @@ pub struct SurrogateBench {
 
 /// Build the surrogate table of the law at `path` over its domain, check it on 100 000
 /// fresh random states (seed 7; the build uses seed 1), and time the law and the table on
-/// one core, through `&dyn FrictionLaw`, on 4096 states cycling over the domain (best of 5
+/// one core, through `&dyn FrictionLaw`, on 4096 states cycling over the domain (best of 10
 /// rounds).
 pub fn surrogate(path: &Path, o: &SurrogateBench) -> Result<SurrogateSpeed> {
     use greybox_friction::surrogate::{build, fresh_deviation, SurrogateOptions};

@@ -291,6 +291,7 @@ fn grey_box(study: &Study, dataset_csv: &Path) -> Result<GreyBox> {
         table_kind: None,
         tolerance: 1e-4,
         max_table_size: 1 << 22,
+        adaptive_grid: false,
     })?
     .line;
     write_string_atomic(Path::new("ffi/greybox.h"), GREYBOX_H)?;

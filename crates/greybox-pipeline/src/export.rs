@@ -13,7 +13,7 @@ use greybox_friction::export::{
 use greybox_friction::spec::load_law;
 use greybox_friction::surrogate::{self, SurrogateOptions};
 use greybox_friction::table::Axis;
-use greybox_friction::table_file::TableKind;
+use greybox_friction::table_file::{AnyTable, TableKind};
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -69,6 +69,10 @@ pub struct ExportOptions {
     pub tolerance: f64,
     /// Surrogate table: most cells (exact) or nodes (adaptive).
     pub max_table_size: usize,
+    /// Engine tables: take the grid lines of an adaptive table refined to `tolerance` over
+    /// the box of `grid` (its values only set the box), so that a smooth law's table is
+    /// within the tolerance under the engine's linear interpolation too.
+    pub adaptive_grid: bool,
 }
 
 /// What [`export()`] did.
@@ -172,8 +176,14 @@ pub fn export(a: &ExportOptions) -> Result<ExportReport> {
     }
     check_file_output(&a.out, "--out", &inputs)?;
     let law = load_law(&a.law)?;
-    let grid = &a.grid;
-    grid.validate()?;
+    a.grid.validate()?;
+    let refined;
+    let grid = if a.adaptive_grid && a.format != ExportFormat::Table {
+        refined = adaptive_grid(law.as_ref(), a)?;
+        &refined
+    } else {
+        &a.grid
+    };
     let o = TableOptions {
         steps: a.steps,
         check_points: a.check_points,
@@ -239,20 +249,19 @@ pub fn export(a: &ExportOptions) -> Result<ExportReport> {
 /// Text, report and note of an engine table.
 fn engine(e: Exported) -> (String, ExportReport, String) {
     let shape = e.table.shape();
-    let note = if e.table.exact_steps {
-        format!(
-            ", grid lines at the law's split thresholds ({} x {}{} points)",
-            shape[0],
-            shape[1],
-            if shape[2] > 1 {
-                format!(" x {}", shape[2])
-            } else {
-                String::new()
-            }
-        )
-    } else {
-        String::new()
-    };
+    let mut note = format!(
+        ", {} pressures x {} velocities{}",
+        shape[1],
+        shape[0],
+        if e.table.temperature.is_some() {
+            format!(" x {} temperatures", shape[2])
+        } else {
+            String::new()
+        }
+    );
+    if e.table.exact_steps {
+        note += " (grid lines at the law's split thresholds)";
+    }
     let report = ExportReport {
         line: String::new(),
         max_deviation: e.deviation.map(|d: Deviation| d.max),
@@ -261,6 +270,36 @@ fn engine(e: Exported) -> (String, ExportReport, String) {
         exact_steps: e.table.exact_steps,
     };
     (e.text, report, note)
+}
+
+/// The nodes of an adaptive table of `law` over the box of the grid (min and max per axis),
+/// refined to `a.tolerance`, as the grid of an engine table.
+fn adaptive_grid(law: &dyn greybox_core::FrictionLaw, a: &ExportOptions) -> Result<Grid> {
+    let g = &a.grid;
+    let range = |v: &[f64]| Range {
+        min: v[0],
+        max: v[v.len() - 1],
+    };
+    let mut so = SurrogateOptions::over(
+        range(&g.pressure_pa),
+        range(&g.velocity_m_s),
+        g.temperature_k.as_deref().map(range),
+    );
+    so.kind = Some(TableKind::Adaptive);
+    so.tolerance = a.tolerance;
+    so.max_size = a.max_table_size;
+    so.seed = 42;
+    if g.pressure_pa.len() < 2 || g.velocity_m_s.len() < 2 {
+        bail!("--adaptive-grid needs a range of pressures and of velocities (MIN:MAX:N)");
+    }
+    let AnyTable::Adaptive(t) = surrogate::build(law, &so)? else {
+        unreachable!("an adaptive table was asked for")
+    };
+    Ok(Grid {
+        pressure_pa: t.pressure_pa,
+        velocity_m_s: t.velocity_m_s,
+        temperature_k: g.temperature_k.as_ref().map(|_| t.temperature_k),
+    })
 }
 
 /// A surrogate table over the box of the grid: text, report and note.
@@ -306,11 +345,9 @@ fn surrogate_table(
     }
     let t = surrogate::build(law, &so)?;
     let (max_deviation, check_points) = match &t {
-        greybox_friction::table_file::AnyTable::Exact(e) => (e.max_deviation, e.check_points),
-        greybox_friction::table_file::AnyTable::Adaptive(e) => (e.max_deviation, e.check_points),
-        greybox_friction::table_file::AnyTable::Uniform(e) => {
-            (e.max_deviation, Some(a.check_points))
-        }
+        AnyTable::Exact(e) => (e.max_deviation, e.check_points),
+        AnyTable::Adaptive(e) => (e.max_deviation, e.check_points),
+        AnyTable::Uniform(e) => (e.max_deviation, Some(a.check_points)),
     };
     let shape = t.shape();
     let note = format!(
