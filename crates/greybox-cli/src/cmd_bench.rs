@@ -2,6 +2,7 @@
 
 use crate::output::emit;
 use anyhow::Result;
+use greybox_friction::table_file::TableKind;
 use greybox_pipeline::{bench, text};
 use std::path::PathBuf;
 
@@ -22,17 +23,31 @@ pub enum Bench {
         #[arg(long)]
         json: bool,
     },
-    /// Evaluations per second of a law (raw) and of its surrogate table, one core.
+    /// Evaluations per second of a law (raw) and of its surrogate table, one core; the
+    /// table's size and max deviation from the law on fresh states.
     Surrogate {
         /// Law, model or table file.
         #[arg(long)]
         law: PathBuf,
-        /// Surrogate grid points per axis (pressure, velocity).
+        /// Table kind: auto (exact for tree ensembles, adaptive otherwise), exact, adaptive
+        /// or uniform.
+        #[arg(long, value_enum, default_value = "auto")]
+        kind: TableKindArg,
+        /// Uniform tables: grid points per axis (pressure, velocity).
         #[arg(long, default_value_t = 201)]
         points: usize,
-        /// Timed evaluations per law.
+        /// Adaptive tables: max deviation on the refinement's check set.
+        #[arg(long, default_value_t = 1e-4)]
+        tolerance: f64,
+        /// Most cells (exact) or nodes (adaptive).
+        #[arg(long = "max-table-size", default_value_t = 1 << 22)]
+        max_size: usize,
+        /// Timed evaluations of the table (the raw law gets a hundredth, at least 10 000).
         #[arg(long, default_value_t = 20_000_000)]
         calls: usize,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
     },
     /// SPH solver speed on a cutting set-up (default: the bundled ETH IWF Ti6Al4V case):
     /// particle-steps per second per core and the wall time of the cut.
@@ -59,6 +74,30 @@ pub enum Bench {
     },
 }
 
+/// A table kind on the command line.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TableKindArg {
+    /// Exact for tree ensembles (piecewise-constant laws), adaptive otherwise.
+    Auto,
+    /// Cells between the split thresholds (tree ensembles only).
+    Exact,
+    /// Non-uniform grid refined to --tolerance.
+    Adaptive,
+    /// Uniform grid of --points per axis.
+    Uniform,
+}
+
+impl From<TableKindArg> for Option<TableKind> {
+    fn from(k: TableKindArg) -> Self {
+        match k {
+            TableKindArg::Auto => None,
+            TableKindArg::Exact => Some(TableKind::Exact),
+            TableKindArg::Adaptive => Some(TableKind::Adaptive),
+            TableKindArg::Uniform => Some(TableKind::Uniform),
+        }
+    }
+}
+
 #[derive(clap::Args, Debug)]
 pub struct Args {
     #[command(subcommand)]
@@ -75,9 +114,23 @@ pub fn run(a: Args) -> Result<()> {
             let (case, s) = bench::sph(&config, fraction)?;
             emit(json, &s, |s| text::sph_bench(&config, fraction, &case, s))
         }
-        Bench::Surrogate { law, points, calls } => {
-            let s = bench::surrogate(&law, points.max(2), calls.max(1))?;
-            emit(false, &s, text::surrogate_speed)
+        Bench::Surrogate {
+            law,
+            kind,
+            points,
+            tolerance,
+            max_size,
+            calls,
+            json,
+        } => {
+            let o = bench::SurrogateBench {
+                kind: kind.into(),
+                points: points.max(2),
+                tolerance,
+                max_size,
+                calls: calls.max(1),
+            };
+            emit(json, &bench::surrogate(&law, &o)?, text::surrogate_speed)
         }
         Bench::Predict {
             models,

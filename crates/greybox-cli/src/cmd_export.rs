@@ -1,7 +1,7 @@
 //! `greybox export`: a friction law as tables for FE engines, or as a surrogate table.
 
 use anyhow::{bail, Result};
-use greybox_friction::export::Grid;
+use greybox_friction::export::{Grid, StepLines};
 use greybox_pipeline::export::{export, parse_values, units_by_name, ExportFormat, ExportOptions};
 use std::path::PathBuf;
 
@@ -15,8 +15,21 @@ pub enum Format {
     Lsdyna,
     /// The grid as CSV.
     Csv,
-    /// A greybox surrogate table (JSON) with its maximum deviation from the law.
+    /// A greybox surrogate table (JSON): exact for tree ensembles, adaptive otherwise
+    /// (--table-kind).
     Table,
+}
+
+/// Grid lines at a tree ensemble's split thresholds (engine tables).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Steps {
+    /// On for tree-ensemble laws (piecewise constant): the table is exact.
+    Auto,
+    /// Two points per split threshold inside the grid for any law that declares steps
+    /// (a grey-box law around trees keeps the given grid too).
+    On,
+    /// The given grid only.
+    Off,
 }
 
 #[derive(clap::Args, Debug)]
@@ -62,9 +75,30 @@ pub struct Args {
     /// LS-DYNA table id (curves take the following ids).
     #[arg(long, default_value_t = 1000)]
     pub lsdyna_table_id: u32,
-    /// Table: random points for the deviation check.
+    /// Random points of the deviation check of every format (cell centres and the
+    /// neighbours of every grid line come on top); 0: no check.
     #[arg(long, default_value_t = 100_000)]
     pub check_points: usize,
+    /// Engine tables: grid lines at the split thresholds of tree ensembles, restated in the
+    /// engine's units, two points one float apart per threshold (exact for engines that
+    /// interpolate linearly: Abaqus, LS-DYNA, DEFORM); only the grid's ends are kept besides.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub steps: Steps,
+    /// Surrogate table (--format table): auto (exact for tree ensembles, adaptive otherwise),
+    /// exact, adaptive (over the box of the grid) or uniform (the grid itself, equidistant).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub table_kind: crate::cmd_bench::TableKindArg,
+    /// Engine tables (abaqus, lsdyna, deform, csv): grid lines of an adaptive table over the
+    /// box of --pressure-MPa, --velocity-m-per-min (and --temperature-K), refined to
+    /// --tolerance, instead of the given values.
+    #[arg(long)]
+    pub adaptive_grid: bool,
+    /// Adaptive table or grid: max deviation from the law on its check set.
+    #[arg(long, default_value_t = 1e-4)]
+    pub tolerance: f64,
+    /// Surrogate table: most cells (exact) or nodes (adaptive).
+    #[arg(long = "max-table-size", default_value_t = 1 << 22)]
+    pub max_table_size: usize,
 }
 
 impl Args {
@@ -103,6 +137,15 @@ impl Args {
             deform_objects: (self.deform_objects[0], self.deform_objects[1]),
             lsdyna_table_id: self.lsdyna_table_id,
             check_points: self.check_points,
+            steps: match self.steps {
+                Steps::Auto => StepLines::Auto,
+                Steps::On => StepLines::On,
+                Steps::Off => StepLines::Off,
+            },
+            table_kind: self.table_kind.into(),
+            tolerance: self.tolerance,
+            max_table_size: self.max_table_size,
+            adaptive_grid: self.adaptive_grid,
         })
     }
 }
@@ -120,6 +163,6 @@ impl From<Format> for ExportFormat {
 }
 
 pub fn run(a: Args) -> Result<()> {
-    println!("{}", export(&a.options()?)?);
+    println!("{}", export(&a.options()?)?.line);
     Ok(())
 }

@@ -172,6 +172,73 @@ fn fit_then_predict() {
         p,
     ));
     assert!(e.contains("expected 2 values"), "{e}");
+    tables_of_fitted_models(p);
+}
+
+/// Tree models tabulate exactly (surrogate and engine tables), smooth ones adaptively.
+fn tables_of_fitted_models(p: &Path) {
+    let s = ok(&greybox(
+        &[
+            "export",
+            "--law",
+            "fit/models/gradient-boosting.json",
+            "--format",
+            "table",
+            "--out",
+            "gb-table.json",
+        ],
+        p,
+    ));
+    assert!(
+        s.contains("exact table") && s.contains("max deviation from the law 0.000e0"),
+        "{s}"
+    );
+    let t: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(p.join("gb-table.json")).unwrap()).unwrap();
+    assert_eq!(
+        (t["kind"].as_str(), t["schema_version"].as_u64()),
+        (Some("exact"), Some(2))
+    );
+    let s = ok(&greybox(
+        &[
+            "export",
+            "--law",
+            "fit/models/random-forest.json",
+            "--format",
+            "abaqus",
+            "--out",
+            "rf.inp",
+        ],
+        p,
+    ));
+    assert!(
+        s.contains("split thresholds") && s.contains("max deviation from the law 0.000e0"),
+        "{s}"
+    );
+    let inp = std::fs::read_to_string(p.join("rf.inp")).unwrap();
+    assert!(inp.contains("** max deviation of this table (linear interpolation) from the law: 0e0"));
+    // a table file is a law: the C ABI and every command load it
+    for (law, kind) in [
+        ("gb-table.json", "exact"),
+        ("fit/models/svr.json", "adaptive"),
+    ] {
+        let s = ok(&greybox(
+            &[
+                "bench",
+                "surrogate",
+                "--law",
+                law,
+                "--calls",
+                "100000",
+                "--json",
+            ],
+            p,
+        ));
+        let v: serde_json::Value = serde_json::from_str(&s).unwrap();
+        assert_eq!(v["table_kind"], kind, "{s}");
+        let d = v["max_deviation"].as_f64().unwrap();
+        assert!(if kind == "exact" { d == 0.0 } else { d <= 1e-4 }, "{s}");
+    }
 }
 
 #[test]

@@ -40,6 +40,74 @@ impl ValidityDomain {
     }
 }
 
+/// Axis lines across which a law's μ may jump, per SI contact variable: ascending, finite and
+/// distinct. A line `b` splits its axis into `x <= b` and `x > b` (the side a tree split
+/// `feature <= threshold` sends left, restated in SI by [`crate::boundary::last_true`]).
+///
+/// Velocity lines are on the sliding speed |v| (m/s, ≥ 0): laws see velocity through |v|.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Breaks {
+    /// Pressure, Pa.
+    pub pressure_pa: Vec<f64>,
+    /// Sliding speed |v|, m/s.
+    pub sliding_velocity_m_s: Vec<f64>,
+    /// Temperature, K.
+    pub temperature_k: Vec<f64>,
+    /// `true`: μ is constant on every cell these lines cut (p, |v|, T) space into — along each
+    /// axis the cells are x ≤ b₀, b₀ < x ≤ b₁, …, x > bₙ₋₁ — as for a tree ensemble (no lines
+    /// on an axis: μ does not depend on that variable). `false`: μ is continuous apart from
+    /// jumps across the lines.
+    pub constant_between: bool,
+}
+
+impl Breaks {
+    /// The lines of axis 0 (pressure), 1 (velocity) or 2 (temperature).
+    pub fn axis(&self, a: usize) -> &[f64] {
+        match a {
+            0 => &self.pressure_pa,
+            1 => &self.sliding_velocity_m_s,
+            _ => &self.temperature_k,
+        }
+    }
+    /// Mutable lines of axis `a`, as [`Breaks::axis`].
+    pub fn axis_mut(&mut self, a: usize) -> &mut Vec<f64> {
+        match a {
+            0 => &mut self.pressure_pa,
+            1 => &mut self.sliding_velocity_m_s,
+            _ => &mut self.temperature_k,
+        }
+    }
+    /// Sort every axis, drop non-finite values, duplicates and negative speeds.
+    pub fn normalize(mut self) -> Self {
+        for a in 0..3 {
+            let v = self.axis_mut(a);
+            v.retain(|x| x.is_finite() && (a != 1 || *x >= 0.0));
+            v.sort_by(f64::total_cmp);
+            v.dedup(); // by ==, so −0 and +0 are one line
+        }
+        self
+    }
+    /// Lines of either (jumps of a combination of two laws); never `constant_between`.
+    pub fn union(a: Option<Breaks>, b: Option<Breaks>) -> Option<Breaks> {
+        let mut out = match (a, b) {
+            (None, None) => return None,
+            (Some(x), None) | (None, Some(x)) => x,
+            (Some(mut x), Some(y)) => {
+                for k in 0..3 {
+                    x.axis_mut(k).extend_from_slice(y.axis(k));
+                }
+                x
+            }
+        };
+        out.constant_between = false;
+        Some(out.normalize())
+    }
+    /// Number of cells of a piecewise-constant law: Π (lines + 1), `None` on overflow.
+    pub fn cells(&self) -> Option<usize> {
+        (0..3).try_fold(1usize, |n, a| n.checked_mul(self.axis(a).len() + 1))
+    }
+}
+
 /// A friction law: Coulomb coefficient μ as a function of the local contact state.
 pub trait FrictionLaw: Send + Sync {
     /// Short human-readable name (for reports and file headers).
@@ -63,6 +131,13 @@ pub trait FrictionLaw: Send + Sync {
 
     /// The domain the law was fitted/calibrated on, if it has one.
     fn domain(&self) -> Option<ValidityDomain> {
+        None
+    }
+
+    /// Where μ may jump ([`Breaks`]): the split thresholds of a tree ensemble restated in SI,
+    /// and the laws built on one. `None`: μ is continuous as far as the law knows. Tables use
+    /// the lines to be exact at steps (a cell per step, or two nodes one ulp apart).
+    fn breaks(&self) -> Option<Breaks> {
         None
     }
 }

@@ -37,4 +37,4 @@ pub mod units;
 
 pub use contact::ContactState;
 pub use error::{Error, Result, SourcePos};
-pub use law::FrictionLaw;
+pub use law::{Breaks, FrictionLaw};

@@ -1,5 +1,6 @@
 //! The evaluation path of the C ABI does not allocate: a counting global allocator sees zero
-//! allocations across thousands of batch calls (learned grey-box law and surrogate table).
+//! allocations across thousands of batch calls (learned grey-box laws and the models' exact or
+//! adaptive surrogate tables).
 
 mod common;
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -35,7 +36,23 @@ fn batch_evaluation_does_not_allocate() {
         let model = common::small_model(family, greybox_learn::mlp::Activation::Relu);
         model.save(&dir.path().join("m.json")).unwrap();
         std::fs::write(dir.path().join("law.json"), r#"{"law": "grey-box", "inner": {"law": "learned", "model": "m.json"}, "outside": {"law": "power-fit"}, "shear_cap_k_MPa": 600, "clamp": [0.05, 1.0]}"#).unwrap();
-        let path = std::ffi::CString::new(dir.path().join("law.json").to_str().unwrap()).unwrap();
+        // and the model's surrogate table (exact for the trees, adaptive otherwise)
+        let learned = greybox_friction::spec::load_law(&dir.path().join("m.json")).unwrap();
+        let domain = learned.domain().unwrap();
+        let mut o = greybox_friction::surrogate::SurrogateOptions::over_domain(&domain);
+        o.check_points = 2000;
+        let table = greybox_friction::surrogate::build(learned.as_ref(), &o).unwrap();
+        std::fs::write(dir.path().join("table.json"), table.to_json().unwrap()).unwrap();
+        for file in ["law.json", "table.json"] {
+            evaluate_without_allocating(&dir.path().join(file), family);
+        }
+    }
+}
+
+/// Load `file` through the C ABI and count allocations across batch calls.
+fn evaluate_without_allocating(file: &std::path::Path, family: greybox_learn::model::Family) {
+    {
+        let path = std::ffi::CString::new(file.to_str().unwrap()).unwrap();
         let mut law = std::ptr::null_mut();
         // SAFETY: valid C string and out pointer.
         assert_eq!(
@@ -82,7 +99,8 @@ fn batch_evaluation_does_not_allocate() {
         assert_eq!(
             after - before,
             0,
-            "{family:?}: {} allocations on the evaluation path",
+            "{family:?} {}: {} allocations on the evaluation path",
+            file.display(),
             after - before
         );
         // SAFETY: handle from greybox_law_load, freed once.

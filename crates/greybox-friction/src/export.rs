@@ -10,7 +10,16 @@
 //! * LS-DYNA `*DEFINE_TABLE` (abscissa: sliding velocity) with one `*DEFINE_CURVE` per velocity
 //!   (μ against contact pressure), for `*CONTACT_..._SURFACE_TO_SURFACE` with FS = 2, FD = table.
 //! * CSV of the grid itself.
+//!
+//! Every table is built as an [`EngineTable`] in the engine's units: μ at the SI state each
+//! written number denotes, grid lines at a tree ensemble's split thresholds (two points one
+//! float apart per threshold, [`StepLines`]), and — in the `*_checked` forms — its max
+//! deviation from the law under the engine's linear interpolation ([`Deviation`]; 0 for
+//! tree ensembles with step lines). See [`crate::engine_table`] for how each engine reads
+//! the table.
 
+use crate::engine_table::mu_checked;
+pub use crate::engine_table::{Deviation, EngineTable, StepLines, TableOptions};
 use greybox_core::{ContactState, Error, FrictionLaw, Result, SourcePos};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -51,29 +60,6 @@ impl Grid {
         }
         Ok(())
     }
-    fn temperatures(&self) -> Vec<f64> {
-        self.temperature_k
-            .clone()
-            .unwrap_or_else(|| vec![ContactState::ROOM_TEMPERATURE_K])
-    }
-
-    /// Visit every grid point with its checked μ: temperature slowest, then pressure, then
-    /// velocity fastest (the Abaqus table order).
-    fn for_each(&self, law: &dyn FrictionLaw, mut f: impl FnMut(&ContactState, f64)) -> Result<()> {
-        for &t in &self.temperatures() {
-            for &p in &self.pressure_pa {
-                for &v in &self.velocity_m_s {
-                    let s = ContactState {
-                        pressure_pa: p,
-                        sliding_velocity_m_s: v,
-                        temperature_k: t,
-                    };
-                    f(&s, mu_checked(law, &s)?);
-                }
-            }
-        }
-        Ok(())
-    }
 }
 
 /// Units of an Abaqus table.
@@ -105,6 +91,13 @@ impl PressureUnit {
             PressureUnit::MPa => 1e-6,
         }
     }
+    /// Pa of a number in this unit (exact factors: Pa·1, MPa·10⁶).
+    pub fn to_pa(self, x: f64) -> f64 {
+        match self {
+            PressureUnit::Pa => x,
+            PressureUnit::MPa => x * 1e6,
+        }
+    }
     pub fn name(self) -> &'static str {
         match self {
             PressureUnit::Pa => "Pa",
@@ -120,6 +113,14 @@ impl SpeedUnit {
             SpeedUnit::MPerMin => 60.0,
         }
     }
+    /// m/s of a number in this unit (divided by an exact 1, 10³ or 60).
+    pub fn to_m_s(self, x: f64) -> f64 {
+        match self {
+            SpeedUnit::MPerS => x,
+            SpeedUnit::MmPerS => x / 1e3,
+            SpeedUnit::MPerMin => x / 60.0,
+        }
+    }
     pub fn name(self) -> &'static str {
         match self {
             SpeedUnit::MPerS => "m/s",
@@ -133,6 +134,13 @@ impl TempUnit {
         match self {
             TempUnit::K => t,
             TempUnit::C => t - 273.15,
+        }
+    }
+    /// K of a number in this unit.
+    pub fn to_k(self, x: f64) -> f64 {
+        match self {
+            TempUnit::K => x,
+            TempUnit::C => x + 273.15,
         }
     }
     pub fn name(self) -> &'static str {
@@ -160,28 +168,74 @@ fn num(x: f64) -> String {
     }
 }
 
-fn mu_checked(law: &dyn FrictionLaw, s: &ContactState) -> Result<f64> {
-    let mu = law.mu(s);
-    if !mu.is_finite() || mu < 0.0 {
-        return Err(Error::invalid(
-            "export",
-            format!(
-                "the law gives μ = {mu} at p = {} Pa, v = {} m/s, T = {} K",
-                s.pressure_pa, s.sliding_velocity_m_s, s.temperature_k
-            ),
-        ));
-    }
-    Ok(mu)
+/// An exported table: the text, the table it writes, and its deviation from the law.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Exported {
+    pub text: String,
+    pub table: EngineTable,
+    /// Max deviation of the engine's (linear) interpolation from the law inside the grid;
+    /// `None` when not checked (`check_points` 0).
+    pub deviation: Option<Deviation>,
 }
 
-/// Abaqus `*FRICTION` table. `taumax_pa`: optional limiting shear stress.
+impl Exported {
+    fn new(law: &dyn FrictionLaw, table: EngineTable, o: &TableOptions) -> Self {
+        let deviation = (o.check_points > 0).then(|| table.check(law, o.check_points, o.seed));
+        Exported {
+            text: String::new(),
+            table,
+            deviation,
+        }
+    }
+    /// Header comment lines (after `prefix`) on the grid and the check.
+    fn notes(&self, prefix: &str) -> String {
+        let mut s = String::new();
+        if self.table.exact_steps {
+            let _ = writeln!(s, "{prefix} grid lines at the law's steps: two points one float apart per split threshold (b, b+), exact for linear interpolation");
+        }
+        if let Some(d) = &self.deviation {
+            let _ = writeln!(
+                s,
+                "{prefix} max deviation of this table (linear interpolation) from the law: {:e} on {} points inside the grid",
+                d.max, d.points
+            );
+        }
+        s
+    }
+}
+
+/// Abaqus `*FRICTION` table. `taumax_pa`: optional limiting shear stress. Grid lines at the
+/// steps of a tree-ensemble law ([`StepLines::Auto`]), not checked; see [`abaqus_checked`].
 pub fn abaqus(
     law: &dyn FrictionLaw,
     grid: &Grid,
     u: Units,
     taumax_pa: Option<f64>,
 ) -> Result<String> {
-    grid.validate()?;
+    let o = TableOptions {
+        check_points: 0,
+        ..TableOptions::default()
+    };
+    Ok(abaqus_checked(law, grid, u, taumax_pa, &o)?.text)
+}
+
+/// Abaqus `*FRICTION` table with step lines and deviation check as `o` says. Abaqus
+/// interpolates the table linearly in slip rate, pressure and temperature and holds μ
+/// constant outside it.
+pub fn abaqus_checked(
+    law: &dyn FrictionLaw,
+    grid: &Grid,
+    u: Units,
+    taumax_pa: Option<f64>,
+    o: &TableOptions,
+) -> Result<Exported> {
+    if let Some(t) = taumax_pa {
+        if !(t > 0.0) {
+            return Err(Error::invalid("export", "TAUMAX must be positive"));
+        }
+    }
+    let table = EngineTable::build(law, grid, (u.speed, u.pressure, u.temperature), o.steps)?;
+    let mut out = Exported::new(law, table, o);
     let mut s = String::new();
     let with_t = grid.temperature_k.is_some();
     let _ = writeln!(s, "** greybox export: Abaqus *FRICTION table");
@@ -204,28 +258,33 @@ pub fn abaqus(
         if with_t { ", temperature" } else { "" },
         if with_t { ", then temperature" } else { "" }
     );
+    s.push_str(&out.notes("**"));
     let _ = write!(s, "*FRICTION");
     if let Some(t) = taumax_pa {
-        if !(t > 0.0) {
-            return Err(Error::invalid("export", "TAUMAX must be positive"));
-        }
         let _ = write!(s, ", TAUMAX={}", num(t * u.pressure.per_pa()));
     }
     s.push('\n');
-    grid.for_each(law, |st, mu| {
-        let _ = write!(
-            s,
-            " {}, {}, {}",
-            num(mu),
-            num(st.sliding_velocity_m_s * u.speed.per_m_s()),
-            num(st.pressure_pa * u.pressure.per_pa())
-        );
-        if with_t {
-            let _ = write!(s, ", {}", num(u.temperature.from_k(st.temperature_k)));
+    let t = &out.table;
+    let [nv, np, nt] = t.shape();
+    for it in 0..nt {
+        for ip in 0..np {
+            for iv in 0..nv {
+                let _ = write!(
+                    s,
+                    " {}, {}, {}",
+                    num(t.at(iv, ip, it)),
+                    num(t.speed.written[iv]),
+                    num(t.pressure.written[ip])
+                );
+                if let Some(tt) = &t.temperature {
+                    let _ = write!(s, ", {}", num(tt.written[it]));
+                }
+                s.push('\n');
+            }
         }
-        s.push('\n');
-    })?;
-    Ok(s)
+    }
+    out.text = s;
+    Ok(out)
 }
 
 /// Data lines of the first `*FRICTION` block of an Abaqus input text.
@@ -286,6 +345,7 @@ fn room_k() -> f64 {
 /// DEFORM keyword blocks: a global `FRCFAC` μ(p, T) table at `reference_velocity_m_s` and one
 /// `FRCWIN` per window (constant μ of the window's state; the window follows object
 /// `objects.0`, the tool). Pressures in MPa, temperatures in °C (DEFORM's SI-mm convention).
+/// Not checked; see [`deform_checked`].
 pub fn deform(
     law: &dyn FrictionLaw,
     grid: &Grid,
@@ -293,9 +353,38 @@ pub fn deform(
     windows: &[DeformWindow],
     objects: (u32, u32),
 ) -> Result<String> {
+    let o = TableOptions {
+        check_points: 0,
+        ..TableOptions::default()
+    };
+    Ok(deform_checked(law, grid, reference_velocity_m_s, windows, objects, &o)?.text)
+}
+
+/// [`deform`] with step lines and deviation check as `o` says. DEFORM interpolates the
+/// FRCFAC table linearly in pressure and temperature; the check covers that table (at the
+/// reference velocity), the windows are exact (μ of their own state).
+pub fn deform_checked(
+    law: &dyn FrictionLaw,
+    grid: &Grid,
+    reference_velocity_m_s: f64,
+    windows: &[DeformWindow],
+    objects: (u32, u32),
+    o: &TableOptions,
+) -> Result<Exported> {
     grid.validate()?;
+    let at_reference = Grid {
+        velocity_m_s: vec![reference_velocity_m_s],
+        ..grid.clone()
+    };
+    let units = (SpeedUnit::MPerS, PressureUnit::MPa, TempUnit::C);
+    let table = EngineTable::build(law, &at_reference, units, o.steps)?;
+    let mut out = Exported::new(law, table, o);
+    let t = &out.table;
+    let temps: Vec<f64> = match &t.temperature {
+        Some(a) => a.written.clone(),
+        None => vec![TempUnit::C.from_k(ContactState::ROOM_TEMPERATURE_K)],
+    };
     let (o1, o2) = objects;
-    let temps = grid.temperatures();
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -304,84 +393,63 @@ pub fn deform(
     let _ = writeln!(s, "* law: {}", law.name());
     let _ = writeln!(s, "* FRCFAC: Coulomb (FricType 2), FricDefType 5 = f(pressure MPa, temperature C, stretch), pressure fastest,");
     let _ = writeln!(s, "* evaluated at the reference sliding velocity {} m/min (DEFORM tables cannot encode velocity)", reference_velocity_m_s * 60.0);
-    let _ = writeln!(
-        s,
-        "FRCFAC {o1} {o2} 2 5 {} {} 1",
-        grid.pressure_pa.len(),
-        temps.len()
-    );
-    let _ = writeln!(
-        s,
-        "{}",
-        grid.pressure_pa
-            .iter()
-            .map(|p| num(p * 1e-6))
-            .collect::<Vec<_>>()
-            .join(" ")
-    );
-    let _ = writeln!(
-        s,
-        "{}",
-        temps
-            .iter()
-            .map(|t| num(t - 273.15))
-            .collect::<Vec<_>>()
-            .join(" ")
-    );
+    s.push_str(&out.notes("*"));
+    let join = |v: &[f64]| v.iter().map(|&x| num(x)).collect::<Vec<_>>().join(" ");
+    let np = t.pressure.written.len();
+    let _ = writeln!(s, "FRCFAC {o1} {o2} 2 5 {np} {} 1", temps.len());
+    let _ = writeln!(s, "{}", join(&t.pressure.written));
+    let _ = writeln!(s, "{}", join(&temps));
     let _ = writeln!(s, "0.");
-    for &t in &temps {
-        let row: Vec<String> = grid
-            .pressure_pa
-            .iter()
-            .map(|&p| {
-                mu_checked(
-                    law,
-                    &ContactState {
-                        pressure_pa: p,
-                        sliding_velocity_m_s: reference_velocity_m_s,
-                        temperature_k: t,
-                    },
-                )
-                .map(num)
-            })
-            .collect::<Result<_>>()?;
-        let _ = writeln!(s, "{}", row.join(" "));
+    for it in 0..temps.len() {
+        let row: Vec<f64> = (0..np).map(|ip| t.at(0, ip, it)).collect();
+        let _ = writeln!(s, "{}", join(&row));
     }
     for (k, w) in windows.iter().enumerate() {
-        if w.points_mm.len() < 3 {
-            return Err(Error::invalid(
-                "DEFORM window",
-                format!("window {} needs at least 3 points", k + 1),
-            ));
-        }
-        let area2: f64 = (0..w.points_mm.len())
-            .map(|i| {
-                let (a, b) = (w.points_mm[i], w.points_mm[(i + 1) % w.points_mm.len()]);
-                a[0] * b[1] - b[0] * a[1]
-            })
-            .sum();
-        if area2 <= 0.0 {
-            return Err(Error::invalid(
-                "DEFORM window",
-                format!("window {} is not counter-clockwise", k + 1),
-            ));
-        }
-        let state = ContactState {
-            pressure_pa: w.pressure_mpa * 1e6,
-            sliding_velocity_m_s: w.velocity_m_per_min / 60.0,
-            temperature_k: w.temperature_k,
-        };
-        let mu = mu_checked(law, &state)?;
-        let _ = writeln!(
-            s,
-            "* window {}: p = {} MPa, v = {} m/min, T = {} K",
-            k + 1,
-            w.pressure_mpa,
-            w.velocity_m_per_min,
-            w.temperature_k
-        );
-        s.push_str(&frcwin_block(k + 1, &w.points_mm, mu, objects));
+        s.push_str(&deform_window(law, k, w, objects)?);
     }
+    out.text = s;
+    Ok(out)
+}
+
+/// The comment and `FRCWIN` block of window `k` (0-based).
+fn deform_window(
+    law: &dyn FrictionLaw,
+    k: usize,
+    w: &DeformWindow,
+    objects: (u32, u32),
+) -> Result<String> {
+    if w.points_mm.len() < 3 {
+        return Err(Error::invalid(
+            "DEFORM window",
+            format!("window {} needs at least 3 points", k + 1),
+        ));
+    }
+    let area2: f64 = (0..w.points_mm.len())
+        .map(|i| {
+            let (a, b) = (w.points_mm[i], w.points_mm[(i + 1) % w.points_mm.len()]);
+            a[0] * b[1] - b[0] * a[1]
+        })
+        .sum();
+    if area2 <= 0.0 {
+        return Err(Error::invalid(
+            "DEFORM window",
+            format!("window {} is not counter-clockwise", k + 1),
+        ));
+    }
+    let state = ContactState {
+        pressure_pa: w.pressure_mpa * 1e6,
+        sliding_velocity_m_s: w.velocity_m_per_min / 60.0,
+        temperature_k: w.temperature_k,
+    };
+    let mu = mu_checked(law, &state)?;
+    let mut s = format!(
+        "* window {}: p = {} MPa, v = {} m/min, T = {} K\n",
+        k + 1,
+        w.pressure_mpa,
+        w.velocity_m_per_min,
+        w.temperature_k
+    );
+    s.push_str(&frcwin_block(k + 1, &w.points_mm, mu, objects));
     Ok(s)
 }
 
@@ -401,8 +469,25 @@ pub fn frcwin_block(number: usize, points: &[[f64; 2]], mu: f64, objects: (u32, 
 }
 
 /// LS-DYNA keyword cards: `*DEFINE_TABLE` over velocity with one `*DEFINE_CURVE` (μ vs
-/// pressure) per velocity. `table_id` and the following ids are used.
+/// pressure) per velocity. `table_id` and the following ids are used. Not checked; see
+/// [`lsdyna_checked`].
 pub fn lsdyna(law: &dyn FrictionLaw, grid: &Grid, u: Units, table_id: u32) -> Result<String> {
+    let o = TableOptions {
+        check_points: 0,
+        ..TableOptions::default()
+    };
+    Ok(lsdyna_checked(law, grid, u, table_id, &o)?.text)
+}
+
+/// [`lsdyna`] with step lines and deviation check as `o` says. LS-DYNA interpolates each
+/// curve linearly in pressure and between the curves linearly in velocity.
+pub fn lsdyna_checked(
+    law: &dyn FrictionLaw,
+    grid: &Grid,
+    u: Units,
+    table_id: u32,
+    o: &TableOptions,
+) -> Result<Exported> {
     grid.validate()?;
     if grid.temperature_k.is_some() {
         return Err(Error::invalid(
@@ -410,7 +495,8 @@ pub fn lsdyna(law: &dyn FrictionLaw, grid: &Grid, u: Units, table_id: u32) -> Re
             "the LS-DYNA table is μ(p, v) only; give no temperature axis",
         ));
     }
-    let t = ContactState::ROOM_TEMPERATURE_K;
+    let table = EngineTable::build(law, grid, (u.speed, u.pressure, u.temperature), o.steps)?;
+    let mut out = Exported::new(law, table, o);
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -426,49 +512,68 @@ pub fn lsdyna(law: &dyn FrictionLaw, grid: &Grid, u: Units, table_id: u32) -> Re
         u.speed.name(),
         u.pressure.name()
     );
+    s.push_str(&out.notes("$"));
     let _ = writeln!(s, "*DEFINE_TABLE");
     let _ = writeln!(s, "$     TBID       SFA      OFFA");
     let _ = writeln!(s, "{table_id:>10}");
-    for v in &grid.velocity_m_s {
-        let _ = writeln!(s, "{:>20}", num(v * u.speed.per_m_s()));
+    let t = &out.table;
+    for &v in &t.speed.written {
+        let _ = writeln!(s, "{:>20}", num(v));
     }
-    for (i, &v) in grid.velocity_m_s.iter().enumerate() {
+    for iv in 0..t.speed.written.len() {
         let _ = writeln!(s, "*DEFINE_CURVE");
         let _ = writeln!(
             s,
             "$     LCID      SIDR       SFA       SFO      OFFA      OFFO"
         );
-        let _ = writeln!(s, "{:>10}", table_id + 1 + i as u32);
-        for &p in &grid.pressure_pa {
-            let mu = mu_checked(
-                law,
-                &ContactState {
-                    pressure_pa: p,
-                    sliding_velocity_m_s: v,
-                    temperature_k: t,
-                },
-            )?;
-            let _ = writeln!(s, "{:>20}{:>20}", num(p * u.pressure.per_pa()), num(mu));
+        let _ = writeln!(s, "{:>10}", table_id + 1 + iv as u32);
+        for (ip, &p) in t.pressure.written.iter().enumerate() {
+            let _ = writeln!(s, "{:>20}{:>20}", num(p), num(t.at(iv, ip, 0)));
         }
     }
-    Ok(s)
+    out.text = s;
+    Ok(out)
 }
 
-/// The grid as CSV: `pressure_MPa,sliding_velocity_m_per_min,temperature_K,mu`.
+/// The grid as CSV: `pressure_MPa,sliding_velocity_m_per_min,temperature_K,mu`. Not checked;
+/// see [`csv_checked`].
 pub fn csv(law: &dyn FrictionLaw, grid: &Grid) -> Result<String> {
-    grid.validate()?;
+    let o = TableOptions {
+        check_points: 0,
+        ..TableOptions::default()
+    };
+    Ok(csv_checked(law, grid, &o)?.text)
+}
+
+/// [`csv`] with step lines and deviation check as `o` says (the check assumes a reader that
+/// interpolates linearly, as the engines do).
+pub fn csv_checked(law: &dyn FrictionLaw, grid: &Grid, o: &TableOptions) -> Result<Exported> {
+    let units = (SpeedUnit::MPerMin, PressureUnit::MPa, TempUnit::K);
+    let table = EngineTable::build(law, grid, units, o.steps)?;
+    let mut out = Exported::new(law, table, o);
     let mut s = String::from("pressure_MPa,sliding_velocity_m_per_min,temperature_K,mu\n");
-    grid.for_each(law, |st, mu| {
-        let _ = writeln!(
-            s,
-            "{},{},{},{}",
-            st.pressure_pa * 1e-6,
-            st.sliding_velocity_m_s * 60.0,
-            st.temperature_k,
-            mu
-        );
-    })?;
-    Ok(s)
+    let t = &out.table;
+    let [nv, np, nt] = t.shape();
+    for it in 0..nt {
+        let temp = t
+            .temperature
+            .as_ref()
+            .map_or(ContactState::ROOM_TEMPERATURE_K, |a| a.written[it]);
+        for ip in 0..np {
+            for iv in 0..nv {
+                let _ = writeln!(
+                    s,
+                    "{},{},{},{}",
+                    t.pressure.written[ip],
+                    t.speed.written[iv],
+                    temp,
+                    t.at(iv, ip, it)
+                );
+            }
+        }
+    }
+    out.text = s;
+    Ok(out)
 }
 
 /// A parsed `FRCWIN` block: window number, points, constant μ.

@@ -10,7 +10,7 @@
 
 use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::linalg::solve3;
-use greybox_core::{ContactState, Error, FrictionLaw, Result};
+use greybox_core::{Breaks, ContactState, Error, FrictionLaw, Result};
 use serde::{Deserialize, Serialize};
 
 pub struct GreyBoxLaw {
@@ -117,6 +117,25 @@ impl FrictionLaw for GreyBoxLaw {
     }
     fn domain(&self) -> Option<ValidityDomain> {
         None // defined everywhere
+    }
+    /// The inner law's jumps inside its domain (outside it the inner law is evaluated at the
+    /// projected state, which stays on one side of a line b with min ≤ b < max only inside)
+    /// and the outside law's jumps; the blend, the shear cap and the clamp are continuous.
+    fn breaks(&self) -> Option<Breaks> {
+        let inner = self.inner.breaks().map(|mut b| {
+            let ranges = [
+                Some(self.domain.pressure_pa),
+                Some(self.domain.sliding_velocity_m_s),
+                self.domain.temperature_k,
+            ];
+            for (a, r) in ranges.into_iter().enumerate() {
+                if let Some(r) = r {
+                    b.axis_mut(a).retain(|&x| x >= r.min && x < r.max);
+                }
+            }
+            b
+        });
+        Breaks::union(inner, self.outside.breaks())
     }
 }
 

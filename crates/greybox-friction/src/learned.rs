@@ -6,11 +6,12 @@
 //! (p ∝ F^(1/3), so F = (p / p(1 N))³ under the contact's pressure convention).
 
 use greybox_contact::PinContact;
+use greybox_core::boundary::last_true;
 use greybox_core::law::{Range, ValidityDomain};
-use greybox_core::{units, ContactState, Error, FrictionLaw, Result};
+use greybox_core::{units, Breaks, ContactState, Error, FrictionLaw, Result};
 use greybox_model::family::FittedModel;
 use greybox_model::modelfile::ModelFile;
-use greybox_model::tree::DecisionGrid;
+use greybox_model::tree::{DecisionGrid, LEAF};
 use greybox_model::Predictor;
 
 /// Most features a learned law maps (stack buffer, no allocation per call).
@@ -56,6 +57,24 @@ impl Input {
                 n_per_unit,
             } => c_pa_per_cbrt_n * (x.max(0.0) * n_per_unit).cbrt(),
         }
+    }
+    /// The split `value <= t` restated on this input's SI contact variable: the largest `b`
+    /// with `x <= b ⟺ value(x) <= t` (pressure in Pa, sliding speed |v| in m/s ≥ 0,
+    /// temperature in K), exact bit for bit because every conversion is a monotone chain of
+    /// roundings ([`last_true`]). `None` when the split sends every value the same way.
+    pub fn boundary(&self, t: f64) -> Option<f64> {
+        let at = |x: f64| ContactState {
+            pressure_pa: x,
+            sliding_velocity_m_s: x,
+            temperature_k: x,
+        };
+        let b = match self {
+            // the law sees |v|: the predicate is monotone only on v ≥ 0
+            Input::Velocity { .. } => last_true(|x| x < 0.0 || self.value(&at(x)) <= t)?,
+            _ => last_true(|x| self.value(&at(x)) <= t)?,
+        };
+        let speed = matches!(self, Input::Velocity { .. });
+        (b.is_finite() && !(speed && b < 0.0)).then_some(b)
     }
     fn variable(&self) -> usize {
         match self {
@@ -184,6 +203,19 @@ impl LearnedLaw {
     }
 }
 
+impl LearnedLaw {
+    /// The model's features at a contact state: entry i is feature i of the model file (the
+    /// first `model.features.len()` entries are used).
+    #[inline]
+    pub fn features(&self, s: &ContactState) -> [f64; MAX_FEATURES] {
+        let mut x = [0.0; MAX_FEATURES];
+        for (xi, inp) in x.iter_mut().zip(&self.inputs) {
+            *xi = inp.value(s);
+        }
+        x
+    }
+}
+
 impl FrictionLaw for LearnedLaw {
     fn name(&self) -> String {
         format!(
@@ -200,10 +232,7 @@ impl FrictionLaw for LearnedLaw {
     }
     #[inline]
     fn mu(&self, s: &ContactState) -> f64 {
-        let mut x = [0.0; MAX_FEATURES];
-        for (xi, inp) in x.iter_mut().zip(&self.inputs) {
-            *xi = inp.value(s);
-        }
+        let x = self.features(s);
         let x = &x[..self.inputs.len()];
         match &self.grid {
             Some(g) => g.predict_one(x),
@@ -212,5 +241,36 @@ impl FrictionLaw for LearnedLaw {
     }
     fn domain(&self) -> Option<ValidityDomain> {
         Some(self.domain)
+    }
+    /// A tree ensemble is constant between its split thresholds: they are restated exactly
+    /// in SI per contact variable ([`Input::boundary`]), union over trees and over the
+    /// features that map to the same variable.
+    fn breaks(&self) -> Option<Breaks> {
+        let FittedModel::TreeEnsemble(e) = &self.model.model else {
+            return None;
+        };
+        let collected;
+        let thresholds: &[Vec<f64>] = match &self.grid {
+            Some(g) => g.thresholds(),
+            None => {
+                let mut t = vec![Vec::new(); e.n_features];
+                for n in e.nodes.iter().filter(|n| n.feature != LEAF) {
+                    if let Some(v) = t.get_mut(n.feature as usize) {
+                        v.push(n.value);
+                    }
+                }
+                collected = t;
+                &collected
+            }
+        };
+        let mut breaks = Breaks {
+            constant_between: true,
+            ..Breaks::default()
+        };
+        for (inp, ts) in self.inputs.iter().zip(thresholds) {
+            let lines = breaks.axis_mut(inp.variable());
+            lines.extend(ts.iter().filter_map(|&t| inp.boundary(t)));
+        }
+        Some(breaks.normalize())
     }
 }

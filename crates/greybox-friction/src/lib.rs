@@ -8,16 +8,30 @@
 //! * [`greybox`] — the grey-box composition: learned inside the training domain, a physics or
 //!   fitted white-box law outside, smoothly blended, optional Zorev cap and clamping.
 //! * [`table`] — laws baked onto uniform (p, v[, T]) grids with bi/trilinear interpolation.
+//! * [`exact_table`] — tree ensembles as cells between their split thresholds (exact).
+//! * [`adaptive`] — non-uniform grids refined until a max deviation is met (smooth laws);
+//!   the refinement is [`refine`].
+//! * [`table_file`] — table files of every kind and schema version.
+//! * [`surrogate`] — the right table for a law (exact, adaptive or uniform) and its check.
+//! * [`lines`] — axis lines with constant-time lookup, shared interpolation.
 //! * [`spec`] — law files (JSON) that describe any of the above.
-//! * [`export`] — Abaqus `*FRICTION`, DEFORM `FRCFAC`/`FRCWIN`, LS-DYNA tables, CSV.
+//! * [`export`] — Abaqus `*FRICTION`, DEFORM `FRCFAC`/`FRCWIN`, LS-DYNA tables, CSV, each with
+//!   its max deviation from the law ([`engine_table`]: engine units, exact step lines).
 //! * [`gradient`] — ∂μ/∂p, ∂μ/∂v, ∂μ/∂T for implicit solvers.
 
+pub mod adaptive;
 pub mod classical;
+pub mod engine_table;
+pub mod exact_table;
 pub mod export;
 pub mod gradient;
 pub mod greybox;
 pub mod learned;
+pub mod lines;
+pub mod refine;
 pub mod spec;
+pub mod surrogate;
 pub mod table;
+pub mod table_file;
 
 pub use greybox_core::{ContactState, FrictionLaw};

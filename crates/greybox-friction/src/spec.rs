@@ -15,7 +15,7 @@ use crate::classical::{
 };
 use crate::greybox::{GreyBoxLaw, PowerLaw};
 use crate::learned::LearnedLaw;
-use crate::table::{TabulatedLaw, TABLE_SCHEMA};
+use crate::table_file::{read_table, TABLE_SCHEMA};
 use greybox_contact::PinContact;
 use greybox_core::{units, Error, FrictionLaw, Result, SourcePos};
 use greybox_model::modelfile::{ModelFile, SCHEMA as MODEL_SCHEMA};
@@ -76,7 +76,8 @@ pub enum LawSpec {
         #[serde(default)]
         clamp: Option<(f64, f64)>,
     },
-    /// A table written by `greybox export --format table`.
+    /// A table written by `greybox export --format table` (any kind and schema version, see
+    /// [`crate::table_file`]).
     Table {
         file: PathBuf,
     },
@@ -185,25 +186,7 @@ impl LawSpec {
                     *clamp,
                 )?)
             }
-            LawSpec::Table { file } => {
-                let path = resolve(base, file);
-                let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-                let t: TabulatedLaw = serde_json::from_str(&text).map_err(|e| {
-                    Error::input(
-                        SourcePos::path(&path).line(e.line() as u64),
-                        format!("not a greybox table: {e}"),
-                    )
-                })?;
-                if t.schema != TABLE_SCHEMA {
-                    return Err(Error::input(
-                        SourcePos::path(&path).field("schema"),
-                        format!("expected schema \"{TABLE_SCHEMA}\""),
-                    ));
-                }
-                t.validate()
-                    .map_err(|e| Error::input(SourcePos::path(&path), e.to_string()))?;
-                Box::new(t.prepare())
-            }
+            LawSpec::Table { file } => read_table(&resolve(base, file))?.into_law(),
         })
     }
 }

@@ -1,6 +1,8 @@
 //! Tabulated surrogates: any law baked onto a uniform (p, v[, T]) grid and evaluated by
 //! bilinear (trilinear) interpolation, clamped at the grid edges. Uniform axes make the cell
-//! lookup a multiply and a truncation, so one evaluation costs a few nanoseconds.
+//! lookup a multiply and a truncation, so one evaluation costs a few nanoseconds. Exact tables
+//! of tree ensembles are [`crate::exact_table`], tables refined to a tolerance
+//! [`crate::adaptive`]; files of every kind are read by [`crate::table_file`].
 
 use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::{ContactState, Error, FrictionLaw, Result};
@@ -49,6 +51,12 @@ impl Axis {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TabulatedLaw {
     pub schema: String,
+    /// 1 for files written before table kinds existed (no field), else 2.
+    #[serde(default = "version_1")]
+    pub schema_version: u32,
+    /// "uniform".
+    #[serde(default = "uniform")]
+    pub kind: String,
     pub source: String,
     /// Pressure, Pa.
     pub pressure: Axis,
@@ -66,6 +74,13 @@ pub struct TabulatedLaw {
 }
 
 pub const TABLE_SCHEMA: &str = "greybox-table";
+
+fn version_1() -> u32 {
+    1
+}
+fn uniform() -> String {
+    "uniform".into()
+}
 
 impl TabulatedLaw {
     /// Evaluate `law` at every grid node.
@@ -92,6 +107,8 @@ impl TabulatedLaw {
         }
         TabulatedLaw {
             schema: TABLE_SCHEMA.into(),
+            schema_version: crate::table_file::TABLE_SCHEMA_VERSION,
+            kind: uniform(),
             source: law.name(),
             pressure,
             velocity,

@@ -223,4 +223,10 @@ impl DecisionGrid {
         }
         self.values[cell]
     }
+
+    /// Per feature: the distinct split thresholds, ascending (a split sends `x` left when
+    /// `x <= threshold`).
+    pub fn thresholds(&self) -> &[Vec<f64>] {
+        &self.thresholds
+    }
 }

@@ -23,7 +23,7 @@ use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::dataset::FrictionDataset;
 use greybox_couple::engine::CouplingResult;
-use greybox_friction::export::{Grid, PressureUnit, SpeedUnit, TempUnit, Units};
+use greybox_friction::export::{Grid, PressureUnit, SpeedUnit, StepLines, TempUnit, Units};
 use greybox_learn::model::Family;
 use greybox_tribo::campaign::FileReport;
 use greybox_tribo::frf::ImpactConfig;
@@ -286,8 +286,14 @@ fn grey_box(study: &Study, dataset_csv: &Path) -> Result<GreyBox> {
         deform_reference_velocity_m_s: 150.0 / 60.0,
         deform_objects: (2, 1),
         lsdyna_table_id: 1000,
-        check_points: 0,
-    })?;
+        check_points: 100_000,
+        steps: StepLines::Auto,
+        table_kind: None,
+        tolerance: 1e-4,
+        max_table_size: 1 << 22,
+        adaptive_grid: false,
+    })?
+    .line;
     write_string_atomic(Path::new("ffi/greybox.h"), GREYBOX_H)?;
     write_string_atomic(Path::new("ffi/greybox.f90"), GREYBOX_F90)?;
     Ok(GreyBox {

@@ -521,7 +521,7 @@ pub fn sph_bench(config: &Path, fraction: f64, case: &CutCase, s: &CutSummary) -
     text
 }
 
-/// Law and surrogate-table evaluation speed.
+/// Law and surrogate-table evaluation speed, the table's size and deviation.
 pub fn surrogate_speed(s: &SurrogateSpeed) -> String {
     let mut text = String::new();
     let _ = writeln!(
@@ -531,13 +531,33 @@ pub fn surrogate_speed(s: &SurrogateSpeed) -> String {
         1e9 / s.law_ns_per_call,
         s.law
     );
-    let _ = writeln!(text,
-        "surrogate: {:8.1} ns per call, {:.3e} evaluations/s/core ({} x {} grid, max deviation {:.2e})",
+    let [np, nv, nt] = s.shape;
+    let what = if s.table_kind == "exact" {
+        "cells"
+    } else {
+        "nodes"
+    };
+    let _ = writeln!(
+        text,
+        "surrogate: {:8.1} ns per call, {:.3e} evaluations/s/core ({} table, {np} x {nv}{} {what} = {} values, {:.0} kB, built in {:.2} s)",
         s.table_ns_per_call,
         1e9 / s.table_ns_per_call,
-        s.points,
-        s.points,
-        s.max_deviation
+        s.table_kind,
+        if nt > 1 { format!(" x {nt}") } else { String::new() },
+        s.values,
+        s.values as f64 * 8.0 / 1e3,
+        s.build_s
+    );
+    let _ = writeln!(
+        text,
+        "max deviation from the law: {:.2e} on {} fresh states{}",
+        s.max_deviation,
+        s.check_points,
+        match s.tolerance {
+            Some(t) => format!(" (tolerance {t:.0e})"),
+            None if s.table_kind == "exact" => " (random, and every threshold ± 1 ulp)".into(),
+            None => String::new(),
+        }
     );
     text
 }
