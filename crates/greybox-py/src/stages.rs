@@ -286,9 +286,13 @@ fn grey_box_law(
 }
 
 /// Export a law (law, model or table file) as `format` (abaqus, deform, lsdyna, csv, table)
-/// on the SI grid given: returns the one-line description.
+/// on the SI grid given: JSON of the export report (line, max_deviation, check_points,
+/// shape, exact_steps). `steps` (auto, on, off): two table points per split threshold for
+/// piecewise-constant laws; `table_kind` (exact, adaptive, uniform; default: exact for tree
+/// ensembles, adaptive otherwise), `tolerance` and `max_table_size` for surrogate tables;
+/// `adaptive_grid`: engine tables on an adaptive grid refined to `tolerance`.
 #[pyfunction]
-#[pyo3(signature = (law, format, out, pressure_pa, velocity_m_s, temperature_k = None, pressure_unit = "MPa", speed_unit = "m/s", temperature_unit = "C", check_points = 100_000))]
+#[pyo3(signature = (law, format, out, pressure_pa, velocity_m_s, temperature_k = None, pressure_unit = "MPa", speed_unit = "m/s", temperature_unit = "C", check_points = 100_000, steps = "auto", table_kind = None, tolerance = 1e-4, max_table_size = 1 << 22, adaptive_grid = false))]
 #[allow(clippy::too_many_arguments)]
 fn export_table(
     py: Python<'_>,
@@ -302,7 +306,36 @@ fn export_table(
     speed_unit: &str,
     temperature_unit: &str,
     check_points: usize,
+    steps: &str,
+    table_kind: Option<&str>,
+    tolerance: f64,
+    max_table_size: usize,
+    adaptive_grid: bool,
 ) -> PyResult<String> {
+    use greybox_friction::engine_table::StepLines;
+    use greybox_friction::table_file::TableKind;
+    let steps = match steps {
+        "auto" => StepLines::Auto,
+        "on" => StepLines::On,
+        "off" => StepLines::Off,
+        s => {
+            return Err(py_err(anyhow::anyhow!(
+                "steps '{s}': expected auto, on or off"
+            )))
+        }
+    };
+    let table_kind = table_kind
+        .map(|k| {
+            [TableKind::Exact, TableKind::Adaptive, TableKind::Uniform]
+                .into_iter()
+                .find(|t| t.name() == k)
+                .ok_or_else(|| {
+                    py_err(anyhow::anyhow!(
+                        "table_kind '{k}': expected exact, adaptive or uniform"
+                    ))
+                })
+        })
+        .transpose()?;
     let format = ExportFormat::parse(format).ok_or_else(|| {
         py_err(anyhow::anyhow!(
             "format '{format}': expected one of {}",
@@ -325,8 +358,13 @@ fn export_table(
         deform_objects: (1, 2),
         lsdyna_table_id: 1,
         check_points,
+        steps,
+        table_kind,
+        tolerance,
+        max_table_size,
+        adaptive_grid,
     };
-    py.detach(|| export(&o)).map_err(py_err)
+    to_json(&py.detach(|| export(&o)).map_err(py_err)?)
 }
 
 /// Run the orthogonal-cutting simulation of a set-up TOML into `out` (optionally with the

@@ -219,3 +219,25 @@ def test_unsupported_models_and_bad_inputs_are_clear_errors(data):
         gb.from_sklearn(est, features=FEATURES)
     with pytest.raises(gb.GreyboxError, match="records no feature names"):
         gb.from_sklearn(est, X_train=X)
+
+
+def test_imported_trees_give_exact_tables_and_engine_exports(tmp_path):
+    """An XGBoost model on (pressure, sliding velocity) becomes a law whose surrogate table and
+    Abaqus table hold it exactly: deviation 0, and the table as a law gives the booster's
+    own predictions bit for bit."""
+    xgb = pytest.importorskip("xgboost")
+    rng = np.random.default_rng(4)
+    X = np.column_stack([rng.uniform(800, 2400, 400), rng.uniform(0.5, 4.0, 400)])  # MPa, m/s
+    y = 0.5 - 1e-4 * X[:, 0] - 0.03 * X[:, 1] + rng.normal(0, 0.01, 400)
+    booster = xgb.XGBRegressor(n_estimators=40, max_depth=4).fit(X, y)
+    model = gb.from_xgboost(booster, features=["contact_pressure_MPa", "sliding_velocity_m_per_s"], X_train=X)
+    model.save(tmp_path / "model.json")
+    p = np.linspace(800e6, 2400e6, 9)
+    v = np.linspace(0.5, 4.0, 8)
+    table = gb.export_table(tmp_path / "model.json", "table", tmp_path / "table.json", p, v)
+    assert table["max_deviation"] == 0.0 and table["exact_steps"]
+    abaqus = gb.export_table(tmp_path / "model.json", "abaqus", tmp_path / "friction.inp", p, v)
+    assert abaqus["max_deviation"] == 0.0
+    Q = np.column_stack([rng.uniform(800, 2400, 2000), rng.uniform(0.5, 4.0, 2000)])
+    mu = gb.load_law(tmp_path / "table.json").mu(Q[:, 0] * 1e6, Q[:, 1]).mu
+    np.testing.assert_array_equal(mu, booster.predict(Q).astype(np.float64))

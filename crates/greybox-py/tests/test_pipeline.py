@@ -125,8 +125,8 @@ def test_export_tables_hold_the_models_values(fitted, tmp_path):
     dom = law.domain
     p = np.linspace(dom["pressure_pa"]["min"], dom["pressure_pa"]["max"], 5)
     v = np.linspace(dom["sliding_velocity_m_s"]["min"], dom["sliding_velocity_m_s"]["max"], 4)
-    note = gb.export_table(m, "csv", tmp_path / "grid.csv", p, v)
-    assert isinstance(note, str)
+    report = gb.export_table(m, "csv", tmp_path / "grid.csv", p, v)
+    assert isinstance(report["line"], str) and report["max_deviation"] is not None
     t = gb.read_dataset(tmp_path / "grid.csv", as_frame=False)
     mu_col = [k for k in t if k.startswith("mu")][0]
     p_col = [k for k in t if k.startswith("pressure")][0]

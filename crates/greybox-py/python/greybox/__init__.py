@@ -542,13 +542,24 @@ def export_table(
     speed_unit: str = "m/s",
     temperature_unit: str = "C",
     check_points: int = 100_000,
-) -> str:
+    steps: str = "auto",
+    table_kind: Optional[str] = None,
+    tolerance: float = 1e-4,
+    max_table_size: int = 1 << 22,
+    adaptive_grid: bool = False,
+) -> dict:
     """Export a law (path or Model) as ``format`` — abaqus, deform, lsdyna, csv or table — on
     the grid given in SI; the engine's table units are ``pressure_unit`` (Pa, MPa),
-    ``speed_unit`` (m/s, mm/s, m/min), ``temperature_unit`` (K, C). Returns the export's
-    one-line description."""
+    ``speed_unit`` (m/s, mm/s, m/min), ``temperature_unit`` (K, C).
+
+    Tree-ensemble laws get two table points at each split threshold (``steps="auto"``), so an
+    engine interpolating linearly reproduces the model exactly; a surrogate table
+    (``format="table"``) is exact for trees and refined to ``tolerance`` for smooth laws
+    (``table_kind`` overrides). Returns the export report: ``line`` (one-line description),
+    ``max_deviation`` from the law on ``check_points`` states inside the grid, ``shape``,
+    ``exact_steps``."""
     with tempfile.TemporaryDirectory() as d:
-        return _native.export_table(
+        report = _native.export_table(
             _law_path(law, d),
             format,
             os.fspath(out),
@@ -559,7 +570,13 @@ def export_table(
             speed_unit,
             temperature_unit,
             check_points,
+            steps,
+            table_kind,
+            tolerance,
+            max_table_size,
+            adaptive_grid,
         )
+    return json.loads(report)
 
 
 def simulate_cut(

@@ -111,6 +111,11 @@ def export_table(
     speed_unit: str = "m/s",
     temperature_unit: str = "C",
     check_points: int = 100000,
+    steps: str = "auto",
+    table_kind: Optional[str] = None,
+    tolerance: float = 0.0001,
+    max_table_size: int = 4194304,
+    adaptive_grid: bool = False,
 ) -> str: ...
 def simulate_cut(setup: str, out: str, law: Optional[str] = None, fraction: float = 1.0, force: bool = False) -> str: ...
 def import_model(
