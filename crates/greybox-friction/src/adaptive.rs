@@ -11,12 +11,10 @@ use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::{ContactState, Error, FrictionLaw, Result};
 use serde::{Deserialize, Serialize};
 
-pub use crate::refine::{RefineOptions, AIM};
-
 /// A law on a non-uniform tensor grid. `values[(it·nv + iv)·np + ip]`, pressure fastest.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AdaptiveTable {
-    /// [`crate::table_file::TABLE_SCHEMA`].
+    /// [`crate::table_schema::TABLE_SCHEMA`].
     pub schema: String,
     pub schema_version: u32,
     /// "adaptive".
@@ -79,8 +77,8 @@ impl AdaptiveTable {
             }
         }
         AdaptiveTable {
-            schema: crate::table_file::TABLE_SCHEMA.into(),
-            schema_version: crate::table_file::TABLE_SCHEMA_VERSION,
+            schema: crate::table_schema::TABLE_SCHEMA.into(),
+            schema_version: crate::table_schema::TABLE_SCHEMA_VERSION,
             kind: "adaptive".into(),
             source: law.name(),
             pressure_pa: axes[0].clone(),

@@ -21,7 +21,7 @@
 //! each pair into one abscissa (a vertical step), which is still exact away from the step.
 
 use crate::exact_table::deviation;
-use crate::export::{Grid, PressureUnit, SpeedUnit, TempUnit};
+use crate::grid::{Grid, PressureUnit, SpeedUnit, TempUnit};
 use crate::lines::multilinear;
 use greybox_core::boundary::last_true;
 use greybox_core::{Breaks, ContactState, Error, FrictionLaw, Result};

@@ -22,7 +22,7 @@ pub const DEFAULT_MAX_CELLS: usize = 1 << 22;
 /// per axis (pressure fastest).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ExactTable {
-    /// [`crate::table_file::TABLE_SCHEMA`].
+    /// [`crate::table_schema::TABLE_SCHEMA`].
     pub schema: String,
     pub schema_version: u32,
     /// "exact".
@@ -121,8 +121,8 @@ impl ExactTable {
             }
         }
         ExactTable {
-            schema: crate::table_file::TABLE_SCHEMA.into(),
-            schema_version: crate::table_file::TABLE_SCHEMA_VERSION,
+            schema: crate::table_schema::TABLE_SCHEMA.into(),
+            schema_version: crate::table_schema::TABLE_SCHEMA_VERSION,
             kind: "exact".into(),
             source: law.name(),
             pressure_pa: breaks.pressure_pa,

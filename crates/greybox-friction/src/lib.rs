@@ -11,12 +11,13 @@
 //! * [`exact_table`] — tree ensembles as cells between their split thresholds (exact).
 //! * [`adaptive`] — non-uniform grids refined until a max deviation is met (smooth laws);
 //!   the refinement is [`refine`].
-//! * [`table_file`] — table files of every kind and schema version.
+//! * [`table_file`] — table files of every kind and schema version ([`table_schema`]).
 //! * [`surrogate`] — the right table for a law (exact, adaptive or uniform) and its check.
 //! * [`lines`] — axis lines with constant-time lookup, shared interpolation.
 //! * [`spec`] — law files (JSON) that describe any of the above.
 //! * [`export`] — Abaqus `*FRICTION`, DEFORM `FRCFAC`/`FRCWIN`, LS-DYNA tables, CSV, each with
-//!   its max deviation from the law ([`engine_table`]: engine units, exact step lines).
+//!   its max deviation from the law ([`engine_table`]: engine units, exact step lines; the
+//!   grid and units in [`grid`]).
 //! * [`gradient`] — ∂μ/∂p, ∂μ/∂v, ∂μ/∂T for implicit solvers.
 
 pub mod adaptive;
@@ -26,6 +27,7 @@ pub mod exact_table;
 pub mod export;
 pub mod gradient;
 pub mod greybox;
+pub mod grid;
 pub mod learned;
 pub mod lines;
 pub mod refine;
@@ -33,5 +35,6 @@ pub mod spec;
 pub mod surrogate;
 pub mod table;
 pub mod table_file;
+pub mod table_schema;
 
 pub use greybox_core::{ContactState, FrictionLaw};

@@ -2,8 +2,9 @@
 //! an adaptive grid refined to a tolerance for every other law, or — on request — the
 //! uniform grid of [`TabulatedLaw`]; and its deviation on states the build never saw.
 
-use crate::adaptive::{AdaptiveTable, RefineOptions};
+use crate::adaptive::AdaptiveTable;
 use crate::exact_table::{deviation, ExactTable};
+use crate::refine::RefineOptions;
 use crate::table::{Axis, TabulatedLaw};
 use crate::table_file::{AnyTable, TableKind};
 use greybox_core::law::{Range, ValidityDomain};

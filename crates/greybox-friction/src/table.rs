@@ -73,7 +73,7 @@ pub struct TabulatedLaw {
     inv: [f64; 3],
 }
 
-pub const TABLE_SCHEMA: &str = "greybox-table";
+pub use crate::table_schema::TABLE_SCHEMA;
 
 fn version_1() -> u32 {
     1
@@ -107,7 +107,7 @@ impl TabulatedLaw {
         }
         TabulatedLaw {
             schema: TABLE_SCHEMA.into(),
-            schema_version: crate::table_file::TABLE_SCHEMA_VERSION,
+            schema_version: crate::table_schema::TABLE_SCHEMA_VERSION,
             kind: uniform(),
             source: law.name(),
             pressure,

@@ -17,10 +17,7 @@ use greybox_core::{Error, FrictionLaw, Result, SourcePos};
 use serde::de::DeserializeOwned;
 use std::path::Path;
 
-pub use crate::table::TABLE_SCHEMA;
-
-/// The newest table schema version.
-pub const TABLE_SCHEMA_VERSION: u32 = 2;
+pub use crate::table_schema::{TABLE_SCHEMA, TABLE_SCHEMA_VERSION};
 
 /// The kinds of table.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

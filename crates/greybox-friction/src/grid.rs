@@ -1,0 +1,138 @@
+//! The grid a friction law is tabulated on for an FE engine (SI), and the engine's units.
+
+use greybox_core::{Error, Result};
+use serde::{Deserialize, Serialize};
+
+/// The grid a law is evaluated on (SI).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    pub pressure_pa: Vec<f64>,
+    pub velocity_m_s: Vec<f64>,
+    /// Temperatures, K (absent: room temperature, no temperature column).
+    pub temperature_k: Option<Vec<f64>>,
+}
+
+impl Grid {
+    pub fn validate(&self) -> Result<()> {
+        let asc = |v: &[f64], what: &str| -> Result<()> {
+            if v.is_empty()
+                || v.iter().any(|x| !x.is_finite())
+                || v.windows(2).any(|w| !(w[1] > w[0]))
+            {
+                return Err(Error::invalid(
+                    "export grid",
+                    format!("{what} must be finite, strictly ascending and non-empty"),
+                ));
+            }
+            Ok(())
+        };
+        asc(&self.pressure_pa, "pressures")?;
+        asc(&self.velocity_m_s, "velocities")?;
+        if let Some(t) = &self.temperature_k {
+            asc(t, "temperatures")?;
+        }
+        if self.pressure_pa[0] < 0.0 || self.velocity_m_s[0] < 0.0 {
+            return Err(Error::invalid(
+                "export grid",
+                "pressures and velocities must be ≥ 0",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Units of an Abaqus table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum PressureUnit {
+    Pa,
+    #[serde(rename = "MPa")]
+    MPa,
+}
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum SpeedUnit {
+    #[serde(rename = "m/s")]
+    MPerS,
+    #[serde(rename = "mm/s")]
+    MmPerS,
+    #[serde(rename = "m/min")]
+    MPerMin,
+}
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum TempUnit {
+    K,
+    C,
+}
+
+impl PressureUnit {
+    pub fn per_pa(self) -> f64 {
+        match self {
+            PressureUnit::Pa => 1.0,
+            PressureUnit::MPa => 1e-6,
+        }
+    }
+    /// Pa of a number in this unit (exact factors: Pa·1, MPa·10⁶).
+    pub fn to_pa(self, x: f64) -> f64 {
+        match self {
+            PressureUnit::Pa => x,
+            PressureUnit::MPa => x * 1e6,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            PressureUnit::Pa => "Pa",
+            PressureUnit::MPa => "MPa",
+        }
+    }
+}
+impl SpeedUnit {
+    pub fn per_m_s(self) -> f64 {
+        match self {
+            SpeedUnit::MPerS => 1.0,
+            SpeedUnit::MmPerS => 1e3,
+            SpeedUnit::MPerMin => 60.0,
+        }
+    }
+    /// m/s of a number in this unit (divided by an exact 1, 10³ or 60).
+    pub fn to_m_s(self, x: f64) -> f64 {
+        match self {
+            SpeedUnit::MPerS => x,
+            SpeedUnit::MmPerS => x / 1e3,
+            SpeedUnit::MPerMin => x / 60.0,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            SpeedUnit::MPerS => "m/s",
+            SpeedUnit::MmPerS => "mm/s",
+            SpeedUnit::MPerMin => "m/min",
+        }
+    }
+}
+impl TempUnit {
+    pub fn from_k(self, t: f64) -> f64 {
+        match self {
+            TempUnit::K => t,
+            TempUnit::C => t - 273.15,
+        }
+    }
+    /// K of a number in this unit.
+    pub fn to_k(self, x: f64) -> f64 {
+        match self {
+            TempUnit::K => x,
+            TempUnit::C => x + 273.15,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            TempUnit::K => "K",
+            TempUnit::C => "C",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Units {
+    pub pressure: PressureUnit,
+    pub speed: SpeedUnit,
+    pub temperature: TempUnit,
+}
