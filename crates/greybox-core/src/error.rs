@@ -66,13 +66,10 @@ pub enum Error {
     /// An invalid parameter (plan, configuration, function argument).
     #[error("invalid {what}: {message}")]
     Invalid { what: String, message: String },
-    /// An I/O failure on a named path.
-    #[error("{}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    /// An I/O failure on a named path. The I/O error is part of the message, not a separate
+    /// cause, so that a report of the whole chain (`{:#}`) names it once.
+    #[error("{}: {error}", path.display())]
+    Io { path: PathBuf, error: std::io::Error },
 }
 
 impl Error {
@@ -88,10 +85,10 @@ impl Error {
             message: message.into(),
         }
     }
-    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+    pub fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
         Error::Io {
             path: path.into(),
-            source,
+            error,
         }
     }
 }

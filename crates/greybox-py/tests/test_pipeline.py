@@ -194,5 +194,6 @@ def test_errors_carry_the_command_lines_message(tmp_path):
     bad.write_text('{"schema": "greybox-model", "schema_version": 99}')
     with pytest.raises(gb.GreyboxError, match=r"bad.json.*schema_version.*not supported"):
         gb.load_model(bad)
-    with pytest.raises(ValueError):  # GreyboxError is a ValueError
+    with pytest.raises(ValueError) as e:  # GreyboxError is a ValueError
         gb.load_law(tmp_path / "missing.json")
+    assert "missing.json" in str(e.value) and str(e.value).count("No such file") == 1, str(e.value)
