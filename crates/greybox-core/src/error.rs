@@ -69,7 +69,10 @@ pub enum Error {
     /// An I/O failure on a named path. The I/O error is part of the message, not a separate
     /// cause, so that a report of the whole chain (`{:#}`) names it once.
     #[error("{}: {error}", path.display())]
-    Io { path: PathBuf, error: std::io::Error },
+    Io {
+        path: PathBuf,
+        error: std::io::Error,
+    },
 }
 
 impl Error {

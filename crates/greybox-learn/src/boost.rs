@@ -6,7 +6,7 @@
 //! not set a value (λ = 1, min_child_weight = 1, γ = 0).
 
 use crate::model::Regressor;
-use crate::tree::{grow, GrowParams, TreeEnsemble};
+use crate::tree::{grow_presorted, GrowParams, TreeEnsemble};
 use crate::Matrix;
 use greybox_core::{Error, Result};
 use rand::SeedableRng;
@@ -62,13 +62,13 @@ impl Regressor for BoostParams {
         };
         let mut rng = ChaCha8Rng::seed_from_u64(seed); // unused without column sampling; kept for the seam
         let mut ens = TreeEnsemble::new(x.n_cols, base, 1.0);
-        let rows: Vec<usize> = (0..n).collect();
+        let order = crate::tree::presort(x, &(0..n).collect::<Vec<_>>());
         for _ in 0..self.n_estimators {
             for i in 0..n {
                 g[i] = pred[i] - y[i];
             }
             let mut nodes = Vec::new();
-            let root = grow(x, &g, &h, &rows, p, &mut rng, &mut nodes);
+            let root = grow_presorted(x, &g, &h, order.clone(), p, &mut rng, &mut nodes);
             for (i, pi) in pred.iter_mut().enumerate() {
                 *pi += crate::tree::walk(&nodes, root, x.row(i));
             }

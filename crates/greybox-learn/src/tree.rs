@@ -46,6 +46,17 @@ struct Builder<'a> {
     scratch: Vec<usize>,
 }
 
+/// Per feature, `rows` sorted by that feature (stable: ties keep their order).
+pub fn presort(x: &Matrix, rows: &[usize]) -> Vec<Vec<usize>> {
+    (0..x.n_cols)
+        .map(|f| {
+            let mut o = rows.to_vec();
+            o.sort_by(|&a, &b| x.get(a, f).total_cmp(&x.get(b, f)));
+            o
+        })
+        .collect()
+}
+
 /// Grow one tree over `rows` (repetitions allowed: bootstrap samples) and append its nodes;
 /// returns the root's index.
 pub fn grow(
@@ -57,13 +68,21 @@ pub fn grow(
     rng: &mut ChaCha8Rng,
     nodes: &mut Vec<Node>,
 ) -> u32 {
-    let order: Vec<Vec<usize>> = (0..x.n_cols)
-        .map(|f| {
-            let mut o = rows.to_vec();
-            o.sort_by(|&a, &b| x.get(a, f).total_cmp(&x.get(b, f)));
-            o
-        })
-        .collect();
+    grow_presorted(x, g, h, presort(x, rows), p, rng, nodes)
+}
+
+/// [`grow`] from rows already sorted per feature ([`presort`]); boosting sorts its rows once
+/// for all its trees.
+pub fn grow_presorted(
+    x: &Matrix,
+    g: &[f64],
+    h: &[f64],
+    order: Vec<Vec<usize>>,
+    p: GrowParams,
+    rng: &mut ChaCha8Rng,
+    nodes: &mut Vec<Node>,
+) -> u32 {
+    let n_rows = order.first().map_or(0, |o| o.len());
     let root = nodes.len() as u32;
     nodes.push(Node {
         value: 0.0,
@@ -79,9 +98,9 @@ pub fn grow(
         nodes,
         features: (0..x.n_cols).collect(),
         order,
-        scratch: Vec::with_capacity(rows.len()),
+        scratch: Vec::with_capacity(n_rows),
     };
-    b.build(0, rows.len(), 0, root);
+    b.build(0, n_rows, 0, root);
     root
 }
 
