@@ -6,6 +6,7 @@
 //! |---|---|---|
 //! | `RandomForestRegressor`, `ExtraTreesRegressor` | tree ensemble, mean of trees | splits bit-exact, sum to rounding |
 //! | `GradientBoostingRegressor` | tree ensemble, init + Σ lr·leaf | splits bit-exact, sum to rounding |
+//! | `HistGradientBoostingRegressor` (numerical splits, identity-link losses) | tree ensemble, baseline + Σ leaf | splits bit-exact (float64 comparisons), sum to rounding |
 //! | `SVR` (linear, poly, rbf, sigmoid) | ε-SVR | to rounding |
 //! | `MLPRegressor` (relu, tanh, logistic, identity) | network | to rounding |
 //!
@@ -67,6 +68,9 @@ pub enum Regressor {
         learning_rate: f64,
         trees: Vec<Tree>,
     },
+    /// Histogram gradient boosting: `init` (the baseline prediction) + Σ tree, leaf values
+    /// already scaled by the learning rate, splits `x <= threshold` on the float64 input.
+    HistGradientBoosting { init: f64, trees: Vec<Tree> },
     /// ε-SVR: Σ dual_coef_i K(sv_i, x) + intercept.
     Svr {
         kernel: String,
@@ -106,7 +110,7 @@ pub fn convert(e: &Export) -> Result<(FittedModel, Family), String> {
             if trees.is_empty() {
                 return Err("the forest has no trees".into());
             }
-            let ens = ensemble(e, trees, 0.0, 1.0 / trees.len() as f64, 1.0)?;
+            let ens = ensemble(e, trees, 0.0, 1.0 / trees.len() as f64, 1.0, true)?;
             Ok((FittedModel::TreeEnsemble(ens), Family::RandomForest))
         }
         Regressor::GradientBoosting {
@@ -117,7 +121,14 @@ pub fn convert(e: &Export) -> Result<(FittedModel, Family), String> {
             if !(init.is_finite() && learning_rate.is_finite()) {
                 return Err(format!("init {init}, learning rate {learning_rate}"));
             }
-            let ens = ensemble(e, trees, *init, 1.0, *learning_rate)?;
+            let ens = ensemble(e, trees, *init, 1.0, *learning_rate, true)?;
+            Ok((FittedModel::TreeEnsemble(ens), Family::GradientBoosting))
+        }
+        Regressor::HistGradientBoosting { init, trees } => {
+            if !init.is_finite() {
+                return Err(format!("baseline prediction {init}"));
+            }
+            let ens = ensemble(e, trees, *init, 1.0, 1.0, false)?;
             Ok((FittedModel::TreeEnsemble(ens), Family::GradientBoosting))
         }
         Regressor::Svr { .. } => Ok((FittedModel::Svr(svr(e)?), Family::Svr)),
@@ -125,19 +136,23 @@ pub fn convert(e: &Export) -> Result<(FittedModel, Family), String> {
     }
 }
 
-/// Trees with splits restated on the raw input: left ⟺ float32(scalers(x)) <= t.
+/// Trees with splits restated on the raw input: left ⟺ float32(scalers(x)) <= t, or
+/// scalers(x) <= t without the float32 cast (`float32` false: histogram boosting, which
+/// compares its float64 input).
 fn ensemble(
     e: &Export,
     trees: &[Tree],
     base: f64,
     scale: f64,
     leaf_factor: f64,
+    float32: bool,
 ) -> Result<TreeEnsemble, String> {
     let mut ens = TreeEnsemble::new(e.n_features, base, scale);
     let split = |f: usize, t: f64| {
         boundary(|x| {
             let z = e.scalers.iter().fold(x, |z, s| s.apply(f, z));
-            (z as f32) as f64 <= t
+            let z = if float32 { (z as f32) as f64 } else { z };
+            z <= t
         })
     };
     for (k, t) in trees.iter().enumerate() {

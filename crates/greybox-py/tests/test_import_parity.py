@@ -9,7 +9,12 @@ import greybox as gb
 from conftest import DOMAIN, FEATURES
 
 sklearn = pytest.importorskip("sklearn")
-from sklearn.ensemble import ExtraTreesRegressor, GradientBoostingRegressor, RandomForestRegressor  # noqa: E402
+from sklearn.ensemble import (  # noqa: E402
+    ExtraTreesRegressor,
+    GradientBoostingRegressor,
+    HistGradientBoostingRegressor,
+    RandomForestRegressor,
+)
 from sklearn.neural_network import MLPRegressor  # noqa: E402
 from sklearn.pipeline import make_pipeline  # noqa: E402
 from sklearn.preprocessing import MinMaxScaler, StandardScaler  # noqa: E402
@@ -56,6 +61,14 @@ def threshold_points(thresholds_per_feature, queries, scalers=()):
     return np.vstack(rows + [queries])
 
 
+class HistTree:
+    """A histogram-boosting predictor's nodes seen as a tree_ (feature −2 at leaves)."""
+
+    def __init__(self, nodes):
+        self.feature = np.where(nodes["is_leaf"].astype(bool), -2, nodes["feature_idx"])
+        self.threshold = nodes["num_threshold"]
+
+
 def sklearn_thresholds(trees):
     ts = [[], []]
     for t in trees:
@@ -75,6 +88,8 @@ TREE_MODELS = {
     "random-forest": lambda: RandomForestRegressor(n_estimators=25, random_state=0),
     "extra-trees": lambda: ExtraTreesRegressor(n_estimators=25, random_state=0),
     "gradient-boosting": lambda: GradientBoostingRegressor(n_estimators=60, max_depth=3, random_state=0),
+    "hist-gradient-boosting": lambda: HistGradientBoostingRegressor(max_iter=60, random_state=0),
+    "hist-boosting-behind-standard-scaler": lambda: make_pipeline(StandardScaler(), HistGradientBoostingRegressor(max_iter=30, loss="absolute_error", random_state=0)),
     "forest-behind-standard-scaler": lambda: make_pipeline(StandardScaler(), RandomForestRegressor(n_estimators=15, random_state=0)),
     "boosting-behind-minmax-scaler": lambda: make_pipeline(MinMaxScaler(), GradientBoostingRegressor(n_estimators=30, random_state=0)),
     "forest-behind-two-scalers": lambda: make_pipeline(MinMaxScaler(clip=True), StandardScaler(), ExtraTreesRegressor(n_estimators=10, random_state=0)),
@@ -87,7 +102,10 @@ def test_sklearn_trees_agree_on_and_around_every_threshold(name, data, queries):
     est = TREE_MODELS[name]().fit(X, y)
     reg = est[-1] if hasattr(est, "steps") else est
     scalers = [s for _, s in est.steps[:-1]] if hasattr(est, "steps") else []
-    trees = [e.tree_ for e in np.ravel(reg.estimators_)]
+    if isinstance(reg, HistGradientBoostingRegressor):
+        trees = [HistTree(it[0].nodes) for it in reg._predictors]
+    else:
+        trees = [e.tree_ for e in np.ravel(reg.estimators_)]
     P = threshold_points(sklearn_thresholds(trees), queries, scalers)
     model = gb.from_sklearn(est, features=FEATURES, X_train=X)
     ours = model.predict(P).value

@@ -64,8 +64,40 @@ def _gb_init(est: Any) -> float:
     )
 
 
+def _hist_gradient_boosting(est: Any) -> dict:
+    """The predictors of a HistGradientBoostingRegressor: leaves carry their learning-rate-scaled
+    values; splits compare the float64 input (``X <= num_threshold``)."""
+    import numpy as np
+
+    if est.loss not in ("squared_error", "absolute_error", "quantile"):
+        raise ValueError(
+            f"HistGradientBoostingRegressor with loss={est.loss!r}: only losses predicting the raw sum (squared_error, absolute_error, quantile) are supported"
+        )
+    trees = []
+    for it in est._predictors:
+        if len(it) != 1:
+            raise ValueError("a HistGradientBoostingRegressor with several trees per iteration is not supported")
+        nodes = it[0].nodes
+        if np.any(nodes["is_categorical"]):
+            raise ValueError("HistGradientBoostingRegressor with categorical splits is not supported")
+        leaf = nodes["is_leaf"].astype(bool)
+        trees.append({
+            "children_left": np.where(leaf, -1, nodes["left"].astype(np.int64)).tolist(),
+            "children_right": np.where(leaf, -1, nodes["right"].astype(np.int64)).tolist(),
+            "feature": nodes["feature_idx"].astype(np.int64).tolist(),
+            "threshold": _floats(nodes["num_threshold"]),
+            "value": _floats(nodes["value"]),
+        })
+    return {"kind": "hist_gradient_boosting", "init": float(np.ravel(est._baseline_prediction)[0]), "trees": trees}
+
+
 def _regressor(est: Any) -> dict:
-    from sklearn.ensemble import ExtraTreesRegressor, GradientBoostingRegressor, RandomForestRegressor
+    from sklearn.ensemble import (
+        ExtraTreesRegressor,
+        GradientBoostingRegressor,
+        HistGradientBoostingRegressor,
+        RandomForestRegressor,
+    )
     from sklearn.neural_network import MLPRegressor
     from sklearn.svm import SVR
 
@@ -78,6 +110,8 @@ def _regressor(est: Any) -> dict:
             "learning_rate": float(est.learning_rate),
             "trees": [_tree(e.tree_) for e in est.estimators_[:, 0]],
         }
+    if isinstance(est, HistGradientBoostingRegressor):
+        return _hist_gradient_boosting(est)
     if isinstance(est, SVR):
         if not isinstance(est.kernel, str):
             raise ValueError("SVR with a callable kernel is not supported")
@@ -102,7 +136,7 @@ def _regressor(est: Any) -> dict:
         }
     raise ValueError(
         f"{type(est).__name__} is not supported: RandomForestRegressor, ExtraTreesRegressor, "
-        "GradientBoostingRegressor, SVR and MLPRegressor are (optionally in a Pipeline behind "
+        "GradientBoostingRegressor, HistGradientBoostingRegressor, SVR and MLPRegressor are (optionally in a Pipeline behind "
         "StandardScaler/MinMaxScaler); convert other models to ONNX or retrain them with greybox"
     )
 
