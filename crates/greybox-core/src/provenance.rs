@@ -34,6 +34,16 @@ pub struct Provenance {
     pub seed: Option<u64>,
 }
 
+/// Hex digits of a SHA-256 digest.
+fn hex(digest: &[u8]) -> String {
+    digest.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Hex SHA-256 of bytes already in memory.
+pub fn sha256_bytes(bytes: &[u8]) -> String {
+    hex(&Sha256::digest(bytes))
+}
+
 /// Hex SHA-256 of a file, streamed.
 pub fn sha256_file(path: &Path) -> Result<(String, u64)> {
     let mut f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
@@ -48,10 +58,7 @@ pub fn sha256_file(path: &Path) -> Result<(String, u64)> {
         h.update(&buf[..n]);
         total += n as u64;
     }
-    Ok((
-        h.finalize().iter().map(|b| format!("{b:02x}")).collect(),
-        total,
-    ))
+    Ok((hex(&h.finalize()), total))
 }
 
 impl Provenance {

@@ -32,7 +32,7 @@ pub mod xgboost;
 
 mod data;
 
-use greybox_core::provenance::sha256_file;
+use greybox_core::provenance::sha256_bytes;
 use greybox_core::{Error, Result, SourcePos};
 use greybox_model::column::Column;
 use greybox_model::family::{FittedModel, Hyperparameters, ImportedFrom};
@@ -121,7 +121,7 @@ fn detect(bytes: &[u8]) -> &'static str {
 pub fn read_model(path: &Path) -> Result<Imported> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let source = path.display().to_string();
-    let (hash, _) = sha256_file(path)?;
+    let hash = sha256_bytes(&bytes);
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())

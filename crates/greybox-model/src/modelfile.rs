@@ -7,7 +7,6 @@ use crate::interval::PredictionInterval;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::{Error, Result, SourcePos};
 use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
 use std::path::Path;
 
 pub const SCHEMA: &str = "greybox-model";
@@ -118,10 +117,7 @@ impl ModelFile {
         copy.content_hash.clear();
         let json =
             serde_json::to_vec(&copy).map_err(|e| Error::invalid("model file", e.to_string()))?;
-        Ok(Sha256::digest(&json)
-            .iter()
-            .map(|b| format!("{b:02x}"))
-            .collect())
+        Ok(greybox_core::provenance::sha256_bytes(&json))
     }
 
     /// Fill in the content hash.
