@@ -95,6 +95,25 @@ impl Scaler {
     }
 }
 
+/// Per feature, the composition of affine maps z = a·x + b (applied in order) as the
+/// standardiser (x − mean) / scale with mean = −b/a, scale = 1/a; `None` if a map is missing.
+pub(crate) fn compose_affine(
+    n_features: usize,
+    maps: impl Fn(usize) -> Option<Vec<(f64, f64)>>,
+) -> Option<Standardizer> {
+    let mut mean = Vec::with_capacity(n_features);
+    let mut scale = Vec::with_capacity(n_features);
+    for f in 0..n_features {
+        let (mut a, mut b) = (1.0, 0.0);
+        for (sa, sb) in maps(f)? {
+            (a, b) = (sa * a, sa * b + sb);
+        }
+        mean.push(-b / a);
+        scale.push(1.0 / a);
+    }
+    Some(Standardizer { mean, scale })
+}
+
 /// The chain of scalers as one standardiser z = (x − mean) / scale: exact for no scaler or a
 /// lone StandardScaler, otherwise the composed affine map (agreeing with the chain to a few
 /// ulp). `None` when a step clips (not affine).
@@ -108,21 +127,7 @@ pub fn fold(steps: &[Scaler], n_features: usize) -> Option<Standardizer> {
             mean: mean.clone(),
             scale: scale.clone(),
         }),
-        _ => {
-            let mut mean = Vec::with_capacity(n_features);
-            let mut scale = Vec::with_capacity(n_features);
-            for f in 0..n_features {
-                let (mut a, mut b) = (1.0, 0.0);
-                for s in steps {
-                    let (sa, sb) = s.affine(f)?;
-                    (a, b) = (sa * a, sa * b + sb);
-                }
-                // a·x + b = (x − (−b/a)) / (1/a)
-                mean.push(-b / a);
-                scale.push(1.0 / a);
-            }
-            Some(Standardizer { mean, scale })
-        }
+        _ => compose_affine(n_features, |f| steps.iter().map(|s| s.affine(f)).collect()),
     }
 }
 

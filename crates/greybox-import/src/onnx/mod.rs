@@ -385,18 +385,8 @@ fn assemble(stages: Vec<Stage>) -> Result<(FittedModel, Family, usize), String> 
 
 /// Per feature, the pre-processing chain as one standardiser (affine maps composed).
 fn standardizer(pre: &[Elementwise], n: usize) -> Standardizer {
-    let mut mean = Vec::with_capacity(n);
-    let mut scale = Vec::with_capacity(n);
-    for i in 0..n {
-        let (mut a, mut b) = (1.0, 0.0);
-        for e in pre {
-            let (ea, eb) = e.affine(i);
-            (a, b) = (ea * a, ea * b + eb);
-        }
-        mean.push(-b / a);
-        scale.push(1.0 / a);
-    }
-    Standardizer { mean, scale }
+    crate::scaler::compose_affine(n, |i| Some(pre.iter().map(|e| e.affine(i)).collect()))
+        .expect("element-wise maps are all affine")
 }
 
 fn svm(node: &NodeProto, pre: &[Elementwise]) -> Result<(FittedModel, Family, usize), String> {
