@@ -278,9 +278,13 @@ fn grey_box_law(
         shear_cap_k_mpa,
         clamp,
     };
+    let model_path = model.clone();
     let law = greybox_pipeline::law::grey_box_law(model, None, &o);
-    let check = out.parent().unwrap_or(std::path::Path::new("."));
-    law.build(check).map_err(py_err)?;
+    let base = out.parent().unwrap_or(std::path::Path::new("."));
+    // the law file must not replace the model it refers to (resolved as the law will)
+    greybox_core::outputs::check_file_output(&out, "out", &[("model", &base.join(&model_path))])
+        .map_err(py_err)?;
+    law.build(base).map_err(py_err)?;
     greybox_pipeline::law::write_law(&out, &law).map_err(py_err)?;
     serde_json::to_string_pretty(&law).map_err(py_err)
 }

@@ -152,7 +152,12 @@ def test_simulate_cut_returns_summary_and_arrays(tmp_path, fitted):
         gb.simulate_cut(setup, tmp_path / "bare", law=model)
     # The grey-box law around it is what goes into the cut.
     law_file = fitted[0] / "law.json"
-    law = gb.grey_box_law(fitted[0] / "fit" / "models" / "svr.json", law_file)
+    svr_path = fitted[0] / "fit" / "models" / "svr.json"
+    before = svr_path.read_bytes()
+    with pytest.raises(gb.GreyboxError, match="model"):
+        gb.grey_box_law(svr_path, svr_path)  # the law file would replace its own model
+    assert svr_path.read_bytes() == before
+    law = gb.grey_box_law(svr_path, law_file)
     assert law.mu([1e10], [0.1]).mu[0] >= 0.05
     out = gb.simulate_cut(setup, tmp_path / "cut", law=law_file, as_frame=False)
     assert out["particles"] > 0 and out["steps"] > 0
