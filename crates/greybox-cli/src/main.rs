@@ -19,6 +19,7 @@ mod cmd_synth;
 mod cmd_wear;
 mod cmd_windows;
 mod output;
+mod progress;
 
 use clap::{Parser, Subcommand};
 
@@ -26,6 +27,9 @@ use clap::{Parser, Subcommand};
 #[derive(Parser)]
 #[command(name = "greybox", version, about, long_about = None, propagate_version = true)]
 struct Cli {
+    /// No progress display (bars on a terminal, status lines otherwise, all on stderr).
+    #[arg(long, short = 'q', global = true)]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -83,6 +87,7 @@ fn main() {
     }
     greybox_pipeline::output::remove_temporaries_on_interrupt();
     let cli = Cli::parse();
+    progress::Mode::choose(cli.quiet).install();
     let result = match cli.command {
         Command::Plan(a) => cmd_plan::run(a),
         Command::Synth(a) => cmd_synth::run(a),

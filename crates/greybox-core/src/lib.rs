@@ -12,6 +12,7 @@
 //! * [`cleanup`] — temporary paths an interrupt handler removes.
 //! * [`csvutil`] — strict numeric field parsing shared by every CSV reader.
 //! * [`plot`] — small self-contained SVG plots.
+//! * [`progress`] — progress of long work, shown by whatever display the process installed.
 //! * [`rules`] — field-by-field configuration checks whose errors name the field and the rule.
 //! * [`boundary`] — exact boundaries of monotone floating-point predicates (split thresholds).
 //! * [`roots`] — bracketing root finding for expensive functions.
@@ -30,6 +31,7 @@ pub mod law;
 pub mod linalg;
 pub mod outputs;
 pub mod plot;
+pub mod progress;
 pub mod provenance;
 pub mod roots;
 pub mod rules;

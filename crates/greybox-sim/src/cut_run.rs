@@ -76,7 +76,7 @@ impl CutRun {
             for o in extra.iter_mut() {
                 obs.push(&mut **o);
             }
-            run(&mut sim, end, &mut obs)?
+            run(&mut sim, end, "cut", &mut obs)?
         };
         let t_end = sim.time;
         let averaged_from_s = steady.steady_since_s.unwrap_or(0.5 * t_end);

@@ -82,13 +82,18 @@ pub struct RunSummary {
     pub stopped_by_observer: bool,
 }
 
-/// Runs until `end_time_s` (simulated) or until an observer stops.
+/// Runs until `end_time_s` (simulated) or until an observer stops, reporting progress in
+/// steps under `label` (see `greybox_core::progress`).
 pub fn run(
     sim: &mut Solver,
     end_time_s: f64,
+    label: &str,
     observers: &mut [&mut dyn Observer],
 ) -> Result<RunSummary, SimError> {
     const SNAPSHOT_EVERY: u64 = 200;
+    let steps_ahead = ((end_time_s - sim.time) / sim.dt).ceil().max(0.0) as u64;
+    let progress = greybox_core::progress::task(label, Some(sim.step + steps_ahead), "steps");
+    progress.set(sim.step);
     for o in observers.iter_mut() {
         o.start(sim)?;
     }
@@ -126,6 +131,9 @@ pub fn run(
                 }
             }
         }
+        progress.set_with(sim.step, || {
+            format!("t = {:.4e} of {:.4e} s", sim.time, end_time_s)
+        });
         if stop {
             stopped = true;
             break;
@@ -134,6 +142,11 @@ pub fn run(
     for o in observers.iter_mut() {
         o.finish(sim)?;
     }
+    progress.finish(if stopped {
+        "stopped early (an observer's criterion was met)"
+    } else {
+        "done"
+    });
     let wall = t0.elapsed().as_secs_f64();
     let steps = sim.step - step0;
     Ok(RunSummary {

@@ -296,7 +296,7 @@ pub fn simulate_from(
         for o in extra.iter_mut() {
             obs.push(&mut **o);
         }
-        run(&mut sim, press + slide, &mut obs)?
+        run(&mut sim, press + slide, "pin", &mut obs)?
     };
     let (t0, t1) = (press + 0.5 * slide, press + slide);
     let sel: Vec<&[f64; 6]> = hist

@@ -29,7 +29,7 @@ fn unstable_run_stops_with_error_and_last_good_state() {
     });
     let mut sim = Solver::new(model).unwrap();
     let mut ck = Checkpointer::new(&d.path().join("ck.json"), 100, "test");
-    let e = run(&mut sim, 1.0, &mut [&mut Poison(450), &mut ck]).unwrap_err();
+    let e = run(&mut sim, 1.0, "test", &mut [&mut Poison(450), &mut ck]).unwrap_err();
     let msg = e.to_string();
     assert!(
         msg.contains("unstable") && msg.contains("non-finite"),
