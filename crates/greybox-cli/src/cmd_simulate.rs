@@ -39,6 +39,10 @@ pub struct Output {
     /// Replace an existing, non-empty output directory (or a left-over OUT.partial) whole.
     #[arg(long)]
     pub force: bool,
+    /// Cuts: also draw the chip at N evenly spaced instants (frames/chip_NNN.svg, shown as
+    /// a strip and a slider by `greybox report`); the last state is always drawn.
+    #[arg(long, default_value_t = 0)]
+    pub frames: usize,
     #[arg(long)]
     pub json: bool,
 }
@@ -120,6 +124,7 @@ impl Output {
             checkpoint_every: self.checkpoint_every,
             resume: self.resume.clone(),
             force: self.force,
+            frames: self.frames,
         }
     }
 }

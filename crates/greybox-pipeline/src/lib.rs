@@ -17,6 +17,7 @@
 //! | grey-box law | [`law`] | model → law file |
 //! | tables for FE engines | [`export`] | law → Abaqus / DEFORM / LS-DYNA / surrogate table |
 //! | cut, pin | [`simulate`] | set-up + law → forces, contact profile, chip |
+//! | chip pictures | [`chip_picture`] | particle states → SVG pictures and frames |
 //! | rig dynamics | [`characterize`] | hammer recordings → FRF, excitation check |
 //! | FE restart loop | [`couple`] | deck + law → μ per window |
 //! | material | [`material`] | flow curves → Johnson–Cook |
@@ -32,6 +33,7 @@
 pub mod adhesive;
 pub mod bench;
 pub mod characterize;
+pub mod chip_picture;
 pub mod couple;
 pub mod demo;
 pub mod export;

@@ -1,6 +1,7 @@
 //! The built-in 2D SPH solver as a stage: pin sliding and orthogonal cutting runs with
 //! their outputs (forces, contact profile, μ history, plots, VTK, checkpoints).
 
+use crate::chip_picture::{write_chip_pictures, FrameRecorder};
 use crate::output::provenance;
 use anyhow::{Context, Result};
 use greybox_core::atomic::write_string_atomic;
@@ -35,6 +36,9 @@ pub struct RunOutput {
     pub resume: Option<PathBuf>,
     /// Replace an existing, non-empty output directory (or a left-over `OUT.partial`) whole.
     pub force: bool,
+    /// Cuts: also draw the chip at this many evenly spaced instants (`frames/chip_NNN.svg`);
+    /// 0: only the last state (`chip_temperature.svg`, `chip_plastic_strain.svg`).
+    pub frames: usize,
 }
 
 impl RunOutput {
@@ -261,8 +265,19 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
     let resume = read_checkpoint(&o.resume)?;
     let staged = o.stage()?;
     let mut obs = Observers::new(o, staged.path(), &id);
-    let r = CutRun::execute(setup, case.law.clone(), fraction, resume, &mut obs.list())
-        .map_err(|e| failure_context(e, &obs))?;
+    let mut frames = match resume
+        .as_ref()
+        .and_then(|c| c.observers.get(FrameRecorder::STATE_KEY))
+    {
+        Some(v) => serde_json::from_value(v.clone()).context("the checkpoint's chip frames")?,
+        None => FrameRecorder::new(setup.duration_s() * fraction, o.frames.max(1)),
+    };
+    let r = {
+        let mut list = obs.list();
+        list.push(&mut frames);
+        CutRun::execute(setup, case.law.clone(), fraction, resume, &mut list)
+    }
+    .map_err(|e| failure_context(e, &obs))?;
     let v = setup.cutting_speed_m_s;
     let tool = &r.sim.tools[0];
     let out = staged.path();
@@ -275,7 +290,23 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
     r.forces.write_csv(&files[0])?;
     write_profile_csv(&files[1], &r.profile)?;
     write_mu_history_csv(&files[2], &r.updater.history, tool, &r.layout)?;
-    files.extend(write_cut_plots(out, &r.forces, &r.profile, v)?);
+    let averaged = AveragedPart {
+        from_mm: r.averaged_from_s * v * 1e3,
+        steady: r.steady.steady_since_s.is_some(),
+    };
+    files.extend(write_cut_plots(
+        out,
+        &r.forces,
+        &r.profile,
+        v,
+        Some(averaged),
+    )?);
+    files.extend(write_chip_pictures(
+        out,
+        &frames.frames,
+        o.frames > 0,
+        &|t| t * v * 1e3,
+    )?);
     let threads = greybox_sim::threads();
     let f = r.force;
     let s = CutSummary {
@@ -316,28 +347,40 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
     Ok(s)
 }
 
-/// SVG plots of a cut: force history and the rake-face contact profile (the article's
-/// Fig. 15, bottom: pressure and shear stress, sliding velocity, μ, temperature).
+/// The part of a cut its forces and profiles are averaged over: from `from_mm` of cut to
+/// the end; `steady`: the steady-force criterion was met there (else: the last half).
+#[derive(Debug, Clone, Copy)]
+pub struct AveragedPart {
+    pub from_mm: f64,
+    pub steady: bool,
+}
+
+/// SVG plots of a cut: force history (with the averaged part shaded) and the rake-face
+/// contact profile (the article's Fig. 15, bottom: pressure and shear stress, sliding
+/// velocity, μ, temperature).
 pub fn write_cut_plots(
     out: &Path,
     hist: &ForceHistory,
     profile: &[ProfilePoint],
     v: f64,
+    averaged: Option<AveragedPart>,
 ) -> Result<Vec<PathBuf>> {
-    let mut written = vec![write_force_plot(out, hist, v)?];
+    let mut written = vec![write_force_plot(out, hist, v, averaged)?];
     written.extend(write_profile_plots(out, profile)?);
     Ok(written)
 }
 
-/// `name` in `out`: an SVG of `series` (label, colour, x, y) against the x axis `x_label`.
+/// `name` in `out`: an SVG of `series` (label, colour, x, y) against the x axis `x_label`,
+/// with shaded x `bands`.
 fn save_plot(
     out: &Path,
     name: &str,
     title: &str,
-    x_label: &str,
-    y_label: &str,
+    axes: (&str, &str),
     series: &[(&str, &str, &[f64], &[f64])],
+    bands: &[(f64, f64, &str)],
 ) -> Result<PathBuf> {
+    let (x_label, y_label) = axes;
     use greybox_core::plot::{lines, Line};
     let ls: Vec<Line> = series
         .iter()
@@ -349,25 +392,42 @@ fn save_plot(
         })
         .collect();
     let p = out.join(name);
-    write_string_atomic(&p, &lines(title, x_label, y_label, &ls, false, &[]))?;
+    write_string_atomic(&p, &lines(title, x_label, y_label, &ls, false, bands))?;
     Ok(p)
 }
 
 /// forces.svg: cutting and feed force per unit width over the cut length.
-fn write_force_plot(out: &Path, hist: &ForceHistory, v: f64) -> Result<PathBuf> {
+fn write_force_plot(
+    out: &Path,
+    hist: &ForceHistory,
+    v: f64,
+    averaged: Option<AveragedPart>,
+) -> Result<PathBuf> {
     let cut_mm: Vec<f64> = hist.rows.iter().map(|r| r[0] * v * 1e3).collect();
     let fc: Vec<f64> = hist.rows.iter().map(|r| r[3] * 1e-3).collect();
     let ff: Vec<f64> = hist.rows.iter().map(|r| r[4] * 1e-3).collect();
+    let end = cut_mm.last().copied().unwrap_or(0.0);
+    let band: Vec<(f64, f64, &str)> = averaged
+        .map(|a| {
+            let what = if a.steady {
+                "steady: averaged"
+            } else {
+                "not steady: last half averaged"
+            };
+            (a.from_mm, end, what)
+        })
+        .into_iter()
+        .collect();
     save_plot(
         out,
         "forces.svg",
         "Tool forces",
-        "cut length (mm)",
-        "force (N/mm)",
+        ("cut length (mm)", "force per unit width (N/mm)"),
         &[
-            ("cutting", "#1f77b4", &cut_mm, &fc),
-            ("feed", "#d62728", &cut_mm, &ff),
+            ("cutting force F'c", "#1f77b4", &cut_mm, &fc),
+            ("feed force F'f", "#d62728", &cut_mm, &ff),
         ],
+        &band,
     )
 }
 
@@ -397,40 +457,40 @@ fn write_profile_plots(out: &Path, profile: &[ProfilePoint]) -> Result<Vec<PathB
             out,
             "profile_stress.svg",
             "Rake face: contact pressure and shear stress",
-            x,
-            "stress (MPa)",
+            (x, "stress (MPa)"),
             &[
                 ("pressure in contact", "#1f77b4", &d, &p),
                 ("mean normal stress", "#2ca02c", &d, &sn),
                 ("shear stress", "#d62728", &d, &tau),
             ],
+            &[],
         )?,
         save_plot(
             out,
             "profile_velocity.svg",
             "Rake face: sliding velocity",
-            x,
-            "sliding velocity (m/min)",
+            (x, "sliding velocity (m/min)"),
             &[("sliding velocity", "#2ca02c", &d, &vs)],
+            &[],
         )?,
         save_plot(
             out,
             "profile_mu.svg",
             "Rake face: friction coefficient",
-            x,
-            "mu",
+            (x, "friction coefficient mu (-)"),
             &[
                 ("law mu", "#9467bd", &d, &mu),
                 ("tau/p", "#ff7f0e", &d, &mu_eff),
             ],
+            &[],
         )?,
         save_plot(
             out,
             "profile_temperature.svg",
             "Rake face: contact temperature",
-            x,
-            "temperature (C)",
+            (x, "temperature (°C)"),
             &[("temperature", "#8c564b", &d, &temp)],
+            &[],
         )?,
     ])
 }

@@ -331,6 +331,14 @@ impl CuttingSetup {
         }
     }
 
+    /// Simulated time of the whole configured cut, s: the cut length plus two spacings of
+    /// approach at the cutting speed, plus half the speed ramp (5 % of the cut length).
+    pub fn duration_s(&self) -> f64 {
+        let v = self.cutting_speed_m_s;
+        let ramp = 0.05 * self.cut_length_m / v;
+        (self.cut_length_m + 2.0 * self.spacing_m) / v + 0.5 * ramp
+    }
+
     /// Builds the model with `law` in every friction window of the insert.
     pub fn model_with_law(&self, law: Arc<dyn FrictionLaw>) -> greybox_core::Result<(Model, f64)> {
         self.validate()?;
@@ -367,7 +375,7 @@ impl CuttingSetup {
         ];
         let v = self.cutting_speed_m_s;
         let ramp = 0.05 * self.cut_length_m / v;
-        let duration = (self.cut_length_m + 2.0 * dx) / v + 0.5 * ramp;
+        let duration = self.duration_s();
         let motion = Motion {
             segments: vec![MotionSegment {
                 duration_s: f64::INFINITY,

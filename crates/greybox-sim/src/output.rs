@@ -60,16 +60,13 @@ pub fn write_vtk(
     })
 }
 
-/// Writes the tool outline (closed poly-line, 2 points per µm of arc at most 2000) as VTK.
-pub fn write_tool_vtk(path: &Path, tool: &Tool) -> greybox_core::Result<()> {
-    let per = tool.shape.perimeter();
-    let n = 720usize;
-    // Sample by marching around the core polygon's offset curve via closest-point queries of a
-    // large circle of probe points around the tool centre.
+/// The tool's outline in the global frame, m: `n` points on its rounded polygon, found by
+/// closest-point queries from a circle of probe points around the tool's centre.
+pub fn tool_outline(tool: &Tool, n: usize) -> Vec<[f64; 2]> {
     let (lo, hi) = tool.shape.bounding_box();
     let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
-    let r = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
-    let pts: Vec<[f64; 2]> = (0..n)
+    let r = (hi[0] - lo[0]).hypot(hi[1] - lo[1]).max(tool.shape.radius);
+    (0..n)
         .map(|k| {
             let a = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
             let probe = [c[0] + r * a.cos(), c[1] + r * a.sin()];
@@ -79,7 +76,14 @@ pub fn write_tool_vtk(path: &Path, tool: &Tool) -> greybox_core::Result<()> {
                 probe[1] - sp.distance * sp.normal[1] + tool.position[1],
             ]
         })
-        .collect();
+        .collect()
+}
+
+/// Writes the tool outline (closed poly-line of 720 points) as VTK.
+pub fn write_tool_vtk(path: &Path, tool: &Tool) -> greybox_core::Result<()> {
+    let per = tool.shape.perimeter();
+    let n = 720usize;
+    let pts = tool_outline(tool, n);
     write_atomic(path, |w| {
         writeln!(w, "# vtk DataFile Version 3.0")?;
         writeln!(w, "greybox-sim tool {} (perimeter {per:e} m)", tool.name)?;
