@@ -14,6 +14,7 @@ mod cmd_import;
 mod cmd_material;
 mod cmd_plan;
 mod cmd_predict;
+mod cmd_report;
 mod cmd_simulate;
 mod cmd_synth;
 mod cmd_wear;
@@ -68,6 +69,8 @@ enum Command {
     Material(cmd_material::Args),
     /// Run the whole pipeline on the bundled example study.
     Demo(cmd_demo::Args),
+    /// One self-contained HTML page for a study directory: campaign, friction data, models, cuts with chip pictures, rig, provenance.
+    Report(cmd_report::Args),
     /// Benchmarks: ingestion, prediction latency, surrogate tables, SPH solver speed.
     Bench(cmd_bench::Args),
 }
@@ -101,6 +104,7 @@ fn main() {
         Command::Simulate(a) => cmd_simulate::run(a),
         Command::Material(a) => cmd_material::run(a),
         Command::Demo(a) => cmd_demo::run(a),
+        Command::Report(a) => cmd_report::run(a),
         Command::Characterize(a) => cmd_characterize::run(a),
         Command::Wear(a) => cmd_wear::run(a),
         Command::Windows(a) => cmd_windows::run(a),

@@ -69,8 +69,10 @@ pub fn couple(
     let mut used: Option<Vec<f64>> = None;
     let mut converged = false;
     let mut cycle = 0;
+    let progress = greybox_core::progress::task("couple", Some(max_cycles as u64 + 1), "segments");
     loop {
         let states = engine.run_segment(cycle, used.as_deref())?;
+        progress.set(cycle as u64 + 1);
         if states.len() != names.len() {
             return Err(Error::invalid(
                 "coupling",
@@ -129,6 +131,11 @@ pub fn couple(
         }
         cycle += 1;
     }
+    progress.finish(if converged {
+        "converged"
+    } else {
+        "not converged"
+    });
     let final_mu = names.into_iter().zip(used.unwrap_or_default()).collect();
     Ok(CouplingResult {
         cycles: cycle,

@@ -277,11 +277,15 @@ pub fn run_protocol(data: &Dataset, cfg: &FitConfig) -> Result<(FitReport, Vec<M
     let names: Vec<String> = data.features.iter().map(|c| c.name.clone()).collect();
     // Families run concurrently (their jobs share one rayon pool, which evens out the long
     // SVR fits); every fit's seed is independent of scheduling, so results are identical.
+    // progress: three stages per family (grid search, nested CV, importance)
+    let progress =
+        greybox_core::progress::task("fit", Some(3 * cfg.families.len() as u64), "stages");
     let per_family: Vec<(FamilyReport, ModelFile)> = cfg
         .families
         .par_iter()
-        .map(|&family| run_family(data, cfg, &ids, &names, family))
+        .map(|&family| run_family(data, cfg, &ids, &names, family, &progress))
         .collect::<Result<_>>()?;
+    progress.finish("done");
     let (reports, files): (Vec<_>, Vec<_>) = per_family.into_iter().unzip();
     Ok((
         FitReport {
@@ -303,6 +307,7 @@ fn run_family(
     ids: &[usize],
     names: &[String],
     family: Family,
+    progress: &greybox_core::progress::Task,
 ) -> Result<(FamilyReport, ModelFile)> {
     let n = data.y.len();
     {
@@ -314,6 +319,7 @@ fn run_family(
         let model = selected.fit(&data.x, &data.y, cfg.seed)?;
         let pred = model.predict(&data.x);
         let training = metrics_with_ci(&data.y, &pred, cfg.bootstrap_resamples, cfg.seed);
+        progress.inc(1);
         let held_out = if cfg.skip_nested {
             None
         } else {
@@ -326,6 +332,7 @@ fn run_family(
                 predictions: oof,
             })
         };
+        progress.inc(1);
         let importance = permutation_importance(
             &model,
             &data.x,
@@ -334,6 +341,7 @@ fn run_family(
             cfg.importance_repeats,
             cfg.importance_seed,
         );
+        progress.inc(1);
         let interval = PredictionInterval {
             coverage: cfg.interval_coverage,
             half_width: conformal_half_width(&data.y, &results[best].oof, cfg.interval_coverage),

@@ -16,6 +16,7 @@ use crate::law::{best_family, grey_box_law, write_law, GreyBoxOptions};
 use crate::material::fit_flow_curves;
 use crate::output::{provenance, stage_out_dir};
 use crate::plan::{summarize, write_plan, PlanSummary};
+use crate::report::{report, ReportOptions, ReportSummary};
 use crate::simulate::{cut_case, run_cut, CutSummary, RunOutput};
 use crate::study::{Study, DEMO_STUDY};
 use crate::synth::{synthesize, SynthSummary};
@@ -47,6 +48,8 @@ pub struct DemoSummary {
     pub coupling: Option<greybox_couple::engine::CouplingResult>,
     pub material: greybox_material::fit::JcFit,
     pub cutting: CutSummary,
+    /// The study's report page.
+    pub report: ReportSummary,
 }
 
 /// The demo's results. Paths are relative to the demo's directory.
@@ -119,6 +122,11 @@ pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
         .write_into(Path::new("."))?;
     drop(cwd);
     staged.commit()?;
+    // the page over everything, once the directory holds it all
+    let report = report(&ReportOptions {
+        study_dir: out_dir.to_path_buf(),
+        out: None,
+    })?;
     Ok(Demo {
         summary: DemoSummary {
             plan: campaign.plan,
@@ -133,6 +141,7 @@ pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
             coupling,
             material,
             cutting,
+            report,
         },
         dataset: campaign.identified.dataset,
         foreign_files: foreign.identified.summary.identification.files,
@@ -409,6 +418,9 @@ fn material() -> Result<(PathBuf, greybox_material::fit::JcFit)> {
 
 /// The article's cut (coarser: 12.5 µm spacing) with the grey-box law in 12.5 µm windows
 /// along rake and flank, re-evaluated every 500 steps, until the force is steady.
+/// Pictures of the chip the demo's cut draws while it forms.
+pub const DEMO_CHIP_FRAMES: usize = 8;
+
 fn cut() -> Result<(PathBuf, CutSummary)> {
     let mut setup: greybox_sim::cutting::CuttingSetup = toml::from_str(DEMO_CUT)?;
     setup.spacing_m = 12.5e-6;
@@ -417,7 +429,11 @@ fn cut() -> Result<(PathBuf, CutSummary)> {
     setup.friction.law_file = Some("law.json".into());
     let case = cut_case(setup, Path::new(""))?;
     let dir = PathBuf::from("cutting");
-    let summary = run_cut(&case, 1.0, &RunOutput::to(&dir))?;
+    let out = RunOutput {
+        frames: DEMO_CHIP_FRAMES,
+        ..RunOutput::to(&dir)
+    };
+    let summary = run_cut(&case, 1.0, &out)?;
     Ok((dir, summary))
 }
 

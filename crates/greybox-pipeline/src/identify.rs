@@ -199,10 +199,17 @@ pub fn identify(
         .map(|f| ("--recordings", f.as_path()))
         .collect();
     greybox_core::outputs::check_file_output(out, "--out", &inputs)?;
+    let progress =
+        greybox_core::progress::task("read recordings", Some(files.len() as u64), "files");
     let recs: Vec<Recording> = files
         .iter()
-        .map(|f| read_recording(f, &study.recording))
+        .map(|f| {
+            let r = read_recording(f, &study.recording);
+            progress.inc(1);
+            r
+        })
         .collect::<Result<Vec<_>, _>>()?;
+    progress.finish("done");
     let steps;
     let (expected, plan) = match expect {
         Expectation::Plan(p) => {

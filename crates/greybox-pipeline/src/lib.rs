@@ -26,6 +26,7 @@
 //! | wear | [`wear`] | volumes, height maps, scars → Archard k |
 //! | tool windows | [`windows`] | coated tool mesh → friction windows |
 //! | everything | [`demo`] | bundled study → all of the above |
+//! | one page | [`report`] | a study directory → self-contained `report.html` |
 //! | speed | [`bench`](mod@bench) | ingestion, prediction latency, surrogate tables, SPH |
 //!
 //! Errors are [`anyhow::Error`]s whose messages name the file, line or field at fault.
@@ -46,6 +47,7 @@ pub mod material;
 pub mod output;
 pub mod plan;
 pub mod predict;
+pub mod report;
 pub mod simulate;
 pub mod study;
 pub mod synth;

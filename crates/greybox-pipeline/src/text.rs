@@ -417,6 +417,27 @@ fn demo_material_and_cut(text: &mut String, demo: &Demo, out: &Path) {
         "  contact profile along the rake face (pressure, sliding velocity, temperature, mu, shear stress): {}",
         cut_dir.join("contact_profile.csv").display()
     );
+    let _ = writeln!(
+        text,
+        "  the chip: {} and {}, {} frames in {}",
+        cut_dir.join("chip_temperature.svg").display(),
+        cut_dir.join("chip_plastic_strain.svg").display(),
+        crate::demo::DEMO_CHIP_FRAMES,
+        cut_dir.join("frames").display()
+    );
+    let r = &s.report;
+    let _ = writeln!(
+        text,
+        "
+report: {} ({:.0} kB, {} sections, {} figures) — open it in a browser",
+        r.path,
+        r.bytes as f64 / 1e3,
+        r.sections.len(),
+        r.figures
+    );
+    for w in &r.warnings {
+        let _ = writeln!(text, "  warning: {w}");
+    }
 }
 
 /// The restart loop's outcome: convergence, the final μ per window, the files.

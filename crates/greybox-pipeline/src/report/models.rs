@@ -1,0 +1,222 @@
+//! Models section: the article-style tables (training metrics as its Table 7, held-out
+//! metrics of nested cross-validation beside them), permutation importance,
+//! predicted-against-measured plots, and each friction law's μ surface with the training
+//! domain drawn in and the physics-based law outside it.
+
+use super::page::{Block, Section, Table};
+use super::scan::Found;
+use super::{num, shown, svg_figure, Warnings};
+use anyhow::{Context, Result};
+use greybox_core::plot::{heatmap, Heatmap};
+use greybox_core::ContactState;
+use greybox_friction::spec::LawSpec;
+use greybox_learn::metrics::WithCi;
+use greybox_learn::protocol::FitReport;
+use std::path::Path;
+
+pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
+    let mut s = Section::new("models", "Models");
+    for p in &found.fit_reports {
+        match fit_blocks(dir, p, w) {
+            Ok(bs) => bs.into_iter().for_each(|b| s.push(b)),
+            Err(e) => s.push(w.note(p, &e)),
+        }
+    }
+    let mut seen = Vec::new();
+    for p in &found.laws {
+        // the same law copied beside other outputs is drawn once
+        let Ok(bytes) = std::fs::read(p) else {
+            s.push(w.note(p, &anyhow::anyhow!("cannot read the file")));
+            continue;
+        };
+        let digest = greybox_core::provenance::sha256_bytes(&bytes);
+        if seen.contains(&digest) {
+            continue;
+        }
+        seen.push(digest);
+        match law_block(dir, p) {
+            Ok(b) => s.push(b),
+            Err(e) => s.push(w.note(p, &e)),
+        }
+    }
+    (!s.blocks.is_empty()).then_some(s)
+}
+
+/// `value [low, high]`.
+fn with_ci(m: &WithCi, digits: usize) -> String {
+    format!(
+        "{} [{}, {}]",
+        num(m.value, digits),
+        num(m.ci_low, digits),
+        num(m.ci_high, digits)
+    )
+}
+
+fn fit_blocks(dir: &Path, p: &Path, w: &mut Warnings) -> Result<Vec<Block>> {
+    let text = std::fs::read_to_string(p)?;
+    let r: FitReport = serde_json::from_str(&text).context("not a greybox fit report")?;
+    let name = shown(dir, p);
+    let mut out = vec![
+        Block::Heading(format!("Fit {name}")),
+        Block::Text(format!(
+            "{} rows of {}; features: {}; target: {}; {}-fold cross-validation, seed {}.",
+            r.n_rows,
+            r.source,
+            r.features.join(", "),
+            r.target,
+            r.config.folds,
+            r.config.seed
+        )),
+    ];
+    let mut train = Table::new(
+        "Training data (optimistic, as the article's Table 7)",
+        &[
+            "model",
+            "R²",
+            "MAE",
+            "MSE",
+            "MAPE (%)",
+            "selected hyper-parameters",
+        ],
+    );
+    let mut held = Table::new(
+        "Held out: nested cross-validation, with 95 % bootstrap intervals",
+        &[
+            "model",
+            "R²",
+            "MAE",
+            "MAPE (%)",
+            "R² per fold",
+            "interval ± (coverage)",
+            "fit time (s)",
+        ],
+    );
+    let mut imp = Table::new(
+        "Permutation importance (increase of MSE when a feature is shuffled)",
+        &["model", "feature", "mean", "std"],
+    );
+    for f in &r.families {
+        let fam = f.family.name().to_string();
+        train.row(vec![
+            fam.clone(),
+            num(f.training.r2.value, 4),
+            num(f.training.mae.value, 3),
+            num(f.training.mse.value, 3),
+            num(100.0 * f.training.mape.value, 3),
+            f.selected_label.clone(),
+        ]);
+        if let Some(h) = &f.held_out {
+            let (lo, hi) = h
+                .r2_per_fold
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(*v), b.max(*v))
+                });
+            held.row(vec![
+                fam.clone(),
+                with_ci(&h.metrics.r2, 4),
+                with_ci(&h.metrics.mae, 3),
+                format!(
+                    "{} [{}, {}]",
+                    num(100.0 * h.metrics.mape.value, 3),
+                    num(100.0 * h.metrics.mape.ci_low, 3),
+                    num(100.0 * h.metrics.mape.ci_high, 3)
+                ),
+                format!("{} … {}", num(lo, 3), num(hi, 3)),
+                format!(
+                    "{} ({} %)",
+                    num(f.interval.half_width, 3),
+                    num(100.0 * f.interval.coverage, 3)
+                ),
+                num(f.seconds, 3),
+            ]);
+        }
+        for i in &f.importance {
+            imp.row(vec![
+                fam.clone(),
+                i.feature.clone(),
+                num(i.mean, 3),
+                num(i.std, 3),
+            ]);
+        }
+    }
+    out.push(Block::Table(train));
+    if !held.rows.is_empty() {
+        out.push(Block::Table(held));
+    }
+    if !imp.rows.is_empty() {
+        out.push(Block::Table(imp));
+    }
+    let plots = p.parent().unwrap_or(dir).join("plots");
+    let figures: Vec<Block> = r
+        .families
+        .iter()
+        .map(|f| plots.join(format!("{}-predicted-vs-measured.svg", f.family.name())))
+        .filter(|f| f.is_file())
+        .map(|f| svg_figure(dir, &f, "Predicted against measured", w))
+        .collect();
+    if !figures.is_empty() {
+        out.push(Block::Row(figures));
+    }
+    Ok(out)
+}
+
+/// Where the law's learned part was fitted: a grey-box law is defined everywhere (its
+/// `domain` is `None`), its inner law's domain is the box that matters here.
+fn training_domain(
+    p: &Path,
+    law: &dyn greybox_core::FrictionLaw,
+) -> Result<Option<greybox_core::law::ValidityDomain>> {
+    let text = std::fs::read_to_string(p)?;
+    if let Ok(LawSpec::GreyBox { inner, .. }) = serde_json::from_str::<LawSpec>(&text) {
+        let base = p.parent().unwrap_or(Path::new("."));
+        return Ok(inner.build(base)?.domain());
+    }
+    Ok(law.domain())
+}
+
+/// μ over (pressure, velocity) from 0 to 1.6× the domain's upper ends, the domain boxed.
+fn law_block(dir: &Path, p: &Path) -> Result<Block> {
+    let law = greybox_friction::spec::load_law(p)?;
+    let name = shown(dir, p);
+    let Some(d) = training_domain(p, law.as_ref())? else {
+        return Ok(Block::Text(format!(
+            "{name}: law {} states no training domain; its μ does not depend on where it was measured.",
+            law.name()
+        )));
+    };
+    let t = d
+        .temperature_k
+        .map(|r| 0.5 * (r.min + r.max))
+        .unwrap_or(293.15);
+    let (p_lo, p_hi) = (d.pressure_pa.min * 1e-6, d.pressure_pa.max * 1e-6);
+    let (v_lo, v_hi) = (
+        d.sliding_velocity_m_s.min * 60.0,
+        d.sliding_velocity_m_s.max * 60.0,
+    );
+    let f = |pmpa: f64, vmin: f64| {
+        let mut s = ContactState::new(pmpa * 1e6, vmin / 60.0);
+        s.temperature_k = t;
+        law.mu(&s)
+    };
+    let svg = heatmap(&Heatmap {
+        title: "Friction law: mu over pressure and velocity",
+        x_label: "contact pressure (MPa)",
+        y_label: "sliding velocity (m/min)",
+        z_label: "mu (-)",
+        x_range: (0.0, 1.6 * p_hi),
+        y_range: (0.0, 1.6 * v_hi),
+        background: Some(&f),
+        points: &[],
+        point_values: None,
+        boxes: &[((p_lo, p_hi), (v_lo, v_hi), "training domain")],
+    });
+    Ok(Block::Figure {
+        svg,
+        caption: format!(
+            "{name}: {} at {} °C. Inside the dashed box the learned model (fitted there); outside it the law's physics-based part takes over.",
+            law.name(),
+            num(t - 273.15, 3)
+        ),
+    })
+}
