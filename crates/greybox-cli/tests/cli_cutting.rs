@@ -1,40 +1,7 @@
 //! `greybox simulate cutting` with a law file (outputs, grey-box μ history, resume bit for
 //! bit, bad law file) and `greybox material fit|fit-c`.
 mod common;
-use common::{err, greybox, last_particle_vtk, ok};
-use std::path::Path;
-
-/// The bundled article case made coarse and short (20 µm spacing, 0.25 mm of cut).
-fn coarse_config(dir: &Path, law_file: Option<&str>) {
-    let base = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../examples/aisi1045-cut.toml"
-    ))
-    .unwrap();
-    let mut s = String::new();
-    for line in base.lines() {
-        let l = if line.starts_with("spacing_m") {
-            "spacing_m = 2.0e-5".to_string()
-        } else if line.starts_with("cut_length_m") {
-            "cut_length_m = 0.25e-3".to_string()
-        } else if line.starts_with("workpiece_height_m") {
-            "workpiece_height_m = 2.4e-4".to_string()
-        } else if line.starts_with("window_length_m") {
-            "window_length_m = 2.0e-5".to_string()
-        } else if line.starts_with("update_every_steps") {
-            "update_every_steps = 200".to_string()
-        } else if line.starts_with("stop_when_steady") {
-            "stop_when_steady = false".to_string()
-        } else if line.starts_with("# law_file") {
-            law_file.map_or(String::new(), |f| format!("law_file = \"{f}\""))
-        } else {
-            line.to_string()
-        };
-        s.push_str(&l);
-        s.push('\n');
-    }
-    std::fs::write(dir.join("cut.toml"), s).unwrap();
-}
+use common::{coarse_config, err, greybox, last_particle_vtk, ok};
 
 #[test]
 fn cutting_with_a_law_file_writes_profiles_and_resumes_bit_for_bit() {
