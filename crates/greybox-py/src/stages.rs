@@ -28,6 +28,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(grey_box_law, m)?)?;
     m.add_function(wrap_pyfunction!(export_table, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_cut, m)?)?;
+    m.add_function(wrap_pyfunction!(report, m)?)?;
     Ok(())
 }
 
@@ -375,7 +376,7 @@ fn export_table(
 /// friction law file `law` instead of the set-up's): JSON summary; forces.csv and
 /// contact_profile.csv are in `out`.
 #[pyfunction]
-#[pyo3(signature = (setup, out, law = None, fraction = 1.0, force = false))]
+#[pyo3(signature = (setup, out, law = None, fraction = 1.0, force = false, frames = 0))]
 fn simulate_cut(
     py: Python<'_>,
     setup: PathBuf,
@@ -383,6 +384,7 @@ fn simulate_cut(
     law: Option<PathBuf>,
     fraction: f64,
     force: bool,
+    frames: usize,
 ) -> PyResult<String> {
     let summary = py.detach(|| -> anyhow::Result<_> {
         let mut case = read_cutting_setup(&setup)?;
@@ -393,7 +395,20 @@ fn simulate_cut(
         }
         let mut o = RunOutput::to(out);
         o.force = force;
+        o.frames = frames;
         run_cut(&case, fraction, &o)
     });
     to_json(&summary.map_err(py_err)?)
+}
+
+/// Write the study directory's self-contained report page (default `study_dir/report.html`):
+/// JSON summary (path, bytes, sections, figures, warnings).
+#[pyfunction]
+#[pyo3(signature = (study_dir, out = None))]
+fn report(py: Python<'_>, study_dir: PathBuf, out: Option<PathBuf>) -> PyResult<String> {
+    let o = greybox_pipeline::report::ReportOptions { study_dir, out };
+    to_json(
+        &py.detach(|| greybox_pipeline::report::report(&o))
+            .map_err(py_err)?,
+    )
 }

@@ -159,8 +159,13 @@ def test_simulate_cut_returns_summary_and_arrays(tmp_path, fitted):
     assert svr_path.read_bytes() == before
     law = gb.grey_box_law(svr_path, law_file)
     assert law.mu([1e10], [0.1]).mu[0] >= 0.05
-    out = gb.simulate_cut(setup, tmp_path / "cut", law=law_file, as_frame=False)
+    out = gb.simulate_cut(setup, tmp_path / "study" / "cut", law=law_file, as_frame=False, frames=2)
     assert out["particles"] > 0 and out["steps"] > 0
+    assert sorted(os.listdir(tmp_path / "study" / "cut" / "frames")) == ["chip_001.svg", "chip_002.svg"]
+    # the report page over the study directory: the cut and its provenance
+    rep = gb.report(tmp_path / "study")
+    assert rep["sections"] == ["Cutting", "Provenance"] and rep["warnings"] == []
+    assert os.path.getsize(rep["path"]) == rep["bytes"] and rep["figures"] >= 8
     assert "grey-box" in out["law"]
     f = out["forces"]
     assert len(f["time_s"]) > 1 and np.all(np.isfinite(f["force_x_N_per_mm"]))

@@ -60,6 +60,7 @@ __all__ = [
     "grey_box_law",
     "export_table",
     "simulate_cut",
+    "report",
 ]
 
 
@@ -586,11 +587,14 @@ def simulate_cut(
     fraction: float = 1.0,
     force: bool = False,
     as_frame: Optional[bool] = None,
+    frames: int = 0,
 ) -> dict:
     """Run greybox's 2D SPH orthogonal-cutting simulation of a set-up TOML into ``out``,
     with the set-up's friction or ``law`` (a law/model/table path or a Model). Returns the
     summary dict plus ``forces`` (force history) and ``contact_profile`` (along the rake
-    face) tables."""
+    face) tables. The chip's last state is drawn (``chip_temperature.svg``,
+    ``chip_plastic_strain.svg``); ``frames`` > 0 also draws that many instants
+    (``frames/chip_NNN.svg``)."""
     with tempfile.TemporaryDirectory() as d:
         summary = json.loads(
             _native.simulate_cut(
@@ -599,8 +603,20 @@ def simulate_cut(
                 None if law is None else _law_path(law, d),
                 fraction,
                 force,
+                frames,
             )
         )
     summary["forces"] = read_csv(os.path.join(os.fspath(out), "forces.csv"), as_frame)
     summary["contact_profile"] = read_csv(os.path.join(os.fspath(out), "contact_profile.csv"), as_frame)
     return summary
+
+
+def report(study_dir: PathLike, out: Optional[PathLike] = None) -> dict:
+    """Write one self-contained HTML page for a study directory (default
+    ``study_dir/report.html``): campaign, friction data, models, cuts with pictures of the
+    chip, rig dynamics and wear, provenance; each section when its files are there. Returns
+    the summary: ``path``, ``bytes``, ``sections``, ``figures``, ``warnings`` (files found
+    but unreadable)."""
+    return json.loads(
+        _native.report(os.fspath(study_dir), None if out is None else os.fspath(out))
+    )
