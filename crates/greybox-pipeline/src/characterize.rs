@@ -275,8 +275,8 @@ pub fn characterize(a: &CharacterizeOptions) -> Result<CharacterizeReport> {
         .collect();
     let svg = lines(
         "FRF |H1| (impact hammer)",
-        "frequency [Hz]",
-        "|H1|",
+        "frequency (Hz)",
+        "|H1| (response unit per N)",
         &mag_lines,
         true,
         &band,
@@ -296,8 +296,8 @@ pub fn characterize(a: &CharacterizeOptions) -> Result<CharacterizeReport> {
         .collect();
     let svg = lines(
         "coherence",
-        "frequency [Hz]",
-        "coherence",
+        "frequency (Hz)",
+        "coherence (-)",
         &coh_lines,
         false,
         &band,

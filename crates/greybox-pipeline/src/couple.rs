@@ -140,8 +140,8 @@ fn plot_history(path: &Path, r: &CouplingResult) -> Result<()> {
         path,
         &lines(
             "friction windows: μ from the law per cycle",
-            "cycle",
-            "μ",
+            "cycle (-)",
+            "μ (-)",
             &ls,
             false,
             &[],

@@ -139,7 +139,7 @@ fn write_outputs(
         }
         let svg = plot::predicted_vs_measured(
             &format!("{} — {}", fam.family.title(), report.target),
-            &report.target,
+            &format!("{} (-)", report.target),
             &series,
         );
         let p = out
@@ -169,7 +169,7 @@ fn write_outputs(
                 &format!("{} — {} surface", fam.family.title(), report.target),
                 &report.features[0],
                 &report.features[1],
-                &report.target,
+                &format!("{} (-)", report.target),
                 ranges[0],
                 ranges[1],
                 &f,
