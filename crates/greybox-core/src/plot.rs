@@ -179,9 +179,12 @@ pub struct Heatmap<'a> {
     pub background: Option<&'a dyn Fn(f64, f64) -> f64>,
     pub points: &'a [(f64, f64)],
     pub point_values: Option<&'a [f64]>,
-    /// (x range, y range, label) drawn as dashed outlines.
-    pub boxes: &'a [((f64, f64), (f64, f64), &'a str)],
+    /// Rectangles drawn as dashed outlines.
+    pub boxes: &'a [LabelledBox<'a>],
 }
+
+/// A rectangle on a map: (x range, y range, label).
+pub type LabelledBox<'a> = ((f64, f64), (f64, f64), &'a str);
 
 /// Draws a [`Heatmap`] as SVG.
 pub fn heatmap(h: &Heatmap) -> String {
