@@ -19,10 +19,7 @@ const TRACE_POINTS: usize = 1500;
 pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
     let mut s = Section::new("campaign", "Campaign");
     for sheet in &found.run_sheets {
-        match run_sheet(dir, sheet) {
-            Ok(bs) => bs.into_iter().for_each(|b| s.push(b)),
-            Err(e) => s.push(w.note(sheet, &e)),
-        }
+        s.add_from(sheet, run_sheet(dir, sheet), w);
     }
     let mut drawn = 0;
     for ds in &found.datasets {

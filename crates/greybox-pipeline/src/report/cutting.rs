@@ -17,9 +17,9 @@ const MAX_WINDOWS: usize = 8;
 pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
     let mut s = Section::new("cutting", "Cutting");
     for cut in &found.cuts {
-        match cut_blocks(dir, cut, w) {
-            Ok(bs) => bs.into_iter().for_each(|b| s.push(b)),
-            Err(e) => s.push(w.note(cut, &e)),
+        {
+            let r = cut_blocks(dir, cut, w);
+            s.add_from(cut, r, w);
         }
     }
     (!s.blocks.is_empty()).then_some(s)

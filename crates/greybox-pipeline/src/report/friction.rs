@@ -13,16 +13,10 @@ use std::path::Path;
 pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
     let mut s = Section::new("friction-data", "Friction data");
     for p in &found.datasets {
-        match dataset_blocks(dir, p) {
-            Ok(bs) => bs.into_iter().for_each(|b| s.push(b)),
-            Err(e) => s.push(w.note(p, &e)),
-        }
+        s.add_from(p, dataset_blocks(dir, p), w);
     }
     for p in &found.corrections {
-        match correction_blocks(dir, p) {
-            Ok(bs) => bs.into_iter().for_each(|b| s.push(b)),
-            Err(e) => s.push(w.note(p, &e)),
-        }
+        s.add_from(p, correction_blocks(dir, p), w);
     }
     (!s.blocks.is_empty()).then_some(s)
 }

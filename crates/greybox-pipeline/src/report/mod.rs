@@ -57,6 +57,17 @@ impl Warnings {
     }
 }
 
+impl Section {
+    /// The blocks drawn from the file `p`, or the reason it could not be read (recorded in
+    /// `w` too).
+    pub(crate) fn add_from(&mut self, p: &Path, r: Result<Vec<page::Block>>, w: &mut Warnings) {
+        match r {
+            Ok(bs) => self.blocks.extend(bs),
+            Err(e) => self.blocks.push(w.note(p, &e)),
+        }
+    }
+}
+
 /// Writes the report page for `o.study_dir` (atomically) and returns its summary.
 pub fn report(o: &ReportOptions) -> Result<ReportSummary> {
     let dir = &o.study_dir;

@@ -17,9 +17,9 @@ use std::path::Path;
 pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
     let mut s = Section::new("models", "Models");
     for p in &found.fit_reports {
-        match fit_blocks(dir, p, w) {
-            Ok(bs) => bs.into_iter().for_each(|b| s.push(b)),
-            Err(e) => s.push(w.note(p, &e)),
+        {
+            let r = fit_blocks(dir, p, w);
+            s.add_from(p, r, w);
         }
     }
     let mut seen = Vec::new();

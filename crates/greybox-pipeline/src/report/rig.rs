@@ -11,9 +11,9 @@ use std::path::Path;
 pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
     let mut s = Section::new("rig", "Rig dynamics and wear");
     for p in &found.characterizations {
-        match dynamics_blocks(dir, p, w) {
-            Ok(bs) => bs.into_iter().for_each(|b| s.push(b)),
-            Err(e) => s.push(w.note(p, &e)),
+        {
+            let r = dynamics_blocks(dir, p, w);
+            s.add_from(p, r, w);
         }
     }
     for p in &found.wear_tests {
