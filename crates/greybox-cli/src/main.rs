@@ -16,6 +16,7 @@ mod cmd_plan;
 mod cmd_predict;
 mod cmd_report;
 mod cmd_simulate;
+mod cmd_sweep;
 mod cmd_synth;
 mod cmd_wear;
 mod cmd_windows;
@@ -65,6 +66,8 @@ enum Command {
     Couple(cmd_couple::Args),
     /// Built-in 2D SPH solver: pin sliding (ploughing share) and orthogonal cutting.
     Simulate(cmd_simulate::Args),
+    /// Parameter sweeps on a local process pool or a Slurm cluster; collect; calibrate J-C C across conditions.
+    Sweep(cmd_sweep::Args),
     /// Johnson-Cook parameters: fit to flow curves; C from a measured cutting force.
     Material(cmd_material::Args),
     /// Run the whole pipeline on the bundled example study.
@@ -102,6 +105,7 @@ fn main() {
         Command::Predict(a) => cmd_predict::run(a),
         Command::Import(a) => cmd_import::run(a),
         Command::Simulate(a) => cmd_simulate::run(a),
+        Command::Sweep(a) => cmd_sweep::run(a),
         Command::Material(a) => cmd_material::run(a),
         Command::Demo(a) => cmd_demo::run(a),
         Command::Report(a) => cmd_report::run(a),

@@ -1,0 +1,352 @@
+//! Calibration across conditions: the Johnson–Cook C (and optionally a scale on the
+//! Coulomb μ) that minimises the mean relative force error over measured conditions, each
+//! evaluation one sweep over the training conditions on the chosen executor. Conditions
+//! held out are simulated once at the result and reported apart.
+//!
+//! The search is golden-section on ln C (and ln of the scale, alternating), which needs no
+//! derivative and tolerates the solver's small run-to-run differences between parameter
+//! values; every evaluation's cases are kept, so a repeated value costs nothing.
+
+use super::spec::{Axis, FieldValues, SweepFile};
+use super::{Executor, Plan};
+use anyhow::{bail, Context, Result};
+use greybox_core::atomic::write_string_atomic;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// The field the calibration sets.
+pub const C_FIELD: &str = "material.plasticity.c";
+/// The measured cutting force column, N/mm.
+pub const FC: &str = "cutting_force_N_per_mm";
+/// The measured feed force column (optional), N/mm.
+pub const FF: &str = "feed_force_N_per_mm";
+
+/// One measured condition: the configuration fields that define it and its forces.
+#[derive(Debug, Clone, Serialize)]
+pub struct Condition {
+    pub values: Vec<(String, String)>,
+    pub cutting_force_n_per_mm: f64,
+    pub feed_force_n_per_mm: Option<f64>,
+}
+
+/// Reads measured conditions: columns named by configuration fields (dotted paths) plus
+/// `cutting_force_N_per_mm` and optionally `feed_force_N_per_mm`.
+pub fn read_measured(path: &Path) -> Result<Vec<Condition>> {
+    let src = path.display().to_string();
+    let mut rdr = csv::Reader::from_path(path).with_context(|| format!("cannot read {src}"))?;
+    let header: Vec<String> = rdr
+        .headers()?
+        .iter()
+        .map(|h| h.trim().to_string())
+        .collect();
+    let fc = header
+        .iter()
+        .position(|h| h == FC)
+        .with_context(|| format!("{src}: no column {FC}"))?;
+    let ff = header.iter().position(|h| h == FF);
+    let mut out = Vec::new();
+    for (k, r) in rdr.records().enumerate() {
+        let line = k + 2;
+        let r = r.with_context(|| format!("{src}: line {line}"))?;
+        let force = |i: usize| -> Result<f64> {
+            let v: f64 = r[i]
+                .trim()
+                .parse()
+                .ok()
+                .filter(|v: &f64| *v > 0.0)
+                .with_context(|| {
+                    format!(
+                        "{src}: line {line}, column {}: expected a force > 0 in N/mm, got '{}'",
+                        header[i], &r[i]
+                    )
+                })?;
+            Ok(v)
+        };
+        out.push(Condition {
+            values: header
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| *i != fc && Some(*i) != ff)
+                .map(|(i, h)| (h.clone(), r[i].trim().to_string()))
+                .collect(),
+            cutting_force_n_per_mm: force(fc)?,
+            feed_force_n_per_mm: ff.map(force).transpose()?,
+        });
+    }
+    if out.is_empty() {
+        bail!("{src}: no conditions");
+    }
+    Ok(out)
+}
+
+/// Which conditions are held out.
+#[derive(Debug, Clone)]
+pub enum HoldOut {
+    /// Every k-th condition (k, 2k, … counting from 1).
+    Every(usize),
+    /// These conditions, counting from 1.
+    List(Vec<usize>),
+}
+
+impl HoldOut {
+    fn held(&self, i: usize) -> bool {
+        match self {
+            HoldOut::Every(k) => *k > 0 && (i + 1) % k == 0,
+            HoldOut::List(l) => l.contains(&(i + 1)),
+        }
+    }
+}
+
+/// What to calibrate and how.
+#[derive(Debug, Clone)]
+pub struct CalibrateOptions {
+    /// The sweep file: its base case, `[sweep]` settings and `[slurm]` resources (its axes
+    /// are replaced by the measured conditions).
+    pub sweep_file: PathBuf,
+    pub measured: PathBuf,
+    pub out: PathBuf,
+    pub executor: Executor,
+    /// The greybox executable the executors start.
+    pub exe: PathBuf,
+    /// The bracket of C.
+    pub c_range: (f64, f64),
+    /// Evaluations per golden-section search.
+    pub iterations: usize,
+    pub hold_out: HoldOut,
+    /// Also scale the Coulomb `mu` of the base (bracket 0.5 … 2).
+    pub friction_scale: bool,
+}
+
+/// One condition at the result.
+#[derive(Debug, Clone, Serialize)]
+pub struct Residual {
+    pub condition: usize,
+    pub held_out: bool,
+    pub values: Vec<(String, String)>,
+    pub measured_cutting_force_n_per_mm: f64,
+    pub simulated_cutting_force_n_per_mm: f64,
+    pub cutting_force_error: f64,
+    pub measured_feed_force_n_per_mm: Option<f64>,
+    pub simulated_feed_force_n_per_mm: f64,
+    pub feed_force_error: Option<f64>,
+}
+
+/// The calibration's result (`calibration.json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Calibration {
+    pub c: f64,
+    pub friction_scale: Option<f64>,
+    /// Mean relative force error over the training conditions at the result.
+    pub training_error: f64,
+    /// The same over the held-out conditions (None: none held out).
+    pub held_out_error: Option<f64>,
+    pub evaluations: Vec<(f64, f64, f64)>,
+    pub residuals: Vec<Residual>,
+}
+
+/// The sweep of `conds` at C = `c` (and μ scaled by `scale`): simulated (F'c, F'f) each.
+fn evaluate(
+    o: &CalibrateOptions,
+    base: &SweepFile,
+    dir: &Path,
+    conds: &[&Condition],
+    c: f64,
+    scale: Option<f64>,
+) -> Result<Vec<(f64, f64)>> {
+    let mut f = base.clone();
+    let fields: Vec<String> = conds[0].values.iter().map(|v| v.0.clone()).collect();
+    f.axis = if fields.is_empty() {
+        Vec::new()
+    } else {
+        vec![Axis {
+            field: None,
+            values: None,
+            range: None,
+            zip: fields
+                .iter()
+                .enumerate()
+                .map(|(j, name)| FieldValues {
+                    field: name.clone(),
+                    values: Some(conds.iter().map(|k| parse_value(&k.values[j].1)).collect()),
+                    range: None,
+                })
+                .collect(),
+        }]
+    };
+    let mut extra = vec![(C_FIELD.to_string(), toml::Value::Float(c))];
+    if let Some(s) = scale {
+        let mu0 = super::case::read_base(&dir.join(&base.sweep.base), base.sweep.kind)?
+            .get("mu")
+            .and_then(toml::Value::as_float)
+            .context("friction scale: the base has no constant `mu` to scale")?;
+        extra.push(("mu".to_string(), toml::Value::Float(mu0 * s)));
+    }
+    let plan = Plan::expand(&f, dir, &o.sweep_file.display().to_string(), &extra)?;
+    plan.write(&o.out)?;
+    let report = match &o.executor {
+        Executor::Local { jobs } => super::local::run(&plan, &o.out, *jobs, &o.exe)?,
+        Executor::Slurm { dry_run, poll_s } => {
+            super::slurm::run(&plan, &o.out, &o.exe, *dry_run, *poll_s)?
+        }
+    };
+    if let Some(first) = report.failed.first() {
+        bail!("C = {c}: case {} failed: {}", first.index, first.error);
+    }
+    plan.cases
+        .iter()
+        .map(|case| {
+            let p = super::case::CaseDir::of(&o.out, &case.id).done();
+            let d: super::case::Done = serde_json::from_str(&std::fs::read_to_string(&p)?)?;
+            let g = |k: &str| {
+                d.summary
+                    .get(k)
+                    .and_then(serde_json::Value::as_f64)
+                    .unwrap_or(f64::NAN)
+            };
+            Ok((g("cutting_force_n_per_mm"), g("feed_force_n_per_mm")))
+        })
+        .collect()
+}
+
+/// A CSV cell as a TOML value: a number if it reads as one, else a string.
+fn parse_value(s: &str) -> toml::Value {
+    s.parse::<i64>()
+        .map(toml::Value::Integer)
+        .or_else(|_| s.parse::<f64>().map(toml::Value::Float))
+        .unwrap_or_else(|_| toml::Value::String(s.to_string()))
+}
+
+/// Mean relative error of simulated against measured forces (F'f too where measured and
+/// `with_feed`).
+fn error(conds: &[&Condition], sim: &[(f64, f64)], with_feed: bool) -> f64 {
+    let mut sum = 0.0;
+    let mut n = 0.0;
+    for (c, s) in conds.iter().zip(sim) {
+        sum += ((s.0 - c.cutting_force_n_per_mm) / c.cutting_force_n_per_mm).abs();
+        n += 1.0;
+        if let (true, Some(ff)) = (with_feed, c.feed_force_n_per_mm) {
+            sum += ((s.1 - ff) / ff).abs();
+            n += 1.0;
+        }
+    }
+    if sum.is_finite() {
+        sum / n
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Golden-section search of `f` over ln x in `range`; returns the best x seen.
+fn golden(
+    range: (f64, f64),
+    iterations: usize,
+    f: &mut dyn FnMut(f64) -> Result<f64>,
+) -> Result<f64> {
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut a, mut b) = (range.0.ln(), range.1.ln());
+    let mut x1 = b - g * (b - a);
+    let mut x2 = a + g * (b - a);
+    let (mut f1, mut f2) = (f(x1.exp())?, f(x2.exp())?);
+    for _ in 2..iterations.max(3) {
+        if f1 <= f2 {
+            b = x2;
+            (x2, f2) = (x1, f1);
+            x1 = b - g * (b - a);
+            f1 = f(x1.exp())?;
+        } else {
+            a = x1;
+            (x1, f1) = (x2, f2);
+            x2 = a + g * (b - a);
+            f2 = f(x2.exp())?;
+        }
+    }
+    Ok(if f1 <= f2 { x1.exp() } else { x2.exp() })
+}
+
+/// Runs the calibration and writes `calibration.json` into `o.out`.
+pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
+    let (base, dir) = SweepFile::load(&o.sweep_file)?;
+    let (lo, hi) = o.c_range;
+    if !(lo > 0.0 && hi > lo && hi.is_finite()) {
+        bail!("C range: expected 0 < low < high, got {lo} … {hi}");
+    }
+    let conds = read_measured(&o.measured)?;
+    let training: Vec<&Condition> = conds
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !o.hold_out.held(*i))
+        .map(|(_, c)| c)
+        .collect();
+    let held: Vec<&Condition> = conds
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| o.hold_out.held(*i))
+        .map(|(_, c)| c)
+        .collect();
+    if training.is_empty() {
+        bail!("every condition is held out: nothing to calibrate on");
+    }
+    let mut evals = Vec::new();
+    let mut scale = o.friction_scale.then_some(1.0);
+    let mut c = 0.0;
+    for round in 0..if o.friction_scale { 2 } else { 1 } {
+        let s_now = scale;
+        c = golden((lo, hi), o.iterations, &mut |c| {
+            let e = error(
+                &training,
+                &evaluate(o, &base, &dir, &training, c, s_now)?,
+                o.friction_scale,
+            );
+            evals.push((c, s_now.unwrap_or(1.0), e));
+            Ok(e)
+        })?;
+        if o.friction_scale {
+            scale = Some(golden((0.5, 2.0), o.iterations, &mut |s| {
+                let e = error(
+                    &training,
+                    &evaluate(o, &base, &dir, &training, c, Some(s))?,
+                    true,
+                );
+                evals.push((c, s, e));
+                Ok(e)
+            })?);
+        }
+        let _ = round;
+    }
+    let all: Vec<&Condition> = conds.iter().collect();
+    let sim = evaluate(o, &base, &dir, &all, c, scale)?;
+    let residuals: Vec<Residual> = conds
+        .iter()
+        .zip(&sim)
+        .enumerate()
+        .map(|(i, (m, s))| Residual {
+            condition: i + 1,
+            held_out: o.hold_out.held(i),
+            values: m.values.clone(),
+            measured_cutting_force_n_per_mm: m.cutting_force_n_per_mm,
+            simulated_cutting_force_n_per_mm: s.0,
+            cutting_force_error: (s.0 - m.cutting_force_n_per_mm) / m.cutting_force_n_per_mm,
+            measured_feed_force_n_per_mm: m.feed_force_n_per_mm,
+            simulated_feed_force_n_per_mm: s.1,
+            feed_force_error: m.feed_force_n_per_mm.map(|f| (s.1 - f) / f),
+        })
+        .collect();
+    let sim_of = |set: &[&Condition]| -> Vec<(f64, f64)> {
+        set.iter()
+            .map(|c| sim[conds.iter().position(|x| std::ptr::eq(x, *c)).unwrap_or(0)])
+            .collect()
+    };
+    let result = Calibration {
+        c,
+        friction_scale: scale,
+        training_error: error(&training, &sim_of(&training), o.friction_scale),
+        held_out_error: (!held.is_empty()).then(|| error(&held, &sim_of(&held), o.friction_scale)),
+        evaluations: evals,
+        residuals,
+    };
+    write_string_atomic(
+        &o.out.join("calibration.json"),
+        &serde_json::to_string_pretty(&result)?,
+    )?;
+    Ok(result)
+}

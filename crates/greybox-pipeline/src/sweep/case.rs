@@ -1,0 +1,293 @@
+//! Cases of a sweep: the base configuration with a case's values applied, checked by
+//! deserialising into the real set-up type, keyed by a hash of the resolved configuration
+//! (law files by their content), with a cost estimate; and what a case directory holds.
+//!
+//! A case directory `cases/<id>/` holds `config.toml` (the resolved set-up), after a run
+//! `result/` (the run's outputs, swapped in whole) and then `done.json` (written last,
+//! atomically: the marker that the case is finished), or `failed.json` with the error.
+
+use super::spec::CaseKind;
+use anyhow::{bail, Context, Result};
+use greybox_core::atomic::write_string_atomic;
+use greybox_sim::cutting::CuttingSetup;
+use greybox_sim::pin::PinSetup;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The value of an axis that removes an optional field.
+pub const NONE: &str = "none";
+
+/// Work of one case, for scheduling and Slurm resources.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+pub struct Cost {
+    pub particles: usize,
+    /// Solver steps to the end of the run (without a steady-state stop).
+    pub steps: u64,
+    /// particles × steps.
+    pub particle_steps: f64,
+}
+
+/// One case of a sweep.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Case {
+    /// Position in the plan (Slurm array index).
+    pub index: usize,
+    /// First 12 hex digits of the SHA-256 of the resolved configuration.
+    pub id: String,
+    /// The axes' (field, value) of this case, as written in the sweep file.
+    pub values: Vec<(String, String)>,
+    /// The resolved configuration (TOML), as written to `config.toml`.
+    pub config: String,
+    pub cost: Cost,
+}
+
+/// Sets `value` at the dotted `path` of `root` (tables created on the way); the string
+/// [`NONE`] removes the field.
+pub fn apply(root: &mut toml::Value, path: &str, value: &toml::Value) -> Result<()> {
+    let keys: Vec<&str> = path.split('.').collect();
+    if keys.iter().any(|k| k.is_empty()) {
+        bail!("field '{path}': expected a dotted path such as insert.rake_deg");
+    }
+    let mut t = root
+        .as_table_mut()
+        .context("the base configuration is not a table")?;
+    for k in &keys[..keys.len() - 1] {
+        t = t
+            .entry(k.to_string())
+            .or_insert_with(|| toml::Value::Table(Default::default()))
+            .as_table_mut()
+            .with_context(|| format!("field '{path}': '{k}' is not a table"))?;
+    }
+    let last = keys[keys.len() - 1].to_string();
+    if value.as_str() == Some(NONE) {
+        t.remove(&last);
+    } else {
+        t.insert(last, value.clone());
+    }
+    Ok(())
+}
+
+/// A `*_file` value made absolute against `base` (paths in a case's config must hold from
+/// its own directory).
+pub fn absolute_file(path: &str, value: &toml::Value, base: &Path) -> toml::Value {
+    match value.as_str() {
+        Some(s) if path.ends_with("_file") && s != NONE && !Path::new(s).is_absolute() => {
+            toml::Value::String(
+                std::path::absolute(base.join(s))
+                    .unwrap_or_else(|_| base.join(s))
+                    .display()
+                    .to_string(),
+            )
+        }
+        _ => value.clone(),
+    }
+}
+
+/// The base configuration as a TOML value, its relative file paths made absolute.
+pub fn read_base(path: &Path, kind: CaseKind) -> Result<toml::Value> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read the base configuration {}", path.display()))?;
+    let mut v: toml::Value =
+        toml::from_str(&text).with_context(|| format!("{}: not TOML", path.display()))?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    if kind == CaseKind::Cutting {
+        if let Some(f) = v.get("friction").and_then(|f| f.get("law_file")).cloned() {
+            let abs = absolute_file("friction.law_file", &f, dir);
+            apply(&mut v, "friction.law_file", &abs)?;
+        }
+    }
+    Ok(v)
+}
+
+/// The canonical JSON of a resolved configuration with every referenced file replaced by
+/// its content's SHA-256, and the case id from it.
+fn case_id(kind: CaseKind, fraction: f64, frames: usize, canonical: &serde_json::Value) -> String {
+    let key = serde_json::json!({ "kind": kind, "fraction": fraction, "frames": frames, "config": canonical });
+    greybox_core::provenance::sha256_bytes(key.to_string().as_bytes())[..12].to_string()
+}
+
+fn hash_file(path: &Path) -> Result<String> {
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    Ok(format!(
+        "sha256:{}",
+        greybox_core::provenance::sha256_bytes(&bytes)
+    ))
+}
+
+/// Checks the configuration by deserialising it and returns (canonical JSON, cost).
+pub fn check(kind: CaseKind, v: &toml::Value, fraction: f64) -> Result<(serde_json::Value, Cost)> {
+    match kind {
+        CaseKind::Cutting => {
+            let s: CuttingSetup = v.clone().try_into().context("not a valid cutting set-up")?;
+            s.validate()?;
+            let mut canonical = serde_json::to_value(&s)?;
+            if let Some(f) = s.friction.law_file.as_deref().map(Path::new) {
+                canonical["friction"]["law_file"] = hash_file(f)?.into();
+                greybox_friction::spec::load_law(f)
+                    .with_context(|| format!("friction.law_file {}", f.display()))?;
+            }
+            let (model, duration) = s.model()?;
+            let sim = greybox_sim::Solver::new(model)?;
+            Ok((
+                canonical,
+                cost(sim.particle_count(), duration * fraction / sim.dt),
+            ))
+        }
+        CaseKind::Pin => {
+            let s: PinSetup = v.clone().try_into().context("not a valid pin set-up")?;
+            s.validate()?;
+            let (model, press, slide) = s.model()?;
+            let sim = greybox_sim::Solver::new(model)?;
+            Ok((
+                serde_json::to_value(&s)?,
+                cost(sim.particle_count(), (press + slide) / sim.dt),
+            ))
+        }
+    }
+}
+
+fn cost(particles: usize, steps: f64) -> Cost {
+    let steps = steps.ceil().max(0.0) as u64;
+    Cost {
+        particles,
+        steps,
+        particle_steps: particles as f64 * steps as f64,
+    }
+}
+
+/// Builds case `index` from the base and its (field, value) pairs; `sweep_dir` resolves
+/// relative file values.
+pub fn build(
+    kind: CaseKind,
+    base: &toml::Value,
+    values: &[(String, toml::Value)],
+    sweep_dir: &Path,
+    fraction: f64,
+    frames: usize,
+    index: usize,
+) -> Result<Case> {
+    let mut v = base.clone();
+    for (field, value) in values {
+        apply(&mut v, field, &absolute_file(field, value, sweep_dir))?;
+    }
+    let shown: Vec<(String, String)> = values
+        .iter()
+        .map(|(f, x)| (f.clone(), value_text(x)))
+        .collect();
+    let what = shown
+        .iter()
+        .map(|(f, x)| format!("{f} = {x}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let (canonical, cost) =
+        check(kind, &v, fraction).with_context(|| format!("case {} ({what})", index + 1))?;
+    Ok(Case {
+        index,
+        id: case_id(kind, fraction, frames, &canonical),
+        values: shown,
+        config: toml::to_string_pretty(&v)?,
+        cost,
+    })
+}
+
+/// A TOML value as a table cell: strings bare, numbers as written.
+pub fn value_text(v: &toml::Value) -> String {
+    match v {
+        toml::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+/// Where a case stands.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Status {
+    Done,
+    Failed,
+    Pending,
+}
+
+/// A case's directory and its files.
+pub struct CaseDir(pub PathBuf);
+
+impl CaseDir {
+    pub fn of(sweep_out: &Path, id: &str) -> Self {
+        CaseDir(sweep_out.join("cases").join(id))
+    }
+    pub fn config(&self) -> PathBuf {
+        self.0.join("config.toml")
+    }
+    pub fn result(&self) -> PathBuf {
+        self.0.join("result")
+    }
+    pub fn done(&self) -> PathBuf {
+        self.0.join("done.json")
+    }
+    pub fn failed(&self) -> PathBuf {
+        self.0.join("failed.json")
+    }
+    pub fn log(&self) -> PathBuf {
+        self.0.join("log.txt")
+    }
+    pub fn status(&self) -> Status {
+        if self.done().is_file() {
+            Status::Done
+        } else if self.failed().is_file() {
+            Status::Failed
+        } else {
+            Status::Pending
+        }
+    }
+    /// Creates the directory and writes `config.toml` (if it is not there already).
+    pub fn prepare(&self, case: &Case) -> Result<()> {
+        std::fs::create_dir_all(&self.0)
+            .with_context(|| format!("cannot create {}", self.0.display()))?;
+        if !self.config().is_file() {
+            write_string_atomic(&self.config(), &case.config)?;
+        }
+        Ok(())
+    }
+}
+
+/// What `done.json` holds.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Done {
+    pub id: String,
+    pub wall_s: f64,
+    /// The run's summary (cut or pin), as its `summary.json`.
+    pub summary: serde_json::Value,
+}
+
+/// The last `n` lines of a text file (empty if unreadable).
+pub fn tail(path: &Path, n: usize) -> String {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let lines: Vec<&str> = text.lines().collect();
+    lines[lines.len().saturating_sub(n)..].join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[test]
+    fn fields_are_set_created_and_removed_by_dotted_path() {
+        let mut v: toml::Value =
+            toml::from_str("mu = 0.3\n[friction]\nlaw_file = \"a.json\"\n").unwrap();
+        apply(&mut v, "insert.rake_deg", &toml::Value::Float(6.0)).unwrap();
+        apply(
+            &mut v,
+            "friction.law_file",
+            &toml::Value::String(NONE.into()),
+        )
+        .unwrap();
+        assert_eq!(v["insert"]["rake_deg"].as_float(), Some(6.0));
+        assert!(v["friction"].get("law_file").is_none());
+        let e = apply(&mut v, "mu.x", &toml::Value::Float(1.0)).unwrap_err();
+        assert!(e.to_string().contains("'mu' is not a table"), "{e}");
+        let rel = absolute_file(
+            "friction.law_file",
+            &toml::Value::String("l.json".into()),
+            Path::new("/s"),
+        );
+        assert_eq!(rel.as_str(), Some("/s/l.json"));
+    }
+}
