@@ -91,7 +91,7 @@ pub enum HoldOut {
 impl HoldOut {
     fn held(&self, i: usize) -> bool {
         match self {
-            HoldOut::Every(k) => *k > 0 && (i + 1) % k == 0,
+            HoldOut::Every(k) => *k > 0 && (i + 1).is_multiple_of(*k),
             HoldOut::List(l) => l.contains(&(i + 1)),
         }
     }

@@ -254,6 +254,9 @@ impl CaseDir {
 pub struct Done {
     pub id: String,
     pub wall_s: f64,
+    /// Peak resident memory of the process that ran the case, MB.
+    #[serde(default)]
+    pub peak_memory_mb: Option<f64>,
     /// The run's summary (cut or pin), as its `summary.json`.
     pub summary: serde_json::Value,
 }

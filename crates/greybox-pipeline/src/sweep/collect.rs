@@ -105,6 +105,7 @@ pub fn collect(out: &Path) -> Result<Collected> {
     header.extend(plan.fields.iter().cloned());
     header.extend(cols.iter().map(|c| c.0.clone()));
     header.push("case_wall_s".into());
+    header.push("case_peak_memory_MB".into());
     w.write_record(&header)?;
     let mut missing = Vec::new();
     let mut table: Vec<BTreeMap<String, String>> = Vec::new();
@@ -125,6 +126,12 @@ pub fn collect(out: &Path) -> Result<Collected> {
         row.push(
             d.as_ref()
                 .map(|d| format!("{:.3}", d.wall_s))
+                .unwrap_or_default(),
+        );
+        row.push(
+            d.as_ref()
+                .and_then(|d| d.peak_memory_mb)
+                .map(|m| format!("{m:.1}"))
                 .unwrap_or_default(),
         );
         w.write_record(&row)?;

@@ -154,6 +154,7 @@ pub fn run_case(out: &Path, index: usize) -> Result<Status> {
             let done = Done {
                 id: case.id.clone(),
                 wall_s: t0.elapsed().as_secs_f64(),
+                peak_memory_mb: greybox_core::provenance::peak_memory_mb(),
                 summary,
             };
             write_string_atomic(&dir.done(), &serde_json::to_string_pretty(&done)?)?;
