@@ -229,6 +229,12 @@ impl CaseDir {
     pub fn log(&self) -> PathBuf {
         self.0.join("log.txt")
     }
+    /// The error `failed.json` records, if the case failed.
+    pub fn failure(&self) -> Option<String> {
+        let text = std::fs::read_to_string(self.failed()).ok()?;
+        let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+        v["error"].as_str().map(str::to_string)
+    }
     pub fn status(&self) -> Status {
         if self.done().is_file() {
             Status::Done

@@ -227,12 +227,7 @@ pub fn failures(plan: &Plan, out: &Path, log: &dyn Fn(&Case) -> PathBuf) -> Vec<
         .iter()
         .filter(|c| CaseDir::of(out, &c.id).status() == Status::Failed)
         .map(|c| {
-            let dir = CaseDir::of(out, &c.id);
-            let error = std::fs::read_to_string(dir.failed())
-                .ok()
-                .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-                .and_then(|v| v["error"].as_str().map(str::to_string))
-                .unwrap_or_default();
+            let error = CaseDir::of(out, &c.id).failure().unwrap_or_default();
             FailedCase {
                 index: c.index,
                 id: c.id.clone(),

@@ -180,16 +180,12 @@ pub fn run(plan: &Plan, out: &Path, exe: &Path, dry_run: bool, poll_s: f64) -> R
         .map(|&i| {
             let c = &plan.cases[i];
             let dir = CaseDir::of(&out, &c.id);
-            let error = std::fs::read_to_string(dir.failed())
-                .ok()
-                .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-                .and_then(|v| v["error"].as_str().map(str::to_string))
-                .unwrap_or_else(|| {
-                    format!(
-                        "no result; Slurm state {}",
-                        states.get(&i).map_or("unknown", String::as_str)
-                    )
-                });
+            let error = dir.failure().unwrap_or_else(|| {
+                format!(
+                    "no result; Slurm state {}",
+                    states.get(&i).map_or("unknown", String::as_str)
+                )
+            });
             FailedCase {
                 index: i,
                 id: c.id.clone(),
