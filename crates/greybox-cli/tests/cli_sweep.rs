@@ -197,7 +197,18 @@ fn a_killed_run_resumes_without_redoing_finished_cases_and_collects_every_result
     assert!(fc(1) < fc(0) && fc(3) < fc(2), "{}", csv);
     assert!(out
         .join("plots/cutting_force_N_per_mm_vs_cutting_speed_m_s.svg")
-        .is_file());
+        .is_file()); // the report shows the sweep as one table with its plots, not its cases one by one
+    let rep: serde_json::Value = serde_json::from_str(&ok(&greybox(
+        &["report", ".", "--out", "report.html", "--json"],
+        d.path(),
+    )))
+    .unwrap();
+    assert_eq!(rep["sections"], serde_json::json!(["Sweeps"]), "{rep}");
+    let html = std::fs::read_to_string(d.path().join("report.html")).unwrap();
+    let plots = std::fs::read_dir(out.join("plots")).unwrap().count();
+    assert!(plots >= 2);
+    assert!(html.contains("4 cases of sweep.toml"));
+    assert_eq!(html.matches("<figure").count(), plots);
 }
 
 #[test]

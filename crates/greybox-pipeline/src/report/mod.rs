@@ -1,6 +1,6 @@
 //! `greybox report`: one self-contained HTML page for a study directory — the campaign,
-//! the friction data, the models, the cuts with pictures of the chip, rig dynamics and
-//! wear, and the provenance of every output. Each section appears only when its data is in
+//! the friction data, the models, the cuts with pictures of the chip, sweeps, rig dynamics
+//! and wear, and the provenance of every output. Each section appears only when its data is in
 //! the directory, wherever it lies in the tree (a `greybox demo` output, or a folder where
 //! a user ran the stages one by one).
 //!
@@ -15,6 +15,7 @@ pub mod page;
 mod provenance;
 mod rig;
 mod scan;
+mod sweeps;
 
 use anyhow::{Context, Result};
 use greybox_core::atomic::write_string_atomic;
@@ -85,6 +86,7 @@ pub fn report(o: &ReportOptions) -> Result<ReportSummary> {
         friction::section(dir, &found, &mut w),
         models::section(dir, &found, &mut w),
         cutting::section(dir, &found, &mut w),
+        sweeps::section(dir, &found, &mut w),
         rig::section(dir, &found, &mut w),
         provenance::section(dir, &found, &mut w),
     ]
@@ -93,7 +95,7 @@ pub fn report(o: &ReportOptions) -> Result<ReportSummary> {
     .collect();
     if sections.is_empty() {
         anyhow::bail!(
-            "{}: no greybox outputs found (plan run sheet, dataset, fit report, law, cut, characterisation, wear tests or provenance)",
+            "{}: no greybox outputs found (plan run sheet, dataset, fit report, law, cut, sweep, characterisation, wear tests or provenance)",
             dir.display()
         );
     }

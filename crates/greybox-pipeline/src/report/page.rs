@@ -93,7 +93,7 @@ h2 { font-size: 22px; border-bottom: 2px solid #333; padding-bottom: 4px; margin
 h3 { font-size: 18px; margin-top: 26px; }
 nav ul { list-style: none; padding: 0; display: flex; flex-wrap: wrap; gap: 6px 18px; }
 nav a { color: #0645ad; }
-table { border-collapse: collapse; margin: 10px 0 18px; font-size: 14px; }
+table { border-collapse: collapse; margin: 10px 0 18px; font-size: 14px; display: block; overflow-x: auto; max-width: 100%; }
 caption { text-align: left; font-weight: 600; padding: 4px 0; }
 th, td { border: 1px solid #999; padding: 3px 8px; text-align: right; vertical-align: top; }
 th { background: #eee; }

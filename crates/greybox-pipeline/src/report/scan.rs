@@ -24,6 +24,9 @@ pub struct Found {
     pub wear_tests: Vec<PathBuf>,
     /// Provenance records.
     pub provenance: Vec<PathBuf>,
+    /// Sweep output directories (a sweep `plan.json`); their cases are not searched one
+    /// by one (the sweep's results table stands for them).
+    pub sweeps: Vec<PathBuf>,
 }
 
 /// Directories never searched: VTK series, staging and resumable directories, hidden ones.
@@ -49,7 +52,8 @@ fn walk(dir: &Path, depth: usize, f: &mut Found) -> Result<()> {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
         if p.is_dir() {
-            if depth < 6 && !skipped(&name) {
+            let sweep_cases = name == "cases" && is_sweep(dir);
+            if depth < 6 && !skipped(&name) && !sweep_cases {
                 walk(&p, depth + 1, f)?;
             }
             continue;
@@ -57,6 +61,12 @@ fn walk(dir: &Path, depth: usize, f: &mut Found) -> Result<()> {
         classify(&p, &name, f);
     }
     Ok(())
+}
+
+/// Whether `dir` is a sweep's output directory (its `plan.json` lists cases and fields).
+fn is_sweep(dir: &Path) -> bool {
+    let keys = json_keys(&dir.join(crate::sweep::PLAN_FILE));
+    keys.iter().any(|k| k == "cases") && keys.iter().any(|k| k == "fields")
 }
 
 /// The first line of a text file (its CSV header), if readable.
@@ -87,6 +97,12 @@ fn classify(p: &Path, name: &str, f: &mut Found) {
     if name == "provenance.json" || name.ends_with(".provenance.json") {
         f.provenance.push(p.to_path_buf());
         return;
+    }
+    if name == crate::sweep::PLAN_FILE {
+        if let Some(d) = p.parent().filter(|d| is_sweep(d)) {
+            f.sweeps.push(d.to_path_buf());
+            return;
+        }
     }
     if name == "run_sheet.csv" {
         f.run_sheets.push(p.to_path_buf());

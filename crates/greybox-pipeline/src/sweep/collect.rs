@@ -153,6 +153,18 @@ pub fn collect(out: &Path) -> Result<Collected> {
     })
 }
 
+/// A value for a legend: a file field by its file name (the table keeps the whole path).
+fn short_value(field: &str, v: &str) -> String {
+    if field.ends_with("_file") {
+        Path::new(v)
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| v.to_string())
+    } else {
+        v.to_string()
+    }
+}
+
 /// A result against the first axis whose values are all numbers, one curve per
 /// combination of the other axes.
 fn write_plots(plan: &Plan, out: &Path, table: &[BTreeMap<String, String>]) -> Result<Vec<String>> {
@@ -197,7 +209,7 @@ fn write_plots(plan: &Plan, out: &Path, table: &[BTreeMap<String, String>]) -> R
             };
             let key = others
                 .iter()
-                .map(|f| format!("{f} = {}", r[*f]))
+                .map(|f| format!("{f} = {}", short_value(f, &r[*f])))
                 .collect::<Vec<_>>()
                 .join(", ");
             curves.entry(key).or_default().push((x, y));

@@ -1,0 +1,97 @@
+//! Sweeps section: per sweep, its cases with their axes and main results (from
+//! `results.csv`, written by `greybox sweep collect`) and its plots.
+
+use super::page::{Block, Section, Table};
+use super::scan::Found;
+use super::{shown, svg_figure, Warnings};
+use anyhow::{Context, Result};
+use std::path::Path;
+
+/// The results shown per case, when the table has them.
+const SHOWN: [&str; 7] = [
+    "cutting_force_N_per_mm",
+    "feed_force_N_per_mm",
+    "force_ratio",
+    "contact_length_mm",
+    "max_temperature_C",
+    "steady",
+    "case_wall_s",
+];
+
+pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
+    let mut s = Section::new("sweeps", "Sweeps");
+    for sw in &found.sweeps {
+        let r = sweep_blocks(dir, sw, w);
+        s.add_from(sw, r, w);
+    }
+    (!s.blocks.is_empty()).then_some(s)
+}
+
+fn sweep_blocks(dir: &Path, sw: &Path, w: &mut Warnings) -> Result<Vec<Block>> {
+    let plan = crate::sweep::Plan::read(sw)?;
+    let name = shown(dir, sw);
+    let mut out = vec![Block::Heading(format!("Sweep {name}"))];
+    let results = sw.join("results.csv");
+    if !results.is_file() {
+        out.push(Block::Text(format!(
+            "{} cases of {}; no results table yet (greybox sweep collect {name}).",
+            plan.cases.len(),
+            plan.source
+        )));
+        return Ok(out);
+    }
+    let mut rdr = csv::Reader::from_path(&results)?;
+    let header: Vec<String> = rdr.headers()?.iter().map(str::to_string).collect();
+    let cols: Vec<usize> = ["case", "status"]
+        .iter()
+        .map(|c| c.to_string())
+        .chain(plan.fields.iter().cloned())
+        .chain(SHOWN.iter().map(|c| c.to_string()))
+        .filter_map(|c| header.iter().position(|h| *h == c))
+        .collect();
+    let hdr: Vec<&str> = cols.iter().map(|&i| header[i].as_str()).collect();
+    let mut t = Table::new(
+        &format!(
+            "{} cases of {} ({})",
+            plan.cases.len(),
+            plan.source,
+            shown(dir, &results)
+        ),
+        &hdr,
+    );
+    for (k, r) in rdr.records().enumerate() {
+        let r = r.with_context(|| format!("{}: line {}", results.display(), k + 2))?;
+        t.row(
+            cols.iter()
+                .map(|&i| {
+                    let c = r.get(i).unwrap_or("");
+                    match c.parse::<f64>() {
+                        Ok(x) if c.contains('.') && x.abs() >= 1e-3 => super::num(x, 4),
+                        _ => c.to_string(),
+                    }
+                })
+                .collect(),
+        );
+    }
+    out.push(Block::Table(t));
+    let mut plots: Vec<_> = std::fs::read_dir(sw.join("plots"))
+        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_else(|_| Vec::new());
+    plots.sort();
+    let figs: Vec<Block> = plots
+        .iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "svg"))
+        .map(|p| {
+            svg_figure(
+                dir,
+                p,
+                "A result over the first axis, one curve per value of the others",
+                w,
+            )
+        })
+        .collect();
+    if !figs.is_empty() {
+        out.push(Block::Row(figs));
+    }
+    Ok(out)
+}
