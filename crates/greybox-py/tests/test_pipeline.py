@@ -191,7 +191,12 @@ def test_long_calls_release_the_gil(campaign, tmp_path):
     t = threading.Thread(target=count)
     t.start()
     start = time.perf_counter()
-    gb.fit(d / "adhesive.csv", tmp_path / "fit", config={"families": ["mlp", "svr"], "folds": 4, "inner_folds": 3})
+    # all four families: long enough (≈ 0.3 s) to count ticks in, now that a fit is fast
+    gb.fit(
+        d / "adhesive.csv",
+        tmp_path / "fit",
+        config={"families": ["mlp", "svr", "random-forest", "gradient-boosting"], "folds": 4, "inner_folds": 3},
+    )
     elapsed = time.perf_counter() - start
     done.set()
     t.join()
