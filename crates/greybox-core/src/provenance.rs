@@ -183,7 +183,9 @@ pub fn peak_memory_mb() -> Option<f64> {
 mod peak_memory_tests {
     #[test]
     fn peak_memory_is_a_plausible_non_decreasing_size() {
-        let Some(before) = super::peak_memory_mb() else { return };
+        let Some(before) = super::peak_memory_mb() else {
+            return;
+        };
         let mut v = vec![0u8; 64 << 20];
         for (i, b) in v.iter_mut().enumerate().step_by(1024) {
             *b = i as u8 | 1;
@@ -194,6 +196,9 @@ mod peak_memory_tests {
         // a peak never falls; how much 64 MB touched adds depends on the kernel (or a
         // sandbox's) page accounting and on what other tests in this process touched
         // before (+19 MB under gVisor when run alone), so only plausibility is checked
-        assert!(before > 1.0 && after.is_finite() && after >= before, "{before} → {after}");
+        assert!(
+            before > 1.0 && after.is_finite() && after >= before,
+            "{before} → {after}"
+        );
     }
 }

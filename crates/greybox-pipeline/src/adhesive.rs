@@ -174,17 +174,25 @@ fn correct_by_simulation(
     base.pin_radius_m = r;
     base.slide_length_m = sim.slide_mm * 1e-3;
     base.workpiece_height_m = sim.height_mm * 1e-3;
-    eprintln!(
-        "simulating {} load(s) ({} N) with up to {} pin runs each ...",
-        loads.len(),
-        simulated
-            .iter()
-            .map(|f| format!("{f:.0}"))
-            .collect::<Vec<_>>()
-            .join(", "),
-        sim.max_runs
+    // announced as a task (silent under --quiet and in library use); each pin run inside
+    // reports its own steps
+    let progress = greybox_core::progress::task(
+        &format!(
+            "ploughing share by simulation: {} load(s) ({} N), up to {} pin runs each",
+            loads.len(),
+            simulated
+                .iter()
+                .map(|f| format!("{f:.0}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            sim.max_runs
+        ),
+        None,
+        "loads",
     );
     let inv = inverse_over_loads(&base, &loads, sim.tolerance, sim.max_runs.max(2))?;
+    progress.set(inv.len() as u64);
+    progress.finish("done");
     let share = ShareLaw::fit(
         &inv.iter()
             .map(|l| (l.normal_force_n, l.result.deformation_share))

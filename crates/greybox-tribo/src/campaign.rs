@@ -442,6 +442,7 @@ fn sliding_runs(p: &Prepared) -> Vec<Span> {
 
 /// Optimal split of `x` into `k` pieces of at least `min_len` by least squares (dynamic
 /// programming over prefix sums). Returns the `k − 1` inner boundaries.
+#[allow(clippy::needless_range_loop)] // a dynamic programme over index ranges
 fn split_into(x: &[f64], k: usize, min_len: usize) -> Option<Vec<usize>> {
     let n = x.len();
     if k <= 1 {
@@ -461,7 +462,8 @@ fn split_into(x: &[f64], k: usize, min_len: usize) -> Option<Vec<usize>> {
         let s = s1[b] - s1[a];
         (s2[b] - s2[a]) - s * s / m
     };
-    // best[j][e]: cost of splitting x[..e] into j + 1 pieces
+    // best[j][e]: cost of splitting x[..e] into j + 1 pieces (indexed loops: the
+    // recurrence reads best[j - 1][a] and writes best[j][e], clearest with indices)
     let inf = f64::INFINITY;
     let mut best = vec![vec![inf; n + 1]; k];
     let mut arg = vec![vec![0usize; n + 1]; k];

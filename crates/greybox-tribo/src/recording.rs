@@ -651,8 +651,8 @@ fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, boo
             let found = aliases
                 .iter()
                 .find_map(|a| table.columns.iter().position(|c| column_matches(c, a)));
-            match found {
-                Some(idx) => match taken.iter().find(|(_, i, _)| *i == idx) {
+            if let Some(idx) = found {
+                match taken.iter().find(|(_, i, _)| *i == idx) {
                     // the role's usual column went to another role by an explicit mapping
                     Some((other, _, true)) if matches!(role, Role::Normal | Role::Tangential) => {
                         return Err(Error::input(
@@ -668,8 +668,7 @@ fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, boo
                     }
                     Some(_) => {}
                     None => taken.push((role, idx, false)),
-                },
-                None => {}
+                }
             }
         }
     }
