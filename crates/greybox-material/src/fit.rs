@@ -31,9 +31,24 @@ pub struct FlowPoint {
     pub strain_rate: f64,
 }
 
+/// Reads flow curves for a fit: [`read_flow_points`], at least 5 points.
+pub fn read_flow_curves(path: &Path) -> Result<Vec<FlowPoint>> {
+    let out = read_flow_points(path)?;
+    if out.len() < 5 {
+        return Err(Error::input(
+            SourcePos::file(path.display().to_string()),
+            format!(
+                "{} points: at least 5 are needed to fit A, B, n and m",
+                out.len()
+            ),
+        ));
+    }
+    Ok(out)
+}
+
 /// Reads flow curves: `strain,stress_MPa,temperature_C,strain_rate_per_s` (or
 /// `temperature_K`), one row per point, any number of curves.
-pub fn read_flow_curves(path: &Path) -> Result<Vec<FlowPoint>> {
+pub fn read_flow_points(path: &Path) -> Result<Vec<FlowPoint>> {
     let src = path.display().to_string();
     let mut rdr = csv::Reader::from_path(path).map_err(|e| csv_error(&src, e))?;
     let header = Header::new(&src, rdr.headers().map_err(|e| csv_error(&src, e))?);
@@ -88,15 +103,6 @@ pub fn read_flow_curves(path: &Path) -> Result<Vec<FlowPoint>> {
             temperature_k,
             strain_rate: rate,
         });
-    }
-    if out.len() < 5 {
-        return Err(Error::input(
-            SourcePos::file(&src),
-            format!(
-                "{} points: at least 5 are needed to fit A, B, n and m",
-                out.len()
-            ),
-        ));
     }
     Ok(out)
 }

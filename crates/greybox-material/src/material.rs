@@ -1,7 +1,7 @@
 //! A workpiece material: density, isotropic elasticity, Johnson–Cook plasticity and
 //! temperature-dependent thermal properties.
 
-use crate::{JohnsonCook, Table1d};
+use crate::{FlowStress, JohnsonCook, Table1d};
 use serde::{Deserialize, Serialize};
 
 /// Isotropic linear elasticity.
@@ -45,8 +45,8 @@ pub struct Material {
     /// Density ρ_0, kg/m³.
     pub density_kg_m3: f64,
     pub elastic: Elastic,
-    /// `None`: purely elastic.
-    pub plasticity: Option<JohnsonCook>,
+    /// Flow-stress model; `None`: purely elastic.
+    pub plasticity: Option<FlowStress>,
     pub thermal: Thermal,
     /// Sources of the numbers, for reports.
     pub source: String,
@@ -66,7 +66,7 @@ impl Material {
                 youngs_modulus_pa: 205e9,
                 poisson_ratio: 0.3,
             },
-            plasticity: Some(JohnsonCook::aisi1045_article()),
+            plasticity: Some(JohnsonCook::aisi1045_article().into()),
             thermal: Self::aisi1045_thermal(),
             source: "J-C: article Table 4; thermal: NIST extended-Oxley AISI 1045 inputs".into(),
         }
@@ -81,7 +81,7 @@ impl Material {
                 youngs_modulus_pa: 205e9,
                 poisson_ratio: 0.3,
             },
-            plasticity: Some(JohnsonCook::aisi1045_jaspers()),
+            plasticity: Some(JohnsonCook::aisi1045_jaspers().into()),
             thermal: Self::aisi1045_thermal(),
             source: "Jaspers & Dautzenberg 2002 via the NIST extended-Oxley inputs".into(),
         }
@@ -114,7 +114,7 @@ impl Material {
                 youngs_modulus_pa: 113.8e9,
                 poisson_ratio: 0.342,
             },
-            plasticity: Some(JohnsonCook::ti6al4v()),
+            plasticity: Some(JohnsonCook::ti6al4v().into()),
             thermal: Thermal {
                 conductivity: Table1d::constant(7.3),
                 specific_heat: Table1d::constant(560.0),
@@ -122,6 +122,20 @@ impl Material {
             },
             source: "standard Ti6Al4V J-C set (A 862, B 331 MPa, n 0.34, C 0.01, m 0.8)".into(),
         }
+    }
+
+    /// Ti6Al4V with the TANH Johnson–Cook of Sima & Özel 2010 (model 3; see
+    /// [`crate::TanhJohnsonCook::ti6al4v_sima_ozel_2010`]) and the elastic and thermal data of
+    /// [`Material::ti6al4v`] (c_p 580 J/(kg·K) as in the ETH IWF refinement code's set).
+    pub fn ti6al4v_sima_ozel() -> Self {
+        let mut m = Self::ti6al4v();
+        m.name = "Ti6Al4V (Sima-Özel TANH)".into();
+        m.plasticity = Some(FlowStress::Tanh(
+            crate::TanhJohnsonCook::ti6al4v_sima_ozel_2010(),
+        ));
+        m.thermal.specific_heat = Table1d::constant(580.0);
+        m.source = "TANH J-C: Sima & Özel, Int J Mach Tools Manuf 50 (2010) 943, model 3".into();
+        m
     }
 
     /// Purely elastic steel (for wave and Hertz checks).
@@ -155,8 +169,8 @@ impl Material {
                 r.within("taylor_quinney", self.thermal.taylor_quinney, 0.0, 1.0);
             })
             .finish()?;
-        if let Some(jc) = &self.plasticity {
-            jc.validate()?;
+        if let Some(f) = &self.plasticity {
+            f.validate()?;
         }
         self.thermal.conductivity.validate()?;
         self.thermal.specific_heat.validate()?;

@@ -190,15 +190,34 @@ pub struct CutCase {
 pub fn read_cutting_setup(path: &Path) -> Result<CutCase> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let setup: CuttingSetup = toml::from_str(&text)
+    let mut setup: CuttingSetup = toml::from_str(&text)
         .with_context(|| format!("{}: not a cutting set-up", path.display()))?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let material_inputs = load_material_files(&mut setup.material, base)
+        .with_context(|| path.display().to_string())?;
     setup
         .validate()
         .with_context(|| path.display().to_string())?;
-    let base = path.parent().unwrap_or(Path::new("."));
     let mut case = cut_case(setup, base)?;
     case.inputs.insert(0, ("--config", path.to_path_buf()));
+    case.inputs.extend(material_inputs);
     Ok(case)
+}
+
+/// Reads the files a material names (a flow-stress table's curves; relative paths against
+/// `base`) into it; returns them for the run's provenance.
+pub fn load_material_files(
+    material: &mut greybox_material::Material,
+    base: &Path,
+) -> Result<Vec<(&'static str, PathBuf)>> {
+    let mut inputs = Vec::new();
+    if let Some(greybox_material::FlowStress::Table(t)) = material.plasticity.as_mut() {
+        if let Some(f) = &t.file {
+            inputs.push(("material.plasticity.file", base.join(f)));
+        }
+        t.load(base)?;
+    }
+    Ok(inputs)
 }
 
 /// Pairs a set-up with its law: the law file (relative paths against `base`) or Coulomb `mu`.

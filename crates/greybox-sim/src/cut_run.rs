@@ -160,11 +160,11 @@ pub fn find_rate_sensitivity(
     tol_n_per_m: f64,
     max_runs: usize,
 ) -> Result<RateSensitivityFit, SimError> {
-    let Some(jc) = base.material.plasticity else {
+    if base.material.plasticity.is_none() {
         return Err(SimError::Invalid(
-            "the material has no Johnson-Cook plasticity to calibrate".into(),
+            "the material has no plasticity whose rate sensitivity C could be calibrated".into(),
         ));
-    };
+    }
     let (c_lo, c_hi) = c_range;
     if !(c_lo >= 0.0 && c_hi > c_lo && measured_force_n_per_m > 0.0 && max_runs >= 2) {
         return Err(SimError::Invalid(format!(
@@ -173,7 +173,9 @@ pub fn find_rate_sensitivity(
     }
     let eval = |c: f64| -> Result<f64, SimError> {
         let mut s = base.clone();
-        s.material.plasticity = Some(greybox_material::JohnsonCook { c, ..jc });
+        if let Some(f) = s.material.plasticity.as_mut() {
+            f.set_rate_sensitivity(c);
+        }
         let r = CutRun::execute(&s, law.clone(), 1.0, None, &mut [])?;
         Ok(r.force[0] - measured_force_n_per_m)
     };

@@ -321,11 +321,15 @@ impl CuttingSetup {
     }
 
     /// The contact state every window's law is evaluated at before its first update: the
-    /// J-C yield stress A (or 1 GPa without plasticity) as pressure, the cutting speed and
+    /// initial yield stress (J-C A; 1 GPa without plasticity) as pressure, the cutting speed and
     /// the initial temperature.
     pub fn nominal_contact(&self) -> ContactState {
         ContactState {
-            pressure_pa: self.material.plasticity.map_or(1e9, |jc| jc.a_pa),
+            pressure_pa: self
+                .material
+                .plasticity
+                .as_ref()
+                .map_or(1e9, |f| f.initial_yield_pa()),
             sliding_velocity_m_s: self.cutting_speed_m_s,
             temperature_k: self.initial_temperature_k,
         }

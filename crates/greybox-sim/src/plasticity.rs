@@ -1,5 +1,6 @@
-//! Johnson–Cook radial return (Wilkins 1964; Simo & Hughes, *Computational Inelasticity*, 1998,
-//! §3.3) for the plane-strain deviatoric stress (xx, xy, yy, zz).
+//! Radial return (Wilkins 1964; Simo & Hughes, *Computational Inelasticity*, 1998, §3.3) for
+//! the plane-strain deviatoric stress (xx, xy, yy, zz), for every flow-stress model of
+//! [`FlowStress`] (Johnson–Cook specialised: it is the hot path).
 //!
 //! With a trial von Mises stress σ_tr above the flow stress, the plastic increment Δε solves
 //! f(Δε) = σ_tr − 3GΔε − σ_JC(ε_p + Δε, Δε/Δt, T) = 0 on [0, (σ_tr − σ_y(0))/3G], where
@@ -13,8 +14,11 @@
 //! three evaluations (a power and a logarithm each) remain. A start far from the root, such
 //! as a tiny first-yield increment on the steep ε^n branch, makes Newton crawl; bisection
 //! then takes over.
+//!
+//! Models that may soften as the strain grows (TANH Johnson–Cook, measured curves) cannot use
+//! the perfectly plastic upper bound; their bracket is [0, σ_tr/3G], where f = −σ_y ≤ 0.
 
-use greybox_material::JohnsonCook;
+use greybox_material::{FlowStress, JohnsonCook};
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Return {
@@ -24,11 +28,39 @@ pub struct Return {
     pub flow_stress: f64,
 }
 
-/// Returns the deviator `s` = [xx, xy, yy, zz] to the yield surface in place; `None` (and
-/// `s` untouched) when the trial stress is elastic. `guess` is a starting value for Δε (the
-/// previous step's increment; 0 when unknown).
+/// Returns the deviator `s` = [xx, xy, yy, zz] to the yield surface of `model` in place;
+/// `None` (and `s` untouched) when the trial stress is elastic. `guess` is a starting value
+/// for Δε (the previous step's increment; 0 when unknown).
 #[allow(clippy::too_many_arguments)] // the state of one particle and the step
+#[inline]
 pub fn radial_return(
+    model: &FlowStress,
+    shear: f64,
+    s: &mut [f64; 4],
+    eps_p: f64,
+    temperature_k: f64,
+    dt: f64,
+    rate_scale: f64,
+    guess: f64,
+) -> Option<Return> {
+    match model {
+        FlowStress::JohnsonCook(jc) => {
+            johnson_cook_return(jc, shear, s, eps_p, temperature_k, dt, rate_scale, guess)
+        }
+        other => general_return(other, shear, s, eps_p, temperature_k, dt, rate_scale, guess),
+    }
+}
+
+/// Von Mises stress √(3/2 s:s) of the plane-strain deviator.
+#[inline(always)]
+fn von_mises(s: &[f64; 4]) -> f64 {
+    (1.5 * (s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + 2.0 * s[1] * s[1])).sqrt()
+}
+
+/// The J-C return, with the thermal factor and the strain hardening specialised (the hot
+/// path of every cut with a J-C material).
+#[allow(clippy::too_many_arguments)]
+fn johnson_cook_return(
     jc: &JohnsonCook,
     shear: f64,
     s: &mut [f64; 4],
@@ -38,8 +70,7 @@ pub fn radial_return(
     rate_scale: f64,
     guess: f64,
 ) -> Option<Return> {
-    let ss = s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + 2.0 * s[1] * s[1];
-    let trial = (1.5 * ss).sqrt();
+    let trial = von_mises(s);
     let soft = jc.thermal_factor(temperature_k);
     // A·soft ≤ σ_y(0) since B ≥ 0 (validated): most elastic particles need no power of ε_p.
     if trial <= jc.a_pa * soft {
@@ -71,11 +102,51 @@ pub fn radial_return(
         (f, df)
     };
     // σ_y only grows with Δε, so the perfectly plastic increment (σ_tr − σ_y(0))/3G is an
-    // upper bound: a tight bracket from the start. Newton's method safeguarded by the
-    // bracket (bisection whenever a step leaves it): f is convex and decreasing, so Newton
-    // converges quadratically from the right end; the bracket guards the ε^n and ln(ε̇)
-    // terms, whose slopes are unbounded at ε = 0 and Δε = 0.
-    let (mut lo, mut hi) = (0.0, (trial - y0) / g3);
+    // upper bound: a tight bracket from the start.
+    let d = solve_increment(eval, trial, (trial - y0) / g3, guess);
+    Some(scale_to_yield(s, trial, g3, d))
+}
+
+/// The return for any flow-stress model: σ_y and its slopes from the model. A model that
+/// may soften with strain (TANH, measured curves) is bracketed by [0, σ_tr/3G], where
+/// f = −σ_y ≤ 0.
+#[allow(clippy::too_many_arguments)]
+fn general_return(
+    model: &FlowStress,
+    shear: f64,
+    s: &mut [f64; 4],
+    eps_p: f64,
+    temperature_k: f64,
+    dt: f64,
+    rate_scale: f64,
+    guess: f64,
+) -> Option<Return> {
+    let trial = von_mises(s);
+    let y0 = model.flow_stress(eps_p, 0.0, temperature_k);
+    if trial <= y0 {
+        return None;
+    }
+    let g3 = 3.0 * shear;
+    let eval = |d: f64| {
+        let rate = rate_scale * d / dt;
+        let (y, dy_de, dy_dlnr) = model.flow_stress_slopes(eps_p + d, rate, temperature_k);
+        let dlnr = if d > 0.0 { dy_dlnr / d } else { 0.0 };
+        (trial - g3 * d - y, -g3 - dy_de - dlnr)
+    };
+    let hi = if model.hardens_monotonically() {
+        (trial - y0) / g3
+    } else {
+        trial / g3
+    };
+    let d = solve_increment(eval, trial, hi, guess);
+    Some(scale_to_yield(s, trial, g3, d))
+}
+
+/// Solves f(Δε) = 0 on [0, hi] (f(0) > 0 ≥ f(hi)) by Newton's method kept inside the
+/// shrinking bracket: bisection whenever a step leaves it or crawls.
+#[inline(always)]
+fn solve_increment(eval: impl Fn(f64) -> (f64, f64), trial: f64, hi: f64, guess: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, hi);
     // Converged when the residual is below 10⁻¹⁰ of the trial stress (0.1 Pa per GPa), or
     // when the bracket has shrunk to 10⁻¹⁴ of Δε (at the very first yield the ε^n slope can
     // put the residual tolerance out of floating-point reach).
@@ -103,15 +174,21 @@ pub fn radial_return(
             0.5 * (lo + hi)
         };
     }
+    d
+}
+
+/// Scales the deviator onto the yield surface after the increment d: σ_y = σ_tr − 3GΔε.
+#[inline(always)]
+fn scale_to_yield(s: &mut [f64; 4], trial: f64, g3: f64, d: f64) -> Return {
     let y = (trial - g3 * d).max(0.0);
     let scale = y / trial;
     for v in s.iter_mut() {
         *v *= scale;
     }
-    Some(Return {
+    Return {
         d_eps: d,
         flow_stress: y,
-    })
+    }
 }
 
 #[cfg(test)]
@@ -122,7 +199,7 @@ mod tests {
     /// consistency σ_tr − 3GΔε = σ_y holds.
     #[test]
     fn lands_on_the_rate_dependent_yield_surface() {
-        let jc = JohnsonCook::aisi1045_article();
+        let jc: FlowStress = JohnsonCook::aisi1045_article().into();
         let g = 80e9;
         for (t, amp) in [(293.15, 2e9), (700.0, 1e9), (1700.0, 5e8), (2000.0, 5e8)] {
             let mut s = [amp, 0.3 * amp, -0.4 * amp, -0.6 * amp];
@@ -150,7 +227,7 @@ mod tests {
     /// left the whole overstress in place.
     #[test]
     fn warm_start_far_from_the_root_still_converges() {
-        let jc = JohnsonCook::aisi1045_article();
+        let jc: FlowStress = JohnsonCook::aisi1045_article().into();
         let g = 80e9;
         let dt = 1e-9;
         for (eps_p, over, guess) in [
@@ -160,7 +237,7 @@ mod tests {
             (0.05, 5e7, 1e-12),
             (0.05, 5e7, 0.0),
         ] {
-            let y0 = jc.hardening(eps_p);
+            let y0 = jc.flow_stress(eps_p, 0.0, 293.15);
             let amp = (y0 + over) / (1.5f64 * 2.0).sqrt();
             let mut s = [amp, 0.0, -amp, 0.0];
             let r = radial_return(&jc, g, &mut s, eps_p, 293.15, dt, 1.0, guess).unwrap();

@@ -595,7 +595,7 @@ impl Solver {
     fn update(&mut self) -> Result<(), SimError> {
         let dt = self.dt;
         let d = self.derived;
-        let jc = self.material.plasticity;
+        let flow = &self.material.plasticity;
         let th = &self.material.thermal;
         let thermal = self.numerics.thermal;
         let beta_tq = th.taylor_quinney;
@@ -661,10 +661,10 @@ impl Solver {
                         }
                         let previous_increment = erate[k] * dt;
                         erate[k] = 0.0;
-                        if let Some(jc) = &jc {
+                        if let Some(flow) = flow {
                             let mut s = [sxx[k], sxy[k], syy[k], szz[k]];
                             if let Some(ret) = plasticity::radial_return(
-                                jc,
+                                flow,
                                 d.shear,
                                 &mut s,
                                 eps[k],

@@ -137,11 +137,21 @@ fn inverse_rate_sensitivity_recovers_the_c_that_made_the_force() {
     let mut setup = coarse_cut();
     let law: Arc<dyn FrictionLaw> = Arc::new(ConstantMu(0.35));
     let mut truth = setup.clone();
-    truth.material.plasticity.as_mut().unwrap().c = 0.03;
+    truth
+        .material
+        .plasticity
+        .as_mut()
+        .unwrap()
+        .set_rate_sensitivity(0.03);
     let measured = CutRun::execute(&truth, law.clone(), 1.0, None, &mut [])
         .unwrap()
         .force[0];
-    setup.material.plasticity.as_mut().unwrap().c = 0.0;
+    setup
+        .material
+        .plasticity
+        .as_mut()
+        .unwrap()
+        .set_rate_sensitivity(0.0);
     let fit = greybox_sim::cut_run::find_rate_sensitivity(
         &setup,
         law,
@@ -345,7 +355,15 @@ fn bad_configurations_name_the_field_and_the_rule() {
             "elastic.poisson_ratio must be in (-1, 0.5)",
         ),
         (
-            |s| s.material.plasticity.as_mut().unwrap().n = 1.5,
+            |s| {
+                s.material.plasticity = Some(
+                    greybox_material::JohnsonCook {
+                        n: 1.5,
+                        ..greybox_material::JohnsonCook::aisi1045_article()
+                    }
+                    .into(),
+                )
+            },
             "n must be in (0, 1], got 1.5",
         ),
         (|s| s.spacing_m = 40e-6, "fewer than 4 particle spacings"),

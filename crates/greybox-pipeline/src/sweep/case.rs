@@ -95,6 +95,11 @@ pub fn read_base(path: &Path, kind: CaseKind) -> Result<toml::Value> {
             let abs = absolute_file("friction.law_file", &f, dir);
             apply(&mut v, "friction.law_file", &abs)?;
         }
+        let table = v.get("material").and_then(|m| m.get("plasticity"));
+        if let Some(f) = table.and_then(|p| p.get("file")).cloned() {
+            let abs = absolute_file("material.plasticity.file", &f, dir);
+            apply(&mut v, "material.plasticity.file", &abs)?;
+        }
     }
     Ok(v)
 }
@@ -118,7 +123,10 @@ fn hash_file(path: &Path) -> Result<String> {
 pub fn check(kind: CaseKind, v: &toml::Value, fraction: f64) -> Result<(serde_json::Value, Cost)> {
     match kind {
         CaseKind::Cutting => {
-            let s: CuttingSetup = v.clone().try_into().context("not a valid cutting set-up")?;
+            let mut s: CuttingSetup = v.clone().try_into().context("not a valid cutting set-up")?;
+            // A flow-stress table's curves go into the canonical form: the case id follows
+            // their content.
+            crate::simulate::load_material_files(&mut s.material, Path::new(""))?;
             s.validate()?;
             let mut canonical = serde_json::to_value(&s)?;
             if let Some(f) = s.friction.law_file.as_deref().map(Path::new) {
