@@ -12,7 +12,8 @@ use greybox_sim::chip::{CutMeasures, ProfilePoint};
 use greybox_sim::cut_run::{fingerprint as fingerprint_cut, CutRun};
 use greybox_sim::cutting::CuttingSetup;
 use greybox_sim::output::{
-    write_mu_history_csv, write_profile_csv, write_windows_csv, ForceHistory, VtkSeries,
+    write_mu_history_csv, write_profile_csv, write_tool_temperature_csv, write_windows_csv,
+    ForceHistory, VtkSeries,
 };
 use greybox_sim::pin::{fingerprint, simulate_from, PinResult, PinSetup};
 use greybox_sim::tool::WindowStats;
@@ -274,6 +275,15 @@ pub struct CutSummary {
     #[serde(flatten)]
     pub measures: CutMeasures,
     pub energy_error: f64,
+    /// Hottest workpiece particle at the end, °C, and the flow-stress model's melting point.
+    pub max_temperature_c: f64,
+    pub melt_temperature_c: Option<f64>,
+    /// Hottest tool cell at the end, °C (thermal tools).
+    pub tool_max_temperature_c: Option<f64>,
+    /// Heat into the tool over all heat generated (β W_plastic + W_friction) (thermal tools).
+    pub tool_heat_share: Option<f64>,
+    /// Time scaling: run speed over physical speed (1: none).
+    pub speed_up: f64,
     pub files: Vec<String>,
 }
 
@@ -309,6 +319,10 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
     r.forces.write_csv(&files[0])?;
     write_profile_csv(&files[1], &r.profile)?;
     write_mu_history_csv(&files[2], &r.updater.history, tool, &r.layout)?;
+    let tool_field = out.join("tool_temperature.csv");
+    if write_tool_temperature_csv(&tool_field, tool)? {
+        files.push(tool_field);
+    }
     let averaged = AveragedPart {
         from_mm: r.averaged_from_s * v * 1e3,
         steady: r.steady.steady_since_s.is_some(),
@@ -350,6 +364,30 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
         averaged_from_mm: r.averaged_from_s * v * 1e3,
         measures: r.measures,
         energy_error: r.sim.energy_balance().relative_error,
+        max_temperature_c: r
+            .sim
+            .particles
+            .temp
+            .iter()
+            .copied()
+            .fold(f64::MIN, f64::max)
+            - 273.15,
+        melt_temperature_c: setup
+            .material
+            .plasticity
+            .as_ref()
+            .map(|f| f.melt_temperature_k() - 273.15),
+        tool_max_temperature_c: tool.thermal.as_ref().map(|t| t.max_temperature() - 273.15),
+        tool_heat_share: tool.thermal.as_ref().map(|_| {
+            let e = &r.sim.energy;
+            let sources = setup.material.thermal.taylor_quinney * e.plastic_work + e.friction_work;
+            if sources > 0.0 {
+                e.tool_heat / sources
+            } else {
+                0.0
+            }
+        }),
+        speed_up: setup.speed_up(),
         files: files
             .iter()
             .map(|p| staged.shown(p).display().to_string())

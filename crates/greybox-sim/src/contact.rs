@@ -15,7 +15,8 @@
 //!
 //! The window accumulates f_N, |f_t|, f_N·|v_t| and f_N·T for its time averages; the friction
 //! work (f_t on the mid-step relative velocity) heats the particle (share
-//! `friction_heat_share`).
+//! `friction_heat_share`); a thermal tool takes the rest of it, and exchanges heat with
+//! the particle through the interface conductance (see [`crate::tool_thermal`]).
 
 use crate::particles::{Particles, FREE};
 use crate::rates::Rates;
@@ -35,6 +36,13 @@ pub(crate) struct ContactParams<'a> {
     pub heat_share: f64,
     /// Mass scaling factor (heat capacity per volume stays physical).
     pub mass_scaling: f64,
+    /// Heat conduction on (a thermal tool exchanges heat only then).
+    pub thermal_on: bool,
+    /// Contact length per particle (the particle spacing), m.
+    pub spacing: f64,
+    /// Physical over simulated speed (`strain_rate_scale`): windows record physical sliding
+    /// velocities in time-scaled runs.
+    pub velocity_scale: f64,
     pub thermal: &'a Thermal,
 }
 
@@ -44,6 +52,9 @@ pub(crate) struct ContactWork {
     pub friction: f64,
     pub penalty: f64,
     pub external: f64,
+    /// Heat into thermal tools (conduction across the interface and their share of the
+    /// friction heat), J/m.
+    pub tool_heat: f64,
 }
 
 #[allow(clippy::needless_range_loop)] // several arrays are indexed by i
@@ -66,6 +77,8 @@ pub(crate) fn apply(
     let mut friction_work = 0.0;
     let mut penalty_work = 0.0;
     let mut external_work = 0.0;
+    let mut tool_heat = 0.0;
+    let dx_p = c.spacing;
     for tool in tools.iter_mut() {
         let vt = tool.motion.velocity(t);
         let (lo, hi) = tool.shape.bounding_box();
@@ -126,11 +139,25 @@ pub(crate) fn apply(
             friction_work += slip_power * dt;
             penalty_work -= fn_ * mvn * dt;
             external_work += (fx * vt[0] + fy * vt[1]) * dt;
+            let cp = th.specific_heat.eval(p.temp[i]);
             if heat > 0.0 && slip_power > 0.0 {
-                let c = th.specific_heat.eval(p.temp[i]);
-                rates[i].dtemp += heat * slip_power / (m / f_mass * c);
+                rates[i].dtemp += heat * slip_power / (m / f_mass * cp);
             }
-            let vslip = tvx.hypot(tvy);
+            let mut t_tool = 0.0;
+            if let (Some(tt), true) = (tool.thermal.as_mut(), c.thermal_on) {
+                // The contact point on the surface, half a tool cell inside.
+                let d = sp.distance + 0.5 * tt.dx;
+                let cell = tt.cell_at([lx - n[0] * d, ly - n[1] * d]);
+                t_tool = tt.temp[cell];
+                // Conduction across coating and interface, W/m, and the tool's share of the
+                // friction heat.
+                let q = tt.conductance(t_tool) * (p.temp[i] - t_tool) * dx_p;
+                rates[i].dtemp -= q / (m / f_mass * cp);
+                let into_tool = (q + (1.0 - heat) * slip_power.max(0.0)) * dt;
+                tt.heat_in[cell] += into_tool;
+                tool_heat += into_tool;
+            }
+            let vslip = tvx.hypot(tvy) * c.velocity_scale;
             if let Some(k) = win {
                 let a = &mut tool.windows[k].acc;
                 a.contacts += 1.0;
@@ -138,6 +165,7 @@ pub(crate) fn apply(
                 a.tangential += ftx.hypot(fty);
                 a.normal_x_slip += fn_ * vslip;
                 a.normal_x_temp += fn_ * p.temp[i];
+                a.normal_x_tool_temp += fn_ * t_tool;
                 if slipping {
                     a.slipping += 1.0;
                 }
@@ -145,10 +173,14 @@ pub(crate) fn apply(
         }
         tool.force = force;
         tool.contacts = contacts;
+        if let (Some(tt), true) = (tool.thermal.as_mut(), c.thermal_on) {
+            tt.after_step(dt);
+        }
     }
     ContactWork {
         friction: friction_work,
         penalty: penalty_work,
         external: external_work,
+        tool_heat,
     }
 }

@@ -55,6 +55,7 @@ impl CutRun {
         let v = setup.cutting_speed_m_s;
         let mut forces = ForceHistory::new(0, ((end / sim.dt) / 500.0).ceil().max(1.0) as u64);
         let mut updater = FrictionUpdater::new(0, setup.friction.update_every_steps);
+        updater.smoothing = setup.friction.smoothing;
         let st = &setup.steady;
         let mut steady = SteadyForce::new(
             0,

@@ -9,6 +9,7 @@ use crate::geometry::RoundedPolygon;
 use crate::model::{BoundaryGroup, Model, Numerics};
 use crate::particles::Particles;
 use crate::tool::{ConstantMu, Motion, MotionSegment, Tool, Window};
+use crate::tool_thermal::{ToolThermal, ToolThermalSetup};
 use greybox_core::{ContactState, FrictionLaw};
 use greybox_material::Material;
 use serde::{Deserialize, Serialize};
@@ -190,6 +191,18 @@ pub struct CuttingSetup {
     /// Steady-force detection.
     #[serde(default)]
     pub steady: SteadySetup,
+    /// Heat conduction in the tool and thermal contact (`None`: a rigid, adiabatic tool, as
+    /// in the ETH IWF codes).
+    #[serde(default)]
+    pub tool_thermal: Option<ToolThermalSetup>,
+    /// Time scaling: the physical cutting speed, m/s, when the cut runs faster
+    /// (`cutting_speed_m_s`) to save steps. With the speed-up s = v_run/v_phys the strain rate
+    /// the flow stress sees is scaled back by 1/s, every conductivity (workpiece, tool) and
+    /// the contact conductance are multiplied by s so that the thermal Péclet number v·L/α
+    /// stays physical, and the friction windows report (and their law sees) the physical
+    /// sliding velocity. Inertia grows as s² (ρ v² h per width; check it against the force).
+    #[serde(default)]
+    pub physical_cutting_speed_m_s: Option<f64>,
 }
 
 /// Friction windows along the rake and flank faces and the in-process grey-box loop.
@@ -203,6 +216,9 @@ pub struct FrictionSetup {
     /// Law file (`greybox fit` model, law or table file; relative to the set-up file). Without
     /// one the insert uses the constant `mu`.
     pub law_file: Option<String>,
+    /// Smoothing of the state each window hands to its law, in time and along the tool
+    /// (default: none; see [`crate::friction_loop`]).
+    pub smoothing: crate::friction_loop::Smoothing,
 }
 
 impl Default for FrictionSetup {
@@ -211,6 +227,7 @@ impl Default for FrictionSetup {
             window_length_m: 10e-6,
             update_every_steps: 500,
             law_file: None,
+            smoothing: Default::default(),
         }
     }
 }
@@ -263,7 +280,15 @@ impl CuttingSetup {
             numerics: Numerics::default(),
             friction: FrictionSetup::default(),
             steady: SteadySetup::default(),
+            tool_thermal: None,
+            physical_cutting_speed_m_s: None,
         }
+    }
+
+    /// The speed-up s of a time-scaled cut (1 without time scaling).
+    pub fn speed_up(&self) -> f64 {
+        self.physical_cutting_speed_m_s
+            .map_or(1.0, |v| self.cutting_speed_m_s / v)
     }
 
     /// Workpiece length: the cut plus a margin of 0.2 mm ahead.
@@ -289,6 +314,14 @@ impl CuttingSetup {
             .positive("spacing_m", dx)
             .positive("workpiece_height_m", self.workpiece_height_m)
             .non_negative("mu", self.mu)
+            .relation(
+                self.physical_cutting_speed_m_s
+                    .is_none_or(|v| v > 0.0 && v <= self.cutting_speed_m_s),
+                format!(
+                    "physical_cutting_speed_m_s ({:?}) must be > 0 and at most cutting_speed_m_s ({}): the cut runs at cutting_speed_m_s and is scaled back",
+                    self.physical_cutting_speed_m_s, self.cutting_speed_m_s
+                ),
+            )
             .positive("initial_temperature_k", self.initial_temperature_k)
             .section("friction", |r| {
                 r.positive("window_length_m", self.friction.window_length_m)
@@ -317,6 +350,10 @@ impl CuttingSetup {
             )
             .finish()?;
         self.numerics.validate()?;
+        self.friction.smoothing.validate()?;
+        if let Some(t) = &self.tool_thermal {
+            t.validate()?;
+        }
         self.material.validate()
     }
 
@@ -330,7 +367,7 @@ impl CuttingSetup {
                 .plasticity
                 .as_ref()
                 .map_or(1e9, |f| f.initial_yield_pa()),
-            sliding_velocity_m_s: self.cutting_speed_m_s,
+            sliding_velocity_m_s: self.cutting_speed_m_s / self.speed_up(),
             temperature_k: self.initial_temperature_k,
         }
     }
@@ -393,6 +430,23 @@ impl CuttingSetup {
             &law,
             &self.nominal_contact(),
         );
+        let speed_up = self.speed_up();
+        let layout = self.insert.layout()?;
+        let thermal = self.tool_thermal.as_ref().map(|t| {
+            let grid = if t.grid_spacing_m > 0.0 {
+                t.grid_spacing_m
+            } else {
+                dx
+            };
+            ToolThermal::new(
+                t.clone(),
+                &shape,
+                grid,
+                self.initial_temperature_k,
+                layout.flank_end_s,
+                speed_up,
+            )
+        });
         let tool = Tool {
             name: "insert".into(),
             shape,
@@ -401,14 +455,26 @@ impl CuttingSetup {
             windows,
             force: [0.0, 0.0],
             contacts: 0,
+            thermal,
         };
+        let mut material = self.material.clone();
+        let mut numerics = self.numerics.clone();
+        if speed_up != 1.0 {
+            numerics.strain_rate_scale /= speed_up;
+            material
+                .thermal
+                .conductivity
+                .y
+                .iter_mut()
+                .for_each(|k| *k *= speed_up);
+        }
         Ok((
             Model {
                 particles: p,
-                material: self.material.clone(),
+                material,
                 tools: vec![tool],
                 groups,
-                numerics: self.numerics.clone(),
+                numerics,
             },
             duration,
         ))

@@ -6,11 +6,48 @@
 //! A window that saw no contact in an interval keeps its μ. Every update is recorded (the μ
 //! history per window), and the raw interval sums are kept so that time-averaged contact
 //! profiles can be formed afterwards over any part of the run (e.g. the steady part).
+//!
+//! One interval's average over one window is noisy: a few particles enter and leave it, so
+//! a window's pressure jumps from update to update and from its neighbours', and so does
+//! the μ a pressure-dependent law gives. [`Smoothing`] steadies the state the law sees:
+//! * in space, the window's interval sums are combined with those of its `space_windows`
+//!   neighbours on each side with triangular weights 1 − |k|/(n + 1) (contact-weighted, as
+//!   the window's own averages are: pressure Σ w f_N / Σ w contacts, velocity and
+//!   temperature f_N-weighted);
+//! * in time, an exponential average over updates, x ← x + (x_new − x)/N with
+//!   N = `time_updates` (N = 1: none), started at the window's first contact.
 
 use crate::executor::{Control, Observer};
 use crate::solver::{SimError, Solver};
 use crate::tool::{WindowAccumulator, WindowStats};
 use greybox_core::ContactState;
+
+/// How the state a window hands to its law is smoothed (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Smoothing {
+    /// Exponential average over this many updates (1: the interval's own state).
+    pub time_updates: f64,
+    /// Neighbouring windows on each side averaged in (0: none).
+    pub space_windows: usize,
+}
+
+impl Default for Smoothing {
+    fn default() -> Self {
+        Smoothing {
+            time_updates: 1.0,
+            space_windows: 0,
+        }
+    }
+}
+
+impl Smoothing {
+    pub fn validate(&self) -> greybox_core::Result<()> {
+        greybox_core::rules::Rules::new("friction.smoothing")
+            .within("time_updates", self.time_updates, 1.0, 1e6)
+            .finish()
+    }
+}
 
 /// One re-evaluation of one window.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -20,6 +57,9 @@ pub struct WindowUpdate {
     pub window: usize,
     /// The state averaged over the interval that ends here.
     pub stats: WindowStats,
+    /// The state the law was evaluated at (`stats` smoothed in space and time).
+    #[serde(default)]
+    pub law_state: Option<ContactState>,
     /// μ the law gives at that state; the window uses it from here on.
     pub mu: f64,
 }
@@ -37,6 +77,11 @@ pub struct Interval {
 pub struct FrictionUpdater {
     pub tool: usize,
     pub every: u64,
+    #[serde(default)]
+    pub smoothing: Smoothing,
+    /// Per window: the time-smoothed state, from the window's first contact on.
+    #[serde(default)]
+    pub smoothed: Vec<Option<ContactState>>,
     pub history: Vec<WindowUpdate>,
     pub intervals: Vec<Interval>,
     t_start: f64,
@@ -50,6 +95,8 @@ impl FrictionUpdater {
         FrictionUpdater {
             tool,
             every: every_steps.max(1),
+            smoothing: Smoothing::default(),
+            smoothed: Vec::new(),
             history: Vec::new(),
             intervals: Vec::new(),
             t_start: 0.0,
@@ -65,38 +112,62 @@ impl FrictionUpdater {
             .tools
             .get_mut(self.tool)
             .ok_or_else(|| SimError::Invalid(format!("no tool {}", self.tool)))?;
-        let mut sums = Vec::with_capacity(tool.windows.len());
+        let sums: Vec<WindowAccumulator> = tool.windows.iter().map(|w| w.acc).collect();
+        let lengths: Vec<f64> = tool.windows.iter().map(|w| w.length()).collect();
+        self.smoothed.resize(sums.len(), None);
         for (k, w) in tool.windows.iter_mut().enumerate() {
-            sums.push(w.acc);
-            if update {
-                if let Some(stats) = w.acc.stats(spacing, w.length()) {
-                    let state = ContactState {
-                        pressure_pa: stats.pressure_pa,
-                        sliding_velocity_m_s: stats.sliding_velocity_m_s,
-                        temperature_k: stats.temperature_k,
-                    };
-                    let mu = w.law.mu(&state);
-                    if !(mu.is_finite() && mu >= 0.0) {
-                        return Err(SimError::Invalid(format!(
-                            "friction law '{}' gave μ = {mu} in window {k} of tool '{}' at p = {:.1} MPa, v = {:.2} m/min, T = {:.1} K (expected a finite μ ≥ 0)",
-                            w.law.name(),
-                            tool.name,
-                            stats.pressure_pa * 1e-6,
-                            stats.sliding_velocity_m_s * 60.0,
-                            stats.temperature_k
-                        )));
-                    }
-                    w.mu = mu;
-                    self.history.push(WindowUpdate {
-                        step,
-                        time_s: time,
-                        window: k,
-                        stats,
-                        mu,
-                    });
-                }
-            }
             w.acc = WindowAccumulator::default();
+            if !update {
+                continue;
+            }
+            let Some(stats) = sums[k].stats(spacing, lengths[k]) else {
+                continue;
+            };
+            let n = self.smoothing.space_windows;
+            let state = if n == 0 {
+                state_of(&stats)
+            } else {
+                let (mut acc, mut len) = (WindowAccumulator::default(), 0.0);
+                for j in k.saturating_sub(n)..(k + n + 1).min(sums.len()) {
+                    let wgt = 1.0 - j.abs_diff(k) as f64 / (n + 1) as f64;
+                    acc.add(&sums[j].scaled(wgt));
+                    len += wgt * lengths[j];
+                }
+                acc.stats(spacing, len)
+                    .map_or(state_of(&stats), |s| state_of(&s))
+            };
+            let a = 1.0 / self.smoothing.time_updates;
+            let law_state = match self.smoothed[k] {
+                Some(old) => ContactState {
+                    pressure_pa: old.pressure_pa + a * (state.pressure_pa - old.pressure_pa),
+                    sliding_velocity_m_s: old.sliding_velocity_m_s
+                        + a * (state.sliding_velocity_m_s - old.sliding_velocity_m_s),
+                    temperature_k: old.temperature_k
+                        + a * (state.temperature_k - old.temperature_k),
+                },
+                None => state,
+            };
+            self.smoothed[k] = Some(law_state);
+            let mu = w.law.mu(&law_state);
+            if !(mu.is_finite() && mu >= 0.0) {
+                return Err(SimError::Invalid(format!(
+                    "friction law '{}' gave μ = {mu} in window {k} of tool '{}' at p = {:.1} MPa, v = {:.2} m/min, T = {:.1} K (expected a finite μ ≥ 0)",
+                    w.law.name(),
+                    tool.name,
+                    law_state.pressure_pa * 1e-6,
+                    law_state.sliding_velocity_m_s * 60.0,
+                    law_state.temperature_k
+                )));
+            }
+            w.mu = mu;
+            self.history.push(WindowUpdate {
+                step,
+                time_s: time,
+                window: k,
+                stats,
+                law_state: Some(law_state),
+                mu,
+            });
         }
         self.intervals.push(Interval {
             t_start_s: self.t_start,
@@ -117,6 +188,14 @@ impl FrictionUpdater {
             }
         }
         total
+    }
+}
+
+fn state_of(s: &WindowStats) -> ContactState {
+    ContactState {
+        pressure_pa: s.pressure_pa,
+        sliding_velocity_m_s: s.sliding_velocity_m_s,
+        temperature_k: s.temperature_k,
     }
 }
 

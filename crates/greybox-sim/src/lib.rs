@@ -29,6 +29,7 @@ mod rates;
 pub mod solver;
 pub mod steady;
 pub mod tool;
+pub mod tool_thermal;
 
 pub use executor::{restored_state, run, Control, Observer, ObserverStates, RunSummary};
 pub use geometry::RoundedPolygon;

@@ -242,9 +242,34 @@ impl Observer for VtkSeries {
     }
 }
 
+/// The temperature field of a thermal tool in the workpiece frame:
+/// `x_mm,y_mm,temperature_C,held` (one row per grid cell inside the tool; `held` = 1 for the
+/// cells kept at the ambient temperature). Nothing is written for an adiabatic tool.
+pub fn write_tool_temperature_csv(path: &Path, tool: &Tool) -> greybox_core::Result<bool> {
+    let Some(tt) = &tool.thermal else {
+        return Ok(false);
+    };
+    write_atomic(path, |w| {
+        writeln!(w, "x_mm,y_mm,temperature_C,held")?;
+        for (c, t, held) in tt.cells_with_kind() {
+            writeln!(
+                w,
+                "{:.5},{:.5},{:.2},{}",
+                (c[0] + tool.position[0]) * 1e3,
+                (c[1] + tool.position[1]) * 1e3,
+                t - 273.15,
+                u8::from(held)
+            )?;
+        }
+        Ok(())
+    })?;
+    Ok(true)
+}
+
 /// Per-window statistics of a tool as CSV: s range (mm), μ in use, law and the time-averaged
 /// state (`pressure_MPa`, `sliding_velocity_m_per_min`, `temperature_C`, `shear_stress_MPa`,
-/// `mu_effective`, `contact_fraction`, `slip_fraction`; empty where never in contact).
+/// `mu_effective`, `contact_fraction`, `slip_fraction`, `tool_temperature_C` (thermal tools);
+/// empty where never in contact).
 pub fn write_windows_csv(path: &Path, tool: &Tool, spacing: f64) -> greybox_core::Result<()> {
     write_atomic(path, |w| {
         writeln!(w, "window,s_start_mm,s_end_mm,law,mu,{STATS_HEADER}")?;
@@ -264,23 +289,29 @@ pub fn write_windows_csv(path: &Path, tool: &Tool, spacing: f64) -> greybox_core
 }
 
 /// The columns after `STATS_HEADER`: the state in CSV units, empty fields without contact.
-const STATS_HEADER: &str = "pressure_MPa,normal_stress_MPa,sliding_velocity_m_per_min,temperature_C,shear_stress_MPa,mu_effective,contact_fraction,slip_fraction";
+const STATS_HEADER: &str = "pressure_MPa,normal_stress_MPa,sliding_velocity_m_per_min,temperature_C,shear_stress_MPa,mu_effective,contact_fraction,slip_fraction,tool_temperature_C";
 
 fn write_stats(w: &mut dyn Write, stats: Option<&WindowStats>) -> std::io::Result<()> {
     match stats {
-        Some(s) => writeln!(
-            w,
-            ",{:.3},{:.3},{:.3},{:.2},{:.3},{:.5},{:.4},{:.4}",
-            s.pressure_pa * 1e-6,
-            s.normal_stress_pa * 1e-6,
-            s.sliding_velocity_m_s * 60.0,
-            s.temperature_k - 273.15,
-            s.shear_stress_pa * 1e-6,
-            s.mu_effective,
-            s.contact_fraction,
-            s.slip_fraction
-        ),
-        None => writeln!(w, ",,,,,,,,"),
+        Some(s) => {
+            write!(
+                w,
+                ",{:.3},{:.3},{:.3},{:.2},{:.3},{:.5},{:.4},{:.4},",
+                s.pressure_pa * 1e-6,
+                s.normal_stress_pa * 1e-6,
+                s.sliding_velocity_m_s * 60.0,
+                s.temperature_k - 273.15,
+                s.shear_stress_pa * 1e-6,
+                s.mu_effective,
+                s.contact_fraction,
+                s.slip_fraction
+            )?;
+            match s.tool_temperature_k {
+                Some(t) => writeln!(w, "{:.2}", t - 273.15),
+                None => writeln!(w),
+            }
+        }
+        None => writeln!(w, ",,,,,,,,,"),
     }
 }
 
@@ -305,7 +336,9 @@ pub fn write_profile_csv(path: &Path, profile: &[ProfilePoint]) -> greybox_core:
 }
 
 /// The μ history of the grey-box loop: one row per window update (`step,time_s,window,face,
-/// distance_from_edge_um,mu,` then the state averaged over the interval that ended there).
+/// distance_from_edge_um,mu,` the state the law saw — `law_pressure_MPa,
+/// law_sliding_velocity_m_per_min,law_temperature_C`, the interval state smoothed as the
+/// set-up asks — then the state averaged over the interval that ended there).
 pub fn write_mu_history_csv(
     path: &Path,
     history: &[WindowUpdate],
@@ -315,7 +348,7 @@ pub fn write_mu_history_csv(
     write_atomic(path, |w| {
         writeln!(
             w,
-            "step,time_s,window,face,distance_from_edge_um,mu,{STATS_HEADER}"
+            "step,time_s,window,face,distance_from_edge_um,mu,law_pressure_MPa,law_sliding_velocity_m_per_min,law_temperature_C,{STATS_HEADER}"
         )?;
         for u in history {
             let win = &tool.windows[u.window];
@@ -329,6 +362,18 @@ pub fn write_mu_history_csv(
                 face.name(),
                 d * 1e6,
                 u.mu
+            )?;
+            let law = u.law_state.unwrap_or(greybox_core::ContactState {
+                pressure_pa: u.stats.pressure_pa,
+                sliding_velocity_m_s: u.stats.sliding_velocity_m_s,
+                temperature_k: u.stats.temperature_k,
+            });
+            write!(
+                w,
+                ",{:.3},{:.3},{:.2}",
+                law.pressure_pa * 1e-6,
+                law.sliding_velocity_m_s * 60.0,
+                law.temperature_k - 273.15
             )?;
             write_stats(w, Some(&u.stats))?;
         }

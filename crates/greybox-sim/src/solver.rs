@@ -82,6 +82,9 @@ pub struct EnergyBook {
     pub penalty_work: f64,
     /// Dissipation by artificial viscosity.
     pub viscous_work: f64,
+    /// Heat into thermal tools (across the interface plus their share of friction heat).
+    #[serde(default)]
+    pub tool_heat: f64,
 }
 
 /// Energies of a state, J/m.
@@ -219,6 +222,12 @@ impl Solver {
             .map(|s| s.velocity[0].hypot(s.velocity[1]))
             .fold(0.0, f64::max);
         let dt = numerics.cfl * h / (derived.c_long + vmax_tool);
+        let mut tools = tools;
+        for t in tools.iter_mut() {
+            if let Some(tt) = t.thermal.as_mut() {
+                tt.set_solver_step(dt, particles.spacing);
+            }
+        }
         let n = particles.len();
         let ngroups = groups.len();
         Ok(Solver {
@@ -556,6 +565,9 @@ impl Solver {
             },
             mass_scaling: self.numerics.mass_scaling,
             thermal: &self.material.thermal,
+            thermal_on: self.numerics.thermal,
+            spacing: self.particles.spacing,
+            velocity_scale: self.numerics.strain_rate_scale,
         };
         let w = contact::apply(
             &params,
@@ -566,6 +578,7 @@ impl Solver {
         self.energy.friction_work += w.friction;
         self.energy.penalty_work += w.penalty;
         self.energy.external_work += w.external;
+        self.energy.tool_heat += w.tool_heat;
     }
 
     fn book_boundaries(&mut self) {

@@ -80,6 +80,9 @@ pub struct WindowAccumulator {
     pub normal_x_temp: f64,
     /// Σ particle-steps slipping.
     pub slipping: f64,
+    /// Σ f_N T_tool, N/m · K (thermal tools only).
+    #[serde(default)]
+    pub normal_x_tool_temp: f64,
 }
 
 /// Time-averaged state of a window over an accumulation interval.
@@ -104,6 +107,9 @@ pub struct WindowStats {
     pub contact_fraction: f64,
     /// Fraction of contact particle-steps that slipped.
     pub slip_fraction: f64,
+    /// Force-weighted mean tool surface temperature, K (thermal tools only).
+    #[serde(default)]
+    pub tool_temperature_k: Option<f64>,
 }
 
 impl WindowAccumulator {
@@ -116,6 +122,21 @@ impl WindowAccumulator {
         self.normal_x_slip += o.normal_x_slip;
         self.normal_x_temp += o.normal_x_temp;
         self.slipping += o.slipping;
+        self.normal_x_tool_temp += o.normal_x_tool_temp;
+    }
+
+    /// Every sum times `w` (a weight for combining windows).
+    pub fn scaled(&self, w: f64) -> WindowAccumulator {
+        WindowAccumulator {
+            steps: self.steps,
+            contacts: w * self.contacts,
+            normal: w * self.normal,
+            tangential: w * self.tangential,
+            normal_x_slip: w * self.normal_x_slip,
+            normal_x_temp: w * self.normal_x_temp,
+            slipping: w * self.slipping,
+            normal_x_tool_temp: w * self.normal_x_tool_temp,
+        }
     }
 
     /// Averages; `None` when the window saw no contact.
@@ -134,6 +155,8 @@ impl WindowAccumulator {
                 / (self.steps.max(1) as f64 * window_length))
                 .min(1.0),
             slip_fraction: self.slipping / self.contacts,
+            tool_temperature_k: (self.normal_x_tool_temp > 0.0)
+                .then(|| self.normal_x_tool_temp / self.normal),
         })
     }
 }
@@ -210,6 +233,9 @@ pub struct Tool {
     pub force: [f64; 2],
     /// Number of particles in contact in the last step.
     pub contacts: usize,
+    /// Heat conduction in the tool; `None`: adiabatic (no heat enters the tool).
+    #[serde(default)]
+    pub thermal: Option<crate::tool_thermal::ToolThermal>,
 }
 
 impl Tool {
@@ -235,6 +261,7 @@ impl Tool {
             windows: vec![w],
             force: [0.0, 0.0],
             contacts: 0,
+            thermal: None,
         }
     }
 

@@ -45,8 +45,11 @@ fn coarse_cut() -> CuttingSetup {
             window_length_m: 20e-6,
             update_every_steps: 100,
             law_file: None,
+            smoothing: Default::default(),
         },
         steady: SteadySetup::default(),
+        tool_thermal: None,
+        physical_cutting_speed_m_s: None,
     }
 }
 
@@ -378,4 +381,84 @@ fn bad_configurations_name_the_field_and_the_rule() {
         assert!(r.is_err(), "case {k}: ran");
     }
     coarse_cut().validate().unwrap();
+}
+
+/// μ = 0.1 + 0.4 · p / 1.5 GPa (capped at 0.6): a law that passes every pressure jump on.
+struct PressureLaw;
+
+impl FrictionLaw for PressureLaw {
+    fn name(&self) -> String {
+        "test pressure law".into()
+    }
+    fn mu(&self, s: &ContactState) -> f64 {
+        (0.1 + 0.4 * s.pressure_pa / 1.5e9).min(0.6)
+    }
+}
+
+/// Mean |Δμ| between neighbouring rake/edge windows at the end, and between successive
+/// updates of the same window.
+fn roughness(r: &CutRun) -> (f64, f64) {
+    let mus: Vec<f64> = r
+        .profile
+        .iter()
+        .filter(|p| p.stats.is_some())
+        .map(|p| p.mu)
+        .collect();
+    let space = mus.windows(2).map(|w| (w[1] - w[0]).abs()).sum::<f64>() / (mus.len() - 1) as f64;
+    let mut last = std::collections::HashMap::new();
+    let (mut sum, mut n) = (0.0, 0);
+    for u in &r.updater.history {
+        if let Some(prev) = last.insert(u.window, u.mu) {
+            sum += (u.mu - prev).abs();
+            n += 1;
+        }
+    }
+    (space, sum / n as f64)
+}
+
+/// Smoothing in time (4 updates) and space (one neighbour each side) makes the μ profile of
+/// a pressure-dependent law steadier along the tool and from update to update, and the state
+/// the law saw follows the exponential average of the windows' states.
+#[test]
+fn smoothed_windows_give_a_steadier_mu_profile() {
+    let mut setup = coarse_cut();
+    setup.friction.update_every_steps = 50;
+    let raw = CutRun::execute(&setup, Arc::new(PressureLaw), 1.0, None, &mut []).unwrap();
+    setup.friction.smoothing = greybox_sim::friction_loop::Smoothing {
+        time_updates: 4.0,
+        space_windows: 1,
+    };
+    let smooth = CutRun::execute(&setup, Arc::new(PressureLaw), 1.0, None, &mut []).unwrap();
+    let (rs, rt) = roughness(&raw);
+    let (ss, st) = roughness(&smooth);
+    eprintln!("mean |Δμ| between windows {rs:.4} → {ss:.4}, between updates {rt:.4} → {st:.4}");
+    assert!(
+        ss < 0.8 * rs && st < 0.6 * rt,
+        "space {rs} → {ss}, time {rt} → {st}"
+    );
+
+    // Time only: the law state is the exponential average of the raw interval states.
+    setup.friction.smoothing = greybox_sim::friction_loop::Smoothing {
+        time_updates: 4.0,
+        space_windows: 0,
+    };
+    let ema = CutRun::execute(&setup, Arc::new(PressureLaw), 1.0, None, &mut []).unwrap();
+    let mut last: std::collections::HashMap<usize, f64> = Default::default();
+    let mut checked = 0;
+    for u in &ema.updater.history {
+        let got = u.law_state.unwrap().pressure_pa;
+        let want = match last.get(&u.window) {
+            Some(&prev) => prev + 0.25 * (u.stats.pressure_pa - prev),
+            None => u.stats.pressure_pa,
+        };
+        assert!(
+            (got - want).abs() <= 1e-9 * want,
+            "window {}: {got} vs {want}",
+            u.window
+        );
+        assert_eq!(u.mu, PressureLaw.mu(&u.law_state.unwrap()));
+        last.insert(u.window, got);
+        checked += 1;
+    }
+    assert!(checked > 20);
 }

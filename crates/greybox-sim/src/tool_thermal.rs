@@ -1,0 +1,546 @@
+//! Heat conduction in a rigid tool and thermal contact with the workpiece.
+//!
+//! The tool's temperature lives on a Cartesian finite-volume grid in the tool's own frame
+//! (cells whose centre lies inside the tool's shape; the surface is a staircase at the grid
+//! spacing). Per cell, with conductivity λ(T) at the faces (harmonic mean of the two cells):
+//!
+//!   ρ c Δx² dT/dt = Σ_faces λ_f (T_nb − T) + Q,
+//!
+//! Q the heat per time and metre of thickness the contact puts in (W/m). Faces towards
+//! cells outside the tool are adiabatic (the free rake and flank faces lose no heat); cells
+//! next to the tool's far boundaries (the surface from arc length `ambient_from_s` on: the
+//! back and top of a modelled insert) are held at the ambient temperature, standing for the
+//! rest of the insert and its holder.
+//!
+//! Contact: a workpiece particle in contact exchanges q = h_eff (T_p − T_tool) per area of
+//! its contact length Δx with the cell under its contact point, where the coating is a thin
+//! thermal resistance in series with the interface conductance,
+//! 1/h_eff = 1/h_c + t_coat/λ_coat(T_tool) (a layer of a few µm stores little heat next to
+//! the substrate; its resistance is what matters). The share of the friction heat that the
+//! set-up gives the tool goes into the same cell.
+//!
+//! Time stepping: explicit (forward Euler) over a sub-cycle of N solver steps, N the largest
+//! that keeps the explicit scheme stable (Δt_tool ≤ 0.9 ρ c Δx² / (4 λ_max + n h_eff Δx),
+//! n = 4 contact particles per cell at most). The contact sees the tool temperature of the
+//! last update.
+
+use crate::geometry::RoundedPolygon;
+use greybox_material::Table1d;
+use serde::{Deserialize, Serialize};
+
+/// The tool's thermal data (SI), as a set-up gives it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ToolThermalSetup {
+    /// Substrate conductivity λ(T), W/(m·K).
+    pub conductivity: Table1d,
+    /// Substrate density, kg/m³.
+    pub density_kg_m3: f64,
+    /// Substrate specific heat c(T), J/(kg·K).
+    pub specific_heat: Table1d,
+    /// Coating thickness, m (0: uncoated).
+    #[serde(default)]
+    pub coating_thickness_m: f64,
+    /// Coating conductivity λ(T), W/(m·K).
+    #[serde(default = "default_coating")]
+    pub coating_conductivity: Table1d,
+    /// Thermal contact conductance of the tool–chip interface h_c, W/(m²·K).
+    pub contact_conductance_w_m2k: f64,
+    /// Grid spacing of the tool's temperature field, m (0: the particle spacing).
+    #[serde(default)]
+    pub grid_spacing_m: f64,
+    /// Temperature of the tool's far boundaries, K (`None`: the workpiece's initial temperature).
+    #[serde(default)]
+    pub ambient_temperature_k: Option<f64>,
+}
+
+fn default_coating() -> Table1d {
+    Table1d::constant(1.0)
+}
+
+impl ToolThermalSetup {
+    /// A WC–Co carbide substrate with the article's AlTiN coating (its Table 6: λ = 4.64 +
+    /// 0.00054 T W/(m·K), 3 µm; T taken in °C, the unit of the article's DEFORM input).
+    /// Substrate: typical WC–6 % Co values (λ 80 W/(m·K) at 20 °C falling to 60 at 800 °C,
+    /// ρ 14 900 kg/m³, c 200 J/(kg·K) at 20 °C rising to 280 at 800 °C): replace them with
+    /// the grade's datasheet. Interface conductance 10⁷ W/(m²·K): the order cutting models
+    /// use for a pressed, sliding tool–chip contact.
+    pub fn carbide_altin() -> Self {
+        let t: Vec<f64> = (0..=8).map(|k| 293.15 + 100.0 * k as f64).collect();
+        let c = |x: &f64| x - 273.15;
+        ToolThermalSetup {
+            conductivity: Table1d {
+                x: t.clone(),
+                y: t.iter()
+                    .map(|x| 80.0 - 0.025 * c(x).max(0.0).min(800.0))
+                    .collect(),
+            },
+            density_kg_m3: 14_900.0,
+            specific_heat: Table1d {
+                x: t.clone(),
+                y: t.iter()
+                    .map(|x| 200.0 + 0.1 * c(x).max(0.0).min(800.0))
+                    .collect(),
+            },
+            coating_thickness_m: 3e-6,
+            coating_conductivity: Table1d {
+                x: t.clone(),
+                y: t.iter().map(|x| 4.64 + 0.00054 * c(x)).collect(),
+            },
+            contact_conductance_w_m2k: 1e7,
+            grid_spacing_m: 0.0,
+            ambient_temperature_k: None,
+        }
+    }
+
+    pub fn validate(&self) -> greybox_core::Result<()> {
+        greybox_core::rules::Rules::new("tool thermal")
+            .positive("density_kg_m3", self.density_kg_m3)
+            .non_negative("coating_thickness_m", self.coating_thickness_m)
+            .non_negative("contact_conductance_w_m2k", self.contact_conductance_w_m2k)
+            .non_negative("grid_spacing_m", self.grid_spacing_m)
+            .relation(
+                self.ambient_temperature_k
+                    .is_none_or(|t| t > 0.0 && t.is_finite()),
+                "ambient_temperature_k must be a temperature above 0 K",
+            )
+            .finish()?;
+        for (name, t, strict) in [
+            ("conductivity", &self.conductivity, true),
+            ("specific_heat", &self.specific_heat, true),
+            ("coating_conductivity", &self.coating_conductivity, true),
+        ] {
+            t.validate()?;
+            if t.y.iter().any(|&v| if strict { v <= 0.0 } else { v < 0.0 }) {
+                return Err(greybox_core::Error::invalid(
+                    "tool thermal",
+                    format!("{name} must be > 0 everywhere"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What a cell is.
+const OUTSIDE: u8 = 0;
+const INTERIOR: u8 = 1;
+const AMBIENT: u8 = 2;
+
+/// The tool's temperature field and its contact book-keeping.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ToolThermal {
+    pub setup: ToolThermalSetup,
+    /// Factor on every conductivity and on the contact conductance (a time-scaled run's
+    /// speed-up keeps the thermal Péclet number physical).
+    pub conductivity_scale: f64,
+    /// Lower-left corner of the grid in the tool frame, m.
+    pub origin: [f64; 2],
+    pub dx: f64,
+    pub nx: usize,
+    pub ny: usize,
+    /// Per cell: OUTSIDE, INTERIOR or AMBIENT.
+    pub kind: Vec<u8>,
+    /// Per cell: the nearest cell inside the tool (itself when inside).
+    pub nearest_inside: Vec<u32>,
+    /// Temperatures, K (outside cells unused).
+    pub temp: Vec<f64>,
+    pub ambient_k: f64,
+    /// Heat put in per cell since the last update, J/m.
+    pub heat_in: Vec<f64>,
+    /// Solver steps per tool update, and steps since the last one.
+    pub substeps: u64,
+    pub pending_steps: u64,
+    /// Heat that left the tool through its ambient cells, J/m (cumulative).
+    pub heat_to_ambient: f64,
+}
+
+impl ToolThermal {
+    /// The grid for `shape` at spacing `dx` (m), all at `t0` (K); the outermost cells along
+    /// the surface from arc length `ambient_from_s` on are held at the ambient temperature.
+    pub fn new(
+        setup: ToolThermalSetup,
+        shape: &RoundedPolygon,
+        dx: f64,
+        t0: f64,
+        ambient_from_s: f64,
+        conductivity_scale: f64,
+    ) -> Self {
+        let (lo, hi) = shape.bounding_box();
+        let nx = ((hi[0] - lo[0]) / dx).ceil() as usize + 1;
+        let ny = ((hi[1] - lo[1]) / dx).ceil() as usize + 1;
+        let origin = [lo[0] - 0.5 * dx, lo[1] - 0.5 * dx];
+        let centre = |i: usize, j: usize| {
+            [
+                origin[0] + (i as f64 + 0.5) * dx,
+                origin[1] + (j as f64 + 0.5) * dx,
+            ]
+        };
+        let mut kind = vec![OUTSIDE; nx * ny];
+        for j in 0..ny {
+            for i in 0..nx {
+                if shape.closest(centre(i, j)).distance < 0.0 {
+                    kind[j * nx + i] = INTERIOR;
+                }
+            }
+        }
+        // Held cells: inside cells with a neighbour outside, where the surface nearest to
+        // them lies from `ambient_from_s` on.
+        let outside = |i: isize, j: isize| {
+            i < 0
+                || j < 0
+                || i >= nx as isize
+                || j >= ny as isize
+                || kind[j as usize * nx + i as usize] == OUTSIDE
+        };
+        let mut held = Vec::new();
+        for j in 0..ny {
+            for i in 0..nx {
+                let (ii, jj) = (i as isize, j as isize);
+                let boundary = kind[j * nx + i] != OUTSIDE
+                    && (outside(ii - 1, jj)
+                        || outside(ii + 1, jj)
+                        || outside(ii, jj - 1)
+                        || outside(ii, jj + 1));
+                if boundary && shape.closest(centre(i, j)).s >= ambient_from_s {
+                    held.push(j * nx + i);
+                }
+            }
+        }
+        for c in held {
+            kind[c] = AMBIENT;
+        }
+        let nearest_inside = nearest_inside_cells(&kind, nx, ny);
+        let ambient_k = setup.ambient_temperature_k.unwrap_or(t0);
+        let n = nx * ny;
+        let mut t = ToolThermal {
+            setup,
+            conductivity_scale,
+            origin,
+            dx,
+            nx,
+            ny,
+            temp: kind
+                .iter()
+                .map(|&k| if k == AMBIENT { ambient_k } else { t0 })
+                .collect(),
+            kind,
+            nearest_inside,
+            ambient_k,
+            heat_in: vec![0.0; n],
+            substeps: 1,
+            pending_steps: 0,
+            heat_to_ambient: 0.0,
+        };
+        t.substeps = 1;
+        t
+    }
+
+    /// Sets the sub-cycle for solver steps of `dt_solver` seconds (see the module docs).
+    pub fn set_solver_step(&mut self, dt_solver: f64, contact_length: f64) {
+        let s = &self.setup;
+        let k_max = s.conductivity.y.iter().copied().fold(0.0, f64::max) * self.conductivity_scale;
+        let rho_c_min = s.density_kg_m3
+            * s.specific_heat
+                .y
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min);
+        let h = s.contact_conductance_w_m2k * self.conductivity_scale;
+        let stable = 0.9 * rho_c_min * self.dx * self.dx / (4.0 * k_max + 4.0 * h * contact_length);
+        self.substeps = ((stable / dt_solver).floor() as u64).max(1);
+    }
+
+    /// The cell whose temperature the contact at tool-frame point `p` sees.
+    #[inline]
+    pub fn cell_at(&self, p: [f64; 2]) -> usize {
+        let i = (((p[0] - self.origin[0]) / self.dx).floor().max(0.0) as usize).min(self.nx - 1);
+        let j = (((p[1] - self.origin[1]) / self.dx).floor().max(0.0) as usize).min(self.ny - 1);
+        self.nearest_inside[j * self.nx + i] as usize
+    }
+
+    /// Effective conductance of coating and interface in series at tool temperature `t`,
+    /// W/(m²·K) (time-scaled).
+    #[inline]
+    pub fn conductance(&self, t: f64) -> f64 {
+        let s = &self.setup;
+        let h = s.contact_conductance_w_m2k;
+        if h <= 0.0 {
+            return 0.0;
+        }
+        let r = 1.0 / h + s.coating_thickness_m / s.coating_conductivity.eval(t);
+        self.conductivity_scale / r
+    }
+
+    /// Books one solver step; every `substeps` steps advances the field by their total time.
+    pub fn after_step(&mut self, dt_solver: f64) {
+        self.pending_steps += 1;
+        if self.pending_steps >= self.substeps {
+            let dt = self.pending_steps as f64 * dt_solver;
+            self.pending_steps = 0;
+            self.conduct(dt);
+        }
+    }
+
+    /// One explicit conduction step of `dt` seconds with the heat booked since the last one.
+    pub fn conduct(&mut self, dt: f64) {
+        let (nx, ny, dx) = (self.nx, self.ny, self.dx);
+        let s = &self.setup;
+        let k: Vec<f64> = self
+            .temp
+            .iter()
+            .zip(&self.kind)
+            .map(|(&t, &c)| {
+                if c == OUTSIDE {
+                    0.0
+                } else {
+                    s.conductivity.eval(t) * self.conductivity_scale
+                }
+            })
+            .collect();
+        let mut new = self.temp.clone();
+        let mut to_ambient = 0.0;
+        for j in 0..ny {
+            for i in 0..nx {
+                let c = j * nx + i;
+                if self.kind[c] == OUTSIDE {
+                    continue;
+                }
+                let mut flow = 0.0;
+                let mut add = |n: usize| {
+                    if self.kind[n] != OUTSIDE {
+                        let kf = 2.0 * k[c] * k[n] / (k[c] + k[n]);
+                        flow += kf * (self.temp[n] - self.temp[c]);
+                    }
+                };
+                if i > 0 {
+                    add(c - 1);
+                }
+                if i + 1 < nx {
+                    add(c + 1);
+                }
+                if j > 0 {
+                    add(c - nx);
+                }
+                if j + 1 < ny {
+                    add(c + nx);
+                }
+                let q = flow * dt + self.heat_in[c];
+                if self.kind[c] == AMBIENT {
+                    // Held: what flows in leaves to the ambient.
+                    to_ambient += q;
+                } else {
+                    let rho_c = s.density_kg_m3 * s.specific_heat.eval(self.temp[c]);
+                    new[c] += q / (rho_c * dx * dx);
+                }
+            }
+        }
+        self.temp = new;
+        self.heat_in.iter_mut().for_each(|q| *q = 0.0);
+        self.heat_to_ambient += to_ambient;
+    }
+
+    /// Heat stored in the tool above `reference_k`, J/m (∫ρ c dT per cell, c(T) integrated
+    /// by the trapezoidal rule over 1 K steps when it varies).
+    pub fn stored_heat(&self, reference_k: f64) -> f64 {
+        let s = &self.setup;
+        let area = self.dx * self.dx;
+        let mut e = 0.0;
+        for (&t, &k) in self.temp.iter().zip(&self.kind) {
+            if k != INTERIOR {
+                continue;
+            }
+            e += s.density_kg_m3 * area * integrate(&s.specific_heat, reference_k, t);
+        }
+        e
+    }
+
+    /// Cells inside the tool (interior and held), as (tool-frame centre, temperature K,
+    /// held at ambient).
+    pub fn cells_with_kind(&self) -> impl Iterator<Item = ([f64; 2], f64, bool)> + '_ {
+        (0..self.nx * self.ny)
+            .filter(|&c| self.kind[c] != OUTSIDE)
+            .map(|c| {
+                let (i, j) = (c % self.nx, c / self.nx);
+                (
+                    [
+                        self.origin[0] + (i as f64 + 0.5) * self.dx,
+                        self.origin[1] + (j as f64 + 0.5) * self.dx,
+                    ],
+                    self.temp[c],
+                    self.kind[c] == AMBIENT,
+                )
+            })
+    }
+
+    /// Cells inside the tool, as (tool-frame centre, temperature K).
+    pub fn cells(&self) -> impl Iterator<Item = ([f64; 2], f64)> + '_ {
+        self.cells_with_kind().map(|(c, t, _)| (c, t))
+    }
+
+    /// The hottest tool temperature, K.
+    pub fn max_temperature(&self) -> f64 {
+        self.cells()
+            .map(|(_, t)| t)
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+}
+
+/// ∫ c(T) dT from a to b for a piecewise-linear c (exact for its linear pieces up to the
+/// 1 K sub-steps).
+pub fn integrate(c: &Table1d, a: f64, b: f64) -> f64 {
+    if c.x.len() == 1 {
+        return c.y[0] * (b - a);
+    }
+    let n = ((b - a).abs().ceil() as usize).max(1);
+    let h = (b - a) / n as f64;
+    (0..n)
+        .map(|k| {
+            let t0 = a + k as f64 * h;
+            0.5 * (c.eval(t0) + c.eval(t0 + h)) * h
+        })
+        .sum()
+}
+
+/// For every cell, the nearest inside cell (grid distance, breadth-first from all inside
+/// cells at once).
+fn nearest_inside_cells(kind: &[u8], nx: usize, ny: usize) -> Vec<u32> {
+    let mut near = vec![u32::MAX; nx * ny];
+    let mut queue = std::collections::VecDeque::new();
+    for (c, &k) in kind.iter().enumerate() {
+        if k != OUTSIDE {
+            near[c] = c as u32;
+            queue.push_back(c);
+        }
+    }
+    while let Some(c) = queue.pop_front() {
+        let (i, j) = (c % nx, c / nx);
+        let mut visit = |n: usize| {
+            if near[n] == u32::MAX {
+                near[n] = near[c];
+                queue.push_back(n);
+            }
+        };
+        if i > 0 {
+            visit(c - 1);
+        }
+        if i + 1 < nx {
+            visit(c + 1);
+        }
+        if j > 0 {
+            visit(c - nx);
+        }
+        if j + 1 < ny {
+            visit(c + nx);
+        }
+    }
+    near
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn constant_setup(k: f64, rho: f64, c: f64) -> ToolThermalSetup {
+        ToolThermalSetup {
+            conductivity: Table1d::constant(k),
+            density_kg_m3: rho,
+            specific_heat: Table1d::constant(c),
+            coating_thickness_m: 0.0,
+            coating_conductivity: Table1d::constant(1.0),
+            contact_conductance_w_m2k: 0.0,
+            grid_spacing_m: 0.0,
+            ambient_temperature_k: Some(300.0),
+        }
+    }
+
+    /// A square held at ambient all round, started from T₀ + A sin(πx/L) sin(πy/L): the
+    /// amplitude decays as exp(−2π² α t/L²) (separation of variables, e.g. Carslaw & Jaeger,
+    /// *Conduction of Heat in Solids*, §6.3), α = λ/(ρc), L the distance between the held rows.
+    #[test]
+    fn square_mode_decays_at_the_analytic_rate() {
+        let (w, dx) = (0.4e-3, 10e-6);
+        let shape = RoundedPolygon::new(vec![[0.0, 0.0], [w, 0.0], [w, w], [0.0, w]], 0.0).unwrap();
+        let (k, rho, c) = (80.0, 14_900.0, 200.0);
+        let mut t = ToolThermal::new(constant_setup(k, rho, c), &shape, dx, 300.0, 0.0, 1.0);
+        let centres: Vec<([f64; 2], u8)> = (0..t.nx * t.ny)
+            .map(|i| {
+                let (ix, iy) = (i % t.nx, i / t.nx);
+                (
+                    [
+                        t.origin[0] + (ix as f64 + 0.5) * dx,
+                        t.origin[1] + (iy as f64 + 0.5) * dx,
+                    ],
+                    t.kind[i],
+                )
+            })
+            .collect();
+        let held: Vec<f64> = centres
+            .iter()
+            .filter(|c| c.1 == AMBIENT)
+            .map(|c| c.0[0])
+            .collect();
+        let (x0, x1) = held
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+        let l = x1 - x0;
+        assert!(l > 0.8 * w, "held cells span {l}");
+        let amp = 100.0;
+        let mode = |p: [f64; 2]| {
+            (std::f64::consts::PI * (p[0] - x0) / l).sin()
+                * (std::f64::consts::PI * (p[1] - x0) / l).sin()
+        };
+        for (i, (p, kind)) in centres.iter().enumerate() {
+            if *kind == INTERIOR {
+                t.temp[i] = 300.0 + amp * mode(*p);
+            }
+        }
+        let alpha = k / (rho * c);
+        let t_end = l * l / (2.0 * std::f64::consts::PI.powi(2) * alpha); // one e-folding
+        let dt = 0.2 * dx * dx / alpha;
+        let n = (t_end / dt).ceil() as usize;
+        for _ in 0..n {
+            t.conduct(t_end / n as f64);
+        }
+        // Projection of the field on the mode gives its amplitude.
+        let (mut num, mut den) = (0.0, 0.0);
+        for (i, (p, kind)) in centres.iter().enumerate() {
+            if *kind == INTERIOR {
+                num += (t.temp[i] - 300.0) * mode(*p);
+                den += mode(*p) * mode(*p);
+            }
+        }
+        let got = num / den / amp;
+        let want = (-1.0f64).exp();
+        assert!(
+            (got / want - 1.0).abs() < 0.01,
+            "amplitude ratio {got} vs e⁻¹ = {want}"
+        );
+        assert!(t.heat_to_ambient > 0.0);
+    }
+
+    /// Heat put in is conserved: stored heat plus what left through the held cells.
+    #[test]
+    fn heat_is_conserved() {
+        let (w, dx) = (0.2e-3, 10e-6);
+        let shape =
+            RoundedPolygon::new(vec![[0.0, 0.0], [w, 0.0], [w, w], [0.0, w]], 5e-6).unwrap();
+        let mut t = ToolThermal::new(
+            constant_setup(60.0, 14_900.0, 250.0),
+            &shape,
+            dx,
+            300.0,
+            0.5 * shape.perimeter(),
+            1.0,
+        );
+        let cell = t.cell_at([0.1e-3, 0.19e-3]);
+        let mut put = 0.0;
+        for _ in 0..2000 {
+            t.heat_in[cell] += 1e-3;
+            put += 1e-3;
+            t.conduct(2e-9);
+        }
+        let kept = t.stored_heat(300.0) + t.heat_to_ambient;
+        assert!((kept / put - 1.0).abs() < 1e-9, "{kept} vs {put}");
+    }
+}
