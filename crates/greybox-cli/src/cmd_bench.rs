@@ -3,7 +3,7 @@
 use crate::output::emit;
 use anyhow::Result;
 use greybox_friction::table_file::TableKind;
-use greybox_pipeline::{bench, text};
+use greybox_pipeline::{bench, text, validate};
 use std::path::PathBuf;
 
 #[derive(clap::Subcommand, Debug)]
@@ -60,6 +60,29 @@ pub enum Bench {
         #[arg(long)]
         json: bool,
     },
+    /// The validation suite: simulated against measured orthogonal cuts (published
+    /// experiments, cited in the data file), one μ per material and tool model calibrated on
+    /// at most a third of the conditions, errors reported on the rest (held out).
+    Validate {
+        /// Suite file.
+        #[arg(long, default_value = "validation/suite.toml")]
+        suite: PathBuf,
+        /// Output directory (results.csv, summary.json, validation.md, forces.svg).
+        #[arg(long, default_value = "validation-out")]
+        out: PathBuf,
+        /// Only these held-out conditions (comma-separated ids); the calibration ones
+        /// always run.
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+        /// Tool models: adiabatic, thermal (default: both).
+        #[arg(long, value_enum, value_delimiter = ',', default_values_t = vec![ToolArg::Adiabatic, ToolArg::Thermal])]
+        tool: Vec<ToolArg>,
+        /// Fraction of each template's cut length (shorter: faster, less steady).
+        #[arg(long, default_value_t = 1.0)]
+        fraction: f64,
+        #[arg(long)]
+        json: bool,
+    },
     /// Single-point prediction latency of model files (the simulator's hot path).
     Predict {
         /// Model files from `greybox fit`.
@@ -94,6 +117,22 @@ impl From<TableKindArg> for Option<TableKind> {
             TableKindArg::Exact => Some(TableKind::Exact),
             TableKindArg::Adaptive => Some(TableKind::Adaptive),
             TableKindArg::Uniform => Some(TableKind::Uniform),
+        }
+    }
+}
+
+/// A tool model on the command line.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ToolArg {
+    Adiabatic,
+    Thermal,
+}
+
+impl From<ToolArg> for validate::ToolModel {
+    fn from(t: ToolArg) -> Self {
+        match t {
+            ToolArg::Adiabatic => validate::ToolModel::Adiabatic,
+            ToolArg::Thermal => validate::ToolModel::Thermal,
         }
     }
 }
@@ -142,6 +181,37 @@ pub fn run(a: Args) -> Result<()> {
                 .map(|m| bench::predict_latency(m, calls.max(1)))
                 .collect::<Result<Vec<_>>>()?;
             emit(json, &rows, |r| text::predict_latency(r))
+        }
+        Bench::Validate {
+            suite,
+            out,
+            only,
+            tool,
+            fraction,
+            json,
+        } => {
+            if !(fraction > 0.0 && fraction <= 1.0) {
+                anyhow::bail!("--fraction: expected a number in (0, 1], got {fraction}");
+            }
+            let o = validate::ValidateOptions {
+                only,
+                tools: tool.into_iter().map(Into::into).collect(),
+                fraction,
+            };
+            let v = validate::validate(&suite, &o)?;
+            let files = validate::write_outputs(&v, &out)?;
+            emit(json, &v, |v| {
+                let mut t = validate::markdown(v);
+                t += &format!(
+                    "\nwrote {}\n",
+                    files
+                        .iter()
+                        .map(|f| f.display().to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
+                t
+            })
         }
         Bench::Ingest {
             size_mb,

@@ -55,6 +55,7 @@ pub mod sweep;
 pub mod synth;
 pub mod table;
 pub mod text;
+pub mod validate;
 pub mod wear;
 pub mod windows;
 

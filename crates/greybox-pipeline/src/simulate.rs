@@ -275,8 +275,7 @@ pub struct CutSummary {
     #[serde(flatten)]
     pub measures: CutMeasures,
     pub energy_error: f64,
-    /// Hottest workpiece particle at the end, °C, and the flow-stress model's melting point.
-    pub max_temperature_c: f64,
+    /// The flow-stress model's melting point, °C (compare `max_temperature_c`).
     pub melt_temperature_c: Option<f64>,
     /// Hottest tool cell at the end, °C (thermal tools).
     pub tool_max_temperature_c: Option<f64>,
@@ -364,14 +363,6 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
         averaged_from_mm: r.averaged_from_s * v * 1e3,
         measures: r.measures,
         energy_error: r.sim.energy_balance().relative_error,
-        max_temperature_c: r
-            .sim
-            .particles
-            .temp
-            .iter()
-            .copied()
-            .fold(f64::MIN, f64::max)
-            - 273.15,
         melt_temperature_c: setup
             .material
             .plasticity

@@ -137,15 +137,17 @@ impl FrictionUpdater {
                     .map_or(state_of(&stats), |s| state_of(&s))
             };
             let a = 1.0 / self.smoothing.time_updates;
+            // Without time smoothing (a = 1) the state is taken as it is, not as
+            // `old + 1·(state − old)`, which differs from it by round-off.
             let law_state = match self.smoothed[k] {
-                Some(old) => ContactState {
+                Some(old) if a < 1.0 => ContactState {
                     pressure_pa: old.pressure_pa + a * (state.pressure_pa - old.pressure_pa),
                     sliding_velocity_m_s: old.sliding_velocity_m_s
                         + a * (state.sliding_velocity_m_s - old.sliding_velocity_m_s),
                     temperature_k: old.temperature_k
                         + a * (state.temperature_k - old.temperature_k),
                 },
-                None => state,
+                _ => state,
             };
             self.smoothed[k] = Some(law_state);
             let mu = w.law.mu(&law_state);

@@ -1,0 +1,108 @@
+//! `greybox bench validate` on a subset of the bundled measured cuts (the full suite runs with
+//! `greybox bench validate`, docs/validation.md): the calibration lands μ inside its bracket
+//! and brings the calibration condition's feed force to the measurement, the held-out errors
+//! are computed from the simulated and measured forces, and a bad suite is refused.
+mod common;
+use common::{err, greybox, ok};
+use std::path::PathBuf;
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+#[test]
+fn validation_subset_calibrates_on_one_condition_and_reports_the_held_out_ones() {
+    let d = tempfile::tempdir().unwrap();
+    let v = repo().join("validation");
+    // The bundled data and template; one calibration condition, two held out.
+    std::fs::write(
+        d.path().join("suite.toml"),
+        format!(
+            "data = \"{}\"\n[[material]]\nname = \"Ti6Al4V\"\nsetup = \"{}\"\nrun_speed_m_per_min = 600.0\ncalibration = [\"D08\"]\nmu_bracket = [0.2, 0.8]\n",
+            v.join("orthogonal-cutting.csv").display(),
+            v.join("ti64-setup.toml").display()
+        ),
+    )
+    .unwrap();
+    let s = ok(&greybox(
+        &[
+            "bench",
+            "validate",
+            "--suite",
+            "suite.toml",
+            "--out",
+            "out",
+            "--only",
+            "D09,D16",
+            "--tool",
+            "thermal",
+            "--fraction",
+            "0.6",
+            "--json",
+            "-q",
+        ],
+        d.path(),
+    ));
+    let v: serde_json::Value = serde_json::from_str(&s).unwrap();
+    let outcomes = v["outcomes"].as_array().unwrap();
+    let ids: Vec<(&str, &str)> = outcomes
+        .iter()
+        .map(|o| (o["id"].as_str().unwrap(), o["role"].as_str().unwrap()))
+        .collect();
+    assert_eq!(
+        ids,
+        [
+            ("D08", "calibration"),
+            ("D09", "held-out"),
+            ("D16", "held-out")
+        ]
+    );
+    let mu = outcomes[0]["mu"].as_f64().unwrap();
+    assert!(mu > 0.2 && mu < 0.8, "calibrated μ {mu}");
+    // Re-simulated at μ*, the calibration condition's feed force is near the measured one
+    // (the interpolation between the bracket ends is linear, the force nearly so).
+    let cal = outcomes[0]["feed_force_error"].as_f64().unwrap();
+    assert!(cal.abs() < 0.1, "calibration feed-force error {cal}");
+    for o in outcomes {
+        let f = |k: &str| o[k].as_f64().unwrap();
+        let e = f("simulated_cutting_force_n_per_mm") / f("measured_cutting_force_n_per_mm") - 1.0;
+        assert!((e - f("cutting_force_error")).abs() < 1e-12);
+        assert!(f("simulated_cutting_force_n_per_mm") > 30.0);
+    }
+    let held = v["summaries"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["role"] == "held-out")
+        .unwrap();
+    let mean_abs = (outcomes[1]["cutting_force_error"].as_f64().unwrap().abs()
+        + outcomes[2]["cutting_force_error"].as_f64().unwrap().abs())
+        / 2.0;
+    assert!((held["cutting_force_mean_abs"].as_f64().unwrap() - mean_abs).abs() < 1e-12);
+    for f in ["results.csv", "summary.json", "validation.md", "forces.svg"] {
+        assert!(d.path().join("out").join(f).exists(), "{f}");
+    }
+    let csv = std::fs::read_to_string(d.path().join("out/results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 4);
+
+    // More than a third of the material's conditions for calibration is refused.
+    let many: Vec<String> = (1..=7).map(|k| format!("\"D{k:02}\"")).collect();
+    std::fs::write(
+        d.path().join("bad.toml"),
+        format!(
+            "data = \"{}\"\n[[material]]\nname = \"Ti6Al4V\"\nsetup = \"{}\"\nrun_speed_m_per_min = 600.0\ncalibration = [{}]\nmu_bracket = [0.2, 0.8]\n",
+            repo().join("validation/orthogonal-cutting.csv").display(),
+            repo().join("validation/ti64-setup.toml").display(),
+            many.join(", ")
+        ),
+    )
+    .unwrap();
+    let e = err(&greybox(
+        &["bench", "validate", "--suite", "bad.toml", "--out", "o2"],
+        d.path(),
+    ));
+    assert!(
+        e.contains("7 calibration conditions of 18") && e.contains("at most a third"),
+        "{e}"
+    );
+}
