@@ -416,11 +416,11 @@ fn material() -> Result<(PathBuf, greybox_material::fit::JcFit)> {
     Ok((curves, fitted))
 }
 
-/// The article's cut (coarser: 12.5 µm spacing) with the grey-box law in 12.5 µm windows
-/// along rake and flank, re-evaluated every 500 steps from smoothed window states.
 /// Pictures of the chip the demo's cut draws while it forms.
 pub const DEMO_CHIP_FRAMES: usize = 8;
 
+/// The article's cut (coarser: 12.5 µm spacing) with the grey-box law in 12.5 µm windows
+/// along rake and flank, re-evaluated every 500 steps from smoothed window states.
 fn cut() -> Result<(PathBuf, CutSummary)> {
     let mut setup: greybox_sim::cutting::CuttingSetup = toml::from_str(DEMO_CUT)?;
     setup.spacing_m = 12.5e-6;

@@ -275,7 +275,10 @@ pub struct CutSummary {
     #[serde(flatten)]
     pub measures: CutMeasures,
     pub energy_error: f64,
-    /// The flow-stress model's melting point, °C (compare `max_temperature_c`).
+    /// The hottest particle over the run, °C (sampled 500 times and at the end;
+    /// `max_temperature_c` is the hottest at the end).
+    pub peak_temperature_c: f64,
+    /// The flow-stress model's melting point, °C (compare `peak_temperature_c`).
     pub melt_temperature_c: Option<f64>,
     /// Hottest tool cell at the end, °C (thermal tools).
     pub tool_max_temperature_c: Option<f64>,
@@ -363,6 +366,7 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
         averaged_from_mm: r.averaged_from_s * v * 1e3,
         measures: r.measures,
         energy_error: r.sim.energy_balance().relative_error,
+        peak_temperature_c: r.peak_temperature.peak_k - 273.15,
         melt_temperature_c: setup
             .material
             .plasticity

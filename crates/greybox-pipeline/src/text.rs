@@ -241,13 +241,19 @@ pub fn cut(s: &CutSummary) -> String {
     let opt = |v: Option<f64>, unit: &str| v.map_or("n/a".to_string(), |v| format!("{v:.3}{unit}"));
     let m = &s.measures;
     let _ = writeln!(text,
-        "  chip thickness {}, compression ratio {}, shear angle {}, contact length {}, max temperature {:.0} °C",
+        "  chip thickness {}, compression ratio {}, shear angle {}, contact length {}, max temperature {:.0} °C (peak over the run {:.0} °C)",
         opt(m.chip_thickness_mm, " mm"),
         opt(m.compression_ratio, ""),
         opt(m.shear_angle_deg, "°"),
         opt(m.contact_length_mm, " mm"),
-        m.max_temperature_c
+        m.max_temperature_c,
+        s.peak_temperature_c
     );
+    if let Some(melt) = s.melt_temperature_c.filter(|&t| s.peak_temperature_c > t) {
+        let _ = writeln!(text,
+            "  note: the hottest particle passed the melting point ({melt:.0} °C); the flow stress is zero there and the model has no liquid phase (an adiabatic tool at high speed does this; docs/validation.md, \"Melting\")"
+        );
+    }
     text
 }
 

@@ -246,6 +246,7 @@ pub struct Outcome {
     pub cutting_force_error: f64,
     pub feed_force_error: f64,
     pub chip_ratio_error: Option<f64>,
+    /// The hottest particle over the run, °C.
     pub max_temperature_c: f64,
     pub steady: bool,
     pub wall_s: f64,
@@ -456,7 +457,7 @@ fn simulate(
         cutting_force_error: rel(r.force[0], c.cutting_force_n_per_m),
         feed_force_error: rel(r.force[1], c.feed_force_n_per_m),
         chip_ratio_error: c.chip_ratio.zip(ratio).map(|(m, s)| rel(s, m)),
-        max_temperature_c: r.measures.max_temperature_c,
+        max_temperature_c: r.peak_temperature.peak_k - 273.15,
         steady: r.steady.steady_since_s.is_some(),
         wall_s: r.summary.wall_s,
     })
@@ -506,7 +507,7 @@ pub fn write_outputs(v: &Validation, out: &Path) -> Result<Vec<PathBuf>> {
     let opt = |v: Option<f64>, d: usize| v.map_or(String::new(), |x| format!("{x:.d$}"));
     let results = out.join("results.csv");
     write_atomic(&results, |w| {
-        writeln!(w, "id,material,tool,role,mu,cutting_speed_m_per_min,uncut_chip_thickness_mm,measured_cutting_force_N_per_mm,simulated_cutting_force_N_per_mm,cutting_force_error,measured_feed_force_N_per_mm,simulated_feed_force_N_per_mm,feed_force_error,measured_chip_ratio,simulated_chip_ratio,chip_ratio_error,simulated_contact_length_mm,max_temperature_C,steady,wall_s")?;
+        writeln!(w, "id,material,tool,role,mu,cutting_speed_m_per_min,uncut_chip_thickness_mm,measured_cutting_force_N_per_mm,simulated_cutting_force_N_per_mm,cutting_force_error,measured_feed_force_N_per_mm,simulated_feed_force_N_per_mm,feed_force_error,measured_chip_ratio,simulated_chip_ratio,chip_ratio_error,simulated_contact_length_mm,peak_temperature_C,steady,wall_s")?;
         for o in &v.outcomes {
             writeln!(
                 w,
@@ -578,7 +579,7 @@ pub fn markdown(v: &Validation) -> String {
             }
         );
     }
-    s += "\n| id | material | tool | role | v_c m/min | h mm | F'c meas / sim N/mm | F'f meas / sim N/mm | h_c/h meas / sim | T_max °C |\n|---|---|---|---|---|---|---|---|---|---|\n";
+    s += "\n| id | material | tool | role | v_c m/min | h mm | F'c meas / sim N/mm | F'f meas / sim N/mm | h_c/h meas / sim | T_peak °C |\n|---|---|---|---|---|---|---|---|---|---|\n";
     for o in &v.outcomes {
         s += &format!(
             "| {} | {} | {} | {} | {} | {:.3} | {:.1} / {:.1} ({}) | {:.1} / {:.1} ({}) | {} | {:.0} |\n",

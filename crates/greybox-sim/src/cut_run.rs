@@ -6,7 +6,7 @@ use crate::chip::{contact_profile, measure, CutMeasures, ProfilePoint};
 use crate::cutting::{CuttingSetup, EdgeLayout};
 use crate::executor::{restored_state, run, Observer, RunSummary};
 use crate::friction_loop::FrictionUpdater;
-use crate::output::ForceHistory;
+use crate::output::{ForceHistory, PeakTemperature};
 use crate::solver::{SimError, Solver};
 use crate::steady::SteadyForce;
 use greybox_core::FrictionLaw;
@@ -19,6 +19,8 @@ pub struct CutRun {
     pub forces: ForceHistory,
     pub updater: FrictionUpdater,
     pub steady: SteadyForce,
+    /// The hottest particle over the run (sampled as often as the force history).
+    pub peak_temperature: PeakTemperature,
     pub layout: EdgeLayout,
     /// Start of the averaging period (steady start, or half the run), s.
     pub averaged_from_s: f64,
@@ -54,6 +56,7 @@ impl CutRun {
         check_steps_ahead(&sim, end, states.is_some(), fraction, fresh_dt)?;
         let v = setup.cutting_speed_m_s;
         let mut forces = ForceHistory::new(0, ((end / sim.dt) / 500.0).ceil().max(1.0) as u64);
+        let mut peak_temperature = PeakTemperature::new(forces.every);
         let mut updater = FrictionUpdater::new(0, setup.friction.update_every_steps);
         updater.smoothing = setup.friction.smoothing;
         let st = &setup.steady;
@@ -71,9 +74,15 @@ impl CutRun {
             updater.resumed = true;
             steady = restored_state(states, "steady")?;
             steady.resumed = true;
+            peak_temperature = restored_state(states, "peak_temperature")?;
         }
         let summary = {
-            let mut obs: Vec<&mut dyn Observer> = vec![&mut forces, &mut updater, &mut steady];
+            let mut obs: Vec<&mut dyn Observer> = vec![
+                &mut forces,
+                &mut updater,
+                &mut steady,
+                &mut peak_temperature,
+            ];
             for o in extra.iter_mut() {
                 obs.push(&mut **o);
             }
@@ -98,6 +107,7 @@ impl CutRun {
             forces,
             updater,
             steady,
+            peak_temperature,
             layout,
             averaged_from_s,
             force,

@@ -191,6 +191,53 @@ impl Observer for ForceHistory {
     }
 }
 
+/// The hottest particle over a run, K: sampled at the start, every `every` steps and at the
+/// end (the end-of-run maximum alone misses a peak that conduction has since spread out).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct PeakTemperature {
+    pub every: u64,
+    count: u64,
+    /// Highest particle temperature seen, K (−∞ before the first sample).
+    pub peak_k: f64,
+}
+
+impl PeakTemperature {
+    pub fn new(every: u64) -> Self {
+        PeakTemperature {
+            every: every.max(1),
+            count: 0,
+            peak_k: f64::NEG_INFINITY,
+        }
+    }
+
+    fn sample(&mut self, sim: &Solver) {
+        let hottest = sim.particles.temp.iter().copied().fold(f64::MIN, f64::max);
+        self.peak_k = self.peak_k.max(hottest);
+    }
+}
+
+impl Observer for PeakTemperature {
+    fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
+        Some(("peak_temperature", serde_json::to_value(self).ok()?))
+    }
+    fn start(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+        self.sample(sim);
+        Ok(())
+    }
+    fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
+        self.count += 1;
+        if self.count == self.every {
+            self.count = 0;
+            self.sample(sim);
+        }
+        Ok(Control::Continue)
+    }
+    fn finish(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+        self.sample(sim);
+        Ok(())
+    }
+}
+
 /// Writes a VTK file of the particles every `every` steps (and of the tools once).
 pub struct VtkSeries {
     pub dir: PathBuf,

@@ -72,14 +72,14 @@ impl ToolThermalSetup {
             conductivity: Table1d {
                 x: t.clone(),
                 y: t.iter()
-                    .map(|x| 80.0 - 0.025 * c(x).max(0.0).min(800.0))
+                    .map(|x| 80.0 - 0.025 * c(x).clamp(0.0, 800.0))
                     .collect(),
             },
             density_kg_m3: 14_900.0,
             specific_heat: Table1d {
                 x: t.clone(),
                 y: t.iter()
-                    .map(|x| 200.0 + 0.1 * c(x).max(0.0).min(800.0))
+                    .map(|x| 200.0 + 0.1 * c(x).clamp(0.0, 800.0))
                     .collect(),
             },
             coating_thickness_m: 3e-6,

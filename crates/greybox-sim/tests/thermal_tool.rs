@@ -118,4 +118,10 @@ fn the_thermal_tool_cools_the_contact() {
     );
     assert!(contact_t(&thermal) < contact_t(&adiabatic) - 5.0);
     assert!(adiabatic.sim.tools[0].thermal.is_none() && adiabatic.sim.energy.tool_heat == 0.0);
+    // The peak over the run bounds the hottest particle at the end, and the cut heated up.
+    for r in [&adiabatic, &thermal] {
+        let peak = r.peak_temperature.peak_k;
+        assert!(peak >= hottest(r) && peak > 293.15 + 100.0, "peak {peak} K");
+    }
+    assert!(thermal.peak_temperature.peak_k < adiabatic.peak_temperature.peak_k);
 }

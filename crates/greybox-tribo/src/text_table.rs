@@ -858,7 +858,7 @@ mod tests {
     fn parse(text: &str) -> Result<Table> {
         parse_text_table(text.as_bytes(), "t.csv", &TextOptions::default())
     }
-    fn col<'a>(t: &'a Table, k: usize) -> &'a [f64] {
+    fn col(t: &Table, k: usize) -> &[f64] {
         t.columns[k].values(&t.source).unwrap()
     }
 

@@ -62,7 +62,15 @@ fn summary_table(v: &Value) -> Table {
         ("chip compression ratio", f("compression_ratio", 3)),
         ("shear angle (°)", f("shear_angle_deg", 3)),
         ("contact length (mm)", f("contact_length_mm", 3)),
-        ("maximum temperature (°C)", f("max_temperature_c", 4)),
+        (
+            "maximum temperature at the end (°C)",
+            f("max_temperature_c", 4),
+        ),
+        (
+            "peak temperature over the run (°C)",
+            f("peak_temperature_c", 4),
+        ),
+        ("melting temperature (°C)", f("melt_temperature_c", 4)),
         ("steady", steady),
         ("simulated cut length (mm)", f("simulated_cut_length_mm", 3)),
         ("particles", int("particles")),

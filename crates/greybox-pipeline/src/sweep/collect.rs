@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Result columns of a cut: (CSV column with its unit, key in the cut's summary).
-const CUT_COLUMNS: [(&str, &str); 14] = [
+const CUT_COLUMNS: [(&str, &str); 15] = [
     ("cutting_force_N_per_mm", "cutting_force_n_per_mm"),
     ("feed_force_N_per_mm", "feed_force_n_per_mm"),
     ("force_ratio", "force_ratio"),
@@ -25,6 +25,7 @@ const CUT_COLUMNS: [(&str, &str); 14] = [
     ("shear_angle_deg", "shear_angle_deg"),
     ("contact_length_mm", "contact_length_mm"),
     ("max_temperature_C", "max_temperature_c"),
+    ("peak_temperature_C", "peak_temperature_c"),
     ("steady", "steady"),
     ("steady_from_mm", "steady_from_mm"),
     ("simulated_cut_length_mm", "simulated_cut_length_mm"),
