@@ -72,12 +72,7 @@ impl FlowStress {
                 } else {
                     0.0
                 };
-                let rf = m.rate_factor(strain_rate);
-                let drf = if strain_rate > m.ref_strain_rate {
-                    m.c
-                } else {
-                    0.0
-                };
+                let (rf, drf) = m.rate_factor_and_slope(strain_rate);
                 let soft = m.thermal_factor(t);
                 (h * rf * soft, dh * rf * soft, h * drf * soft)
             }

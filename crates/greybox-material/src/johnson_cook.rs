@@ -93,6 +93,17 @@ impl JohnsonCook {
         }
     }
 
+    /// The strain-rate factor and its slope by ln ε̇ (C above ε̇_0, 0 below).
+    #[inline]
+    pub fn rate_factor_and_slope(&self, strain_rate: f64) -> (f64, f64) {
+        let slope = if strain_rate > self.ref_strain_rate {
+            self.c
+        } else {
+            0.0
+        };
+        (self.rate_factor(strain_rate), slope)
+    }
+
     /// Thermal-softening factor 1 − T*^m with T* clamped to [0, 1].
     #[inline]
     pub fn thermal_factor(&self, temperature_k: f64) -> f64 {
@@ -114,7 +125,18 @@ impl JohnsonCook {
 
     /// Checks the parameters (positive A, B ≥ 0, 0 < n ≤ 1, C ≥ 0, m > 0, T_m > T_room).
     pub fn validate(&self) -> greybox_core::Result<()> {
-        greybox_core::rules::Rules::new("Johnson-Cook parameters")
+        self.add_rules(&mut greybox_core::rules::Rules::new(
+            "Johnson-Cook parameters",
+        ))
+        .finish()
+    }
+
+    /// Adds the J-C parameter rules to `rules` (also those of the J-C part of the TANH model).
+    pub fn add_rules<'r>(
+        &self,
+        rules: &'r mut greybox_core::rules::Rules,
+    ) -> &'r mut greybox_core::rules::Rules {
+        rules
             .positive("a_pa", self.a_pa)
             .non_negative("b_pa", self.b_pa)
             .above_up_to("n", self.n, 0.0, 1.0)
@@ -130,7 +152,6 @@ impl JohnsonCook {
                     self.melt_temperature_k, self.room_temperature_k
                 ),
             )
-            .finish()
     }
 }
 

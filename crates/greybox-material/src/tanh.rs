@@ -14,6 +14,7 @@
 //! set). Calamaz's model is s = 1; Sima & Özel added the exponent s. The strain-rate and
 //! ε, T* guards are those of [`crate::JohnsonCook`].
 
+use crate::JohnsonCook;
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -75,27 +76,18 @@ impl TanhJohnsonCook {
         }
     }
 
-    /// Strain-rate factor 1 + C ln(ε̇/ε̇₀), 1 below ε̇₀, and its derivative by ln ε̇.
-    #[inline]
-    fn rate_factor(&self, strain_rate: f64) -> (f64, f64) {
-        let r = strain_rate / self.ref_strain_rate;
-        if r > 1.0 {
-            (1.0 + self.c * r.ln(), self.c)
-        } else {
-            (1.0, 0.0)
-        }
-    }
-
-    /// Thermal-softening factor 1 − T*^m (T* clamped to [0, 1]).
-    #[inline]
-    fn thermal_factor(&self, temperature_k: f64) -> f64 {
-        let t = ((temperature_k - self.room_temperature_k)
-            / (self.melt_temperature_k - self.room_temperature_k))
-            .clamp(0.0, 1.0);
-        if t == 0.0 {
-            1.0
-        } else {
-            1.0 - t.powf(self.m)
+    /// The Johnson–Cook part of the model (A, B, n, C, m, ε̇₀, T_room, T_m): its rate and
+    /// thermal factors and its parameter rules are those of [`JohnsonCook`].
+    pub fn johnson_cook_part(&self) -> JohnsonCook {
+        JohnsonCook {
+            a_pa: self.a_pa,
+            b_pa: self.b_pa,
+            n: self.n,
+            c: self.c,
+            m: self.m,
+            ref_strain_rate: self.ref_strain_rate,
+            room_temperature_k: self.room_temperature_k,
+            melt_temperature_k: self.melt_temperature_k,
         }
     }
 
@@ -140,35 +132,23 @@ impl TanhJohnsonCook {
             // ε = p = 0: tanh(∞) = 1.
             (1.0, 0.0)
         };
-        let (rf, drf) = self.rate_factor(strain_rate);
-        let soft = self.thermal_factor(t);
+        let jc = self.johnson_cook_part();
+        let (rf, drf) = jc.rate_factor_and_slope(strain_rate);
+        let soft = jc.thermal_factor(t);
         let sigma = h * rf * soft * g;
         (sigma, (dh * g + h * dg) * rf * soft, h * drf * soft * g)
     }
 
     /// Checks the parameters (as J-C, plus a, c > 0 and b, d, s > 0).
     pub fn validate(&self) -> greybox_core::Result<()> {
-        greybox_core::rules::Rules::new("TANH Johnson-Cook parameters")
-            .positive("a_pa", self.a_pa)
-            .non_negative("b_pa", self.b_pa)
-            .above_up_to("n", self.n, 0.0, 1.0)
-            .non_negative("c", self.c)
-            .positive("m", self.m)
-            .positive("ref_strain_rate", self.ref_strain_rate)
-            .positive("room_temperature_k", self.room_temperature_k)
+        let mut rules = greybox_core::rules::Rules::new("TANH Johnson-Cook parameters");
+        self.johnson_cook_part()
+            .add_rules(&mut rules)
             .positive("tanh_a", self.tanh_a)
             .positive("tanh_b", self.tanh_b)
             .positive("tanh_c", self.tanh_c)
             .positive("tanh_d", self.tanh_d)
             .positive("tanh_s", self.tanh_s)
-            .relation(
-                self.melt_temperature_k > self.room_temperature_k
-                    && self.melt_temperature_k.is_finite(),
-                format!(
-                    "melt_temperature_k ({}) must exceed room_temperature_k ({})",
-                    self.melt_temperature_k, self.room_temperature_k
-                ),
-            )
             .finish()
     }
 }

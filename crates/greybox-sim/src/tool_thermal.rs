@@ -313,18 +313,7 @@ impl ToolThermal {
                         flow += kf * (self.temp[n] - self.temp[c]);
                     }
                 };
-                if i > 0 {
-                    add(c - 1);
-                }
-                if i + 1 < nx {
-                    add(c + 1);
-                }
-                if j > 0 {
-                    add(c - nx);
-                }
-                if j + 1 < ny {
-                    add(c + nx);
-                }
+                for_each_neighbour(i, j, nx, ny, &mut add);
                 let q = flow * dt + self.heat_in[c];
                 if self.kind[c] == AMBIENT {
                     // Held: what flows in leaves to the ambient.
@@ -421,20 +410,28 @@ fn nearest_inside_cells(kind: &[u8], nx: usize, ny: usize) -> Vec<u32> {
                 queue.push_back(n);
             }
         };
-        if i > 0 {
-            visit(c - 1);
-        }
-        if i + 1 < nx {
-            visit(c + 1);
-        }
-        if j > 0 {
-            visit(c - nx);
-        }
-        if j + 1 < ny {
-            visit(c + nx);
-        }
+        for_each_neighbour(i, j, nx, ny, &mut visit);
     }
     near
+}
+
+/// Calls `f` with the index of each of the (up to four) face neighbours of cell (i, j) on a
+/// row-major nx × ny grid.
+#[inline]
+fn for_each_neighbour(i: usize, j: usize, nx: usize, ny: usize, f: &mut impl FnMut(usize)) {
+    let c = j * nx + i;
+    if i > 0 {
+        f(c - 1);
+    }
+    if i + 1 < nx {
+        f(c + 1);
+    }
+    if j > 0 {
+        f(c - nx);
+    }
+    if j + 1 < ny {
+        f(c + nx);
+    }
 }
 
 #[cfg(test)]

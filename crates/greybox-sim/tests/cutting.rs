@@ -1,11 +1,13 @@
 //! Orthogonal cutting with friction windows and the in-process grey-box loop (coarse and
 //! fast: AISI 1045 at 20 µm spacing, 5 particles across h).
 use greybox_core::{ContactState, FrictionLaw};
-use greybox_material::Material;
 use greybox_sim::cut_run::CutRun;
-use greybox_sim::cutting::{CuttingSetup, FrictionSetup, InsertGeometry, SteadySetup};
-use greybox_sim::{ConstantMu, Numerics};
+use greybox_sim::cutting::CuttingSetup;
+use greybox_sim::ConstantMu;
 use std::sync::Arc;
+
+mod common;
+use common::coarse_cut;
 
 /// A strongly velocity-dependent law: μ = 0.15 + 0.45 exp(−v / 0.5 m/s) (0.6 when sticking,
 /// 0.21 at the chip's sliding speed).
@@ -17,39 +19,6 @@ impl FrictionLaw for VelocityLaw {
     }
     fn mu(&self, s: &ContactState) -> f64 {
         0.15 + 0.45 * (-s.sliding_velocity_m_s / 0.5).exp()
-    }
-}
-
-fn coarse_cut() -> CuttingSetup {
-    CuttingSetup {
-        insert: InsertGeometry {
-            rake_deg: 0.0,
-            clearance_deg: 7.0,
-            edge_radius_m: 20e-6,
-            rake_length_m: 0.4e-3,
-            flank_length_m: 0.2e-3,
-        },
-        cutting_speed_m_s: 2.5,
-        uncut_chip_thickness_m: 0.1e-3,
-        cut_length_m: 0.3e-3,
-        spacing_m: 20e-6,
-        workpiece_height_m: 0.24e-3,
-        mu: 0.35,
-        initial_temperature_k: 293.15,
-        material: Material::aisi1045_article(),
-        numerics: Numerics {
-            mass_scaling: 100.0,
-            ..Numerics::default()
-        },
-        friction: FrictionSetup {
-            window_length_m: 20e-6,
-            update_every_steps: 100,
-            law_file: None,
-            smoothing: Default::default(),
-        },
-        steady: SteadySetup::default(),
-        tool_thermal: None,
-        physical_cutting_speed_m_s: None,
     }
 }
 

@@ -2,43 +2,21 @@
 //! and the tool takes heat out of the chip (coarse and fast: Ti6Al4V at 20 µm spacing).
 use greybox_material::Material;
 use greybox_sim::cut_run::CutRun;
-use greybox_sim::cutting::{CuttingSetup, FrictionSetup, InsertGeometry, SteadySetup};
+use greybox_sim::cutting::CuttingSetup;
 use greybox_sim::tool_thermal::ToolThermalSetup;
-use greybox_sim::{ConstantMu, Numerics};
+use greybox_sim::ConstantMu;
 use std::sync::Arc;
 
+mod common;
+use common::coarse_cut;
+
 fn coarse_ti_cut(thermal_tool: bool) -> CuttingSetup {
-    CuttingSetup {
-        insert: InsertGeometry {
-            rake_deg: 0.0,
-            clearance_deg: 7.0,
-            edge_radius_m: 20e-6,
-            rake_length_m: 0.4e-3,
-            flank_length_m: 0.2e-3,
-        },
-        cutting_speed_m_s: 2.5,
-        uncut_chip_thickness_m: 0.1e-3,
-        cut_length_m: 0.3e-3,
-        spacing_m: 20e-6,
-        workpiece_height_m: 0.24e-3,
-        mu: 0.35,
-        initial_temperature_k: 300.0,
-        material: Material::ti6al4v(),
-        numerics: Numerics {
-            mass_scaling: 100.0,
-            friction_heat_share: 0.5,
-            ..Numerics::default()
-        },
-        friction: FrictionSetup {
-            window_length_m: 20e-6,
-            update_every_steps: 100,
-            law_file: None,
-            smoothing: Default::default(),
-        },
-        steady: SteadySetup::default(),
-        tool_thermal: thermal_tool.then(ToolThermalSetup::carbide_altin),
-        physical_cutting_speed_m_s: None,
-    }
+    let mut s = coarse_cut();
+    s.material = Material::ti6al4v();
+    s.initial_temperature_k = 300.0;
+    s.numerics.friction_heat_share = 0.5;
+    s.tool_thermal = thermal_tool.then(ToolThermalSetup::carbide_altin);
+    s
 }
 
 fn run(setup: &CuttingSetup) -> CutRun {

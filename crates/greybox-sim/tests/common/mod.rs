@@ -25,3 +25,39 @@ pub fn block_model(
         numerics: Numerics::default(),
     }
 }
+
+/// A coarse cut (20 µm spacing, 0.3 mm of cut, mass scaling 100) of the article's AISI 1045
+/// with a rigid adiabatic tool: the tests' standard cut, ten seconds in release.
+pub fn coarse_cut() -> greybox_sim::cutting::CuttingSetup {
+    use greybox_sim::cutting::{CuttingSetup, FrictionSetup, InsertGeometry, SteadySetup};
+    CuttingSetup {
+        insert: InsertGeometry {
+            rake_deg: 0.0,
+            clearance_deg: 7.0,
+            edge_radius_m: 20e-6,
+            rake_length_m: 0.4e-3,
+            flank_length_m: 0.2e-3,
+        },
+        cutting_speed_m_s: 2.5,
+        uncut_chip_thickness_m: 0.1e-3,
+        cut_length_m: 0.3e-3,
+        spacing_m: 20e-6,
+        workpiece_height_m: 0.24e-3,
+        mu: 0.35,
+        initial_temperature_k: 293.15,
+        material: Material::aisi1045_article(),
+        numerics: Numerics {
+            mass_scaling: 100.0,
+            ..Numerics::default()
+        },
+        friction: FrictionSetup {
+            window_length_m: 20e-6,
+            update_every_steps: 100,
+            law_file: None,
+            smoothing: Default::default(),
+        },
+        steady: SteadySetup::default(),
+        tool_thermal: None,
+        physical_cutting_speed_m_s: None,
+    }
+}
