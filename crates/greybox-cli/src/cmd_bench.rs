@@ -80,6 +80,10 @@ pub enum Bench {
         /// Fraction of each template's cut length (shorter: faster, less steady).
         #[arg(long, default_value_t = 1.0)]
         fraction: f64,
+        /// Replace an existing, non-empty output directory (swapped out whole once every
+        /// cut has run).
+        #[arg(long)]
+        force: bool,
         #[arg(long)]
         json: bool,
     },
@@ -188,18 +192,15 @@ pub fn run(a: Args) -> Result<()> {
             only,
             tool,
             fraction,
+            force,
             json,
         } => {
-            if !(fraction > 0.0 && fraction <= 1.0) {
-                anyhow::bail!("--fraction: expected a number in (0, 1], got {fraction}");
-            }
             let o = validate::ValidateOptions {
                 only,
                 tools: tool.into_iter().map(Into::into).collect(),
                 fraction,
             };
-            let v = validate::validate(&suite, &o)?;
-            let files = validate::write_outputs(&v, &out)?;
+            let (v, files) = validate::validate_into(&suite, &o, &out, force)?;
             emit(json, &v, |v| {
                 let mut t = validate::markdown(v);
                 t += &format!(

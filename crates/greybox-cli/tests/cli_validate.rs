@@ -105,4 +105,35 @@ fn validation_subset_calibrates_on_one_condition_and_reports_the_held_out_ones()
         e.contains("7 calibration conditions of 18") && e.contains("at most a third"),
         "{e}"
     );
+    assert!(
+        !d.path().join("o2").exists(),
+        "a refused run leaves no output directory"
+    );
+
+    // A mistyped condition id is named, not skipped.
+    let e = err(&greybox(
+        &[
+            "bench",
+            "validate",
+            "--suite",
+            "suite.toml",
+            "--out",
+            "o3",
+            "--only",
+            "D9",
+        ],
+        d.path(),
+    ));
+    assert!(e.contains("'D9'") && e.contains("D09"), "{e}");
+    // The previous run's directory is kept unless --force.
+    let e = err(&greybox(
+        &["bench", "validate", "--suite", "suite.toml", "--out", "out"],
+        d.path(),
+    ));
+    assert!(e.contains("--force"), "{e}");
+    assert_eq!(
+        std::fs::read_to_string(d.path().join("out/results.csv")).unwrap(),
+        csv
+    );
+    assert!(d.path().join("out/provenance.json").exists());
 }

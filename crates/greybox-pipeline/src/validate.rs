@@ -37,6 +37,24 @@ pub struct Suite {
     pub material: Vec<MaterialRuns>,
 }
 
+impl Suite {
+    /// Reads a suite file.
+    pub fn read(path: &Path) -> Result<Suite> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read {}", path.display()))?;
+        toml::from_str(&text).with_context(|| format!("{}: not a validation suite", path.display()))
+    }
+
+    /// The files the suite at `path` reads: its data and its set-up templates (relative
+    /// paths resolved against the suite's directory).
+    pub fn input_files(&self, path: &Path) -> Vec<PathBuf> {
+        let base = path.parent().unwrap_or(Path::new("."));
+        std::iter::once(base.join(&self.data))
+            .chain(self.material.iter().map(|m| base.join(&m.setup)))
+            .collect()
+    }
+}
+
 /// How one material's conditions are simulated and calibrated.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -300,12 +318,33 @@ struct Plan<'a> {
 
 /// Runs the suite.
 pub fn validate(suite_path: &Path, o: &ValidateOptions) -> Result<Validation> {
-    let text = std::fs::read_to_string(suite_path)
-        .with_context(|| format!("cannot read {}", suite_path.display()))?;
-    let suite: Suite = toml::from_str(&text)
-        .with_context(|| format!("{}: not a validation suite", suite_path.display()))?;
+    if !(o.fraction > 0.0 && o.fraction <= 1.0) {
+        bail!(
+            "fraction of the cut length (--fraction): expected a number in (0, 1], got {}",
+            o.fraction
+        );
+    }
+    if o.tools.is_empty() {
+        bail!("tool models (--tool): expected at least one of adiabatic, thermal");
+    }
+    let suite = Suite::read(suite_path)?;
     let base = suite_path.parent().unwrap_or(Path::new("."));
     let conditions = read_conditions(&base.join(&suite.data))?;
+    if let Some(id) = o
+        .only
+        .iter()
+        .find(|id| !conditions.iter().any(|c| &c.id == *id))
+    {
+        bail!(
+            "--only: condition '{id}' is not in {} (ids: {})",
+            suite.data,
+            conditions
+                .iter()
+                .map(|c| c.id.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     let mut plans = Vec::new();
     for runs in &suite.material {
         let rows: Vec<&Condition> = conditions
@@ -365,8 +404,10 @@ pub fn validate(suite_path: &Path, o: &ValidateOptions) -> Result<Validation> {
     }
     let mut outcomes = Vec::new();
     let mut summaries = Vec::new();
+    let mut tools = o.tools.clone();
+    tools.dedup();
     for plan in &plans {
-        for &tool in &o.tools {
+        for &tool in &tools {
             let mu = calibrate(plan, tool)?;
             let jobs: Vec<(&Condition, &'static str)> = plan
                 .calibration
@@ -499,11 +540,35 @@ fn summarise(
     })
 }
 
+/// Runs the suite and writes its outputs into the directory `out`: staged and swapped in
+/// whole once every cut has run, with a provenance record of the suite, its data and
+/// templates. An `out` that already holds files is refused before any cut runs, unless
+/// `force`. Returns the results and the files written (as they are named after the swap).
+pub fn validate_into(
+    suite_path: &Path,
+    o: &ValidateOptions,
+    out: &Path,
+    force: bool,
+) -> Result<(Validation, Vec<PathBuf>)> {
+    let files = Suite::read(suite_path)?.input_files(suite_path);
+    let mut inputs = vec![("--suite", suite_path)];
+    inputs.extend(files.iter().map(|f| ("suite input", f.as_path())));
+    let staged = crate::output::stage_out_dir(out, force, &inputs)?;
+    let v = validate(suite_path, o)?;
+    let files: Vec<PathBuf> = write_outputs(&v, staged.path())?
+        .iter()
+        .map(|p| staged.shown(p))
+        .collect();
+    crate::output::provenance(&inputs)?.write_into(staged.path())?;
+    staged.commit()?;
+    Ok((v, files))
+}
+
 /// Writes `results.csv`, `summary.json`, `validation.md` (tables) and the plots
-/// `forces.svg` (simulated against measured forces, both tool models) into `out`.
+/// `forces.svg` (simulated against measured forces, both tool models) into the existing
+/// directory `out`.
 pub fn write_outputs(v: &Validation, out: &Path) -> Result<Vec<PathBuf>> {
     use greybox_core::atomic::{write_atomic, write_string_atomic};
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let opt = |v: Option<f64>, d: usize| v.map_or(String::new(), |x| format!("{x:.d$}"));
     let results = out.join("results.csv");
     write_atomic(&results, |w| {
