@@ -318,6 +318,22 @@ struct Plan<'a> {
 
 /// Runs the suite.
 pub fn validate(suite_path: &Path, o: &ValidateOptions) -> Result<Validation> {
+    run_suite(&Suite::read(suite_path)?, suite_path, o)
+}
+
+/// The tool models, each once, in the order first named.
+fn distinct_in_order(tools: &[ToolModel]) -> Vec<ToolModel> {
+    let mut once: Vec<ToolModel> = Vec::new();
+    for &t in tools {
+        if !once.contains(&t) {
+            once.push(t);
+        }
+    }
+    once
+}
+
+/// Runs `suite`, read from `suite_path` (relative paths resolve against its directory).
+fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Validation> {
     if !(o.fraction > 0.0 && o.fraction <= 1.0) {
         bail!(
             "fraction of the cut length (--fraction): expected a number in (0, 1], got {}",
@@ -327,7 +343,6 @@ pub fn validate(suite_path: &Path, o: &ValidateOptions) -> Result<Validation> {
     if o.tools.is_empty() {
         bail!("tool models (--tool): expected at least one of adiabatic, thermal");
     }
-    let suite = Suite::read(suite_path)?;
     let base = suite_path.parent().unwrap_or(Path::new("."));
     let conditions = read_conditions(&base.join(&suite.data))?;
     if let Some(id) = o
@@ -404,8 +419,7 @@ pub fn validate(suite_path: &Path, o: &ValidateOptions) -> Result<Validation> {
     }
     let mut outcomes = Vec::new();
     let mut summaries = Vec::new();
-    let mut tools = o.tools.clone();
-    tools.dedup();
+    let tools = distinct_in_order(&o.tools);
     for plan in &plans {
         for &tool in &tools {
             let mu = calibrate(plan, tool)?;
@@ -550,11 +564,12 @@ pub fn validate_into(
     out: &Path,
     force: bool,
 ) -> Result<(Validation, Vec<PathBuf>)> {
-    let files = Suite::read(suite_path)?.input_files(suite_path);
+    let suite = Suite::read(suite_path)?;
+    let files = suite.input_files(suite_path);
     let mut inputs = vec![("--suite", suite_path)];
     inputs.extend(files.iter().map(|f| ("suite input", f.as_path())));
     let staged = crate::output::stage_out_dir(out, force, &inputs)?;
-    let v = validate(suite_path, o)?;
+    let v = run_suite(&suite, suite_path, o)?;
     let files: Vec<PathBuf> = write_outputs(&v, staged.path())?
         .iter()
         .map(|p| staged.shown(p))
@@ -727,6 +742,15 @@ fn force_plot(v: &Validation) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn repeated_tool_models_run_once_in_the_order_named() {
+        use ToolModel::{Adiabatic, Thermal};
+        assert_eq!(
+            distinct_in_order(&[Thermal, Adiabatic, Thermal, Adiabatic]),
+            vec![Thermal, Adiabatic]
+        );
+    }
 
     #[test]
     fn reads_conditions_with_units_and_names_bad_fields() {
