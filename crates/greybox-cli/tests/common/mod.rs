@@ -81,3 +81,40 @@ pub fn coarse_config(dir: &Path, law_file: Option<&str>) {
     }
     std::fs::write(dir.join("cut.toml"), s).unwrap();
 }
+
+/// Run the greybox binary in `cwd` under an address-space limit of `memory_mib` MiB and a
+/// wall-clock limit of `seconds` (hostile-input tests: a reader without a budget fails by
+/// being killed, which the caller sees as a signal or exit status 124/137, not as a clean
+/// error). Uses util-linux `prlimit` and coreutils `timeout`, present on every Debian.
+pub fn greybox_limited(args: &[&str], cwd: &Path, memory_mib: u64, seconds: u64) -> Output {
+    let bytes = (memory_mib << 20).to_string();
+    let mut cmd = Command::new("timeout");
+    cmd.arg("--signal=KILL")
+        .arg(seconds.to_string())
+        .arg("prlimit")
+        .arg(format!("--as={bytes}"))
+        .arg("--")
+        .arg(env!("CARGO_BIN_EXE_greybox"))
+        .args(args)
+        .current_dir(cwd);
+    cmd.output().expect("run greybox under prlimit and timeout")
+}
+
+/// Assert a clean refusal under limits: the process exited by itself with a failure status
+/// (not killed by the time or memory limit, not a panic) and its message contains every
+/// one of `needles`; returns stderr.
+pub fn refused_with(out: &Output, needles: &[&str]) -> String {
+    use std::os::unix::process::ExitStatusExt;
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(
+        out.status.signal().is_none() && !matches!(out.status.code(), Some(124 | 137)),
+        "killed by a limit ({:?}); stderr: {stderr}",
+        out.status
+    );
+    assert!(!out.status.success(), "expected a refusal, stdout: {}", String::from_utf8_lossy(&out.stdout));
+    assert!(!stderr.contains("panicked"), "panic: {stderr}");
+    for n in needles {
+        assert!(stderr.contains(n), "expected {n:?} in: {stderr}");
+    }
+    stderr
+}
