@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 /// The path a write to `path` really replaces: `path` itself, or the file a symbolic link
 /// there points to. An error if something other than a regular file is there.
 pub fn replaceable_target(path: &Path) -> Result<PathBuf> {
+    refuse_system_path(path)?;
     let meta = match std::fs::metadata(path) {
         Ok(m) => m,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
@@ -40,6 +41,33 @@ pub fn replaceable_target(path: &Path) -> Result<PathBuf> {
         return std::fs::canonicalize(path).map_err(|e| Error::io(path, e));
     }
     Ok(path.to_path_buf())
+}
+
+/// Directories of the system's pseudo-files: an output there is a stream (`/dev/stdout`, a
+/// `/proc/self/fd/N`), never a file greybox may replace and write a provenance record beside.
+const SYSTEM_DIRS: [&str; 3] = ["/dev", "/proc", "/sys"];
+
+/// Refuse an output path under `/dev`, `/proc` or `/sys`, as written or once resolved:
+/// `/dev/stdout` redirected to a log file resolves to that (regular) file, which a write
+/// would replace, and its sidecar would land in `/dev`.
+fn refuse_system_path(path: &Path) -> Result<()> {
+    let absolute = if path.is_absolute() {
+        path.to_path_buf()
+    } else {
+        std::env::current_dir().map_or_else(|_| path.to_path_buf(), |d| d.join(path))
+    };
+    let resolved = std::fs::canonicalize(&absolute).ok();
+    let under = |p: &Path| SYSTEM_DIRS.iter().find(|d| p.starts_with(d)).copied();
+    if let Some(dir) = under(&absolute).or_else(|| resolved.as_deref().and_then(under)) {
+        let kind = std::fs::metadata(path).map_or("a system path", |m| describe_kind(&m));
+        return Err(Error::input(
+            SourcePos::path(path),
+            format!(
+                "the output path is under {dir} ({kind}): greybox writes outputs only as regular files (with a provenance record beside them), never to {dir}; give a file path and read it from there"
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// "a directory", "a FIFO", … for messages.

@@ -42,18 +42,27 @@ fn same_file(a: &Path, b: &Path) -> bool {
 
 /// Refuse a file output (given as `out_flag`) that is one of `inputs` or is not a regular
 /// file.
+///
+/// The provenance record written beside it (`<out>.provenance.json`) is an output too: it
+/// must not be an input either (`--data y.csv.provenance.json --out y.csv`).
 pub fn check_file_output(out: &Path, out_flag: &str, inputs: &[Input]) -> Result<()> {
     replaceable_target(out)?;
+    let sidecar = crate::provenance::Provenance::path_beside(out);
     for (flag, input) in inputs {
-        if same_file(out, input) {
-            return Err(Error::input(
-                SourcePos::path(out),
-                format!(
-                    "{out_flag} is the input {flag} ({}): writing it would destroy the input; choose another output path",
-                    input.display()
-                ),
-            ));
-        }
+        let written = if same_file(out, input) {
+            out_flag.to_string()
+        } else if same_file(&sidecar, input) {
+            format!("the provenance record beside {out_flag} ({})", sidecar.display())
+        } else {
+            continue;
+        };
+        return Err(Error::input(
+            SourcePos::path(out),
+            format!(
+                "{written} is the input {flag} ({}): writing it would destroy the input; choose another output path",
+                input.display()
+            ),
+        ));
     }
     Ok(())
 }

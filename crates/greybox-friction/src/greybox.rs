@@ -10,7 +10,7 @@
 
 use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::linalg::solve3;
-use greybox_core::{Breaks, ContactState, Error, FrictionLaw, Result};
+use greybox_core::{units, Breaks, ContactState, Error, FrictionLaw, Result};
 use serde::{Deserialize, Serialize};
 
 pub struct GreyBoxLaw {
@@ -23,6 +23,11 @@ pub struct GreyBoxLaw {
     domain: ValidityDomain,
 }
 
+/// The least plausible shear cap k, MPa: the shear flow stress of the softest metals cut
+/// (pure aluminium, lead alloys aside) is above it; a smaller value is a unit slip (GPa for MPa)
+/// that caps every window's shear stress and makes μ the clamp's lower bound everywhere.
+pub const MIN_SHEAR_CAP_MPA: f64 = 50.0;
+
 impl GreyBoxLaw {
     pub fn new(
         inner: Box<dyn FrictionLaw>,
@@ -34,8 +39,15 @@ impl GreyBoxLaw {
         let mut rules = greybox_core::rules::Rules::new("grey-box law");
         rules.positive("blend_fraction", blend_fraction);
         if let Some(k) = shear_cap_k_pa {
-            // a cap ≤ 0 made every window slide at the clamp's lower bound (μ = 0.05 everywhere)
-            rules.positive("shear_cap_k_MPa", k * 1e-6);
+            // a cap ≤ 0 made every window slide at the clamp's lower bound (μ = 0.05 everywhere);
+            // so did a cap in GPa typed where MPa is meant (0.6 or 1 for 600 MPa)
+            let k_mpa = k / units::PA_PER_MPA;
+            rules.positive("shear_cap_k_MPa", k_mpa).relation(
+                !(k_mpa > 0.0) || k_mpa >= MIN_SHEAR_CAP_MPA,
+                format!(
+                    "shear_cap_k_MPa is {k_mpa} MPa, below any metal's shear flow stress ({MIN_SHEAR_CAP_MPA} MPa is the least accepted; steels and titanium alloys are 300-900 MPa): is the value in GPa? give it in MPa"
+                ),
+            );
         }
         if let Some((lo, hi)) = clamp {
             rules

@@ -191,6 +191,23 @@ impl LawSpec {
     }
 }
 
+impl LawSpec {
+    /// The files this law reads (model files and tables, nested laws included), relative
+    /// paths resolved against `base`.
+    pub fn files(&self, base: &Path) -> Vec<PathBuf> {
+        match self {
+            LawSpec::Learned { model, .. } => vec![resolve(base, model)],
+            LawSpec::Table { file } => vec![resolve(base, file)],
+            LawSpec::GreyBox { inner, outside, .. } => {
+                let mut v = inner.files(base);
+                v.extend(outside.files(base));
+                v
+            }
+            _ => Vec::new(),
+        }
+    }
+}
+
 fn resolve(base: &Path, p: &Path) -> PathBuf {
     if p.is_absolute() {
         p.to_path_buf()
@@ -201,6 +218,22 @@ fn resolve(base: &Path, p: &Path) -> PathBuf {
 
 /// Load a law from a law file, a model file or a table file.
 pub fn load_law(path: &Path) -> Result<Box<dyn FrictionLaw>> {
+    let (spec, base) = read_spec(path)?;
+    spec.build(&base)
+}
+
+/// Every file loading the law at `path` reads: the file itself and the model files and
+/// tables it names. All are inputs of a command that takes the law: an output must not
+/// replace any of them.
+pub fn law_inputs(path: &Path) -> Result<Vec<PathBuf>> {
+    let (spec, base) = read_spec(path)?;
+    let mut files = vec![path.to_path_buf()];
+    files.extend(spec.files(&base).into_iter().filter(|f| f != path));
+    Ok(files)
+}
+
+/// The law file's spec and the directory its relative paths are resolved against.
+fn read_spec(path: &Path) -> Result<(LawSpec, PathBuf)> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
         Error::input(
@@ -219,5 +252,5 @@ pub fn load_law(path: &Path) -> Result<Box<dyn FrictionLaw>> {
         _ => serde_json::from_value(v)
             .map_err(|e| Error::input(SourcePos::path(path), format!("invalid law file: {e}")))?,
     };
-    spec.build(&base)
+    Ok((spec, base))
 }

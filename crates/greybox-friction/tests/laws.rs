@@ -229,3 +229,27 @@ fn a_non_positive_shear_cap_is_refused() {
         assert!(e.contains("shear_cap_k_MPa must be > 0"), "{e}");
     }
 }
+
+/// A cap typed in GPa where MPa is meant (0.6 or 1 for 600 MPa) gave μ = 0.05 everywhere.
+#[test]
+fn a_shear_cap_in_gpa_is_refused_with_the_number() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path().join("law.json");
+    for k in ["0.6", "1", "49.9"] {
+        std::fs::write(
+            &p,
+            format!(r#"{{"law": "grey-box", "inner": {{"law": "coulomb", "mu": 0.4}}, "outside": {{"law": "coulomb", "mu": 0.4}}, "shear_cap_k_MPa": {k}}}"#),
+        )
+        .unwrap();
+        let e = load_law(&p).err().expect("refused").to_string();
+        assert!(e.contains(&format!("shear_cap_k_MPa is {k} MPa")) && e.contains("GPa"), "{e}");
+    }
+    std::fs::write(
+        &p,
+        r#"{"law": "grey-box", "inner": {"law": "coulomb", "mu": 0.4}, "outside": {"law": "coulomb", "mu": 0.4}, "shear_cap_k_MPa": 50}"#,
+    )
+    .unwrap();
+    if let Err(e) = load_law(&p) {
+        assert!(!e.to_string().contains("shear_cap"), "50 MPa is accepted: {e}");
+    }
+}

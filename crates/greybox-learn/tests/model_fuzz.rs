@@ -242,3 +242,52 @@ fn tree_cycle_and_out_of_range_child_are_refused() {
         "{e}"
     );
 }
+
+/// Implausible records that used to load: a pressure per newton of 0 or below (μ 0.257 or
+/// 0.527 instead of 0.403 through a law), a coverage of 5 ("500 % low/high"), an unsupported
+/// schema version printed as `Some(99)`. Each is refused naming the field and the number.
+#[test]
+fn implausible_records_are_refused_with_the_number() {
+    let base = valid_files().remove(0);
+    let cases: Vec<(Box<dyn Fn(&mut ModelFile)>, &str, &str)> = vec![
+        (
+            Box::new(|m: &mut ModelFile| {
+                m.force_to_pressure = Some(greybox_model::modelfile::ForcePressure {
+                    pressure_convention: greybox_core::dataset::PressureConvention::TextbookMax,
+                    pressure_pa_at_1_n: 0.0,
+                })
+            }),
+            "force_to_pressure.pressure_pa_at_1_n",
+            "0 Pa at 1 N",
+        ),
+        (
+            Box::new(|m: &mut ModelFile| {
+                m.force_to_pressure = Some(greybox_model::modelfile::ForcePressure {
+                    pressure_convention: greybox_core::dataset::PressureConvention::TextbookMax,
+                    pressure_pa_at_1_n: -2.0e8,
+                })
+            }),
+            "force_to_pressure.pressure_pa_at_1_n",
+            "-200000000 Pa at 1 N",
+        ),
+        (
+            Box::new(|m: &mut ModelFile| m.prediction_interval.coverage = 5.0),
+            "prediction_interval.coverage",
+            "5 is not a coverage",
+        ),
+        (
+            Box::new(|m: &mut ModelFile| m.schema_version = 99),
+            "schema_version",
+            "schema version 99 is not supported",
+        ),
+    ];
+    for (damage, field, text) in cases {
+        let mut m = base.clone();
+        damage(&mut m);
+        let m = m.seal().unwrap();
+        let json = serde_json::to_string(&m).unwrap();
+        let e = ModelFile::parse(&json, "m.json").err().expect("refused").to_string();
+        assert!(e.contains(field) && e.contains(text), "{e}");
+        assert!(!e.contains("Some("), "{e}");
+    }
+}

@@ -148,11 +148,15 @@ impl ModelFile {
                 format!("not a greybox model file (schema must be \"{SCHEMA}\")"),
             ));
         }
-        let version = v.get("schema_version").and_then(|s| s.as_u64());
-        if !version.is_some_and(|v| READABLE_VERSIONS.contains(&v)) {
+        let version = v.get("schema_version");
+        if !version
+            .and_then(|s| s.as_u64())
+            .is_some_and(|v| READABLE_VERSIONS.contains(&v))
+        {
+            let stated = version.map_or_else(|| "missing".to_string(), |v| v.to_string());
             return Err(Error::input(
                 pos().field("schema_version"),
-                format!("schema version {version:?} is not supported (this greybox reads versions 1 and {SCHEMA_VERSION})"),
+                format!("schema version {stated} is not supported (this greybox reads versions 1 and {SCHEMA_VERSION}; a newer greybox wrote it, or the file was edited)"),
             ));
         }
         let m: ModelFile = serde_json::from_value(v)
@@ -200,6 +204,23 @@ impl ModelFile {
                 "prediction_interval.half_width".into(),
                 format!("{q} is not a width"),
             ));
+        }
+        let c = self.prediction_interval.coverage;
+        let no_interval = c == 0.0 && q == 0.0;
+        if !(no_interval || (c > 0.0 && c < 1.0)) {
+            return Err(bad(
+                "prediction_interval.coverage".into(),
+                format!("{c} is not a coverage: a fraction in (0, 1) such as 0.9 for 90 % (0 only with a half-width of 0, for no interval)"),
+            ));
+        }
+        if let Some(fp) = &self.force_to_pressure {
+            let c = fp.pressure_pa_at_1_n;
+            if !(c.is_finite() && c > 0.0) {
+                return Err(bad(
+                    "force_to_pressure.pressure_pa_at_1_n".into(),
+                    format!("{c} Pa at 1 N is not a contact pressure: Hertz pressure grows with the load, p = c·F^(1/3) with c > 0"),
+                ));
+            }
         }
         crate::structure::check_model(&self.model, n)
             .map_err(|e| bad(format!("model.{}", e.field), e.message))

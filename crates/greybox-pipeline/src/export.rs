@@ -10,7 +10,7 @@ use greybox_friction::export::{
     self, DeformWindow, Deviation, Exported, Grid, PressureUnit, SpeedUnit, StepLines,
     TableOptions, TempUnit, Units,
 };
-use greybox_friction::spec::load_law;
+use greybox_friction::spec::{law_inputs, load_law};
 use greybox_friction::surrogate::{self, SurrogateOptions};
 use greybox_friction::table::Axis;
 use greybox_friction::table_file::{AnyTable, TableKind};
@@ -193,7 +193,13 @@ pub fn units_by_name(pressure: &str, speed: &str, temperature: &str) -> Result<U
 
 /// Export; returns what was written and its deviation from the law.
 pub fn export(a: &ExportOptions) -> Result<ExportReport> {
+    let law_files = law_inputs(&a.law)?;
     let mut inputs = vec![("--law", a.law.as_path())];
+    inputs.extend(
+        law_files[1..]
+            .iter()
+            .map(|f| ("a file the law --law reads", f.as_path())),
+    );
     if let Some(w) = &a.deform_windows {
         inputs.push(("--deform-windows", w.as_path()));
     }

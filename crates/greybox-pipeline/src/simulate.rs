@@ -229,7 +229,10 @@ pub fn cut_case(setup: CuttingSetup, base: &Path) -> Result<CutCase> {
             let p = base.join(f);
             let law = greybox_friction::spec::load_law(&p)
                 .with_context(|| format!("friction.law_file {}", p.display()))?;
-            inputs.push(("friction.law_file", p.clone()));
+            for f in greybox_friction::spec::law_inputs(&p)? {
+                let role = if f == p { "friction.law_file" } else { "a file friction.law_file reads" };
+                inputs.push((role, f));
+            }
             (Arc::from(law), p.display().to_string())
         }
         None => (

@@ -932,19 +932,58 @@ pub fn match_segments(
 /// of each other, a channel read in the wrong unit (kN as N, mN as N) moves them by 1000.
 pub const IMPLAUSIBLE_LEVEL_FACTOR: f64 = 20.0;
 
+/// The range of a whole campaign's median μ that dry or lubricated sliding of engineering
+/// materials gives: below 0.005 only superlubric contacts, above 3 only clean metals in vacuum.
+/// Outside it, a force channel is in another unit than the one read (kN as N: μ 0.0002-0.0007
+/// for steel on steel).
+pub const PLAUSIBLE_MU: std::ops::RangeInclusive<f64> = 0.005..=3.0;
+
+/// Refuse a campaign whose median μ lies outside [`PLAUSIBLE_MU`], with the numbers and the
+/// likely unit slip.
+fn check_campaign_level(median_mu: f64, rows: usize, files: &[FileReport]) -> Result<()> {
+    if PLAUSIBLE_MU.contains(&median_mu) {
+        return Ok(());
+    }
+    let hint = if median_mu < *PLAUSIBLE_MU.start() {
+        "is the tangential channel in kN (or the normal one in mN or g) read as N? state its unit: --map tangential=NAME:kN"
+    } else {
+        "is the normal channel in kN (or the tangential one in mN or g) read as N? state its unit: --map normal=NAME:kN"
+    };
+    let sources: Vec<&str> = files.iter().map(|f| f.source.as_str()).take(3).collect();
+    Err(Error::input(
+        SourcePos::file(sources.join(", ")).field("tangential / normal"),
+        format!(
+            "the campaign's median μ over {rows} steps is {median_mu:.5}, outside the plausible {}..{} for any sliding pair: {hint}",
+            PLAUSIBLE_MU.start(),
+            PLAUSIBLE_MU.end()
+        ),
+    ))
+}
+
 /// Refuse a pin whose μ level is implausible against its neighbours (at least three pins):
 /// its median μ more than [`IMPLAUSIBLE_LEVEL_FACTOR`] from the median of the other pins'.
+///
+/// Before that, the campaign as a whole: its median μ must lie in [`PLAUSIBLE_MU`] (a channel
+/// in the wrong unit in every pin moves all of them together, where no pin stands out).
 pub fn check_levels(ds: &FrictionDataset, files: &[FileReport]) -> Result<()> {
+    let median_of = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    if ds.records.is_empty() {
+        return Ok(());
+    }
+    check_campaign_level(
+        median_of(ds.records.iter().map(|r| r.cof_apparent.abs()).collect()),
+        ds.records.len(),
+        files,
+    )?;
     let mut pins: Vec<u32> = ds.records.iter().map(|r| r.pin).collect();
     pins.sort_unstable();
     pins.dedup();
     if pins.len() < 3 {
         return Ok(());
     }
-    let median_of = |mut v: Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
     let levels: Vec<(u32, f64)> = pins
         .iter()
         .map(|&p| {

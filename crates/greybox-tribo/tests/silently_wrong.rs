@@ -76,6 +76,24 @@ fn a_channel_in_the_wrong_unit_is_refused_against_the_other_pins() {
     assert!(e.contains("normal"), "{e}");
 }
 
+/// The tangential channel in kN in every pin: no pin stands out against the others, but the
+/// campaign's μ (0.0002-0.0007 for steel on steel) is outside any sliding pair's.
+#[test]
+fn a_channel_in_the_wrong_unit_in_every_pin_is_refused_for_the_campaign() {
+    let plan = plan();
+    let mut recs = recordings(&plan, &SynthConfig::default());
+    for r in &mut recs {
+        r.tangential_n.iter_mut().for_each(|v| *v *= 1e-3);
+    }
+    let e = identify(&plan, &recs).unwrap_err().to_string();
+    assert!(
+        e.contains("the campaign's median μ") && e.contains("0.005..3") && e.contains("kN"),
+        "{e}"
+    );
+    // and in N it passes
+    assert!(identify(&plan, &recordings(&plan, &SynthConfig::default())).is_ok());
+}
+
 #[test]
 fn the_dataset_load_is_the_measured_one_with_the_plan_beside_it() {
     let plan = plan();
