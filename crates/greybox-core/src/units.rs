@@ -43,7 +43,16 @@ pub enum ForceUnit {
     Millinewton,
     #[serde(rename = "lbf")]
     PoundForce,
+    /// Gram-force (UMT and load-cell rigs log forces in g): g_n × 1e-3 N.
+    #[serde(rename = "gf")]
+    GramForce,
+    /// Kilogram-force (kgf, kp): g_n N.
+    #[serde(rename = "kgf")]
+    KilogramForce,
 }
+
+/// Standard gravity g_n, m/s² (CGPM 1901; ISO 80000-3), defining the gram- and kilogram-force.
+pub const STANDARD_GRAVITY_M_PER_S2: f64 = 9.806_65;
 
 impl ForceUnit {
     /// Newtons per one of this unit.
@@ -54,14 +63,18 @@ impl ForceUnit {
             ForceUnit::Decanewton => 10.0,
             ForceUnit::Millinewton => 1.0e-3,
             ForceUnit::PoundForce => 4.448_221_615_260_5,
+            ForceUnit::GramForce => STANDARD_GRAVITY_M_PER_S2 * 1e-3,
+            ForceUnit::KilogramForce => STANDARD_GRAVITY_M_PER_S2,
         }
     }
-    pub const ALL: [ForceUnit; 5] = [
+    pub const ALL: [ForceUnit; 7] = [
         ForceUnit::Newton,
         ForceUnit::Kilonewton,
         ForceUnit::Decanewton,
         ForceUnit::Millinewton,
         ForceUnit::PoundForce,
+        ForceUnit::GramForce,
+        ForceUnit::KilogramForce,
     ];
     pub fn symbol(self) -> &'static str {
         match self {
@@ -70,6 +83,8 @@ impl ForceUnit {
             ForceUnit::Decanewton => "daN",
             ForceUnit::Millinewton => "mN",
             ForceUnit::PoundForce => "lbf",
+            ForceUnit::GramForce => "gf",
+            ForceUnit::KilogramForce => "kgf",
         }
     }
     /// Parse a unit symbol (case-sensitive, as in SI: `N`, `kN`, `daN`, `mN`, `lbf`).
@@ -85,6 +100,9 @@ impl ForceUnit {
             "KN" | "kn" | "Kn" => Some(ForceUnit::Kilonewton),
             "DAN" | "dan" | "DaN" => Some(ForceUnit::Decanewton),
             "LBF" | "lb" | "lbs" | "Lbf" => Some(ForceUnit::PoundForce),
+            // a force column "in g" (UMT, load cells) is gram-force: g is never a force unit
+            "g" | "grams" | "gram" | "GF" | "grf" | "gr" => Some(ForceUnit::GramForce),
+            "kg" | "KGF" | "Kgf" | "kp" | "kilogram" => Some(ForceUnit::KilogramForce),
             _ => None,
         })
     }
@@ -153,8 +171,8 @@ impl SpeedUnit {
             "rpm" | "1/min" | "min^-1" | "min-1" | "min⁻¹" | "u/min" | "r/min" | "rev/min"
             | "rev_per_min" => SpeedUnit::Rpm,
             "rps" | "rev/s" | "hz" | "rev_per_s" => SpeedUnit::RevPerSecond,
-            "m/s" | "mps" | "m_per_s" => SpeedUnit::MetrePerSecond,
-            "mm/s" | "mm_per_s" => SpeedUnit::MillimetrePerSecond,
+            "m/s" | "mps" | "m_per_s" | "m/sec" => SpeedUnit::MetrePerSecond,
+            "mm/s" | "mm_per_s" | "mm/sec" => SpeedUnit::MillimetrePerSecond,
             "cm/s" | "cm_per_s" => SpeedUnit::CentimetrePerSecond,
             "m/min" | "m_per_min" | "mpm" => SpeedUnit::MetrePerMinute,
             _ => return None,

@@ -116,15 +116,18 @@ mod tests {
         let e = read("time_s,Fz_N\n0,1\n1,2\n2,3\n", &ChannelMap::default())
             .unwrap_err()
             .to_string();
-        assert!(e.contains("no tangential force column"), "{e}");
+        assert!(
+            e.contains("tangential: no friction force") && e.contains("--map tangential=NAME:N"),
+            "{e}"
+        );
     }
     #[test]
     fn unknown_unit() {
         let mut map = ChannelMap::default();
-        let e = read(&GOOD.replace("normal_force_N", "normal_force [kgf]"), &map)
+        let e = read(&GOOD.replace("normal_force_N", "normal_force [tonf]"), &map)
             .unwrap_err()
             .to_string();
-        assert!(e.contains("unknown force unit 'kgf'"), "{e}");
+        assert!(e.contains("unknown force unit 'tonf'"), "{e}");
         let e = read(&GOOD.replace("normal_force_N", "normal_force"), &map)
             .unwrap_err()
             .to_string();
@@ -132,8 +135,8 @@ mod tests {
             e.contains("states no unit") && e.contains("--map normal="),
             "{e}"
         );
-        let e = map.apply_override("normal=Fz:kgf").unwrap_err().to_string();
-        assert!(e.contains("unknown force unit 'kgf'"), "{e}");
+        let e = map.apply_override("normal=Fz:tonf").unwrap_err().to_string();
+        assert!(e.contains("unknown force unit 'tonf'"), "{e}");
     }
     #[test]
     fn one_column_two_roles() {

@@ -23,6 +23,7 @@ pub mod identify;
 pub mod identify_config;
 pub mod plan;
 pub mod ploughing;
+pub mod profiles;
 pub mod readers;
 pub mod recording;
 pub mod signal;

@@ -6,7 +6,7 @@
 //! [`recording_from_table`] converts them to SI. Roles not mapped explicitly are found by
 //! their usual names ([`ROLE_ALIASES`]), ignoring case, spaces and units in the header.
 
-use crate::table::{column_matches, Column, Table};
+use crate::table::{column_matches, Column, ColumnData, Table};
 use greybox_core::units::{ForceUnit, LengthUnit, SpeedUnit, TimeUnit};
 use greybox_core::{Error, Result, SourcePos};
 use rayon::prelude::*;
@@ -33,6 +33,9 @@ pub struct Recording {
     pub speed: Option<SpeedTrace>,
     /// Recorded track radius per sample, m.
     pub track_radius_m: Option<Vec<f64>>,
+    /// The friction coefficient the rig computed itself (`cof` role), dimensionless. Kept
+    /// beside the forces: where the file has no friction force, `tangential_n` is μ·F_N.
+    pub cof: Option<Vec<f64>>,
     /// How the file was read: its layout and which column became which role.
     pub provenance: Option<ReadReport>,
 }
@@ -93,6 +96,7 @@ impl Recording {
             step: None,
             speed: None,
             track_radius_m: None,
+            cof: None,
             provenance: None,
         }
     }
@@ -307,10 +311,12 @@ pub enum Role {
     Step,
     Speed,
     Radius,
+    /// A friction coefficient the rig software computed (dimensionless).
+    Cof,
 }
 
 impl Role {
-    pub const ALL: [Role; 8] = [
+    pub const ALL: [Role; 9] = [
         Role::Time,
         Role::Normal,
         Role::Tangential,
@@ -319,6 +325,7 @@ impl Role {
         Role::Step,
         Role::Speed,
         Role::Radius,
+        Role::Cof,
     ];
     pub fn name(self) -> &'static str {
         match self {
@@ -330,6 +337,7 @@ impl Role {
             Role::Step => "step",
             Role::Speed => "speed",
             Role::Radius => "radius",
+            Role::Cof => "cof",
         }
     }
     pub fn parse(s: &str) -> Option<Role> {
@@ -339,7 +347,7 @@ impl Role {
 
 /// The usual names of each role, tried in order when a role is not mapped explicitly
 /// (compared like [`column_matches`]: case, `_`/`-`/spaces and units ignored).
-pub const ROLE_ALIASES: [(Role, &[&str]); 8] = [
+pub const ROLE_ALIASES: [(Role, &[&str]); 9] = [
     (
         Role::Time,
         &[
@@ -425,6 +433,24 @@ pub const ROLE_ALIASES: [(Role, &[&str]); 8] = [
         Role::Radius,
         &["track radius", "wear track radius", "radius", "r track"],
     ),
+    (
+        Role::Cof,
+        &[
+            "cof",
+            "friction coefficient",
+            "coefficient of friction",
+            "friction coeff",
+            "traction coeff",
+            "traction coefficient",
+            "mu",
+            "µ",
+            "μ",
+            "reibwert",
+            "reibungskoeffizient",
+            "reibungszahl",
+            "daq.cof",
+        ],
+    ),
 ];
 
 /// How to find the channels of a recording (study TOML `[recording]`, `identify --map`).
@@ -448,6 +474,14 @@ pub struct ChannelMap {
     pub speed: Option<ChannelSpec>,
     /// Track-radius column (mm, m).
     pub radius: Option<ChannelSpec>,
+    /// Friction coefficient computed by the rig (dimensionless, or `%`).
+    pub cof: Option<ChannelSpec>,
+    /// Normal load, N, for rigs that do not record it (dead-weight pin-on-disc rigs): the
+    /// same value at every sample.
+    pub constant_normal_n: Option<f64>,
+    /// Rig profile by name (see [`crate::profiles`]); `None` detects one from the file's
+    /// signature when exactly one matches.
+    pub rig: Option<String>,
     /// Track radius, mm: one value for the whole recording, or one per segment in the
     /// order found (used with a speed channel in rpm when the file has no radius column).
     pub track_radius_mm: Vec<f64>,
@@ -481,6 +515,9 @@ impl Default for ChannelMap {
             step: None,
             speed: None,
             radius: None,
+            cof: None,
+            constant_normal_n: None,
+            rig: None,
             track_radius_mm: Vec::new(),
             auto: true,
             ignore: Vec::new(),
@@ -512,6 +549,7 @@ impl ChannelMap {
             Role::Step => self.step.as_deref().map(ChannelSpec::named),
             Role::Speed => self.speed.clone(),
             Role::Radius => self.radius.clone(),
+            Role::Cof => self.cof.clone(),
         }
     }
 
@@ -529,7 +567,7 @@ impl ChannelMap {
             Error::invalid(
                 "channel mapping",
                 format!(
-                    "unknown role '{}'; expected time, normal, tangential, radial, trigger, step, speed or radius",
+                    "unknown role '{}'; expected time, normal, tangential, radial, trigger, step, speed, radius or cof",
                     role.trim()
                 ),
             )
@@ -551,6 +589,16 @@ impl ChannelMap {
         Ok(())
     }
 
+    /// Whether the user mapped `role` explicitly.
+    pub fn is_mapped(&self, role: Role) -> bool {
+        self.spec(role).is_some()
+    }
+
+    /// Map `role` to a column (or unmap it with `None`).
+    pub fn set_spec(&mut self, role: Role, spec: Option<ChannelSpec>) {
+        self.set(role, spec)
+    }
+
     fn set(&mut self, role: Role, spec: Option<ChannelSpec>) {
         match role {
             Role::Time => {
@@ -567,6 +615,7 @@ impl ChannelMap {
             Role::Step => self.step = spec.map(|s| s.name),
             Role::Speed => self.speed = spec,
             Role::Radius => self.radius = spec,
+            Role::Cof => self.cof = spec,
         }
     }
 
@@ -587,6 +636,7 @@ fn check_unit(role: Role, unit: &str) -> std::result::Result<(), String> {
         Role::Time => TimeUnit::parse(unit).is_some(),
         Role::Speed => SpeedUnit::parse(unit).is_some(),
         Role::Radius => LengthUnit::parse(unit).is_some(),
+        Role::Cof => cof_factor(unit).is_some(),
         Role::Trigger | Role::Step => true,
     };
     if ok {
@@ -594,28 +644,30 @@ fn check_unit(role: Role, unit: &str) -> std::result::Result<(), String> {
     }
     Err(match role {
         Role::Normal | Role::Tangential | Role::Radial => {
-            format!("unknown force unit '{unit}'; expected N, kN, daN, mN or lbf")
+            format!("unknown force unit '{unit}'; expected N, kN, daN, mN, lbf, gf (g) or kgf")
         }
         Role::Time => format!("unknown time unit '{unit}'; expected s, ms, us, min or h"),
         Role::Speed => format!(
             "unknown speed unit '{unit}'; expected rpm (1/min), rps, m/s, mm/s, cm/s or m/min"
         ),
         Role::Radius => format!("unknown length unit '{unit}'; expected m, cm, mm or um"),
+        Role::Cof => format!("unknown friction-coefficient unit '{unit}'; expected none, '-', '1' or '%'"),
         Role::Trigger | Role::Step => unreachable!("no unit check"),
     })
 }
 
 /// Which column each role takes, and how it was found.
-fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, bool)>> {
+fn assign_roles(
+    table: &Table,
+    map: &ChannelMap,
+    notes: &mut Vec<String>,
+) -> Result<Vec<(Role, usize, bool)>> {
     let pos = || SourcePos::file(&table.source).line(table.header_line);
     let mut taken: Vec<(Role, usize, bool)> = Vec::new();
     // explicit mappings first, so that automatic ones never steal their columns
     for role in Role::ALL {
         if let Some(spec) = map.spec(role) {
-            let idx = table
-                .columns
-                .iter()
-                .position(|c| column_matches(c, &spec.name))
+            let idx = first_match(table, &spec.name, role, notes)
                 .ok_or_else(|| {
                     Error::input(
                         pos().field(&spec.name),
@@ -648,9 +700,14 @@ fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, boo
             {
                 continue;
             }
-            let found = aliases
-                .iter()
-                .find_map(|a| table.columns.iter().position(|c| column_matches(c, a)));
+            let found = aliases.iter().find_map(|a| {
+                table
+                    .columns
+                    .iter()
+                    .any(|c| column_matches(c, a))
+                    .then(|| first_match(table, a, role, notes))
+                    .flatten()
+            });
             if let Some(idx) = found {
                 match taken.iter().find(|(_, i, _)| *i == idx) {
                     // the role's usual column went to another role by an explicit mapping
@@ -672,30 +729,146 @@ fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, boo
             }
         }
     }
-    for role in [Role::Normal, Role::Tangential] {
-        if !taken.iter().any(|(r, _, _)| *r == role) {
-            return Err(Error::input(
-                pos(),
-                format!(
-                    "no {} force column: none is mapped and none has a usual name; map one with --map {}=NAME[:UNIT] (the header has: {})",
-                    role.name(),
-                    role.name(),
-                    table.header_list()
-                ),
-            ));
+    Ok(taken)
+}
+
+/// The first column matching `wanted`; where several do (a header that repeats a name, as
+/// Phoenix COMPEND writes `Friction Force` twice), a note says which one was taken.
+fn first_match(table: &Table, wanted: &str, role: Role, notes: &mut Vec<String>) -> Option<usize> {
+    let all: Vec<usize> = (0..table.columns.len())
+        .filter(|&i| column_matches(&table.columns[i], wanted))
+        .collect();
+    if all.len() > 1 {
+        let places: Vec<String> = all.iter().map(|i| format!("column {}", i + 1)).collect();
+        notes.push(format!(
+            "{} columns match '{wanted}' ({}): the first, column {} '{}', was taken as {}",
+            all.len(),
+            places.join(", "),
+            all[0] + 1,
+            table.columns[all[0]].header,
+            role.name()
+        ));
+    }
+    all.first().copied()
+}
+
+/// One role a file leaves unresolved: why, and the `--map` flag that resolves it.
+struct Unresolved {
+    role: Role,
+    why: String,
+    flag: String,
+}
+
+/// `--map ROLE=NAME:UNIT`, quoted for a shell where the name has blanks.
+fn map_flag(role: Role, name: &str, unit: &str) -> String {
+    let arg = if unit.is_empty() {
+        format!("{}={name}", role.name())
+    } else {
+        format!("{}={name}:{unit}", role.name())
+    };
+    if arg.contains(|c: char| c.is_whitespace() || "'\"$()".contains(c)) {
+        format!("--map '{}'", arg.replace('\'', "'\\''"))
+    } else {
+        format!("--map {arg}")
+    }
+}
+
+/// Every role the file and the map leave unresolved, all at once: missing forces (a friction
+/// coefficient stands in for the friction force), a missing time without a sample rate, and
+/// mapped or found columns whose unit nobody states.
+fn unresolved(table: &Table, map: &ChannelMap, taken: &[(Role, usize, bool)]) -> Vec<Unresolved> {
+    let has = |r: Role| taken.iter().any(|(t, _, _)| *t == r);
+    let free: Vec<&str> = table
+        .columns
+        .iter()
+        .enumerate()
+        .filter(|(i, c)| !taken.iter().any(|(_, t, _)| t == i) && matches!(c.data, ColumnData::Numbers(_)))
+        .map(|(_, c)| c.header.as_str())
+        .collect();
+    let candidates = || {
+        if free.is_empty() {
+            "no unassigned numeric column".to_string()
+        } else {
+            let shown: Vec<String> = free.iter().take(8).map(|c| format!("'{c}'")).collect();
+            format!("candidates: {}", shown.join(", "))
+        }
+    };
+    let mut out = Vec::new();
+    let missing = |role: Role, what: &str, unit: &str| Unresolved {
+        role,
+        why: format!("no {what} column by a usual name ({})", candidates()),
+        flag: map_flag(role, "NAME", unit),
+    };
+    if !has(Role::Normal) && map.constant_normal_n.is_none() {
+        let mut u = missing(Role::Normal, "normal force", "N");
+        u.flag.push_str(" (or, for a dead-weight rig, --constant-normal-force-N VALUE)");
+        out.push(u);
+    }
+    if !has(Role::Tangential) && !has(Role::Cof) {
+        let mut u = missing(Role::Tangential, "friction force (tangential) or friction coefficient (cof)", "N");
+        u.flag.push_str(&format!(" or {}", map_flag(Role::Cof, "NAME", "")));
+        out.push(u);
+    }
+    if !has(Role::Time) && map.sample_rate_hz.is_none() && table.sample_interval_s.is_none() {
+        let mut u = missing(Role::Time, "time", "s");
+        u.flag.push_str(" (or --sample-rate-hz HZ)");
+        out.push(u);
+    }
+    for (role, idx, _) in taken {
+        if matches!(role, Role::Trigger | Role::Step | Role::Cof) {
+            continue;
+        }
+        let col = &table.columns[*idx];
+        let stated = map.spec(*role).and_then(|s| s.unit).or_else(|| col.unit.clone());
+        if stated.is_none() {
+            out.push(Unresolved {
+                role: *role,
+                why: format!("column '{}' states no unit", col.header),
+                flag: map_flag(*role, &col.name, example_unit(*role)),
+            });
         }
     }
-    Ok(taken)
+    out.sort_by_key(|u| Role::ALL.iter().position(|r| *r == u.role));
+    out
+}
+
+/// One error for everything unresolved, with each role's candidates and the flags to pass.
+fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
+    let lines: Vec<String> = problems
+        .iter()
+        .map(|u| format!("  {}: {} → {}", u.role.name(), u.why, u.flag))
+        .collect();
+    let all: Vec<String> = problems
+        .iter()
+        .map(|u| u.flag.split(" (or").next().unwrap_or("").split(" or ").next().unwrap_or("").to_string())
+        .collect();
+    Error::input(
+        SourcePos::file(&table.source).line(table.header_line),
+        format!(
+            "{} channel(s) unresolved (the header has: {}):\n{}\npass them together: {} (or name the rig with --rig NAME; `greybox identify --list-rigs` lists the profiles)",
+            problems.len(),
+            table.header_list(),
+            lines.join("\n"),
+            all.join(" ")
+        ),
+    )
 }
 
 /// Convert a table into a recording through a channel map.
 pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Recording> {
-    let roles = assign_roles(&table, map)?;
+    let mut notes = Vec::new();
+    let map = &crate::profiles::apply(&table, map, &mut notes)?;
+    let roles = assign_roles(&table, map, &mut notes)?;
+    let problems = unresolved(&table, map, &roles);
+    if !problems.is_empty() {
+        return Err(unresolved_error(&table, &problems));
+    }
     let source = table.source.clone();
     let mut report = ReadReport {
         layout: table.layout.clone(),
         footer: std::mem::take(&mut table.footer),
         preamble: std::mem::take(&mut table.preamble),
+        notes,
         ..Default::default()
     };
     let mut channels: Vec<(Role, Vec<f64>, String)> = Vec::new();
@@ -725,6 +898,7 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
         let (factor, unit_name) = match role {
             Role::Trigger => (1.0, unit.clone().unwrap_or_else(|| "V".into())),
             Role::Step => (1.0, "-".into()),
+            Role::Cof if unit.is_none() => (1.0, "-".into()),
             _ => {
                 let u = unit.clone().ok_or_else(|| {
                     Error::input(
@@ -758,15 +932,26 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
         });
         channels.push((*role, values, header));
     }
+    let n = channels.first().map_or(table.rows, |c| c.1.len());
     let mut take = |role: Role| {
         channels
             .iter()
             .position(|(r, _, _)| *r == role)
             .map(|i| channels.swap_remove(i))
     };
-    let normal = take(Role::Normal).expect("checked in assign_roles").1;
-    let tangential = take(Role::Tangential).expect("checked in assign_roles").1;
-    let n = normal.len();
+    let normal = match (take(Role::Normal), map.constant_normal_n) {
+        (Some(c), _) => c.1,
+        (None, Some(f)) => {
+            report.notes.push(format!(
+                "no normal-force column: the stated constant load {f} N at every sample"
+            ));
+            vec![f; n]
+        }
+        (None, None) => unreachable!("checked by `unresolved`"),
+    };
+    let cof = take(Role::Cof).map(|c| c.1);
+    let tangential = take(Role::Tangential).map(|c| c.1);
+    let (normal, tangential) = forces_by_convention(normal, tangential, cof.as_deref(), &mut report);
     let step = take(Role::Step).map(|c| c.1);
     let time_s = match take(Role::Time) {
         Some((_, t, header)) => continuous_time(
@@ -816,10 +1001,72 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
         step,
         speed,
         track_radius_m: take(Role::Radius).map(|c| c.1),
+        cof,
         provenance: Some(report),
     };
     rec.validate()?;
     Ok(rec)
+}
+
+/// Median of a channel (NaN for an empty one).
+fn median_of(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    let mut s = v.to_vec();
+    let mid = s.len() / 2;
+    *s.select_nth_unstable_by(mid, f64::total_cmp).1
+}
+
+/// The forces as greybox reads them: a normal force recorded negative (a load cell whose axis
+/// points away from the contact, as UMT rigs write `Fz`) is flipped (the friction force's
+/// sign is the identification's business: flipped per file there, or taken per stroke in a
+/// reciprocating test). Without a friction
+/// force, F_t = μ·F_N from the rig's own μ; with both, their disagreement is reported.
+fn forces_by_convention(
+    mut normal: Vec<f64>,
+    tangential: Option<Vec<f64>>,
+    cof: Option<&[f64]>,
+    report: &mut ReadReport,
+) -> (Vec<f64>, Vec<f64>) {
+    if median_of(&normal) < 0.0 {
+        normal.iter_mut().for_each(|v| *v = -*v);
+        report
+            .notes
+            .push("the normal force is recorded negative (load-cell axis away from the contact): its sign was flipped".into());
+    }
+    let Some(ft) = tangential else {
+        let mu = cof.expect("checked by `unresolved`");
+        report.notes.push(
+            "no friction-force column: F_t = μ·F_N from the rig's own friction coefficient (cof)".into(),
+        );
+        return (normal.clone(), mu.iter().zip(&normal).map(|(m, f)| m * f).collect());
+    };
+    if let Some(mu) = cof {
+        report.notes.push(cof_disagreement(&normal, &ft, mu));
+    }
+    (normal, ft)
+}
+
+/// How far the rig's own μ lies from F_t/F_N (both taken as magnitudes, loaded samples only).
+fn cof_disagreement(normal: &[f64], ft: &[f64], mu: &[f64]) -> String {
+    let f_ref = median_of(normal).abs();
+    let diffs: Vec<f64> = normal
+        .iter()
+        .zip(ft)
+        .zip(mu)
+        .filter(|((f, _), m)| f.abs() > 0.2 * f_ref && m.is_finite())
+        .map(|((f, t), m)| (t / f).abs() - m.abs())
+        .collect();
+    if diffs.is_empty() {
+        return "the rig's own μ (cof) could not be compared with F_t/F_N: no loaded samples".into();
+    }
+    let med = median_of(&diffs);
+    let worst = diffs.iter().fold(0.0f64, |w, d| w.max(d.abs()));
+    format!(
+        "μ from the forces; the rig's own μ (cof) differs from F_t/F_N by {med:+.4} (median) and at most {worst:.4} over {} loaded samples",
+        diffs.len()
+    )
 }
 
 fn example_unit(role: Role) -> &'static str {
@@ -841,7 +1088,18 @@ fn unit_factor(role: Role, unit: &str) -> f64 {
         Role::Time => TimeUnit::parse(unit).map_or(1.0, TimeUnit::to_second),
         Role::Speed => SpeedUnit::parse(unit).map_or(1.0, SpeedUnit::to_base),
         Role::Radius => LengthUnit::parse(unit).map_or(1.0, LengthUnit::to_metre),
+        Role::Cof => cof_factor(unit).unwrap_or(1.0),
         Role::Trigger | Role::Step => 1.0,
+    }
+}
+
+/// Factor from a friction-coefficient column's unit to a plain ratio: none, `-`, `1`, `()`
+/// (as Rtec writes `DAQ.COF ()`) or `%`.
+fn cof_factor(unit: &str) -> Option<f64> {
+    match unit.trim() {
+        "" | "-" | "1" | "()" | "[]" | "[-]" | "(-)" | "N/N" => Some(1.0),
+        "%" => Some(0.01),
+        _ => None,
     }
 }
 
