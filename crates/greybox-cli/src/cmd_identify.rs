@@ -132,6 +132,14 @@ pub struct Args {
     /// Sample rate of files without a time column, Hz.
     #[arg(long = "sample-rate-hz")]
     pub sample_rate_hz: Option<f64>,
+    /// Rig profile of the files (phoenix-te, pcs-mtm, bruker-umt, rtec, pod-dwf; `list`
+    /// prints them); default: detected from each file's preamble and header when exactly one
+    /// profile matches.
+    #[arg(long)]
+    pub rig: Option<String>,
+    /// Normal load, N, for rigs that do not record it (dead-weight pin-on-disc rigs).
+    #[arg(long = "constant-normal-force-N")]
+    pub constant_normal_force_n: Option<f64>,
     /// Track radius per segment for rpm speed channels, mm (comma-separated: one per segment
     /// of each file, or of the whole campaign).
     #[arg(long = "track-radii-mm", value_delimiter = ',')]
@@ -183,10 +191,31 @@ fn plan_given(args: &Args) -> Result<bool> {
     Ok(flags || in_study)
 }
 
+/// `--rig list`: every profile with its test mode and the export it was written against.
+fn print_rigs() {
+    for p in greybox_tribo::profiles::PROFILES {
+        println!("{:<12} {} [{}]\n             written against: {}", p.name, p.vendor, p.mode.name(), p.verified_against);
+    }
+}
+
 pub fn run(args: Args) -> Result<()> {
+    if args.rig.as_deref() == Some("list") {
+        print_rigs();
+        return Ok(());
+    }
     let mut study = args.plan.study()?;
     for m in &args.map {
         study.recording.apply_override(m)?;
+    }
+    if let Some(r) = &args.rig {
+        greybox_tribo::profiles::by_name(r)?;
+        study.recording.rig = Some(r.clone());
+    }
+    if let Some(f) = args.constant_normal_force_n {
+        if !(f.is_finite() && f > 0.0) {
+            bail!("--constant-normal-force-N must be positive, got {f}");
+        }
+        study.recording.constant_normal_n = Some(f);
     }
     if let Some(g) = &args.tdms_group {
         study.recording.tdms_group = Some(g.clone());

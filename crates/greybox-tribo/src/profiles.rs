@@ -79,6 +79,7 @@ pub const PROFILES: &[RigProfile] = &[
             col(Role::Cof, &["Friction Coefficient"], ""),
             col(Role::Speed, &["Sliding Velocity"], "m/s"),
             col(Role::Step, &["This Step"], ""),
+            col(Role::Radius, &["Radius"], "mm"),
         ],
         verified_against: "kyembot/pin-on-disk-data-analysis: PPS_60N_1.TSV, PPS_100N_1.TSV (MIT)",
     },

@@ -752,6 +752,31 @@ fn first_match(table: &Table, wanted: &str, role: Role, notes: &mut Vec<String>)
     all.first().copied()
 }
 
+/// Optional roles found by their usual name (not mapped) in a column that states no unit are
+/// left out with a note, not an error: the identification does not need them.
+fn drop_unitless_optional(
+    table: &Table,
+    map: &ChannelMap,
+    roles: &mut Vec<(Role, usize, bool)>,
+    notes: &mut Vec<String>,
+) {
+    roles.retain(|(role, idx, mapped)| {
+        let optional = matches!(role, Role::Radial | Role::Speed | Role::Radius);
+        let col = &table.columns[*idx];
+        let unitless = map.spec(*role).and_then(|s| s.unit).is_none() && col.unit.is_none();
+        if optional && !mapped && unitless {
+            notes.push(format!(
+                "column '{}' looks like the {} but states no unit: not used ({} uses it)",
+                col.header,
+                role.name(),
+                map_flag(*role, &col.name, example_unit(*role))
+            ));
+            return false;
+        }
+        true
+    });
+}
+
 /// One role a file leaves unresolved: why, and the `--map` flag that resolves it.
 struct Unresolved {
     role: Role,
@@ -845,7 +870,7 @@ fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
     Error::input(
         SourcePos::file(&table.source).line(table.header_line),
         format!(
-            "{} channel(s) unresolved (the header has: {}):\n{}\npass them together: {} (or name the rig with --rig NAME; `greybox identify --list-rigs` lists the profiles)",
+            "{} channel(s) unresolved (the header has: {}):\n{}\npass them together: {} (or name the rig with --rig NAME; `greybox identify --rig list` lists the profiles)",
             problems.len(),
             table.header_list(),
             lines.join("\n"),
@@ -858,7 +883,8 @@ fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
 pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Recording> {
     let mut notes = Vec::new();
     let map = &crate::profiles::apply(&table, map, &mut notes)?;
-    let roles = assign_roles(&table, map, &mut notes)?;
+    let mut roles = assign_roles(&table, map, &mut notes)?;
+    drop_unitless_optional(&table, map, &mut roles, &mut notes);
     let problems = unresolved(&table, map, &roles);
     if !problems.is_empty() {
         return Err(unresolved_error(&table, &problems));
