@@ -73,8 +73,14 @@ fn page_is_inert(page: &Path) -> String {
     let all = scraper::Selector::parse("*").unwrap();
     for el in doc.select(&all) {
         for (name, value) in el.value().attrs() {
-            assert!(!name.to_ascii_lowercase().starts_with("on"), "{name}={value}");
-            assert!(!value.to_ascii_lowercase().contains("javascript:"), "{name}={value}");
+            assert!(
+                !name.to_ascii_lowercase().starts_with("on"),
+                "{name}={value}"
+            );
+            assert!(
+                !value.to_ascii_lowercase().contains("javascript:"),
+                "{name}={value}"
+            );
         }
     }
     // inside figures: only drawing elements, and links only within the figure or to
@@ -82,16 +88,31 @@ fn page_is_inert(page: &Path) -> String {
     let in_svg = scraper::Selector::parse("svg *").unwrap();
     for el in doc.select(&in_svg) {
         let tag = el.value().name().to_ascii_lowercase();
-        for bad in ["foreignobject", "iframe", "img", "style", "script", "a", "animate", "set"] {
+        for bad in [
+            "foreignobject",
+            "iframe",
+            "img",
+            "style",
+            "script",
+            "a",
+            "animate",
+            "set",
+        ] {
             assert!(tag != bad, "<{tag}> in a figure");
         }
         if let Some(h) = el.value().attr("href") {
-            assert!(h.starts_with('#') || h.starts_with("data:image/png;base64,"), "href={h}");
+            assert!(
+                h.starts_with('#') || h.starts_with("data:image/png;base64,"),
+                "href={h}"
+            );
         }
     }
     let script = scraper::Selector::parse("script").unwrap();
     let own = doc.select(&script).next().unwrap().inner_html();
-    assert!(own.contains("figure.frames"), "the page's own script: {own}");
+    assert!(
+        own.contains("figure.frames"),
+        "the page's own script: {own}"
+    );
     html
 }
 
@@ -143,18 +164,35 @@ fn link_loops_are_searched_once() {
         std::os::unix::fs::symlink("..", s.join(format!("cut/up{k}"))).unwrap();
     }
     let summary = report_ok(&run(&["report", "study", "--json"], d.path()));
-    assert_eq!(summary["sections"], serde_json::json!(["Cutting", "Rig dynamics and wear"]));
+    assert_eq!(
+        summary["sections"],
+        serde_json::json!(["Cutting", "Rig dynamics and wear"])
+    );
     page_is_inert(&s.join("report.html"));
     // the depth and entry caps hold without links too, and name their option
     let deep = s.join("a/b/c/d/e/f/g/h");
     std::fs::create_dir_all(&deep).unwrap();
     let summary = report_ok(&run(
-        &["report", "study", "--json", "--max-depth", "2", "--max-entries", "30"],
+        &[
+            "report",
+            "study",
+            "--json",
+            "--max-depth",
+            "2",
+            "--max-entries",
+            "30",
+        ],
         d.path(),
     ));
     let w = warnings(&summary);
-    assert!(w.contains("max_depth (2)") && w.contains("--max-depth"), "{w}");
-    assert!(w.contains("max_entries") && w.contains("--max-entries"), "{w}");
+    assert!(
+        w.contains("max_depth (2)") && w.contains("--max-depth"),
+        "{w}"
+    );
+    assert!(
+        w.contains("max_entries") && w.contains("--max-entries"),
+        "{w}"
+    );
 }
 
 #[test]
@@ -163,7 +201,10 @@ fn fifos_and_devices_are_never_opened() {
     let s = study(d.path());
     std::fs::create_dir(s.join("cut2")).unwrap();
     for f in ["x.csv", "cut2/summary.json", "law.json"] {
-        let st = std::process::Command::new("mkfifo").arg(s.join(f)).status().unwrap();
+        let st = std::process::Command::new("mkfifo")
+            .arg(s.join(f))
+            .status()
+            .unwrap();
         assert!(st.success());
     }
     std::os::unix::fs::symlink("/dev/zero", s.join("zero.csv")).unwrap();
@@ -174,10 +215,21 @@ fn fifos_and_devices_are_never_opened() {
     let summary = report_ok(&run(&["report", "study", "--json"], d.path()));
     let w = warnings(&summary);
     for f in ["x.csv", "cut2/summary.json", "law.json"] {
-        assert!(w.contains(&format!("{f}: a FIFO, not a regular file")), "{f}: {w}");
+        assert!(
+            w.contains(&format!("{f}: a FIFO, not a regular file")),
+            "{f}: {w}"
+        );
     }
-    for f in ["zero.csv", "zero.json", "cut/profile_mu.svg", "chip_004.svg"] {
-        assert!(w.contains(f) && w.contains("a character device"), "{f}: {w}");
+    for f in [
+        "zero.csv",
+        "zero.json",
+        "cut/profile_mu.svg",
+        "chip_004.svg",
+    ] {
+        assert!(
+            w.contains(f) && w.contains("a character device"),
+            "{f}: {w}"
+        );
     }
     page_is_inert(&s.join("report.html"));
 }
@@ -206,9 +258,22 @@ fn huge_files_are_read_within_their_caps() {
         .unwrap();
     let summary = report_ok(&run(&["report", "study", "--json"], d.path()));
     let w = warnings(&summary);
-    assert!(w.contains("big.csv") && w.contains("max_header_bytes") && w.contains("--max-header-bytes"), "{w}");
-    assert!(w.contains("dataset.csv") && w.contains("over max_file_bytes") && w.contains("--max-file-bytes"), "{w}");
-    assert!(w.contains("profile_mu.svg") && w.contains("over max_svg_bytes") && w.contains("--max-svg-bytes"), "{w}");
+    assert!(
+        w.contains("big.csv") && w.contains("max_header_bytes") && w.contains("--max-header-bytes"),
+        "{w}"
+    );
+    assert!(
+        w.contains("dataset.csv")
+            && w.contains("over max_file_bytes")
+            && w.contains("--max-file-bytes"),
+        "{w}"
+    );
+    assert!(
+        w.contains("profile_mu.svg")
+            && w.contains("over max_svg_bytes")
+            && w.contains("--max-svg-bytes"),
+        "{w}"
+    );
     page_is_inert(&s.join("report.html"));
 
     // the page cap: figures past it are left out with a warning; a page still over it is
@@ -222,11 +287,20 @@ fn huge_files_are_read_within_their_caps() {
         d.path(),
     ));
     let w = warnings(&summary);
-    assert!(w.contains("cut/forces.svg") && w.contains("left out") && w.contains("max_page_bytes") && w.contains("--max-page-bytes"), "{w}");
+    assert!(
+        w.contains("cut/forces.svg")
+            && w.contains("left out")
+            && w.contains("max_page_bytes")
+            && w.contains("--max-page-bytes"),
+        "{w}"
+    );
     assert!(summary["bytes"].as_u64().unwrap() <= 40000);
     std::fs::remove_file(s.join("report.html")).unwrap();
     let out = run(&["report", "study", "--max-page-bytes", "2000"], d.path());
-    refused_with(&out, &["max_page_bytes", "--max-page-bytes", "nothing written"]);
+    refused_with(
+        &out,
+        &["max_page_bytes", "--max-page-bytes", "nothing written"],
+    );
     assert!(!s.join("report.html").exists());
 }
 
@@ -246,17 +320,27 @@ fn an_out_that_is_a_file_the_report_reads_or_a_device_is_refused() {
         refused_with(&out, &["--out is the input", "destroy the input"]);
         assert_eq!(before(kept), was, "{kept} changed");
     }
-    for dev in ["/dev/null", "/dev/stdout", "/dev/shm/greybox-report-test.html"] {
+    for dev in [
+        "/dev/null",
+        "/dev/stdout",
+        "/dev/shm/greybox-report-test.html",
+    ] {
         let out = run(&["report", "study", "--out", dev], d.path());
         refused_with(&out, &["under /dev"]);
     }
     assert!(!Path::new("/dev/shm/greybox-report-test.html").exists());
-    assert!(!s.join("report.html").exists(), "nothing written on refusals");
+    assert!(
+        !s.join("report.html").exists(),
+        "nothing written on refusals"
+    );
     // a hard link to an input is the input
     std::fs::hard_link(s.join("wear.csv"), d.path().join("linked.csv")).unwrap();
     let out = run(&["report", "study", "--out", "linked.csv"], d.path());
     refused_with(&out, &["--out is the input"]);
     // an ordinary output still works
-    report_ok(&run(&["report", "study", "--json", "--out", "page.html"], d.path()));
+    report_ok(&run(
+        &["report", "study", "--json", "--out", "page.html"],
+        d.path(),
+    ));
     assert!(d.path().join("page.html").is_file());
 }

@@ -108,9 +108,15 @@ pub fn first_line(p: &Path, cap: Cap) -> Result<String> {
     let end = match buf.iter().position(|&b| b == b'\n') {
         Some(i) => i,
         None if (buf.len() as u64) < cap.bytes => buf.len(),
-        None => bail!("no line end in its first {} bytes: {}", cap.bytes, cap.exceeded()),
+        None => bail!(
+            "no line end in its first {} bytes: {}",
+            cap.bytes,
+            cap.exceeded()
+        ),
     };
-    Ok(String::from_utf8_lossy(&buf[..end]).trim_end_matches('\r').to_string())
+    Ok(String::from_utf8_lossy(&buf[..end])
+        .trim_end_matches('\r')
+        .to_string())
 }
 
 #[cfg(test)]
@@ -130,19 +136,31 @@ mod tests {
         assert_eq!(read_capped(&small, CAP).unwrap(), b"x,y\n1,2\n");
         assert_eq!(first_line(&small, CAP).unwrap(), "x,y");
         let big = d.path().join("big.csv");
-        std::fs::File::create(&big).unwrap().set_len(1 << 30).unwrap();
+        std::fs::File::create(&big)
+            .unwrap()
+            .set_len(1 << 30)
+            .unwrap();
         let e = format!("{:#}", read_capped(&big, CAP).unwrap_err());
-        assert!(e.contains("max_file_bytes (16 bytes; raise it with --max-file-bytes)"), "{e}");
+        assert!(
+            e.contains("max_file_bytes (16 bytes; raise it with --max-file-bytes)"),
+            "{e}"
+        );
         let e = format!("{:#}", first_line(&big, CAP).unwrap_err());
         assert!(e.contains("no line end in its first 16 bytes"), "{e}");
         let fifo = d.path().join("x.csv");
-        let st = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
+        let st = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
         assert!(st.success());
         let e = format!("{:#}", read_capped(&fifo, CAP).unwrap_err());
         assert!(e.contains("a FIFO, not a regular file"), "{e}");
         let e = format!("{:#}", first_line(&fifo, CAP).unwrap_err());
         assert!(e.contains("a FIFO"), "{e}");
-        let e = format!("{:#}", read_capped(Path::new("/dev/zero"), CAP).unwrap_err());
+        let e = format!(
+            "{:#}",
+            read_capped(Path::new("/dev/zero"), CAP).unwrap_err()
+        );
         assert!(e.contains("a character device"), "{e}");
     }
 }

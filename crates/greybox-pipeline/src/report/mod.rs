@@ -178,7 +178,9 @@ impl Ctx {
 
     /// A CSV reader over `p` read within `max_file_bytes`.
     pub(crate) fn csv(&mut self, p: &Path) -> Result<csv::Reader<std::io::Cursor<Vec<u8>>>> {
-        Ok(csv::Reader::from_reader(std::io::Cursor::new(self.read(p)?)))
+        Ok(csv::Reader::from_reader(std::io::Cursor::new(
+            self.read(p)?,
+        )))
     }
 
     /// The first line of `p` within `max_header_bytes`, recorded as an input.
@@ -288,7 +290,8 @@ pub fn report(o: &ReportOptions) -> Result<ReportSummary> {
     let out = o.out.clone().unwrap_or_else(|| dir.join("report.html"));
     check_out_path(&out)?;
     let mut w = Ctx::new(o);
-    let found = scan::scan(dir, &mut w).with_context(|| format!("cannot search {}", dir.display()))?;
+    let found =
+        scan::scan(dir, &mut w).with_context(|| format!("cannot search {}", dir.display()))?;
     let sections: Vec<Section> = [
         campaign::section(dir, &found, &mut w),
         friction::section(dir, &found, &mut w),
@@ -308,7 +311,11 @@ pub fn report(o: &ReportOptions) -> Result<ReportSummary> {
         );
     }
     // every file read is an input: the page must replace none of them
-    let inputs: Vec<(&str, &Path)> = w.inputs.iter().map(|p| ("STUDY_DIR", p.as_path())).collect();
+    let inputs: Vec<(&str, &Path)> = w
+        .inputs
+        .iter()
+        .map(|p| ("STUDY_DIR", p.as_path()))
+        .collect();
     greybox_core::outputs::check_file_output(&out, "--out", &inputs)?;
     let intro = vec![
         format!(

@@ -280,7 +280,10 @@ mod tests {
         // the policy allows exactly the page's script, by its hash
         let csp = content_security_policy();
         assert!(html.contains(&format!("content=\"{csp}\"")));
-        assert!(csp.starts_with("default-src 'none'; script-src 'sha256-"), "{csp}");
+        assert!(
+            csp.starts_with("default-src 'none'; script-src 'sha256-"),
+            "{csp}"
+        );
         assert_eq!(html.matches("<script").count(), 1);
         assert!(html.contains(&format!("<script>{SCRIPT}</script>")));
     }

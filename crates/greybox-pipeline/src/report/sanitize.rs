@@ -52,36 +52,125 @@ const ELEMENTS: &[&str] = &[
 /// `url(` survives only as `url(#id)`.
 const ATTRIBUTES: &[&str] = &[
     // geometry and viewports
-    "x", "y", "x1", "y1", "x2", "y2", "cx", "cy", "r", "rx", "ry", "fx", "fy", "fr",
-    "width", "height", "d", "points", "viewBox", "preserveAspectRatio", "transform",
-    "pathLength", "version",
+    "x",
+    "y",
+    "x1",
+    "y1",
+    "x2",
+    "y2",
+    "cx",
+    "cy",
+    "r",
+    "rx",
+    "ry",
+    "fx",
+    "fy",
+    "fr",
+    "width",
+    "height",
+    "d",
+    "points",
+    "viewBox",
+    "preserveAspectRatio",
+    "transform",
+    "pathLength",
+    "version",
     // identity (ids are prefixed per figure)
     "class",
     // paint
-    "fill", "fill-opacity", "fill-rule", "stroke", "stroke-width", "stroke-opacity",
-    "stroke-dasharray", "stroke-dashoffset", "stroke-linecap", "stroke-linejoin",
-    "stroke-miterlimit", "opacity", "color", "paint-order", "vector-effect",
-    "shape-rendering", "image-rendering", "text-rendering", "visibility", "display",
-    "clip-path", "clip-rule", "mask", "marker-start", "marker-mid", "marker-end",
+    "fill",
+    "fill-opacity",
+    "fill-rule",
+    "stroke",
+    "stroke-width",
+    "stroke-opacity",
+    "stroke-dasharray",
+    "stroke-dashoffset",
+    "stroke-linecap",
+    "stroke-linejoin",
+    "stroke-miterlimit",
+    "opacity",
+    "color",
+    "paint-order",
+    "vector-effect",
+    "shape-rendering",
+    "image-rendering",
+    "text-rendering",
+    "visibility",
+    "display",
+    "clip-path",
+    "clip-rule",
+    "mask",
+    "marker-start",
+    "marker-mid",
+    "marker-end",
     // text
-    "font-family", "font-size", "font-weight", "font-style", "font-variant", "text-anchor",
-    "dominant-baseline", "alignment-baseline", "baseline-shift", "letter-spacing",
-    "word-spacing", "text-decoration", "dx", "dy", "rotate", "textLength", "lengthAdjust",
+    "font-family",
+    "font-size",
+    "font-weight",
+    "font-style",
+    "font-variant",
+    "text-anchor",
+    "dominant-baseline",
+    "alignment-baseline",
+    "baseline-shift",
+    "letter-spacing",
+    "word-spacing",
+    "text-decoration",
+    "dx",
+    "dy",
+    "rotate",
+    "textLength",
+    "lengthAdjust",
     "writing-mode",
     // gradients, clips, markers
-    "offset", "stop-color", "stop-opacity", "gradientUnits", "gradientTransform",
-    "spreadMethod", "clipPathUnits", "maskUnits", "maskContentUnits", "markerWidth",
-    "markerHeight", "markerUnits", "refX", "refY", "orient",
+    "offset",
+    "stop-color",
+    "stop-opacity",
+    "gradientUnits",
+    "gradientTransform",
+    "spreadMethod",
+    "clipPathUnits",
+    "maskUnits",
+    "maskContentUnits",
+    "markerWidth",
+    "markerHeight",
+    "markerUnits",
+    "refX",
+    "refY",
+    "orient",
 ];
 
 /// CSS properties a `style` attribute may keep (the presentation attributes above that are
 /// also properties).
 const STYLE_PROPERTIES: &[&str] = &[
-    "fill", "fill-opacity", "fill-rule", "stroke", "stroke-width", "stroke-opacity",
-    "stroke-dasharray", "stroke-dashoffset", "stroke-linecap", "stroke-linejoin",
-    "stroke-miterlimit", "opacity", "color", "paint-order", "visibility", "display",
-    "font-family", "font-size", "font-weight", "font-style", "font-variant", "text-anchor",
-    "dominant-baseline", "letter-spacing", "word-spacing", "text-decoration", "stop-color",
+    "fill",
+    "fill-opacity",
+    "fill-rule",
+    "stroke",
+    "stroke-width",
+    "stroke-opacity",
+    "stroke-dasharray",
+    "stroke-dashoffset",
+    "stroke-linecap",
+    "stroke-linejoin",
+    "stroke-miterlimit",
+    "opacity",
+    "color",
+    "paint-order",
+    "visibility",
+    "display",
+    "font-family",
+    "font-size",
+    "font-weight",
+    "font-style",
+    "font-variant",
+    "text-anchor",
+    "dominant-baseline",
+    "letter-spacing",
+    "word-spacing",
+    "text-decoration",
+    "stop-color",
     "stop-opacity",
 ];
 
@@ -113,7 +202,12 @@ impl Sanitized {
         if self.removed_elements + self.removed_attributes == 0 {
             return None;
         }
-        let names: Vec<&str> = self.removed_names.iter().map(String::as_str).take(8).collect();
+        let names: Vec<&str> = self
+            .removed_names
+            .iter()
+            .map(String::as_str)
+            .take(8)
+            .collect();
         Some(format!(
             "{} elements/attributes removed from {file} ({} elements, {} attributes: {}{}); not allowed in a report figure",
             self.removed_elements + self.removed_attributes,
@@ -358,7 +452,11 @@ mod tests {
             .replace(" xmlns=\"http://www.w3.org/2000/svg\"", "");
         for tag in lower.split('<').skip(1) {
             let tag = tag.split('>').next().unwrap();
-            let name = tag.trim_start_matches('/').split([' ', '/']).next().unwrap();
+            let name = tag
+                .trim_start_matches('/')
+                .split([' ', '/'])
+                .next()
+                .unwrap();
             assert!(
                 ELEMENTS.iter().any(|e| e.to_ascii_lowercase() == name),
                 "<{name}> in {svg}"
@@ -382,40 +480,88 @@ mod tests {
     #[test]
     fn hostile_vectors_are_removed_and_counted() {
         let corpus: &[(&str, &str)] = &[
-            (r#"<svg onload="window.pwned=1"><rect width="1"/></svg>"#, "onload"),
+            (
+                r#"<svg onload="window.pwned=1"><rect width="1"/></svg>"#,
+                "onload",
+            ),
             (r#"<svg><script>window.pwned=1</script></svg>"#, "<script>"),
-            (r#"<svg><script><![CDATA[window.pwned=1]]></script></svg>"#, "<script>"),
+            (
+                r#"<svg><script><![CDATA[window.pwned=1]]></script></svg>"#,
+                "<script>",
+            ),
             (
                 r#"<svg><foreignObject><body xmlns="http://www.w3.org/1999/xhtml"><img src="x" onerror="window.pwned=1"/></body></foreignObject></svg>"#,
                 "<foreignObject>",
             ),
-            (r#"<svg><img src="x" onerror="window.pwned=1"/></svg>"#, "<img>"),
+            (
+                r#"<svg><img src="x" onerror="window.pwned=1"/></svg>"#,
+                "<img>",
+            ),
             (
                 r#"<svg xmlns:xlink="http://www.w3.org/1999/xlink"><a xlink:href="javascript:window.pwned=1"><text>x</text></a></svg>"#,
                 "<a>",
             ),
-            (r#"<svg><use href="javascript:window.pwned=1"/></svg>"#, "href"),
-            (r#"<svg><use href="http://evil.example/x.svg#a"/></svg>"#, "href"),
-            (r#"<svg><image href="http://evil.example/x.png"/></svg>"#, "href"),
-            (r#"<svg><image href="data:image/svg+xml;base64,PHN2Zz4="/></svg>"#, "href"),
+            (
+                r#"<svg><use href="javascript:window.pwned=1"/></svg>"#,
+                "href",
+            ),
+            (
+                r#"<svg><use href="http://evil.example/x.svg#a"/></svg>"#,
+                "href",
+            ),
+            (
+                r#"<svg><image href="http://evil.example/x.png"/></svg>"#,
+                "href",
+            ),
+            (
+                r#"<svg><image href="data:image/svg+xml;base64,PHN2Zz4="/></svg>"#,
+                "href",
+            ),
             (
                 r#"<svg><style>rect { fill: url(javascript:alert(1)) } @import "http://x";</style><rect/></svg>"#,
                 "<style>",
             ),
-            (r#"<svg><rect style="fill: url(javascript:alert(1))"/></svg>"#, "style"),
-            (r#"<svg><rect fill="url(http://evil.example/#p)"/></svg>"#, "fill"),
+            (
+                r#"<svg><rect style="fill: url(javascript:alert(1))"/></svg>"#,
+                "style",
+            ),
+            (
+                r#"<svg><rect fill="url(http://evil.example/#p)"/></svg>"#,
+                "fill",
+            ),
             (r#"<svg><rect fill="javascript:alert(1)"/></svg>"#, "fill"),
             (
                 r#"<?xml version="1.0"?><!DOCTYPE svg [<!ENTITY x "<script>window.pwned=1</script>">]><svg><text>&x;</text></svg>"#,
                 "&x;",
             ),
-            (r#"<svg><?xml-stylesheet href="http://x"?><rect/></svg>"#, "<?…?>"),
-            (r#"<svg><animate attributeName="href" to="javascript:alert(1)"/></svg>"#, "<animate>"),
-            (r#"<svg><set attributeName="onmouseover" to="alert(1)"/></svg>"#, "<set>"),
-            (r#"<svg><iframe src="javascript:alert(1)"></iframe></svg>"#, "<iframe>"),
-            (r#"<svg><svg:script xmlns:svg="http://www.w3.org/2000/svg">x</svg:script></svg>"#, "<svg:script>"),
-            (r#"<svg><rect ONLOAD="x" onmouseover="y"/></svg>"#, "onmouseover"),
-            (r#"<svg><g><g><script>deep()</script></g></g></svg>"#, "<script>"),
+            (
+                r#"<svg><?xml-stylesheet href="http://x"?><rect/></svg>"#,
+                "<?…?>",
+            ),
+            (
+                r#"<svg><animate attributeName="href" to="javascript:alert(1)"/></svg>"#,
+                "<animate>",
+            ),
+            (
+                r#"<svg><set attributeName="onmouseover" to="alert(1)"/></svg>"#,
+                "<set>",
+            ),
+            (
+                r#"<svg><iframe src="javascript:alert(1)"></iframe></svg>"#,
+                "<iframe>",
+            ),
+            (
+                r#"<svg><svg:script xmlns:svg="http://www.w3.org/2000/svg">x</svg:script></svg>"#,
+                "<svg:script>",
+            ),
+            (
+                r#"<svg><rect ONLOAD="x" onmouseover="y"/></svg>"#,
+                "onmouseover",
+            ),
+            (
+                r#"<svg><g><g><script>deep()</script></g></g></svg>"#,
+                "<script>",
+            ),
         ];
         for (text, removed) in corpus {
             let s = clean(text);
@@ -432,20 +578,38 @@ mod tests {
     #[test]
     fn text_and_values_are_escaped_anew() {
         // an escaped tag in text stays text; a quote cannot close an attribute
-        let s = clean(r#"<svg><text x="1&quot; onload=&quot;a()">&lt;script&gt;a()&lt;/script&gt; &#60;b&#62; <![CDATA[<img src=x onerror=a()>]]></text></svg>"#);
-        assert!(s.svg.contains("&lt;script&gt;a()&lt;/script&gt; &lt;b&gt; &lt;img src=x onerror=a()&gt;"), "{}", s.svg);
-        assert!(s.svg.contains(r#"x="1&quot; onload=&quot;a()""#), "{}", s.svg);
+        let s = clean(
+            r#"<svg><text x="1&quot; onload=&quot;a()">&lt;script&gt;a()&lt;/script&gt; &#60;b&#62; <![CDATA[<img src=x onerror=a()>]]></text></svg>"#,
+        );
+        assert!(
+            s.svg.contains(
+                "&lt;script&gt;a()&lt;/script&gt; &lt;b&gt; &lt;img src=x onerror=a()&gt;"
+            ),
+            "{}",
+            s.svg
+        );
+        assert!(
+            s.svg.contains(r#"x="1&quot; onload=&quot;a()""#),
+            "{}",
+            s.svg
+        );
         assert_eq!(s.removed_elements + s.removed_attributes, 0);
     }
 
     #[test]
     fn ids_and_same_figure_references_are_prefixed() {
-        let s = clean(r##"<svg><defs><clipPath id="c"><rect/></clipPath></defs><g clip-path="url(#c)"><use href="#c"/></g><rect id="pwned" style="fill: #fff; stroke: red; behavior: url(x)"/></svg>"##);
+        let s = clean(
+            r##"<svg><defs><clipPath id="c"><rect/></clipPath></defs><g clip-path="url(#c)"><use href="#c"/></g><rect id="pwned" style="fill: #fff; stroke: red; behavior: url(x)"/></svg>"##,
+        );
         assert!(s.svg.contains(r#"<clipPath id="f1-c">"#), "{}", s.svg);
         assert!(s.svg.contains(r##"clip-path="url(#f1-c)""##), "{}", s.svg);
         assert!(s.svg.contains(r##"<use href="#f1-c"/>"##), "{}", s.svg);
         assert!(s.svg.contains(r#"id="f1-pwned""#), "{}", s.svg);
-        assert!(s.svg.contains(r##"style="fill: #fff; stroke: red""##), "{}", s.svg);
+        assert!(
+            s.svg.contains(r##"style="fill: #fff; stroke: red""##),
+            "{}",
+            s.svg
+        );
     }
 
     #[test]
@@ -469,7 +633,12 @@ mod tests {
             "mu <&> history",
             "time (µs)",
             "mu (-)",
-            &[greybox_core::plot::Line { label: "a", colour: "#1f77b4", x: &x, y: &y }],
+            &[greybox_core::plot::Line {
+                label: "a",
+                colour: "#1f77b4",
+                x: &x,
+                y: &y,
+            }],
             false,
             &[(0.5, 1.5, "steady")],
         );
