@@ -8,13 +8,12 @@ Runs when chromium, chromedriver and selenium are installed; with GREYBOX_REQUIR
 """
 
 import os
-import shutil
 import subprocess
 from pathlib import Path
 
 import pytest
+from browser_support import ROOT
 
-ROOT = Path(__file__).resolve().parents[2]
 EXPECTED_SECTIONS = [
     "Campaign",
     "Friction data",
@@ -25,26 +24,9 @@ EXPECTED_SECTIONS = [
 ]
 
 
-def _require(what: str, ok: bool) -> None:
-    if ok:
-        return
-    if os.environ.get("GREYBOX_REQUIRE_BROWSER") == "1":
-        pytest.fail(f"{what} is missing and GREYBOX_REQUIRE_BROWSER=1")
-    pytest.skip(f"{what} is not installed")
-
-
-def _find(*names: str):
-    for n in names:
-        p = shutil.which(n)
-        if p:
-            return p
-    return None
-
-
 @pytest.fixture(scope="module")
-def demo_report(tmp_path_factory) -> Path:
-    exe = Path(os.environ.get("GREYBOX_BIN", ROOT / "target" / "release" / "greybox"))
-    _require(f"the greybox binary ({exe}; cargo build --release -p greybox-cli)", exe.is_file())
+def demo_report(tmp_path_factory, greybox_exe) -> Path:
+    exe = greybox_exe
     out = tmp_path_factory.mktemp("demo") / "demo-out"
     subprocess.run(
         [str(exe), "--quiet", "demo", "--out", str(out)],
@@ -54,27 +36,6 @@ def demo_report(tmp_path_factory) -> Path:
     page = out / "report.html"
     assert page.is_file(), "greybox demo wrote no report.html"
     return page
-
-
-@pytest.fixture(scope="module")
-def browser():
-    chromium = _find("chromium", "chromium-browser", "google-chrome")
-    driver_path = _find("chromedriver")
-    _require("chromium", chromium is not None)
-    _require("chromedriver", driver_path is not None)
-    try:
-        from selenium import webdriver
-        from selenium.webdriver.chrome.service import Service
-    except ImportError:
-        _require("selenium", False)
-    opts = webdriver.ChromeOptions()
-    opts.binary_location = chromium
-    for a in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1280,1000"):
-        opts.add_argument(a)
-    opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    driver = webdriver.Chrome(service=Service(driver_path), options=opts)
-    yield driver
-    driver.quit()
 
 
 def test_report_is_valid_html5_and_small(demo_report):

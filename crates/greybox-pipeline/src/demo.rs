@@ -123,10 +123,7 @@ pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
     drop(cwd);
     staged.commit()?;
     // the page over everything, once the directory holds it all
-    let report = report(&ReportOptions {
-        study_dir: out_dir.to_path_buf(),
-        out: None,
-    })?;
+    let report = report(&ReportOptions::new(out_dir))?;
     Ok(Demo {
         summary: DemoSummary {
             plan: campaign.plan,

@@ -406,7 +406,8 @@ fn simulate_cut(
 #[pyfunction]
 #[pyo3(signature = (study_dir, out = None))]
 fn report(py: Python<'_>, study_dir: PathBuf, out: Option<PathBuf>) -> PyResult<String> {
-    let o = greybox_pipeline::report::ReportOptions { study_dir, out };
+    let mut o = greybox_pipeline::report::ReportOptions::new(study_dir);
+    o.out = out;
     to_json(
         &py.detach(|| greybox_pipeline::report::report(&o))
             .map_err(py_err)?,

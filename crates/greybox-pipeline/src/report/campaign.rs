@@ -3,7 +3,7 @@
 
 use super::page::{Block, Section, Table};
 use super::scan::Found;
-use super::{num, shown, Warnings};
+use super::{num, shown, Ctx};
 use anyhow::{Context, Result};
 use greybox_core::dataset::FrictionDataset;
 use greybox_core::plot::{lines, Line};
@@ -16,17 +16,19 @@ const MAX_RECORDINGS: usize = 24;
 /// Points per drawn force trace (min/max per bucket keep the peaks).
 const TRACE_POINTS: usize = 1500;
 
-pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
+pub fn section(dir: &Path, found: &Found, w: &mut Ctx) -> Option<Section> {
     let mut s = Section::new("campaign", "Campaign");
     for sheet in &found.run_sheets {
-        s.add_from(sheet, run_sheet(dir, sheet), w);
+        let r = run_sheet(dir, sheet, w);
+        s.add_from(sheet, r, w);
     }
     let mut drawn = 0;
     for ds in &found.datasets {
-        match recordings_of(ds) {
+        match recordings_of(ds, w) {
             Ok(files) if !files.is_empty() => {
                 s.heading(format!("Recordings identified into {}", shown(dir, ds)));
-                recordings(dir, ds, &files, channel_map(found), &mut drawn, &mut s, w);
+                let map = channel_map(found, w);
+                recordings(dir, ds, &files, map, &mut drawn, &mut s, w);
             }
             Ok(_) => {}
             Err(e) => s.push(w.note(ds, &e)),
@@ -37,12 +39,13 @@ pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
 
 /// The channel map of the study file beside a run sheet (`greybox plan` copies it there),
 /// else the default one.
-fn channel_map(found: &Found) -> ChannelMap {
+fn channel_map(found: &Found, w: &mut Ctx) -> ChannelMap {
     found
         .run_sheets
         .iter()
         .filter_map(|p| p.parent().map(|d| d.join("study.toml")))
         .find(|p| p.is_file())
+        .filter(|p| w.admit(p).is_ok())
         .and_then(|p| crate::Study::load(&p).ok())
         .map(|s| s.recording)
         .unwrap_or_default()
@@ -50,8 +53,8 @@ fn channel_map(found: &Found) -> ChannelMap {
 
 /// The run sheet: one row per pin (load, steps, speeds, duration), and the whole sheet
 /// folded away below it.
-fn run_sheet(dir: &Path, p: &Path) -> Result<Vec<Block>> {
-    let mut rdr = csv::Reader::from_path(p)?;
+fn run_sheet(dir: &Path, p: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
+    let mut rdr = w.csv(p)?;
     let header: Vec<String> = rdr.headers()?.iter().map(str::to_string).collect();
     let hdr: Vec<&str> = header.iter().map(String::as_str).collect();
     let name = shown(dir, p);
@@ -120,11 +123,12 @@ fn run_sheet(dir: &Path, p: &Path) -> Result<Vec<Block>> {
 }
 
 /// The recordings a dataset was identified from, in the order given (its provenance).
-fn recordings_of(dataset: &Path) -> Result<Vec<PathBuf>> {
+fn recordings_of(dataset: &Path, w: &mut Ctx) -> Result<Vec<PathBuf>> {
     let prov = Provenance::path_beside(dataset);
     if !prov.is_file() {
         return Ok(Vec::new());
     }
+    w.admit(&prov)?;
     let p = Provenance::read(&prov)?;
     let base = dataset.parent().unwrap_or(Path::new("."));
     Ok(p.inputs
@@ -168,12 +172,15 @@ fn recordings(
     map: ChannelMap,
     drawn: &mut usize,
     s: &mut Section,
-    w: &mut Warnings,
+    w: &mut Ctx,
 ) {
-    let ds = match FrictionDataset::read_csv(dataset) {
+    let ds = match w
+        .admit(dataset)
+        .and_then(|()| Ok(FrictionDataset::read_csv(dataset)?))
+    {
         Ok(d) => d,
         Err(e) => {
-            s.push(w.note(dataset, &anyhow::anyhow!(e)));
+            s.push(w.note(dataset, &e));
             return;
         }
     };
@@ -197,7 +204,10 @@ fn recordings(
             break;
         }
         let pin = paired.then(|| pins[k]);
-        match recording_figure(dir, f, &ds, pin, &map) {
+        match w
+            .admit(f)
+            .and_then(|()| recording_figure(dir, f, &ds, pin, &map))
+        {
             Ok(b) => figures.push(b),
             Err(e) => figures.push(w.note(f, &e)),
         }

@@ -2,19 +2,19 @@
 //! contact profiles along the rake face, μ over time per friction window, and the chip
 //! (last state by temperature and plastic strain; frames when the cut drew them).
 
-use super::page::{inline_svg, Block, Section, Table};
+use super::page::{Block, Section, Table};
 use super::scan::Found;
-use super::{num, shown, svg_figure, Warnings};
+use super::{num, shown, svg_figure, Ctx};
 use anyhow::{Context, Result};
 use greybox_core::plot::{lines, Line};
 use serde_json::Value;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// μ histories drawn per cut (windows evenly picked among those in contact).
 const MAX_WINDOWS: usize = 8;
 
-pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
+pub fn section(dir: &Path, found: &Found, w: &mut Ctx) -> Option<Section> {
     let mut s = Section::new("cutting", "Cutting");
     for cut in &found.cuts {
         {
@@ -84,8 +84,8 @@ fn summary_table(v: &Value) -> Table {
     t
 }
 
-fn cut_blocks(dir: &Path, cut: &Path, w: &mut Warnings) -> Result<Vec<Block>> {
-    let text = std::fs::read_to_string(cut.join("summary.json"))?;
+fn cut_blocks(dir: &Path, cut: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
+    let text = w.read_text(&cut.join("summary.json"))?;
     let v: Value = serde_json::from_str(&text).context("summary.json is not JSON")?;
     let name = shown(dir, cut);
     let name = if name.is_empty() {
@@ -97,9 +97,9 @@ fn cut_blocks(dir: &Path, cut: &Path, w: &mut Warnings) -> Result<Vec<Block>> {
         Block::Heading(format!("Cut {name}")),
         Block::Table(summary_table(&v)),
     ];
-    let fig = |f: &str, caption: &str, w: &mut Warnings| -> Option<Block> {
+    let fig = |f: &str, caption: &str, w: &mut Ctx| -> Option<Block> {
         let p = cut.join(f);
-        p.is_file().then(|| svg_figure(dir, &p, caption, w))
+        p.exists().then(|| svg_figure(dir, &p, caption, w))
     };
     let mut row: Vec<Block> = [
         (
@@ -127,8 +127,8 @@ fn cut_blocks(dir: &Path, cut: &Path, w: &mut Warnings) -> Result<Vec<Block>> {
     .filter_map(|(f, c)| fig(f, c, w))
     .collect();
     let hist = cut.join("mu_history.csv");
-    if hist.is_file() {
-        match mu_history(&hist) {
+    if hist.exists() {
+        match w.csv(&hist).and_then(mu_history) {
             Ok(svg) => row.push(Block::Figure {
                 svg,
                 caption: format!(
@@ -163,19 +163,11 @@ fn cut_blocks(dir: &Path, cut: &Path, w: &mut Warnings) -> Result<Vec<Block>> {
 }
 
 /// `frames/chip_NNN.svg` as one slider figure.
-fn frames(dir: &Path, frames_dir: &Path, w: &mut Warnings) -> Option<Block> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(frames_dir)
-        .ok()?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "svg"))
-        .collect();
-    files.sort();
+fn frames(dir: &Path, frames_dir: &Path, w: &mut Ctx) -> Option<Block> {
+    let files = w.list(frames_dir, "svg");
     let mut svgs = Vec::new();
     for f in &files {
-        match std::fs::read_to_string(f)
-            .context("cannot read the file")
-            .and_then(|t| inline_svg(&t).context("no <svg> element in it"))
-        {
+        match w.svg(f) {
             Ok(s) => svgs.push(s),
             Err(e) => {
                 w.note(f, &e);
@@ -194,8 +186,7 @@ fn frames(dir: &Path, frames_dir: &Path, w: &mut Warnings) -> Option<Block> {
 
 /// μ against time for up to [`MAX_WINDOWS`] rake-face windows, evenly picked by distance
 /// from the edge.
-fn mu_history(p: &Path) -> Result<String> {
-    let mut rdr = csv::Reader::from_path(p)?;
+fn mu_history(mut rdr: csv::Reader<impl std::io::Read>) -> Result<String> {
     let h = rdr.headers()?.clone();
     let col = |name: &str| {
         h.iter()

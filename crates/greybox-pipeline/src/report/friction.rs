@@ -3,20 +3,22 @@
 
 use super::page::{Block, Section, Table};
 use super::scan::Found;
-use super::{num, shown, Warnings};
+use super::{num, shown, Ctx};
 use anyhow::{Context, Result};
 use greybox_core::dataset::FrictionDataset;
 use greybox_core::plot::{heatmap, lines, Heatmap, Line};
 use greybox_tribo::ploughing::Correction;
 use std::path::Path;
 
-pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
+pub fn section(dir: &Path, found: &Found, w: &mut Ctx) -> Option<Section> {
     let mut s = Section::new("friction-data", "Friction data");
     for p in &found.datasets {
-        s.add_from(p, dataset_blocks(dir, p), w);
+        let r = w.admit(p).and_then(|()| dataset_blocks(dir, p));
+        s.add_from(p, r, w);
     }
     for p in &found.corrections {
-        s.add_from(p, correction_blocks(dir, p), w);
+        let r = w.read_text(p).and_then(|t| correction_blocks(dir, p, &t));
+        s.add_from(p, r, w);
     }
     (!s.blocks.is_empty()).then_some(s)
 }
@@ -110,9 +112,8 @@ fn dataset_blocks(dir: &Path, p: &Path) -> Result<Vec<Block>> {
     ])
 }
 
-fn correction_blocks(dir: &Path, p: &Path) -> Result<Vec<Block>> {
-    let text = std::fs::read_to_string(p)?;
-    let c: Correction = serde_json::from_str(&text).context("not a ploughing correction")?;
+fn correction_blocks(dir: &Path, p: &Path, text: &str) -> Result<Vec<Block>> {
+    let c: Correction = serde_json::from_str(text).context("not a ploughing correction")?;
     let name = shown(dir, p);
     let mut t = Table::new(
         &format!("Ploughing correction per load ({name})"),

@@ -5,7 +5,7 @@
 
 use super::page::{Block, Section, Table};
 use super::scan::Found;
-use super::{num, shown, svg_figure, Warnings};
+use super::{num, shown, svg_figure, Ctx};
 use anyhow::{Context, Result};
 use greybox_core::plot::{heatmap, Heatmap};
 use greybox_core::ContactState;
@@ -14,7 +14,7 @@ use greybox_learn::metrics::WithCi;
 use greybox_learn::protocol::FitReport;
 use std::path::Path;
 
-pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
+pub fn section(dir: &Path, found: &Found, w: &mut Ctx) -> Option<Section> {
     let mut s = Section::new("models", "Models");
     for p in &found.fit_reports {
         {
@@ -25,16 +25,19 @@ pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
     let mut seen = Vec::new();
     for p in &found.laws {
         // the same law copied beside other outputs is drawn once
-        let Ok(bytes) = std::fs::read(p) else {
-            s.push(w.note(p, &anyhow::anyhow!("cannot read the file")));
-            continue;
+        let bytes = match w.read(p) {
+            Ok(b) => b,
+            Err(e) => {
+                s.push(w.note(p, &e));
+                continue;
+            }
         };
         let digest = greybox_core::provenance::sha256_bytes(&bytes);
         if seen.contains(&digest) {
             continue;
         }
         seen.push(digest);
-        match law_block(dir, p) {
+        match law_block(dir, p, &bytes) {
             Ok(b) => s.push(b),
             Err(e) => s.push(w.note(p, &e)),
         }
@@ -52,8 +55,8 @@ fn with_ci(m: &WithCi, digits: usize) -> String {
     )
 }
 
-fn fit_blocks(dir: &Path, p: &Path, w: &mut Warnings) -> Result<Vec<Block>> {
-    let text = std::fs::read_to_string(p)?;
+fn fit_blocks(dir: &Path, p: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
+    let text = w.read_text(p)?;
     let r: FitReport = serde_json::from_str(&text).context("not a greybox fit report")?;
     let name = shown(dir, p);
     let mut out = vec![
@@ -152,7 +155,7 @@ fn fit_blocks(dir: &Path, p: &Path, w: &mut Warnings) -> Result<Vec<Block>> {
         .families
         .iter()
         .map(|f| plots.join(format!("{}-predicted-vs-measured.svg", f.family.name())))
-        .filter(|f| f.is_file())
+        .filter(|f| f.exists())
         .map(|f| svg_figure(dir, &f, "Predicted against measured", w))
         .collect();
     if !figures.is_empty() {
@@ -165,10 +168,10 @@ fn fit_blocks(dir: &Path, p: &Path, w: &mut Warnings) -> Result<Vec<Block>> {
 /// `domain` is `None`), its inner law's domain is the box that matters here.
 fn training_domain(
     p: &Path,
+    text: &[u8],
     law: &dyn greybox_core::FrictionLaw,
 ) -> Result<Option<greybox_core::law::ValidityDomain>> {
-    let text = std::fs::read_to_string(p)?;
-    if let Ok(LawSpec::GreyBox { inner, .. }) = serde_json::from_str::<LawSpec>(&text) {
+    if let Ok(LawSpec::GreyBox { inner, .. }) = serde_json::from_slice::<LawSpec>(text) {
         let base = p.parent().unwrap_or(Path::new("."));
         return Ok(inner.build(base)?.domain());
     }
@@ -176,10 +179,10 @@ fn training_domain(
 }
 
 /// μ over (pressure, velocity) from 0 to 1.6× the domain's upper ends, the domain boxed.
-fn law_block(dir: &Path, p: &Path) -> Result<Block> {
+fn law_block(dir: &Path, p: &Path, text: &[u8]) -> Result<Block> {
     let law = greybox_friction::spec::load_law(p)?;
     let name = shown(dir, p);
-    let Some(d) = training_domain(p, law.as_ref())? else {
+    let Some(d) = training_domain(p, text, law.as_ref())? else {
         return Ok(Block::Text(format!(
             "{name}: law {} states no training domain; its μ does not depend on where it was measured.",
             law.name()

@@ -112,27 +112,44 @@ details { margin: 8px 0 16px; }
 summary { cursor: pointer; color: #0645ad; }
 "#;
 
+/// The page's only script: the frame slider. It finds its parts by HTML element
+/// (`figure`, `div`, `input`, `output`), which no figure can contain (figures are SVG
+/// rebuilt by [`super::sanitize`]), so a figure cannot take part in it.
 const SCRIPT: &str = r#"
-document.querySelectorAll('.frames').forEach(function (box) {
-  var frames = box.querySelectorAll('.frame');
-  var slider = box.querySelector('input');
-  var label = box.querySelector('output');
+document.querySelectorAll('figure.frames').forEach(function (box) {
+  var frames = box.querySelectorAll(':scope > div.frame');
+  var controls = box.querySelector(':scope > div.controls');
+  var slider = controls.querySelector('input');
+  var label = controls.querySelector('output');
   function show(k) {
     frames.forEach(function (f, i) { f.hidden = (i !== k - 1); });
     label.textContent = 'frame ' + k + ' of ' + frames.length;
   }
-  box.querySelector('.controls').hidden = false;
+  controls.hidden = false;
   slider.addEventListener('input', function () { show(Number(slider.value)); });
   show(Number(slider.value));
 });
 "#;
+
+/// The page's Content-Security-Policy: nothing is fetched, images only from `data:` URLs,
+/// inline styles, and no script but [`SCRIPT`] (allowed by its SHA-256, so that a script
+/// that got onto the page some other way would not run).
+pub fn content_security_policy() -> String {
+    use base64::Engine as _;
+    use sha2::Digest as _;
+    let hash = base64::engine::general_purpose::STANDARD.encode(sha2::Sha256::digest(SCRIPT));
+    format!(
+        "default-src 'none'; script-src 'sha256-{hash}'; style-src 'unsafe-inline'; img-src data:; base-uri 'none'; form-action 'none'"
+    )
+}
 
 /// The whole document.
 pub fn render(title: &str, intro: &[String], sections: &[Section]) -> String {
     let mut h = String::new();
     let _ = write!(
         h,
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<header>\n<h1>{}</h1>\n",
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta http-equiv=\"Content-Security-Policy\" content=\"{}\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<header>\n<h1>{}</h1>\n",
+        content_security_policy(),
         escape(title),
         escape(title)
     );
@@ -260,5 +277,14 @@ mod tests {
             Some("<svg a=\"1\"></svg>")
         );
         assert_eq!(inline_svg("no picture"), None);
+        // the policy allows exactly the page's script, by its hash
+        let csp = content_security_policy();
+        assert!(html.contains(&format!("content=\"{csp}\"")));
+        assert!(
+            csp.starts_with("default-src 'none'; script-src 'sha256-"),
+            "{csp}"
+        );
+        assert_eq!(html.matches("<script").count(), 1);
+        assert!(html.contains(&format!("<script>{SCRIPT}</script>")));
     }
 }

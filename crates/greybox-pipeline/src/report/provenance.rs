@@ -4,12 +4,12 @@
 
 use super::page::{Block, Section, Table};
 use super::scan::Found;
-use super::{num, shown, Warnings};
+use super::{num, shown, Ctx};
 use greybox_core::provenance::Provenance;
 use serde_json::Value;
 use std::path::Path;
 
-pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
+pub fn section(dir: &Path, found: &Found, w: &mut Ctx) -> Option<Section> {
     let mut s = Section::new("provenance", "Provenance");
     let mut runs = Table::new(
         "What made each output",
@@ -20,7 +20,7 @@ pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
         &["record", "role", "path", "bytes", "SHA-256"],
     );
     for p in &found.provenance {
-        match Provenance::read(p) {
+        match w.admit(p).and_then(|()| Ok(Provenance::read(p)?)) {
             Ok(r) => {
                 let rec = shown(dir, p);
                 runs.row(vec![
@@ -39,10 +39,10 @@ pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
                     ]);
                 }
             }
-            Err(e) => s.push(w.note(p, &anyhow::anyhow!(e))),
+            Err(e) => s.push(w.note(p, &e)),
         }
     }
-    let times = wall_times(dir, found);
+    let times = wall_times(dir, found, w);
     if !runs.rows.is_empty() {
         s.push(Block::Table(runs));
     }
@@ -56,11 +56,9 @@ pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
 }
 
 /// Wall times recorded by cuts (`wall_s`) and fits (per model family).
-fn wall_times(dir: &Path, found: &Found) -> Table {
+fn wall_times(dir: &Path, found: &Found, w: &mut Ctx) -> Table {
     let mut t = Table::new("Wall times", &["output", "what", "wall time (s)"]);
-    let read = |p: &Path| -> Option<Value> {
-        serde_json::from_str(&std::fs::read_to_string(p).ok()?).ok()
-    };
+    let mut read = |p: &Path| -> Option<Value> { serde_json::from_slice(&w.read(p).ok()?).ok() };
     for c in &found.cuts {
         let p = c.join("summary.json");
         if let Some(s) = read(&p).and_then(|v| v.get("wall_s").and_then(Value::as_f64)) {

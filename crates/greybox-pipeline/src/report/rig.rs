@@ -3,12 +3,12 @@
 
 use super::page::{Block, Section, Table};
 use super::scan::Found;
-use super::{num, shown, svg_figure, Warnings};
+use super::{num, shown, svg_figure, Ctx};
 use anyhow::{Context, Result};
 use serde_json::Value;
 use std::path::Path;
 
-pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
+pub fn section(dir: &Path, found: &Found, w: &mut Ctx) -> Option<Section> {
     let mut s = Section::new("rig", "Rig dynamics and wear");
     for p in &found.characterizations {
         {
@@ -17,7 +17,7 @@ pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
         }
     }
     for p in &found.wear_tests {
-        match wear_table(dir, p) {
+        match w.admit(p).and_then(|()| wear_table(dir, p)) {
             Ok(t) => s.push(Block::Table(t)),
             Err(e) => s.push(w.note(p, &e)),
         }
@@ -25,8 +25,8 @@ pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
     (!s.blocks.is_empty()).then_some(s)
 }
 
-fn dynamics_blocks(dir: &Path, p: &Path, w: &mut Warnings) -> Result<Vec<Block>> {
-    let v: Value = serde_json::from_str(&std::fs::read_to_string(p)?).context("not JSON")?;
+fn dynamics_blocks(dir: &Path, p: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
+    let v: Value = serde_json::from_slice(&w.read(p)?).context("not JSON")?;
     let loads = v
         .get("loads")
         .and_then(Value::as_array)
@@ -88,7 +88,7 @@ fn dynamics_blocks(dir: &Path, p: &Path, w: &mut Warnings) -> Result<Vec<Block>>
     ]
     .iter()
     .map(|(f, c)| (d.join(f), c))
-    .filter(|(f, _)| f.is_file())
+    .filter(|(f, _)| f.exists())
     .map(|(f, c)| svg_figure(dir, &f, c, w))
     .collect();
     if !figs.is_empty() {

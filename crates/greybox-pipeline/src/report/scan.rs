@@ -1,6 +1,9 @@
 //! Finding greybox outputs in a study directory by what they hold, not where they lie.
 
+use super::{input, Ctx};
 use anyhow::Result;
+use std::collections::HashSet;
+use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 
 /// The outputs found, each list in path order.
@@ -34,72 +37,119 @@ fn skipped(name: &str) -> bool {
     name == "vtk" || name == "frames" || name.starts_with('.') || name.ends_with(".partial")
 }
 
-/// Searches `dir` to a depth of 6.
-pub fn scan(dir: &Path) -> Result<Found> {
-    let mut f = Found::default();
-    walk(dir, 0, &mut f)?;
-    Ok(f)
+/// Searches `dir` to a depth of `max_depth`, each directory once (by device and inode:
+/// links are followed but a directory reached again, e.g. through `ln -s . loop`, is not
+/// searched again), looking at no more than `max_entries` entries. FIFOs, devices and
+/// sockets are never opened: each is named among the warnings.
+pub(crate) fn scan(dir: &Path, cx: &mut Ctx) -> Result<Found> {
+    let mut w = Walk::default();
+    w.dir(dir, 0, cx)?;
+    if let Some(first) = &w.too_deep_first {
+        cx.warn(format!(
+            "{} directories deeper than max_depth ({}) not searched, first {} (raise it with --max-depth)",
+            w.too_deep,
+            cx.depth,
+            first.display()
+        ));
+    }
+    Ok(w.found)
 }
 
-fn walk(dir: &Path, depth: usize, f: &mut Found) -> Result<()> {
-    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .collect();
-    entries.sort();
-    for p in entries {
-        let name = p
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        if p.is_dir() {
-            let sweep_cases = name == "cases" && is_sweep(dir);
-            if depth < 6 && !skipped(&name) && !sweep_cases {
-                walk(&p, depth + 1, f)?;
-            }
-            continue;
+#[derive(Default)]
+struct Walk {
+    found: Found,
+    /// (device, inode) of the directories searched.
+    seen: HashSet<(u64, u64)>,
+    too_deep: usize,
+    too_deep_first: Option<PathBuf>,
+}
+
+impl Walk {
+    fn dir(&mut self, dir: &Path, depth: u64, cx: &mut Ctx) -> Result<()> {
+        let m = std::fs::metadata(dir)?;
+        if !self.seen.insert((m.dev(), m.ino())) {
+            return Ok(());
         }
-        classify(&p, &name, f);
+        let mut entries = Vec::new();
+        for e in std::fs::read_dir(dir)? {
+            if !cx.take_entry(dir) {
+                break;
+            }
+            if let Ok(e) = e {
+                entries.push(e.path());
+            }
+        }
+        entries.sort();
+        for p in entries {
+            let name = p
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            // links followed; a dangling one is passed over
+            let Ok(m) = std::fs::metadata(&p) else {
+                continue;
+            };
+            if m.is_dir() {
+                let sweep_cases = name == "cases" && is_sweep(dir, cx);
+                if skipped(&name) || sweep_cases {
+                    continue;
+                }
+                if depth >= cx.depth {
+                    self.too_deep += 1;
+                    self.too_deep_first.get_or_insert(p);
+                    continue;
+                }
+                if let Err(e) = self.dir(&p, depth + 1, cx) {
+                    cx.warn(format!("cannot search {}: {e:#}", p.display()));
+                }
+                continue;
+            }
+            if !m.is_file() {
+                cx.warn(format!(
+                    "skipped {}: {}, not a regular file (never opened)",
+                    p.display(),
+                    input::kind(&m)
+                ));
+                continue;
+            }
+            classify(&p, &name, &mut self.found, cx);
+        }
+        Ok(())
     }
-    Ok(())
 }
 
 /// Whether `dir` is a sweep's output directory (its `plan.json` lists cases and fields).
-fn is_sweep(dir: &Path) -> bool {
-    let keys = json_keys(&dir.join(crate::sweep::PLAN_FILE));
+fn is_sweep(dir: &Path, cx: &mut Ctx) -> bool {
+    let plan = dir.join(crate::sweep::PLAN_FILE);
+    if !plan.exists() {
+        return false;
+    }
+    let keys = json_keys(&plan, cx);
     keys.iter().any(|k| k == "cases") && keys.iter().any(|k| k == "fields")
 }
 
-/// The first line of a text file (its CSV header), if readable.
-fn header(p: &Path) -> Option<String> {
-    use std::io::BufRead;
-    let file = std::fs::File::open(p).ok()?;
-    let mut line = String::new();
-    std::io::BufReader::new(file).read_line(&mut line).ok()?;
-    Some(line)
-}
-
-/// The top-level keys of a JSON object file (small files only: reports, laws, summaries).
-fn json_keys(p: &Path) -> Vec<String> {
-    let small = std::fs::metadata(p)
-        .map(|m| m.len() < 64 << 20)
-        .unwrap_or(false);
-    if !small {
-        return Vec::new();
+/// The top-level keys of a JSON object file read within `max_file_bytes` (a file over it
+/// is named among the warnings).
+fn json_keys(p: &Path, cx: &mut Ctx) -> Vec<String> {
+    match cx.read(p) {
+        Ok(bytes) => serde_json::from_slice::<serde_json::Value>(&bytes)
+            .ok()
+            .and_then(|v| v.as_object().map(|o| o.keys().cloned().collect()))
+            .unwrap_or_default(),
+        Err(e) => {
+            cx.note(p, &e);
+            Vec::new()
+        }
     }
-    std::fs::read_to_string(p)
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .and_then(|v| v.as_object().map(|o| o.keys().cloned().collect()))
-        .unwrap_or_default()
 }
 
-fn classify(p: &Path, name: &str, f: &mut Found) {
+fn classify(p: &Path, name: &str, f: &mut Found, cx: &mut Ctx) {
     if name == "provenance.json" || name.ends_with(".provenance.json") {
         f.provenance.push(p.to_path_buf());
         return;
     }
     if name == crate::sweep::PLAN_FILE {
-        if let Some(d) = p.parent().filter(|d| is_sweep(d)) {
+        if let Some(d) = p.parent().filter(|d| is_sweep(d, cx)) {
             f.sweeps.push(d.to_path_buf());
             return;
         }
@@ -109,7 +159,13 @@ fn classify(p: &Path, name: &str, f: &mut Found) {
         return;
     }
     if name.ends_with(".csv") {
-        let h = header(p).unwrap_or_default();
+        let h = match cx.header(p) {
+            Ok(h) => h,
+            Err(e) => {
+                cx.note(p, &e);
+                return;
+            }
+        };
         let cols: Vec<&str> = h.trim().split(',').map(str::trim).collect();
         if cols.contains(&"cof_apparent") {
             f.datasets.push(p.to_path_buf());
@@ -125,7 +181,7 @@ fn classify(p: &Path, name: &str, f: &mut Found) {
     if !name.ends_with(".json") {
         return;
     }
-    let keys = json_keys(p);
+    let keys = json_keys(p, cx);
     let has = |k: &str| keys.iter().any(|x| x == k);
     if name == "summary.json" && has("cutting_force_n_per_mm") {
         if let Some(d) = p.parent() {

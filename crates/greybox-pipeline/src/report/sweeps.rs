@@ -3,7 +3,7 @@
 
 use super::page::{Block, Section, Table};
 use super::scan::Found;
-use super::{shown, svg_figure, Warnings};
+use super::{shown, svg_figure, Ctx};
 use anyhow::{Context, Result};
 use std::path::Path;
 
@@ -18,7 +18,7 @@ const SHOWN: [&str; 7] = [
     "case_wall_s",
 ];
 
-pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
+pub fn section(dir: &Path, found: &Found, w: &mut Ctx) -> Option<Section> {
     let mut s = Section::new("sweeps", "Sweeps");
     for sw in &found.sweeps {
         let r = sweep_blocks(dir, sw, w);
@@ -27,12 +27,13 @@ pub fn section(dir: &Path, found: &Found, w: &mut Warnings) -> Option<Section> {
     (!s.blocks.is_empty()).then_some(s)
 }
 
-fn sweep_blocks(dir: &Path, sw: &Path, w: &mut Warnings) -> Result<Vec<Block>> {
+fn sweep_blocks(dir: &Path, sw: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
+    w.admit(&sw.join(crate::sweep::PLAN_FILE))?;
     let plan = crate::sweep::Plan::read(sw)?;
     let name = shown(dir, sw);
     let mut out = vec![Block::Heading(format!("Sweep {name}"))];
     let results = sw.join("results.csv");
-    if !results.is_file() {
+    if !results.exists() {
         out.push(Block::Text(format!(
             "{} cases of {}; no results table yet (greybox sweep collect {name}).",
             plan.cases.len(),
@@ -40,7 +41,7 @@ fn sweep_blocks(dir: &Path, sw: &Path, w: &mut Warnings) -> Result<Vec<Block>> {
         )));
         return Ok(out);
     }
-    let mut rdr = csv::Reader::from_path(&results)?;
+    let mut rdr = w.csv(&results)?;
     let header: Vec<String> = rdr.headers()?.iter().map(str::to_string).collect();
     let cols: Vec<usize> = ["case", "status"]
         .iter()
@@ -74,13 +75,9 @@ fn sweep_blocks(dir: &Path, sw: &Path, w: &mut Warnings) -> Result<Vec<Block>> {
         );
     }
     out.push(Block::Table(t));
-    let mut plots: Vec<_> = std::fs::read_dir(sw.join("plots"))
-        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
-        .unwrap_or_else(|_| Vec::new());
-    plots.sort();
+    let plots = w.list(&sw.join("plots"), "svg");
     let figs: Vec<Block> = plots
         .iter()
-        .filter(|p| p.extension().is_some_and(|e| e == "svg"))
         .map(|p| {
             svg_figure(
                 dir,
