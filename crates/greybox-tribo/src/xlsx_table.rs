@@ -224,5 +224,6 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
         footer,
         sample_interval_s: None,
         start_time_s: None,
+        ..Default::default()
     })
 }
