@@ -126,7 +126,10 @@ impl Table {
             3 => "third".to_string(),
             i => format!("{i}th"),
         };
-        format!("column {position}, the {nth} of {} with that name", same.len())
+        format!(
+            "column {position}, the {nth} of {} with that name",
+            same.len()
+        )
     }
     /// The block (0-based) that row `row` belongs to; 0 for a single table.
     pub fn block_of_row(&self, row: usize) -> usize {
@@ -154,6 +157,67 @@ pub fn is_known_unit(text: &str) -> bool {
             || SpeedUnit::parse(t).is_some()
             || LengthUnit::parse(t).is_some()
             || matches!(t, "V" | "mV" | "-" | "1" | "%" | "°C" | "K"))
+}
+
+/// Whether a field of a units row is a unit: empty, bracketed (`(N)`, `[mm/s]`), a unit
+/// greybox knows, or one of the other units rigs print (`gf`, `Hz`, `degC`, …).
+pub fn is_unit_token(field: &str) -> bool {
+    let t = field.trim();
+    let inner = t
+        .strip_prefix(['(', '['])
+        .and_then(|s| s.strip_suffix([')', ']']))
+        .map(str::trim);
+    if let Some(inner) = inner {
+        return inner.chars().count() <= 16 && inner.parse::<f64>().is_err();
+    }
+    t.is_empty()
+        || is_known_unit(t)
+        || matches!(
+            t,
+            "g" | "kg"
+                | "gf"
+                | "kgf"
+                | "Hz"
+                | "kHz"
+                | "degC"
+                | "deg"
+                | "°"
+                | "°F"
+                | "Pa"
+                | "kPa"
+                | "MPa"
+                | "GPa"
+                | "bar"
+                | "mbar"
+                | "nm"
+                | "µm"
+                | "Nm"
+                | "N.m"
+                | "N*m"
+                | "mA"
+                | "A"
+                | "W"
+                | "J"
+                | "rad"
+                | "rad/s"
+                | "1/s"
+                | "sec"
+                | "msec"
+                | "ohm"
+                | "Ohm"
+                | "Ω"
+        )
+}
+
+/// A unit from a units-row field: brackets removed, `None` when empty.
+pub fn unit_token(field: &str) -> Option<String> {
+    let t = field.trim();
+    let t = t
+        .strip_prefix(['(', '['])
+        .and_then(|s| s.strip_suffix([')', ']']))
+        .unwrap_or(t)
+        .trim();
+    (!t.is_empty()).then(|| t.to_string())
 }
 
 /// Split a header into its name and the unit it states, in the spellings rig software uses:

@@ -12,7 +12,7 @@
 //! into the final columns: plain decimals exactly by [`crate::decimal`], other numbers with
 //! `fast-float2`. The result does not depend on the number of threads.
 
-use crate::table::{Column, ColumnData, Table};
+use crate::table::{is_unit_token, unit_token, Column, ColumnData, Table};
 use greybox_core::{Error, Result, SourcePos};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -292,27 +292,6 @@ fn header_names(text: &[u8], d: Delimiter) -> Vec<String> {
     names
 }
 
-/// Whether a field of a units row is a unit: empty, bracketed (`(N)`, `[mm/s]`), a unit
-/// greybox knows, or one of the other units rigs print (`gf`, `Hz`, `degC`, …).
-fn is_unit_token(field: &str) -> bool {
-    let t = field.trim();
-    let inner = t
-        .strip_prefix(['(', '['])
-        .and_then(|s| s.strip_suffix([')', ']']))
-        .map(str::trim);
-    if let Some(inner) = inner {
-        return inner.chars().count() <= 16 && parse_number(inner.as_bytes(), false).is_none();
-    }
-    t.is_empty()
-        || crate::table::is_known_unit(t)
-        || matches!(
-            t,
-            "g" | "kg" | "gf" | "kgf" | "Hz" | "kHz" | "degC" | "deg" | "°" | "°F" | "Pa" | "kPa"
-                | "MPa" | "GPa" | "bar" | "mbar" | "nm" | "µm" | "Nm" | "N.m" | "N*m" | "mA" | "A"
-                | "W" | "J" | "rad" | "rad/s" | "1/s" | "sec" | "msec" | "ohm" | "Ohm" | "Ω"
-        )
-}
-
 /// A row right under the header whose fields are all units (at least one not empty).
 fn units_row(text: &[u8], d: Delimiter) -> bool {
     let fields = header_names(text, d);
@@ -375,7 +354,8 @@ fn find_header(
     forced: Option<usize>,
     (core, raw): (usize, usize),
 ) -> (Option<usize>, Option<usize>) {
-    let prev_text = |below: usize, floor: usize| (floor..below).rev().find(|&i| !is_blank(lines[i].text));
+    let prev_text =
+        |below: usize, floor: usize| (floor..below).rev().find(|&i| !is_blank(lines[i].text));
     let header_ok = |h: usize| {
         numeric[h].is_none()
             && mostly_text(lines[h].text, d, dc)
@@ -383,14 +363,17 @@ fn find_header(
     };
     let units_ok = |u: usize| numeric[u].is_none() && units_row(lines[u].text, d);
     if let Some(h) = forced {
-        let units = prev_text(data, h + 1).filter(|&u| units_ok(u) && prev_text(u, h + 1).is_none());
+        let units =
+            prev_text(data, h + 1).filter(|&u| units_ok(u) && prev_text(u, h + 1).is_none());
         return (header_ok(h).then_some(h), units);
     }
     let Some(last) = prev_text(data, 0) else {
         return (None, None);
     };
     if units_ok(last) {
-        if let Some(h) = prev_text(last, 0).filter(|&h| header_ok(h) && !units_row(lines[h].text, d)) {
+        if let Some(h) =
+            prev_text(last, 0).filter(|&h| header_ok(h) && !units_row(lines[h].text, d))
+        {
             return (Some(h), Some(last));
         }
     }
@@ -686,7 +669,9 @@ fn general_row(
     out: &mut [&mut [f64]],
 ) -> bool {
     let n = c.fields;
-    if !shape(l.text, c.delimiter, spans).fits(n) || !mostly_numeric(l.text, &spans[..n], c.decimal_comma) {
+    if !shape(l.text, c.delimiter, spans).fits(n)
+        || !mostly_numeric(l.text, &spans[..n], c.decimal_comma)
+    {
         return false;
     }
     for (col, &(a, b)) in spans[..n].iter().enumerate() {
@@ -968,17 +953,6 @@ fn build_columns(
     out
 }
 
-/// A unit from a units-row field: brackets removed, `None` when empty.
-fn unit_token(field: &str) -> Option<String> {
-    let t = field.trim();
-    let t = t
-        .strip_prefix(['(', '['])
-        .and_then(|s| s.strip_suffix([')', ']']))
-        .unwrap_or(t)
-        .trim();
-    (!t.is_empty()).then(|| t.to_string())
-}
-
 /// Columns that share a header keep it (so a role mapped by that name takes the first), and
 /// the second and later get `name #2`, `name #3`; a note names their positions.
 fn mark_duplicates(columns: &mut [Column], positions: &[usize], notes: &mut Vec<String>) {
@@ -1046,7 +1020,9 @@ fn assemble(
             return Err(region_error(&region[..=bad], c, key, header_line, source));
         }
         let trimmed = |ls: &[&OtherLine]| -> Vec<(u64, String)> {
-            ls.iter().map(|o| (o.line, o.text.trim().to_string())).collect()
+            ls.iter()
+                .map(|o| (o.line, o.text.trim().to_string()))
+                .collect()
         };
         if row == total {
             out.footer = trimmed(&region);
@@ -1112,7 +1088,10 @@ fn region_error(
         (last.line, msg)
     } else {
         let first = region[0];
-        let msg = format!("a line that is not data inside the data: '{}'", clip(first.text.trim()));
+        let msg = format!(
+            "a line that is not data inside the data: '{}'",
+            clip(first.text.trim())
+        );
         (first.line, msg)
     };
     Error::input(SourcePos::file(source).line(line), msg)
@@ -1357,7 +1336,14 @@ mod tests {
         let units: Vec<Option<&str>> = t.columns.iter().map(|c| c.unit.as_deref()).collect();
         assert_eq!(
             units,
-            [Some("s"), Some("N"), Some("gf"), Some("-"), Some("mm/s"), Some("°C")]
+            [
+                Some("s"),
+                Some("N"),
+                Some("gf"),
+                Some("-"),
+                Some("mm/s"),
+                Some("°C")
+            ]
         );
         assert_eq!(t.header_line, 1);
         assert!(t.layout.contains("units row on line 2"), "{}", t.layout);
@@ -1377,7 +1363,12 @@ mod tests {
     fn sparse_tab_rows_empty_names_and_duplicates() {
         let mut text = String::from("Test data\nt (s)\tF (N)\t\t\tF (N)\tLoad (N)\tv\n");
         for i in 0..5 {
-            text.push_str(&format!("{i}\t{}.5\t\t\t{}.5\t\t{}\t\t\n", i + 1, i + 1, 2 * i));
+            text.push_str(&format!(
+                "{i}\t{}.5\t\t\t{}.5\t\t{}\t\t\n",
+                i + 1,
+                i + 1,
+                2 * i
+            ));
         }
         text.push_str("\nEnd of test\n");
         let t = parse(&text).unwrap();
@@ -1390,9 +1381,18 @@ mod tests {
         assert_eq!(col(&t, 2), &[1.5, 2.5, 3.5, 4.5, 5.5]);
         assert_eq!(col(&t, 3), &[0.0, 2.0, 4.0, 6.0, 8.0]);
         assert_eq!(t.column_label(1), "column 2, the first of 2 with that name");
-        assert_eq!(t.column_label(2), "column 5, the second of 2 with that name");
+        assert_eq!(
+            t.column_label(2),
+            "column 5, the second of 2 with that name"
+        );
         assert_eq!(t.column_label(3), "column 7");
-        assert!(t.notes.iter().any(|n| n.contains("column 3, column 4, Load (N)")), "{:?}", t.notes);
+        assert!(
+            t.notes
+                .iter()
+                .any(|n| n.contains("column 3, column 4, Load (N)")),
+            "{:?}",
+            t.notes
+        );
         assert_eq!(t.footer.len(), 1);
         // a column with some empty cells is kept and fails only when used
         let t = parse("a\tb\tc\n1\t2\t3\n2\t\t4\n3\t5\t6\n").unwrap();
@@ -1404,7 +1404,11 @@ mod tests {
     fn blocks_text(blocks: usize, header2: &str) -> String {
         let mut text = String::from("Rig 7\nProfile: stepped\n");
         for b in 0..blocks {
-            text.push_str(&format!("\nStep {} started\nLoad setpoint,{}\n", b + 1, 10 * (b + 1)));
+            text.push_str(&format!(
+                "\nStep {} started\nLoad setpoint,{}\n",
+                b + 1,
+                10 * (b + 1)
+            ));
             text.push_str(if b == 1 { header2 } else { "Time,Fz,Fx" });
             text.push_str("\ns,N,N\n");
             for i in 0..4 {
@@ -1420,8 +1424,9 @@ mod tests {
         for blocks in [2, 3] {
             let text = blocks_text(blocks, "Time,Fz,Fx");
             for min_chunk in [1, 16, usize::MAX] {
-                let t = parse_in_chunks(text.as_bytes(), "b.csv", &TextOptions::default(), min_chunk)
-                    .unwrap();
+                let t =
+                    parse_in_chunks(text.as_bytes(), "b.csv", &TextOptions::default(), min_chunk)
+                        .unwrap();
                 assert_eq!(t.rows, 4 * blocks);
                 let starts: Vec<usize> = (0..blocks).map(|b| 4 * b).collect();
                 assert_eq!(t.block_starts, starts);
@@ -1433,7 +1438,11 @@ mod tests {
                 assert_eq!(t.columns[1].unit.as_deref(), Some("N"));
                 assert_eq!(t.footer.len(), 1);
                 assert_eq!(t.block_of_row(5), 1);
-                assert!(t.layout.contains(&format!("{blocks} blocks")), "{}", t.layout);
+                assert!(
+                    t.layout.contains(&format!("{blocks} blocks")),
+                    "{}",
+                    t.layout
+                );
             }
         }
         // a single table has no blocks
@@ -1445,7 +1454,9 @@ mod tests {
     #[test]
     fn block_with_another_header_is_refused() {
         // same field count, other names
-        let e = parse(&blocks_text(3, "Time,Fn,Ft")).unwrap_err().to_string();
+        let e = parse(&blocks_text(3, "Time,Fn,Ft"))
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("line 15") && e.contains("'Time, Fz, Fx'") && e.contains("'Time, Fn, Ft'"),
             "{e}"
@@ -1454,9 +1465,14 @@ mod tests {
         let e = parse(&blocks_text(2, "Time,Fz")).unwrap_err().to_string();
         assert!(e.contains("line 15") && e.contains("'Time, Fz'"), "{e}");
         // the same header with other units
-        let text = blocks_text(2, "Time,Fz,Fx").replacen("s,N,N", "s,kN,N", 2).replacen("s,kN,N", "s,N,N", 1);
+        let text = blocks_text(2, "Time,Fz,Fx")
+            .replacen("s,N,N", "s,kN,N", 2)
+            .replacen("s,kN,N", "s,N,N", 1);
         let e = parse(&text).unwrap_err().to_string();
-        assert!(e.contains("line 15") && e.contains("units row differs"), "{e}");
+        assert!(
+            e.contains("line 15") && e.contains("units row differs"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -1468,7 +1484,11 @@ mod tests {
         assert_eq!(t.columns[0].name, "TIME");
         assert_eq!(col(&t, 0), &[0.98, 1.961, 2.939]);
         assert_eq!(col(&t, 1), &[2.41, 7.99, 14.03]);
-        assert!(t.layout.contains("CR line ends") && t.layout.contains("decimal comma"), "{}", t.layout);
+        assert!(
+            t.layout.contains("CR line ends") && t.layout.contains("decimal comma"),
+            "{}",
+            t.layout
+        );
         // the same with LF and CRLF line ends reads the same
         for end in ["\n", "\r\n"] {
             let u = parse(&text.replace('\r', end)).unwrap();

@@ -29,13 +29,21 @@ fn fields(line: &str, delim: char) -> Vec<String> {
 }
 
 fn number(field: &str, decimal_comma: bool) -> Option<f64> {
-    let f = if decimal_comma { field.replace(',', ".") } else { field.to_string() };
+    let f = if decimal_comma {
+        field.replace(',', ".")
+    } else {
+        field.to_string()
+    };
     f.parse::<f64>().ok()
 }
 
 fn read(path: &str) -> Table {
     let p = std::path::PathBuf::from(format!("{DIR}{path}"));
-    assert_eq!(RecordingFormat::of_path(&p), Some(RecordingFormat::Csv), "{path}");
+    assert_eq!(
+        RecordingFormat::of_path(&p),
+        Some(RecordingFormat::Csv),
+        "{path}"
+    );
     read_text_table(&p, &TextOptions::default()).unwrap_or_else(|e| panic!("{path}: {e}"))
 }
 
@@ -78,14 +86,21 @@ fn check_single(path: &str, h: usize, footer: usize, delim: char, dc: bool) -> T
     assert_eq!(t.header_line, h as u64 + 1, "{path}");
     check_table(&t, &lines[h], &data, delim, dc, path);
     assert!(t.block_starts.is_empty(), "{path}");
-    let footer_lines = lines[lines.len() - footer..].iter().filter(|l| !l.trim().is_empty()).count();
+    let footer_lines = lines[lines.len() - footer..]
+        .iter()
+        .filter(|l| !l.trim().is_empty())
+        .count();
     assert_eq!(t.footer.len(), footer_lines, "{path}");
     t
 }
 
 #[test]
 fn phoenix_te67_compend() {
-    for f in ["PPS_60N_1.tsv", "PPS_100N_1.tsv", "PPS+30PTFE_100N_200RPM_30MINS_1.tsv"] {
+    for f in [
+        "PPS_60N_1.tsv",
+        "PPS_100N_1.tsv",
+        "PPS+30PTFE_100N_200RPM_30MINS_1.tsv",
+    ] {
         let t = check_single(&format!("phoenix-te/{f}"), 15, 1, '\t', true);
         // the empty leading column is left out; the repeated `Friction Force` is told apart
         let ff: Vec<usize> = (0..t.columns.len())
@@ -93,8 +108,14 @@ fn phoenix_te67_compend() {
             .collect();
         assert_eq!(ff.len(), 2, "{f}");
         assert_eq!(t.columns[ff[1]].name, "Friction Force #2");
-        assert!(t.column_label(ff[0]).ends_with("the first of 2 with that name"));
-        assert!(t.notes.iter().any(|n| n.contains("Friction Force")), "{:?}", t.notes);
+        assert!(t
+            .column_label(ff[0])
+            .ends_with("the first of 2 with that name"));
+        assert!(
+            t.notes.iter().any(|n| n.contains("Friction Force")),
+            "{:?}",
+            t.notes
+        );
         assert!(t.layout.contains("decimal comma"), "{}", t.layout);
     }
 }
@@ -108,7 +129,10 @@ fn pin_on_disc_dwf_bare_cr() {
     ] {
         let t = check_single(&format!("custom-pod-dwf/{f}"), 0, 0, ';', true);
         assert_eq!(t.columns.len(), 2);
-        assert_eq!((t.columns[0].name.as_str(), t.columns[1].name.as_str()), ("TIME", "FF"));
+        assert_eq!(
+            (t.columns[0].name.as_str(), t.columns[1].name.as_str()),
+            ("TIME", "FF")
+        );
         assert!(t.layout.contains("CR line ends"), "{}", t.layout);
     }
 }
@@ -117,10 +141,23 @@ fn pin_on_disc_dwf_bare_cr() {
 fn pcs_mtm_single_step() {
     for f in ["demo_7.txt", "demo_8.txt", "demo_5.txt"] {
         let t = check_single(&format!("pcs-mtm/{f}"), 13, 2, '\t', false);
-        let tf = t.columns.iter().position(|c| c.header == "Traction Force (N)").unwrap();
+        let tf = t
+            .columns
+            .iter()
+            .position(|c| c.header == "Traction Force (N)")
+            .unwrap();
         assert_eq!(t.columns[tf].unit.as_deref(), Some("N"));
-        assert_eq!(t.columns.iter().filter(|c| c.header == "Step Time (s)").count(), 2);
-        assert!(t.columns.iter().all(|c| !c.name.starts_with("column ")), "{f}");
+        assert_eq!(
+            t.columns
+                .iter()
+                .filter(|c| c.header == "Step Time (s)")
+                .count(),
+            2
+        );
+        assert!(
+            t.columns.iter().all(|c| !c.name.starts_with("column ")),
+            "{f}"
+        );
     }
 }
 
@@ -139,7 +176,10 @@ fn pcs_mtm_profile_of_blocks() {
     for &h in &headers {
         starts.push(data.len());
         data.extend(lines[h + 1..].iter().take_while(|l| !l.trim().is_empty()));
-        let step = (0..h).rev().find(|&i| lines[i].starts_with("Step ") && lines[i].contains(" started at ")).unwrap();
+        let step = (0..h)
+            .rev()
+            .find(|&i| lines[i].starts_with("Step ") && lines[i].contains(" started at "))
+            .unwrap();
         step_of_block.push(lines[step].clone());
     }
     let t = read(path);
@@ -147,7 +187,11 @@ fn pcs_mtm_profile_of_blocks() {
     assert_eq!(t.block_starts, starts);
     assert_eq!(t.block_preambles.len(), 24);
     for (b, step) in step_of_block.iter().enumerate().skip(1) {
-        assert!(t.block_preambles[b].contains(&step.trim().to_string()), "block {b}: {:?}", t.block_preambles[b]);
+        assert!(
+            t.block_preambles[b].contains(&step.trim().to_string()),
+            "block {b}: {:?}",
+            t.block_preambles[b]
+        );
     }
     // step time restarts in every block
     let time = t.columns[0].values(&t.source).unwrap();
@@ -156,5 +200,8 @@ fn pcs_mtm_profile_of_blocks() {
         assert_eq!(time[s], first);
         assert!(s == 0 || time[s] < time[s - 1]);
     }
-    assert!(t.footer.iter().any(|(_, l)| l.starts_with("All steps completed")));
+    assert!(t
+        .footer
+        .iter()
+        .any(|(_, l)| l.starts_with("All steps completed")));
 }
