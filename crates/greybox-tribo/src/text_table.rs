@@ -739,12 +739,11 @@ pub fn parse_text_table(bytes: &[u8], source: &str, opts: &TextOptions) -> Resul
     parse_in_chunks(bytes, source, opts, 1 << 20)
 }
 
-/// Whether the lines end in a bare CR (classic Mac OS): the first CR comes before any LF and
-/// is not followed by one.
+/// Whether the lines end in a bare CR (classic Mac OS): a CR in the first line (up to the first
+/// LF, so a plain LF file is not scanned to its end) that is not followed by LF.
 fn bare_cr(body: &[u8]) -> bool {
-    memchr::memchr(b'\r', body).is_some_and(|i| {
-        body.get(i + 1) != Some(&b'\n') && memchr::memchr(b'\n', &body[..i]).is_none()
-    })
+    let first = memchr::memchr(b'\n', body).unwrap_or(body.len());
+    memchr::memchr(b'\r', &body[..first]).is_some_and(|i| body.get(i + 1) != Some(&b'\n'))
 }
 
 /// The body with every CR that is not followed by LF turned into LF.
