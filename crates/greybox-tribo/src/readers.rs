@@ -11,7 +11,8 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum RecordingFormat {
-    /// Delimited text: `.csv`, `.txt`, `.tsv`, `.dat`, `.asc`, `.prn`.
+    /// Delimited text: `.csv`, `.txt`, `.tsv`, `.dat`, `.asc`, `.prn`, `.dwf` (a pin-on-disc
+    /// program's `;`-separated time/friction-force export).
     Csv,
     Tdms,
     /// Spreadsheets: `.xlsx`, `.xlsm`, `.xls`, `.xlsb`, `.ods`.
@@ -29,7 +30,7 @@ impl RecordingFormat {
     /// The format a file name's extension says.
     pub fn of_path(path: &std::path::Path) -> Option<Self> {
         match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
-            "csv" | "txt" | "tsv" | "dat" | "asc" | "prn" => Some(RecordingFormat::Csv),
+            "csv" | "txt" | "tsv" | "dat" | "asc" | "prn" | "dwf" => Some(RecordingFormat::Csv),
             "tdms" => Some(RecordingFormat::Tdms),
             "xlsx" | "xlsm" | "xls" | "xlsb" | "ods" => Some(RecordingFormat::Spreadsheet),
             _ => None,
@@ -50,7 +51,7 @@ pub fn read_table(path: &std::path::Path, map: &ChannelMap) -> Result<Table> {
         }
         None => Err(Error::input(
             SourcePos::path(path),
-            "unknown recording format: expected delimited text (.csv, .txt, .tsv, .dat), a spreadsheet (.xlsx, .xls, .ods) or .tdms",
+            "unknown recording format: expected delimited text (.csv, .txt, .tsv, .dat, .dwf), a spreadsheet (.xlsx, .xls, .ods) or .tdms",
         )),
     }
 }

@@ -54,6 +54,22 @@ pub struct Table {
     pub sample_interval_s: Option<f64>,
     /// Time of the first sample from the file's own metadata (TDMS `wf_start_offset`), s.
     pub start_time_s: Option<f64>,
+    /// A file of blocks (one table per test step, each under its own settings lines and a
+    /// repeat of the header): the row where each block begins, the first being 0. Empty for a
+    /// single table. The rows of all blocks follow each other in the columns; a channel such
+    /// as time may restart in every block.
+    pub block_starts: Vec<usize>,
+    /// The settings lines of each block (one entry per [`Table::block_starts`] entry): for the
+    /// first block the [`Table::preamble`], for the others the lines between the previous
+    /// block's data and the block's header. Empty for a single table.
+    pub block_preambles: Vec<Vec<String>>,
+    /// 1-based position of each column among the fields of a row in the file (columns without
+    /// any value are left out of [`Table::columns`], so positions may skip). Empty: column k is
+    /// at position k + 1.
+    pub positions: Vec<usize>,
+    /// What the reader changed or noticed in the layout, in words: columns without a single
+    /// value left out, header names that occur more than once, a short last row.
+    pub notes: Vec<String>,
 }
 
 impl Column {
@@ -92,6 +108,35 @@ impl Column {
 }
 
 impl Table {
+    /// Column `k` for messages: its 1-based position in the file and, when other columns share
+    /// its header, which of them it is, e.g. `column 14, the first of 2 with that name`.
+    pub fn column_label(&self, k: usize) -> String {
+        let position = self.positions.get(k).copied().unwrap_or(k + 1);
+        let header = &self.columns[k].header;
+        let same: Vec<usize> = (0..self.columns.len())
+            .filter(|&j| &self.columns[j].header == header)
+            .collect();
+        if same.len() < 2 {
+            return format!("column {position}");
+        }
+        let i = same.iter().position(|&j| j == k).unwrap_or(0) + 1;
+        let nth = match i {
+            1 => "first".to_string(),
+            2 => "second".to_string(),
+            3 => "third".to_string(),
+            i => format!("{i}th"),
+        };
+        format!(
+            "column {position}, the {nth} of {} with that name",
+            same.len()
+        )
+    }
+    /// The block (0-based) that row `row` belongs to; 0 for a single table.
+    pub fn block_of_row(&self, row: usize) -> usize {
+        self.block_starts
+            .partition_point(|&s| s <= row)
+            .saturating_sub(1)
+    }
     /// Header names, for error messages.
     pub fn header_list(&self) -> String {
         self.columns
@@ -112,6 +157,67 @@ pub fn is_known_unit(text: &str) -> bool {
             || SpeedUnit::parse(t).is_some()
             || LengthUnit::parse(t).is_some()
             || matches!(t, "V" | "mV" | "-" | "1" | "%" | "°C" | "K"))
+}
+
+/// Whether a field of a units row is a unit: empty, bracketed (`(N)`, `[mm/s]`), a unit
+/// greybox knows, or one of the other units rigs print (`gf`, `Hz`, `degC`, …).
+pub fn is_unit_token(field: &str) -> bool {
+    let t = field.trim();
+    let inner = t
+        .strip_prefix(['(', '['])
+        .and_then(|s| s.strip_suffix([')', ']']))
+        .map(str::trim);
+    if let Some(inner) = inner {
+        return inner.chars().count() <= 16 && inner.parse::<f64>().is_err();
+    }
+    t.is_empty()
+        || is_known_unit(t)
+        || matches!(
+            t,
+            "g" | "kg"
+                | "gf"
+                | "kgf"
+                | "Hz"
+                | "kHz"
+                | "degC"
+                | "deg"
+                | "°"
+                | "°F"
+                | "Pa"
+                | "kPa"
+                | "MPa"
+                | "GPa"
+                | "bar"
+                | "mbar"
+                | "nm"
+                | "µm"
+                | "Nm"
+                | "N.m"
+                | "N*m"
+                | "mA"
+                | "A"
+                | "W"
+                | "J"
+                | "rad"
+                | "rad/s"
+                | "1/s"
+                | "sec"
+                | "msec"
+                | "ohm"
+                | "Ohm"
+                | "Ω"
+        )
+}
+
+/// A unit from a units-row field: brackets removed, `None` when empty.
+pub fn unit_token(field: &str) -> Option<String> {
+    let t = field.trim();
+    let t = t
+        .strip_prefix(['(', '['])
+        .and_then(|s| s.strip_suffix([')', ']']))
+        .unwrap_or(t)
+        .trim();
+    (!t.is_empty()).then(|| t.to_string())
 }
 
 /// Split a header into its name and the unit it states, in the spellings rig software uses:

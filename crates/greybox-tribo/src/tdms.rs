@@ -1943,6 +1943,7 @@ pub fn table_from_tdms(mut file: TdmsFile, group: Option<&str>) -> Result<Table>
         footer: Vec::new(),
         sample_interval_s: interval,
         start_time_s: start,
+        ..Default::default()
     })
 }
 

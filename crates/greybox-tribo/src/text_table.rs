@@ -12,7 +12,7 @@
 //! into the final columns: plain decimals exactly by [`crate::decimal`], other numbers with
 //! `fast-float2`. The result does not depend on the number of threads.
 
-use crate::table::{Column, ColumnData, Table};
+use crate::table::{is_unit_token, unit_token, Column, ColumnData, Table};
 use greybox_core::{Error, Result, SourcePos};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -216,31 +216,54 @@ fn split_header(line: &str, d: Delimiter) -> Vec<String> {
     out.into_iter().map(|s| s.trim().to_string()).collect()
 }
 
-/// Fields of a line with a trailing empty field dropped (a trailing delimiter).
-fn field_count(line: &[u8], d: Delimiter, spans: &mut Vec<(usize, usize)>) -> (usize, bool) {
-    split_fields(line, d, spans);
-    let mut n = spans.len();
-    let trailing = n > 1 && trim(&line[spans[n - 1].0..spans[n - 1].1]).is_empty();
-    if trailing {
-        n -= 1;
-    }
-    (n, trailing)
+/// The shape of a split line: `core` fields up to the last non-empty one and `raw` fields in
+/// all (the empty ones after `core` are trailing delimiters). A row fits a table of `n`
+/// columns when `core <= n <= raw`: it may leave trailing columns empty (`1,2,,`) and may end
+/// in more delimiters than the header (`0,98;  2,41;;` under `TIME;  FF;`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Shape {
+    core: usize,
+    raw: usize,
 }
 
-/// At least two fields, and at least half of them, are numbers (a date or comment column
-/// may sit beside the numbers).
-fn mostly_numeric(line: &[u8], spans: &[(usize, usize)], dc: bool) -> bool {
-    let numbers = spans
+impl Shape {
+    fn fits(self, n: usize) -> bool {
+        self.core <= n && n <= self.raw
+    }
+}
+
+/// Split `line` into `spans` and give its [`Shape`].
+fn shape(line: &[u8], d: Delimiter, spans: &mut Vec<(usize, usize)>) -> Shape {
+    split_fields(line, d, spans);
+    let core = spans
         .iter()
-        .filter(|&&(a, b)| parse_number(&line[a..b], dc).is_some())
-        .count();
-    numbers >= 2.min(spans.len()) && numbers > 0 && 2 * numbers >= spans.len()
+        .rposition(|&(a, b)| !trim(&line[a..b]).is_empty())
+        .map_or(0, |k| k + 1);
+    Shape {
+        core,
+        raw: spans.len(),
+    }
+}
+
+/// Whether the non-empty fields among `spans` are (mostly) numbers: at least two numbers (one
+/// in a one-field row) and at least half of the non-empty fields (a date or comment column may
+/// sit beside the numbers; sparse exports leave many fields empty).
+fn mostly_numeric(line: &[u8], spans: &[(usize, usize)], dc: bool) -> bool {
+    let (mut filled, mut numbers) = (0, 0);
+    for &(a, b) in spans {
+        if trim(&line[a..b]).is_empty() {
+            continue;
+        }
+        filled += 1;
+        numbers += usize::from(parse_number(&line[a..b], dc).is_some());
+    }
+    numbers >= 2.min(spans.len()) && numbers > 0 && 2 * numbers >= filled
 }
 
 /// Fewer than half of the fields are numbers (a header may have a numeric name or two).
 fn mostly_text(line: &[u8], d: Delimiter, dc: bool) -> bool {
     let mut spans = Vec::new();
-    let (n, _) = field_count(line, d, &mut spans);
+    let n = shape(line, d, &mut spans).core;
     let numbers = spans[..n]
         .iter()
         .filter(|&&(a, b)| parse_number(&line[a..b], dc).is_some())
@@ -248,15 +271,31 @@ fn mostly_text(line: &[u8], d: Delimiter, dc: bool) -> bool {
     2 * numbers < n.max(1) || n == 1
 }
 
-/// The field count of a row of (mostly) numbers, with `decimal_comma` deciding the mark.
+/// The shape of a row of (mostly) numbers, with `decimal_comma` deciding the mark.
 fn numeric_row(
     line: &[u8],
     d: Delimiter,
     dc: bool,
     spans: &mut Vec<(usize, usize)>,
-) -> Option<usize> {
-    let (n, _) = field_count(line, d, spans);
-    (n > 0 && mostly_numeric(line, &spans[..n], dc)).then_some(n)
+) -> Option<Shape> {
+    let s = shape(line, d, spans);
+    (s.core > 0 && mostly_numeric(line, &spans[..s.core], dc)).then_some(s)
+}
+
+/// The names of a header (or units) line with trailing empty names (trailing delimiters)
+/// dropped.
+fn header_names(text: &[u8], d: Delimiter) -> Vec<String> {
+    let mut names = split_header(&String::from_utf8_lossy(text), d);
+    while names.last().is_some_and(|s| s.is_empty()) {
+        names.pop();
+    }
+    names
+}
+
+/// A row right under the header whose fields are all units (at least one not empty).
+fn units_row(text: &[u8], d: Delimiter) -> bool {
+    let fields = header_names(text, d);
+    !fields.is_empty() && fields.iter().all(|f| is_unit_token(f))
 }
 
 /// The layout found for one delimiter.
@@ -266,11 +305,79 @@ struct Candidate {
     decimal_comma: bool,
     /// Index into the sniffed lines of the header (None: no header line).
     header: Option<usize>,
+    /// Index of the units row right under the header, if there is one.
+    units: Option<usize>,
     /// Index of the first data line.
     data: usize,
     fields: usize,
     /// Every field of the first data row is a number.
     all_numeric: bool,
+}
+
+/// The fields a run of numeric rows from line `i` agrees on: (most `core`, least `raw`); at
+/// least two rows (one if the lines end there) and two fields.
+fn confirmed_run(lines: &[Line], numeric: &[Option<Shape>], i: usize) -> Option<(usize, usize)> {
+    let first = numeric[i]?;
+    let (mut core, mut raw) = (first.core, first.raw);
+    let mut k = 0;
+    let mut ended = true;
+    for (j, l) in lines.iter().enumerate().skip(i) {
+        if is_blank(l.text) {
+            continue;
+        }
+        match numeric[j].filter(|s| s.core.max(core) <= s.raw.min(raw)) {
+            Some(s) => {
+                core = core.max(s.core);
+                raw = raw.min(s.raw);
+            }
+            None => {
+                ended = false;
+                break;
+            }
+        }
+        k += 1;
+        if k == CONFIRM_ROWS {
+            break;
+        }
+    }
+    (core >= 2 && (k >= 2 || (k == 1 && ended))).then_some((core, raw))
+}
+
+/// Header (and units row) above the data line `data`: the last non-blank line above it, or
+/// the one above that when that last line is a units row. A header is not numeric, mostly
+/// text, and names between `core` and `raw` columns (any number when forced).
+fn find_header(
+    lines: &[Line],
+    numeric: &[Option<Shape>],
+    data: usize,
+    (d, dc): (Delimiter, bool),
+    forced: Option<usize>,
+    (core, raw): (usize, usize),
+) -> (Option<usize>, Option<usize>) {
+    let prev_text =
+        |below: usize, floor: usize| (floor..below).rev().find(|&i| !is_blank(lines[i].text));
+    let header_ok = |h: usize| {
+        numeric[h].is_none()
+            && mostly_text(lines[h].text, d, dc)
+            && (forced.is_some() || (core..=raw).contains(&header_names(lines[h].text, d).len()))
+    };
+    let units_ok = |u: usize| numeric[u].is_none() && units_row(lines[u].text, d);
+    if let Some(h) = forced {
+        let units =
+            prev_text(data, h + 1).filter(|&u| units_ok(u) && prev_text(u, h + 1).is_none());
+        return (header_ok(h).then_some(h), units);
+    }
+    let Some(last) = prev_text(data, 0) else {
+        return (None, None);
+    };
+    if units_ok(last) {
+        if let Some(h) =
+            prev_text(last, 0).filter(|&h| header_ok(h) && !units_row(lines[h].text, d))
+        {
+            return (Some(h), Some(last));
+        }
+    }
+    (header_ok(last).then_some(last), None)
 }
 
 /// Find header and data start for one delimiter among the first lines.
@@ -281,53 +388,19 @@ fn sniff(
     forced_header: Option<usize>,
 ) -> Option<Candidate> {
     let mut spans = Vec::new();
-    let numeric: Vec<Option<usize>> = lines
+    let numeric: Vec<Option<Shape>> = lines
         .iter()
         .map(|l| numeric_row(l.text, d, dc, &mut spans))
         .collect();
-    let confirmed = |i: usize| -> Option<usize> {
-        let n = numeric[i]?;
-        if n < 2 {
-            return None;
-        }
-        // at least two rows of as many numbers (one if the file ends there)
-        let mut k = 0;
-        let mut ended = true;
-        for (j, l) in lines.iter().enumerate().skip(i) {
-            if is_blank(l.text) {
-                continue;
-            }
-            if numeric[j] != Some(n) {
-                ended = false;
-                break;
-            }
-            k += 1;
-            if k == CONFIRM_ROWS {
-                break;
-            }
-        }
-        (k >= 2 || (k == 1 && ended)).then_some(n)
-    };
     let start = forced_header.map_or(0, |h| h + 1);
-    let data = (start..lines.len()).find(|&i| confirmed(i).is_some())?;
-    let fields = confirmed(data)?;
-    let header = match forced_header {
-        Some(h) => Some(h),
-        None => (0..data).rev().find(|&i| !is_blank(lines[i].text)),
-    };
-    // the header must name as many columns as the data has, and not be numbers itself
-    let header = header.filter(|&h| {
-        if numeric[h].is_some() || !mostly_text(lines[h].text, d, dc) {
-            return false;
-        }
-        let text = String::from_utf8_lossy(lines[h].text);
-        let mut names = split_header(&text, d);
-        if names.len() > fields && names.last().is_some_and(|s| s.is_empty()) {
-            names.pop();
-        }
-        names.len() == fields || forced_header.is_some()
-    });
-    field_count(lines[data].text, d, &mut spans);
+    let data = (start..lines.len()).find(|&i| confirmed_run(lines, &numeric, i).is_some())?;
+    let (core, raw) = confirmed_run(lines, &numeric, data)?;
+    let (header, units) = find_header(lines, &numeric, data, (d, dc), forced_header, (core, raw));
+    let fields = header
+        .map(|h| header_names(lines[h].text, d).len())
+        .filter(|n| (core..=raw).contains(n))
+        .unwrap_or(core);
+    split_fields(lines[data].text, d, &mut spans);
     let all_numeric = spans[..fields]
         .iter()
         .all(|&(a, b)| parse_number(&lines[data].text[a..b], dc).is_some());
@@ -335,6 +408,7 @@ fn sniff(
         delimiter: d,
         decimal_comma: dc,
         header,
+        units,
         data,
         fields,
         all_numeric,
@@ -412,14 +486,29 @@ fn choose_layout(lines: &[Line], opts: &TextOptions, source: &str) -> Result<Can
     Ok(c)
 }
 
+/// A line of the data region that is not a data row (a footer, a block's settings or header
+/// line, a malformed row).
+#[derive(Debug, Clone)]
+struct OtherLine {
+    line: u64,
+    /// The line as written (line end removed, not trimmed).
+    text: String,
+    /// A numeric row with the wrong number of fields: how many it has.
+    wrong: Option<usize>,
+    /// Data rows of its chunk above it.
+    row: usize,
+}
+
 /// One parsed chunk of data lines.
 struct Chunk {
     /// Data rows written to the front of the chunk's column slices.
     rows: usize,
     /// First non-number per column: (line, text).
     bad: Vec<Option<(u64, String)>>,
-    /// Lines that are not data rows: (line, text, wrong field count).
-    other: Vec<(u64, String, Option<usize>)>,
+    /// Columns with at least one non-empty cell.
+    filled: Vec<bool>,
+    /// Lines that are not data rows.
+    other: Vec<OtherLine>,
     last_data_line: u64,
 }
 
@@ -522,20 +611,22 @@ fn parse_chunk(part: &[u8], first_line: u64, c: &Candidate, out: &mut [&mut [f64
     let mut ch = Chunk {
         rows: 0,
         bad: vec![None; n],
+        filled: vec![false; n],
         other: Vec::new(),
         last_data_line: 0,
     };
     let mut spans = Vec::with_capacity(n + 1);
-    let mut values: Vec<Option<f64>> = Vec::with_capacity(n);
     let mut row = vec![0.0; n];
     let fast = FastLayout::of(c);
     let mut p = 0;
     let mut number = first_line;
+    let mut any_fast = false;
     while p < part.len() {
         if let Some(used) = fast_row(&part[p..], fast, &mut row) {
             for (col, v) in out.iter_mut().zip(&row) {
                 col[ch.rows] = *v;
             }
+            any_fast = true;
             ch.rows += 1;
             ch.last_data_line = number;
             number += 1;
@@ -549,46 +640,52 @@ fn parse_chunk(part: &[u8], first_line: u64, c: &Candidate, out: &mut [&mut [f64
         };
         number += 1;
         p = end + 1;
-        if is_blank(l.text) {
-            continue;
+        if !is_blank(l.text) && !general_row(l, c, &mut spans, &mut ch, out) {
+            let s = shape(l.text, c.delimiter, &mut spans);
+            // a data row is mostly numbers; a line that is not is a footer, comment or header
+            let numeric = !s.fits(n) && mostly_numeric(l.text, &spans[..s.core], c.decimal_comma);
+            ch.other.push(OtherLine {
+                line: l.number,
+                text: String::from_utf8_lossy(l.text).into_owned(),
+                wrong: numeric.then_some(if s.core > n { s.core } else { s.raw }),
+                row: ch.rows,
+            });
         }
-        let (k, _) = field_count(l.text, c.delimiter, &mut spans);
-        if k != n {
-            // a data row is mostly numbers; a line that is not is a footer or comment
-            let numeric = mostly_numeric(l.text, &spans[..k], c.decimal_comma);
-            ch.other.push((
-                l.number,
-                String::from_utf8_lossy(l.text).trim().to_string(),
-                numeric.then_some(k),
-            ));
-            continue;
-        }
-        values.clear();
-        values.extend(
-            spans[..n]
-                .iter()
-                .map(|&(a, b)| parse_number(&l.text[a..b], c.decimal_comma)),
-        );
-        let numbers = values.iter().filter(|v| v.is_some()).count();
-        if numbers < n && !(numbers >= 2.min(n) && 2 * numbers >= n) {
-            ch.other.push((
-                l.number,
-                String::from_utf8_lossy(l.text).trim().to_string(),
-                None,
-            ));
-            continue;
-        }
-        for (col, v) in values.iter().enumerate() {
-            if v.is_none() && ch.bad[col].is_none() {
-                let (a, b) = spans[col];
-                ch.bad[col] = Some((l.number, String::from_utf8_lossy(&l.text[a..b]).to_string()));
-            }
-            out[col][ch.rows] = v.unwrap_or(f64::NAN);
-        }
-        ch.rows += 1;
-        ch.last_data_line = l.number;
+    }
+    if any_fast {
+        ch.filled.iter_mut().for_each(|f| *f = true);
     }
     ch
+}
+
+/// A line the fast path did not take: stored as the chunk's next row when it fits the table
+/// and its non-empty fields are mostly numbers (empty or text cells are recorded in `bad`);
+/// `false` when it is not a data row.
+fn general_row(
+    l: Line,
+    c: &Candidate,
+    spans: &mut Vec<(usize, usize)>,
+    ch: &mut Chunk,
+    out: &mut [&mut [f64]],
+) -> bool {
+    let n = c.fields;
+    if !shape(l.text, c.delimiter, spans).fits(n)
+        || !mostly_numeric(l.text, &spans[..n], c.decimal_comma)
+    {
+        return false;
+    }
+    for (col, &(a, b)) in spans[..n].iter().enumerate() {
+        let field = &l.text[a..b];
+        let v = parse_number(field, c.decimal_comma);
+        ch.filled[col] |= !trim(field).is_empty();
+        if v.is_none() && ch.bad[col].is_none() {
+            ch.bad[col] = Some((l.number, String::from_utf8_lossy(field).to_string()));
+        }
+        out[col][ch.rows] = v.unwrap_or(f64::NAN);
+    }
+    ch.rows += 1;
+    ch.last_data_line = l.number;
+    true
 }
 
 /// Parse the chunks `bounds` of `data` in parallel straight into one vector per column:
@@ -642,6 +739,24 @@ pub fn parse_text_table(bytes: &[u8], source: &str, opts: &TextOptions) -> Resul
     parse_in_chunks(bytes, source, opts, 1 << 20)
 }
 
+/// Whether the lines end in a bare CR (classic Mac OS): a CR in the first line (up to the first
+/// LF, so a plain LF file is not scanned to its end) that is not followed by LF.
+fn bare_cr(body: &[u8]) -> bool {
+    let first = memchr::memchr(b'\n', body).unwrap_or(body.len());
+    memchr::memchr(b'\r', &body[..first]).is_some_and(|i| body.get(i + 1) != Some(&b'\n'))
+}
+
+/// The body with every CR that is not followed by LF turned into LF.
+fn cr_to_lf(body: &[u8]) -> Vec<u8> {
+    let mut out = body.to_vec();
+    for i in memchr::memchr_iter(b'\r', body) {
+        if body.get(i + 1) != Some(&b'\n') {
+            out[i] = b'\n';
+        }
+    }
+    out
+}
+
 /// [`parse_text_table`] with data chunks of at least `min_chunk` bytes (tests use tiny ones).
 fn parse_in_chunks(
     bytes: &[u8],
@@ -657,19 +772,76 @@ fn parse_in_chunks(
     }
     let bom = bytes.starts_with(&[0xEF, 0xBB, 0xBF]);
     let body = if bom { &bytes[3..] } else { bytes };
+    let cr = bare_cr(body);
+    let lf_body;
+    let body = if cr {
+        lf_body = cr_to_lf(body);
+        &lf_body[..]
+    } else {
+        body
+    };
     let crlf = memchr::memchr(b'\n', body).is_some_and(|i| i > 0 && body[i - 1] == b'\r');
     let head = head_lines(body);
     let c = choose_layout(&head, opts, source)?;
     let h = c.header.expect("checked in choose_layout");
+    let key = HeaderKey {
+        names: header_names(head[h].text, c.delimiter),
+        units: c.units.map(|u| header_names(head[u].text, c.delimiter)),
+    };
     let names = column_names(&head[h], &c, source)?;
     let preamble: Vec<String> = head[..h]
         .iter()
         .filter(|l| !is_blank(l.text))
         .map(|l| String::from_utf8_lossy(l.text).trim().to_string())
         .collect();
+    let (columns_data, chunks) = parse_data(body, &head[c.data], &c, min_chunk);
+    let regions = assemble(&chunks, &c, &key, head[h].number, source)?;
+    let rows: usize = chunks.iter().map(|ch| ch.rows).sum();
+    let built = build_columns(&names, key.units.as_deref(), columns_data, &chunks);
+    let mut block_preambles = regions.block_preambles;
+    let mut block_starts = regions.block_starts;
+    if !block_starts.is_empty() {
+        block_starts.insert(0, 0);
+        block_preambles.insert(0, preamble.clone());
+    }
+    let shape = shape(head[c.data].text, c.delimiter, &mut Vec::new());
+    let layout = Layout {
+        c: &c,
+        trailing: shape.raw > c.fields,
+        bom,
+        crlf,
+        cr,
+        header_line: head[h].number,
+        units_line: c.units.map(|u| head[u].number),
+        preamble: preamble.len(),
+        footer: regions.footer.len(),
+        blocks: block_starts.len(),
+    };
+    Ok(Table {
+        source: source.to_string(),
+        columns: built.columns,
+        rows,
+        layout: layout.describe(),
+        header_line: head[h].number,
+        preamble,
+        footer: regions.footer,
+        sample_interval_s: None,
+        start_time_s: None,
+        block_starts,
+        block_preambles,
+        positions: built.positions,
+        notes: built.notes,
+    })
+}
 
-    // the data: from the first data line, in chunks split at line ends
-    let data_start = head[c.data].text.as_ptr() as usize - body.as_ptr() as usize;
+/// Parse the data, from its first line to the end of `body`, in chunks split at line ends.
+fn parse_data(
+    body: &[u8],
+    first: &Line,
+    c: &Candidate,
+    min_chunk: usize,
+) -> (Vec<Vec<f64>>, Vec<Chunk>) {
+    let data_start = first.text.as_ptr() as usize - body.as_ptr() as usize;
     let data = &body[data_start..];
     let threads = rayon::current_num_threads().max(1);
     let bounds = chunk_bounds(data, (data.len() / (4 * threads)).max(min_chunk.max(1)));
@@ -680,7 +852,7 @@ fn parse_in_chunks(
         .collect();
     let first_line: Vec<u64> = newlines
         .iter()
-        .scan(head[c.data].number, |acc, n| {
+        .scan(first.number, |acc, n| {
             let first = *acc;
             *acc += *n as u64;
             Some(first)
@@ -690,43 +862,7 @@ fn parse_in_chunks(
     if let Some(last) = room.last_mut() {
         *last += usize::from(!data.ends_with(b"\n"));
     }
-    let (columns_data, chunks) = parse_chunks(data, &bounds, &first_line, &room, &c);
-    let footer = footer_lines(&chunks, &c, head[h].number, source)?;
-    let rows: usize = chunks.iter().map(|ch| ch.rows).sum();
-    let columns = names
-        .iter()
-        .enumerate()
-        .zip(columns_data)
-        .map(|((k, name), values)| {
-            let mut col = Column::numbers(name, Vec::new());
-            col.data = match chunks.iter().find_map(|ch| ch.bad[k].clone()) {
-                Some((line, text)) => ColumnData::NotNumeric { line, text },
-                None => ColumnData::Numbers(values),
-            };
-            col
-        })
-        .collect();
-    let trailing = field_count(head[c.data].text, c.delimiter, &mut Vec::new()).1;
-    let layout = describe_layout(
-        &c,
-        trailing,
-        bom,
-        crlf,
-        head[h].number,
-        preamble.len(),
-        footer.len(),
-    );
-    Ok(Table {
-        source: source.to_string(),
-        columns,
-        rows,
-        layout,
-        header_line: head[h].number,
-        preamble,
-        footer,
-        sample_interval_s: None,
-        start_time_s: None,
-    })
+    parse_chunks(data, &bounds, &first_line, &room, c)
 }
 
 /// The first [`SNIFF_LINES`] lines of the body, for sniffing.
@@ -744,13 +880,10 @@ fn head_lines(body: &[u8]) -> Vec<Line<'_>> {
     head
 }
 
-/// The header's column names, one per data field (a trailing empty name dropped, an empty
-/// one named `column K`); an error when the counts differ.
+/// The header's column names, one per data field (an empty one named `column K`); an error
+/// when the counts differ.
 fn column_names(header: &Line, c: &Candidate, source: &str) -> Result<Vec<String>> {
-    let mut names = split_header(&String::from_utf8_lossy(header.text), c.delimiter);
-    while names.len() > c.fields && names.last().is_some_and(|s| s.is_empty()) {
-        names.pop();
-    }
+    let mut names = header_names(header.text, c.delimiter);
     if names.len() != c.fields {
         return Err(Error::input(
             SourcePos::file(source).line(header.number),
@@ -770,6 +903,199 @@ fn column_names(header: &Line, c: &Candidate, source: &str) -> Result<Vec<String
     Ok(names)
 }
 
+/// The columns of a text table, where they sit in the file, and notes on what was changed.
+struct BuiltColumns {
+    columns: Vec<Column>,
+    positions: Vec<usize>,
+    notes: Vec<String>,
+}
+
+/// The columns from their names, the units row (a unit for a header that states none) and the
+/// parsed values. Columns without a single non-empty cell are dropped (noted); repeated
+/// header names are told apart ([`mark_duplicates`]).
+fn build_columns(
+    names: &[String],
+    units: Option<&[String]>,
+    values: Vec<Vec<f64>>,
+    chunks: &[Chunk],
+) -> BuiltColumns {
+    let mut out = BuiltColumns {
+        columns: Vec::with_capacity(names.len()),
+        positions: Vec::with_capacity(names.len()),
+        notes: Vec::new(),
+    };
+    let mut dropped = Vec::new();
+    for (k, (name, values)) in names.iter().zip(values).enumerate() {
+        if !chunks.iter().any(|ch| ch.filled[k]) {
+            dropped.push(name.as_str());
+            continue;
+        }
+        let mut col = Column::numbers(name, Vec::new());
+        if col.unit.is_none() {
+            col.unit = units.and_then(|u| u.get(k)).and_then(|u| unit_token(u));
+        }
+        col.data = match chunks.iter().find_map(|ch| ch.bad[k].clone()) {
+            Some((line, text)) => ColumnData::NotNumeric { line, text },
+            None => ColumnData::Numbers(values),
+        };
+        out.columns.push(col);
+        out.positions.push(k + 1);
+    }
+    if !dropped.is_empty() {
+        out.notes.push(format!(
+            "{} column(s) without a single value left out: {}",
+            dropped.len(),
+            dropped.join(", ")
+        ));
+    }
+    mark_duplicates(&mut out.columns, &out.positions, &mut out.notes);
+    out
+}
+
+/// Columns that share a header keep it (so a role mapped by that name takes the first), and
+/// the second and later get `name #2`, `name #3`; a note names their positions.
+fn mark_duplicates(columns: &mut [Column], positions: &[usize], notes: &mut Vec<String>) {
+    for k in 0..columns.len() {
+        let same: Vec<usize> = (k..columns.len())
+            .filter(|&j| columns[j].header == columns[k].header)
+            .collect();
+        let first_time = !(0..k).any(|j| columns[j].header == columns[k].header);
+        if same.len() < 2 || !first_time {
+            continue;
+        }
+        for (i, &j) in same.iter().enumerate().skip(1) {
+            columns[j].name = format!("{} #{}", columns[j].name, i + 1);
+        }
+        let at: Vec<String> = same.iter().map(|&j| positions[j].to_string()).collect();
+        notes.push(format!(
+            "{} columns are named '{}' (columns {}): the first answers to that name, the others are '{} #2'…",
+            same.len(),
+            columns[k].header,
+            at.join(", "),
+            columns[k].name
+        ));
+    }
+}
+
+/// The first block's header names and units row, which every later block repeats.
+struct HeaderKey {
+    names: Vec<String>,
+    units: Option<Vec<String>>,
+}
+
+/// The non-data lines sorted out: the footer and the blocks after the first.
+#[derive(Default)]
+struct Regions {
+    footer: Vec<(u64, String)>,
+    /// Row where each block after the first begins.
+    block_starts: Vec<usize>,
+    /// The lines between the previous block's data and each block's header.
+    block_preambles: Vec<Vec<String>>,
+}
+
+/// Sort the lines that are not data rows into regions (lines with no data row between them):
+/// after the last data row, the footer; between data rows, a block's settings lines ending
+/// in the first block's header (and units row). Anything else between data rows, and a
+/// malformed row anywhere, is an error naming its line.
+fn assemble(
+    chunks: &[Chunk],
+    c: &Candidate,
+    key: &HeaderKey,
+    header_line: u64,
+    source: &str,
+) -> Result<Regions> {
+    let total: usize = chunks.iter().map(|ch| ch.rows).sum();
+    let mut lines: Vec<(usize, &OtherLine)> = Vec::new();
+    let mut offset = 0;
+    for ch in chunks {
+        lines.extend(ch.other.iter().map(|o| (offset + o.row, o)));
+        offset += ch.rows;
+    }
+    let mut out = Regions::default();
+    for region in lines.chunk_by(|a, b| a.0 == b.0) {
+        let row = region[0].0;
+        let region: Vec<&OtherLine> = region.iter().map(|r| r.1).collect();
+        if let Some(bad) = region.iter().position(|o| o.wrong.is_some()) {
+            return Err(region_error(&region[..=bad], c, key, header_line, source));
+        }
+        let trimmed = |ls: &[&OtherLine]| -> Vec<(u64, String)> {
+            ls.iter()
+                .map(|o| (o.line, o.text.trim().to_string()))
+                .collect()
+        };
+        if row == total {
+            out.footer = trimmed(&region);
+            continue;
+        }
+        let Some(h) = block_header(&region, c.delimiter, key) else {
+            return Err(region_error(&region, c, key, header_line, source));
+        };
+        out.block_starts.push(row);
+        out.block_preambles
+            .push(trimmed(&region[..h]).into_iter().map(|(_, t)| t).collect());
+    }
+    Ok(out)
+}
+
+/// Where a region ends in the first block's header (and units row): the header's index.
+fn block_header(region: &[&OtherLine], d: Delimiter, key: &HeaderKey) -> Option<usize> {
+    let names = |o: &OtherLine| header_names(o.text.as_bytes(), d);
+    let n = region.len();
+    match &key.units {
+        Some(u) => (n >= 2 && names(region[n - 2]) == key.names && names(region[n - 1]) == *u)
+            .then_some(n - 2),
+        None => (names(region[n - 1]) == key.names).then_some(n - 1),
+    }
+}
+
+/// The error for a region that is neither footer nor block: a header that differs from the
+/// first (the last header-like line), else the region's last line when it is a malformed row,
+/// else its first line, which is not data.
+fn region_error(
+    region: &[&OtherLine],
+    c: &Candidate,
+    key: &HeaderKey,
+    header_line: u64,
+    source: &str,
+) -> Error {
+    let last = region[region.len() - 1];
+    let header_like = region.iter().rev().find(|o| {
+        let names = header_names(o.text.as_bytes(), c.delimiter);
+        o.wrong.is_none()
+            && !units_row(o.text.as_bytes(), c.delimiter)
+            && names.iter().filter(|s| !s.is_empty()).count() >= 2
+            && mostly_text(o.text.as_bytes(), c.delimiter, c.decimal_comma)
+    });
+    let (line, msg) = if let Some(o) = header_like {
+        let names = header_names(o.text.as_bytes(), c.delimiter);
+        let what = if names == key.names {
+            "its units row differs from the first block's (or is missing)".to_string()
+        } else {
+            format!(
+                "its header differs from the first block's (line {header_line}): first '{}', here '{}'",
+                clip(&key.names.join(", ")),
+                clip(&names.join(", "))
+            )
+        };
+        (o.line, format!("a new block of the table starts here, but {what}; every block must have the same columns"))
+    } else if let Some(k) = last.wrong {
+        let msg = format!(
+            "malformed row: expected {} fields, found {k} ({}-delimited, header on line {header_line})",
+            c.fields,
+            c.delimiter.name(),
+        );
+        (last.line, msg)
+    } else {
+        let first = region[0];
+        let msg = format!(
+            "a line that is not data inside the data: '{}'",
+            clip(first.text.trim())
+        );
+        (first.line, msg)
+    };
+    Error::input(SourcePos::file(source).line(line), msg)
+}
+
 /// Chunk boundaries of about `target` bytes, each after a line end.
 fn chunk_bounds(data: &[u8], target: usize) -> Vec<usize> {
     let mut bounds = vec![0usize];
@@ -784,63 +1110,51 @@ fn chunk_bounds(data: &[u8], target: usize) -> Vec<usize> {
     bounds
 }
 
-/// The footer: the non-data lines after the last data line. A non-data line before it, or a
-/// numeric row with the wrong field count anywhere, is an error naming its line.
-fn footer_lines(
-    chunks: &[Chunk],
-    c: &Candidate,
-    header_line: u64,
-    source: &str,
-) -> Result<Vec<(u64, String)>> {
-    let last_data = chunks.iter().map(|ch| ch.last_data_line).max().unwrap_or(0);
-    let mut footer = Vec::new();
-    for (line, text, wrong) in chunks.iter().flat_map(|ch| &ch.other) {
-        if *line < last_data || wrong.is_some() {
-            let msg = match wrong {
-                Some(k) => format!(
-                    "malformed row: expected {} fields, found {k} ({}-delimited, header on line {header_line})",
-                    c.fields,
-                    c.delimiter.name(),
-                ),
-                None => format!("a line that is not data inside the data: '{}'", clip(text)),
-            };
-            return Err(Error::input(SourcePos::file(source).line(*line), msg));
-        }
-        footer.push((*line, text.clone()));
-    }
-    Ok(footer)
-}
-
-/// The layout in words, for reports: "semicolon-delimited, decimal comma, header on line 3, …".
-fn describe_layout(
-    c: &Candidate,
+/// What [`Layout::describe`] puts in words.
+struct Layout<'a> {
+    c: &'a Candidate,
     trailing: bool,
     bom: bool,
     crlf: bool,
+    cr: bool,
     header_line: u64,
+    units_line: Option<u64>,
     preamble: usize,
     footer: usize,
-) -> String {
-    let mut layout = format!("{}-delimited", c.delimiter.name());
-    for (on, what) in [
-        (c.decimal_comma, "decimal comma"),
-        (trailing, "trailing delimiter"),
-        (bom, "UTF-8 BOM"),
-        (crlf, "CRLF"),
-    ] {
-        if on {
-            layout.push_str(", ");
-            layout.push_str(what);
+    blocks: usize,
+}
+
+impl Layout<'_> {
+    /// The layout in words, for reports: "semicolon-delimited, decimal comma, header on line 3, …".
+    fn describe(&self) -> String {
+        let mut layout = format!("{}-delimited", self.c.delimiter.name());
+        for (on, what) in [
+            (self.c.decimal_comma, "decimal comma"),
+            (self.trailing, "trailing delimiter"),
+            (self.bom, "UTF-8 BOM"),
+            (self.crlf, "CRLF"),
+            (self.cr, "CR line ends"),
+        ] {
+            if on {
+                layout.push_str(", ");
+                layout.push_str(what);
+            }
         }
+        layout.push_str(&format!(", header on line {}", self.header_line));
+        if let Some(u) = self.units_line {
+            layout.push_str(&format!(", units row on line {u}"));
+        }
+        if self.preamble > 0 {
+            layout.push_str(&format!(", {} preamble line(s)", self.preamble));
+        }
+        if self.blocks > 1 {
+            layout.push_str(&format!(", {} blocks", self.blocks));
+        }
+        if self.footer > 0 {
+            layout.push_str(&format!(", {} footer line(s)", self.footer));
+        }
+        layout
     }
-    layout.push_str(&format!(", header on line {header_line}"));
-    if preamble > 0 {
-        layout.push_str(&format!(", {preamble} preamble line(s)"));
-    }
-    if footer > 0 {
-        layout.push_str(&format!(", {footer} footer line(s)"));
-    }
-    layout
 }
 
 fn clip(s: &str) -> String {
@@ -1011,5 +1325,176 @@ mod tests {
         assert_eq!(col(&one, 2)[0], 150.0);
         assert_eq!(col(&one, 2)[3], -0.25);
         assert_eq!(col(&one, 1)[1], 1.0);
+    }
+
+    #[test]
+    fn units_row_under_the_header() {
+        let t = parse("Time,Fz,Fx,COF,Speed,Temp\ns,(N),gf,-,[mm/s],°C\n0,1,2,0.1,5,20\n1,1,2,0.1,5,20\n2,1,2,0.2,5,21\n")
+            .unwrap();
+        assert_eq!(t.rows, 3);
+        let units: Vec<Option<&str>> = t.columns.iter().map(|c| c.unit.as_deref()).collect();
+        assert_eq!(
+            units,
+            [
+                Some("s"),
+                Some("N"),
+                Some("gf"),
+                Some("-"),
+                Some("mm/s"),
+                Some("°C")
+            ]
+        );
+        assert_eq!(t.header_line, 1);
+        assert!(t.layout.contains("units row on line 2"), "{}", t.layout);
+        // an empty unit, and a header that states its own unit keeps it
+        let t = parse("Instrument X\n\nt;Fz (kN);Step\ns;N;\n0;1;1\n1;2;1\n2;3;2\n").unwrap();
+        assert_eq!(t.columns[0].unit.as_deref(), Some("s"));
+        assert_eq!(t.columns[1].unit.as_deref(), Some("kN"));
+        assert_eq!(t.columns[2].unit, None);
+        assert_eq!(t.preamble, ["Instrument X"]);
+        // a text row of non-units above the data is the header, not units
+        let t = parse("Instrument X,Serial 12\nTime,Force\n0,1\n1,2\n").unwrap();
+        assert_eq!(t.columns[1].name, "Force");
+        assert_eq!(t.preamble.len(), 1);
+    }
+
+    #[test]
+    fn sparse_tab_rows_empty_names_and_duplicates() {
+        let mut text = String::from("Test data\nt (s)\tF (N)\t\t\tF (N)\tLoad (N)\tv\n");
+        for i in 0..5 {
+            text.push_str(&format!(
+                "{i}\t{}.5\t\t\t{}.5\t\t{}\t\t\n",
+                i + 1,
+                i + 1,
+                2 * i
+            ));
+        }
+        text.push_str("\nEnd of test\n");
+        let t = parse(&text).unwrap();
+        assert_eq!(t.rows, 5);
+        // the two empty-named columns and the empty `Load` column are left out
+        let names: Vec<&str> = t.columns.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(names, ["t", "F", "F #2", "v"]);
+        assert_eq!(t.columns[2].header, "F (N)");
+        assert_eq!(t.positions, [1, 2, 5, 7]);
+        assert_eq!(col(&t, 2), &[1.5, 2.5, 3.5, 4.5, 5.5]);
+        assert_eq!(col(&t, 3), &[0.0, 2.0, 4.0, 6.0, 8.0]);
+        assert_eq!(t.column_label(1), "column 2, the first of 2 with that name");
+        assert_eq!(
+            t.column_label(2),
+            "column 5, the second of 2 with that name"
+        );
+        assert_eq!(t.column_label(3), "column 7");
+        assert!(
+            t.notes
+                .iter()
+                .any(|n| n.contains("column 3, column 4, Load (N)")),
+            "{:?}",
+            t.notes
+        );
+        assert_eq!(t.footer.len(), 1);
+        // a column with some empty cells is kept and fails only when used
+        let t = parse("a\tb\tc\n1\t2\t3\n2\t\t4\n3\t5\t6\n").unwrap();
+        let e = t.columns[1].values(&t.source).unwrap_err().to_string();
+        assert!(e.contains("line 3") && e.contains("empty field"), "{e}");
+        assert_eq!(col(&t, 2), &[3.0, 4.0, 6.0]);
+    }
+
+    fn blocks_text(blocks: usize, header2: &str) -> String {
+        let mut text = String::from("Rig 7\nProfile: stepped\n");
+        for b in 0..blocks {
+            text.push_str(&format!(
+                "\nStep {} started\nLoad setpoint,{}\n",
+                b + 1,
+                10 * (b + 1)
+            ));
+            text.push_str(if b == 1 { header2 } else { "Time,Fz,Fx" });
+            text.push_str("\ns,N,N\n");
+            for i in 0..4 {
+                text.push_str(&format!("{i},{},{}.5\n", 10 * (b + 1), b * 10 + i));
+            }
+        }
+        text.push_str("\nTest completed\n");
+        text
+    }
+
+    #[test]
+    fn blocks_with_settings_units_and_time_restarting() {
+        for blocks in [2, 3] {
+            let text = blocks_text(blocks, "Time,Fz,Fx");
+            for min_chunk in [1, 16, usize::MAX] {
+                let t =
+                    parse_in_chunks(text.as_bytes(), "b.csv", &TextOptions::default(), min_chunk)
+                        .unwrap();
+                assert_eq!(t.rows, 4 * blocks);
+                let starts: Vec<usize> = (0..blocks).map(|b| 4 * b).collect();
+                assert_eq!(t.block_starts, starts);
+                assert_eq!(t.block_preambles.len(), blocks);
+                assert_eq!(t.block_preambles[1], ["Step 2 started", "Load setpoint,20"]);
+                assert_eq!(t.block_preambles[0], t.preamble);
+                assert_eq!(&col(&t, 0)[..5], &[0.0, 1.0, 2.0, 3.0, 0.0]);
+                assert_eq!(col(&t, 1)[4 * blocks - 1], 10.0 * blocks as f64);
+                assert_eq!(t.columns[1].unit.as_deref(), Some("N"));
+                assert_eq!(t.footer.len(), 1);
+                assert_eq!(t.block_of_row(5), 1);
+                assert!(
+                    t.layout.contains(&format!("{blocks} blocks")),
+                    "{}",
+                    t.layout
+                );
+            }
+        }
+        // a single table has no blocks
+        let t = parse("Time,Fz\n0,1\n1,2\n").unwrap();
+        assert!(t.block_starts.is_empty() && t.block_preambles.is_empty());
+        assert_eq!(t.block_of_row(1), 0);
+    }
+
+    #[test]
+    fn block_with_another_header_is_refused() {
+        // same field count, other names
+        let e = parse(&blocks_text(3, "Time,Fn,Ft"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 15") && e.contains("'Time, Fz, Fx'") && e.contains("'Time, Fn, Ft'"),
+            "{e}"
+        );
+        // another field count: its rows are malformed, the header is named
+        let e = parse(&blocks_text(2, "Time,Fz")).unwrap_err().to_string();
+        assert!(e.contains("line 15") && e.contains("'Time, Fz'"), "{e}");
+        // the same header with other units
+        let text = blocks_text(2, "Time,Fz,Fx")
+            .replacen("s,N,N", "s,kN,N", 2)
+            .replacen("s,kN,N", "s,N,N", 1);
+        let e = parse(&text).unwrap_err().to_string();
+        assert!(
+            e.contains("line 15") && e.contains("units row differs"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn bare_cr_and_semicolon_fixed_width_with_extra_delimiter() {
+        let text = "          TIME;          FF;\r        0,9800;      2,41;;\r        1,9610;      7,99;;\r        2,9390;     14,03;;\r";
+        let t = parse(text).unwrap();
+        assert_eq!(t.rows, 3);
+        assert_eq!(t.columns.len(), 2);
+        assert_eq!(t.columns[0].name, "TIME");
+        assert_eq!(col(&t, 0), &[0.98, 1.961, 2.939]);
+        assert_eq!(col(&t, 1), &[2.41, 7.99, 14.03]);
+        assert!(
+            t.layout.contains("CR line ends") && t.layout.contains("decimal comma"),
+            "{}",
+            t.layout
+        );
+        // the same with LF and CRLF line ends reads the same
+        for end in ["\n", "\r\n"] {
+            let u = parse(&text.replace('\r', end)).unwrap();
+            assert_eq!(u.columns, t.columns);
+        }
+        // line numbers in errors count CR line ends
+        let e = parse("t;F\r0;1\r1;2\r2\r3;4\r").unwrap_err().to_string();
+        assert!(e.contains("line 4"), "{e}");
     }
 }

@@ -1,9 +1,11 @@
 //! Spreadsheet recordings (`.xlsx`, `.xlsm`, `.xls`, `.xlsb`, `.ods`) through `calamine`.
 //!
 //! The header is found as in text files: the last non-empty row above the first run of rows
-//! whose cells are numbers; rows after the data that are not data are the footer.
+//! whose cells are numbers, or the row above it when that row holds units (`s`, `(N)`, …:
+//! they give the columns whose names state none their unit); rows after the data that are
+//! not data are the footer, and so is a short last row (a recording cut off mid-row).
 
-use crate::table::{Column, ColumnData, Table};
+use crate::table::{is_unit_token, unit_token, Column, ColumnData, Table};
 use calamine::{open_workbook_auto_from_rs, Data, Reader};
 use greybox_core::{Error, Result, SourcePos};
 
@@ -109,6 +111,44 @@ pub fn parse_spreadsheet(bytes: &[u8], source: &str, sheet: Option<&str>) -> Res
     Err(last_err.unwrap_or_else(|| Error::input(pos(), "the workbook has no sheets")))
 }
 
+fn row_empty(r: &[Data]) -> bool {
+    r.iter().all(|c| matches!(c, Data::Empty))
+}
+
+/// A row of units: text cells that are all units, at least one of them.
+fn units_row(r: &[Data]) -> bool {
+    !row_empty(r)
+        && r.iter().all(|c| match c {
+            Data::Empty => true,
+            Data::String(s) => is_unit_token(s),
+            _ => false,
+        })
+}
+
+/// The header above the first data row `data` (the last non-empty row above it, or the one
+/// above that when it is a units row) and the units row.
+fn header_and_units(rows: &[&[Data]], data: usize) -> (Option<usize>, Option<usize>) {
+    let prev = |below: usize| (0..below).rev().find(|&i| !row_empty(rows[i]));
+    let Some(last) = prev(data) else {
+        return (None, None);
+    };
+    if units_row(rows[last]) {
+        if let Some(h) = prev(last).filter(|&h| !units_row(rows[h])) {
+            return (Some(h), Some(last));
+        }
+    }
+    (Some(last), None)
+}
+
+/// A row's non-empty cells as one line of text.
+fn row_text(r: &[Data]) -> String {
+    r.iter()
+        .map(cell_text)
+        .filter(|s| !s.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) -> Result<Table> {
     let row_no = |i: usize| first_row + i as u64 + 1;
     let numeric_cols = |r: &[Data]| -> Vec<usize> {
@@ -118,7 +158,7 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
             .map(|(k, _)| k)
             .collect()
     };
-    let is_empty = |r: &[Data]| r.iter().all(|c| matches!(c, Data::Empty));
+    let is_empty = row_empty;
     let data = (0..rows.len()).find(|&i| {
         let cols = numeric_cols(rows[i]);
         cols.len() >= 2
@@ -135,25 +175,17 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
         ));
     };
     let cols = numeric_cols(rows[data]);
-    let header = (0..data)
-        .rev()
-        .find(|&i| !is_empty(rows[i]))
-        .ok_or_else(|| {
-            Error::input(
-                SourcePos::file(source).field(sheet).line(row_no(data)),
-                "numeric rows without a header row above them that names the columns",
-            )
-        })?;
+    let (header, units) = header_and_units(rows, data);
+    let header = header.ok_or_else(|| {
+        Error::input(
+            SourcePos::file(source).field(sheet).line(row_no(data)),
+            "numeric rows without a header row above them that names the columns",
+        )
+    })?;
     let preamble: Vec<String> = rows[..header]
         .iter()
         .filter(|r| !is_empty(r))
-        .map(|r| {
-            r.iter()
-                .map(cell_text)
-                .filter(|s| !s.is_empty())
-                .collect::<Vec<_>>()
-                .join(" ")
-        })
+        .map(|r| row_text(r))
         .collect();
     // the data ends at the first row with no number in the table's columns
     let mut end = data;
@@ -165,21 +197,28 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
     {
         end += 1;
     }
-    let footer: Vec<(u64, String)> = (end..rows.len())
+    let mut footer: Vec<(u64, String)> = (end..rows.len())
         .filter(|&i| !is_empty(rows[i]))
-        .map(|i| {
-            (
-                row_no(i),
-                rows[i]
-                    .iter()
-                    .map(cell_text)
-                    .filter(|s| !s.is_empty())
-                    .collect::<Vec<_>>()
-                    .join(" "),
-            )
-        })
+        .map(|i| (row_no(i), row_text(rows[i])))
         .collect();
-    let body: Vec<usize> = (data..end).filter(|&i| !is_empty(rows[i])).collect();
+    let mut body: Vec<usize> = (data..end).filter(|&i| !is_empty(rows[i])).collect();
+    // a last row with some of the table's cells empty was cut off: footer, with a note
+    let mut notes = Vec::new();
+    if let Some(&last) = body.last().filter(|_| body.len() > 1) {
+        let missing = cols
+            .iter()
+            .filter(|&&k| matches!(rows[last].get(k).unwrap_or(&Data::Empty), Data::Empty))
+            .count();
+        if missing > 0 {
+            body.pop();
+            footer.insert(0, (row_no(last), row_text(rows[last])));
+            notes.push(format!(
+                "the last data row (row {}) has {missing} of {} cells empty: taken as cut off and reported in the footer",
+                row_no(last),
+                cols.len()
+            ));
+        }
+    }
     let mut columns = Vec::with_capacity(cols.len());
     for &k in &cols {
         let head = rows[header].get(k).map(cell_text).unwrap_or_default();
@@ -201,6 +240,11 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
             }
         }
         let mut col = Column::numbers(&head, Vec::new());
+        if col.unit.is_none() {
+            col.unit = units
+                .and_then(|u| rows[u].get(k))
+                .and_then(|c| unit_token(&cell_text(c)));
+        }
         col.data = match bad {
             Some((line, text)) => ColumnData::NotNumeric { line, text },
             None => ColumnData::Numbers(values),
@@ -211,6 +255,9 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
         "spreadsheet, sheet '{sheet}', header on row {}",
         row_no(header)
     );
+    if let Some(u) = units {
+        layout.push_str(&format!(", units row {}", row_no(u)));
+    }
     if !footer.is_empty() {
         layout.push_str(&format!(", {} footer row(s)", footer.len()));
     }
@@ -224,5 +271,41 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
         footer,
         sample_interval_s: None,
         start_time_s: None,
+        notes,
+        ..Default::default()
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn s(t: &str) -> Data {
+        Data::String(t.to_string())
+    }
+
+    #[test]
+    fn units_row_and_short_last_row() {
+        let f = Data::Float;
+        let rows: Vec<Vec<Data>> = vec![
+            vec![s("UMT export"), Data::Empty, Data::Empty],
+            vec![s("Time"), s("Fz"), s("Fx (kN)")],
+            vec![s("s"), s("(N)"), s("N")],
+            vec![f(0.0), f(10.0), f(1.0)],
+            vec![f(0.1), f(10.5), f(1.5)],
+            vec![f(0.2), f(11.0), f(2.0)],
+            vec![f(0.3), f(11.5), Data::Empty],
+        ];
+        let refs: Vec<&[Data]> = rows.iter().map(|r| r.as_slice()).collect();
+        let t = table_from_rows(&refs, 0, "u.xlsx", "Sheet1").unwrap();
+        assert_eq!(t.header_line, 2);
+        assert_eq!(t.preamble, ["UMT export"]);
+        let units: Vec<Option<&str>> = t.columns.iter().map(|c| c.unit.as_deref()).collect();
+        assert_eq!(units, [Some("s"), Some("N"), Some("kN")]);
+        assert_eq!(t.rows, 3);
+        assert_eq!(t.columns[2].values("u").unwrap(), &[1.0, 1.5, 2.0]);
+        assert_eq!(t.footer, [(7, "0.3 11.5".to_string())]);
+        assert!(t.notes[0].contains("row 7"), "{:?}", t.notes);
+        assert!(t.layout.contains("units row 3"), "{}", t.layout);
+    }
 }
