@@ -140,6 +140,9 @@ pub struct Args {
     /// Normal load, N, for rigs that do not record it (dead-weight pin-on-disc rigs).
     #[arg(long = "constant-normal-force-N")]
     pub constant_normal_force_n: Option<f64>,
+    /// Sliding velocity, m/min, for rigs that do not record their speed.
+    #[arg(long = "constant-sliding-velocity-m-per-min")]
+    pub constant_sliding_velocity_m_per_min: Option<f64>,
     /// Track radius per segment for rpm speed channels, mm (comma-separated: one per segment
     /// of each file, or of the whole campaign).
     #[arg(long = "track-radii-mm", value_delimiter = ',')]
@@ -216,6 +219,12 @@ pub fn run(args: Args) -> Result<()> {
             bail!("--constant-normal-force-N must be positive, got {f}");
         }
         study.recording.constant_normal_n = Some(f);
+    }
+    if let Some(v) = args.constant_sliding_velocity_m_per_min {
+        if !(v.is_finite() && v > 0.0) {
+            bail!("--constant-sliding-velocity-m-per-min must be positive, got {v}");
+        }
+        study.recording.constant_sliding_m_s = Some(greybox_core::units::m_per_min_to_m_per_s(v));
     }
     if let Some(g) = &args.tdms_group {
         study.recording.tdms_group = Some(g.clone());

@@ -479,6 +479,9 @@ pub struct ChannelMap {
     /// Normal load, N, for rigs that do not record it (dead-weight pin-on-disc rigs): the
     /// same value at every sample.
     pub constant_normal_n: Option<f64>,
+    /// Sliding velocity, m/s, for rigs that do not record their speed: the same value at
+    /// every sample.
+    pub constant_sliding_m_s: Option<f64>,
     /// Rig profile by name (see [`crate::profiles`]); `None` detects one from the file's
     /// signature when exactly one matches.
     pub rig: Option<String>,
@@ -517,6 +520,7 @@ impl Default for ChannelMap {
             radius: None,
             cof: None,
             constant_normal_n: None,
+            constant_sliding_m_s: None,
             rig: None,
             track_radius_mm: Vec::new(),
             auto: true,
@@ -881,7 +885,7 @@ fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
 
 /// Convert a table into a recording through a channel map.
 pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Recording> {
-    let mut notes = Vec::new();
+    let mut notes = std::mem::take(&mut table.notes);
     let map = &crate::profiles::apply(&table, map, &mut notes)?;
     let mut roles = assign_roles(&table, map, &mut notes)?;
     drop_unitless_optional(&table, map, &mut roles, &mut notes);
@@ -978,7 +982,9 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
     let cof = take(Role::Cof).map(|c| c.1);
     let tangential = take(Role::Tangential).map(|c| c.1);
     let (normal, tangential) = forces_by_convention(normal, tangential, cof.as_deref(), &mut report);
-    let step = take(Role::Step).map(|c| c.1);
+    let step = take(Role::Step)
+        .map(|c| c.1)
+        .or_else(|| block_steps(&table, n, &mut report));
     let time_s = match take(Role::Time) {
         Some((_, t, header)) => continuous_time(
             t,
@@ -1013,10 +1019,18 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
         .iter()
         .find(|c| c.role == "speed")
         .and_then(|c| SpeedUnit::parse(&c.unit));
-    let speed = take(Role::Speed).map(|(_, v, _)| match speed_unit {
-        Some(u) if u.is_rotational() => SpeedTrace::SpindleRpm(v),
-        _ => SpeedTrace::SlidingMPerS(v),
-    });
+    let speed = take(Role::Speed)
+        .map(|(_, v, _)| match speed_unit {
+            Some(u) if u.is_rotational() => SpeedTrace::SpindleRpm(v),
+            _ => SpeedTrace::SlidingMPerS(v),
+        })
+        .or_else(|| {
+            let v = map.constant_sliding_m_s?;
+            report.notes.push(format!(
+                "no speed column: the stated constant sliding velocity {v} m/s at every sample"
+            ));
+            Some(SpeedTrace::SlidingMPerS(vec![v; n]))
+        });
     let rec = Recording {
         source: source.clone(),
         time_s,
@@ -1032,6 +1046,25 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
     };
     rec.validate()?;
     Ok(rec)
+}
+
+/// A file of blocks (each with its own settings and header, as UMT and PCS exports write one
+/// per step) without a step column: the block number is the step, so that a time restarting
+/// in every block is made continuous and each block is a segment.
+fn block_steps(table: &Table, n: usize, report: &mut ReadReport) -> Option<Vec<f64>> {
+    if table.block_starts.len() < 2 {
+        return None;
+    }
+    report.notes.push(format!(
+        "{} blocks, each with its own header: the block number (1, 2, …) is the step",
+        table.block_starts.len()
+    ));
+    let mut step = vec![0.0; n];
+    for (b, w) in table.block_starts.iter().enumerate() {
+        let end = table.block_starts.get(b + 1).copied().unwrap_or(n).min(n);
+        step[(*w).min(n)..end].iter_mut().for_each(|s| *s = (b + 1) as f64);
+    }
+    Some(step)
 }
 
 /// Median of a channel (NaN for an empty one).
