@@ -99,12 +99,9 @@ impl Reader<'_> {
     fn length(&mut self) -> Result<usize> {
         let m = self.marker()?;
         let n = self.integer(m)?;
-        // Every item takes a byte, except in typed containers of null/true/false: a bound
-        // generous for those keeps a corrupt count from filling memory.
-        let bound = (self.bytes.len() - self.at + 1).saturating_mul(8);
+        // a string's length is checked by `take`, a container's count by `check_count`
         usize::try_from(n)
             .ok()
-            .filter(|n| *n <= bound)
             .ok_or_else(|| self.fail(format!("length {n} is not possible here")))
     }
 

@@ -33,14 +33,15 @@ pub fn check_workpiece_budget(
         greybox_core::budget::bytes_text(count * BYTES_PER_PARTICLE as f64),
         BYTES_PER_PARTICLE / 1024
     );
+    let refusal = greybox_core::budget::over_cap(
+        &found,
+        "numerics.max_particles",
+        &max.to_string(),
+        "numerics.max_particles in the set-up or `greybox simulate pin --max-particles`",
+    );
     Err(greybox_core::Error::invalid(
         what,
-        greybox_core::budget::over_cap(
-            &found,
-            "numerics.max_particles",
-            &max.to_string(),
-            "numerics.max_particles in the set-up, or `greybox simulate pin --max-particles`; or coarsen spacing_m",
-        ),
+        format!("{refusal}; otherwise coarsen spacing_m"),
     ))
 }
 
