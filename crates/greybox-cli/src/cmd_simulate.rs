@@ -78,6 +78,10 @@ pub struct PinArgs {
     /// Mass scaling factor (≥ 1).
     #[arg(long = "mass-scaling", default_value_t = 1.0)]
     pub mass_scaling: f64,
+    /// Most particles the workpiece may have (numerics.max_particles; default 5 million,
+    /// about 20 GB): a finer --spacing-um is refused before anything is allocated.
+    #[arg(long = "max-particles")]
+    pub max_particles: Option<u64>,
     #[command(flatten)]
     pub output: Output,
 }
@@ -110,6 +114,7 @@ impl PinArgs {
         s.sliding_speed_m_s = self.speed_m_per_min / 60.0;
         s.mach = self.mach;
         s.numerics.mass_scaling = self.mass_scaling;
+        s.numerics.max_particles = self.max_particles;
         s.validate()?;
         Ok(s)
     }

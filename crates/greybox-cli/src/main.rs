@@ -32,8 +32,43 @@ struct Cli {
     /// No progress display (bars on a terminal, status lines otherwise, all on stderr).
     #[arg(long, short = 'q', global = true)]
     quiet: bool,
+    #[command(flatten)]
+    budget: BudgetArgs,
     #[command(subcommand)]
     command: Command,
+}
+
+/// The caps of the readers (greybox_core::budget): inputs beyond them are refused with the
+/// cap named, before the memory or time they would take is spent.
+#[derive(clap::Args)]
+struct BudgetArgs {
+    /// Largest configuration file (set-up TOML, sweep file, base configuration) read, MiB.
+    #[arg(long = "max-input-mib", global = true, default_value_t = greybox_core::budget::DEFAULT.max_input_bytes >> 20)]
+    max_input_mib: u64,
+    /// Most elements of a UBJSON typed array of null/true/false (which take no bytes each).
+    #[arg(long = "max-array-len", global = true, default_value_t = greybox_core::budget::DEFAULT.max_array_len)]
+    max_array_len: u64,
+    /// Most cells of one spreadsheet sheet (declared, held in memory, shared strings).
+    #[arg(long = "max-sheet-cells", global = true, default_value_t = greybox_core::budget::DEFAULT.max_sheet_cells)]
+    max_sheet_cells: u64,
+    /// Most bytes a spreadsheet archive expands to, MiB.
+    #[arg(long = "max-uncompressed-mib", global = true, default_value_t = greybox_core::budget::DEFAULT.max_uncompressed_bytes >> 20)]
+    max_uncompressed_mib: u64,
+    /// Longest line in the head of a text recording, KiB.
+    #[arg(long = "max-line-kib", global = true, default_value_t = greybox_core::budget::DEFAULT.max_line_bytes >> 10)]
+    max_line_kib: u64,
+}
+
+impl BudgetArgs {
+    fn install(&self) {
+        greybox_core::budget::set(greybox_core::budget::Budget {
+            max_input_bytes: self.max_input_mib.saturating_mul(1 << 20),
+            max_array_len: self.max_array_len,
+            max_sheet_cells: self.max_sheet_cells,
+            max_uncompressed_bytes: self.max_uncompressed_mib.saturating_mul(1 << 20),
+            max_line_bytes: self.max_line_kib.saturating_mul(1 << 10),
+        });
+    }
 }
 
 #[derive(Subcommand)]
@@ -94,6 +129,7 @@ fn main() {
     greybox_pipeline::output::remove_temporaries_on_interrupt();
     let cli = Cli::parse();
     progress::Mode::choose(cli.quiet).install();
+    cli.budget.install();
     let result = match cli.command {
         Command::Plan(a) => cmd_plan::run(a),
         Command::Synth(a) => cmd_synth::run(a),

@@ -17,10 +17,13 @@
 //! * [`boundary`] — exact boundaries of monotone floating-point predicates (split thresholds).
 //! * [`roots`] — bracketing root finding for expensive functions.
 //! * [`linalg`] — small least-squares helpers.
+//! * [`shell`] — quoting of every value a generated shell script receives.
+//! * [`budget`] — the named caps of readers and walkers (bytes, cells, array lengths, lines).
 //!
 //! SI units everywhere inside: Pa, m/s, N, K, s.
 
 pub mod atomic;
+pub mod budget;
 pub mod boundary;
 pub mod cleanup;
 pub mod contact;
@@ -35,6 +38,7 @@ pub mod progress;
 pub mod provenance;
 pub mod roots;
 pub mod rules;
+pub mod shell;
 pub mod units;
 
 pub use contact::ContactState;

@@ -6,11 +6,25 @@
 //! arrays. float32 values become the f64 of the same value, so nothing is rounded. Errors
 //! name the byte offset.
 
+use greybox_core::budget::Cap;
 use greybox_core::{Error, Result, SourcePos};
 use serde_json::{Map, Number, Value};
 
 /// Deepest nesting accepted (XGBoost models nest about 8 deep).
 const MAX_DEPTH: usize = 64;
+
+/// The fewest bytes a value of type `marker` takes after its marker (0 for null, true,
+/// false and no-op; a string or high-precision number has at least a length).
+fn min_size(marker: u8) -> u64 {
+    match marker {
+        b'Z' | b'T' | b'F' | b'N' => 0,
+        b'I' => 2,
+        b'l' | b'd' => 4,
+        b'L' | b'D' => 8,
+        b'S' | b'H' => 2,
+        _ => 1,
+    }
+}
 
 struct Reader<'a> {
     bytes: &'a [u8],
@@ -85,13 +99,33 @@ impl Reader<'_> {
     fn length(&mut self) -> Result<usize> {
         let m = self.marker()?;
         let n = self.integer(m)?;
-        // Every item takes a byte, except in typed containers of null/true/false: a bound
-        // generous for those keeps a corrupt count from filling memory.
-        let bound = (self.bytes.len() - self.at + 1).saturating_mul(8);
+        // a string's length is checked by `take`, a container's count by `check_count`
         usize::try_from(n)
             .ok()
-            .filter(|n| *n <= bound)
             .ok_or_else(|| self.fail(format!("length {n} is not possible here")))
+    }
+
+    /// Refuses a container count the rest of the input cannot hold, before any element is
+    /// read: each element takes at least [`min_size`] bytes (a key at least 2 more); elements
+    /// that take none (typed null/true/false) are capped by [`Cap::ArrayLen`].
+    fn check_count(&self, n: usize, typed: Option<u8>, object: bool) -> Result<()> {
+        let per = typed.map_or(1, min_size) + if object { 2 } else { 0 };
+        let left = (self.bytes.len() - self.at) as u64;
+        if per == 0 {
+            let what = typed.map_or('?', |t| t as char);
+            return Cap::ArrayLen
+                .check(n as u64, || {
+                    format!("a typed array of {n} '{what}' elements (which take no bytes each)")
+                })
+                .map_err(|m| self.fail(m));
+        }
+        let need = (n as u64).saturating_mul(per);
+        if need > left {
+            return Err(self.fail(format!(
+                "a container of {n} elements needs at least {need} bytes, only {left} are left in the file"
+            )));
+        }
+        Ok(())
     }
 
     fn string(&mut self) -> Result<String> {
@@ -151,7 +185,9 @@ impl Reader<'_> {
         }
         if self.bytes.get(self.at) == Some(&b'#') {
             self.at += 1;
-            count = Some(self.length()?);
+            let n = self.length()?;
+            self.check_count(n, typed, object)?;
+            count = Some(n);
         }
         let mut items = Vec::new();
         let mut fields = Map::new();
@@ -211,6 +247,28 @@ mod tests {
             v,
             serde_json::json!({"a": [1, 2.5], "b": "x", "c": [0.5, -1.0], "d": true})
         );
+    }
+
+    #[test]
+    fn counts_are_bounded_by_the_bytes_left_and_the_array_cap() {
+        // 80 M nulls in a typed array, as in a 10 MB file: refused by max_array_len
+        let mut b = vec![b'[', b'$', b'Z', b'#', b'l'];
+        b.extend(80_000_000i32.to_be_bytes());
+        b.resize(10 << 20, b'N');
+        let e = parse(&b, "m.ubj").unwrap_err().to_string();
+        assert!(
+            e.contains("m.ubj") && e.contains("80000000") && e.contains("max_array_len"),
+            "{e}"
+        );
+        // 1000 float64 in a typed array with 16 bytes left: refused by the bytes left
+        let mut b = vec![b'[', b'$', b'D', b'#', b'I'];
+        b.extend(1000i16.to_be_bytes());
+        b.extend([0u8; 16]);
+        let e = parse(&b, "m.ubj").unwrap_err().to_string();
+        assert!(e.contains("8000 bytes") && e.contains("16 are left"), "{e}");
+        // a few typed nulls are fine
+        let b = [b'[', b'$', b'Z', b'#', b'i', 3];
+        assert_eq!(parse(&b, "m.ubj").unwrap(), serde_json::json!([null, null, null]));
     }
 
     #[test]

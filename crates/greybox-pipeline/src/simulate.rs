@@ -189,8 +189,7 @@ pub struct CutCase {
 
 /// Reads a cutting set-up TOML and loads its law file (relative to the set-up's folder).
 pub fn read_cutting_setup(path: &Path) -> Result<CutCase> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text = greybox_core::budget::read_config(path, "cutting set-up")?;
     let mut setup: CuttingSetup = toml::from_str(&text)
         .with_context(|| format!("{}: not a cutting set-up", path.display()))?;
     let base = path.parent().unwrap_or(Path::new("."));

@@ -350,6 +350,13 @@ impl CuttingSetup {
             )
             .finish()?;
         self.numerics.validate()?;
+        crate::particles::check_workpiece_budget(
+            "cutting set-up",
+            self.workpiece_length(),
+            self.workpiece_height_m,
+            dx,
+            self.numerics.max_particles,
+        )?;
         self.friction.smoothing.validate()?;
         if let Some(t) = &self.tool_thermal {
             t.validate()?;

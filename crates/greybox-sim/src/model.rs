@@ -39,6 +39,15 @@ pub struct Numerics {
     pub skin_ratio: f64,
     /// Instability guard: stop when a particle moves faster than this × the wave speed.
     pub max_speed_ratio: f64,
+    /// Most particles a set-up may lay out (default [`DEFAULT_MAX_PARTICLES`], 5 million:
+    /// about 20 GB at [`BYTES_PER_PARTICLE`]). The count follows from the spacing and the
+    /// workpiece before anything is allocated; a finer set-up is refused unless this is
+    /// raised. Unset, it is not written out (case ids and files of earlier runs stay).
+    ///
+    /// [`DEFAULT_MAX_PARTICLES`]: crate::particles::DEFAULT_MAX_PARTICLES
+    /// [`BYTES_PER_PARTICLE`]: crate::particles::BYTES_PER_PARTICLE
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_particles: Option<u64>,
 }
 
 impl Default for Numerics {
@@ -57,6 +66,7 @@ impl Default for Numerics {
             thermal: true,
             skin_ratio: 0.05,
             max_speed_ratio: 0.5,
+            max_particles: None,
         }
     }
 }

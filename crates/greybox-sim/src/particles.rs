@@ -3,6 +3,48 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Memory of a run per particle, bytes: the state arrays, neighbour lists, rates and
+/// scratch (the estimate the Slurm executor asks for; docs/scaling.md).
+pub const BYTES_PER_PARTICLE: u64 = 4096;
+
+/// Default of `numerics.max_particles`: 5 million particles (about 20 GB).
+pub const DEFAULT_MAX_PARTICLES: u64 = 5_000_000;
+
+/// Checks the particle count of a `length` × `height` workpiece (m) at spacing `dx` (m), as
+/// [`Particles::workpiece`] would lay it out, against `max` (`numerics.max_particles`;
+/// `None`: [`DEFAULT_MAX_PARTICLES`]) before anything is allocated. `what` names the set-up
+/// in the error, which states the count and the memory it would take.
+pub fn check_workpiece_budget(
+    what: &str,
+    length: f64,
+    height: f64,
+    dx: f64,
+    max: Option<u64>,
+) -> greybox_core::Result<()> {
+    let count = (length / dx).ceil() * (height / dx).ceil();
+    let max = max.unwrap_or(DEFAULT_MAX_PARTICLES);
+    if count <= max as f64 {
+        return Ok(());
+    }
+    let found = format!(
+        "spacing_m = {dx:e} lays out a {:.3} mm × {:.3} mm workpiece as {count:.3e} particles, about {} at {} kB per particle",
+        length * 1e3,
+        height * 1e3,
+        greybox_core::budget::bytes_text(count * BYTES_PER_PARTICLE as f64),
+        BYTES_PER_PARTICLE / 1024
+    );
+    let refusal = greybox_core::budget::over_cap(
+        &found,
+        "numerics.max_particles",
+        &max.to_string(),
+        "numerics.max_particles in the set-up or `greybox simulate pin --max-particles`",
+    );
+    Err(greybox_core::Error::invalid(
+        what,
+        format!("{refusal}; otherwise coarsen spacing_m"),
+    ))
+}
+
 /// Boundary group index of free particles.
 pub const FREE: u8 = 0;
 

@@ -119,7 +119,14 @@ impl PinSetup {
                     self.spacing_m * 1e6
                 ),
             )
-            .finish()
+            .finish()?;
+        crate::particles::check_workpiece_budget(
+            "pin set-up",
+            self.workpiece_length(),
+            self.workpiece_height_m,
+            self.spacing_m,
+            self.numerics.max_particles,
+        )
     }
 
     /// Workpiece length: room for the pressed chord behind, the slide, the chord ahead and

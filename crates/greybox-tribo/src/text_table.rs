@@ -781,6 +781,7 @@ fn parse_in_chunks(
         body
     };
     let crlf = memchr::memchr(b'\n', body).is_some_and(|i| i > 0 && body[i - 1] == b'\r');
+    check_head_line_lengths(body, source)?;
     let head = head_lines(body);
     let c = choose_layout(&head, opts, source)?;
     let h = c.header.expect("checked in choose_layout");
@@ -863,6 +864,26 @@ fn parse_data(
         *last += usize::from(!data.ends_with(b"\n"));
     }
     parse_chunks(data, &bounds, &first_line, &room, c)
+}
+
+/// Refuses a head line (one of the first [`SNIFF_LINES`]) longer than the budget
+/// `max_line_bytes`, looking no further than the cap for each line end: a file of gigabytes
+/// without a newline fails at once instead of being sniffed as one line.
+fn check_head_line_lengths(body: &[u8], source: &str) -> Result<()> {
+    let cap = greybox_core::budget::Cap::LineBytes;
+    let window = usize::try_from(cap.limit()).unwrap_or(usize::MAX).saturating_add(1);
+    let mut pos = 0;
+    for number in 1..=SNIFF_LINES as u64 {
+        if pos >= body.len() {
+            break;
+        }
+        let part = &body[pos..body.len().min(pos.saturating_add(window))];
+        let len = memchr::memchr(b'\n', part).unwrap_or(part.len());
+        cap.check(len as u64, || format!("line {number} is longer than {} bytes", len - 1))
+            .map_err(|m| Error::input(SourcePos::file(source).line(number), m))?;
+        pos += len + 1;
+    }
+    Ok(())
 }
 
 /// The first [`SNIFF_LINES`] lines of the body, for sniffing.

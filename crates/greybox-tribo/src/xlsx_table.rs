@@ -7,7 +7,9 @@
 
 use crate::table::{is_unit_token, unit_token, Column, ColumnData, Table};
 use calamine::{open_workbook_auto_from_rs, Data, Reader};
+use greybox_core::budget::Cap;
 use greybox_core::{Error, Result, SourcePos};
+use std::io::Read as _;
 
 /// Rows of numbers that must follow the header.
 const CONFIRM_ROWS: usize = 3;
@@ -51,6 +53,7 @@ fn cell_text(c: &Data) -> String {
 /// Parse a spreadsheet from bytes (`source` names it in errors).
 pub fn parse_spreadsheet(bytes: &[u8], source: &str, sheet: Option<&str>) -> Result<Table> {
     let pos = || SourcePos::file(source);
+    check_archive(bytes, source)?;
     // calamine may panic on some corrupted archives; a reader must never take the caller down
     let opened = std::panic::catch_unwind(|| {
         open_workbook_auto_from_rs(std::io::Cursor::new(bytes.to_vec()))
@@ -85,6 +88,11 @@ pub fn parse_spreadsheet(bytes: &[u8], source: &str, sheet: Option<&str>) -> Res
     };
     let mut last_err = None;
     for name in &wanted {
+        // a sheet over the cell budget is refused, not passed over for the next one
+        let boxed = std::panic::AssertUnwindSafe(|| check_cell_box(&mut wb, name, source));
+        if let Ok(Err(e)) = std::panic::catch_unwind(boxed) {
+            return Err(e);
+        }
         let range = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             wb.worksheet_range(name)
         })) {
@@ -147,6 +155,118 @@ fn row_text(r: &[Data]) -> String {
         .filter(|s| !s.is_empty())
         .collect::<Vec<_>>()
         .join(" ")
+}
+
+/// Bytes of an entry's start kept for its declared sizes.
+const HEAD_BYTES: usize = 4096;
+
+/// Refuses a spreadsheet archive whose entries expand to more than `max_uncompressed_bytes`
+/// together (decompressed in a stream and counted, nothing kept but each entry's first
+/// [`HEAD_BYTES`]), or whose sheets or shared strings declare more than `max_sheet_cells`.
+/// Anything that is not a readable zip archive is left to calamine.
+fn check_archive(bytes: &[u8], source: &str) -> Result<()> {
+    if !bytes.starts_with(b"PK") {
+        return Ok(());
+    }
+    let Ok(mut zip) = zip::ZipArchive::new(std::io::Cursor::new(bytes)) else {
+        return Ok(());
+    };
+    let cap = Cap::UncompressedBytes;
+    let mut total = 0u64;
+    let mut buf = vec![0u8; 64 << 10];
+    for i in 0..zip.len() {
+        let Ok(mut entry) = zip.by_index(i) else {
+            continue;
+        };
+        let name = entry
+            .name()
+            .map(|n| n.into_owned())
+            .unwrap_or_else(|_| format!("entry {i}"));
+        let mut head = Vec::new();
+        while let Ok(n @ 1..) = entry.read(&mut buf) {
+            let keep = n.min(HEAD_BYTES - head.len());
+            head.extend_from_slice(&buf[..keep]);
+            total += n as u64;
+            cap.check(total, || {
+                format!("the archive's entries expand to more than {total} bytes (entry {name}, {} bytes in the file)", bytes.len())
+            })
+            .map_err(|m| Error::input(SourcePos::file(source).field(&name), m))?;
+        }
+        declared_cells(&name, &head)
+            .map_err(|m| Error::input(SourcePos::file(source).field(&name), m))?;
+    }
+    Ok(())
+}
+
+/// The number in `attr="N"` within `text`, if present.
+fn attribute<'a>(text: &'a str, attr: &str) -> Option<&'a str> {
+    let at = text.find(&format!(" {attr}=\""))? + attr.len() + 3;
+    text[at..].split('"').next()
+}
+
+/// (row, column), 1-based, of a cell reference such as `XFD1048576`.
+fn cell_ref(r: &str) -> Option<(u64, u64)> {
+    let letters = r.chars().take_while(char::is_ascii_alphabetic).count();
+    let col = r[..letters]
+        .bytes()
+        .try_fold(0u64, |c, b| c.checked_mul(26)?.checked_add((b.to_ascii_uppercase() - b'A' + 1) as u64))?;
+    let row = r[letters..].parse().ok()?;
+    Some((row, col))
+}
+
+/// Checks a worksheet's `<dimension ref="A1:C10">` and the shared strings' `uniqueCount`
+/// (calamine reserves room for that many) against `max_sheet_cells`.
+fn declared_cells(name: &str, head: &[u8]) -> Result<(), String> {
+    let text = String::from_utf8_lossy(head);
+    if name.starts_with("xl/worksheets/") {
+        let dim = text
+            .find("<dimension")
+            .and_then(|i| attribute(&text[i..], "ref"))
+            .and_then(|r| r.split_once(':'))
+            .and_then(|(a, b)| Some((cell_ref(a)?, cell_ref(b)?)));
+        if let Some(((r0, c0), (r1, c1))) = dim {
+            let (rows, cols) = (r1.abs_diff(r0) + 1, c1.abs_diff(c0) + 1);
+            Cap::SheetCells.check(rows.saturating_mul(cols), || {
+                format!("the sheet declares {rows} rows × {cols} columns")
+            })?;
+        }
+    } else if name == "xl/sharedStrings.xml" {
+        if let Some(n) = attribute(&text, "uniqueCount").and_then(|n| n.parse::<u64>().ok()) {
+            Cap::SheetCells.check(n, || format!("the workbook declares {n} shared strings"))?;
+        }
+    }
+    Ok(())
+}
+
+/// Refuses an xlsx sheet whose cells span a box of more than `max_sheet_cells` (calamine
+/// holds the box densely: two cells at A1 and XFD1048576 would take 17·10⁹ cells), counted
+/// in a streaming pass that keeps nothing.
+fn check_cell_box<RS: std::io::Read + std::io::Seek>(
+    wb: &mut calamine::Sheets<RS>,
+    name: &str,
+    source: &str,
+) -> Result<()> {
+    let calamine::Sheets::Xlsx(x) = wb else {
+        return Ok(());
+    };
+    let Ok(mut cells) = x.worksheet_cells_reader(name) else {
+        return Ok(()); // worksheet_range reports it
+    };
+    let (mut lo, mut hi) = ((u32::MAX, u32::MAX), (0u32, 0u32));
+    while let Ok(Some(c)) = cells.next_cell() {
+        let (r, k) = c.get_position();
+        lo = (lo.0.min(r), lo.1.min(k));
+        hi = (hi.0.max(r), hi.1.max(k));
+    }
+    if lo.0 > hi.0 {
+        return Ok(());
+    }
+    let (rows, cols) = ((hi.0 - lo.0) as u64 + 1, (hi.1 - lo.1) as u64 + 1);
+    Cap::SheetCells
+        .check(rows * cols, || {
+            format!("the sheet's cells span {rows} rows × {cols} columns")
+        })
+        .map_err(|m| Error::input(SourcePos::file(source).field(name), m))
 }
 
 fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) -> Result<Table> {

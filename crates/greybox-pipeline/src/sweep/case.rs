@@ -85,8 +85,7 @@ pub fn absolute_file(path: &str, value: &toml::Value, base: &Path) -> toml::Valu
 
 /// The base configuration as a TOML value, its relative file paths made absolute.
 pub fn read_base(path: &Path, kind: CaseKind) -> Result<toml::Value> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read the base configuration {}", path.display()))?;
+    let text = greybox_core::budget::read_config(path, "base configuration")?;
     let mut v: toml::Value =
         toml::from_str(&text).with_context(|| format!("{}: not TOML", path.display()))?;
     let dir = path.parent().unwrap_or(Path::new(""));

@@ -181,7 +181,7 @@ fn run_config(plan: &Plan, dir: &CaseDir) -> Result<serde_json::Value> {
             serde_json::to_value(run_cut(&case, plan.fraction, &o)?)?
         }
         CaseKind::Pin => {
-            let text = std::fs::read_to_string(dir.config())?;
+            let text = greybox_core::budget::read_config(&dir.config(), "pin set-up")?;
             let setup: greybox_sim::pin::PinSetup = toml::from_str(&text)
                 .with_context(|| format!("{}: not a pin set-up", dir.config().display()))?;
             serde_json::to_value(run_pin(&setup, &o)?)?
@@ -241,6 +241,9 @@ pub fn failures(plan: &Plan, out: &Path, log: &dyn Fn(&Case) -> PathBuf) -> Vec<
 /// Plans the sweep file into `out` and runs its unfinished cases on `executor`.
 pub fn run(sweep_file: &Path, out: &Path, executor: &Executor, exe: &Path) -> Result<RunReport> {
     let plan = Plan::from_file(sweep_file)?;
+    if let Executor::Slurm { .. } = executor {
+        slurm::check(&plan, out, exe)?;
+    }
     plan.write(out)?;
     match executor {
         Executor::Local { jobs } => local::run(&plan, out, *jobs, exe),

@@ -9,9 +9,11 @@
 //! docs/scaling.md); memory = 256 MB + 4 kB per particle.
 
 use super::case::{tail, CaseDir, Status};
+use super::spec::SlurmSection;
 use super::{FailedCase, Plan, RunReport};
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::shell;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -51,9 +53,47 @@ pub fn log_path(out: &Path, job: &str, index: usize) -> PathBuf {
         .join(format!("{job}_{index}.log"))
 }
 
+/// `#SBATCH` lines of the `[slurm]` section's free values (partition, account, time, extra),
+/// each checked by [`shell::directive_value`]; `extra` entries must be `--flag` or
+/// `--flag=value`.
+fn user_directives(s: &SlurmSection, time: &str, source: &str) -> Result<Vec<String>> {
+    let field = |f: &str| format!("sweep file {}, [slurm] {f}", shell::comment(source));
+    let mut lines = vec![format!(
+        "--time={}",
+        shell::directive_value(&field("time"), time)?
+    )];
+    if !time.chars().all(|c| c.is_ascii_digit() || c == ':' || c == '-') {
+        bail!("{}: '{time}' is not a Slurm time (minutes, MM:SS, HH:MM:SS or D-HH:MM:SS)", field("time"));
+    }
+    for (name, v) in [("partition", &s.partition), ("account", &s.account)] {
+        if let Some(v) = v {
+            lines.push(format!("--{name}={}", shell::directive_value(&field(name), v)?));
+        }
+    }
+    for (k, e) in s.extra.iter().enumerate() {
+        let what = field(&format!("extra[{k}]"));
+        let e = e.trim();
+        let (flag, value) = e.split_once('=').unwrap_or((e, ""));
+        let name_ok = flag.strip_prefix("--").is_some_and(|n| {
+            n.starts_with(|c: char| c.is_ascii_lowercase())
+                && n.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
+        });
+        if !name_ok {
+            bail!("{what}: {e:?} is not a long option `--flag` or `--flag=value` (write -q short as --qos=short)");
+        }
+        if e.contains('=') {
+            shell::directive_value(&what, value)?;
+        }
+        lines.push(e.to_string());
+    }
+    Ok(lines)
+}
+
 /// The array script for `indices` of `plan` (output directory `out` and executable `exe`
-/// as absolute paths).
-pub fn script(plan: &Plan, out: &Path, exe: &Path, indices: &[usize]) -> String {
+/// as absolute paths). Every value from the user goes through [`greybox_core::shell`]:
+/// quoted for the shell, checked against an allow-list in `#SBATCH` lines (which sbatch
+/// parses itself), escaped in comments; what cannot go in safely is refused.
+pub fn script(plan: &Plan, out: &Path, exe: &Path, indices: &[usize]) -> Result<String> {
     let s = &plan.slurm;
     let cpus = s.cpus_per_task.unwrap_or(1).max(1);
     let largest = indices
@@ -66,9 +106,16 @@ pub fn script(plan: &Plan, out: &Path, exe: &Path, indices: &[usize]) -> String 
         .time
         .clone()
         .unwrap_or_else(|| hms(3.0 * largest.0 / (RATE_PER_CORE * cpus as f64) + 300.0));
-    let mem = s
-        .mem_mb
-        .unwrap_or(256 + (largest.1 as u64 * 4096).div_ceil(1 << 20));
+    let mem = s.mem_mb.unwrap_or(
+        256 + (largest.1 as u64 * greybox_sim::particles::BYTES_PER_PARTICLE).div_ceil(1 << 20),
+    );
+    let text = |p: &Path, what: &str| {
+        p.to_str()
+            .map(str::to_string)
+            .with_context(|| format!("{what} {}: not UTF-8", p.display()))
+    };
+    let (out_text, exe_text) = (text(out, "--out")?, text(exe, "the greybox executable")?);
+    let log = format!("{out_text}/slurm/logs/%A_%a.log");
     let mut t = String::from("#!/bin/bash\n");
     let _ = writeln!(t, "#SBATCH --job-name=greybox-sweep");
     let mut array = format!("#SBATCH --array={}", array_spec(indices));
@@ -79,26 +126,19 @@ pub fn script(plan: &Plan, out: &Path, exe: &Path, indices: &[usize]) -> String 
     let _ = writeln!(
         t,
         "#SBATCH --output={}",
-        out.join("slurm/logs/%A_%a.log").display()
+        shell::directive_value(&format!("--out {}", shell::comment(&out_text)), &log)?
     );
-    let _ = writeln!(t, "#SBATCH --time={time}");
     let _ = writeln!(t, "#SBATCH --mem={mem}M");
     let _ = writeln!(t, "#SBATCH --cpus-per-task={cpus}");
     let _ = writeln!(t, "#SBATCH --ntasks=1");
-    if let Some(p) = &s.partition {
-        let _ = writeln!(t, "#SBATCH --partition={p}");
-    }
-    if let Some(a) = &s.account {
-        let _ = writeln!(t, "#SBATCH --account={a}");
-    }
-    for e in &s.extra {
-        let _ = writeln!(t, "#SBATCH {}", e.trim());
+    for d in user_directives(s, &time, &plan.source)? {
+        let _ = writeln!(t, "#SBATCH {d}");
     }
     let _ = writeln!(
         t,
         "# {} case(s) of {}; largest: {} particles, {:.3e} particle-steps",
         indices.len(),
-        plan.source,
+        shell::comment(&plan.source),
         largest.1,
         largest.0
     );
@@ -108,11 +148,24 @@ pub fn script(plan: &Plan, out: &Path, exe: &Path, indices: &[usize]) -> String 
     );
     let _ = writeln!(
         t,
-        "exec '{}' --quiet sweep run-case '{}' --index \"$SLURM_ARRAY_TASK_ID\"",
-        exe.display(),
-        out.display()
+        "exec {} --quiet sweep run-case {} --index \"$SLURM_ARRAY_TASK_ID\"",
+        shell::quote(&exe_text)?,
+        shell::quote(&out_text)?
     );
-    t
+    Ok(t)
+}
+
+/// Refuses, before anything is written, a plan whose Slurm script could not be written
+/// safely (the same checks as [`script`]).
+pub fn check(plan: &Plan, out: &Path, exe: &Path) -> Result<()> {
+    let all: Vec<usize> = (0..plan.cases.len()).collect();
+    script(
+        plan,
+        &std::path::absolute(out)?,
+        &std::path::absolute(exe)?,
+        &all,
+    )
+    .map(drop)
 }
 
 fn command_output(cmd: &mut Command, what: &str) -> Result<String> {
@@ -150,7 +203,7 @@ pub fn run(plan: &Plan, out: &Path, exe: &Path, dry_run: bool, poll_s: f64) -> R
     if indices.is_empty() {
         return Ok(report);
     }
-    let text = script(plan, &out, &exe, &indices);
+    let text = script(plan, &out, &exe, &indices)?;
     report.slurm_script = Some(text.clone());
     if dry_run {
         return Ok(report);
@@ -250,5 +303,100 @@ mod tests {
         assert_eq!(array_spec(&[4]), "4");
         assert_eq!(hms(61.0), "00:02:00");
         assert_eq!(hms(3.0 * 3600.0), "03:00:00");
+    }
+
+    fn plan(slurm: SlurmSection, source: &str) -> Plan {
+        use super::super::case::{Case, Cost};
+        Plan {
+            kind: super::super::spec::CaseKind::Pin,
+            fraction: 1.0,
+            frames: 0,
+            fields: vec![],
+            cases: vec![Case {
+                index: 0,
+                id: "abc".into(),
+                values: vec![],
+                config: String::new(),
+                cost: Cost {
+                    particles: 1000,
+                    steps: 10,
+                    particle_steps: 1e4,
+                },
+            }],
+            slurm,
+            source: source.into(),
+        }
+    }
+
+    /// The script run by bash with `/bin/echo` as the executable: the task's arguments come
+    /// out verbatim and no injected command runs.
+    #[test]
+    fn hostile_names_stay_text_when_the_script_runs() {
+        let d = tempfile::tempdir().unwrap();
+        let marker = d.path().join("pwned");
+        let m = marker.display();
+        // the source may hold anything: it only goes into a comment
+        let source = format!("s.toml\ntouch {m}\n");
+        let p = plan(SlurmSection::default(), &source);
+        let out = d.path().join("o");
+        let t = script(&p, &out, Path::new("/bin/echo"), &[0]).unwrap();
+        assert!(t.lines().filter(|l| l.starts_with('#')).count() >= 8, "{t}");
+        let run = std::process::Command::new("/bin/bash")
+            .arg("-c")
+            .arg(&t)
+            .env("SLURM_ARRAY_TASK_ID", "0")
+            .output()
+            .unwrap();
+        assert_eq!(
+            String::from_utf8_lossy(&run.stdout).trim_end(),
+            format!("--quiet sweep run-case {} --index 0", out.display())
+        );
+        assert!(!marker.exists(), "{t}");
+        // a quote, a substitution and a newline in --out: refused for the #SBATCH line
+        for bad in ["o'x", "o$(touch M)", "o\ntouch M", "o x"] {
+            let e = script(&p, &d.path().join(bad), Path::new("/bin/echo"), &[0])
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("--out") && e.contains("#SBATCH"), "{e}");
+        }
+    }
+
+    #[test]
+    fn slurm_section_values_are_checked_field_by_field() {
+        let refused = |s: SlurmSection, field: &str| {
+            let e = script(&plan(s, "s.toml"), Path::new("/o"), Path::new("/g"), &[0])
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(field) && e.contains("s.toml"), "{field}: {e}");
+        };
+        let with = |f: &dyn Fn(&mut SlurmSection)| {
+            let mut s = SlurmSection::default();
+            f(&mut s);
+            s
+        };
+        refused(with(&|s| s.partition = Some("a'; touch M; '".into())), "[slurm] partition");
+        refused(with(&|s| s.partition = Some("a\n#SBATCH --x".into())), "[slurm] partition");
+        refused(with(&|s| s.account = Some("$(id)".into())), "[slurm] account");
+        refused(with(&|s| s.time = Some("1:00\ntouch M".into())), "[slurm] time");
+        refused(with(&|s| s.time = Some("soon".into())), "[slurm] time");
+        refused(with(&|s| s.extra = vec!["--qos=short; touch M".into()]), "[slurm] extra[0]");
+        refused(with(&|s| s.extra = vec!["-q short".into()]), "[slurm] extra[0]");
+        refused(with(&|s| s.extra = vec!["--comment=a\nb".into()]), "[slurm] extra[0]");
+        let ok = with(&|s| {
+            s.partition = Some("compute".into());
+            s.account = Some("proj-42".into());
+            s.time = Some("1-02:00:00".into());
+            s.extra = vec!["--qos=short".into(), " --exclusive ".into()];
+        });
+        let t = script(&plan(ok, "s.toml"), Path::new("/o"), Path::new("/g"), &[0]).unwrap();
+        for l in [
+            "#SBATCH --partition=compute",
+            "#SBATCH --account=proj-42",
+            "#SBATCH --time=1-02:00:00",
+            "#SBATCH --qos=short",
+            "#SBATCH --exclusive",
+        ] {
+            assert!(t.lines().any(|x| x == l), "{l} in {t}");
+        }
     }
 }

@@ -5,6 +5,7 @@
 //! kind = "cutting"                  # or "pin"
 //! base = "aisi1045-cut.toml"        # relative to this file
 //! fraction = 1.0                    # of the base's cut length (cutting)
+//! max_cases = 10000                 # refuse axes that multiply to more cases
 //!
 //! [[axis]]                          # a list of values
 //! field = "cutting_speed_m_s"
@@ -55,6 +56,17 @@ pub struct SweepSection {
     /// Cutting: chip pictures per case (0: the last state only).
     #[serde(default)]
     pub frames: usize,
+    /// Most cases the axes may multiply to (default [`DEFAULT_MAX_CASES`]): counted from the
+    /// axes' lengths before any case is built, so a mistyped range cannot fill memory.
+    #[serde(default = "default_max_cases")]
+    pub max_cases: u64,
+}
+
+/// Default of `[sweep] max_cases`: 10 000 cases.
+pub const DEFAULT_MAX_CASES: u64 = 10_000;
+
+fn default_max_cases() -> u64 {
+    DEFAULT_MAX_CASES
 }
 
 fn one() -> f64 {
@@ -106,6 +118,14 @@ pub struct FieldValues {
 }
 
 impl FieldValues {
+    /// The number of values, without expanding them.
+    fn len(&self) -> usize {
+        match (&self.values, &self.range) {
+            (Some(v), None) => v.len(),
+            (None, Some(r)) => r.count,
+            _ => 0,
+        }
+    }
     fn expand(&self, what: &str) -> Result<Vec<toml::Value>> {
         match (&self.values, &self.range) {
             (Some(v), None) if !v.is_empty() => Ok(v.clone()),
@@ -174,8 +194,7 @@ pub struct ExpandedAxis {
 impl SweepFile {
     /// Reads and checks a sweep file.
     pub fn load(path: &Path) -> Result<(SweepFile, PathBuf)> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read sweep file {}", path.display()))?;
+        let text = greybox_core::budget::read_config(path, "sweep file")?;
         let f: SweepFile = toml::from_str(&text)
             .with_context(|| format!("{}: invalid sweep file", path.display()))?;
         if !(f.sweep.fraction > 0.0 && f.sweep.fraction <= 1.0) {
@@ -189,8 +208,41 @@ impl SweepFile {
         Ok((f, dir))
     }
 
-    /// Every axis with its points (zipped fields of equal length).
+    /// The number of cases the axes multiply to (as a float: it may exceed every integer
+    /// type), from their lengths alone; with the lengths per axis.
+    pub fn case_count(&self) -> (f64, Vec<usize>) {
+        let lens: Vec<usize> = self
+            .axis
+            .iter()
+            .map(|a| match &a.field {
+                Some(f) => FieldValues {
+                    field: f.clone(),
+                    values: a.values.clone(),
+                    range: a.range.clone(),
+                }
+                .len(),
+                None => a.zip.iter().map(FieldValues::len).max().unwrap_or(0),
+            })
+            .collect();
+        (lens.iter().map(|&n| n as f64).product(), lens)
+    }
+
+    /// Every axis with its points (zipped fields of equal length); refused before anything is
+    /// expanded when the axes multiply to more than `[sweep] max_cases`.
     pub fn expand_axes(&self) -> Result<Vec<ExpandedAxis>> {
+        let (count, lens) = self.case_count();
+        if count > self.sweep.max_cases as f64 {
+            let per_axis: Vec<String> = lens.iter().map(usize::to_string).collect();
+            bail!(greybox_core::budget::over_cap(
+                &format!(
+                    "the axes multiply to {count:.0} cases ({})",
+                    per_axis.join(" × ")
+                ),
+                "[sweep] max_cases",
+                &self.sweep.max_cases.to_string(),
+                "max_cases = N in the sweep file's [sweep] section",
+            ));
+        }
         self.axis
             .iter()
             .enumerate()
@@ -287,5 +339,16 @@ zip = [ { field = "friction.law_file", values = ["a.json", "none"] }, { field = 
         let f = parse("[sweep]\nkind = \"pin\"\nbase = \"b.toml\"\n[[axis]]\nfield = \"a\"\n");
         let e = f.expand_axes().unwrap_err().to_string();
         assert!(e.contains("axis 1 (a)") && e.contains("values"), "{e}");
+    }
+    #[test]
+    fn cases_are_counted_before_they_are_expanded() {
+        let t = "[sweep]\nkind = \"pin\"\nbase = \"b.toml\"\n[[axis]]\nfield = \"a\"\nrange = { start = 1, stop = 2, count = 100000 }\n[[axis]]\nfield = \"b\"\nrange = { start = 1, stop = 2, count = 100000 }\n";
+        let e = parse(t).expand_axes().unwrap_err().to_string();
+        assert!(
+            e.contains("10000000000 cases (100000 × 100000)") && e.contains("max_cases = 10000"),
+            "{e}"
+        );
+        let raised = t.replace("base = \"b.toml\"", "base = \"b.toml\"\nmax_cases = 20000000000");
+        assert_eq!(parse(&raised).case_count().0, 1e10);
     }
 }

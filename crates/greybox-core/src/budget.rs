@@ -1,0 +1,220 @@
+//! Budgets: every reader of untrusted input has a named cap, checked *before* the work or
+//! the allocation it bounds, and an error that says what was found, which cap it exceeds and
+//! how to raise it.
+//!
+//! The caps of the readers ([`Cap`]) are process-wide: their defaults are in [`DEFAULT`],
+//! the `greybox` command line raises them with global options (`--max-input-mib`, …, see
+//! [`Cap::option`]), a library user with [`set`]. Caps that belong to one configuration live
+//! in it: a sweep's `[sweep] max_cases`, a set-up's `numerics.max_particles`.
+
+use crate::{Error, Result, SourcePos};
+use std::io::Read;
+use std::path::Path;
+use std::sync::RwLock;
+
+/// The process-wide caps of the readers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Budget {
+    /// Largest configuration file read whole (cutting / pin set-up TOML, sweep file, a sweep's
+    /// base configuration), bytes. Default 16 MiB (the bundled set-ups are 3 kB).
+    pub max_input_bytes: u64,
+    /// Most elements of a UBJSON typed container whose elements take no bytes in the file
+    /// (`null`, `true`, `false`), elements. Other containers are bounded by the bytes left in
+    /// the file. Default 1 048 576.
+    pub max_array_len: u64,
+    /// Most cells of one spreadsheet sheet: its declared `<dimension>`, the bounding box of
+    /// its cells (what is held in memory) and its shared-strings count, cells.
+    /// Default 20 000 000 (Excel's 1 048 576 rows × 19 columns).
+    pub max_sheet_cells: u64,
+    /// Most bytes the entries of a spreadsheet archive (xlsx, xlsm, xlsb, ods) expand to,
+    /// together, bytes. Default 512 MiB.
+    pub max_uncompressed_bytes: u64,
+    /// Longest line in the head of a text recording (the lines its layout is sniffed from),
+    /// bytes. Default 1 MiB.
+    pub max_line_bytes: u64,
+}
+
+/// The default caps.
+pub const DEFAULT: Budget = Budget {
+    max_input_bytes: 16 << 20,
+    max_array_len: 1 << 20,
+    max_sheet_cells: 20_000_000,
+    max_uncompressed_bytes: 512 << 20,
+    max_line_bytes: 1 << 20,
+};
+
+impl Default for Budget {
+    fn default() -> Self {
+        DEFAULT
+    }
+}
+
+static CURRENT: RwLock<Budget> = RwLock::new(DEFAULT);
+
+/// The caps in force.
+pub fn current() -> Budget {
+    *CURRENT.read().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Sets the caps for the rest of the process.
+pub fn set(b: Budget) {
+    *CURRENT.write().unwrap_or_else(|e| e.into_inner()) = b;
+}
+
+/// One cap of [`Budget`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Cap {
+    InputBytes,
+    ArrayLen,
+    SheetCells,
+    UncompressedBytes,
+    LineBytes,
+}
+
+impl Cap {
+    /// The cap's name (the field of [`Budget`]).
+    pub fn name(self) -> &'static str {
+        match self {
+            Cap::InputBytes => "max_input_bytes",
+            Cap::ArrayLen => "max_array_len",
+            Cap::SheetCells => "max_sheet_cells",
+            Cap::UncompressedBytes => "max_uncompressed_bytes",
+            Cap::LineBytes => "max_line_bytes",
+        }
+    }
+    /// The `greybox` option that raises it.
+    pub fn option(self) -> &'static str {
+        match self {
+            Cap::InputBytes => "greybox --max-input-mib",
+            Cap::ArrayLen => "greybox --max-array-len",
+            Cap::SheetCells => "greybox --max-sheet-cells",
+            Cap::UncompressedBytes => "greybox --max-uncompressed-mib",
+            Cap::LineBytes => "greybox --max-line-kib",
+        }
+    }
+    /// The cap's value now.
+    pub fn limit(self) -> u64 {
+        let b = current();
+        match self {
+            Cap::InputBytes => b.max_input_bytes,
+            Cap::ArrayLen => b.max_array_len,
+            Cap::SheetCells => b.max_sheet_cells,
+            Cap::UncompressedBytes => b.max_uncompressed_bytes,
+            Cap::LineBytes => b.max_line_bytes,
+        }
+    }
+    /// `Ok` when `value` is within the cap, else the message: `found` (what was found, e.g.
+    /// "the sheet declares 3e9 cells"), the cap and the option that raises it.
+    pub fn check(self, value: u64, found: impl FnOnce() -> String) -> Result<(), String> {
+        let limit = self.limit();
+        if value <= limit {
+            return Ok(());
+        }
+        Err(over_cap(&found(), self.name(), &limit.to_string(), self.option()))
+    }
+}
+
+/// The one wording of a refusal by a cap: what was found, the cap's name and value, and what
+/// raises it.
+pub fn over_cap(found: &str, cap: &str, limit: &str, raise: &str) -> String {
+    format!("{found}: above the cap {cap} = {limit} (raise it with {raise} if this is intended)")
+}
+
+/// A byte count for messages: `3.00 GB`.
+pub fn bytes_text(b: f64) -> String {
+    const UNITS: [&str; 6] = ["B", "kB", "MB", "GB", "TB", "PB"];
+    let mut v = b;
+    let mut u = 0;
+    while v >= 1000.0 && u + 1 < UNITS.len() {
+        v /= 1000.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{v:.0} B")
+    } else {
+        format!("{v:.2} {}", UNITS[u])
+    }
+}
+
+/// Reads a configuration file whole: only a regular file (a device such as `/dev/zero`, a
+/// FIFO or a directory is refused with the path named, before it is opened: opening a FIFO
+/// would wait for a writer) of at most [`Budget::max_input_bytes`]. `what` names the file's
+/// role in messages ("sweep file", "base configuration").
+pub fn read_config_bytes(path: &Path, what: &str) -> Result<Vec<u8>> {
+    let pos = || SourcePos::path(path);
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if !meta.is_file() {
+        return Err(Error::input(
+            pos(),
+            format!(
+                "the {what} is {}, not a regular file: only regular files are read as configurations",
+                crate::atomic::describe_kind(&meta)
+            ),
+        ));
+    }
+    let cap = Cap::InputBytes;
+    let too_big = |n: u64| {
+        cap.check(n, || format!("the {what} is {} bytes", n))
+            .map_err(|m| Error::input(pos(), m))
+    };
+    too_big(meta.len())?;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(cap.limit().saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(path, e))?;
+    // the file may have grown since its size was read
+    too_big(bytes.len() as u64)?;
+    Ok(bytes)
+}
+
+/// [`read_config_bytes`] as UTF-8 text.
+pub fn read_config(path: &Path, what: &str) -> Result<String> {
+    String::from_utf8(read_config_bytes(path, what)?).map_err(|e| {
+        Error::input(
+            SourcePos::path(path).byte(e.utf8_error().valid_up_to() as u64),
+            format!("the {what} is not UTF-8 text"),
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_regular_files_within_the_cap_are_read() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("c.toml");
+        std::fs::write(&p, "a = 1\n").unwrap();
+        assert_eq!(read_config(&p, "set-up").unwrap(), "a = 1\n");
+        let e = read_config(Path::new("/dev/zero"), "base configuration")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("/dev/zero") && e.contains("character device") && e.contains("regular"),
+            "{e}"
+        );
+        let e = read_config(d.path(), "set-up").unwrap_err().to_string();
+        assert!(e.contains("directory"), "{e}");
+        let big = d.path().join("big.toml");
+        let f = std::fs::File::create(&big).unwrap();
+        f.set_len(DEFAULT.max_input_bytes + 1).unwrap();
+        let e = read_config(&big, "sweep file").unwrap_err().to_string();
+        assert!(
+            e.contains("big.toml") && e.contains("max_input_bytes") && e.contains("--max-input-mib"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn caps_name_themselves_and_their_option() {
+        assert!(Cap::ArrayLen.check(DEFAULT.max_array_len, String::new).is_ok());
+        let e = Cap::SheetCells
+            .check(DEFAULT.max_sheet_cells + 1, || "the sheet has many cells".into())
+            .unwrap_err();
+        assert!(e.contains("max_sheet_cells = 20000000") && e.contains("--max-sheet-cells"), "{e}");
+        assert_eq!(bytes_text(2.9e12), "2.90 TB");
+        assert_eq!(bytes_text(12.0), "12 B");
+    }
+}
