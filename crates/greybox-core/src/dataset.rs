@@ -61,6 +61,10 @@ pub mod flags {
     pub const SPIKES_REMOVED: &str = "spikes-removed";
     /// No unloaded window in the recording: force offsets could not be removed.
     pub const NO_BASELINE: &str = "no-baseline";
+    /// A segment boundary touching this row is weakly determined (the change across it is
+    /// comparable to the noise, or the segments contradict the plan's count or regular
+    /// timing); the identification report gives its uncertainty in seconds.
+    pub const UNCERTAIN_BOUNDARY: &str = "uncertain-boundary";
 }
 
 /// One identified friction coefficient (SI units).
