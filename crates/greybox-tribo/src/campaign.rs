@@ -27,7 +27,7 @@ use crate::recording::{ReadReport, Recording, SpeedTrace};
 use crate::signal::{mad_sigma, median, moving_average};
 use crate::identify_config::SteadyRule;
 use crate::steady::{
-    final_stationary, plateau_stats, rule_span, steady_span, step_signals, windows, StepSignals,
+    final_stationary, mean_standard_error, plateau_stats, rule_span, steady_span, step_signals, windows, StepSignals,
 };
 use greybox_core::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header};
 use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
@@ -127,6 +127,9 @@ pub struct SegmentReport {
     pub step_label: Option<f64>,
     pub cof: Option<f64>,
     pub cof_std: Option<f64>,
+    /// Standard error of μ's mean under serial correlation
+    /// ([`crate::steady::mean_standard_error`]).
+    pub cof_sem: Option<f64>,
     pub n_samples: usize,
     pub flags: Vec<String>,
     /// Plan pin and step it was matched to.
@@ -209,6 +212,8 @@ struct Span {
     j: usize,
     label: Option<f64>,
     unc: (f64, f64),
+    /// The run's standard error of a one-second mean of μ, √s (0: from the segment alone).
+    run_sem: f64,
 }
 
 impl Span {
@@ -218,6 +223,7 @@ impl Span {
             j,
             label,
             unc: (0.0, 0.0),
+            run_sem: 0.0,
         }
     }
 }
@@ -570,6 +576,85 @@ fn sliding_runs(p: &Prepared) -> Vec<Span> {
     out
 }
 
+/// Prefix sums of a series and its squares: the least-squares cost of a constant piece in O(1).
+struct PrefixSums {
+    s1: Vec<f64>,
+    s2: Vec<f64>,
+}
+
+impl PrefixSums {
+    fn new(x: &[f64]) -> Self {
+        let mut s1 = vec![0.0; x.len() + 1];
+        let mut s2 = vec![0.0; x.len() + 1];
+        for (i, v) in x.iter().enumerate() {
+            s1[i + 1] = s1[i] + v;
+            s2[i + 1] = s2[i] + v * v;
+        }
+        PrefixSums { s1, s2 }
+    }
+
+    /// Sum of squared deviations from the mean over `[a, b)` (0 for an empty piece).
+    fn cost(&self, a: usize, b: usize) -> f64 {
+        if b <= a {
+            return 0.0;
+        }
+        let m = (b - a) as f64;
+        let s = self.s1[b] - self.s1[a];
+        (self.s2[b] - self.s2[a]) - s * s / m
+    }
+}
+
+/// Residuals of `x` about the means of its pieces split at `bounds`.
+fn split_residuals(x: &[f64], bounds: &[usize]) -> Vec<f64> {
+    let mut edges = vec![0];
+    edges.extend_from_slice(bounds);
+    edges.push(x.len());
+    let mut resid = Vec::with_capacity(x.len());
+    for w in edges.windows(2) {
+        let piece = &x[w[0]..w[1]];
+        let m = piece.iter().sum::<f64>() / piece.len().max(1) as f64;
+        resid.extend(piece.iter().map(|v| v - m));
+    }
+    resid
+}
+
+/// χ²(1) at 95 %: a boundary position whose cost exceeds the optimum by less than this many
+/// noise variances is as good as the optimum.
+const CHI2_1_95: f64 = 3.84;
+
+/// Uncertainty of each inner boundary of a piecewise-constant split of `x` at `bounds`, in
+/// samples of `x`: the largest distance from the boundary of a position whose two-piece cost
+/// (the neighbouring boundaries fixed) lies within χ²₁(95 %) noise variances of the optimum
+/// (Hinkley 1970, "Inference about the change-point in a sequence of random variables",
+/// likelihood-ratio confidence set). The noise variance is the residual variance of the
+/// split, inflated by (1 + ρ₁)/(1 − ρ₁) for the lag-1 autocorrelation ρ₁ of the residuals
+/// (a periodic disturbance such as spindle run-out is correlated noise, not signal).
+fn boundary_uncertainty(x: &[f64], bounds: &[usize]) -> Vec<usize> {
+    let n = x.len();
+    let sums = PrefixSums::new(x);
+    let mut edges = vec![0];
+    edges.extend_from_slice(bounds);
+    edges.push(n);
+    let resid = split_residuals(x, bounds);
+    let var = resid.iter().map(|r| r * r).sum::<f64>() / (n.saturating_sub(edges.len() - 1)).max(1) as f64;
+    let lag1 = resid.windows(2).map(|w| w[0] * w[1]).sum::<f64>()
+        / resid.iter().map(|r| r * r).sum::<f64>().max(1e-300);
+    let rho = lag1.clamp(0.0, 0.95);
+    let threshold = CHI2_1_95 * var * (1.0 + rho) / (1.0 - rho);
+    (1..edges.len() - 1)
+        .map(|k| {
+            let (lo, c, hi) = (edges[k - 1], edges[k], edges[k + 1]);
+            let two = |m: usize| sums.cost(lo, m) + sums.cost(m, hi);
+            let best = two(c);
+            (lo + 1..hi)
+                .filter(|m| two(*m) <= best + threshold)
+                .map(|m| m.abs_diff(c))
+                .max()
+                .unwrap_or(0)
+        })
+        .collect()
+}
+
 /// Optimal split of `x` into `k` pieces of at least `min_len` by least squares (dynamic
 /// programming over prefix sums). Returns the `k − 1` inner boundaries.
 #[allow(clippy::needless_range_loop)] // a dynamic programme over index ranges
@@ -581,17 +666,8 @@ fn split_into(x: &[f64], k: usize, min_len: usize) -> Option<Vec<usize>> {
     if k * min_len > n {
         return None;
     }
-    let mut s1 = vec![0.0; n + 1];
-    let mut s2 = vec![0.0; n + 1];
-    for (i, v) in x.iter().enumerate() {
-        s1[i + 1] = s1[i] + v;
-        s2[i + 1] = s2[i] + v * v;
-    }
-    let cost = |a: usize, b: usize| {
-        let m = (b - a) as f64;
-        let s = s1[b] - s1[a];
-        (s2[b] - s2[a]) - s * s / m
-    };
+    let sums = PrefixSums::new(x);
+    let cost = |a: usize, b: usize| sums.cost(a, b);
     // best[j][e]: cost of splitting x[..e] into j + 1 pieces (indexed loops: the
     // recurrence reads best[j - 1][a] and writes best[j][e], clearest with indices)
     let inf = f64::INFINITY;
@@ -717,13 +793,57 @@ fn split_run(p: &Prepared, run: Span, k: Option<usize>, cfg: &IdentifyConfig) ->
         }
         None => split_penalised(blocks, min_abs),
     };
+    let block_s = b as f64 / p.fs;
+    let unc = weak_boundaries(blocks, &bounds, k.is_some(), block_s);
+    // the run's disturbance (noise and slow periodic parts such as run-out) as the standard
+    // error of a mean over one second: SE(T) = run_sem / √T
+    let resid = split_residuals(blocks, &bounds);
+    let run_sem = mean_standard_error(&resid) * (resid.len() as f64 * block_s).sqrt();
     let mut edges = vec![run.i];
     edges.extend(bounds.iter().map(|c| run.i + c * b));
     edges.push(run.j);
     Ok(edges
         .windows(2)
-        .map(|w| Span::new(w[0], w[1], None))
+        .enumerate()
+        .map(|(s, w)| {
+            let mut span = Span::new(w[0], w[1], None);
+            span.run_sem = run_sem;
+            span.unc = (
+                s.checked_sub(1).map_or(0.0, |q| unc[q]),
+                unc.get(s).copied().unwrap_or(0.0),
+            );
+            span
+        })
         .collect())
+}
+
+/// The uncertainty, s, of each inner boundary of a run split at `bounds` (blocks of
+/// `block_s` seconds), 0 where the boundary is well determined: its likelihood-ratio
+/// confidence set ([`boundary_uncertainty`]) reaching two blocks or more; and, when the plan
+/// gave the step count (`planned`), a step whose length differs by more than 30 % from the
+/// median step (the plan's regular timing contradicted) makes both its boundaries uncertain
+/// by that difference.
+fn weak_boundaries(blocks: &[f64], bounds: &[usize], planned: bool, block_s: f64) -> Vec<f64> {
+    let mut unc: Vec<f64> = boundary_uncertainty(blocks, bounds)
+        .into_iter()
+        .map(|u| if u >= 2 { u as f64 * block_s } else { 0.0 })
+        .collect();
+    if planned && bounds.len() >= 2 {
+        let mut edges = vec![0];
+        edges.extend_from_slice(bounds);
+        edges.push(blocks.len());
+        let lens: Vec<f64> = edges.windows(2).map(|w| (w[1] - w[0]) as f64).collect();
+        let med = median(&lens);
+        for (s, len) in lens.iter().enumerate() {
+            let off = (len - med).abs();
+            if off > 0.3 * med {
+                for q in [s.checked_sub(1), (s < bounds.len()).then_some(s)].into_iter().flatten() {
+                    unc[q] = unc[q].max(off * block_s);
+                }
+            }
+        }
+    }
+    unc
 }
 
 /// The steady part of a segment, window-relative `[a, b)`, and the run-in end (`auto` only).
@@ -770,6 +890,7 @@ fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> Segm
         step_label: span.label,
         cof: None,
         cof_std: None,
+        cof_sem: None,
         n_samples: 0,
         flags: Vec::new(),
         matched: None,
@@ -848,6 +969,14 @@ fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> Segm
     }
     if rep.boundary_uncertainty_s.is_some() {
         rep.flags.push(flags::UNCERTAIN_BOUNDARY.to_string());
+    }
+    let used: Vec<f64> = (pa..pb).filter(|k| sig.good[*k]).map(|k| sig.mu[k]).collect();
+    // the window's own serial correlation, or the run's disturbance over the window's length
+    // (a window on the crest of a slow run-out looks flat on its own)
+    let sem = mean_standard_error(&used).max(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt());
+    rep.cof_sem = Some(sem);
+    if 2.0 * sem > cfg.mean_uncertainty_tolerance {
+        rep.flags.push(flags::UNCERTAIN_MEAN.to_string());
     }
     rep.stats = Some(st);
     rep
@@ -1559,6 +1688,7 @@ fn plan_timed(recs: &[Recording], plan: &Plan, c: &Campaign) -> Result<Vec<FileR
                 step_label: None,
                 cof: Some(r.cof_apparent),
                 cof_std: Some(r.cof_apparent_std),
+                cof_sem: None,
                 n_samples: r.n_samples as usize,
                 flags: r.flags.clone(),
                 matched: Some((r.pin, r.step)),

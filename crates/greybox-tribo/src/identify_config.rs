@@ -167,6 +167,9 @@ pub struct IdentifyConfig {
     /// Which part of a segment gives its steady value (`auto`: after run-in, see
     /// [`SteadyRule`]).
     pub steady: SteadyRule,
+    /// A row whose μ has a 95 % half-width (twice the standard error of the mean under
+    /// serial correlation) above this is flagged `uncertain-mean` (0.003).
+    pub mean_uncertainty_tolerance: f64,
 }
 
 impl Default for IdentifyConfig {
@@ -192,6 +195,7 @@ impl Default for IdentifyConfig {
             match_load_tolerance: 0.3,
             match_speed_tolerance: 0.1,
             steady: SteadyRule::Auto,
+            mean_uncertainty_tolerance: 0.003,
         }
     }
 }

@@ -167,6 +167,37 @@ pub fn rule_span(rule: SteadyRule, t: &[f64]) -> Option<(usize, usize)> {
     (a < n).then_some((a, n))
 }
 
+/// Standard error of the mean of `x` under serial correlation: the variance of the mean is
+/// σ²·τ/n with the integrated autocorrelation time τ = 1 + 2 Σ ρ_k summed while ρ_k stays
+/// positive (Geyer 1992, "Practical Markov chain Monte Carlo", initial positive sequence),
+/// over means of blocks of n/256 samples (so long windows stay cheap). A periodic disturbance
+/// slower than the window (spindle run-out at low speed) leaves a large τ and so a large
+/// error, where white noise leaves τ ≈ 1.
+pub fn mean_standard_error(x: &[f64]) -> f64 {
+    let n = x.len();
+    if n < 4 {
+        return f64::INFINITY;
+    }
+    let m = (n / 256).max(1);
+    let y: Vec<f64> = x.chunks(m).map(|c| c.iter().sum::<f64>() / c.len() as f64).collect();
+    let nb = y.len();
+    let mean = y.iter().sum::<f64>() / nb as f64;
+    let r: Vec<f64> = y.iter().map(|v| v - mean).collect();
+    let c0 = r.iter().map(|v| v * v).sum::<f64>();
+    if c0 <= 0.0 {
+        return 0.0;
+    }
+    let mut tau = 1.0;
+    for lag in 1..nb / 2 {
+        let rho = r.iter().zip(&r[lag..]).map(|(a, b)| a * b).sum::<f64>() / c0;
+        if rho <= 0.0 {
+            break;
+        }
+        tau += 2.0 * rho;
+    }
+    (c0 / nb as f64 * tau / nb as f64).sqrt()
+}
+
 /// Statistics of one plateau.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlateauStats {
