@@ -11,6 +11,7 @@ use greybox_pipeline::identify::{
 use greybox_pipeline::study::Study;
 use greybox_tribo::campaign::{read_expected_steps, FileReport, Segmentation};
 use greybox_tribo::identify::Alignment;
+use greybox_tribo::identify_config::SteadyRule;
 use greybox_tribo::readers::RecordingFormat;
 use std::path::{Path, PathBuf};
 
@@ -118,6 +119,12 @@ pub struct Args {
     /// How to align the plan with each recording (plan-timing path).
     #[arg(long, value_enum)]
     pub align: Option<AlignArg>,
+    /// Which part of each segment gives its steady value: `auto` (the final stationary
+    /// stretch after run-in, ASTM G99/G133 practice; drift reported as a trend), `last:P%`
+    /// (the last P % of the segment's sliding time) or `from:Ts` (from T seconds after the
+    /// segment's start).
+    #[arg(long, value_parser = parse_steady)]
+    pub steady: Option<SteadyRule>,
     /// Time dropped after the spindle ramp, s.
     #[arg(long = "settle-s")]
     pub settle_s: Option<f64>,
@@ -176,6 +183,10 @@ pub struct Args {
     /// Print the result as JSON.
     #[arg(long)]
     pub json: bool,
+}
+
+fn parse_steady(s: &str) -> std::result::Result<SteadyRule, String> {
+    s.parse()
 }
 
 /// Whether the user gave a plan: a `[plan]` section in the study, or a plan-shape flag.
@@ -250,6 +261,9 @@ pub fn run(args: Args) -> Result<()> {
     }
     if let Some(s) = args.segment {
         study.identify.segmentation = s.into();
+    }
+    if let Some(r) = args.steady {
+        study.identify.steady = r;
     }
     if let Some(s) = args.settle_s {
         study.identify.settle_time_s = s;

@@ -61,6 +61,14 @@ pub mod flags {
     pub const SPIKES_REMOVED: &str = "spikes-removed";
     /// No unloaded window in the recording: force offsets could not be removed.
     pub const NO_BASELINE: &str = "no-baseline";
+    /// A segment boundary touching this row is weakly determined (the change across it is
+    /// comparable to the noise, or the segments contradict the plan's count or regular
+    /// timing); the identification report gives its uncertainty in seconds.
+    pub const UNCERTAIN_BOUNDARY: &str = "uncertain-boundary";
+    /// The steady window is short against a slow disturbance (e.g. spindle run-out below two
+    /// turns per window): twice the mean's standard error under serial correlation exceeds
+    /// the tolerance, so μ may be off by more than it.
+    pub const UNCERTAIN_MEAN: &str = "uncertain-mean";
 }
 
 /// One identified friction coefficient (SI units).

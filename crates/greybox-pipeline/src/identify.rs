@@ -411,6 +411,8 @@ pub fn inspect_text(files: &[FileReport]) -> String {
             "speed",
             "v [m/min]",
             "steady [s]",
+            "run-in [s]",
+            "drift [1/h]",
             "COF",
             "flags",
             "plan",
@@ -428,10 +430,13 @@ pub fn inspect_text(files: &[FileReport]) -> String {
                     (Some(a), Some(b)) => format!("{a:.3}-{b:.3}"),
                     _ => "-".into(),
                 },
+                g.run_in_s.map_or("-".into(), |r| format!("{r:.1}")),
+                g.drift_per_hour.map_or("-".into(), |d| format!("{d:+.4}")),
                 g.cof.map_or("-".into(), |c| format!("{c:.4}")),
-                match &g.problem {
-                    Some(p) => p.clone(),
-                    None => g.flags.join(";"),
+                match (&g.problem, g.boundary_uncertainty_s) {
+                    (Some(p), _) => p.clone(),
+                    (None, Some(u)) => format!("{} (boundary ±{u:.3} s)", g.flags.join(";")),
+                    (None, None) => g.flags.join(";"),
                 },
                 g.matched
                     .map_or("-".into(), |(p, k)| format!("pin {p} step {k}")),
@@ -612,18 +617,29 @@ fn write_inspect_plots(recs: &[Recording], found: &[FileReport], dir: &Path) -> 
             });
         }
         let labels: Vec<String> = f.segments.iter().map(|g| format!("{}", g.index)).collect();
-        let bands: Vec<(f64, f64, &str)> = f
+        let mut bands: Vec<(f64, f64, &str)> = f
             .segments
             .iter()
             .zip(&labels)
             .filter_map(|(g, l)| Some((g.steady_start_s?, g.steady_end_s?, l.as_str())))
             .collect();
+        // weakly determined boundaries: a band of ± their uncertainty around each
+        let unsure: Vec<(f64, f64, String)> = f
+            .segments
+            .iter()
+            .filter_map(|g| Some((g.start_s, g.end_s, g.boundary_uncertainty_s?)))
+            .flat_map(|(a, b, u)| [a, b].map(|x| (x - u, x + u, format!("?±{u:.2}s"))))
+            .collect();
+        bands.extend(unsure.iter().map(|(a, b, l)| (*a, *b, l.as_str())));
         let name = Path::new(&f.source)
             .file_name()
             .map(|s| s.to_string_lossy().to_string())
             .unwrap_or_else(|| "recording".into());
         let svg = greybox_core::plot::lines(
-            &format!("{name}: steady windows shaded ({})", f.segmentation),
+            &format!(
+                "{name}: steady windows shaded, uncertain boundaries as ?±s ({})",
+                f.segmentation
+            ),
             "time [s]",
             "F_t/F_N [-] and F_N/max F_N [-]",
             &[

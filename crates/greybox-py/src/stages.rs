@@ -183,9 +183,10 @@ fn read_recording<'py>(
 /// Identify a campaign's recordings (files or directories, any supported rig format) into
 /// the dataset CSV `dataset`: JSON summary. `study` is a study TOML (default: the bundled
 /// example study, its plan's counts overridable); `use_plan` matches segments to its plan
-/// instead of taking loads and velocities from the recordings.
+/// instead of taking loads and velocities from the recordings. `steady` is the steady-state
+/// rule (`auto`, `last:P%`, `from:Ts`; default: the study's, `auto`).
 #[pyfunction]
-#[pyo3(signature = (recordings, dataset, study = None, use_plan = false, truth = None, track_radii_mm = Vec::new(), normal_force_count = None, velocity_count = None))]
+#[pyo3(signature = (recordings, dataset, study = None, use_plan = false, truth = None, track_radii_mm = Vec::new(), normal_force_count = None, velocity_count = None, steady = None))]
 #[allow(clippy::too_many_arguments)]
 fn identify(
     py: Python<'_>,
@@ -197,9 +198,13 @@ fn identify(
     track_radii_mm: Vec<f64>,
     normal_force_count: Option<usize>,
     velocity_count: Option<usize>,
+    steady: Option<String>,
 ) -> PyResult<String> {
     let r = py.detach(|| -> anyhow::Result<_> {
-        let s = study_or_example(study.as_deref(), normal_force_count, velocity_count)?;
+        let mut s = study_or_example(study.as_deref(), normal_force_count, velocity_count)?;
+        if let Some(rule) = &steady {
+            s.identify.steady = rule.parse().map_err(anyhow::Error::msg)?;
+        }
         let mut o = IdentifyOptions::new(recordings, dataset);
         if use_plan {
             o = o.with_plan(s.plan.build()?);

@@ -25,7 +25,10 @@ use crate::identify::{identify_pin, IdentifyConfig};
 use crate::plan::Plan;
 use crate::recording::{ReadReport, Recording, SpeedTrace};
 use crate::signal::{mad_sigma, median, moving_average};
-use crate::steady::{plateau_stats, steady_span, step_signals, windows};
+use crate::identify_config::SteadyRule;
+use crate::steady::{
+    final_stationary, mean_standard_error, plateau_stats, rule_span, steady_span, step_signals, windows, StepSignals,
+};
 use greybox_core::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header};
 use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
 use greybox_core::units;
@@ -124,12 +127,25 @@ pub struct SegmentReport {
     pub step_label: Option<f64>,
     pub cof: Option<f64>,
     pub cof_std: Option<f64>,
+    /// Standard error of μ's mean under serial correlation
+    /// ([`crate::steady::mean_standard_error`]).
+    pub cof_sem: Option<f64>,
     pub n_samples: usize,
     pub flags: Vec<String>,
     /// Plan pin and step it was matched to.
     pub matched: Option<(u32, u32)>,
     /// Why this segment gave no row.
     pub problem: Option<String>,
+    /// Run-in before the steady part, s from the segment start: the time until μ's running
+    /// level enters, and stays in, the final stretch's band (ASTM G99-17 §9; `auto` rule only).
+    pub run_in_s: Option<f64>,
+    /// Slope of μ over the steady part, 1/h (a slow drift is reported, not cut away).
+    pub drift_per_hour: Option<f64>,
+    /// Slope of μ over the steady part per sliding distance, 1/km (when the speed is known).
+    pub drift_per_km: Option<f64>,
+    /// Uncertainty of the segment's boundaries where one is weakly determined, s (the larger
+    /// of the two; rows then carry `uncertain-boundary`).
+    pub boundary_uncertainty_s: Option<f64>,
     #[serde(skip)]
     stats: Option<crate::steady::PlateauStats>,
 }
@@ -188,12 +204,28 @@ struct Prepared<'a> {
     report: FileReport,
 }
 
-/// Sample ranges of a segment, `[i, j)`, with its step label.
+/// Sample ranges of a segment, `[i, j)`, with its step label and the uncertainty of its
+/// start and end boundaries, s (0 where the boundary is sharp).
 #[derive(Debug, Clone, Copy)]
 struct Span {
     i: usize,
     j: usize,
     label: Option<f64>,
+    unc: (f64, f64),
+    /// The run's standard error of a one-second mean of μ, √s (0: from the segment alone).
+    run_sem: f64,
+}
+
+impl Span {
+    fn new(i: usize, j: usize, label: Option<f64>) -> Self {
+        Span {
+            i,
+            j,
+            label,
+            unc: (0.0, 0.0),
+            run_sem: 0.0,
+        }
+    }
 }
 
 fn quantile(x: &[f64], q: f64) -> f64 {
@@ -371,11 +403,7 @@ fn spans_from_steps(p: &Prepared, steps: &[f64]) -> Vec<Span> {
         if k == steps.len() || steps[k] != steps[s] {
             let slide: Vec<usize> = (s..k).filter(|i| p.sliding[*i]).collect();
             if let (Some(&a), Some(&b)) = (slide.first(), slide.last()) {
-                out.push(Span {
-                    i: a,
-                    j: b + 1,
-                    label: Some(steps[s]),
-                });
+                out.push(Span::new(a, b + 1, Some(steps[s])));
             }
             s = k;
         }
@@ -383,41 +411,153 @@ fn spans_from_steps(p: &Prepared, steps: &[f64]) -> Vec<Span> {
     out
 }
 
-/// Runs of constant speed above rest (block medians within `speed_tolerance` of the run's
-/// level), restricted to loaded samples.
-fn spans_from_speed(p: &Prepared, speed: &[f64], cfg: &IdentifyConfig) -> Vec<Span> {
+/// How far a channel may stray and still hold one level: `rel` × |level| + `abs`.
+#[derive(Debug, Clone, Copy)]
+struct LevelTolerance {
+    rel: f64,
+    abs: f64,
+}
+
+impl LevelTolerance {
+    /// Tolerance of a speed (or load) channel from its own noise: the larger of
+    /// `speed_tolerance` and four robust relative standard deviations of the block values
+    /// (from the MAD of their first differences / √2 and of their residuals about a running
+    /// median, so both white jitter and a slow wander count), plus 1.5 quantisation steps
+    /// (the smallest non-zero change of the raw samples: a channel stepping by its LSB does
+    /// not split). With a plan, at most 0.4 of its smallest relative step between distinct
+    /// speeds, so that neighbouring planned levels stay apart. `sm` are block medians, `raw`
+    /// the samples, `rest` the level below which the channel is at rest.
+    fn from_noise(sm: &[f64], raw: &[f64], rest: f64, base_rel: f64, plan_step: Option<f64>) -> Self {
+        let moving: Vec<usize> = (0..sm.len()).filter(|k| sm[*k].abs() >= rest).collect();
+        let rel_diff: Vec<f64> = moving
+            .windows(2)
+            .filter(|w| w[1] == w[0] + 1)
+            .map(|w| (sm[w[1]] - sm[w[0]]) / sm[w[1]].abs())
+            .collect();
+        let rm = crate::signal::running_median(sm, 5);
+        let rel_resid: Vec<f64> = moving.iter().map(|&k| (sm[k] - rm[k]) / sm[k].abs()).collect();
+        let sigma = if rel_diff.len() >= 4 {
+            (mad_sigma(&rel_diff, 0.0) / std::f64::consts::SQRT_2).max(mad_sigma(&rel_resid, 0.0))
+        } else {
+            0.0
+        };
+        let lsb = raw
+            .windows(2)
+            .map(|w| (w[1] - w[0]).abs())
+            .filter(|d| *d > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        let lsb = if lsb.is_finite() { lsb } else { 0.0 };
+        let mut rel = base_rel.max(4.0 * sigma);
+        if let Some(step) = plan_step {
+            rel = rel.min(0.4 * step).max(base_rel.min(0.4 * step));
+        }
+        LevelTolerance {
+            rel,
+            abs: (0.1 * rest).max(1.5 * lsb),
+        }
+    }
+
+    fn within(&self, a: f64, level: f64) -> bool {
+        (a - level).abs() <= self.rel * level.abs() + self.abs
+    }
+}
+
+/// The smallest relative step between distinct planned sliding velocities.
+fn plan_speed_step(expected: Option<&[ExpectedStep]>) -> Option<f64> {
+    let mut v: Vec<f64> = expected?.iter().map(|e| e.sliding_velocity_m_s).collect();
+    v.sort_by(f64::total_cmp);
+    v.windows(2)
+        .map(|w| (w[1] - w[0]) / w[1])
+        .filter(|d| *d > 1e-6)
+        .reduce(f64::min)
+}
+
+/// Runs of one level above rest in block medians `sm`: `(start, end, level)` in blocks, each
+/// run grown while blocks stay within `tol` of its running median.
+fn level_runs(sm: &[f64], rest: f64, tol: LevelTolerance) -> Vec<(usize, usize, f64)> {
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < sm.len() {
+        if sm[k].abs() < rest {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        let mut members = vec![sm[k]];
+        k += 1;
+        while k < sm.len() && tol.within(sm[k], median(&members)) {
+            members.push(sm[k]);
+            k += 1;
+        }
+        out.push((start, k, median(&members)));
+    }
+    out
+}
+
+/// Merge spurious splits: contiguous runs at the same level (within `tol`) join, and so do
+/// two runs at the same level separated only by runs shorter than `min_blocks` (a jitter
+/// excursion), which are absorbed.
+fn merge_same_level(
+    runs: Vec<(usize, usize, f64)>,
+    tol: LevelTolerance,
+    min_blocks: usize,
+) -> Vec<(usize, usize, f64)> {
+    let mut out: Vec<(usize, usize, f64)> = Vec::with_capacity(runs.len());
+    for r in runs {
+        // the latest run at r's level reachable across contiguous short runs only
+        let mut back = out.len();
+        let mut k = out.len();
+        while k > 0 {
+            let prev = out[k - 1];
+            let next_start = if k == out.len() { r.0 } else { out[k].0 };
+            if prev.1 != next_start {
+                break;
+            }
+            if tol.within(prev.2, r.2) || tol.within(r.2, prev.2) {
+                back = k - 1;
+                break;
+            }
+            if prev.1 - prev.0 >= min_blocks {
+                break;
+            }
+            k -= 1;
+        }
+        if back < out.len() {
+            let first = out[back];
+            let (n1, n2) = ((first.1 - first.0) as f64, (r.1 - r.0) as f64);
+            let level = (first.2 * n1 + r.2 * n2) / (n1 + n2);
+            out.truncate(back);
+            out.push((first.0, r.1, level));
+        } else {
+            out.push(r);
+        }
+    }
+    out
+}
+
+/// Runs of constant speed above rest, restricted to loaded samples: block medians (20 ms)
+/// within a tolerance taken from the channel's own noise or the plan's steps
+/// ([`LevelTolerance::from_noise`]), with spurious splits merged ([`merge_same_level`]).
+fn spans_from_speed(
+    p: &Prepared,
+    speed: &[f64],
+    cfg: &IdentifyConfig,
+    expected: Option<&[ExpectedStep]>,
+) -> Vec<Span> {
     let n = speed.len();
     let b = ((0.02 * p.fs).round() as usize).max(1);
     let sm = block_medians(speed, b);
     let vmax = sm.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let abs_tol = 0.002 * vmax;
+    let rest = 0.02 * vmax;
+    let tol = LevelTolerance::from_noise(&sm, speed, rest, cfg.speed_tolerance, plan_speed_step(expected));
+    let min_blocks = ((cfg.min_segment_s * p.fs / b as f64).ceil() as usize).max(3);
+    let levels = merge_same_level(level_runs(&sm, rest, tol), tol, min_blocks);
     let mut out = Vec::new();
-    let mut k = 0;
-    while k < sm.len() {
-        if sm[k].abs() < 0.02 * vmax {
-            k += 1;
-            continue;
-        }
-        // grow a run while blocks stay near its running median
-        let start = k;
-        let mut members = vec![sm[k]];
-        k += 1;
-        while k < sm.len() {
-            let lvl = median(&members);
-            if (sm[k] - lvl).abs() > cfg.speed_tolerance * lvl.abs() + abs_tol {
-                break;
-            }
-            members.push(sm[k]);
-            k += 1;
-        }
-        let (i, j) = (start * b, (k * b).min(n));
+    for (start, end, _) in levels {
+        let (i, j) = (start * b, (end * b).min(n));
         // only the loaded part of the run
         for (a, e) in runs(&p.sliding[i..j]) {
-            out.push(Span {
-                i: i + a,
-                j: i + e,
-                label: None,
-            });
+            out.push(Span::new(i + a, i + e, None));
         }
     }
     out
@@ -430,14 +570,89 @@ fn sliding_runs(p: &Prepared) -> Vec<Span> {
     for (a, e) in runs(&p.sliding) {
         match out.last_mut() {
             Some(last) if a - last.j <= gap => last.j = e,
-            _ => out.push(Span {
-                i: a,
-                j: e,
-                label: None,
-            }),
+            _ => out.push(Span::new(a, e, None)),
         }
     }
     out
+}
+
+/// Prefix sums of a series and its squares: the least-squares cost of a constant piece in O(1).
+struct PrefixSums {
+    s1: Vec<f64>,
+    s2: Vec<f64>,
+}
+
+impl PrefixSums {
+    fn new(x: &[f64]) -> Self {
+        let mut s1 = vec![0.0; x.len() + 1];
+        let mut s2 = vec![0.0; x.len() + 1];
+        for (i, v) in x.iter().enumerate() {
+            s1[i + 1] = s1[i] + v;
+            s2[i + 1] = s2[i] + v * v;
+        }
+        PrefixSums { s1, s2 }
+    }
+
+    /// Sum of squared deviations from the mean over `[a, b)` (0 for an empty piece).
+    fn cost(&self, a: usize, b: usize) -> f64 {
+        if b <= a {
+            return 0.0;
+        }
+        let m = (b - a) as f64;
+        let s = self.s1[b] - self.s1[a];
+        (self.s2[b] - self.s2[a]) - s * s / m
+    }
+}
+
+/// Residuals of `x` about the means of its pieces split at `bounds`.
+fn split_residuals(x: &[f64], bounds: &[usize]) -> Vec<f64> {
+    let mut edges = vec![0];
+    edges.extend_from_slice(bounds);
+    edges.push(x.len());
+    let mut resid = Vec::with_capacity(x.len());
+    for w in edges.windows(2) {
+        let piece = &x[w[0]..w[1]];
+        let m = piece.iter().sum::<f64>() / piece.len().max(1) as f64;
+        resid.extend(piece.iter().map(|v| v - m));
+    }
+    resid
+}
+
+/// χ²(1) at 95 %: a boundary position whose cost exceeds the optimum by less than this many
+/// noise variances is as good as the optimum.
+const CHI2_1_95: f64 = 3.84;
+
+/// Uncertainty of each inner boundary of a piecewise-constant split of `x` at `bounds`, in
+/// samples of `x`: the largest distance from the boundary of a position whose two-piece cost
+/// (the neighbouring boundaries fixed) lies within χ²₁(95 %) noise variances of the optimum
+/// (Hinkley 1970, "Inference about the change-point in a sequence of random variables",
+/// likelihood-ratio confidence set). The noise variance is the residual variance of the
+/// split, inflated by (1 + ρ₁)/(1 − ρ₁) for the lag-1 autocorrelation ρ₁ of the residuals
+/// (a periodic disturbance such as spindle run-out is correlated noise, not signal).
+fn boundary_uncertainty(x: &[f64], bounds: &[usize]) -> Vec<usize> {
+    let n = x.len();
+    let sums = PrefixSums::new(x);
+    let mut edges = vec![0];
+    edges.extend_from_slice(bounds);
+    edges.push(n);
+    let resid = split_residuals(x, bounds);
+    let var = resid.iter().map(|r| r * r).sum::<f64>() / (n.saturating_sub(edges.len() - 1)).max(1) as f64;
+    let lag1 = resid.windows(2).map(|w| w[0] * w[1]).sum::<f64>()
+        / resid.iter().map(|r| r * r).sum::<f64>().max(1e-300);
+    let rho = lag1.clamp(0.0, 0.95);
+    let threshold = CHI2_1_95 * var * (1.0 + rho) / (1.0 - rho);
+    (1..edges.len() - 1)
+        .map(|k| {
+            let (lo, c, hi) = (edges[k - 1], edges[k], edges[k + 1]);
+            let two = |m: usize| sums.cost(lo, m) + sums.cost(m, hi);
+            let best = two(c);
+            (lo + 1..hi)
+                .filter(|m| two(*m) <= best + threshold)
+                .map(|m| m.abs_diff(c))
+                .max()
+                .unwrap_or(0)
+        })
+        .collect()
 }
 
 /// Optimal split of `x` into `k` pieces of at least `min_len` by least squares (dynamic
@@ -451,17 +666,8 @@ fn split_into(x: &[f64], k: usize, min_len: usize) -> Option<Vec<usize>> {
     if k * min_len > n {
         return None;
     }
-    let mut s1 = vec![0.0; n + 1];
-    let mut s2 = vec![0.0; n + 1];
-    for (i, v) in x.iter().enumerate() {
-        s1[i + 1] = s1[i] + v;
-        s2[i + 1] = s2[i] + v * v;
-    }
-    let cost = |a: usize, b: usize| {
-        let m = (b - a) as f64;
-        let s = s1[b] - s1[a];
-        (s2[b] - s2[a]) - s * s / m
-    };
+    let sums = PrefixSums::new(x);
+    let cost = |a: usize, b: usize| sums.cost(a, b);
     // best[j][e]: cost of splitting x[..e] into j + 1 pieces (indexed loops: the
     // recurrence reads best[j - 1][a] and writes best[j][e], clearest with indices)
     let inf = f64::INFINITY;
@@ -568,11 +774,7 @@ fn split_run(p: &Prepared, run: Span, k: Option<usize>, cfg: &IdentifyConfig) ->
     // the spindle's run-up and run-down and the run-in at the ends of a run are no steps
     let (ta, tb) = trim_transients(&all_blocks);
     let blocks = &all_blocks[ta..tb];
-    let run = Span {
-        i: run.i + ta * b,
-        j: (run.i + tb * b).min(run.j),
-        label: None,
-    };
+    let run = Span::new(run.i + ta * b, (run.i + tb * b).min(run.j), None);
     let min_abs = ((cfg.min_segment_s * p.fs / b as f64).ceil() as usize).max(2);
     let bounds = match k {
         Some(k) => {
@@ -591,23 +793,91 @@ fn split_run(p: &Prepared, run: Span, k: Option<usize>, cfg: &IdentifyConfig) ->
         }
         None => split_penalised(blocks, min_abs),
     };
+    let block_s = b as f64 / p.fs;
+    let unc = weak_boundaries(blocks, &bounds, k.is_some(), block_s);
+    // the run's disturbance (noise and slow periodic parts such as run-out) as the standard
+    // error of a mean over one second: SE(T) = run_sem / √T
+    let resid = split_residuals(blocks, &bounds);
+    let run_sem = mean_standard_error(&resid) * (resid.len() as f64 * block_s).sqrt();
     let mut edges = vec![run.i];
     edges.extend(bounds.iter().map(|c| run.i + c * b));
     edges.push(run.j);
     Ok(edges
         .windows(2)
-        .map(|w| Span {
-            i: w[0],
-            j: w[1],
-            label: None,
+        .enumerate()
+        .map(|(s, w)| {
+            let mut span = Span::new(w[0], w[1], None);
+            span.run_sem = run_sem;
+            span.unc = (
+                s.checked_sub(1).map_or(0.0, |q| unc[q]),
+                unc.get(s).copied().unwrap_or(0.0),
+            );
+            span
         })
         .collect())
+}
+
+/// The uncertainty, s, of each inner boundary of a run split at `bounds` (blocks of
+/// `block_s` seconds), 0 where the boundary is well determined: its likelihood-ratio
+/// confidence set ([`boundary_uncertainty`]) reaching two blocks or more; and, when the plan
+/// gave the step count (`planned`), a step whose length differs by more than 30 % from the
+/// median step (the plan's regular timing contradicted) makes both its boundaries uncertain
+/// by that difference.
+fn weak_boundaries(blocks: &[f64], bounds: &[usize], planned: bool, block_s: f64) -> Vec<f64> {
+    let mut unc: Vec<f64> = boundary_uncertainty(blocks, bounds)
+        .into_iter()
+        .map(|u| if u >= 2 { u as f64 * block_s } else { 0.0 })
+        .collect();
+    if planned && bounds.len() >= 2 {
+        let mut edges = vec![0];
+        edges.extend_from_slice(bounds);
+        edges.push(blocks.len());
+        let lens: Vec<f64> = edges.windows(2).map(|w| (w[1] - w[0]) as f64).collect();
+        let med = median(&lens);
+        for (s, len) in lens.iter().enumerate() {
+            let off = (len - med).abs();
+            if off > 0.3 * med {
+                for q in [s.checked_sub(1), (s < bounds.len()).then_some(s)].into_iter().flatten() {
+                    unc[q] = unc[q].max(off * block_s);
+                }
+            }
+        }
+    }
+    unc
+}
+
+/// The steady part of a segment, window-relative `[a, b)`, and the run-in end (`auto` only).
+///
+/// Under `auto`: F_N and the speed must be within their bands ([`steady_span`], which drops
+/// load and speed ramps), and μ must be in its final stationary stretch
+/// ([`final_stationary`]); the settle time and end margin are then dropped. Under
+/// `last:P%` / `from:Ts` the window is the user's, as given.
+fn steady_window(
+    sig: &StepSignals,
+    others: &[(&[f64], f64)],
+    t_rel: &[f64],
+    cfg: &IdentifyConfig,
+    fs: f64,
+) -> std::result::Result<(usize, usize, Option<usize>), String> {
+    if let Some((a, b)) = rule_span(cfg.steady, t_rel) {
+        return Ok((a, b, None));
+    }
+    let never = || "no steady part: μ, F_N or the speed never settle inside the segment".to_string();
+    let (a0, b0) = steady_span(others, sig.w_smooth).ok_or_else(never)?;
+    let fin = final_stationary(&sig.smooth[a0..b0], &t_rel[a0..b0], sig.w_smooth, 0.002)
+        .ok_or_else(never)?;
+    let (a, b) = (a0 + fin.a, a0 + fin.b);
+    let settle = (cfg.settle_time_s * fs).round() as usize;
+    let margin = (cfg.end_margin_s * fs).round() as usize;
+    let run_in = (fin.run_in_end > 0).then_some(a0 + fin.run_in_end);
+    Ok(((a + settle).min(b), b.saturating_sub(margin).max(a), run_in))
 }
 
 /// Identify one segment: steady part, statistics, speed.
 fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> SegmentReport {
     let rec = p.rec;
     let (i, j) = (span.i, span.j);
+    let unc = span.unc.0.max(span.unc.1);
     let mut rep = SegmentReport {
         index,
         start_s: rec.time_s[i],
@@ -620,10 +890,15 @@ fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> Segm
         step_label: span.label,
         cof: None,
         cof_std: None,
+        cof_sem: None,
         n_samples: 0,
         flags: Vec::new(),
         matched: None,
         problem: None,
+        run_in_s: None,
+        drift_per_hour: None,
+        drift_per_km: None,
+        boundary_uncertainty_s: (unc > 0.0).then_some(unc),
         stats: None,
     };
     let f_ref = rep.normal_force_n.abs().max(1e-9);
@@ -649,20 +924,18 @@ fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> Segm
         .speed
         .as_ref()
         .map(|s| moving_average(&s.values()[i..j], w));
-    let mut signals: Vec<(&[f64], f64)> = vec![(&sig.smooth, 0.002), (&fn_s, 0.02 * f_ref)];
-    let v_floor;
+    let mut others: Vec<(&[f64], f64)> = vec![(&fn_s, 0.02 * f_ref)];
     if let Some(v) = &speed {
-        v_floor = 0.01 * median(v).abs() + 1e-9;
-        signals.push((v, v_floor));
+        others.push((v, 0.01 * median(v).abs() + 1e-9));
     }
-    let Some((a, b)) = steady_span(&signals, sig.w_smooth) else {
-        rep.problem =
-            Some("no steady part: μ, F_N or the speed never settle inside the segment".into());
-        return rep;
+    let t_rel: Vec<f64> = rec.time_s[i..j].iter().map(|t| t - rec.time_s[i]).collect();
+    let (pa, pb, run_in) = match steady_window(&sig, &others, &t_rel, cfg, p.fs) {
+        Ok(w) => w,
+        Err(m) => {
+            rep.problem = Some(m);
+            return rep;
+        }
     };
-    let settle = (cfg.settle_time_s * p.fs).round() as usize;
-    let margin = (cfg.end_margin_s * p.fs).round() as usize;
-    let (pa, pb) = ((a + settle).min(b), b.saturating_sub(margin).max(a));
     let Some(st) = plateau_stats(&rec.time_s, &p.fn_c, &sig, pa, pb, 0.0, cfg) else {
         rep.problem = Some(format!(
             "only {} samples in the steady part (min {}): the segment is too short or never settles",
@@ -680,6 +953,10 @@ fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> Segm
             }
         }
     }
+    if cfg.steady == SteadyRule::Auto {
+        rep.run_in_s = Some(run_in.map_or(0.0, |k| t_rel[k]));
+    }
+    rep.drift_per_hour = Some(st.trend_per_s * 3600.0);
     rep.steady_start_s = Some(st.start_s);
     rep.steady_end_s = Some(st.end_s);
     rep.normal_force_n = st.normal_force_n;
@@ -690,8 +967,58 @@ fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> Segm
     if p.no_baseline {
         rep.flags.push(flags::NO_BASELINE.to_string());
     }
+    if rep.boundary_uncertainty_s.is_some() {
+        rep.flags.push(flags::UNCERTAIN_BOUNDARY.to_string());
+    }
+    let used: Vec<f64> = (pa..pb).filter(|k| sig.good[*k]).map(|k| sig.mu[k]).collect();
+    // the window's own serial correlation, or the run's disturbance over the window's length
+    // (a window on the crest of a slow run-out looks flat on its own)
+    let sem = mean_standard_error(&used).max(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt());
+    rep.cof_sem = Some(sem);
+    if 2.0 * sem > cfg.mean_uncertainty_tolerance {
+        rep.flags.push(flags::UNCERTAIN_MEAN.to_string());
+    }
     rep.stats = Some(st);
     rep
+}
+
+/// Drift per sliding distance (1/km) of every measured segment with a known speed, and a
+/// note per segment with a run-in, a drift flagged `trend` or an uncertain boundary.
+fn steady_notes(files: &mut [FileReport]) {
+    for f in files.iter_mut() {
+        for s in f.segments.iter_mut() {
+            let (Some(per_h), Some(v)) = (s.drift_per_hour, s.sliding_velocity_m_per_min) else {
+                continue;
+            };
+            // μ/h ÷ (km/h) = μ/km, with v in m/min → 0.06 v km/h
+            if v.abs() > 0.0 {
+                s.drift_per_km = Some(per_h / (0.06 * v.abs()));
+            }
+        }
+        let mut notes = Vec::new();
+        for s in &f.segments {
+            let mut parts = Vec::new();
+            if let Some(r) = s.run_in_s.filter(|r| *r > 0.0) {
+                parts.push(format!("run-in {r:.1} s"));
+            }
+            if s.flags.iter().any(|x| x == flags::TREND) {
+                let km = s
+                    .drift_per_km
+                    .map_or(String::new(), |k| format!(", {k:+.2e} /km"));
+                parts.push(format!(
+                    "μ drifts {:+.4} /h{km} over the steady part",
+                    s.drift_per_hour.unwrap_or(0.0)
+                ));
+            }
+            if let Some(u) = s.boundary_uncertainty_s {
+                parts.push(format!("uncertain boundary (±{u:.3} s)"));
+            }
+            if !parts.is_empty() {
+                notes.push(format!("segment {}: {}", s.index, parts.join("; ")));
+            }
+        }
+        f.notes.extend(notes);
+    }
 }
 
 /// Inputs of [`identify_recordings`] beyond the recordings.
@@ -788,6 +1115,7 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
                 p,
                 p.rec.speed.as_ref().expect("checked").values(),
                 cfg,
+                c.expected,
             )),
             _ => {
                 spans.push(Vec::new());
@@ -856,6 +1184,7 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
     }
     let mut files: Vec<FileReport> = prepared.into_iter().map(|p| p.report).collect();
     resolve_velocities(&mut files, c)?;
+    steady_notes(&mut files);
     Ok(files)
 }
 
@@ -1359,10 +1688,15 @@ fn plan_timed(recs: &[Recording], plan: &Plan, c: &Campaign) -> Result<Vec<FileR
                 step_label: None,
                 cof: Some(r.cof_apparent),
                 cof_std: Some(r.cof_apparent_std),
+                cof_sem: None,
                 n_samples: r.n_samples as usize,
                 flags: r.flags.clone(),
                 matched: Some((r.pin, r.step)),
                 problem: None,
+                run_in_s: None,
+                drift_per_hour: Some(r.cof_trend_per_s * 3600.0),
+                drift_per_km: None,
+                boundary_uncertainty_s: None,
                 stats: None,
             })
             .collect();

@@ -34,6 +34,83 @@ impl Segmentation {
     }
 }
 
+/// Which part of a segment gives its steady-state friction coefficient.
+///
+/// ASTM G99-17 (pin-on-disk) and G133-05 (reciprocating ball-on-flat) report the friction
+/// force "at steady state", i.e. after the run-in (running-in) period in which μ settles; the
+/// standards leave the window to the operator. `auto` implements that practice: the final
+/// stationary stretch of the step, after the run-in, with a slow drift reported as a trend
+/// (μ per hour and per km) rather than shortening the window.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum SteadyRule {
+    /// The final stationary stretch after run-in (see [`crate::steady::final_stationary`]).
+    #[default]
+    Auto,
+    /// The last share (0 < p ≤ 1) of the segment's sliding time (`last:50%`).
+    Last(f64),
+    /// From this many seconds after the segment's start, s (`from:300s`).
+    From(f64),
+}
+
+impl SteadyRule {
+    /// The accepted spellings, for help texts and error messages.
+    pub const VALUES: &'static [&'static str] = &["auto", "last:P%", "from:Ts"];
+}
+
+impl std::fmt::Display for SteadyRule {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SteadyRule::Auto => write!(f, "auto"),
+            SteadyRule::Last(p) => write!(f, "last:{}%", p * 100.0),
+            SteadyRule::From(t) => write!(f, "from:{t}s"),
+        }
+    }
+}
+
+impl std::str::FromStr for SteadyRule {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let s = s.trim();
+        let bad = || {
+            format!(
+                "steady-state rule '{s}': expected one of {} (e.g. last:50%, from:300s)",
+                SteadyRule::VALUES.join(", ")
+            )
+        };
+        if s.eq_ignore_ascii_case("auto") {
+            return Ok(SteadyRule::Auto);
+        }
+        if let Some(p) = s.strip_prefix("last:") {
+            let v: f64 = p.trim().trim_end_matches('%').trim().parse().map_err(|_| bad())?;
+            if !(v > 0.0 && v <= 100.0) {
+                return Err(format!("{}: the share must lie in (0, 100] %", bad()));
+            }
+            return Ok(SteadyRule::Last(v / 100.0));
+        }
+        if let Some(t) = s.strip_prefix("from:") {
+            let v: f64 = t.trim().trim_end_matches('s').trim().parse().map_err(|_| bad())?;
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(format!("{}: the start must be a time ≥ 0 s", bad()));
+            }
+            return Ok(SteadyRule::From(v));
+        }
+        Err(bad())
+    }
+}
+
+impl Serialize for SteadyRule {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.to_string())
+    }
+}
+
+impl<'de> Deserialize<'de> for SteadyRule {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        s.parse().map_err(serde::de::Error::custom)
+    }
+}
+
 /// How the plan's time zero is found in a recording.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -87,6 +164,12 @@ pub struct IdentifyConfig {
     pub match_load_tolerance: f64,
     /// Plan matching: largest relative speed deviation (0.1).
     pub match_speed_tolerance: f64,
+    /// Which part of a segment gives its steady value (`auto`: after run-in, see
+    /// [`SteadyRule`]).
+    pub steady: SteadyRule,
+    /// A row whose μ has a 95 % half-width (twice the standard error of the mean under
+    /// serial correlation) above this is flagged `uncertain-mean` (0.003).
+    pub mean_uncertainty_tolerance: f64,
 }
 
 impl Default for IdentifyConfig {
@@ -111,6 +194,25 @@ impl Default for IdentifyConfig {
             min_segment_fraction: 0.5,
             match_load_tolerance: 0.3,
             match_speed_tolerance: 0.1,
+            steady: SteadyRule::Auto,
+            mean_uncertainty_tolerance: 0.003,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SteadyRule;
+
+    #[test]
+    fn steady_rule_parses_and_prints() {
+        assert_eq!("auto".parse::<SteadyRule>(), Ok(SteadyRule::Auto));
+        assert_eq!("last:50%".parse::<SteadyRule>(), Ok(SteadyRule::Last(0.5)));
+        assert_eq!("from:300s".parse::<SteadyRule>(), Ok(SteadyRule::From(300.0)));
+        assert_eq!(SteadyRule::Last(0.5).to_string(), "last:50%");
+        assert_eq!(SteadyRule::From(300.0).to_string(), "from:300s");
+        for bad in ["last:0%", "last:150%", "from:-1s", "first", "last:x%"] {
+            assert!(bad.parse::<SteadyRule>().is_err(), "{bad}");
         }
     }
 }

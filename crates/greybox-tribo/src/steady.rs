@@ -4,7 +4,7 @@
 //! Shared by the plan-timed path ([`crate::identify`]) and the plan-free segmentation
 //! ([`crate::campaign`]).
 
-use crate::identify_config::IdentifyConfig;
+use crate::identify_config::{IdentifyConfig, SteadyRule};
 use crate::signal::{
     hampel_outliers, linear_fit, mad_sigma, mean_std, median, moving_average, running_median,
 };
@@ -104,6 +104,98 @@ pub fn steady_span(signals: &[(&[f64], f64)], w_smooth: usize) -> Option<(usize,
         }
     }
     (b > a).then_some((a, b))
+}
+
+/// The final stationary stretch of a step's μ and the run-in before it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FinalStretch {
+    /// Window-relative start of the steady part (after the run-in and the running level's
+    /// half window).
+    pub a: usize,
+    /// Window-relative end (exclusive) of the steady part (before a transition at the end).
+    pub b: usize,
+    /// Window-relative sample where μ's running level enters, and stays in, the final
+    /// stretch's band; 0 without a run-in.
+    pub run_in_end: usize,
+}
+
+/// The final stationary stretch of the smoothed μ `x` sampled at (window-relative) times `t`,
+/// s, following ASTM G99-17 §3.2/§9 and G133-05 §9 practice: the steady-state value comes
+/// after the run-in, from the end of the test.
+///
+/// μ's running level is a centred moving average over max(`w_smooth`, n/50) samples. A line
+/// fitted to that level over the reference stretch `[n/2, 15n/16)` carries a slow drift; the
+/// band around it is five robust standard deviations of the level's residuals (at least
+/// `floor`). The run-in ends after the last sample of the first half outside the band, the
+/// steady part ends before the first sample of the second half outside it. A drift therefore
+/// moves the line, not the window. `None` for fewer than 16 samples or nothing left.
+pub fn final_stationary(x: &[f64], t: &[f64], w_smooth: usize, floor: f64) -> Option<FinalStretch> {
+    let n = x.len();
+    if n < 16 || t.len() != n {
+        return None;
+    }
+    let w = w_smooth.max(n / 50).max(3);
+    let level = moving_average(x, w);
+    let (r0, r1) = (n / 2, (15 * n) / 16);
+    let (c0, c1, _) = linear_fit(&t[r0..r1], &level[r0..r1]);
+    let resid: Vec<f64> = (0..n).map(|k| level[k] - c0 - c1 * t[k]).collect();
+    let band = (5.0 * mad_sigma(&resid[r0..r1], 0.0)).max(floor);
+    let out = |k: &usize| resid[*k].abs() > band;
+    let run_in_end = (0..n / 2).rev().find(out).map_or(0, |k| k + 1);
+    let a = if run_in_end > 0 {
+        (run_in_end + w / 2).min(n / 2)
+    } else {
+        0
+    };
+    let b = (n / 2..n)
+        .find(out)
+        .map_or(n, |k| k.saturating_sub(w / 2).max(n / 2));
+    (b > a).then_some(FinalStretch { a, b, run_in_end })
+}
+
+/// Window-relative samples `[a, b)` of a step of `n` samples at times `t` (s, from the step's
+/// start) under a user's rule: `last:P%` the last P % of the samples, `from:Ts` the samples
+/// at or after T s. `None` under [`SteadyRule::Auto`] (found from the signal) or when the rule
+/// leaves nothing.
+pub fn rule_span(rule: SteadyRule, t: &[f64]) -> Option<(usize, usize)> {
+    let n = t.len();
+    let a = match rule {
+        SteadyRule::Auto => return None,
+        SteadyRule::Last(p) => n - ((p * n as f64).round() as usize).clamp(1, n),
+        SteadyRule::From(s) => t.iter().position(|v| *v - t[0] >= s - 1e-9)?,
+    };
+    (a < n).then_some((a, n))
+}
+
+/// Standard error of the mean of `x` under serial correlation: the variance of the mean is
+/// σ²·τ/n with the integrated autocorrelation time τ = 1 + 2 Σ ρ_k summed while ρ_k stays
+/// positive (Geyer 1992, "Practical Markov chain Monte Carlo", initial positive sequence),
+/// over means of blocks of n/256 samples (so long windows stay cheap). A periodic disturbance
+/// slower than the window (spindle run-out at low speed) leaves a large τ and so a large
+/// error, where white noise leaves τ ≈ 1.
+pub fn mean_standard_error(x: &[f64]) -> f64 {
+    let n = x.len();
+    if n < 4 {
+        return f64::INFINITY;
+    }
+    let m = (n / 256).max(1);
+    let y: Vec<f64> = x.chunks(m).map(|c| c.iter().sum::<f64>() / c.len() as f64).collect();
+    let nb = y.len();
+    let mean = y.iter().sum::<f64>() / nb as f64;
+    let r: Vec<f64> = y.iter().map(|v| v - mean).collect();
+    let c0 = r.iter().map(|v| v * v).sum::<f64>();
+    if c0 <= 0.0 {
+        return 0.0;
+    }
+    let mut tau = 1.0;
+    for lag in 1..nb / 2 {
+        let rho = r.iter().zip(&r[lag..]).map(|(a, b)| a * b).sum::<f64>() / c0;
+        if rho <= 0.0 {
+            break;
+        }
+        tau += 2.0 * rho;
+    }
+    (c0 / nb as f64 * tau / nb as f64).sqrt()
 }
 
 /// Statistics of one plateau.

@@ -324,13 +324,15 @@ def identify(
     normal_force_count: Optional[int] = None,
     velocity_count: Optional[int] = None,
     as_frame: Optional[bool] = None,
+    steady: Optional[str] = None,
 ) -> tuple:
     """Identify apparent friction coefficients per plateau from recordings of any supported
     rig (files or directories) into the dataset CSV ``dataset``; returns (dataset table,
     summary dict). ``study`` is a study TOML (default: the bundled example study);
     ``use_plan`` matches segments to its plan (``normal_force_count``/``velocity_count``
     override the study's, as in :func:`synth`) instead of taking loads and speeds from the
-    recordings."""
+    recordings. ``steady`` is the steady-state rule: ``"auto"`` (after run-in, ASTM G99
+    practice), ``"last:50%"`` or ``"from:300s"`` (default: the study's, ``auto``)."""
     if isinstance(recordings, (str, os.PathLike)):
         recordings = [recordings]
     summary = json.loads(
@@ -343,6 +345,7 @@ def identify(
             [float(r) for r in track_radii_mm],
             normal_force_count,
             velocity_count,
+            steady,
         )
     )
     return read_csv(dataset, as_frame), summary
