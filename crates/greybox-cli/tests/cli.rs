@@ -265,11 +265,11 @@ fn identify_names_the_bad_file_and_line() {
             "--recordings",
             "rec",
             "--map",
-            "normal=normal_force_N:kgf",
+            "normal=normal_force_N:tonf",
         ],
         p,
     ));
-    assert!(e.contains("unknown force unit 'kgf'"), "{e}");
+    assert!(e.contains("unknown force unit 'tonf'"), "{e}");
 }
 
 #[test]

@@ -1,7 +1,8 @@
 //! CSV recordings: reading any delimited-text layout (see [`crate::text_table`]) and writing
 //! greybox's own (`time_s` plus force and trigger columns, units in the column names).
 
-use crate::recording::{recording_from_table, ChannelMap, Recording};
+use crate::readers::recording_with_profile as recording_from_table;
+use crate::recording::{ChannelMap, Recording};
 use crate::text_table::parse_text_table;
 use greybox_core::atomic::write_atomic;
 use greybox_core::{Error, Result};

@@ -58,5 +58,14 @@ pub fn read_table(path: &std::path::Path, map: &ChannelMap) -> Result<Table> {
 
 /// Read a recording (any supported format) through a channel map.
 pub fn read_recording(path: &std::path::Path, map: &ChannelMap) -> Result<Recording> {
-    recording_from_table(read_table(path, map)?, map)
+    recording_with_profile(read_table(path, map)?, map)
+}
+
+/// A table's recording through `map` completed by the rig profile named in it or detected
+/// from the table ([`crate::profiles`]); the profile used is noted in the read report.
+pub fn recording_with_profile(mut table: Table, map: &ChannelMap) -> Result<Recording> {
+    let mut notes = std::mem::take(&mut table.notes);
+    let map = crate::profiles::apply(&table, map, &mut notes)?;
+    table.notes = notes;
+    recording_from_table(table, &map)
 }

@@ -886,7 +886,6 @@ fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
 /// Convert a table into a recording through a channel map.
 pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Recording> {
     let mut notes = std::mem::take(&mut table.notes);
-    let map = &crate::profiles::apply(&table, map, &mut notes)?;
     let mut roles = assign_roles(&table, map, &mut notes)?;
     drop_unitless_optional(&table, map, &mut roles, &mut notes);
     let problems = unresolved(&table, map, &roles);
@@ -901,67 +900,7 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
         notes,
         ..Default::default()
     };
-    let mut channels: Vec<(Role, Vec<f64>, String)> = Vec::new();
-    for (role, idx, mapped) in &roles {
-        let spec = map.spec(*role);
-        let col: &mut Column = &mut table.columns[*idx];
-        let header = col.header.clone();
-        let pos = || {
-            SourcePos::file(&source)
-                .line(table.header_line)
-                .field(&header)
-        };
-        let unit = match (spec.as_ref().and_then(|s| s.unit.clone()), col.unit.clone()) {
-            (Some(m), Some(f)) if *role != Role::Trigger && *role != Role::Step => {
-                if !same_unit(*role, &m, &f) {
-                    return Err(Error::input(
-                        pos(),
-                        format!("mapped as {m} but the file says the unit is '{f}'"),
-                    ));
-                }
-                Some(m)
-            }
-            (Some(m), _) => Some(m),
-            (None, f) => f,
-        };
-        let scale = spec.as_ref().map_or(1.0, |s| s.scale);
-        let (factor, unit_name) = match role {
-            Role::Trigger => (1.0, unit.clone().unwrap_or_else(|| "V".into())),
-            Role::Step => (1.0, "-".into()),
-            Role::Cof if unit.is_none() => (1.0, "-".into()),
-            _ => {
-                let u = unit.clone().ok_or_else(|| {
-                    Error::input(
-                        pos(),
-                        format!(
-                            "column '{header}' ({}) states no unit: name it with one (e.g. '{} ({})') or map it as --map {}={}:{}",
-                            role.name(),
-                            col.name,
-                            example_unit(*role),
-                            role.name(),
-                            col.name,
-                            example_unit(*role)
-                        ),
-                    )
-                })?;
-                check_unit(*role, &u).map_err(|m| Error::input(pos(), m))?;
-                (unit_factor(*role, &u), u)
-            }
-        };
-        let mut values = col.take_values(&source)?;
-        let k = factor * scale;
-        if k != 1.0 {
-            values.iter_mut().for_each(|v| *v *= k);
-        }
-        report.columns.push(MappedColumn {
-            role: role.name().to_string(),
-            column: header.clone(),
-            unit: unit_name,
-            scale,
-            how: if *mapped { "mapped" } else { "auto" }.to_string(),
-        });
-        channels.push((*role, values, header));
-    }
+    let mut channels = convert_channels(&mut table, map, &roles, &mut report)?;
     let n = channels.first().map_or(table.rows, |c| c.1.len());
     let mut take = |role: Role| {
         channels
@@ -1242,6 +1181,78 @@ fn continuous_time(
         ));
     }
     Ok(t)
+}
+
+/// Each role's column converted to SI (or the speed base), with what was mapped recorded.
+fn convert_channels(
+    table: &mut Table,
+    map: &ChannelMap,
+    roles: &[(Role, usize, bool)],
+    report: &mut ReadReport,
+) -> Result<Vec<(Role, Vec<f64>, String)>> {
+    let source = table.source.clone();
+    let mut channels: Vec<(Role, Vec<f64>, String)> = Vec::new();
+    for (role, idx, mapped) in roles {
+        let spec = map.spec(*role);
+        let col: &mut Column = &mut table.columns[*idx];
+        let header = col.header.clone();
+        let pos = || {
+            SourcePos::file(&source)
+                .line(table.header_line)
+                .field(&header)
+        };
+        let unit = match (spec.as_ref().and_then(|s| s.unit.clone()), col.unit.clone()) {
+            (Some(m), Some(f)) if *role != Role::Trigger && *role != Role::Step => {
+                if !same_unit(*role, &m, &f) {
+                    return Err(Error::input(
+                        pos(),
+                        format!("mapped as {m} but the file says the unit is '{f}'"),
+                    ));
+                }
+                Some(m)
+            }
+            (Some(m), _) => Some(m),
+            (None, f) => f,
+        };
+        let scale = spec.as_ref().map_or(1.0, |s| s.scale);
+        let (factor, unit_name) = match role {
+            Role::Trigger => (1.0, unit.clone().unwrap_or_else(|| "V".into())),
+            Role::Step => (1.0, "-".into()),
+            Role::Cof if unit.is_none() => (1.0, "-".into()),
+            _ => {
+                let u = unit.clone().ok_or_else(|| {
+                    Error::input(
+                        pos(),
+                        format!(
+                            "column '{header}' ({}) states no unit: name it with one (e.g. '{} ({})') or map it as --map {}={}:{}",
+                            role.name(),
+                            col.name,
+                            example_unit(*role),
+                            role.name(),
+                            col.name,
+                            example_unit(*role)
+                        ),
+                    )
+                })?;
+                check_unit(*role, &u).map_err(|m| Error::input(pos(), m))?;
+                (unit_factor(*role, &u), u)
+            }
+        };
+        let mut values = col.take_values(&source)?;
+        let k = factor * scale;
+        if k != 1.0 {
+            values.iter_mut().for_each(|v| *v *= k);
+        }
+        report.columns.push(MappedColumn {
+            role: role.name().to_string(),
+            column: header.clone(),
+            unit: unit_name,
+            scale,
+            how: if *mapped { "mapped" } else { "auto" }.to_string(),
+        });
+        channels.push((*role, values, header));
+    }
+    Ok(channels)
 }
 
 #[cfg(test)]
