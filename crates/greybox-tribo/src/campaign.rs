@@ -22,12 +22,13 @@
 
 use crate::hertz::PinContact;
 use crate::identify::{identify_pin, IdentifyConfig};
+use crate::identify_config::SteadyRule;
 use crate::plan::Plan;
 use crate::recording::{ReadReport, Recording, SpeedTrace};
 use crate::signal::{mad_sigma, median, moving_average};
-use crate::identify_config::SteadyRule;
 use crate::steady::{
-    final_stationary, mean_standard_error, plateau_stats, rule_span, steady_span, step_signals, windows, StepSignals,
+    final_stationary, mean_standard_error, plateau_stats, rule_span, steady_span, step_signals,
+    windows, StepSignals,
 };
 use greybox_core::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header};
 use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
@@ -427,7 +428,13 @@ impl LevelTolerance {
     /// not split). With a plan, at most 0.4 of its smallest relative step between distinct
     /// speeds, so that neighbouring planned levels stay apart. `sm` are block medians, `raw`
     /// the samples, `rest` the level below which the channel is at rest.
-    fn from_noise(sm: &[f64], raw: &[f64], rest: f64, base_rel: f64, plan_step: Option<f64>) -> Self {
+    fn from_noise(
+        sm: &[f64],
+        raw: &[f64],
+        rest: f64,
+        base_rel: f64,
+        plan_step: Option<f64>,
+    ) -> Self {
         let moving: Vec<usize> = (0..sm.len()).filter(|k| sm[*k].abs() >= rest).collect();
         let rel_diff: Vec<f64> = moving
             .windows(2)
@@ -435,7 +442,10 @@ impl LevelTolerance {
             .map(|w| (sm[w[1]] - sm[w[0]]) / sm[w[1]].abs())
             .collect();
         let rm = crate::signal::running_median(sm, 5);
-        let rel_resid: Vec<f64> = moving.iter().map(|&k| (sm[k] - rm[k]) / sm[k].abs()).collect();
+        let rel_resid: Vec<f64> = moving
+            .iter()
+            .map(|&k| (sm[k] - rm[k]) / sm[k].abs())
+            .collect();
         let sigma = if rel_diff.len() >= 4 {
             (mad_sigma(&rel_diff, 0.0) / std::f64::consts::SQRT_2).max(mad_sigma(&rel_resid, 0.0))
         } else {
@@ -549,7 +559,13 @@ fn spans_from_speed(
     let sm = block_medians(speed, b);
     let vmax = sm.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let rest = 0.02 * vmax;
-    let tol = LevelTolerance::from_noise(&sm, speed, rest, cfg.speed_tolerance, plan_speed_step(expected));
+    let tol = LevelTolerance::from_noise(
+        &sm,
+        speed,
+        rest,
+        cfg.speed_tolerance,
+        plan_speed_step(expected),
+    );
     let min_blocks = ((cfg.min_segment_s * p.fs / b as f64).ceil() as usize).max(3);
     let levels = merge_same_level(level_runs(&sm, rest, tol), tol, min_blocks);
     let mut out = Vec::new();
@@ -636,7 +652,8 @@ fn boundary_uncertainty(x: &[f64], bounds: &[usize]) -> Vec<usize> {
     edges.extend_from_slice(bounds);
     edges.push(n);
     let resid = split_residuals(x, bounds);
-    let var = resid.iter().map(|r| r * r).sum::<f64>() / (n.saturating_sub(edges.len() - 1)).max(1) as f64;
+    let var = resid.iter().map(|r| r * r).sum::<f64>()
+        / (n.saturating_sub(edges.len() - 1)).max(1) as f64;
     let lag1 = resid.windows(2).map(|w| w[0] * w[1]).sum::<f64>()
         / resid.iter().map(|r| r * r).sum::<f64>().max(1e-300);
     let rho = lag1.clamp(0.0, 0.95);
@@ -837,7 +854,10 @@ fn weak_boundaries(blocks: &[f64], bounds: &[usize], planned: bool, block_s: f64
         for (s, len) in lens.iter().enumerate() {
             let off = (len - med).abs();
             if off > 0.3 * med {
-                for q in [s.checked_sub(1), (s < bounds.len()).then_some(s)].into_iter().flatten() {
+                for q in [s.checked_sub(1), (s < bounds.len()).then_some(s)]
+                    .into_iter()
+                    .flatten()
+                {
                     unc[q] = unc[q].max(off * block_s);
                 }
             }
@@ -862,7 +882,8 @@ fn steady_window(
     if let Some((a, b)) = rule_span(cfg.steady, t_rel) {
         return Ok((a, b, None));
     }
-    let never = || "no steady part: μ, F_N or the speed never settle inside the segment".to_string();
+    let never =
+        || "no steady part: μ, F_N or the speed never settle inside the segment".to_string();
     let (a0, b0) = steady_span(others, sig.w_smooth).ok_or_else(never)?;
     let fin = final_stationary(&sig.smooth[a0..b0], &t_rel[a0..b0], sig.w_smooth, 0.002)
         .ok_or_else(never)?;
@@ -970,10 +991,14 @@ fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> Segm
     if rep.boundary_uncertainty_s.is_some() {
         rep.flags.push(flags::UNCERTAIN_BOUNDARY.to_string());
     }
-    let used: Vec<f64> = (pa..pb).filter(|k| sig.good[*k]).map(|k| sig.mu[k]).collect();
+    let used: Vec<f64> = (pa..pb)
+        .filter(|k| sig.good[*k])
+        .map(|k| sig.mu[k])
+        .collect();
     // the window's own serial correlation, or the run's disturbance over the window's length
     // (a window on the crest of a slow run-out looks flat on its own)
-    let sem = mean_standard_error(&used).max(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt());
+    let sem =
+        mean_standard_error(&used).max(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt());
     rep.cof_sem = Some(sem);
     if 2.0 * sem > cfg.mean_uncertainty_tolerance {
         rep.flags.push(flags::UNCERTAIN_MEAN.to_string());

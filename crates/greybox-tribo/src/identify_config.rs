@@ -81,14 +81,24 @@ impl std::str::FromStr for SteadyRule {
             return Ok(SteadyRule::Auto);
         }
         if let Some(p) = s.strip_prefix("last:") {
-            let v: f64 = p.trim().trim_end_matches('%').trim().parse().map_err(|_| bad())?;
+            let v: f64 = p
+                .trim()
+                .trim_end_matches('%')
+                .trim()
+                .parse()
+                .map_err(|_| bad())?;
             if !(v > 0.0 && v <= 100.0) {
                 return Err(format!("{}: the share must lie in (0, 100] %", bad()));
             }
             return Ok(SteadyRule::Last(v / 100.0));
         }
         if let Some(t) = s.strip_prefix("from:") {
-            let v: f64 = t.trim().trim_end_matches('s').trim().parse().map_err(|_| bad())?;
+            let v: f64 = t
+                .trim()
+                .trim_end_matches('s')
+                .trim()
+                .parse()
+                .map_err(|_| bad())?;
             if !(v.is_finite() && v >= 0.0) {
                 return Err(format!("{}: the start must be a time ≥ 0 s", bad()));
             }
@@ -208,7 +218,10 @@ mod tests {
     fn steady_rule_parses_and_prints() {
         assert_eq!("auto".parse::<SteadyRule>(), Ok(SteadyRule::Auto));
         assert_eq!("last:50%".parse::<SteadyRule>(), Ok(SteadyRule::Last(0.5)));
-        assert_eq!("from:300s".parse::<SteadyRule>(), Ok(SteadyRule::From(300.0)));
+        assert_eq!(
+            "from:300s".parse::<SteadyRule>(),
+            Ok(SteadyRule::From(300.0))
+        );
         assert_eq!(SteadyRule::Last(0.5).to_string(), "last:50%");
         assert_eq!(SteadyRule::From(300.0).to_string(), "from:300s");
         for bad in ["last:0%", "last:150%", "from:-1s", "first", "last:x%"] {

@@ -179,7 +179,10 @@ pub fn mean_standard_error(x: &[f64]) -> f64 {
         return f64::INFINITY;
     }
     let m = (n / 256).max(1);
-    let y: Vec<f64> = x.chunks(m).map(|c| c.iter().sum::<f64>() / c.len() as f64).collect();
+    let y: Vec<f64> = x
+        .chunks(m)
+        .map(|c| c.iter().sum::<f64>() / c.len() as f64)
+        .collect();
     let nb = y.len();
     let mean = y.iter().sum::<f64>() / nb as f64;
     let r: Vec<f64> = y.iter().map(|v| v - mean).collect();

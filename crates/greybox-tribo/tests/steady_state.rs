@@ -95,7 +95,12 @@ fn run_in_then_drift_with_a_jittering_speed_gives_the_final_steady_state() {
         let id = identify(std::slice::from_ref(&rec), &IdentifyConfig::default());
         let f = &id.files[0];
         let measured: Vec<_> = f.segments.iter().filter(|s| s.cof.is_some()).collect();
-        assert_eq!(measured.len(), 1, "seed {seed}: one test, one segment: {:#?}", f.segments);
+        assert_eq!(
+            measured.len(),
+            1,
+            "seed {seed}: one test, one segment: {:#?}",
+            f.segments
+        );
         let s = measured[0];
         let mu = s.cof.unwrap();
         let (a, b) = (s.steady_start_s.unwrap(), s.steady_end_s.unwrap());
@@ -103,21 +108,43 @@ fn run_in_then_drift_with_a_jittering_speed_gives_the_final_steady_state() {
         let k = (a as usize..=b as usize).map(|t| mu_true(t as f64 - REST_S));
         let truth = k.clone().sum::<f64>() / k.count() as f64;
         assert!((mu - truth).abs() < 0.005, "seed {seed}: μ {mu} vs {truth}");
-        assert!((mu - MU_SS).abs() < 0.005, "seed {seed}: μ {mu} vs steady {MU_SS}");
+        assert!(
+            (mu - MU_SS).abs() < 0.005,
+            "seed {seed}: μ {mu} vs steady {MU_SS}"
+        );
         // the window is the final stationary stretch: after the run-in, to the end
-        assert!(a - REST_S >= RUN_IN_S - 60.0, "seed {seed}: window starts at {a}");
-        assert!(b > REST_S + 3600.0 - 60.0, "seed {seed}: window ends at {b}");
+        assert!(
+            a - REST_S >= RUN_IN_S - 60.0,
+            "seed {seed}: window starts at {a}"
+        );
+        assert!(
+            b > REST_S + 3600.0 - 60.0,
+            "seed {seed}: window ends at {b}"
+        );
         // run-in reported within ±60 s of the 300 s truth (entering a band of ≥ 0.002)
         let run_in = s.run_in_s.unwrap();
-        assert!((run_in - RUN_IN_S).abs() < 60.0, "seed {seed}: run-in {run_in} s");
+        assert!(
+            (run_in - RUN_IN_S).abs() < 60.0,
+            "seed {seed}: run-in {run_in} s"
+        );
         // drift reported as a trend, per hour and per km (0.1 m/s = 0.36 km/h)
         let per_h = s.drift_per_hour.unwrap();
-        assert!((per_h - DRIFT_PER_H).abs() < 0.0015, "seed {seed}: drift {per_h} /h");
+        assert!(
+            (per_h - DRIFT_PER_H).abs() < 0.0015,
+            "seed {seed}: drift {per_h} /h"
+        );
         let per_km = s.drift_per_km.unwrap();
         // (per km from the measured speed, the jittering channel's median)
-        assert!((per_km / (per_h / 0.36) - 1.0).abs() < 0.02, "seed {seed}: {per_km} /km");
+        assert!(
+            (per_km / (per_h / 0.36) - 1.0).abs() < 0.02,
+            "seed {seed}: {per_km} /km"
+        );
         eprintln!("seed {seed}: μ {mu:.4} (window truth {truth:.4}), window {a}..{b} s, run-in {run_in} s, drift {per_h:.4} /h");
-        assert!(f.notes.iter().any(|n| n.contains("run-in")), "{:?}", f.notes);
+        assert!(
+            f.notes.iter().any(|n| n.contains("run-in")),
+            "{:?}",
+            f.notes
+        );
         let row = &id.dataset.records[0];
         assert!((row.cof_trend_per_s * 3600.0 - per_h).abs() < 1e-12);
     }
@@ -133,7 +160,11 @@ fn a_quantised_speed_channel_does_not_split() {
         (v / lsb).round() * lsb
     });
     let id = identify(std::slice::from_ref(&rec), &IdentifyConfig::default());
-    let segs: Vec<_> = id.files[0].segments.iter().filter(|s| s.cof.is_some()).collect();
+    let segs: Vec<_> = id.files[0]
+        .segments
+        .iter()
+        .filter(|s| s.cof.is_some())
+        .collect();
     assert_eq!(segs.len(), 1, "{:#?}", id.files[0].segments);
     assert!((segs[0].cof.unwrap() - MU_SS).abs() < 0.005);
 }
@@ -141,7 +172,7 @@ fn a_quantised_speed_channel_does_not_split() {
 #[test]
 fn two_speeds_with_jitter_stay_two_segments() {
     // one test at 0.1 m/s, then 0.15 m/s (a 33 % step), both with ±2 % jitter
-    let rec = long_test(3, 1200, |rng| jitter(rng));
+    let rec = long_test(3, 1200, jitter);
     let mut rec2 = rec.clone();
     if let Some(SpeedTrace::SlidingMPerS(v)) = &mut rec2.speed {
         for (k, x) in v.iter_mut().enumerate() {
@@ -151,7 +182,11 @@ fn two_speeds_with_jitter_stay_two_segments() {
         }
     }
     let id = identify(&[rec2], &IdentifyConfig::default());
-    let segs: Vec<_> = id.files[0].segments.iter().filter(|s| s.cof.is_some()).collect();
+    let segs: Vec<_> = id.files[0]
+        .segments
+        .iter()
+        .filter(|s| s.cof.is_some())
+        .collect();
     assert_eq!(segs.len(), 2, "{:#?}", id.files[0].segments);
 }
 
@@ -163,11 +198,18 @@ fn steady_rules_give_the_windows_asked_for() {
         ..Default::default()
     };
     let id = identify(std::slice::from_ref(&rec), &last);
-    let s = id.files[0].segments.iter().find(|s| s.cof.is_some()).unwrap();
+    let s = id.files[0]
+        .segments
+        .iter()
+        .find(|s| s.cof.is_some())
+        .unwrap();
     let (start, end) = (s.start_s, s.end_s);
     let (a, b) = (s.steady_start_s.unwrap(), s.steady_end_s.unwrap());
     let mid = start + 0.5 * (end - start);
-    assert!((a - mid).abs() <= 1.0 && (b - end).abs() <= 1.0, "{a}..{b} in {start}..{end}");
+    assert!(
+        (a - mid).abs() <= 1.0 && (b - end).abs() <= 1.0,
+        "{a}..{b} in {start}..{end}"
+    );
     assert!(s.run_in_s.is_none());
 
     let from = IdentifyConfig {
@@ -175,9 +217,17 @@ fn steady_rules_give_the_windows_asked_for() {
         ..Default::default()
     };
     let id = identify(std::slice::from_ref(&rec), &from);
-    let s = id.files[0].segments.iter().find(|s| s.cof.is_some()).unwrap();
+    let s = id.files[0]
+        .segments
+        .iter()
+        .find(|s| s.cof.is_some())
+        .unwrap();
     let a = s.steady_start_s.unwrap();
-    assert!((a - (s.start_s + 300.0)).abs() <= 1.0, "{a} vs {} + 300", s.start_s);
+    assert!(
+        (a - (s.start_s + 300.0)).abs() <= 1.0,
+        "{a} vs {} + 300",
+        s.start_s
+    );
     assert!((s.cof.unwrap() - MU_SS).abs() < 0.005);
 }
 
@@ -239,7 +289,11 @@ fn lathe(seed: u64, runout_rel: f64) -> (Recording, Vec<(f64, f64, f64, f64)>) {
         let load = LOAD * ((t - 0.2) / 0.1).clamp(0.0, 1.0) * f64::from(t < t_end - 0.2);
         let v = speed(t);
         theta += v / 60.0 / R_M / FS;
-        let runout = if v > 0.0 { runout_rel * load * theta.sin() } else { 0.0 };
+        let runout = if v > 0.0 {
+            runout_rel * load * theta.sin()
+        } else {
+            0.0
+        };
         r.time_s.push(t);
         r.normal_n.push(load + 1.5 * noise.sample(&mut rng));
         r.tangential_n
@@ -321,5 +375,8 @@ fn lathe_short_dwells_with_run_out_are_right_or_flagged() {
 fn lathe_short_dwells_without_run_out_are_right_and_mostly_unflagged() {
     let (worst, flagged) = lathe_steps(0.0);
     assert!(worst < 0.003, "worst unflagged error {worst}");
-    assert!(flagged <= 6, "{flagged} of 36 steps flagged without run-out");
+    assert!(
+        flagged <= 6,
+        "{flagged} of 36 steps flagged without run-out"
+    );
 }
