@@ -120,7 +120,7 @@ fn model_files_round_trip_and_verify() {
             1,
         );
         let e = ModelFile::parse(&text, "t.json").unwrap_err().to_string();
-        assert!(e.contains("schema version Some(3) is not supported"), "{e}");
+        assert!(e.contains("schema version 3 is not supported"), "{e}");
         // a version-1 file (before force_to_pressure and provenance) still loads
         let mut v1 = f.clone();
         v1.schema_version = 1;
