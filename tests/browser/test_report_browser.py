@@ -12,7 +12,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from browser_support import ROOT
+from browser_support import ROOT, browser, greybox_exe  # noqa: F401 (fixtures)
 
 EXPECTED_SECTIONS = [
     "Campaign",

@@ -14,6 +14,7 @@ import time
 from pathlib import Path
 
 import pytest
+from browser_support import browser, greybox_exe  # noqa: F401 (fixtures)
 
 PLOT = (
     '<svg xmlns="http://www.w3.org/2000/svg" width="300" height="150" viewBox="0 0 300 150">'
