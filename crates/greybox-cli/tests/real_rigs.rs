@@ -106,3 +106,35 @@ fn pin_on_disc_dwf_exports_without_load_or_speed_channels() {
         );
     }
 }
+
+/// Under the default rule (`--steady auto`) every long test is identified from its FINAL
+/// stationary stretch: the window ends at the end of the test (never a short stretch early in
+/// the run-in, which is what a jittering or quantised speed channel used to cause), after a
+/// run-in that is reported.
+#[test]
+fn the_default_rule_takes_the_final_stationary_stretch() {
+    for (file, end_s) in [
+        ("phoenix-te/PPS_60N_1.tsv", 1804.7),
+        ("phoenix-te/PPS_100N_1.tsv", 1804.7),
+        ("phoenix-te/PPS+30PTFE_100N_200RPM_30MINS_1.tsv", 3606.2),
+        ("pcs-mtm/demo_7.txt", 7500.0),
+        ("pcs-mtm/demo_8.txt", 7500.0),
+        ("pcs-mtm/demo_5.txt", 10000.0),
+    ] {
+        let d = tempfile::tempdir().unwrap();
+        let path = corpus().join(file);
+        ok(&greybox(
+            &["identify", "-q", "--no-plan", "--track-radius-mm", "10", "--recordings", path.to_str().unwrap(), "--out", "data.csv"],
+            d.path(),
+        ));
+        let text = std::fs::read_to_string(d.path().join("data.csv")).unwrap();
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let row: Vec<&str> = lines.next().expect("one row").split(',').collect();
+        let col = |name: &str| row[header.iter().position(|h| *h == name).unwrap()];
+        let end: f64 = col("plateau_end_s").parse().unwrap();
+        assert!(end > end_s - 10.0, "{file}: the steady window ends at {end} s, the test at {end_s} s");
+        let mu: f64 = col("cof_apparent").parse().unwrap();
+        assert!((0.05..0.2).contains(&mu), "{file}: μ {mu}");
+    }
+}

@@ -25,7 +25,7 @@ use crate::identify::{identify_pin, IdentifyConfig};
 use crate::identify_config::SteadyRule;
 use crate::plan::Plan;
 use crate::recording::{ReadReport, Recording, SpeedTrace};
-use crate::signal::{mad_sigma, median, moving_average};
+use crate::signal::{mad_sigma, median, moving_average, quantum};
 use crate::steady::{
     final_stationary, mean_standard_error, plateau_stats, rule_span, steady_span, step_signals,
     windows, StepSignals,
@@ -451,12 +451,7 @@ impl LevelTolerance {
         } else {
             0.0
         };
-        let lsb = raw
-            .windows(2)
-            .map(|w| (w[1] - w[0]).abs())
-            .filter(|d| *d > 0.0)
-            .fold(f64::INFINITY, f64::min);
-        let lsb = if lsb.is_finite() { lsb } else { 0.0 };
+        let lsb = crate::signal::quantum(raw);
         let mut rel = base_rel.max(4.0 * sigma);
         if let Some(step) = plan_step {
             rel = rel.min(0.4 * step).max(base_rel.min(0.4 * step));
@@ -947,7 +942,9 @@ fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> Segm
         .map(|s| moving_average(&s.values()[i..j], w));
     let mut others: Vec<(&[f64], f64)> = vec![(&fn_s, 0.02 * f_ref)];
     if let Some(v) = &speed {
-        others.push((v, 0.01 * median(v).abs() + 1e-9));
+        // a quantised channel (a 1 Hz export stepping 0.147/0.150 m/s) wanders by its LSB
+        let lsb = rec.speed.as_ref().map_or(0.0, |s| quantum(&s.values()[i..j]));
+        others.push((v, 0.01 * median(v).abs() + 1.5 * lsb + 1e-9));
     }
     let t_rel: Vec<f64> = rec.time_s[i..j].iter().map(|t| t - rec.time_s[i]).collect();
     let (pa, pb, run_in) = match steady_window(&sig, &others, &t_rel, cfg, p.fs) {

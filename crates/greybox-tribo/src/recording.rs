@@ -661,17 +661,13 @@ fn check_unit(role: Role, unit: &str) -> std::result::Result<(), String> {
 }
 
 /// Which column each role takes, and how it was found.
-fn assign_roles(
-    table: &Table,
-    map: &ChannelMap,
-    notes: &mut Vec<String>,
-) -> Result<Vec<(Role, usize, bool)>> {
+fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, bool)>> {
     let pos = || SourcePos::file(&table.source).line(table.header_line);
     let mut taken: Vec<(Role, usize, bool)> = Vec::new();
     // explicit mappings first, so that automatic ones never steal their columns
     for role in Role::ALL {
         if let Some(spec) = map.spec(role) {
-            let idx = first_match(table, &spec.name, role, notes)
+            let idx = first_match(table, &spec.name)
                 .ok_or_else(|| {
                     Error::input(
                         pos().field(&spec.name),
@@ -709,7 +705,7 @@ fn assign_roles(
                     .columns
                     .iter()
                     .any(|c| column_matches(c, a))
-                    .then(|| first_match(table, a, role, notes))
+                    .then(|| first_match(table, a))
                     .flatten()
             });
             if let Some(idx) = found {
@@ -736,24 +732,10 @@ fn assign_roles(
     Ok(taken)
 }
 
-/// The first column matching `wanted`; where several do (a header that repeats a name, as
-/// Phoenix COMPEND writes `Friction Force` twice), a note says which one was taken.
-fn first_match(table: &Table, wanted: &str, role: Role, notes: &mut Vec<String>) -> Option<usize> {
-    let all: Vec<usize> = (0..table.columns.len())
-        .filter(|&i| column_matches(&table.columns[i], wanted))
-        .collect();
-    if all.len() > 1 {
-        let places: Vec<String> = all.iter().map(|i| format!("column {}", i + 1)).collect();
-        notes.push(format!(
-            "{} columns match '{wanted}' ({}): the first, column {} '{}', was taken as {}",
-            all.len(),
-            places.join(", "),
-            all[0] + 1,
-            table.columns[all[0]].header,
-            role.name()
-        ));
-    }
-    all.first().copied()
+/// The first column matching `wanted` (the reader names a repeated header's later columns
+/// `NAME #2`, … and notes it, so the first is the one that answers to the name).
+fn first_match(table: &Table, wanted: &str) -> Option<usize> {
+    (0..table.columns.len()).find(|&i| column_matches(&table.columns[i], wanted))
 }
 
 /// Optional roles found by their usual name (not mapped) in a column that states no unit are
@@ -886,7 +868,7 @@ fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
 /// Convert a table into a recording through a channel map.
 pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Recording> {
     let mut notes = std::mem::take(&mut table.notes);
-    let mut roles = assign_roles(&table, map, &mut notes)?;
+    let mut roles = assign_roles(&table, map)?;
     drop_unitless_optional(&table, map, &mut roles, &mut notes);
     let problems = unresolved(&table, map, &roles);
     if !problems.is_empty() {

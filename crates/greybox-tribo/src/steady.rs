@@ -93,17 +93,38 @@ pub fn steady_span(signals: &[(&[f64], f64)], w_smooth: usize) -> Option<(usize,
         return None;
     }
     let (mut a, mut b) = (0usize, n);
+    let min_run = w_smooth.max(3);
     for (x, floor) in signals {
         let (level, band) = level_band(&x[n / 4..(3 * n) / 4], *floor);
-        let out = |v: &f64| (v - level).abs() > band;
-        if let Some(k) = x[..n / 2].iter().rposition(out) {
+        let out = sustained_excursions(x, level, band, min_run);
+        if let Some(k) = out[..n / 2].iter().rposition(|o| *o) {
             a = a.max(k + 1 + w_smooth / 2);
         }
-        if let Some(k) = x[n / 2..].iter().position(out) {
+        if let Some(k) = out[n / 2..].iter().position(|o| *o) {
             b = b.min((n / 2 + k).saturating_sub(w_smooth / 2));
         }
     }
     (b > a).then_some((a, b))
+}
+
+/// Samples outside `level ± band` that belong to a run of at least `min_run` such samples:
+/// a ramp, a run-in or a settling is sustained, a glitch of a jittering or quantised channel
+/// (a 1 Hz speed channel's odd sample) is not, and must not cut a 30-minute test short.
+fn sustained_excursions(x: &[f64], level: f64, band: f64, min_run: usize) -> Vec<bool> {
+    let mut out: Vec<bool> = x.iter().map(|v| (v - level).abs() > band).collect();
+    let mut k = 0;
+    while k < out.len() {
+        if !out[k] {
+            k += 1;
+            continue;
+        }
+        let end = (k..out.len()).find(|&e| !out[e]).unwrap_or(out.len());
+        if end - k < min_run {
+            out[k..end].iter_mut().for_each(|o| *o = false);
+        }
+        k = end;
+    }
+    out
 }
 
 /// The final stationary stretch of a step's μ and the run-in before it.
@@ -123,12 +144,16 @@ pub struct FinalStretch {
 /// s, following ASTM G99-17 §3.2/§9 and G133-05 §9 practice: the steady-state value comes
 /// after the run-in, from the end of the test.
 ///
-/// μ's running level is a centred moving average over max(`w_smooth`, n/50) samples. A line
-/// fitted to that level over the reference stretch `[n/2, 15n/16)` carries a slow drift; the
-/// band around it is five robust standard deviations of the level's residuals (at least
-/// `floor`). The run-in ends after the last sample of the first half outside the band, the
-/// steady part ends before the first sample of the second half outside it. A drift therefore
-/// moves the line, not the window. `None` for fewer than 16 samples or nothing left.
+/// μ's running level is a centred moving average over max(`w_smooth`, n/50) samples. The
+/// band is five robust standard deviations of the level's residuals about a line over the
+/// last quarter (at least `floor`). The steady part is the longest final stretch (searched on
+/// a grid of [`SUFFIX_GRID`] starts, at least n/4 samples long) whose level stays within the
+/// band of a line fitted to that stretch (excursions shorter than the running window, stick-slip
+/// bursts, aside), a line changing by at most [`MAX_DRIFT_FRACTION`]
+/// of the level (or two bands) over it: a slow drift tilts the line, not the window, and a
+/// test whose μ still moves in its second half (a wear transition) gets its last stationary
+/// stretch rather than none. The run-in is what comes before it. `None` for fewer than 16
+/// samples, or when even the last n/4 samples do not lie on a line within the band.
 pub fn final_stationary(x: &[f64], t: &[f64], w_smooth: usize, floor: f64) -> Option<FinalStretch> {
     let n = x.len();
     if n < 16 || t.len() != n {
@@ -136,22 +161,41 @@ pub fn final_stationary(x: &[f64], t: &[f64], w_smooth: usize, floor: f64) -> Op
     }
     let w = w_smooth.max(n / 50).max(3);
     let level = moving_average(x, w);
-    let (r0, r1) = (n / 2, (15 * n) / 16);
-    let (c0, c1, _) = linear_fit(&t[r0..r1], &level[r0..r1]);
-    let resid: Vec<f64> = (0..n).map(|k| level[k] - c0 - c1 * t[k]).collect();
-    let band = (5.0 * mad_sigma(&resid[r0..r1], 0.0)).max(floor);
-    let out = |k: &usize| resid[*k].abs() > band;
-    let run_in_end = (0..n / 2).rev().find(out).map_or(0, |k| k + 1);
-    let a = if run_in_end > 0 {
-        (run_in_end + w / 2).min(n / 2)
-    } else {
-        0
+    let q = (3 * n) / 4;
+    let (c0, c1, _) = linear_fit(&t[q..], &level[q..]);
+    let resid: Vec<f64> = (q..n).map(|k| level[k] - c0 - c1 * t[k]).collect();
+    let band = (5.0 * mad_sigma(&resid, 0.0)).max(floor);
+    let min_len = (n / 4).max(8);
+    let on_a_line = |a: usize| {
+        let (c0, c1, _) = linear_fit(&t[a..], &level[a..]);
+        let mean = level[a..].iter().sum::<f64>() / (n - a) as f64;
+        let change = (c1 * (t[n - 1] - t[a])).abs();
+        let resid: Vec<f64> = (a..n).map(|k| level[k] - c0 - c1 * t[k]).collect();
+        // forgiven: short excursions inside the stretch, never at its start (the run-in's tail)
+        let head = resid.len().min(w);
+        change <= (2.0 * band).max(MAX_DRIFT_FRACTION * mean.abs())
+            && resid[..head].iter().all(|r| r.abs() <= band)
+            && !sustained_excursions(&resid, 0.0, band, w).contains(&true)
     };
-    let b = (n / 2..n)
-        .find(out)
-        .map_or(n, |k| k.saturating_sub(w / 2).max(n / 2));
-    (b > a).then_some(FinalStretch { a, b, run_in_end })
+    let start = (0..=SUFFIX_GRID)
+        .map(|g| g * (n - min_len) / SUFFIX_GRID)
+        .find(|&a| on_a_line(a))?;
+    let a = if start > 0 { (start + w / 2).min(n - min_len) } else { 0 };
+    Some(FinalStretch {
+        a,
+        b: n,
+        run_in_end: start,
+    })
 }
+
+/// The most μ may drift across a steady stretch, as a fraction of its level: a slow drift
+/// (a few per cent over the test) is reported as a trend; a change of more than a tenth is a
+/// transition (wear of a coating, a new mechanism), not a steady state.
+pub const MAX_DRIFT_FRACTION: f64 = 0.1;
+
+/// Starts tried for the final stationary stretch, evenly over the step (a 1 h test at 1 Hz:
+/// every 25 s).
+const SUFFIX_GRID: usize = 128;
 
 /// Window-relative samples `[a, b)` of a step of `n` samples at times `t` (s, from the step's
 /// start) under a user's rule: `last:P%` the last P % of the samples, `from:Ts` the samples
