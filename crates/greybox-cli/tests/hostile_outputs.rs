@@ -127,3 +127,24 @@ fn a_campaign_with_implausible_mu_is_refused_with_the_numbers() {
     );
     assert!(!p.join("data.csv").exists());
 }
+
+/// A law naming `/dev/zero` (or a FIFO) as its model: read until the allocator gave up (or
+/// waited for a writer forever). Model, law and table files are read only as regular files.
+#[test]
+fn a_law_whose_model_is_a_device_or_a_fifo_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    assert!(std::process::Command::new("mkfifo").arg(p.join("pipe.json")).status().unwrap().success());
+    for model in ["/dev/zero", "pipe.json"] {
+        std::fs::write(p.join("law.json"), format!(r#"{{"law": "learned", "model": "{model}"}}"#)).unwrap();
+        refused_with(
+            &run(&["export", "--law", "law.json", "--format", "csv", "--out", "t.csv"], p),
+            &["model file is a", "not a regular file"],
+        );
+        assert!(!p.join("t.csv").exists());
+    }
+    refused_with(
+        &run(&["export", "--law", "/dev/zero", "--format", "csv", "--out", "t.csv"], p),
+        &["law file is a character device"],
+    );
+}

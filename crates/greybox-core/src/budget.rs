@@ -168,6 +168,24 @@ pub fn read_config_bytes(path: &Path, what: &str) -> Result<Vec<u8>> {
     Ok(bytes)
 }
 
+/// Reads a model, law or table file whole: only a regular file (`/dev/zero` or a FIFO named as
+/// a model would never end or never start), with no size cap beyond the file's own size (a
+/// forest of many trees is legitimately large, and the C ABI inside an FE engine has no flag
+/// to raise one).
+pub fn read_regular_text(path: &Path, what: &str) -> Result<String> {
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if !meta.is_file() {
+        return Err(Error::input(
+            SourcePos::path(path),
+            format!(
+                "the {what} is {}, not a regular file",
+                crate::atomic::describe_kind(&meta)
+            ),
+        ));
+    }
+    std::fs::read_to_string(path).map_err(|e| Error::io(path, e))
+}
+
 /// [`read_config_bytes`] as UTF-8 text.
 pub fn read_config(path: &Path, what: &str) -> Result<String> {
     String::from_utf8(read_config_bytes(path, what)?).map_err(|e| {

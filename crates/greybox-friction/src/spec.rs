@@ -234,7 +234,7 @@ pub fn law_inputs(path: &Path) -> Result<Vec<PathBuf>> {
 
 /// The law file's spec and the directory its relative paths are resolved against.
 fn read_spec(path: &Path) -> Result<(LawSpec, PathBuf)> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = greybox_core::budget::read_regular_text(path, "law file")?;
     let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
         Error::input(
             SourcePos::path(path).line(e.line() as u64),

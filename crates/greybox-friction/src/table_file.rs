@@ -110,7 +110,7 @@ impl AnyTable {
 
 /// Read a table file of any version and kind.
 pub fn read_table(path: &Path) -> Result<AnyTable> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = greybox_core::budget::read_regular_text(path, "table file")?;
     parse_table(&text, path)
 }
 

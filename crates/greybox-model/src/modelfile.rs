@@ -134,7 +134,7 @@ impl ModelFile {
 
     /// Load and verify schema, version and hash.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = greybox_core::budget::read_regular_text(path, "model file")?;
         Self::parse(&text, &path.display().to_string())
     }
 
