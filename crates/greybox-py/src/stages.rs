@@ -161,6 +161,7 @@ fn read_recording<'py>(
         ("trigger_V", rec.trigger_v),
         ("step", rec.step),
         ("track_radius_m", rec.track_radius_m),
+        ("cof", rec.cof),
     ];
     for (name, v) in optional {
         if let Some(v) = v {
@@ -184,9 +185,10 @@ fn read_recording<'py>(
 /// the dataset CSV `dataset`: JSON summary. `study` is a study TOML (default: the bundled
 /// example study, its plan's counts overridable); `use_plan` matches segments to its plan
 /// instead of taking loads and velocities from the recordings. `steady` is the steady-state
-/// rule (`auto`, `last:P%`, `from:Ts`; default: the study's, `auto`).
+/// rule (`auto`, `last:P%`, `from:Ts`; default: the study's, `auto`). `channels`: JSON of the
+/// `[recording]` settings (roles, `rig`, `constant_normal_n`, …), replacing the study's.
 #[pyfunction]
-#[pyo3(signature = (recordings, dataset, study = None, use_plan = false, truth = None, track_radii_mm = Vec::new(), normal_force_count = None, velocity_count = None, steady = None))]
+#[pyo3(signature = (recordings, dataset, study = None, use_plan = false, truth = None, track_radii_mm = Vec::new(), normal_force_count = None, velocity_count = None, steady = None, channels = None))]
 #[allow(clippy::too_many_arguments)]
 fn identify(
     py: Python<'_>,
@@ -199,9 +201,13 @@ fn identify(
     normal_force_count: Option<usize>,
     velocity_count: Option<usize>,
     steady: Option<String>,
+    channels: Option<&str>,
 ) -> PyResult<String> {
     let r = py.detach(|| -> anyhow::Result<_> {
         let mut s = study_or_example(study.as_deref(), normal_force_count, velocity_count)?;
+        if let Some(c) = channels {
+            s.recording = serde_json::from_str(c).map_err(|e| anyhow::anyhow!("channels: {e}"))?;
+        }
         if let Some(rule) = &steady {
             s.identify.steady = rule.parse().map_err(anyhow::Error::msg)?;
         }

@@ -325,6 +325,7 @@ def identify(
     velocity_count: Optional[int] = None,
     as_frame: Optional[bool] = None,
     steady: Optional[str] = None,
+    channels: Optional[dict] = None,
 ) -> tuple:
     """Identify apparent friction coefficients per plateau from recordings of any supported
     rig (files or directories) into the dataset CSV ``dataset``; returns (dataset table,
@@ -332,7 +333,10 @@ def identify(
     ``use_plan`` matches segments to its plan (``normal_force_count``/``velocity_count``
     override the study's, as in :func:`synth`) instead of taking loads and speeds from the
     recordings. ``steady`` is the steady-state rule: ``"auto"`` (after run-in, ASTM G99
-    practice), ``"last:50%"`` or ``"from:300s"`` (default: the study's, ``auto``)."""
+    practice), ``"last:50%"`` or ``"from:300s"`` (default: the study's, ``auto``).
+    ``channels`` replaces the study's ``[recording]`` settings, e.g. ``{"rig": "phoenix-te"}``,
+    ``{"constant_normal_n": 50.0, "constant_sliding_m_s": 0.33}`` or
+    ``{"normal": {"name": "Load", "unit": "N"}, "cof": {"name": "COF"}}``."""
     if isinstance(recordings, (str, os.PathLike)):
         recordings = [recordings]
     summary = json.loads(
@@ -346,6 +350,7 @@ def identify(
             normal_force_count,
             velocity_count,
             steady,
+            None if channels is None else json.dumps(channels),
         )
     )
     return read_csv(dataset, as_frame), summary
