@@ -1,0 +1,90 @@
+//! Linear reciprocating tests (ASTM G133) on the virtual reciprocating rig: strokes from the
+//! position, from the friction force's sign and from half-stroke blocks; μ per direction
+//! against the truth, cycles counted exactly.
+
+use greybox_tribo::identify_config::{IdentifyConfig, SteadyRule};
+use greybox_tribo::reciprocating::{analyse, detect, parts, Signals, StrokeSource};
+use greybox_tribo::synth_recip::{reciprocating_recording, RecipSpec};
+
+fn check(spec: &RecipSpec, position: bool, blocks: bool, want: StrokeSource) {
+    let (mut rec, block) = reciprocating_recording(spec);
+    if !position {
+        rec.position_m = None;
+    }
+    if blocks {
+        rec.step = Some(block);
+    }
+    let cfg = IdentifyConfig::default();
+    let s = Signals::of(&rec);
+    assert!(detect(&s, None, None, &cfg).is_some(), "not detected as reciprocating");
+    let p = parts(&s, &cfg);
+    assert_eq!(p.len(), 1, "{p:?}");
+    let r = analyse(&s, p[0].0, p[0].1, &cfg).unwrap();
+    eprintln!(
+        "{want:?}: strokes {} cycles {} steady {:?} run-in {:?} μ fwd {:.5} bwd {:.5} mean {:.5} v {:?} L {:?} f {:.3}",
+        r.strokes,
+        r.cycles.len(),
+        r.steady_cycles,
+        r.run_in_cycles,
+        r.mu_forward,
+        r.mu_backward,
+        r.mu_mean,
+        r.velocity_m_s,
+        r.stroke_length_m,
+        r.frequency_hz
+    );
+    assert_eq!(r.source, want);
+    assert_eq!(r.cycles.len(), spec.cycles, "cycles");
+    assert_eq!(r.strokes, 2 * spec.cycles, "strokes");
+    assert!((r.mu_forward - spec.mu_forward).abs() < 0.003, "forward {}", r.mu_forward);
+    assert!((r.mu_backward - spec.mu_backward).abs() < 0.003, "backward {}", r.mu_backward);
+    let mean = 0.5 * (spec.mu_forward + spec.mu_backward);
+    assert!((r.mu_mean - mean).abs() < 0.003, "mean {}", r.mu_mean);
+    assert!(r.run_in_cycles.unwrap() > 0, "run-in not seen");
+    assert!(r.cycles[0].mu_mean > mean + 0.04, "first cycle shows the run-in");
+}
+
+#[test]
+fn strokes_from_the_position() {
+    check(&RecipSpec::default(), true, false, StrokeSource::Position);
+}
+
+#[test]
+fn strokes_from_the_force_sign_without_a_position() {
+    check(&RecipSpec::default(), false, false, StrokeSource::ForceSign);
+}
+
+#[test]
+fn strokes_from_half_stroke_blocks() {
+    check(&RecipSpec::default(), false, true, StrokeSource::Blocks);
+}
+
+#[test]
+fn a_flipped_force_axis_still_gives_positive_mu_per_direction() {
+    let (mut rec, _) = reciprocating_recording(&RecipSpec::default());
+    rec.tangential_n.iter_mut().for_each(|v| *v = -*v);
+    let cfg = IdentifyConfig::default();
+    let s = Signals::of(&rec);
+    let p = parts(&s, &cfg);
+    let r = analyse(&s, p[0].0, p[0].1, &cfg).unwrap();
+    assert!((r.mu_forward - 0.30).abs() < 0.003 && (r.mu_backward - 0.26).abs() < 0.003, "{r:?}");
+}
+
+#[test]
+fn last_half_rule_takes_the_last_half_of_the_cycles() {
+    let (rec, _) = reciprocating_recording(&RecipSpec::default());
+    let cfg = IdentifyConfig { steady: SteadyRule::Last(0.5), ..Default::default() };
+    let s = Signals::of(&rec);
+    let p = parts(&s, &cfg);
+    let r = analyse(&s, p[0].0, p[0].1, &cfg).unwrap();
+    assert_eq!(r.steady_cycles, (50, 100));
+}
+
+#[test]
+fn a_one_way_test_is_not_reciprocating() {
+    let (mut rec, _) = reciprocating_recording(&RecipSpec::default());
+    rec.position_m = None;
+    rec.tangential_n.iter_mut().for_each(|v| *v = v.abs());
+    let cfg = IdentifyConfig::default();
+    assert!(detect(&Signals::of(&rec), None, None, &cfg).is_none());
+}
