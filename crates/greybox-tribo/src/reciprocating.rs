@@ -525,6 +525,12 @@ pub fn detect(s: &Signals, mode: Option<TestMode>, profile: Option<TestMode>, cf
     }
     let loaded = loaded_mask(s.normal_n);
     let (i0, j0) = (loaded.iter().position(|l| *l)?, loaded.iter().rposition(|l| *l)? + 1);
+    let ft: Vec<f64> = (i0..j0).filter(|k| loaded[*k]).map(|k| s.tangential_n[k]).collect();
+    let neg = ft.iter().filter(|v| **v < 0.0).count() as f64 / ft.len().max(1) as f64;
+    // without a position, both directions must be loaded a fair share of the time
+    if s.position_m.is_none() && !(0.2..=0.8).contains(&neg) {
+        return None;
+    }
     let (source, st, _) = strokes(s, i0, j0, cfg);
     let by_profile = profile == Some(TestMode::Reciprocating);
     let min = if by_profile { 2 } else { 4 };
@@ -533,8 +539,6 @@ pub fn detect(s: &Signals, mode: Option<TestMode>, profile: Option<TestMode>, cf
         StrokeSource::ForceSign if st.len() >= min.max(6) || (by_profile && st.len() >= 2) => {
             let d: Vec<f64> = st.iter().map(|x| x.end_s - x.start_s).collect();
             let (m, sd) = mean_std(&d);
-            let ft: Vec<f64> = (i0..j0).filter(|k| loaded[*k]).map(|k| s.tangential_n[k]).collect();
-            let neg = ft.iter().filter(|v| **v < 0.0).count() as f64 / ft.len().max(1) as f64;
             let regular = by_profile || sd <= 0.3 * m;
             if !(regular && (0.25..=0.75).contains(&neg)) {
                 return None;

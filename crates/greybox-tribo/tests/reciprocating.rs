@@ -88,3 +88,27 @@ fn a_one_way_test_is_not_reciprocating() {
     let cfg = IdentifyConfig::default();
     assert!(detect(&Signals::of(&rec), None, None, &cfg).is_none());
 }
+
+/// Through the campaign identification: one row per test, flagged `reciprocating`, the
+/// sliding velocity from the position, the per-cycle evolution kept in the segment.
+#[test]
+fn campaign_identification_gives_one_row_per_test() {
+    use greybox_tribo::campaign::{identify_recordings, Campaign};
+    use greybox_tribo::hertz::PinContact;
+    let (rec, _) = reciprocating_recording(&RecipSpec::default());
+    let cfg = IdentifyConfig::default();
+    let contact = PinContact::default();
+    let c = Campaign { expected: None, plan: None, contact: &contact, cfg: &cfg, track_radius_mm: &[] };
+    let id = identify_recordings(&[rec], &c).unwrap();
+    assert_eq!(id.dataset.records.len(), 1);
+    let row = &id.dataset.records[0];
+    assert!((row.cof_apparent - 0.28).abs() < 0.003, "{row:?}");
+    assert!(row.flags.iter().any(|f| f == "reciprocating"), "{:?}", row.flags);
+    assert!((row.sliding_velocity_m_s - 0.015).abs() < 0.001, "{}", row.sliding_velocity_m_s);
+    let f = &id.files[0];
+    assert_eq!(f.segmentation, "reciprocating");
+    assert!(!f.tangential_sign_flipped);
+    let r = f.segments[0].reciprocating.as_ref().unwrap();
+    assert_eq!(r.cycles.len(), 100);
+    assert!((r.mu_forward - 0.30).abs() < 0.003 && (r.mu_backward - 0.26).abs() < 0.003);
+}
