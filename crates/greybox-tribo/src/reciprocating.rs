@@ -383,6 +383,11 @@ pub fn stroke_bounds(
 /// median stroke in time, or in travel with a position), with the unsigned flag.
 pub fn strokes(s: &Signals, i0: usize, j0: usize, cfg: &IdentifyConfig) -> (StrokeSource, Vec<Stroke>, bool) {
     let (source, bounds) = stroke_bounds(s, i0, j0, cfg);
+    // a position that does not reverse (a constant radius column) says nothing of direction
+    let s = &Signals {
+        position_m: s.position_m.filter(|_| source == StrokeSource::Position),
+        ..*s
+    };
     let loaded = loaded_mask(s.normal_n);
     let ft_loaded: Vec<f64> = (i0..j0).filter(|k| loaded[*k]).map(|k| s.tangential_n[k]).collect();
     let negative = ft_loaded.iter().filter(|v| **v < 0.0).count() as f64;

@@ -99,3 +99,48 @@ pub fn reciprocating_recording(spec: &RecipSpec) -> (Recording, Vec<f64>) {
     rec.position_m = Some(x);
     (rec, block)
 }
+
+/// The loaded part of a recording as a CETR/Bruker UMT Data Viewer export: a preamble, then
+/// one block per half-stroke (`Step No. k`, its settings, the header
+/// `Fx,Fz,Z,Y,X,V1,V2,V3,T,Ff,COF` and the units row `g,g,mm,…,sec,g,`), forces in grams-force
+/// with Fz negative, Fx signed by direction, Ff = |Fx|, X the constant radius setting in mm,
+/// T restarting at 0 in every block.
+pub fn umt_export_text(rec: &Recording, block: &[f64]) -> String {
+    use std::fmt::Write as _;
+    const G: f64 = 9.806_65e-3; // N per gram-force
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    let mut s = 0;
+    for k in 1..=block.len() {
+        if k == block.len() || block[k] != block[s] {
+            if block[s] > 0.0 {
+                runs.push((s, k));
+            }
+            s = k;
+        }
+    }
+    let mut out = String::new();
+    let _ = writeln!(out, "Created by CETR Data Viewer ver.2.19.106 05/12/22 14:43:46");
+    let _ = writeln!(out, "Created by CETR UMT ver.1.136.257 12 May 2022 12:21:50");
+    let _ = writeln!(out, "Total number of runs - 1\nTotal number of steps = {}", runs.len());
+    let _ = writeln!(out, "Indenter tip ID = 0\nC:\\data\\recip.tst\n\nRun # 1");
+    let _ = writeln!(out, "Script file C:\\scripts\\recip.cts\nRun date 12 May 2022 12:21:50");
+    for (b, &(i, j)) in runs.iter().enumerate() {
+        let _ = writeln!(out, "Step No. {}\n\nStep Type Code: 0", b + 1);
+        let _ = writeln!(out, "Radius       = 3.9493\nVelocity     = 240\nSet Force    = -1000");
+        let _ = writeln!(out, "Duration     = {:.2}\nData Count   = {}", rec.time_s[j - 1] - rec.time_s[i], j - i);
+        let _ = writeln!(out, "Started at: 12:21:58.029 12 May 2022\n");
+        let _ = writeln!(out, "Fx,Fz,Z,Y,X,V1,V2,V3,T,Ff,COF\ng,g,mm,mm,mm,mm/sec,mm/sec,mm/sec,sec,g,\n");
+        for k in i..j {
+            let (fx, fz) = (rec.tangential_n[k] / G, -rec.normal_n[k] / G);
+            let _ = writeln!(
+                out,
+                "{fx:.6},{fz:.6},-0.6850,0.000000,3.949250,0.050000,0.000000,0.000000,{:.4},{:.6},{:.6}",
+                rec.time_s[k] - rec.time_s[i],
+                fx.abs(),
+                (fx / fz).abs()
+            );
+        }
+        out.push_str("\n\n");
+    }
+    out
+}

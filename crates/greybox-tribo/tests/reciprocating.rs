@@ -112,3 +112,46 @@ fn campaign_identification_gives_one_row_per_test() {
     assert_eq!(r.cycles.len(), 100);
     assert!((r.mu_forward - 0.30).abs() < 0.003 && (r.mu_backward - 0.26).abs() < 0.003);
 }
+
+/// A UMT-like export of blocks (one half-stroke each, forces in g, Fz negative, T restarting
+/// per block, a constant X column) read through the readers: the profile is detected, the
+/// blocks become the strokes, μ per direction within 0.003.
+#[test]
+fn umt_export_of_half_stroke_blocks() {
+    use greybox_tribo::campaign::{identify_recordings, Campaign};
+    use greybox_tribo::hertz::PinContact;
+    use greybox_tribo::identify_config::TestMode;
+    use greybox_tribo::readers::read_recording;
+    use greybox_tribo::recording::ChannelMap;
+    use greybox_tribo::synth_recip::umt_export_text;
+    let spec = RecipSpec {
+        sample_rate_hz: 500.0,
+        frequency_hz: 2.0,
+        cycles: 60,
+        run_in_cycles: 4.0,
+        ..RecipSpec::default()
+    };
+    let (rec, block) = reciprocating_recording(&spec);
+    let d = tempfile::tempdir().unwrap();
+    let path = d.path().join("umt_001.csv");
+    std::fs::write(&path, umt_export_text(&rec, &block)).unwrap();
+    let map = ChannelMap { constant_sliding_m_s: Some(0.004), ..ChannelMap::default() };
+    let read = read_recording(&path, &map).unwrap();
+    let report = read.provenance.as_ref().unwrap();
+    assert_eq!(report.test_mode, Some(TestMode::Reciprocating));
+    assert!(report.notes.iter().any(|n| n.contains("bruker-umt")), "{:?}", report.notes);
+    assert!((read.normal_n[10] - 10.0).abs() < 0.3, "Fz in g, flipped: {}", read.normal_n[10]);
+    let cfg = IdentifyConfig::default();
+    let contact = PinContact::default();
+    let c = Campaign { expected: None, plan: None, contact: &contact, cfg: &cfg, track_radius_mm: &[] };
+    let id = identify_recordings(&[read], &c).unwrap();
+    let seg = &id.files[0].segments[0];
+    let r = seg.reciprocating.as_ref().unwrap();
+    eprintln!("UMT: {} strokes, {} cycles, steady {:?}, μ {:.5} / {:.5}", r.strokes, r.cycles.len(), r.steady_cycles, r.mu_forward, r.mu_backward);
+    assert_eq!(r.source, StrokeSource::Blocks);
+    assert_eq!(r.strokes, 120);
+    assert_eq!(r.cycles.len(), 60);
+    assert!((r.mu_forward - 0.30).abs() < 0.003, "{}", r.mu_forward);
+    assert!((r.mu_backward - 0.26).abs() < 0.003, "{}", r.mu_backward);
+    assert_eq!(id.dataset.records.len(), 1);
+}
