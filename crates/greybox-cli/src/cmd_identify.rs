@@ -161,7 +161,7 @@ pub struct Args {
     #[arg(long = "settle-s")]
     pub settle_s: Option<f64>,
     /// Channel mapping ROLE=NAME[:UNIT[:SCALE]], repeatable. Roles: time, normal, tangential,
-    /// radial, trigger, step, speed, radius; an empty name (speed=) ignores a role. Unmapped
+    /// radial, trigger, step, speed, radius, cof, position; an empty name (speed=) ignores a role. Unmapped
     /// roles are found by their usual names (Fz, Fx, Time, Step, Velocity, ...).
     #[arg(long = "map")]
     pub map: Vec<String>,

@@ -47,7 +47,7 @@ impl StrokeSource {
     pub fn describe(self) -> &'static str {
         match self {
             StrokeSource::Position => "turning points of the position",
-            StrokeSource::Blocks => "one block per half-stroke",
+            StrokeSource::Blocks => "blocks (one per half-stroke)",
             StrokeSource::ForceSign => "sign changes of the friction force",
         }
     }
