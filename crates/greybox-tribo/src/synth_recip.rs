@@ -79,7 +79,7 @@ pub fn reciprocating_recording(spec: &RecipSpec) -> (Recording, Vec<f64>) {
         let pos = if sliding { 0.5 * spec.stroke_m * (1.0 - (w * ts).cos()) } else { 0.0 };
         let (f_n, f_t) = if sliding {
             let since = ts % half;
-            let forward = ((ts / half) as usize) % 2 == 0;
+            let forward = ((ts / half) as usize).is_multiple_of(2);
             let cyc = ts * spec.frequency_hz;
             let mu = if forward { spec.mu_forward } else { spec.mu_backward }
                 + spec.run_in_excess * (-cyc / spec.run_in_cycles).exp();
