@@ -201,8 +201,6 @@ pub fn identify(
         .map(|f| ("--recordings", f.as_path()))
         .collect();
     greybox_core::outputs::check_file_output(out, "--out", &inputs)?;
-    let cycles_out = crate::identify_cycles::cycles_path(out);
-    greybox_core::outputs::check_file_output(&cycles_out, "the cycles file beside --out", &inputs)?;
     let progress =
         greybox_core::progress::task("read recordings", Some(files.len() as u64), "files");
     let recs: Vec<Recording> = files
@@ -259,10 +257,18 @@ pub fn identify(
             notes.join("\n  ")
         );
     }
+    // reciprocating tests: the per-cycle evolution beside the dataset, checked before either
+    // is written
+    let cycles = if crate::identify_cycles::any_reciprocating(&id.files) {
+        let path = crate::identify_cycles::cycles_path(out);
+        greybox_core::outputs::check_file_output(&path, "the cycles file beside --out", &inputs)?;
+        Some((path, crate::identify_cycles::cycles_csv(&id.files)?))
+    } else {
+        None
+    };
     id.dataset.write_csv(out)?;
-    if crate::identify_cycles::any_reciprocating(&id.files) {
-        let text = crate::identify_cycles::cycles_csv(&id.files)?;
-        greybox_core::atomic::write_string_atomic(&cycles_out, &text)?;
+    if let Some((path, text)) = cycles {
+        greybox_core::atomic::write_string_atomic(&path, &text)?;
     }
     let mut all_inputs = inputs.clone();
     all_inputs.extend_from_slice(side_inputs);

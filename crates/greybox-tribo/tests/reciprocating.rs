@@ -155,3 +155,31 @@ fn umt_export_of_half_stroke_blocks() {
     assert!((r.mu_backward - 0.26).abs() < 0.003, "{}", r.mu_backward);
     assert_eq!(id.dataset.records.len(), 1);
 }
+
+/// Two load steps of one reciprocating test (a step column whose runs hold many strokes
+/// each): one row per step, each with its own cycles.
+#[test]
+fn load_steps_give_one_row_each() {
+    use greybox_tribo::campaign::{identify_recordings, Campaign};
+    use greybox_tribo::hertz::PinContact;
+    let (mut rec, _) = reciprocating_recording(&RecipSpec { cycles: 40, rest_s: 0.2, ..RecipSpec::default() });
+    let (b, _) = reciprocating_recording(&RecipSpec { cycles: 40, rest_s: 0.2, normal_n: 20.0, seed: 8, ..RecipSpec::default() });
+    let n = rec.len();
+    let t_end = rec.time_s[n - 1] + 1e-3;
+    rec.time_s.extend(b.time_s.iter().map(|t| t + t_end));
+    rec.normal_n.extend(&b.normal_n);
+    rec.tangential_n.extend(&b.tangential_n);
+    rec.position_m.as_mut().unwrap().extend(b.position_m.as_ref().unwrap());
+    rec.step = Some((0..2 * n).map(|k| if k < n { 1.0 } else { 2.0 }).collect());
+    let cfg = IdentifyConfig::default();
+    let contact = PinContact::default();
+    let c = Campaign { expected: None, plan: None, contact: &contact, cfg: &cfg, track_radius_mm: &[] };
+    let id = identify_recordings(&[rec], &c).unwrap();
+    assert_eq!(id.dataset.records.len(), 2, "{:?}", id.files[0].notes);
+    for (row, f) in id.dataset.records.iter().zip([10.0, 20.0]) {
+        assert!((row.normal_force_n - f).abs() < 0.1 && (row.cof_apparent - 0.28).abs() < 0.003, "{row:?}");
+    }
+    for s in &id.files[0].segments {
+        assert_eq!(s.reciprocating.as_ref().unwrap().cycles.len(), 40);
+    }
+}
