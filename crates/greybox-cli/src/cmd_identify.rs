@@ -11,7 +11,7 @@ use greybox_pipeline::identify::{
 use greybox_pipeline::study::Study;
 use greybox_tribo::campaign::{read_expected_steps, FileReport, Segmentation};
 use greybox_tribo::identify::Alignment;
-use greybox_tribo::identify_config::SteadyRule;
+use greybox_tribo::identify_config::{SteadyRule, TestMode};
 use greybox_tribo::readers::RecordingFormat;
 use std::path::{Path, PathBuf};
 
@@ -57,6 +57,30 @@ impl From<SegmentArg> for Segmentation {
             SegmentArg::StepColumn => Segmentation::StepColumn,
             SegmentArg::Speed => Segmentation::Speed,
             SegmentArg::Signals => Segmentation::Signals,
+        }
+    }
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TestModeArg {
+    /// From the rig profile and the signals: strokes where a position reverses or the
+    /// friction force changes sign regularly.
+    Auto,
+    /// One load and speed per segment (plateaus).
+    Continuous,
+    /// Several loads or speeds one after another (plateaus).
+    Stepped,
+    /// Linear reciprocating (ASTM G133): strokes and cycles, μ per direction.
+    Reciprocating,
+}
+
+impl TestModeArg {
+    fn mode(self) -> Option<TestMode> {
+        match self {
+            TestModeArg::Auto => None,
+            TestModeArg::Continuous => Some(TestMode::Continuous),
+            TestModeArg::Stepped => Some(TestMode::Stepped),
+            TestModeArg::Reciprocating => Some(TestMode::Reciprocating),
         }
     }
 }
@@ -109,6 +133,14 @@ pub struct Args {
     /// How to find the steps.
     #[arg(long, value_enum)]
     pub segment: Option<SegmentArg>,
+    /// How the rig ran its tests (study `[identify] mode`). `reciprocating` (ASTM G133):
+    /// strokes instead of plateaus, μ from the middle half of each stroke with the sign taken
+    /// by direction, one row per test averaged over the steady cycles, the per-cycle μ in
+    /// `<out>.cycles.csv`. Default `auto`: reciprocating where the rig profile says so or the
+    /// signals show it (a reversing position, or a friction force that changes sign
+    /// regularly).
+    #[arg(long = "test-mode", value_enum)]
+    pub test_mode: Option<TestModeArg>,
     /// Expected steps without timing: CSV with pin, normal_force_N,
     /// sliding_velocity_m_per_min [, step], in the order they were run.
     #[arg(long = "plan-steps")]
@@ -129,7 +161,7 @@ pub struct Args {
     #[arg(long = "settle-s")]
     pub settle_s: Option<f64>,
     /// Channel mapping ROLE=NAME[:UNIT[:SCALE]], repeatable. Roles: time, normal, tangential,
-    /// radial, trigger, step, speed, radius; an empty name (speed=) ignores a role. Unmapped
+    /// radial, trigger, step, speed, radius, cof, position; an empty name (speed=) ignores a role. Unmapped
     /// roles are found by their usual names (Fz, Fx, Time, Step, Velocity, ...).
     #[arg(long = "map")]
     pub map: Vec<String>,
@@ -264,6 +296,9 @@ pub fn run(args: Args) -> Result<()> {
     }
     if let Some(r) = args.steady {
         study.identify.steady = r;
+    }
+    if let Some(m) = args.test_mode {
+        study.identify.mode = m.mode();
     }
     if let Some(s) = args.settle_s {
         study.identify.settle_time_s = s;

@@ -69,6 +69,9 @@ pub mod flags {
     /// turns per window): twice the mean's standard error under serial correlation exceeds
     /// the tolerance, so μ may be off by more than it.
     pub const UNCERTAIN_MEAN: &str = "uncertain-mean";
+    /// A linear reciprocating test (ASTM G133): μ is the mean over the steady cycles of the
+    /// forward and backward strokes' mid-stroke μ (sign taken by direction).
+    pub const RECIPROCATING: &str = "reciprocating";
 }
 
 /// One identified friction coefficient (SI units).

@@ -154,6 +154,8 @@ pub struct IdentifySummary {
     pub plateaus: usize,
     pub non_stationary: usize,
     pub pressure_convention: String,
+    /// The per-cycle file of reciprocating tests (`<dataset>.cycles.csv`), when any.
+    pub cycles: Option<String>,
     #[serde(flatten)]
     pub identification: Identification,
     pub truth: Option<TruthComparison>,
@@ -255,7 +257,19 @@ pub fn identify(
             notes.join("\n  ")
         );
     }
+    // reciprocating tests: the per-cycle evolution beside the dataset, checked before either
+    // is written
+    let cycles = if crate::identify_cycles::any_reciprocating(&id.files) {
+        let path = crate::identify_cycles::cycles_path(out);
+        greybox_core::outputs::check_file_output(&path, "the cycles file beside --out", &inputs)?;
+        Some((path, crate::identify_cycles::cycles_csv(&id.files)?))
+    } else {
+        None
+    };
     id.dataset.write_csv(out)?;
+    if let Some((path, text)) = cycles {
+        greybox_core::atomic::write_string_atomic(&path, &text)?;
+    }
     let mut all_inputs = inputs.clone();
     all_inputs.extend_from_slice(side_inputs);
     provenance(&all_inputs)?.write_beside(out)?;
@@ -403,6 +417,7 @@ pub fn inspect_text(files: &[FileReport]) -> String {
         for n in &f.notes {
             let _ = writeln!(s, "   note: {n}");
         }
+        s.push_str(&crate::identify_cycles::inspect_lines(f));
         let mut t = Table::new(&[
             "seg",
             "start [s]",
@@ -582,6 +597,8 @@ pub fn identify_campaign(
         plateaus: ds.records.len(),
         non_stationary: ds.records.iter().filter(|r| !r.stationary).count(),
         pressure_convention: study.contact.convention.name().to_string(),
+        cycles: crate::identify_cycles::any_reciprocating(&id.files)
+            .then(|| crate::identify_cycles::cycles_path(&o.dataset).display().to_string()),
         identification: id,
         truth,
     };
@@ -660,6 +677,7 @@ fn write_inspect_plots(recs: &[Recording], found: &[FileReport], dir: &Path) -> 
             &bands,
         );
         greybox_core::atomic::write_string_atomic(&dir.join(format!("{name}.svg")), &svg)?;
+        crate::identify_cycles::write_cycles_plot(f, dir, &name)?;
     }
     Ok(())
 }

@@ -42,6 +42,7 @@ pub mod export;
 pub mod fit;
 pub mod hertz;
 pub mod identify;
+pub mod identify_cycles;
 pub mod import;
 pub mod law;
 pub mod material;

@@ -77,6 +77,9 @@ pub fn identify_footer(s: &IdentifySummary) -> String {
         "identify: {} plateaus ({} non-stationary), pressure convention {}, dataset {}",
         s.plateaus, s.non_stationary, s.pressure_convention, s.dataset
     );
+    if let Some(c) = &s.cycles {
+        let _ = writeln!(text, "  reciprocating: per-cycle μ (forward, backward, mean) in {c}");
+    }
     if let Some(t) = &s.truth {
         let _ = writeln!(text,
             "  against the ground truth: max |COF - COF_true| = {:.5}, mean = {:.5} over {} plateaus",

@@ -24,6 +24,7 @@ use crate::hertz::PinContact;
 use crate::identify::{identify_pin, IdentifyConfig};
 use crate::identify_config::SteadyRule;
 use crate::plan::Plan;
+use crate::reciprocating::Reciprocating;
 use crate::recording::{ReadReport, Recording, SpeedTrace};
 use crate::signal::{mad_sigma, median, moving_average, quantum};
 use crate::steady::{
@@ -147,8 +148,43 @@ pub struct SegmentReport {
     /// Uncertainty of the segment's boundaries where one is weakly determined, s (the larger
     /// of the two; rows then carry `uncertain-boundary`).
     pub boundary_uncertainty_s: Option<f64>,
+    /// A reciprocating test's strokes, cycles and μ per direction (ASTM G133; see
+    /// [`crate::reciprocating`]); the row's μ is their mean over the steady cycles.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reciprocating: Option<Reciprocating>,
     #[serde(skip)]
     stats: Option<crate::steady::PlateauStats>,
+}
+
+impl SegmentReport {
+    /// A segment's bounds, mean load and label; nothing measured yet.
+    fn bare(p: &Prepared, span: Span, index: usize) -> Self {
+        let (i, j) = (span.i, span.j);
+        SegmentReport {
+            index,
+            start_s: p.rec.time_s[i],
+            end_s: p.rec.time_s[j - 1],
+            steady_start_s: None,
+            steady_end_s: None,
+            normal_force_n: p.fn_c[i..j].iter().sum::<f64>() / (j - i) as f64,
+            spindle_rpm: None,
+            sliding_velocity_m_per_min: None,
+            step_label: span.label,
+            cof: None,
+            cof_std: None,
+            cof_sem: None,
+            n_samples: 0,
+            flags: Vec::new(),
+            matched: None,
+            problem: None,
+            run_in_s: None,
+            drift_per_hour: None,
+            drift_per_km: None,
+            boundary_uncertainty_s: None,
+            reciprocating: None,
+            stats: None,
+        }
+    }
 }
 
 /// What was found in one file.
@@ -267,6 +303,7 @@ fn prepare<'a>(
     rec: &'a Recording,
     cfg: &IdentifyConfig,
     segmentation: &str,
+    signed: bool,
 ) -> Result<Prepared<'a>> {
     rec.validate()?;
     let n = rec.len();
@@ -337,7 +374,8 @@ fn prepare<'a>(
     // sign of the tangential channel
     let loaded_idx: Vec<usize> = (0..n).filter(|k| loaded[*k]).collect();
     let mu_loaded: Vec<f64> = loaded_idx.iter().map(|&k| ft_c[k] / fn_c[k]).collect();
-    let flipped = median(&mu_loaded) < 0.0;
+    // a reciprocating test's friction force changes sign by design: kept as recorded
+    let flipped = !signed && median(&mu_loaded) < 0.0;
     if flipped {
         ft_c.iter_mut().for_each(|v| *v = -*v);
         notes.push(
@@ -894,29 +932,8 @@ fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> Segm
     let rec = p.rec;
     let (i, j) = (span.i, span.j);
     let unc = span.unc.0.max(span.unc.1);
-    let mut rep = SegmentReport {
-        index,
-        start_s: rec.time_s[i],
-        end_s: rec.time_s[j - 1],
-        steady_start_s: None,
-        steady_end_s: None,
-        normal_force_n: p.fn_c[i..j].iter().sum::<f64>() / (j - i) as f64,
-        spindle_rpm: None,
-        sliding_velocity_m_per_min: None,
-        step_label: span.label,
-        cof: None,
-        cof_std: None,
-        cof_sem: None,
-        n_samples: 0,
-        flags: Vec::new(),
-        matched: None,
-        problem: None,
-        run_in_s: None,
-        drift_per_hour: None,
-        drift_per_km: None,
-        boundary_uncertainty_s: (unc > 0.0).then_some(unc),
-        stats: None,
-    };
+    let mut rep = SegmentReport::bare(p, span, index);
+    rep.boundary_uncertainty_s = (unc > 0.0).then_some(unc);
     let f_ref = rep.normal_force_n.abs().max(1e-9);
     let sig = match step_signals(&p.fn_c, &p.ft_c, i, j, cfg, p.fs, |k, f_n| {
         if f_n <= 0.1 * f_ref {
@@ -1043,6 +1060,92 @@ fn steady_notes(files: &mut [FileReport]) {
     }
 }
 
+/// Why a recording is identified as a reciprocating test, or `None` (see
+/// [`crate::reciprocating::detect`]): the mode named in `[identify] mode` / `--test-mode`,
+/// else the rig profile's mode and the strokes the signals show.
+fn reciprocating_reason(rec: &Recording, cfg: &IdentifyConfig) -> Option<String> {
+    let profile = rec.provenance.as_ref().and_then(|r| r.test_mode);
+    crate::reciprocating::detect(&crate::reciprocating::Signals::of(rec), cfg.mode, profile, cfg)
+}
+
+/// A reciprocating file's segments: one per test (or load/speed step), μ averaged over the
+/// steady cycles with the strokes and cycles kept beside it (ASTM G133).
+fn reciprocating_segments(p: &mut Prepared, why: &str, cfg: &IdentifyConfig) {
+    let s = crate::reciprocating::Signals::with_forces(p.rec, &p.fn_c, &p.ft_c);
+    let parts = crate::reciprocating::parts(&s, cfg);
+    let mut segs = Vec::with_capacity(parts.len());
+    for (k, &(i, j, label)) in parts.iter().enumerate() {
+        let mut rep = SegmentReport::bare(p, Span::new(i, j, label), k + 1);
+        match &p.rec.speed {
+            Some(SpeedTrace::SpindleRpm(v)) => rep.spindle_rpm = Some(median(&v[i..j])),
+            Some(SpeedTrace::SlidingMPerS(v)) => {
+                let m = median(&v[i..j].iter().map(|x| x.abs()).collect::<Vec<_>>());
+                rep.sliding_velocity_m_per_min = Some(units::m_per_s_to_m_per_min(m));
+            }
+            None => {}
+        }
+        match crate::reciprocating::analyse(&s, i, j, cfg) {
+            Ok(r) => reciprocating_stats(&mut rep, r, p, cfg),
+            Err(m) => rep.problem = Some(m),
+        }
+        segs.push(rep);
+    }
+    p.report.segmentation = "reciprocating".into();
+    p.report.notes.push(format!("reciprocating test (ASTM G133): {why}; μ per stroke over its middle 50 %, sign taken by direction"));
+    if segs.is_empty() {
+        p.report.notes.push("no loaded stretch: no stroke found".into());
+    }
+    p.report.segments = segs;
+}
+
+/// Fill a segment from a reciprocating result: the row's μ is the steady cycles' mean μ,
+/// its spread the cycles' spread, its standard error that over the cycles.
+fn reciprocating_stats(rep: &mut SegmentReport, r: Reciprocating, p: &Prepared, cfg: &IdentifyConfig) {
+    let n_cycles = r.steady_cycles.1 - r.steady_cycles.0;
+    let duration = r.end_s - r.start_s;
+    let trend = (r.trend_per_s * duration).abs() > cfg.trend_tolerance;
+    let mut fl = vec![flags::RECIPROCATING.to_string()];
+    if trend {
+        fl.push(flags::TREND.to_string());
+    }
+    if p.no_baseline {
+        fl.push(flags::NO_BASELINE.to_string());
+    }
+    let sem = r.mu_std / (n_cycles.max(1) as f64).sqrt();
+    if 2.0 * sem > cfg.mean_uncertainty_tolerance {
+        fl.push(flags::UNCERTAIN_MEAN.to_string());
+    }
+    if let Some(v) = r.velocity_m_s {
+        rep.sliding_velocity_m_per_min = Some(units::m_per_s_to_m_per_min(v));
+        rep.spindle_rpm = None;
+    }
+    if r.run_in_cycles.is_some() {
+        rep.run_in_s = Some(r.start_s - rep.start_s);
+    }
+    rep.steady_start_s = Some(r.start_s);
+    rep.steady_end_s = Some(r.end_s);
+    rep.normal_force_n = r.normal_n;
+    rep.cof = Some(r.mu_mean);
+    rep.cof_std = Some(r.mu_std);
+    rep.cof_sem = Some(sem);
+    rep.n_samples = r.samples;
+    rep.drift_per_hour = Some(r.trend_per_s * 3600.0);
+    rep.flags = fl.clone();
+    rep.stats = Some(crate::steady::PlateauStats {
+        mean: r.mu_mean,
+        std: r.mu_std,
+        n_samples: r.samples,
+        start_s: r.start_s,
+        end_s: r.end_s,
+        trend_per_s: r.trend_per_s,
+        stationary: !trend,
+        flags: fl,
+        spikes: 0,
+        normal_force_n: r.normal_n,
+    });
+    rep.reciprocating = Some(r);
+}
+
 /// Inputs of [`identify_recordings`] beyond the recordings.
 #[derive(Debug, Clone, Copy)]
 pub struct Campaign<'a> {
@@ -1084,9 +1187,14 @@ pub fn identify_recordings(recs: &[Recording], c: &Campaign) -> Result<Identific
 /// path also fills the matched pin and step.
 pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileReport>> {
     let cfg = c.cfg;
+    let recip: Vec<Option<String>> = recs.iter().map(|r| reciprocating_reason(r, cfg)).collect();
     let methods: Vec<Segmentation> = recs
         .iter()
-        .map(|r| resolve(cfg.segmentation, r, c.plan))
+        .zip(&recip)
+        .map(|(r, why)| match why {
+            Some(_) => Segmentation::Signals,
+            None => resolve(cfg.segmentation, r, c.plan),
+        })
         .collect();
     if methods.contains(&Segmentation::PlanTiming) {
         if methods.iter().any(|m| *m != Segmentation::PlanTiming) {
@@ -1123,12 +1231,17 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
     let mut prepared: Vec<Prepared> = recs
         .iter()
         .zip(&methods)
-        .map(|(r, m)| prepare(r, cfg, m.name()))
+        .zip(&recip)
+        .map(|((r, m), why)| prepare(r, cfg, m.name(), why.is_some()))
         .collect::<Result<_>>()?;
     // segments per file
     let mut spans: Vec<Vec<Span>> = Vec::with_capacity(recs.len());
     let mut signal_runs: Vec<(usize, Span)> = Vec::new();
     for (f, (p, m)) in prepared.iter().zip(&methods).enumerate() {
+        if recip[f].is_some() {
+            spans.push(Vec::new());
+            continue;
+        }
         match m {
             Segmentation::StepColumn => {
                 spans.push(spans_from_steps(p, p.rec.step.as_deref().expect("checked")))
@@ -1183,7 +1296,11 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
         }
     }
     let min_len = |p: &Prepared| (cfg.min_segment_s * p.fs) as usize;
-    for (p, s) in prepared.iter_mut().zip(&spans) {
+    for ((p, s), why) in prepared.iter_mut().zip(&spans).zip(&recip) {
+        if let Some(why) = why {
+            reciprocating_segments(p, why, cfg);
+            continue;
+        }
         let kept: Vec<Span> = s
             .iter()
             .copied()
@@ -1719,6 +1836,7 @@ fn plan_timed(recs: &[Recording], plan: &Plan, c: &Campaign) -> Result<Vec<FileR
                 drift_per_hour: Some(r.cof_trend_per_s * 3600.0),
                 drift_per_km: None,
                 boundary_uncertainty_s: None,
+                reciprocating: None,
                 stats: None,
             })
             .collect();

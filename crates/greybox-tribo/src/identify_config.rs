@@ -34,6 +34,34 @@ impl Segmentation {
     }
 }
 
+/// How a rig runs its tests.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TestMode {
+    /// Rotating pin-on-disc: one load and speed for the whole test.
+    Continuous,
+    /// Several loads or speeds one after another (step column or blocks).
+    Stepped,
+    /// Linear reciprocating (ASTM G133): the friction force changes sign with the stroke.
+    Reciprocating,
+}
+
+impl TestMode {
+    pub fn name(self) -> &'static str {
+        match self {
+            TestMode::Continuous => "continuous",
+            TestMode::Stepped => "stepped",
+            TestMode::Reciprocating => "reciprocating",
+        }
+    }
+    /// The mode called `s` (`continuous`, `stepped`, `reciprocating`).
+    pub fn parse(s: &str) -> Option<TestMode> {
+        [TestMode::Continuous, TestMode::Stepped, TestMode::Reciprocating]
+            .into_iter()
+            .find(|m| m.name() == s.trim())
+    }
+}
+
 /// Which part of a segment gives its steady-state friction coefficient.
 ///
 /// ASTM G99-17 (pin-on-disk) and G133-05 (reciprocating ball-on-flat) report the friction
@@ -180,6 +208,9 @@ pub struct IdentifyConfig {
     /// A row whose μ has a 95 % half-width (twice the standard error of the mean under
     /// serial correlation) above this is flagged `uncertain-mean` (0.003).
     pub mean_uncertainty_tolerance: f64,
+    /// How the rig ran its tests (`None`: from the rig profile and the signal; see
+    /// [`crate::reciprocating`]). `reciprocating` identifies strokes instead of plateaus.
+    pub mode: Option<TestMode>,
 }
 
 impl Default for IdentifyConfig {
@@ -206,6 +237,7 @@ impl Default for IdentifyConfig {
             match_speed_tolerance: 0.1,
             steady: SteadyRule::Auto,
             mean_uncertainty_tolerance: 0.003,
+            mode: None,
         }
     }
 }

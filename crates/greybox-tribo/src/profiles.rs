@@ -15,26 +15,7 @@ use crate::recording::{ChannelMap, ChannelSpec, Role};
 use crate::table::{column_matches, ColumnData, Table};
 use greybox_core::{Error, Result, SourcePos};
 
-/// How a rig runs its tests.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TestMode {
-    /// Rotating pin-on-disc: one load and speed for the whole test.
-    Continuous,
-    /// Several loads or speeds one after another (step column or blocks).
-    Stepped,
-    /// Linear reciprocating (ASTM G133): the friction force changes sign with the stroke.
-    Reciprocating,
-}
-
-impl TestMode {
-    pub fn name(self) -> &'static str {
-        match self {
-            TestMode::Continuous => "continuous",
-            TestMode::Stepped => "stepped",
-            TestMode::Reciprocating => "reciprocating",
-        }
-    }
-}
+pub use crate::identify_config::TestMode;
 
 /// One role's column in a profile: names tried in order (the first numeric column present
 /// is taken) and the unit when the file does not print one (`""`: the file's own).

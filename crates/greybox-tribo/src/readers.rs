@@ -65,7 +65,15 @@ pub fn read_recording(path: &std::path::Path, map: &ChannelMap) -> Result<Record
 /// from the table ([`crate::profiles`]); the profile used is noted in the read report.
 pub fn recording_with_profile(mut table: Table, map: &ChannelMap) -> Result<Recording> {
     let mut notes = std::mem::take(&mut table.notes);
+    let mode = crate::profiles::detect(&table, map.rig.as_deref())
+        .ok()
+        .flatten()
+        .map(|p| p.mode);
     let map = crate::profiles::apply(&table, map, &mut notes)?;
     table.notes = notes;
-    recording_from_table(table, &map)
+    let mut rec = recording_from_table(table, &map)?;
+    if let Some(r) = rec.provenance.as_mut() {
+        r.test_mode = mode;
+    }
+    Ok(rec)
 }

@@ -36,6 +36,8 @@ pub struct Recording {
     /// The friction coefficient the rig computed itself (`cof` role), dimensionless. Kept
     /// beside the forces: where the file has no friction force, `tangential_n` is μ·F_N.
     pub cof: Option<Vec<f64>>,
+    /// Position along the stroke of a linear reciprocating rig (ASTM G133), m.
+    pub position_m: Option<Vec<f64>>,
     /// How the file was read: its layout and which column became which role.
     pub provenance: Option<ReadReport>,
 }
@@ -70,6 +72,8 @@ pub struct ReadReport {
     pub preamble: Vec<String>,
     /// Anything the reader repaired, e.g. a time that restarts per step.
     pub notes: Vec<String>,
+    /// How the rig profile says the rig runs its tests (`None`: no profile).
+    pub test_mode: Option<crate::identify_config::TestMode>,
 }
 
 /// One role's column.
@@ -97,6 +101,7 @@ impl Recording {
             speed: None,
             track_radius_m: None,
             cof: None,
+            position_m: None,
             provenance: None,
         }
     }
@@ -135,7 +140,7 @@ impl Recording {
             ));
         }
         let speed = self.speed.as_ref().map(SpeedTrace::values);
-        let channels: [(&str, Option<&[f64]>); 7] = [
+        let channels: [(&str, Option<&[f64]>); 8] = [
             ("normal", Some(&self.normal_n)),
             ("tangential", Some(&self.tangential_n)),
             ("radial", self.radial_n.as_deref()),
@@ -143,6 +148,7 @@ impl Recording {
             ("step", self.step.as_deref()),
             ("speed", speed),
             ("radius", self.track_radius_m.as_deref()),
+            ("position", self.position_m.as_deref()),
         ];
         for (name, ch) in channels {
             if let Some(ch) = ch {
@@ -313,10 +319,12 @@ pub enum Role {
     Radius,
     /// A friction coefficient the rig software computed (dimensionless).
     Cof,
+    /// Position along a reciprocating stroke (length).
+    Position,
 }
 
 impl Role {
-    pub const ALL: [Role; 9] = [
+    pub const ALL: [Role; 10] = [
         Role::Time,
         Role::Normal,
         Role::Tangential,
@@ -326,6 +334,7 @@ impl Role {
         Role::Speed,
         Role::Radius,
         Role::Cof,
+        Role::Position,
     ];
     pub fn name(self) -> &'static str {
         match self {
@@ -338,6 +347,7 @@ impl Role {
             Role::Speed => "speed",
             Role::Radius => "radius",
             Role::Cof => "cof",
+            Role::Position => "position",
         }
     }
     pub fn parse(s: &str) -> Option<Role> {
@@ -347,7 +357,7 @@ impl Role {
 
 /// The usual names of each role, tried in order when a role is not mapped explicitly
 /// (compared like [`column_matches`]: case, `_`/`-`/spaces and units ignored).
-pub const ROLE_ALIASES: [(Role, &[&str]); 9] = [
+pub const ROLE_ALIASES: [(Role, &[&str]); 10] = [
     (
         Role::Time,
         &[
@@ -451,6 +461,17 @@ pub const ROLE_ALIASES: [(Role, &[&str]); 9] = [
             "daq.cof",
         ],
     ),
+    (
+        Role::Position,
+        &[
+            "position",
+            "x position",
+            "stroke position",
+            "x",
+            "displacement",
+            "weg",
+        ],
+    ),
 ];
 
 /// How to find the channels of a recording (study TOML `[recording]`, `identify --map`).
@@ -476,6 +497,8 @@ pub struct ChannelMap {
     pub radius: Option<ChannelSpec>,
     /// Friction coefficient computed by the rig (dimensionless, or `%`).
     pub cof: Option<ChannelSpec>,
+    /// Stroke position of a reciprocating rig (mm, m, um).
+    pub position: Option<ChannelSpec>,
     /// Normal load, N, for rigs that do not record it (dead-weight pin-on-disc rigs): the
     /// same value at every sample.
     pub constant_normal_n: Option<f64>,
@@ -519,6 +542,7 @@ impl Default for ChannelMap {
             speed: None,
             radius: None,
             cof: None,
+            position: None,
             constant_normal_n: None,
             constant_sliding_m_s: None,
             rig: None,
@@ -554,6 +578,7 @@ impl ChannelMap {
             Role::Speed => self.speed.clone(),
             Role::Radius => self.radius.clone(),
             Role::Cof => self.cof.clone(),
+            Role::Position => self.position.clone(),
         }
     }
 
@@ -571,7 +596,7 @@ impl ChannelMap {
             Error::invalid(
                 "channel mapping",
                 format!(
-                    "unknown role '{}'; expected time, normal, tangential, radial, trigger, step, speed, radius or cof",
+                    "unknown role '{}'; expected time, normal, tangential, radial, trigger, step, speed, radius, cof or position",
                     role.trim()
                 ),
             )
@@ -620,6 +645,7 @@ impl ChannelMap {
             Role::Speed => self.speed = spec,
             Role::Radius => self.radius = spec,
             Role::Cof => self.cof = spec,
+            Role::Position => self.position = spec,
         }
     }
 
@@ -639,7 +665,7 @@ fn check_unit(role: Role, unit: &str) -> std::result::Result<(), String> {
         Role::Normal | Role::Tangential | Role::Radial => ForceUnit::parse_lenient(unit).is_some(),
         Role::Time => TimeUnit::parse(unit).is_some(),
         Role::Speed => SpeedUnit::parse(unit).is_some(),
-        Role::Radius => LengthUnit::parse(unit).is_some(),
+        Role::Radius | Role::Position => LengthUnit::parse(unit).is_some(),
         Role::Cof => cof_factor(unit).is_some(),
         Role::Trigger | Role::Step => true,
     };
@@ -654,7 +680,7 @@ fn check_unit(role: Role, unit: &str) -> std::result::Result<(), String> {
         Role::Speed => format!(
             "unknown speed unit '{unit}'; expected rpm (1/min), rps, m/s, mm/s, cm/s or m/min"
         ),
-        Role::Radius => format!("unknown length unit '{unit}'; expected m, cm, mm or um"),
+        Role::Radius | Role::Position => format!("unknown length unit '{unit}'; expected m, cm, mm or um"),
         Role::Cof => format!("unknown friction-coefficient unit '{unit}'; expected none, '-', '1' or '%'"),
         Role::Trigger | Role::Step => unreachable!("no unit check"),
     })
@@ -747,7 +773,7 @@ fn drop_unitless_optional(
     notes: &mut Vec<String>,
 ) {
     roles.retain(|(role, idx, mapped)| {
-        let optional = matches!(role, Role::Radial | Role::Speed | Role::Radius);
+        let optional = matches!(role, Role::Radial | Role::Speed | Role::Radius | Role::Position);
         let col = &table.columns[*idx];
         let unitless = map.spec(*role).and_then(|s| s.unit).is_none() && col.unit.is_none();
         if optional && !mapped && unitless {
@@ -963,6 +989,7 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
         speed,
         track_radius_m: take(Role::Radius).map(|c| c.1),
         cof,
+        position_m: take(Role::Position).map(|c| c.1),
         provenance: Some(report),
     };
     rec.validate()?;
@@ -1053,7 +1080,7 @@ fn example_unit(role: Role) -> &'static str {
     match role {
         Role::Time => "s",
         Role::Speed => "rpm",
-        Role::Radius => "mm",
+        Role::Radius | Role::Position => "mm",
         Role::Trigger => "V",
         _ => "N",
     }
@@ -1067,7 +1094,7 @@ fn unit_factor(role: Role, unit: &str) -> f64 {
         }
         Role::Time => TimeUnit::parse(unit).map_or(1.0, TimeUnit::to_second),
         Role::Speed => SpeedUnit::parse(unit).map_or(1.0, SpeedUnit::to_base),
-        Role::Radius => LengthUnit::parse(unit).map_or(1.0, LengthUnit::to_metre),
+        Role::Radius | Role::Position => LengthUnit::parse(unit).map_or(1.0, LengthUnit::to_metre),
         Role::Cof => cof_factor(unit).unwrap_or(1.0),
         Role::Trigger | Role::Step => 1.0,
     }

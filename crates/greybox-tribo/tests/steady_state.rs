@@ -50,6 +50,7 @@ fn long_test(seed: u64, test_s: usize, speed: impl Fn(&mut ChaCha8Rng) -> f64) -
         speed: None,
         track_radius_m: None,
         cof: None,
+        position_m: None,
         provenance: None,
     };
     let mut v = Vec::with_capacity(n);
@@ -281,6 +282,7 @@ fn lathe(seed: u64, runout_rel: f64) -> (Recording, Vec<(f64, f64, f64, f64)>) {
         speed: None,
         track_radius_m: None,
         cof: None,
+        position_m: None,
         provenance: None,
     };
     let mut theta = phase;
