@@ -2,7 +2,8 @@
 //! identified by the binary with the flags each rig's profile needs, against reference μ per
 //! step from an independent script (scripts/real_rig_reference.py: pandas + numpy, the
 //! manifest's explicit reader settings, μ = mean |F_t|/|F_n| over the final 50 % of each
-//! step's sliding time). The same steady-state rule is asked of greybox (`--steady last:50%`);
+//! step's sliding time). The same steady-state rule is asked of greybox (`--steady last:50%`),
+//! and no other flag unless the file lacks a channel (the `.dwf` rig's load and speed);
 //! the layout, the columns, their units and the blocks are greybox's own: the profile is
 //! detected from each file's preamble and header.
 
@@ -31,9 +32,6 @@ fn identify(file: &str, extra: &[&str]) -> Vec<f64> {
     let mut args = vec![
         "identify",
         "-q",
-        "--no-plan",
-        "--track-radius-mm",
-        "10",
         "--steady",
         "last:50%",
         "--recordings",
@@ -124,7 +122,7 @@ fn the_default_rule_takes_the_final_stationary_stretch() {
         let d = tempfile::tempdir().unwrap();
         let path = corpus().join(file);
         ok(&greybox(
-            &["identify", "-q", "--no-plan", "--track-radius-mm", "10", "--recordings", path.to_str().unwrap(), "--out", "data.csv"],
+            &["identify", "-q", "--recordings", path.to_str().unwrap(), "--out", "data.csv"],
             d.path(),
         ));
         let text = std::fs::read_to_string(d.path().join("data.csv")).unwrap();

@@ -31,7 +31,7 @@ pub struct ProfileColumn {
 pub struct RigProfile {
     /// `--rig` name.
     pub name: &'static str,
-    /// Rig and program, for messages and `--list-rigs`.
+    /// Rig and program, for messages and `identify --rig list`.
     pub vendor: &'static str,
     /// What every export of this program carries (all of them, case-insensitive): text in
     /// its preamble or header, or with a `col:` prefix a whole column name.
