@@ -38,6 +38,17 @@ pub fn quote(s: &str) -> Result<String> {
     Ok(q)
 }
 
+/// `s` as one shell word, quoted only where it needs to be: as it is when it is non-empty and
+/// every character is plain (letters, digits, `_ . - / : % @ + , =`), else [`quote`]d. For
+/// commands shown to a user to copy (`--map time=Time:s`, `--map 'tangential=Friction Force:N'`).
+pub fn word(s: &str) -> Result<String> {
+    if !s.is_empty() && s.chars().all(directive_char) {
+        Ok(s.to_string())
+    } else {
+        quote(s)
+    }
+}
+
 /// Whether `c` may stand in a `#SBATCH` directive value.
 fn directive_char(c: char) -> bool {
     c.is_ascii_alphanumeric() || "_.-/:%@+,=".contains(c)
@@ -164,5 +175,14 @@ mod tests {
         assert!(!c.contains('\n') && !c.contains('\r') && !c.contains('\0'), "{c}");
         assert!(c.contains("\\n"), "{c}");
         assert_eq!(comment("é.toml"), "é.toml");
+    }
+
+    #[test]
+    fn words_are_quoted_only_where_needed() {
+        assert_eq!(word("time=Time:s").unwrap(), "time=Time:s");
+        assert_eq!(word("t=Friction Force:N").unwrap(), "'t=Friction Force:N'");
+        assert_eq!(word("a;b").unwrap(), "'a;b'");
+        assert_eq!(word("").unwrap(), "''");
+        assert!(word("a\0b").is_err());
     }
 }

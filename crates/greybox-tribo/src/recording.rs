@@ -6,6 +6,7 @@
 //! [`recording_from_table`] converts them to SI. Roles not mapped explicitly are found by
 //! their usual names ([`ROLE_ALIASES`]), ignoring case, spaces and units in the header.
 
+use crate::signal::median;
 use crate::table::{column_matches, Column, ColumnData, Table};
 use greybox_core::units::{ForceUnit, LengthUnit, SpeedUnit, TimeUnit};
 use greybox_core::{Error, Result, SourcePos};
@@ -789,25 +790,24 @@ fn drop_unitless_optional(
     });
 }
 
-/// One role a file leaves unresolved: why, and the `--map` flag that resolves it.
+/// One role a file leaves unresolved: why, the `--map` flag that resolves it, and other ways
+/// (`or …`) shown beside it.
 struct Unresolved {
     role: Role,
     why: String,
     flag: String,
+    or: Option<String>,
 }
 
-/// `--map ROLE=NAME:UNIT`, quoted for a shell where the name has blanks.
+/// `--map ROLE=NAME:UNIT`, quoted for a shell where the name needs it.
 fn map_flag(role: Role, name: &str, unit: &str) -> String {
     let arg = if unit.is_empty() {
         format!("{}={name}", role.name())
     } else {
         format!("{}={name}:{unit}", role.name())
     };
-    if arg.contains(|c: char| c.is_whitespace() || "'\"$()".contains(c)) {
-        format!("--map '{}'", arg.replace('\'', "'\\''"))
-    } else {
-        format!("--map {arg}")
-    }
+    let word = greybox_core::shell::word(&arg).unwrap_or_else(|_| arg.escape_debug().to_string());
+    format!("--map {word}")
 }
 
 /// Every role the file and the map leave unresolved, all at once: missing forces (a friction
@@ -835,20 +835,21 @@ fn unresolved(table: &Table, map: &ChannelMap, taken: &[(Role, usize, bool)]) ->
         role,
         why: format!("no {what} column by a usual name ({})", candidates()),
         flag: map_flag(role, "NAME", unit),
+        or: None,
     };
     if !has(Role::Normal) && map.constant_normal_n.is_none() {
         let mut u = missing(Role::Normal, "normal force", "N");
-        u.flag.push_str(" (or, for a dead-weight rig, --constant-normal-force-N VALUE)");
+        u.or = Some("for a dead-weight rig, --constant-normal-force-N VALUE".into());
         out.push(u);
     }
     if !has(Role::Tangential) && !has(Role::Cof) {
         let mut u = missing(Role::Tangential, "friction force (tangential) or friction coefficient (cof)", "N");
-        u.flag.push_str(&format!(" or {}", map_flag(Role::Cof, "NAME", "")));
+        u.or = Some(map_flag(Role::Cof, "NAME", ""));
         out.push(u);
     }
     if !has(Role::Time) && map.sample_rate_hz.is_none() && table.sample_interval_s.is_none() {
         let mut u = missing(Role::Time, "time", "s");
-        u.flag.push_str(" (or --sample-rate-hz HZ)");
+        u.or = Some("--sample-rate-hz HZ".into());
         out.push(u);
     }
     for (role, idx, _) in taken {
@@ -862,6 +863,7 @@ fn unresolved(table: &Table, map: &ChannelMap, taken: &[(Role, usize, bool)]) ->
                 role: *role,
                 why: format!("column '{}' states no unit", col.header),
                 flag: map_flag(*role, &col.name, example_unit(*role)),
+                or: None,
             });
         }
     }
@@ -873,12 +875,12 @@ fn unresolved(table: &Table, map: &ChannelMap, taken: &[(Role, usize, bool)]) ->
 fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
     let lines: Vec<String> = problems
         .iter()
-        .map(|u| format!("  {}: {} → {}", u.role.name(), u.why, u.flag))
+        .map(|u| {
+            let or = u.or.as_ref().map_or(String::new(), |o| format!(" (or {o})"));
+            format!("  {}: {} → {}{or}", u.role.name(), u.why, u.flag)
+        })
         .collect();
-    let all: Vec<String> = problems
-        .iter()
-        .map(|u| u.flag.split(" (or").next().unwrap_or("").split(" or ").next().unwrap_or("").to_string())
-        .collect();
+    let all: Vec<&str> = problems.iter().map(|u| u.flag.as_str()).collect();
     Error::input(
         SourcePos::file(&table.source).line(table.header_line),
         format!(
@@ -1015,16 +1017,6 @@ fn block_steps(table: &Table, n: usize, report: &mut ReadReport) -> Option<Vec<f
     Some(step)
 }
 
-/// Median of a channel (NaN for an empty one).
-fn median_of(v: &[f64]) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    let mut s = v.to_vec();
-    let mid = s.len() / 2;
-    *s.select_nth_unstable_by(mid, f64::total_cmp).1
-}
-
 /// The forces as greybox reads them: a normal force recorded negative (a load cell whose axis
 /// points away from the contact, as UMT rigs write `Fz`) is flipped (the friction force's
 /// sign is the identification's business: flipped per file there, or taken per stroke in a
@@ -1036,7 +1028,7 @@ fn forces_by_convention(
     cof: Option<&[f64]>,
     report: &mut ReadReport,
 ) -> (Vec<f64>, Vec<f64>) {
-    if median_of(&normal) < 0.0 {
+    if median(&normal) < 0.0 {
         normal.iter_mut().for_each(|v| *v = -*v);
         report
             .notes
@@ -1057,7 +1049,7 @@ fn forces_by_convention(
 
 /// How far the rig's own μ lies from F_t/F_N (both taken as magnitudes, loaded samples only).
 fn cof_disagreement(normal: &[f64], ft: &[f64], mu: &[f64]) -> String {
-    let f_ref = median_of(normal).abs();
+    let f_ref = median(normal).abs();
     let diffs: Vec<f64> = normal
         .iter()
         .zip(ft)
@@ -1068,7 +1060,7 @@ fn cof_disagreement(normal: &[f64], ft: &[f64], mu: &[f64]) -> String {
     if diffs.is_empty() {
         return "the rig's own μ (cof) could not be compared with F_t/F_N: no loaded samples".into();
     }
-    let med = median_of(&diffs);
+    let med = median(&diffs);
     let worst = diffs.iter().fold(0.0f64, |w, d| w.max(d.abs()));
     format!(
         "μ from the forces; the rig's own μ (cof) differs from F_t/F_N by {med:+.4} (median) and at most {worst:.4} over {} loaded samples",

@@ -39,20 +39,12 @@ fn long_test(seed: u64, test_s: usize, speed: impl Fn(&mut ChaCha8Rng) -> f64) -
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let noise = Normal::new(0.0, 1.0).unwrap();
     let n = test_s + 2 * REST_S as usize;
-    let mut r = Recording {
-        source: format!("long_{seed}.csv"),
-        time_s: Vec::with_capacity(n),
-        normal_n: Vec::with_capacity(n),
-        tangential_n: Vec::with_capacity(n),
-        radial_n: None,
-        trigger_v: None,
-        step: None,
-        speed: None,
-        track_radius_m: None,
-        cof: None,
-        position_m: None,
-        provenance: None,
-    };
+    let mut r = Recording::new(
+        &format!("long_{seed}.csv"),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+    );
     let mut v = Vec::with_capacity(n);
     for k in 0..n {
         let t = k as f64;
@@ -271,20 +263,12 @@ fn lathe(seed: u64, runout_rel: f64) -> (Recording, Vec<(f64, f64, f64, f64)>) {
     let noise = Normal::new(0.0, 1.0).unwrap();
     let phase = rng.gen_range(0.0..std::f64::consts::TAU);
     let n = (t_end * FS) as usize;
-    let mut r = Recording {
-        source: format!("lathe_{seed}.csv"),
-        time_s: Vec::with_capacity(n),
-        normal_n: Vec::with_capacity(n),
-        tangential_n: Vec::with_capacity(n),
-        radial_n: None,
-        trigger_v: None,
-        step: None,
-        speed: None,
-        track_radius_m: None,
-        cof: None,
-        position_m: None,
-        provenance: None,
-    };
+    let mut r = Recording::new(
+        &format!("lathe_{seed}.csv"),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+    );
     let mut theta = phase;
     for k in 0..n {
         let t = k as f64 / FS;
