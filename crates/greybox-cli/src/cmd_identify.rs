@@ -240,7 +240,13 @@ fn plan_given(args: &Args) -> Result<bool> {
 /// `--rig list`: every profile with its test mode and the export it was written against.
 fn print_rigs() {
     for p in greybox_tribo::profiles::PROFILES {
-        println!("{:<12} {} [{}]\n             written against: {}", p.name, p.vendor, p.mode.name(), p.verified_against);
+        println!(
+            "{:<12} {} [{}]\n             written against: {}",
+            p.name,
+            p.vendor,
+            p.mode.name(),
+            p.verified_against
+        );
     }
 }
 

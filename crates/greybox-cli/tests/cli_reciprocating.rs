@@ -15,7 +15,11 @@ fn plain_csv(rec: &Recording, position: bool) -> String {
     let mut s = String::from("time (s),Fn (N),Ft (N)");
     s.push_str(if position { ",x position (mm)\n" } else { "\n" });
     for k in 0..rec.len() {
-        let _ = write!(s, "{:.4},{:.5},{:.5}", rec.time_s[k], rec.normal_n[k], rec.tangential_n[k]);
+        let _ = write!(
+            s,
+            "{:.4},{:.5},{:.5}",
+            rec.time_s[k], rec.normal_n[k], rec.tangential_n[k]
+        );
         if position {
             let _ = write!(s, ",{:.6}", rec.position_m.as_ref().unwrap()[k] * 1e3);
         }
@@ -25,8 +29,20 @@ fn plain_csv(rec: &Recording, position: bool) -> String {
 }
 
 /// Run identify; the dataset's μ and flags, and the cycles file's rows.
-fn identify(dir: &Path, file: &str, extra: &[&str]) -> (String, Vec<(f64, String)>, Vec<Vec<String>>) {
-    let mut args = vec!["identify", "--no-plan", "--inspect", "--recordings", file, "--out", "data.csv"];
+fn identify(
+    dir: &Path,
+    file: &str,
+    extra: &[&str],
+) -> (String, Vec<(f64, String)>, Vec<Vec<String>>) {
+    let mut args = vec![
+        "identify",
+        "--no-plan",
+        "--inspect",
+        "--recordings",
+        file,
+        "--out",
+        "data.csv",
+    ];
     args.extend_from_slice(extra);
     let stdout = ok(&greybox(&args, dir));
     if std::env::var("SHOW").is_ok() {
@@ -46,7 +62,11 @@ fn identify(dir: &Path, file: &str, extra: &[&str]) -> (String, Vec<(f64, String
         })
         .collect();
     let cycles = std::fs::read_to_string(dir.join("data.csv.cycles.csv"))
-        .map(|t| t.lines().map(|l| l.split(',').map(String::from).collect()).collect())
+        .map(|t| {
+            t.lines()
+                .map(|l| l.split(',').map(String::from).collect())
+                .collect()
+        })
         .unwrap_or_default();
     (stdout, rows, cycles)
 }
@@ -68,13 +88,35 @@ fn check(stdout: &str, rows: &[(f64, String)], cycles: &[Vec<String>], n_cycles:
     assert!(rows[0].1.contains("reciprocating"), "{}", rows[0].1);
     assert_eq!(
         cycles[0],
-        ["file", "cycle", "time_s", "mu_forward", "mu_backward", "mu_mean", "pin", "step", "steady"]
+        [
+            "file",
+            "cycle",
+            "time_s",
+            "mu_forward",
+            "mu_backward",
+            "mu_mean",
+            "pin",
+            "step",
+            "steady"
+        ]
     );
     assert_eq!(cycles.len() - 1, n_cycles, "cycles counted exactly");
-    let (f, b) = (steady_mean(cycles, "mu_forward"), steady_mean(cycles, "mu_backward"));
-    assert!((f - 0.30).abs() < 0.003 && (b - 0.26).abs() < 0.003, "μ forward {f}, backward {b}");
-    assert!(stdout.contains(&format!("{} strokes", 2 * n_cycles)), "{stdout}");
-    assert!(stdout.contains("μ forward 0.30") && stdout.contains("backward 0.26"), "{stdout}");
+    let (f, b) = (
+        steady_mean(cycles, "mu_forward"),
+        steady_mean(cycles, "mu_backward"),
+    );
+    assert!(
+        (f - 0.30).abs() < 0.003 && (b - 0.26).abs() < 0.003,
+        "μ forward {f}, backward {b}"
+    );
+    assert!(
+        stdout.contains(&format!("{} strokes", 2 * n_cycles)),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("μ forward 0.30") && stdout.contains("backward 0.26"),
+        "{stdout}"
+    );
 }
 
 #[test]
@@ -84,7 +126,10 @@ fn with_a_position_column() {
     std::fs::write(d.path().join("recip.csv"), plain_csv(&rec, true)).unwrap();
     let (stdout, rows, cycles) = identify(d.path(), "recip.csv", &[]);
     check(&stdout, &rows, &cycles, 100);
-    assert!(stdout.contains("turning points of the position"), "{stdout}");
+    assert!(
+        stdout.contains("turning points of the position"),
+        "{stdout}"
+    );
     assert!(d.path().join("data_inspect/recip.csv.cycles.svg").is_file());
 }
 
@@ -96,13 +141,27 @@ fn without_a_position_from_the_force_sign() {
     let v = ["--constant-sliding-velocity-m-per-min", "0.9"];
     let (stdout, rows, cycles) = identify(d.path(), "recip.csv", &v);
     check(&stdout, &rows, &cycles, 100);
-    assert!(stdout.contains("sign changes of the friction force"), "{stdout}");
+    assert!(
+        stdout.contains("sign changes of the friction force"),
+        "{stdout}"
+    );
     // named continuous: the old plateau identification, no cycles file
     std::fs::remove_file(d.path().join("data.csv.cycles.csv")).unwrap();
     let mut args = vec!["--test-mode", "continuous"];
     args.extend_from_slice(&v);
     let out = greybox(
-        &[&["identify", "--no-plan", "--recordings", "recip.csv", "--out", "data.csv"][..], &args[..]].concat(),
+        &[
+            &[
+                "identify",
+                "--no-plan",
+                "--recordings",
+                "recip.csv",
+                "--out",
+                "data.csv",
+            ][..],
+            &args[..],
+        ]
+        .concat(),
         d.path(),
     );
     let _ = out; // a plateau mean of a reversing force may be refused as implausible; either way:
@@ -124,7 +183,10 @@ fn umt_export_of_half_stroke_blocks() {
     let v = ["--constant-sliding-velocity-m-per-min", "0.24"];
     let (stdout, rows, cycles) = identify(d.path(), "umt_001.csv", &v);
     check(&stdout, &rows, &cycles, 60);
-    assert!(stdout.contains("bruker-umt") && stdout.contains("blocks (one per half-stroke)"), "{stdout}");
+    assert!(
+        stdout.contains("bruker-umt") && stdout.contains("blocks (one per half-stroke)"),
+        "{stdout}"
+    );
 }
 
 #[test]
@@ -132,7 +194,11 @@ fn study_mode_reciprocating_is_read() {
     let d = tempfile::tempdir().unwrap();
     let (rec, _) = reciprocating_recording(&RecipSpec::default());
     std::fs::write(d.path().join("recip.csv"), plain_csv(&rec, true)).unwrap();
-    std::fs::write(d.path().join("study.toml"), "[identify]\nmode = \"reciprocating\"\n").unwrap();
+    std::fs::write(
+        d.path().join("study.toml"),
+        "[identify]\nmode = \"reciprocating\"\n",
+    )
+    .unwrap();
     let (_, rows, cycles) = identify(d.path(), "recip.csv", &["--study", "study.toml"]);
     assert_eq!(rows.len(), 1);
     assert_eq!(cycles.len() - 1, 100);

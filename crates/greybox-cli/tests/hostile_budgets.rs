@@ -49,23 +49,54 @@ fn slurm_script_values_never_become_commands() {
     // a quote, a command substitution and a newline in --out
     for out in ["o'; touch pwned; '", "o$(touch pwned)", "o\ntouch pwned"] {
         let r = run(
-            &["sweep", "run", "sweep.toml", "--out", out, "--executor", "slurm", "--dry-run"],
+            &[
+                "sweep",
+                "run",
+                "sweep.toml",
+                "--out",
+                out,
+                "--executor",
+                "slurm",
+                "--dry-run",
+            ],
             p,
         );
         refused_with(&r, &["--out", "#SBATCH", "only ASCII letters"]);
-        assert_eq!(listing(p), before, "a refused sweep wrote nothing ({out:?})");
+        assert_eq!(
+            listing(p),
+            before,
+            "a refused sweep wrote nothing ({out:?})"
+        );
     }
     // [slurm] values: each refused with its field
     for (field, slurm) in [
-        ("[slurm] partition", "[slurm]\npartition = \"c'\\ntouch pwned\\n'\"\n"),
+        (
+            "[slurm] partition",
+            "[slurm]\npartition = \"c'\\ntouch pwned\\n'\"\n",
+        ),
         ("[slurm] account", "[slurm]\naccount = \"$(touch pwned)\"\n"),
         ("[slurm] time", "[slurm]\ntime = \"1:00 `touch pwned`\"\n"),
-        ("[slurm] extra[0]", "[slurm]\nextra = [\"--qos=short\\ntouch pwned\"]\n"),
-        ("[slurm] extra[0]", "[slurm]\nextra = [\"--qos=a;touch pwned\"]\n"),
+        (
+            "[slurm] extra[0]",
+            "[slurm]\nextra = [\"--qos=short\\ntouch pwned\"]\n",
+        ),
+        (
+            "[slurm] extra[0]",
+            "[slurm]\nextra = [\"--qos=a;touch pwned\"]\n",
+        ),
     ] {
         sweep_file(p, "bad.toml", "", ONE_AXIS, slurm);
         let r = run(
-            &["sweep", "run", "bad.toml", "--out", "o", "--executor", "slurm", "--dry-run"],
+            &[
+                "sweep",
+                "run",
+                "bad.toml",
+                "--out",
+                "o",
+                "--executor",
+                "slurm",
+                "--dry-run",
+            ],
             p,
         );
         refused_with(&r, &[field, "bad.toml"]);
@@ -76,14 +107,31 @@ fn slurm_script_values_never_become_commands() {
     let name = "s\ntouch pwned\n.toml";
     sweep_file(p, name, "", ONE_AXIS, "");
     let script = ok(&run(
-        &["sweep", "run", name, "--out", "o", "--executor", "slurm", "--dry-run"],
+        &[
+            "sweep",
+            "run",
+            name,
+            "--out",
+            "o",
+            "--executor",
+            "slurm",
+            "--dry-run",
+        ],
         p,
     ));
-    assert!(!script.lines().any(|l| l.trim() == "touch pwned"), "{script}");
+    assert!(
+        !script.lines().any(|l| l.trim() == "touch pwned"),
+        "{script}"
+    );
     assert!(script.contains("s\\ntouch pwned\\n.toml"), "{script}");
     let exec = script.lines().find(|l| l.starts_with("exec ")).unwrap();
-    assert!(exec.contains(&format!("run-case '{}/o'", p.canonicalize().unwrap().display()))
-        || exec.contains(&format!("run-case '{}/o'", p.display())), "{exec}");
+    assert!(
+        exec.contains(&format!(
+            "run-case '{}/o'",
+            p.canonicalize().unwrap().display()
+        )) || exec.contains(&format!("run-case '{}/o'", p.display())),
+        "{exec}"
+    );
     let syntax = std::process::Command::new("bash")
         .args(["-n", "-c", &script])
         .status()
@@ -107,7 +155,17 @@ fn a_device_as_base_configuration_is_refused_by_kind() {
     // a configuration beyond max_input_bytes (a sparse 17 MiB file)
     let f = std::fs::File::create(p.join("huge.toml")).unwrap();
     f.set_len(17 << 20).unwrap();
-    let r = run(&["simulate", "cutting", "--config", "huge.toml", "--out", "run"], p);
+    let r = run(
+        &[
+            "simulate",
+            "cutting",
+            "--config",
+            "huge.toml",
+            "--out",
+            "run",
+        ],
+        p,
+    );
     refused_with(&r, &["huge.toml", "max_input_bytes", "--max-input-mib"]);
     let mut after = listing(p);
     after.retain(|n| n != "huge.toml");
@@ -126,7 +184,12 @@ fn a_sweep_of_ten_million_cases_is_counted_before_it_is_expanded() {
         let r = run(&["sweep", cmd, "sweep.toml", "--out", "o"], p);
         refused_with(
             &r,
-            &["sweep.toml", "10000000 cases (10000 × 1000)", "[sweep] max_cases = 10000", "max_cases = N"],
+            &[
+                "sweep.toml",
+                "10000000 cases (10000 × 1000)",
+                "[sweep] max_cases = 10000",
+                "max_cases = N",
+            ],
         );
         assert_eq!(listing(p), before, "nothing written");
     }
@@ -141,7 +204,13 @@ fn cut_with_spacing(dir: &Path, spacing: &str) {
     .unwrap();
     let text: String = base
         .lines()
-        .map(|l| if l.starts_with("spacing_m") { format!("spacing_m = {spacing}\n") } else { format!("{l}\n") })
+        .map(|l| {
+            if l.starts_with("spacing_m") {
+                format!("spacing_m = {spacing}\n")
+            } else {
+                format!("{l}\n")
+            }
+        })
         .collect();
     std::fs::write(dir.join("cut.toml"), text).unwrap();
 }
@@ -152,21 +221,55 @@ fn a_nanometre_spacing_is_refused_before_particles_are_laid_out() {
     let p = d.path();
     cut_with_spacing(p, "1e-9");
     let before = listing(p);
-    let r = run(&["simulate", "cutting", "--config", "cut.toml", "--out", "run"], p);
-    let e = refused_with(&r, &["cut.toml", "spacing_m = 1e-9", "numerics.max_particles = 5000000", "1.47 PB"]);
+    let r = run(
+        &[
+            "simulate", "cutting", "--config", "cut.toml", "--out", "run",
+        ],
+        p,
+    );
+    let e = refused_with(
+        &r,
+        &[
+            "cut.toml",
+            "spacing_m = 1e-9",
+            "numerics.max_particles = 5000000",
+            "1.47 PB",
+        ],
+    );
     assert!(e.contains("3.600e11 particles"), "{e}");
     // the same set-up as a sweep's base, and a sweep axis that refines the spacing
     sweep_file(p, "sweep.toml", "", ONE_AXIS, "");
     let r = run(&["sweep", "plan", "sweep.toml", "--out", "o"], p);
     refused_with(&r, &["sweep.toml", "numerics.max_particles"]);
     cut_with_spacing(p, "1.0e-5");
-    sweep_file(p, "fine.toml", "", "[[axis]]\nfield = \"spacing_m\"\nvalues = [1e-5, 1e-9]\n", "");
+    sweep_file(
+        p,
+        "fine.toml",
+        "",
+        "[[axis]]\nfield = \"spacing_m\"\nvalues = [1e-5, 1e-9]\n",
+        "",
+    );
     let r = run(&["sweep", "plan", "fine.toml", "--out", "o"], p);
-    refused_with(&r, &["case 2 (spacing_m = 0.000000001)", "numerics.max_particles"]);
+    refused_with(
+        &r,
+        &["case 2 (spacing_m = 0.000000001)", "numerics.max_particles"],
+    );
     // the pin set-up, and the option that raises the cap
-    let pin = ["simulate", "pin", "--depth-um", "20", "--spacing-um", "0.001", "--out", "pin"];
+    let pin = [
+        "simulate",
+        "pin",
+        "--depth-um",
+        "20",
+        "--spacing-um",
+        "0.001",
+        "--out",
+        "pin",
+    ];
     let r = run(&pin, p);
-    refused_with(&r, &["pin set-up", "numerics.max_particles", "--max-particles"]);
+    refused_with(
+        &r,
+        &["pin set-up", "numerics.max_particles", "--max-particles"],
+    );
     let mut after = listing(p);
     after.retain(|n| !n.ends_with(".toml"));
     let mut before = before;
@@ -185,9 +288,25 @@ fn ubjson_null_arrays_are_capped_before_they_are_decoded() {
     b.extend(80_000_000i32.to_be_bytes());
     b.resize(10 << 20, b'N');
     std::fs::write(p.join("m.ubj"), &b).unwrap();
-    let r = run(&["import", "m.ubj", "--domain", "0:1,0:1", "--out", "m.json"], p);
-    refused_with(&r, &["m.ubj", "byte", "80000000", "max_array_len", "--max-array-len"]);
-    assert_eq!(std::fs::read(p.join("m.ubj")).unwrap(), b, "input untouched");
+    let r = run(
+        &["import", "m.ubj", "--domain", "0:1,0:1", "--out", "m.json"],
+        p,
+    );
+    refused_with(
+        &r,
+        &[
+            "m.ubj",
+            "byte",
+            "80000000",
+            "max_array_len",
+            "--max-array-len",
+        ],
+    );
+    assert_eq!(
+        std::fs::read(p.join("m.ubj")).unwrap(),
+        b,
+        "input untouched"
+    );
     assert_eq!(listing(p), ["m.ubj"], "nothing written");
 }
 
@@ -201,10 +320,22 @@ fn xlsx(path: &Path, head: &str, body: &str, times: usize, tail: &str) {
         .compression_level(Some(1))
         .large_file(true);
     let files = [
-        ("[Content_Types].xml", r#"<?xml version="1.0" encoding="UTF-8"?><Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types"><Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/><Default Extension="xml" ContentType="application/xml"/><Override PartName="/xl/workbook.xml" ContentType="application/vnd.openxmlformats-officedocument.spreadsheetml.sheet.main+xml"/><Override PartName="/xl/worksheets/sheet1.xml" ContentType="application/vnd.openxmlformats-officedocument.spreadsheetml.worksheet+xml"/></Types>"#),
-        ("_rels/.rels", r#"<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships"><Relationship Id="rId1" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/officeDocument" Target="xl/workbook.xml"/></Relationships>"#),
-        ("xl/workbook.xml", r#"<?xml version="1.0" encoding="UTF-8"?><workbook xmlns="http://schemas.openxmlformats.org/spreadsheetml/2006/main" xmlns:r="http://schemas.openxmlformats.org/officeDocument/2006/relationships"><sheets><sheet name="data" sheetId="1" r:id="rId1"/></sheets></workbook>"#),
-        ("xl/_rels/workbook.xml.rels", r#"<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships"><Relationship Id="rId1" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/worksheet" Target="worksheets/sheet1.xml"/></Relationships>"#),
+        (
+            "[Content_Types].xml",
+            r#"<?xml version="1.0" encoding="UTF-8"?><Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types"><Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/><Default Extension="xml" ContentType="application/xml"/><Override PartName="/xl/workbook.xml" ContentType="application/vnd.openxmlformats-officedocument.spreadsheetml.sheet.main+xml"/><Override PartName="/xl/worksheets/sheet1.xml" ContentType="application/vnd.openxmlformats-officedocument.spreadsheetml.worksheet+xml"/></Types>"#,
+        ),
+        (
+            "_rels/.rels",
+            r#"<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships"><Relationship Id="rId1" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/officeDocument" Target="xl/workbook.xml"/></Relationships>"#,
+        ),
+        (
+            "xl/workbook.xml",
+            r#"<?xml version="1.0" encoding="UTF-8"?><workbook xmlns="http://schemas.openxmlformats.org/spreadsheetml/2006/main" xmlns:r="http://schemas.openxmlformats.org/officeDocument/2006/relationships"><sheets><sheet name="data" sheetId="1" r:id="rId1"/></sheets></workbook>"#,
+        ),
+        (
+            "xl/_rels/workbook.xml.rels",
+            r#"<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships"><Relationship Id="rId1" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/worksheet" Target="worksheets/sheet1.xml"/></Relationships>"#,
+        ),
     ];
     for (name, text) in files {
         z.start_file(name, o).unwrap();
@@ -231,7 +362,17 @@ fn spreadsheet_bombs_are_measured_before_they_are_loaded() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
     let identify = |file: &str| {
-        run(&["identify", "--no-plan", "--recordings", file, "--out", "d.csv"], p)
+        run(
+            &[
+                "identify",
+                "--no-plan",
+                "--recordings",
+                file,
+                "--out",
+                "d.csv",
+            ],
+            p,
+        )
     };
     // 1 GiB of rows behind a few MB: over max_uncompressed_bytes (512 MiB)
     let row = r#"<row><c t="n"><v>1</v></c><c t="n"><v>2</v></c></row>"#;
@@ -247,7 +388,12 @@ fn spreadsheet_bombs_are_measured_before_they_are_loaded() {
     let t0 = std::time::Instant::now();
     refused_with(
         &identify("bomb.xlsx"),
-        &["bomb.xlsx", "xl/worksheets/sheet1.xml", "max_uncompressed_bytes", "--max-uncompressed-mib"],
+        &[
+            "bomb.xlsx",
+            "xl/worksheets/sheet1.xml",
+            "max_uncompressed_bytes",
+            "--max-uncompressed-mib",
+        ],
     );
     assert!(t0.elapsed().as_secs() < 30, "{:?}", t0.elapsed());
     // a declared dimension of the whole sheet
@@ -258,7 +404,15 @@ fn spreadsheet_bombs_are_measured_before_they_are_loaded() {
         0,
         "</sheetData></worksheet>",
     );
-    refused_with(&identify("dim.xlsx"), &["dim.xlsx", "1048576 rows × 16384 columns", "max_sheet_cells", "--max-sheet-cells"]);
+    refused_with(
+        &identify("dim.xlsx"),
+        &[
+            "dim.xlsx",
+            "1048576 rows × 16384 columns",
+            "max_sheet_cells",
+            "--max-sheet-cells",
+        ],
+    );
     // two cells at opposite corners, no dimension: calamine would hold 17·10⁹ cells
     xlsx(
         &p.join("box.xlsx"),
@@ -267,7 +421,15 @@ fn spreadsheet_bombs_are_measured_before_they_are_loaded() {
         1,
         "</sheetData></worksheet>",
     );
-    refused_with(&identify("box.xlsx"), &["box.xlsx", "field 'data'", "cells span 1048576 rows × 16384 columns", "max_sheet_cells"]);
+    refused_with(
+        &identify("box.xlsx"),
+        &[
+            "box.xlsx",
+            "field 'data'",
+            "cells span 1048576 rows × 16384 columns",
+            "max_sheet_cells",
+        ],
+    );
     let mut names = listing(p);
     names.retain(|n| !n.ends_with(".xlsx"));
     assert!(names.is_empty(), "nothing written: {names:?}");
@@ -281,7 +443,14 @@ fn a_recording_without_line_ends_is_refused_at_its_first_line() {
     let f = std::fs::File::create(p.join("r.csv")).unwrap();
     f.set_len(2 << 30).unwrap();
     let r = greybox_limited(
-        &["identify", "--no-plan", "--recordings", "r.csv", "--out", "d.csv"],
+        &[
+            "identify",
+            "--no-plan",
+            "--recordings",
+            "r.csv",
+            "--out",
+            "d.csv",
+        ],
         p,
         MEMORY_MIB + 2048 + 512, // the recording is mapped, not read: address space, not memory
         SECONDS,

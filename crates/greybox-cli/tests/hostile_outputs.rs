@@ -29,13 +29,24 @@ fn a_model_reached_through_a_law_file_is_an_input() {
     .unwrap();
     for target in ["fit/models/svr.json", "fit/models/table.json"] {
         let e = refused_with(
-            &run(&["export", "--law", "law.json", "--format", "csv", "--out", target], p),
+            &run(
+                &[
+                    "export", "--law", "law.json", "--format", "csv", "--out", target,
+                ],
+                p,
+            ),
             &["is the input a file the law --law reads", target],
         );
         assert!(!e.contains("panicked"));
     }
-    assert_eq!(std::fs::read_to_string(p.join("fit/models/svr.json")).unwrap(), "the trained model");
-    assert_eq!(std::fs::read_to_string(p.join("fit/models/table.json")).unwrap(), "a table");
+    assert_eq!(
+        std::fs::read_to_string(p.join("fit/models/svr.json")).unwrap(),
+        "the trained model"
+    );
+    assert_eq!(
+        std::fs::read_to_string(p.join("fit/models/table.json")).unwrap(),
+        "a table"
+    );
     assert!(!p.join("fit/models/svr.json.provenance.json").exists());
 }
 
@@ -47,10 +58,22 @@ fn the_provenance_record_beside_an_output_must_not_be_an_input() {
     let p = d.path();
     std::fs::write(p.join("y.csv.provenance.json"), "precious").unwrap();
     refused_with(
-        &run(&["adhesive", "--data", "y.csv.provenance.json", "--out", "y.csv"], p),
+        &run(
+            &[
+                "adhesive",
+                "--data",
+                "y.csv.provenance.json",
+                "--out",
+                "y.csv",
+            ],
+            p,
+        ),
         &["the provenance record beside --out", "is the input --data"],
     );
-    assert_eq!(std::fs::read_to_string(p.join("y.csv.provenance.json")).unwrap(), "precious");
+    assert_eq!(
+        std::fs::read_to_string(p.join("y.csv.provenance.json")).unwrap(),
+        "precious"
+    );
     assert!(!p.join("y.csv").exists());
 }
 
@@ -65,13 +88,19 @@ fn outputs_under_dev_are_refused_whatever_they_point_to() {
     std::fs::write(&log, "the user's log\n").unwrap();
     for out in ["/dev/stdout", "/dev/stderr", "/dev/fd/1", "/proc/self/fd/1"] {
         let o = std::process::Command::new(env!("CARGO_BIN_EXE_greybox"))
-            .args(["export", "--law", "law.json", "--format", "csv", "--out", out])
+            .args([
+                "export", "--law", "law.json", "--format", "csv", "--out", out,
+            ])
             .current_dir(p)
             .stdout(std::fs::OpenOptions::new().append(true).open(&log).unwrap())
             .output()
             .unwrap();
         refused_with(&o, &["the output path is under /"]);
-        assert_eq!(std::fs::read_to_string(&log).unwrap(), "the user's log\n", "{out}");
+        assert_eq!(
+            std::fs::read_to_string(&log).unwrap(),
+            "the user's log\n",
+            "{out}"
+        );
     }
     assert!(!Path::new("/dev/stdout.provenance.json").exists());
 }
@@ -87,7 +116,12 @@ fn a_shear_cap_below_any_metal_is_refused() {
     )
     .unwrap();
     refused_with(
-        &run(&["export", "--law", "law.json", "--format", "csv", "--out", "t.csv"], p),
+        &run(
+            &[
+                "export", "--law", "law.json", "--format", "csv", "--out", "t.csv",
+            ],
+            p,
+        ),
         &["shear_cap_k_MPa is 0.6 MPa", "GPa"],
     );
     assert!(!p.join("t.csv").exists());
@@ -99,10 +133,23 @@ fn a_campaign_with_implausible_mu_is_refused_with_the_numbers() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
     ok(&greybox(
-        &["plan", "--track-radius-mm", "100", "--normal-force-count", "3", "--velocity-count", "3", "--out", "plan"],
+        &[
+            "plan",
+            "--track-radius-mm",
+            "100",
+            "--normal-force-count",
+            "3",
+            "--velocity-count",
+            "3",
+            "--out",
+            "plan",
+        ],
         p,
     ));
-    ok(&greybox(&["synth", "--study", "plan/study.toml", "--out", "r"], p));
+    ok(&greybox(
+        &["synth", "--study", "plan/study.toml", "--out", "r"],
+        p,
+    ));
     // every pin's tangential channel rewritten in kN, its header still saying N
     for e in std::fs::read_dir(p.join("r")).unwrap() {
         let f = e.unwrap().path();
@@ -110,7 +157,10 @@ fn a_campaign_with_implausible_mu_is_refused_with_the_numbers() {
             let text = std::fs::read_to_string(&f).unwrap();
             let mut lines = text.lines();
             let header = lines.next().unwrap();
-            let col = header.split(',').position(|c| c.starts_with("tangential")).unwrap();
+            let col = header
+                .split(',')
+                .position(|c| c.starts_with("tangential"))
+                .unwrap();
             let mut out = format!("{header}\n");
             for l in lines {
                 let mut v: Vec<String> = l.split(',').map(str::to_string).collect();
@@ -122,7 +172,18 @@ fn a_campaign_with_implausible_mu_is_refused_with_the_numbers() {
         }
     }
     refused_with(
-        &run(&["identify", "--study", "plan/study.toml", "--recordings", "r", "--out", "data.csv"], p),
+        &run(
+            &[
+                "identify",
+                "--study",
+                "plan/study.toml",
+                "--recordings",
+                "r",
+                "--out",
+                "data.csv",
+            ],
+            p,
+        ),
         &["the campaign's median μ", "0.005..3", "kN"],
     );
     assert!(!p.join("data.csv").exists());
@@ -134,17 +195,41 @@ fn a_campaign_with_implausible_mu_is_refused_with_the_numbers() {
 fn a_law_whose_model_is_a_device_or_a_fifo_is_refused() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
-    assert!(std::process::Command::new("mkfifo").arg(p.join("pipe.json")).status().unwrap().success());
+    assert!(std::process::Command::new("mkfifo")
+        .arg(p.join("pipe.json"))
+        .status()
+        .unwrap()
+        .success());
     for model in ["/dev/zero", "pipe.json"] {
-        std::fs::write(p.join("law.json"), format!(r#"{{"law": "learned", "model": "{model}"}}"#)).unwrap();
+        std::fs::write(
+            p.join("law.json"),
+            format!(r#"{{"law": "learned", "model": "{model}"}}"#),
+        )
+        .unwrap();
         refused_with(
-            &run(&["export", "--law", "law.json", "--format", "csv", "--out", "t.csv"], p),
+            &run(
+                &[
+                    "export", "--law", "law.json", "--format", "csv", "--out", "t.csv",
+                ],
+                p,
+            ),
             &["model file is a", "not a regular file"],
         );
         assert!(!p.join("t.csv").exists());
     }
     refused_with(
-        &run(&["export", "--law", "/dev/zero", "--format", "csv", "--out", "t.csv"], p),
+        &run(
+            &[
+                "export",
+                "--law",
+                "/dev/zero",
+                "--format",
+                "csv",
+                "--out",
+                "t.csv",
+            ],
+            p,
+        ),
         &["law file is a character device"],
     );
 }

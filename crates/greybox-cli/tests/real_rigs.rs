@@ -45,23 +45,36 @@ fn identify(file: &str, extra: &[&str]) -> Vec<f64> {
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let k = header.iter().position(|h| *h == "cof_apparent").unwrap();
-    lines.map(|l| l.split(',').nth(k).unwrap().parse().unwrap()).collect()
+    lines
+        .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
+        .collect()
 }
 
 fn check(file: &str, extra: &[&str], tol: f64) {
     let want = reference(file);
     assert!(!want.is_empty(), "no reference for {file}");
     let got = identify(file, extra);
-    assert_eq!(got.len(), want.len(), "{file}: steps {got:?} vs reference {want:?}");
+    assert_eq!(
+        got.len(),
+        want.len(),
+        "{file}: steps {got:?} vs reference {want:?}"
+    );
     for (k, (g, w)) in got.iter().zip(&want).enumerate() {
-        assert!((g - w).abs() <= tol, "{file} step {k}: μ {g:.4} vs reference {w:.4}");
+        assert!(
+            (g - w).abs() <= tol,
+            "{file} step {k}: μ {g:.4} vs reference {w:.4}"
+        );
     }
 }
 
 #[test]
 fn phoenix_te67_compend_exports() {
     // 15 preamble lines, tab, decimal comma, a name repeated twice, 1 Hz, 30-60 min tests
-    for f in ["PPS_60N_1.tsv", "PPS_100N_1.tsv", "PPS+30PTFE_100N_200RPM_30MINS_1.tsv"] {
+    for f in [
+        "PPS_60N_1.tsv",
+        "PPS_100N_1.tsv",
+        "PPS+30PTFE_100N_200RPM_30MINS_1.tsv",
+    ] {
         check(&format!("phoenix-te/{f}"), &[], 0.005);
     }
 }
@@ -83,7 +96,11 @@ fn pcs_mtm_file_of_blocks() {
     let got = identify("pcs-mtm/demo-mtm-output.txt", &[]);
     assert_eq!(got.len(), want.len() - 1, "{got:?}");
     for (k, (g, w)) in got.iter().zip(&want[1..]).enumerate() {
-        assert!((g - w).abs() <= 0.005, "step {}: μ {g:.4} vs reference {w:.4}", k + 2);
+        assert!(
+            (g - w).abs() <= 0.005,
+            "step {}: μ {g:.4} vs reference {w:.4}",
+            k + 2
+        );
     }
 }
 
@@ -99,7 +116,12 @@ fn pin_on_disc_dwf_exports_without_load_or_speed_channels() {
     ] {
         check(
             &format!("custom-pod-dwf/{f}"),
-            &["--constant-normal-force-N", "50", "--constant-sliding-velocity-m-per-min", "20"],
+            &[
+                "--constant-normal-force-N",
+                "50",
+                "--constant-sliding-velocity-m-per-min",
+                "20",
+            ],
             0.01,
         );
     }
@@ -122,7 +144,14 @@ fn the_default_rule_takes_the_final_stationary_stretch() {
         let d = tempfile::tempdir().unwrap();
         let path = corpus().join(file);
         ok(&greybox(
-            &["identify", "-q", "--recordings", path.to_str().unwrap(), "--out", "data.csv"],
+            &[
+                "identify",
+                "-q",
+                "--recordings",
+                path.to_str().unwrap(),
+                "--out",
+                "data.csv",
+            ],
             d.path(),
         ));
         let text = std::fs::read_to_string(d.path().join("data.csv")).unwrap();
@@ -131,7 +160,10 @@ fn the_default_rule_takes_the_final_stationary_stretch() {
         let row: Vec<&str> = lines.next().expect("one row").split(',').collect();
         let col = |name: &str| row[header.iter().position(|h| *h == name).unwrap()];
         let end: f64 = col("plateau_end_s").parse().unwrap();
-        assert!(end > end_s - 10.0, "{file}: the steady window ends at {end} s, the test at {end_s} s");
+        assert!(
+            end > end_s - 10.0,
+            "{file}: the steady window ends at {end} s, the test at {end_s} s"
+        );
         let mu: f64 = col("cof_apparent").parse().unwrap();
         assert!((0.05..0.2).contains(&mu), "{file}: μ {mu}");
     }

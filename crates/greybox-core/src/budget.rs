@@ -110,7 +110,12 @@ impl Cap {
         if value <= limit {
             return Ok(());
         }
-        Err(over_cap(&found(), self.name(), &limit.to_string(), self.option()))
+        Err(over_cap(
+            &found(),
+            self.name(),
+            &limit.to_string(),
+            self.option(),
+        ))
     }
 }
 
@@ -220,18 +225,27 @@ mod tests {
         f.set_len(DEFAULT.max_input_bytes + 1).unwrap();
         let e = read_config(&big, "sweep file").unwrap_err().to_string();
         assert!(
-            e.contains("big.toml") && e.contains("max_input_bytes") && e.contains("--max-input-mib"),
+            e.contains("big.toml")
+                && e.contains("max_input_bytes")
+                && e.contains("--max-input-mib"),
             "{e}"
         );
     }
 
     #[test]
     fn caps_name_themselves_and_their_option() {
-        assert!(Cap::ArrayLen.check(DEFAULT.max_array_len, String::new).is_ok());
+        assert!(Cap::ArrayLen
+            .check(DEFAULT.max_array_len, String::new)
+            .is_ok());
         let e = Cap::SheetCells
-            .check(DEFAULT.max_sheet_cells + 1, || "the sheet has many cells".into())
+            .check(DEFAULT.max_sheet_cells + 1, || {
+                "the sheet has many cells".into()
+            })
             .unwrap_err();
-        assert!(e.contains("max_sheet_cells = 20000000") && e.contains("--max-sheet-cells"), "{e}");
+        assert!(
+            e.contains("max_sheet_cells = 20000000") && e.contains("--max-sheet-cells"),
+            "{e}"
+        );
         assert_eq!(bytes_text(2.9e12), "2.90 TB");
         assert_eq!(bytes_text(12.0), "12 B");
     }

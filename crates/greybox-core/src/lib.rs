@@ -23,8 +23,8 @@
 //! SI units everywhere inside: Pa, m/s, N, K, s.
 
 pub mod atomic;
-pub mod budget;
 pub mod boundary;
+pub mod budget;
 pub mod cleanup;
 pub mod contact;
 pub mod csvutil;

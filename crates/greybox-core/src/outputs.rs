@@ -52,7 +52,10 @@ pub fn check_file_output(out: &Path, out_flag: &str, inputs: &[Input]) -> Result
         let written = if same_file(out, input) {
             out_flag.to_string()
         } else if same_file(&sidecar, input) {
-            format!("the provenance record beside {out_flag} ({})", sidecar.display())
+            format!(
+                "the provenance record beside {out_flag} ({})",
+                sidecar.display()
+            )
         } else {
             continue;
         };

@@ -22,7 +22,10 @@ pub fn quote(s: &str) -> Result<String> {
     if s.contains('\0') {
         return Err(Error::invalid(
             "shell word",
-            format!("{:?} holds a NUL byte, which no shell argument can carry", s),
+            format!(
+                "{:?} holds a NUL byte, which no shell argument can carry",
+                s
+            ),
         ));
     }
     let mut q = String::with_capacity(s.len() + 2);
@@ -132,7 +135,11 @@ mod tests {
             .current_dir(std::env::temp_dir())
             .output()
             .unwrap_or_else(|e| panic!("cannot run {shell}: {e}"));
-        assert!(out.status.success(), "{shell} failed on {quoted}: {:?}", out);
+        assert!(
+            out.status.success(),
+            "{shell} failed on {quoted}: {:?}",
+            out
+        );
         out.stdout
     }
 
@@ -158,12 +165,23 @@ mod tests {
 
     #[test]
     fn directive_values_follow_the_allow_list() {
-        for ok in ["compute", "gpu,cpu", "01:30:00", "2-00:00:00", "/data/o/slurm/%A_%a.log"] {
+        for ok in [
+            "compute",
+            "gpu,cpu",
+            "01:30:00",
+            "2-00:00:00",
+            "/data/o/slurm/%A_%a.log",
+        ] {
             assert_eq!(directive_value("f", ok).unwrap(), ok);
         }
         for s in HOSTILE.iter().filter(|s| !["plain"].contains(s)) {
-            let e = directive_value("[slurm] partition", s).unwrap_err().to_string();
-            assert!(e.contains("[slurm] partition") && e.contains("#SBATCH"), "{e}");
+            let e = directive_value("[slurm] partition", s)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("[slurm] partition") && e.contains("#SBATCH"),
+                "{e}"
+            );
         }
         assert!(directive_value("p", "a b").is_err());
         assert!(directive_value("p", "a\0b").is_err());
@@ -172,7 +190,10 @@ mod tests {
     #[test]
     fn comments_stay_one_line() {
         let c = comment("s.toml\nrm -rf ~\r\0");
-        assert!(!c.contains('\n') && !c.contains('\r') && !c.contains('\0'), "{c}");
+        assert!(
+            !c.contains('\n') && !c.contains('\r') && !c.contains('\0'),
+            "{c}"
+        );
         assert!(c.contains("\\n"), "{c}");
         assert_eq!(comment("é.toml"), "é.toml");
     }

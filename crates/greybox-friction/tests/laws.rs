@@ -242,7 +242,10 @@ fn a_shear_cap_in_gpa_is_refused_with_the_number() {
         )
         .unwrap();
         let e = load_law(&p).err().expect("refused").to_string();
-        assert!(e.contains(&format!("shear_cap_k_MPa is {k} MPa")) && e.contains("GPa"), "{e}");
+        assert!(
+            e.contains(&format!("shear_cap_k_MPa is {k} MPa")) && e.contains("GPa"),
+            "{e}"
+        );
     }
     std::fs::write(
         &p,
@@ -250,6 +253,9 @@ fn a_shear_cap_in_gpa_is_refused_with_the_number() {
     )
     .unwrap();
     if let Err(e) = load_law(&p) {
-        assert!(!e.to_string().contains("shear_cap"), "50 MPa is accepted: {e}");
+        assert!(
+            !e.to_string().contains("shear_cap"),
+            "50 MPa is accepted: {e}"
+        );
     }
 }

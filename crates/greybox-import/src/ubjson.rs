@@ -268,7 +268,10 @@ mod tests {
         assert!(e.contains("8000 bytes") && e.contains("16 are left"), "{e}");
         // a few typed nulls are fine
         let b = [b'[', b'$', b'Z', b'#', b'i', 3];
-        assert_eq!(parse(&b, "m.ubj").unwrap(), serde_json::json!([null, null, null]));
+        assert_eq!(
+            parse(&b, "m.ubj").unwrap(),
+            serde_json::json!([null, null, null])
+        );
     }
 
     #[test]

@@ -286,7 +286,10 @@ fn implausible_records_are_refused_with_the_number() {
         damage(&mut m);
         let m = m.seal().unwrap();
         let json = serde_json::to_string(&m).unwrap();
-        let e = ModelFile::parse(&json, "m.json").err().expect("refused").to_string();
+        let e = ModelFile::parse(&json, "m.json")
+            .err()
+            .expect("refused")
+            .to_string();
         assert!(e.contains(field) && e.contains(text), "{e}");
         assert!(!e.contains("Some("), "{e}");
     }

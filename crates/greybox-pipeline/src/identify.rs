@@ -597,8 +597,11 @@ pub fn identify_campaign(
         plateaus: ds.records.len(),
         non_stationary: ds.records.iter().filter(|r| !r.stationary).count(),
         pressure_convention: study.contact.convention.name().to_string(),
-        cycles: crate::identify_cycles::any_reciprocating(&id.files)
-            .then(|| crate::identify_cycles::cycles_path(&o.dataset).display().to_string()),
+        cycles: crate::identify_cycles::any_reciprocating(&id.files).then(|| {
+            crate::identify_cycles::cycles_path(&o.dataset)
+                .display()
+                .to_string()
+        }),
         identification: id,
         truth,
     };

@@ -43,9 +43,9 @@ pub fn cycles_csv(files: &[FileReport]) -> Result<String> {
     for f in files {
         for s in &f.segments {
             let Some(r) = &s.reciprocating else { continue };
-            let (pin, step) = s
-                .matched
-                .map_or((String::new(), String::new()), |(p, k)| (p.to_string(), k.to_string()));
+            let (pin, step) = s.matched.map_or((String::new(), String::new()), |(p, k)| {
+                (p.to_string(), k.to_string())
+            });
             for (k, c) in r.cycles.iter().enumerate() {
                 let steady = (r.steady_cycles.0..r.steady_cycles.1).contains(&k);
                 w.write_record([
@@ -105,19 +105,29 @@ pub fn write_cycles_plot(f: &FileReport, dir: &Path, name: &str) -> Result<()> {
         let Some(r) = &g.reciprocating else { continue };
         for c in &r.cycles {
             let x = (base + c.index) as f64;
-            for (k, v) in [c.mu_forward, c.mu_backward, c.mu_mean].into_iter().enumerate() {
+            for (k, v) in [c.mu_forward, c.mu_backward, c.mu_mean]
+                .into_iter()
+                .enumerate()
+            {
                 series[k].0.push(x);
                 series[k].1.push(v);
             }
         }
         let (a, b) = r.steady_cycles;
-        bands_owned.push(((base + a + 1) as f64, (base + b) as f64, format!("{}", g.index)));
+        bands_owned.push((
+            (base + a + 1) as f64,
+            (base + b) as f64,
+            format!("{}", g.index),
+        ));
         base += r.cycles.len();
     }
     if base == 0 {
         return Ok(());
     }
-    let bands: Vec<(f64, f64, &str)> = bands_owned.iter().map(|(a, b, l)| (*a, *b, l.as_str())).collect();
+    let bands: Vec<(f64, f64, &str)> = bands_owned
+        .iter()
+        .map(|(a, b, l)| (*a, *b, l.as_str()))
+        .collect();
     let line = |label, colour, k: usize| greybox_core::plot::Line {
         label,
         colour,

@@ -229,7 +229,11 @@ pub fn cut_case(setup: CuttingSetup, base: &Path) -> Result<CutCase> {
             let law = greybox_friction::spec::load_law(&p)
                 .with_context(|| format!("friction.law_file {}", p.display()))?;
             for f in greybox_friction::spec::law_inputs(&p)? {
-                let role = if f == p { "friction.law_file" } else { "a file friction.law_file reads" };
+                let role = if f == p {
+                    "friction.law_file"
+                } else {
+                    "a file friction.law_file reads"
+                };
                 inputs.push((role, f));
             }
             (Arc::from(law), p.display().to_string())

@@ -78,7 +78,10 @@ pub fn identify_footer(s: &IdentifySummary) -> String {
         s.plateaus, s.non_stationary, s.pressure_convention, s.dataset
     );
     if let Some(c) = &s.cycles {
-        let _ = writeln!(text, "  reciprocating: per-cycle μ (forward, backward, mean) in {c}");
+        let _ = writeln!(
+            text,
+            "  reciprocating: per-cycle μ (forward, backward, mean) in {c}"
+        );
     }
     if let Some(t) = &s.truth {
         let _ = writeln!(text,

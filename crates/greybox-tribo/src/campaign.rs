@@ -960,7 +960,10 @@ fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> Segm
     let mut others: Vec<(&[f64], f64)> = vec![(&fn_s, 0.02 * f_ref)];
     if let Some(v) = &speed {
         // a quantised channel (a 1 Hz export stepping 0.147/0.150 m/s) wanders by its LSB
-        let lsb = rec.speed.as_ref().map_or(0.0, |s| quantum(&s.values()[i..j]));
+        let lsb = rec
+            .speed
+            .as_ref()
+            .map_or(0.0, |s| quantum(&s.values()[i..j]));
         others.push((v, 0.01 * median(v).abs() + 1.5 * lsb + 1e-9));
     }
     let t_rel: Vec<f64> = rec.time_s[i..j].iter().map(|t| t - rec.time_s[i]).collect();
@@ -1065,7 +1068,12 @@ fn steady_notes(files: &mut [FileReport]) {
 /// else the rig profile's mode and the strokes the signals show.
 fn reciprocating_reason(rec: &Recording, cfg: &IdentifyConfig) -> Option<String> {
     let profile = rec.provenance.as_ref().and_then(|r| r.test_mode);
-    crate::reciprocating::detect(&crate::reciprocating::Signals::of(rec), cfg.mode, profile, cfg)
+    crate::reciprocating::detect(
+        &crate::reciprocating::Signals::of(rec),
+        cfg.mode,
+        profile,
+        cfg,
+    )
 }
 
 /// A reciprocating file's segments: one per test (or load/speed step), μ averaged over the
@@ -1093,14 +1101,21 @@ fn reciprocating_segments(p: &mut Prepared, why: &str, cfg: &IdentifyConfig) {
     p.report.segmentation = "reciprocating".into();
     p.report.notes.push(format!("reciprocating test (ASTM G133): {why}; μ per stroke over its middle 50 %, sign taken by direction"));
     if segs.is_empty() {
-        p.report.notes.push("no loaded stretch: no stroke found".into());
+        p.report
+            .notes
+            .push("no loaded stretch: no stroke found".into());
     }
     p.report.segments = segs;
 }
 
 /// Fill a segment from a reciprocating result: the row's μ is the steady cycles' mean μ,
 /// its spread the cycles' spread, its standard error that over the cycles.
-fn reciprocating_stats(rep: &mut SegmentReport, r: Reciprocating, p: &Prepared, cfg: &IdentifyConfig) {
+fn reciprocating_stats(
+    rep: &mut SegmentReport,
+    r: Reciprocating,
+    p: &Prepared,
+    cfg: &IdentifyConfig,
+) {
     let n_cycles = r.steady_cycles.1 - r.steady_cycles.0;
     let duration = r.end_s - r.start_s;
     let trend = (r.trend_per_s * duration).abs() > cfg.trend_tolerance;

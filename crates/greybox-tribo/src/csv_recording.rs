@@ -136,7 +136,10 @@ mod tests {
             e.contains("states no unit") && e.contains("--map normal="),
             "{e}"
         );
-        let e = map.apply_override("normal=Fz:tonf").unwrap_err().to_string();
+        let e = map
+            .apply_override("normal=Fz:tonf")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("unknown force unit 'tonf'"), "{e}");
     }
     #[test]

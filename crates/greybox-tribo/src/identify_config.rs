@@ -56,9 +56,13 @@ impl TestMode {
     }
     /// The mode called `s` (`continuous`, `stepped`, `reciprocating`).
     pub fn parse(s: &str) -> Option<TestMode> {
-        [TestMode::Continuous, TestMode::Stepped, TestMode::Reciprocating]
-            .into_iter()
-            .find(|m| m.name() == s.trim())
+        [
+            TestMode::Continuous,
+            TestMode::Stepped,
+            TestMode::Reciprocating,
+        ]
+        .into_iter()
+        .find(|m| m.name() == s.trim())
     }
 }
 

@@ -127,7 +127,10 @@ pub fn by_name(name: &str) -> Result<&'static RigProfile> {
         .ok_or_else(|| {
             Error::invalid(
                 "--rig",
-                format!("unknown rig profile '{name}'; known: {}", names().join(", ")),
+                format!(
+                    "unknown rig profile '{name}'; known: {}",
+                    names().join(", ")
+                ),
             )
         })
 }
@@ -162,7 +165,10 @@ pub fn detect(table: &Table, named: Option<&str>) -> Result<Option<&'static RigP
         return by_name(n).map(Some);
     }
     let text = signature_text(table);
-    let found: Vec<&RigProfile> = PROFILES.iter().filter(|p| matches(p, table, &text)).collect();
+    let found: Vec<&RigProfile> = PROFILES
+        .iter()
+        .filter(|p| matches(p, table, &text))
+        .collect();
     Ok(match found.as_slice() {
         [one] => Some(one),
         _ => None,
@@ -183,9 +189,8 @@ fn present(table: &Table, pc: &ProfileColumn) -> Option<String> {
 /// `map` with the profile's columns filled in where the user mapped nothing (and did not
 /// ignore the role), and a note saying which profile was used and how it was chosen.
 pub fn apply(table: &Table, map: &ChannelMap, notes: &mut Vec<String>) -> Result<ChannelMap> {
-    let Some(p) = detect(table, map.rig.as_deref()).map_err(|e| {
-        Error::input(SourcePos::file(&table.source), e.to_string())
-    })?
+    let Some(p) = detect(table, map.rig.as_deref())
+        .map_err(|e| Error::input(SourcePos::file(&table.source), e.to_string()))?
     else {
         return Ok(map.clone());
     };
@@ -207,14 +212,30 @@ pub fn apply(table: &Table, map: &ChannelMap, notes: &mut Vec<String>) -> Result
             (None, "") => None,
             (None, u) => Some(u.to_string()),
         };
-        out.set_spec(pc.role, Some(ChannelSpec { name, unit, scale: 1.0 }));
+        out.set_spec(
+            pc.role,
+            Some(ChannelSpec {
+                name,
+                unit,
+                scale: 1.0,
+            }),
+        );
     }
-    let how = if map.rig.as_deref().is_some_and(|n| !n.is_empty() && n != "auto") {
+    let how = if map
+        .rig
+        .as_deref()
+        .is_some_and(|n| !n.is_empty() && n != "auto")
+    {
         "named with --rig"
     } else {
         "detected from the file's preamble and header"
     };
-    notes.push(format!("rig profile {} ({}), {how}; {} test", p.name, p.vendor, p.mode.name()));
+    notes.push(format!(
+        "rig profile {} ({}), {how}; {} test",
+        p.name,
+        p.vendor,
+        p.mode.name()
+    ));
     Ok(out)
 }
 
@@ -241,10 +262,16 @@ mod tests {
         let t = table(&["Created by CETR Data Viewer"], &["Fx", "Fz", "T", "COF"]);
         assert_eq!(detect(&t, None).unwrap().unwrap().name, "bruker-umt");
         let t = table(&[], &["time", "offset", "Fz"]);
-        assert!(detect(&t, None).unwrap().is_none(), "'ff' inside 'offset' is no signature");
+        assert!(
+            detect(&t, None).unwrap().is_none(),
+            "'ff' inside 'offset' is no signature"
+        );
         let t = table(&[], &["TIME", "FF"]);
         assert_eq!(detect(&t, None).unwrap().unwrap().name, "pod-dwf");
-        assert!(by_name("nope").unwrap_err().to_string().contains("phoenix-te"));
+        assert!(by_name("nope")
+            .unwrap_err()
+            .to_string()
+            .contains("phoenix-te"));
     }
 
     #[test]
@@ -256,6 +283,9 @@ mod tests {
         let m = apply(&t, &map, &mut notes).unwrap();
         assert_eq!(m.normal.as_ref().unwrap().unit.as_deref(), Some("kN"));
         assert_eq!(m.time.as_deref(), Some("T"));
-        assert!(notes[0].contains("bruker-umt") && notes[0].contains("detected"), "{notes:?}");
+        assert!(
+            notes[0].contains("bruker-umt") && notes[0].contains("detected"),
+            "{notes:?}"
+        );
     }
 }

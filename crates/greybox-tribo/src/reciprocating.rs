@@ -230,7 +230,12 @@ fn strokes_from_position(x: &[f64], i0: usize, j0: usize, w: usize) -> Option<Ve
     if dir != 0 {
         turns.push(ext);
     }
-    Some(turns.windows(2).map(|t| (i0 + t[0], i0 + t[1] + 1)).collect())
+    Some(
+        turns
+            .windows(2)
+            .map(|t| (i0 + t[0], i0 + t[1] + 1))
+            .collect(),
+    )
 }
 
 /// Runs of one step value in `[i0, j0)`.
@@ -322,7 +327,12 @@ fn mid_part(s: &Signals, i: usize, j: usize, by_position: bool) -> (usize, usize
 /// Measure a stroke: direction, mid-stroke part, μ. `sign` turns the position's direction
 /// into the friction force's sign (+1 or −1; 0 for an unsigned channel); without a position
 /// the direction is the force's sign. `None` for an unloaded or empty mid part.
-fn measure_stroke(s: &Signals, (i, j): (usize, usize), loaded: &[bool], sign: f64) -> Option<Stroke> {
+fn measure_stroke(
+    s: &Signals,
+    (i, j): (usize, usize),
+    loaded: &[bool],
+    sign: f64,
+) -> Option<Stroke> {
     let by_position = s.position_m.is_some();
     let (a, b) = mid_part(s, i, j, by_position);
     if b <= a + 1 || !loaded[a..b].iter().all(|l| *l) {
@@ -370,7 +380,10 @@ pub fn stroke_bounds(
     cfg: &IdentifyConfig,
 ) -> (StrokeSource, Vec<(usize, usize)>) {
     let w = ((cfg.smoothing_s * s.fs()).round() as usize).max(3);
-    if let Some(b) = s.position_m.and_then(|x| strokes_from_position(x, i0, j0, w)) {
+    if let Some(b) = s
+        .position_m
+        .and_then(|x| strokes_from_position(x, i0, j0, w))
+    {
         return (StrokeSource::Position, b);
     }
     if let Some(b) = strokes_from_blocks(s, i0, j0, w) {
@@ -381,7 +394,12 @@ pub fn stroke_bounds(
 
 /// The strokes of `[i0, j0)`: measured, without incomplete ones (shorter than 70 % of the
 /// median stroke in time, or in travel with a position), with the unsigned flag.
-pub fn strokes(s: &Signals, i0: usize, j0: usize, cfg: &IdentifyConfig) -> (StrokeSource, Vec<Stroke>, bool) {
+pub fn strokes(
+    s: &Signals,
+    i0: usize,
+    j0: usize,
+    cfg: &IdentifyConfig,
+) -> (StrokeSource, Vec<Stroke>, bool) {
     let (source, bounds) = stroke_bounds(s, i0, j0, cfg);
     // a position that does not reverse (a constant radius column) says nothing of direction
     let s = &Signals {
@@ -389,7 +407,10 @@ pub fn strokes(s: &Signals, i0: usize, j0: usize, cfg: &IdentifyConfig) -> (Stro
         ..*s
     };
     let loaded = loaded_mask(s.normal_n);
-    let ft_loaded: Vec<f64> = (i0..j0).filter(|k| loaded[*k]).map(|k| s.tangential_n[k]).collect();
+    let ft_loaded: Vec<f64> = (i0..j0)
+        .filter(|k| loaded[*k])
+        .map(|k| s.tangential_n[k])
+        .collect();
     let negative = ft_loaded.iter().filter(|v| **v < 0.0).count() as f64;
     let unsigned = source == StrokeSource::Position && negative < 0.02 * ft_loaded.len() as f64;
     // the position's direction → the force's sign: positive μ on the majority of strokes
@@ -408,7 +429,11 @@ pub fn strokes(s: &Signals, i0: usize, j0: usize, cfg: &IdentifyConfig) -> (Stro
         .iter()
         .filter_map(|b| measure_stroke(s, *b, &loaded, sign))
         .collect();
-    let dur = median(&all.iter().map(|st| st.end_s - st.start_s).collect::<Vec<_>>());
+    let dur = median(
+        &all.iter()
+            .map(|st| st.end_s - st.start_s)
+            .collect::<Vec<_>>(),
+    );
     let len = median(&all.iter().filter_map(|st| st.length_m).collect::<Vec<_>>());
     let kept = all
         .into_iter()
@@ -421,7 +446,12 @@ pub fn strokes(s: &Signals, i0: usize, j0: usize, cfg: &IdentifyConfig) -> (Stro
 /// Cycles: each forward stroke with the backward stroke that follows it directly (or the
 /// other way round, whichever the test starts with); a stroke without its partner is left out.
 pub fn cycles(strokes: &[Stroke]) -> Vec<Cycle> {
-    let dur = median(&strokes.iter().map(|s| s.end_s - s.start_s).collect::<Vec<_>>());
+    let dur = median(
+        &strokes
+            .iter()
+            .map(|s| s.end_s - s.start_s)
+            .collect::<Vec<_>>(),
+    );
     let mut out = Vec::new();
     let mut k = 0;
     while k + 1 < strokes.len() {
@@ -474,7 +504,12 @@ pub fn steady_cycles(cycles: &[Cycle], rule: SteadyRule) -> Option<(usize, usize
 
 /// Identify a reciprocating test over samples `[i0, j0)`: strokes, cycles, steady cycles and
 /// μ per direction. An error says why no result came out.
-pub fn analyse(s: &Signals, i0: usize, j0: usize, cfg: &IdentifyConfig) -> Result<Reciprocating, String> {
+pub fn analyse(
+    s: &Signals,
+    i0: usize,
+    j0: usize,
+    cfg: &IdentifyConfig,
+) -> Result<Reciprocating, String> {
     let (source, st, unsigned) = strokes(s, i0, j0, cfg);
     let cy = cycles(&st);
     if cy.is_empty() {
@@ -484,14 +519,22 @@ pub fn analyse(s: &Signals, i0: usize, j0: usize, cfg: &IdentifyConfig) -> Resul
             source.describe()
         ));
     }
-    let (a, b, run_in) = steady_cycles(&cy, cfg.steady)
-        .ok_or_else(|| format!("reciprocating: the steady-state rule {} leaves no cycle", cfg.steady))?;
+    let (a, b, run_in) = steady_cycles(&cy, cfg.steady).ok_or_else(|| {
+        format!(
+            "reciprocating: the steady-state rule {} leaves no cycle",
+            cfg.steady
+        )
+    })?;
     let used = &cy[a..b];
     let mean = |f: &dyn Fn(&Cycle) -> f64| used.iter().map(f).sum::<f64>() / used.len() as f64;
     let mus: Vec<f64> = used.iter().map(|c| c.mu_mean).collect();
     let times: Vec<f64> = used.iter().map(|c| c.time_s).collect();
     let (_, std) = mean_std(&mus);
-    let trend = if used.len() > 2 { linear_fit(&times, &mus).1 } else { 0.0 };
+    let trend = if used.len() > 2 {
+        linear_fit(&times, &mus).1
+    } else {
+        0.0
+    };
     let vel: Vec<f64> = used.iter().filter_map(|c| c.velocity_m_s).collect();
     let lens: Vec<f64> = st.iter().filter_map(|x| x.length_m).collect();
     let span = used[used.len() - 1].time_s - used[0].time_s;
@@ -508,7 +551,11 @@ pub fn analyse(s: &Signals, i0: usize, j0: usize, cfg: &IdentifyConfig) -> Resul
         normal_n: mean(&|c| c.normal_n),
         velocity_m_s: (!vel.is_empty()).then(|| vel.iter().sum::<f64>() / vel.len() as f64),
         stroke_length_m: (!lens.is_empty()).then(|| median(&lens)),
-        frequency_hz: if span > 0.0 { (used.len() - 1) as f64 / span } else { f64::NAN },
+        frequency_hz: if span > 0.0 {
+            (used.len() - 1) as f64 / span
+        } else {
+            f64::NAN
+        },
         start_s: used[0].time_s,
         end_s: used[used.len() - 1].end_s,
         samples: used.iter().map(|c| c.samples).sum(),
@@ -522,15 +569,26 @@ pub fn analyse(s: &Signals, i0: usize, j0: usize, cfg: &IdentifyConfig) -> Resul
 /// from a friction force that changes sign regularly (6 strokes or more, stroke durations
 /// within 30 % of each other, both signs on a quarter of the loaded samples at least). Where
 /// the rig profile says the rig reciprocates, 2 strokes suffice. `None`: a continuous test.
-pub fn detect(s: &Signals, mode: Option<TestMode>, profile: Option<TestMode>, cfg: &IdentifyConfig) -> Option<String> {
+pub fn detect(
+    s: &Signals,
+    mode: Option<TestMode>,
+    profile: Option<TestMode>,
+    cfg: &IdentifyConfig,
+) -> Option<String> {
     match mode {
         Some(TestMode::Reciprocating) => return Some("named (mode = reciprocating)".into()),
         Some(_) => return None,
         None => {}
     }
     let loaded = loaded_mask(s.normal_n);
-    let (i0, j0) = (loaded.iter().position(|l| *l)?, loaded.iter().rposition(|l| *l)? + 1);
-    let ft: Vec<f64> = (i0..j0).filter(|k| loaded[*k]).map(|k| s.tangential_n[k]).collect();
+    let (i0, j0) = (
+        loaded.iter().position(|l| *l)?,
+        loaded.iter().rposition(|l| *l)? + 1,
+    );
+    let ft: Vec<f64> = (i0..j0)
+        .filter(|k| loaded[*k])
+        .map(|k| s.tangential_n[k])
+        .collect();
     let neg = ft.iter().filter(|v| **v < 0.0).count() as f64 / ft.len().max(1) as f64;
     // without a position, both directions must be loaded a fair share of the time
     if s.position_m.is_none() && !(0.2..=0.8).contains(&neg) {
@@ -555,7 +613,11 @@ pub fn detect(s: &Signals, mode: Option<TestMode>, profile: Option<TestMode>, cf
     Some(format!(
         "{} strokes from the {why}{}",
         st.len(),
-        if by_profile { " (rig profile: reciprocating)" } else { "" }
+        if by_profile {
+            " (rig profile: reciprocating)"
+        } else {
+            ""
+        }
     ))
 }
 
@@ -564,7 +626,10 @@ pub fn detect(s: &Signals, mode: Option<TestMode>, profile: Option<TestMode>, cf
 /// Each part is `[i, j)` over its loaded samples, with its step label.
 pub fn parts(s: &Signals, cfg: &IdentifyConfig) -> Vec<(usize, usize, Option<f64>)> {
     let loaded = loaded_mask(s.normal_n);
-    let (Some(i0), Some(j1)) = (loaded.iter().position(|l| *l), loaded.iter().rposition(|l| *l)) else {
+    let (Some(i0), Some(j1)) = (
+        loaded.iter().position(|l| *l),
+        loaded.iter().rposition(|l| *l),
+    ) else {
         return Vec::new();
     };
     let j0 = j1 + 1;

@@ -681,8 +681,12 @@ fn check_unit(role: Role, unit: &str) -> std::result::Result<(), String> {
         Role::Speed => format!(
             "unknown speed unit '{unit}'; expected rpm (1/min), rps, m/s, mm/s, cm/s or m/min"
         ),
-        Role::Radius | Role::Position => format!("unknown length unit '{unit}'; expected m, cm, mm or um"),
-        Role::Cof => format!("unknown friction-coefficient unit '{unit}'; expected none, '-', '1' or '%'"),
+        Role::Radius | Role::Position => {
+            format!("unknown length unit '{unit}'; expected m, cm, mm or um")
+        }
+        Role::Cof => {
+            format!("unknown friction-coefficient unit '{unit}'; expected none, '-', '1' or '%'")
+        }
         Role::Trigger | Role::Step => unreachable!("no unit check"),
     })
 }
@@ -694,18 +698,17 @@ fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, boo
     // explicit mappings first, so that automatic ones never steal their columns
     for role in Role::ALL {
         if let Some(spec) = map.spec(role) {
-            let idx = first_match(table, &spec.name)
-                .ok_or_else(|| {
-                    Error::input(
-                        pos().field(&spec.name),
-                        format!(
-                            "missing column '{}' (mapped as {}); the header has: {}",
-                            spec.name,
-                            role.name(),
-                            table.header_list()
-                        ),
-                    )
-                })?;
+            let idx = first_match(table, &spec.name).ok_or_else(|| {
+                Error::input(
+                    pos().field(&spec.name),
+                    format!(
+                        "missing column '{}' (mapped as {}); the header has: {}",
+                        spec.name,
+                        role.name(),
+                        table.header_list()
+                    ),
+                )
+            })?;
             if let Some((other, _, _)) = taken.iter().find(|(_, i, _)| *i == idx) {
                 return Err(Error::input(
                     pos().field(&table.columns[idx].header),
@@ -774,7 +777,10 @@ fn drop_unitless_optional(
     notes: &mut Vec<String>,
 ) {
     roles.retain(|(role, idx, mapped)| {
-        let optional = matches!(role, Role::Radial | Role::Speed | Role::Radius | Role::Position);
+        let optional = matches!(
+            role,
+            Role::Radial | Role::Speed | Role::Radius | Role::Position
+        );
         let col = &table.columns[*idx];
         let unitless = map.spec(*role).and_then(|s| s.unit).is_none() && col.unit.is_none();
         if optional && !mapped && unitless {
@@ -819,7 +825,9 @@ fn unresolved(table: &Table, map: &ChannelMap, taken: &[(Role, usize, bool)]) ->
         .columns
         .iter()
         .enumerate()
-        .filter(|(i, c)| !taken.iter().any(|(_, t, _)| t == i) && matches!(c.data, ColumnData::Numbers(_)))
+        .filter(|(i, c)| {
+            !taken.iter().any(|(_, t, _)| t == i) && matches!(c.data, ColumnData::Numbers(_))
+        })
         .map(|(_, c)| c.header.as_str())
         .collect();
     let candidates = || {
@@ -843,7 +851,11 @@ fn unresolved(table: &Table, map: &ChannelMap, taken: &[(Role, usize, bool)]) ->
         out.push(u);
     }
     if !has(Role::Tangential) && !has(Role::Cof) {
-        let mut u = missing(Role::Tangential, "friction force (tangential) or friction coefficient (cof)", "N");
+        let mut u = missing(
+            Role::Tangential,
+            "friction force (tangential) or friction coefficient (cof)",
+            "N",
+        );
         u.or = Some(map_flag(Role::Cof, "NAME", ""));
         out.push(u);
     }
@@ -857,7 +869,10 @@ fn unresolved(table: &Table, map: &ChannelMap, taken: &[(Role, usize, bool)]) ->
             continue;
         }
         let col = &table.columns[*idx];
-        let stated = map.spec(*role).and_then(|s| s.unit).or_else(|| col.unit.clone());
+        let stated = map
+            .spec(*role)
+            .and_then(|s| s.unit)
+            .or_else(|| col.unit.clone());
         if stated.is_none() {
             out.push(Unresolved {
                 role: *role,
@@ -876,7 +891,9 @@ fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
     let lines: Vec<String> = problems
         .iter()
         .map(|u| {
-            let or = u.or.as_ref().map_or(String::new(), |o| format!(" (or {o})"));
+            let or =
+                u.or.as_ref()
+                    .map_or(String::new(), |o| format!(" (or {o})"));
             format!("  {}: {} → {}{or}", u.role.name(), u.why, u.flag)
         })
         .collect();
@@ -930,7 +947,8 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
     };
     let cof = take(Role::Cof).map(|c| c.1);
     let tangential = take(Role::Tangential).map(|c| c.1);
-    let (normal, tangential) = forces_by_convention(normal, tangential, cof.as_deref(), &mut report);
+    let (normal, tangential) =
+        forces_by_convention(normal, tangential, cof.as_deref(), &mut report);
     let step = take(Role::Step)
         .map(|c| c.1)
         .or_else(|| block_steps(&table, n, &mut report));
@@ -1012,7 +1030,9 @@ fn block_steps(table: &Table, n: usize, report: &mut ReadReport) -> Option<Vec<f
     let mut step = vec![0.0; n];
     for (b, w) in table.block_starts.iter().enumerate() {
         let end = table.block_starts.get(b + 1).copied().unwrap_or(n).min(n);
-        step[(*w).min(n)..end].iter_mut().for_each(|s| *s = (b + 1) as f64);
+        step[(*w).min(n)..end]
+            .iter_mut()
+            .for_each(|s| *s = (b + 1) as f64);
     }
     Some(step)
 }
@@ -1037,9 +1057,13 @@ fn forces_by_convention(
     let Some(ft) = tangential else {
         let mu = cof.expect("checked by `unresolved`");
         report.notes.push(
-            "no friction-force column: F_t = μ·F_N from the rig's own friction coefficient (cof)".into(),
+            "no friction-force column: F_t = μ·F_N from the rig's own friction coefficient (cof)"
+                .into(),
         );
-        return (normal.clone(), mu.iter().zip(&normal).map(|(m, f)| m * f).collect());
+        return (
+            normal.clone(),
+            mu.iter().zip(&normal).map(|(m, f)| m * f).collect(),
+        );
     };
     if let Some(mu) = cof {
         report.notes.push(cof_disagreement(&normal, &ft, mu));
@@ -1058,7 +1082,8 @@ fn cof_disagreement(normal: &[f64], ft: &[f64], mu: &[f64]) -> String {
         .map(|((f, t), m)| (t / f).abs() - m.abs())
         .collect();
     if diffs.is_empty() {
-        return "the rig's own μ (cof) could not be compared with F_t/F_N: no loaded samples".into();
+        return "the rig's own μ (cof) could not be compared with F_t/F_N: no loaded samples"
+            .into();
     }
     let med = median(&diffs);
     let worst = diffs.iter().fold(0.0f64, |w, d| w.max(d.abs()));

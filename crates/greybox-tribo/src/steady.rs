@@ -180,7 +180,11 @@ pub fn final_stationary(x: &[f64], t: &[f64], w_smooth: usize, floor: f64) -> Op
     let start = (0..=SUFFIX_GRID)
         .map(|g| g * (n - min_len) / SUFFIX_GRID)
         .find(|&a| on_a_line(a))?;
-    let a = if start > 0 { (start + w / 2).min(n - min_len) } else { 0 };
+    let a = if start > 0 {
+        (start + w / 2).min(n - min_len)
+    } else {
+        0
+    };
     Some(FinalStretch {
         a,
         b: n,

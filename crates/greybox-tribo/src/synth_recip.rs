@@ -76,13 +76,20 @@ pub fn reciprocating_recording(spec: &RecipSpec) -> (Recording, Vec<f64>) {
         let t = k as f64 * dt;
         let ts = t - spec.rest_s;
         let sliding = ts >= 0.0 && ts < test_s;
-        let pos = if sliding { 0.5 * spec.stroke_m * (1.0 - (w * ts).cos()) } else { 0.0 };
+        let pos = if sliding {
+            0.5 * spec.stroke_m * (1.0 - (w * ts).cos())
+        } else {
+            0.0
+        };
         let (f_n, f_t) = if sliding {
             let since = ts % half;
             let forward = ((ts / half) as usize).is_multiple_of(2);
             let cyc = ts * spec.frequency_hz;
-            let mu = if forward { spec.mu_forward } else { spec.mu_backward }
-                + spec.run_in_excess * (-cyc / spec.run_in_cycles).exp();
+            let mu = if forward {
+                spec.mu_forward
+            } else {
+                spec.mu_backward
+            } + spec.run_in_excess * (-cyc / spec.run_in_cycles).exp();
             let shape = 1.0 + spec.overshoot * (-since / spec.transient_s).exp();
             let ramp = (since / (0.2 * spec.transient_s)).min(1.0);
             let s = if forward { 1.0 } else { -1.0 };
@@ -94,7 +101,11 @@ pub fn reciprocating_recording(spec: &RecipSpec) -> (Recording, Vec<f64>) {
         rec.normal_n.push(f_n + noise.sample(&mut rng));
         rec.tangential_n.push(f_t + noise.sample(&mut rng));
         x.push(pos);
-        block.push(if sliding { (ts / half).floor() + 1.0 } else { 0.0 });
+        block.push(if sliding {
+            (ts / half).floor() + 1.0
+        } else {
+            0.0
+        });
     }
     rec.position_m = Some(x);
     (rec, block)
@@ -119,17 +130,41 @@ pub fn umt_export_text(rec: &Recording, block: &[f64]) -> String {
         }
     }
     let mut out = String::new();
-    let _ = writeln!(out, "Created by CETR Data Viewer ver.2.19.106 05/12/22 14:43:46");
-    let _ = writeln!(out, "Created by CETR UMT ver.1.136.257 12 May 2022 12:21:50");
-    let _ = writeln!(out, "Total number of runs - 1\nTotal number of steps = {}", runs.len());
+    let _ = writeln!(
+        out,
+        "Created by CETR Data Viewer ver.2.19.106 05/12/22 14:43:46"
+    );
+    let _ = writeln!(
+        out,
+        "Created by CETR UMT ver.1.136.257 12 May 2022 12:21:50"
+    );
+    let _ = writeln!(
+        out,
+        "Total number of runs - 1\nTotal number of steps = {}",
+        runs.len()
+    );
     let _ = writeln!(out, "Indenter tip ID = 0\nC:\\data\\recip.tst\n\nRun # 1");
-    let _ = writeln!(out, "Script file C:\\scripts\\recip.cts\nRun date 12 May 2022 12:21:50");
+    let _ = writeln!(
+        out,
+        "Script file C:\\scripts\\recip.cts\nRun date 12 May 2022 12:21:50"
+    );
     for (b, &(i, j)) in runs.iter().enumerate() {
         let _ = writeln!(out, "Step No. {}\n\nStep Type Code: 0", b + 1);
-        let _ = writeln!(out, "Radius       = 3.9493\nVelocity     = 240\nSet Force    = -1000");
-        let _ = writeln!(out, "Duration     = {:.2}\nData Count   = {}", rec.time_s[j - 1] - rec.time_s[i], j - i);
+        let _ = writeln!(
+            out,
+            "Radius       = 3.9493\nVelocity     = 240\nSet Force    = -1000"
+        );
+        let _ = writeln!(
+            out,
+            "Duration     = {:.2}\nData Count   = {}",
+            rec.time_s[j - 1] - rec.time_s[i],
+            j - i
+        );
         let _ = writeln!(out, "Started at: 12:21:58.029 12 May 2022\n");
-        let _ = writeln!(out, "Fx,Fz,Z,Y,X,V1,V2,V3,T,Ff,COF\ng,g,mm,mm,mm,mm/sec,mm/sec,mm/sec,sec,g,\n");
+        let _ = writeln!(
+            out,
+            "Fx,Fz,Z,Y,X,V1,V2,V3,T,Ff,COF\ng,g,mm,mm,mm,mm/sec,mm/sec,mm/sec,sec,g,\n"
+        );
         for k in i..j {
             let (fx, fz) = (rec.tangential_n[k] / G, -rec.normal_n[k] / G);
             let _ = writeln!(

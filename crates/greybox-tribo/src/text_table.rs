@@ -871,7 +871,9 @@ fn parse_data(
 /// without a newline fails at once instead of being sniffed as one line.
 fn check_head_line_lengths(body: &[u8], source: &str) -> Result<()> {
     let cap = greybox_core::budget::Cap::LineBytes;
-    let window = usize::try_from(cap.limit()).unwrap_or(usize::MAX).saturating_add(1);
+    let window = usize::try_from(cap.limit())
+        .unwrap_or(usize::MAX)
+        .saturating_add(1);
     let mut pos = 0;
     for number in 1..=SNIFF_LINES as u64 {
         if pos >= body.len() {
@@ -879,8 +881,10 @@ fn check_head_line_lengths(body: &[u8], source: &str) -> Result<()> {
         }
         let part = &body[pos..body.len().min(pos.saturating_add(window))];
         let len = memchr::memchr(b'\n', part).unwrap_or(part.len());
-        cap.check(len as u64, || format!("line {number} is longer than {} bytes", len - 1))
-            .map_err(|m| Error::input(SourcePos::file(source).line(number), m))?;
+        cap.check(len as u64, || {
+            format!("line {number} is longer than {} bytes", len - 1)
+        })
+        .map_err(|m| Error::input(SourcePos::file(source).line(number), m))?;
         pos += len + 1;
     }
     Ok(())

@@ -207,9 +207,10 @@ fn attribute<'a>(text: &'a str, attr: &str) -> Option<&'a str> {
 /// (row, column), 1-based, of a cell reference such as `XFD1048576`.
 fn cell_ref(r: &str) -> Option<(u64, u64)> {
     let letters = r.chars().take_while(char::is_ascii_alphabetic).count();
-    let col = r[..letters]
-        .bytes()
-        .try_fold(0u64, |c, b| c.checked_mul(26)?.checked_add((b.to_ascii_uppercase() - b'A' + 1) as u64))?;
+    let col = r[..letters].bytes().try_fold(0u64, |c, b| {
+        c.checked_mul(26)?
+            .checked_add((b.to_ascii_uppercase() - b'A' + 1) as u64)
+    })?;
     let row = r[letters..].parse().ok()?;
     Some((row, col))
 }

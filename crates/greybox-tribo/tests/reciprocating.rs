@@ -16,7 +16,10 @@ fn check(spec: &RecipSpec, position: bool, blocks: bool, want: StrokeSource) {
     }
     let cfg = IdentifyConfig::default();
     let s = Signals::of(&rec);
-    assert!(detect(&s, None, None, &cfg).is_some(), "not detected as reciprocating");
+    assert!(
+        detect(&s, None, None, &cfg).is_some(),
+        "not detected as reciprocating"
+    );
     let p = parts(&s, &cfg);
     assert_eq!(p.len(), 1, "{p:?}");
     let r = analyse(&s, p[0].0, p[0].1, &cfg).unwrap();
@@ -36,12 +39,23 @@ fn check(spec: &RecipSpec, position: bool, blocks: bool, want: StrokeSource) {
     assert_eq!(r.source, want);
     assert_eq!(r.cycles.len(), spec.cycles, "cycles");
     assert_eq!(r.strokes, 2 * spec.cycles, "strokes");
-    assert!((r.mu_forward - spec.mu_forward).abs() < 0.003, "forward {}", r.mu_forward);
-    assert!((r.mu_backward - spec.mu_backward).abs() < 0.003, "backward {}", r.mu_backward);
+    assert!(
+        (r.mu_forward - spec.mu_forward).abs() < 0.003,
+        "forward {}",
+        r.mu_forward
+    );
+    assert!(
+        (r.mu_backward - spec.mu_backward).abs() < 0.003,
+        "backward {}",
+        r.mu_backward
+    );
     let mean = 0.5 * (spec.mu_forward + spec.mu_backward);
     assert!((r.mu_mean - mean).abs() < 0.003, "mean {}", r.mu_mean);
     assert!(r.run_in_cycles.unwrap() > 0, "run-in not seen");
-    assert!(r.cycles[0].mu_mean > mean + 0.04, "first cycle shows the run-in");
+    assert!(
+        r.cycles[0].mu_mean > mean + 0.04,
+        "first cycle shows the run-in"
+    );
 }
 
 #[test]
@@ -67,13 +81,19 @@ fn a_flipped_force_axis_still_gives_positive_mu_per_direction() {
     let s = Signals::of(&rec);
     let p = parts(&s, &cfg);
     let r = analyse(&s, p[0].0, p[0].1, &cfg).unwrap();
-    assert!((r.mu_forward - 0.30).abs() < 0.003 && (r.mu_backward - 0.26).abs() < 0.003, "{r:?}");
+    assert!(
+        (r.mu_forward - 0.30).abs() < 0.003 && (r.mu_backward - 0.26).abs() < 0.003,
+        "{r:?}"
+    );
 }
 
 #[test]
 fn last_half_rule_takes_the_last_half_of_the_cycles() {
     let (rec, _) = reciprocating_recording(&RecipSpec::default());
-    let cfg = IdentifyConfig { steady: SteadyRule::Last(0.5), ..Default::default() };
+    let cfg = IdentifyConfig {
+        steady: SteadyRule::Last(0.5),
+        ..Default::default()
+    };
     let s = Signals::of(&rec);
     let p = parts(&s, &cfg);
     let r = analyse(&s, p[0].0, p[0].1, &cfg).unwrap();
@@ -98,13 +118,27 @@ fn campaign_identification_gives_one_row_per_test() {
     let (rec, _) = reciprocating_recording(&RecipSpec::default());
     let cfg = IdentifyConfig::default();
     let contact = PinContact::default();
-    let c = Campaign { expected: None, plan: None, contact: &contact, cfg: &cfg, track_radius_mm: &[] };
+    let c = Campaign {
+        expected: None,
+        plan: None,
+        contact: &contact,
+        cfg: &cfg,
+        track_radius_mm: &[],
+    };
     let id = identify_recordings(&[rec], &c).unwrap();
     assert_eq!(id.dataset.records.len(), 1);
     let row = &id.dataset.records[0];
     assert!((row.cof_apparent - 0.28).abs() < 0.003, "{row:?}");
-    assert!(row.flags.iter().any(|f| f == "reciprocating"), "{:?}", row.flags);
-    assert!((row.sliding_velocity_m_s - 0.015).abs() < 0.001, "{}", row.sliding_velocity_m_s);
+    assert!(
+        row.flags.iter().any(|f| f == "reciprocating"),
+        "{:?}",
+        row.flags
+    );
+    assert!(
+        (row.sliding_velocity_m_s - 0.015).abs() < 0.001,
+        "{}",
+        row.sliding_velocity_m_s
+    );
     let f = &id.files[0];
     assert_eq!(f.segmentation, "reciprocating");
     assert!(!f.tangential_sign_flipped);
@@ -135,19 +169,43 @@ fn umt_export_of_half_stroke_blocks() {
     let d = tempfile::tempdir().unwrap();
     let path = d.path().join("umt_001.csv");
     std::fs::write(&path, umt_export_text(&rec, &block)).unwrap();
-    let map = ChannelMap { constant_sliding_m_s: Some(0.004), ..ChannelMap::default() };
+    let map = ChannelMap {
+        constant_sliding_m_s: Some(0.004),
+        ..ChannelMap::default()
+    };
     let read = read_recording(&path, &map).unwrap();
     let report = read.provenance.as_ref().unwrap();
     assert_eq!(report.test_mode, Some(TestMode::Reciprocating));
-    assert!(report.notes.iter().any(|n| n.contains("bruker-umt")), "{:?}", report.notes);
-    assert!((read.normal_n[10] - 10.0).abs() < 0.3, "Fz in g, flipped: {}", read.normal_n[10]);
+    assert!(
+        report.notes.iter().any(|n| n.contains("bruker-umt")),
+        "{:?}",
+        report.notes
+    );
+    assert!(
+        (read.normal_n[10] - 10.0).abs() < 0.3,
+        "Fz in g, flipped: {}",
+        read.normal_n[10]
+    );
     let cfg = IdentifyConfig::default();
     let contact = PinContact::default();
-    let c = Campaign { expected: None, plan: None, contact: &contact, cfg: &cfg, track_radius_mm: &[] };
+    let c = Campaign {
+        expected: None,
+        plan: None,
+        contact: &contact,
+        cfg: &cfg,
+        track_radius_mm: &[],
+    };
     let id = identify_recordings(&[read], &c).unwrap();
     let seg = &id.files[0].segments[0];
     let r = seg.reciprocating.as_ref().unwrap();
-    eprintln!("UMT: {} strokes, {} cycles, steady {:?}, μ {:.5} / {:.5}", r.strokes, r.cycles.len(), r.steady_cycles, r.mu_forward, r.mu_backward);
+    eprintln!(
+        "UMT: {} strokes, {} cycles, steady {:?}, μ {:.5} / {:.5}",
+        r.strokes,
+        r.cycles.len(),
+        r.steady_cycles,
+        r.mu_forward,
+        r.mu_backward
+    );
     assert_eq!(r.source, StrokeSource::Blocks);
     assert_eq!(r.strokes, 120);
     assert_eq!(r.cycles.len(), 60);
@@ -162,22 +220,44 @@ fn umt_export_of_half_stroke_blocks() {
 fn load_steps_give_one_row_each() {
     use greybox_tribo::campaign::{identify_recordings, Campaign};
     use greybox_tribo::hertz::PinContact;
-    let (mut rec, _) = reciprocating_recording(&RecipSpec { cycles: 40, rest_s: 0.2, ..RecipSpec::default() });
-    let (b, _) = reciprocating_recording(&RecipSpec { cycles: 40, rest_s: 0.2, normal_n: 20.0, seed: 8, ..RecipSpec::default() });
+    let (mut rec, _) = reciprocating_recording(&RecipSpec {
+        cycles: 40,
+        rest_s: 0.2,
+        ..RecipSpec::default()
+    });
+    let (b, _) = reciprocating_recording(&RecipSpec {
+        cycles: 40,
+        rest_s: 0.2,
+        normal_n: 20.0,
+        seed: 8,
+        ..RecipSpec::default()
+    });
     let n = rec.len();
     let t_end = rec.time_s[n - 1] + 1e-3;
     rec.time_s.extend(b.time_s.iter().map(|t| t + t_end));
     rec.normal_n.extend(&b.normal_n);
     rec.tangential_n.extend(&b.tangential_n);
-    rec.position_m.as_mut().unwrap().extend(b.position_m.as_ref().unwrap());
+    rec.position_m
+        .as_mut()
+        .unwrap()
+        .extend(b.position_m.as_ref().unwrap());
     rec.step = Some((0..2 * n).map(|k| if k < n { 1.0 } else { 2.0 }).collect());
     let cfg = IdentifyConfig::default();
     let contact = PinContact::default();
-    let c = Campaign { expected: None, plan: None, contact: &contact, cfg: &cfg, track_radius_mm: &[] };
+    let c = Campaign {
+        expected: None,
+        plan: None,
+        contact: &contact,
+        cfg: &cfg,
+        track_radius_mm: &[],
+    };
     let id = identify_recordings(&[rec], &c).unwrap();
     assert_eq!(id.dataset.records.len(), 2, "{:?}", id.files[0].notes);
     for (row, f) in id.dataset.records.iter().zip([10.0, 20.0]) {
-        assert!((row.normal_force_n - f).abs() < 0.1 && (row.cof_apparent - 0.28).abs() < 0.003, "{row:?}");
+        assert!(
+            (row.normal_force_n - f).abs() < 0.1 && (row.cof_apparent - 0.28).abs() < 0.003,
+            "{row:?}"
+        );
     }
     for s in &id.files[0].segments {
         assert_eq!(s.reciprocating.as_ref().unwrap().cycles.len(), 40);

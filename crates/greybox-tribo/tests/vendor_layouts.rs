@@ -18,13 +18,22 @@ fn write(name: &str, text: &str) -> (tempfile::TempDir, std::path::PathBuf) {
 fn umt_like(blocks: usize, rows: usize) -> String {
     let mut s = String::from("Created by CETR Data Viewer ver.2.19\nTotal number of steps = 2\n");
     for b in 0..blocks {
-        s.push_str(&format!("\nStep No. {}\nVelocity     = 240\nSet Force    = -200\n\n", b + 1));
+        s.push_str(&format!(
+            "\nStep No. {}\nVelocity     = 240\nSet Force    = -200\n\n",
+            b + 1
+        ));
         s.push_str("Fx,Fz,X,T,Ff,COF\ng,g,mm,sec,g,\n");
         for k in 0..rows {
             let dir = if b % 2 == 0 { 1.0 } else { -1.0 };
             let fz = -200.0 - (k % 3) as f64;
             let fx = dir * 0.25 * fz.abs();
-            s.push_str(&format!("{fx:.4},{fz:.4},{:.3},{:.4},{:.4},{:.5}\n", k as f64 * 0.01, k as f64 * 0.02, fx.abs(), 0.25));
+            s.push_str(&format!(
+                "{fx:.4},{fz:.4},{:.3},{:.4},{:.4},{:.5}\n",
+                k as f64 * 0.01,
+                k as f64 * 0.02,
+                fx.abs(),
+                0.25
+            ));
         }
     }
     s
@@ -36,18 +45,33 @@ fn umt_like_blocks_with_a_units_row_in_grams_and_a_negative_normal_force() {
     let r = read_recording(&p, &ChannelMap::default()).unwrap();
     assert_eq!(r.len(), 120);
     // g → N with g_n, the negative Fz flipped
-    assert!((r.normal_n[0] - 200.0 * G_N * 1e-3).abs() < 1e-9, "{}", r.normal_n[0]);
+    assert!(
+        (r.normal_n[0] - 200.0 * G_N * 1e-3).abs() < 1e-9,
+        "{}",
+        r.normal_n[0]
+    );
     assert!(r.normal_n.iter().all(|f| *f > 0.0));
     // the friction force keeps its stroke sign; μ from the forces equals the rig's μ
     assert!(r.tangential_n[0] > 0.0 && r.tangential_n[40] < 0.0);
-    let mu: Vec<f64> = r.tangential_n.iter().zip(&r.normal_n).map(|(t, n)| (t / n).abs()).collect();
+    let mu: Vec<f64> = r
+        .tangential_n
+        .iter()
+        .zip(&r.normal_n)
+        .map(|(t, n)| (t / n).abs())
+        .collect();
     assert!(mu.iter().all(|m| (m - 0.25).abs() < 1e-4), "{mu:?}");
     // time restarting in every block made continuous, the block number as the step
     assert!(r.time_s.windows(2).all(|w| w[1] > w[0]));
     assert_eq!(r.step.as_ref().unwrap()[0], 1.0);
     assert_eq!(r.step.as_ref().unwrap()[119], 3.0);
     let notes = r.provenance.unwrap().notes.join("\n");
-    for n in ["bruker-umt", "detected", "recorded negative", "3 blocks", "the rig's own μ (cof) differs"] {
+    for n in [
+        "bruker-umt",
+        "detected",
+        "recorded negative",
+        "3 blocks",
+        "the rig's own μ (cof) differs",
+    ] {
         assert!(notes.contains(n), "{n:?} missing in\n{notes}");
     }
 }
@@ -56,7 +80,12 @@ fn umt_like_blocks_with_a_units_row_in_grams_and_a_negative_normal_force() {
 fn a_file_with_only_the_rigs_friction_coefficient() {
     let mut s = String::from("Time (s),Load (N),Friction coefficient\n");
     for k in 0..50 {
-        s.push_str(&format!("{},{},{}\n", k as f64 * 0.1, 10.0 + (k % 2) as f64, 0.3 + 0.001 * (k % 5) as f64));
+        s.push_str(&format!(
+            "{},{},{}\n",
+            k as f64 * 0.1,
+            10.0 + (k % 2) as f64,
+            0.3 + 0.001 * (k % 5) as f64
+        ));
     }
     let (_d, p) = write("srv.csv", &s);
     let r = read_recording(&p, &ChannelMap::default()).unwrap();
@@ -66,16 +95,35 @@ fn a_file_with_only_the_rigs_friction_coefficient() {
     }
     assert_eq!(r.cof.as_ref().unwrap().len(), 50);
     let notes = r.provenance.unwrap().notes.join("\n");
-    assert!(notes.contains("F_t = μ·F_N from the rig's own friction coefficient"), "{notes}");
+    assert!(
+        notes.contains("F_t = μ·F_N from the rig's own friction coefficient"),
+        "{notes}"
+    );
     // a μ in per cent
-    let (_d, p) = write("pct.csv", &s.replace("Friction coefficient", "COF (%)").replace(",0.3", ",30.").replace(".00", "0."));
+    let (_d, p) = write(
+        "pct.csv",
+        &s.replace("Friction coefficient", "COF (%)")
+            .replace(",0.3", ",30.")
+            .replace(".00", "0."),
+    );
     let r = read_recording(&p, &ChannelMap::default()).unwrap();
-    assert!((r.tangential_n[0] / r.normal_n[0] - 0.3).abs() < 0.01, "{}", r.tangential_n[0] / r.normal_n[0]);
+    assert!(
+        (r.tangential_n[0] / r.normal_n[0] - 0.3).abs() < 0.01,
+        "{}",
+        r.tangential_n[0] / r.normal_n[0]
+    );
 }
 
 #[test]
 fn forces_in_gram_kilogram_and_pound_force() {
-    for (unit, factor) in [("gf", G_N * 1e-3), ("g", G_N * 1e-3), ("kgf", G_N), ("kg", G_N), ("lbf", 4.448_221_615_260_5), ("mN", 1e-3)] {
+    for (unit, factor) in [
+        ("gf", G_N * 1e-3),
+        ("g", G_N * 1e-3),
+        ("kgf", G_N),
+        ("kg", G_N),
+        ("lbf", 4.448_221_615_260_5),
+        ("mN", 1e-3),
+    ] {
         let s = format!("time_s,Fz ({unit}),Fx ({unit})\n0,100,30\n0.1,100,31\n0.2,100,30\n");
         let (_d, p) = write("f.csv", &s);
         let r = read_recording(&p, &ChannelMap::default()).unwrap();
@@ -87,7 +135,9 @@ fn forces_in_gram_kilogram_and_pound_force() {
 fn everything_unresolved_is_one_message_with_the_flags_to_pass() {
     let s = "Time\tLoad\tFriction Force\tMass\n1\t10\t3\t1\n2\t10\t3\t1\n3\t10\t3\t1\n";
     let (_d, p) = write("bare.txt", s);
-    let e = read_recording(&p, &ChannelMap::default()).unwrap_err().to_string();
+    let e = read_recording(&p, &ChannelMap::default())
+        .unwrap_err()
+        .to_string();
     for want in [
         "3 channel(s) unresolved",
         "time: column 'Time' states no unit → --map time=Time:s",
@@ -99,7 +149,11 @@ fn everything_unresolved_is_one_message_with_the_flags_to_pass() {
     }
     // the flags it names resolve it
     let mut map = ChannelMap::default();
-    for m in ["time=Time:s", "normal=Load:N", "tangential=Friction Force:N"] {
+    for m in [
+        "time=Time:s",
+        "normal=Load:N",
+        "tangential=Friction Force:N",
+    ] {
         map.apply_override(m).unwrap();
     }
     let r = read_recording(&p, &map).unwrap();
@@ -107,8 +161,15 @@ fn everything_unresolved_is_one_message_with_the_flags_to_pass() {
     // a missing force lists the candidates
     let s = "time_s,A,B\n0,1,2\n1,1,2\n2,1,2\n";
     let (_d, p) = write("x.csv", s);
-    let e = read_recording(&p, &ChannelMap::default()).unwrap_err().to_string();
-    assert!(e.contains("candidates: 'A', 'B'") && e.contains("--constant-normal-force-N") && e.contains("--map cof=NAME"), "{e}");
+    let e = read_recording(&p, &ChannelMap::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("candidates: 'A', 'B'")
+            && e.contains("--constant-normal-force-N")
+            && e.contains("--map cof=NAME"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -124,17 +185,34 @@ fn a_dead_weight_rig_without_load_or_speed_channels() {
     assert!((r.tangential_n[1] - 2.1).abs() < 1e-12);
     assert_eq!(r.speed.unwrap().values(), &[0.5, 0.5, 0.5]);
     let notes = r.provenance.unwrap().notes.join("\n");
-    assert!(notes.contains("pod-dwf") && notes.contains("constant load 10 N"), "{notes}");
+    assert!(
+        notes.contains("pod-dwf") && notes.contains("constant load 10 N"),
+        "{notes}"
+    );
 }
 
 #[test]
 fn a_named_profile_and_an_unknown_one() {
     let (_d, p) = write("umt.csv", &umt_like(1, 10));
-    let map = ChannelMap { rig: Some("rtec".into()), ..ChannelMap::default() };
+    let map = ChannelMap {
+        rig: Some("rtec".into()),
+        ..ChannelMap::default()
+    };
     // rtec's columns are not in this file: its roles stay to the usual names, which find them
     let r = read_recording(&p, &map).unwrap();
-    assert!(r.provenance.unwrap().notes.iter().any(|n| n.contains("rig profile rtec") && n.contains("named with --rig")));
-    let map = ChannelMap { rig: Some("nope".into()), ..ChannelMap::default() };
+    assert!(r
+        .provenance
+        .unwrap()
+        .notes
+        .iter()
+        .any(|n| n.contains("rig profile rtec") && n.contains("named with --rig")));
+    let map = ChannelMap {
+        rig: Some("nope".into()),
+        ..ChannelMap::default()
+    };
     let e = read_recording(&p, &map).unwrap_err().to_string();
-    assert!(e.contains("unknown rig profile 'nope'") && e.contains("phoenix-te"), "{e}");
+    assert!(
+        e.contains("unknown rig profile 'nope'") && e.contains("phoenix-te"),
+        "{e}"
+    );
 }

@@ -111,7 +111,11 @@ pub fn refused_with(out: &Output, needles: &[&str]) -> String {
         "killed by a limit ({:?}); stderr: {stderr}",
         out.status
     );
-    assert!(!out.status.success(), "expected a refusal, stdout: {}", String::from_utf8_lossy(&out.stdout));
+    assert!(
+        !out.status.success(),
+        "expected a refusal, stdout: {}",
+        String::from_utf8_lossy(&out.stdout)
+    );
     assert!(!stderr.contains("panicked"), "panic: {stderr}");
     for n in needles {
         assert!(stderr.contains(n), "expected {n:?} in: {stderr}");

@@ -62,12 +62,21 @@ fn user_directives(s: &SlurmSection, time: &str, source: &str) -> Result<Vec<Str
         "--time={}",
         shell::directive_value(&field("time"), time)?
     )];
-    if !time.chars().all(|c| c.is_ascii_digit() || c == ':' || c == '-') {
-        bail!("{}: '{time}' is not a Slurm time (minutes, MM:SS, HH:MM:SS or D-HH:MM:SS)", field("time"));
+    if !time
+        .chars()
+        .all(|c| c.is_ascii_digit() || c == ':' || c == '-')
+    {
+        bail!(
+            "{}: '{time}' is not a Slurm time (minutes, MM:SS, HH:MM:SS or D-HH:MM:SS)",
+            field("time")
+        );
     }
     for (name, v) in [("partition", &s.partition), ("account", &s.account)] {
         if let Some(v) = v {
-            lines.push(format!("--{name}={}", shell::directive_value(&field(name), v)?));
+            lines.push(format!(
+                "--{name}={}",
+                shell::directive_value(&field(name), v)?
+            ));
         }
     }
     for (k, e) in s.extra.iter().enumerate() {
@@ -76,7 +85,8 @@ fn user_directives(s: &SlurmSection, time: &str, source: &str) -> Result<Vec<Str
         let (flag, value) = e.split_once('=').unwrap_or((e, ""));
         let name_ok = flag.strip_prefix("--").is_some_and(|n| {
             n.starts_with(|c: char| c.is_ascii_lowercase())
-                && n.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
+                && n.chars()
+                    .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
         });
         if !name_ok {
             bail!("{what}: {e:?} is not a long option `--flag` or `--flag=value` (write -q short as --qos=short)");
@@ -374,14 +384,35 @@ mod tests {
             f(&mut s);
             s
         };
-        refused(with(&|s| s.partition = Some("a'; touch M; '".into())), "[slurm] partition");
-        refused(with(&|s| s.partition = Some("a\n#SBATCH --x".into())), "[slurm] partition");
-        refused(with(&|s| s.account = Some("$(id)".into())), "[slurm] account");
-        refused(with(&|s| s.time = Some("1:00\ntouch M".into())), "[slurm] time");
+        refused(
+            with(&|s| s.partition = Some("a'; touch M; '".into())),
+            "[slurm] partition",
+        );
+        refused(
+            with(&|s| s.partition = Some("a\n#SBATCH --x".into())),
+            "[slurm] partition",
+        );
+        refused(
+            with(&|s| s.account = Some("$(id)".into())),
+            "[slurm] account",
+        );
+        refused(
+            with(&|s| s.time = Some("1:00\ntouch M".into())),
+            "[slurm] time",
+        );
         refused(with(&|s| s.time = Some("soon".into())), "[slurm] time");
-        refused(with(&|s| s.extra = vec!["--qos=short; touch M".into()]), "[slurm] extra[0]");
-        refused(with(&|s| s.extra = vec!["-q short".into()]), "[slurm] extra[0]");
-        refused(with(&|s| s.extra = vec!["--comment=a\nb".into()]), "[slurm] extra[0]");
+        refused(
+            with(&|s| s.extra = vec!["--qos=short; touch M".into()]),
+            "[slurm] extra[0]",
+        );
+        refused(
+            with(&|s| s.extra = vec!["-q short".into()]),
+            "[slurm] extra[0]",
+        );
+        refused(
+            with(&|s| s.extra = vec!["--comment=a\nb".into()]),
+            "[slurm] extra[0]",
+        );
         let ok = with(&|s| {
             s.partition = Some("compute".into());
             s.account = Some("proj-42".into());

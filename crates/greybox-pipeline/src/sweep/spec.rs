@@ -348,7 +348,10 @@ zip = [ { field = "friction.law_file", values = ["a.json", "none"] }, { field = 
             e.contains("10000000000 cases (100000 × 100000)") && e.contains("max_cases = 10000"),
             "{e}"
         );
-        let raised = t.replace("base = \"b.toml\"", "base = \"b.toml\"\nmax_cases = 20000000000");
+        let raised = t.replace(
+            "base = \"b.toml\"",
+            "base = \"b.toml\"\nmax_cases = 20000000000",
+        );
         assert_eq!(parse(&raised).case_count().0, 1e10);
     }
 }
