@@ -228,5 +228,19 @@ def test_identify_a_real_rig_export_with_channel_settings(tmp_path):
         as_frame=False,
     )
     assert abs(float(table["cof_apparent"][0]) - 0.119572) < 0.005
+    # the same task through the CLI writes the same dataset bytes (Python's identify without a
+    # study takes the bundled example study's contact, article-eq7: stated for the CLI; the
+    # differing default is issue 31's)
+    import subprocess
+
+    cli = os.environ.get("GREYBOX_CLI") or os.path.join(
+        os.path.dirname(__file__), "..", "..", "..", "target", "release", "greybox"
+    )
+    subprocess.run(
+        [cli, "identify", "-q", "--steady", "last:50%", "--convention", "article-eq7", "--rig", "phoenix-te", "--map", "radius=Radius:mm",
+         "--recordings", os.path.join(rigs, "phoenix-te", "PPS_60N_1.tsv"), "--out", str(tmp_path / "c.csv")],
+        check=True,
+    )
+    assert (tmp_path / "c.csv").read_bytes() == (tmp_path / "d.csv").read_bytes()
     channels, how = gb.read_recording(os.path.join(rigs, "pcs-mtm", "demo_7.txt"))
     assert "cof" in channels and "pcs-mtm" in json.dumps(how)
