@@ -1,35 +1,31 @@
-//! `greybox export`: a friction law as tables for FE engines, or as a surrogate table.
+//! `greybox export`: a friction law as tables for FE engines, or as a surrogate table. The
+//! options and their defaults are the library's ([`ExportOptions`]); a flag only overrides.
 
-use anyhow::{bail, Result};
-use greybox_friction::export::{Grid, StepLines};
-use greybox_pipeline::export::{export, parse_values, units_by_name, ExportFormat, ExportOptions};
+use crate::output::emit;
+use anyhow::Result;
+use greybox_core::choice::Choice;
+use greybox_core::units::{m_per_min_to_m_per_s, mpa_to_pa};
+use greybox_friction::export::{StepLines, TempUnit};
+use greybox_friction::grid::UnitSystem;
+use greybox_friction::table_file::TableKind;
+use greybox_pipeline::export::{export, ExportFormat, ExportOptions, ExportOverrides};
 use std::path::PathBuf;
 
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
-    /// Abaqus *FRICTION data lines.
-    Abaqus,
-    /// DEFORM FRCFAC / FRCWIN keyword blocks.
-    Deform,
-    /// LS-DYNA *DEFINE_TABLE + *DEFINE_CURVE.
-    Lsdyna,
-    /// The grid as CSV.
-    Csv,
-    /// A greybox surrogate table (JSON): exact for tree ensembles, adaptive otherwise
-    /// (--table-kind).
-    Table,
+/// A clap parser of a library [`Choice`]: its values listed in `--help` and in errors.
+pub fn choice<T: Choice + Send + Sync + Clone>() -> impl clap::builder::TypedValueParser<Value = T>
+{
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(T::names())
+        .try_map(|s| T::parse_choice(&s).map_err(|e| e.to_string()))
 }
 
-/// Grid lines at a tree ensemble's split thresholds (engine tables).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Steps {
-    /// On for tree-ensemble laws (piecewise constant): the table is exact.
-    Auto,
-    /// Two points per split threshold inside the grid for any law that declares steps
-    /// (a grey-box law around trees keeps the given grid too).
-    On,
-    /// The given grid only.
-    Off,
+/// Two object numbers, `TOOL,WORKPIECE`.
+fn object_pair(s: &str) -> Result<[u32; 2], String> {
+    let n: Vec<u32> = s
+        .split(',')
+        .map(|x| x.trim().parse().map_err(|_| format!("'{x}' is not an object number")))
+        .collect::<Result<_, _>>()?;
+    <[u32; 2]>::try_from(n).map_err(|_| "expected two object numbers, TOOL,WORKPIECE".into())
 }
 
 #[derive(clap::Args, Debug)]
@@ -37,132 +33,107 @@ pub struct Args {
     /// Law file, model file from `greybox fit`, or table.
     #[arg(long)]
     pub law: PathBuf,
-    #[arg(long, value_enum)]
-    pub format: Format,
+    #[arg(long, value_parser = choice::<ExportFormat>())]
+    pub format: ExportFormat,
     /// Output file.
     #[arg(long)]
     pub out: PathBuf,
-    /// Pressures, MPa: MIN:MAX:N (equidistant) or a comma list.
-    #[arg(long = "pressure-MPa", default_value = "500:2500:21")]
-    pub pressure_mpa: String,
-    /// Sliding velocities, m/min: MIN:MAX:N or a comma list.
-    #[arg(long = "velocity-m-per-min", default_value = "10:300:30")]
-    pub velocity: String,
+    /// Pressures, MPa: MIN:MAX:N (equidistant) or a comma list [default: 500:2500:21].
+    #[arg(long = "pressure-MPa")]
+    pub pressure_mpa: Option<String>,
+    /// Sliding velocities, m/min: MIN:MAX:N or a comma list [default: 10:300:30].
+    #[arg(long = "velocity-m-per-min")]
+    pub velocity: Option<String>,
     /// Temperatures, K: MIN:MAX:N or a comma list (omit for μ(p, v) only).
     #[arg(long = "temperature-K")]
     pub temperature: Option<String>,
-    /// Abaqus/LS-DYNA pressure unit (Pa or MPa).
-    #[arg(long, default_value = "MPa")]
-    pub pressure_unit: String,
-    /// Abaqus slip-rate / LS-DYNA velocity unit (m/s, mm/s, m/min).
-    #[arg(long, default_value = "mm/s")]
-    pub speed_unit: String,
-    /// Abaqus temperature unit (K or C).
-    #[arg(long, default_value = "C")]
-    pub temperature_unit: String,
+    /// Abaqus/LS-DYNA: the model's consistent unit system (pressure and slip-rate units
+    /// follow from it) [default: MPa-mm-s].
+    #[arg(long, value_parser = choice::<UnitSystem>())]
+    pub units: Option<UnitSystem>,
+    /// Abaqus/LS-DYNA temperature unit [default: C].
+    #[arg(long, value_parser = choice::<TempUnit>())]
+    pub temperature_unit: Option<TempUnit>,
     /// Abaqus TAUMAX (limiting shear stress), MPa.
     #[arg(long = "taumax-MPa")]
     pub taumax_mpa: Option<f64>,
     /// DEFORM: JSON list of windows {points_mm, pressure_mpa, velocity_m_per_min, temperature_k}.
     #[arg(long)]
     pub deform_windows: Option<PathBuf>,
-    /// DEFORM: sliding velocity at which the FRCFAC p-T table is evaluated, m/min.
-    #[arg(long, default_value_t = 150.0)]
-    pub deform_reference_velocity_m_per_min: f64,
-    /// DEFORM: object numbers (tool, workpiece).
-    #[arg(long, value_delimiter = ',', default_value = "2,1")]
-    pub deform_objects: Vec<u32>,
-    /// LS-DYNA table id (curves take the following ids).
-    #[arg(long, default_value_t = 1000)]
-    pub lsdyna_table_id: u32,
+    /// DEFORM: sliding velocity at which the FRCFAC p-T table is evaluated, m/min
+    /// [default: 150].
+    #[arg(long)]
+    pub deform_reference_velocity_m_per_min: Option<f64>,
+    /// DEFORM: object numbers TOOL,WORKPIECE [default: 2,1].
+    #[arg(long, value_parser = object_pair)]
+    pub deform_objects: Option<[u32; 2]>,
+    /// LS-DYNA table id (curves take the following ids) [default: 1000].
+    #[arg(long)]
+    pub lsdyna_table_id: Option<u32>,
     /// Random points of the deviation check of every format (cell centres and the
-    /// neighbours of every grid line come on top); 0: no check.
-    #[arg(long, default_value_t = 100_000)]
-    pub check_points: usize,
-    /// Engine tables: grid lines at the split thresholds of tree ensembles, restated in the
-    /// engine's units, two points one float apart per threshold (exact for engines that
-    /// interpolate linearly: Abaqus, LS-DYNA, DEFORM); only the grid's ends are kept besides.
-    #[arg(long, value_enum, default_value = "auto")]
-    pub steps: Steps,
-    /// Surrogate table (--format table): auto (exact for tree ensembles, adaptive otherwise),
-    /// exact, adaptive (over the box of the grid) or uniform (the grid itself, equidistant).
-    #[arg(long, value_enum, default_value = "auto")]
-    pub table_kind: crate::cmd_bench::TableKindArg,
-    /// Engine tables (abaqus, lsdyna, deform, csv): grid lines of an adaptive table over the
-    /// box of --pressure-MPa, --velocity-m-per-min (and --temperature-K), refined to
+    /// neighbours of every grid line come on top); 0: no check [default: 100000].
+    #[arg(long)]
+    pub check_points: Option<usize>,
+    /// Engine tables: grid lines at the split thresholds of tree ensembles, two points one
+    /// float apart per threshold (exact for engines that interpolate linearly); auto: for
+    /// tree-ensemble laws [default: auto].
+    #[arg(long, value_parser = choice::<StepLines>())]
+    pub steps: Option<StepLines>,
+    /// Surrogate table (--format table): exact, adaptive (over the box of the grid) or
+    /// uniform (the grid itself, equidistant) [default: exact for tree ensembles, adaptive
+    /// otherwise].
+    #[arg(long, value_parser = choice::<TableKind>())]
+    pub table_kind: Option<TableKind>,
+    /// Engine tables: grid lines of an adaptive table over the box of the grid, refined to
     /// --tolerance, instead of the given values.
     #[arg(long)]
     pub adaptive_grid: bool,
-    /// Adaptive table or grid: max deviation from the law on its check set.
-    #[arg(long, default_value_t = 1e-4)]
-    pub tolerance: f64,
-    /// Surrogate table: most cells (exact) or nodes (adaptive).
-    #[arg(long = "max-table-size", default_value_t = 1 << 22)]
-    pub max_table_size: usize,
+    /// Adaptive table or grid: max deviation from the law on its check set [default: 1e-4].
+    #[arg(long)]
+    pub tolerance: Option<f64>,
+    /// Largest table in values (engine-table points, surrogate cells or nodes); a bigger
+    /// one is refused with its size [default: 4194304].
+    #[arg(long = "max-table-size")]
+    pub max_table_size: Option<usize>,
+    /// Print the export report as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 impl Args {
-    /// The library's options for these flags.
+    /// The library's options: its defaults, with the fields these flags set.
     pub fn options(&self) -> Result<ExportOptions> {
-        if self.deform_objects.len() != 2 {
-            bail!("--deform-objects takes two object numbers");
-        }
-        Ok(ExportOptions {
-            law: self.law.clone(),
-            format: self.format.into(),
-            out: self.out.clone(),
-            grid: Grid {
-                pressure_pa: parse_values(&self.pressure_mpa, "--pressure-MPa")?
-                    .iter()
-                    .map(|p| p * 1e6)
-                    .collect(),
-                velocity_m_s: parse_values(&self.velocity, "--velocity-m-per-min")?
-                    .iter()
-                    .map(|v| v / 60.0)
-                    .collect(),
-                temperature_k: self
-                    .temperature
-                    .as_deref()
-                    .map(|t| parse_values(t, "--temperature-K"))
-                    .transpose()?,
-            },
-            units: units_by_name(
-                &self.pressure_unit,
-                &self.speed_unit,
-                &self.temperature_unit,
-            )?,
-            taumax_pa: self.taumax_mpa.map(|t| t * 1e6),
+        let overrides = ExportOverrides {
+            units: self.units,
+            temperature_unit: self.temperature_unit,
+            taumax_Pa: self.taumax_mpa.map(mpa_to_pa),
+            deform_reference_velocity_m_per_s: self
+                .deform_reference_velocity_m_per_min
+                .map(m_per_min_to_m_per_s),
+            deform_objects: self.deform_objects,
             deform_windows: self.deform_windows.clone(),
-            deform_reference_velocity_m_s: self.deform_reference_velocity_m_per_min / 60.0,
-            deform_objects: (self.deform_objects[0], self.deform_objects[1]),
             lsdyna_table_id: self.lsdyna_table_id,
+            table_kind: self.table_kind,
             check_points: self.check_points,
-            steps: match self.steps {
-                Steps::Auto => StepLines::Auto,
-                Steps::On => StepLines::On,
-                Steps::Off => StepLines::Off,
-            },
-            table_kind: self.table_kind.into(),
+            steps: self.steps,
+            adaptive_grid: self.adaptive_grid.then_some(true),
             tolerance: self.tolerance,
             max_table_size: self.max_table_size,
-            adaptive_grid: self.adaptive_grid,
-        })
-    }
-}
-
-impl From<Format> for ExportFormat {
-    fn from(f: Format) -> Self {
-        match f {
-            Format::Abaqus => ExportFormat::Abaqus,
-            Format::Deform => ExportFormat::Deform,
-            Format::Lsdyna => ExportFormat::Lsdyna,
-            Format::Csv => ExportFormat::Csv,
-            Format::Table => ExportFormat::Table,
+            ..Default::default()
         }
+        .with_edge_grid(
+            self.pressure_mpa.as_deref(),
+            self.velocity.as_deref(),
+            self.temperature.as_deref(),
+        )?;
+        ExportOptions::new(self.law.clone(), self.format, self.out.clone()).overridden(&overrides)
     }
 }
 
 pub fn run(a: Args) -> Result<()> {
-    println!("{}", export(&a.options()?)?.line);
-    Ok(())
+    let report = export(&a.options()?)?;
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
+    emit(a.json, &report, |r| format!("{}\n", r.line))
 }

@@ -384,12 +384,12 @@ fn adhesive_and_export() {
             "abaqus",
             "--out",
             "x.inp",
-            "--pressure-unit",
-            "psi",
+            "--units",
+            "psi-in-s",
         ],
         p,
     ));
-    assert!(e.contains("unknown pressure unit 'psi'"), "{e}");
+    assert!(e.contains("'psi-in-s'") && e.contains("MPa-mm-s"), "{e}");
     let e = err(&greybox(
         &[
             "export",

@@ -19,12 +19,14 @@
 //! * [`linalg`] — small least-squares helpers.
 //! * [`shell`] — quoting of every value a generated shell script receives.
 //! * [`budget`] — the named caps of readers and walkers (bytes, cells, array lengths, lines).
+//! * [`choice`] — option enums with one spelling on the command line, in Python and in files.
 //!
 //! SI units everywhere inside: Pa, m/s, N, K, s.
 
 pub mod atomic;
 pub mod boundary;
 pub mod budget;
+pub mod choice;
 pub mod cleanup;
 pub mod contact;
 pub mod csvutil;

@@ -12,6 +12,14 @@ pub const M_PER_UM: f64 = 1.0e-6;
 /// Seconds per minute.
 pub const S_PER_MIN: f64 = 60.0;
 
+/// MPa → Pa.
+pub fn mpa_to_pa(p: f64) -> f64 {
+    p * PA_PER_MPA
+}
+/// Pa → MPa.
+pub fn pa_to_mpa(p: f64) -> f64 {
+    p / PA_PER_MPA
+}
 /// m/min → m/s.
 pub fn m_per_min_to_m_per_s(v: f64) -> f64 {
     v / S_PER_MIN

@@ -45,6 +45,19 @@ pub enum StepLines {
     Off,
 }
 
+impl greybox_core::choice::Choice for StepLines {
+    const FIELD: &'static str = "steps";
+    const ALL: &'static [Self] = &[StepLines::Auto, StepLines::On, StepLines::Off];
+    fn name(self) -> &'static str {
+        match self {
+            StepLines::Auto => "auto",
+            StepLines::On => "on",
+            StepLines::Off => "off",
+        }
+    }
+}
+greybox_core::choice_traits!(StepLines);
+
 /// How an export builds and checks its table.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TableOptions {

@@ -56,6 +56,9 @@ pub enum SpeedUnit {
     MmPerS,
     #[serde(rename = "m/min")]
     MPerMin,
+    /// mm/ms: numerically m/s, the speed unit of the g–mm–ms and kg–mm–ms sets.
+    #[serde(rename = "mm/ms")]
+    MmPerMs,
 }
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum TempUnit {
@@ -90,6 +93,7 @@ impl SpeedUnit {
             SpeedUnit::MPerS => 1.0,
             SpeedUnit::MmPerS => 1e3,
             SpeedUnit::MPerMin => 60.0,
+            SpeedUnit::MmPerMs => 1.0,
         }
     }
     /// m/s of a number in this unit (divided by an exact 1, 10³ or 60).
@@ -98,6 +102,7 @@ impl SpeedUnit {
             SpeedUnit::MPerS => x,
             SpeedUnit::MmPerS => x / 1e3,
             SpeedUnit::MPerMin => x / 60.0,
+            SpeedUnit::MmPerMs => x,
         }
     }
     pub fn name(self) -> &'static str {
@@ -105,6 +110,7 @@ impl SpeedUnit {
             SpeedUnit::MPerS => "m/s",
             SpeedUnit::MmPerS => "mm/s",
             SpeedUnit::MPerMin => "m/min",
+            SpeedUnit::MmPerMs => "mm/ms",
         }
     }
 }
@@ -130,9 +136,69 @@ impl TempUnit {
     }
 }
 
+/// The units of an engine table's columns.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Units {
     pub pressure: PressureUnit,
     pub speed: SpeedUnit,
     pub temperature: TempUnit,
 }
+
+impl Units {
+    /// The pressure and speed units of a consistent unit system, with a temperature unit.
+    pub fn of(system: UnitSystem, temperature: TempUnit) -> Self {
+        let (pressure, speed) = system.pressure_and_speed();
+        Units {
+            pressure,
+            speed,
+            temperature,
+        }
+    }
+}
+
+/// A consistent mechanical unit system of an FE model (Abaqus and LS-DYNA have no units of
+/// their own: the table must be written in the model's). Pressure and sliding speed follow
+/// from the system's length, time and force units, so they can never be mixed (MPa with m/s
+/// is consistent only when time is in ms).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UnitSystem {
+    /// tonne, mm, s, N, MPa: slip rates in mm/s.
+    MpaMmS,
+    /// kg, m, s, N, Pa (SI): slip rates in m/s.
+    PaMS,
+    /// g, mm, ms, N, MPa (an LS-DYNA set): slip rates in mm/ms (= m/s).
+    MpaMmMs,
+}
+
+impl greybox_core::choice::Choice for UnitSystem {
+    const FIELD: &'static str = "units";
+    const ALL: &'static [Self] = &[UnitSystem::MpaMmS, UnitSystem::PaMS, UnitSystem::MpaMmMs];
+    fn name(self) -> &'static str {
+        match self {
+            UnitSystem::MpaMmS => "MPa-mm-s",
+            UnitSystem::PaMS => "Pa-m-s",
+            UnitSystem::MpaMmMs => "MPa-mm-ms",
+        }
+    }
+}
+greybox_core::choice_traits!(UnitSystem);
+
+impl UnitSystem {
+    /// The table's pressure and slip-rate units in this system.
+    pub fn pressure_and_speed(self) -> (PressureUnit, SpeedUnit) {
+        match self {
+            UnitSystem::MpaMmS => (PressureUnit::MPa, SpeedUnit::MmPerS),
+            UnitSystem::PaMS => (PressureUnit::Pa, SpeedUnit::MPerS),
+            UnitSystem::MpaMmMs => (PressureUnit::MPa, SpeedUnit::MmPerMs),
+        }
+    }
+}
+
+impl greybox_core::choice::Choice for TempUnit {
+    const FIELD: &'static str = "temperature_unit";
+    const ALL: &'static [Self] = &[TempUnit::C, TempUnit::K];
+    fn name(self) -> &'static str {
+        TempUnit::name(self)
+    }
+}
+greybox_core::choice_traits!(TempUnit, text);

@@ -40,6 +40,15 @@ impl TableKind {
     }
 }
 
+impl greybox_core::choice::Choice for TableKind {
+    const FIELD: &'static str = "table_kind";
+    const ALL: &'static [Self] = &[TableKind::Exact, TableKind::Adaptive, TableKind::Uniform];
+    fn name(self) -> &'static str {
+        TableKind::name(self)
+    }
+}
+greybox_core::choice_traits!(TableKind);
+
 /// A table of any kind.
 #[derive(Debug, Clone)]
 pub enum AnyTable {

@@ -6,7 +6,10 @@
 use crate::adhesive::{adhesive, AdhesiveOptions};
 use crate::characterize::{characterize, CharacterizeOptions, CharacterizeReport, ImpactChannels};
 use crate::couple::{couple, CoupleOptions, EngineOptions};
-use crate::export::{equidistant, export, ExportFormat, ExportOptions};
+use crate::export::{
+    equidistant, export, Engine, ExportFormat, ExportOptions, DEFAULT_TEMPERATURE_UNIT,
+    DEFAULT_UNITS,
+};
 use crate::fit::{fit, FitOptions, FitOutputs, FitResult};
 use crate::identify::{
     compare_with_truth, identify_campaign, Expectation, IdentifyOptions, IdentifyResult,
@@ -24,7 +27,8 @@ use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::dataset::FrictionDataset;
 use greybox_couple::engine::CouplingResult;
-use greybox_friction::export::{Grid, PressureUnit, SpeedUnit, StepLines, TempUnit, Units};
+use greybox_core::units::{m_per_min_to_m_per_s, mpa_to_pa};
+use greybox_friction::export::Grid;
 use greybox_learn::model::Family;
 use greybox_tribo::campaign::FileReport;
 use greybox_tribo::frf::ImpactConfig;
@@ -267,38 +271,25 @@ fn grey_box(study: &Study, dataset_csv: &Path) -> Result<GreyBox> {
     );
     let path = PathBuf::from("law.json");
     write_law(&path, &law)?;
-    let export_line = export(&ExportOptions {
-        law: path.clone(),
-        format: ExportFormat::Abaqus,
-        out: "abaqus_friction.inp".into(),
-        grid: Grid {
-            pressure_pa: equidistant(900.0, 2200.0, 14)
-                .iter()
-                .map(|p| p * 1e6)
-                .collect(),
-            velocity_m_s: equidistant(20.0, 250.0, 24)
-                .iter()
-                .map(|v| v / 60.0)
-                .collect(),
-            temperature_k: None,
-        },
-        units: Units {
-            pressure: PressureUnit::MPa,
-            speed: SpeedUnit::MmPerS,
-            temperature: TempUnit::C,
-        },
-        taumax_pa: Some(DEMO_SHEAR_CAP_MPA * 1e6),
-        deform_windows: None,
-        deform_reference_velocity_m_s: 150.0 / 60.0,
-        deform_objects: (2, 1),
-        lsdyna_table_id: 1000,
-        check_points: 100_000,
-        steps: StepLines::Auto,
-        table_kind: None,
-        tolerance: 1e-4,
-        max_table_size: 1 << 22,
-        adaptive_grid: false,
-    })?
+    let export_line = export(
+        &ExportOptions::new(path.clone(), ExportFormat::Abaqus, "abaqus_friction.inp".into())
+            .with_grid(Grid {
+                pressure_pa: equidistant(900.0, 2200.0, 14)
+                    .into_iter()
+                    .map(mpa_to_pa)
+                    .collect(),
+                velocity_m_s: equidistant(20.0, 250.0, 24)
+                    .into_iter()
+                    .map(m_per_min_to_m_per_s)
+                    .collect(),
+                temperature_k: None,
+            })
+            .with_engine(Engine::Abaqus {
+                units: DEFAULT_UNITS,
+                temperature_unit: DEFAULT_TEMPERATURE_UNIT,
+                taumax_pa: Some(mpa_to_pa(DEMO_SHEAR_CAP_MPA)),
+            }),
+    )?
     .line;
     write_string_atomic(Path::new("ffi/greybox.h"), GREYBOX_H)?;
     write_string_atomic(Path::new("ffi/greybox.f90"), GREYBOX_F90)?;

@@ -5,7 +5,7 @@
 use crate::{py_err, to_json};
 use greybox_core::dataset::PressureConvention;
 use greybox_pipeline::adhesive::{adhesive, AdhesiveOptions};
-use greybox_pipeline::export::{export, units_by_name, ExportFormat, ExportOptions};
+use greybox_pipeline::export::{export, ExportFormat, ExportOptions, ExportOverrides};
 use greybox_pipeline::fit::{fit, FitOptions};
 use greybox_pipeline::hertz::{hertz, Geometry, HertzOptions};
 use greybox_pipeline::identify::{identify_campaign, IdentifyOptions};
@@ -27,6 +27,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit_models, m)?)?;
     m.add_function(wrap_pyfunction!(grey_box_law, m)?)?;
     m.add_function(wrap_pyfunction!(export_table, m)?)?;
+    m.add_function(wrap_pyfunction!(export_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_cut, m)?)?;
     m.add_function(wrap_pyfunction!(report, m)?)?;
     Ok(())
@@ -301,86 +302,33 @@ fn grey_box_law(
     serde_json::to_string_pretty(&law).map_err(py_err)
 }
 
-/// Export a law (law, model or table file) as `format` (abaqus, deform, lsdyna, csv, table)
-/// on the SI grid given: JSON of the export report (line, max_deviation, check_points,
-/// shape, exact_steps). `steps` (auto, on, off): two table points per split threshold for
-/// piecewise-constant laws; `table_kind` (exact, adaptive, uniform; default: exact for tree
-/// ensembles, adaptive otherwise), `tolerance` and `max_table_size` for surrogate tables;
-/// `adaptive_grid`: engine tables on an adaptive grid refined to `tolerance`.
+/// Export a law (law, model or table file) as `format` (abaqus, deform, lsdyna, csv, table):
+/// JSON of the export report. `options` is JSON of the overrides ([`ExportOverrides`]: the
+/// library's option names, SI); every option left out keeps the library's default, the same
+/// as the command line's.
 #[pyfunction]
-#[pyo3(signature = (law, format, out, pressure_pa, velocity_m_s, temperature_k = None, pressure_unit = "MPa", speed_unit = "m/s", temperature_unit = "C", check_points = 100_000, steps = "auto", table_kind = None, tolerance = 1e-4, max_table_size = 1 << 22, adaptive_grid = false))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (law, format, out, options = "{}"))]
 fn export_table(
     py: Python<'_>,
     law: PathBuf,
     format: &str,
     out: PathBuf,
-    pressure_pa: Vec<f64>,
-    velocity_m_s: Vec<f64>,
-    temperature_k: Option<Vec<f64>>,
-    pressure_unit: &str,
-    speed_unit: &str,
-    temperature_unit: &str,
-    check_points: usize,
-    steps: &str,
-    table_kind: Option<&str>,
-    tolerance: f64,
-    max_table_size: usize,
-    adaptive_grid: bool,
+    options: &str,
 ) -> PyResult<String> {
-    use greybox_friction::engine_table::StepLines;
-    use greybox_friction::table_file::TableKind;
-    let steps = match steps {
-        "auto" => StepLines::Auto,
-        "on" => StepLines::On,
-        "off" => StepLines::Off,
-        s => {
-            return Err(py_err(anyhow::anyhow!(
-                "steps '{s}': expected auto, on or off"
-            )))
-        }
-    };
-    let table_kind = table_kind
-        .map(|k| {
-            [TableKind::Exact, TableKind::Adaptive, TableKind::Uniform]
-                .into_iter()
-                .find(|t| t.name() == k)
-                .ok_or_else(|| {
-                    py_err(anyhow::anyhow!(
-                        "table_kind '{k}': expected exact, adaptive or uniform"
-                    ))
-                })
-        })
-        .transpose()?;
-    let format = ExportFormat::parse(format).ok_or_else(|| {
-        py_err(anyhow::anyhow!(
-            "format '{format}': expected one of {}",
-            ExportFormat::ALL.map(|f| f.name()).join(", ")
-        ))
-    })?;
-    let o = ExportOptions {
-        law,
-        format,
-        out,
-        grid: greybox_friction::export::Grid {
-            pressure_pa,
-            velocity_m_s,
-            temperature_k,
-        },
-        units: units_by_name(pressure_unit, speed_unit, temperature_unit).map_err(py_err)?,
-        taumax_pa: None,
-        deform_windows: None,
-        deform_reference_velocity_m_s: 1.0,
-        deform_objects: (1, 2),
-        lsdyna_table_id: 1,
-        check_points,
-        steps,
-        table_kind,
-        tolerance,
-        max_table_size,
-        adaptive_grid,
-    };
+    let format: ExportFormat = format.parse().map_err(py_err)?;
+    let overrides = ExportOverrides::from_json(options).map_err(py_err)?;
+    let o = ExportOptions::new(law, format, out)
+        .overridden(&overrides)
+        .map_err(py_err)?;
     to_json(&py.detach(|| export(&o)).map_err(py_err)?)
+}
+
+/// The library's default export options of `format` as JSON (the keys `export_table`
+/// takes, SI).
+#[pyfunction]
+fn export_defaults(format: &str) -> PyResult<String> {
+    let format: ExportFormat = format.parse().map_err(py_err)?;
+    to_json(&ExportOverrides::defaults_of(format))
 }
 
 /// Run the orthogonal-cutting simulation of a set-up TOML into `out` (optionally with the

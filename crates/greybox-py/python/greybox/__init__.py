@@ -24,6 +24,7 @@ from __future__ import annotations
 import json
 import os
 import tempfile
+import warnings
 from typing import Any, NamedTuple, Optional, Sequence, Union
 
 import numpy as np
@@ -59,6 +60,7 @@ __all__ = [
     "export_sklearn",
     "grey_box_law",
     "export_table",
+    "export_defaults",
     "simulate_cut",
     "report",
 ]
@@ -544,48 +546,71 @@ def export_table(
     law: Any,
     format: str,
     out: PathLike,
-    pressure_Pa: Sequence[float],
-    velocity_m_per_s: Sequence[float],
+    pressure_Pa: Optional[Sequence[float]] = None,
+    velocity_m_per_s: Optional[Sequence[float]] = None,
     temperature_K: Optional[Sequence[float]] = None,
-    pressure_unit: str = "MPa",
-    speed_unit: str = "m/s",
-    temperature_unit: str = "C",
-    check_points: int = 100_000,
-    steps: str = "auto",
+    *,
+    units: Optional[str] = None,
+    temperature_unit: Optional[str] = None,
+    taumax_Pa: Optional[float] = None,
+    deform_reference_velocity_m_per_s: Optional[float] = None,
+    deform_objects: Optional[Sequence[int]] = None,
+    deform_windows: Optional[PathLike] = None,
+    lsdyna_table_id: Optional[int] = None,
+    check_points: Optional[int] = None,
+    steps: Optional[str] = None,
     table_kind: Optional[str] = None,
-    tolerance: float = 1e-4,
-    max_table_size: int = 1 << 22,
-    adaptive_grid: bool = False,
+    tolerance: Optional[float] = None,
+    max_table_size: Optional[int] = None,
+    adaptive_grid: Optional[bool] = None,
 ) -> dict:
-    """Export a law (path or Model) as ``format`` — abaqus, deform, lsdyna, csv or table — on
-    the grid given in SI; the engine's table units are ``pressure_unit`` (Pa, MPa),
-    ``speed_unit`` (m/s, mm/s, m/min), ``temperature_unit`` (K, C).
+    """Export a law (path or Model) as ``format`` — abaqus, deform, lsdyna, csv or table.
+
+    Every option left at ``None`` takes the library's default, the same as ``greybox export``
+    on the command line (see :func:`export_defaults`): the grid 500–2500 MPa × 10–300 m/min,
+    ``units="MPa-mm-s"`` (Abaqus, LS-DYNA: the model's consistent unit system, also
+    ``"Pa-m-s"`` and ``"MPa-mm-ms"``), ``temperature_unit="C"``, DEFORM objects ``(2, 1)``
+    (tool, workpiece) and its p–T table at 2.5 m/s, LS-DYNA table id 1000. Grid values and
+    options are SI (``pressure_Pa``, ``velocity_m_per_s``, ``temperature_K``,
+    ``taumax_Pa``); an option of another engine than ``format``'s is an error.
 
     Tree-ensemble laws get two table points at each split threshold (``steps="auto"``), so an
     engine interpolating linearly reproduces the model exactly; a surrogate table
     (``format="table"``) is exact for trees and refined to ``tolerance`` for smooth laws
-    (``table_kind`` overrides). Returns the export report: ``line`` (one-line description),
-    ``max_deviation`` from the law on ``check_points`` states inside the grid, ``shape``,
-    ``exact_steps``."""
+    (``table_kind`` overrides). A table of more than ``max_table_size`` values is refused.
+    Returns the export report: ``line`` (one-line description), ``max_deviation`` from the
+    law on ``check_points`` states inside the grid, ``shape``, ``exact_steps``, ``bytes``,
+    ``warnings`` (also issued as Python warnings)."""
+    options: dict = {
+        "units": units,
+        "temperature_unit": temperature_unit,
+        "taumax_Pa": taumax_Pa,
+        "deform_reference_velocity_m_per_s": deform_reference_velocity_m_per_s,
+        "deform_objects": None if deform_objects is None else [int(x) for x in deform_objects],
+        "deform_windows": None if deform_windows is None else os.fspath(deform_windows),
+        "lsdyna_table_id": lsdyna_table_id,
+        "check_points": check_points,
+        "steps": steps,
+        "table_kind": table_kind,
+        "tolerance": tolerance,
+        "max_table_size": max_table_size,
+        "adaptive_grid": adaptive_grid,
+    }
+    for name, values in (("pressure_Pa", pressure_Pa), ("velocity_m_per_s", velocity_m_per_s), ("temperature_K", temperature_K)):
+        if values is not None:
+            options[name] = [float(x) for x in _f64(values, name)]
+    options = {k: v for k, v in options.items() if v is not None}
     with tempfile.TemporaryDirectory() as d:
-        report = _native.export_table(
-            _law_path(law, d),
-            format,
-            os.fspath(out),
-            [float(x) for x in _f64(pressure_Pa, "pressure_Pa")],
-            [float(x) for x in _f64(velocity_m_per_s, "velocity_m_per_s")],
-            None if temperature_K is None else [float(x) for x in _f64(temperature_K, "temperature_K")],
-            pressure_unit,
-            speed_unit,
-            temperature_unit,
-            check_points,
-            steps,
-            table_kind,
-            tolerance,
-            max_table_size,
-            adaptive_grid,
-        )
-    return json.loads(report)
+        report = json.loads(_native.export_table(_law_path(law, d), format, os.fspath(out), json.dumps(options)))
+    for w in report.get("warnings", []):
+        warnings.warn(w, stacklevel=2)
+    return report
+
+
+def export_defaults(format: str) -> dict:
+    """The library's default options of ``export_table(law, format, ...)``: the keyword
+    arguments that format takes, with their defaults (SI)."""
+    return json.loads(_native.export_defaults(format))
 
 
 def simulate_cut(

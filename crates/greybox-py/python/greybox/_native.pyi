@@ -102,23 +102,14 @@ def grey_box_law(
     clamp: Optional[tuple[float, float]] = (0.05, 1.0),
     shear_cap_k_mpa: Optional[float] = None,
 ) -> str: ...
-def export_table(
-    law: str,
-    format: str,
-    out: str,
-    pressure_pa: Sequence[float],
-    velocity_m_s: Sequence[float],
-    temperature_k: Optional[Sequence[float]] = None,
-    pressure_unit: str = "MPa",
-    speed_unit: str = "m/s",
-    temperature_unit: str = "C",
-    check_points: int = 100000,
-    steps: str = "auto",
-    table_kind: Optional[str] = None,
-    tolerance: float = 0.0001,
-    max_table_size: int = 4194304,
-    adaptive_grid: bool = False,
-) -> str: ...
+def export_table(law: str, format: str, out: str, options: str = "{}") -> str:
+    """Export `law` as `format`; `options`: JSON of the overrides (library names, SI)."""
+    ...
+
+def export_defaults(format: str) -> str:
+    """JSON of the default export options of `format`."""
+    ...
+
 def simulate_cut(setup: str, out: str, law: Optional[str] = None, fraction: float = 1.0, force: bool = False, frames: int = 0) -> str: ...
 def report(study_dir: str, out: Optional[str] = None) -> str: ...
 def import_model(

@@ -1,102 +1,24 @@
 //! A friction law as tables for FE engines (Abaqus, DEFORM, LS-DYNA, CSV), or as a
 //! surrogate table; every table with its measured max deviation from the law.
 
+mod options;
+
+pub use options::*;
+
 use crate::output::provenance;
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::law::Range;
 use greybox_core::outputs::check_file_output;
+use greybox_core::choice::Choice;
 use greybox_friction::export::{
-    self, DeformWindow, Deviation, Exported, Grid, PressureUnit, SpeedUnit, StepLines,
-    TableOptions, TempUnit, Units,
+    self, DeformWindow, Deviation, Exported, Grid, TableOptions,
 };
 use greybox_friction::spec::{law_inputs, load_law};
 use greybox_friction::surrogate::{self, SurrogateOptions};
 use greybox_friction::table::Axis;
 use greybox_friction::table_file::{AnyTable, TableKind};
 use serde::Serialize;
-use std::path::PathBuf;
-
-/// The exported form.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ExportFormat {
-    /// Abaqus *FRICTION data lines.
-    Abaqus,
-    /// DEFORM FRCFAC / FRCWIN keyword blocks.
-    Deform,
-    /// LS-DYNA *DEFINE_TABLE + *DEFINE_CURVE.
-    Lsdyna,
-    /// The grid as CSV.
-    Csv,
-    /// A greybox surrogate table (JSON): exact for tree ensembles, adaptive otherwise (see
-    /// [`ExportOptions::table_kind`]).
-    Table,
-}
-
-impl ExportFormat {
-    pub const ALL: [ExportFormat; 5] = [
-        ExportFormat::Abaqus,
-        ExportFormat::Deform,
-        ExportFormat::Lsdyna,
-        ExportFormat::Csv,
-        ExportFormat::Table,
-    ];
-    /// The name on the command line and in the Python API.
-    pub fn name(self) -> &'static str {
-        match self {
-            ExportFormat::Abaqus => "abaqus",
-            ExportFormat::Deform => "deform",
-            ExportFormat::Lsdyna => "lsdyna",
-            ExportFormat::Csv => "csv",
-            ExportFormat::Table => "table",
-        }
-    }
-    pub fn parse(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|f| f.name() == name)
-    }
-}
-
-/// Options of [`export()`].
-#[derive(Debug, Clone)]
-pub struct ExportOptions {
-    /// Law file, model file or table.
-    pub law: PathBuf,
-    pub format: ExportFormat,
-    /// Output file.
-    pub out: PathBuf,
-    /// Pressures, sliding velocities (and temperatures) of the table, SI.
-    pub grid: Grid,
-    /// Units of the Abaqus/LS-DYNA tables.
-    pub units: Units,
-    /// Abaqus TAUMAX (limiting shear stress), Pa.
-    pub taumax_pa: Option<f64>,
-    /// DEFORM: JSON list of windows {points_mm, pressure_mpa, velocity_m_per_min, temperature_k}.
-    pub deform_windows: Option<PathBuf>,
-    /// DEFORM: sliding velocity at which the FRCFAC p-T table is evaluated, m/s.
-    pub deform_reference_velocity_m_s: f64,
-    /// DEFORM: object numbers (tool, workpiece).
-    pub deform_objects: (u32, u32),
-    /// LS-DYNA table id (curves take the following ids).
-    pub lsdyna_table_id: u32,
-    /// Random points of the deviation check (every format; 0: no check).
-    pub check_points: usize,
-    /// Engine tables: grid lines at a tree ensemble's split thresholds (two points one float
-    /// apart, so that the table is exact for linear interpolation); `Auto`: for
-    /// piecewise-constant laws.
-    pub steps: StepLines,
-    /// Surrogate table kind; `None`: exact for tree ensembles, adaptive otherwise. An
-    /// adaptive table covers the box of `grid` (min and max per axis); a uniform one needs
-    /// equidistant values.
-    pub table_kind: Option<TableKind>,
-    /// Adaptive table: max deviation on its check set.
-    pub tolerance: f64,
-    /// Surrogate table: most cells (exact) or nodes (adaptive).
-    pub max_table_size: usize,
-    /// Engine tables: take the grid lines of an adaptive table refined to `tolerance` over
-    /// the box of `grid` (its values only set the box), so that a smooth law's table is
-    /// within the tolerance under the engine's linear interpolation too.
-    pub adaptive_grid: bool,
-}
 
 /// What [`export()`] did.
 #[derive(Debug, Clone, Serialize)]
@@ -113,6 +35,10 @@ pub struct ExportReport {
     /// Whether the grid lines sit at the law's split thresholds (engine tables), or the
     /// surrogate table's kind is exact.
     pub exact_steps: bool,
+    /// Bytes written.
+    pub bytes: usize,
+    /// What the user should know (a table too big for an engine to read quickly).
+    pub warnings: Vec<String>,
 }
 
 /// `n` equidistant values from `min` to `max` (both included): `min + (max − min)·i/(n − 1)`;
@@ -140,7 +66,7 @@ pub fn equidistant(min: f64, max: f64, n: usize) -> Vec<f64> {
 /// use greybox_pipeline::export::parse_values;
 /// assert_eq!(parse_values("0:1:3", "x").unwrap(), [0.0, 0.5, 1.0]);
 /// assert_eq!(parse_values("2, 5", "x").unwrap(), [2.0, 5.0]);
-/// assert!(parse_values("1:0:3", "--pressure-MPa").unwrap_err().to_string().contains("--pressure-MPa"));
+/// assert!(parse_values("1:0:3", "pressure_MPa").unwrap_err().to_string().contains("pressure_MPa"));
 /// ```
 pub fn parse_values(text: &str, what: &str) -> Result<Vec<f64>> {
     let nums = |s: &str| -> Result<f64> {
@@ -168,93 +94,36 @@ pub fn parse_values(text: &str, what: &str) -> Result<Vec<f64>> {
     text.split(',').map(nums).collect()
 }
 
-/// Table units by their names: pressure "Pa" or "MPa"; speed "m/s", "mm/s" or "m/min";
-/// temperature "K" or "C".
-pub fn units_by_name(pressure: &str, speed: &str, temperature: &str) -> Result<Units> {
-    Ok(Units {
-        pressure: match pressure {
-            "Pa" => PressureUnit::Pa,
-            "MPa" => PressureUnit::MPa,
-            o => bail!("unknown pressure unit '{o}'; expected Pa or MPa"),
-        },
-        speed: match speed {
-            "m/s" => SpeedUnit::MPerS,
-            "mm/s" => SpeedUnit::MmPerS,
-            "m/min" => SpeedUnit::MPerMin,
-            o => bail!("unknown speed unit '{o}'; expected m/s, mm/s or m/min"),
-        },
-        temperature: match temperature {
-            "K" => TempUnit::K,
-            "C" => TempUnit::C,
-            o => bail!("unknown temperature unit '{o}'; expected K or C"),
-        },
-    })
-}
-
 /// Export; returns what was written and its deviation from the law.
 pub fn export(a: &ExportOptions) -> Result<ExportReport> {
+    a.validate()?;
     let law_files = law_inputs(&a.law)?;
-    let mut inputs = vec![("--law", a.law.as_path())];
+    let mut inputs = vec![("law", a.law.as_path())];
     inputs.extend(
         law_files[1..]
             .iter()
-            .map(|f| ("a file the law --law reads", f.as_path())),
+            .map(|f| ("a file the law reads", f.as_path())),
     );
-    if let Some(w) = &a.deform_windows {
-        inputs.push(("--deform-windows", w.as_path()));
+    if let Some(w) = a.engine.deform_windows() {
+        inputs.push(("deform_windows", w.as_path()));
     }
-    check_file_output(&a.out, "--out", &inputs)?;
+    check_file_output(&a.out, "out", &inputs)?;
     let law = load_law(&a.law)?;
-    a.grid.validate()?;
     let refined;
-    let grid = if a.adaptive_grid && a.format != ExportFormat::Table {
+    let grid = if a.adaptive_grid && a.format() != ExportFormat::Table {
         refined = adaptive_grid(law.as_ref(), a)?;
         &refined
     } else {
         &a.grid
     };
-    let o = TableOptions {
-        steps: a.steps,
-        check_points: a.check_points,
-        seed: 42,
-    };
-    let (text, report, note) = match a.format {
-        ExportFormat::Abaqus => engine(export::abaqus_checked(
-            law.as_ref(),
-            grid,
-            a.units,
-            a.taumax_pa,
-            &o,
-        )?),
-        ExportFormat::Lsdyna => engine(export::lsdyna_checked(
-            law.as_ref(),
-            grid,
-            a.units,
-            a.lsdyna_table_id,
-            &o,
-        )?),
-        ExportFormat::Csv => engine(export::csv_checked(law.as_ref(), grid, &o)?),
-        ExportFormat::Deform => {
-            let windows: Vec<DeformWindow> = match &a.deform_windows {
-                Some(p) => serde_json::from_str(
-                    &std::fs::read_to_string(p)
-                        .with_context(|| format!("cannot read {}", p.display()))?,
-                )
-                .with_context(|| format!("{}: expected a JSON list of windows", p.display()))?,
-                None => Vec::new(),
-            };
-            let (text, report, _) = engine(export::deform_checked(
-                law.as_ref(),
-                grid,
-                a.deform_reference_velocity_m_s,
-                &windows,
-                a.deform_objects,
-                &o,
-            )?);
-            (text, report, format!(", {} windows", windows.len()))
+    let (text, report, note) = match &a.engine {
+        Engine::Table { kind } => surrogate_table(law.as_ref(), a, *kind)?,
+        engine => {
+            check_table_size(grid_points(grid), a.max_table_size)?;
+            engine_table(law.as_ref(), grid, engine, a)?
         }
-        ExportFormat::Table => surrogate_table(law.as_ref(), a)?,
     };
+    check_table_size(report.shape.iter().product(), a.max_table_size)?;
     write_string_atomic(&a.out, &text)?;
     provenance(&inputs)?.write_beside(&a.out)?;
     let deviation = match report.max_deviation {
@@ -264,19 +133,108 @@ pub fn export(a: &ExportOptions) -> Result<ExportReport> {
         ),
         None => String::new(),
     };
+    let mut warnings = Vec::new();
+    if text.len() > LARGE_TABLE_BYTES {
+        warnings.push(format!(
+            "{} is {:.1} MB ({} table values): engines read a table this size slowly; coarsen the grid{}",
+            a.out.display(),
+            text.len() as f64 / 1e6,
+            report.shape.iter().product::<usize>(),
+            if a.adaptive_grid || a.format() == ExportFormat::Table {
+                " or loosen export.tolerance"
+            } else {
+                ""
+            }
+        ));
+    }
     Ok(ExportReport {
         line: format!(
-            "exported {} as {:?} to {}{note}{deviation}",
+            "exported {} as {} to {}{note}{deviation}",
             law.name(),
-            a.format,
+            a.format().name(),
             a.out.display()
         ),
+        bytes: text.len(),
+        warnings,
         ..report
     })
 }
 
+/// A written table above this size (bytes) gets a warning.
+pub const LARGE_TABLE_BYTES: usize = 16_000_000;
+
+/// Points of an engine table on `grid` before any split-threshold lines.
+fn grid_points(grid: &Grid) -> usize {
+    grid.pressure_pa.len()
+        * grid.velocity_m_s.len()
+        * grid.temperature_k.as_ref().map_or(1, Vec::len)
+}
+
+/// Refuse a table of more than `max` values, with the size it would have.
+fn check_table_size(values: usize, max: usize) -> Result<()> {
+    if values > max {
+        bail!(
+            "export.max_table_size: the table would have {values} values (about {:.0} MB as text), more than the limit of {max}; coarsen the grid, loosen export.tolerance or raise export.max_table_size",
+            values as f64 * 30.0 / 1e6
+        );
+    }
+    Ok(())
+}
+
+/// An engine table (Abaqus, DEFORM, LS-DYNA, CSV) on `grid`: text, report and note.
+fn engine_table(
+    law: &dyn greybox_core::FrictionLaw,
+    grid: &Grid,
+    engine: &Engine,
+    a: &ExportOptions,
+) -> Result<(String, ExportReport, String)> {
+    let o = TableOptions {
+        steps: a.steps,
+        check_points: a.check_points,
+        seed: 42,
+    };
+    Ok(match engine {
+        Engine::Abaqus { taumax_pa, .. } => {
+            let units = engine.units().expect("Abaqus has units");
+            engine_report(export::abaqus_checked(law, grid, units, *taumax_pa, &o)?)
+        }
+        Engine::Lsdyna { table_id, .. } => {
+            let units = engine.units().expect("LS-DYNA has units");
+            engine_report(export::lsdyna_checked(law, grid, units, *table_id, &o)?)
+        }
+        Engine::Csv => engine_report(export::csv_checked(law, grid, &o)?),
+        Engine::Deform {
+            reference_velocity_m_s,
+            objects,
+            windows,
+        } => {
+            let windows = read_deform_windows(windows.as_deref())?;
+            let (text, report, note) = engine_report(export::deform_checked(
+                law,
+                grid,
+                *reference_velocity_m_s,
+                &windows,
+                *objects,
+                &o,
+            )?);
+            (text, report, format!("{note}, {} windows", windows.len()))
+        }
+        Engine::Table { .. } => unreachable!("surrogate tables are not engine tables"),
+    })
+}
+
+/// DEFORM windows from a JSON list (none without a file).
+fn read_deform_windows(path: Option<&std::path::Path>) -> Result<Vec<DeformWindow>> {
+    let Some(p) = path else {
+        return Ok(Vec::new());
+    };
+    let text = greybox_core::budget::read_config(p, "DEFORM windows file")?;
+    serde_json::from_str(&text)
+        .with_context(|| format!("{}: expected a JSON list of windows", p.display()))
+}
+
 /// Text, report and note of an engine table.
-fn engine(e: Exported) -> (String, ExportReport, String) {
+fn engine_report(e: Exported) -> (String, ExportReport, String) {
     let shape = e.table.shape();
     let mut note = format!(
         ", {} pressures x {} velocities{}",
@@ -293,6 +251,8 @@ fn engine(e: Exported) -> (String, ExportReport, String) {
     }
     let report = ExportReport {
         line: String::new(),
+        bytes: 0,
+        warnings: Vec::new(),
         max_deviation: e.deviation.map(|d: Deviation| d.max),
         check_points: e.deviation.map_or(0, |d| d.points),
         shape,
@@ -319,7 +279,7 @@ fn adaptive_grid(law: &dyn greybox_core::FrictionLaw, a: &ExportOptions) -> Resu
     so.max_size = a.max_table_size;
     so.seed = 42;
     if g.pressure_pa.len() < 2 || g.velocity_m_s.len() < 2 {
-        bail!("--adaptive-grid needs a range of pressures and of velocities (MIN:MAX:N)");
+        bail!("export.adaptive_grid: needs a range of pressures and of velocities (at least two of each)");
     }
     let AnyTable::Adaptive(t) = surrogate::build(law, &so)? else {
         unreachable!("an adaptive table was asked for")
@@ -335,6 +295,7 @@ fn adaptive_grid(law: &dyn greybox_core::FrictionLaw, a: &ExportOptions) -> Resu
 fn surrogate_table(
     law: &dyn greybox_core::FrictionLaw,
     a: &ExportOptions,
+    kind: Option<TableKind>,
 ) -> Result<(String, ExportReport, String)> {
     let grid = &a.grid;
     let range = |v: &[f64]| Range {
@@ -346,7 +307,7 @@ fn surrogate_table(
         range(&grid.velocity_m_s),
         grid.temperature_k.as_deref().map(range),
     );
-    so.kind = a.table_kind;
+    so.kind = kind;
     so.tolerance = a.tolerance;
     so.check_points = a.check_points;
     so.max_size = a.max_table_size;
@@ -364,10 +325,10 @@ fn surrogate_table(
             Ok(n)
         };
         so.uniform_points = [
-            axis(&grid.pressure_pa, "--pressure-MPa")?,
-            axis(&grid.velocity_m_s, "--velocity-m-per-min")?,
+            axis(&grid.pressure_pa, "export.pressure_Pa")?,
+            axis(&grid.velocity_m_s, "export.velocity_m_per_s")?,
             match grid.temperature_k.as_deref() {
-                Some(t) => axis(t, "--temperature-K")?,
+                Some(t) => axis(t, "export.temperature_K")?,
                 None => 1,
             },
         ];
@@ -393,6 +354,8 @@ fn surrogate_table(
     );
     let report = ExportReport {
         line: String::new(),
+        bytes: 0,
+        warnings: Vec::new(),
         max_deviation: max_deviation.filter(|_| a.check_points > 0),
         check_points: check_points.unwrap_or(0),
         shape,

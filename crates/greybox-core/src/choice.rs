@@ -1,0 +1,91 @@
+//! Option enums with one spelling everywhere: the command line (clap), the Python API, study
+//! and sweep files all parse a value through [`Choice`], so a name accepted by one surface is
+//! accepted by all, and an unknown one gets the same error listing the values.
+//!
+//! ```
+//! use greybox_core::choice::Choice;
+//! #[derive(Clone, Copy, Debug, PartialEq)]
+//! enum Side { Rake, Flank }
+//! impl Choice for Side {
+//!     const FIELD: &'static str = "side";
+//!     const ALL: &'static [Self] = &[Side::Rake, Side::Flank];
+//!     fn name(self) -> &'static str {
+//!         match self { Side::Rake => "rake", Side::Flank => "flank" }
+//!     }
+//! }
+//! greybox_core::choice_traits!(Side);
+//! assert_eq!("flank".parse::<Side>().unwrap(), Side::Flank);
+//! assert_eq!(Side::Rake.to_string(), "rake");
+//! let e = "chip".parse::<Side>().unwrap_err().to_string();
+//! assert_eq!(e, "side: 'chip' is not one of rake, flank");
+//! assert_eq!(serde_json::to_string(&Side::Flank).unwrap(), "\"flank\"");
+//! ```
+
+/// An option enum with a fixed list of named values.
+pub trait Choice: Sized + Copy + 'static {
+    /// The option's name in errors (the library's field name, e.g. `export.steps`).
+    const FIELD: &'static str;
+    /// Every value, in the order they are listed to users.
+    const ALL: &'static [Self];
+    /// The value's name (lower case, kebab-case).
+    fn name(self) -> &'static str;
+    /// The names of every value, in order.
+    fn names() -> Vec<&'static str> {
+        Self::ALL.iter().map(|c| c.name()).collect()
+    }
+    /// The value named `s` (exactly), or an error naming the field and listing the values.
+    fn parse_choice(s: &str) -> Result<Self, UnknownChoice> {
+        Self::ALL
+            .iter()
+            .copied()
+            .find(|c| c.name() == s)
+            .ok_or_else(|| UnknownChoice {
+                field: Self::FIELD,
+                given: s.to_string(),
+                expected: Self::names().join(", "),
+            })
+    }
+}
+
+/// A name that is not one of a [`Choice`]'s values.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{field}: '{given}' is not one of {expected}")]
+pub struct UnknownChoice {
+    pub field: &'static str,
+    pub given: String,
+    pub expected: String,
+}
+
+/// `FromStr`, `Display`, `Serialize` and `Deserialize` of a [`Choice`] through its names
+/// (`choice_traits!(T, text)`: `FromStr` and `Display` only, for a type whose serde names
+/// are already its choice names).
+#[macro_export]
+macro_rules! choice_traits {
+    ($t:ty) => {
+        $crate::choice_traits!($t, text);
+        impl ::serde::Serialize for $t {
+            fn serialize<S: ::serde::Serializer>(&self, s: S) -> ::std::result::Result<S::Ok, S::Error> {
+                s.serialize_str($crate::choice::Choice::name(*self))
+            }
+        }
+        impl<'de> ::serde::Deserialize<'de> for $t {
+            fn deserialize<D: ::serde::Deserializer<'de>>(d: D) -> ::std::result::Result<Self, D::Error> {
+                let s = <::std::string::String as ::serde::Deserialize>::deserialize(d)?;
+                <$t as $crate::choice::Choice>::parse_choice(&s).map_err(::serde::de::Error::custom)
+            }
+        }
+    };
+    ($t:ty, text) => {
+        impl ::std::str::FromStr for $t {
+            type Err = $crate::choice::UnknownChoice;
+            fn from_str(s: &str) -> ::std::result::Result<Self, Self::Err> {
+                <$t as $crate::choice::Choice>::parse_choice(s)
+            }
+        }
+        impl ::std::fmt::Display for $t {
+            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
+                f.write_str($crate::choice::Choice::name(*self))
+            }
+        }
+    };
+}

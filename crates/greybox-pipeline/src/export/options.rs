@@ -1,0 +1,501 @@
+//! The options of [`export`](super::export), owned here once: the documented defaults, the
+//! engine each option belongs to, and validation whose errors name the option
+//! (`export.deform_reference_velocity_m_per_s`), never a command-line flag.
+//!
+//! Every surface starts from [`ExportOptions::new`] and only overrides fields: the command
+//! line and Python through [`ExportOverrides`] (the same names, with units in them), the
+//! demo and library users through the builder methods.
+//!
+//! ```
+//! use greybox_pipeline::export::{ExportFormat, ExportOptions, ExportOverrides};
+//! let o = ExportOptions::new("law.json".into(), ExportFormat::Lsdyna, "law.k".into());
+//! assert_eq!(o.engine.lsdyna_table_id(), Some(1000));
+//! let o = o.overridden(&ExportOverrides { lsdyna_table_id: Some(7), ..Default::default() })?;
+//! assert_eq!(o.engine.lsdyna_table_id(), Some(7));
+//! // an option of another engine is refused, naming it
+//! let e = o.overridden(&ExportOverrides { deform_objects: Some([1, 2]), ..Default::default() });
+//! assert!(e.unwrap_err().to_string().contains("export.deform_objects"));
+//! # Ok::<(), anyhow::Error>(())
+//! ```
+
+use anyhow::{bail, Context, Result};
+use greybox_core::choice::Choice;
+use greybox_core::units::{m_per_min_to_m_per_s, mpa_to_pa};
+use greybox_friction::export::{Grid, StepLines, TempUnit, Units};
+use greybox_friction::grid::UnitSystem;
+use greybox_friction::table_file::TableKind;
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// The exported form.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExportFormat {
+    /// Abaqus *FRICTION data lines.
+    Abaqus,
+    /// DEFORM FRCFAC / FRCWIN keyword blocks.
+    Deform,
+    /// LS-DYNA *DEFINE_TABLE + *DEFINE_CURVE.
+    Lsdyna,
+    /// The grid as CSV.
+    Csv,
+    /// A greybox surrogate table (JSON): exact for tree ensembles, adaptive otherwise.
+    Table,
+}
+
+impl Choice for ExportFormat {
+    const FIELD: &'static str = "export.format";
+    const ALL: &'static [Self] = &[
+        ExportFormat::Abaqus,
+        ExportFormat::Deform,
+        ExportFormat::Lsdyna,
+        ExportFormat::Csv,
+        ExportFormat::Table,
+    ];
+    fn name(self) -> &'static str {
+        match self {
+            ExportFormat::Abaqus => "abaqus",
+            ExportFormat::Deform => "deform",
+            ExportFormat::Lsdyna => "lsdyna",
+            ExportFormat::Csv => "csv",
+            ExportFormat::Table => "table",
+        }
+    }
+}
+greybox_core::choice_traits!(ExportFormat);
+
+/// The default pressures of an engine table: 500 to 2500 MPa in 21 steps (the article's
+/// rake-face range, 100 MPa apart), Pa.
+pub fn default_pressures_pa() -> Vec<f64> {
+    super::equidistant(500.0, 2500.0, 21)
+        .into_iter()
+        .map(mpa_to_pa)
+        .collect()
+}
+
+/// The default sliding velocities: 10 to 300 m/min in 30 steps (10 m/min apart), m/s.
+pub fn default_velocities_m_s() -> Vec<f64> {
+    super::equidistant(10.0, 300.0, 30)
+        .into_iter()
+        .map(m_per_min_to_m_per_s)
+        .collect()
+}
+
+/// The default unit system of Abaqus and LS-DYNA tables (tonne–mm–s–N–MPa, the usual one
+/// of metal-cutting models).
+pub const DEFAULT_UNITS: UnitSystem = UnitSystem::MpaMmS;
+/// The default temperature unit of the tables.
+pub const DEFAULT_TEMPERATURE_UNIT: TempUnit = TempUnit::C;
+/// The default sliding velocity of DEFORM's FRCFAC p–T table, m/s (150 m/min, mid-range of
+/// the article's cutting speeds).
+pub const DEFAULT_DEFORM_REFERENCE_VELOCITY_M_S: f64 = 2.5;
+/// The default DEFORM object numbers (tool, workpiece): DEFORM's machining templates number
+/// the workpiece 1 and the tool 2.
+pub const DEFAULT_DEFORM_OBJECTS: (u32, u32) = (2, 1);
+/// The default LS-DYNA table id (curves take the ids after it).
+pub const DEFAULT_LSDYNA_TABLE_ID: u32 = 1000;
+/// The default number of random points of the deviation check.
+pub const DEFAULT_CHECK_POINTS: usize = 100_000;
+/// The default tolerance of adaptive tables and grids (max |Δμ| on the check set).
+pub const DEFAULT_TOLERANCE: f64 = 1e-4;
+/// The default largest table, in values (engine-table points, surrogate cells or nodes).
+pub const DEFAULT_MAX_TABLE_SIZE: usize = 1 << 22;
+
+/// Each engine with its own options.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Engine {
+    Abaqus {
+        units: UnitSystem,
+        temperature_unit: TempUnit,
+        /// TAUMAX, the limiting shear stress, Pa.
+        taumax_pa: Option<f64>,
+    },
+    Deform {
+        /// Sliding velocity at which the FRCFAC p–T table is evaluated, m/s.
+        reference_velocity_m_s: f64,
+        /// Object numbers (tool, workpiece).
+        objects: (u32, u32),
+        /// JSON list of windows {points_mm, pressure_mpa, velocity_m_per_min, temperature_k}.
+        windows: Option<PathBuf>,
+    },
+    Lsdyna {
+        units: UnitSystem,
+        temperature_unit: TempUnit,
+        /// Table id (curves take the following ids).
+        table_id: u32,
+    },
+    Csv,
+    Table {
+        /// `None`: exact for tree ensembles, adaptive otherwise.
+        kind: Option<TableKind>,
+    },
+}
+
+impl Engine {
+    /// The engine of `format` with its documented defaults.
+    pub fn defaults(format: ExportFormat) -> Self {
+        match format {
+            ExportFormat::Abaqus => Engine::Abaqus {
+                units: DEFAULT_UNITS,
+                temperature_unit: DEFAULT_TEMPERATURE_UNIT,
+                taumax_pa: None,
+            },
+            ExportFormat::Deform => Engine::Deform {
+                reference_velocity_m_s: DEFAULT_DEFORM_REFERENCE_VELOCITY_M_S,
+                objects: DEFAULT_DEFORM_OBJECTS,
+                windows: None,
+            },
+            ExportFormat::Lsdyna => Engine::Lsdyna {
+                units: DEFAULT_UNITS,
+                temperature_unit: DEFAULT_TEMPERATURE_UNIT,
+                table_id: DEFAULT_LSDYNA_TABLE_ID,
+            },
+            ExportFormat::Csv => Engine::Csv,
+            ExportFormat::Table => Engine::Table { kind: None },
+        }
+    }
+
+    pub fn format(&self) -> ExportFormat {
+        match self {
+            Engine::Abaqus { .. } => ExportFormat::Abaqus,
+            Engine::Deform { .. } => ExportFormat::Deform,
+            Engine::Lsdyna { .. } => ExportFormat::Lsdyna,
+            Engine::Csv => ExportFormat::Csv,
+            Engine::Table { .. } => ExportFormat::Table,
+        }
+    }
+
+    /// The table units of an Abaqus or LS-DYNA export.
+    pub fn units(&self) -> Option<Units> {
+        match self {
+            Engine::Abaqus {
+                units,
+                temperature_unit,
+                ..
+            }
+            | Engine::Lsdyna {
+                units,
+                temperature_unit,
+                ..
+            } => Some(Units::of(*units, *temperature_unit)),
+            _ => None,
+        }
+    }
+
+    /// The LS-DYNA table id, for an LS-DYNA export.
+    pub fn lsdyna_table_id(&self) -> Option<u32> {
+        match self {
+            Engine::Lsdyna { table_id, .. } => Some(*table_id),
+            _ => None,
+        }
+    }
+
+    /// The DEFORM windows file, which the export reads.
+    pub fn deform_windows(&self) -> Option<&PathBuf> {
+        match self {
+            Engine::Deform { windows, .. } => windows.as_ref(),
+            _ => None,
+        }
+    }
+}
+
+/// Options of [`export`](super::export()).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExportOptions {
+    /// Law file, model file or table.
+    pub law: PathBuf,
+    /// Output file.
+    pub out: PathBuf,
+    /// The engine and its own options.
+    pub engine: Engine,
+    /// Pressures, sliding velocities (and temperatures) of the table, SI. A surrogate table
+    /// or an adaptive grid covers their box (min and max per axis).
+    pub grid: Grid,
+    /// Random points of the deviation check (every format; 0: no check).
+    pub check_points: usize,
+    /// Engine tables: grid lines at a tree ensemble's split thresholds (two points one
+    /// float apart, so that linear interpolation is exact); `Auto`: for piecewise-constant
+    /// laws.
+    pub steps: StepLines,
+    /// Engine tables: the grid lines of an adaptive table refined to `tolerance` over the
+    /// box of `grid`, so that a smooth law's table is within the tolerance under the
+    /// engine's linear interpolation too.
+    pub adaptive_grid: bool,
+    /// Adaptive table or grid: max deviation on its check set.
+    pub tolerance: f64,
+    /// Largest table in values: engine-table points (pressures × velocities ×
+    /// temperatures), surrogate cells (exact) or nodes (adaptive). A bigger table is
+    /// refused with the size it would have.
+    pub max_table_size: usize,
+}
+
+impl ExportOptions {
+    /// Export `law` as `format` to `out` with every other option at its default.
+    pub fn new(law: PathBuf, format: ExportFormat, out: PathBuf) -> Self {
+        ExportOptions {
+            law,
+            out,
+            engine: Engine::defaults(format),
+            grid: Grid {
+                pressure_pa: default_pressures_pa(),
+                velocity_m_s: default_velocities_m_s(),
+                temperature_k: None,
+            },
+            check_points: DEFAULT_CHECK_POINTS,
+            steps: StepLines::Auto,
+            adaptive_grid: false,
+            tolerance: DEFAULT_TOLERANCE,
+            max_table_size: DEFAULT_MAX_TABLE_SIZE,
+        }
+    }
+
+    pub fn format(&self) -> ExportFormat {
+        self.engine.format()
+    }
+
+    /// With this grid (SI).
+    pub fn with_grid(mut self, grid: Grid) -> Self {
+        self.grid = grid;
+        self
+    }
+
+    /// With this engine (and its options).
+    pub fn with_engine(mut self, engine: Engine) -> Self {
+        self.engine = engine;
+        self
+    }
+
+    /// These options with the fields `o` sets replaced, then validated. An option of
+    /// another engine than this export's is an error naming it.
+    pub fn overridden(mut self, o: &ExportOverrides) -> Result<Self> {
+        o.apply_common(&mut self);
+        o.apply_engine(&mut self.engine)?;
+        self.validate()?;
+        Ok(self)
+    }
+
+    /// Check every option; errors name the option (`export.tolerance`).
+    pub fn validate(&self) -> Result<()> {
+        self.grid
+            .validate()
+            .context("export.pressure_Pa, export.velocity_m_per_s or export.temperature_K")?;
+        if !(self.tolerance > 0.0 && self.tolerance.is_finite()) {
+            bail!("export.tolerance: {} is not a positive number", self.tolerance);
+        }
+        if self.max_table_size == 0 {
+            bail!("export.max_table_size: must be at least 1");
+        }
+        match &self.engine {
+            Engine::Abaqus {
+                taumax_pa: Some(t), ..
+            } if !(*t > 0.0 && t.is_finite()) => {
+                bail!("export.taumax_Pa: {t} is not a positive stress")
+            }
+            Engine::Deform {
+                reference_velocity_m_s: v,
+                ..
+            } if !(*v > 0.0 && v.is_finite()) => {
+                bail!("export.deform_reference_velocity_m_per_s: {v} is not a positive speed")
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+/// The options a surface overrides, by their names with units (SI: the command line
+/// converts its edge units first). `None` keeps the default. Python passes these as keyword
+/// arguments, JSON and sweep files as a table with these keys.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct ExportOverrides {
+    pub pressure_Pa: Option<Vec<f64>>,
+    pub velocity_m_per_s: Option<Vec<f64>>,
+    pub temperature_K: Option<Vec<f64>>,
+    /// Abaqus and LS-DYNA: the model's unit system.
+    pub units: Option<UnitSystem>,
+    /// Abaqus and LS-DYNA: K or C.
+    pub temperature_unit: Option<TempUnit>,
+    /// Abaqus: TAUMAX, Pa.
+    pub taumax_Pa: Option<f64>,
+    pub deform_reference_velocity_m_per_s: Option<f64>,
+    /// DEFORM: (tool, workpiece).
+    pub deform_objects: Option<[u32; 2]>,
+    pub deform_windows: Option<PathBuf>,
+    pub lsdyna_table_id: Option<u32>,
+    /// Surrogate table: exact, adaptive or uniform.
+    pub table_kind: Option<TableKind>,
+    pub check_points: Option<usize>,
+    pub steps: Option<StepLines>,
+    pub adaptive_grid: Option<bool>,
+    pub tolerance: Option<f64>,
+    pub max_table_size: Option<usize>,
+}
+
+impl ExportOverrides {
+    /// Every option of `format` at its default, the others `None`: what a user may set.
+    pub fn defaults_of(format: ExportFormat) -> Self {
+        let o = ExportOptions::new(PathBuf::new(), format, PathBuf::new());
+        let engine_tables = format != ExportFormat::Table;
+        let mut d = ExportOverrides {
+            pressure_Pa: Some(o.grid.pressure_pa),
+            velocity_m_per_s: Some(o.grid.velocity_m_s),
+            check_points: Some(o.check_points),
+            tolerance: Some(o.tolerance),
+            max_table_size: Some(o.max_table_size),
+            steps: engine_tables.then_some(o.steps),
+            adaptive_grid: engine_tables.then_some(o.adaptive_grid),
+            ..Default::default()
+        };
+        match o.engine {
+            Engine::Abaqus {
+                units,
+                temperature_unit,
+                taumax_pa,
+            } => {
+                d.units = Some(units);
+                d.temperature_unit = Some(temperature_unit);
+                d.taumax_Pa = taumax_pa;
+            }
+            Engine::Deform {
+                reference_velocity_m_s,
+                objects,
+                windows,
+            } => {
+                d.deform_reference_velocity_m_per_s = Some(reference_velocity_m_s);
+                d.deform_objects = Some([objects.0, objects.1]);
+                d.deform_windows = windows;
+            }
+            Engine::Lsdyna {
+                units,
+                temperature_unit,
+                table_id,
+            } => {
+                d.units = Some(units);
+                d.temperature_unit = Some(temperature_unit);
+                d.lsdyna_table_id = Some(table_id);
+            }
+            Engine::Csv | Engine::Table { .. } => {}
+        }
+        d
+    }
+
+    /// Overrides from JSON (Python's keyword arguments); unknown keys are errors.
+    pub fn from_json(text: &str) -> Result<Self> {
+        serde_json::from_str(text).context("export options")
+    }
+
+    /// Set the grid from values in the command line's units (`MIN:MAX:N` or comma lists:
+    /// pressures in MPa, sliding velocities in m/min, temperatures in K), converted to SI
+    /// the way the defaults are.
+    #[allow(non_snake_case)]
+    pub fn with_edge_grid(
+        mut self,
+        pressure_MPa: Option<&str>,
+        velocity_m_per_min: Option<&str>,
+        temperature_K: Option<&str>,
+    ) -> Result<Self> {
+        let values = |text: Option<&str>, field: &str, to_si: fn(f64) -> f64| {
+            text.map(|t| {
+                super::parse_values(t, field).map(|v| v.into_iter().map(to_si).collect())
+            })
+            .transpose()
+        };
+        self.pressure_Pa = values(pressure_MPa, "export.pressure_MPa", mpa_to_pa)?;
+        self.velocity_m_per_s = values(
+            velocity_m_per_min,
+            "export.velocity_m_per_min",
+            m_per_min_to_m_per_s,
+        )?;
+        self.temperature_K = values(temperature_K, "export.temperature_K", |t| t)?;
+        Ok(self)
+    }
+
+    fn apply_common(&self, o: &mut ExportOptions) {
+        let set = |v: &Option<Vec<f64>>, into: &mut Vec<f64>| {
+            if let Some(v) = v {
+                *into = v.clone();
+            }
+        };
+        set(&self.pressure_Pa, &mut o.grid.pressure_pa);
+        set(&self.velocity_m_per_s, &mut o.grid.velocity_m_s);
+        if self.temperature_K.is_some() {
+            o.grid.temperature_k = self.temperature_K.clone();
+        }
+        o.check_points = self.check_points.unwrap_or(o.check_points);
+        o.steps = self.steps.unwrap_or(o.steps);
+        o.adaptive_grid = self.adaptive_grid.unwrap_or(o.adaptive_grid);
+        o.tolerance = self.tolerance.unwrap_or(o.tolerance);
+        o.max_table_size = self.max_table_size.unwrap_or(o.max_table_size);
+    }
+
+    fn apply_engine(&self, engine: &mut Engine) -> Result<()> {
+        let temperature_unit = self.temperature_unit;
+        let format = engine.format();
+        match engine {
+            Engine::Abaqus {
+                units,
+                temperature_unit: t,
+                taumax_pa,
+            } => {
+                *units = self.units.unwrap_or(*units);
+                *t = temperature_unit.unwrap_or(*t);
+                *taumax_pa = self.taumax_Pa.or(*taumax_pa);
+            }
+            Engine::Deform {
+                reference_velocity_m_s,
+                objects,
+                windows,
+            } => {
+                *reference_velocity_m_s = self
+                    .deform_reference_velocity_m_per_s
+                    .unwrap_or(*reference_velocity_m_s);
+                *objects = self.deform_objects.map_or(*objects, |[t, w]| (t, w));
+                if self.deform_windows.is_some() {
+                    windows.clone_from(&self.deform_windows);
+                }
+            }
+            Engine::Lsdyna {
+                units,
+                temperature_unit: t,
+                table_id,
+            } => {
+                *units = self.units.unwrap_or(*units);
+                *t = temperature_unit.unwrap_or(*t);
+                *table_id = self.lsdyna_table_id.unwrap_or(*table_id);
+            }
+            Engine::Table { kind } => *kind = self.table_kind.or(*kind),
+            Engine::Csv => {}
+        }
+        match self.foreign_option(format) {
+            Some(name) => bail!(
+                "export.{name}: not an option of the {} export",
+                format.name()
+            ),
+            None => Ok(()),
+        }
+    }
+
+    /// The first option set here that `format` does not have.
+    fn foreign_option(&self, format: ExportFormat) -> Option<&'static str> {
+        use ExportFormat::*;
+        let set = [
+            ("units", self.units.is_some(), &[Abaqus, Lsdyna][..]),
+            ("temperature_unit", self.temperature_unit.is_some(), &[Abaqus, Lsdyna]),
+            ("taumax_Pa", self.taumax_Pa.is_some(), &[Abaqus]),
+            (
+                "deform_reference_velocity_m_per_s",
+                self.deform_reference_velocity_m_per_s.is_some(),
+                &[Deform],
+            ),
+            ("deform_objects", self.deform_objects.is_some(), &[Deform]),
+            ("deform_windows", self.deform_windows.is_some(), &[Deform]),
+            ("lsdyna_table_id", self.lsdyna_table_id.is_some(), &[Lsdyna]),
+            ("table_kind", self.table_kind.is_some(), &[Table]),
+            ("steps", self.steps.is_some(), &[Abaqus, Deform, Lsdyna, Csv]),
+            ("adaptive_grid", self.adaptive_grid.is_some(), &[Abaqus, Deform, Lsdyna, Csv]),
+        ];
+        set.iter()
+            .find(|(_, given, formats)| *given && !formats.contains(&format))
+            .map(|(name, ..)| *name)
+    }
+}
