@@ -1,4 +1,6 @@
-"""Type stubs of greybox's native module (PyO3). Use the ``greybox`` package's wrappers."""
+"""Type stubs of greybox's native module (PyO3). Use the ``greybox`` package's wrappers: they
+take any array-like (``numpy.typing.ArrayLike``) and hand these functions contiguous float64
+arrays. Long calls run on a worker thread and raise ``KeyboardInterrupt`` on Ctrl-C."""
 
 from typing import Optional, Sequence, Tuple
 
@@ -87,7 +89,7 @@ def identify(
     study: Optional[str] = None,
     use_plan: bool = False,
     truth: Optional[str] = None,
-    track_radii_mm: Sequence[float] = ...,
+    track_radii_mm: Sequence[float] | npt.NDArray[np.float64] = ...,
     normal_force_count: Optional[int] = None,
     velocity_count: Optional[int] = None,
     steady: Optional[str] = None,
@@ -106,9 +108,9 @@ def export_table(
     law: str,
     format: str,
     out: str,
-    pressure_pa: Sequence[float],
-    velocity_m_s: Sequence[float],
-    temperature_k: Optional[Sequence[float]] = None,
+    pressure_pa: Sequence[float] | npt.NDArray[np.float64],
+    velocity_m_s: Sequence[float] | npt.NDArray[np.float64],
+    temperature_k: Optional[Sequence[float] | npt.NDArray[np.float64]] = None,
     pressure_unit: str = "MPa",
     speed_unit: str = "m/s",
     temperature_unit: str = "C",
