@@ -113,6 +113,31 @@ pub(crate) fn to_json(v: &impl serde::Serialize) -> PyResult<String> {
     serde_json::to_string(v).map_err(py_err)
 }
 
+/// The bundled examples, by file name (the repository's `examples/`).
+const EXAMPLES: [(&str, &str); 2] = [
+    (
+        "aisi1045-cut.toml",
+        include_str!("../../../examples/aisi1045-cut.toml"),
+    ),
+    ("demo-study.toml", greybox_pipeline::study::DEMO_STUDY),
+];
+
+/// The text of a bundled example file: `aisi1045-cut.toml` (the article's orthogonal-cut
+/// set-up) or `demo-study.toml` (the example study).
+#[pyfunction]
+fn example(name: &str) -> PyResult<&'static str> {
+    EXAMPLES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, text)| *text)
+        .ok_or_else(|| {
+            py_err(anyhow::anyhow!(
+                "name '{name}': expected one of {}",
+                EXAMPLES.map(|(n, _)| n).join(", ")
+            ))
+        })
+}
+
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("GreyboxError", m.py().get_type::<GreyboxError>())?;
@@ -121,5 +146,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<laws::Law>()?;
     stages::register(m)?;
     import::register(m)?;
+    m.add_function(wrap_pyfunction!(example, m)?)?;
     Ok(())
 }

@@ -70,6 +70,7 @@ __all__ = [
     "export_table",
     "simulate_cut",
     "report",
+    "example",
 ]
 
 
@@ -754,6 +755,13 @@ def simulate_cut(
     summary["forces"] = read_csv(os.path.join(os.fspath(out), "forces.csv"), as_frame)
     summary["contact_profile"] = read_csv(os.path.join(os.fspath(out), "contact_profile.csv"), as_frame)
     return summary
+
+
+def example(name: str) -> str:
+    """The text of a file bundled with greybox: ``"aisi1045-cut.toml"`` (the article's
+    orthogonal cut, AISI 1045 at 150 m/min — a set-up for :func:`simulate_cut`) or
+    ``"demo-study.toml"`` (the example study the stages use by default)."""
+    return _native.example(name)
 
 
 def report(study_dir: PathLike, out: Optional[PathLike] = None) -> dict:
