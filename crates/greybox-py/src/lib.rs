@@ -66,7 +66,13 @@ pub(crate) fn run_interruptible<T: Send>(
         };
         let signal = wait_or_signal(py, &done);
         if signal.is_some() {
-            greybox_core::interrupt::request_stop();
+            // asked again while waiting: another thread's new call clears the flag
+            py.detach(|| loop {
+                greybox_core::interrupt::request_stop();
+                if wait_done(&done) {
+                    break;
+                }
+            });
         }
         let result = py.detach(|| worker.join()).unwrap_or_else(|_| {
             Err(anyhow::anyhow!(
@@ -77,7 +83,8 @@ pub(crate) fn run_interruptible<T: Send>(
     });
     match (result, signal) {
         (_, Some(interrupt)) => Err(interrupt),
-        (Err(_), None) if greybox_core::interrupt::stop_requested() => Err(
+        // stopped by Ctrl-C in another thread's call
+        (Err(e), None) if e.root_cause().to_string() == "interrupted" => Err(
             pyo3::exceptions::PyKeyboardInterrupt::new_err("interrupted"),
         ),
         (r, None) => r.map_err(py_err),
@@ -91,21 +98,23 @@ fn wait_or_signal(
     done: &(std::sync::Mutex<bool>, std::sync::Condvar),
 ) -> Option<PyErr> {
     loop {
-        let finished = py.detach(|| {
-            let g = done.0.lock().unwrap_or_else(|e| e.into_inner());
-            let (g, _) = done
-                .1
-                .wait_timeout_while(g, SIGNAL_POLL, |d| !*d)
-                .unwrap_or_else(|e| e.into_inner());
-            *g
-        });
-        if finished {
+        if py.detach(|| wait_done(done)) {
             return None;
         }
         if let Err(e) = py.check_signals() {
             return Some(e);
         }
     }
+}
+
+/// Wait up to [`SIGNAL_POLL`] for `done` to be set; whether it is.
+fn wait_done(done: &(std::sync::Mutex<bool>, std::sync::Condvar)) -> bool {
+    let g = done.0.lock().unwrap_or_else(|e| e.into_inner());
+    let (g, _) = done
+        .1
+        .wait_timeout_while(g, SIGNAL_POLL, |d| !*d)
+        .unwrap_or_else(|e| e.into_inner());
+    *g
 }
 
 /// JSON of a serialisable value (for the Python layer to `json.loads`).
