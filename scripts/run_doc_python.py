@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Run the ```python blocks of a Markdown file in order, in one namespace, inside a fresh
-temporary directory (the doc's walkthrough must work as written). `EXAMPLES` is the
-repository's examples/ folder. Exit status 1 with the failing block's line on error."""
+temporary directory (the doc's walkthrough must work as written). The namespace starts
+empty: a block may use only what earlier blocks of the page define, as a reader copying them
+would. Exit status 1 with the failing block's line on error."""
 
 import os
 import sys
@@ -25,8 +26,7 @@ def blocks(text):
 
 def main():
     doc = os.path.abspath(sys.argv[1])
-    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    namespace = {"EXAMPLES": os.path.join(repo, "examples"), "__name__": "__doc__"}
+    namespace = {"__name__": "__doc__"}
     found = blocks(open(doc, encoding="utf-8").read())
     if not found:
         sys.exit(f"{doc}: no python blocks")

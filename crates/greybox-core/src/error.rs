@@ -73,6 +73,15 @@ pub enum Error {
         path: PathBuf,
         error: std::io::Error,
     },
+    /// The call was stopped on request ([`crate::interrupt`]).
+    #[error("interrupted")]
+    Interrupted,
+}
+
+impl From<crate::interrupt::Interrupted> for Error {
+    fn from(_: crate::interrupt::Interrupted) -> Self {
+        Error::Interrupted
+    }
 }
 
 impl Error {

@@ -13,6 +13,7 @@
 //! * [`csvutil`] — strict numeric field parsing shared by every CSV reader.
 //! * [`plot`] — small self-contained SVG plots.
 //! * [`progress`] — progress of long work, shown by whatever display the process installed.
+//! * [`interrupt`] — cooperative cancellation: long loops stop at their next step on request.
 //! * [`rules`] — field-by-field configuration checks whose errors name the field and the rule.
 //! * [`boundary`] — exact boundaries of monotone floating-point predicates (split thresholds).
 //! * [`roots`] — bracketing root finding for expensive functions.
@@ -32,6 +33,7 @@ pub mod contact;
 pub mod csvutil;
 pub mod dataset;
 pub mod error;
+pub mod interrupt;
 pub mod law;
 pub mod linalg;
 pub mod outputs;

@@ -141,6 +141,7 @@ impl AdaptiveTable {
         let checks = random_states(o, o.check_points);
         let truth: Vec<f64> = checks.iter().map(|s| law.mu(s)).collect();
         for round in 0.. {
+            greybox_core::interrupt::check()?;
             let table = Self::bake(law, &axes, o.tolerance)?;
             let mut bad = BadCells::new();
             let mut worst = (0.0f64, checks.first().copied());

@@ -90,6 +90,7 @@ fn fit_fold(
     test: &[usize],
     seed: u64,
 ) -> Result<Vec<f64>> {
+    greybox_core::interrupt::check()?;
     let xt = x.select_rows(train);
     let yt: Vec<f64> = train.iter().map(|&i| y[i]).collect();
     let m = hp.fit(&xt, &yt, seed)?;
@@ -190,6 +191,7 @@ pub fn nested_cv(
         .par_iter()
         .enumerate()
         .map(|(f, (train, test))| {
+            greybox_core::interrupt::check()?;
             let xt = x.select_rows(train);
             let yt: Vec<f64> = train.iter().map(|&i| y[i]).collect();
             check_folds(train.len(), inner_k)?;

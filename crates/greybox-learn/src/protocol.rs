@@ -320,6 +320,7 @@ fn run_family(
         let pred = model.predict(&data.x);
         let training = metrics_with_ci(&data.y, &pred, cfg.bootstrap_resamples, cfg.seed);
         progress.inc(1);
+        greybox_core::interrupt::check()?;
         let held_out = if cfg.skip_nested {
             None
         } else {
@@ -333,6 +334,7 @@ fn run_family(
             })
         };
         progress.inc(1);
+        greybox_core::interrupt::check()?;
         let importance = permutation_importance(
             &model,
             &data.x,

@@ -80,6 +80,7 @@ pub fn fit(a: &FitOptions) -> Result<FitResult> {
     }
     let staged = stage_out_dir(&a.out, a.force, &inputs)?;
     let (report, mut models) = run_protocol(&data, cfg)?;
+    greybox_core::interrupt::check()?;
     // what a law built from a bare model needs, and where the model came from
     let force_to_pressure = greybox_core::dataset::FrictionDataset::read_csv(&a.data)
         .ok()

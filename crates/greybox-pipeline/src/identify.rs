@@ -206,6 +206,7 @@ pub fn identify(
     let recs: Vec<Recording> = files
         .iter()
         .map(|f| {
+            greybox_core::interrupt::check()?;
             let r = read_recording(f, &study.recording);
             progress.inc(1);
             r
@@ -266,6 +267,7 @@ pub fn identify(
     } else {
         None
     };
+    greybox_core::interrupt::check()?;
     id.dataset.write_csv(out)?;
     if let Some((path, text)) = cycles {
         greybox_core::atomic::write_string_atomic(&path, &text)?;

@@ -53,6 +53,7 @@ pub fn synthesize(
     let mut files = Vec::new();
     let mut samples = 0;
     for pin in 1..=plan.pins.len() as u32 {
+        greybox_core::interrupt::check()?;
         let rec = study.synth.simulate_pin(plan, &study.contact, pin)?;
         samples += rec.len();
         for f in formats {

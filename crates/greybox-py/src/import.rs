@@ -2,7 +2,7 @@
 //! layer from the fitted estimator) into greybox models.
 
 use crate::laws::Model;
-use crate::py_err;
+use crate::{py_err, run_interruptible};
 use greybox_import::{Calibration, Domain, ImportOptions};
 use greybox_model::modelfile::FeatureRange;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
@@ -70,18 +70,15 @@ fn import_model(
         coverage,
     };
     let source = source.to_string();
-    let file = py
-        .detach(|| -> greybox_core::Result<_> {
-            let imported = if is_json {
-                let v: serde_json::Value = serde_json::from_str(&source).map_err(|e| {
-                    greybox_core::Error::invalid("scikit-learn export", e.to_string())
-                })?;
-                greybox_import::from_json(v, "scikit-learn export")?
-            } else {
-                greybox_import::read_model(&PathBuf::from(&source))?
-            };
-            greybox_import::model_file(imported, &opts)
-        })
-        .map_err(py_err)?;
+    let file = run_interruptible(py, || -> anyhow::Result<_> {
+        let imported = if is_json {
+            let v: serde_json::Value = serde_json::from_str(&source)
+                .map_err(|e| greybox_core::Error::invalid("scikit-learn export", e.to_string()))?;
+            greybox_import::from_json(v, "scikit-learn export")?
+        } else {
+            greybox_import::read_model(&PathBuf::from(&source))?
+        };
+        Ok(greybox_import::model_file(imported, &opts)?)
+    })?;
     Ok(Model { file })
 }

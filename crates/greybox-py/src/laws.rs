@@ -1,6 +1,6 @@
 //! Model files and friction laws, evaluated on NumPy arrays.
 
-use crate::{py_err, to_json};
+use crate::{py_err, run_interruptible, to_json};
 use greybox_core::ContactState;
 use greybox_friction::learned::LearnedLaw;
 use greybox_friction::FrictionLaw;
@@ -73,12 +73,12 @@ impl Model {
         policy: DomainPolicy,
         margin: f64,
     ) -> PyResult<Arrays<'py>> {
-        let out = py.detach(|| {
-            rows.iter()
+        let out = run_interruptible(py, || {
+            Ok(rows
+                .iter()
                 .map(|x| self.file.predict(x, policy, margin))
-                .collect::<greybox_core::Result<Vec<_>>>()
-        });
-        let out = out.map_err(py_err)?;
+                .collect::<greybox_core::Result<Vec<_>>>()?)
+        })?;
         Ok((
             out.iter()
                 .map(|p| p.value)
@@ -105,7 +105,7 @@ impl Model {
     /// Load and verify a model file (schema, content hash, structure).
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let file = py.detach(|| ModelFile::load(&path)).map_err(py_err)?;
+        let file = run_interruptible(py, || Ok(ModelFile::load(&path)?))?;
         Ok(Model { file })
     }
 
@@ -238,9 +238,7 @@ impl Law {
     /// Load a law file (JSON), a model file or a surrogate table.
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let law = py
-            .detach(|| greybox_friction::spec::load_law(&path))
-            .map_err(py_err)?;
+        let law = run_interruptible(py, || Ok(greybox_friction::spec::load_law(&path)?))?;
         Ok(Law { law })
     }
 
@@ -274,12 +272,12 @@ impl Law {
     ) -> PyResult<LawArrays<'py>> {
         let t = temperature_k.as_ref().map(|t| t.as_slice()).transpose()?;
         let s = states(pressure_pa.as_slice()?, velocity_m_s.as_slice()?, t).map_err(py_err)?;
-        let (mu, inside) = py.detach(|| {
+        let (mu, inside) = run_interruptible(py, || {
             let d = self.law.domain();
             let mu: Vec<f64> = s.iter().map(|s| self.law.mu(s)).collect();
             let inside: Vec<bool> = s.iter().map(|s| d.is_none_or(|d| d.contains(s))).collect();
-            (mu, inside)
-        });
+            Ok((mu, inside))
+        })?;
         if let Some(i) = mu.iter().position(|m| !m.is_finite()) {
             return Err(py_err(anyhow::anyhow!(
                 "the law gives μ = {} at point {i} ({:?})",

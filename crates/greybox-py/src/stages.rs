@@ -2,7 +2,7 @@
 //! out (the Python layer turns it into a dict and reads the tables it wrote). Each releases
 //! the GIL while it works.
 
-use crate::{py_err, to_json};
+use crate::{py_err, run_interruptible, to_json};
 use greybox_core::dataset::PressureConvention;
 use greybox_pipeline::adhesive::{adhesive, AdhesiveOptions};
 use greybox_pipeline::export::{export, ExportFormat, ExportOptions, ExportOverrides};
@@ -121,13 +121,13 @@ fn synth(
             ))),
         })
         .collect::<PyResult<Vec<_>>>()?;
-    let r = py.detach(|| -> anyhow::Result<_> {
+    let r = run_interruptible(py, || -> anyhow::Result<_> {
         let s = study_or_example(study.as_deref(), normal_force_count, velocity_count)?;
         let inputs: Vec<(&str, &std::path::Path)> =
             study.iter().map(|p| ("study", p.as_path())).collect();
         synth_campaign(&s, &formats, &out, force, &inputs)
     });
-    to_json(&r.map_err(py_err)?)
+    to_json(&r?)
 }
 
 /// One recording of any supported rig format, read through a channel map (`channels`: JSON
@@ -144,15 +144,13 @@ fn read_recording<'py>(
     channels: Option<&str>,
 ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
     use numpy::IntoPyArray;
-    let rec = py
-        .detach(|| -> anyhow::Result<_> {
-            let map = match channels {
-                Some(c) => serde_json::from_str(c).map_err(|e| anyhow::anyhow!("channels: {e}"))?,
-                None => study_or_example(study.as_deref(), None, None)?.recording,
-            };
-            Ok(greybox_tribo::readers::read_recording(&path, &map)?)
-        })
-        .map_err(py_err)?;
+    let rec = run_interruptible(py, || -> anyhow::Result<_> {
+        let map = match channels {
+            Some(c) => serde_json::from_str(c).map_err(|e| anyhow::anyhow!("channels: {e}"))?,
+            None => study_or_example(study.as_deref(), None, None)?.recording,
+        };
+        Ok(greybox_tribo::readers::read_recording(&path, &map)?)
+    })?;
     let d = pyo3::types::PyDict::new(py);
     d.set_item("time_s", rec.time_s.into_pyarray(py))?;
     d.set_item("normal_force_N", rec.normal_n.into_pyarray(py))?;
@@ -204,7 +202,7 @@ fn identify(
     steady: Option<String>,
     channels: Option<&str>,
 ) -> PyResult<String> {
-    let r = py.detach(|| -> anyhow::Result<_> {
+    let r = run_interruptible(py, || -> anyhow::Result<_> {
         let mut s = study_or_example(study.as_deref(), normal_force_count, velocity_count)?;
         if let Some(c) = channels {
             s.recording = serde_json::from_str(c).map_err(|e| anyhow::anyhow!("channels: {e}"))?;
@@ -223,7 +221,7 @@ fn identify(
         }
         identify_campaign(&s, &o, None)
     });
-    to_json(&r.map_err(py_err)?.summary)
+    to_json(&r?.summary)
 }
 
 /// The analytic ploughing correction of a dataset into `out` (cof_adhesive column added):
@@ -241,7 +239,7 @@ fn ploughing_correction(
     let mut o = AdhesiveOptions::analytic(data, out);
     o.pin_radius_mm = pin_radius_mm;
     o.track_widths_csv = track_widths_csv;
-    let (_, correction) = py.detach(|| adhesive(&o)).map_err(py_err)?;
+    let (_, correction) = run_interruptible(py, || adhesive(&o))?;
     to_json(&correction)
 }
 
@@ -265,7 +263,7 @@ fn fit_models(
         o.config =
             serde_json::from_str(c).map_err(|e| py_err(anyhow::anyhow!("fit config: {e}")))?;
     }
-    let r = py.detach(|| fit(&o)).map_err(py_err)?;
+    let r = run_interruptible(py, || fit(&o))?;
     to_json(&serde_json::json!({
         "report": r.report,
         "outputs": r.outputs,
@@ -320,7 +318,7 @@ fn export_table(
     let o = ExportOptions::new(law, format, out)
         .overridden(&overrides)
         .map_err(py_err)?;
-    to_json(&py.detach(|| export(&o)).map_err(py_err)?)
+    to_json(&run_interruptible(py, || export(&o))?)
 }
 
 /// The library's default export options of `format` as JSON (the keys `export_table`
@@ -345,7 +343,7 @@ fn simulate_cut(
     force: bool,
     frames: usize,
 ) -> PyResult<String> {
-    let summary = py.detach(|| -> anyhow::Result<_> {
+    let summary = run_interruptible(py, || -> anyhow::Result<_> {
         let mut case = read_cutting_setup(&setup)?;
         if let Some(l) = law {
             case.law = Arc::from(greybox_friction::spec::load_law(&l)?);
@@ -357,7 +355,7 @@ fn simulate_cut(
         o.frames = frames;
         run_cut(&case, fraction, &o)
     });
-    to_json(&summary.map_err(py_err)?)
+    to_json(&summary?)
 }
 
 /// Write the study directory's self-contained report page (default `study_dir/report.html`):
@@ -367,8 +365,7 @@ fn simulate_cut(
 fn report(py: Python<'_>, study_dir: PathBuf, out: Option<PathBuf>) -> PyResult<String> {
     let mut o = greybox_pipeline::report::ReportOptions::new(study_dir);
     o.out = out;
-    to_json(
-        &py.detach(|| greybox_pipeline::report::report(&o))
-            .map_err(py_err)?,
-    )
+    to_json(&run_interruptible(py, || {
+        greybox_pipeline::report::report(&o)
+    })?)
 }

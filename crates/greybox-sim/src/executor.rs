@@ -103,6 +103,7 @@ pub fn run(
     let mut last_good_at = (sim.step, sim.time);
     let mut stopped = false;
     while sim.time < end_time_s - 0.5 * sim.dt {
+        greybox_core::interrupt::check()?;
         if let Err(e) = sim.step() {
             for o in observers.iter_mut() {
                 o.on_failure(sim, &last_good, last_good_at.0, last_good_at.1);

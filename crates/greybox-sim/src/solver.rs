@@ -69,6 +69,12 @@ impl std::fmt::Display for SimError {
 
 impl std::error::Error for SimError {}
 
+impl From<greybox_core::interrupt::Interrupted> for SimError {
+    fn from(e: greybox_core::interrupt::Interrupted) -> Self {
+        SimError::Invalid(e.to_string())
+    }
+}
+
 /// Energy book-keeping, J per metre of thickness (cumulative works).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct EnergyBook {

@@ -15,19 +15,24 @@ Models trained in scikit-learn or XGBoost come in through :func:`from_sklearn` a
 :func:`from_xgboost`. Arrays in and out are NumPy arrays; tables are pandas DataFrames when
 pandas is installed (``as_frame=None``), else dicts of arrays. Units are SI and named in
 every argument (``pressure_Pa``, ``velocity_m_per_s``, ``temperature_K``). Errors are
-:class:`GreyboxError` (a ``ValueError``) with the command line's message. Long calls release
-the GIL.
+:class:`GreyboxError` (a ``ValueError``) with the command line's message — a wrong type or value
+of any argument too, naming the argument. Long calls release the GIL and stop on Ctrl-C
+(``KeyboardInterrupt``, leaving no half-written output). Models and laws pickle.
 """
 
 from __future__ import annotations
 
+import functools
+import inspect
 import json
 import os
+import re
 import tempfile
 import warnings
-from typing import Any, NamedTuple, Optional, Sequence, Union
+from typing import Any, Callable, NamedTuple, Optional, Sequence, TypeVar, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from . import _native
 from ._native import GreyboxError
@@ -37,6 +42,10 @@ from ._tables import read_csv, table
 __version__: str = _native.__version__
 
 PathLike = Union[str, "os.PathLike[str]"]
+
+#: Numbers in an array: a NumPy array, a list, a tuple, a scalar (anything ``numpy.asarray``
+#: turns into float64 numbers).
+ArrayLike = npt.ArrayLike
 
 __all__ = [
     "GreyboxError",
@@ -63,11 +72,105 @@ __all__ = [
     "export_defaults",
     "simulate_cut",
     "report",
+    "example",
 ]
 
 
+def _asarray(x: Any, name: str) -> np.ndarray:
+    """``x`` as a contiguous float64 array; an unconvertible value is a GreyboxError naming
+    the argument."""
+    try:
+        return np.ascontiguousarray(np.asarray(x, dtype=np.float64))
+    except (TypeError, ValueError) as e:
+        raise GreyboxError(f"{name}: expected numbers, got {type(x).__name__} ({e})") from e
+
+
+def _path(p: Any, name: str) -> str:
+    """A path argument as a string; anything else is a GreyboxError naming the argument."""
+    try:
+        return os.fspath(p)
+    except TypeError as e:
+        raise GreyboxError(f"{name}: expected a path (str or os.PathLike), got {type(p).__name__}") from e
+
+
+def _opt_path(p: Any, name: str) -> Optional[str]:
+    return None if p is None else _path(p, name)
+
+
+def _strs(x: Any, name: str) -> list:
+    """A sequence of strings (a lone string is not one)."""
+    if isinstance(x, str) or not all(isinstance(v, str) for v in _iterable(x, name)):
+        raise GreyboxError(f"{name}: expected a sequence of strings, got {x!r}")
+    return list(x)
+
+
+def _count(n: Any, name: str) -> Any:
+    """A count (an int ≥ 0) or None, checked here because the native module's own refusal of
+    a negative number (OverflowError) does not name the argument."""
+    if isinstance(n, int) and not isinstance(n, bool) and n < 0:
+        raise GreyboxError(f"{name}: expected a count ≥ 0, got {n}")
+    return n
+
+
+def _iterable(x: Any, name: str) -> list:
+    try:
+        return list(x)
+    except TypeError as e:
+        raise GreyboxError(f"{name}: expected a sequence, got {type(x).__name__}") from e
+
+
+def _pair(x: Any, name: str) -> tuple:
+    """(a, b) of two numbers."""
+    a = _asarray(x, name)
+    if a.shape != (2,):
+        raise GreyboxError(f"{name}: expected (low, high), got {x!r}")
+    return (float(a[0]), float(a[1]))
+
+
+# pyo3 names a failed conversion as "argument 'name': why"
+_NATIVE_ARGUMENT = re.compile(r"^argument '(\w+)': (.*)$", re.S)
+
+# the native argument names that the public functions spell differently
+_PUBLIC_NAMES = {
+    "e1_gpa": "youngs_modulus_1_GPa",
+    "nu1": "poisson_1",
+    "e2_gpa": "youngs_modulus_2_GPa",
+    "nu2": "poisson_2",
+    "velocity_m_s": "velocity_m_per_s",
+}
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def _public_name(native: str, params: Sequence[str]) -> str:
+    """The public spelling of a native argument name (case aside, or by the table above)."""
+    for p in params:
+        if p.lower() == native.lower():
+            return p
+    return _PUBLIC_NAMES.get(native, native)
+
+
+def _argument_errors(f: _F) -> _F:
+    """Wrap a public function or method: a wrong type or value of an argument, found when the
+    native module converts it (pyo3 raises TypeError or OverflowError, e.g. a string for a
+    float or a negative count), becomes a GreyboxError naming the argument."""
+    params = list(inspect.signature(f).parameters)
+
+    @functools.wraps(f)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return f(*args, **kwargs)
+        except (TypeError, OverflowError) as e:
+            m = _NATIVE_ARGUMENT.match(str(e))
+            if m is None:
+                raise
+            raise GreyboxError(f"{_public_name(m.group(1), params)}: {m.group(2)}") from e
+
+    return wrapper  # type: ignore[return-value]
+
+
 def _f64(x: Any, name: str) -> np.ndarray:
-    a = np.ascontiguousarray(np.asarray(x, dtype=np.float64))
+    a = _asarray(x, name)
     if a.ndim == 0:
         a = a.reshape(1)
     if a.ndim != 1:
@@ -76,7 +179,7 @@ def _f64(x: Any, name: str) -> np.ndarray:
 
 
 def _f64_2d(x: Any, name: str) -> np.ndarray:
-    a = np.ascontiguousarray(np.asarray(x, dtype=np.float64))
+    a = _asarray(x, name)
     if a.ndim == 1:
         a = a.reshape(1, -1)
     if a.ndim != 2:
@@ -153,7 +256,7 @@ class Model:
     def content_hash(self) -> str:
         return self._m.content_hash
 
-    def predict(self, X: Any, outside: str = "warn", margin: float = 0.05) -> Prediction:
+    def predict(self, X: ArrayLike, outside: str = "warn", margin: float = 0.05) -> Prediction:
         """Predictions at rows of ``X`` (n × features, in the features' units).
 
         ``outside="refuse"`` raises for points beyond the training domain widened by
@@ -164,14 +267,14 @@ class Model:
             missing = [f for f in self.features if f not in X.columns]
             if missing:
                 raise GreyboxError(f"X lacks the model's feature columns {missing}")
-            X = X[self.features].to_numpy()
+            X = X[self.features].to_numpy()  # type: ignore[index]
         return Prediction(*self._m.predict(_f64_2d(X, "X"), outside, margin))
 
     def mu(
         self,
-        pressure_Pa: Any,
-        velocity_m_per_s: Any,
-        temperature_K: Any = None,
+        pressure_Pa: ArrayLike,
+        velocity_m_per_s: ArrayLike,
+        temperature_K: Optional[ArrayLike] = None,
         outside: str = "warn",
         margin: float = 0.05,
     ) -> Prediction:
@@ -185,24 +288,44 @@ class Model:
 
     def law(self) -> "Law":
         """This model as a friction law."""
-        return Law(_native.Law.from_model(self._m))
+        return Law(_native.Law.from_model(self._m), ("model", self.to_json()))
 
     def save(self, path: PathLike) -> None:
         """Write the model file (atomically)."""
-        self._m.save(os.fspath(path))
+        self._m.save(_path(path, "path"))
 
     def to_json(self) -> str:
+        """The model file's JSON text (what :meth:`save` writes)."""
         return self._m.to_json()
+
+    @staticmethod
+    def from_json(text: str) -> "Model":
+        """A model from the JSON text of a model file (verified as :func:`load_model` does)."""
+        return Model(_native.Model.from_json(text))
+
+    def __reduce__(self) -> tuple:
+        # pickled as the model file's text: the unpickled model predicts bit for bit the same
+        return (_model_from_json, (self.to_json(),))
 
     def __repr__(self) -> str:
         return repr(self._m)
 
 
 class Law:
-    """A friction law: a law file, a model or a surrogate table."""
+    """A friction law: a law file, a model or a surrogate table.
 
-    def __init__(self, native: "_native.Law"):
+    A law pickles: one made from a model (:meth:`Model.law`) as the model's text, one loaded
+    from a file (:func:`load_law`) as the file's absolute path, read again on unpickling."""
+
+    def __init__(self, native: "_native.Law", origin: Optional[tuple] = None):
         self._l = native
+        # how to make it again: ("model", model JSON) or ("file", absolute path)
+        self._origin = origin
+
+    def __reduce__(self) -> tuple:
+        if self._origin is None:
+            raise GreyboxError(f"{self!r} cannot be pickled: it was made without a model or a file")
+        return (_law_from_origin, self._origin)
 
     @property
     def name(self) -> str:
@@ -215,7 +338,9 @@ class Law:
         d = self._l.domain_json
         return None if d is None else json.loads(d)
 
-    def mu(self, pressure_Pa: Any, velocity_m_per_s: Any, temperature_K: Any = None) -> LawValues:
+    def mu(
+        self, pressure_Pa: ArrayLike, velocity_m_per_s: ArrayLike, temperature_K: Optional[ArrayLike] = None
+    ) -> LawValues:
         """μ at contact states in SI (Pa, m/s, K)."""
         p = _f64(pressure_Pa, "pressure_Pa")
         v = _f64(velocity_m_per_s, "velocity_m_per_s")
@@ -226,18 +351,31 @@ class Law:
         return repr(self._l)
 
 
+def _model_from_json(text: str) -> Model:
+    """Unpickling of a :class:`Model`."""
+    return Model.from_json(text)
+
+
+def _law_from_origin(kind: str, what: str) -> Law:
+    """Unpickling of a :class:`Law`: from a model's text or a file's path."""
+    if kind == "model":
+        return Model.from_json(what).law()
+    return load_law(what)
+
+
 def load_model(path: PathLike) -> Model:
     """Load and verify a greybox model file (schema, content hash, structure)."""
-    return Model(_native.Model.load(os.fspath(path)))
+    return Model(_native.Model.load(_path(path, "path")))
 
 
 def load_law(path: PathLike) -> Law:
     """Load a law file, model file or surrogate table as a friction law."""
-    return Law(_native.Law.load(os.fspath(path)))
+    p = _path(path, "path")
+    return Law(_native.Law.load(p), ("file", os.path.abspath(p)))
 
 
 def hertz(
-    normal_force_N: Any,
+    normal_force_N: ArrayLike,
     radius_mm: float,
     youngs_modulus_1_GPa: float,
     poisson_1: float,
@@ -270,7 +408,7 @@ def hertz(
 
 def read_dataset(path: PathLike, as_frame: Optional[bool] = None) -> Any:
     """A friction dataset CSV as a table."""
-    return read_csv(path, as_frame)
+    return read_csv(_path(path, "path"), as_frame)
 
 
 def synth(
@@ -286,11 +424,11 @@ def synth(
     and ``ground_truth.csv`` in ``out``. Returns the summary dict."""
     return json.loads(
         _native.synth(
-            os.fspath(out),
-            None if study is None else os.fspath(study),
-            list(formats),
-            normal_force_count,
-            velocity_count,
+            _path(out, "out"),
+            _opt_path(study, "study"),
+            _strs(formats, "formats"),
+            _count(normal_force_count, "normal_force_count"),
+            _count(velocity_count, "velocity_count"),
             force,
         )
     )
@@ -308,8 +446,8 @@ def read_recording(
     Returns (table of the channels in SI: time_s, normal_force_N, tangential_force_N, …;
     how the file was read, as a dict)."""
     d = _native.read_recording(
-        os.fspath(path),
-        None if study is None else os.fspath(study),
+        _path(path, "path"),
+        _opt_path(study, "study"),
         None if channels is None else json.dumps(channels),
     )
     how = json.loads(d.pop("how_read"))
@@ -322,7 +460,7 @@ def identify(
     study: Optional[PathLike] = None,
     use_plan: bool = False,
     truth: Optional[PathLike] = None,
-    track_radii_mm: Sequence[float] = (),
+    track_radii_mm: ArrayLike = (),
     normal_force_count: Optional[int] = None,
     velocity_count: Optional[int] = None,
     as_frame: Optional[bool] = None,
@@ -343,14 +481,14 @@ def identify(
         recordings = [recordings]
     summary = json.loads(
         _native.identify(
-            [os.fspath(r) for r in recordings],
-            os.fspath(dataset),
-            None if study is None else os.fspath(study),
+            [_path(r, "recordings") for r in _iterable(recordings, "recordings")],
+            _path(dataset, "dataset"),
+            _opt_path(study, "study"),
             use_plan,
-            None if truth is None else os.fspath(truth),
-            [float(r) for r in track_radii_mm],
-            normal_force_count,
-            velocity_count,
+            _opt_path(truth, "truth"),
+            _f64(track_radii_mm, "track_radii_mm").tolist(),
+            _count(normal_force_count, "normal_force_count"),
+            _count(velocity_count, "velocity_count"),
             steady,
             None if channels is None else json.dumps(channels),
         )
@@ -370,10 +508,10 @@ def ploughing_correction(
     (normal_force_N, track_width_um), else the article's Table 3."""
     corr = json.loads(
         _native.ploughing_correction(
-            os.fspath(data),
-            os.fspath(out),
+            _path(data, "data"),
+            _path(out, "out"),
             pin_radius_mm,
-            None if track_widths_csv is None else os.fspath(track_widths_csv),
+            _opt_path(track_widths_csv, "track_widths_csv"),
         )
     )
     return read_csv(out, as_frame), corr
@@ -393,10 +531,10 @@ def fit(
     skip_nested, grid …). Returns {"report", "outputs", "warnings"}."""
     return json.loads(
         _native.fit_models(
-            os.fspath(data),
-            os.fspath(out),
+            _path(data, "data"),
+            _path(out, "out"),
             target,
-            list(features),
+            _strs(features, "features"),
             None if config is None else json.dumps(config),
             force,
         )
@@ -477,10 +615,10 @@ def grey_box_law(
     optionally Zorev's cap τ ≤ k) and return it as a :class:`Law`. A relative ``model`` path
     is resolved against the law file's folder, as the law file records it."""
     _native.grey_box_law(
-        os.fspath(model),
-        os.fspath(out),
+        _path(model, "model"),
+        _path(out, "out"),
         blend_fraction,
-        None if clamp is None else (float(clamp[0]), float(clamp[1])),
+        None if clamp is None else _pair(clamp, "clamp"),
         shear_cap_k_MPa,
     )
     return load_law(out)
@@ -491,15 +629,15 @@ def import_model(
     features: Optional[Sequence[str]] = None,
     target: str = "cof_adhesive",
     domain: Optional[Sequence[tuple]] = None,
-    X_train: Any = None,
-    X_cal: Any = None,
-    y_cal: Any = None,
+    X_train: Optional[ArrayLike] = None,
+    X_cal: Optional[ArrayLike] = None,
+    y_cal: Optional[ArrayLike] = None,
     coverage: float = 0.95,
 ) -> Model:
     """A model file of another library, as ``greybox import`` reads it: an XGBoost booster
     (JSON/UBJSON), an ONNX model, or a scikit-learn export written from
     :func:`export_sklearn`. Other arguments as in :func:`from_sklearn`."""
-    return _import(os.fspath(path), False, features, target, domain, X_train, X_cal, y_cal, coverage)
+    return _import(_path(path, "path"), False, features, target, domain, X_train, X_cal, y_cal, coverage)
 
 
 def from_onnx(
@@ -546,9 +684,9 @@ def export_table(
     law: Any,
     format: str,
     out: PathLike,
-    pressure_Pa: Optional[Sequence[float]] = None,
-    velocity_m_per_s: Optional[Sequence[float]] = None,
-    temperature_K: Optional[Sequence[float]] = None,
+    pressure_Pa: Optional[ArrayLike] = None,
+    velocity_m_per_s: Optional[ArrayLike] = None,
+    temperature_K: Optional[ArrayLike] = None,
     *,
     units: Optional[str] = None,
     temperature_unit: Optional[str] = None,
@@ -587,13 +725,13 @@ def export_table(
         "taumax_Pa": taumax_Pa,
         "deform_reference_velocity_m_per_s": deform_reference_velocity_m_per_s,
         "deform_objects": None if deform_objects is None else [int(x) for x in deform_objects],
-        "deform_windows": None if deform_windows is None else os.fspath(deform_windows),
-        "lsdyna_table_id": lsdyna_table_id,
-        "check_points": check_points,
+        "deform_windows": _opt_path(deform_windows, "deform_windows"),
+        "lsdyna_table_id": _count(lsdyna_table_id, "lsdyna_table_id"),
+        "check_points": _count(check_points, "check_points"),
         "steps": steps,
         "table_kind": table_kind,
         "tolerance": tolerance,
-        "max_table_size": max_table_size,
+        "max_table_size": _count(max_table_size, "max_table_size"),
         "adaptive_grid": adaptive_grid,
     }
     for name, values in (("pressure_Pa", pressure_Pa), ("velocity_m_per_s", velocity_m_per_s), ("temperature_K", temperature_K)):
@@ -601,7 +739,7 @@ def export_table(
             options[name] = [float(x) for x in _f64(values, name)]
     options = {k: v for k, v in options.items() if v is not None}
     with tempfile.TemporaryDirectory() as d:
-        report = json.loads(_native.export_table(_law_path(law, d), format, os.fspath(out), json.dumps(options)))
+        report = json.loads(_native.export_table(_law_path(law, d), format, _path(out, "out"), json.dumps(options)))
     for w in report.get("warnings", []):
         warnings.warn(w, stacklevel=2)
     return report
@@ -631,17 +769,24 @@ def simulate_cut(
     with tempfile.TemporaryDirectory() as d:
         summary = json.loads(
             _native.simulate_cut(
-                os.fspath(setup),
-                os.fspath(out),
+                _path(setup, "setup"),
+                _path(out, "out"),
                 None if law is None else _law_path(law, d),
                 fraction,
                 force,
-                frames,
+                _count(frames, "frames"),
             )
         )
     summary["forces"] = read_csv(os.path.join(os.fspath(out), "forces.csv"), as_frame)
     summary["contact_profile"] = read_csv(os.path.join(os.fspath(out), "contact_profile.csv"), as_frame)
     return summary
+
+
+def example(name: str) -> str:
+    """The text of a file bundled with greybox: ``"aisi1045-cut.toml"`` (the article's
+    orthogonal cut, AISI 1045 at 150 m/min — a set-up for :func:`simulate_cut`) or
+    ``"demo-study.toml"`` (the example study the stages use by default)."""
+    return _native.example(name)
 
 
 def report(study_dir: PathLike, out: Optional[PathLike] = None) -> dict:
@@ -651,5 +796,19 @@ def report(study_dir: PathLike, out: Optional[PathLike] = None) -> dict:
     the summary: ``path``, ``bytes``, ``sections``, ``figures``, ``warnings`` (files found
     but unreadable)."""
     return json.loads(
-        _native.report(os.fspath(study_dir), None if out is None else os.fspath(out))
+        _native.report(_path(study_dir, "study_dir"), _opt_path(out, "out"))
     )
+
+
+# Every public function and method reports a wrong argument as a GreyboxError naming it.
+for _name in __all__:
+    _obj = globals()[_name]
+    if inspect.isfunction(_obj):
+        globals()[_name] = _argument_errors(_obj)
+for _cls in (Model, Law):
+    for _name, _obj in list(vars(_cls).items()):
+        if inspect.isfunction(_obj) and not _name.startswith("_"):
+            setattr(_cls, _name, _argument_errors(_obj))
+        elif isinstance(_obj, staticmethod):
+            setattr(_cls, _name, staticmethod(_argument_errors(_obj.__func__)))
+del _name, _obj, _cls

@@ -1,4 +1,6 @@
-"""Type stubs of greybox's native module (PyO3). Use the ``greybox`` package's wrappers."""
+"""Type stubs of greybox's native module (PyO3). Use the ``greybox`` package's wrappers: they
+take any array-like (``numpy.typing.ArrayLike``) and hand these functions contiguous float64
+arrays. Long calls run on a worker thread and raise ``KeyboardInterrupt`` on Ctrl-C."""
 
 from typing import Optional, Sequence, Tuple
 
@@ -87,7 +89,7 @@ def identify(
     study: Optional[str] = None,
     use_plan: bool = False,
     truth: Optional[str] = None,
-    track_radii_mm: Sequence[float] = ...,
+    track_radii_mm: Sequence[float] | npt.NDArray[np.float64] = ...,
     normal_force_count: Optional[int] = None,
     velocity_count: Optional[int] = None,
     steady: Optional[str] = None,
@@ -112,6 +114,7 @@ def export_defaults(format: str) -> str:
 
 def simulate_cut(setup: str, out: str, law: Optional[str] = None, fraction: float = 1.0, force: bool = False, frames: int = 0) -> str: ...
 def report(study_dir: str, out: Optional[str] = None) -> str: ...
+def example(name: str) -> str: ...
 def import_model(
     source: str,
     features: Optional[Sequence[str]] = None,

@@ -1,0 +1,196 @@
+"""The package behaves like a Python library: Ctrl-C stops a long call, every bad argument
+is a GreyboxError naming it, NumPy arrays type-check where arrays are taken, and models and
+laws pickle."""
+
+import os
+import pickle
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import greybox as gb
+
+REPO = os.path.join(os.path.dirname(__file__), "..", "..", "..")
+
+
+@pytest.fixture(scope="module")
+def adhesive(tmp_path_factory):
+    """A small identified, ploughing-corrected campaign (4 × 4) to fit on."""
+    d = tmp_path_factory.mktemp("behaves")
+    gb.synth(d / "recordings", normal_force_count=4, velocity_count=4)
+    gb.identify([d / "recordings"], d / "dataset.csv", use_plan=True, normal_force_count=4, velocity_count=4)
+    gb.ploughing_correction(d / "dataset.csv", d / "adhesive.csv")
+    return d / "adhesive.csv"
+
+
+@pytest.fixture(scope="module")
+def model(adhesive, tmp_path_factory):
+    out = tmp_path_factory.mktemp("fit") / "fit"
+    gb.fit(adhesive, out, config={"families": ["svr", "random-forest"], "skip_nested": True, "folds": 4, "bootstrap_resamples": 10, "importance_repeats": 2})
+    return gb.load_model(out / "models" / "svr.json"), gb.load_model(out / "models" / "random-forest.json")
+
+
+def interrupted_after(seconds, call):
+    """Run `call` with a SIGINT to this process after `seconds`: (raised exception, seconds
+    the call took)."""
+    timer = threading.Timer(seconds, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.perf_counter()
+    timer.start()
+    try:
+        call()
+    except BaseException as e:  # noqa: B036 - the KeyboardInterrupt is the point
+        return e, time.perf_counter() - start
+    finally:
+        timer.cancel()
+    return None, time.perf_counter() - start
+
+
+def test_ctrl_c_stops_a_cut_and_leaves_no_output(tmp_path):
+    # the example cut at full resolution: minutes of work
+    setup = os.path.join(REPO, "examples", "aisi1045-cut.toml")
+    e, took = interrupted_after(0.5, lambda: gb.simulate_cut(setup, tmp_path / "cut"))
+    assert isinstance(e, KeyboardInterrupt), e
+    assert took < 5.0, took
+    assert os.listdir(tmp_path) == [], os.listdir(tmp_path)  # no half-written output
+    # the flag is cleared for the next call
+    small = tmp_path / "small.toml"
+    text = open(setup).read().replace("spacing_m = 1.0e-5", "spacing_m = 2.5e-5").replace("cut_length_m = 1.0e-3", "cut_length_m = 2.0e-5")
+    small.write_text(text)
+    assert gb.simulate_cut(small, tmp_path / "cut", as_frame=False)["steps"] > 0
+
+
+def test_ctrl_c_stops_a_fit_and_leaves_no_output(adhesive, tmp_path):
+    # a grid far too big to finish in the test (hundreds of MLP trainings)
+    config = {
+        "families": ["mlp"],
+        "folds": 4,
+        "inner_folds": 3,
+        "grid": {"mlp": {"hidden_layers": [[128, 128]] * 4, "learning_rate": [0.001 * (i + 1) for i in range(20)]}},
+    }
+    e, took = interrupted_after(0.5, lambda: gb.fit(adhesive, tmp_path / "fit", config=config))
+    assert isinstance(e, KeyboardInterrupt), e
+    assert took < 5.0, took
+    assert os.listdir(tmp_path) == [], os.listdir(tmp_path)
+
+
+def _bad_calls(tmp_path, model):
+    """(call, the argument its error must name)."""
+    m = model[0]
+    p, v = np.array([1e9, 2e9]), np.array([1.0, 2.0])
+    return [
+        (lambda: gb.hertz([100.0], "17", 650.0, 0.22, 210.0, 0.3), "radius_mm"),
+        (lambda: gb.hertz("heavy", 17.0, 650.0, 0.22, 210.0, 0.3), "normal_force_N"),
+        (lambda: gb.hertz([100.0], 17.0, None, 0.22, 210.0, 0.3), "youngs_modulus_1_GPa"),
+        (lambda: gb.synth(tmp_path / "s", normal_force_count=-1), "normal_force_count"),
+        (lambda: gb.synth(3.5), "out"),
+        (lambda: gb.synth(tmp_path / "s", formats="csv"), "formats"),
+        (lambda: gb.read_recording(None), "path"),
+        (lambda: gb.identify([tmp_path], tmp_path / "d.csv", velocity_count=-2), "velocity_count"),
+        (lambda: gb.identify([tmp_path], tmp_path / "d.csv", track_radii_mm=["wide"]), "track_radii_mm"),
+        (lambda: gb.identify([tmp_path], tmp_path / "d.csv", steady=5), "steady"),
+        (lambda: gb.read_dataset(7), "path"),
+        (lambda: gb.ploughing_correction("a.csv", "b.csv", pin_radius_mm="big"), "pin_radius_mm"),
+        (lambda: gb.fit("a.csv", tmp_path / "f", features=3), "features"),
+        (lambda: gb.fit("a.csv", tmp_path / "f", force="yes"), "force"),
+        (lambda: gb.load_model(None), "path"),
+        (lambda: gb.load_law(1), "path"),
+        (lambda: gb.grey_box_law("m.json", "l.json", blend_fraction="x"), "blend_fraction"),
+        (lambda: gb.grey_box_law("m.json", "l.json", clamp=(0.1,)), "clamp"),
+        (lambda: gb.export_table("l.json", "csv", "o.csv", p, v, check_points=-5), "check_points"),
+        (lambda: gb.export_table("l.json", "csv", "o.csv", "x", v), "pressure_Pa"),
+        (lambda: gb.export_table("l.json", "csv", "o.csv", p, v, tolerance="tight"), "tolerance"),
+        (lambda: gb.simulate_cut("c.toml", tmp_path / "c", fraction="half"), "fraction"),
+        (lambda: gb.simulate_cut("c.toml", tmp_path / "c", frames=-1), "frames"),
+        (lambda: gb.report(2.0), "study_dir"),
+        (lambda: gb.import_model("x.json", coverage="most", domain=[(0, 1), (0, 1)]), "coverage"),
+        (lambda: gb.from_xgboost("x.json", coverage="most", domain=[(0, 1), (0, 1)]), "coverage"),
+        (lambda: m.predict([[100.0, 50.0]], margin="wide"), "margin"),
+        (lambda: m.predict("rows"), "X"),
+        (lambda: m.mu(p, v, outside=1), "outside"),
+        (lambda: m.mu(["high"], v), "pressure_Pa"),
+        (lambda: m.save(None), "path"),
+        (lambda: m.law().mu(p, {"a": 1}), "velocity_m_per_s"),
+        (lambda: gb.Model.from_json(12), "text"),
+    ]
+
+
+def test_every_bad_argument_is_a_greybox_error_naming_it(tmp_path, model):
+    wrong = []
+    for call, name in _bad_calls(tmp_path, model):
+        try:
+            call()
+            wrong.append((name, "no error"))
+        except gb.GreyboxError as e:
+            assert isinstance(e, ValueError)
+            if not str(e).startswith(f"{name}:"):
+                wrong.append((name, str(e)))
+        except Exception as e:
+            wrong.append((name, repr(e)))
+    assert wrong == []
+
+
+@pytest.mark.parametrize(
+    "name",
+    [n for n in gb.__all__ if callable(getattr(gb, n)) and not isinstance(getattr(gb, n), type)],
+)
+def test_every_public_function_converts_argument_errors(name):
+    """Each public function is wrapped (a future one cannot forget it)."""
+    assert hasattr(getattr(gb, name), "__wrapped__"), name
+
+
+def test_models_and_laws_pickle_bit_for_bit(model, tmp_path):
+    rng = np.random.default_rng(3)
+    X = np.column_stack([rng.uniform(100, 2100, 500), rng.uniform(10, 260, 500)])
+    p, v = rng.uniform(2e8, 3e9, 500), rng.uniform(0.2, 4.5, 500)
+    for m in model:
+        back = pickle.loads(pickle.dumps(m))
+        assert isinstance(back, gb.Model) and back.content_hash == m.content_hash
+        for a, b in zip(m.predict(X), back.predict(X)):
+            assert np.array_equal(a, b)
+        law = m.law()
+        assert np.array_equal(pickle.loads(pickle.dumps(law)).mu(p, v).mu, law.mu(p, v).mu)
+    m.save(tmp_path / "m.json")
+    law = gb.load_law(tmp_path / "m.json")
+    assert np.array_equal(pickle.loads(pickle.dumps(law)).mu(p, v).mu, law.mu(p, v).mu)
+
+
+SNIPPET = """
+import numpy as np
+import numpy.typing as npt
+import greybox as gb
+
+p: npt.NDArray[np.float64] = np.linspace(1e9, 2e9, 5)
+v = np.full(5, 1.5)
+m = gb.load_model("svr.json")
+pred: gb.Prediction = m.mu(p, v, temperature_K=np.full(5, 300.0))
+vals: gb.LawValues = m.law().mu(pressure_Pa=p, velocity_m_per_s=[1.0, 2.0, 3.0, 4.0, 5.0])
+rows = m.predict(np.zeros((3, 2)))
+t = gb.hertz(np.array([100.0, 200.0]), 17.0, 650.0, 0.22, 210.0, 0.3)
+r = gb.export_table(m, "csv", "o.csv", pressure_Pa=p, velocity_m_per_s=v)
+ds = gb.identify(["recordings"], "d.csv", track_radii_mm=np.array([20.0]))
+"""
+
+
+def mypy(tmp_path, code):
+    f = tmp_path / "snippet.py"
+    f.write_text(code)
+    return subprocess.run(
+        [sys.executable, "-m", "mypy", "--strict", "--no-incremental", "--cache-dir", str(tmp_path / "cache"), str(f)],
+        capture_output=True,
+        text=True,
+    )
+
+
+def test_numpy_arrays_type_check_with_mypy(tmp_path):
+    if os.environ.get("GREYBOX_REQUIRE_REFERENCES") != "1":
+        pytest.importorskip("mypy")
+    r = mypy(tmp_path, SNIPPET)
+    assert r.returncode == 0, r.stdout + r.stderr
+    # and the hints are read (a wrong argument type is caught, not passed as Any)
+    r = mypy(tmp_path, SNIPPET + "m.mu(p, v, margin='wide')\n")
+    assert r.returncode == 1 and 'Argument "margin"' in r.stdout, r.stdout + r.stderr
