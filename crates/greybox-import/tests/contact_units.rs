@@ -93,7 +93,10 @@ fn without_a_contact_the_import_predicts_and_the_law_says_what_is_missing() {
     );
     let e = LearnedLaw::new(m, None).unwrap_err().to_string();
     assert!(e.contains("imported without a contact"), "{e}");
-    assert!(e.contains("--study") && e.contains("contact="), "{e}");
+    assert!(
+        e.contains("--contact STUDY.toml") && e.contains("contact="),
+        "{e}"
+    );
     assert!(!e.contains("schema version"), "{e}");
     // a law file's contact still makes it a law
     let m = import(&options(&["normal_force_N", "sliding_velocity_m_per_min"])).unwrap();
