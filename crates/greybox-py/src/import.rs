@@ -30,10 +30,12 @@ fn contact(json: Option<&str>, study: Option<PathBuf>) -> PyResult<Option<PinCon
     let fields = match json {
         Some(text) => match serde_json::from_str(text).map_err(py_err)? {
             serde_json::Value::Object(m) => m,
-            _ => return Err(py_err(anyhow::anyhow!(
+            _ => {
+                return Err(py_err(anyhow::anyhow!(
                 "contact: expected a dict of the study's [contact] keys ({}) or a study TOML path",
                 CONTACT_KEYS.join(", ")
-            ))),
+            )))
+            }
         },
         None => serde_json::Map::new(),
     };

@@ -67,6 +67,15 @@ fn states(p: &[f64], v: &[f64], t: Option<&[f64]>) -> anyhow::Result<Vec<Contact
         .collect()
 }
 
+/// A contact variable of a validity domain: its name, range (if the law has one), value in a
+/// state and SI unit.
+type Axis = (
+    &'static str,
+    Option<Range>,
+    fn(&ContactState) -> f64,
+    &'static str,
+);
+
 /// How many of the states lie outside the law's validity domain, and on which contact
 /// variables (with the domain's range); `None` when all lie inside.
 fn outside_validity(d: &ValidityDomain, s: &[ContactState], inside: &[bool]) -> Option<String> {
@@ -74,7 +83,7 @@ fn outside_validity(d: &ValidityDomain, s: &[ContactState], inside: &[bool]) -> 
     if outside == 0 {
         return None;
     }
-    let axes: [(&str, Option<Range>, fn(&ContactState) -> f64, &str); 3] = [
+    let axes: [Axis; 3] = [
         ("pressure", Some(d.pressure_pa), |s| s.pressure_pa, "Pa"),
         (
             "sliding velocity",
