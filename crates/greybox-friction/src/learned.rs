@@ -145,7 +145,7 @@ fn no_contact_message(model: &ModelFile) -> String {
     if matches!(model.hyperparameters, Hyperparameters::Imported(_)) {
         return format!("{what} but was imported without a contact, so nothing maps contact pressure to that force: re-import it stating the tribometer's pin contact (`greybox import … --contact STUDY.toml` for a study's [contact] table, or --convention, --pin-tip-radius-mm, …; in Python contact={{\"convention\": \"article-eq7\", …}} or contact=\"study.toml\"), {law_file}");
     }
-    format!("{what} but its file records no force-to-pressure map (the data it was fitted on did not share one pressure convention and contact): {law_file}")
+    format!("{what} but its file does not record a contact's force-to-pressure map (the data it was fitted on did not share one pressure convention and contact): {law_file}")
 }
 
 /// Largest decision grid a tree-ensemble law compiles to (8 MB of cells).

@@ -100,7 +100,14 @@ fn without_a_contact_the_import_predicts_and_the_law_says_what_is_missing() {
     assert!(!e.contains("schema version"), "{e}");
     // a law file's contact still makes it a law
     let m = import(&options(&["normal_force_N", "sliding_velocity_m_per_min"])).unwrap();
-    assert!(LearnedLaw::new(m, Some(&article_contact())).is_ok());
+    assert!(LearnedLaw::new(m.clone(), Some(&article_contact())).is_ok());
+    // only a file of schema version 1 is said to be one
+    let old = ModelFile {
+        schema_version: 1,
+        ..m
+    };
+    let e = LearnedLaw::new(old, None).unwrap_err().to_string();
+    assert!(e.contains("before schema version 2"), "{e}");
 }
 
 #[test]
