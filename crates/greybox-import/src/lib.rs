@@ -379,3 +379,38 @@ fn feature_names(imported: &Imported, opts: &ImportOptions) -> Result<Vec<String
     }
     Ok(names)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use greybox_core::dataset::PressureConvention;
+
+    fn eq7() -> PinContact {
+        PinContact {
+            convention: PressureConvention::ArticleEq7,
+            ..PinContact::default()
+        }
+    }
+
+    /// A stated contact must agree with the map the training dataset records; either alone
+    /// is recorded as it is.
+    #[test]
+    fn stated_contact_and_dataset_map_must_agree() {
+        let c = eq7();
+        let map = ForcePressure {
+            pressure_convention: PressureConvention::ArticleEq7,
+            pressure_pa_at_1_n: c.pressure_pa(1.0).unwrap(),
+        };
+        assert_eq!(force_to_pressure(Some(&c), Some(map)).unwrap(), Some(map));
+        assert_eq!(force_to_pressure(None, Some(map)).unwrap(), Some(map));
+        assert_eq!(force_to_pressure(Some(&c), None).unwrap(), Some(map));
+        assert_eq!(force_to_pressure(None, None).unwrap(), None);
+        let e = force_to_pressure(Some(&PinContact::default()), Some(map))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("textbook-max") && e.contains("article-eq7"),
+            "{e}"
+        );
+    }
+}
