@@ -52,7 +52,8 @@ pub struct Args {
 /// as in the `[contact]` table (the article's 17 mm carbide pin on AISI 1045).
 #[derive(clap::Args, Debug, Default)]
 pub struct ContactArgs {
-    /// A study TOML whose [contact] table states the contact.
+    /// A study TOML whose [contact] table states the tribometer's pin contact (needed for a
+    /// model on normal_force_N to be a friction law); the flags below override its keys.
     #[arg(long, value_name = "STUDY.toml")]
     pub contact: Option<PathBuf>,
     /// Pressure convention the training data's pressures were computed with.
