@@ -69,11 +69,8 @@ pub fn run(a: Args) -> Result<()> {
         Outside::Refuse => DomainPolicy::Refuse,
     };
     let rows = predict_points(&m, points, policy, a.margin)?;
-    for r in rows.iter().filter(|r| !r.prediction.in_domain) {
-        eprintln!(
-            "warning: point {:?} lies outside the training domain; the prediction is an extrapolation",
-            r.features
-        );
+    if let Some(o) = m.outside_domain(rows.iter().map(|r| r.features.as_slice()), a.margin) {
+        eprintln!("warning: {o}");
     }
     if a.json {
         return print_json(&rows);

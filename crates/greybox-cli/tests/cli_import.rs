@@ -134,3 +134,201 @@ fn import_errors_name_what_is_missing() {
     assert!(e.contains("1 ranges for 2 features"), "{e}");
     assert!(!d.join("m.json").exists());
 }
+
+/// The article's pin contact as a study's [contact] table.
+const STUDY: &str = "[contact]\npin_tip_radius_mm = 17.0\ndisk_youngs_modulus_gpa = 210.0\ndisk_poisson_ratio = 0.3\npin_youngs_modulus_gpa = 650.0\npin_poisson_ratio = 0.3\nconvention = \"article-eq7\"\n";
+
+/// A force-trained booster imported with its contact is a friction law: `greybox export`
+/// writes its table and `greybox predict` evaluates it; both ways of stating the contact
+/// (a study's [contact] table, the flags) record the same map.
+#[test]
+fn import_with_contact_makes_a_force_model_a_law() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("booster.json"), BOOSTER).unwrap();
+    std::fs::write(d.join("study.toml"), STUDY).unwrap();
+    let common = ["import", "booster.json", "--domain", "150:2000,20:250"];
+    let by_flags = [
+        "--convention",
+        "article-eq7",
+        "--pin-tip-radius-mm",
+        "17",
+        "--pin-youngs-modulus-gpa",
+        "650",
+        "--disk-youngs-modulus-gpa",
+        "210",
+        "--out",
+        "flags.json",
+    ];
+    let out = ok(&greybox(&[&common[..], &by_flags[..]].concat(), d));
+    assert!(out.contains("article-eq7 convention"), "{out}");
+    let by_study = ["--contact", "study.toml", "--out", "model.json"];
+    ok(&greybox(&[&common[..], &by_study[..]].concat(), d));
+    let read = |f: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.join(f)).unwrap()).unwrap()
+    };
+    let (m, f) = (read("model.json"), read("flags.json"));
+    assert_eq!(m["force_to_pressure"], f["force_to_pressure"]);
+    assert_eq!(m["force_to_pressure"]["pressure_convention"], "article-eq7");
+    // the law's domain in pressure is the article's 914.7–2170 MPa for 150–2000 N
+    ok(&greybox(
+        &[
+            "export",
+            "--law",
+            "model.json",
+            "--format",
+            "csv",
+            "--pressure-MPa",
+            "950:2150:13",
+            "--velocity-m-per-min",
+            "20:250:5",
+            "--out",
+            "table.csv",
+        ],
+        d,
+    ));
+    let table = std::fs::read_to_string(d.join("table.csv")).unwrap();
+    // the split at 1000.5 N restated in pressure: c·1000.5^(1/3), c = 172.05 MPa at 1 N
+    assert!(table.contains("\n1720.74"), "{table}");
+    for mu in [by_hand(500.0), by_hand(1500.0)] {
+        assert!(table.contains(&format!(",{mu}\n")), "{table}");
+    }
+    let p = ok(&greybox(
+        &[
+            "predict",
+            "--model",
+            "model.json",
+            "--at",
+            "500,100",
+            "--json",
+        ],
+        d,
+    ));
+    let rows: serde_json::Value = serde_json::from_str(&p).unwrap();
+    assert_eq!(rows[0]["value"].as_f64().unwrap(), by_hand(500.0));
+}
+
+/// Without a contact the import works (the model predicts on forces) and says what is
+/// missing; using it as a law names the fix, not the schema version.
+#[test]
+fn force_model_without_contact_says_how_to_state_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("booster.json"), BOOSTER).unwrap();
+    let out = greybox(
+        &[
+            "import",
+            "booster.json",
+            "--domain",
+            "150:2000,20:250",
+            "--out",
+            "model.json",
+        ],
+        d,
+    );
+    ok(&out);
+    let note = String::from_utf8_lossy(&out.stderr);
+    assert!(note.contains("no contact was stated"), "{note}");
+    ok(&greybox(
+        &["predict", "--model", "model.json", "--at", "500,100"],
+        d,
+    ));
+    let e = err(&greybox(
+        &[
+            "export",
+            "--law",
+            "model.json",
+            "--format",
+            "csv",
+            "--out",
+            "table.csv",
+        ],
+        d,
+    ));
+    assert!(
+        e.contains("imported without a contact") && e.contains("--contact STUDY.toml"),
+        "{e}"
+    );
+    assert!(!e.contains("schema version"), "{e}");
+    // a contact without a convention is refused, naming it
+    let e = err(&greybox(
+        &[
+            "import",
+            "booster.json",
+            "--domain",
+            "150:2000,20:250",
+            "--pin-tip-radius-mm",
+            "17",
+            "--out",
+            "m2.json",
+        ],
+        d,
+    ));
+    assert!(e.contains("convention"), "{e}");
+}
+
+/// Feature names without a unit greybox maps are refused at import, naming the feature.
+#[test]
+fn unknown_feature_unit_is_refused_at_import() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(
+        d.join("booster.json"),
+        BOOSTER.replace("normal_force_N", "load_lbf"),
+    )
+    .unwrap();
+    let e = err(&greybox(
+        &[
+            "import",
+            "booster.json",
+            "--domain",
+            "150:2000,20:250",
+            "--out",
+            "m.json",
+        ],
+        d,
+    ));
+    assert!(e.contains("'load_lbf'") && e.contains("_N, _kN"), "{e}");
+    assert!(!d.join("m.json").exists());
+}
+
+/// `greybox predict` warns once for points outside the domain: how many, on which feature.
+#[test]
+fn predict_warns_how_many_points_lie_outside() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("booster.json"), BOOSTER).unwrap();
+    ok(&greybox(
+        &[
+            "import",
+            "booster.json",
+            "--domain",
+            "150:2000,20:250",
+            "--out",
+            "model.json",
+        ],
+        d,
+    ));
+    let out = greybox(
+        &[
+            "predict",
+            "--model",
+            "model.json",
+            "--at",
+            "500,100",
+            "--at",
+            "5000,100",
+            "--at",
+            "500,1000",
+        ],
+        d,
+    );
+    ok(&out);
+    let w = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        w.contains("2 of 3 points")
+            && w.contains("normal_force_N")
+            && w.contains("sliding_velocity_m_per_min"),
+        "{w}"
+    );
+}

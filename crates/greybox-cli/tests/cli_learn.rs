@@ -166,7 +166,11 @@ fn fit_then_predict() {
         ],
         p,
     );
-    assert!(o.status.success() && String::from_utf8_lossy(&o.stderr).contains("warning: point"));
+    let w = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success() && w.contains("warning: 1 of 1 points") && w.contains("normal_force_N"),
+        "{w}"
+    );
     let e = err(&greybox(
         &["predict", "--model", "fit/models/mlp.json", "--at", "1000"],
         p,

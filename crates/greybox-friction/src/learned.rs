@@ -8,8 +8,9 @@
 use greybox_contact::PinContact;
 use greybox_core::boundary::last_true;
 use greybox_core::law::{Range, ValidityDomain};
-use greybox_core::{units, Breaks, ContactState, Error, FrictionLaw, Result};
-use greybox_model::family::FittedModel;
+use greybox_core::{Breaks, ContactState, Error, FrictionLaw, Result};
+use greybox_model::column::FeatureQuantity;
+use greybox_model::family::{FittedModel, Hyperparameters};
 use greybox_model::modelfile::ModelFile;
 use greybox_model::tree::{DecisionGrid, LEAF};
 use greybox_model::Predictor;
@@ -34,6 +35,19 @@ pub enum Input {
 }
 
 impl Input {
+    /// The input of a feature measuring `q`; `c_pa_per_cbrt_n` is c in p = c·F^(1/3) for
+    /// normal forces (Pa at 1 N).
+    pub fn of_quantity(q: FeatureQuantity, c_pa_per_cbrt_n: f64) -> Self {
+        match q {
+            FeatureQuantity::Pressure { pa_per_unit } => Input::Pressure { pa_per_unit },
+            FeatureQuantity::Velocity { m_s_per_unit } => Input::Velocity { m_s_per_unit },
+            FeatureQuantity::Temperature { offset_k } => Input::Temperature { offset_k },
+            FeatureQuantity::NormalForce { n_per_unit } => Input::NormalForce {
+                c_pa_per_cbrt_n,
+                n_per_unit,
+            },
+        }
+    }
     #[inline]
     pub fn value(&self, s: &ContactState) -> f64 {
         match *self {
@@ -88,10 +102,12 @@ impl Input {
 /// c in p = c·F^(1/3) (Pa at 1 N) for a model's normal-force features, or NaN when it has
 /// none; see [`LearnedLaw::new`].
 fn force_pressure_constant(model: &ModelFile, contact: Option<&PinContact>) -> Result<f64> {
-    let uses_force = model
-        .features
-        .iter()
-        .any(|f| f.unit == "N" || f.unit == "kN");
+    let uses_force = model.features.iter().any(|f| {
+        matches!(
+            FeatureQuantity::of_unit(&f.unit),
+            Some(FeatureQuantity::NormalForce { .. })
+        )
+    });
     let recorded = model.force_to_pressure;
     let given = contact.map(|c| c.pressure_pa(1.0)).transpose()?;
     match (given, recorded) {
@@ -108,13 +124,28 @@ fn force_pressure_constant(model: &ModelFile, contact: Option<&PinContact>) -> R
         (None, Some(r)) => Ok(r.pressure_pa_at_1_n),
         (None, None) if uses_force => Err(Error::invalid(
             "learned law",
-            format!(
-                "the {} model is trained on a normal force but its file does not record the dataset's pressure convention and contact (a file from before schema version 2): re-fit it, or use it through a law file that states the contact, e.g. {{\"law\": \"learned\", \"model\": \"…\", \"contact\": {{\"convention\": \"article-eq7\", …}}}}",
-                model.family.name()
-            ),
+            no_contact_message(model),
         )),
         (None, None) => Ok(f64::NAN),
     }
+}
+
+/// Why a model trained on a normal force cannot map pressure to that force, and how to fix
+/// it: a file from before schema version 2, an imported model whose contact was not stated,
+/// or a model fitted on data without one force-to-pressure map.
+fn no_contact_message(model: &ModelFile) -> String {
+    let law_file = "or use it through a law file that states the contact, e.g. {\"law\": \"learned\", \"model\": \"…\", \"contact\": {\"convention\": \"article-eq7\", …}}";
+    let what = format!(
+        "the {} model is trained on a normal force",
+        model.family.name()
+    );
+    if model.schema_version < 2 {
+        return format!("{what} but its file does not record the dataset's pressure convention and contact (a file from before schema version 2): re-fit it, {law_file}");
+    }
+    if matches!(model.hyperparameters, Hyperparameters::Imported(_)) {
+        return format!("{what} but was imported without a contact, so nothing maps contact pressure to that force: re-import it stating the tribometer's pin contact (`greybox import … --contact STUDY.toml` for a study's [contact] table, or --convention, --pin-tip-radius-mm, …; in Python contact={{\"convention\": \"article-eq7\", …}} or contact=\"study.toml\"), {law_file}");
+    }
+    format!("{what} but its file does not record a contact's force-to-pressure map (the data it was fitted on did not share one pressure convention and contact): {law_file}")
 }
 
 /// Largest decision grid a tree-ensemble law compiles to (8 MB of cells).
@@ -148,26 +179,9 @@ impl LearnedLaw {
             .features
             .iter()
             .map(|f| {
-                Ok(match f.unit.as_str() {
-                    "Pa" => Input::Pressure { pa_per_unit: 1.0 },
-                    "MPa" => Input::Pressure { pa_per_unit: units::PA_PER_MPA },
-                    "GPa" => Input::Pressure { pa_per_unit: units::PA_PER_GPA },
-                    "m/s" => Input::Velocity { m_s_per_unit: 1.0 },
-                    "m/min" => Input::Velocity { m_s_per_unit: 1.0 / units::S_PER_MIN },
-                    "K" => Input::Temperature { offset_k: 0.0 },
-                    "°C" => Input::Temperature { offset_k: 273.15 },
-                    "N" => Input::NormalForce { c_pa_per_cbrt_n: c, n_per_unit: 1.0 },
-                    "kN" => Input::NormalForce { c_pa_per_cbrt_n: c, n_per_unit: 1e3 },
-                    other => {
-                        return Err(Error::invalid(
-                            "learned law",
-                            format!(
-                                "cannot map feature '{}' (unit '{other}') to the contact state; features must be pressures, velocities, temperatures or normal forces",
-                                f.name
-                            ),
-                        ))
-                    }
-                })
+                FeatureQuantity::of_column(f)
+                    .map(|q| Input::of_quantity(q, c))
+                    .map_err(|m| Error::invalid("learned law", m))
             })
             .collect::<Result<_>>()?;
         let mut ranges: [Option<Range>; 3] = [None, None, None];

@@ -32,12 +32,13 @@ pub mod xgboost;
 
 mod data;
 
+use greybox_contact::PinContact;
 use greybox_core::provenance::sha256_bytes;
 use greybox_core::{Error, Result, SourcePos};
-use greybox_model::column::Column;
+use greybox_model::column::{Column, FeatureQuantity};
 use greybox_model::family::{FittedModel, Hyperparameters, ImportedFrom};
 use greybox_model::interval::{conformal_half_width, IntervalMethod, PredictionInterval};
-use greybox_model::modelfile::{FeatureRange, ModelFile, SCHEMA, SCHEMA_VERSION};
+use greybox_model::modelfile::{FeatureRange, ForcePressure, ModelFile, SCHEMA, SCHEMA_VERSION};
 use greybox_model::Predictor;
 use std::path::{Path, PathBuf};
 
@@ -85,6 +86,14 @@ pub struct ImportOptions {
     pub calibration: Option<Calibration>,
     /// Nominal coverage of the interval.
     pub coverage: f64,
+    /// The tribometer's pin contact (the study's `[contact]` table): for a model trained on
+    /// a normal force (`normal_force_N`, `_kN`), the Hertz map p = c·F^(1/3) under its
+    /// pressure convention that turns a contact pressure into the force the model takes.
+    /// Recorded in the model file's `force_to_pressure`, as `greybox fit` records its
+    /// dataset's. `None`: the training data's map when it is a greybox friction dataset,
+    /// else none (the model predicts on forces but is no friction law until a law file
+    /// states the contact).
+    pub contact: Option<PinContact>,
 }
 
 impl ImportOptions {
@@ -96,7 +105,13 @@ impl ImportOptions {
             domain,
             calibration: None,
             coverage: 0.95,
+            contact: None,
         }
+    }
+    /// State the tribometer's pin contact ([`ImportOptions::contact`]).
+    pub fn with_contact(mut self, contact: PinContact) -> Self {
+        self.contact = Some(contact);
+        self
     }
     pub fn with_features(mut self, names: &[&str]) -> Self {
         self.features = Some(names.iter().map(|s| s.to_string()).collect());
@@ -232,6 +247,7 @@ pub fn import_file(path: &Path, opts: &ImportOptions) -> Result<ModelFile> {
 pub fn model_file(imported: Imported, opts: &ImportOptions) -> Result<ModelFile> {
     let names = feature_names(&imported, opts)?;
     let domain = data::domain(&opts.domain, &names)?;
+    let force_to_pressure = force_to_pressure(opts.contact.as_ref(), domain.force_to_pressure)?;
     let mut file = ModelFile {
         schema: SCHEMA.into(),
         schema_version: SCHEMA_VERSION,
@@ -244,7 +260,7 @@ pub fn model_file(imported: Imported, opts: &ImportOptions) -> Result<ModelFile>
         prediction_interval: PredictionInterval::NONE,
         held_out_r2: None,
         model: imported.model,
-        force_to_pressure: domain.force_to_pressure,
+        force_to_pressure,
         provenance: None,
         content_hash: String::new(),
     };
@@ -288,6 +304,42 @@ pub fn model_file(imported: Imported, opts: &ImportOptions) -> Result<ModelFile>
     file.seal()
 }
 
+/// The force-to-pressure map to record: the stated contact's (c = its pressure at 1 N), which
+/// must agree with the training dataset's when that records one, else the dataset's.
+fn force_to_pressure(
+    contact: Option<&PinContact>,
+    dataset: Option<ForcePressure>,
+) -> Result<Option<ForcePressure>> {
+    let Some(contact) = contact else {
+        return Ok(dataset);
+    };
+    contact
+        .validate()
+        .map_err(|e| Error::invalid("import contact", e.to_string()))?;
+    let stated = ForcePressure {
+        pressure_convention: contact.convention,
+        pressure_pa_at_1_n: contact.pressure_pa(1.0)?,
+    };
+    match dataset {
+        Some(d)
+            if d.pressure_convention != stated.pressure_convention
+                || (d.pressure_pa_at_1_n / stated.pressure_pa_at_1_n - 1.0).abs() > 1e-6 =>
+        {
+            Err(Error::invalid(
+                "import contact",
+                format!(
+                    "the stated contact gives {:.6e} Pa at 1 N ({} convention), but the training dataset's pressures were computed with {:.6e} Pa at 1 N ({} convention): state the dataset's contact, or leave the contact out to take the dataset's",
+                    stated.pressure_pa_at_1_n,
+                    stated.pressure_convention.name(),
+                    d.pressure_pa_at_1_n,
+                    d.pressure_convention.name()
+                ),
+            ))
+        }
+        _ => Ok(Some(stated)),
+    }
+}
+
 fn r2(y: &[f64], pred: &[f64]) -> f64 {
     let mean = y.iter().sum::<f64>() / y.len() as f64;
     let ss_res: f64 = y.iter().zip(pred).map(|(a, b)| (a - b).powi(2)).sum();
@@ -321,5 +373,44 @@ fn feature_names(imported: &Imported, opts: &ImportOptions) -> Result<Vec<String
             format!("{} names for a model of {n} features", names.len()),
         ));
     }
+    for name in &names {
+        FeatureQuantity::of_column(&Column::new(name))
+            .map_err(|m| Error::invalid("import features", m))?;
+    }
     Ok(names)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use greybox_core::dataset::PressureConvention;
+
+    fn eq7() -> PinContact {
+        PinContact {
+            convention: PressureConvention::ArticleEq7,
+            ..PinContact::default()
+        }
+    }
+
+    /// A stated contact must agree with the map the training dataset records; either alone
+    /// is recorded as it is.
+    #[test]
+    fn stated_contact_and_dataset_map_must_agree() {
+        let c = eq7();
+        let map = ForcePressure {
+            pressure_convention: PressureConvention::ArticleEq7,
+            pressure_pa_at_1_n: c.pressure_pa(1.0).unwrap(),
+        };
+        assert_eq!(force_to_pressure(Some(&c), Some(map)).unwrap(), Some(map));
+        assert_eq!(force_to_pressure(None, Some(map)).unwrap(), Some(map));
+        assert_eq!(force_to_pressure(Some(&c), None).unwrap(), Some(map));
+        assert_eq!(force_to_pressure(None, None).unwrap(), None);
+        let e = force_to_pressure(Some(&PinContact::default()), Some(map))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("textbook-max") && e.contains("article-eq7"),
+            "{e}"
+        );
+    }
 }

@@ -41,3 +41,86 @@ pub fn unit_of(name: &str) -> &'static str {
         .map(|(_, u)| *u)
         .unwrap_or("1")
 }
+
+/// The contact quantity a feature measures, and how its unit relates to SI: what a friction
+/// law maps from the contact state (pressure in Pa, sliding speed in m/s, temperature in K,
+/// and the tribometer's normal force in N).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FeatureQuantity {
+    /// Contact pressure: SI value = feature value × `pa_per_unit`.
+    Pressure { pa_per_unit: f64 },
+    /// Sliding velocity: SI value = feature value × `m_s_per_unit`.
+    Velocity { m_s_per_unit: f64 },
+    /// Temperature: SI value (K) = feature value + `offset_k`.
+    Temperature { offset_k: f64 },
+    /// The tribometer's normal force: N = feature value × `n_per_unit` (mapped to pressure
+    /// through the pin contact's Hertz relation).
+    NormalForce { n_per_unit: f64 },
+}
+
+/// The unit suffixes a feature of a friction model may carry, with their units, as a
+/// message lists them.
+pub const FEATURE_SUFFIXES: &str = "pressure _Pa, _MPa, _GPa; sliding velocity _m_per_s, _m_per_min; temperature _K, _degC; normal force _N, _kN (e.g. normal_force_N, sliding_velocity_m_per_min, hertz_pressure_MPa, temperature_degC)";
+
+impl FeatureQuantity {
+    /// The quantity of a feature of unit `unit` (as [`unit_of`] names it), or `None` when no
+    /// contact quantity has that unit (lengths, times, dimensionless or unknown suffixes).
+    pub fn of_unit(unit: &str) -> Option<Self> {
+        use greybox_core::units::{PA_PER_GPA, PA_PER_MPA, S_PER_MIN};
+        Some(match unit {
+            "Pa" => FeatureQuantity::Pressure { pa_per_unit: 1.0 },
+            "MPa" => FeatureQuantity::Pressure {
+                pa_per_unit: PA_PER_MPA,
+            },
+            "GPa" => FeatureQuantity::Pressure {
+                pa_per_unit: PA_PER_GPA,
+            },
+            "m/s" => FeatureQuantity::Velocity { m_s_per_unit: 1.0 },
+            "m/min" => FeatureQuantity::Velocity {
+                m_s_per_unit: 1.0 / S_PER_MIN,
+            },
+            "K" => FeatureQuantity::Temperature { offset_k: 0.0 },
+            "°C" => FeatureQuantity::Temperature { offset_k: 273.15 },
+            "N" => FeatureQuantity::NormalForce { n_per_unit: 1.0 },
+            "kN" => FeatureQuantity::NormalForce { n_per_unit: 1e3 },
+            _ => return None,
+        })
+    }
+
+    /// The quantity of a feature column, or an error naming the feature, its unit and the
+    /// suffixes greybox maps to pressure, velocity, temperature and force.
+    pub fn of_column(c: &Column) -> std::result::Result<Self, String> {
+        Self::of_unit(&c.unit).ok_or_else(|| {
+            let unit = if c.unit == "1" {
+                "no unit suffix greybox knows".to_string()
+            } else {
+                format!("unit '{}', not a contact quantity", c.unit)
+            };
+            format!(
+                "feature '{}' has {unit}: a friction model's features are mapped from the contact state by their unit suffix — {FEATURE_SUFFIXES}",
+                c.name
+            )
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn feature_units_map_or_are_named() {
+        assert_eq!(
+            FeatureQuantity::of_column(&Column::new("normal_force_kN")),
+            Ok(FeatureQuantity::NormalForce { n_per_unit: 1e3 })
+        );
+        assert_eq!(
+            FeatureQuantity::of_column(&Column::new("temperature_degC")),
+            Ok(FeatureQuantity::Temperature { offset_k: 273.15 })
+        );
+        for bad in ["pressure", "contact_pressure_psi", "wear_um", "time_s"] {
+            let e = FeatureQuantity::of_column(&Column::new(bad)).unwrap_err();
+            assert!(e.contains(&format!("'{bad}'")) && e.contains("_MPa"), "{e}");
+        }
+    }
+}

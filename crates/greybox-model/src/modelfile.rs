@@ -111,7 +111,72 @@ pub struct Prediction {
     pub in_domain: bool,
 }
 
+/// Points that lie outside the training domain widened by the margin: how many of how many,
+/// and on which features (the warning of [`DomainPolicy::Warn`], worded once for every
+/// surface).
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutsideDomain {
+    /// Points outside on at least one feature.
+    pub outside: usize,
+    /// Points checked.
+    pub total: usize,
+    /// The margin, as a fraction of each feature's range.
+    pub margin: f64,
+    /// Per feature with a point outside: name, trained range and unit.
+    pub features: Vec<String>,
+}
+
+impl std::fmt::Display for OutsideDomain {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} of {} points lie outside the training domain (widened by {} % of each range) on {}: their predictions are extrapolations",
+            self.outside,
+            self.total,
+            self.margin * 100.0,
+            self.features.join(", ")
+        )
+    }
+}
+
 impl ModelFile {
+    /// Which of `points` (feature rows) lie outside the training domain widened by
+    /// `margin` × range per feature; `None` when all lie inside.
+    pub fn outside_domain<'a>(
+        &self,
+        points: impl IntoIterator<Item = &'a [f64]>,
+        margin: f64,
+    ) -> Option<OutsideDomain> {
+        let n = self.features.len();
+        let mut on_feature = vec![false; n];
+        let (mut outside, mut total) = (0, 0);
+        for x in points {
+            total += 1;
+            let mut out = false;
+            for (k, (v, r)) in x.iter().zip(&self.training_domain).enumerate() {
+                let w = (r.max - r.min) * margin;
+                if *v < r.min - w || *v > r.max + w {
+                    on_feature[k] = true;
+                    out = true;
+                }
+            }
+            outside += usize::from(out);
+        }
+        let features = (0..n)
+            .filter(|&k| on_feature[k])
+            .map(|k| {
+                let (c, r) = (&self.features[k], self.training_domain[k]);
+                format!("{} (trained on {}..{} {})", c.name, r.min, r.max, c.unit)
+            })
+            .collect();
+        (outside > 0).then_some(OutsideDomain {
+            outside,
+            total,
+            margin,
+            features,
+        })
+    }
+
     fn hash(&self) -> Result<String> {
         let mut copy = self.clone();
         copy.content_hash.clear();

@@ -3,20 +3,108 @@
 //! source does not know, written the safe way with provenance.
 
 use crate::output::provenance;
-use anyhow::Result;
+use anyhow::{bail, Context, Result};
+use greybox_contact::PinContact;
 use greybox_core::outputs::check_file_output;
 pub use greybox_import::{Calibration, Domain, ImportOptions, Imported};
 use greybox_model::modelfile::ModelFile;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// Import `source` into the model file `out` (written atomically, provenance beside it).
-pub fn import(source: &Path, opts: &ImportOptions, out: &Path) -> Result<ModelFile> {
+/// The keys of a study's `[contact]` table: the pin contact stated at import
+/// (`greybox import --pin-tip-radius-mm …`, Python `contact={"pin_tip_radius_mm": …}`).
+pub const CONTACT_KEYS: [&str; 6] = [
+    "pin_tip_radius_mm",
+    "pin_youngs_modulus_gpa",
+    "pin_poisson_ratio",
+    "disk_youngs_modulus_gpa",
+    "disk_poisson_ratio",
+    "convention",
+];
+
+/// The tribometer's pin contact as a user states it at import: a study TOML's `[contact]`
+/// table, and/or that table's keys ([`CONTACT_KEYS`]) with values, which override the
+/// study's. The pressure convention must be stated (in the table or as a key): a model
+/// trained on a normal force is never given a default convention. Keys not stated take the
+/// `[contact]` table's defaults (the article's 17 mm carbide pin, 650 GPa / 0.3, on AISI
+/// 1045, 210 GPa / 0.3).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ContactSpec {
+    /// A study TOML whose `[contact]` table states the contact.
+    pub study: Option<PathBuf>,
+    /// `[contact]` keys and their values (numbers; the convention as its name).
+    pub fields: serde_json::Map<String, serde_json::Value>,
+}
+
+impl ContactSpec {
+    /// Whether anything states a contact.
+    pub fn is_stated(&self) -> bool {
+        self.study.is_some() || !self.fields.is_empty()
+    }
+
+    /// The pin contact, or `None` when nothing states one; errors name the study file, the
+    /// key, or the missing convention.
+    pub fn resolve(&self) -> Result<Option<PinContact>> {
+        if !self.is_stated() {
+            return Ok(None);
+        }
+        let mut table = match &self.study {
+            Some(path) => study_contact_table(path)?,
+            None => serde_json::Map::new(),
+        };
+        table.extend(self.fields.clone());
+        if !table.contains_key("convention") {
+            bail!(
+                "the contact states no pressure convention: give convention (textbook-max, textbook-mean or article-eq7) — the one the training data's pressures were computed with{}",
+                self.study.as_ref().map(|p| format!(" (the [contact] table of {} has none)", p.display())).unwrap_or_default()
+            );
+        }
+        let contact: PinContact = serde_json::from_value(serde_json::Value::Object(table))
+            .with_context(|| {
+                format!(
+                    "invalid contact (keys: {}; the study's [contact] table)",
+                    CONTACT_KEYS.join(", ")
+                )
+            })?;
+        contact.validate().context("invalid contact")?;
+        Ok(Some(contact))
+    }
+}
+
+/// The `[contact]` table of a study TOML, as JSON values.
+fn study_contact_table(path: &Path) -> Result<serde_json::Map<String, serde_json::Value>> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read study file {}", path.display()))?;
+    let value: toml::Value =
+        toml::from_str(&text).with_context(|| format!("{}: invalid study file", path.display()))?;
+    let Some(contact) = value.get("contact") else {
+        bail!(
+            "{}: no [contact] table: the study must state the tribometer's pin contact",
+            path.display()
+        );
+    };
+    match serde_json::to_value(contact)? {
+        serde_json::Value::Object(m) => Ok(m),
+        _ => bail!("{}: [contact] is not a table", path.display()),
+    }
+}
+
+/// Import `source` into the model file `out` (written atomically, provenance beside it);
+/// `contact_study` is the study TOML that stated the contact, recorded among the inputs.
+pub fn import(
+    source: &Path,
+    opts: &ImportOptions,
+    contact_study: Option<&Path>,
+    out: &Path,
+) -> Result<ModelFile> {
     let mut inputs = vec![("model", source)];
     if let Domain::Data(p) = &opts.domain {
         inputs.push(("training data", p.as_path()));
     }
     if let Some(Calibration::File(p)) = &opts.calibration {
         inputs.push(("calibration", p.as_path()));
+    }
+    if let Some(p) = contact_study {
+        inputs.push(("contact", p));
     }
     check_file_output(out, "--out", &inputs)?;
     let mut model = greybox_import::import_file(source, opts)?;

@@ -3,8 +3,10 @@
 
 use crate::laws::Model;
 use crate::{py_err, run_interruptible};
+use greybox_contact::PinContact;
 use greybox_import::{Calibration, Domain, ImportOptions};
 use greybox_model::modelfile::FeatureRange;
+use greybox_pipeline::import::{ContactSpec, CONTACT_KEYS};
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use std::path::PathBuf;
@@ -22,11 +24,32 @@ fn rows(x: &PyReadonlyArray2<'_, f64>) -> Vec<Vec<f64>> {
         .collect()
 }
 
+/// The pin contact stated as `contact=` in Python: the `[contact]` keys as JSON, over a
+/// study's `[contact]` table.
+fn contact(json: Option<&str>, study: Option<PathBuf>) -> PyResult<Option<PinContact>> {
+    let fields = match json {
+        Some(text) => match serde_json::from_str(text).map_err(py_err)? {
+            serde_json::Value::Object(m) => m,
+            _ => {
+                return Err(py_err(anyhow::anyhow!(
+                "contact: expected a dict of the study's [contact] keys ({}) or a study TOML path",
+                CONTACT_KEYS.join(", ")
+            )))
+            }
+        },
+        None => serde_json::Map::new(),
+    };
+    ContactSpec { study, fields }.resolve().map_err(py_err)
+}
+
 /// Import a model: `source` is a file path (XGBoost JSON/UBJSON, a greybox-sklearn JSON) or,
 /// with `is_json`, the JSON text of a scikit-learn export. The domain comes from `domain`
 /// ((min, max) per feature) or `x_train`; `x_cal`/`y_cal` give the split-conformal interval.
 #[pyfunction]
-#[pyo3(signature = (source, features = None, target = "cof_adhesive", domain = None, x_train = None, x_cal = None, y_cal = None, coverage = 0.95, is_json = false))]
+/// `contact_json` (a JSON object of the study's `[contact]` keys) and `contact_study` (a study
+/// TOML whose `[contact]` table it overrides) state the pin contact of a model trained on a
+/// normal force.
+#[pyo3(signature = (source, features = None, target = "cof_adhesive", domain = None, x_train = None, x_cal = None, y_cal = None, coverage = 0.95, is_json = false, contact_json = None, contact_study = None))]
 #[allow(clippy::too_many_arguments)]
 fn import_model(
     py: Python<'_>,
@@ -39,7 +62,10 @@ fn import_model(
     y_cal: Option<PyReadonlyArray1<'_, f64>>,
     coverage: f64,
     is_json: bool,
+    contact_json: Option<&str>,
+    contact_study: Option<PathBuf>,
 ) -> PyResult<Model> {
+    let contact = contact(contact_json, contact_study)?;
     let domain = match (domain, &x_train) {
         (Some(d), None) => Domain::Stated(
             d.into_iter()
@@ -68,6 +94,7 @@ fn import_model(
         domain,
         calibration,
         coverage,
+        contact,
     };
     let source = source.to_string();
     let file = run_interruptible(py, || -> anyhow::Result<_> {

@@ -1,6 +1,7 @@
 //! Model files and friction laws, evaluated on NumPy arrays.
 
 use crate::{py_err, run_interruptible, to_json};
+use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::ContactState;
 use greybox_friction::learned::LearnedLaw;
 use greybox_friction::FrictionLaw;
@@ -9,15 +10,23 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
-/// μ and the in-domain flag per state.
-type LawArrays<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<bool>>);
+/// μ and the in-domain flag per state, and the warning for states outside the validity
+/// domain (`None` when all lie inside).
+type LawArrays<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<bool>>,
+    Option<String>,
+);
 
-/// Value, low, high and the in-domain flag per point.
+/// Value, low, high and the in-domain flag per point, and the warning for points outside the
+/// training domain (`None` when all lie inside; the Python layer emits it as a
+/// `greybox.DomainWarning`).
 type Arrays<'py> = (
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray1<bool>>,
+    Option<String>,
 );
 
 fn policy(outside: &str) -> PyResult<DomainPolicy> {
@@ -58,6 +67,48 @@ fn states(p: &[f64], v: &[f64], t: Option<&[f64]>) -> anyhow::Result<Vec<Contact
         .collect()
 }
 
+/// A contact variable of a validity domain: its name, range (if the law has one), value in a
+/// state and SI unit.
+type Axis = (
+    &'static str,
+    Option<Range>,
+    fn(&ContactState) -> f64,
+    &'static str,
+);
+
+/// How many of the states lie outside the law's validity domain, and on which contact
+/// variables (with the domain's range); `None` when all lie inside.
+fn outside_validity(d: &ValidityDomain, s: &[ContactState], inside: &[bool]) -> Option<String> {
+    let outside = inside.iter().filter(|i| !**i).count();
+    if outside == 0 {
+        return None;
+    }
+    let axes: [Axis; 3] = [
+        ("pressure", Some(d.pressure_pa), |s| s.pressure_pa, "Pa"),
+        (
+            "sliding velocity",
+            Some(d.sliding_velocity_m_s),
+            |s| s.sliding_velocity_m_s,
+            "m/s",
+        ),
+        ("temperature", d.temperature_k, |s| s.temperature_k, "K"),
+    ];
+    let on: Vec<String> = axes
+        .iter()
+        .filter_map(|(name, r, get, unit)| {
+            let r = (*r)?;
+            s.iter()
+                .any(|s| !r.contains(get(s)))
+                .then(|| format!("{name} (valid {:.6e}..{:.6e} {unit})", r.min, r.max))
+        })
+        .collect();
+    Some(format!(
+        "{outside} of {} states lie outside the law's validity domain on {}: μ there is an extrapolation",
+        s.len(),
+        on.join(", ")
+    ))
+}
+
 /// A greybox model file (from `greybox fit`, `greybox import` or `from_sklearn`).
 #[pyclass(module = "greybox._native", frozen)]
 pub struct Model {
@@ -79,6 +130,10 @@ impl Model {
                 .map(|x| self.file.predict(x, policy, margin))
                 .collect::<greybox_core::Result<Vec<_>>>()?)
         })?;
+        let warning = self
+            .file
+            .outside_domain(rows.iter().map(|r| r.as_slice()), margin)
+            .map(|o| o.to_string());
         Ok((
             out.iter()
                 .map(|p| p.value)
@@ -96,6 +151,7 @@ impl Model {
                 .map(|p| p.in_domain)
                 .collect::<Vec<_>>()
                 .into_pyarray(py),
+            warning,
         ))
     }
 }
@@ -261,15 +317,18 @@ impl Law {
         self.law.domain().map(|d| to_json(&d)).transpose()
     }
 
-    /// μ at contact states in SI (Pa, m/s, K) and whether each lies in the validity domain.
-    #[pyo3(signature = (pressure_pa, velocity_m_s, temperature_k = None))]
+    /// μ at contact states in SI (Pa, m/s, K), whether each lies in the validity domain, and
+    /// the warning for those outside (`outside="refuse"`: an error instead).
+    #[pyo3(signature = (pressure_pa, velocity_m_s, temperature_k = None, outside = "warn"))]
     fn mu<'py>(
         &self,
         py: Python<'py>,
         pressure_pa: PyReadonlyArray1<'py, f64>,
         velocity_m_s: PyReadonlyArray1<'py, f64>,
         temperature_k: Option<PyReadonlyArray1<'py, f64>>,
+        outside: &str,
     ) -> PyResult<LawArrays<'py>> {
+        let policy = policy(outside)?;
         let t = temperature_k.as_ref().map(|t| t.as_slice()).transpose()?;
         let s = states(pressure_pa.as_slice()?, velocity_m_s.as_slice()?, t).map_err(py_err)?;
         let (mu, inside) = run_interruptible(py, || {
@@ -285,7 +344,14 @@ impl Law {
                 s[i]
             )));
         }
-        Ok((mu.into_pyarray(py), inside.into_pyarray(py)))
+        let warning = self
+            .law
+            .domain()
+            .and_then(|d| outside_validity(&d, &s, &inside));
+        if let (Some(w), DomainPolicy::Refuse) = (&warning, policy) {
+            return Err(py_err(anyhow::anyhow!("{w}")));
+        }
+        Ok((mu.into_pyarray(py), inside.into_pyarray(py), warning))
     }
 
     fn __repr__(&self) -> String {

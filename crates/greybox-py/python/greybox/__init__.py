@@ -49,6 +49,7 @@ ArrayLike = npt.ArrayLike
 
 __all__ = [
     "GreyboxError",
+    "DomainWarning",
     "Model",
     "Law",
     "Prediction",
@@ -169,6 +170,20 @@ def _argument_errors(f: _F) -> _F:
     return wrapper  # type: ignore[return-value]
 
 
+class DomainWarning(UserWarning):
+    """Points lie outside a model's training domain (widened by the margin) or a law's
+    validity domain: the values there are extrapolations. Emitted by ``outside="warn"``."""
+
+
+def _warn_outside(result: tuple) -> tuple:
+    """The arrays of a native evaluation, warning (:class:`DomainWarning`) when its last
+    element, the outside-domain message, is set."""
+    *arrays, message = result
+    if message is not None:
+        warnings.warn(message, DomainWarning, stacklevel=3)
+    return tuple(arrays)
+
+
 def _f64(x: Any, name: str) -> np.ndarray:
     a = _asarray(x, name)
     if a.ndim == 0:
@@ -260,7 +275,8 @@ class Model:
         """Predictions at rows of ``X`` (n × features, in the features' units).
 
         ``outside="refuse"`` raises for points beyond the training domain widened by
-        ``margin`` × each feature's range; ``"warn"`` predicts and flags them in ``in_domain``.
+        ``margin`` × each feature's range; ``"warn"`` predicts, flags them in ``in_domain``
+        and warns (:class:`DomainWarning`) how many lie outside, on which features.
         A DataFrame is reordered to the model's feature names.
         """
         if hasattr(X, "columns"):
@@ -268,7 +284,7 @@ class Model:
             if missing:
                 raise GreyboxError(f"X lacks the model's feature columns {missing}")
             X = X[self.features].to_numpy()  # type: ignore[index]
-        return Prediction(*self._m.predict(_f64_2d(X, "X"), outside, margin))
+        return Prediction(*_warn_outside(self._m.predict(_f64_2d(X, "X"), outside, margin)))
 
     def mu(
         self,
@@ -280,11 +296,11 @@ class Model:
     ) -> Prediction:
         """μ at contact states in SI, mapped to the model's feature units (a normal-force
         feature through the training contact's Hertz relation), with intervals and the
-        domain check."""
+        domain check (``outside`` and ``margin`` as in :meth:`predict`)."""
         p = _f64(pressure_Pa, "pressure_Pa")
         v = _f64(velocity_m_per_s, "velocity_m_per_s")
         t = None if temperature_K is None else _f64(temperature_K, "temperature_K")
-        return Prediction(*self._m.mu(p, v, t, outside, margin))
+        return Prediction(*_warn_outside(self._m.mu(p, v, t, outside, margin)))
 
     def law(self) -> "Law":
         """This model as a friction law."""
@@ -339,13 +355,19 @@ class Law:
         return None if d is None else json.loads(d)
 
     def mu(
-        self, pressure_Pa: ArrayLike, velocity_m_per_s: ArrayLike, temperature_K: Optional[ArrayLike] = None
+        self,
+        pressure_Pa: ArrayLike,
+        velocity_m_per_s: ArrayLike,
+        temperature_K: Optional[ArrayLike] = None,
+        outside: str = "warn",
     ) -> LawValues:
-        """μ at contact states in SI (Pa, m/s, K)."""
+        """μ at contact states in SI (Pa, m/s, K). States outside the law's validity domain
+        are flagged in ``in_domain``; ``outside="warn"`` also warns (:class:`DomainWarning`),
+        ``"refuse"`` raises."""
         p = _f64(pressure_Pa, "pressure_Pa")
         v = _f64(velocity_m_per_s, "velocity_m_per_s")
         t = None if temperature_K is None else _f64(temperature_K, "temperature_K")
-        return LawValues(*self._l.mu(p, v, t))
+        return LawValues(*_warn_outside(self._l.mu(p, v, t, outside)))
 
     def __repr__(self) -> str:
         return repr(self._l)
@@ -541,7 +563,19 @@ def fit(
     )
 
 
-def _import(source: str, is_json: bool, features, target, domain, X_train, X_cal, y_cal, coverage) -> Model:
+def _contact(contact: Any) -> tuple:
+    """``contact=`` as (JSON of the [contact] keys, study path): a dict, or a study TOML."""
+    if contact is None:
+        return None, None
+    if isinstance(contact, (str, os.PathLike)):
+        return None, os.fspath(contact)
+    if isinstance(contact, dict):
+        return json.dumps(contact), None
+    raise GreyboxError(f"contact: expected a dict of the study's [contact] keys or a study TOML path, got {type(contact).__name__}")
+
+
+def _import(source: str, is_json: bool, features, target, domain, X_train, X_cal, y_cal, coverage, contact) -> Model:
+    contact_json, contact_study = _contact(contact)
     return Model(
         _native.import_model(
             source,
@@ -553,6 +587,8 @@ def _import(source: str, is_json: bool, features, target, domain, X_train, X_cal
             None if y_cal is None else _f64(y_cal, "y_cal"),
             coverage,
             is_json,
+            contact_json,
+            contact_study,
         )
     )
 
@@ -566,6 +602,7 @@ def from_sklearn(
     X_cal: Any = None,
     y_cal: Any = None,
     coverage: float = 0.95,
+    contact: Any = None,
 ) -> Model:
     """A fitted scikit-learn regressor as a greybox model: RandomForestRegressor,
     ExtraTreesRegressor, GradientBoostingRegressor, SVR (linear, poly, rbf, sigmoid) or
@@ -573,10 +610,22 @@ def from_sklearn(
 
     ``features`` name the inputs with unit suffixes (default: ``feature_names_in_``). State
     the training domain as ``domain=[(min, max), …]`` or give ``X_train``. Rows the model
-    was not trained on (``X_cal``, ``y_cal``) give a split-conformal interval. Tree
+    was not trained on (``X_cal``, ``y_cal``) give a split-conformal interval.
+
+    ``contact`` states the tribometer's pin contact, needed for a model trained on a normal
+    force (``normal_force_N``) to be a friction law (:meth:`Model.law`, :meth:`Model.mu`,
+    :func:`export_table`, :func:`simulate_cut`): a dict with the keys of a study's
+    ``[contact]`` table (``convention`` — textbook-max, textbook-mean or article-eq7, the one
+    the training pressures were computed with — required; ``pin_tip_radius_mm``,
+    ``pin_youngs_modulus_gpa``, ``pin_poisson_ratio``, ``disk_youngs_modulus_gpa``,
+    ``disk_poisson_ratio`` default to the article's pin), or a study TOML path whose
+    ``[contact]`` table is taken, as ``greybox import --contact`` does. It is recorded in
+    the model file. Feature names must carry a unit greybox maps (pressure ``_Pa``,
+    ``_MPa``, ``_GPa``; velocity ``_m_per_s``, ``_m_per_min``; temperature ``_K``,
+    ``_degC``; force ``_N``, ``_kN``); others are refused. Tree
     predictions agree with scikit-learn to rounding of the sum (splits bit-exact, including
     its float32 input cast); SVR and MLP to rounding."""
-    return _import(export_sklearn_json(estimator), True, features, target, domain, X_train, X_cal, y_cal, coverage)
+    return _import(export_sklearn_json(estimator), True, features, target, domain, X_train, X_cal, y_cal, coverage, contact)
 
 
 def from_xgboost(
@@ -588,18 +637,19 @@ def from_xgboost(
     X_cal: Any = None,
     y_cal: Any = None,
     coverage: float = 0.95,
+    contact: Any = None,
 ) -> Model:
     """An XGBoost model (a ``Booster``, an ``XGBRegressor`` or a path to a booster saved as
     JSON or UBJSON) as a greybox model whose predictions equal ``Booster.predict`` bit for
     bit (float32 splits and float32 sums reproduced). Other arguments as in
     :func:`from_sklearn`."""
     if isinstance(booster, (str, os.PathLike)):
-        return _import(os.fspath(booster), False, features, target, domain, X_train, X_cal, y_cal, coverage)
+        return _import(os.fspath(booster), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact)
     b = booster.get_booster() if hasattr(booster, "get_booster") else booster
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "booster.ubj")
         b.save_model(path)
-        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage)
+        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage, contact)
 
 
 def grey_box_law(
@@ -633,11 +683,12 @@ def import_model(
     X_cal: Optional[ArrayLike] = None,
     y_cal: Optional[ArrayLike] = None,
     coverage: float = 0.95,
+    contact: Any = None,
 ) -> Model:
     """A model file of another library, as ``greybox import`` reads it: an XGBoost booster
     (JSON/UBJSON), an ONNX model, or a scikit-learn export written from
     :func:`export_sklearn`. Other arguments as in :func:`from_sklearn`."""
-    return _import(_path(path, "path"), False, features, target, domain, X_train, X_cal, y_cal, coverage)
+    return _import(_path(path, "path"), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact)
 
 
 def from_onnx(
@@ -649,6 +700,7 @@ def from_onnx(
     X_cal: Any = None,
     y_cal: Any = None,
     coverage: float = 0.95,
+    contact: Any = None,
 ) -> Model:
     """An ONNX model (a path, the file's bytes, or an ``onnx.ModelProto``) converted into a
     greybox model — tree ensembles (``TreeEnsembleRegressor``), SVMs (``SVMRegressor``),
@@ -658,13 +710,13 @@ def from_onnx(
     float32 rounding (the runtime computes in float32). ONNX graphs carry no usable feature
     names: state ``features`` with units. Other arguments as in :func:`from_sklearn`."""
     if isinstance(model, (str, os.PathLike)):
-        return _import(os.fspath(model), False, features, target, domain, X_train, X_cal, y_cal, coverage)
+        return _import(os.fspath(model), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact)
     data = model if isinstance(model, (bytes, bytearray)) else model.SerializeToString()
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "model.onnx")
         with open(path, "wb") as f:
             f.write(data)
-        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage)
+        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage, contact)
 
 
 def _law_path(law: Any, tmp: str) -> str:

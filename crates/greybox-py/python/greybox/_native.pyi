@@ -11,7 +11,8 @@ __version__: str
 
 class GreyboxError(ValueError): ...
 
-_Arrays = Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.bool_]]
+# value, low, high, in_domain, and the outside-domain warning (None when all points lie inside)
+_Arrays = Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.bool_], Optional[str]]
 
 class Model:
     @staticmethod
@@ -62,7 +63,8 @@ class Law:
         pressure_pa: npt.NDArray[np.float64],
         velocity_m_s: npt.NDArray[np.float64],
         temperature_k: Optional[npt.NDArray[np.float64]] = None,
-    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]: ...
+        outside: str = "warn",
+    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_], Optional[str]]: ...
 
 def hertz_rows(
     normal_force_n: npt.NDArray[np.float64],
@@ -125,4 +127,6 @@ def import_model(
     y_cal: Optional[npt.NDArray[np.float64]] = None,
     coverage: float = 0.95,
     is_json: bool = False,
+    contact_json: Optional[str] = None,
+    contact_study: Optional[str] = None,
 ) -> Model: ...
