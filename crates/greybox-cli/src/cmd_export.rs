@@ -23,7 +23,11 @@ pub fn choice<T: Choice + Send + Sync + Clone>() -> impl clap::builder::TypedVal
 fn object_pair(s: &str) -> Result<[u32; 2], String> {
     let n: Vec<u32> = s
         .split(',')
-        .map(|x| x.trim().parse().map_err(|_| format!("'{x}' is not an object number")))
+        .map(|x| {
+            x.trim()
+                .parse()
+                .map_err(|_| format!("'{x}' is not an object number"))
+        })
         .collect::<Result<_, _>>()?;
     <[u32; 2]>::try_from(n).map_err(|_| "expected two object numbers, TOOL,WORKPIECE".into())
 }

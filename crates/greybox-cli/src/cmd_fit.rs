@@ -13,9 +13,9 @@ pub struct Args {
     /// Dataset CSV (e.g. from `greybox identify` or `greybox adhesive`).
     #[arg(long)]
     pub data: PathBuf,
-    /// Target column.
-    #[arg(long, default_value = "cof_apparent")]
-    pub target: String,
+    /// Target column [default: cof_adhesive where the dataset has it, else cof_apparent].
+    #[arg(long)]
+    pub target: Option<String>,
     /// Feature columns, comma-separated.
     #[arg(
         long,
@@ -169,7 +169,10 @@ impl Args {
     pub fn options(&self) -> Result<FitOptions> {
         Ok(FitOptions {
             data: self.data.clone(),
-            target: self.target.clone(),
+            target: match &self.target {
+                Some(t) => t.clone(),
+                None => greybox_pipeline::fit::default_target(&self.data)?,
+            },
             features: self.features.clone(),
             fold_column: self.fold_column.clone(),
             config: config(self)?,

@@ -30,14 +30,19 @@ fn every_format_with_default_options_is_the_same_file_from_the_cli_and_the_libra
         let name = format.name();
         let cli = format!("cli.{name}");
         ok(&greybox(
-            &["export", "--law", "law.json", "--format", name, "--out", &cli],
+            &[
+                "export", "--law", "law.json", "--format", name, "--out", &cli,
+            ],
             p,
         ));
         let lib = p.join(format!("lib.{name}"));
         export(&ExportOptions::new(p.join("law.json"), format, lib.clone())).unwrap();
         let (a, b) = (read(&p.join(&cli)), read(&lib));
         assert!(!a.is_empty());
-        assert!(a == b, "{name}: the CLI and the library wrote different tables");
+        assert!(
+            a == b,
+            "{name}: the CLI and the library wrote different tables"
+        );
     }
 }
 
@@ -45,7 +50,15 @@ fn every_format_with_default_options_is_the_same_file_from_the_cli_and_the_libra
 fn same_file(format: ExportFormat, flags: &[&str], overrides: ExportOverrides) -> String {
     let d = setup();
     let p = d.path();
-    let mut args = vec!["export", "--law", "law.json", "--format", format.name(), "--out", "cli.out"];
+    let mut args = vec![
+        "export",
+        "--law",
+        "law.json",
+        "--format",
+        format.name(),
+        "--out",
+        "cli.out",
+    ];
     args.extend_from_slice(flags);
     ok(&greybox(&args, p));
     let o = ExportOptions::new(p.join("law.json"), format, p.join("lib.out"))
@@ -53,7 +66,11 @@ fn same_file(format: ExportFormat, flags: &[&str], overrides: ExportOverrides) -
         .unwrap();
     export(&o).unwrap();
     let cli = read(&p.join("cli.out"));
-    assert!(cli == read(&p.join("lib.out")), "{}: {flags:?}", format.name());
+    assert!(
+        cli == read(&p.join("lib.out")),
+        "{}: {flags:?}",
+        format.name()
+    );
     String::from_utf8(cli).unwrap()
 }
 
@@ -64,7 +81,12 @@ fn overrides_in_the_clis_units_give_the_librarys_si_options() {
         velocity_m_per_s: Some(vec![0.5, 1.0, 2.0]),
         ..Default::default()
     };
-    let grid_flags = ["--pressure-MPa", "100:900:5", "--velocity-m-per-min", "30,60,120"];
+    let grid_flags = [
+        "--pressure-MPa",
+        "100:900:5",
+        "--velocity-m-per-min",
+        "30,60,120",
+    ];
     let mut flags = grid_flags.to_vec();
     flags.extend(["--units", "Pa-m-s", "--lsdyna-table-id", "7"]);
     let text = same_file(
@@ -78,7 +100,14 @@ fn overrides_in_the_clis_units_give_the_librarys_si_options() {
     );
     assert!(text.contains("Pa") && text.contains("m/s"), "{text}");
     let mut flags = grid_flags.to_vec();
-    flags.extend(["--temperature-K", "300,600", "--taumax-MPa", "350", "--temperature-unit", "K"]);
+    flags.extend([
+        "--temperature-K",
+        "300,600",
+        "--taumax-MPa",
+        "350",
+        "--temperature-unit",
+        "K",
+    ]);
     let text = same_file(
         ExportFormat::Abaqus,
         &flags,
@@ -92,7 +121,12 @@ fn overrides_in_the_clis_units_give_the_librarys_si_options() {
     assert!(text.contains("TAUMAX=350"), "{text}");
     same_file(
         ExportFormat::Deform,
-        &["--deform-reference-velocity-m-per-min", "90", "--deform-objects", "3,4"],
+        &[
+            "--deform-reference-velocity-m-per-min",
+            "90",
+            "--deform-objects",
+            "3,4",
+        ],
         ExportOverrides {
             deform_reference_velocity_m_per_s: Some(1.5),
             deform_objects: Some([3, 4]),
@@ -105,7 +139,9 @@ fn overrides_in_the_clis_units_give_the_librarys_si_options() {
 fn the_json_report_is_the_librarys_report() {
     let d = setup();
     let out = ok(&greybox(
-        &["export", "--law", "law.json", "--format", "csv", "--out", "t.csv", "--json"],
+        &[
+            "export", "--law", "law.json", "--format", "csv", "--out", "t.csv", "--json",
+        ],
         d.path(),
     ));
     let v: serde_json::Value = serde_json::from_str(&out).expect("JSON on stdout");
@@ -122,12 +158,22 @@ fn an_option_of_another_engine_is_refused_by_its_library_name() {
     let d = setup();
     let e = err(&greybox(
         &[
-            "export", "--law", "law.json", "--format", "abaqus", "--out", "a.inp",
-            "--lsdyna-table-id", "3",
+            "export",
+            "--law",
+            "law.json",
+            "--format",
+            "abaqus",
+            "--out",
+            "a.inp",
+            "--lsdyna-table-id",
+            "3",
         ],
         d.path(),
     ));
-    assert!(e.contains("export.lsdyna_table_id") && e.contains("abaqus"), "{e}");
+    assert!(
+        e.contains("export.lsdyna_table_id") && e.contains("abaqus"),
+        "{e}"
+    );
     assert!(!d.path().join("a.inp").exists());
 }
 
@@ -138,8 +184,15 @@ fn a_table_over_the_size_budget_is_refused_with_its_size_for_every_format() {
         let out = format!("big.{}", format.name());
         let e = err(&greybox(
             &[
-                "export", "--law", "law.json", "--format", format.name(), "--out", &out,
-                "--max-table-size", "100",
+                "export",
+                "--law",
+                "law.json",
+                "--format",
+                format.name(),
+                "--out",
+                &out,
+                "--max-table-size",
+                "100",
             ],
             d.path(),
         ));

@@ -26,8 +26,8 @@ use crate::synth::{synthesize, SynthSummary};
 use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::dataset::FrictionDataset;
-use greybox_couple::engine::CouplingResult;
 use greybox_core::units::{m_per_min_to_m_per_s, mpa_to_pa};
+use greybox_couple::engine::CouplingResult;
 use greybox_friction::export::Grid;
 use greybox_learn::model::Family;
 use greybox_tribo::campaign::FileReport;
@@ -272,23 +272,27 @@ fn grey_box(study: &Study, dataset_csv: &Path) -> Result<GreyBox> {
     let path = PathBuf::from("law.json");
     write_law(&path, &law)?;
     let export_line = export(
-        &ExportOptions::new(path.clone(), ExportFormat::Abaqus, "abaqus_friction.inp".into())
-            .with_grid(Grid {
-                pressure_pa: equidistant(900.0, 2200.0, 14)
-                    .into_iter()
-                    .map(mpa_to_pa)
-                    .collect(),
-                velocity_m_s: equidistant(20.0, 250.0, 24)
-                    .into_iter()
-                    .map(m_per_min_to_m_per_s)
-                    .collect(),
-                temperature_k: None,
-            })
-            .with_engine(Engine::Abaqus {
-                units: DEFAULT_UNITS,
-                temperature_unit: DEFAULT_TEMPERATURE_UNIT,
-                taumax_pa: Some(mpa_to_pa(DEMO_SHEAR_CAP_MPA)),
-            }),
+        &ExportOptions::new(
+            path.clone(),
+            ExportFormat::Abaqus,
+            "abaqus_friction.inp".into(),
+        )
+        .with_grid(Grid {
+            pressure_pa: equidistant(900.0, 2200.0, 14)
+                .into_iter()
+                .map(mpa_to_pa)
+                .collect(),
+            velocity_m_s: equidistant(20.0, 250.0, 24)
+                .into_iter()
+                .map(m_per_min_to_m_per_s)
+                .collect(),
+            temperature_k: None,
+        })
+        .with_engine(Engine::Abaqus {
+            units: DEFAULT_UNITS,
+            temperature_unit: DEFAULT_TEMPERATURE_UNIT,
+            taumax_pa: Some(mpa_to_pa(DEMO_SHEAR_CAP_MPA)),
+        }),
     )?
     .line;
     write_string_atomic(Path::new("ffi/greybox.h"), GREYBOX_H)?;

@@ -10,6 +10,7 @@ use greybox_learn::plot;
 use greybox_learn::protocol::{markdown, run_protocol, FitConfig, FitReport};
 use greybox_learn::table::read_dataset;
 use serde::Serialize;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// Options of [`fit`].
@@ -33,6 +34,29 @@ pub struct FitOptions {
     pub force: bool,
 }
 
+/// The target column when none is named: the adhesive coefficient where the dataset has it
+/// (after the ploughing correction, what the article's models learn), else the apparent one.
+pub fn default_target(data: &Path) -> Result<String> {
+    use std::io::BufRead;
+    let file = std::fs::File::open(data)
+        .map_err(|e| anyhow::anyhow!("cannot read {}: {e}", data.display()))?;
+    let mut header = String::new();
+    std::io::BufReader::new(file)
+        .take(1 << 20)
+        .read_line(&mut header)
+        .map_err(|e| anyhow::anyhow!("cannot read {}: {e}", data.display()))?;
+    let has = |name: &str| header.trim_end().split(',').any(|h| h.trim() == name);
+    Ok(if has("cof_adhesive") {
+        "cof_adhesive"
+    } else {
+        "cof_apparent"
+    }
+    .to_string())
+}
+
+/// The feature columns when none are named: normal force and sliding velocity.
+pub const DEFAULT_FEATURES: [&str; 2] = ["normal_force_N", "sliding_velocity_m_per_min"];
+
 impl FitOptions {
     /// The article's protocol and grids on `target` against normal force and sliding
     /// velocity, from `data` into `out`.
@@ -40,7 +64,7 @@ impl FitOptions {
         FitOptions {
             data,
             target: target.into(),
-            features: vec!["normal_force_N".into(), "sliding_velocity_m_per_min".into()],
+            features: DEFAULT_FEATURES.map(String::from).to_vec(),
             fold_column: None,
             config: FitConfig::default(),
             study: None,

@@ -245,19 +245,26 @@ fn ploughing_correction(
 
 /// The article's learning protocol on a dataset: JSON {report, outputs, warnings}. `config`
 /// is JSON of the `[fit]` settings (families, folds, seed, grids …; absent: the article's).
+/// `target` and `features` default as on the command line (the library's defaults).
 #[pyfunction]
-#[pyo3(signature = (data, out, target, features, config = None, force = false))]
+#[pyo3(signature = (data, out, target = None, features = None, config = None, force = false))]
 fn fit_models(
     py: Python<'_>,
     data: PathBuf,
     out: PathBuf,
-    target: &str,
-    features: Vec<String>,
+    target: Option<String>,
+    features: Option<Vec<String>>,
     config: Option<&str>,
     force: bool,
 ) -> PyResult<String> {
-    let mut o = FitOptions::article(data, target, out);
-    o.features = features;
+    let target = match target {
+        Some(t) => t,
+        None => greybox_pipeline::fit::default_target(&data).map_err(py_err)?,
+    };
+    let mut o = FitOptions::article(data, &target, out);
+    if let Some(f) = features {
+        o.features = f;
+    }
     o.force = force;
     if let Some(c) = config {
         o.config =

@@ -139,7 +139,7 @@ def test_export_tables_hold_the_models_values(fitted, tmp_path):
     np.testing.assert_allclose(t[mu_col], ref, rtol=1e-9, atol=1e-12)
     gb.export_table(d / "fit" / "models" / "svr.json", "abaqus", tmp_path / "friction.inp", p, v)
     assert "*FRICTION" in (tmp_path / "friction.inp").read_text().upper()
-    with pytest.raises(gb.GreyboxError, match="format 'ansys'"):
+    with pytest.raises(gb.GreyboxError, match="export.format: 'ansys' is not one of abaqus"):
         gb.export_table(m, "ansys", tmp_path / "x", p, v)
 
 
@@ -245,3 +245,32 @@ def test_identify_a_real_rig_export_with_channel_settings(tmp_path):
     assert (tmp_path / "c.csv").read_bytes() == (tmp_path / "d.csv").read_bytes()
     channels, how = gb.read_recording(os.path.join(rigs, "pcs-mtm", "demo_7.txt"))
     assert "cof" in channels and "pcs-mtm" in json.dumps(how)
+
+
+def test_fit_from_python_and_the_cli_gives_the_same_report_and_models(fitted, tmp_path):
+    """The same [fit] settings through gb.fit and `greybox fit`: the same report (every
+    score, interval and importance) and model files that predict identically."""
+    import subprocess
+
+    d, py = fitted
+    cli = os.environ.get("GREYBOX_CLI") or os.path.join(os.path.dirname(__file__), "..", "..", "..", "target", "release", "greybox")
+    r = subprocess.run(
+        [cli, "-q", "fit", "--data", str(d / "adhesive.csv"), "--out", str(tmp_path / "fit"),
+         "--families", "svr,random-forest", "--folds", "4", "--inner-folds", "3",
+         "--bootstrap", "50", "--importance-repeats", "3"],
+        capture_output=True, text=True,
+    )
+    assert r.returncode == 0, r.stderr
+    with open(tmp_path / "fit" / "report.json") as f:
+        cli_report = json.load(f)
+    with open(d / "fit" / "report.json") as f:
+        py_report = json.load(f)
+    for report in (cli_report, py_report):
+        for family in report["families"]:
+            family.pop("seconds")  # wall time, the one thing that may differ
+    assert cli_report == py_report
+    X = np.array([[300.0, 40.0], [1500.0, 200.0]])
+    for family in ("svr", "random-forest"):
+        a = gb.load_model(tmp_path / "fit" / "models" / f"{family}.json").predict(X)
+        b = gb.load_model(d / "fit" / "models" / f"{family}.json").predict(X)
+        np.testing.assert_array_equal(a.value, b.value)

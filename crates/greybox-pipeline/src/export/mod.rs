@@ -8,12 +8,10 @@ pub use options::*;
 use crate::output::provenance;
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::choice::Choice;
 use greybox_core::law::Range;
 use greybox_core::outputs::check_file_output;
-use greybox_core::choice::Choice;
-use greybox_friction::export::{
-    self, DeformWindow, Deviation, Exported, Grid, TableOptions,
-};
+use greybox_friction::export::{self, DeformWindow, Deviation, Exported, Grid, TableOptions};
 use greybox_friction::spec::{law_inputs, load_law};
 use greybox_friction::surrogate::{self, SurrogateOptions};
 use greybox_friction::table::Axis;

@@ -279,7 +279,10 @@ impl ExportOptions {
             .validate()
             .context("export.pressure_Pa, export.velocity_m_per_s or export.temperature_K")?;
         if !(self.tolerance > 0.0 && self.tolerance.is_finite()) {
-            bail!("export.tolerance: {} is not a positive number", self.tolerance);
+            bail!(
+                "export.tolerance: {} is not a positive number",
+                self.tolerance
+            );
         }
         if self.max_table_size == 0 {
             bail!("export.max_table_size: must be at least 1");
@@ -395,10 +398,8 @@ impl ExportOverrides {
         temperature_K: Option<&str>,
     ) -> Result<Self> {
         let values = |text: Option<&str>, field: &str, to_si: fn(f64) -> f64| {
-            text.map(|t| {
-                super::parse_values(t, field).map(|v| v.into_iter().map(to_si).collect())
-            })
-            .transpose()
+            text.map(|t| super::parse_values(t, field).map(|v| v.into_iter().map(to_si).collect()))
+                .transpose()
         };
         self.pressure_Pa = values(pressure_MPa, "export.pressure_MPa", mpa_to_pa)?;
         self.velocity_m_per_s = values(
@@ -480,7 +481,11 @@ impl ExportOverrides {
         use ExportFormat::*;
         let set = [
             ("units", self.units.is_some(), &[Abaqus, Lsdyna][..]),
-            ("temperature_unit", self.temperature_unit.is_some(), &[Abaqus, Lsdyna]),
+            (
+                "temperature_unit",
+                self.temperature_unit.is_some(),
+                &[Abaqus, Lsdyna],
+            ),
             ("taumax_Pa", self.taumax_Pa.is_some(), &[Abaqus]),
             (
                 "deform_reference_velocity_m_per_s",
@@ -491,8 +496,16 @@ impl ExportOverrides {
             ("deform_windows", self.deform_windows.is_some(), &[Deform]),
             ("lsdyna_table_id", self.lsdyna_table_id.is_some(), &[Lsdyna]),
             ("table_kind", self.table_kind.is_some(), &[Table]),
-            ("steps", self.steps.is_some(), &[Abaqus, Deform, Lsdyna, Csv]),
-            ("adaptive_grid", self.adaptive_grid.is_some(), &[Abaqus, Deform, Lsdyna, Csv]),
+            (
+                "steps",
+                self.steps.is_some(),
+                &[Abaqus, Deform, Lsdyna, Csv],
+            ),
+            (
+                "adaptive_grid",
+                self.adaptive_grid.is_some(),
+                &[Abaqus, Deform, Lsdyna, Csv],
+            ),
         ];
         set.iter()
             .find(|(_, given, formats)| *given && !formats.contains(&format))

@@ -105,6 +105,15 @@ def _strs(x: Any, name: str) -> list:
     return list(x)
 
 
+def _opt_float(x: Any, name: str) -> Optional[float]:
+    """A number or None; anything else is a GreyboxError naming the argument."""
+    if x is None:
+        return None
+    if isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
+        raise GreyboxError(f"{name}: expected a number, got {type(x).__name__} {x!r}")
+    return float(x)
+
+
 def _count(n: Any, name: str) -> Any:
     """A count (an int ≥ 0) or None, checked here because the native module's own refusal of
     a negative number (OverflowError) does not name the argument."""
@@ -180,7 +189,7 @@ def _warn_outside(result: tuple) -> tuple:
     element, the outside-domain message, is set."""
     *arrays, message = result
     if message is not None:
-        warnings.warn(message, DomainWarning, stacklevel=3)
+        warnings.warn(message, DomainWarning, stacklevel=4)
     return tuple(arrays)
 
 
@@ -542,21 +551,23 @@ def ploughing_correction(
 def fit(
     data: PathLike,
     out: PathLike,
-    target: str = "cof_adhesive",
-    features: Sequence[str] = ("normal_force_N", "sliding_velocity_m_per_min"),
+    target: Optional[str] = None,
+    features: Optional[Sequence[str]] = None,
     config: Optional[dict] = None,
     force: bool = False,
 ) -> dict:
     """The article's learning protocol (grid search, nested cross-validation, bootstrap CIs,
     permutation importance, conformal intervals) on a dataset; model files, report and
-    plots go into ``out``. ``config`` holds ``[fit]`` settings (families, folds, seed,
-    skip_nested, grid …). Returns {"report", "outputs", "warnings"}."""
+    plots go into ``out``. ``target`` defaults to ``cof_adhesive`` where the dataset has it,
+    else ``cof_apparent``; ``features`` to normal force and sliding velocity (the command
+    line's defaults, owned by the library). ``config`` holds ``[fit]`` settings (families,
+    folds, seed, skip_nested, grid …). Returns {"report", "outputs", "warnings"}."""
     return json.loads(
         _native.fit_models(
             _path(data, "data"),
             _path(out, "out"),
             target,
-            _strs(features, "features"),
+            None if features is None else _strs(features, "features"),
             None if config is None else json.dumps(config),
             force,
         )
@@ -774,15 +785,15 @@ def export_table(
     options: dict = {
         "units": units,
         "temperature_unit": temperature_unit,
-        "taumax_Pa": taumax_Pa,
-        "deform_reference_velocity_m_per_s": deform_reference_velocity_m_per_s,
+        "taumax_Pa": _opt_float(taumax_Pa, "taumax_Pa"),
+        "deform_reference_velocity_m_per_s": _opt_float(deform_reference_velocity_m_per_s, "deform_reference_velocity_m_per_s"),
         "deform_objects": None if deform_objects is None else [int(x) for x in deform_objects],
         "deform_windows": _opt_path(deform_windows, "deform_windows"),
         "lsdyna_table_id": _count(lsdyna_table_id, "lsdyna_table_id"),
         "check_points": _count(check_points, "check_points"),
         "steps": steps,
         "table_kind": table_kind,
-        "tolerance": tolerance,
+        "tolerance": _opt_float(tolerance, "tolerance"),
         "max_table_size": _count(max_table_size, "max_table_size"),
         "adaptive_grid": adaptive_grid,
     }
@@ -793,7 +804,7 @@ def export_table(
     with tempfile.TemporaryDirectory() as d:
         report = json.loads(_native.export_table(_law_path(law, d), format, _path(out, "out"), json.dumps(options)))
     for w in report.get("warnings", []):
-        warnings.warn(w, stacklevel=2)
+        warnings.warn(w, stacklevel=3)
     return report
 
 

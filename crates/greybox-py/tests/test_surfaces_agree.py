@@ -1,0 +1,98 @@
+"""One task through Python and through the command line gives the same bytes: the options and
+their defaults are the library's, both surfaces only override fields. (The library side of
+the same comparison is crates/greybox-cli/tests/surfaces_agree.rs.)"""
+
+import json
+import os
+import subprocess
+
+import pytest
+
+import greybox as gb
+
+REPO = os.path.join(os.path.dirname(__file__), "..", "..", "..")
+CLI = os.environ.get("GREYBOX_CLI") or os.path.join(REPO, "target", "release", "greybox")
+FORMATS = ["abaqus", "deform", "lsdyna", "csv", "table"]
+LAW = '{"law": "usui-childs", "mu": 0.5, "m": 0.8, "n": 1.0, "k_MPa": 500}'
+
+pytestmark = pytest.mark.skipif(
+    not os.path.exists(CLI) and os.environ.get("GREYBOX_REQUIRE_REFERENCES") != "1",
+    reason="the greybox binary is not built",
+)
+
+
+def cli(*args, cwd):
+    r = subprocess.run([CLI, "-q", *map(str, args)], cwd=cwd, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    return r.stdout
+
+
+@pytest.fixture
+def law(tmp_path):
+    (tmp_path / "law.json").write_text(LAW)
+    return tmp_path / "law.json"
+
+
+@pytest.mark.parametrize("format", FORMATS)
+def test_default_export_is_the_same_file_from_python_and_the_cli(law, tmp_path, format):
+    cli("export", "--law", law, "--format", format, "--out", "cli.out", cwd=tmp_path)
+    report = gb.export_table(law, format, tmp_path / "py.out")
+    assert (tmp_path / "cli.out").read_bytes() == (tmp_path / "py.out").read_bytes()
+    assert report["bytes"] == len((tmp_path / "py.out").read_bytes())
+
+
+def test_the_defaults_are_the_documented_ones_and_python_can_change_each():
+    d = gb.export_defaults("deform")
+    assert d["deform_objects"] == [2, 1]
+    assert d["deform_reference_velocity_m_per_s"] == 2.5  # 150 m/min
+    assert gb.export_defaults("lsdyna")["lsdyna_table_id"] == 1000
+    assert gb.export_defaults("abaqus")["units"] == "MPa-mm-s"
+    assert len(d["pressure_Pa"]) == 21 and len(d["velocity_m_per_s"]) == 30
+
+
+def test_overrides_from_python_match_the_cli_flags(law, tmp_path):
+    cli(
+        "export", "--law", law, "--format", "deform", "--out", "cli.key",
+        "--deform-objects", "1,2", "--deform-reference-velocity-m-per-min", "60",
+        "--pressure-MPa", "200:1000:5", "--velocity-m-per-min", "30,60,120",
+        cwd=tmp_path,
+    )
+    gb.export_table(
+        law, "deform", tmp_path / "py.key",
+        pressure_Pa=[200e6, 400e6, 600e6, 800e6, 1000e6], velocity_m_per_s=[0.5, 1.0, 2.0],
+        deform_objects=(1, 2), deform_reference_velocity_m_per_s=1.0,
+    )
+    assert (tmp_path / "cli.key").read_bytes() == (tmp_path / "py.key").read_bytes()
+    cli("export", "--law", law, "--format", "lsdyna", "--out", "cli.k", "--units", "Pa-m-s",
+        "--lsdyna-table-id", "5", cwd=tmp_path)
+    gb.export_table(law, "lsdyna", tmp_path / "py.k", units="Pa-m-s", lsdyna_table_id=5)
+    assert (tmp_path / "cli.k").read_bytes() == (tmp_path / "py.k").read_bytes()
+
+
+def test_an_option_of_another_engine_or_a_mixed_unit_set_is_refused(law, tmp_path):
+    with pytest.raises(gb.GreyboxError, match="export.lsdyna_table_id"):
+        gb.export_table(law, "abaqus", tmp_path / "a.inp", lsdyna_table_id=3)
+    with pytest.raises(gb.GreyboxError, match="MPa-mm-s"):
+        gb.export_table(law, "abaqus", tmp_path / "a.inp", units="MPa-m-s")
+    with pytest.raises(gb.GreyboxError, match="export.max_table_size"):
+        gb.export_table(law, "csv", tmp_path / "a.csv", max_table_size=10)
+    assert not any(tmp_path.glob("a.*"))
+
+
+def test_identify_and_simulate_summaries_agree(tmp_path):
+    """identify (a real rig export) and a short cut: the same dataset bytes and summary
+    numbers from Python and the command line, given the same study."""
+    rigs = os.path.join(REPO, "tests", "data", "real-rigs")
+    study = os.path.join(REPO, "examples", "demo-study.toml")
+    rec = os.path.join(rigs, "phoenix-te", "PPS_60N_1.tsv")
+    channels = {"rig": "phoenix-te", "radius": {"name": "Radius", "unit": "mm"}}
+    _, py = gb.identify([rec], tmp_path / "py.csv", study=study, steady="last:50%",
+                        channels=channels, as_frame=False)
+    out = cli("identify", "--study", study, "--no-plan", "--steady", "last:50%", "--rig", "phoenix-te",
+              "--map", "radius=Radius:mm", "--recordings", rec, "--out", "cli.csv", "--json",
+              cwd=tmp_path)
+    assert (tmp_path / "py.csv").read_bytes() == (tmp_path / "cli.csv").read_bytes()
+    c = json.loads(out)
+    for summary in (c, py):
+        summary.pop("dataset")  # the output paths differ
+    assert c == py
