@@ -328,9 +328,9 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     let side_inputs = [
-        ("--study", args.plan.study.as_deref()),
-        ("--plan-steps", args.plan_steps.as_deref()),
-        ("--truth", args.truth.as_deref()),
+        ("study", args.plan.study.as_deref()),
+        ("plan_steps", args.plan_steps.as_deref()),
+        ("truth", args.truth.as_deref()),
     ]
     .into_iter()
     .filter_map(|(f, p)| p.map(|p| (f.to_string(), p.to_path_buf())))

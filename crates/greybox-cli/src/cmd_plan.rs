@@ -55,7 +55,7 @@ pub fn study_input(flags: &PlanFlags) -> Vec<(&'static str, &Path)> {
     flags
         .study
         .as_deref()
-        .map(|p| ("--study", p))
+        .map(|p| ("study", p))
         .into_iter()
         .collect()
 }

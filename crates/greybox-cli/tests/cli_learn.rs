@@ -333,7 +333,7 @@ fn adhesive_and_export() {
         ],
         p,
     ));
-    assert!(e.contains("--sim-loads must be at least 1"), "{e}");
+    assert!(e.contains("adhesive.sim_loads: must be at least 1"), "{e}");
     let e = err(&greybox(
         &["adhesive", "--data", "data.csv", "--track-width", "150:abc"],
         p,

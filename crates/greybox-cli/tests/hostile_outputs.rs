@@ -35,7 +35,7 @@ fn a_model_reached_through_a_law_file_is_an_input() {
                 ],
                 p,
             ),
-            &["is the input a file the law --law reads", target],
+            &["is the input a file the law reads", target],
         );
         assert!(!e.contains("panicked"));
     }
@@ -68,7 +68,7 @@ fn the_provenance_record_beside_an_output_must_not_be_an_input() {
             ],
             p,
         ),
-        &["the provenance record beside --out", "is the input --data"],
+        &["the provenance record beside out", "is the input data"],
     );
     assert_eq!(
         std::fs::read_to_string(p.join("y.csv.provenance.json")).unwrap(),

@@ -186,7 +186,7 @@ fn link_loops_are_searched_once() {
     ));
     let w = warnings(&summary);
     assert!(
-        w.contains("max_depth (2)") && w.contains("--max-depth"),
+        w.contains("max_depth (2)") && w.contains("raise max_depth"),
         "{w}"
     );
     assert!(
@@ -317,7 +317,7 @@ fn an_out_that_is_a_file_the_report_reads_or_a_device_is_refused() {
     ] {
         let was = before(kept);
         let out = run(&["report", "study", "--out", target], d.path());
-        refused_with(&out, &["--out is the input", "destroy the input"]);
+        refused_with(&out, &["out is the input", "destroy the input"]);
         assert_eq!(before(kept), was, "{kept} changed");
     }
     for dev in [
@@ -336,7 +336,7 @@ fn an_out_that_is_a_file_the_report_reads_or_a_device_is_refused() {
     // a hard link to an input is the input
     std::fs::hard_link(s.join("wear.csv"), d.path().join("linked.csv")).unwrap();
     let out = run(&["report", "study", "--out", "linked.csv"], d.path());
-    refused_with(&out, &["--out is the input"]);
+    refused_with(&out, &["out is the input"]);
     // an ordinary output still works
     report_ok(&run(
         &["report", "study", "--json", "--out", "page.html"],

@@ -109,6 +109,28 @@ impl Breaks {
 }
 
 /// A friction law: Coulomb coefficient μ as a function of the local contact state.
+///
+/// The extension seam for your own law: implement `name` and `mu` (SI state in, μ out), and
+/// the law works everywhere a law file does — the simulator's friction windows, engine
+/// exports, surrogate tables, the C ABI. A law falling with sliding speed, capped by
+/// sticking at the shear flow stress k:
+///
+/// ```
+/// use greybox_core::{ContactState, FrictionLaw};
+/// struct SpeedSoftening { mu0: f64, v_ref_m_s: f64 }
+/// impl FrictionLaw for SpeedSoftening {
+///     fn name(&self) -> String { "speed-softening".into() }
+///     fn mu(&self, s: &ContactState) -> f64 {
+///         self.mu0 / (1.0 + s.sliding_velocity_m_s / self.v_ref_m_s)
+///     }
+/// }
+/// let law = SpeedSoftening { mu0: 0.6, v_ref_m_s: 2.0 };
+/// let s = ContactState::new(800e6, 2.0); // 800 MPa, 2 m/s
+/// assert_eq!(law.mu(&s), 0.3);
+/// // default shear stress: τ = μ p = 240 MPa, below k = 500 MPa; capped at k = 200 MPa
+/// assert_eq!(law.shear_stress(&s, 500e6), 240e6);
+/// assert_eq!(law.shear_stress(&s, 200e6), 200e6);
+/// ```
 pub trait FrictionLaw: Send + Sync {
     /// Short human-readable name (for reports and file headers).
     fn name(&self) -> String;

@@ -17,6 +17,26 @@
 //! deviation from the law under the engine's linear interpolation ([`Deviation`]; 0 for
 //! tree ensembles with step lines). See [`crate::engine_table`] for how each engine reads
 //! the table.
+//!
+//! Any [`FrictionLaw`] goes to an engine this way — here a Coulomb law as Abaqus lines in
+//! the tonne–mm–s–MPa system (slip rates in mm/s), checked against the law:
+//!
+//! ```
+//! use greybox_friction::classical::Coulomb;
+//! use greybox_friction::export::{abaqus_checked, Grid, TableOptions, TempUnit, Units};
+//! use greybox_friction::grid::UnitSystem;
+//! let grid = Grid {
+//!     pressure_pa: vec![500e6, 1000e6],
+//!     velocity_m_s: vec![1.0, 2.0],
+//!     temperature_k: None,
+//! };
+//! let units = Units::of(UnitSystem::MpaMmS, TempUnit::C);
+//! let e = abaqus_checked(&Coulomb { mu: 0.3 }, &grid, units, None, &TableOptions::default())?;
+//! assert!(e.text.contains("*FRICTION"));
+//! assert!(e.text.contains(" 0.3, 1000.0, 500.0")); // μ, slip rate (mm/s), pressure (MPa)
+//! assert_eq!(e.deviation.unwrap().max, 0.0);
+//! # Ok::<(), greybox_core::Error>(())
+//! ```
 
 use crate::engine_table::mu_checked;
 pub use crate::engine_table::{Deviation, EngineTable, StepLines, TableOptions};

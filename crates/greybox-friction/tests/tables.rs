@@ -262,7 +262,7 @@ fn adaptive_tables_put_two_lines_at_every_declared_jump() {
     o.max_nodes = 2000;
     let e = AdaptiveTable::refine(&law, &o).unwrap_err().to_string();
     assert!(
-        e.contains("cap of 2000 nodes") && e.contains("--tolerance"),
+        e.contains("cap of 2000 nodes") && e.contains("export.tolerance"),
         "{e}"
     );
 }

@@ -6,7 +6,30 @@ use crate::Matrix;
 use greybox_core::Result;
 pub use greybox_model::family::{Family, FittedModel, Hyperparameters, Predictor};
 
-/// A model family's hyperparameters.
+/// A model family's hyperparameters: the seam for a new family. `validate` once, then `fit`
+/// returns an immutable [`Predictor`]. A baseline family (the mean of the targets):
+///
+/// ```
+/// use greybox_core::Result;
+/// use greybox_learn::model::{Predictor, Regressor};
+/// use greybox_learn::Matrix;
+/// struct MeanFamily;
+/// struct Mean(f64);
+/// impl Predictor for Mean {
+///     fn predict_one(&self, _x: &[f64]) -> f64 { self.0 }
+/// }
+/// impl Regressor for MeanFamily {
+///     type Fitted = Mean;
+///     fn validate(&self) -> Result<()> { Ok(()) }
+///     fn fit(&self, _x: &Matrix, y: &[f64], _seed: u64) -> Result<Mean> {
+///         Ok(Mean(y.iter().sum::<f64>() / y.len() as f64))
+///     }
+/// }
+/// let x = Matrix { n_rows: 3, n_cols: 1, data: vec![1.0, 2.0, 3.0] };
+/// let m = MeanFamily.fit(&x, &[0.2, 0.4, 0.6], 42)?;
+/// assert!((m.predict(&x)[1] - 0.4).abs() < 1e-15);
+/// # Ok::<(), greybox_core::Error>(())
+/// ```
 pub trait Regressor: Send + Sync {
     type Fitted: Predictor;
     /// Check the hyperparameters (called once, before any fit).

@@ -108,14 +108,14 @@ pub fn track_widths(a: &AdhesiveOptions) -> Result<Vec<TrackWidth>> {
 
 /// Apply the correction and write the dataset and the correction record.
 pub fn adhesive(a: &AdhesiveOptions) -> Result<(FrictionDataset, Correction)> {
-    let mut inputs = vec![("--data", a.data.as_path())];
+    let mut inputs = vec![("data", a.data.as_path())];
     if let Some(w) = &a.track_widths_csv {
-        inputs.push(("--track-widths-csv", w.as_path()));
+        inputs.push(("track_widths_csv", w.as_path()));
     }
-    check_file_output(&a.out, "--out", &inputs)?;
+    check_file_output(&a.out, "out", &inputs)?;
     check_file_output(
         &correction_path(&a.out),
-        "the correction record beside --out",
+        "the correction record beside out",
         &inputs,
     )?;
     let mut ds = FrictionDataset::read_csv(&a.data)?;
@@ -149,11 +149,11 @@ fn correct_by_simulation(
     forces.sort_by(f64::total_cmp);
     forces.dedup();
     if sim.loads == 0 {
-        bail!("--sim-loads must be at least 1");
+        bail!("adhesive.sim_loads: must be at least 1");
     }
     if !(sim.tolerance > 0.0 && sim.tolerance.is_finite()) {
         bail!(
-            "--sim-tolerance: expected a positive number, got {}",
+            "adhesive.sim_tolerance: expected a positive number, got {}",
             sim.tolerance
         );
     }

@@ -71,7 +71,7 @@ pub fn predict_latency(path: &Path, calls: usize) -> Result<PredictLatency> {
 /// into `dir` (a temporary directory when `None`) and time `repeats` reads of each.
 pub fn ingest(size_mb: f64, repeats: usize, dir: Option<PathBuf>) -> Result<Vec<IngestResult>> {
     if size_mb.is_nan() || size_mb <= 0.0 {
-        bail!("--size-mb must be positive");
+        bail!("bench size_mb: must be positive");
     }
     let tmp = tempfile::tempdir()?;
     let dir = dir.unwrap_or_else(|| tmp.path().to_path_buf());

@@ -48,7 +48,7 @@ pub fn recording_with_load(spec: &str) -> Result<(PathBuf, Option<f64>)> {
             Ok((
                 PathBuf::from(p),
                 Some(load.parse().with_context(|| {
-                    format!("--recording '{spec}': '{load}' is not a load in N")
+                    format!("recordings: '{spec}': '{load}' is not a load in N")
                 })?),
             ))
         }
@@ -114,7 +114,9 @@ pub fn read_channels(path: &Path, a: &ImpactChannels) -> Result<ImpactRecording>
                 .or(a.sample_rate_hz.map(|f| 1.0 / f));
             let fs = 1.0
                 / dt.with_context(|| {
-                    format!("{src}: no wf_increment property; give --sample-rate-hz")
+                    format!(
+                        "{src}: no wf_increment property; give the sample rate (sample_rate_hz)"
+                    )
                 })?;
             Ok(ImpactRecording {
                 source: src,
@@ -163,7 +165,10 @@ pub fn read_channels(path: &Path, a: &ImpactChannels) -> Result<ImpactRecording>
                 1.0 / dt
             } else {
                 a.sample_rate_hz.with_context(|| {
-                    format!("{src}: no '{}' column; give --sample-rate-hz", a.time)
+                    format!(
+                        "{src}: no '{}' column; give the sample rate (sample_rate_hz)",
+                        a.time
+                    )
                 })?
             };
             Ok(ImpactRecording {
@@ -201,10 +206,10 @@ pub fn characterize(a: &CharacterizeOptions) -> Result<CharacterizeReport> {
     let mut inputs: Vec<(&str, &Path)> = a
         .recordings
         .iter()
-        .map(|(p, _)| ("--recordings", p.as_path()))
+        .map(|(p, _)| ("recordings", p.as_path()))
         .collect();
     if let Some(s) = &a.study {
-        inputs.push(("--study", s.as_path()));
+        inputs.push(("study", s.as_path()));
     }
     for (path, load) in &a.recordings {
         let rec = read_channels(path, &a.channels)?;

@@ -89,7 +89,7 @@ pub fn couple(o: &CoupleOptions) -> Result<CouplingResult> {
         })?),
         EngineOptions::Command { command, windows } => {
             if windows.is_empty() {
-                bail!("--engine command needs --windows");
+                bail!("couple.engine: a user command needs the friction windows (windows)");
             }
             Box::new(CommandEngine {
                 windows: windows.clone(),

@@ -98,9 +98,9 @@ pub fn fit(a: &FitOptions) -> Result<FitResult> {
         bail!("no model family selected");
     }
     let data = read_dataset(&a.data, &a.features, &a.target, a.fold_column.as_deref())?;
-    let mut inputs = vec![("--data", a.data.as_path())];
+    let mut inputs = vec![("data", a.data.as_path())];
     if let Some(s) = &a.study {
-        inputs.push(("--study", s.as_path()));
+        inputs.push(("study", s.as_path()));
     }
     let staged = stage_out_dir(&a.out, a.force, &inputs)?;
     let (report, mut models) = run_protocol(&data, cfg)?;

@@ -196,11 +196,8 @@ pub fn identify(
     o: &IdentifyOutput,
 ) -> Result<(FrictionDataset, Identification)> {
     let (out, inspect_dir, side_inputs) = (o.dataset, o.inspect_dir, o.side_inputs);
-    let inputs: Vec<(&str, &Path)> = files
-        .iter()
-        .map(|f| ("--recordings", f.as_path()))
-        .collect();
-    greybox_core::outputs::check_file_output(out, "--out", &inputs)?;
+    let inputs: Vec<(&str, &Path)> = files.iter().map(|f| ("recordings", f.as_path())).collect();
+    greybox_core::outputs::check_file_output(out, "out", &inputs)?;
     let progress =
         greybox_core::progress::task("read recordings", Some(files.len() as u64), "files");
     let recs: Vec<Recording> = files
@@ -262,7 +259,11 @@ pub fn identify(
     // is written
     let cycles = if crate::identify_cycles::any_reciprocating(&id.files) {
         let path = crate::identify_cycles::cycles_path(out);
-        greybox_core::outputs::check_file_output(&path, "the cycles file beside --out", &inputs)?;
+        greybox_core::outputs::check_file_output(
+            &path,
+            "the cycles file beside the dataset",
+            &inputs,
+        )?;
         Some((path, crate::identify_cycles::cycles_csv(&id.files)?))
     } else {
         None
@@ -564,14 +565,14 @@ pub fn identify_campaign(
         .iter()
         .find(|r| !(r.is_finite() && **r > 0.0))
     {
-        bail!("--track-radii-mm: every radius must be positive, got {r}");
+        bail!("identify.track_radii_mm: every radius must be positive, got {r}");
     }
     let side_inputs: Vec<(&str, &Path)> = o
         .side_inputs
         .iter()
         .map(|(r, p)| (r.as_str(), p.as_path()))
         .collect();
-    greybox_core::outputs::check_file_output(&o.dataset, "--out", &side_inputs)?;
+    greybox_core::outputs::check_file_output(&o.dataset, "out", &side_inputs)?;
     let pins = match &o.expect {
         Expectation::Plan(p) => Some(p.pins.len()),
         _ => None,

@@ -106,7 +106,7 @@ pub fn import(
     if let Some(p) = contact_study {
         inputs.push(("contact", p));
     }
-    check_file_output(out, "--out", &inputs)?;
+    check_file_output(out, "out", &inputs)?;
     let mut model = greybox_import::import_file(source, opts)?;
     let record = provenance(&inputs)?;
     model.provenance = Some(record.clone());

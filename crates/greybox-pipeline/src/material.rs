@@ -14,9 +14,9 @@ use std::path::{Path, PathBuf};
 /// Fit A, B, n, m to the flow curves of `curves` (CSV: strain, stress_MPa, temperature_C,
 /// strain_rate_per_s); with `out`, the fit is written there as JSON (with its provenance).
 pub fn fit_flow_curves(curves: &Path, options: &FitOptions, out: Option<&Path>) -> Result<JcFit> {
-    let inputs = [("--curves", curves)];
+    let inputs = [("curves", curves)];
     if let Some(p) = out {
-        check_file_output(p, "--out", &inputs)?;
+        check_file_output(p, "out", &inputs)?;
     }
     let pts = read_flow_curves(curves)?;
     let f = fit_johnson_cook(&pts, options).with_context(|| curves.display().to_string())?;
@@ -45,9 +45,9 @@ pub struct RateSensitivityOptions {
 
 /// Find J-C C so that the simulated steady cutting force matches the measured one.
 pub fn fit_rate_sensitivity(o: &RateSensitivityOptions) -> Result<RateSensitivityFit> {
-    let inputs = [("--config", o.config.as_path())];
+    let inputs = [("config", o.config.as_path())];
     if let Some(p) = &o.out {
-        check_file_output(p, "--out", &inputs)?;
+        check_file_output(p, "out", &inputs)?;
     }
     let case = read_cutting_setup(&o.config)?;
     let r = find_rate_sensitivity(

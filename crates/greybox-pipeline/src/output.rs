@@ -21,8 +21,8 @@ pub fn provenance(inputs: &[(&str, &Path)]) -> Result<Provenance> {
 /// `force`) already holds files; written into a staging directory that
 /// [`StagedDir::commit`] swaps in whole.
 pub fn stage_out_dir(out: &Path, force: bool, inputs: &[(&str, &Path)]) -> Result<StagedDir> {
-    check_dir_output(out, "--out", inputs)?;
-    Ok(StagedDir::begin(out, "--out", Existing::from_force(force))?)
+    check_dir_output(out, "out", inputs)?;
+    Ok(StagedDir::begin(out, "out", Existing::from_force(force))?)
 }
 
 /// On SIGINT, SIGTERM or SIGHUP: delete the temporary files and staging directories being

@@ -57,13 +57,13 @@ impl RunOutput {
         if self.checkpoint_every > 0 || self.resume.is_some() {
             return Ok(StagedDir::resumable(
                 &self.out,
-                "--out",
+                "out",
                 existing,
                 self.resume.is_some(),
             )?);
         }
-        check_dir_output(&self.out, "--out", &[])?;
-        Ok(StagedDir::begin(&self.out, "--out", existing)?)
+        check_dir_output(&self.out, "out", &[])?;
+        Ok(StagedDir::begin(&self.out, "out", existing)?)
     }
 }
 
@@ -171,7 +171,7 @@ pub fn run_pin(setup: &PinSetup, o: &RunOutput) -> Result<PinResult> {
         simulate_from(setup, resume, &mut obs.list()).map_err(|e| failure_context(e, &obs))?;
     write_common(staged.path(), &sim, &hist, &res)?;
     let resume_input: Vec<(&str, &Path)> =
-        o.resume.iter().map(|r| ("--resume", r.as_path())).collect();
+        o.resume.iter().map(|r| ("resume", r.as_path())).collect();
     provenance(&resume_input)?.write_into(staged.path())?;
     staged.commit()?;
     Ok(res)
@@ -199,7 +199,7 @@ pub fn read_cutting_setup(path: &Path) -> Result<CutCase> {
         .validate()
         .with_context(|| path.display().to_string())?;
     let mut case = cut_case(setup, base)?;
-    case.inputs.insert(0, ("--config", path.to_path_buf()));
+    case.inputs.insert(0, ("config", path.to_path_buf()));
     case.inputs.extend(material_inputs);
     Ok(case)
 }
@@ -398,7 +398,7 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
     let mut inputs: Vec<(&str, &Path)> =
         case.inputs.iter().map(|(r, p)| (*r, p.as_path())).collect();
     if let Some(r) = &o.resume {
-        inputs.push(("--resume", r.as_path()));
+        inputs.push(("resume", r.as_path()));
     }
     provenance(&inputs)?.write_into(out)?;
     staged.commit()?;

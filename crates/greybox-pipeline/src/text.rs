@@ -178,7 +178,7 @@ pub fn characterize(r: &CharacterizeReport) -> String {
             c.ratio,
             if c.pass { "PASS (at least an order of magnitude)" } else { "FAIL (less than an order of magnitude)" }
         ),
-        None => writeln!(text, "dynamics check: no plan given (--study or --track-radius-mm)"),
+        None => writeln!(text, "dynamics check: no plan given (a study with a [plan], or a track radius)"),
     };
     text
 }

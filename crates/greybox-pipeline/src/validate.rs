@@ -336,12 +336,12 @@ fn distinct_in_order(tools: &[ToolModel]) -> Vec<ToolModel> {
 fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Validation> {
     if !(o.fraction > 0.0 && o.fraction <= 1.0) {
         bail!(
-            "fraction of the cut length (--fraction): expected a number in (0, 1], got {}",
+            "fraction of the cut length (fraction): expected a number in (0, 1], got {}",
             o.fraction
         );
     }
     if o.tools.is_empty() {
-        bail!("tool models (--tool): expected at least one of adiabatic, thermal");
+        bail!("tool models (tools): expected at least one of adiabatic, thermal");
     }
     let base = suite_path.parent().unwrap_or(Path::new("."));
     let conditions = read_conditions(&base.join(&suite.data))?;
@@ -351,7 +351,7 @@ fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Va
         .find(|id| !conditions.iter().any(|c| &c.id == *id))
     {
         bail!(
-            "--only: condition '{id}' is not in {} (ids: {})",
+            "only: condition '{id}' is not in {} (ids: {})",
             suite.data,
             conditions
                 .iter()
@@ -566,7 +566,7 @@ pub fn validate_into(
 ) -> Result<(Validation, Vec<PathBuf>)> {
     let suite = Suite::read(suite_path)?;
     let files = suite.input_files(suite_path);
-    let mut inputs = vec![("--suite", suite_path)];
+    let mut inputs = vec![("suite", suite_path)];
     inputs.extend(files.iter().map(|f| ("suite input", f.as_path())));
     let staged = crate::output::stage_out_dir(out, force, &inputs)?;
     let v = run_suite(&suite, suite_path, o)?;

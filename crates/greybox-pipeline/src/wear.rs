@@ -131,6 +131,6 @@ pub fn one_volume(
         (Some(v), None, None) => WearVolume::Measured(v),
         (None, Some((path, reference)), None) => WearVolume::HeightMap { path, reference },
         (None, None, Some(d)) => WearVolume::ScarDiameter(d),
-        _ => bail!("give exactly one of --volume-mm3, --height-map, --scar-diameter-mm"),
+        _ => bail!("give exactly one of volume_mm3, height_map, scar_diameter_mm"),
     })
 }

@@ -24,7 +24,7 @@ pub fn windows(
 ) -> Result<(Mesh, Vec<Window>)> {
     let mesh = read_mesh(mesh_path)?;
     let w = build_windows(&mesh, coating_set, options)?;
-    let inputs = [("--mesh", mesh_path)];
+    let inputs = [("mesh", mesh_path)];
     let staged = stage_out_dir(out, force, &inputs)?;
     let dir = staged.path();
     write_json(&dir.join("windows.json"), &w)?;

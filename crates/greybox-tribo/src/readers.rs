@@ -57,6 +57,23 @@ pub fn read_table(path: &std::path::Path, map: &ChannelMap) -> Result<Table> {
 }
 
 /// Read a recording (any supported format) through a channel map.
+///
+/// The seam for your own rig: a file greybox reads is mapped onto roles by column name and
+/// unit (here found without help: forces in kgf are converted to N); a format it cannot read
+/// becomes a [`Table`] from your own parser and goes through [`recording_with_profile`].
+///
+/// ```
+/// use greybox_tribo::readers::read_recording;
+/// use greybox_tribo::recording::ChannelMap;
+/// let dir = tempfile::tempdir()?;
+/// let file = dir.path().join("run.csv");
+/// std::fs::write(&file, "Time [s],Fn [kgf],Ff [kgf]\n0.0,10,2\n0.1,10,2.5\n0.2,10,3\n")?;
+/// let rec = read_recording(&file, &ChannelMap::default())?;
+/// assert_eq!(rec.time_s, [0.0, 0.1, 0.2]);
+/// assert!((rec.normal_n[0] - 98.0665).abs() < 1e-9); // 10 kgf
+/// assert!((rec.tangential_n[2] / rec.normal_n[2] - 0.3).abs() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn read_recording(path: &std::path::Path, map: &ChannelMap) -> Result<Recording> {
     recording_with_profile(read_table(path, map)?, map)
 }

@@ -38,6 +38,7 @@
 //! | `greybox-tribo` | [`tribo`] | plans, recordings from any rig, identification, ploughing, dynamics, wear |
 //! | `greybox-model` | [`model`] | inference: model files, predictors, domain checks |
 //! | `greybox-learn` | [`learn`] | training: the four families, the article's protocol |
+//! | `greybox-import` | [`import`] | models trained elsewhere: XGBoost, scikit-learn, ONNX |
 //! | `greybox-friction` | [`friction`] | friction laws (learned, grey-box, tables) and FE exports |
 //! | `greybox-couple` | [`couple`] | friction windows on FE meshes, the FE restart loop |
 //! | `greybox-material` | [`material`] | Johnson–Cook and flow-curve fits |
@@ -47,6 +48,7 @@ pub use greybox_contact as contact;
 pub use greybox_core as core;
 pub use greybox_couple as couple;
 pub use greybox_friction as friction;
+pub use greybox_import as import;
 pub use greybox_learn as learn;
 pub use greybox_material as material;
 pub use greybox_model as model;

@@ -133,7 +133,7 @@ fn recordings_of(dataset: &Path, w: &mut Ctx) -> Result<Vec<PathBuf>> {
     let base = dataset.parent().unwrap_or(Path::new("."));
     Ok(p.inputs
         .iter()
-        .filter(|i| i.role == "--recordings")
+        .filter(|i| i.role == "recordings")
         .map(|i| {
             let path = PathBuf::from(&i.path);
             if path.is_absolute() || path.exists() {

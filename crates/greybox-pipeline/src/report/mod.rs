@@ -270,11 +270,11 @@ fn check_out_path(out: &Path) -> Result<()> {
     let canon = std::fs::canonicalize(out).unwrap_or_else(|_| abs.clone());
     if abs.starts_with("/dev") || canon.starts_with("/dev") {
         anyhow::bail!(
-            "--out {}: a path under /dev is never written by greybox report",
+            "out {}: a path under /dev is never written by greybox report",
             out.display()
         );
     }
-    greybox_core::outputs::check_file_output(out, "--out", &[])?;
+    greybox_core::outputs::check_file_output(out, "out", &[])?;
     Ok(())
 }
 
@@ -316,7 +316,7 @@ pub fn report(o: &ReportOptions) -> Result<ReportSummary> {
         .iter()
         .map(|p| ("STUDY_DIR", p.as_path()))
         .collect();
-    greybox_core::outputs::check_file_output(&out, "--out", &inputs)?;
+    greybox_core::outputs::check_file_output(&out, "out", &inputs)?;
     let intro = vec![
         format!(
             "Study directory: {}. Written by greybox {} (greybox report).",

@@ -46,7 +46,7 @@ pub(crate) fn scan(dir: &Path, cx: &mut Ctx) -> Result<Found> {
     w.dir(dir, 0, cx)?;
     if let Some(first) = &w.too_deep_first {
         cx.warn(format!(
-            "{} directories deeper than max_depth ({}) not searched, first {} (raise it with --max-depth)",
+            "{} directories deeper than max_depth ({}) not searched, first {} (raise max_depth)",
             w.too_deep,
             cx.depth,
             first.display()
