@@ -56,7 +56,7 @@ pub fn run(a: Args) -> Result<()> {
         let mut t = format!(
             "wrote {} ({:.1} kB): {} sections ({}), {} figures\n",
             s.path,
-            s.bytes as f64 / 1e3,
+            greybox_core::units::bytes_to_kb(s.bytes),
             s.sections.len(),
             s.sections.join(", "),
             s.figures

@@ -1,5 +1,6 @@
 //! `greybox simulate`: the built-in 2D SPH solver — pin sliding and orthogonal cutting.
 
+use greybox_core::units::{m_per_min_to_m_per_s, mm_to_m, um_to_m};
 use crate::output::print_json;
 use anyhow::Result;
 use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, Indentation, RunOutput};
@@ -100,18 +101,18 @@ pub struct CutArgs {
 
 impl PinArgs {
     pub fn setup(&self) -> Result<PinSetup> {
-        let r = self.pin_radius_mm * 1e-3;
+        let r = mm_to_m(self.pin_radius_mm);
         let depth = match (self.depth_um, self.track_width_um) {
-            (Some(d), None) => Indentation::Depth(d * 1e-6),
-            (None, Some(w)) => Indentation::TrackWidth(w * 1e-6),
+            (Some(d), None) => Indentation::Depth(um_to_m(d)),
+            (None, Some(w)) => Indentation::TrackWidth(um_to_m(w)),
             _ => anyhow::bail!("give exactly one of --depth-um and --track-width-um"),
         }
         .depth_m(r)?;
-        let mut s = PinSetup::article(depth, self.mu, self.spacing_um * 1e-6);
+        let mut s = PinSetup::article(depth, self.mu, um_to_m(self.spacing_um));
         s.pin_radius_m = r;
-        s.slide_length_m = self.slide_mm * 1e-3;
-        s.workpiece_height_m = self.height_mm * 1e-3;
-        s.sliding_speed_m_s = self.speed_m_per_min / 60.0;
+        s.slide_length_m = mm_to_m(self.slide_mm);
+        s.workpiece_height_m = mm_to_m(self.height_mm);
+        s.sliding_speed_m_s = m_per_min_to_m_per_s(self.speed_m_per_min);
         s.mach = self.mach;
         s.numerics.mass_scaling = self.mass_scaling;
         s.numerics.max_particles = self.max_particles;

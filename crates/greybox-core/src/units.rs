@@ -12,6 +12,22 @@ pub const M_PER_UM: f64 = 1.0e-6;
 /// Seconds per minute.
 pub const S_PER_MIN: f64 = 60.0;
 
+/// mm → m.
+pub fn mm_to_m(x: f64) -> f64 {
+    x * M_PER_MM
+}
+/// µm → m.
+pub fn um_to_m(x: f64) -> f64 {
+    x * M_PER_UM
+}
+/// A quantity per mm → per m (N/mm → N/m: ×1000).
+pub fn per_mm_to_per_m(x: f64) -> f64 {
+    x / M_PER_MM
+}
+/// Bytes → kB (10³ bytes), for reports of sizes.
+pub fn bytes_to_kb(bytes: u64) -> f64 {
+    bytes as f64 / 1e3
+}
 /// MPa → Pa.
 pub fn mpa_to_pa(p: f64) -> f64 {
     p * PA_PER_MPA
