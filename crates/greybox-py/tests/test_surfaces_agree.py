@@ -96,3 +96,19 @@ def test_identify_and_simulate_summaries_agree(tmp_path):
     for summary in (c, py):
         summary.pop("dataset")  # the output paths differ
     assert c == py
+
+
+def test_a_cut_from_python_and_the_cli_gives_the_same_summary_and_forces(tmp_path):
+    """A short coarse cut of the bundled AISI 1045 set-up: the same summary numbers and the
+    same force history bytes through gb.simulate_cut and `greybox simulate cutting`."""
+    src = gb.example("aisi1045-cut.toml")
+    src = src.replace("spacing_m = 1.0e-5", "spacing_m = 2.5e-5").replace("cut_length_m = 1.0e-3", "cut_length_m = 1.0e-4")
+    (tmp_path / "cut.toml").write_text(src)
+    py = gb.simulate_cut(tmp_path / "cut.toml", tmp_path / "py", as_frame=False)
+    out = cli("simulate", "cutting", "--config", "cut.toml", "--out", "cli", "--json", cwd=tmp_path)
+    c = json.loads(out)
+    timing = {"wall_s", "particle_steps_per_s", "particle_steps_per_s_per_core", "threads", "files", "out"}
+    for key, value in c.items():
+        if key not in timing and not isinstance(value, dict):
+            assert py[key] == value, key
+    assert (tmp_path / "cli" / "forces.csv").read_bytes() == (tmp_path / "py" / "forces.csv").read_bytes()
