@@ -1,23 +1,15 @@
 //! `greybox export`: a friction law as tables for FE engines, or as a surrogate table. The
 //! options and their defaults are the library's ([`ExportOptions`]); a flag only overrides.
 
+use crate::args::choice;
 use crate::output::emit;
 use anyhow::Result;
-use greybox_core::choice::Choice;
 use greybox_core::units::{m_per_min_to_m_per_s, mpa_to_pa};
 use greybox_friction::export::{StepLines, TempUnit};
 use greybox_friction::grid::UnitSystem;
 use greybox_friction::table_file::TableKind;
 use greybox_pipeline::export::{export, ExportFormat, ExportOptions, ExportOverrides};
 use std::path::PathBuf;
-
-/// A clap parser of a library [`Choice`]: its values listed in `--help` and in errors.
-pub fn choice<T: Choice + Send + Sync + Clone>() -> impl clap::builder::TypedValueParser<Value = T>
-{
-    use clap::builder::TypedValueParser;
-    clap::builder::PossibleValuesParser::new(T::names())
-        .try_map(|s| T::parse_choice(&s).map_err(|e| e.to_string()))
-}
 
 /// Two object numbers, `TOOL,WORKPIECE`.
 fn object_pair(s: &str) -> Result<[u32; 2], String> {

@@ -1,6 +1,6 @@
 //! `greybox hertz`.
 
-use crate::cmd_identify::ConventionArg;
+use crate::args::choice;
 use crate::output::print_json;
 use anyhow::Result;
 use greybox_core::dataset::PressureConvention;
@@ -40,15 +40,15 @@ pub struct Args {
     #[arg(long = "nu2", default_value_t = 0.3)]
     pub nu2: f64,
     /// Also report this convention's pressure (sphere only).
-    #[arg(long, value_enum, default_value_t = ConventionArg::TextbookMax)]
-    pub convention: ConventionArg,
+    #[arg(long, value_parser = choice::<PressureConvention>(), default_value = "textbook-max")]
+    pub convention: PressureConvention,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
 }
 
 pub fn run(a: Args) -> Result<()> {
-    let conv: PressureConvention = a.convention.into();
+    let conv = a.convention;
     let geometry = match a.geometry {
         Geometry::Sphere => HertzGeometry::Sphere,
         Geometry::Cylinder => HertzGeometry::Cylinder {

@@ -1,17 +1,20 @@
 //! `greybox identify`.
 
+use crate::args::choice_name;
 use crate::cmd_plan::PlanFlags;
 use crate::output::print_json;
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
+use greybox_core::choice::Choice;
 use greybox_core::dataset::PressureConvention;
 use greybox_pipeline::identify::{
     all_rows_table, files_table, identify_campaign, inspect_text, matching_text, summary_table,
     Expectation, IdentifyOptions, IdentifyResult, SegmentsHook,
 };
+use greybox_pipeline::identify_settings::IdentifySettings;
 use greybox_pipeline::study::Study;
-use greybox_tribo::campaign::{read_expected_steps, FileReport, Segmentation};
+use greybox_tribo::campaign::{read_expected_steps, FileReport};
 use greybox_tribo::identify::Alignment;
-use greybox_tribo::identify_config::{SteadyRule, TestMode};
+use greybox_tribo::identify_config::{Segmentation, SteadyRule, TestMode};
 use greybox_tribo::readers::RecordingFormat;
 use std::path::{Path, PathBuf};
 
@@ -30,80 +33,6 @@ impl From<InFormat> for RecordingFormat {
             InFormat::Csv => RecordingFormat::Csv,
             InFormat::Tdms => RecordingFormat::Tdms,
             InFormat::Xlsx => RecordingFormat::Spreadsheet,
-        }
-    }
-}
-
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SegmentArg {
-    /// Step column, else speed channel, else the plan's timing (greybox NC programs with a
-    /// trigger), else the signals.
-    Auto,
-    /// The plan's nominal timing from the trigger edge (greybox's own NC programs).
-    PlanTiming,
-    /// Runs of one value of the step/segment column (--map step=NAME).
-    StepColumn,
-    /// Runs of constant speed in the speed channel (--map speed=NAME:UNIT).
-    Speed,
-    /// Change points of F_N and F_t/F_N (with a plan: as many steps per pin as it has).
-    Signals,
-}
-
-impl From<SegmentArg> for Segmentation {
-    fn from(s: SegmentArg) -> Self {
-        match s {
-            SegmentArg::Auto => Segmentation::Auto,
-            SegmentArg::PlanTiming => Segmentation::PlanTiming,
-            SegmentArg::StepColumn => Segmentation::StepColumn,
-            SegmentArg::Speed => Segmentation::Speed,
-            SegmentArg::Signals => Segmentation::Signals,
-        }
-    }
-}
-
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TestModeArg {
-    /// From the rig profile and the signals: strokes where a position reverses or the
-    /// friction force changes sign regularly.
-    Auto,
-    /// One load and speed per segment (plateaus).
-    Continuous,
-    /// Several loads or speeds one after another (plateaus).
-    Stepped,
-    /// Linear reciprocating (ASTM G133): strokes and cycles, μ per direction.
-    Reciprocating,
-}
-
-impl TestModeArg {
-    fn mode(self) -> Option<TestMode> {
-        match self {
-            TestModeArg::Auto => None,
-            TestModeArg::Continuous => Some(TestMode::Continuous),
-            TestModeArg::Stepped => Some(TestMode::Stepped),
-            TestModeArg::Reciprocating => Some(TestMode::Reciprocating),
-        }
-    }
-}
-
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum AlignArg {
-    Trigger,
-    FirstPlateau,
-}
-
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ConventionArg {
-    TextbookMax,
-    TextbookMean,
-    ArticleEq7,
-}
-
-impl From<ConventionArg> for PressureConvention {
-    fn from(c: ConventionArg) -> Self {
-        match c {
-            ConventionArg::TextbookMax => PressureConvention::TextbookMax,
-            ConventionArg::TextbookMean => PressureConvention::TextbookMean,
-            ConventionArg::ArticleEq7 => PressureConvention::ArticleEq7,
         }
     }
 }
@@ -131,16 +60,17 @@ pub struct Args {
     #[arg(long, value_enum)]
     pub format: Option<InFormat>,
     /// How to find the steps.
-    #[arg(long, value_enum)]
-    pub segment: Option<SegmentArg>,
+    #[arg(long, value_parser = choice_name::<Segmentation>())]
+    pub segment: Option<String>,
     /// How the rig ran its tests (study `[identify] mode`). `reciprocating` (ASTM G133):
     /// strokes instead of plateaus, μ from the middle half of each stroke with the sign taken
     /// by direction, one row per test averaged over the steady cycles, the per-cycle μ in
     /// `<out>.cycles.csv`. Default `auto`: reciprocating where the rig profile says so or the
     /// signals show it (a reversing position, or a friction force that changes sign
     /// regularly).
-    #[arg(long = "test-mode", value_enum)]
-    pub test_mode: Option<TestModeArg>,
+    #[arg(long = "test-mode", value_parser = clap::builder::PossibleValuesParser::new(
+        ["auto"].into_iter().chain(TestMode::names())))]
+    pub test_mode: Option<String>,
     /// Expected steps without timing: CSV with pin, normal_force_N,
     /// sliding_velocity_m_per_min [, step], in the order they were run.
     #[arg(long = "plan-steps")]
@@ -149,14 +79,14 @@ pub struct Args {
     #[arg(long = "no-plan")]
     pub no_plan: bool,
     /// How to align the plan with each recording (plan-timing path).
-    #[arg(long, value_enum)]
-    pub align: Option<AlignArg>,
+    #[arg(long, value_parser = choice_name::<Alignment>())]
+    pub align: Option<String>,
     /// Which part of each segment gives its steady value: `auto` (the final stationary
     /// stretch after run-in, ASTM G99/G133 practice; drift reported as a trend), `last:P%`
     /// (the last P % of the segment's sliding time) or `from:Ts` (from T seconds after the
     /// segment's start).
     #[arg(long, value_parser = parse_steady)]
-    pub steady: Option<SteadyRule>,
+    pub steady: Option<String>,
     /// Time dropped after the spindle ramp, s.
     #[arg(long = "settle-s")]
     pub settle_s: Option<f64>,
@@ -193,8 +123,8 @@ pub struct Args {
     #[arg(long = "tdms-group")]
     pub tdms_group: Option<String>,
     /// Pressure convention written to the dataset (overrides [contact] convention).
-    #[arg(long, value_enum)]
-    pub convention: Option<ConventionArg>,
+    #[arg(long, value_parser = choice_name::<PressureConvention>())]
+    pub convention: Option<String>,
     /// Output dataset CSV.
     #[arg(long, default_value = "dataset.csv")]
     pub out: PathBuf,
@@ -217,8 +147,32 @@ pub struct Args {
     pub json: bool,
 }
 
-fn parse_steady(s: &str) -> std::result::Result<SteadyRule, String> {
-    s.parse()
+fn parse_steady(s: &str) -> std::result::Result<String, String> {
+    s.parse::<SteadyRule>().map(|_| s.to_string())
+}
+
+impl Args {
+    /// The library's settings for these flags.
+    fn settings(&self) -> IdentifySettings {
+        IdentifySettings {
+            map: self.map.clone(),
+            rig: self.rig.clone(),
+            constant_normal_force_N: self.constant_normal_force_n,
+            constant_sliding_velocity_m_per_s: self
+                .constant_sliding_velocity_m_per_min
+                .map(greybox_core::units::m_per_min_to_m_per_s),
+            tdms_group: self.tdms_group.clone(),
+            header_line: self.header_line,
+            sample_rate_hz: self.sample_rate_hz,
+            sheet: self.sheet.clone(),
+            align: self.align.clone(),
+            segment: self.segment.clone(),
+            steady: self.steady.clone(),
+            test_mode: self.test_mode.clone(),
+            settle_time_s: self.settle_s,
+            convention: self.convention.clone(),
+        }
+    }
 }
 
 /// Whether the user gave a plan: a `[plan]` section in the study, or a plan-shape flag.
@@ -256,62 +210,7 @@ pub fn run(args: Args) -> Result<()> {
         return Ok(());
     }
     let mut study = args.plan.study()?;
-    for m in &args.map {
-        study.recording.apply_override(m)?;
-    }
-    if let Some(r) = &args.rig {
-        greybox_tribo::profiles::by_name(r)?;
-        study.recording.rig = Some(r.clone());
-    }
-    if let Some(f) = args.constant_normal_force_n {
-        if !(f.is_finite() && f > 0.0) {
-            bail!("--constant-normal-force-N must be positive, got {f}");
-        }
-        study.recording.constant_normal_n = Some(f);
-    }
-    if let Some(v) = args.constant_sliding_velocity_m_per_min {
-        if !(v.is_finite() && v > 0.0) {
-            bail!("--constant-sliding-velocity-m-per-min must be positive, got {v}");
-        }
-        study.recording.constant_sliding_m_s = Some(greybox_core::units::m_per_min_to_m_per_s(v));
-    }
-    if let Some(g) = &args.tdms_group {
-        study.recording.tdms_group = Some(g.clone());
-    }
-    if let Some(h) = args.header_line {
-        study.recording.header_line = Some(h);
-    }
-    if let Some(f) = args.sample_rate_hz {
-        if !(f.is_finite() && f > 0.0) {
-            bail!("--sample-rate-hz must be positive, got {f}");
-        }
-        study.recording.sample_rate_hz = Some(f);
-    }
-    if let Some(s) = &args.sheet {
-        study.recording.sheet = Some(s.clone());
-    }
-    if let Some(a) = args.align {
-        study.identify.align = match a {
-            AlignArg::Trigger => Alignment::Trigger,
-            AlignArg::FirstPlateau => Alignment::FirstPlateau,
-        };
-        study.identify.segmentation = Segmentation::PlanTiming;
-    }
-    if let Some(s) = args.segment {
-        study.identify.segmentation = s.into();
-    }
-    if let Some(r) = args.steady {
-        study.identify.steady = r;
-    }
-    if let Some(m) = args.test_mode {
-        study.identify.mode = m.mode();
-    }
-    if let Some(s) = args.settle_s {
-        study.identify.settle_time_s = s;
-    }
-    if let Some(c) = args.convention {
-        study.contact.convention = c.into();
-    }
+    args.settings().apply(&mut study)?;
     let expect = if let Some(path) = &args.plan_steps {
         Expectation::Steps(read_expected_steps(path)?)
     } else if !args.no_plan && plan_given(&args)? {

@@ -1,8 +1,9 @@
 //! `greybox import`: a model trained elsewhere as a greybox model file.
 
-use crate::cmd_identify::ConventionArg;
+use crate::args::choice;
 use crate::output::print_json;
 use anyhow::{bail, Context, Result};
+use greybox_core::dataset::PressureConvention;
 use greybox_model::column::FeatureQuantity;
 use greybox_model::modelfile::FeatureRange;
 use greybox_pipeline::import::{import, Calibration, ContactSpec, Domain, ImportOptions};
@@ -57,8 +58,8 @@ pub struct ContactArgs {
     #[arg(long, value_name = "STUDY.toml")]
     pub contact: Option<PathBuf>,
     /// Pressure convention the training data's pressures were computed with.
-    #[arg(long, value_enum)]
-    pub convention: Option<ConventionArg>,
+    #[arg(long, value_parser = choice::<PressureConvention>())]
+    pub convention: Option<PressureConvention>,
     /// Pin tip radius, mm.
     #[arg(long = "pin-tip-radius-mm")]
     pub pin_tip_radius_mm: Option<f64>,
@@ -93,7 +94,6 @@ impl ContactArgs {
             }
         }
         if let Some(c) = self.convention {
-            let c: greybox_core::dataset::PressureConvention = c.into();
             fields.insert("convention".into(), c.name().into());
         }
         ContactSpec {

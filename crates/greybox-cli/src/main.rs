@@ -1,6 +1,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too
 //! `greybox`: the command-line shell over the greybox library crates.
 
+mod args;
 mod cmd_adhesive;
 mod cmd_bench;
 mod cmd_characterize;

@@ -49,6 +49,15 @@ impl PressureConvention {
     }
 }
 
+impl crate::choice::Choice for PressureConvention {
+    const FIELD: &'static str = "convention";
+    const ALL: &'static [Self] = &PressureConvention::ALL;
+    fn name(self) -> &'static str {
+        PressureConvention::name(self)
+    }
+}
+crate::choice_traits!(PressureConvention, text);
+
 /// Quality flags raised while identifying one plateau.
 pub mod flags {
     /// μ drifts within the plateau more than the tolerance.

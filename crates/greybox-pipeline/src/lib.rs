@@ -43,6 +43,7 @@ pub mod fit;
 pub mod hertz;
 pub mod identify;
 pub mod identify_cycles;
+pub mod identify_settings;
 pub mod import;
 pub mod law;
 pub mod material;

@@ -9,6 +9,7 @@ use greybox_pipeline::export::{export, ExportFormat, ExportOptions, ExportOverri
 use greybox_pipeline::fit::{fit, FitOptions};
 use greybox_pipeline::hertz::{hertz, Geometry, HertzOptions};
 use greybox_pipeline::identify::{identify_campaign, IdentifyOptions};
+use greybox_pipeline::identify_settings::IdentifySettings;
 use greybox_pipeline::simulate::{read_cutting_setup, run_cut, RunOutput};
 use greybox_pipeline::study::Study;
 use greybox_pipeline::synth::synth as synth_campaign;
@@ -183,11 +184,12 @@ fn read_recording<'py>(
 /// Identify a campaign's recordings (files or directories, any supported rig format) into
 /// the dataset CSV `dataset`: JSON summary. `study` is a study TOML (default: the bundled
 /// example study, its plan's counts overridable); `use_plan` matches segments to its plan
-/// instead of taking loads and velocities from the recordings. `steady` is the steady-state
-/// rule (`auto`, `last:P%`, `from:Ts`; default: the study's, `auto`). `channels`: JSON of the
-/// `[recording]` settings (roles, `rig`, `constant_normal_n`, …), replacing the study's.
+/// instead of taking loads and velocities from the recordings. `settings`: JSON of the
+/// library's [`IdentifySettings`] (the command line's flags by their library names).
+/// `channels`: JSON of the `[recording]` settings (roles, `rig`, `constant_normal_n`, …),
+/// replacing the study's; `settings` apply on top.
 #[pyfunction]
-#[pyo3(signature = (recordings, dataset, study = None, use_plan = false, truth = None, track_radii_mm = Vec::new(), normal_force_count = None, velocity_count = None, steady = None, channels = None))]
+#[pyo3(signature = (recordings, dataset, study = None, use_plan = false, truth = None, track_radii_mm = Vec::new(), normal_force_count = None, velocity_count = None, settings = None, channels = None))]
 #[allow(clippy::too_many_arguments)]
 fn identify(
     py: Python<'_>,
@@ -199,7 +201,7 @@ fn identify(
     track_radii_mm: Vec<f64>,
     normal_force_count: Option<usize>,
     velocity_count: Option<usize>,
-    steady: Option<String>,
+    settings: Option<&str>,
     channels: Option<&str>,
 ) -> PyResult<String> {
     let r = run_interruptible(py, || -> anyhow::Result<_> {
@@ -207,8 +209,8 @@ fn identify(
         if let Some(c) = channels {
             s.recording = serde_json::from_str(c).map_err(|e| anyhow::anyhow!("channels: {e}"))?;
         }
-        if let Some(rule) = &steady {
-            s.identify.steady = rule.parse().map_err(anyhow::Error::msg)?;
+        if let Some(settings) = settings {
+            IdentifySettings::from_json(settings)?.apply(&mut s)?;
         }
         let mut o = IdentifyOptions::new(recordings, dataset);
         if use_plan {

@@ -112,3 +112,17 @@ def test_a_cut_from_python_and_the_cli_gives_the_same_summary_and_forces(tmp_pat
         if key not in timing and not isinstance(value, dict):
             assert py[key] == value, key
     assert (tmp_path / "cli" / "forces.csv").read_bytes() == (tmp_path / "py" / "forces.csv").read_bytes()
+
+
+def test_every_identify_flag_is_a_python_setting_with_the_same_effect(tmp_path):
+    """The CLI's identify flags and Python's keyword settings are one library type: the same
+    real export read with the rig, a channel map, a load unit and the convention given both
+    ways writes the same dataset bytes."""
+    rec = os.path.join(REPO, "tests", "data", "real-rigs", "phoenix-te", "PPS_60N_1.tsv")
+    cli("identify", "--rig", "phoenix-te", "--map", "radius=Radius:mm", "--convention", "article-eq7",
+        "--steady", "from:30s", "--settle-s", "0.1", "--recordings", rec, "--out", "cli.csv", cwd=tmp_path)
+    gb.identify(rec, tmp_path / "py.csv", steady="from:30s", rig="phoenix-te", map=["radius=Radius:mm"],
+                convention="article-eq7", settle_time_s=0.1, as_frame=False)
+    assert (tmp_path / "cli.csv").read_bytes() == (tmp_path / "py.csv").read_bytes()
+    with pytest.raises(gb.GreyboxError, match="identify.segment: 'steps' is not one of auto"):
+        gb.identify(rec, tmp_path / "x.csv", segment="steps")

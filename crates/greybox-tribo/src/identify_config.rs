@@ -34,6 +34,34 @@ impl Segmentation {
     }
 }
 
+impl greybox_core::choice::Choice for Segmentation {
+    const FIELD: &'static str = "segment";
+    const ALL: &'static [Self] = &[
+        Segmentation::Auto,
+        Segmentation::PlanTiming,
+        Segmentation::StepColumn,
+        Segmentation::Speed,
+        Segmentation::Signals,
+    ];
+    fn name(self) -> &'static str {
+        Segmentation::name(self)
+    }
+}
+greybox_core::choice_traits!(Segmentation, text);
+
+impl greybox_core::choice::Choice for TestMode {
+    const FIELD: &'static str = "test_mode";
+    const ALL: &'static [Self] = &[
+        TestMode::Continuous,
+        TestMode::Stepped,
+        TestMode::Reciprocating,
+    ];
+    fn name(self) -> &'static str {
+        TestMode::name(self)
+    }
+}
+greybox_core::choice_traits!(TestMode, text);
+
 /// How a rig runs its tests.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -163,6 +191,18 @@ pub enum Alignment {
     /// The onset of sliding is the first S command (no trigger channel needed).
     FirstPlateau,
 }
+
+impl greybox_core::choice::Choice for Alignment {
+    const FIELD: &'static str = "align";
+    const ALL: &'static [Self] = &[Alignment::Trigger, Alignment::FirstPlateau];
+    fn name(self) -> &'static str {
+        match self {
+            Alignment::Trigger => "trigger",
+            Alignment::FirstPlateau => "first-plateau",
+        }
+    }
+}
+greybox_core::choice_traits!(Alignment, text);
 
 /// Identification settings (study TOML `[identify]`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -497,6 +497,20 @@ def identify(
     as_frame: Optional[bool] = None,
     steady: Optional[str] = None,
     channels: Optional[dict] = None,
+    *,
+    map: Optional[Sequence[str]] = None,
+    rig: Optional[str] = None,
+    constant_normal_force_N: Optional[float] = None,
+    constant_sliding_velocity_m_per_s: Optional[float] = None,
+    tdms_group: Optional[str] = None,
+    header_line: Optional[int] = None,
+    sample_rate_hz: Optional[float] = None,
+    sheet: Optional[str] = None,
+    align: Optional[str] = None,
+    segment: Optional[str] = None,
+    test_mode: Optional[str] = None,
+    settle_time_s: Optional[float] = None,
+    convention: Optional[str] = None,
 ) -> tuple:
     """Identify apparent friction coefficients per plateau from recordings of any supported
     rig (files or directories) into the dataset CSV ``dataset``; returns (dataset table,
@@ -507,9 +521,32 @@ def identify(
     practice), ``"last:50%"`` or ``"from:300s"`` (default: the study's, ``auto``).
     ``channels`` replaces the study's ``[recording]`` settings, e.g. ``{"rig": "phoenix-te"}``,
     ``{"constant_normal_n": 50.0, "constant_sliding_m_s": 0.33}`` or
-    ``{"normal": {"name": "Load", "unit": "N"}, "cof": {"name": "COF"}}``."""
+    ``{"normal": {"name": "Load", "unit": "N"}, "cof": {"name": "COF"}}``.
+
+    The keyword-only settings are ``greybox identify``'s flags by the library's names (SI):
+    ``map=["radius=Radius:mm"]``, ``rig``, ``constant_normal_force_N``,
+    ``constant_sliding_velocity_m_per_s``, ``tdms_group``, ``header_line``,
+    ``sample_rate_hz``, ``sheet``, ``align``, ``segment``, ``test_mode``, ``settle_time_s``,
+    ``convention``; each overrides the study, as the flag does."""
     if isinstance(recordings, (str, os.PathLike)):
         recordings = [recordings]
+    settings = {
+        "steady": steady,
+        "map": None if map is None else _strs(map, "map"),
+        "rig": rig,
+        "constant_normal_force_N": _opt_float(constant_normal_force_N, "constant_normal_force_N"),
+        "constant_sliding_velocity_m_per_s": _opt_float(constant_sliding_velocity_m_per_s, "constant_sliding_velocity_m_per_s"),
+        "tdms_group": tdms_group,
+        "header_line": _count(header_line, "header_line"),
+        "sample_rate_hz": _opt_float(sample_rate_hz, "sample_rate_hz"),
+        "sheet": sheet,
+        "align": align,
+        "segment": segment,
+        "test_mode": test_mode,
+        "settle_time_s": _opt_float(settle_time_s, "settle_time_s"),
+        "convention": convention,
+    }
+    settings = {k: v for k, v in settings.items() if v is not None}
     summary = json.loads(
         _native.identify(
             [_path(r, "recordings") for r in _iterable(recordings, "recordings")],
@@ -520,7 +557,7 @@ def identify(
             _f64(track_radii_mm, "track_radii_mm").tolist(),
             _count(normal_force_count, "normal_force_count"),
             _count(velocity_count, "velocity_count"),
-            steady,
+            json.dumps(settings),
             None if channels is None else json.dumps(channels),
         )
     )

@@ -94,7 +94,7 @@ def identify(
     track_radii_mm: Sequence[float] | npt.NDArray[np.float64] = ...,
     normal_force_count: Optional[int] = None,
     velocity_count: Optional[int] = None,
-    steady: Optional[str] = None,
+    settings: Optional[str] = None,
     channels: Optional[str] = None,
 ) -> str: ...
 def ploughing_correction(data: str, out: str, pin_radius_mm: float = 17.0, track_widths_csv: Optional[str] = None) -> str: ...
