@@ -107,7 +107,11 @@ pub fn run(a: Args) -> Result<()> {
     if a.method == Method::Simulation {
         // The analytic Bowden–Tabor correction beside it, for comparison.
         let mut twin = ds.clone();
-        let bt = correct_analytic(&mut twin, greybox_core::units::mm_to_m(a.pin_radius_mm), &track_widths(&options)?)?;
+        let bt = correct_analytic(
+            &mut twin,
+            greybox_core::units::mm_to_m(a.pin_radius_mm),
+            &track_widths(&options)?,
+        )?;
         println!(
             "  analytic Bowden-Tabor (sphere) for comparison: mean reduction {:.2} %",
             bt.mean_reduction_percent

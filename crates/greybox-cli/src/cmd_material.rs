@@ -97,7 +97,9 @@ pub fn run(a: Args) -> Result<()> {
         Material::FitC(a) => {
             let r = fit_rate_sensitivity(&RateSensitivityOptions {
                 config: a.config.clone(),
-                measured_force_n_per_m: greybox_core::units::per_mm_to_per_m(a.measured_force_n_per_mm),
+                measured_force_n_per_m: greybox_core::units::per_mm_to_per_m(
+                    a.measured_force_n_per_mm,
+                ),
                 c_range: (a.c_min, a.c_max),
                 tolerance_n_per_m: greybox_core::units::per_mm_to_per_m(a.tolerance_n_per_mm),
                 max_runs: a.max_runs,

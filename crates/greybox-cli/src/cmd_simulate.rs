@@ -1,8 +1,8 @@
 //! `greybox simulate`: the built-in 2D SPH solver — pin sliding and orthogonal cutting.
 
-use greybox_core::units::{m_per_min_to_m_per_s, mm_to_m, um_to_m};
 use crate::output::print_json;
 use anyhow::Result;
+use greybox_core::units::{m_per_min_to_m_per_s, mm_to_m, um_to_m};
 use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, Indentation, RunOutput};
 use greybox_sim::pin::PinSetup;
 use std::path::PathBuf;

@@ -36,5 +36,9 @@ fn the_cli_has_no_unit_factors_of_its_own() {
             }
         }
     }
-    assert!(found.is_empty(), "unit factors in the CLI:\n{}", found.join("\n"));
+    assert!(
+        found.is_empty(),
+        "unit factors in the CLI:\n{}",
+        found.join("\n")
+    );
 }
