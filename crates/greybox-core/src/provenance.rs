@@ -97,6 +97,24 @@ impl Provenance {
         self
     }
 
+    /// The record with every input path that lies under `root` rewritten relative to `root`
+    /// (`root` itself becomes `.`); other paths (relative ones, absolute ones elsewhere) are
+    /// kept as they are. A tree of outputs written with absolute paths under one directory
+    /// then records its inputs relative to that directory, and stays valid wherever the
+    /// directory is moved.
+    pub fn relative_to(mut self, root: &Path) -> Self {
+        for input in &mut self.inputs {
+            if let Ok(rel) = Path::new(&input.path).strip_prefix(root) {
+                input.path = if rel.as_os_str().is_empty() {
+                    ".".into()
+                } else {
+                    rel.display().to_string()
+                };
+            }
+        }
+        self
+    }
+
     /// The record's path for a file output.
     pub fn path_beside(output: &Path) -> PathBuf {
         let mut name = output
@@ -159,6 +177,34 @@ mod tests {
         let written = p.write_beside(&out).unwrap();
         assert!(written.ends_with("dataset.csv.provenance.json"));
         assert_eq!(Provenance::read(&written).unwrap(), p);
+    }
+
+    #[test]
+    fn inputs_under_a_root_become_relative_to_it() {
+        let d = tempfile::tempdir().unwrap();
+        let sub = d.path().join("recordings");
+        std::fs::create_dir_all(&sub).unwrap();
+        let (inside, outside) = (sub.join("pin01.csv"), d.path().join("elsewhere.csv"));
+        std::fs::write(&inside, "a").unwrap();
+        std::fs::write(&outside, "b").unwrap();
+        let p = Provenance::new("greybox", "0.1.0", vec!["greybox".into()])
+            .input("recordings", &inside)
+            .unwrap()
+            .input("study", &outside)
+            .unwrap();
+        let rel = p.clone().relative_to(&sub);
+        assert_eq!(rel.inputs[0].path, "pin01.csv");
+        // outside the root: unchanged, and so are digests and sizes
+        assert_eq!(rel.inputs[1].path, outside.display().to_string());
+        assert_eq!(rel.inputs[0].sha256, p.inputs[0].sha256);
+        assert_eq!(rel.inputs[0].bytes, 1);
+        // a relative path is left as given; the root itself becomes "."
+        let mut q = p.clone();
+        q.inputs[0].path = "recordings/pin01.csv".into();
+        q.inputs[1].path = sub.display().to_string();
+        let q = q.relative_to(&sub);
+        assert_eq!(q.inputs[0].path, "recordings/pin01.csv");
+        assert_eq!(q.inputs[1].path, ".");
     }
 }
 

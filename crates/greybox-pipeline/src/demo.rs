@@ -10,7 +10,7 @@ use crate::export::{
     equidistant, export, Engine, ExportFormat, ExportOptions, DEFAULT_TEMPERATURE_UNIT,
     DEFAULT_UNITS,
 };
-use crate::fit::{fit, FitOptions, FitOutputs, FitResult};
+use crate::fit::{fit, write_report, FitOptions, FitOutputs, FitResult};
 use crate::identify::{
     compare_with_truth, identify_campaign, Expectation, IdentifyOptions, IdentifyResult,
     IdentifySummary, TruthComparison,
@@ -26,10 +26,12 @@ use crate::synth::{synthesize, SynthSummary};
 use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::dataset::FrictionDataset;
+use greybox_core::provenance::Provenance;
 use greybox_core::units::{m_per_min_to_m_per_s, mpa_to_pa};
 use greybox_couple::engine::CouplingResult;
 use greybox_friction::export::Grid;
 use greybox_learn::model::Family;
+use greybox_learn::modelfile::ModelFile;
 use greybox_tribo::campaign::FileReport;
 use greybox_tribo::frf::ImpactConfig;
 use greybox_tribo::plan::Plan;
@@ -94,37 +96,36 @@ const FOREIGN_TRUTH: &str = include_str!("../../../examples/foreign-rig/rotary-e
 const FOREIGN_RADII_MM: [f64; 5] = [5.0, 6.0, 7.0, 8.0, 9.0];
 
 /// Run the whole pipeline on the bundled example study into the directory `out` (staged and
-/// swapped in whole; an existing non-empty `out` needs `force`). Every file is written
-/// with paths relative to `out`, so what the outputs record stays valid wherever the
-/// directory is moved.
+/// swapped in whole; an existing non-empty `out` needs `force`).
 ///
-/// While it runs, the process's working directory is `out`'s staging directory (restored
-/// afterwards, also on an error): do not run other work that uses relative paths beside it.
+/// Every stage writes under the staging directory by absolute paths; the process's working
+/// directory is never changed, so the demo may run beside other work (threads, a Python
+/// caller). What the outputs record stays valid wherever the directory is moved: before
+/// the swap every provenance record's inputs under the staging directory are rewritten
+/// relative to it (the demo's root), the law refers to its model relative to the law file,
+/// and the summary's and [`Demo::paths`]' paths are relative to the demo's directory.
 pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
     let study = Study::parse(DEMO_STUDY, "bundled examples/demo-study.toml")?;
     let plan = study.plan.build()?;
     let target = std::path::absolute(out_dir)?;
     let staged = stage_out_dir(&target, force, &[])?;
-    // Every stage writes with paths relative to the demo's own directory, so that what the
-    // outputs record (report sources, provenance inputs, the law's model reference) holds
-    // after the swap, wherever the directory is moved.
-    let cwd = WorkingDir::enter(staged.path())?;
-    let campaign = campaign(&study, &plan)?;
-    let foreign = foreign_rig()?;
-    let law = grey_box(&study, &campaign.dataset_csv)?;
-    let dynamics = dynamics(&plan)?;
+    let base = staged.path();
+    let campaign = campaign(base, &study, &plan)?;
+    let foreign = foreign_rig(base)?;
+    let law = grey_box(base, &study, &campaign.dataset_csv)?;
+    let dynamics = dynamics(base, &plan)?;
     // wear: the article's five pin tests (digest §4), k → V = k F s → k
     let wear_path = PathBuf::from("wear-tests.csv");
-    write_string_atomic(&wear_path, WEAR_TESTS)?;
-    let wear_tests = greybox_tribo::wear::read_wear_tests(&wear_path)?;
-    let (couple_dir, coupling) = coupling()?;
-    let (curves, material) = material()?;
-    let (cut_dir, cutting) = cut()?;
-    // the run is complete: swap it in
+    write_string_atomic(&base.join(&wear_path), WEAR_TESTS)?;
+    let wear_tests = greybox_tribo::wear::read_wear_tests(&base.join(&wear_path))?;
+    let (couple_dir, coupling) = coupling(base)?;
+    let (curves, material) = material(base)?;
+    let (cut_dir, cutting) = cut(base)?;
+    // the run is complete: its records made relative to the demo's root, then swapped in
     provenance(&[])?
         .with_seed(study.synth.seed)
-        .write_into(Path::new("."))?;
-    drop(cwd);
+        .write_into(base)?;
+    relative_provenance(base)?;
     staged.commit()?;
     // the page over everything, once the directory holds it all
     let report = report(&ReportOptions::new(out_dir))?;
@@ -174,32 +175,34 @@ struct Campaign {
 
 /// Plan the study's campaign, record it on the virtual rig (CSV and TDMS) and identify the
 /// TDMS recordings against the plan and the ground truth.
-fn campaign(study: &Study, plan: &Plan) -> Result<Campaign> {
-    let plan_files = write_plan(study, plan, Path::new("plan"))?;
+fn campaign(base: &Path, study: &Study, plan: &Plan) -> Result<Campaign> {
+    let plan_files = write_plan(study, plan, &base.join("plan"))?;
     let recordings = PathBuf::from("recordings");
-    let synth = synthesize(
+    let mut synth = synthesize(
         study,
         plan,
-        &recordings,
+        &base.join(&recordings),
         &[RecordingFormat::Csv, RecordingFormat::Tdms],
     )?;
+    synth.files = relative_all(base, &synth.files);
     let dataset_csv = PathBuf::from("dataset.csv");
-    let identified = identify_campaign(
+    let mut identified = identify_campaign(
         study,
         &IdentifyOptions {
-            recordings: vec![recordings.clone()],
+            recordings: vec![base.join(&recordings)],
             format: Some(RecordingFormat::Tdms),
             expect: Expectation::Plan(plan.clone()),
             track_radii_mm: Vec::new(),
-            dataset: dataset_csv.clone(),
+            dataset: base.join(&dataset_csv),
             inspect_dir: None,
-            truth: Some(recordings.join("ground_truth.csv")),
+            truth: Some(base.join(&recordings).join("ground_truth.csv")),
             side_inputs: Vec::new(),
         },
         None,
     )?;
+    relative_identify(base, &mut identified);
     Ok(Campaign {
-        plan: summarize(plan, plan_files),
+        plan: summarize(plan, relative_all(base, &plan_files)),
         synth,
         recordings,
         dataset_csv,
@@ -217,17 +220,19 @@ struct ForeignRig {
 /// A rotary tribometer's CSV export (preamble, Step column, time restarting per step,
 /// trailing delimiters, footer, rpm on a per-step track radius), identified and compared
 /// with its ground truth.
-fn foreign_rig() -> Result<ForeignRig> {
+fn foreign_rig(base: &Path) -> Result<ForeignRig> {
     let dir = PathBuf::from("foreign-rig");
-    std::fs::create_dir_all(&dir)?;
-    let file = dir.join("rotary-export.csv");
+    let abs = base.join(&dir);
+    std::fs::create_dir_all(&abs)?;
+    let file = abs.join("rotary-export.csv");
     write_string_atomic(&file, FOREIGN_EXPORT)?;
-    let truth = dir.join("rotary-export-truth.csv");
+    let truth = abs.join("rotary-export-truth.csv");
     write_string_atomic(&truth, FOREIGN_TRUTH)?;
-    let mut options = IdentifyOptions::new(vec![file], dir.join("dataset.csv"));
+    let mut options = IdentifyOptions::new(vec![file], abs.join("dataset.csv"));
     options.track_radii_mm = FOREIGN_RADII_MM.to_vec();
-    let identified = identify_campaign(&Study::default(), &options, None)?;
+    let mut identified = identify_campaign(&Study::default(), &options, None)?;
     let error = compare_with_truth(&identified.dataset, &truth)?;
+    relative_identify(base, &mut identified);
     Ok(ForeignRig {
         dir,
         identified,
@@ -248,16 +253,18 @@ struct GreyBox {
 /// The ploughing correction (the article's Table 3 track widths), the article's protocol on
 /// the adhesive COF, the grey-box law around the family with the best held-out R², its
 /// Abaqus table, and the C ABI's header and Fortran module.
-fn grey_box(study: &Study, dataset_csv: &Path) -> Result<GreyBox> {
+fn grey_box(base: &Path, study: &Study, dataset_csv: &Path) -> Result<GreyBox> {
+    let dataset_adhesive = PathBuf::from("dataset_adhesive.csv");
     let mut adhesive_options =
-        AdhesiveOptions::analytic(dataset_csv.to_path_buf(), "dataset_adhesive.csv".into());
+        AdhesiveOptions::analytic(base.join(dataset_csv), base.join(&dataset_adhesive));
     adhesive_options.pin_radius_mm = study.contact.pin_tip_radius_mm;
     let (_, correction) = adhesive(&adhesive_options)?;
-    let fitted = fit(&FitOptions::article(
+    let mut fitted = fit(&FitOptions::article(
         adhesive_options.out.clone(),
         "cof_adhesive",
-        "fit".into(),
+        base.join("fit"),
     ))?;
+    relative_fit(base, &mut fitted)?;
     let family = best_family(&fitted.report)
         .ok_or_else(|| anyhow::anyhow!("no model family was fitted"))?
         .family;
@@ -269,37 +276,40 @@ fn grey_box(study: &Study, dataset_csv: &Path) -> Result<GreyBox> {
             ..GreyBoxOptions::default()
         },
     );
+    // the law names its model relative to the law file (beside it: the demo's root)
     let path = PathBuf::from("law.json");
-    write_law(&path, &law)?;
+    write_law(&base.join(&path), &law)?;
+    let table = PathBuf::from("abaqus_friction.inp");
     let export_line = export(
-        &ExportOptions::new(
-            path.clone(),
-            ExportFormat::Abaqus,
-            "abaqus_friction.inp".into(),
-        )
-        .with_grid(Grid {
-            pressure_pa: equidistant(900.0, 2200.0, 14)
-                .into_iter()
-                .map(mpa_to_pa)
-                .collect(),
-            velocity_m_s: equidistant(20.0, 250.0, 24)
-                .into_iter()
-                .map(m_per_min_to_m_per_s)
-                .collect(),
-            temperature_k: None,
-        })
-        .with_engine(Engine::Abaqus {
-            units: DEFAULT_UNITS,
-            temperature_unit: DEFAULT_TEMPERATURE_UNIT,
-            taumax_pa: Some(mpa_to_pa(DEMO_SHEAR_CAP_MPA)),
-        }),
+        &ExportOptions::new(base.join(&path), ExportFormat::Abaqus, base.join(&table))
+            .with_grid(Grid {
+                pressure_pa: equidistant(900.0, 2200.0, 14)
+                    .into_iter()
+                    .map(mpa_to_pa)
+                    .collect(),
+                velocity_m_s: equidistant(20.0, 250.0, 24)
+                    .into_iter()
+                    .map(m_per_min_to_m_per_s)
+                    .collect(),
+                temperature_k: None,
+            })
+            .with_engine(Engine::Abaqus {
+                units: DEFAULT_UNITS,
+                temperature_unit: DEFAULT_TEMPERATURE_UNIT,
+                taumax_pa: Some(mpa_to_pa(DEMO_SHEAR_CAP_MPA)),
+            }),
     )?
-    .line;
-    write_string_atomic(Path::new("ffi/greybox.h"), GREYBOX_H)?;
-    write_string_atomic(Path::new("ffi/greybox.f90"), GREYBOX_F90)?;
+    .line
+    // the line names the table relative to the demo's root, as the summary does
+    .replace(
+        &base.join(&table).display().to_string(),
+        &table.display().to_string(),
+    );
+    write_string_atomic(&base.join("ffi/greybox.h"), GREYBOX_H)?;
+    write_string_atomic(&base.join("ffi/greybox.f90"), GREYBOX_F90)?;
     Ok(GreyBox {
         correction,
-        dataset_adhesive: adhesive_options.out,
+        dataset_adhesive,
         fitted,
         family,
         path,
@@ -309,7 +319,7 @@ fn grey_box(study: &Study, dataset_csv: &Path) -> Result<GreyBox> {
 
 /// Rig dynamics: virtual impact-hammer tests at the article's three loads, characterised
 /// against the spindle excitation of the campaign `plan`.
-fn dynamics(plan: &Plan) -> Result<CharacterizeReport> {
+fn dynamics(base: &Path, plan: &Plan) -> Result<CharacterizeReport> {
     let mut recordings = Vec::new();
     for (load, f_hz, zeta) in VIRTUAL_RIG {
         let rec = greybox_tribo::frf_synth::Chain::sdof(3.0, f_hz, zeta).record(
@@ -329,12 +339,12 @@ fn dynamics(plan: &Plan) -> Result<CharacterizeReport> {
                 rec.response[k]
             ));
         }
-        let p = Path::new("hammer").join(format!("hammer_{load:.0}N.csv"));
+        let p = base.join("hammer").join(format!("hammer_{load:.0}N.csv"));
         write_string_atomic(&p, &csv)?;
         recordings.push((p, Some(load)));
     }
-    let study_file = Path::new("plan").join("study.toml");
-    characterize(&CharacterizeOptions {
+    let study_file = base.join("plan").join("study.toml");
+    let mut report = characterize(&CharacterizeOptions {
         recordings,
         channels: ImpactChannels {
             response: "response_m".into(),
@@ -344,21 +354,29 @@ fn dynamics(plan: &Plan) -> Result<CharacterizeReport> {
         harmonics: 3,
         plan: Some(plan.clone()),
         study: Some(study_file),
-        out: "characterize".into(),
+        out: base.join("characterize"),
         force: false,
-    })
+    })?;
+    // its report as the summary shows it: files relative to the demo's root
+    report.files = relative_all(base, &report.files);
+    write_string_atomic(
+        &base.join("characterize/report.json"),
+        &serde_json::to_string_pretty(&report)?,
+    )?;
+    Ok(report)
 }
 
 /// The bundled CalculiX restart-loop example: written, and run when ccx is installed.
-fn coupling() -> Result<(PathBuf, Option<CouplingResult>)> {
-    let dir = PathBuf::from("couple");
+fn coupling(base: &Path) -> Result<(PathBuf, Option<CouplingResult>)> {
+    let rel = PathBuf::from("couple");
+    let dir = base.join(&rel);
     greybox_couple::example::write_example(&dir, 5)?;
     if std::process::Command::new("ccx")
         .arg("-v")
         .output()
         .is_err()
     {
-        return Ok((dir, None));
+        return Ok((rel, None));
     }
     let result = couple(&CoupleOptions {
         engine: EngineOptions::Calculix {
@@ -374,12 +392,12 @@ fn coupling() -> Result<(PathBuf, Option<CouplingResult>)> {
         max_cycles: 20,
         tol: 1e-3,
     })?;
-    Ok((dir, Some(result)))
+    Ok((rel, Some(result)))
 }
 
 /// J-C A, B, n, m from the article's compression programme: virtual curves with 1 % noise
 /// and the blue-brittleness anomaly at 359 °C.
-fn material() -> Result<(PathBuf, greybox_material::fit::JcFit)> {
+fn material(base: &Path) -> Result<(PathBuf, greybox_material::fit::JcFit)> {
     let curves = Path::new("material").join("flow-curves.csv");
     let truth = greybox_material::JohnsonCook {
         room_temperature_k: 298.15,
@@ -393,9 +411,9 @@ fn material() -> Result<(PathBuf, greybox_material::fit::JcFit)> {
             1.0
         }
     });
-    greybox_material::fit::write_flow_curves(&curves, &pts)?;
+    greybox_material::fit::write_flow_curves(&base.join(&curves), &pts)?;
     let fitted = fit_flow_curves(
-        &curves,
+        &base.join(&curves),
         &greybox_material::fit::FitOptions {
             c: truth.c,
             ref_strain_rate: Some(4e-3),
@@ -403,7 +421,7 @@ fn material() -> Result<(PathBuf, greybox_material::fit::JcFit)> {
             melt_temperature_k: truth.melt_temperature_k,
             misfit_threshold: 0.05,
         },
-        Some(&Path::new("material").join("jc-fit.json")),
+        Some(&base.join("material").join("jc-fit.json")),
     )?;
     Ok((curves, fitted))
 }
@@ -413,7 +431,7 @@ pub const DEMO_CHIP_FRAMES: usize = 8;
 
 /// The article's cut (coarser: 12.5 µm spacing) with the grey-box law in 12.5 µm windows
 /// along rake and flank, re-evaluated every 500 steps from smoothed window states.
-fn cut() -> Result<(PathBuf, CutSummary)> {
+fn cut(base: &Path) -> Result<(PathBuf, CutSummary)> {
     let mut setup: greybox_sim::cutting::CuttingSetup = toml::from_str(DEMO_CUT)?;
     setup.spacing_m = 12.5e-6;
     setup.friction.window_length_m = 12.5e-6;
@@ -425,34 +443,101 @@ fn cut() -> Result<(PathBuf, CutSummary)> {
         time_updates: 4.0,
         space_windows: 1,
     };
-    let case = cut_case(setup, Path::new(""))?;
+    // the law file is resolved against the demo's root, and named relative to it
+    let mut case = cut_case(setup, base)?;
+    case.law_source = relative(base, &case.law_source);
     let dir = PathBuf::from("cutting");
     let out = RunOutput {
         frames: DEMO_CHIP_FRAMES,
-        ..RunOutput::to(&dir)
+        ..RunOutput::to(&base.join(&dir))
     };
-    let summary = run_cut(&case, 1.0, &out)?;
+    let mut summary = run_cut(&case, 1.0, &out)?;
+    // its summary (also on disk) names its files relative to the demo's root
+    summary.files = relative_all(base, &summary.files);
+    write_string_atomic(
+        &base.join(&dir).join("summary.json"),
+        &serde_json::to_string_pretty(&summary)?,
+    )?;
     Ok((dir, summary))
 }
 
-/// The process working directory set to a directory while the demo writes into it, and
-/// restored when dropped (also on an error).
-struct WorkingDir {
-    previous: PathBuf,
+/// `p` relative to the demo's root `base` when it lies under it (the stages are given
+/// absolute paths under the staging directory); any other path as it is.
+fn relative(base: &Path, p: &str) -> String {
+    Path::new(p)
+        .strip_prefix(base)
+        .map_or_else(|_| p.to_string(), |r| r.display().to_string())
 }
 
-impl WorkingDir {
-    fn enter(dir: &Path) -> Result<Self> {
-        let previous = std::env::current_dir()?;
-        std::env::set_current_dir(dir)?;
-        Ok(WorkingDir { previous })
+/// [`relative`] of every path of a list.
+fn relative_all(base: &Path, paths: &[String]) -> Vec<String> {
+    paths.iter().map(|p| relative(base, p)).collect()
+}
+
+/// The paths of an identification's summary (dataset, per-cycle file, recordings)
+/// relative to the demo's root.
+fn relative_identify(base: &Path, identified: &mut IdentifyResult) {
+    let s = &mut identified.summary;
+    s.dataset = relative(base, &s.dataset);
+    s.cycles = s.cycles.as_deref().map(|c| relative(base, c));
+    for f in &mut s.identification.files {
+        f.source = relative(base, &f.source);
     }
 }
 
-impl Drop for WorkingDir {
-    fn drop(&mut self) {
-        let _ = std::env::set_current_dir(&self.previous);
+/// The paths of a fit into `base`/`fit` (its data and outputs) relative to the demo's
+/// root: in its summary, its report (rewritten) and its models' provenance (resealed).
+fn relative_fit(base: &Path, fitted: &mut FitResult) -> Result<()> {
+    fitted.report.source = relative(base, &fitted.report.source);
+    write_report(&base.join("fit"), &fitted.report)?;
+    for model in &fitted.outputs.models {
+        let path = Path::new(model);
+        let mut m = ModelFile::load(path)?;
+        m.provenance = m.provenance.map(|p| p.relative_to(base));
+        m.seal()?.save(path)?;
     }
+    let o = &mut fitted.outputs;
+    o.report_json = relative(base, &o.report_json);
+    o.report_md = relative(base, &o.report_md);
+    o.models = relative_all(base, &o.models);
+    o.plots = relative_all(base, &o.plots);
+    Ok(())
+}
+
+/// Rewrite every provenance record under the demo's root (`*.provenance.json`,
+/// `provenance.json`) with its inputs under `base` relative to it, atomically as the
+/// stages wrote them: what the records name then holds wherever the directory is moved.
+fn relative_provenance(base: &Path) -> Result<()> {
+    let mut dirs = vec![base.to_path_buf()];
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir)? {
+            let entry = entry?;
+            let path = entry.path();
+            if entry.file_type()?.is_dir() {
+                dirs.push(path);
+                continue;
+            }
+            let name = entry.file_name().to_string_lossy().into_owned();
+            // the record of a directory output, or the one beside a file output
+            let output = if name == "provenance.json" {
+                None
+            } else if let Some(file) = name.strip_suffix(".provenance.json") {
+                Some(dir.join(file))
+            } else {
+                continue;
+            };
+            let record = Provenance::read(&path)?;
+            let relative = record.clone().relative_to(base);
+            if relative == record {
+                continue;
+            }
+            match output {
+                None => relative.write_into(&dir)?,
+                Some(output) => relative.write_beside(&output)?,
+            };
+        }
+    }
+    Ok(())
 }
 
 /// The demo's virtual rig, one single-degree-of-freedom model per normal load: (load N,

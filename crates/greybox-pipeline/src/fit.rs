@@ -132,12 +132,8 @@ pub fn fit(a: &FitOptions) -> Result<FitResult> {
     })
 }
 
-fn write_outputs(
-    out: &Path,
-    report: &FitReport,
-    models: &[ModelFile],
-    data: &greybox_learn::table::Dataset,
-) -> Result<FitOutputs> {
+/// Write the fit's report into `out` as `report.json` and `report.md`; their paths.
+pub(crate) fn write_report(out: &Path, report: &FitReport) -> Result<(PathBuf, PathBuf)> {
     let report_json = out.join("report.json");
     write_string_atomic(&report_json, &serde_json::to_string_pretty(report)?)?;
     let report_md = out.join("report.md");
@@ -145,6 +141,16 @@ fn write_outputs(
         &report_md,
         &format!("# greybox fit report\n\n{}", markdown(report)),
     )?;
+    Ok((report_json, report_md))
+}
+
+fn write_outputs(
+    out: &Path,
+    report: &FitReport,
+    models: &[ModelFile],
+    data: &greybox_learn::table::Dataset,
+) -> Result<FitOutputs> {
+    let (report_json, report_md) = write_report(out, report)?;
     let mut model_paths = Vec::new();
     let mut plots = Vec::new();
     for (fam, m) in report.families.iter().zip(models) {
