@@ -449,7 +449,7 @@ fn cut(base: &Path) -> Result<(PathBuf, CutSummary)> {
     let dir = PathBuf::from("cutting");
     let out = RunOutput {
         frames: DEMO_CHIP_FRAMES,
-        ..RunOutput::to(&base.join(&dir))
+        ..RunOutput::to(base.join(&dir))
     };
     let mut summary = run_cut(&case, 1.0, &out)?;
     // its summary (also on disk) names its files relative to the demo's root
