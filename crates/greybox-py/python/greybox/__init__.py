@@ -105,6 +105,13 @@ def _strs(x: Any, name: str) -> list:
     return list(x)
 
 
+def _opt_str(x: Any, name: str) -> Optional[str]:
+    """A string or None; anything else is a GreyboxError naming the argument."""
+    if x is not None and not isinstance(x, str):
+        raise GreyboxError(f"{name}: expected a string, got {type(x).__name__} {x!r}")
+    return x
+
+
 def _opt_float(x: Any, name: str) -> Optional[float]:
     """A number or None; anything else is a GreyboxError naming the argument."""
     if x is None:
@@ -531,20 +538,20 @@ def identify(
     if isinstance(recordings, (str, os.PathLike)):
         recordings = [recordings]
     settings = {
-        "steady": steady,
+        "steady": _opt_str(steady, "steady"),
         "map": None if map is None else _strs(map, "map"),
-        "rig": rig,
+        "rig": _opt_str(rig, "rig"),
         "constant_normal_force_N": _opt_float(constant_normal_force_N, "constant_normal_force_N"),
         "constant_sliding_velocity_m_per_s": _opt_float(constant_sliding_velocity_m_per_s, "constant_sliding_velocity_m_per_s"),
-        "tdms_group": tdms_group,
+        "tdms_group": _opt_str(tdms_group, "tdms_group"),
         "header_line": _count(header_line, "header_line"),
         "sample_rate_hz": _opt_float(sample_rate_hz, "sample_rate_hz"),
-        "sheet": sheet,
-        "align": align,
-        "segment": segment,
-        "test_mode": test_mode,
+        "sheet": _opt_str(sheet, "sheet"),
+        "align": _opt_str(align, "align"),
+        "segment": _opt_str(segment, "segment"),
+        "test_mode": _opt_str(test_mode, "test_mode"),
         "settle_time_s": _opt_float(settle_time_s, "settle_time_s"),
-        "convention": convention,
+        "convention": _opt_str(convention, "convention"),
     }
     settings = {k: v for k, v in settings.items() if v is not None}
     summary = json.loads(
@@ -820,16 +827,16 @@ def export_table(
     law on ``check_points`` states inside the grid, ``shape``, ``exact_steps``, ``bytes``,
     ``warnings`` (also issued as Python warnings)."""
     options: dict = {
-        "units": units,
-        "temperature_unit": temperature_unit,
+        "units": _opt_str(units, "units"),
+        "temperature_unit": _opt_str(temperature_unit, "temperature_unit"),
         "taumax_Pa": _opt_float(taumax_Pa, "taumax_Pa"),
         "deform_reference_velocity_m_per_s": _opt_float(deform_reference_velocity_m_per_s, "deform_reference_velocity_m_per_s"),
         "deform_objects": None if deform_objects is None else [int(x) for x in deform_objects],
         "deform_windows": _opt_path(deform_windows, "deform_windows"),
         "lsdyna_table_id": _count(lsdyna_table_id, "lsdyna_table_id"),
         "check_points": _count(check_points, "check_points"),
-        "steps": steps,
-        "table_kind": table_kind,
+        "steps": _opt_str(steps, "steps"),
+        "table_kind": _opt_str(table_kind, "table_kind"),
         "tolerance": _opt_float(tolerance, "tolerance"),
         "max_table_size": _count(max_table_size, "max_table_size"),
         "adaptive_grid": adaptive_grid,
