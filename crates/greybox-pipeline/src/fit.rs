@@ -10,7 +10,6 @@ use greybox_learn::plot;
 use greybox_learn::protocol::{markdown, run_protocol, FitConfig, FitReport};
 use greybox_learn::table::read_dataset;
 use serde::Serialize;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// Options of [`fit`].
@@ -37,16 +36,8 @@ pub struct FitOptions {
 /// The target column when none is named: the adhesive coefficient where the dataset has it
 /// (after the ploughing correction, what the article's models learn), else the apparent one.
 pub fn default_target(data: &Path) -> Result<String> {
-    use std::io::BufRead;
-    let file = std::fs::File::open(data)
-        .map_err(|e| anyhow::anyhow!("cannot read {}: {e}", data.display()))?;
-    let mut header = String::new();
-    std::io::BufReader::new(file)
-        .take(1 << 20)
-        .read_line(&mut header)
-        .map_err(|e| anyhow::anyhow!("cannot read {}: {e}", data.display()))?;
-    let has = |name: &str| header.trim_end().split(',').any(|h| h.trim() == name);
-    Ok(if has("cof_adhesive") {
+    let header = greybox_core::csvutil::Header::read(data)?;
+    Ok(if header.find("cof_adhesive").is_some() {
         "cof_adhesive"
     } else {
         "cof_apparent"
