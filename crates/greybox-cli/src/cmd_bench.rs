@@ -2,7 +2,9 @@
 
 use crate::output::emit;
 use anyhow::Result;
+use greybox_core::choice::{clap_parsers::choice, Choice};
 use greybox_friction::table_file::TableKind;
+use greybox_pipeline::validate::ToolModel;
 use greybox_pipeline::{bench, text, validate};
 use std::path::PathBuf;
 
@@ -29,10 +31,10 @@ pub enum Bench {
         /// Law, model or table file.
         #[arg(long)]
         law: PathBuf,
-        /// Table kind: auto (exact for tree ensembles, adaptive otherwise), exact, adaptive
-        /// or uniform.
-        #[arg(long, value_enum, default_value = "auto")]
-        kind: TableKindArg,
+        /// Table kind: exact, adaptive or uniform [default: exact for tree ensembles,
+        /// adaptive otherwise].
+        #[arg(long, value_parser = choice::<TableKind>())]
+        kind: Option<TableKind>,
         /// Uniform tables: grid points per axis (pressure, velocity).
         #[arg(long, default_value_t = 201)]
         points: usize,
@@ -75,8 +77,8 @@ pub enum Bench {
         #[arg(long, value_delimiter = ',')]
         only: Vec<String>,
         /// Tool models: adiabatic, thermal (default: both).
-        #[arg(long, value_enum, value_delimiter = ',', default_values_t = vec![ToolArg::Adiabatic, ToolArg::Thermal])]
-        tool: Vec<ToolArg>,
+        #[arg(long, value_parser = choice::<ToolModel>(), value_delimiter = ',', default_values_t = ToolModel::ALL.to_vec())]
+        tool: Vec<ToolModel>,
         /// Fraction of each template's cut length (shorter: faster, less steady).
         #[arg(long, default_value_t = 1.0)]
         fraction: f64,
@@ -99,46 +101,6 @@ pub enum Bench {
         #[arg(long)]
         json: bool,
     },
-}
-
-/// A table kind on the command line.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TableKindArg {
-    /// Exact for tree ensembles (piecewise-constant laws), adaptive otherwise.
-    Auto,
-    /// Cells between the split thresholds (tree ensembles only).
-    Exact,
-    /// Non-uniform grid refined to --tolerance.
-    Adaptive,
-    /// Uniform grid of --points per axis.
-    Uniform,
-}
-
-impl From<TableKindArg> for Option<TableKind> {
-    fn from(k: TableKindArg) -> Self {
-        match k {
-            TableKindArg::Auto => None,
-            TableKindArg::Exact => Some(TableKind::Exact),
-            TableKindArg::Adaptive => Some(TableKind::Adaptive),
-            TableKindArg::Uniform => Some(TableKind::Uniform),
-        }
-    }
-}
-
-/// A tool model on the command line.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ToolArg {
-    Adiabatic,
-    Thermal,
-}
-
-impl From<ToolArg> for validate::ToolModel {
-    fn from(t: ToolArg) -> Self {
-        match t {
-            ToolArg::Adiabatic => validate::ToolModel::Adiabatic,
-            ToolArg::Thermal => validate::ToolModel::Thermal,
-        }
-    }
 }
 
 #[derive(clap::Args, Debug)]
@@ -167,7 +129,7 @@ pub fn run(a: Args) -> Result<()> {
             json,
         } => {
             let o = bench::SurrogateBench {
-                kind: kind.into(),
+                kind,
                 points: points.max(2),
                 tolerance,
                 max_size,
@@ -197,7 +159,7 @@ pub fn run(a: Args) -> Result<()> {
         } => {
             let o = validate::ValidateOptions {
                 only,
-                tools: tool.into_iter().map(Into::into).collect(),
+                tools: tool,
                 fraction,
             };
             let (v, files) = validate::validate_into(&suite, &o, &out, force)?;

@@ -1,12 +1,12 @@
 //! `greybox characterize`: FRF of the rig from impact-hammer recordings, and the article's
 //! dynamics check against the campaign's spindle excitation.
 
-use crate::cmd_plan::PlanFlags;
 use crate::output::print_json;
 use anyhow::Result;
 use greybox_pipeline::characterize::{
     characterize, recording_with_load, CharacterizeOptions, ImpactChannels,
 };
+use greybox_pipeline::settings::plan::PlanSettings;
 use greybox_tribo::frf::ImpactConfig;
 use std::path::PathBuf;
 
@@ -42,7 +42,7 @@ pub struct Args {
     pub harmonics: usize,
     /// The campaign plan for the excitation check (study TOML and/or plan flags).
     #[command(flatten)]
-    pub plan: PlanFlags,
+    pub plan: PlanSettings,
     /// Output directory: frf_<load>.csv, plots, report.json.
     #[arg(long, default_value = "characterize-out")]
     pub out: PathBuf,

@@ -1,9 +1,9 @@
 //! `greybox export`: a friction law as tables for FE engines, or as a surrogate table. The
 //! options and their defaults are the library's ([`ExportOptions`]); a flag only overrides.
 
-use crate::args::choice;
 use crate::output::emit;
 use anyhow::Result;
+use greybox_core::choice::clap_parsers::choice;
 use greybox_core::units::{m_per_min_to_m_per_s, mpa_to_pa};
 use greybox_friction::export::{StepLines, TempUnit};
 use greybox_friction::grid::UnitSystem;

@@ -1,8 +1,8 @@
 //! `greybox hertz`.
 
-use crate::args::choice;
 use crate::output::print_json;
 use anyhow::Result;
+use greybox_core::choice::clap_parsers::choice;
 use greybox_core::dataset::PressureConvention;
 use greybox_pipeline::hertz::{hertz, Geometry as HertzGeometry, HertzOptions};
 

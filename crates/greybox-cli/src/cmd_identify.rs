@@ -1,41 +1,20 @@
 //! `greybox identify`.
 
-use crate::args::choice_name;
-use crate::cmd_plan::PlanFlags;
 use crate::output::print_json;
-use anyhow::{Context, Result};
+use anyhow::Result;
+use greybox_core::choice::clap_parsers::choice_name;
 use greybox_core::choice::Choice;
 use greybox_core::dataset::PressureConvention;
 use greybox_pipeline::identify::{
     all_rows_table, files_table, identify_campaign, inspect_text, matching_text, summary_table,
-    Expectation, IdentifyOptions, IdentifyResult, SegmentsHook,
+    IdentifyResult, SegmentsHook,
 };
-use greybox_pipeline::identify_settings::IdentifySettings;
-use greybox_pipeline::study::Study;
-use greybox_tribo::campaign::{read_expected_steps, FileReport};
+use greybox_pipeline::settings::identify::{IdentifyInputs, IdentifySettings};
+use greybox_pipeline::settings::plan::PlanSettings;
+use greybox_tribo::campaign::FileReport;
 use greybox_tribo::identify::Alignment;
 use greybox_tribo::identify_config::{Segmentation, SteadyRule, TestMode};
-use greybox_tribo::readers::RecordingFormat;
-use std::path::{Path, PathBuf};
-
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum InFormat {
-    /// Delimited text (.csv, .txt, .tsv, .dat, .asc, .prn).
-    Csv,
-    Tdms,
-    /// Spreadsheets (.xlsx, .xlsm, .xls, .xlsb, .ods).
-    Xlsx,
-}
-
-impl From<InFormat> for RecordingFormat {
-    fn from(f: InFormat) -> Self {
-        match f {
-            InFormat::Csv => RecordingFormat::Csv,
-            InFormat::Tdms => RecordingFormat::Tdms,
-            InFormat::Xlsx => RecordingFormat::Spreadsheet,
-        }
-    }
-}
+use std::path::Path;
 
 /// Segment and identify tribometer recordings from any rig.
 ///
@@ -50,15 +29,9 @@ impl From<InFormat> for RecordingFormat {
 #[derive(clap::Args, Debug)]
 pub struct Args {
     #[command(flatten)]
-    pub plan: PlanFlags,
-    /// Recording files (CSV/TXT, XLSX/XLS/ODS, TDMS) or directories: a file per step, per
-    /// pin or for the whole campaign. A directory gives its pinNN files when the plan's pins
-    /// are all there, else every recording file in natural order.
-    #[arg(long, num_args = 1.., required = true)]
-    pub recordings: Vec<PathBuf>,
-    /// Which files to pick from a directory (default: every supported format).
-    #[arg(long, value_enum)]
-    pub format: Option<InFormat>,
+    pub plan: PlanSettings,
+    #[command(flatten)]
+    pub inputs: IdentifyInputs,
     /// How to find the steps.
     #[arg(long, value_parser = choice_name::<Segmentation>())]
     pub segment: Option<String>,
@@ -71,13 +44,6 @@ pub struct Args {
     #[arg(long = "test-mode", value_parser = clap::builder::PossibleValuesParser::new(
         ["auto"].into_iter().chain(TestMode::names())))]
     pub test_mode: Option<String>,
-    /// Expected steps without timing: CSV with pin, normal_force_N,
-    /// sliding_velocity_m_per_min [, step], in the order they were run.
-    #[arg(long = "plan-steps")]
-    pub plan_steps: Option<PathBuf>,
-    /// Ignore the study's plan: loads and velocities from the recordings.
-    #[arg(long = "no-plan")]
-    pub no_plan: bool,
     /// How to align the plan with each recording (plan-timing path).
     #[arg(long, value_parser = choice_name::<Alignment>())]
     pub align: Option<String>,
@@ -112,10 +78,6 @@ pub struct Args {
     /// Sliding velocity, m/min, for rigs that do not record their speed.
     #[arg(long = "constant-sliding-velocity-m-per-min")]
     pub constant_sliding_velocity_m_per_min: Option<f64>,
-    /// Track radius per segment for rpm speed channels, mm (comma-separated: one per segment
-    /// of each file, or of the whole campaign).
-    #[arg(long = "track-radii-mm", value_delimiter = ',')]
-    pub track_radii_mm: Vec<f64>,
     /// Spreadsheet sheet to read (default: the first holding a table).
     #[arg(long)]
     pub sheet: Option<String>,
@@ -125,23 +87,9 @@ pub struct Args {
     /// Pressure convention written to the dataset (overrides [contact] convention).
     #[arg(long, value_parser = choice_name::<PressureConvention>())]
     pub convention: Option<String>,
-    /// Output dataset CSV.
-    #[arg(long, default_value = "dataset.csv")]
-    pub out: PathBuf,
-    /// Ground truth CSV from `greybox synth`: report the identification error against it.
-    #[arg(long)]
-    pub truth: Option<PathBuf>,
     /// Print every plateau, not only the per-pin summary.
     #[arg(long)]
     pub all: bool,
-    /// Print per file the mapped columns, sampling rate and every segment (start, end, load,
-    /// speed, steady window, μ, flags), and write an SVG per recording with the steady
-    /// windows shaded into --inspect-dir.
-    #[arg(long)]
-    pub inspect: bool,
-    /// Where --inspect writes its SVGs (default: DATASET_inspect/ beside the dataset).
-    #[arg(long = "inspect-dir")]
-    pub inspect_dir: Option<PathBuf>,
     /// Print the result as JSON.
     #[arg(long)]
     pub json: bool,
@@ -175,22 +123,6 @@ impl Args {
     }
 }
 
-/// Whether the user gave a plan: a `[plan]` section in the study, or a plan-shape flag.
-fn plan_given(args: &Args) -> Result<bool> {
-    let f = &args.plan;
-    let flags = f.normal_force_min_n.is_some()
-        || f.normal_force_max_n.is_some()
-        || f.normal_force_count.is_some()
-        || f.velocity_min.is_some()
-        || f.velocity_max.is_some()
-        || f.velocity_count.is_some();
-    let in_study = match &f.study {
-        Some(path) => Study::declares_plan(path)?,
-        None => false,
-    };
-    Ok(flags || in_study)
-}
-
 /// `--rig list`: every profile with its test mode and the export it was written against.
 fn print_rigs() {
     for p in greybox_tribo::profiles::PROFILES {
@@ -211,49 +143,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let mut study = args.plan.study()?;
     args.settings().apply(&mut study)?;
-    let expect = if let Some(path) = &args.plan_steps {
-        Expectation::Steps(read_expected_steps(path)?)
-    } else if !args.no_plan && plan_given(&args)? {
-        Expectation::Plan(study.plan.build().context("cannot build the plan")?)
-    } else {
-        Expectation::None
-    };
-    let mut radii = args.track_radii_mm.clone();
-    if radii.is_empty() {
-        if let (Expectation::None | Expectation::Steps(_), Some(r)) =
-            (&expect, args.plan.track_radius_mm)
-        {
-            radii.push(r);
-        }
-    }
-    let side_inputs = [
-        ("study", args.plan.study.as_deref()),
-        ("plan_steps", args.plan_steps.as_deref()),
-        ("truth", args.truth.as_deref()),
-    ]
-    .into_iter()
-    .filter_map(|(f, p)| p.map(|p| (f.to_string(), p.to_path_buf())))
-    .collect();
-    let inspect_dir = args.inspect.then(|| {
-        args.inspect_dir.clone().unwrap_or_else(|| {
-            let stem = args
-                .out
-                .file_stem()
-                .map(|s| s.to_string_lossy().to_string())
-                .unwrap_or_else(|| "dataset".into());
-            args.out.with_file_name(format!("{stem}_inspect"))
-        })
-    });
-    let options = IdentifyOptions {
-        recordings: args.recordings.clone(),
-        format: args.format.map(Into::into),
-        expect,
-        track_radii_mm: radii,
-        dataset: args.out.clone(),
-        inspect_dir,
-        truth: args.truth.clone(),
-        side_inputs,
-    };
+    let options = args.inputs.options(&study, &args.plan)?;
     let show = |files: &[FileReport], dir: &Path| {
         print!("{}", inspect_text(files));
         println!("inspect plots -> {}", dir.display());
@@ -266,7 +156,7 @@ pub fn run(args: Args) -> Result<()> {
     if args.json {
         return print_json(&summary);
     }
-    if args.inspect {
+    if args.inputs.inspect {
         print!("{}", matching_text(&summary.identification.matching));
     }
     print!(

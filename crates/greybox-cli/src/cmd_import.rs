@@ -1,8 +1,8 @@
 //! `greybox import`: a model trained elsewhere as a greybox model file.
 
-use crate::args::choice;
 use crate::output::print_json;
 use anyhow::{bail, Context, Result};
+use greybox_core::choice::clap_parsers::choice;
 use greybox_core::dataset::PressureConvention;
 use greybox_model::column::FeatureQuantity;
 use greybox_model::modelfile::FeatureRange;

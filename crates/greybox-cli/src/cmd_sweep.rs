@@ -2,9 +2,9 @@
 
 use crate::output::emit;
 use anyhow::Result;
-use greybox_pipeline::sweep::calibrate::{calibrate, CalibrateOptions, HoldOut};
-use greybox_pipeline::sweep::{self, collect::collect, Executor, Plan};
-use std::fmt::Write as _;
+use greybox_pipeline::sweep::calibrate::calibrate;
+use greybox_pipeline::sweep::settings::{CalibrateSettings, ExecutorSettings};
+use greybox_pipeline::sweep::{self, collect::collect, text, Plan};
 use std::path::PathBuf;
 
 #[derive(clap::Subcommand, Debug)]
@@ -24,18 +24,11 @@ pub enum Sweep {
         sweep_file: PathBuf,
         #[arg(long, default_value = "sweep-out")]
         out: PathBuf,
-        /// `local` (a process pool here) or `slurm` (one sbatch array job).
-        #[arg(long, default_value = "local")]
-        executor: String,
-        /// Local: cases at once.
-        #[arg(long, default_value_t = 1)]
-        jobs: usize,
+        #[command(flatten)]
+        executor: ExecutorSettings,
         /// Slurm: print the array script, submit nothing.
         #[arg(long)]
         dry_run: bool,
-        /// Slurm: seconds between squeue polls.
-        #[arg(long, default_value_t = 10.0)]
-        poll_s: f64,
         #[arg(long)]
         json: bool,
     },
@@ -57,34 +50,8 @@ pub enum Sweep {
     /// at several conditions, each iteration a sweep.
     Calibrate {
         sweep_file: PathBuf,
-        /// CSV: configuration fields per condition, cutting_force_N_per_mm[, feed_force_N_per_mm].
-        #[arg(long)]
-        measured: PathBuf,
-        #[arg(long, default_value = "calibrate-out")]
-        out: PathBuf,
-        #[arg(long, default_value = "local")]
-        executor: String,
-        #[arg(long, default_value_t = 1)]
-        jobs: usize,
-        #[arg(long, default_value_t = 10.0)]
-        poll_s: f64,
-        /// Bracket of C.
-        #[arg(long = "c-min", default_value_t = 0.001)]
-        c_min: f64,
-        #[arg(long = "c-max", default_value_t = 0.1)]
-        c_max: f64,
-        /// Evaluations per golden-section search.
-        #[arg(long, default_value_t = 10)]
-        iterations: usize,
-        /// Hold out every k-th condition (default 3) …
-        #[arg(long = "hold-out-every", default_value_t = 3)]
-        hold_out_every: usize,
-        /// … or these conditions (1-based, comma-separated).
-        #[arg(long = "hold-out", value_delimiter = ',')]
-        hold_out: Vec<usize>,
-        /// Also scale the base's Coulomb mu.
-        #[arg(long)]
-        friction_scale: bool,
+        #[command(flatten)]
+        settings: CalibrateSettings,
         #[arg(long)]
         json: bool,
     },
@@ -94,42 +61,6 @@ pub enum Sweep {
 pub struct Args {
     #[command(subcommand)]
     pub what: Sweep,
-}
-
-fn executor(name: &str, jobs: usize, dry_run: bool, poll_s: f64) -> Result<Executor> {
-    match name {
-        "local" => Ok(Executor::Local { jobs }),
-        "slurm" => Ok(Executor::Slurm { dry_run, poll_s }),
-        other => anyhow::bail!("--executor: expected local or slurm, got '{other}'"),
-    }
-}
-
-fn plan_text(p: &Plan) -> String {
-    let mut t = format!("{} cases of {}\n", p.cases.len(), p.source);
-    let _ = write!(t, "{:>4}  {:<12}", "case", "id");
-    for f in &p.fields {
-        let _ = write!(t, "  {f}");
-    }
-    let _ = writeln!(t, "  particles  steps  particle-steps");
-    let mut total = 0.0;
-    for c in &p.cases {
-        let _ = write!(t, "{:>4}  {:<12}", c.index, c.id);
-        for (_, v) in &c.values {
-            let _ = write!(t, "  {v}");
-        }
-        let _ = writeln!(
-            t,
-            "  {}  {}  {:.3e}",
-            c.cost.particles, c.cost.steps, c.cost.particle_steps
-        );
-        total += c.cost.particle_steps;
-    }
-    let _ = writeln!(
-        t,
-        "total {total:.3e} particle-steps (≈ {:.0} core-s at 1.5e6 particle-steps/s per core)",
-        total / 1.5e6
-    );
-    t
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -142,124 +73,32 @@ pub fn run(a: Args) -> Result<()> {
         } => {
             let p = Plan::from_file(&sweep_file)?;
             p.write(&out)?;
-            emit(json, &p, plan_text)
+            emit(json, &p, text::plan)
         }
         Sweep::Run {
             sweep_file,
             out,
-            executor: e,
-            jobs,
+            executor,
             dry_run,
-            poll_s,
             json,
         } => {
-            let ex = executor(&e, jobs, dry_run, poll_s)?;
-            let r = sweep::run(&sweep_file, &out, &ex, &exe)?;
-            emit(json, &r, |r| {
-                let mut t = String::new();
-                if let (true, Some(s)) = (dry_run, &r.slurm_script) {
-                    return s.clone();
-                }
-                if let Some(j) = &r.slurm_job {
-                    let _ = writeln!(t, "Slurm job {j}");
-                }
-                let _ = writeln!(
-                    t,
-                    "{} of {} cases done ({} already before this run), {} failed",
-                    r.done,
-                    r.cases,
-                    r.skipped,
-                    r.failed.len()
-                );
-                for f in &r.failed {
-                    let _ = writeln!(
-                        t,
-                        "case {} ({}) failed: {}\n{}",
-                        f.index, f.id, f.error, f.log_tail
-                    );
-                }
-                t
-            })?;
-            if r.failed.is_empty() {
-                Ok(())
-            } else {
-                anyhow::bail!("{} case(s) failed; rerun to retry them", r.failed.len())
+            let r = sweep::run(&sweep_file, &out, &executor.executor(dry_run), &exe)?;
+            emit(json, &r, |r| text::run(r, dry_run))?;
+            match r.failed.len() {
+                0 => Ok(()),
+                n => anyhow::bail!("{n} case(s) failed; rerun to retry them"),
             }
         }
-        Sweep::RunCase { out, index } => {
-            sweep::run_case(&out, index)?;
-            Ok(())
-        }
-        Sweep::Collect { out, json } => {
-            let c = collect(&out)?;
-            emit(json, &c, |c| {
-                let mut t = format!("{} of {} cases -> {}\n", c.done, c.cases, c.csv);
-                for (i, id, s) in &c.missing {
-                    let _ = writeln!(t, "  no result: case {i} ({id}), {s:?}");
-                }
-                for p in &c.plots {
-                    let _ = writeln!(t, "  plot: {p}");
-                }
-                t
-            })
-        }
+        Sweep::RunCase { out, index } => sweep::run_case(&out, index).map(|_| ()),
+        Sweep::Collect { out, json } => emit(json, &collect(&out)?, text::collected),
         Sweep::Calibrate {
             sweep_file,
-            measured,
-            out,
-            executor: e,
-            jobs,
-            poll_s,
-            c_min,
-            c_max,
-            iterations,
-            hold_out_every,
-            hold_out,
-            friction_scale,
+            settings,
             json,
-        } => {
-            let o = CalibrateOptions {
-                sweep_file,
-                measured,
-                out,
-                executor: executor(&e, jobs, false, poll_s)?,
-                exe,
-                c_range: (c_min, c_max),
-                iterations,
-                hold_out: if hold_out.is_empty() {
-                    HoldOut::Every(hold_out_every)
-                } else {
-                    HoldOut::List(hold_out)
-                },
-                friction_scale,
-            };
-            let r = calibrate(&o)?;
-            emit(json, &r, |r| {
-                let mut t = format!("C = {:.5}", r.c);
-                if let Some(s) = r.friction_scale {
-                    let _ = write!(t, ", mu scale = {s:.4}");
-                }
-                let _ = writeln!(
-                    t,
-                    "; mean relative force error: training {:.2} %{}",
-                    100.0 * r.training_error,
-                    r.held_out_error
-                        .map(|e| format!(", held out {:.2} %", 100.0 * e))
-                        .unwrap_or_default()
-                );
-                for x in &r.residuals {
-                    let _ = writeln!(
-                        t,
-                        "  {:>3} {:<9} F'c measured {:.1} simulated {:.1} N/mm ({:+.1} %)",
-                        x.condition,
-                        if x.held_out { "held out" } else { "training" },
-                        x.measured_cutting_force_n_per_mm,
-                        x.simulated_cutting_force_n_per_mm,
-                        100.0 * x.cutting_force_error
-                    );
-                }
-                t
-            })
-        }
+        } => emit(
+            json,
+            &calibrate(&settings.options(sweep_file, exe))?,
+            text::calibration,
+        ),
     }
 }

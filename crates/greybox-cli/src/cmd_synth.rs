@@ -1,8 +1,8 @@
 //! `greybox synth`.
 
-use crate::cmd_plan::{study_input, PlanFlags};
 use crate::output::print_json;
 use anyhow::Result;
+use greybox_pipeline::settings::plan::PlanSettings;
 use greybox_pipeline::synth::synth;
 use greybox_tribo::readers::RecordingFormat;
 use std::path::PathBuf;
@@ -27,7 +27,7 @@ impl OutFormat {
 #[derive(clap::Args, Debug)]
 pub struct Args {
     #[command(flatten)]
-    pub plan: PlanFlags,
+    pub plan: PlanSettings,
     /// Output directory: pinNN.csv / pinNN.tdms and ground_truth.csv.
     #[arg(long, default_value = "synth-out")]
     pub out: PathBuf,
@@ -62,7 +62,7 @@ pub fn run(args: Args) -> Result<()> {
         &args.format.formats(),
         &args.out,
         args.force,
-        &study_input(&args.plan),
+        &args.plan.inputs(),
     )?;
     if args.json {
         return print_json(&summary);

@@ -1,7 +1,6 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too
 //! `greybox`: the command-line shell over the greybox library crates.
 
-mod args;
 mod cmd_adhesive;
 mod cmd_bench;
 mod cmd_characterize;
@@ -22,7 +21,6 @@ mod cmd_synth;
 mod cmd_wear;
 mod cmd_windows;
 mod output;
-mod progress;
 
 use clap::{Parser, Subcommand};
 
@@ -129,7 +127,7 @@ fn main() {
     }
     greybox_pipeline::output::remove_temporaries_on_interrupt();
     let cli = Cli::parse();
-    progress::Mode::choose(cli.quiet).install();
+    greybox_pipeline::progress_display::Mode::choose(cli.quiet).install();
     cli.budget.install();
     let result = match cli.command {
         Command::Plan(a) => cmd_plan::run(a),

@@ -94,3 +94,23 @@ macro_rules! choice_traits {
         }
     };
 }
+
+/// clap parsers of [`Choice`]s, so the command line accepts and lists exactly the names
+/// Python and the study and sweep files accept (feature `clap`).
+#[cfg(feature = "clap")]
+pub mod clap_parsers {
+    use super::Choice;
+
+    /// A clap parser of a [`Choice`]: its values listed in `--help` and in errors.
+    pub fn choice<T: Choice + Send + Sync + Clone>(
+    ) -> impl clap::builder::TypedValueParser<Value = T> {
+        use clap::builder::TypedValueParser;
+        clap::builder::PossibleValuesParser::new(T::names())
+            .try_map(|s| T::parse_choice(&s).map_err(|e| e.to_string()))
+    }
+
+    /// A clap parser of a [`Choice`]'s names, kept as text for settings that parse them.
+    pub fn choice_name<T: Choice>() -> clap::builder::PossibleValuesParser {
+        clap::builder::PossibleValuesParser::new(T::names())
+    }
+}

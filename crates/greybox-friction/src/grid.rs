@@ -192,6 +192,17 @@ impl UnitSystem {
             UnitSystem::MpaMmMs => (PressureUnit::MPa, SpeedUnit::MmPerMs),
         }
     }
+    /// Pa per stress unit of a deck in this system (MPa: 10⁶).
+    pub fn pa_per_stress_unit(self) -> f64 {
+        self.pressure_and_speed().0.to_pa(1.0)
+    }
+    /// m per length unit of a deck in this system (mm: 10⁻³).
+    pub fn m_per_length_unit(self) -> f64 {
+        match self {
+            UnitSystem::MpaMmS | UnitSystem::MpaMmMs => 1e-3,
+            UnitSystem::PaMS => 1.0,
+        }
+    }
 }
 
 impl greybox_core::choice::Choice for TempUnit {

@@ -49,6 +49,20 @@ impl Family {
     }
 }
 
+impl greybox_core::choice::Choice for Family {
+    const FIELD: &'static str = "family";
+    const ALL: &'static [Self] = &[
+        Family::RandomForest,
+        Family::Svr,
+        Family::GradientBoosting,
+        Family::Mlp,
+    ];
+    fn name(self) -> &'static str {
+        Family::name(self)
+    }
+}
+greybox_core::choice_traits!(Family, text);
+
 /// Hyperparameters of any family (the unit a grid enumerates and a model file stores).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "family", rename_all = "kebab-case")]

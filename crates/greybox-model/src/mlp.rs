@@ -38,6 +38,20 @@ impl Activation {
     }
 }
 
+impl greybox_core::choice::Choice for Activation {
+    const FIELD: &'static str = "mlp.activation";
+    const ALL: &'static [Self] = &[
+        Activation::Relu,
+        Activation::Tanh,
+        Activation::Logistic,
+        Activation::Identity,
+    ];
+    fn name(self) -> &'static str {
+        Activation::name(self)
+    }
+}
+greybox_core::choice_traits!(Activation, text);
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct MlpParams {

@@ -33,6 +33,15 @@ impl Kernel {
     }
 }
 
+impl greybox_core::choice::Choice for Kernel {
+    const FIELD: &'static str = "svr.kernel";
+    const ALL: &'static [Self] = &[Kernel::Linear, Kernel::Poly, Kernel::Rbf, Kernel::Sigmoid];
+    fn name(self) -> &'static str {
+        Kernel::name(self)
+    }
+}
+greybox_core::choice_traits!(Kernel, text);
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SvrParams {

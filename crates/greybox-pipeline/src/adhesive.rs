@@ -39,18 +39,27 @@ pub struct SimulationOptions {
     pub max_runs: usize,
 }
 
+impl SimulationOptions {
+    /// The defaults: the three highest loads, 10 µm particles, a 1.5 mm slide on the
+    /// article's 1 mm workpiece, |Δμ| ≤ 0.002 in at most 5 runs per load.
+    pub const DEFAULT: SimulationOptions = SimulationOptions {
+        loads: 3,
+        spacing_um: 10.0,
+        slide_mm: 1.5,
+        height_mm: 1.0,
+        tolerance: 0.002,
+        max_runs: 5,
+    };
+}
+
 impl Default for SimulationOptions {
     fn default() -> Self {
-        SimulationOptions {
-            loads: 3,
-            spacing_um: 10.0,
-            slide_mm: 1.5,
-            height_mm: 1.0,
-            tolerance: 0.002,
-            max_runs: 5,
-        }
+        SimulationOptions::DEFAULT
     }
 }
+
+/// The article's pin tip radius, mm.
+pub const ARTICLE_PIN_RADIUS_MM: f64 = 17.0;
 
 /// Options of [`adhesive`].
 #[derive(Debug, Clone)]
@@ -76,7 +85,7 @@ impl AdhesiveOptions {
         AdhesiveOptions {
             data,
             method: AdhesiveMethod::Analytic,
-            pin_radius_mm: 17.0,
+            pin_radius_mm: ARTICLE_PIN_RADIUS_MM,
             track_widths: Vec::new(),
             track_widths_csv: None,
             out,
@@ -104,6 +113,21 @@ pub fn track_widths(a: &AdhesiveOptions) -> Result<Vec<TrackWidth>> {
         w = article_table3();
     }
     Ok(w)
+}
+
+/// After a simulated correction, the analytic Bowden–Tabor correction of the same dataset
+/// for comparison, as one line of text (`None` for an analytic correction).
+pub fn analytic_beside(a: &AdhesiveOptions, data: &FrictionDataset) -> Result<Option<String>> {
+    if a.method == AdhesiveMethod::Analytic {
+        return Ok(None);
+    }
+    let mut twin = data.clone();
+    let r = greybox_core::units::mm_to_m(a.pin_radius_mm);
+    let bt = correct_analytic(&mut twin, r, &track_widths(a)?)?;
+    Ok(Some(format!(
+        "  analytic Bowden-Tabor (sphere) for comparison: mean reduction {:.2} %",
+        bt.mean_reduction_percent
+    )))
 }
 
 /// Apply the correction and write the dataset and the correction record.

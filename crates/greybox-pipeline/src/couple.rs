@@ -36,24 +36,6 @@ pub enum EngineOptions {
     },
 }
 
-/// Pa per unit of a deck's stress unit ("MPa" or "Pa").
-pub fn pa_per_unit(name: &str) -> Result<f64> {
-    Ok(match name {
-        "MPa" => 1e6,
-        "Pa" => 1.0,
-        o => bail!("unknown pressure unit '{o}'; expected MPa or Pa"),
-    })
-}
-
-/// Metres per unit of a deck's length unit ("mm" or "m").
-pub fn m_per_unit(name: &str) -> Result<f64> {
-    Ok(match name {
-        "mm" => 1e-3,
-        "m" => 1.0,
-        o => bail!("unknown length unit '{o}'; expected mm or m"),
-    })
-}
-
 /// Options of [`couple`].
 #[derive(Debug, Clone)]
 pub struct CoupleOptions {

@@ -43,14 +43,16 @@ pub mod fit;
 pub mod hertz;
 pub mod identify;
 pub mod identify_cycles;
-pub mod identify_settings;
 pub mod import;
 pub mod law;
 pub mod material;
 pub mod output;
 pub mod plan;
 pub mod predict;
+#[cfg(feature = "cli")]
+pub mod progress_display;
 pub mod report;
+pub mod settings;
 pub mod simulate;
 pub mod study;
 pub mod sweep;

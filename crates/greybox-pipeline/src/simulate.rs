@@ -23,22 +23,31 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// Where and how a simulation writes.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+#[serde(deny_unknown_fields, default)]
 pub struct RunOutput {
     /// Output directory.
+    #[cfg_attr(feature = "cli", arg(long, default_value = "sim-out"))]
     pub out: PathBuf,
     /// Write VTK particle files every N steps (0: first and last only).
+    #[cfg_attr(feature = "cli", arg(long = "vtk-every", default_value_t = 0))]
     pub vtk_every: u64,
     /// Write a checkpoint every N steps (0: none).
+    #[cfg_attr(feature = "cli", arg(long = "checkpoint-every", default_value_t = 0))]
     pub checkpoint_every: u64,
     /// Resume an interrupted run from its checkpoint (`OUT.partial/checkpoint.json`: a run
     /// with checkpoints works in `OUT.partial` until it is complete, then becomes `OUT`).
     /// The resumed run's outputs equal those of an uninterrupted one.
+    #[cfg_attr(feature = "cli", arg(long))]
     pub resume: Option<PathBuf>,
     /// Replace an existing, non-empty output directory (or a left-over `OUT.partial`) whole.
+    #[cfg_attr(feature = "cli", arg(long))]
     pub force: bool,
-    /// Cuts: also draw the chip at this many evenly spaced instants (`frames/chip_NNN.svg`);
-    /// 0: only the last state (`chip_temperature.svg`, `chip_plastic_strain.svg`).
+    /// Cuts: also draw the chip at this many evenly spaced instants (`frames/chip_NNN.svg`,
+    /// shown as a strip and a slider by the report); 0: only the last state
+    /// (`chip_temperature.svg`, `chip_plastic_strain.svg`).
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 0))]
     pub frames: usize,
 }
 

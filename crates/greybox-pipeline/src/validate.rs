@@ -183,6 +183,18 @@ pub enum ToolModel {
     Thermal,
 }
 
+impl greybox_core::choice::Choice for ToolModel {
+    const FIELD: &'static str = "validate.tools";
+    const ALL: &'static [Self] = &[ToolModel::Adiabatic, ToolModel::Thermal];
+    fn name(self) -> &'static str {
+        match self {
+            ToolModel::Adiabatic => "adiabatic",
+            ToolModel::Thermal => "thermal",
+        }
+    }
+}
+greybox_core::choice_traits!(ToolModel, text);
+
 impl MaterialRuns {
     /// The entry's name in the results.
     pub fn label(&self) -> &str {

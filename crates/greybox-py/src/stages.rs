@@ -4,13 +4,17 @@
 
 use crate::{py_err, run_interruptible, to_json};
 use greybox_core::dataset::PressureConvention;
-use greybox_pipeline::adhesive::{adhesive, AdhesiveOptions};
+use greybox_pipeline::adhesive::adhesive;
 use greybox_pipeline::export::{export, ExportFormat, ExportOptions, ExportOverrides};
 use greybox_pipeline::fit::{fit, FitOptions};
 use greybox_pipeline::hertz::{hertz, Geometry, HertzOptions};
 use greybox_pipeline::identify::{identify_campaign, IdentifyOptions};
-use greybox_pipeline::identify_settings::IdentifySettings;
-use greybox_pipeline::simulate::{read_cutting_setup, run_cut, RunOutput};
+use greybox_pipeline::settings::adhesive::AdhesiveSettings;
+use greybox_pipeline::settings::couple::CoupleSettings;
+use greybox_pipeline::settings::from_json;
+use greybox_pipeline::settings::identify::IdentifySettings;
+use greybox_pipeline::settings::pin::PinSettings;
+use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, RunOutput};
 use greybox_pipeline::study::Study;
 use greybox_pipeline::synth::synth as synth_campaign;
 use greybox_tribo::readers::RecordingFormat;
@@ -30,6 +34,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(export_table, m)?)?;
     m.add_function(wrap_pyfunction!(export_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_cut, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_pin, m)?)?;
+    m.add_function(wrap_pyfunction!(couple, m)?)?;
     m.add_function(wrap_pyfunction!(report, m)?)?;
     Ok(())
 }
@@ -226,23 +232,36 @@ fn identify(
     to_json(&r?.summary)
 }
 
-/// The analytic ploughing correction of a dataset into `out` (cof_adhesive column added):
-/// JSON of the correction. Track widths: a CSV (normal_force_N, track_width_um), else the
-/// article's Table 3.
+/// The ploughing correction of a dataset (cof_adhesive column added): JSON of the
+/// correction. `settings` is JSON of the library's adhesive settings (`data`, `out`,
+/// `method`, `pin_radius_mm`, `track_width`, `track_widths_csv`, `sim_*`), the command
+/// line's flags by their field names.
 #[pyfunction]
-#[pyo3(signature = (data, out, pin_radius_mm = 17.0, track_widths_csv = None))]
-fn ploughing_correction(
-    py: Python<'_>,
-    data: PathBuf,
-    out: PathBuf,
-    pin_radius_mm: f64,
-    track_widths_csv: Option<PathBuf>,
-) -> PyResult<String> {
-    let mut o = AdhesiveOptions::analytic(data, out);
-    o.pin_radius_mm = pin_radius_mm;
-    o.track_widths_csv = track_widths_csv;
+fn ploughing_correction(py: Python<'_>, settings: &str) -> PyResult<String> {
+    let s: AdhesiveSettings = from_json("adhesive", settings).map_err(py_err)?;
+    let o = s.options().map_err(py_err)?;
     let (_, correction) = run_interruptible(py, || adhesive(&o))?;
     to_json(&correction)
+}
+
+/// Press and slide a pin (plane strain): JSON of the result. `settings` is JSON of the
+/// library's pin settings (`depth_um` or `track_width_um`, `pin_radius_mm`, `mu`, …),
+/// `output` of its run output (`out`, `force`, `vtk_every`, `checkpoint_every`, `resume`).
+#[pyfunction]
+fn simulate_pin(py: Python<'_>, settings: &str, output: &str) -> PyResult<String> {
+    let s: PinSettings = from_json("pin", settings).map_err(py_err)?;
+    let o: RunOutput = from_json("output", output).map_err(py_err)?;
+    let setup = s.setup().map_err(py_err)?;
+    to_json(&run_interruptible(py, || run_pin(&setup, &o))?)
+}
+
+/// The restart loop with an external FE engine: JSON of the coupling result. `settings` is
+/// JSON of the library's couple settings (`engine`, `deck`, `segment`, `law`, `units`, …).
+#[pyfunction]
+fn couple(py: Python<'_>, settings: &str) -> PyResult<String> {
+    let s: CoupleSettings = from_json("couple", settings).map_err(py_err)?;
+    let o = s.options().map_err(py_err)?;
+    to_json(&run_interruptible(py, || greybox_pipeline::couple::couple(&o))?)
 }
 
 /// The article's learning protocol on a dataset: JSON {report, outputs, warnings}. `config`

@@ -126,3 +126,56 @@ def test_every_identify_flag_is_a_python_setting_with_the_same_effect(tmp_path):
     assert (tmp_path / "cli.csv").read_bytes() == (tmp_path / "py.csv").read_bytes()
     with pytest.raises(gb.GreyboxError, match="identify.segment: 'steps' is not one of auto"):
         gb.identify(rec, tmp_path / "x.csv", segment="steps")
+
+
+def _dataset(tmp_path):
+    """A small friction dataset (two loads) in the identification's columns."""
+    head = ("pin,step,normal_force_N,normal_force_measured_N,sliding_velocity_m_per_min,"
+            "hertz_pressure_MPa,pressure_convention,cof_apparent,cof_apparent_std,n_samples,"
+            "plateau_start_s,plateau_end_s,cof_trend_per_s,stationary,flags\n")
+    rows = [f"1,{k},{f},{f},100,1500,textbook-max,{mu},0.01,1000,1,2,0,true,\n"
+            for k, (f, mu) in enumerate([(1000.0, 0.32), (1500.0, 0.30), (1500.0, 0.31)])]
+    (tmp_path / "ds.csv").write_text(head + "".join(rows))
+
+
+def test_an_adhesive_correction_is_the_same_from_python_and_the_cli(tmp_path):
+    """The analytic correction with stated track widths: the same dataset bytes and the same
+    correction record through gb.ploughing_correction and `greybox adhesive`."""
+    _dataset(tmp_path)
+    out = cli("adhesive", "--data", "ds.csv", "--pin-radius-mm", "1", "--track-width", "1000:400",
+              "--track-width", "1500:500", "--out", "cli.csv", "--json", cwd=tmp_path)
+    _, py = gb.ploughing_correction(tmp_path / "ds.csv", tmp_path / "py.csv", pin_radius_mm=1.0,
+                                    track_widths=[(1000, 400), (1500, 500)], as_frame=False)
+    assert (tmp_path / "cli.csv").read_bytes() == (tmp_path / "py.csv").read_bytes()
+    assert json.loads(out) == py
+    # the defaults are the library's: the article's pin and Table 3 from both
+    cli("adhesive", "--data", "ds.csv", "--out", "cli2.csv", cwd=tmp_path)
+    gb.ploughing_correction(tmp_path / "ds.csv", tmp_path / "py2.csv")
+    assert (tmp_path / "cli2.csv").read_bytes() == (tmp_path / "py2.csv").read_bytes()
+    with pytest.raises(gb.GreyboxError, match="adhesive.method"):
+        gb.ploughing_correction(tmp_path / "ds.csv", tmp_path / "x.csv", method="inverse")
+    with pytest.raises(gb.GreyboxError, match="sim_loads"):
+        gb.ploughing_correction(tmp_path / "ds.csv", tmp_path / "x.csv", sim_loads=2.5)
+
+
+def test_a_pin_slide_is_the_same_from_python_and_the_cli(tmp_path):
+    """A small plane-strain pin slide: the same result numbers and force history bytes
+    through gb.simulate_pin and `greybox simulate pin`."""
+    flags = {"pin_radius_mm": 1.0, "depth_um": 20.0, "slide_mm": 0.1, "height_mm": 0.12,
+             "mu": 0.2, "spacing_um": 20.0}
+    args = [x for k, v in flags.items() for x in ("--" + k.replace("_", "-"), str(v))]
+    out = cli("simulate", "pin", *args, "--out", "cli", "--json", cwd=tmp_path)
+    py = gb.simulate_pin(tmp_path / "py", **flags)
+    c = json.loads(out)
+    timing = {"wall_s", "particle_steps_per_s", "particle_steps_per_s_per_core", "threads"}
+    assert {k: v for k, v in c.items() if k not in timing} == {k: v for k, v in py.items() if k not in timing}
+    assert (tmp_path / "cli" / "forces.csv").read_bytes() == (tmp_path / "py" / "forces.csv").read_bytes()
+    with pytest.raises(gb.GreyboxError, match="depth_um"):
+        gb.simulate_pin(tmp_path / "x", depth_um=20.0, track_width_um=400.0)
+
+
+def test_couple_settings_are_checked_by_the_library_with_its_names(tmp_path):
+    with pytest.raises(gb.GreyboxError, match="couple.deck"):
+        gb.couple(tmp_path / "law.json")
+    with pytest.raises(gb.GreyboxError, match="units"):
+        gb.couple(tmp_path / "law.json", engine="command", command="true", units="MPa-m-s")

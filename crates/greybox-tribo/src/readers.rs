@@ -19,6 +19,23 @@ pub enum RecordingFormat {
     Spreadsheet,
 }
 
+impl greybox_core::choice::Choice for RecordingFormat {
+    const FIELD: &'static str = "format";
+    const ALL: &'static [Self] = &[
+        RecordingFormat::Csv,
+        RecordingFormat::Tdms,
+        RecordingFormat::Spreadsheet,
+    ];
+    fn name(self) -> &'static str {
+        match self {
+            RecordingFormat::Csv => "csv",
+            RecordingFormat::Tdms => "tdms",
+            RecordingFormat::Spreadsheet => "spreadsheet",
+        }
+    }
+}
+greybox_core::choice_traits!(RecordingFormat, text);
+
 impl RecordingFormat {
     pub fn extension(self) -> &'static str {
         match self {

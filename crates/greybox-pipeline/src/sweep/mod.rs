@@ -17,8 +17,10 @@ pub mod calibrate;
 pub mod case;
 pub mod collect;
 pub mod local;
+pub mod settings;
 pub mod slurm;
 pub mod spec;
+pub mod text;
 
 use anyhow::{bail, Context, Result};
 use case::{Case, CaseDir, Done, Status};

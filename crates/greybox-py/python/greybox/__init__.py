@@ -72,6 +72,8 @@ __all__ = [
     "export_table",
     "export_defaults",
     "simulate_cut",
+    "simulate_pin",
+    "couple",
     "report",
     "example",
 ]
@@ -121,12 +123,16 @@ def _opt_float(x: Any, name: str) -> Optional[float]:
     return float(x)
 
 
-def _count(n: Any, name: str) -> Any:
-    """A count (an int ≥ 0) or None, checked here because the native module's own refusal of
-    a negative number (OverflowError) does not name the argument."""
-    if isinstance(n, int) and not isinstance(n, bool) and n < 0:
+def _count(n: Any, name: str) -> Optional[int]:
+    """A count (an int ≥ 0) or None, checked here because the native module's own refusals
+    (OverflowError, a JSON type error) do not name the argument."""
+    if n is None:
+        return None
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
+        raise GreyboxError(f"{name}: expected a count (an integer ≥ 0), got {type(n).__name__} {n!r}")
+    if n < 0:
         raise GreyboxError(f"{name}: expected a count ≥ 0, got {n}")
-    return n
+    return int(n)
 
 
 def _iterable(x: Any, name: str) -> list:
@@ -571,25 +577,137 @@ def identify(
     return read_csv(dataset, as_frame), summary
 
 
+def _settings(values: dict) -> str:
+    """Keyword arguments as the library's settings JSON; ``None`` keeps the library's default."""
+    return json.dumps({k: v for k, v in values.items() if v is not None})
+
+
 def ploughing_correction(
     data: PathLike,
     out: PathLike,
-    pin_radius_mm: float = 17.0,
+    pin_radius_mm: Optional[float] = None,
     track_widths_csv: Optional[PathLike] = None,
     as_frame: Optional[bool] = None,
+    *,
+    method: Optional[str] = None,
+    track_widths: Optional[Sequence[tuple]] = None,
+    sim_loads: Optional[int] = None,
+    sim_spacing_um: Optional[float] = None,
+    sim_slide_mm: Optional[float] = None,
+    sim_height_mm: Optional[float] = None,
+    sim_tolerance: Optional[float] = None,
+    sim_max_runs: Optional[int] = None,
 ) -> tuple:
-    """The analytic ploughing correction (adhesive μ) of a dataset into ``out``; returns
-    (dataset table with ``cof_adhesive``, correction dict). Track widths from a CSV
-    (normal_force_N, track_width_um), else the article's Table 3."""
-    corr = json.loads(
-        _native.ploughing_correction(
-            _path(data, "data"),
-            _path(out, "out"),
-            pin_radius_mm,
-            _opt_path(track_widths_csv, "track_widths_csv"),
-        )
-    )
+    """The ploughing correction (adhesive μ) of a dataset into ``out``; returns (dataset
+    table with ``cof_adhesive``, correction dict). ``method`` is ``"analytic"`` (Bowden–Tabor
+    sphere ploughing, the default) or ``"simulation"`` (inverse pin sliding, the article's
+    method, with the ``sim_*`` settings). Track widths: ``track_widths`` as
+    ``[(normal_force_N, width_um), …]`` and/or a CSV (normal_force_N, track_width_um), else
+    the article's Table 3. The settings and their defaults are ``greybox adhesive``'s, by the
+    library's names (``None``: the default)."""
+    widths = None
+    if track_widths is not None:
+        widths = [f"{float(f)!r}:{float(w)!r}" for f, w in (_pair(t, "track_widths") for t in _iterable(track_widths, "track_widths"))]
+    settings = {
+        "data": _path(data, "data"),
+        "out": _path(out, "out"),
+        "method": _opt_str(method, "method"),
+        "pin_radius_mm": _opt_float(pin_radius_mm, "pin_radius_mm"),
+        "track_widths_csv": _opt_path(track_widths_csv, "track_widths_csv"),
+        "track_width": widths,
+        "sim_loads": _count(sim_loads, "sim_loads"),
+        "sim_spacing_um": _opt_float(sim_spacing_um, "sim_spacing_um"),
+        "sim_slide_mm": _opt_float(sim_slide_mm, "sim_slide_mm"),
+        "sim_height_mm": _opt_float(sim_height_mm, "sim_height_mm"),
+        "sim_tolerance": _opt_float(sim_tolerance, "sim_tolerance"),
+        "sim_max_runs": _count(sim_max_runs, "sim_max_runs"),
+    }
+    corr = json.loads(_native.ploughing_correction(_settings(settings)))
     return read_csv(out, as_frame), corr
+
+
+def simulate_pin(
+    out: PathLike,
+    *,
+    depth_um: Optional[float] = None,
+    track_width_um: Optional[float] = None,
+    pin_radius_mm: Optional[float] = None,
+    mu: Optional[float] = None,
+    spacing_um: Optional[float] = None,
+    slide_mm: Optional[float] = None,
+    height_mm: Optional[float] = None,
+    speed_m_per_min: Optional[float] = None,
+    mach: Optional[float] = None,
+    mass_scaling: Optional[float] = None,
+    max_particles: Optional[int] = None,
+    force: bool = False,
+    vtk_every: int = 0,
+    checkpoint_every: int = 0,
+    resume: Optional[PathLike] = None,
+) -> dict:
+    """Press a rigid pin into a Johnson–Cook workpiece and slide it (plane strain), as
+    ``greybox simulate pin``: give ``depth_um`` or a measured ``track_width_um``; the other
+    settings default as on the command line (the article's 17 mm pin, μ 0.3, 10 µm
+    particles, 150 m/min). Writes forces, windows, VTK and the summary into ``out``; returns
+    the result (F_t/F_N, deformation share, …)."""
+    settings = {
+        "depth_um": _opt_float(depth_um, "depth_um"),
+        "track_width_um": _opt_float(track_width_um, "track_width_um"),
+        "pin_radius_mm": _opt_float(pin_radius_mm, "pin_radius_mm"),
+        "mu": _opt_float(mu, "mu"),
+        "spacing_um": _opt_float(spacing_um, "spacing_um"),
+        "slide_mm": _opt_float(slide_mm, "slide_mm"),
+        "height_mm": _opt_float(height_mm, "height_mm"),
+        "speed_m_per_min": _opt_float(speed_m_per_min, "speed_m_per_min"),
+        "mach": _opt_float(mach, "mach"),
+        "mass_scaling": _opt_float(mass_scaling, "mass_scaling"),
+        "max_particles": _count(max_particles, "max_particles"),
+    }
+    output = {
+        "out": _path(out, "out"),
+        "force": bool(force),
+        "vtk_every": _count(vtk_every, "vtk_every"),
+        "checkpoint_every": _count(checkpoint_every, "checkpoint_every"),
+        "resume": _opt_path(resume, "resume"),
+    }
+    return json.loads(_native.simulate_pin(_settings(settings), _settings(output)))
+
+
+def couple(
+    law: PathLike,
+    *,
+    engine: Optional[str] = None,
+    deck: Optional[PathLike] = None,
+    segment: Optional[PathLike] = None,
+    ccx: Optional[PathLike] = None,
+    command: Optional[str] = None,
+    windows: Optional[Sequence[str]] = None,
+    work: Optional[PathLike] = None,
+    max_cycles: Optional[int] = None,
+    tol: Optional[float] = None,
+    units: Optional[str] = None,
+    segment_s: Optional[float] = None,
+) -> dict:
+    """The restart loop with an external FE engine, as ``greybox couple``: ``engine``
+    ``"calculix"`` (``deck``, ``segment``, ``ccx``, the deck's ``units`` ``"MPa-mm-s"``,
+    ``"Pa-m-s"`` or ``"MPa-mm-ms"``) or ``"command"`` (``command``, ``windows``); per-window
+    μ from ``law`` until every window's μ changes less than ``tol``. Returns the coupling
+    result (cycles, μ per window, converged)."""
+    settings = {
+        "law": _path(law, "law"),
+        "engine": _opt_str(engine, "engine"),
+        "deck": _opt_path(deck, "deck"),
+        "segment": _opt_path(segment, "segment"),
+        "ccx": _opt_path(ccx, "ccx"),
+        "command": _opt_str(command, "command"),
+        "windows": None if windows is None else _strs(windows, "windows"),
+        "work": _opt_path(work, "work"),
+        "max_cycles": _count(max_cycles, "max_cycles"),
+        "tol": _opt_float(tol, "tol"),
+        "units": _opt_str(units, "units"),
+        "segment_s": _opt_float(segment_s, "segment_s"),
+    }
+    return json.loads(_native.couple(_settings(settings)))
 
 
 def fit(

@@ -3,7 +3,7 @@
 //! line (its flags) and Python (its keyword arguments), with errors that name the setting.
 //!
 //! ```
-//! use greybox_pipeline::identify_settings::IdentifySettings;
+//! use greybox_pipeline::settings::identify::IdentifySettings;
 //! use greybox_pipeline::Study;
 //! let mut study = Study::default();
 //! let s = IdentifySettings::from_json(r#"{"steady": "last:50%", "convention": "article-eq7",
@@ -17,14 +17,19 @@
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
+use crate::identify::{Expectation, IdentifyOptions};
+use crate::settings::plan::PlanSettings;
 use crate::study::Study;
 use anyhow::{bail, Context, Result};
 use greybox_core::choice::Choice;
 use greybox_core::dataset::PressureConvention;
+use greybox_tribo::campaign::read_expected_steps;
 use greybox_tribo::campaign::Segmentation;
 use greybox_tribo::identify::Alignment;
 use greybox_tribo::identify_config::{SteadyRule, TestMode};
+use greybox_tribo::readers::RecordingFormat;
 use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
 
 /// Overrides of a study for one identification; `None` (or empty) keeps the study's value.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -135,5 +140,94 @@ impl IdentifySettings {
         id.settle_time_s = self.settle_time_s.unwrap_or(id.settle_time_s);
         study.contact.convention = convention.unwrap_or(study.contact.convention);
         Ok(())
+    }
+}
+
+/// What one identification reads and writes, and what it matches the segments to.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+#[serde(deny_unknown_fields, default)]
+pub struct IdentifyInputs {
+    /// Recording files (CSV/TXT, XLSX/XLS/ODS, TDMS) or directories: a file per step, per
+    /// pin or for the whole campaign. A directory gives its pinNN files when the plan's pins
+    /// are all there, else every recording file in natural order.
+    #[cfg_attr(feature = "cli", arg(long, num_args = 1.., required = true))]
+    pub recordings: Vec<PathBuf>,
+    /// Which files to pick from a directory: csv, tdms or spreadsheet (default: every
+    /// supported format).
+    #[cfg_attr(feature = "cli", arg(long,
+        value_parser = greybox_core::choice::clap_parsers::choice::<RecordingFormat>()))]
+    pub format: Option<RecordingFormat>,
+    /// Expected steps without timing: CSV with pin, normal_force_N,
+    /// sliding_velocity_m_per_min [, step], in the order they were run.
+    #[cfg_attr(feature = "cli", arg(long = "plan-steps"))]
+    pub plan_steps: Option<PathBuf>,
+    /// Ignore the study's plan: loads and velocities from the recordings.
+    #[cfg_attr(feature = "cli", arg(long = "no-plan"))]
+    pub no_plan: bool,
+    /// Track radius per segment for rpm speed channels, mm (comma-separated: one per segment
+    /// of each file, or of the whole campaign).
+    #[cfg_attr(feature = "cli", arg(long = "track-radii-mm", value_delimiter = ','))]
+    pub track_radii_mm: Vec<f64>,
+    /// Output dataset CSV.
+    #[cfg_attr(feature = "cli", arg(long, default_value = "dataset.csv"))]
+    pub out: PathBuf,
+    /// Ground truth CSV from `greybox synth`: report the identification error against it.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub truth: Option<PathBuf>,
+    /// Print per file the mapped columns, sampling rate and every segment (start, end, load,
+    /// speed, steady window, μ, flags), and write an SVG per recording with the steady
+    /// windows shaded into the inspect directory.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub inspect: bool,
+    /// Where inspect writes its SVGs (default: DATASET_inspect/ beside the dataset).
+    #[cfg_attr(feature = "cli", arg(long = "inspect-dir"))]
+    pub inspect_dir: Option<PathBuf>,
+}
+
+impl IdentifyInputs {
+    /// The identification's options: the steps file, else the plan where one is given
+    /// (`plan`'s study or ranges, unless `no_plan`), else the loads and speeds measured;
+    /// without a plan, the plan settings' track radius serves the rpm channels.
+    pub fn options(&self, study: &Study, plan: &PlanSettings) -> Result<IdentifyOptions> {
+        let expect = if let Some(path) = &self.plan_steps {
+            Expectation::Steps(read_expected_steps(path)?)
+        } else if !self.no_plan && plan.gives_plan()? {
+            Expectation::Plan(study.plan.build().context("cannot build the plan")?)
+        } else {
+            Expectation::None
+        };
+        let mut radii = self.track_radii_mm.clone();
+        if radii.is_empty() && !matches!(expect, Expectation::Plan(_)) {
+            radii.extend(plan.track_radius_mm);
+        }
+        let side_inputs = [
+            ("study", plan.study.as_ref()),
+            ("plan_steps", self.plan_steps.as_ref()),
+            ("truth", self.truth.as_ref()),
+        ]
+        .into_iter()
+        .filter_map(|(f, p)| p.map(|p| (f.to_string(), p.clone())))
+        .collect();
+        let inspect_dir = self.inspect.then(|| {
+            self.inspect_dir.clone().unwrap_or_else(|| {
+                let stem = self
+                    .out
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().to_string());
+                let stem = stem.unwrap_or_else(|| "dataset".into());
+                self.out.with_file_name(format!("{stem}_inspect"))
+            })
+        });
+        Ok(IdentifyOptions {
+            recordings: self.recordings.clone(),
+            format: self.format,
+            expect,
+            track_radii_mm: radii,
+            dataset: self.out.clone(),
+            inspect_dir,
+            truth: self.truth.clone(),
+            side_inputs,
+        })
     }
 }

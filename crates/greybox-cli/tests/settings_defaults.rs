@@ -1,0 +1,71 @@
+//! The library's settings types carry their defaults once: what clap fills in for an absent
+//! flag equals what serde fills in for an absent key (Python's keyword arguments, JSON), so
+//! the command line and Python cannot drift apart again.
+
+use clap::Parser;
+use greybox_pipeline::settings::{
+    adhesive::AdhesiveSettings, couple::CoupleSettings, fit::FitSettings, pin::PinSettings,
+    plan::PlanSettings,
+};
+use greybox_pipeline::simulate::RunOutput;
+use greybox_pipeline::sweep::settings::{CalibrateSettings, ExecutorSettings};
+use serde::de::DeserializeOwned;
+use std::fmt::Debug;
+
+/// `T` parsed from `args` by clap.
+fn flags<T: clap::Args + clap::FromArgMatches>(args: &[&str]) -> T {
+    #[derive(Parser)]
+    struct Wrap<U: clap::Args> {
+        #[command(flatten)]
+        inner: U,
+    }
+    let mut all = vec!["greybox"];
+    all.extend_from_slice(args);
+    Wrap::<T>::try_parse_from(all).unwrap().inner
+}
+
+/// `T` from JSON holding only `json`'s keys.
+fn keys<T: DeserializeOwned>(json: &str) -> T {
+    greybox_pipeline::settings::from_json("test", json).unwrap()
+}
+
+fn same<T: PartialEq + Debug>(clap: T, serde: T) {
+    assert_eq!(clap, serde);
+}
+
+#[test]
+fn clap_and_serde_fill_in_the_same_defaults() {
+    same(
+        flags::<AdhesiveSettings>(&["--data", "d.csv"]),
+        keys(r#"{"data": "d.csv"}"#),
+    );
+    same(flags::<PinSettings>(&[]), keys("{}"));
+    same(flags::<CoupleSettings>(&[]), keys("{}"));
+    same(flags::<PlanSettings>(&[]), keys("{}"));
+    same(flags::<ExecutorSettings>(&[]), keys("{}"));
+    same(
+        flags::<CalibrateSettings>(&["--measured", "m.csv"]),
+        keys(r#"{"measured": "m.csv"}"#),
+    );
+    same(
+        flags::<FitSettings>(&["--data", "d.csv"]),
+        keys(r#"{"data": "d.csv", "out": "fit-out"}"#),
+    );
+    same(flags::<RunOutput>(&[]), keys(r#"{"out": "sim-out"}"#));
+}
+
+#[test]
+fn a_flag_and_a_key_of_the_same_name_set_the_same_field() {
+    same(
+        flags::<PinSettings>(&["--depth-um", "5", "--speed-m-per-min", "60", "--mach", "0.02"]),
+        keys(r#"{"depth_um": 5, "speed_m_per_min": 60, "mach": 0.02}"#),
+    );
+    same(
+        flags::<AdhesiveSettings>(&["--data", "d", "--method", "simulation", "--sim-loads", "2"]),
+        keys(r#"{"data": "d", "method": "simulation", "sim_loads": 2}"#),
+    );
+    same(
+        flags::<CoupleSettings>(&["--engine", "command", "--units", "Pa-m-s", "--tol", "0.01"]),
+        keys(r#"{"engine": "command", "units": "Pa-m-s", "tol": 0.01}"#),
+    );
+}

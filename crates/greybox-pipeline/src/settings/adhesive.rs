@@ -1,0 +1,156 @@
+//! The settings of one ploughing correction: the method, the pin, the measured track widths
+//! and (inverse simulation) the runs.
+//!
+//! ```
+//! use greybox_pipeline::adhesive::AdhesiveMethod;
+//! use greybox_pipeline::settings::adhesive::AdhesiveSettings;
+//! let s: AdhesiveSettings = greybox_pipeline::settings::from_json("adhesive",
+//!     r#"{"data": "d.csv", "method": "simulation", "sim_loads": 2, "track_width": ["1777:1010"]}"#)?;
+//! let o = s.options()?;
+//! assert!(matches!(o.method, AdhesiveMethod::Simulation(ref m) if m.loads == 2));
+//! assert_eq!(o.track_widths[0].width_um, 1010.0);
+//! let bad = AdhesiveSettings { track_width: vec!["1777".into()], ..Default::default() };
+//! assert!(bad.options().unwrap_err().to_string().starts_with("adhesive.track_width"));
+//! # Ok::<(), anyhow::Error>(())
+//! ```
+
+use crate::adhesive::{AdhesiveMethod, AdhesiveOptions, SimulationOptions, ARTICLE_PIN_RADIUS_MM};
+use anyhow::{Context, Result};
+use greybox_tribo::ploughing::TrackWidth;
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// How the ploughing share is found (the names of [`AdhesiveMethod`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Bowden–Tabor sphere ploughing with measured track widths.
+    #[default]
+    Analytic,
+    /// Inverse pin-sliding simulation with the built-in SPH solver (the article's method).
+    Simulation,
+}
+
+impl greybox_core::choice::Choice for Method {
+    const FIELD: &'static str = "adhesive.method";
+    const ALL: &'static [Self] = &[Method::Analytic, Method::Simulation];
+    fn name(self) -> &'static str {
+        match self {
+            Method::Analytic => "analytic",
+            Method::Simulation => "simulation",
+        }
+    }
+}
+greybox_core::choice_traits!(Method);
+
+/// The default output dataset.
+pub const DEFAULT_OUT: &str = "dataset_adhesive.csv";
+
+const SIM: SimulationOptions = SimulationOptions::DEFAULT;
+
+/// One ploughing correction as a user states it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+#[serde(deny_unknown_fields, default)]
+pub struct AdhesiveSettings {
+    /// Friction dataset CSV from `greybox identify`.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub data: PathBuf,
+    /// How the ploughing share is found: analytic (Bowden–Tabor sphere ploughing with the
+    /// track widths) or simulation (inverse pin sliding, the article's method).
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = Method::Analytic,
+        value_parser = greybox_core::choice::clap_parsers::choice::<Method>()))]
+    pub method: Method,
+    /// Pin tip radius, mm.
+    #[cfg_attr(feature = "cli", arg(long = "pin-radius-mm", default_value_t = ARTICLE_PIN_RADIUS_MM))]
+    pub pin_radius_mm: f64,
+    /// Measured track width as FORCE_N:WIDTH_um (repeatable); default: the article's Table 3.
+    #[cfg_attr(feature = "cli", arg(long = "track-width"))]
+    pub track_width: Vec<String>,
+    /// CSV of measured track widths with columns normal_force_N, track_width_um.
+    #[cfg_attr(feature = "cli", arg(long = "track-widths-csv"))]
+    pub track_widths_csv: Option<PathBuf>,
+    /// Output dataset with the cof_adhesive column (the correction goes beside it as
+    /// .correction.json).
+    #[cfg_attr(feature = "cli", arg(long, default_value = DEFAULT_OUT))]
+    pub out: PathBuf,
+    /// Simulation: number of highest distinct loads simulated (the share is fitted against
+    /// load and applied to all loads, as in the article).
+    #[cfg_attr(feature = "cli", arg(long = "sim-loads", default_value_t = SIM.loads))]
+    pub sim_loads: usize,
+    /// Simulation: particle spacing, µm.
+    #[cfg_attr(feature = "cli", arg(long = "sim-spacing-um", default_value_t = SIM.spacing_um))]
+    pub sim_spacing_um: f64,
+    /// Simulation: slide length, mm.
+    #[cfg_attr(feature = "cli", arg(long = "sim-slide-mm", default_value_t = SIM.slide_mm))]
+    pub sim_slide_mm: f64,
+    /// Simulation: workpiece height, mm (the article's FE model: 1 mm).
+    #[cfg_attr(feature = "cli", arg(long = "sim-height-mm", default_value_t = SIM.height_mm))]
+    pub sim_height_mm: f64,
+    /// Simulation: stop when |simulated F_t/F_N − μ_app| ≤ this.
+    #[cfg_attr(feature = "cli", arg(long = "sim-tolerance", default_value_t = SIM.tolerance))]
+    pub sim_tolerance: f64,
+    /// Simulation: maximum runs per load.
+    #[cfg_attr(feature = "cli", arg(long = "sim-max-runs", default_value_t = SIM.max_runs))]
+    pub sim_max_runs: usize,
+}
+
+impl Default for AdhesiveSettings {
+    fn default() -> Self {
+        AdhesiveSettings {
+            data: PathBuf::new(),
+            method: Method::Analytic,
+            pin_radius_mm: ARTICLE_PIN_RADIUS_MM,
+            track_width: Vec::new(),
+            track_widths_csv: None,
+            out: DEFAULT_OUT.into(),
+            sim_loads: SIM.loads,
+            sim_spacing_um: SIM.spacing_um,
+            sim_slide_mm: SIM.slide_mm,
+            sim_height_mm: SIM.height_mm,
+            sim_tolerance: SIM.tolerance,
+            sim_max_runs: SIM.max_runs,
+        }
+    }
+}
+
+/// `FORCE_N:WIDTH_um` as a track width.
+fn track_width(text: &str) -> Result<TrackWidth> {
+    let what = || format!("adhesive.track_width '{text}': expected FORCE_N:WIDTH_um");
+    let (f, w) = text.split_once(':').with_context(what)?;
+    let number = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
+    match (number(f), number(w)) {
+        (Some(normal_force_n), Some(width_um)) => Ok(TrackWidth {
+            normal_force_n,
+            width_um,
+        }),
+        _ => Err(anyhow::anyhow!(what())),
+    }
+}
+
+impl AdhesiveSettings {
+    /// The stage's options.
+    pub fn options(&self) -> Result<AdhesiveOptions> {
+        Ok(AdhesiveOptions {
+            data: self.data.clone(),
+            method: match self.method {
+                Method::Analytic => AdhesiveMethod::Analytic,
+                Method::Simulation => AdhesiveMethod::Simulation(SimulationOptions {
+                    loads: self.sim_loads,
+                    spacing_um: self.sim_spacing_um,
+                    slide_mm: self.sim_slide_mm,
+                    height_mm: self.sim_height_mm,
+                    tolerance: self.sim_tolerance,
+                    max_runs: self.sim_max_runs,
+                }),
+            },
+            pin_radius_mm: self.pin_radius_mm,
+            track_widths: self
+                .track_width
+                .iter()
+                .map(|t| track_width(t))
+                .collect::<Result<_>>()?,
+            track_widths_csv: self.track_widths_csv.clone(),
+            out: self.out.clone(),
+        })
+    }
+}

@@ -1,0 +1,195 @@
+//! The settings of one fit: the dataset, the columns, and overrides of the study's `[fit]`
+//! section (families, folds, seeds, grids).
+//!
+//! ```
+//! use greybox_pipeline::settings::fit::FitSettings;
+//! use greybox_learn::protocol::FitConfig;
+//! let s: FitSettings = greybox_pipeline::settings::from_json("fit",
+//!     r#"{"folds": 3, "svr_kernel": ["rbf"], "mlp_hidden": ["8x4"]}"#)?;
+//! let mut c = FitConfig::default();
+//! s.apply(&mut c)?;
+//! assert_eq!((c.folds, c.grid.mlp.hidden_layers.clone()), (3, vec![vec![8, 4]]));
+//! let bad = FitSettings { mlp_hidden: Some(vec!["8y4".into()]), ..Default::default() };
+//! assert!(bad.apply(&mut c).unwrap_err().to_string().starts_with("fit.mlp_hidden"));
+//! # Ok::<(), anyhow::Error>(())
+//! ```
+
+use crate::fit::{default_target, FitOptions, DEFAULT_FEATURES};
+use crate::study::Study;
+use anyhow::{Context, Result};
+use greybox_core::choice::Choice;
+use greybox_learn::protocol::FitConfig;
+use greybox_model::family::Family;
+use greybox_model::mlp::Activation;
+use greybox_model::svr::Kernel;
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// One fit as a user states it; `None` keeps the study's (or the article's) value.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+#[serde(deny_unknown_fields, default)]
+pub struct FitSettings {
+    /// Dataset CSV (e.g. from `greybox identify` or `greybox adhesive`).
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub data: PathBuf,
+    /// Target column [default: cof_adhesive where the dataset has it, else cof_apparent].
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub target: Option<String>,
+    /// Feature columns, comma-separated [default: normal_force_N,sliding_velocity_m_per_min].
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub features: Option<Vec<String>>,
+    /// Study TOML with a [fit] section (grids, folds, seeds); the settings below override it.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub study: Option<PathBuf>,
+    /// Model families, comma-separated (random-forest, svr, gradient-boosting, mlp).
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub families: Option<Vec<String>>,
+    /// Folds of the grid search and of the outer nested-CV loop.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub folds: Option<usize>,
+    /// Folds of the inner nested-CV loop.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub inner_folds: Option<usize>,
+    /// Integer column holding fold ids (replaces the seeded shuffled k-fold split).
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub fold_column: Option<String>,
+    /// Seed of folds and fits.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub seed: Option<u64>,
+    /// Bootstrap resamples for the 95 % CIs.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub bootstrap: Option<usize>,
+    /// Permutation-importance repeats.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub importance_repeats: Option<usize>,
+    /// Skip nested cross-validation (no held-out metrics; quick looks only).
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub skip_nested: bool,
+    /// Random-forest grid: n_estimators values.
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub rf_n_estimators: Option<Vec<usize>>,
+    /// SVR grid: C values.
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub svr_c: Option<Vec<f64>>,
+    /// SVR grid: kernels (linear, poly, rbf, sigmoid).
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub svr_kernel: Option<Vec<String>>,
+    /// SVR grid: epsilon values.
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub svr_epsilon: Option<Vec<f64>>,
+    /// Boosting grid: n_estimators values.
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub gb_n_estimators: Option<Vec<usize>>,
+    /// Boosting grid: max_depth values.
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub gb_max_depth: Option<Vec<usize>>,
+    /// Boosting grid: learning_rate values.
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub gb_learning_rate: Option<Vec<f64>>,
+    /// MLP grid: hidden layers, e.g. 64x32,32x16.
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub mlp_hidden: Option<Vec<String>>,
+    /// MLP grid: activations (relu, tanh, logistic, identity).
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub mlp_activation: Option<Vec<String>>,
+    /// MLP grid: Adam learning rates.
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub mlp_learning_rate: Option<Vec<f64>>,
+    /// MLP epoch limit.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub mlp_max_epochs: Option<usize>,
+    /// Output directory: report.json, report.md, models/, plots/.
+    #[cfg_attr(feature = "cli", arg(long, default_value = "fit-out"))]
+    pub out: PathBuf,
+    /// Replace an existing, non-empty output directory (swapped out whole once this run is
+    /// complete; without it such a directory is refused).
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub force: bool,
+}
+
+/// Each name of `values` as a [`Choice`], the error naming `fit.<field>`.
+fn choices<T: Choice>(values: &[String], field: &str) -> Result<Vec<T>> {
+    values
+        .iter()
+        .map(|v| T::parse_choice(v).map_err(|e| anyhow::anyhow!("fit.{field}: {e}")))
+        .collect()
+}
+
+/// `64x32` as layer sizes.
+fn hidden_layers(spec: &str) -> Result<Vec<usize>> {
+    spec.split('x')
+        .map(|n| n.trim().parse().ok().filter(|&n: &usize| n > 0))
+        .collect::<Option<Vec<_>>>()
+        .with_context(|| {
+            format!("fit.mlp_hidden: '{spec}' is not layer sizes joined by x, e.g. 64x32")
+        })
+}
+
+impl FitSettings {
+    /// Apply the overrides to a protocol configuration.
+    pub fn apply(&self, c: &mut FitConfig) -> Result<()> {
+        fn set<T: Clone>(dst: &mut T, src: &Option<T>) {
+            if let Some(v) = src {
+                *dst = v.clone();
+            }
+        }
+        if let Some(f) = &self.families {
+            c.families = choices::<Family>(f, "families")?;
+        }
+        set(&mut c.folds, &self.folds);
+        set(&mut c.inner_folds, &self.inner_folds);
+        set(&mut c.seed, &self.seed);
+        set(&mut c.bootstrap_resamples, &self.bootstrap);
+        set(&mut c.importance_repeats, &self.importance_repeats);
+        c.skip_nested |= self.skip_nested;
+        let g = &mut c.grid;
+        set(&mut g.random_forest.n_estimators, &self.rf_n_estimators);
+        set(&mut g.svr.c, &self.svr_c);
+        set(&mut g.svr.epsilon, &self.svr_epsilon);
+        if let Some(k) = &self.svr_kernel {
+            g.svr.kernel = choices::<Kernel>(k, "svr_kernel")?;
+        }
+        set(&mut g.gradient_boosting.n_estimators, &self.gb_n_estimators);
+        set(&mut g.gradient_boosting.max_depth, &self.gb_max_depth);
+        set(
+            &mut g.gradient_boosting.learning_rate,
+            &self.gb_learning_rate,
+        );
+        if let Some(h) = &self.mlp_hidden {
+            g.mlp.hidden_layers = h.iter().map(|s| hidden_layers(s)).collect::<Result<_>>()?;
+        }
+        if let Some(a) = &self.mlp_activation {
+            g.mlp.activation = choices::<Activation>(a, "mlp_activation")?;
+        }
+        set(&mut g.mlp.learning_rate, &self.mlp_learning_rate);
+        set(&mut g.mlp.base.max_epochs, &self.mlp_max_epochs);
+        Ok(())
+    }
+
+    /// The fit's options: the study's `[fit]` section (or the article's protocol) with these
+    /// overrides, the library's default target and features where none are named.
+    pub fn options(&self) -> Result<FitOptions> {
+        let mut config = match &self.study {
+            Some(p) => Study::load(p)?.fit,
+            None => FitConfig::default(),
+        };
+        self.apply(&mut config)?;
+        Ok(FitOptions {
+            data: self.data.clone(),
+            target: match &self.target {
+                Some(t) => t.clone(),
+                None => default_target(&self.data)?,
+            },
+            features: self
+                .features
+                .clone()
+                .unwrap_or_else(|| DEFAULT_FEATURES.map(String::from).to_vec()),
+            fold_column: self.fold_column.clone(),
+            config,
+            study: self.study.clone(),
+            out: self.out.clone(),
+            force: self.force,
+        })
+    }
+}

@@ -1,0 +1,152 @@
+//! The settings of `sweep run` and `sweep calibrate` as a user states them: the executor and
+//! the calibration's search, with the defaults once.
+//!
+//! ```
+//! use greybox_pipeline::sweep::settings::{ExecutorName, ExecutorSettings};
+//! use greybox_pipeline::sweep::Executor;
+//! let s = ExecutorSettings { executor: ExecutorName::Slurm, ..Default::default() };
+//! assert!(matches!(s.executor(true), Executor::Slurm { dry_run: true, .. }));
+//! assert_eq!("lsf".parse::<ExecutorName>().unwrap_err().to_string(),
+//!     "sweep.executor: 'lsf' is not one of local, slurm");
+//! ```
+
+use super::calibrate::{CalibrateOptions, HoldOut};
+use super::Executor;
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// Where the cases run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ExecutorName {
+    /// A process pool on this machine.
+    #[default]
+    Local,
+    /// One Slurm array job.
+    Slurm,
+}
+
+impl greybox_core::choice::Choice for ExecutorName {
+    const FIELD: &'static str = "sweep.executor";
+    const ALL: &'static [Self] = &[ExecutorName::Local, ExecutorName::Slurm];
+    fn name(self) -> &'static str {
+        match self {
+            ExecutorName::Local => "local",
+            ExecutorName::Slurm => "slurm",
+        }
+    }
+}
+greybox_core::choice_traits!(ExecutorName);
+
+/// Seconds between Slurm queue polls.
+pub const DEFAULT_POLL_S: f64 = 10.0;
+
+/// The executor of a sweep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+#[serde(deny_unknown_fields, default)]
+pub struct ExecutorSettings {
+    /// `local` (a process pool here) or `slurm` (one sbatch array job).
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = ExecutorName::Local,
+        value_parser = greybox_core::choice::clap_parsers::choice::<ExecutorName>()))]
+    pub executor: ExecutorName,
+    /// Local: cases at once.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 1))]
+    pub jobs: usize,
+    /// Slurm: seconds between squeue polls.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_POLL_S))]
+    pub poll_s: f64,
+}
+
+impl Default for ExecutorSettings {
+    fn default() -> Self {
+        ExecutorSettings {
+            executor: ExecutorName::Local,
+            jobs: 1,
+            poll_s: DEFAULT_POLL_S,
+        }
+    }
+}
+
+impl ExecutorSettings {
+    /// The executor; `dry_run` (Slurm) prints the array script and submits nothing.
+    pub fn executor(&self, dry_run: bool) -> Executor {
+        match self.executor {
+            ExecutorName::Local => Executor::Local { jobs: self.jobs },
+            ExecutorName::Slurm => Executor::Slurm {
+                dry_run,
+                poll_s: self.poll_s,
+            },
+        }
+    }
+}
+
+/// The calibration's search: the bracket of C, its length, the held-out conditions.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+#[serde(deny_unknown_fields, default)]
+pub struct CalibrateSettings {
+    /// CSV: configuration fields per condition, cutting_force_N_per_mm[, feed_force_N_per_mm].
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub measured: PathBuf,
+    /// Output directory.
+    #[cfg_attr(feature = "cli", arg(long, default_value = "calibrate-out"))]
+    pub out: PathBuf,
+    #[cfg_attr(feature = "cli", command(flatten))]
+    #[serde(flatten)]
+    pub executor: ExecutorSettings,
+    /// Lower end of the bracket of C.
+    #[cfg_attr(feature = "cli", arg(long = "c-min", default_value_t = 0.001))]
+    pub c_min: f64,
+    /// Upper end of the bracket of C.
+    #[cfg_attr(feature = "cli", arg(long = "c-max", default_value_t = 0.1))]
+    pub c_max: f64,
+    /// Evaluations per golden-section search.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 10))]
+    pub iterations: usize,
+    /// Hold out every k-th condition (default 3) …
+    #[cfg_attr(feature = "cli", arg(long = "hold-out-every", default_value_t = 3))]
+    pub hold_out_every: usize,
+    /// … or these conditions (1-based, comma-separated).
+    #[cfg_attr(feature = "cli", arg(long = "hold-out", value_delimiter = ','))]
+    pub hold_out: Vec<usize>,
+    /// Also scale the base's Coulomb mu.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub friction_scale: bool,
+}
+
+impl Default for CalibrateSettings {
+    fn default() -> Self {
+        CalibrateSettings {
+            measured: PathBuf::new(),
+            out: "calibrate-out".into(),
+            executor: ExecutorSettings::default(),
+            c_min: 0.001,
+            c_max: 0.1,
+            iterations: 10,
+            hold_out_every: 3,
+            hold_out: Vec::new(),
+            friction_scale: false,
+        }
+    }
+}
+
+impl CalibrateSettings {
+    /// The calibration of `sweep_file`'s base, its executors starting `exe`.
+    pub fn options(&self, sweep_file: PathBuf, exe: PathBuf) -> CalibrateOptions {
+        CalibrateOptions {
+            sweep_file,
+            measured: self.measured.clone(),
+            out: self.out.clone(),
+            executor: self.executor.executor(false),
+            exe,
+            c_range: (self.c_min, self.c_max),
+            iterations: self.iterations,
+            hold_out: if self.hold_out.is_empty() {
+                HoldOut::Every(self.hold_out_every)
+            } else {
+                HoldOut::List(self.hold_out.clone())
+            },
+            friction_scale: self.friction_scale,
+        }
+    }
+}

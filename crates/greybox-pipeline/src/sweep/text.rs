@@ -1,0 +1,105 @@
+//! The sweep's reports as terminal text.
+
+use super::calibrate::Calibration;
+use super::collect::Collected;
+use super::{Plan, RunReport};
+use std::fmt::Write as _;
+
+/// Core-seconds of a sweep at the solver's typical speed, particle-steps per second per core.
+const PARTICLE_STEPS_PER_CORE_S: f64 = 1.5e6;
+
+/// The case table with each case's cost.
+pub fn plan(p: &Plan) -> String {
+    let mut t = format!("{} cases of {}\n", p.cases.len(), p.source);
+    let _ = write!(t, "{:>4}  {:<12}", "case", "id");
+    for f in &p.fields {
+        let _ = write!(t, "  {f}");
+    }
+    let _ = writeln!(t, "  particles  steps  particle-steps");
+    let mut total = 0.0;
+    for c in &p.cases {
+        let _ = write!(t, "{:>4}  {:<12}", c.index, c.id);
+        for (_, v) in &c.values {
+            let _ = write!(t, "  {v}");
+        }
+        let _ = writeln!(
+            t,
+            "  {}  {}  {:.3e}",
+            c.cost.particles, c.cost.steps, c.cost.particle_steps
+        );
+        total += c.cost.particle_steps;
+    }
+    let _ = writeln!(
+        t,
+        "total {total:.3e} particle-steps (≈ {:.0} core-s at {PARTICLE_STEPS_PER_CORE_S:.1e} particle-steps/s per core)",
+        total / PARTICLE_STEPS_PER_CORE_S
+    );
+    t
+}
+
+/// What a run did; a Slurm dry run shows its array script.
+pub fn run(r: &RunReport, dry_run: bool) -> String {
+    if let (true, Some(s)) = (dry_run, &r.slurm_script) {
+        return s.clone();
+    }
+    let mut t = String::new();
+    if let Some(j) = &r.slurm_job {
+        let _ = writeln!(t, "Slurm job {j}");
+    }
+    let _ = writeln!(
+        t,
+        "{} of {} cases done ({} already before this run), {} failed",
+        r.done,
+        r.cases,
+        r.skipped,
+        r.failed.len()
+    );
+    for f in &r.failed {
+        let _ = writeln!(
+            t,
+            "case {} ({}) failed: {}\n{}",
+            f.index, f.id, f.error, f.log_tail
+        );
+    }
+    t
+}
+
+/// The collected results and what is missing.
+pub fn collected(c: &Collected) -> String {
+    let mut t = format!("{} of {} cases -> {}\n", c.done, c.cases, c.csv);
+    for (i, id, s) in &c.missing {
+        let _ = writeln!(t, "  no result: case {i} ({id}), {s:?}");
+    }
+    for p in &c.plots {
+        let _ = writeln!(t, "  plot: {p}");
+    }
+    t
+}
+
+/// The calibrated C (and μ scale) with the residual per condition.
+pub fn calibration(r: &Calibration) -> String {
+    let mut t = format!("C = {:.5}", r.c);
+    if let Some(s) = r.friction_scale {
+        let _ = write!(t, ", mu scale = {s:.4}");
+    }
+    let _ = writeln!(
+        t,
+        "; mean relative force error: training {:.2} %{}",
+        100.0 * r.training_error,
+        r.held_out_error
+            .map(|e| format!(", held out {:.2} %", 100.0 * e))
+            .unwrap_or_default()
+    );
+    for x in &r.residuals {
+        let _ = writeln!(
+            t,
+            "  {:>3} {:<9} F'c measured {:.1} simulated {:.1} N/mm ({:+.1} %)",
+            x.condition,
+            if x.held_out { "held out" } else { "training" },
+            x.measured_cutting_force_n_per_mm,
+            x.simulated_cutting_force_n_per_mm,
+            100.0 * x.cutting_force_error
+        );
+    }
+    t
+}
