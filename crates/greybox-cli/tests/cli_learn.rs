@@ -283,7 +283,10 @@ fn fit_bad_inputs() {
         &["fit", "--data", "data.csv", "--families", "svm"],
         p,
     ));
-    assert!(e.contains("unknown model family 'svm'"), "{e}");
+    assert!(
+        e.contains("fit.families: family: 'svm' is not one of random-forest"),
+        "{e}"
+    );
     let e = err(&greybox(&["fit", "--data", "data.csv", "--folds", "40"], p));
     assert!(e.contains("too few for 40-fold"), "{e}");
     std::fs::write(

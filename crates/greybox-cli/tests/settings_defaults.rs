@@ -57,7 +57,14 @@ fn clap_and_serde_fill_in_the_same_defaults() {
 #[test]
 fn a_flag_and_a_key_of_the_same_name_set_the_same_field() {
     same(
-        flags::<PinSettings>(&["--depth-um", "5", "--speed-m-per-min", "60", "--mach", "0.02"]),
+        flags::<PinSettings>(&[
+            "--depth-um",
+            "5",
+            "--speed-m-per-min",
+            "60",
+            "--mach",
+            "0.02",
+        ]),
         keys(r#"{"depth_um": 5, "speed_m_per_min": 60, "mach": 0.02}"#),
     );
     same(

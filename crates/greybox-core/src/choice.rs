@@ -114,3 +114,28 @@ pub mod clap_parsers {
         clap::builder::PossibleValuesParser::new(T::names())
     }
 }
+
+/// A [`Choice`] from its field name and each value's name, with [`choice_traits!`]
+/// (`FromStr`, `Display`, serde through the names):
+///
+/// ```
+/// #[derive(Clone, Copy, Debug, PartialEq)]
+/// enum Side { Rake, Flank }
+/// greybox_core::choice!(Side, "side", [Rake => "rake", Flank => "flank"]);
+/// assert_eq!("rake".parse::<Side>().unwrap(), Side::Rake);
+/// ```
+#[macro_export]
+macro_rules! choice {
+    ($t:ident, $field:literal, [$($v:ident => $name:literal),+ $(,)?] $(, $text:ident)?) => {
+        impl $crate::choice::Choice for $t {
+            const FIELD: &'static str = $field;
+            const ALL: &'static [Self] = &[$($t::$v),+];
+            fn name(self) -> &'static str {
+                match self {
+                    $($t::$v => $name),+
+                }
+            }
+        }
+        $crate::choice_traits!($t $(, $text)?);
+    };
+}

@@ -183,17 +183,7 @@ pub enum ToolModel {
     Thermal,
 }
 
-impl greybox_core::choice::Choice for ToolModel {
-    const FIELD: &'static str = "validate.tools";
-    const ALL: &'static [Self] = &[ToolModel::Adiabatic, ToolModel::Thermal];
-    fn name(self) -> &'static str {
-        match self {
-            ToolModel::Adiabatic => "adiabatic",
-            ToolModel::Thermal => "thermal",
-        }
-    }
-}
-greybox_core::choice_traits!(ToolModel, text);
+greybox_core::choice!(ToolModel, "validate.tools", [Adiabatic => "adiabatic", Thermal => "thermal"], text);
 
 impl MaterialRuns {
     /// The entry's name in the results.

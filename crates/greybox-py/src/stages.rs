@@ -261,7 +261,9 @@ fn simulate_pin(py: Python<'_>, settings: &str, output: &str) -> PyResult<String
 fn couple(py: Python<'_>, settings: &str) -> PyResult<String> {
     let s: CoupleSettings = from_json("couple", settings).map_err(py_err)?;
     let o = s.options().map_err(py_err)?;
-    to_json(&run_interruptible(py, || greybox_pipeline::couple::couple(&o))?)
+    to_json(&run_interruptible(py, || {
+        greybox_pipeline::couple::couple(&o)
+    })?)
 }
 
 /// The article's learning protocol on a dataset: JSON {report, outputs, warnings}. `config`

@@ -19,22 +19,7 @@ pub enum RecordingFormat {
     Spreadsheet,
 }
 
-impl greybox_core::choice::Choice for RecordingFormat {
-    const FIELD: &'static str = "format";
-    const ALL: &'static [Self] = &[
-        RecordingFormat::Csv,
-        RecordingFormat::Tdms,
-        RecordingFormat::Spreadsheet,
-    ];
-    fn name(self) -> &'static str {
-        match self {
-            RecordingFormat::Csv => "csv",
-            RecordingFormat::Tdms => "tdms",
-            RecordingFormat::Spreadsheet => "spreadsheet",
-        }
-    }
-}
-greybox_core::choice_traits!(RecordingFormat, text);
+greybox_core::choice!(RecordingFormat, "format", [Csv => "csv", Tdms => "tdms", Spreadsheet => "spreadsheet"], text);
 
 impl RecordingFormat {
     pub fn extension(self) -> &'static str {

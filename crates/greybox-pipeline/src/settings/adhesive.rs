@@ -30,17 +30,7 @@ pub enum Method {
     Simulation,
 }
 
-impl greybox_core::choice::Choice for Method {
-    const FIELD: &'static str = "adhesive.method";
-    const ALL: &'static [Self] = &[Method::Analytic, Method::Simulation];
-    fn name(self) -> &'static str {
-        match self {
-            Method::Analytic => "analytic",
-            Method::Simulation => "simulation",
-        }
-    }
-}
-greybox_core::choice_traits!(Method);
+greybox_core::choice!(Method, "adhesive.method", [Analytic => "analytic", Simulation => "simulation"]);
 
 /// The default output dataset.
 pub const DEFAULT_OUT: &str = "dataset_adhesive.csv";
@@ -115,16 +105,18 @@ impl Default for AdhesiveSettings {
 
 /// `FORCE_N:WIDTH_um` as a track width.
 fn track_width(text: &str) -> Result<TrackWidth> {
-    let what = || format!("adhesive.track_width '{text}': expected FORCE_N:WIDTH_um");
-    let (f, w) = text.split_once(':').with_context(what)?;
-    let number = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
-    match (number(f), number(w)) {
-        (Some(normal_force_n), Some(width_um)) => Ok(TrackWidth {
-            normal_force_n,
-            width_um,
-        }),
-        _ => Err(anyhow::anyhow!(what())),
-    }
+    let field = format!("adhesive.track_width '{text}'");
+    let (f, w) = text
+        .split_once(':')
+        .with_context(|| format!("{field}: expected FORCE_N:WIDTH_um"))?;
+    let number = |s: &str| match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(anyhow::anyhow!("{field}: '{s}' is not a number")),
+    };
+    Ok(TrackWidth {
+        normal_force_n: number(f)?,
+        width_um: number(w)?,
+    })
 }
 
 impl AdhesiveSettings {

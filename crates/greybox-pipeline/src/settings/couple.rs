@@ -26,17 +26,7 @@ pub enum EngineName {
     Command,
 }
 
-impl greybox_core::choice::Choice for EngineName {
-    const FIELD: &'static str = "couple.engine";
-    const ALL: &'static [Self] = &[EngineName::Calculix, EngineName::Command];
-    fn name(self) -> &'static str {
-        match self {
-            EngineName::Calculix => "calculix",
-            EngineName::Command => "command",
-        }
-    }
-}
-greybox_core::choice_traits!(EngineName);
+greybox_core::choice!(EngineName, "couple.engine", [Calculix => "calculix", Command => "command"]);
 
 /// Defaults: the loop's work directory, cycle limit and tolerance, one segment's duration.
 pub const DEFAULT_WORK: &str = "couple-out";

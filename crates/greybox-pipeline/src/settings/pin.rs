@@ -4,7 +4,7 @@
 //! ```
 //! use greybox_pipeline::settings::pin::PinSettings;
 //! let s: PinSettings = greybox_pipeline::settings::from_json("pin",
-//!     r#"{"track_width_um": 1010, "mu": 0.2, "spacing_um": 20}"#)?;
+//!     r#"{"track_width_um": 1010, "mu": 0.2, "spacing_um": 5}"#)?;
 //! let setup = s.setup()?;
 //! assert!((setup.depth_m - (17e-3 - (17e-3f64.powi(2) - 505e-6f64.powi(2)).sqrt())).abs() < 1e-15);
 //! let both = PinSettings { depth_um: Some(5.0), ..s };

@@ -1,5 +1,5 @@
 //! A study file and overrides of its `[plan]` section, as the stages that build a plan
-//! (plan, synth, identify, characterize) take them. The names are the `[plan]` keys.
+//! (plan, synth, identify, characterize) take them. The names (serde) are the `[plan]` keys.
 //!
 //! ```
 //! use greybox_pipeline::settings::plan::PlanSettings;
@@ -30,9 +30,11 @@ pub struct PlanSettings {
     pub track_radius_mm: Option<f64>,
     /// Smallest normal force, N.
     #[cfg_attr(feature = "cli", arg(long = "normal-force-min-N"))]
+    #[serde(rename = "normal_force_min_N")]
     pub normal_force_min_n: Option<f64>,
     /// Largest normal force, N.
     #[cfg_attr(feature = "cli", arg(long = "normal-force-max-N"))]
+    #[serde(rename = "normal_force_max_N")]
     pub normal_force_max_n: Option<f64>,
     /// Number of normal forces (one pin each).
     #[cfg_attr(feature = "cli", arg(long = "normal-force-count"))]

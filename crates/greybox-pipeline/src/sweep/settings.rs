@@ -25,17 +25,7 @@ pub enum ExecutorName {
     Slurm,
 }
 
-impl greybox_core::choice::Choice for ExecutorName {
-    const FIELD: &'static str = "sweep.executor";
-    const ALL: &'static [Self] = &[ExecutorName::Local, ExecutorName::Slurm];
-    fn name(self) -> &'static str {
-        match self {
-            ExecutorName::Local => "local",
-            ExecutorName::Slurm => "slurm",
-        }
-    }
-}
-greybox_core::choice_traits!(ExecutorName);
+greybox_core::choice!(ExecutorName, "sweep.executor", [Local => "local", Slurm => "slurm"]);
 
 /// Seconds between Slurm queue polls.
 pub const DEFAULT_POLL_S: f64 = 10.0;

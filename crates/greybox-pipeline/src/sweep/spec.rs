@@ -35,14 +35,15 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// What each case runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CaseKind {
     /// An orthogonal cut (a `CuttingSetup` TOML).
     Cutting,
     /// A pin pressed in and slid (a `PinSetup` TOML).
     Pin,
 }
+
+greybox_core::choice!(CaseKind, "sweep.kind", [Cutting => "cutting", Pin => "pin"]);
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -339,6 +340,13 @@ zip = [ { field = "friction.law_file", values = ["a.json", "none"] }, { field = 
         let f = parse("[sweep]\nkind = \"pin\"\nbase = \"b.toml\"\n[[axis]]\nfield = \"a\"\n");
         let e = f.expand_axes().unwrap_err().to_string();
         assert!(e.contains("axis 1 (a)") && e.contains("values"), "{e}");
+        let e = toml::from_str::<SweepFile>("[sweep]\nkind = \"cut\"\nbase = \"b.toml\"\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("sweep.kind: 'cut' is not one of cutting, pin"),
+            "{e}"
+        );
     }
     #[test]
     fn cases_are_counted_before_they_are_expanded() {
