@@ -29,7 +29,7 @@ use clap::{Parser, Subcommand};
 #[command(name = "greybox", version, about, long_about = None, propagate_version = true)]
 struct Cli {
     /// No progress display (bars on a terminal, status lines otherwise, all on stderr).
-    #[arg(long, short = 'q', global = true)]
+    #[arg(long, short = 'q', global = true, help_heading = "Global options")]
     quiet: bool,
     #[command(flatten)]
     budget: BudgetArgs,
@@ -42,19 +42,19 @@ struct Cli {
 #[derive(clap::Args)]
 struct BudgetArgs {
     /// Largest configuration file (set-up TOML, sweep file, base configuration) read, MiB.
-    #[arg(long = "max-input-mib", global = true, default_value_t = greybox_core::budget::DEFAULT.max_input_bytes >> 20)]
+    #[arg(long = "max-input-mib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_input_bytes >> 20)]
     max_input_mib: u64,
     /// Most elements of a UBJSON typed array of null/true/false (which take no bytes each).
-    #[arg(long = "max-array-len", global = true, default_value_t = greybox_core::budget::DEFAULT.max_array_len)]
+    #[arg(long = "max-array-len", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_array_len)]
     max_array_len: u64,
     /// Most cells of one spreadsheet sheet (declared, held in memory, shared strings).
-    #[arg(long = "max-sheet-cells", global = true, default_value_t = greybox_core::budget::DEFAULT.max_sheet_cells)]
+    #[arg(long = "max-sheet-cells", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_sheet_cells)]
     max_sheet_cells: u64,
     /// Most bytes a spreadsheet archive expands to, MiB.
-    #[arg(long = "max-uncompressed-mib", global = true, default_value_t = greybox_core::budget::DEFAULT.max_uncompressed_bytes >> 20)]
+    #[arg(long = "max-uncompressed-mib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_uncompressed_bytes >> 20)]
     max_uncompressed_mib: u64,
     /// Longest line in the head of a text recording, KiB.
-    #[arg(long = "max-line-kib", global = true, default_value_t = greybox_core::budget::DEFAULT.max_line_bytes >> 10)]
+    #[arg(long = "max-line-kib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_line_bytes >> 10)]
     max_line_kib: u64,
 }
 
