@@ -25,6 +25,9 @@ pub mod model;
 pub mod protocol;
 pub mod svr;
 pub mod svr_lowrank;
+mod svr_smo;
+#[cfg(test)]
+mod svr_smo_dense;
 pub mod table;
 pub mod tree;
 

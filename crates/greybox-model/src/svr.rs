@@ -5,8 +5,9 @@
 //! rbf exp(−γ‖x−x'‖²), sigmoid tanh(γ⟨x,x'⟩+c0); γ = 'scale' = 1 / (p · Var(X)) as in
 //! scikit-learn. Inputs are standardised inside the model; the target is not.
 //!
-//! The kernel matrix is computed once (l² entries), which suits the few hundred to few
-//! thousand rows of a tribometer campaign; there is no shrinking heuristic.
+//! Fitting is in `greybox-learn` (`svr.rs`): SMO with libsvm's shrinking heuristic and a
+//! bounded cache of kernel rows for the rbf and sigmoid kernels (no row limit), an exact
+//! interior-point solve in feature space for the linear and polynomial kernels.
 
 use crate::matrix::Standardizer;
 use crate::predictor::Predictor;
