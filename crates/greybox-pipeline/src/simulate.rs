@@ -278,6 +278,11 @@ pub struct CutSummary {
     /// Whether the steady-force criterion was met, and the cut length where the steady part starts.
     pub steady: bool,
     pub steady_from_mm: Option<f64>,
+    /// The run ended when the forces became steady (before the configured cut length).
+    pub stopped_when_steady: bool,
+    /// The criterion: block length, blocks, relative tolerance, minimum cut length, and
+    /// whether the run stops once it is met.
+    pub steady_criterion: greybox_sim::cutting::SteadySetup,
     /// Mean cutting and feed force, N/mm: over the steady blocks, or the last half of the run.
     pub cutting_force_n_per_mm: f64,
     pub feed_force_n_per_mm: f64,
@@ -374,6 +379,10 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
         window_updates: r.updater.history.len(),
         steady: r.steady.steady_since_s.is_some(),
         steady_from_mm: r.steady.steady_since_s.map(|t| t * v * 1e3),
+        stopped_when_steady: r.summary.stopped_by_observer
+            && setup.steady.stop_when_steady
+            && r.steady.steady_since_s.is_some(),
+        steady_criterion: setup.steady.clone(),
         cutting_force_n_per_mm: f[0] * 1e-3,
         feed_force_n_per_mm: f[1] * 1e-3,
         force_ratio: if f[0] != 0.0 { f[1] / f[0] } else { 0.0 },

@@ -236,7 +236,12 @@ pub fn cut(s: &CutSummary) -> String {
         "  friction: {}; {} windows, {} window updates",
         s.law, s.windows, s.window_updates
     );
+    let c = &s.steady_criterion;
     let when = match s.steady_from_mm {
+        Some(mm) if s.stopped_when_steady => format!(
+            "steady from {mm:.3} mm of cut (blocks within ±{:.0} %), run stopped there",
+            100.0 * c.tolerance
+        ),
         Some(mm) => format!("steady from {mm:.3} mm of cut"),
         None => format!("not steady; mean from {:.3} mm of cut", s.averaged_from_mm),
     };

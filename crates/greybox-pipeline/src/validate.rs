@@ -269,6 +269,8 @@ pub struct Outcome {
     /// The hottest particle over the run, °C.
     pub max_temperature_c: f64,
     pub steady: bool,
+    /// Cut length simulated, mm (shorter than the template's when the run stopped steady).
+    pub simulated_cut_length_mm: f64,
     pub wall_s: f64,
 }
 
@@ -516,6 +518,7 @@ fn simulate(
         chip_ratio_error: c.chip_ratio.zip(ratio).map(|(m, s)| rel(s, m)),
         max_temperature_c: r.peak_temperature.peak_k - 273.15,
         steady: r.steady.steady_since_s.is_some(),
+        simulated_cut_length_mm: r.sim.time * c.cutting_speed_m_s * 1e3,
         wall_s: r.summary.wall_s,
     })
 }
@@ -589,11 +592,11 @@ pub fn write_outputs(v: &Validation, out: &Path) -> Result<Vec<PathBuf>> {
     let opt = |v: Option<f64>, d: usize| v.map_or(String::new(), |x| format!("{x:.d$}"));
     let results = out.join("results.csv");
     write_atomic(&results, |w| {
-        writeln!(w, "id,material,tool,role,mu,cutting_speed_m_per_min,uncut_chip_thickness_mm,measured_cutting_force_N_per_mm,simulated_cutting_force_N_per_mm,cutting_force_error,measured_feed_force_N_per_mm,simulated_feed_force_N_per_mm,feed_force_error,measured_chip_ratio,simulated_chip_ratio,chip_ratio_error,simulated_contact_length_mm,peak_temperature_C,steady,wall_s")?;
+        writeln!(w, "id,material,tool,role,mu,cutting_speed_m_per_min,uncut_chip_thickness_mm,measured_cutting_force_N_per_mm,simulated_cutting_force_N_per_mm,cutting_force_error,measured_feed_force_N_per_mm,simulated_feed_force_N_per_mm,feed_force_error,measured_chip_ratio,simulated_chip_ratio,chip_ratio_error,simulated_contact_length_mm,peak_temperature_C,steady,simulated_cut_length_mm,wall_s")?;
         for o in &v.outcomes {
             writeln!(
                 w,
-                "{},{},{},{},{:.4},{},{:.3},{:.2},{:.2},{:.4},{:.2},{:.2},{:.4},{},{},{},{},{:.1},{},{:.1}",
+                "{},{},{},{},{:.4},{},{:.3},{:.2},{:.2},{:.4},{:.2},{:.2},{:.4},{},{},{},{},{:.1},{},{:.3},{:.1}",
                 o.id,
                 o.material,
                 o.tool.name(),
@@ -613,6 +616,7 @@ pub fn write_outputs(v: &Validation, out: &Path) -> Result<Vec<PathBuf>> {
                 opt(o.simulated_contact_length_mm, 3),
                 o.max_temperature_c,
                 o.steady,
+                o.simulated_cut_length_mm,
                 o.wall_s
             )?;
         }
@@ -661,6 +665,13 @@ pub fn markdown(v: &Validation) -> String {
             }
         );
     }
+    let steady = v.outcomes.iter().filter(|o| o.steady).count();
+    let length: f64 = v.outcomes.iter().map(|o| o.simulated_cut_length_mm).sum();
+    s += &format!(
+        "\n{steady} of {} cuts reached steady forces; {:.3} mm of cut simulated on average.\n",
+        v.outcomes.len(),
+        length / v.outcomes.len().max(1) as f64
+    );
     s += "\n| id | material | tool | role | v_c m/min | h mm | F'c meas / sim N/mm | F'f meas / sim N/mm | h_c/h meas / sim | T_peak °C |\n|---|---|---|---|---|---|---|---|---|---|\n";
     for o in &v.outcomes {
         s += &format!(

@@ -66,7 +66,8 @@ impl CutRun {
             st.blocks,
             st.tolerance,
             st.stop_when_steady,
-        );
+        )
+        .not_before(st.min_cut_length_m / v);
         if let Some(states) = &states {
             // the histories so far: the outputs and averages cover the whole run
             forces = restored_state(states, "forces")?;

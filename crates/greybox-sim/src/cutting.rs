@@ -234,7 +234,9 @@ impl Default for FrictionSetup {
 
 /// When the cutting force counts as steady: over the last `blocks` blocks of `block_length_m`
 /// of cut, the block means lie within `tolerance` (relative) of their common mean and their
-/// fitted trend changes by less than that (see [`crate::steady`]).
+/// fitted trend changes by less than that (see [`crate::steady`]), and at least
+/// `min_cut_length_m` has been cut. The steady force is the mean over those blocks (and the
+/// blocks after them when the run goes on).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SteadySetup {
@@ -243,6 +245,9 @@ pub struct SteadySetup {
     pub block_length_m: f64,
     pub blocks: usize,
     pub tolerance: f64,
+    /// No steady state is declared before this much has been cut, m (the chip must have
+    /// formed; 0: the `blocks` blocks alone).
+    pub min_cut_length_m: f64,
 }
 
 impl Default for SteadySetup {
@@ -252,6 +257,7 @@ impl Default for SteadySetup {
             block_length_m: 0.05e-3,
             blocks: 4,
             tolerance: 0.03,
+            min_cut_length_m: 0.0,
         }
     }
 }
@@ -330,7 +336,8 @@ impl CuttingSetup {
             .section("steady", |r| {
                 r.positive("block_length_m", self.steady.block_length_m)
                     .at_least("blocks", self.steady.blocks as u64, 2)
-                    .above_up_to("tolerance", self.steady.tolerance, 0.0, 1.0);
+                    .above_up_to("tolerance", self.steady.tolerance, 0.0, 1.0)
+                    .non_negative("min_cut_length_m", self.steady.min_cut_length_m);
             })
             .relation(
                 !(self.workpiece_height_m <= h + 4.0 * dx),

@@ -28,6 +28,9 @@ pub struct SteadyForce {
     pub blocks: Vec<ForceBlock>,
     /// Start time of the first steady block, once steady.
     pub steady_since_s: Option<f64>,
+    /// No steady state before this simulated time, s (the set-up's minimum cut length).
+    #[serde(default)]
+    pub min_time_s: f64,
     sum: [f64; 2],
     n: u64,
     t_start: f64,
@@ -46,11 +49,38 @@ impl SteadyForce {
             stop,
             blocks: Vec::new(),
             steady_since_s: None,
+            min_time_s: 0.0,
             sum: [0.0; 2],
             n: 0,
             t_start: 0.0,
             resumed: false,
         }
+    }
+
+    /// No steady state before `t` s.
+    pub fn not_before(mut self, t: f64) -> Self {
+        self.min_time_s = t;
+        self
+    }
+
+    /// Closes the block in progress at time `now`, s; true when the force became steady
+    /// with it (the last `blocks_needed` blocks agree and `now` is past `min_time_s`).
+    fn close_block(&mut self, now: f64) -> bool {
+        let n = self.n.max(1) as f64;
+        self.blocks.push(ForceBlock {
+            t_start_s: self.t_start,
+            t_end_s: now,
+            force: [self.sum[0] / n, self.sum[1] / n],
+        });
+        self.sum = [0.0; 2];
+        self.n = 0;
+        self.t_start = now;
+        let long_enough = now >= self.min_time_s * (1.0 - 1e-9);
+        if self.steady_since_s.is_some() || !long_enough || !self.last_blocks_steady() {
+            return false;
+        }
+        self.steady_since_s = Some(self.blocks[self.blocks.len() - self.blocks_needed].t_start_s);
+        true
     }
 
     /// Whether the last `blocks_needed` blocks agree within the tolerance.
@@ -110,23 +140,9 @@ impl Observer for SteadyForce {
         self.sum[0] += f[0];
         self.sum[1] += f[1];
         self.n += 1;
-        if sim.time - self.t_start >= self.block_s * (1.0 - 1e-9) {
-            let n = self.n as f64;
-            self.blocks.push(ForceBlock {
-                t_start_s: self.t_start,
-                t_end_s: sim.time,
-                force: [self.sum[0] / n, self.sum[1] / n],
-            });
-            self.sum = [0.0; 2];
-            self.n = 0;
-            self.t_start = sim.time;
-            if self.steady_since_s.is_none() && self.last_blocks_steady() {
-                self.steady_since_s =
-                    Some(self.blocks[self.blocks.len() - self.blocks_needed].t_start_s);
-                if self.stop {
-                    return Ok(Control::Stop);
-                }
-            }
+        let block_done = sim.time - self.t_start >= self.block_s * (1.0 - 1e-9);
+        if block_done && self.close_block(sim.time) && self.stop {
+            return Ok(Control::Stop);
         }
         Ok(Control::Continue)
     }
@@ -173,5 +189,33 @@ mod tests {
         let d = detector(&[[100.0, 0.0], [102.0, 0.0], [104.0, 0.0], [106.0, 0.0]]);
         assert_eq!(d.steady_since_s, None);
         assert_eq!(d.steady_mean(), None);
+    }
+
+    /// Blocks of constant force 100 N/m, one per second, closed through the observer's path.
+    fn closed_blocks(min_time_s: f64, count: usize) -> (SteadyForce, Option<usize>) {
+        let mut d = SteadyForce::new(0, 1.0, 3, 0.03, true).not_before(min_time_s);
+        let mut first = None;
+        for k in 0..count {
+            d.sum = [100.0, 20.0];
+            d.n = 1;
+            if d.close_block(k as f64 + 1.0) && first.is_none() {
+                first = Some(k + 1);
+            }
+        }
+        (d, first)
+    }
+
+    #[test]
+    fn no_steady_state_before_the_minimum_cut_length() {
+        // Without a minimum: steady when the third block closes (t = 3 s).
+        let (d, first) = closed_blocks(0.0, 8);
+        assert_eq!((first, d.steady_since_s), (Some(3), Some(0.0)));
+        // A minimum of 5.5 s: the first block closing after it (t = 6 s), averaged over the
+        // three blocks before.
+        let (d, first) = closed_blocks(5.5, 8);
+        assert_eq!((first, d.steady_since_s), (Some(6), Some(3.0)));
+        assert_eq!(d.steady_mean(), Some([100.0, 20.0]));
+        // Never, when the run is shorter.
+        assert_eq!(closed_blocks(9.0, 8).1, None);
     }
 }

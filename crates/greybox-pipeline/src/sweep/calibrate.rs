@@ -175,10 +175,14 @@ fn evaluate(
     };
     let mut extra = vec![(C_FIELD.to_string(), toml::Value::Float(c))];
     if let Some(s) = scale {
-        let mu0 = super::case::read_base(&dir.join(&base.sweep.base), base.sweep.kind)?
-            .get("mu")
-            .and_then(toml::Value::as_float)
-            .context("friction scale: the base has no constant `mu` to scale")?;
+        let mu0 = super::case::read_base(
+            &dir.join(&base.sweep.base),
+            base.sweep.kind,
+            base.sweep.stop_when_steady,
+        )?
+        .get("mu")
+        .and_then(toml::Value::as_float)
+        .context("friction scale: the base has no constant `mu` to scale")?;
         extra.push(("mu".to_string(), toml::Value::Float(mu0 * s)));
     }
     let plan = Plan::expand(&f, dir, &o.sweep_file.display().to_string(), &extra)?;

@@ -62,8 +62,12 @@ impl Plan {
         source: &str,
         extra: &[(String, toml::Value)],
     ) -> Result<Plan> {
-        let base = case::read_base(&dir.join(&f.sweep.base), f.sweep.kind)
-            .with_context(|| format!("{source}: [sweep] base"))?;
+        let base = case::read_base(
+            &dir.join(&f.sweep.base),
+            f.sweep.kind,
+            f.sweep.stop_when_steady,
+        )
+        .with_context(|| format!("{source}: [sweep] base"))?;
         let axes = f.expand_axes().with_context(|| source.to_string())?;
         let mut fields: Vec<String> = axes.iter().flat_map(|a| a.fields.clone()).collect();
         fields.extend(extra.iter().map(|(k, _)| k.clone()));

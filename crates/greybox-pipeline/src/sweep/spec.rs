@@ -6,6 +6,7 @@
 //! base = "aisi1045-cut.toml"        # relative to this file
 //! fraction = 1.0                    # of the base's cut length (cutting)
 //! max_cases = 10000                 # refuse axes that multiply to more cases
+//! stop_when_steady = true           # cutting: end a cut once its forces are steady
 //!
 //! [[axis]]                          # a list of values
 //! field = "cutting_speed_m_s"
@@ -61,6 +62,14 @@ pub struct SweepSection {
     /// axes' lengths before any case is built, so a mistyped range cannot fill memory.
     #[serde(default = "default_max_cases")]
     pub max_cases: u64,
+    /// Cutting: end each cut once its forces are steady by the base's `[steady]` criterion
+    /// (default); `false` runs every cut to its full length.
+    #[serde(default = "yes")]
+    pub stop_when_steady: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// Default of `[sweep] max_cases`: 10 000 cases.
