@@ -70,6 +70,26 @@ struct KernelCache<F> {
 
 const NONE: usize = usize::MAX;
 
+/// Independent running maxima in the argmax scans (variable t goes to lane t mod LANES).
+const LANES: usize = 4;
+
+/// The (value, t) of the lanes' maxima with the largest value, the largest t among equal
+/// values: what one sequential scan keeping the last maximum (`v >= best`) finds, since
+/// `>=` on values that are never NaN is a total order. `None` when no lane saw a candidate.
+#[inline]
+fn merge_lanes(best: &[(f64, usize); LANES]) -> Option<(f64, usize)> {
+    let mut out: Option<(f64, usize)> = None;
+    for &(v, t) in best {
+        if t == NONE {
+            continue;
+        }
+        if out.is_none_or(|(w, u)| v > w || (v == w && t > u)) {
+            out = Some((v, t));
+        }
+    }
+    out
+}
+
 impl<F: Fn(usize, &mut [f64])> KernelCache<F> {
     fn new(l: usize, bytes: usize, fill: F) -> Self {
         let max_slots = (bytes / (8 * l.max(1))).max(2).min(l.max(1));
@@ -284,53 +304,56 @@ impl<F: Fn(usize, &mut [f64])> Smo<F> {
 
     /// The i of WSS3: argmax over I_up of −y_t G_t.
     fn select_i(&self) -> Option<(f64, usize)> {
-        let mut best: Option<(f64, usize)> = None;
+        let mut best = [(f64::NEG_INFINITY, NONE); LANES];
         for t in 0..self.active {
             if self.up[t] {
                 let v = -self.ys[t] * self.grad[t];
-                if best.is_none_or(|(g, _)| v >= g) {
-                    best = Some((v, t));
+                let lane = t % LANES;
+                if v >= best[lane].0 {
+                    best[lane] = (v, t);
                 }
             }
         }
-        best
+        merge_lanes(&best)
     }
 
-    /// The j of WSS3 (Fan, Chen & Lin 2005) for a given i; `None` at convergence. The
-    /// objective −b²/a is compared by cross-multiplication (a > 0), which avoids a division
-    /// per candidate and selects the same j.
-    #[allow(clippy::needless_range_loop)] // t indexes six parallel arrays
+    /// The j of WSS3 (Fan, Chen & Lin 2005) for a given i; `None` at convergence: the
+    /// argmax over I_low with b = G_max + y_t G_t > 0 of b²/a (libsvm's −b²/a minimised),
+    /// the last such t on ties. The scan keeps [`LANES`] independent maxima (t in lane
+    /// t mod LANES) merged at the end, which is the same argmax with no loop-carried chain.
     fn select_j(&mut self, gmax: f64, i: usize) -> Option<usize> {
         let slot = self.cache.load(self.kr[i]);
         let ki = self.cache.slot(slot);
         let qdi = self.qd[i];
-        let mut gmax2 = f64::NEG_INFINITY;
-        let mut j = None;
-        // best candidate so far as b²/a = num/den (maximised)
-        let (mut num, mut den) = (-1.0f64, 1.0f64);
-        for t in 0..self.active {
-            if !self.low[t] {
+        let act = self.active;
+        let mut gmax2 = [f64::NEG_INFINITY; LANES];
+        let mut best = [(f64::NEG_INFINITY, NONE); LANES];
+        let (ys, grad, low) = (&self.ys[..act], &self.grad[..act], &self.low[..act]);
+        let (qd, kr) = (&self.qd[..act], &self.kr[..act]);
+        for t in 0..act {
+            let lane = t % LANES;
+            if !low[t] {
                 continue;
             }
-            let v = self.ys[t] * self.grad[t];
-            gmax2 = gmax2.max(v);
+            let v = ys[t] * grad[t];
+            gmax2[lane] = gmax2[lane].max(v);
             let b = gmax + v;
             if b > 0.0 {
                 // Q_ii + Q_tt − 2 y_i y_t Q_it = K_ii + K_tt − 2 K_it
-                let quad = qdi + self.qd[t] - 2.0 * ki[self.kr[t]];
+                let quad = qdi + qd[t] - 2.0 * ki[kr[t]];
                 let a = if quad > 0.0 { quad } else { TAU };
-                let b2 = b * b;
-                if b2 * den >= num * a {
-                    num = b2;
-                    den = a;
-                    j = Some(t);
+                let obj = b * b / a;
+                if obj >= best[lane].0 {
+                    best[lane] = (obj, t);
                 }
             }
         }
+        let gmax2 = gmax2.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(v));
+        let j = merge_lanes(&best);
         if gmax + gmax2 < self.tol {
             None
         } else {
-            j
+            j.map(|(_, t)| t)
         }
     }
 
@@ -405,7 +428,7 @@ impl<F: Fn(usize, &mut [f64])> Smo<F> {
         let (di, dj) = ((ai - old_i) * self.ys[i], (aj - old_j) * self.ys[j]);
         let act = self.active;
         let (ri, rj) = (self.cache.slot(si), self.cache.slot(sj));
-        let mut best: Option<(f64, usize)> = None;
+        let mut best = [(f64::NEG_INFINITY, NONE); LANES];
         for (t, (((g, yt), up), &r)) in self.grad[..act]
             .iter_mut()
             .zip(&self.ys[..act])
@@ -416,12 +439,13 @@ impl<F: Fn(usize, &mut [f64])> Smo<F> {
             *g += yt * (ri[r] * di + rj[r] * dj);
             if *up {
                 let v = -yt * *g;
-                if best.is_none_or(|(b, _)| v >= b) {
-                    best = Some((v, t));
+                let lane = t % LANES;
+                if v >= best[lane].0 {
+                    best[lane] = (v, t);
                 }
             }
         }
-        best
+        merge_lanes(&best)
     }
 
     /// Run SMO until the maximal violation is below `tol`; returns the iterations used.
@@ -544,5 +568,46 @@ mod tests {
         // 3 evicts 1 (0 was used after it), 1 evicts 2, 4 evicts 3
         assert_eq!(*computed.borrow(), vec![0, 1, 2, 3, 1, 4]);
         assert_eq!(cache.owner.len(), 3);
+    }
+}
+
+#[cfg(test)]
+mod bench {
+    use super::*;
+    use greybox_model::matrix::Standardizer;
+
+    /// Dev timing: SVR_BENCH_CSV=rows.csv cargo test --release -p greybox-learn bench_ -- --ignored --nocapture
+    #[test]
+    #[ignore]
+    fn bench_solve_on_csv() {
+        let Ok(path) = std::env::var("SVR_BENCH_CSV") else {
+            return;
+        };
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut rows = Vec::new();
+        let mut y = Vec::new();
+        for line in text.lines().skip(1) {
+            let f: Vec<f64> = line.split(',').map(|s| s.parse().unwrap()).collect();
+            rows.push(vec![f[0], f[1]]);
+            y.push(f[2]);
+        }
+        let p = SvrParams {
+            kernel: greybox_model::svr::Kernel::Rbf,
+            c: 10.0,
+            epsilon: 0.01,
+            ..Default::default()
+        };
+        for n in [rows.len() / 2, rows.len()] {
+            let x = Matrix::from_rows(&rows[..n]);
+            let z = Standardizer::fit(&x).transform(&x);
+            let t0 = std::time::Instant::now();
+            let d = solve(&p, &z, &y[..n], 0.5, 512 << 20);
+            let nsv = (0..n).filter(|&r| d.alpha[r] != d.alpha[r + n]).count();
+            eprintln!(
+                "{n} rows: {:.3} s, {} iterations, {nsv} SV",
+                t0.elapsed().as_secs_f64(),
+                d.iterations
+            );
+        }
     }
 }
