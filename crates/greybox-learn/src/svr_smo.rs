@@ -70,6 +70,9 @@ struct KernelCache<F> {
 
 const NONE: usize = usize::MAX;
 
+/// A quiet NaN's bits: OR-ed into a value, a NaN, which no `>=` selects.
+const NAN_BITS: u64 = 0x7ff8_0000_0000_0000;
+
 /// Independent running maxima in the argmax scans (variable t goes to lane t mod LANES).
 const LANES: usize = 4;
 
@@ -330,22 +333,25 @@ impl<F: Fn(usize, &mut [f64])> Smo<F> {
         let mut best = [(f64::NEG_INFINITY, NONE); LANES];
         let (ys, grad, low) = (&self.ys[..act], &self.grad[..act], &self.low[..act]);
         let (qd, kr) = (&self.qd[..act], &self.kr[..act]);
+        // branch-free (masks, not ifs, which the compiler would turn back into jumps): a t
+        // outside I_low counts as −∞ in G_max2, and a t outside the candidates gets a NaN
+        // objective, which is never ≥ anything
+        let neg_inf = f64::NEG_INFINITY.to_bits();
         for t in 0..act {
             let lane = t % LANES;
-            if !low[t] {
-                continue;
-            }
             let v = ys[t] * grad[t];
-            gmax2[lane] = gmax2[lane].max(v);
             let b = gmax + v;
-            if b > 0.0 {
-                // Q_ii + Q_tt − 2 y_i y_t Q_it = K_ii + K_tt − 2 K_it
-                let quad = qdi + qd[t] - 2.0 * ki[kr[t]];
-                let a = if quad > 0.0 { quad } else { TAU };
-                let obj = b * b / a;
-                if obj >= best[lane].0 {
-                    best[lane] = (obj, t);
-                }
+            let out = (!low[t]) as u64;
+            let keep = out.wrapping_sub(1); // all ones in I_low
+            let vl = f64::from_bits((v.to_bits() & keep) | (neg_inf & !keep));
+            gmax2[lane] = if vl > gmax2[lane] { vl } else { gmax2[lane] };
+            // Q_ii + Q_tt − 2 y_i y_t Q_it = K_ii + K_tt − 2 K_it
+            let quad = qdi + qd[t] - 2.0 * ki[kr[t]];
+            let a = if quad > 0.0 { quad } else { TAU };
+            let skip = (out | (b <= 0.0) as u64).wrapping_neg() & NAN_BITS;
+            let obj = f64::from_bits((b * b / a).to_bits() | skip);
+            if obj >= best[lane].0 {
+                best[lane] = (obj, t);
             }
         }
         let gmax2 = gmax2.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(v));
