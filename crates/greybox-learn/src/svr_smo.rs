@@ -147,6 +147,75 @@ impl<F: Fn(usize, &mut [f64])> KernelCache<F> {
     }
 }
 
+/// The working-order columns the WSS3 j scan reads (all of the active length).
+struct JCols<'a> {
+    ys: &'a [f64],
+    grad: &'a [f64],
+    low: &'a [bool],
+    qd: &'a [f64],
+    kit: &'a [f64],
+}
+
+/// The WSS3 j scan: G_max2 = max over I_low of y_t G_t, and the (b²/a, t) of the largest
+/// b²/a over t ∈ I_low with b = G_max + y_t G_t > 0 (the last t on ties). With AVX2 where
+/// the processor has it: the same operations on the same values, so the same bits.
+fn scan_j(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2 (checked above)
+        return unsafe { scan_j_avx2(gmax, qdi, c) };
+    }
+    scan_j_lanes(gmax, qdi, c)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn scan_j_avx2(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
+    scan_j_lanes(gmax, qdi, c)
+}
+
+/// [`scan_j`] with [`LANES`] independent maxima (t in lane t mod LANES) merged at the end,
+/// branch-free (masks, not ifs, which the compiler would turn back into jumps): a t outside
+/// I_low counts as −∞ in G_max2, and a t outside the candidates gets a NaN objective, which
+/// is never ≥ anything.
+#[inline(always)]
+fn scan_j_lanes(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
+    let n = c.ys.len();
+    let (ys, grad, low, qd, kit) = (c.ys, &c.grad[..n], &c.low[..n], &c.qd[..n], &c.kit[..n]);
+    let neg_inf = f64::NEG_INFINITY.to_bits();
+    let mut gmax2 = [f64::NEG_INFINITY; LANES];
+    let mut key = [f64::NEG_INFINITY; LANES];
+    let mut idx = [NONE; LANES];
+    let mut visit = |t: usize, lane: usize| {
+        let v = ys[t] * grad[t];
+        let b = gmax + v;
+        let out = (!low[t]) as u64;
+        let keep = out.wrapping_sub(1); // all ones in I_low
+        let vl = f64::from_bits((v.to_bits() & keep) | (neg_inf & !keep));
+        gmax2[lane] = if vl > gmax2[lane] { vl } else { gmax2[lane] };
+        // Q_ii + Q_tt − 2 y_i y_t Q_it = K_ii + K_tt − 2 K_it
+        let quad = qdi + qd[t] - 2.0 * kit[t];
+        let a = if quad > 0.0 { quad } else { TAU };
+        let skip = (out | (b <= 0.0) as u64).wrapping_neg() & NAN_BITS;
+        let obj = f64::from_bits((b * b / a).to_bits() | skip);
+        let take = obj >= key[lane];
+        key[lane] = if take { obj } else { key[lane] };
+        idx[lane] = if take { t } else { idx[lane] };
+    };
+    let whole = n - n % LANES;
+    for base in (0..whole).step_by(LANES) {
+        for lane in 0..LANES {
+            visit(base + lane, lane);
+        }
+    }
+    for t in whole..n {
+        visit(t, t % LANES);
+    }
+    let best = std::array::from_fn(|k| (key[k], idx[k]));
+    let g = gmax2.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(v));
+    (g, merge_lanes(&best))
+}
+
 /// libsvm's SMO solver for the ε-SVR dual over 2l variables (variable t < l is α_t with
 /// y_t = +1, t ≥ l is α*_{t−l} with y_t = −1; Q_st = y_s y_t K(s mod l, t mod l)).
 /// Variables are kept in working order: the active (unshrunk) ones first, as in libsvm, so
@@ -167,6 +236,8 @@ struct Smo<F> {
     up: Vec<bool>,
     low: Vec<bool>,
     active: usize,
+    /// Scratch: the kernel row of the working-set i in working order.
+    kit: Vec<f64>,
 }
 
 impl<F: Fn(usize, &mut [f64])> Smo<F> {
@@ -198,6 +269,7 @@ impl<F: Fn(usize, &mut [f64])> Smo<F> {
             up: vec![false; n2],
             low: vec![false; n2],
             active: n2,
+            kit: vec![0.0; n2],
         }
         .with_flags()
     }
@@ -326,36 +398,20 @@ impl<F: Fn(usize, &mut [f64])> Smo<F> {
     /// t mod LANES) merged at the end, which is the same argmax with no loop-carried chain.
     fn select_j(&mut self, gmax: f64, i: usize) -> Option<usize> {
         let slot = self.cache.load(self.kr[i]);
-        let ki = self.cache.slot(slot);
-        let qdi = self.qd[i];
         let act = self.active;
-        let mut gmax2 = [f64::NEG_INFINITY; LANES];
-        let mut best = [(f64::NEG_INFINITY, NONE); LANES];
-        let (ys, grad, low) = (&self.ys[..act], &self.grad[..act], &self.low[..act]);
-        let (qd, kr) = (&self.qd[..act], &self.kr[..act]);
-        // branch-free (masks, not ifs, which the compiler would turn back into jumps): a t
-        // outside I_low counts as −∞ in G_max2, and a t outside the candidates gets a NaN
-        // objective, which is never ≥ anything
-        let neg_inf = f64::NEG_INFINITY.to_bits();
-        for t in 0..act {
-            let lane = t % LANES;
-            let v = ys[t] * grad[t];
-            let b = gmax + v;
-            let out = (!low[t]) as u64;
-            let keep = out.wrapping_sub(1); // all ones in I_low
-            let vl = f64::from_bits((v.to_bits() & keep) | (neg_inf & !keep));
-            gmax2[lane] = if vl > gmax2[lane] { vl } else { gmax2[lane] };
-            // Q_ii + Q_tt − 2 y_i y_t Q_it = K_ii + K_tt − 2 K_it
-            let quad = qdi + qd[t] - 2.0 * ki[kr[t]];
-            let a = if quad > 0.0 { quad } else { TAU };
-            let skip = (out | (b <= 0.0) as u64).wrapping_neg() & NAN_BITS;
-            let obj = f64::from_bits((b * b / a).to_bits() | skip);
-            if obj >= best[lane].0 {
-                best[lane] = (obj, t);
-            }
+        // K_it in working order, so that the scan reads every array contiguously
+        let ki = self.cache.slot(slot);
+        for (k, &r) in self.kit[..act].iter_mut().zip(&self.kr[..act]) {
+            *k = ki[r];
         }
-        let gmax2 = gmax2.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(v));
-        let j = merge_lanes(&best);
+        let cols = JCols {
+            ys: &self.ys[..act],
+            grad: &self.grad[..act],
+            low: &self.low[..act],
+            qd: &self.qd[..act],
+            kit: &self.kit[..act],
+        };
+        let (gmax2, j) = scan_j(gmax, self.qd[i], &cols);
         if gmax + gmax2 < self.tol {
             None
         } else {
