@@ -168,52 +168,129 @@ fn scan_j(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
     scan_j_lanes(gmax, qdi, c)
 }
 
+/// [`scan_j_lanes`] four t at a time in AVX2 registers (lane k of a register is lane k of
+/// the scalar scan): the same IEEE operations in the same order on the same values, so the
+/// same G_max2 and the same (b²/a, t), bit for bit.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn scan_j_avx2(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
-    scan_j_lanes(gmax, qdi, c)
-}
-
-/// [`scan_j`] with [`LANES`] independent maxima (t in lane t mod LANES) merged at the end,
-/// branch-free (masks, not ifs, which the compiler would turn back into jumps): a t outside
-/// I_low counts as −∞ in G_max2, and a t outside the candidates gets a NaN objective, which
-/// is never ≥ anything.
-#[inline(always)]
-fn scan_j_lanes(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
+    use std::arch::x86_64::*;
     let n = c.ys.len();
     let (ys, grad, low, qd, kit) = (c.ys, &c.grad[..n], &c.low[..n], &c.qd[..n], &c.kit[..n]);
-    let neg_inf = f64::NEG_INFINITY.to_bits();
-    let mut gmax2 = [f64::NEG_INFINITY; LANES];
-    let mut key = [f64::NEG_INFINITY; LANES];
-    let mut idx = [NONE; LANES];
-    let mut visit = |t: usize, lane: usize| {
-        let v = ys[t] * grad[t];
+    let whole = n - n % LANES;
+    let (gv, qdiv) = (_mm256_set1_pd(gmax), _mm256_set1_pd(qdi));
+    let (two, tau, zero) = (
+        _mm256_set1_pd(2.0),
+        _mm256_set1_pd(TAU),
+        _mm256_setzero_pd(),
+    );
+    let nan = _mm256_set1_pd(f64::NAN);
+    let mut gmax2 = _mm256_set1_pd(f64::NEG_INFINITY);
+    let mut key = _mm256_set1_pd(f64::NEG_INFINITY);
+    let mut idx = _mm256_set1_epi64x(-1);
+    let mut tv = _mm256_set_epi64x(3, 2, 1, 0);
+    let step = _mm256_set1_epi64x(LANES as i64);
+    for base in (0..whole).step_by(LANES) {
+        // SAFETY: base + 3 < whole ≤ n, the length of every column
+        let (v, qdt, k) = unsafe {
+            let y = _mm256_loadu_pd(ys.as_ptr().add(base));
+            let g = _mm256_loadu_pd(grad.as_ptr().add(base));
+            let q = _mm256_loadu_pd(qd.as_ptr().add(base));
+            let k = _mm256_loadu_pd(kit.as_ptr().add(base));
+            (_mm256_mul_pd(y, g), q, k)
+        };
+        let bytes = u32::from_le_bytes(std::array::from_fn(|k| low[base + k] as u8));
+        let in_low = _mm256_castsi256_pd(_mm256_sub_epi64(
+            _mm256_setzero_si256(),
+            _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(bytes as i32)),
+        ));
+        let b = _mm256_add_pd(gv, v);
+        let vl = _mm256_blendv_pd(_mm256_set1_pd(f64::NEG_INFINITY), v, in_low);
+        gmax2 = _mm256_max_pd(vl, gmax2); // vl > gmax2 ? vl : gmax2
+        let quad = _mm256_sub_pd(_mm256_add_pd(qdiv, qdt), _mm256_mul_pd(two, k));
+        let a = _mm256_blendv_pd(tau, quad, _mm256_cmp_pd::<_CMP_GT_OQ>(quad, zero));
+        let obj = _mm256_div_pd(_mm256_mul_pd(b, b), a);
+        let cand = _mm256_and_pd(in_low, _mm256_cmp_pd::<_CMP_GT_OQ>(b, zero));
+        let obj = _mm256_blendv_pd(nan, obj, cand);
+        let take = _mm256_cmp_pd::<_CMP_GE_OQ>(obj, key);
+        key = _mm256_blendv_pd(key, obj, take);
+        idx = _mm256_castpd_si256(_mm256_blendv_pd(
+            _mm256_castsi256_pd(idx),
+            _mm256_castsi256_pd(tv),
+            take,
+        ));
+        tv = _mm256_add_epi64(tv, step);
+    }
+    let mut g2 = [0.0; LANES];
+    let mut keys = [0.0; LANES];
+    let mut ids = [0i64; LANES];
+    // SAFETY: LANES = 4 elements each
+    unsafe {
+        _mm256_storeu_pd(g2.as_mut_ptr(), gmax2);
+        _mm256_storeu_pd(keys.as_mut_ptr(), key);
+        _mm256_storeu_si256(ids.as_mut_ptr().cast(), idx);
+    }
+    let mut lanes = Lanes {
+        gmax2: g2,
+        key: keys,
+        idx: ids.map(|t| if t < 0 { NONE } else { t as usize }),
+    };
+    for t in whole..n {
+        lanes.visit(gmax, qdi, c, t, t % LANES);
+    }
+    lanes.finish()
+}
+
+/// [`scan_j`] with [`LANES`] independent maxima (t in lane t mod LANES) merged at the end.
+fn scan_j_lanes(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
+    let mut lanes = Lanes {
+        gmax2: [f64::NEG_INFINITY; LANES],
+        key: [f64::NEG_INFINITY; LANES],
+        idx: [NONE; LANES],
+    };
+    for t in 0..c.ys.len() {
+        lanes.visit(gmax, qdi, c, t, t % LANES);
+    }
+    lanes.finish()
+}
+
+/// The running maxima of the j scan, one per lane.
+struct Lanes {
+    gmax2: [f64; LANES],
+    key: [f64; LANES],
+    idx: [usize; LANES],
+}
+
+impl Lanes {
+    /// Branch-free (masks, not ifs, which the compiler would turn back into jumps): a t
+    /// outside I_low counts as −∞ in G_max2, and a t outside the candidates gets a NaN
+    /// objective, which is never ≥ anything.
+    #[inline(always)]
+    fn visit(&mut self, gmax: f64, qdi: f64, c: &JCols, t: usize, lane: usize) {
+        let v = c.ys[t] * c.grad[t];
         let b = gmax + v;
-        let out = (!low[t]) as u64;
+        let out = (!c.low[t]) as u64;
         let keep = out.wrapping_sub(1); // all ones in I_low
+        let neg_inf = f64::NEG_INFINITY.to_bits();
         let vl = f64::from_bits((v.to_bits() & keep) | (neg_inf & !keep));
-        gmax2[lane] = if vl > gmax2[lane] { vl } else { gmax2[lane] };
+        let g2 = &mut self.gmax2[lane];
+        *g2 = if vl > *g2 { vl } else { *g2 };
         // Q_ii + Q_tt − 2 y_i y_t Q_it = K_ii + K_tt − 2 K_it
-        let quad = qdi + qd[t] - 2.0 * kit[t];
+        let quad = qdi + c.qd[t] - 2.0 * c.kit[t];
         let a = if quad > 0.0 { quad } else { TAU };
         let skip = (out | (b <= 0.0) as u64).wrapping_neg() & NAN_BITS;
         let obj = f64::from_bits((b * b / a).to_bits() | skip);
-        let take = obj >= key[lane];
-        key[lane] = if take { obj } else { key[lane] };
-        idx[lane] = if take { t } else { idx[lane] };
-    };
-    let whole = n - n % LANES;
-    for base in (0..whole).step_by(LANES) {
-        for lane in 0..LANES {
-            visit(base + lane, lane);
+        if obj >= self.key[lane] {
+            self.key[lane] = obj;
+            self.idx[lane] = t;
         }
     }
-    for t in whole..n {
-        visit(t, t % LANES);
+
+    fn finish(&self) -> (f64, Option<(f64, usize)>) {
+        let best = std::array::from_fn(|k| (self.key[k], self.idx[k]));
+        let g = self.gmax2.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(v));
+        (g, merge_lanes(&best))
     }
-    let best = std::array::from_fn(|k| (key[k], idx[k]));
-    let g = gmax2.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(v));
-    (g, merge_lanes(&best))
 }
 
 /// libsvm's SMO solver for the ε-SVR dual over 2l variables (variable t < l is α_t with
