@@ -314,9 +314,24 @@ fn run_family(
         let ids = ids.to_vec();
         let t0 = std::time::Instant::now();
         let grid = cfg.grid.expand(family)?;
-        let (results, best) = grid_search(&grid, &data.x, &data.y, &ids, cfg.seed)?;
+        // A one-candidate grid's final fit does not wait for its CV: both run at once (the
+        // same fit, seed and data either way, so the same model).
+        let fit_all = |h: &Hyperparameters| h.fit(&data.x, &data.y, cfg.seed);
+        let (searched, early) = if grid.len() == 1 {
+            let (s, m) = rayon::join(
+                || grid_search(&grid, &data.x, &data.y, &ids, cfg.seed),
+                || fit_all(&grid[0]),
+            );
+            (s, Some(m))
+        } else {
+            (grid_search(&grid, &data.x, &data.y, &ids, cfg.seed), None)
+        };
+        let (results, best) = searched?;
         let selected = grid[best].clone();
-        let model = selected.fit(&data.x, &data.y, cfg.seed)?;
+        let model = match early {
+            Some(m) => m?,
+            None => fit_all(&selected)?,
+        };
         let pred = model.predict(&data.x);
         let training = metrics_with_ci(&data.y, &pred, cfg.bootstrap_resamples, cfg.seed);
         progress.inc(1);

@@ -70,6 +70,29 @@ struct KernelCache<F> {
 
 const NONE: usize = usize::MAX;
 
+/// A quiet NaN's bits: OR-ed into a value, a NaN, which no `>=` selects.
+const NAN_BITS: u64 = 0x7ff8_0000_0000_0000;
+
+/// Independent running maxima in the argmax scans (variable t goes to lane t mod LANES).
+const LANES: usize = 4;
+
+/// The (value, t) of the lanes' maxima with the largest value, the largest t among equal
+/// values: what one sequential scan keeping the last maximum (`v >= best`) finds, since
+/// `>=` on values that are never NaN is a total order. `None` when no lane saw a candidate.
+#[inline]
+fn merge_lanes(best: &[(f64, usize); LANES]) -> Option<(f64, usize)> {
+    let mut out: Option<(f64, usize)> = None;
+    for &(v, t) in best {
+        if t == NONE {
+            continue;
+        }
+        if out.is_none_or(|(w, u)| v > w || (v == w && t > u)) {
+            out = Some((v, t));
+        }
+    }
+    out
+}
+
 impl<F: Fn(usize, &mut [f64])> KernelCache<F> {
     fn new(l: usize, bytes: usize, fill: F) -> Self {
         let max_slots = (bytes / (8 * l.max(1))).max(2).min(l.max(1));
@@ -124,6 +147,256 @@ impl<F: Fn(usize, &mut [f64])> KernelCache<F> {
     }
 }
 
+/// The working-order columns the WSS3 j scan reads (all of the active length).
+struct JCols<'a> {
+    ys: &'a [f64],
+    grad: &'a [f64],
+    low: &'a [bool],
+    qd: &'a [f64],
+    kit: &'a [f64],
+}
+
+/// The WSS3 j scan: G_max2 = max over I_low of y_t G_t, and the (b²/a, t) of the largest
+/// b²/a over t ∈ I_low with b = G_max + y_t G_t > 0 (the last t on ties). With AVX2 where
+/// the processor has it: the same operations on the same values, so the same bits.
+fn scan_j(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2 (checked above)
+        return unsafe { scan_j_avx2(gmax, qdi, c) };
+    }
+    scan_j_lanes(gmax, qdi, c)
+}
+
+/// [`scan_j_lanes`] four t at a time in AVX2 registers (lane k of a register is lane k of
+/// the scalar scan): the same IEEE operations in the same order on the same values, so the
+/// same G_max2 and the same (b²/a, t), bit for bit.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn scan_j_avx2(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
+    use std::arch::x86_64::*;
+    let n = c.ys.len();
+    let (ys, grad, low, qd, kit) = (c.ys, &c.grad[..n], &c.low[..n], &c.qd[..n], &c.kit[..n]);
+    let whole = n - n % LANES;
+    let (gv, qdiv) = (_mm256_set1_pd(gmax), _mm256_set1_pd(qdi));
+    let (two, tau, zero) = (
+        _mm256_set1_pd(2.0),
+        _mm256_set1_pd(TAU),
+        _mm256_setzero_pd(),
+    );
+    let nan = _mm256_set1_pd(f64::NAN);
+    let mut gmax2 = _mm256_set1_pd(f64::NEG_INFINITY);
+    let mut key = _mm256_set1_pd(f64::NEG_INFINITY);
+    let mut idx = _mm256_set1_epi64x(-1);
+    let mut tv = _mm256_set_epi64x(3, 2, 1, 0);
+    let step = _mm256_set1_epi64x(LANES as i64);
+    for base in (0..whole).step_by(LANES) {
+        // SAFETY: base + 3 < whole ≤ n, the length of every column
+        let (v, qdt, k) = unsafe {
+            let y = _mm256_loadu_pd(ys.as_ptr().add(base));
+            let g = _mm256_loadu_pd(grad.as_ptr().add(base));
+            let q = _mm256_loadu_pd(qd.as_ptr().add(base));
+            let k = _mm256_loadu_pd(kit.as_ptr().add(base));
+            (_mm256_mul_pd(y, g), q, k)
+        };
+        let bytes = u32::from_le_bytes(std::array::from_fn(|k| low[base + k] as u8));
+        let in_low = _mm256_castsi256_pd(_mm256_sub_epi64(
+            _mm256_setzero_si256(),
+            _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(bytes as i32)),
+        ));
+        let b = _mm256_add_pd(gv, v);
+        let vl = _mm256_blendv_pd(_mm256_set1_pd(f64::NEG_INFINITY), v, in_low);
+        gmax2 = _mm256_max_pd(vl, gmax2); // vl > gmax2 ? vl : gmax2
+        let quad = _mm256_sub_pd(_mm256_add_pd(qdiv, qdt), _mm256_mul_pd(two, k));
+        let a = _mm256_blendv_pd(tau, quad, _mm256_cmp_pd::<_CMP_GT_OQ>(quad, zero));
+        let obj = _mm256_div_pd(_mm256_mul_pd(b, b), a);
+        let cand = _mm256_and_pd(in_low, _mm256_cmp_pd::<_CMP_GT_OQ>(b, zero));
+        let obj = _mm256_blendv_pd(nan, obj, cand);
+        let take = _mm256_cmp_pd::<_CMP_GE_OQ>(obj, key);
+        key = _mm256_blendv_pd(key, obj, take);
+        idx = _mm256_castpd_si256(_mm256_blendv_pd(
+            _mm256_castsi256_pd(idx),
+            _mm256_castsi256_pd(tv),
+            take,
+        ));
+        tv = _mm256_add_epi64(tv, step);
+    }
+    let mut g2 = [0.0; LANES];
+    let mut keys = [0.0; LANES];
+    let mut ids = [0i64; LANES];
+    // SAFETY: LANES = 4 elements each
+    unsafe {
+        _mm256_storeu_pd(g2.as_mut_ptr(), gmax2);
+        _mm256_storeu_pd(keys.as_mut_ptr(), key);
+        _mm256_storeu_si256(ids.as_mut_ptr().cast(), idx);
+    }
+    let mut lanes = Lanes {
+        gmax2: g2,
+        key: keys,
+        idx: ids.map(|t| if t < 0 { NONE } else { t as usize }),
+    };
+    for t in whole..n {
+        lanes.visit(gmax, qdi, c, t, t % LANES);
+    }
+    lanes.finish()
+}
+
+/// [`scan_j`] with [`LANES`] independent maxima (t in lane t mod LANES) merged at the end.
+fn scan_j_lanes(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
+    let mut lanes = Lanes {
+        gmax2: [f64::NEG_INFINITY; LANES],
+        key: [f64::NEG_INFINITY; LANES],
+        idx: [NONE; LANES],
+    };
+    for t in 0..c.ys.len() {
+        lanes.visit(gmax, qdi, c, t, t % LANES);
+    }
+    lanes.finish()
+}
+
+/// The running maxima of the j scan, one per lane.
+struct Lanes {
+    gmax2: [f64; LANES],
+    key: [f64; LANES],
+    idx: [usize; LANES],
+}
+
+impl Lanes {
+    /// Branch-free (masks, not ifs, which the compiler would turn back into jumps): a t
+    /// outside I_low counts as −∞ in G_max2, and a t outside the candidates gets a NaN
+    /// objective, which is never ≥ anything.
+    #[inline(always)]
+    fn visit(&mut self, gmax: f64, qdi: f64, c: &JCols, t: usize, lane: usize) {
+        let v = c.ys[t] * c.grad[t];
+        let b = gmax + v;
+        let out = (!c.low[t]) as u64;
+        let keep = out.wrapping_sub(1); // all ones in I_low
+        let neg_inf = f64::NEG_INFINITY.to_bits();
+        let vl = f64::from_bits((v.to_bits() & keep) | (neg_inf & !keep));
+        let g2 = &mut self.gmax2[lane];
+        *g2 = if vl > *g2 { vl } else { *g2 };
+        // Q_ii + Q_tt − 2 y_i y_t Q_it = K_ii + K_tt − 2 K_it
+        let quad = qdi + c.qd[t] - 2.0 * c.kit[t];
+        let a = if quad > 0.0 { quad } else { TAU };
+        let skip = (out | (b <= 0.0) as u64).wrapping_neg() & NAN_BITS;
+        let obj = f64::from_bits((b * b / a).to_bits() | skip);
+        if obj >= self.key[lane] {
+            self.key[lane] = obj;
+            self.idx[lane] = t;
+        }
+    }
+
+    fn finish(&self) -> (f64, Option<(f64, usize)>) {
+        let best = std::array::from_fn(|k| (self.key[k], self.idx[k]));
+        let g = self.gmax2.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(v));
+        (g, merge_lanes(&best))
+    }
+}
+
+/// The working-order columns of the gradient update (all of the active length).
+struct GCols<'a> {
+    grad: &'a mut [f64],
+    ys: &'a [f64],
+    up: &'a [bool],
+    kit: &'a [f64],
+    kr: &'a [usize],
+}
+
+/// G_t += y_t (K_it Δ_i + K_jt Δ_j) over the active set (`kj`: K_j in original order), and
+/// the next i candidate: the (−y_t G_t, t) of its largest value over I_up, the last t on
+/// ties. With AVX2 where the processor has it: the same operations, the same bits.
+fn update_grad(c: &mut GCols, kj: &[f64], di: f64, dj: f64) -> Option<(f64, usize)> {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2 (checked above)
+        return unsafe { update_grad_avx2(c, kj, di, dj) };
+    }
+    let mut best = [(f64::NEG_INFINITY, NONE); LANES];
+    update_grad_from(c, kj, di, dj, 0, &mut best);
+    merge_lanes(&best)
+}
+
+/// [`update_grad`] from t = `start` on, one t at a time into the lanes' maxima.
+#[inline(always)]
+fn update_grad_from(
+    c: &mut GCols,
+    kj: &[f64],
+    di: f64,
+    dj: f64,
+    start: usize,
+    best: &mut [(f64, usize); LANES],
+) {
+    for t in start..c.grad.len() {
+        let (g, yt) = (&mut c.grad[t], c.ys[t]);
+        *g += yt * (c.kit[t] * di + kj[c.kr[t]] * dj);
+        if c.up[t] {
+            let v = -yt * *g;
+            let lane = t % LANES;
+            if v >= best[lane].0 {
+                best[lane] = (v, t);
+            }
+        }
+    }
+}
+
+/// [`update_grad`] four t at a time in AVX2 registers (lane k = the scalar lane k): the same
+/// IEEE operations in the same order on the same values.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn update_grad_avx2(c: &mut GCols, kj: &[f64], di: f64, dj: f64) -> Option<(f64, usize)> {
+    use std::arch::x86_64::*;
+    let n = c.grad.len();
+    assert!(c.ys.len() == n && c.up.len() == n && c.kit.len() == n && c.kr.len() == n);
+    let whole = n - n % LANES;
+    let (dv, djv) = (_mm256_set1_pd(di), _mm256_set1_pd(dj));
+    let (nan, sign) = (_mm256_set1_pd(f64::NAN), _mm256_set1_pd(-0.0));
+    let mut key = _mm256_set1_pd(f64::NEG_INFINITY);
+    let mut idx = _mm256_set1_epi64x(-1);
+    let mut tv = _mm256_set_epi64x(3, 2, 1, 0);
+    let step = _mm256_set1_epi64x(LANES as i64);
+    for base in (0..whole).step_by(LANES) {
+        // K_jt by scalar loads (checked indices; faster than a gather instruction here)
+        let kjt: [f64; LANES] = std::array::from_fn(|k| kj[c.kr[base + k]]);
+        // SAFETY: base + 3 < whole ≤ n, the length of every column
+        let (y, g) = unsafe {
+            let y = _mm256_loadu_pd(c.ys.as_ptr().add(base));
+            let g = _mm256_loadu_pd(c.grad.as_ptr().add(base));
+            let k = _mm256_loadu_pd(c.kit.as_ptr().add(base));
+            let kjt = _mm256_loadu_pd(kjt.as_ptr());
+            let term = _mm256_add_pd(_mm256_mul_pd(k, dv), _mm256_mul_pd(kjt, djv));
+            (y, _mm256_add_pd(g, _mm256_mul_pd(y, term)))
+        };
+        // SAFETY: as above
+        unsafe { _mm256_storeu_pd(c.grad.as_mut_ptr().add(base), g) };
+        let bytes = u32::from_le_bytes(std::array::from_fn(|k| c.up[base + k] as u8));
+        let in_up = _mm256_castsi256_pd(_mm256_sub_epi64(
+            _mm256_setzero_si256(),
+            _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(bytes as i32)),
+        ));
+        let v = _mm256_mul_pd(_mm256_xor_pd(y, sign), g); // −y_t G_t
+        let v = _mm256_blendv_pd(nan, v, in_up);
+        let take = _mm256_cmp_pd::<_CMP_GE_OQ>(v, key);
+        key = _mm256_blendv_pd(key, v, take);
+        idx = _mm256_castpd_si256(_mm256_blendv_pd(
+            _mm256_castsi256_pd(idx),
+            _mm256_castsi256_pd(tv),
+            take,
+        ));
+        tv = _mm256_add_epi64(tv, step);
+    }
+    let mut keys = [0.0; LANES];
+    let mut ids = [0i64; LANES];
+    // SAFETY: LANES = 4 elements each
+    unsafe {
+        _mm256_storeu_pd(keys.as_mut_ptr(), key);
+        _mm256_storeu_si256(ids.as_mut_ptr().cast(), idx);
+    }
+    let mut best =
+        std::array::from_fn(|k| (keys[k], if ids[k] < 0 { NONE } else { ids[k] as usize }));
+    update_grad_from(c, kj, di, dj, whole, &mut best);
+    merge_lanes(&best)
+}
+
 /// libsvm's SMO solver for the ε-SVR dual over 2l variables (variable t < l is α_t with
 /// y_t = +1, t ≥ l is α*_{t−l} with y_t = −1; Q_st = y_s y_t K(s mod l, t mod l)).
 /// Variables are kept in working order: the active (unshrunk) ones first, as in libsvm, so
@@ -144,6 +417,8 @@ struct Smo<F> {
     up: Vec<bool>,
     low: Vec<bool>,
     active: usize,
+    /// Scratch: the kernel row of the working-set i in working order.
+    kit: Vec<f64>,
 }
 
 impl<F: Fn(usize, &mut [f64])> Smo<F> {
@@ -175,6 +450,7 @@ impl<F: Fn(usize, &mut [f64])> Smo<F> {
             up: vec![false; n2],
             low: vec![false; n2],
             active: n2,
+            kit: vec![0.0; n2],
         }
         .with_flags()
     }
@@ -284,53 +560,43 @@ impl<F: Fn(usize, &mut [f64])> Smo<F> {
 
     /// The i of WSS3: argmax over I_up of −y_t G_t.
     fn select_i(&self) -> Option<(f64, usize)> {
-        let mut best: Option<(f64, usize)> = None;
+        let mut best = [(f64::NEG_INFINITY, NONE); LANES];
         for t in 0..self.active {
             if self.up[t] {
                 let v = -self.ys[t] * self.grad[t];
-                if best.is_none_or(|(g, _)| v >= g) {
-                    best = Some((v, t));
+                let lane = t % LANES;
+                if v >= best[lane].0 {
+                    best[lane] = (v, t);
                 }
             }
         }
-        best
+        merge_lanes(&best)
     }
 
-    /// The j of WSS3 (Fan, Chen & Lin 2005) for a given i; `None` at convergence. The
-    /// objective −b²/a is compared by cross-multiplication (a > 0), which avoids a division
-    /// per candidate and selects the same j.
-    #[allow(clippy::needless_range_loop)] // t indexes six parallel arrays
+    /// The j of WSS3 (Fan, Chen & Lin 2005) for a given i; `None` at convergence: the
+    /// argmax over I_low with b = G_max + y_t G_t > 0 of b²/a (libsvm's −b²/a minimised),
+    /// the last such t on ties. The scan keeps [`LANES`] independent maxima (t in lane
+    /// t mod LANES) merged at the end, which is the same argmax with no loop-carried chain.
     fn select_j(&mut self, gmax: f64, i: usize) -> Option<usize> {
         let slot = self.cache.load(self.kr[i]);
+        let act = self.active;
+        // K_it in working order, so that the scan reads every array contiguously
         let ki = self.cache.slot(slot);
-        let qdi = self.qd[i];
-        let mut gmax2 = f64::NEG_INFINITY;
-        let mut j = None;
-        // best candidate so far as b²/a = num/den (maximised)
-        let (mut num, mut den) = (-1.0f64, 1.0f64);
-        for t in 0..self.active {
-            if !self.low[t] {
-                continue;
-            }
-            let v = self.ys[t] * self.grad[t];
-            gmax2 = gmax2.max(v);
-            let b = gmax + v;
-            if b > 0.0 {
-                // Q_ii + Q_tt − 2 y_i y_t Q_it = K_ii + K_tt − 2 K_it
-                let quad = qdi + self.qd[t] - 2.0 * ki[self.kr[t]];
-                let a = if quad > 0.0 { quad } else { TAU };
-                let b2 = b * b;
-                if b2 * den >= num * a {
-                    num = b2;
-                    den = a;
-                    j = Some(t);
-                }
-            }
+        for (k, &r) in self.kit[..act].iter_mut().zip(&self.kr[..act]) {
+            *k = ki[r];
         }
+        let cols = JCols {
+            ys: &self.ys[..act],
+            grad: &self.grad[..act],
+            low: &self.low[..act],
+            qd: &self.qd[..act],
+            kit: &self.kit[..act],
+        };
+        let (gmax2, j) = scan_j(gmax, self.qd[i], &cols);
         if gmax + gmax2 < self.tol {
             None
         } else {
-            j
+            j.map(|(_, t)| t)
         }
     }
 
@@ -404,24 +670,15 @@ impl<F: Fn(usize, &mut [f64])> Smo<F> {
         self.set_flags(j);
         let (di, dj) = ((ai - old_i) * self.ys[i], (aj - old_j) * self.ys[j]);
         let act = self.active;
-        let (ri, rj) = (self.cache.slot(si), self.cache.slot(sj));
-        let mut best: Option<(f64, usize)> = None;
-        for (t, (((g, yt), up), &r)) in self.grad[..act]
-            .iter_mut()
-            .zip(&self.ys[..act])
-            .zip(&self.up[..act])
-            .zip(&self.kr[..act])
-            .enumerate()
-        {
-            *g += yt * (ri[r] * di + rj[r] * dj);
-            if *up {
-                let v = -yt * *g;
-                if best.is_none_or(|(b, _)| v >= b) {
-                    best = Some((v, t));
-                }
-            }
-        }
-        best
+        // K_i in working order is `kit`, gathered by `select_j` for this i and this active set
+        let mut cols = GCols {
+            grad: &mut self.grad[..act],
+            ys: &self.ys[..act],
+            up: &self.up[..act],
+            kit: &self.kit[..act],
+            kr: &self.kr[..act],
+        };
+        update_grad(&mut cols, self.cache.slot(sj), di, dj)
     }
 
     /// Run SMO until the maximal violation is below `tol`; returns the iterations used.
@@ -525,6 +782,74 @@ mod tests {
         }
     }
 
+    /// The AVX2 scans give the portable scans' bits: the same G_max2, j, next i and
+    /// gradients, on random columns of every length modulo 4 (ties included).
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn avx2_scans_equal_the_portable_scans_bit_for_bit() {
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        for n in [0, 1, 2, 3, 4, 5, 7, 8, 13, 64, 301] {
+            let l = n.max(1);
+            // values on a coarse grid, so that ties occur
+            let mut draw = |k: f64| (rng.gen_range(-4.0f64..4.0) * k).round() / k;
+            let ys: Vec<f64> = (0..n)
+                .map(|t| if t % 3 == 0 { -1.0 } else { 1.0 })
+                .collect();
+            let grad: Vec<f64> = (0..n).map(|_| draw(4.0)).collect();
+            let qd: Vec<f64> = (0..n).map(|_| 1.0 + draw(2.0).abs() / 8.0).collect();
+            let kit: Vec<f64> = (0..n).map(|_| draw(8.0) / 4.0).collect();
+            let kr: Vec<usize> = (0..n).map(|t| (t * 7) % l).collect();
+            let kj: Vec<f64> = (0..l).map(|_| draw(8.0) / 4.0).collect();
+            let low: Vec<bool> = (0..n).map(|t| t % 5 != 1).collect();
+            let up: Vec<bool> = (0..n).map(|t| t % 4 != 2).collect();
+            let cols = JCols {
+                ys: &ys,
+                grad: &grad,
+                low: &low,
+                qd: &qd,
+                kit: &kit,
+            };
+            for gmax in [-1.0, 0.0, 0.5, 2.0] {
+                let a = scan_j_lanes(gmax, 1.0, &cols);
+                // SAFETY: AVX2 checked above
+                let b = unsafe { scan_j_avx2(gmax, 1.0, &cols) };
+                assert_eq!(a.0.to_bits(), b.0.to_bits(), "n {n}");
+                assert_eq!(
+                    a.1.map(|(v, t)| (v.to_bits(), t)),
+                    b.1.map(|(v, t)| (v.to_bits(), t))
+                );
+            }
+            let (mut g1, mut g2) = (grad.clone(), grad.clone());
+            let mut best = [(f64::NEG_INFINITY, NONE); LANES];
+            let mut c1 = GCols {
+                grad: &mut g1,
+                ys: &ys,
+                up: &up,
+                kit: &kit,
+                kr: &kr,
+            };
+            update_grad_from(&mut c1, &kj, 0.25, -0.5, 0, &mut best);
+            let a = merge_lanes(&best);
+            let mut c2 = GCols {
+                grad: &mut g2,
+                ys: &ys,
+                up: &up,
+                kit: &kit,
+                kr: &kr,
+            };
+            // SAFETY: AVX2 checked above
+            let b = unsafe { update_grad_avx2(&mut c2, &kj, 0.25, -0.5) };
+            assert_eq!(
+                a.map(|(v, t)| (v.to_bits(), t)),
+                b.map(|(v, t)| (v.to_bits(), t))
+            );
+            assert!(g1.iter().zip(&g2).all(|(x, y)| x.to_bits() == y.to_bits()));
+        }
+    }
+
     /// The cache keeps at most its budget's rows, evicts the least recently used one, and
     /// gives every row as computed.
     #[test]
@@ -544,5 +869,46 @@ mod tests {
         // 3 evicts 1 (0 was used after it), 1 evicts 2, 4 evicts 3
         assert_eq!(*computed.borrow(), vec![0, 1, 2, 3, 1, 4]);
         assert_eq!(cache.owner.len(), 3);
+    }
+}
+
+#[cfg(test)]
+mod bench {
+    use super::*;
+    use greybox_model::matrix::Standardizer;
+
+    /// Dev timing: SVR_BENCH_CSV=rows.csv cargo test --release -p greybox-learn bench_ -- --ignored --nocapture
+    #[test]
+    #[ignore]
+    fn bench_solve_on_csv() {
+        let Ok(path) = std::env::var("SVR_BENCH_CSV") else {
+            return;
+        };
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut rows = Vec::new();
+        let mut y = Vec::new();
+        for line in text.lines().skip(1) {
+            let f: Vec<f64> = line.split(',').map(|s| s.parse().unwrap()).collect();
+            rows.push(vec![f[0], f[1]]);
+            y.push(f[2]);
+        }
+        let p = SvrParams {
+            kernel: greybox_model::svr::Kernel::Rbf,
+            c: 10.0,
+            epsilon: 0.01,
+            ..Default::default()
+        };
+        for n in [rows.len() / 2, rows.len()] {
+            let x = Matrix::from_rows(&rows[..n]);
+            let z = Standardizer::fit(&x).transform(&x);
+            let t0 = std::time::Instant::now();
+            let d = solve(&p, &z, &y[..n], 0.5, 512 << 20);
+            let nsv = (0..n).filter(|&r| d.alpha[r] != d.alpha[r + n]).count();
+            eprintln!(
+                "{n} rows: {:.3} s, {} iterations, {nsv} SV",
+                t0.elapsed().as_secs_f64(),
+                d.iterations
+            );
+        }
     }
 }

@@ -227,17 +227,16 @@ impl Smo {
         best
     }
 
-    /// The j of WSS3 (Fan, Chen & Lin 2005) for a given i; `None` at convergence. The
-    /// objective −b²/a is compared by cross-multiplication (a > 0), which avoids a division
-    /// per candidate and selects the same j.
+    /// The j of WSS3 (Fan, Chen & Lin 2005) for a given i; `None` at convergence: libsvm's
+    /// argmin of −b²/a, here the argmax of b²/a, the last such t on ties.
     #[allow(clippy::needless_range_loop)] // t indexes five parallel arrays
     fn select_j(&self, gmax: f64, i: usize) -> Option<usize> {
         let ki = self.row(i);
         let qdi = self.qd[i];
         let mut gmax2 = f64::NEG_INFINITY;
         let mut j = None;
-        // best candidate so far as b²/a = num/den (maximised)
-        let (mut num, mut den) = (-1.0f64, 1.0f64);
+        // best candidate so far: b²/a maximised (libsvm minimises −b²/a), the last on ties
+        let mut best = f64::NEG_INFINITY;
         for t in 0..self.active {
             if !self.low[t] {
                 continue;
@@ -249,10 +248,9 @@ impl Smo {
                 // Q_ii + Q_tt − 2 y_i y_t Q_it = K_ii + K_tt − 2 K_it
                 let quad = qdi + self.qd[t] - 2.0 * ki[t];
                 let a = if quad > 0.0 { quad } else { TAU };
-                let b2 = b * b;
-                if b2 * den >= num * a {
-                    num = b2;
-                    den = a;
+                let obj = b * b / a;
+                if obj >= best {
+                    best = obj;
                     j = Some(t);
                 }
             }
