@@ -518,7 +518,7 @@ fn simulate(
         chip_ratio_error: c.chip_ratio.zip(ratio).map(|(m, s)| rel(s, m)),
         max_temperature_c: r.peak_temperature.peak_k - 273.15,
         steady: r.steady.steady_since_s.is_some(),
-        simulated_cut_length_mm: r.sim.time * c.cutting_speed_m_s * 1e3,
+        simulated_cut_length_mm: r.sim.time * s.cutting_speed_m_s * 1e3,
         wall_s: r.summary.wall_s,
     })
 }
