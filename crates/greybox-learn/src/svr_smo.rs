@@ -168,6 +168,69 @@ fn scan_j(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
     scan_j_lanes(gmax, qdi, c)
 }
 
+/// The lanes' running (key, t) maxima of an AVX2 scan: lane k keeps the last t ≡ k (mod 4)
+/// with the largest key, as the scalar scan's lane k does (a NaN key is never taken).
+#[cfg(target_arch = "x86_64")]
+struct ArgMax {
+    key: std::arch::x86_64::__m256d,
+    idx: std::arch::x86_64::__m256i,
+    /// The positions t of the four values offered next.
+    tv: std::arch::x86_64::__m256i,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl ArgMax {
+    #[target_feature(enable = "avx2")]
+    fn new() -> Self {
+        use std::arch::x86_64::*;
+        ArgMax {
+            key: _mm256_set1_pd(f64::NEG_INFINITY),
+            idx: _mm256_set1_epi64x(-1),
+            tv: _mm256_set_epi64x(3, 2, 1, 0),
+        }
+    }
+
+    /// Offers the next four values (positions `tv`), keeping each lane's last maximum.
+    #[target_feature(enable = "avx2")]
+    fn take(&mut self, v: std::arch::x86_64::__m256d) {
+        use std::arch::x86_64::*;
+        let take = _mm256_cmp_pd::<_CMP_GE_OQ>(v, self.key);
+        self.key = _mm256_blendv_pd(self.key, v, take);
+        self.idx = _mm256_castpd_si256(_mm256_blendv_pd(
+            _mm256_castsi256_pd(self.idx),
+            _mm256_castsi256_pd(self.tv),
+            take,
+        ));
+        self.tv = _mm256_add_epi64(self.tv, _mm256_set1_epi64x(LANES as i64));
+    }
+
+    /// Each lane's (key, t), `NONE` where nothing was taken.
+    #[target_feature(enable = "avx2")]
+    fn lanes(&self) -> [(f64, usize); LANES] {
+        use std::arch::x86_64::*;
+        let mut keys = [0.0; LANES];
+        let mut ids = [0i64; LANES];
+        // SAFETY: LANES = 4 elements each
+        unsafe {
+            _mm256_storeu_pd(keys.as_mut_ptr(), self.key);
+            _mm256_storeu_si256(ids.as_mut_ptr().cast(), self.idx);
+        }
+        std::array::from_fn(|k| (keys[k], if ids[k] < 0 { NONE } else { ids[k] as usize }))
+    }
+}
+
+/// All-ones lanes where `flags[k]` is set (the four flags from `flags[0]`).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn lane_mask(flags: &[bool]) -> std::arch::x86_64::__m256d {
+    use std::arch::x86_64::*;
+    let bytes = u32::from_le_bytes(std::array::from_fn(|k| flags[k] as u8));
+    _mm256_castsi256_pd(_mm256_sub_epi64(
+        _mm256_setzero_si256(),
+        _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(bytes as i32)),
+    ))
+}
+
 /// [`scan_j_lanes`] four t at a time in AVX2 registers (lane k of a register is lane k of
 /// the scalar scan): the same IEEE operations in the same order on the same values, so the
 /// same G_max2 and the same (b²/a, t), bit for bit.
@@ -186,10 +249,7 @@ fn scan_j_avx2(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
     );
     let nan = _mm256_set1_pd(f64::NAN);
     let mut gmax2 = _mm256_set1_pd(f64::NEG_INFINITY);
-    let mut key = _mm256_set1_pd(f64::NEG_INFINITY);
-    let mut idx = _mm256_set1_epi64x(-1);
-    let mut tv = _mm256_set_epi64x(3, 2, 1, 0);
-    let step = _mm256_set1_epi64x(LANES as i64);
+    let mut best = ArgMax::new();
     for base in (0..whole).step_by(LANES) {
         // SAFETY: base + 3 < whole ≤ n, the length of every column
         let (v, qdt, k) = unsafe {
@@ -199,11 +259,7 @@ fn scan_j_avx2(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
             let k = _mm256_loadu_pd(kit.as_ptr().add(base));
             (_mm256_mul_pd(y, g), q, k)
         };
-        let bytes = u32::from_le_bytes(std::array::from_fn(|k| low[base + k] as u8));
-        let in_low = _mm256_castsi256_pd(_mm256_sub_epi64(
-            _mm256_setzero_si256(),
-            _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(bytes as i32)),
-        ));
+        let in_low = lane_mask(&low[base..]);
         let b = _mm256_add_pd(gv, v);
         let vl = _mm256_blendv_pd(_mm256_set1_pd(f64::NEG_INFINITY), v, in_low);
         gmax2 = _mm256_max_pd(vl, gmax2); // vl > gmax2 ? vl : gmax2
@@ -211,29 +267,16 @@ fn scan_j_avx2(gmax: f64, qdi: f64, c: &JCols) -> (f64, Option<(f64, usize)>) {
         let a = _mm256_blendv_pd(tau, quad, _mm256_cmp_pd::<_CMP_GT_OQ>(quad, zero));
         let obj = _mm256_div_pd(_mm256_mul_pd(b, b), a);
         let cand = _mm256_and_pd(in_low, _mm256_cmp_pd::<_CMP_GT_OQ>(b, zero));
-        let obj = _mm256_blendv_pd(nan, obj, cand);
-        let take = _mm256_cmp_pd::<_CMP_GE_OQ>(obj, key);
-        key = _mm256_blendv_pd(key, obj, take);
-        idx = _mm256_castpd_si256(_mm256_blendv_pd(
-            _mm256_castsi256_pd(idx),
-            _mm256_castsi256_pd(tv),
-            take,
-        ));
-        tv = _mm256_add_epi64(tv, step);
+        best.take(_mm256_blendv_pd(nan, obj, cand));
     }
     let mut g2 = [0.0; LANES];
-    let mut keys = [0.0; LANES];
-    let mut ids = [0i64; LANES];
-    // SAFETY: LANES = 4 elements each
-    unsafe {
-        _mm256_storeu_pd(g2.as_mut_ptr(), gmax2);
-        _mm256_storeu_pd(keys.as_mut_ptr(), key);
-        _mm256_storeu_si256(ids.as_mut_ptr().cast(), idx);
-    }
+    // SAFETY: LANES = 4 elements
+    unsafe { _mm256_storeu_pd(g2.as_mut_ptr(), gmax2) };
+    let best = best.lanes();
     let mut lanes = Lanes {
         gmax2: g2,
-        key: keys,
-        idx: ids.map(|t| if t < 0 { NONE } else { t as usize }),
+        key: best.map(|b| b.0),
+        idx: best.map(|b| b.1),
     };
     for t in whole..n {
         lanes.visit(gmax, qdi, c, t, t % LANES);
@@ -350,10 +393,7 @@ fn update_grad_avx2(c: &mut GCols, kj: &[f64], di: f64, dj: f64) -> Option<(f64,
     let whole = n - n % LANES;
     let (dv, djv) = (_mm256_set1_pd(di), _mm256_set1_pd(dj));
     let (nan, sign) = (_mm256_set1_pd(f64::NAN), _mm256_set1_pd(-0.0));
-    let mut key = _mm256_set1_pd(f64::NEG_INFINITY);
-    let mut idx = _mm256_set1_epi64x(-1);
-    let mut tv = _mm256_set_epi64x(3, 2, 1, 0);
-    let step = _mm256_set1_epi64x(LANES as i64);
+    let mut next_i = ArgMax::new();
     for base in (0..whole).step_by(LANES) {
         // K_jt by scalar loads (checked indices; faster than a gather instruction here)
         let kjt: [f64; LANES] = std::array::from_fn(|k| kj[c.kr[base + k]]);
@@ -368,31 +408,11 @@ fn update_grad_avx2(c: &mut GCols, kj: &[f64], di: f64, dj: f64) -> Option<(f64,
         };
         // SAFETY: as above
         unsafe { _mm256_storeu_pd(c.grad.as_mut_ptr().add(base), g) };
-        let bytes = u32::from_le_bytes(std::array::from_fn(|k| c.up[base + k] as u8));
-        let in_up = _mm256_castsi256_pd(_mm256_sub_epi64(
-            _mm256_setzero_si256(),
-            _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(bytes as i32)),
-        ));
+        let in_up = lane_mask(&c.up[base..]);
         let v = _mm256_mul_pd(_mm256_xor_pd(y, sign), g); // −y_t G_t
-        let v = _mm256_blendv_pd(nan, v, in_up);
-        let take = _mm256_cmp_pd::<_CMP_GE_OQ>(v, key);
-        key = _mm256_blendv_pd(key, v, take);
-        idx = _mm256_castpd_si256(_mm256_blendv_pd(
-            _mm256_castsi256_pd(idx),
-            _mm256_castsi256_pd(tv),
-            take,
-        ));
-        tv = _mm256_add_epi64(tv, step);
+        next_i.take(_mm256_blendv_pd(nan, v, in_up));
     }
-    let mut keys = [0.0; LANES];
-    let mut ids = [0i64; LANES];
-    // SAFETY: LANES = 4 elements each
-    unsafe {
-        _mm256_storeu_pd(keys.as_mut_ptr(), key);
-        _mm256_storeu_si256(ids.as_mut_ptr().cast(), idx);
-    }
-    let mut best =
-        std::array::from_fn(|k| (keys[k], if ids[k] < 0 { NONE } else { ids[k] as usize }));
+    let mut best = next_i.lanes();
     update_grad_from(c, kj, di, dj, whole, &mut best);
     merge_lanes(&best)
 }
