@@ -82,7 +82,7 @@ pub fn run(a: Args) -> Result<()> {
             dry_run,
             json,
         } => {
-            let r = sweep::run(&sweep_file, &out, &executor.executor(dry_run), &exe)?;
+            let r = sweep::run(&sweep_file, &out, &executor.executor(dry_run)?, &exe)?;
             emit(json, &r, |r| text::run(r, dry_run))?;
             match r.failed.len() {
                 0 => Ok(()),
@@ -97,7 +97,7 @@ pub fn run(a: Args) -> Result<()> {
             json,
         } => emit(
             json,
-            &calibrate(&settings.options(sweep_file, exe))?,
+            &calibrate(&settings.options(sweep_file, exe)?)?,
             text::calibration,
         ),
     }

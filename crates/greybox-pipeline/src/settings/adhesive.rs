@@ -122,6 +122,12 @@ fn track_width(text: &str) -> Result<TrackWidth> {
 impl AdhesiveSettings {
     /// The stage's options.
     pub fn options(&self) -> Result<AdhesiveOptions> {
+        if !(self.pin_radius_mm.is_finite() && self.pin_radius_mm > 0.0) {
+            anyhow::bail!(
+                "adhesive.pin_radius_mm: expected a positive radius, mm, got {}",
+                self.pin_radius_mm
+            );
+        }
         Ok(AdhesiveOptions {
             data: self.data.clone(),
             method: match self.method {

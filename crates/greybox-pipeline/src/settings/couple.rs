@@ -7,11 +7,13 @@
 //! assert_eq!(s.options()?.max_cycles, 20);
 //! let e = CoupleSettings { law: Some("law.json".into()), ..Default::default() }.options().unwrap_err();
 //! assert_eq!(e.to_string(), "couple.deck: the CalculiX deck is required for engine calculix");
+//! let e = CoupleSettings { tol: f64::NAN, ..s }.options().unwrap_err();
+//! assert_eq!(e.to_string(), "couple.tol: expected a positive number, got NaN");
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
 use crate::couple::{CoupleOptions, EngineOptions};
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use greybox_friction::grid::UnitSystem;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -110,6 +112,18 @@ fn needed<T: Clone>(value: &Option<T>, field: &str, what: &str, engine: &str) ->
 impl CoupleSettings {
     /// The loop's options.
     pub fn options(&self) -> Result<CoupleOptions> {
+        if !(self.tol.is_finite() && self.tol > 0.0) {
+            bail!("couple.tol: expected a positive number, got {}", self.tol);
+        }
+        if !(self.segment_s.is_finite() && self.segment_s > 0.0) {
+            bail!(
+                "couple.segment_s: expected a positive duration, s, got {}",
+                self.segment_s
+            );
+        }
+        if self.max_cycles == 0 {
+            bail!("couple.max_cycles: expected at least 1 cycle");
+        }
         let engine = match self.engine {
             EngineName::Calculix => EngineOptions::Calculix {
                 ccx: self.ccx.clone(),

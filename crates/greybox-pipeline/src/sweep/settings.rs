@@ -5,13 +5,16 @@
 //! use greybox_pipeline::sweep::settings::{ExecutorName, ExecutorSettings};
 //! use greybox_pipeline::sweep::Executor;
 //! let s = ExecutorSettings { executor: ExecutorName::Slurm, ..Default::default() };
-//! assert!(matches!(s.executor(true), Executor::Slurm { dry_run: true, .. }));
+//! assert!(matches!(s.executor(true), Ok(Executor::Slurm { dry_run: true, .. })));
+//! let none = ExecutorSettings { jobs: 0, ..Default::default() };
+//! assert_eq!(none.executor(false).unwrap_err().to_string(), "sweep.jobs: expected at least 1 case at once");
 //! assert_eq!("lsf".parse::<ExecutorName>().unwrap_err().to_string(),
 //!     "sweep.executor: 'lsf' is not one of local, slurm");
 //! ```
 
 use super::calibrate::{CalibrateOptions, HoldOut};
 use super::Executor;
+use anyhow::{bail, Result};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -59,14 +62,23 @@ impl Default for ExecutorSettings {
 
 impl ExecutorSettings {
     /// The executor; `dry_run` (Slurm) prints the array script and submits nothing.
-    pub fn executor(&self, dry_run: bool) -> Executor {
-        match self.executor {
+    pub fn executor(&self, dry_run: bool) -> Result<Executor> {
+        if self.jobs == 0 {
+            bail!("sweep.jobs: expected at least 1 case at once");
+        }
+        if !(self.poll_s.is_finite() && self.poll_s > 0.0) {
+            bail!(
+                "sweep.poll_s: expected a positive number of seconds, got {}",
+                self.poll_s
+            );
+        }
+        Ok(match self.executor {
             ExecutorName::Local => Executor::Local { jobs: self.jobs },
             ExecutorName::Slurm => Executor::Slurm {
                 dry_run,
                 poll_s: self.poll_s,
             },
-        }
+        })
     }
 }
 
@@ -122,12 +134,12 @@ impl Default for CalibrateSettings {
 
 impl CalibrateSettings {
     /// The calibration of `sweep_file`'s base, its executors starting `exe`.
-    pub fn options(&self, sweep_file: PathBuf, exe: PathBuf) -> CalibrateOptions {
-        CalibrateOptions {
+    pub fn options(&self, sweep_file: PathBuf, exe: PathBuf) -> Result<CalibrateOptions> {
+        Ok(CalibrateOptions {
             sweep_file,
             measured: self.measured.clone(),
             out: self.out.clone(),
-            executor: self.executor.executor(false),
+            executor: self.executor.executor(false)?,
             exe,
             c_range: (self.c_min, self.c_max),
             iterations: self.iterations,
@@ -137,6 +149,6 @@ impl CalibrateSettings {
                 HoldOut::List(self.hold_out.clone())
             },
             friction_scale: self.friction_scale,
-        }
+        })
     }
 }
