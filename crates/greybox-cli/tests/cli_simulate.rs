@@ -1,5 +1,6 @@
-//! `greybox simulate pin` (outputs, checkpoint/resume bit-for-bit, set-up mismatch) and
-//! `greybox adhesive --method simulation` on a small pin.
+//! `greybox simulate pin` (outputs, checkpoint/resume bit-for-bit, set-up mismatch),
+//! `greybox adhesive --method simulation` on a small pin, and `--method simulation-3d` on
+//! CalculiX with a coarse mesh.
 mod common;
 use common::{err, greybox, last_particle_vtk, ok};
 
@@ -70,9 +71,8 @@ fn pin_run_writes_outputs_and_resumes_bit_for_bit() {
     assert!(e.contains("missing.toml"), "{e}");
 }
 
-#[test]
-fn adhesive_by_simulation_reduces_the_cof() {
-    let d = tempfile::tempdir().unwrap();
+/// A dataset with load levels 1000 N (μ_app 0.32) and 1500 N (0.30, 0.31).
+fn small_dataset(dir: &std::path::Path) {
     let mut csv = String::from("pin,step,normal_force_N,normal_force_measured_N,sliding_velocity_m_per_min,hertz_pressure_MPa,pressure_convention,cof_apparent,cof_apparent_std,n_samples,plateau_start_s,plateau_end_s,cof_trend_per_s,stationary,flags\n");
     for (k, (f, mu)) in [(1000.0, 0.32), (1500.0, 0.30), (1500.0, 0.31)]
         .iter()
@@ -80,7 +80,13 @@ fn adhesive_by_simulation_reduces_the_cof() {
     {
         csv += &format!("1,{k},{f},{f},100,1500,textbook-max,{mu},0.01,1000,1,2,0,true,\n");
     }
-    std::fs::write(d.path().join("ds.csv"), csv).unwrap();
+    std::fs::write(dir.join("ds.csv"), csv).unwrap();
+}
+
+#[test]
+fn adhesive_by_simulation_reduces_the_cof() {
+    let d = tempfile::tempdir().unwrap();
+    small_dataset(d.path());
     // r = 1 mm with 0.4/0.5 mm wide tracks: depths of 20–32 µm.
     let out = ok(&greybox(
         &[
@@ -120,4 +126,75 @@ fn adhesive_by_simulation_reduces_the_cof() {
     let red = c["mean_reduction_percent"].as_f64().unwrap();
     assert!(red > 0.0 && red < 100.0, "{red}");
     assert!(c["method"].as_str().unwrap().starts_with("simulation"));
+}
+
+/// The 3D route end to end on the article's pin and Table 3 widths, one load (1500 N), a
+/// coarse mesh (about 1 min a run). Skipped without `ccx` unless GREYBOX_REQUIRE_CCX is set.
+#[test]
+fn adhesive_by_3d_simulation_writes_the_searches_and_force_histories() {
+    if std::process::Command::new("ccx")
+        .arg("-v")
+        .output()
+        .is_err()
+    {
+        assert!(
+            std::env::var("GREYBOX_REQUIRE_CCX").is_err(),
+            "ccx is required but not installed"
+        );
+        return;
+    }
+    let d = tempfile::tempdir().unwrap();
+    small_dataset(d.path());
+    let out = ok(&greybox(
+        &[
+            "adhesive",
+            "--data",
+            "ds.csv",
+            "--method",
+            "simulation-3d",
+            "--sim3d-loads",
+            "1",
+            "--sim3d-elements-per-radius",
+            "5",
+            "--sim3d-increments",
+            "8",
+            "--sim3d-slide-per-radius",
+            "1.2",
+            "--sim-tolerance",
+            "0.005",
+            "--sim-max-runs",
+            "2",
+            "--out",
+            "adh.csv",
+        ],
+        d.path(),
+    ));
+    assert!(out.contains("analytic Bowden-Tabor"), "{out}");
+    let c: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(d.path().join("adh.correction.json")).unwrap(),
+    )
+    .unwrap();
+    assert!(
+        c["method"].as_str().unwrap().starts_with("simulation-3d"),
+        "{c}"
+    );
+    let inv: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(d.path().join("adh.pin3d/inverse.json")).unwrap(),
+    )
+    .unwrap();
+    let load = &inv[0];
+    assert_eq!(load["normal_force_N"].as_f64().unwrap(), 1500.0);
+    let share = load["search"]["deformation_share"].as_f64().unwrap();
+    // the 3D share at the 1500 N track is of the order of the analytic 0.024
+    assert!(share > 0.012 && share < 0.05, "{share}");
+    let history = std::fs::read_to_string(d.path().join("adh.pin3d/load_1500N.csv")).unwrap();
+    assert!(
+        history.starts_with("slide_mm,depth_um,tangential_force_N,normal_force_N,contact_area_mm2"),
+        "{history}"
+    );
+    assert!(history.lines().count() > 10);
+    assert!(d
+        .path()
+        .join("adh.pin3d/load_1500N/run_1/pin.inp")
+        .is_file());
 }

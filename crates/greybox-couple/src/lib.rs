@@ -13,4 +13,5 @@ pub mod calculix;
 pub mod engine;
 pub mod example;
 pub mod mesh;
+pub mod pin3d;
 pub mod windows;

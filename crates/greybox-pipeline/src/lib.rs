@@ -33,6 +33,7 @@
 //! Errors are [`anyhow::Error`]s whose messages name the file, line or field at fault.
 
 pub mod adhesive;
+pub mod adhesive_3d;
 pub mod bench;
 pub mod characterize;
 pub mod chip_picture;

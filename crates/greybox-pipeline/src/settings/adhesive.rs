@@ -14,8 +14,11 @@
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
-use crate::adhesive::{AdhesiveMethod, AdhesiveOptions, SimulationOptions, ARTICLE_PIN_RADIUS_MM};
+use crate::adhesive::{
+    AdhesiveMethod, AdhesiveOptions, Simulation3dOptions, SimulationOptions, ARTICLE_PIN_RADIUS_MM,
+};
 use anyhow::{Context, Result};
+use greybox_couple::pin3d;
 use greybox_tribo::ploughing::TrackWidth;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -26,11 +29,13 @@ pub enum Method {
     /// Bowden–Tabor sphere ploughing with measured track widths.
     #[default]
     Analytic,
-    /// Inverse pin-sliding simulation with the built-in SPH solver (the article's method).
+    /// Inverse pin-sliding simulation with the built-in SPH solver (plane strain).
     Simulation,
+    /// The article's inverse route on a 3D model of the spherical pin (CalculiX).
+    Simulation3d,
 }
 
-greybox_core::choice!(Method, "adhesive.method", [Analytic => "analytic", Simulation => "simulation"]);
+greybox_core::choice!(Method, "adhesive.method", [Analytic => "analytic", Simulation => "simulation", Simulation3d => "simulation-3d"]);
 
 /// The default output dataset.
 pub const DEFAULT_OUT: &str = "dataset_adhesive.csv";
@@ -46,7 +51,8 @@ pub struct AdhesiveSettings {
     #[cfg_attr(feature = "cli", arg(long))]
     pub data: PathBuf,
     /// How the ploughing share is found: analytic (Bowden–Tabor sphere ploughing with the
-    /// track widths) or simulation (inverse pin sliding, the article's method).
+    /// track widths), simulation (inverse pin sliding in plane strain, built-in solver) or
+    /// simulation-3d (the article's inverse route on a 3D spherical pin, CalculiX).
     #[cfg_attr(feature = "cli", arg(long, default_value_t = Method::Analytic,
         value_parser = greybox_core::choice::clap_parsers::choice::<Method>()))]
     pub method: Method,
@@ -82,7 +88,32 @@ pub struct AdhesiveSettings {
     /// Simulation: maximum runs per load.
     #[cfg_attr(feature = "cli", arg(long = "sim-max-runs", default_value_t = SIM.max_runs))]
     pub sim_max_runs: usize,
+    /// simulation-3d: number of loads simulated.
+    #[cfg_attr(feature = "cli", arg(long = "sim3d-loads", default_value_t = SIM3D_LOADS))]
+    pub sim3d_loads: usize,
+    /// simulation-3d: take every n-th distinct load from the highest (the article: 2).
+    #[cfg_attr(feature = "cli", arg(long = "sim3d-load-stride", default_value_t = SIM3D_LOAD_STRIDE))]
+    pub sim3d_load_stride: usize,
+    /// simulation-3d: elements per nominal contact radius √(2rd − d²).
+    #[cfg_attr(feature = "cli", arg(long = "sim3d-elements-per-radius", default_value_t = pin3d::ELEMENTS_PER_RADIUS))]
+    pub sim3d_elements_per_radius: f64,
+    /// simulation-3d: slide length in nominal contact radii.
+    #[cfg_attr(feature = "cli", arg(long = "sim3d-slide-per-radius", default_value_t = pin3d::SLIDE_PER_RADIUS))]
+    pub sim3d_slide_per_radius: f64,
+    /// simulation-3d: slide increments (the quasi-static analysis's one step size).
+    #[cfg_attr(feature = "cli", arg(long = "sim3d-increments", default_value_t = pin3d::INCREMENTS))]
+    pub sim3d_increments: usize,
+    /// simulation-3d: the CalculiX executable.
+    #[cfg_attr(feature = "cli", arg(long = "ccx", default_value = DEFAULT_CCX))]
+    pub ccx: PathBuf,
 }
+
+/// The article's inverse plan: six loads, every second one from the highest.
+pub const SIM3D_LOADS: usize = 6;
+/// See [`SIM3D_LOADS`].
+pub const SIM3D_LOAD_STRIDE: usize = 2;
+/// The CalculiX executable looked up on the PATH.
+pub const DEFAULT_CCX: &str = "ccx";
 
 impl Default for AdhesiveSettings {
     fn default() -> Self {
@@ -99,6 +130,12 @@ impl Default for AdhesiveSettings {
             sim_height_mm: SIM.height_mm,
             sim_tolerance: SIM.tolerance,
             sim_max_runs: SIM.max_runs,
+            sim3d_loads: SIM3D_LOADS,
+            sim3d_load_stride: SIM3D_LOAD_STRIDE,
+            sim3d_elements_per_radius: pin3d::ELEMENTS_PER_RADIUS,
+            sim3d_slide_per_radius: pin3d::SLIDE_PER_RADIUS,
+            sim3d_increments: pin3d::INCREMENTS,
+            ccx: DEFAULT_CCX.into(),
         }
     }
 }
@@ -139,6 +176,16 @@ impl AdhesiveSettings {
                     height_mm: self.sim_height_mm,
                     tolerance: self.sim_tolerance,
                     max_runs: self.sim_max_runs,
+                }),
+                Method::Simulation3d => AdhesiveMethod::Simulation3d(Simulation3dOptions {
+                    loads: self.sim3d_loads,
+                    load_stride: self.sim3d_load_stride,
+                    elements_per_radius: self.sim3d_elements_per_radius,
+                    slide_per_radius: self.sim3d_slide_per_radius,
+                    increments: self.sim3d_increments,
+                    tolerance: self.sim_tolerance,
+                    max_runs: self.sim_max_runs,
+                    ccx: self.ccx.clone(),
                 }),
             },
             pin_radius_mm: self.pin_radius_mm,

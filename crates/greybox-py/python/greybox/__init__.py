@@ -597,11 +597,19 @@ def ploughing_correction(
     sim_height_mm: Optional[float] = None,
     sim_tolerance: Optional[float] = None,
     sim_max_runs: Optional[int] = None,
+    sim3d_loads: Optional[int] = None,
+    sim3d_load_stride: Optional[int] = None,
+    sim3d_elements_per_radius: Optional[float] = None,
+    sim3d_slide_per_radius: Optional[float] = None,
+    sim3d_increments: Optional[int] = None,
+    ccx: Optional[PathLike] = None,
 ) -> tuple:
     """The ploughing correction (adhesive μ) of a dataset into ``out``; returns (dataset
     table with ``cof_adhesive``, correction dict). ``method`` is ``"analytic"`` (Bowden–Tabor
-    sphere ploughing, the default) or ``"simulation"`` (inverse pin sliding, the article's
-    method, with the ``sim_*`` settings). Track widths: ``track_widths`` as
+    sphere ploughing, the default), ``"simulation"`` (inverse pin sliding in plane strain,
+    with the ``sim_*`` settings) or ``"simulation-3d"`` (the article's inverse route on a 3D
+    spherical pin in CalculiX, with ``sim_tolerance``, ``sim_max_runs``, the ``sim3d_*``
+    settings and the ``ccx`` executable). Track widths: ``track_widths`` as
     ``[(normal_force_N, width_um), …]`` and/or a CSV (normal_force_N, track_width_um), else
     the article's Table 3. The settings and their defaults are ``greybox adhesive``'s, by the
     library's names (``None``: the default)."""
@@ -621,6 +629,12 @@ def ploughing_correction(
         "sim_height_mm": _opt_float(sim_height_mm, "sim_height_mm"),
         "sim_tolerance": _opt_float(sim_tolerance, "sim_tolerance"),
         "sim_max_runs": _count(sim_max_runs, "sim_max_runs"),
+        "sim3d_loads": _count(sim3d_loads, "sim3d_loads"),
+        "sim3d_load_stride": _count(sim3d_load_stride, "sim3d_load_stride"),
+        "sim3d_elements_per_radius": _opt_float(sim3d_elements_per_radius, "sim3d_elements_per_radius"),
+        "sim3d_slide_per_radius": _opt_float(sim3d_slide_per_radius, "sim3d_slide_per_radius"),
+        "sim3d_increments": _count(sim3d_increments, "sim3d_increments"),
+        "ccx": _opt_path(ccx, "ccx"),
     }
     corr = json.loads(_native.ploughing_correction(_settings(settings)))
     return read_csv(out, as_frame), corr
