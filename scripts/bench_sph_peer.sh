@@ -34,7 +34,9 @@
 #      PEER_VTK=1, so that the peer's timed loop is computation like greybox's (greybox's
 #      `bench sph` times the solver loop; its files are written after the clock stops).
 #      Both changes can only make the peer's number better or leave it as it is.
-#   3. src/refine_cut_main.cpp: its last line `printf("Runtime: %f\n", elapsed)` also prints
+#   3. src/adaptivity.h uses std::vector without `#include <vector>` (older GCCs pulled it
+#      in through <algorithm>; GCC 12 does not): the include is added, nothing else.
+#   4. src/refine_cut_main.cpp: its last line `printf("Runtime: %f\n", elapsed)` also prints
 #      the number of steps taken and of particles, which the particle-steps/s below need.
 #      (The peer's model 1 is single resolution: its particle count does not change.)
 # The case itself needs no patch: `refine_paper` without arguments runs model 1 (`-m 1`),
@@ -86,12 +88,15 @@ grep -q -- '-O3 -march=native' "$PEER/Release/src/subdir.mk" ||
     { echo "error: peer subdir.mk no longer has -O3 -march=native; check the build" >&2; exit 1; }
 
 # Simulated cut length (only inside cutting_ref_single_resol, up to its closing brace).
-sed -i "/^body \*cutting_ref_single_resol(/,/^}/ s|double lc = 1e-3;|double lc = 1e-3*${FRACTION};|" \
+sed -i "/^ *body \*cutting_ref_single_resol(/,/^}/ s|double lc = 1e-3;|double lc = 1e-3*${FRACTION};|" \
     "$PEER/src/benchmarks/test_cuttings.cpp"
 if [[ "$PEER_VTK" != 1 ]]; then
-    sed -i '/^body \*cutting_ref_single_resol(/,/^}/ s|set_log_vtk(true)|set_log_vtk(false)|' \
+    sed -i '/^ *body \*cutting_ref_single_resol(/,/^}/ s|set_log_vtk(true)|set_log_vtk(false)|' \
         "$PEER/src/benchmarks/test_cuttings.cpp"
 fi
+# A missing standard include (the build fails on GCC 12 without it).
+grep -q '#include <vector>' "$PEER/src/adaptivity.h" ||
+    sed -i 's|^#include <glm/glm.hpp>|#include <vector>\n#include <glm/glm.hpp>|' "$PEER/src/adaptivity.h"
 # Steps and particles at the end of the run.
 sed -i 's|printf("Runtime: %f\\n", elapsed);|printf("Runtime: %f\\nSteps: %u\\nParticles: %u\\n", elapsed, time->get_step(), b->get_num_part());|' \
     "$PEER/src/refine_cut_main.cpp"
