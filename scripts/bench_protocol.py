@@ -34,6 +34,8 @@ runtime dependencies of greybox.
 """
 import argparse
 import json
+import os
+import signal
 import subprocess
 import sys
 import time
@@ -151,11 +153,23 @@ def synthetic(path, n, seed=2026):
 def timed(cmd, limit):
     """(seconds, note) of a subprocess; None seconds past the limit or on failure."""
     t0 = time.perf_counter()
+    # Its own process group, so that a run past the limit is ended with everything it started:
+    # scikit-learn's n_jobs workers (joblib/loky) outlive a killed parent and would otherwise
+    # keep computing beside the next runs.
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
     try:
-        r = subprocess.run(cmd, capture_output=True, text=True, timeout=limit)
+        out, err = p.communicate(timeout=limit)
     except subprocess.TimeoutExpired:
-        return None, f"> {limit:.0f} s"
+        os.killpg(p.pid, signal.SIGKILL)
+        p.communicate()
+        return None, f"> {limit:g} s"
+    finally:
+        try:  # workers left behind by a finished run, too
+            os.killpg(p.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
     wall = time.perf_counter() - t0
+    r = subprocess.CompletedProcess(cmd, p.returncode, out, err)
     if r.returncode != 0:
         return None, "error: " + (r.stderr.strip().splitlines() or ["?"])[-1][:160]
     try:
