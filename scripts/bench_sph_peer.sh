@@ -32,7 +32,8 @@
 #      `double lc = 1e-3;` (1 mm of cut) becomes `1e-3*FRACTION` -> the same simulated cut
 #      length as greybox's --fraction; and `set_log_vtk(true)` becomes false unless
 #      PEER_VTK=1, so that the peer's timed loop is computation like greybox's (greybox's
-#      `bench sph` times the solver loop; its files are written after the clock stops).
+#      `bench sph` times the solver loop, which writes only its first and last VTK frames;
+#      the other files are written after the clock stops).
 #      Both changes can only make the peer's number better or leave it as it is.
 #   3. src/adaptivity.h uses std::vector without `#include <vector>` (older GCCs pulled it
 #      in through <algorithm>; GCC 12 does not): the include is added, nothing else.
