@@ -3,7 +3,9 @@
 the same rows and the same folds, and how both scale with the number of rows.
 
 Usage: bench_protocol.py GREYBOX_BIN OUT_DIR [--rows 1000,10000,100000] [--limit-s 120]
-                         [--data DATASET.csv] [--jobs 2]
+                         [--data DATASET.csv] [--jobs 2] [--family all|F,F...]
+                         [--demo-tasks protocol,nested] [--rows-tasks one-fit,protocol]
+                         [--skip-larger]
 
 1. Protocol (the demo's dataset, or --data): folds from sklearn KFold(5, shuffle,
    random_state=0), given to greybox as a fold column. For each family: grid search over the
@@ -17,11 +19,23 @@ Usage: bench_protocol.py GREYBOX_BIN OUT_DIR [--rows 1000,10000,100000] [--limit
    it is reported as "> limit" (and, for greybox, any error message it printed, such as a size
    limit).
 
+One family at a time (`--family`): where the four grids together take too long on either
+side, `--family svr` (or a comma list, or `all` for the four) runs each named family's protocol
+(and nested CV) as a run of its own: greybox with `fit --families F`, Python with that
+family's grid only. `--demo-tasks` / `--rows-tasks` choose what is timed on the demo's dataset
+and on the synthetic row counts (an empty value skips that part). `--skip-larger` does not
+start a side's run for a family (or the four together) at a row count when the same side
+already exceeded --limit-s on the same task at a smaller row count (reported as "skipped").
+Where only the Python side exceeded the limit, the ratio is given as a lower bound
+(limit / greybox seconds).
+
 Prints a table and writes OUT_DIR/bench-protocol.json. Test-only packages: these never become
 runtime dependencies of greybox.
 """
 import argparse
 import json
+import os
+import signal
 import subprocess
 import sys
 import time
@@ -139,11 +153,23 @@ def synthetic(path, n, seed=2026):
 def timed(cmd, limit):
     """(seconds, note) of a subprocess; None seconds past the limit or on failure."""
     t0 = time.perf_counter()
+    # Its own process group, so that a run past the limit is ended with everything it started:
+    # scikit-learn's n_jobs workers (joblib/loky) outlive a killed parent and would otherwise
+    # keep computing beside the next runs.
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
     try:
-        r = subprocess.run(cmd, capture_output=True, text=True, timeout=limit)
+        out, err = p.communicate(timeout=limit)
     except subprocess.TimeoutExpired:
-        return None, f"> {limit:.0f} s"
+        os.killpg(p.pid, signal.SIGKILL)
+        p.communicate()
+        return None, f"> {limit:g} s"
+    finally:
+        try:  # workers left behind by a finished run, too
+            os.killpg(p.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
     wall = time.perf_counter() - t0
+    r = subprocess.CompletedProcess(cmd, p.returncode, out, err)
     if r.returncode != 0:
         return None, "error: " + (r.stderr.strip().splitlines() or ["?"])[-1][:160]
     try:
@@ -162,28 +188,49 @@ def python_cmd(args, data, target, task, families):
             "--families", families, "--jobs", str(args.jobs)]
 
 
-def side_by_side(args, work, data, target, label, tasks, families=",".join(FAMILIES), gb_flags=()):
+def family_runs(args, task):
+    """(families, greybox flags) of each run of a task: one run per family for a single fit
+    or with --family, otherwise one run of the four families together."""
+    if task == "one-fit":
+        return [(f, ONE_FIT[f][0]) for f in (args.family or FAMILIES)]
+    if args.family:
+        return [(f, []) for f in args.family]
+    return [(",".join(FAMILIES), [])]
+
+
+def side_by_side(args, work, data, target, label, tasks, gb_flags=()):
     rows = []
     for task in tasks:
-        if task == "one-fit":
-            per = [(f, ONE_FIT[f][0]) for f in families.split(",")]
-        else:
-            per = [(families, [])]
-        for fam, fam_flags in per:
+        for fam, fam_flags in family_runs(args, task):
             flags = ["--families", fam, "--fold-column", "fold"] + list(gb_flags) + list(fam_flags)
             if task == "protocol":
                 flags += ["--skip-nested"]
             if task == "one-fit":
                 flags = ["--families", fam, "--folds", "2", "--skip-nested", "--bootstrap", "1",
                          "--importance-repeats", "1"] + list(fam_flags)
-            g_t, g_note = timed(greybox_cmd(args.greybox, data, target, work / "gb", flags), args.limit_s)
-            p_t, p_note = timed(python_cmd(args, data, target, task, fam), args.limit_s)
+            key = (task, fam)
+            if key in args.over_limit.get("greybox", {}):
+                g_t, g_note = None, f"skipped (> limit at {args.over_limit['greybox'][key]})"
+            else:
+                g_t, g_note = timed(greybox_cmd(args.greybox, data, target, work / "gb", flags), args.limit_s)
+            if key in args.over_limit.get("python", {}):
+                p_t, p_note = None, f"skipped (> limit at {args.over_limit['python'][key]})"
+            else:
+                p_t, p_note = timed(python_cmd(args, data, target, task, fam), args.limit_s)
+            if args.skip_larger:
+                for side, t, note in (("greybox", g_t, g_note), ("python", p_t, p_note)):
+                    if t is None and note.startswith(">"):
+                        args.over_limit.setdefault(side, {})[key] = label
             ratio = p_t / g_t if g_t and p_t else None
+            # Python past the limit, greybox within it: the speed-up is at least limit / greybox.
+            at_least = args.limit_s / g_t if g_t and p_t is None and p_note.startswith(">") else None
             rows.append({"data": label, "task": task, "families": fam, "greybox_s": g_t, "greybox_note": g_note,
-                         "python_s": p_t, "python_note": p_note, "speedup": ratio})
+                         "python_s": p_t, "python_note": p_note, "speedup": ratio,
+                         "speedup_at_least": at_least, "limit_s": args.limit_s})
             fmt = lambda t, n: f"{t:8.2f} s" if t is not None else f"{n:>10}"
-            print(f"{label:>14}  {task:>8}  {fam:>40}  greybox {fmt(g_t, g_note)}  python {fmt(p_t, p_note)}  "
-                  f"{(f'{ratio:6.1f}x' if ratio else '   -   ')}", flush=True)
+            r = f"{ratio:6.1f}x" if ratio else (f">={at_least:4.1f}x" if at_least else "   -   ")
+            print(f"{label:>14}  {task:>8}  {fam:>40}  greybox {fmt(g_t, g_note)}  python {fmt(p_t, p_note)}  {r}",
+                  flush=True)
     return rows
 
 
@@ -198,24 +245,41 @@ def main():
     ap.add_argument("--worker", action="store_true")
     ap.add_argument("--task")
     ap.add_argument("--target", default="cof_apparent")
-    ap.add_argument("--families")
+    ap.add_argument("--families", help="(worker) the families one Python task runs")
+    ap.add_argument("--family", help="run one family at a time: all, or a comma list of families")
+    ap.add_argument("--demo-tasks", default="protocol,nested",
+                    help="tasks on the demo's dataset (protocol, nested; empty: none)")
+    ap.add_argument("--rows-tasks", default="one-fit,protocol",
+                    help="tasks at each --rows size (one-fit, protocol, nested; empty: none)")
+    ap.add_argument("--skip-larger", action="store_true",
+                    help="skip a side's run at larger row counts once it exceeded --limit-s")
     args = ap.parse_args()
     if args.worker:
         return worker(args)
+    if args.family:
+        args.family = FAMILIES if args.family == "all" else args.family.split(",")
+        unknown = [f for f in args.family if f not in FAMILIES]
+        if unknown:
+            ap.error(f"--family: unknown {unknown}; families: {', '.join(FAMILIES)}")
+    args.over_limit = {}
+    tasks = lambda v: [t for t in v.split(",") if t]
     work = Path(args.out)
     work.mkdir(parents=True, exist_ok=True)
-    if args.data is None:
+    if args.data is None and tasks(args.demo_tasks):
         subprocess.run([args.greybox, "demo", "--out", str(work / "demo"), "--force"], check=True, capture_output=True)
         args.data = str(work / "demo" / "dataset.csv")
-    data = work / "protocol.csv"
-    with_folds(args.data, data)
-    results = side_by_side(args, work, data, "cof_apparent", "protocol", ["protocol", "nested"])
+    results = []
+    if tasks(args.demo_tasks):
+        data = work / "protocol.csv"
+        with_folds(args.data, data)
+        n_demo = len(Path(data).read_text().splitlines()) - 1
+        results += side_by_side(args, work, data, "cof_apparent", f"demo {n_demo} rows", tasks(args.demo_tasks))
     for n in [int(r) for r in args.rows.split(",") if r]:
         path = work / f"rows-{n}.csv"
         synthetic(work / f"raw-{n}.csv", n)
         with_folds(work / f"raw-{n}.csv", path)
-        results += side_by_side(args, work, path, "cof", f"{n} rows", ["one-fit"])
-        results += side_by_side(args, work, path, "cof", f"{n} rows", ["protocol"])
+        for task in tasks(args.rows_tasks):
+            results += side_by_side(args, work, path, "cof", f"{n} rows", [task])
     (work / "bench-protocol.json").write_text(json.dumps(results, indent=2))
 
 

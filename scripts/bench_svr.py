@@ -23,7 +23,8 @@ def main():
     a = ap.parse_args()
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
-    args = argparse.Namespace(greybox=a.greybox, limit_s=a.limit_s, jobs=2)
+    args = argparse.Namespace(greybox=a.greybox, limit_s=a.limit_s, jobs=2, family=["svr"], over_limit={},
+                              skip_larger=False)
     for n in [int(r) for r in a.rows.split(",") if r]:
         path = out / f"rows-{n}.csv"
         if not path.exists():
@@ -35,7 +36,7 @@ def main():
             t, note = bp.timed(bp.greybox_cmd(a.greybox, path, "cof", out / "gb", flags), a.limit_s)
             print(f"{n:>8} rows  greybox {t if t is not None else note}", flush=True)
         else:
-            bp.side_by_side(args, out, path, "cof", f"{n} rows", ["one-fit"], families="svr")
+            bp.side_by_side(args, out, path, "cof", f"{n} rows", ["one-fit"])
 
 
 if __name__ == "__main__":
