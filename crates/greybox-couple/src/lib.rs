@@ -8,6 +8,8 @@
 //!   JSON, CSV, DEFORM `FRCWIN` (with a reader for round trips) and VTK polygons.
 //! * [`engine`] — the restart loop behind an `Engine` trait; [`calculix`] — CalculiX as the
 //!   engine; [`example`] — a generated example deck.
+//! * [`pin3d`] — the article's inverse pin route in 3D: the spherical pin pressed into and slid
+//!   over an elastic-plastic disk in CalculiX, and the search for the adhesive μ.
 
 pub mod calculix;
 pub mod engine;

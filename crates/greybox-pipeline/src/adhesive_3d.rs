@@ -15,19 +15,40 @@
 //! in `<out>.pin3d/load_<F>N/run_<k>/`, each load's force history of its returned run in
 //! `<out>.pin3d/load_<F>N.csv`, and the searches in `<out>.pin3d/inverse.json`.
 
-use crate::adhesive::{loads_to_simulate, track_widths, AdhesiveOptions, Simulation3dOptions};
+use crate::adhesive_loads::loads_to_simulate;
 use anyhow::{bail, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::dataset::FrictionDataset;
 use greybox_couple::pin3d::{find_adhesive_mu, Pin3dInverse, Pin3dSetup};
 use greybox_sim::pin::ShareLaw;
-use greybox_tribo::ploughing::{bowden_tabor_mu, correct_with, Correction, WidthLaw};
+use greybox_tribo::ploughing::{bowden_tabor_mu, correct_with, Correction, TrackWidth, WidthLaw};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 /// Loads searched first, with the analytic guess.
 const PILOTS: usize = 2;
+
+/// The inverse route of `AdhesiveMethod::Simulation3d`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Simulation3dOptions {
+    /// Number of loads simulated, taken every `load_stride`-th distinct load from the highest
+    /// (the article: six, every second load).
+    pub loads: usize,
+    pub load_stride: usize,
+    /// Elements per nominal contact radius.
+    pub elements_per_radius: f64,
+    /// Slide length in nominal contact radii.
+    pub slide_per_radius: f64,
+    /// Slide increments.
+    pub increments: usize,
+    /// Stop when |simulated F_t/F_N − μ_app| ≤ this.
+    pub tolerance: f64,
+    /// Maximum runs per load.
+    pub max_runs: usize,
+    /// The CalculiX executable.
+    pub ccx: PathBuf,
+}
 
 /// The directory of the runs beside the corrected dataset `out`.
 pub fn runs_dir(out: &Path) -> PathBuf {
@@ -76,15 +97,16 @@ fn write_history(path: &Path, inv: &Pin3dInverse) -> Result<()> {
 }
 
 /// Fills `cof_adhesive` by the 3D inverse route and returns the correction record.
+/// `r` is the pin radius, m; `measured` the track widths; the runs go beside `out`.
 pub fn correct(
     ds: &mut FrictionDataset,
-    a: &AdhesiveOptions,
+    r: f64,
+    measured: &[TrackWidth],
+    out: &Path,
     sim: &Simulation3dOptions,
 ) -> Result<Correction> {
     check(sim)?;
-    let r = a.pin_radius_mm * 1e-3;
-    let measured = track_widths(a)?;
-    let law = WidthLaw::fit(&measured)?;
+    let law = WidthLaw::fit(measured)?;
     let loads = loads_to_simulate(
         ds,
         r,
@@ -93,7 +115,7 @@ pub fn correct(
         sim.load_stride,
         "adhesive.sim3d_loads",
     )?;
-    let dir = runs_dir(&a.out);
+    let dir = runs_dir(out);
     let base = |depth: f64| {
         let mut s = Pin3dSetup::article(depth, 0.0);
         s.pin_radius_m = r;
@@ -209,7 +231,7 @@ pub fn correct(
     }
     let method = format!(
         "simulation-3d: CalculiX half model of the spherical pin (r = {} mm, {} elements per contact radius, slide {} contact radii in {} increments), deformation share = {:.4e} F^{:.3}; {}",
-        a.pin_radius_mm,
+        r * 1e3,
         sim.elements_per_radius,
         sim.slide_per_radius,
         sim.increments,
@@ -217,7 +239,7 @@ pub fn correct(
         share.b,
         runs.join("; ")
     );
-    Ok(correct_with(ds, r, &measured, method, |f, _| {
+    Ok(correct_with(ds, r, measured, method, |f, _| {
         Ok(share.share(f))
     })?)
 }

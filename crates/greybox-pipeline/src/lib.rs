@@ -34,6 +34,7 @@
 
 pub mod adhesive;
 pub mod adhesive_3d;
+pub mod adhesive_loads;
 pub mod bench;
 pub mod characterize;
 pub mod chip_picture;
