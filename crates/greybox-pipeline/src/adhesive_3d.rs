@@ -68,6 +68,9 @@ struct LoadRecord<'a> {
     error: Option<&'a String>,
 }
 
+/// A simulated load: (normal force N, track depth m, mean μ_app).
+type Load = (f64, f64, f64);
+
 /// A load's search: (share guess, search), or why it failed.
 type Outcome = std::result::Result<(f64, Pin3dInverse), String>;
 
@@ -83,6 +86,27 @@ fn check(sim: &Simulation3dOptions) -> Result<()> {
     }
     if sim.max_runs == 0 {
         bail!("adhesive.sim_max_runs: must be at least 1");
+    }
+    if sim.increments == 0 {
+        bail!("adhesive.sim3d_increments: must be at least 1");
+    }
+    for (v, field) in [
+        (
+            sim.elements_per_radius,
+            "adhesive.sim3d_elements_per_radius",
+        ),
+        (sim.slide_per_radius, "adhesive.sim3d_slide_per_radius"),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            bail!("{field}: expected a positive number, got {v}");
+        }
+    }
+    // a missing CalculiX is the user's set-up, not a load that failed to converge
+    if let Err(e) = std::process::Command::new(&sim.ccx).arg("-v").output() {
+        bail!(
+            "adhesive.ccx: cannot start CalculiX '{}': {e} (Debian: apt install calculix-ccx)",
+            sim.ccx.display()
+        );
     }
     Ok(())
 }
@@ -139,7 +163,7 @@ pub fn correct(
         );
     // one load's search; a load whose runs do not converge is reported and left out of the
     // fit (as the article left out its low loads), an error only when no load converges
-    let search = |&(f, depth, mu_app): &(f64, f64, f64), factor: f64| -> Outcome {
+    let search = |&(f, depth, mu_app): &Load, factor: f64| -> Outcome {
         let guess = factor * nominal(f).map_err(|e| e.to_string())?;
         let d = dir.join(format!("load_{f:.0}N"));
         let inv = find_adhesive_mu(&base(depth), mu_app, guess, sim.tolerance, sim.max_runs, &d);
@@ -167,7 +191,7 @@ pub fn correct(
     progress.finish("done");
     let all: Vec<Outcome> = pilots.into_iter().chain(rest).collect();
     let failed: Vec<&String> = all.iter().filter_map(|o| o.as_ref().err()).collect();
-    let done: Vec<(&(f64, f64, f64), &(f64, Pin3dInverse))> = loads
+    let done: Vec<(&Load, &(f64, Pin3dInverse))> = loads
         .iter()
         .zip(&all)
         .filter_map(|(l, o)| Some((l, o.as_ref().ok()?)))

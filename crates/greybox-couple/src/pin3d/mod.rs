@@ -304,7 +304,7 @@ pub fn simulate(setup: &Pin3dSetup, dir: &Path) -> Result<Pin3dResult> {
         mean(|s| s.normal_force_n),
         mean(|s| s.contact_area_mm2),
     );
-    if !(fn_ > 0.0) {
+    if fn_.is_nan() || fn_ <= 0.0 {
         return Err(Error::invalid(
             "pin3d",
             format!("the pin carried no normal load in {}", dir.display()),
