@@ -212,10 +212,10 @@ pub struct Pin3dResult {
     pub wall_s: f64,
 }
 
-/// Bowden–Tabor sphere ploughing with contact radius `a` on a sphere of radius `r`.
+/// Bowden–Tabor sphere ploughing with contact radius `a` on a sphere of radius `r` (same
+/// units): `greybox_tribo::ploughing::bowden_tabor_mu` with the track width 2a.
 pub fn bowden_tabor_sphere(r: f64, a: f64) -> f64 {
-    let q = r / a;
-    2.0 / std::f64::consts::PI * (q * q * (1.0 / q).asin() - (q * q - 1.0).max(0.0).sqrt())
+    greybox_tribo::ploughing::bowden_tabor_mu(r, 2.0 * a.min(r)).unwrap_or(f64::NAN)
 }
 
 /// What CalculiX said about its failure: its first error with the lines after it, else the
@@ -322,10 +322,7 @@ pub fn simulate(setup: &Pin3dSetup, dir: &Path) -> Result<Pin3dResult> {
         normal_force_n: fn_,
         contact_area_mm2: area,
         bowden_tabor_on_contact: if area > 0.0 {
-            bowden_tabor_sphere(
-                setup.pin_radius_m * 1e3,
-                a_front.min(setup.pin_radius_m * 1e3),
-            )
+            bowden_tabor_sphere(setup.pin_radius_m * 1e3, a_front)
         } else {
             f64::NAN
         },
