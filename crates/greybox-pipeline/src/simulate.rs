@@ -271,6 +271,9 @@ pub struct CutSummary {
     pub particle_steps_per_s: f64,
     pub particle_steps_per_s_per_core: f64,
     pub threads: usize,
+    /// Instruction set of the pair passes on this CPU (`baseline`, `avx2`, `avx512`; every
+    /// path gives the same bits, see `greybox_sim::cpu`).
+    pub simd: &'static str,
     pub mass_scaling: f64,
     pub law: String,
     pub windows: usize,
@@ -373,6 +376,7 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
         particle_steps_per_s: r.summary.particle_steps_per_s,
         particle_steps_per_s_per_core: r.summary.particle_steps_per_s / threads as f64,
         threads,
+        simd: greybox_sim::cpu::active().name(),
         mass_scaling: r.sim.numerics.mass_scaling,
         law: format!("{} ({})", case.law.name(), case.law_source),
         windows: tool.windows.len(),

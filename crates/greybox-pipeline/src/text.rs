@@ -538,9 +538,10 @@ pub fn sph_bench(config: &Path, fraction: f64, case: &CutCase, s: &CutSummary) -
         s.mass_scaling
     );
     let _ = writeln!(text,
-        "  {:.3e} particle-steps/s on {} threads = {:.3e} per core; {:.3} mm of cut in {:.1} s (full run: {:.1} s{how})",
+        "  {:.3e} particle-steps/s on {} threads ({} pair passes) = {:.3e} per core; {:.3} mm of cut in {:.1} s (full run: {:.1} s{how})",
         s.particle_steps_per_s,
         s.threads,
+        s.simd,
         s.particle_steps_per_s_per_core,
         s.simulated_cut_length_mm,
         s.wall_s,

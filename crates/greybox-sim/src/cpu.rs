@@ -1,24 +1,123 @@
 //! Runtime CPU-feature dispatch for the hot loops.
 //!
 //! The release build targets the x86-64 baseline (SSE2) so that the binary runs anywhere.
-//! The neighbour gathers are compiled a second time with AVX2 enabled and picked at run time
-//! when the CPU has it (Intel Haswell / AMD Excavator and later): ≈ 10 % faster on the
-//! reference cut. No fused multiply–add is enabled, so both paths round identically and the
-//! results are bit-for-bit the same on every x86-64 machine.
+//! The pair passes ([`crate::pair_lanes`]) are compiled three times — baseline, AVX2 and
+//! AVX-512 (F + VL) — and the widest the running CPU has is picked at run time
+//! (`is_x86_feature_detected!`). Rust never fuses a·b + c into one rounding, and the lane
+//! sums run in a fixed order, so every path gives the same bits: a run is reproducible
+//! across x86-64 machines, not only on one.
+//!
+//! `GREYBOX_SIMD=baseline|avx2|avx512` caps the path (for comparisons and diagnosis); a
+//! path the CPU lacks falls back to the widest one below it.
 
-/// Calls `f`, compiled with AVX2 when the running CPU supports it.
-#[inline(always)]
-pub(crate) fn wide<R>(f: impl FnOnce() -> R) -> R {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx2") {
-            #[target_feature(enable = "avx2")]
-            fn run_avx2<R>(f: impl FnOnce() -> R) -> R {
-                f()
-            }
-            // SAFETY: the CPU was just checked for AVX2.
-            return unsafe { run_avx2(f) };
+use std::sync::atomic::{AtomicU8, Ordering};
+
+/// The instruction sets the pair passes are compiled for, narrowest first.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum SimdPath {
+    Baseline = 1,
+    Avx2 = 2,
+    Avx512 = 3,
+}
+
+impl SimdPath {
+    pub const ALL: [SimdPath; 3] = [SimdPath::Baseline, SimdPath::Avx2, SimdPath::Avx512];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SimdPath::Baseline => "baseline",
+            SimdPath::Avx2 => "avx2",
+            SimdPath::Avx512 => "avx512",
         }
     }
-    f()
+
+    fn from_u8(v: u8) -> Option<SimdPath> {
+        SimdPath::ALL.into_iter().find(|p| *p as u8 == v)
+    }
+
+    /// Whether the running CPU has this path's instructions.
+    pub fn available(self) -> bool {
+        match self {
+            SimdPath::Baseline => true,
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
+            #[cfg(target_arch = "x86_64")]
+            SimdPath::Avx512 => {
+                std::arch::is_x86_feature_detected!("avx512f")
+                    && std::arch::is_x86_feature_detected!("avx512vl")
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => false,
+        }
+    }
 }
+
+/// The path in use (0: not chosen yet).
+static ACTIVE: AtomicU8 = AtomicU8::new(0);
+
+/// The widest available path at or below `cap`.
+fn widest_up_to(cap: SimdPath) -> SimdPath {
+    SimdPath::ALL
+        .into_iter()
+        .rev()
+        .find(|p| *p <= cap && p.available())
+        .unwrap_or(SimdPath::Baseline)
+}
+
+/// The path the pair passes run on: the widest the CPU has, capped by `GREYBOX_SIMD`.
+pub fn active() -> SimdPath {
+    if let Some(p) = SimdPath::from_u8(ACTIVE.load(Ordering::Relaxed)) {
+        return p;
+    }
+    let cap = match std::env::var("GREYBOX_SIMD").ok().as_deref() {
+        Some("baseline") => SimdPath::Baseline,
+        Some("avx2") => SimdPath::Avx2,
+        _ => SimdPath::Avx512,
+    };
+    let p = widest_up_to(cap);
+    ACTIVE.store(p as u8, Ordering::Relaxed);
+    p
+}
+
+/// Runs the pair passes on `cap` (or the widest available path below it) from now on,
+/// process-wide; returns the path taken. For tests and benchmarks that compare the paths.
+pub fn set_path(cap: SimdPath) -> SimdPath {
+    let p = widest_up_to(cap);
+    ACTIVE.store(p as u8, Ordering::Relaxed);
+    p
+}
+
+/// Defines a function whose body is compiled once per [`SimdPath`] (the body is inlined into
+/// a baseline, an AVX2 and an AVX-512 copy) and that runs the copy of the active path.
+macro_rules! multiversion {
+    ($(#[$attr:meta])* $vis:vis fn $name:ident($($arg:ident: $ty:ty),* $(,)?) $body:block) => {
+        $(#[$attr])*
+        #[allow(clippy::too_many_arguments)]
+        $vis fn $name($($arg: $ty),*) {
+            #[inline(always)]
+            #[allow(clippy::too_many_arguments)]
+            fn body($($arg: $ty),*) $body
+            #[cfg(target_arch = "x86_64")]
+            {
+                #[target_feature(enable = "avx2")]
+                #[allow(clippy::too_many_arguments)]
+                fn avx2($($arg: $ty),*) {
+                    body($($arg),*)
+                }
+                #[target_feature(enable = "avx512f,avx512vl")]
+                #[allow(clippy::too_many_arguments)]
+                fn avx512($($arg: $ty),*) {
+                    body($($arg),*)
+                }
+                match $crate::cpu::active() {
+                    // SAFETY: `active` only returns paths the running CPU was checked for.
+                    $crate::cpu::SimdPath::Avx512 => return unsafe { avx512($($arg),*) },
+                    $crate::cpu::SimdPath::Avx2 => return unsafe { avx2($($arg),*) },
+                    $crate::cpu::SimdPath::Baseline => {}
+                }
+            }
+            body($($arg),*)
+        }
+    };
+}
+pub(crate) use multiversion;

@@ -11,7 +11,7 @@
 pub mod checkpoint;
 pub mod chip;
 pub(crate) mod contact;
-pub(crate) mod cpu;
+pub mod cpu;
 pub mod cut_run;
 pub mod cutting;
 pub(crate) mod disjoint;
@@ -22,6 +22,7 @@ pub mod kernel;
 pub mod model;
 pub mod neighbours;
 pub mod output;
+pub(crate) mod pair_lanes;
 pub mod particles;
 pub mod pin;
 pub mod plasticity;

@@ -31,6 +31,7 @@ use crate::disjoint::DisjointMut;
 use crate::kernel::{CubicSpline, PairTable};
 use crate::model::{Model, Numerics};
 use crate::neighbours::NeighbourList;
+use crate::pair_lanes::{self, ForceConstants, Packed};
 use crate::particles::{Particles, FREE};
 use crate::plasticity;
 use crate::rates::Rates;
@@ -105,32 +106,6 @@ pub struct EnergyBalance {
     pub external: f64,
     /// (kinetic + elastic + plastic + friction + penalty + viscous − external) / external.
     pub relative_error: f64,
-}
-
-/// Per-particle data packed for the gather: one record of exactly two cache lines, the
-/// fields of the kinematics pass in the first.
-#[derive(Debug, Clone, Copy, Default)]
-#[repr(C, align(64))]
-pub(crate) struct Packed {
-    x: f64,
-    y: f64,
-    vx: f64,
-    vy: f64,
-    /// m/ρ.
-    vol: f64,
-    /// 1/ρ.
-    inv_rho: f64,
-    /// σ/ρ² (total stress, pressure included).
-    txx: f64,
-    txy: f64,
-    tyy: f64,
-    /// Artificial stress R (already /ρ²).
-    rxx: f64,
-    rxy: f64,
-    ryy: f64,
-    temp: f64,
-    /// Conductivity, W/(m·K).
-    k: f64,
 }
 
 /// Material constants derived once.
@@ -365,15 +340,18 @@ impl Solver {
     /// values are kept for step 6.
     fn gather_forces(&mut self) {
         let table = &self.table;
-        let m = self.particles.mass;
-        let (alpha, beta) = (self.numerics.av_alpha, self.numerics.av_beta);
-        let c = self.derived.c_long;
-        let inv_w_dx = self.inv_w_dx;
-        // Conduction needs no branch: k = 0 when thermal is off (see `pack`).
-        let as_on = if self.numerics.artificial_stress > 0.0 {
-            1.0
-        } else {
-            0.0
+        let constants = ForceConstants {
+            mass: self.particles.mass,
+            alpha: self.numerics.av_alpha,
+            beta: self.numerics.av_beta,
+            c_long: self.derived.c_long,
+            inv_w_dx: self.inv_w_dx,
+            // Conduction needs no branch: k = 0 when thermal is off (see `pack`).
+            artificial_stress_on: if self.numerics.artificial_stress > 0.0 {
+                1.0
+            } else {
+                0.0
+            },
         };
         let packed = &self.packed;
         let nl = &self.neighbours;
@@ -396,56 +374,17 @@ impl Solver {
                         pair_force.range(pairs.clone()),
                     )
                 };
-                crate::cpu::wide(|| {
-                    for (k, out) in rates.iter_mut().enumerate() {
-                        let i = first + k;
-                        let a = packed[i];
-                        let (mut ax, mut ay, mut cond, mut av_power) = (0.0, 0.0, 0.0, 0.0);
-                        let row = nl.pairs(i);
-                        let local = row.start - pairs.start..row.end - pairs.start;
-                        // Branch-free: pairs in the skin (beyond 2h) get w = g = 0 and add nothing.
-                        for ((&j, wg), to_j) in nl
-                            .partners(i)
-                            .iter()
-                            .zip(&mut wg_out[local.clone()])
-                            .zip(&mut force_out[local])
-                        {
-                            let b = &packed[j as usize];
-                            let dx = a.x - b.x;
-                            let dy = a.y - b.y;
-                            let r2 = dx * dx + dy * dy;
-                            let [w, g, g_cond, h_visc] = table.at(r2);
-                            *wg = [w, g];
-                            let gx = g * dx;
-                            let gy = g * dy;
-                            let dvx = a.vx - b.vx;
-                            let dvy = a.vy - b.vy;
-                            // Monaghan viscosity for approaching pairs (μ = 0 otherwise).
-                            // 1/ρ̄ taken as the mean of 1/ρ (equal to 1/mean ρ to O((Δρ/ρ)²)).
-                            let mu = h_visc * (dvx * dx + dvy * dy).min(0.0);
-                            let pi = (beta * mu - alpha * c) * mu * (a.inv_rho + b.inv_rho);
-                            // The pair's whole dissipation (both partners) is booked on i.
-                            av_power += m * m * pi * (dvx * gx + dvy * gy);
-                            let f = w * inv_w_dx;
-                            let f2 = f * f;
-                            let f4 = as_on * f2 * f2;
-                            let txx = a.txx + b.txx - pi + f4 * (a.rxx + b.rxx);
-                            let txy = a.txy + b.txy + f4 * (a.rxy + b.rxy);
-                            let tyy = a.tyy + b.tyy - pi + f4 * (a.ryy + b.ryy);
-                            let fx = m * (txx * gx + txy * gy);
-                            let fy = m * (txy * gx + tyy * gy);
-                            let q = (a.k + b.k) * (a.temp - b.temp) * g_cond;
-                            ax += fx;
-                            ay += fy;
-                            cond += b.vol * q;
-                            *to_j = [-fx, -fy, -a.vol * q];
-                        }
-                        out.ax = ax;
-                        out.ay = ay;
-                        out.dtemp = cond;
-                        out.av_power = av_power;
-                    }
-                })
+                pair_lanes::force_rows(
+                    first,
+                    rates,
+                    packed,
+                    nl,
+                    table,
+                    &constants,
+                    wg_out,
+                    force_out,
+                    pairs.start,
+                );
             });
     }
 
@@ -522,37 +461,10 @@ impl Solver {
         let nl = &self.neighbours;
         let pair_wg = &self.pair_wg;
         self.rates
-            .par_iter_mut()
-            .with_min_len(PAIR_CHUNK)
+            .par_chunks_mut(PAIR_CHUNK)
             .enumerate()
-            .for_each(|(i, out)| {
-                crate::cpu::wide(|| {
-                    let a = &packed[i];
-                    let mut s = [0.0; 7];
-                    let mut add = |j: u32, [w, g]: [f64; 2]| {
-                        let b = &packed[j as usize];
-                        let gx = g * (a.x - b.x);
-                        let gy = g * (a.y - b.y);
-                        let dvx = a.vx - b.vx;
-                        let dvy = a.vy - b.vy;
-                        s[0] += m * (dvx * gx + dvy * gy);
-                        s[1] -= b.vol * dvx * gx;
-                        s[2] -= b.vol * dvx * gy;
-                        s[3] -= b.vol * dvy * gx;
-                        s[4] -= b.vol * dvy * gy;
-                        let wv = 0.5 * m * (a.inv_rho + b.inv_rho) * w;
-                        s[5] -= wv * dvx;
-                        s[6] -= wv * dvy;
-                    };
-                    let row = nl.pairs(i);
-                    for (&j, &wg) in nl.partners(i).iter().zip(&pair_wg[row]) {
-                        add(j, wg);
-                    }
-                    for (&p, &f) in nl.incoming(i).iter().zip(nl.incoming_first(i)) {
-                        add(f, pair_wg[p as usize]);
-                    }
-                    out.kin = s;
-                })
+            .for_each(|(ch, rates)| {
+                pair_lanes::kinematics_rows(ch * PAIR_CHUNK, rates, packed, nl, m, pair_wg);
             });
     }
 
