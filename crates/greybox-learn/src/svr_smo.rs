@@ -417,6 +417,17 @@ fn update_grad_avx2(c: &mut GCols, kj: &[f64], di: f64, dj: f64) -> Option<(f64,
     merge_lanes(&best)
 }
 
+/// The factor ±y_t C by which Ḡ changes along K_t· when α_t moves from `old` to `new`:
+/// + when it reached the upper bound C, − when it left it, `None` otherwise.
+#[inline]
+pub(crate) fn g_bar_change(old: f64, new: f64, c: f64, yt: f64) -> Option<f64> {
+    match (old >= c, new >= c) {
+        (false, true) => Some(yt * c),
+        (true, false) => Some(-(yt * c)),
+        _ => None,
+    }
+}
+
 /// libsvm's SMO solver for the ε-SVR dual over 2l variables (variable t < l is α_t with
 /// y_t = +1, t ≥ l is α*_{t−l} with y_t = −1; Q_st = y_s y_t K(s mod l, t mod l)).
 /// Variables are kept in working order: the active (unshrunk) ones first, as in libsvm, so
@@ -439,6 +450,10 @@ struct Smo<F> {
     active: usize,
     /// Scratch: the kernel row of the working-set i in working order.
     kit: Vec<f64>,
+    /// libsvm's Ḡ: Σ over the variables s at the upper bound of y_s K_ts C, for every t
+    /// (shrunk or not), kept up to date whenever a variable reaches or leaves C, so that
+    /// rebuilding the shrunk gradients only walks the free variables (Chang & Lin 2011, §4.1).
+    g_bar: Vec<f64>,
 }
 
 impl<F: Fn(usize, &mut [f64])> Smo<F> {
@@ -471,6 +486,7 @@ impl<F: Fn(usize, &mut [f64])> Smo<F> {
             low: vec![false; n2],
             active: n2,
             kit: vec![0.0; n2],
+            g_bar: vec![0.0; n2],
         }
         .with_flags()
     }
@@ -500,19 +516,21 @@ impl<F: Fn(usize, &mut [f64])> Smo<F> {
         self.orig.swap(a, b);
         self.up.swap(a, b);
         self.low.swap(a, b);
+        self.g_bar.swap(a, b);
     }
 
-    /// Recompute the gradients of the shrunk variables, G_t = p_t + y_t Σ_s y_s K_ts α_s,
-    /// one kernel row per nonzero α_s (the sums run over s in working order).
+    /// Recompute the gradients of the shrunk variables, G_t = p_t + y_t (Ḡ_t + Σ_s y_s K_ts
+    /// α_s) over the free α_s (0 < α_s < C), one kernel row each (the sums run over s in
+    /// working order).
     fn reconstruct(&mut self) {
         let (n2, act) = (self.alpha.len(), self.active);
         if act == n2 {
             return;
         }
-        let mut acc = vec![-0.0; n2 - act];
+        let mut acc = self.g_bar[act..].to_vec();
         for s in 0..n2 {
             let a = self.alpha[s];
-            if a == 0.0 {
+            if a == 0.0 || a >= self.c {
                 continue;
             }
             let ys = self.ys[s];
@@ -688,6 +706,14 @@ impl<F: Fn(usize, &mut [f64])> Smo<F> {
         self.alpha[j] = aj;
         self.set_flags(i);
         self.set_flags(j);
+        for (t, old, slot) in [(i, old_i, si), (j, old_j, sj)] {
+            if let Some(term) = g_bar_change(old, self.alpha[t], self.c, self.ys[t]) {
+                let row = self.cache.slot(slot);
+                for (g, &r) in self.g_bar.iter_mut().zip(&self.kr) {
+                    *g += term * row[r];
+                }
+            }
+        }
         let (di, dj) = ((ai - old_i) * self.ys[i], (aj - old_j) * self.ys[j]);
         let act = self.active;
         // K_i in working order is `kit`, gathered by `select_j` for this i and this active set

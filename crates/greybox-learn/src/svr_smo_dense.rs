@@ -60,6 +60,8 @@ struct Smo {
     up: Vec<bool>,
     low: Vec<bool>,
     active: usize,
+    /// Σ over the variables s at the upper bound of y_s K_ts C (libsvm's Ḡ).
+    g_bar: Vec<f64>,
 }
 
 impl Smo {
@@ -96,6 +98,7 @@ impl Smo {
             up: vec![false; n2],
             low: vec![false; n2],
             active: n2,
+            g_bar: vec![0.0; n2],
         }
         .with_flags()
     }
@@ -125,6 +128,7 @@ impl Smo {
         self.orig.swap(a, b);
         self.up.swap(a, b);
         self.low.swap(a, b);
+        self.g_bar.swap(a, b);
         let n2 = self.alpha.len();
         for r in 0..self.l {
             self.kw.swap(r * n2 + a, r * n2 + b);
@@ -149,16 +153,18 @@ impl Smo {
         &self.kw[r * n2..(r + 1) * n2]
     }
 
-    /// Recompute the gradients of the shrunk variables: G_t = p_t + Σ_s Q_ts α_s.
+    /// Recompute the gradients of the shrunk variables: G_t = p_t + y_t (Ḡ_t + Σ_s y_s K_ts
+    /// α_s) over the free α_s.
     fn reconstruct(&mut self) {
         let n2 = self.alpha.len();
-        let nz: Vec<usize> = (0..n2).filter(|&s| self.alpha[s] != 0.0).collect();
+        let free: Vec<usize> = (0..n2)
+            .filter(|&s| self.alpha[s] != 0.0 && self.alpha[s] < self.c)
+            .collect();
         for t in self.active..n2 {
             let row = self.row(t);
-            let g: f64 = nz
-                .iter()
-                .map(|&s| self.ys[s] * row[s] * self.alpha[s])
-                .sum();
+            let g = free.iter().fold(self.g_bar[t], |acc, &s| {
+                acc + self.ys[s] * row[s] * self.alpha[s]
+            });
             self.grad[t] = self.lin[t] + self.ys[t] * g;
         }
         self.active = n2;
@@ -322,8 +328,16 @@ impl Smo {
         self.alpha[j] = aj;
         self.set_flags(i);
         self.set_flags(j);
-        let (di, dj) = ((ai - old_i) * self.ys[i], (aj - old_j) * self.ys[j]);
         let n2 = self.alpha.len();
+        for (t, old) in [(i, old_i), (j, old_j)] {
+            if let Some(term) = crate::svr_smo::g_bar_change(old, self.alpha[t], c, self.ys[t]) {
+                let r0 = self.kr[t] * n2;
+                for (g, k) in self.g_bar.iter_mut().zip(&self.kw[r0..r0 + n2]) {
+                    *g += term * k;
+                }
+            }
+        }
+        let (di, dj) = ((ai - old_i) * self.ys[i], (aj - old_j) * self.ys[j]);
         let (ri0, rj0) = (self.kr[i] * n2, self.kr[j] * n2);
         let act = self.active;
         let ri = &self.kw[ri0..ri0 + act];
