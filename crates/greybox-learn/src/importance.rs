@@ -8,6 +8,7 @@ use crate::Matrix;
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -17,7 +18,9 @@ pub struct Importance {
     pub std: f64,
 }
 
-/// Permutation importance of every feature.
+/// Permutation importance of every feature. The permutations are drawn from one seeded
+/// stream in a fixed order (feature by feature, repeat by repeat) and the repeats are then
+/// scored in parallel, so the result does not depend on the thread count.
 pub fn permutation_importance(
     model: &dyn Predictor,
     x: &Matrix,
@@ -28,27 +31,26 @@ pub fn permutation_importance(
 ) -> Vec<Importance> {
     let base = r2(y, &model.predict(x));
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut xp = x.clone();
-    let mut p = vec![0.0; x.n_rows];
     (0..x.n_cols)
         .map(|j| {
             let col = x.column(j);
-            let drops: Vec<f64> = (0..repeats)
+            let permuted: Vec<Vec<f64>> = (0..repeats)
                 .map(|_| {
                     let mut perm = col.clone();
                     perm.shuffle(&mut rng);
+                    perm
+                })
+                .collect();
+            let drops: Vec<f64> = permuted
+                .par_iter()
+                .map(|perm| {
+                    let mut xp = x.clone();
                     for (i, v) in perm.iter().enumerate() {
                         xp.data[i * x.n_cols + j] = *v;
                     }
-                    for (i, pi) in p.iter_mut().enumerate() {
-                        *pi = model.predict_one(xp.row(i));
-                    }
-                    base - r2(y, &p)
+                    base - r2(y, &model.predict(&xp))
                 })
                 .collect();
-            for (i, v) in col.iter().enumerate() {
-                xp.data[i * x.n_cols + j] = *v;
-            }
             let m = drops.iter().sum::<f64>() / repeats as f64;
             let sd = (drops.iter().map(|d| (d - m).powi(2)).sum::<f64>() / repeats as f64).sqrt();
             Importance {

@@ -355,3 +355,35 @@ fn interior_point_svr_reaches_the_dual_optimum_smo_approaches() {
         }
     }
 }
+
+/// Block prediction (trees chunk by chunk over blocks of rows) gives every row the bits of
+/// its one-row prediction, for f64 and f32 leaf sums, over several blocks and a partial one.
+#[test]
+fn block_predictions_equal_one_row_predictions_bit_for_bit() {
+    use greybox_model::tree::Accumulation;
+    let (x, y) = data(400, 0.01, 9, true);
+    let (xt, _) = data(700, 0.0, 10, true);
+    let forest = ForestParams {
+        n_estimators: 21,
+        ..Default::default()
+    }
+    .fit(&x, &y, 5)
+    .unwrap();
+    let boost = BoostParams {
+        n_estimators: 37,
+        max_depth: 4,
+        learning_rate: 0.1,
+        ..Default::default()
+    }
+    .fit(&x, &y, 5)
+    .unwrap();
+    let mut boost_f32 = boost.clone();
+    boost_f32.accumulation = Accumulation::F32;
+    for e in [&forest, &boost, &boost_f32] {
+        let block = e.predict_rows(&xt);
+        assert_eq!(block.len(), xt.n_rows);
+        for (i, b) in block.iter().enumerate() {
+            assert_eq!(b.to_bits(), e.predict_one(xt.row(i)).to_bits(), "row {i}");
+        }
+    }
+}

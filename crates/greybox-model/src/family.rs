@@ -109,6 +109,13 @@ impl Predictor for FittedModel {
             FittedModel::Mlp(m) => m.predict_one(x),
         }
     }
+    fn predict(&self, x: &crate::matrix::Matrix) -> Vec<f64> {
+        match self {
+            FittedModel::TreeEnsemble(m) => m.predict_rows(x),
+            FittedModel::Svr(m) => m.predict(x),
+            FittedModel::Mlp(m) => m.predict(x),
+        }
+    }
 }
 
 impl Hyperparameters {

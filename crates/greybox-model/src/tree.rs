@@ -93,29 +93,81 @@ impl TreeEnsemble {
         start: T,
         leaf: impl Fn(f64) -> T,
     ) -> T {
-        const LANES: usize = 8;
         let mut s = start;
-        for chunk in self.roots.chunks(LANES) {
-            let mut idx = [0u32; LANES];
-            idx[..chunk.len()].copy_from_slice(chunk);
-            loop {
-                let mut moved = false;
-                for k in idx.iter_mut().take(chunk.len()) {
-                    let n = &self.nodes[*k as usize];
-                    if n.feature != LEAF {
-                        *k = n.left + u32::from(x[n.feature as usize] > n.value);
-                        moved = true;
-                    }
-                }
-                if !moved {
-                    break;
-                }
-            }
-            for k in &idx[..chunk.len()] {
-                s += leaf(self.nodes[*k as usize].value);
-            }
+        for chunk in self.roots.chunks(WALK_LANES) {
+            self.add_chunk_leaves(chunk, x, &mut s, &leaf);
         }
         s
+    }
+
+    /// Walks the trees `chunk` (at most [`WALK_LANES`]) in lockstep for `x` and adds their
+    /// leaves to `s` in tree order.
+    #[inline]
+    fn add_chunk_leaves<T: std::ops::AddAssign + Copy>(
+        &self,
+        chunk: &[u32],
+        x: &[f64],
+        s: &mut T,
+        leaf: &impl Fn(f64) -> T,
+    ) {
+        let mut idx = [0u32; WALK_LANES];
+        idx[..chunk.len()].copy_from_slice(chunk);
+        loop {
+            let mut moved = false;
+            for k in idx.iter_mut().take(chunk.len()) {
+                let n = &self.nodes[*k as usize];
+                if n.feature != LEAF {
+                    *k = n.left + u32::from(x[n.feature as usize] > n.value);
+                    moved = true;
+                }
+            }
+            if !moved {
+                break;
+            }
+        }
+        for k in &idx[..chunk.len()] {
+            *s += leaf(self.nodes[*k as usize].value);
+        }
+    }
+
+    /// Predictions for every row of `x`, equal bit for bit to [`Self::predict_one`] row by
+    /// row. Rows go in blocks of [`PREDICT_BLOCK`], and each block walks one chunk of trees
+    /// for all its rows before the next chunk, so those trees' nodes stay in cache: a large
+    /// forest (200 deep trees of 10⁴ rows are ≈ 30 MB of nodes) is read once per block
+    /// instead of once per row. Every row still adds its leaves in tree order.
+    pub fn predict_rows(&self, x: &crate::matrix::Matrix) -> Vec<f64> {
+        let mut out = Vec::with_capacity(x.n_rows);
+        let rows: Vec<usize> = (0..x.n_rows).collect();
+        for block in rows.chunks(PREDICT_BLOCK) {
+            match self.accumulation {
+                Accumulation::F64 => {
+                    let sums = self.block_sums(x, block, 0.0f64, |v| v);
+                    out.extend(sums.into_iter().map(|s| self.base + self.scale * s));
+                }
+                Accumulation::F32 => {
+                    let sums = self.block_sums(x, block, self.base as f32, |v| v as f32);
+                    out.extend(sums.into_iter().map(|s| s as f64));
+                }
+            }
+        }
+        out
+    }
+
+    /// [`Self::sum_leaves`] for the rows `block` of `x`, trees chunk by chunk.
+    fn block_sums<T: std::ops::AddAssign + Copy>(
+        &self,
+        x: &crate::matrix::Matrix,
+        block: &[usize],
+        start: T,
+        leaf: impl Fn(f64) -> T,
+    ) -> Vec<T> {
+        let mut sums = vec![start; block.len()];
+        for chunk in self.roots.chunks(WALK_LANES) {
+            for (s, &r) in sums.iter_mut().zip(block) {
+                self.add_chunk_leaves(chunk, x.row(r), s, &leaf);
+            }
+        }
+        sums
     }
     /// Append a tree grown in its own node buffer.
     pub fn push_tree(&mut self, nodes: Vec<Node>, root: u32) {
@@ -130,9 +182,17 @@ impl TreeEnsemble {
     }
 }
 
+/// Trees walked in lockstep by one prediction.
+const WALK_LANES: usize = 8;
+/// Rows per block of [`TreeEnsemble::predict_rows`].
+const PREDICT_BLOCK: usize = 256;
+
 impl crate::predictor::Predictor for TreeEnsemble {
     fn predict_one(&self, x: &[f64]) -> f64 {
         TreeEnsemble::predict_one(self, x)
+    }
+    fn predict(&self, x: &crate::matrix::Matrix) -> Vec<f64> {
+        self.predict_rows(x)
     }
 }
 
