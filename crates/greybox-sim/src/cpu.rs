@@ -4,8 +4,7 @@
 //! The pair passes ([`crate::pair_lanes`]) are compiled three times — baseline, AVX2 and
 //! AVX-512 (F + VL) — and the widest the running CPU has is picked at run time
 //! (`is_x86_feature_detected!`). Rust never fuses a·b + c into one rounding, and the lane
-//! sums run in a fixed order, so every path gives the same bits: a run is reproducible
-//! across x86-64 machines, not only on one.
+//! sums run in a fixed order, so every path gives the same bits: the path taken never changes a result.
 //!
 //! `GREYBOX_SIMD=baseline|avx2|avx512` caps the path (for comparisons and diagnosis); a
 //! path the CPU lacks falls back to the widest one below it.
