@@ -249,7 +249,8 @@ fn tree_cycle_and_out_of_range_child_are_refused() {
 #[test]
 fn implausible_records_are_refused_with_the_number() {
     let base = valid_files().remove(0);
-    let cases: Vec<(Box<dyn Fn(&mut ModelFile)>, &str, &str)> = vec![
+    type Damage = Box<dyn Fn(&mut ModelFile)>;
+    let cases: Vec<(Damage, &str, &str)> = vec![
         (
             Box::new(|m: &mut ModelFile| {
                 m.force_to_pressure = Some(greybox_model::modelfile::ForcePressure {
@@ -287,8 +288,7 @@ fn implausible_records_are_refused_with_the_number() {
         let m = m.seal().unwrap();
         let json = serde_json::to_string(&m).unwrap();
         let e = ModelFile::parse(&json, "m.json")
-            .err()
-            .expect("refused")
+            .expect_err("refused")
             .to_string();
         assert!(e.contains(field) && e.contains(text), "{e}");
         assert!(!e.contains("Some("), "{e}");

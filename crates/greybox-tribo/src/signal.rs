@@ -100,6 +100,21 @@ pub fn mean_std(x: &[f64]) -> (f64, f64) {
     (m, var.sqrt())
 }
 
+/// The quantisation step of a recorded channel: the smallest non-zero change between
+/// consecutive samples (0 for a constant channel).
+pub fn quantum(raw: &[f64]) -> f64 {
+    let q = raw
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    if q.is_finite() {
+        q
+    } else {
+        0.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -117,20 +132,5 @@ mod tests {
         let (a, b, _) = linear_fit(&t, &y);
         assert!((a - 2.0).abs() < 1e-12 && (b - 0.5).abs() < 1e-12);
         assert_eq!(moving_average(&[1.0, 2.0, 3.0], 3), vec![1.5, 2.0, 2.5]);
-    }
-}
-
-/// The quantisation step of a recorded channel: the smallest non-zero change between
-/// consecutive samples (0 for a constant channel).
-pub fn quantum(raw: &[f64]) -> f64 {
-    let q = raw
-        .windows(2)
-        .map(|w| (w[1] - w[0]).abs())
-        .filter(|d| *d > 0.0)
-        .fold(f64::INFINITY, f64::min);
-    if q.is_finite() {
-        q
-    } else {
-        0.0
     }
 }
