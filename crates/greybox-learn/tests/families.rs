@@ -211,24 +211,40 @@ fn svr_fits_more_rows_than_a_kernel_matrix_would_hold() {
 /// A forest and a boosted ensemble compiled to decision grids give their trees' predictions
 /// bit for bit: on random points, exactly on every split threshold and on its neighbouring
 /// floats, outside the data, and for NaN features.
+/// A random forest of `trees` trees and a boosted ensemble of (trees, max depth)
+/// `boosting` at learning rate 0.1, both fitted with `seed`.
+fn forest_and_boosting(
+    x: &Matrix,
+    y: &[f64],
+    trees: usize,
+    (boosted_trees, max_depth): (usize, usize),
+    seed: u64,
+) -> (
+    greybox_model::tree::TreeEnsemble,
+    greybox_model::tree::TreeEnsemble,
+) {
+    let forest = ForestParams {
+        n_estimators: trees,
+        ..Default::default()
+    }
+    .fit(x, y, seed)
+    .unwrap();
+    let boost = BoostParams {
+        n_estimators: boosted_trees,
+        max_depth,
+        learning_rate: 0.1,
+        ..Default::default()
+    }
+    .fit(x, y, seed)
+    .unwrap();
+    (forest, boost)
+}
+
 #[test]
 fn decision_grids_equal_their_tree_ensembles_bit_for_bit() {
     use greybox_model::tree::{DecisionGrid, TreeEnsemble};
     let (x, y) = data(210, 0.01, 7, false);
-    let forest = ForestParams {
-        n_estimators: 50,
-        ..Default::default()
-    }
-    .fit(&x, &y, 3)
-    .unwrap();
-    let boost = BoostParams {
-        n_estimators: 100,
-        max_depth: 5,
-        learning_rate: 0.1,
-        ..Default::default()
-    }
-    .fit(&x, &y, 3)
-    .unwrap();
+    let (forest, boost) = forest_and_boosting(&x, &y, 50, (100, 5), 3);
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     for e in [&forest, &boost] {
         let grid = DecisionGrid::build(e, 1 << 20).expect("a grid within the cap");
@@ -363,20 +379,7 @@ fn block_predictions_equal_one_row_predictions_bit_for_bit() {
     use greybox_model::tree::Accumulation;
     let (x, y) = data(400, 0.01, 9, true);
     let (xt, _) = data(700, 0.0, 10, true);
-    let forest = ForestParams {
-        n_estimators: 21,
-        ..Default::default()
-    }
-    .fit(&x, &y, 5)
-    .unwrap();
-    let boost = BoostParams {
-        n_estimators: 37,
-        max_depth: 4,
-        learning_rate: 0.1,
-        ..Default::default()
-    }
-    .fit(&x, &y, 5)
-    .unwrap();
+    let (forest, boost) = forest_and_boosting(&x, &y, 21, (37, 4), 5);
     let mut boost_f32 = boost.clone();
     boost_f32.accumulation = Accumulation::F32;
     for e in [&forest, &boost, &boost_f32] {

@@ -137,11 +137,11 @@ impl TreeEnsemble {
     /// instead of once per row. Every row still adds its leaves in tree order.
     pub fn predict_rows(&self, x: &crate::matrix::Matrix) -> Vec<f64> {
         let mut out = Vec::with_capacity(x.n_rows);
-        let rows: Vec<usize> = (0..x.n_rows).collect();
-        for block in rows.chunks(PREDICT_BLOCK) {
+        for first in (0..x.n_rows).step_by(PREDICT_BLOCK) {
+            let block = first..(first + PREDICT_BLOCK).min(x.n_rows);
             match self.accumulation {
                 Accumulation::F64 => {
-                    let sums = self.block_sums(x, block, 0.0f64, |v| v);
+                    let sums = self.block_sums(x, block.clone(), 0.0f64, |v| v);
                     out.extend(sums.into_iter().map(|s| self.base + self.scale * s));
                 }
                 Accumulation::F32 => {
@@ -157,13 +157,13 @@ impl TreeEnsemble {
     fn block_sums<T: std::ops::AddAssign + Copy>(
         &self,
         x: &crate::matrix::Matrix,
-        block: &[usize],
+        block: std::ops::Range<usize>,
         start: T,
         leaf: impl Fn(f64) -> T,
     ) -> Vec<T> {
         let mut sums = vec![start; block.len()];
         for chunk in self.roots.chunks(WALK_LANES) {
-            for (s, &r) in sums.iter_mut().zip(block) {
+            for (s, r) in sums.iter_mut().zip(block.clone()) {
                 self.add_chunk_leaves(chunk, x.row(r), s, &leaf);
             }
         }

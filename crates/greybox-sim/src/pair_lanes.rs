@@ -3,9 +3,8 @@
 //! instructions: AVX-512 (one register of eight doubles), AVX2 (two of four) or the x86-64
 //! baseline (SSE2), whichever [`crate::cpu`] picks at run time.
 //!
-//! **Same bits on every path.** A row's pairs are taken in groups of [`LANES`]: pair k of a
-//! row (own row first, then the incoming pairs for the kinematics) goes to lane k mod
-//! [`LANES`], each lane keeps its own partial sum, and the lanes are added in one fixed tree
+//! **Same bits on every path.** The force pass takes a row's pairs in groups of [`LANES`]:
+//! pair k of the row goes to lane k mod [`LANES`], each lane keeps its own partial sum, and the lanes are added in one fixed tree
 //! ([`sum_lanes`]). Each lane's arithmetic is the same IEEE operations in the same order on
 //! every path (Rust never contracts a·b + c into a fused multiply–add, and the viscosity's
 //! "approaching pairs only" is a select, not `min`, whose result for ±0 is unspecified), so
@@ -15,7 +14,8 @@
 //! are masked out of the sums and never stored.
 //!
 //! The layout is structure-of-arrays in registers: each group first gathers the partners'
-//! fields into one array per field (`Gathered`), then runs the arithmetic over the arrays.
+//! fields into one array per field (`gather!`), then runs the arithmetic over the arrays.
+//! The kinematics pass stays one pair at a time (see [`kinematics_row`]).
 
 use crate::cpu::multiversion;
 use crate::kernel::PairTable;
@@ -104,38 +104,6 @@ macro_rules! gather {
     }};
 }
 
-/// The partners' fields of one group, one array per field; padding lanes repeat particle
-/// `own`.
-struct Gathered {
-    x: Lanes,
-    y: Lanes,
-    vx: Lanes,
-    vy: Lanes,
-    vol: Lanes,
-    inv_rho: Lanes,
-}
-
-impl Gathered {
-    #[inline(always)]
-    fn new(packed: &[Packed], own: usize, partners: &[u32]) -> (Self, [usize; LANES]) {
-        let mut idx = [own; LANES];
-        for (slot, &j) in idx.iter_mut().zip(partners) {
-            *slot = j as usize;
-        }
-        (
-            Gathered {
-                x: gather!(packed, idx, x),
-                y: gather!(packed, idx, y),
-                vx: gather!(packed, idx, vx),
-                vy: gather!(packed, idx, vy),
-                vol: gather!(packed, idx, vol),
-                inv_rho: gather!(packed, idx, inv_rho),
-            },
-            idx,
-        )
-    }
-}
-
 /// Force pass over particle `i`'s own row: sums i's share and writes, per pair, the kernel
 /// values [W, g] to `wg_out` and the partner's share [−f_x, −f_y, −(m/ρ_i) q] to
 /// `to_partner` (both the row's slices). Equations in [`crate::solver`]'s step 3.
@@ -161,7 +129,14 @@ pub(crate) fn force_row(
         .zip(to_partner.chunks_mut(LANES))
     {
         let n = js.len();
-        let (b, idx) = Gathered::new(packed, i, js);
+        // Padding lanes repeat particle i (zero distance); they are masked out below.
+        let mut idx = [i; LANES];
+        for (slot, &j) in idx.iter_mut().zip(js) {
+            *slot = j as usize;
+        }
+        let (x_b, y_b) = (gather!(packed, idx, x), gather!(packed, idx, y));
+        let (vx_b, vy_b) = (gather!(packed, idx, vx), gather!(packed, idx, vy));
+        let (vol_b, inv_rho_b) = (gather!(packed, idx, vol), gather!(packed, idx, inv_rho));
         let (txx_b, txy_b, tyy_b) = (
             gather!(packed, idx, txx),
             gather!(packed, idx, txy),
@@ -173,8 +148,8 @@ pub(crate) fn force_row(
             gather!(packed, idx, ryy),
         );
         let (temp_b, k_b) = (gather!(packed, idx, temp), gather!(packed, idx, k));
-        let dx: Lanes = std::array::from_fn(|l| a.x - b.x[l]);
-        let dy: Lanes = std::array::from_fn(|l| a.y - b.y[l]);
+        let dx: Lanes = std::array::from_fn(|l| a.x - x_b[l]);
+        let dy: Lanes = std::array::from_fn(|l| a.y - y_b[l]);
         let r2: Lanes = std::array::from_fn(|l| dx[l] * dx[l] + dy[l] * dy[l]);
         // Branch-free: pairs in the skin (beyond 2h) get w = g = 0 and add nothing.
         let rows: [[f64; 4]; LANES] = std::array::from_fn(|l| table.at(r2[l]));
@@ -186,13 +161,13 @@ pub(crate) fn force_row(
             let [w, g, g_cond, h_visc] = rows[l];
             let gx = g * dx[l];
             let gy = g * dy[l];
-            let dvx = a.vx - b.vx[l];
-            let dvy = a.vy - b.vy[l];
+            let dvx = a.vx - vx_b[l];
+            let dvy = a.vy - vy_b[l];
             // Monaghan viscosity for approaching pairs (μ = 0 otherwise).
             // 1/ρ̄ taken as the mean of 1/ρ (equal to 1/mean ρ to O((Δρ/ρ)²)).
             let closing = dvx * dx[l] + dvy * dy[l];
             let mu = h_visc * if closing < 0.0 { closing } else { 0.0 };
-            let pi = (k.beta * mu - k.alpha * k.c_long) * mu * (a.inv_rho + b.inv_rho[l]);
+            let pi = (k.beta * mu - k.alpha * k.c_long) * mu * (a.inv_rho + inv_rho_b[l]);
             let f = w * k.inv_w_dx;
             let f2 = f * f;
             let f4 = k.artificial_stress_on * f2 * f2;
@@ -209,7 +184,7 @@ pub(crate) fn force_row(
             sum_av[l] += masked(l, n, av[l]);
             sum_ax[l] += masked(l, n, fx[l]);
             sum_ay[l] += masked(l, n, fy[l]);
-            sum_cond[l] += masked(l, n, b.vol[l] * q[l]);
+            sum_cond[l] += masked(l, n, vol_b[l] * q[l]);
         }
         for l in 0..n {
             wg[l] = [rows[l][0], rows[l][1]];

@@ -346,13 +346,13 @@ impl Solver {
             beta: self.numerics.av_beta,
             c_long: self.derived.c_long,
             inv_w_dx: self.inv_w_dx,
-            // Conduction needs no branch: k = 0 when thermal is off (see `pack`).
             artificial_stress_on: if self.numerics.artificial_stress > 0.0 {
                 1.0
             } else {
                 0.0
             },
         };
+        // Conduction needs no branch: k = 0 when thermal is off (see `pack`).
         let packed = &self.packed;
         let nl = &self.neighbours;
         let npairs = nl.pair_count();
