@@ -5,6 +5,7 @@
 //! * `tanh`: the TANH-type Johnson–Cook of Calamaz 2008 / Sima & Özel 2010 ([`TanhJohnsonCook`]);
 //! * `table`: measured flow curves σ(ε_p, ε̇_p, T) read from a CSV file ([`FlowTable`]).
 
+use crate::tanh::TanhAt;
 use crate::{FlowTable, JohnsonCook, TanhJohnsonCook};
 use serde::{Deserialize, Serialize};
 
@@ -93,6 +94,15 @@ impl FlowStress {
         }
     }
 
+    /// The model at temperature `t` (K), for evaluating it at many (ε_p, ε̇_p) with the
+    /// temperature's factors computed once (the radial return's iterations).
+    pub fn at_temperature(&self, t: f64) -> FlowAt<'_> {
+        match self {
+            FlowStress::Tanh(m) => FlowAt::Tanh(m.at_temperature(t)),
+            other => FlowAt::Any(other, t),
+        }
+    }
+
     /// Whether σ_y never falls as ε_p grows (J-C): the radial return may then bound the
     /// increment by the perfectly plastic one.
     pub fn hardens_monotonically(&self) -> bool {
@@ -153,3 +163,41 @@ impl FlowStress {
         }
     }
 }
+/// A [`FlowStress`] at one temperature ([`FlowStress::at_temperature`]).
+#[derive(Debug, Clone, Copy)]
+pub enum FlowAt<'a> {
+    Tanh(TanhAt<'a>),
+    /// A model with nothing worth precomputing, and the temperature, K.
+    Any(&'a FlowStress, f64),
+}
+
+impl FlowAt<'_> {
+    /// σ_y, ∂σ_y/∂ε_p and ∂σ_y/∂ln ε̇_p, Pa ([`FlowStress::flow_stress_slopes`]).
+    #[inline]
+    pub fn flow_stress_slopes(&self, eps_p: f64, strain_rate: f64) -> (f64, f64, f64) {
+        match self {
+            FlowAt::Tanh(m) => m.flow_stress_slopes(eps_p, strain_rate),
+            FlowAt::Any(m, t) => m.flow_stress_slopes(eps_p, strain_rate, *t),
+        }
+    }
+
+    /// A lower bound of σ_y at this temperature over every ε_p ≥ 0 and ε̇_p ≥ 0, Pa (0 where
+    /// the model gives none).
+    pub fn floor(&self) -> f64 {
+        match self {
+            FlowAt::Tanh(m) => m.floor(),
+            FlowAt::Any(FlowStress::JohnsonCook(m), t) => m.a_pa * m.thermal_factor(*t),
+            FlowAt::Any(..) => 0.0,
+        }
+    }
+
+    /// σ_y, Pa ([`FlowStress::flow_stress`]).
+    #[inline]
+    pub fn flow_stress(&self, eps_p: f64, strain_rate: f64) -> f64 {
+        match self {
+            FlowAt::Tanh(m) => m.flow_stress_slopes(eps_p, strain_rate).0,
+            FlowAt::Any(m, t) => m.flow_stress(eps_p, strain_rate, *t),
+        }
+    }
+}
+

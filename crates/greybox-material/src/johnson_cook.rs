@@ -113,7 +113,7 @@ impl JohnsonCook {
         if t == 0.0 {
             1.0
         } else {
-            1.0 - t.powf(self.m)
+            1.0 - crate::powf(t, self.m)
         }
     }
 

@@ -17,3 +17,16 @@ pub use johnson_cook::JohnsonCook;
 pub use material::{Elastic, Material, Thermal};
 pub use table::Table1d;
 pub use tanh::TanhJohnsonCook;
+
+/// x^e, with whole exponents up to 8 in size (the published sets use several: the
+/// Sima–Özel a = c = 2, b = 5, d = m = 1) taken by repeated multiplication (`powi`, within
+/// a few ulp) instead of a call of `pow`: the flow stress is evaluated several times per
+/// plastic particle and step.
+#[inline]
+pub(crate) fn powf(x: f64, e: f64) -> f64 {
+    if e.fract() == 0.0 && e.abs() <= 8.0 {
+        x.powi(e as i32)
+    } else {
+        x.powf(e)
+    }
+}

@@ -14,7 +14,7 @@
 //! set). Calamaz's model is s = 1; Sima & Özel added the exponent s. The strain-rate and
 //! ε, T* guards are those of [`crate::JohnsonCook`].
 
-use crate::JohnsonCook;
+use crate::{powf, JohnsonCook};
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -98,45 +98,19 @@ impl TanhJohnsonCook {
 
     /// σ_y, ∂σ_y/∂ε_p and ∂σ_y/∂ln ε̇_p (Pa each).
     pub fn flow_stress_slopes(&self, eps_p: f64, strain_rate: f64, t: f64) -> (f64, f64, f64) {
-        let e = eps_p.max(0.0);
-        // Hardening H = A + B ε^n exp(−ε^a) and dH/dε.
-        let (h, dh) = if e > 0.0 {
-            let en = e.powf(self.n);
-            let ea = e.powf(self.tanh_a);
-            let damp = (-ea).exp();
-            (
-                self.a_pa + self.b_pa * en * damp,
-                self.b_pa * damp * (self.n * en - self.tanh_a * en * ea) / e,
-            )
-        } else {
-            (self.a_pa, 0.0)
-        };
-        // Softening G = D + (1 − D) tanh(u)^s, u = (ε + p)^−c, and dG/dε.
+        self.at_temperature(t).flow_stress_slopes(eps_p, strain_rate)
+    }
+
+    /// The model at temperature `t` (K): its factors that depend on the temperature alone,
+    /// 1 − T*^m, D and p, evaluated once for the many (ε_p, ε̇_p) a radial return tries.
+    pub fn at_temperature(&self, t: f64) -> TanhAt<'_> {
         let tr = (t / self.melt_temperature_k).clamp(0.0, 1.0);
-        let d = 1.0 - tr.powf(self.tanh_d);
-        let p = tr.powf(self.tanh_b);
-        let base = e + p;
-        let (g, dg) = if base > 0.0 {
-            let u = base.powf(-self.tanh_c);
-            let th = u.tanh();
-            let ths = th.powf(self.tanh_s);
-            let du = -self.tanh_c * u / base;
-            let dth = (1.0 - th * th) * du;
-            let dths = if th > 0.0 {
-                self.tanh_s * ths / th * dth
-            } else {
-                0.0
-            };
-            (d + (1.0 - d) * ths, (1.0 - d) * dths)
-        } else {
-            // ε = p = 0: tanh(∞) = 1.
-            (1.0, 0.0)
-        };
-        let jc = self.johnson_cook_part();
-        let (rf, drf) = jc.rate_factor_and_slope(strain_rate);
-        let soft = jc.thermal_factor(t);
-        let sigma = h * rf * soft * g;
-        (sigma, (dh * g + h * dg) * rf * soft, h * drf * soft * g)
+        TanhAt {
+            model: self,
+            soft: self.johnson_cook_part().thermal_factor(t),
+            d: 1.0 - powf(tr, self.tanh_d),
+            p: powf(tr, self.tanh_b),
+        }
     }
 
     /// Checks the parameters (as J-C, plus a, c > 0 and b, d, s > 0).
@@ -150,6 +124,71 @@ impl TanhJohnsonCook {
             .positive("tanh_d", self.tanh_d)
             .positive("tanh_s", self.tanh_s)
             .finish()
+    }
+}
+
+/// A [`TanhJohnsonCook`] at one temperature ([`TanhJohnsonCook::at_temperature`]).
+#[derive(Debug, Clone, Copy)]
+pub struct TanhAt<'a> {
+    model: &'a TanhJohnsonCook,
+    /// The thermal factor 1 − T*^m.
+    soft: f64,
+    /// D = 1 − (T/T_m)^d.
+    d: f64,
+    /// p = (T/T_m)^b.
+    p: f64,
+}
+
+impl TanhAt<'_> {
+    /// A lower bound of σ_y at this temperature over every ε_p ≥ 0 and ε̇_p, Pa: A·(1 − T*^m)·D
+    /// (H ≥ A, the rate factor ≥ 1, G ≥ D), so that a trial stress below it is elastic
+    /// without evaluating the model.
+    pub fn floor(&self) -> f64 {
+        self.model.a_pa * self.soft * self.d
+    }
+
+    /// σ_y, ∂σ_y/∂ε_p and ∂σ_y/∂ln ε̇_p (Pa each) at this temperature.
+    pub fn flow_stress_slopes(&self, eps_p: f64, strain_rate: f64) -> (f64, f64, f64) {
+        let m = self.model;
+        let e = eps_p.max(0.0);
+        // Hardening H = A + B ε^n exp(−ε^a) and dH/dε.
+        let (h, dh) = if e > 0.0 {
+            let en = e.powf(m.n);
+            let ea = powf(e, m.tanh_a);
+            let damp = (-ea).exp();
+            (
+                m.a_pa + m.b_pa * en * damp,
+                m.b_pa * damp * (m.n * en - m.tanh_a * en * ea) / e,
+            )
+        } else {
+            (m.a_pa, 0.0)
+        };
+        // Softening G = D + (1 − D) tanh(u)^s, u = (ε + p)^−c, and dG/dε.
+        let d = self.d;
+        let base = e + self.p;
+        let (g, dg) = if base > 0.0 {
+            let u = powf(base, -m.tanh_c);
+            let th = u.tanh();
+            let ths = th.powf(m.tanh_s);
+            let du = -m.tanh_c * u / base;
+            let dth = (1.0 - th * th) * du;
+            let dths = if th > 0.0 {
+                m.tanh_s * ths / th * dth
+            } else {
+                0.0
+            };
+            (d + (1.0 - d) * ths, (1.0 - d) * dths)
+        } else {
+            // ε = p = 0: tanh(∞) = 1.
+            (1.0, 0.0)
+        };
+        let (rf, drf) = m.johnson_cook_part().rate_factor_and_slope(strain_rate);
+        let sigma = h * rf * self.soft * g;
+        (
+            sigma,
+            (dh * g + h * dg) * rf * self.soft,
+            h * drf * self.soft * g,
+        )
     }
 }
 

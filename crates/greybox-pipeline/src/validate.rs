@@ -421,59 +421,105 @@ fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Va
                 .collect(),
         });
     }
-    let mut outcomes = Vec::new();
-    let mut summaries = Vec::new();
     let tools = distinct_in_order(&o.tools);
-    for plan in &plans {
-        for &tool in &tools {
-            let mu = calibrate(plan, tool)?;
-            let jobs: Vec<(&Condition, &'static str)> = plan
-                .calibration
-                .iter()
-                .map(|c| (*c, "calibration"))
-                .chain(plan.held_out.iter().map(|c| (*c, "held-out")))
-                .collect();
-            let done: Vec<Outcome> = jobs
-                .par_iter()
-                .map(|(c, role)| simulate(plan, c, tool, mu, role))
-                .collect::<Result<_>>()?;
-            for role in ["calibration", "held-out"] {
-                if let Some(s) = summarise(&done, plan.runs.label(), tool, role, mu) {
-                    summaries.push(s);
-                }
+    let groups: Vec<(&Plan, ToolModel)> = plans
+        .iter()
+        .flat_map(|p| tools.iter().map(move |&t| (p, t)))
+        .collect();
+    let mus = calibrate(&groups)?;
+    // Every condition of every group at its μ*, as one batch.
+    let jobs: Vec<Job> = groups
+        .iter()
+        .zip(&mus)
+        .flat_map(|(&(plan, tool), &mu)| {
+            let calibration = plan.calibration.iter().map(|&c| (c, "calibration"));
+            let held_out = plan.held_out.iter().map(|&c| (c, "held-out"));
+            calibration.chain(held_out).map(move |(c, role)| Job {
+                plan,
+                tool,
+                condition: c,
+                mu,
+                role,
+            })
+        })
+        .collect();
+    let done: Vec<Outcome> = jobs
+        .par_iter()
+        .map(|j| simulate(j.plan, j.condition, j.tool, j.mu, j.role))
+        .collect::<Result<_>>()?;
+    let mut summaries = Vec::new();
+    let mut rest = &done[..];
+    for (&(plan, tool), &mu) in groups.iter().zip(&mus) {
+        let (of_group, after) = rest.split_at(plan.calibration.len() + plan.held_out.len());
+        rest = after;
+        for role in ["calibration", "held-out"] {
+            if let Some(s) = summarise(of_group, plan.runs.label(), tool, role, mu) {
+                summaries.push(s);
             }
-            outcomes.extend(done);
         }
     }
     Ok(Validation {
-        outcomes,
+        outcomes: done,
         summaries,
         fraction: o.fraction,
     })
 }
 
-/// μ* of the calibration conditions (module docs).
-fn calibrate(plan: &Plan, tool: ToolModel) -> Result<f64> {
-    let [lo, hi] = plan.runs.mu_bracket;
-    let ends: Vec<(f64, f64)> = plan
-        .calibration
+/// One cut of the suite: a condition of a material's plan, with a tool model, at μ.
+struct Job<'a> {
+    plan: &'a Plan<'a>,
+    tool: ToolModel,
+    condition: &'a Condition,
+    mu: f64,
+    role: &'static str,
+}
+
+/// μ* of each (material, tool model) group (module docs). The calibration conditions of
+/// every group run at both ends of their bracket as one parallel batch, so that the cores
+/// wait for the slowest cut once, not once per group.
+fn calibrate(groups: &[(&Plan, ToolModel)]) -> Result<Vec<f64>> {
+    let jobs: Vec<Job> = groups
+        .iter()
+        .flat_map(|&(plan, tool)| {
+            plan.calibration.iter().flat_map(move |&c| {
+                plan.runs.mu_bracket.map(|mu| Job {
+                    plan,
+                    tool,
+                    condition: c,
+                    mu,
+                    role: "calibration",
+                })
+            })
+        })
+        .collect();
+    let errors: Vec<f64> = jobs
         .par_iter()
-        .map(|c| -> Result<(f64, f64)> {
-            let f = |mu| -> Result<f64> {
-                let s = condition_setup(&plan.template, c, plan.runs, tool, mu)?;
-                Ok(run(&s)?.force[1] / c.feed_force_n_per_m - 1.0)
-            };
-            Ok((f(lo)?, f(hi)?))
+        .map(|j| -> Result<f64> {
+            let s = condition_setup(&j.plan.template, j.condition, j.plan.runs, j.tool, j.mu)?;
+            Ok(run(&s)?.force[1] / j.condition.feed_force_n_per_m - 1.0)
         })
         .collect::<Result<_>>()?;
+    let mut errors = errors.chunks_exact(2);
+    Ok(groups
+        .iter()
+        .map(|&(plan, _)| {
+            let ends: Vec<&[f64]> = errors.by_ref().take(plan.calibration.len()).collect();
+            mu_star(plan.runs.mu_bracket, &ends)
+        })
+        .collect())
+}
+
+/// Where the mean F'f error, linear in μ between the bracket ends, is zero (clamped to the
+/// bracket); `ends` holds each calibration condition's errors at the two ends.
+fn mu_star([lo, hi]: [f64; 2], ends: &[&[f64]]) -> f64 {
     let n = ends.len() as f64;
-    let e_lo = ends.iter().map(|e| e.0).sum::<f64>() / n;
-    let e_hi = ends.iter().map(|e| e.1).sum::<f64>() / n;
+    let e_lo = ends.iter().map(|e| e[0]).sum::<f64>() / n;
+    let e_hi = ends.iter().map(|e| e[1]).sum::<f64>() / n;
     if e_hi == e_lo {
-        return Ok(0.5 * (lo + hi));
+        return 0.5 * (lo + hi);
     }
     let mu = lo + (hi - lo) * (0.0 - e_lo) / (e_hi - e_lo);
-    Ok(mu.clamp(lo, hi))
+    mu.clamp(lo, hi)
 }
 
 fn run(s: &CuttingSetup) -> Result<CutRun> {

@@ -122,14 +122,19 @@ fn general_return(
     guess: f64,
 ) -> Option<Return> {
     let trial = von_mises(s);
-    let y0 = model.flow_stress(eps_p, 0.0, temperature_k);
+    let at = model.at_temperature(temperature_k);
+    // Most particles of a cut are elastic: the floor needs no power of ε_p.
+    if trial <= at.floor() {
+        return None;
+    }
+    let y0 = at.flow_stress(eps_p, 0.0);
     if trial <= y0 {
         return None;
     }
     let g3 = 3.0 * shear;
     let eval = |d: f64| {
         let rate = rate_scale * d / dt;
-        let (y, dy_de, dy_dlnr) = model.flow_stress_slopes(eps_p + d, rate, temperature_k);
+        let (y, dy_de, dy_dlnr) = at.flow_stress_slopes(eps_p + d, rate);
         let dlnr = if d > 0.0 { dy_dlnr / d } else { 0.0 };
         (trial - g3 * d - y, -g3 - dy_de - dlnr)
     };
