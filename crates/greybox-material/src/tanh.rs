@@ -246,6 +246,28 @@ mod tests {
         assert!((got / want - 1.0).abs() < 1e-12, "{got} vs {want}");
     }
 
+    /// The elastic floor the radial return tests first is a lower bound of σ_y at every
+    /// temperature, and equals σ_y where the bound is tight (ε = 0, quasi-static, T = 0 K:
+    /// H = A, D = 1).
+    #[test]
+    fn floor_bounds_the_flow_stress_from_below() {
+        let m = TanhJohnsonCook::ti6al4v_sima_ozel_2010();
+        for t in [0.0, 298.0, 600.0, 1000.0, 1500.0, 1878.0, 2500.0] {
+            let at = m.at_temperature(t);
+            let floor = at.floor();
+            assert!(floor >= 0.0);
+            for e in [0.0, 1e-6, 0.01, 0.1, 0.5, 1.0, 3.0, 10.0, 100.0] {
+                for r in [0.0, 0.5, 1.0, 1e3, 1e7] {
+                    let y = m.flow_stress(e, r, t);
+                    assert!(floor <= y, "T {t}, ε {e}, ε̇ {r}: floor {floor} > σ_y {y}");
+                    assert_eq!(at.flow_stress_slopes(e, r), m.flow_stress_slopes(e, r, t));
+                }
+            }
+        }
+        let at0 = m.at_temperature(0.0);
+        assert_eq!(at0.floor(), m.flow_stress(0.0, 0.0, 0.0));
+    }
+
     /// The analytic slopes the radial return uses agree with central differences.
     #[test]
     fn slopes_match_finite_differences() {

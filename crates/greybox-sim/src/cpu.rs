@@ -7,7 +7,8 @@
 //! sums run in a fixed order, so every path gives the same bits: the path taken never changes a result.
 //!
 //! `GREYBOX_SIMD=baseline|avx2|avx512` caps the path (for comparisons and diagnosis); a
-//! path the CPU lacks falls back to the widest one below it.
+//! path the CPU lacks falls back to the widest one below it. Any other value sets no cap
+//! and is named in one warning on stderr.
 
 use std::sync::atomic::{AtomicU8, Ordering};
 
@@ -68,14 +69,32 @@ pub fn active() -> SimdPath {
     if let Some(p) = SimdPath::from_u8(ACTIVE.load(Ordering::Relaxed)) {
         return p;
     }
-    let cap = match std::env::var("GREYBOX_SIMD").ok().as_deref() {
-        Some("baseline") => SimdPath::Baseline,
-        Some("avx2") => SimdPath::Avx2,
-        _ => SimdPath::Avx512,
+    let cap = match cap_from(std::env::var("GREYBOX_SIMD").ok().as_deref()) {
+        Ok(cap) => cap,
+        Err(unknown) => {
+            // Once per process: the path is chosen once and then kept.
+            eprintln!(
+                "greybox: GREYBOX_SIMD={unknown:?} is not one of baseline, avx2, avx512; \
+                 no cap is set (the widest path the CPU has runs)"
+            );
+            SimdPath::Avx512
+        }
     };
     let p = widest_up_to(cap);
     ACTIVE.store(p as u8, Ordering::Relaxed);
     p
+}
+
+/// The cap a `GREYBOX_SIMD` value sets: a path's name, or no cap when unset or empty; any
+/// other value is returned as the error.
+fn cap_from(value: Option<&str>) -> Result<SimdPath, String> {
+    match value.map(str::trim) {
+        None | Some("") => Ok(SimdPath::Avx512),
+        Some(v) => SimdPath::ALL
+            .into_iter()
+            .find(|p| p.name().eq_ignore_ascii_case(v))
+            .ok_or_else(|| v.to_string()),
+    }
 }
 
 /// Runs the pair passes on `cap` (or the widest available path below it) from now on,
@@ -120,3 +139,19 @@ macro_rules! multiversion {
     };
 }
 pub(crate) use multiversion;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn simd_cap_names_a_path_or_is_refused() {
+        assert_eq!(cap_from(None), Ok(SimdPath::Avx512));
+        assert_eq!(cap_from(Some("")), Ok(SimdPath::Avx512));
+        assert_eq!(cap_from(Some("baseline")), Ok(SimdPath::Baseline));
+        assert_eq!(cap_from(Some(" AVX2 ")), Ok(SimdPath::Avx2));
+        assert_eq!(cap_from(Some("avx512")), Ok(SimdPath::Avx512));
+        assert_eq!(cap_from(Some("avx3")), Err("avx3".to_string()));
+        assert_eq!(cap_from(Some("sse")), Err("sse".to_string()));
+    }
+}

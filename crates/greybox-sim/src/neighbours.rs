@@ -12,7 +12,6 @@
 //! sums run in a fixed order, so results are the same bytes on any thread count — the
 //! scatter-free layout a GPU port uses as well.
 
-use crate::disjoint::DisjointMut;
 use rayon::prelude::*;
 
 /// The lists are private and written only by [`NeighbourList::build`]: the solver's
@@ -38,7 +37,6 @@ pub struct NeighbourList {
     cell_items: Vec<u32>,
     cell_fill: Vec<u32>,
     cell_of: Vec<u32>,
-    count: Vec<u32>,
     /// Cut-off radius (2h + skin), m.
     pub cutoff: f64,
     pub skin: f64,
@@ -105,8 +103,8 @@ impl NeighbourList {
         }
         let c2 = c * c;
         let (cs, ci, co) = (&self.cell_start, &self.cell_items, &self.cell_of);
-        // Partners j > i of particle i within the cut-off.
-        let visit = |i: usize, f: &mut dyn FnMut(u32)| {
+        // Partners j > i of particle i within the cut-off, pushed onto `row`.
+        let visit = |i: usize, row: &mut Vec<u32>| {
             let cell = co[i] as usize;
             let (cx, cy) = (cell % ncx, cell / ncx);
             for gy in cy.saturating_sub(1)..=(cy + 1).min(ncy - 1) {
@@ -115,42 +113,43 @@ impl NeighbourList {
                     for &j in &ci[cs[g] as usize..cs[g + 1] as usize] {
                         let ju = j as usize;
                         if ju > i && (x[i] - x[ju]).powi(2) + (y[i] - y[ju]).powi(2) < c2 {
-                            f(j);
+                            row.push(j);
                         }
                     }
                 }
             }
         };
-        self.count.resize(n, 0);
-        self.count.par_iter_mut().enumerate().for_each(|(i, k)| {
-            let mut m = 0u32;
-            visit(i, &mut |_| m += 1);
-            *k = m;
-        });
+        // One scan of the cells: each block of particles lists its rows, and the blocks are
+        // joined in order.
+        const BLOCK: usize = 256;
+        let blocks: Vec<(Vec<u32>, Vec<u32>)> = (0..n.div_ceil(BLOCK))
+            .into_par_iter()
+            .map(|b| {
+                let rows = b * BLOCK..((b + 1) * BLOCK).min(n);
+                let mut partners = Vec::with_capacity(16 * rows.len());
+                let mut ends = Vec::with_capacity(rows.len());
+                for i in rows {
+                    visit(i, &mut partners);
+                    ends.push(partners.len() as u32);
+                }
+                (partners, ends)
+            })
+            .collect();
         self.start.clear();
         self.start.push(0);
-        self.start.extend_from_slice(&self.count);
-        accumulate(&mut self.start);
-        let total = self.start[n];
         self.index.clear();
-        self.index.resize(total as usize, 0);
-        let rows = DisjointMut::new(&mut self.index);
-        let start = &self.start;
-        (0..n).into_par_iter().with_min_len(64).for_each(|i| {
-            // SAFETY: the rows of different particles are disjoint.
-            let row = unsafe { rows.range(start[i] as usize..start[i + 1] as usize) };
-            let mut k = 0;
-            visit(i, &mut |j| {
-                row[k] = j;
-                k += 1;
-            });
-        });
+        for (partners, ends) in &blocks {
+            let base = self.index.len() as u32;
+            self.start.extend(ends.iter().map(|e| base + e));
+            self.index.extend_from_slice(partners);
+        }
+        let total = self.index.len();
         // Reverse lists: counting sort of the pairs by their second partner, in pair order.
         counting_offsets(&self.index, n, &mut self.rev_start);
         self.rev_pair.clear();
-        self.rev_pair.resize(total as usize, 0);
+        self.rev_pair.resize(total, 0);
         self.rev_first.clear();
-        self.rev_first.resize(total as usize, 0);
+        self.rev_first.resize(total, 0);
         self.cell_fill.clone_from(&self.rev_start);
         for i in 0..n {
             for p in self.pairs(i) {
