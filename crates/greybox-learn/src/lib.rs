@@ -16,6 +16,7 @@
 /// Inference types, from `greybox-model` (kept here under their old paths).
 pub use greybox_model::{interval, matrix, modelfile, structure};
 pub mod boost;
+mod fast_tanh;
 pub mod cv;
 pub mod forest;
 pub mod importance;

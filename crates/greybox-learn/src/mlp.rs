@@ -32,6 +32,20 @@ fn derivative_from_output(act: Activation, a: f64) -> f64 {
     }
 }
 
+/// The activation over a row of pre-activations, in place (tanh by the vectorised
+/// [`crate::fast_tanh`]: training only; inference keeps libm's).
+#[inline(always)]
+fn activate(act: Activation, v: &mut [f64]) {
+    match act {
+        Activation::Tanh => crate::fast_tanh::tanh_in_place(v),
+        other => {
+            for o in v.iter_mut() {
+                *o = other.apply(*o);
+            }
+        }
+    }
+}
+
 struct Net {
     sizes: Vec<usize>,
     w: Vec<Vec<f64>>,
@@ -62,25 +76,60 @@ impl Net {
                 }
                 continue;
             }
-            for r in 0..n {
-                let out = &mut a_out[r * fo..(r + 1) * fo];
+            for out in a_out.chunks_exact_mut(fo) {
                 out.copy_from_slice(&self.b[k]);
-                for i in 0..fi {
-                    let v = a_in[r * fi + i];
-                    if v != 0.0 {
-                        let wrow = &self.w[k][i * fo..(i + 1) * fo];
-                        for (o, w) in out.iter_mut().zip(wrow) {
-                            *o += v * w;
-                        }
-                    }
-                }
-                if k + 1 < last {
-                    for o in out.iter_mut() {
-                        *o = self.act.apply(*o);
-                    }
+            }
+            // a_out (n × fo) += a_in (n × fi) · W (fi × fo)
+            gemm(n, fi, fo, (a_in, fi, 1), (&self.w[k], fo, 1), 1.0, a_out);
+            if k + 1 < last {
+                for out in a_out.chunks_exact_mut(fo) {
+                    activate(self.act, out);
                 }
             }
         }
+    }
+}
+
+/// C (m × n, row-major) ← A (m × k) · B (k × n) + β C, where A and B are given as
+/// (elements, row stride, column stride): a transpose is a swap of the strides. The
+/// blocked kernels of `matrixmultiply` (run-time AVX/FMA dispatch, one thread).
+#[inline]
+fn gemm(
+    m: usize,
+    k: usize,
+    n: usize,
+    a: (&[f64], usize, usize),
+    b: (&[f64], usize, usize),
+    beta: f64,
+    c: &mut [f64],
+) {
+    let last = |rows: usize, cols: usize, rs: usize, cs: usize| {
+        if rows == 0 || cols == 0 {
+            0
+        } else {
+            (rows - 1) * rs + (cols - 1) * cs + 1
+        }
+    };
+    assert!(a.0.len() >= last(m, k, a.1, a.2) && b.0.len() >= last(k, n, b.1, b.2));
+    assert!(c.len() >= m * n);
+    // SAFETY: the asserts keep every element the strides reach inside the slices.
+    unsafe {
+        matrixmultiply::dgemm(
+            m,
+            k,
+            n,
+            1.0,
+            a.0.as_ptr(),
+            a.1 as isize,
+            a.2 as isize,
+            b.0.as_ptr(),
+            b.1 as isize,
+            b.2 as isize,
+            beta,
+            c.as_mut_ptr(),
+            n as isize,
+            1,
+        );
     }
 }
 
@@ -200,7 +249,6 @@ struct Backprop {
     g_b: Vec<Vec<f64>>,
     acts: Vec<Vec<f64>>,
     deltas: Vec<Vec<f64>>,
-    wt_buf: Vec<Vec<f64>>,
 }
 
 impl Backprop {
@@ -211,7 +259,6 @@ impl Backprop {
             g_b: net.b.iter().map(|b| vec![0.0; b.len()]).collect(),
             acts: vec![Vec::new(); n],
             deltas: vec![Vec::new(); n],
-            wt_buf: vec![Vec::new(); n],
         }
     }
 
@@ -238,27 +285,13 @@ impl Backprop {
         let (fi, fo) = (net.sizes[k], net.sizes[k + 1]);
         let gw = &mut self.g_w[k];
         let gb = &mut self.g_b[k];
-        gw.iter_mut().for_each(|v| *v = 0.0);
+        let d = &self.deltas[k + 1];
+        let a = &self.acts[k];
+        // ∂W (fi × fo) = a_kᵀ (fi × nb) · δ (nb × fo)
+        gemm(fi, nb, fo, (a, 1, fi), (d, fo, 1), 0.0, gw);
         gb.iter_mut().for_each(|v| *v = 0.0);
-        for r in 0..nb {
-            let d = &self.deltas[k + 1][r * fo..(r + 1) * fo];
-            let a = &self.acts[k][r * fi..(r + 1) * fi];
-            if fo == 1 {
-                for (g, av) in gw.iter_mut().zip(a) {
-                    *g += av * d[0];
-                }
-                gb[0] += d[0];
-                continue;
-            }
-            for i in 0..fi {
-                if a[i] != 0.0 {
-                    let row = &mut gw[i * fo..(i + 1) * fo];
-                    for (g, dv) in row.iter_mut().zip(d) {
-                        *g += a[i] * dv;
-                    }
-                }
-            }
-            for (g, dv) in gb.iter_mut().zip(d) {
+        for row in d.chunks_exact(fo).take(nb) {
+            for (g, dv) in gb.iter_mut().zip(row) {
                 *g += dv;
             }
         }
@@ -269,33 +302,17 @@ impl Backprop {
         gb.iter_mut().for_each(|g| *g *= inv);
     }
 
-    /// The delta of hidden layer k: δ_k = (δ_{k+1} Wᵀ) ⊙ f'(a_k), accumulated row by row as
-    /// axpy over the transposed weights.
+    /// The delta of hidden layer k: δ_k = (δ_{k+1} Wᵀ) ⊙ f'(a_k).
     #[inline(always)]
     fn delta_below(&mut self, net: &Net, k: usize, nb: usize) {
         let (fi, fo) = (net.sizes[k], net.sizes[k + 1]);
-        let wt = &mut self.wt_buf[k];
-        wt.clear();
-        wt.resize(fi * fo, 0.0);
-        for i in 0..fi {
-            for o in 0..fo {
-                wt[o * fi + i] = net.w[k][i * fo + o];
-            }
-        }
         let mut dk = std::mem::take(&mut self.deltas[k]);
         dk.clear();
         dk.resize(nb * fi, 0.0);
-        for r in 0..nb {
-            let d = &self.deltas[k + 1][r * fo..(r + 1) * fo];
-            let out = &mut dk[r * fi..(r + 1) * fi];
-            for (o, dv) in d.iter().enumerate() {
-                for (acc, w) in out.iter_mut().zip(&wt[o * fi..(o + 1) * fi]) {
-                    *acc += dv * w;
-                }
-            }
-            for (acc, a) in out.iter_mut().zip(&self.acts[k][r * fi..(r + 1) * fi]) {
-                *acc *= derivative_from_output(net.act, *a);
-            }
+        // δ_k (nb × fi) = δ_{k+1} (nb × fo) · Wᵀ (fo × fi)
+        gemm(nb, fo, fi, (&self.deltas[k + 1], fo, 1), (&net.w[k], 1, fo), 0.0, &mut dk);
+        for (acc, a) in dk.iter_mut().zip(&self.acts[k]) {
+            *acc *= derivative_from_output(net.act, *a);
         }
         self.deltas[k] = dk;
     }

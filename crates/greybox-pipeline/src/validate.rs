@@ -803,6 +803,17 @@ mod tests {
     use super::*;
 
     #[test]
+    fn mu_star_is_where_the_mean_error_line_crosses_zero() {
+        // Mean error −0.2 at μ 0.2 and +0.4 at μ 0.8: zero at 0.2 + 0.6 · 0.2/0.6 = 0.4.
+        let (a, b) = ([-0.3, 0.5], [-0.1, 0.3]);
+        assert!((mu_star([0.2, 0.8], &[&a, &b]) - 0.4).abs() < 1e-15);
+        // Outside the bracket: its nearer end; flat: its middle.
+        assert_eq!(mu_star([0.2, 0.8], &[&[0.1, 0.3]]), 0.2);
+        assert_eq!(mu_star([0.2, 0.8], &[&[-0.5, -0.1]]), 0.8);
+        assert_eq!(mu_star([0.2, 0.8], &[&[0.1, 0.1]]), 0.5);
+    }
+
+    #[test]
     fn repeated_tool_models_run_once_in_the_order_named() {
         use ToolModel::{Adiabatic, Thermal};
         assert_eq!(
