@@ -27,8 +27,10 @@ const INV_FACT: [f64; 18] = {
 
 /// Rounds to the nearest integer (ties to even) when added and subtracted (|v| < 2⁵¹).
 const ROUNDER: f64 = 6755399441055744.0; // 1.5 · 2⁵²
-const LN2_HI: f64 = 6.931_471_803_691_238_164_9e-1;
-const LN2_LO: f64 = 1.908_214_929_270_587_700_0e-10;
+/// ln 2 = LN2_HI + LN2_LO, the high part with 32 trailing zero bits (fdlibm's `ln2HI[0]`,
+/// `ln2LO[0]`: 6.93147180369123816490e-01, 1.90821492927058770002e-10).
+const LN2_HI: f64 = f64::from_bits(0x3fe6_2e42_fee0_0000);
+const LN2_LO: f64 = f64::from_bits(0x3dea_39ef_3579_3c76);
 
 /// expm1(r) for −40 ≤ r ≤ 0, branch-free (module docs).
 #[inline(always)]
@@ -113,7 +115,15 @@ mod tests {
 
     #[test]
     fn signs_limits_and_nan() {
-        let mut v = [0.0, -0.0, 1e300, -1e300, f64::INFINITY, f64::NEG_INFINITY, f64::NAN];
+        let mut v = [
+            0.0,
+            -0.0,
+            1e300,
+            -1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
         tanh_in_place(&mut v);
         assert_eq!(v[0].to_bits(), 0.0f64.to_bits());
         assert_eq!(v[1].to_bits(), (-0.0f64).to_bits());

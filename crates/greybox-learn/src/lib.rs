@@ -16,8 +16,8 @@
 /// Inference types, from `greybox-model` (kept here under their old paths).
 pub use greybox_model::{interval, matrix, modelfile, structure};
 pub mod boost;
-mod fast_tanh;
 pub mod cv;
+mod fast_tanh;
 pub mod forest;
 pub mod importance;
 pub mod metrics;

@@ -310,7 +310,15 @@ impl Backprop {
         dk.clear();
         dk.resize(nb * fi, 0.0);
         // δ_k (nb × fi) = δ_{k+1} (nb × fo) · Wᵀ (fo × fi)
-        gemm(nb, fo, fi, (&self.deltas[k + 1], fo, 1), (&net.w[k], 1, fo), 0.0, &mut dk);
+        gemm(
+            nb,
+            fo,
+            fi,
+            (&self.deltas[k + 1], fo, 1),
+            (&net.w[k], 1, fo),
+            0.0,
+            &mut dk,
+        );
         for (acc, a) in dk.iter_mut().zip(&self.acts[k]) {
             *acc *= derivative_from_output(net.act, *a);
         }

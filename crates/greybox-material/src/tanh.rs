@@ -98,7 +98,8 @@ impl TanhJohnsonCook {
 
     /// σ_y, ∂σ_y/∂ε_p and ∂σ_y/∂ln ε̇_p (Pa each).
     pub fn flow_stress_slopes(&self, eps_p: f64, strain_rate: f64, t: f64) -> (f64, f64, f64) {
-        self.at_temperature(t).flow_stress_slopes(eps_p, strain_rate)
+        self.at_temperature(t)
+            .flow_stress_slopes(eps_p, strain_rate)
     }
 
     /// The model at temperature `t` (K): its factors that depend on the temperature alone,
