@@ -406,9 +406,10 @@ fn validation_split(
 
 /// Mini-batch Adam epochs with early stopping on the validation R² (the best weights
 /// are kept); returns (epochs run, best epoch).
-/// [`train_on`] compiled for AVX2 where the CPU has it (wider vectors for the same
-/// element-wise arithmetic: no fused multiply-add, no reordered sums, so the same bits), else
-/// for the baseline.
+/// [`train_on`] compiled for AVX2 where the CPU has it (wider vectors for the element-wise
+/// arithmetic: activations, deltas, Adam), else for the baseline. The matrix products pick
+/// their own kernels ([`gemm`]: fused multiply-add where the CPU has it), so a fit gives the
+/// same bits on the same CPU, and may differ in the last bits between CPUs.
 fn train(
     p: &MlpParams,
     net: &mut Net,

@@ -182,11 +182,10 @@ impl FlowAt<'_> {
     }
 
     /// A lower bound of σ_y at this temperature over every ε_p ≥ 0 and ε̇_p ≥ 0, Pa (0 where
-    /// the model gives none).
+    /// none is kept: J-C has its own specialised return with the same test, A·(1 − T*^m)).
     pub fn floor(&self) -> f64 {
         match self {
             FlowAt::Tanh(m) => m.floor(),
-            FlowAt::Any(FlowStress::JohnsonCook(m), t) => m.a_pa * m.thermal_factor(*t),
             FlowAt::Any(..) => 0.0,
         }
     }

@@ -126,6 +126,7 @@ impl NeighbourList {
             .into_par_iter()
             .map(|b| {
                 let rows = b * BLOCK..((b + 1) * BLOCK).min(n);
+                // About 14 partners per half-list row at the default smoothing.
                 let mut partners = Vec::with_capacity(16 * rows.len());
                 let mut ends = Vec::with_capacity(rows.len());
                 for i in rows {
