@@ -373,7 +373,8 @@ fn interior_point_svr_reaches_the_dual_optimum_smo_approaches() {
 }
 
 /// Block prediction (trees chunk by chunk over blocks of rows) gives every row the bits of
-/// its one-row prediction, for f64 and f32 leaf sums, over several blocks and a partial one.
+/// its one-row prediction, for f64 and f32 leaf sums, over several blocks and a partial one,
+/// with the rows taken in the first tree's leaf order (700 rows: more than two blocks).
 #[test]
 fn block_predictions_equal_one_row_predictions_bit_for_bit() {
     use greybox_model::tree::Accumulation;

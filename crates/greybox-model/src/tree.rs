@@ -23,11 +23,20 @@ pub struct Node {
 /// Value of the leaf that `x` falls into, starting at `root`.
 #[inline]
 pub fn walk(nodes: &[Node], root: u32, x: &[f64]) -> f64 {
-    let mut n = &nodes[root as usize];
-    while n.feature != LEAF {
-        n = &nodes[(n.left + u32::from(x[n.feature as usize] > n.value)) as usize];
+    nodes[leaf_index(nodes, root, x) as usize].value
+}
+
+/// Index of the leaf that `x` falls into, starting at `root`.
+#[inline]
+fn leaf_index(nodes: &[Node], root: u32, x: &[f64]) -> u32 {
+    let mut k = root;
+    loop {
+        let n = &nodes[k as usize];
+        if n.feature == LEAF {
+            return k;
+        }
+        k = n.left + u32::from(x[n.feature as usize] > n.value);
     }
-    n.value
 }
 
 /// How the leaves of the trees are added up.
@@ -134,37 +143,63 @@ impl TreeEnsemble {
     /// row. Rows go in blocks of [`PREDICT_BLOCK`], and each block walks one chunk of trees
     /// for all its rows before the next chunk, so those trees' nodes stay in cache: a large
     /// forest (200 deep trees of 10⁴ rows are ≈ 30 MB of nodes) is read once per block
-    /// instead of once per row. Every row still adds its leaves in tree order.
+    /// instead of once per row. The blocks take the rows in [`Self::locality_order`], so
+    /// that a block's rows lie close together in feature space and walk mostly the same
+    /// nodes; every row still adds its leaves in tree order.
     pub fn predict_rows(&self, x: &crate::matrix::Matrix) -> Vec<f64> {
-        let mut out = Vec::with_capacity(x.n_rows);
-        for first in (0..x.n_rows).step_by(PREDICT_BLOCK) {
-            let block = first..(first + PREDICT_BLOCK).min(x.n_rows);
+        let mut out = vec![0.0; x.n_rows];
+        for block in self.locality_order(x).chunks(PREDICT_BLOCK) {
             match self.accumulation {
                 Accumulation::F64 => {
-                    let sums = self.block_sums(x, block.clone(), 0.0f64, |v| v);
-                    out.extend(sums.into_iter().map(|s| self.base + self.scale * s));
+                    let sums = self.block_sums(x, block, 0.0f64, |v| v);
+                    for (&r, s) in block.iter().zip(sums) {
+                        out[r as usize] = self.base + self.scale * s;
+                    }
                 }
                 Accumulation::F32 => {
                     let sums = self.block_sums(x, block, self.base as f32, |v| v as f32);
-                    out.extend(sums.into_iter().map(|s| s as f64));
+                    for (&r, s) in block.iter().zip(sums) {
+                        out[r as usize] = s as f64;
+                    }
                 }
             }
         }
         out
     }
 
+    /// The rows of `x` ordered by the leaf of the first tree they fall into (ties in row
+    /// order), or in row order when there are too few rows to fill two blocks. The first
+    /// tree's leaves, numbered depth first, partition the feature space into cells whose
+    /// neighbours in index are neighbours in space, so consecutive rows walk mostly the same
+    /// paths of every tree. Deep trees of 10⁵ training rows are megabytes each, and rows in
+    /// their given (random) order miss the cache at nearly every level.
+    fn locality_order(&self, x: &crate::matrix::Matrix) -> Vec<u32> {
+        let rows = 0..x.n_rows as u32;
+        let Some(&first) = self.roots.first() else {
+            return rows.collect();
+        };
+        if x.n_rows < 2 * PREDICT_BLOCK {
+            return rows.collect();
+        }
+        let mut keyed: Vec<(u32, u32)> = rows
+            .map(|r| (leaf_index(&self.nodes, first, x.row(r as usize)), r))
+            .collect();
+        keyed.sort_unstable();
+        keyed.into_iter().map(|(_, r)| r).collect()
+    }
+
     /// [`Self::sum_leaves`] for the rows `block` of `x`, trees chunk by chunk.
     fn block_sums<T: std::ops::AddAssign + Copy>(
         &self,
         x: &crate::matrix::Matrix,
-        block: std::ops::Range<usize>,
+        block: &[u32],
         start: T,
         leaf: impl Fn(f64) -> T,
     ) -> Vec<T> {
         let mut sums = vec![start; block.len()];
         for chunk in self.roots.chunks(WALK_LANES) {
-            for (s, r) in sums.iter_mut().zip(block.clone()) {
-                self.add_chunk_leaves(chunk, x.row(r), s, &leaf);
+            for (s, &r) in sums.iter_mut().zip(block) {
+                self.add_chunk_leaves(chunk, x.row(r as usize), s, &leaf);
             }
         }
         sums
