@@ -6,7 +6,7 @@
 //! not set a value (λ = 1, min_child_weight = 1, γ = 0).
 
 use crate::model::Regressor;
-use crate::tree::{grow_presorted, GrowParams, TreeEnsemble};
+use crate::tree::{grow_with_leaves, GrowParams, TreeEnsemble};
 use crate::Matrix;
 use greybox_core::{Error, Result};
 use rand::SeedableRng;
@@ -68,9 +68,13 @@ impl Regressor for BoostParams {
                 g[i] = pred[i] - y[i];
             }
             let mut nodes = Vec::new();
-            let root = grow_presorted(x, &g, &h, order.clone(), p, &mut rng, &mut nodes);
-            for (i, pi) in pred.iter_mut().enumerate() {
-                *pi += crate::tree::walk(&nodes, root, x.row(i));
+            let (root, fell) = grow_with_leaves(x, &g, &h, &order, p, &mut rng, &mut nodes);
+            // Every row adds the value of the leaf it fell into (what a walk would find).
+            for (leaf, rows) in fell.iter() {
+                let v = nodes[leaf as usize].value;
+                for &i in rows {
+                    pred[i as usize] += v;
+                }
             }
             ens.push_tree(nodes, root);
         }
