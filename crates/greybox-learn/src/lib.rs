@@ -17,7 +17,7 @@
 pub use greybox_model::{interval, matrix, modelfile, structure};
 pub mod boost;
 pub mod cv;
-mod fast_tanh;
+mod fast_math;
 pub mod forest;
 pub mod importance;
 pub mod metrics;
@@ -26,6 +26,7 @@ pub mod model;
 pub mod protocol;
 pub mod svr;
 pub mod svr_lowrank;
+mod svr_rows;
 mod svr_smo;
 #[cfg(test)]
 mod svr_smo_dense;

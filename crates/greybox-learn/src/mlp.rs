@@ -33,11 +33,11 @@ fn derivative_from_output(act: Activation, a: f64) -> f64 {
 }
 
 /// The activation over a row of pre-activations, in place (tanh by the vectorised
-/// [`crate::fast_tanh`]: training only; inference keeps libm's).
+/// [`crate::fast_math`]: training only; inference keeps libm's).
 #[inline(always)]
 fn activate(act: Activation, v: &mut [f64]) {
     match act {
-        Activation::Tanh => crate::fast_tanh::tanh_in_place(v),
+        Activation::Tanh => crate::fast_math::tanh_in_place(v),
         other => {
             for o in v.iter_mut() {
                 *o = other.apply(*o);

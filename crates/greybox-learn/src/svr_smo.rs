@@ -8,8 +8,9 @@
 //! the shrunk variables' gradients add the same terms in the same order (see the test
 //! against the full-matrix reference, `svr_smo_dense`).
 
+use crate::svr_rows::{kernel_diagonal, kernel_row};
 use crate::Matrix;
-use greybox_model::svr::{kernel_value, SvrParams};
+use greybox_model::svr::SvrParams;
 
 const TAU: f64 = 1e-12;
 
@@ -25,15 +26,8 @@ pub(crate) struct Dual {
 /// rows (at least two rows are kept whatever the budget).
 pub(crate) fn solve(p: &SvrParams, z: &Matrix, y: &[f64], gamma: f64, cache_bytes: usize) -> Dual {
     let l = z.n_rows;
-    let k =
-        |i: usize, j: usize| kernel_value(p.kernel, gamma, p.degree, p.coef0, z.row(i), z.row(j));
-    // K(r, s) as the full matrix had it: computed for s ≤ r and mirrored
-    let fill = |r: usize, row: &mut [f64]| {
-        for (s, v) in row.iter_mut().enumerate() {
-            *v = if s <= r { k(r, s) } else { k(s, r) };
-        }
-    };
-    let qd: Vec<f64> = (0..l).map(|r| k(r, r)).collect();
+    let fill = |r: usize, row: &mut [f64]| kernel_row(p, gamma, z, r, row);
+    let qd = kernel_diagonal(p, gamma, z);
     let cache = KernelCache::new(l, cache_bytes, fill);
     let max_iter = p.max_iter.unwrap_or((100 * l).max(10_000_000));
     let mut smo = Smo::new(cache, &qd, p.c, p.tol, p.epsilon, y);

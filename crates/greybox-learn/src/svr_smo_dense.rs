@@ -2,24 +2,19 @@
 //! its iterates are compared with: the l × l kernel matrix computed up front and an l × 2l
 //! copy with columns in working order.
 
+use crate::svr_rows::kernel_row;
 use crate::svr_smo::Dual;
 use crate::Matrix;
-use greybox_model::svr::{kernel_value, SvrParams};
+use greybox_model::svr::SvrParams;
 
 const TAU: f64 = 1e-12;
 
 /// The dual by the full-matrix solver, in the original variable order.
 pub(crate) fn solve(p: &SvrParams, z: &Matrix, y: &[f64], gamma: f64) -> Dual {
     let l = z.n_rows;
-    let k =
-        |i: usize, j: usize| kernel_value(p.kernel, gamma, p.degree, p.coef0, z.row(i), z.row(j));
     let mut kmat = vec![0.0; l * l];
-    for i in 0..l {
-        for j in 0..=i {
-            let v = k(i, j);
-            kmat[i * l + j] = v;
-            kmat[j * l + i] = v;
-        }
+    for (i, row) in kmat.chunks_exact_mut(l.max(1)).enumerate() {
+        kernel_row(p, gamma, z, i, row);
     }
     let n2 = 2 * l;
     let max_iter = p.max_iter.unwrap_or((100 * l).max(10_000_000));
