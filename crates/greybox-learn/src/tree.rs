@@ -115,9 +115,7 @@ pub fn grow_presorted(
     rng: &mut ChaCha8Rng,
     nodes: &mut Vec<Node>,
 ) -> u32 {
-    let root = nodes.len() as u32;
-    builder(x, g, h, order, p, rng, nodes).build(0, order.first().map_or(0, |o| o.len()), 0, root);
-    root
+    grow_with_leaves(x, g, h, order, p, rng, nodes).0
 }
 
 /// [`grow_presorted`], also returning which rows ended in which leaf.
