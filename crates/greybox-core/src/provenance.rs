@@ -44,6 +44,24 @@ pub fn sha256_bytes(bytes: &[u8]) -> String {
     hex(&Sha256::digest(bytes))
 }
 
+/// Hex SHA-256 of a value's compact JSON (`serde_json::to_vec`), serialised straight into
+/// the hasher: no copy of the text is held, whatever its size.
+pub fn sha256_json<T: Serialize + ?Sized>(value: &T) -> serde_json::Result<String> {
+    struct Hasher(Sha256);
+    impl std::io::Write for Hasher {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            self.0.update(buf);
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+    let mut h = Hasher(Sha256::new());
+    serde_json::to_writer(&mut h, value)?;
+    Ok(hex(&h.0.finalize()))
+}
+
 /// Hex SHA-256 of a file, streamed.
 pub fn sha256_file(path: &Path) -> Result<(String, u64)> {
     let mut f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;

@@ -4,12 +4,19 @@
 use crate::column::Column;
 use crate::family::{Family, FittedModel, Hyperparameters, Predictor};
 use crate::interval::PredictionInterval;
-use greybox_core::atomic::write_string_atomic;
+use greybox_core::atomic::write_atomic;
 use greybox_core::{Error, Result, SourcePos};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 pub const SCHEMA: &str = "greybox-model";
+
+/// The fields a model file is recognised by, read before the rest (any other field skipped).
+#[derive(Default, Deserialize)]
+struct Head {
+    schema: Option<serde_json::Value>,
+    schema_version: Option<serde_json::Value>,
+}
 /// Version 2 added `force_to_pressure` and `provenance`; version-1 files still load (they
 /// lack both, so a law built from one needs its contact stated).
 pub const SCHEMA_VERSION: u32 = 2;
@@ -177,12 +184,13 @@ impl ModelFile {
         })
     }
 
-    fn hash(&self) -> Result<String> {
-        let mut copy = self.clone();
-        copy.content_hash.clear();
-        let json =
-            serde_json::to_vec(&copy).map_err(|e| Error::invalid("model file", e.to_string()))?;
-        Ok(greybox_core::provenance::sha256_bytes(&json))
+    /// SHA-256 of the compact JSON with `content_hash` empty, streamed (a forest of 10⁵ rows
+    /// is hundreds of MB of JSON). `content_hash` is restored.
+    fn hash(&mut self) -> Result<String> {
+        let stated = std::mem::take(&mut self.content_hash);
+        let digest = greybox_core::provenance::sha256_json(self);
+        self.content_hash = stated;
+        digest.map_err(|e| Error::invalid("model file", e.to_string()))
     }
 
     /// Fill in the content hash.
@@ -191,10 +199,11 @@ impl ModelFile {
         Ok(self)
     }
 
+    /// Write the file (pretty JSON), streamed into a temporary file that replaces `path`.
     pub fn save(&self, path: &Path) -> Result<()> {
-        let json = serde_json::to_string_pretty(self)
-            .map_err(|e| Error::invalid("model file", e.to_string()))?;
-        write_string_atomic(path, &json)
+        write_atomic(path, |w| {
+            serde_json::to_writer_pretty(w, self).map_err(std::io::Error::other)
+        })
     }
 
     /// Load and verify schema, version and hash.
@@ -203,17 +212,24 @@ impl ModelFile {
         Self::parse(&text, &path.display().to_string())
     }
 
+    /// Parse and verify a model file's text. The schema and version are read first (the
+    /// rest of the text skipped, not built), then the file straight into its types: no
+    /// generic JSON tree of a forest's millions of nodes is held.
     pub fn parse(text: &str, source: &str) -> Result<Self> {
         let pos = || SourcePos::file(source);
-        let v: serde_json::Value = serde_json::from_str(text)
-            .map_err(|e| Error::input(pos().line(e.line() as u64), format!("not JSON: {e}")))?;
-        if v.get("schema").and_then(|s| s.as_str()) != Some(SCHEMA) {
+        let not_json = |e: serde_json::Error| {
+            Error::input(pos().line(e.line() as u64), format!("not JSON: {e}"))
+        };
+        serde_json::from_str::<serde::de::IgnoredAny>(text).map_err(not_json)?;
+        // Not an object (an array, a number): no schema.
+        let head: Head = serde_json::from_str(text).unwrap_or_default();
+        if head.schema.as_ref().and_then(|s| s.as_str()) != Some(SCHEMA) {
             return Err(Error::input(
                 pos().field("schema"),
                 format!("not a greybox model file (schema must be \"{SCHEMA}\")"),
             ));
         }
-        let version = v.get("schema_version");
+        let version = head.schema_version.as_ref();
         if !version
             .and_then(|s| s.as_u64())
             .is_some_and(|v| READABLE_VERSIONS.contains(&v))
@@ -224,8 +240,12 @@ impl ModelFile {
                 format!("schema version {stated} is not supported (this greybox reads versions 1 and {SCHEMA_VERSION}; a newer greybox wrote it, or the file was edited)"),
             ));
         }
-        let m: ModelFile = serde_json::from_value(v)
-            .map_err(|e| Error::input(pos(), format!("invalid model file: {e}")))?;
+        let mut m: ModelFile = serde_json::from_str(text).map_err(|e| {
+            Error::input(
+                pos().line(e.line() as u64),
+                format!("invalid model file: {e}"),
+            )
+        })?;
         if m.hash()? != m.content_hash {
             return Err(Error::input(
                 pos().field("content_hash"),
