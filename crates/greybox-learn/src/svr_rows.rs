@@ -1,6 +1,8 @@
 //! Kernel rows for SVR training (`svr_smo`): K(r, s) for every s in one call, so that the
 //! rbf's exp and the sigmoid's tanh run over the whole row in vectorised arithmetic
-//! ([`crate::fast_math`], within a few ulp of libm) instead of a libm call per element.
+//! ([`crate::fast_math`], within a few ulp of libm) instead of a libm call per element,
+//! built for AVX-512 or AVX2 where the processor has them (picked at run time; the same
+//! operations without fused multiply–add, so the same bits on every path).
 //! Training only: a fitted model predicts with `greybox_model::svr::kernel_value` (libm),
 //! as scikit-learn does.
 //!
@@ -15,9 +17,15 @@ use greybox_model::svr::{dot, kernel_value, Kernel, SvrParams};
 /// Row r of the kernel matrix of the standardised rows `z` into `row` (length z.n_rows).
 pub(crate) fn kernel_row(p: &SvrParams, gamma: f64, z: &Matrix, r: usize, row: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the processor has AVX2 (checked above)
-        return unsafe { kernel_row_avx2(p, gamma, z, r, row) };
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the processor has AVX-512F (checked above)
+            return unsafe { kernel_row_avx512(p, gamma, z, r, row) };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2 (checked above)
+            return unsafe { kernel_row_avx2(p, gamma, z, r, row) };
+        }
     }
     kernel_row_portable(p, gamma, z, r, row)
 }
@@ -27,6 +35,13 @@ pub(crate) fn kernel_row(p: &SvrParams, gamma: f64, z: &Matrix, r: usize, row: &
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn kernel_row_avx2(p: &SvrParams, gamma: f64, z: &Matrix, r: usize, row: &mut [f64]) {
+    kernel_row_portable(p, gamma, z, r, row)
+}
+
+/// [`kernel_row`] compiled for AVX-512 (eight lanes), the same bits as the portable build.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn kernel_row_avx512(p: &SvrParams, gamma: f64, z: &Matrix, r: usize, row: &mut [f64]) {
     kernel_row_portable(p, gamma, z, r, row)
 }
 
@@ -87,7 +102,8 @@ mod tests {
     use super::*;
 
     /// Rows agree with libm's kernel within a few ulp, are symmetric bit for bit, and the
-    /// diagonal is the rows' diagonal; AVX2 and portable builds give the same bits.
+    /// diagonal is the rows' diagonal; the dispatched build (AVX-512 where the processor has
+    /// it), AVX2 and the portable build give the same bits.
     #[test]
     fn rows_are_the_kernel_matrix() {
         let n = 40;
@@ -113,6 +129,13 @@ mod tests {
                     let mut portable = vec![0.0; n];
                     kernel_row_portable(&p, gamma, &z, r, &mut portable);
                     assert_eq!(row, portable, "{kernel:?} row {r}");
+                    #[cfg(target_arch = "x86_64")]
+                    if std::arch::is_x86_feature_detected!("avx2") {
+                        let mut avx2 = vec![0.0; n];
+                        // SAFETY: the processor has AVX2 (checked above)
+                        unsafe { kernel_row_avx2(&p, gamma, &z, r, &mut avx2) };
+                        assert_eq!(avx2, portable, "{kernel:?} row {r}, AVX2");
+                    }
                     row
                 })
                 .collect();
