@@ -34,6 +34,7 @@ pub mod csvutil;
 pub mod dataset;
 pub mod error;
 pub mod interrupt;
+pub mod json_head;
 pub mod law;
 pub mod linalg;
 pub mod outputs;

@@ -236,18 +236,13 @@ pub fn law_inputs(path: &Path) -> Result<Vec<PathBuf>> {
 fn read_spec(path: &Path) -> Result<(LawSpec, PathBuf)> {
     let text = greybox_core::budget::read_regular_text(path, "law file")?;
     let at_line = |e: &serde_json::Error| SourcePos::path(path).line(e.line() as u64);
-    // Syntax first, then only the schema: a model file used as a law can be hundreds of MB,
-    // and is read into its own types once, by the model loader.
-    serde_json::from_str::<serde::de::IgnoredAny>(&text)
+    // Only the schema: a model file used as a law can be hundreds of MB, and is read into
+    // its own types by the model loader.
+    let head = greybox_core::json_head::read(&text)
         .map_err(|e| Error::input(at_line(&e), format!("not JSON: {e}")))?;
-    #[derive(Default, serde::Deserialize)]
-    struct Head {
-        schema: Option<serde_json::Value>,
-    }
-    let head: Head = serde_json::from_str(&text).unwrap_or_default();
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let file_name = PathBuf::from(path.file_name().unwrap_or_default());
-    let spec = match head.schema.as_ref().and_then(|s| s.as_str()) {
+    let spec = match head.schema() {
         Some(s) if s == MODEL_SCHEMA => LawSpec::Learned {
             model: file_name,
             contact: None,

@@ -47,48 +47,56 @@ fn kernel_row_avx512(p: &SvrParams, gamma: f64, z: &Matrix, r: usize, row: &mut 
 
 #[inline(always)]
 fn kernel_row_portable(p: &SvrParams, gamma: f64, z: &Matrix, r: usize, row: &mut [f64]) {
-    let pair = |s: usize| if s <= r { (r, s) } else { (s, r) };
-    match p.kernel {
-        Kernel::Rbf => {
-            for (s, v) in row.iter_mut().enumerate() {
-                let (a, b) = pair(s);
-                *v = -gamma * squared_distance(z.row(a), z.row(b));
-            }
-            exp_nonpositive_in_place(row);
+    let pairs = (0..row.len()).map(|s| {
+        if s <= r {
+            (z.row(r), z.row(s))
+        } else {
+            (z.row(s), z.row(r))
         }
-        Kernel::Sigmoid => {
-            for (s, v) in row.iter_mut().enumerate() {
-                let (a, b) = pair(s);
-                *v = gamma * dot(z.row(a), z.row(b)) + p.coef0;
-            }
-            tanh_in_place(row);
-        }
-        Kernel::Linear | Kernel::Poly => {
-            for (s, v) in row.iter_mut().enumerate() {
-                let (a, b) = pair(s);
-                *v = kernel_value(p.kernel, gamma, p.degree, p.coef0, z.row(a), z.row(b));
-            }
-        }
-    }
+    });
+    kernel_values(p, gamma, pairs, row);
 }
 
 /// The diagonal K(r, r) of the kernel matrix, equal bit for bit to the rows' diagonals.
 pub(crate) fn kernel_diagonal(p: &SvrParams, gamma: f64, z: &Matrix) -> Vec<f64> {
-    let mut d: Vec<f64> = (0..z.n_rows)
-        .map(|r| match p.kernel {
-            Kernel::Rbf => -gamma * squared_distance(z.row(r), z.row(r)),
-            Kernel::Sigmoid => gamma * dot(z.row(r), z.row(r)) + p.coef0,
-            Kernel::Linear | Kernel::Poly => {
-                kernel_value(p.kernel, gamma, p.degree, p.coef0, z.row(r), z.row(r))
-            }
-        })
-        .collect();
-    match p.kernel {
-        Kernel::Rbf => exp_nonpositive_in_place(&mut d),
-        Kernel::Sigmoid => tanh_in_place(&mut d),
-        Kernel::Linear | Kernel::Poly => {}
-    }
+    let mut d = vec![0.0; z.n_rows];
+    kernel_values(
+        p,
+        gamma,
+        (0..z.n_rows).map(|r| (z.row(r), z.row(r))),
+        &mut d,
+    );
     d
+}
+
+/// K(a, b) of each pair into `out`: the arguments first, then the rbf's exp or the
+/// sigmoid's tanh over all of them.
+#[inline(always)]
+fn kernel_values<'z>(
+    p: &SvrParams,
+    gamma: f64,
+    pairs: impl Iterator<Item = (&'z [f64], &'z [f64])>,
+    out: &mut [f64],
+) {
+    match p.kernel {
+        Kernel::Rbf => {
+            for (v, (a, b)) in out.iter_mut().zip(pairs) {
+                *v = -gamma * squared_distance(a, b);
+            }
+            exp_nonpositive_in_place(out);
+        }
+        Kernel::Sigmoid => {
+            for (v, (a, b)) in out.iter_mut().zip(pairs) {
+                *v = gamma * dot(a, b) + p.coef0;
+            }
+            tanh_in_place(out);
+        }
+        Kernel::Linear | Kernel::Poly => {
+            for (v, (a, b)) in out.iter_mut().zip(pairs) {
+                *v = kernel_value(p.kernel, gamma, p.degree, p.coef0, a, b);
+            }
+        }
+    }
 }
 
 /// ‖a − b‖², summed in feature order as `kernel_value` sums it.

@@ -101,24 +101,11 @@ pub fn grow(
     rng: &mut ChaCha8Rng,
     nodes: &mut Vec<Node>,
 ) -> u32 {
-    grow_presorted(x, g, h, &presort(x, rows), p, rng, nodes)
+    grow_with_leaves(x, g, h, &presort(x, rows), p, rng, nodes).0
 }
 
-/// [`grow`] from rows already sorted per feature ([`presort`]); boosting sorts its rows once
-/// for all its trees.
-pub fn grow_presorted(
-    x: &Matrix,
-    g: &[f64],
-    h: &[f64],
-    order: &[Vec<usize>],
-    p: GrowParams,
-    rng: &mut ChaCha8Rng,
-    nodes: &mut Vec<Node>,
-) -> u32 {
-    grow_with_leaves(x, g, h, order, p, rng, nodes).0
-}
-
-/// [`grow_presorted`], also returning which rows ended in which leaf.
+/// [`grow`] from rows already sorted per feature ([`presort`]; boosting sorts its rows once
+/// for all its trees), also returning which rows ended in which leaf.
 pub fn grow_with_leaves(
     x: &Matrix,
     g: &[f64],

@@ -10,13 +10,6 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 pub const SCHEMA: &str = "greybox-model";
-
-/// The fields a model file is recognised by, read before the rest (any other field skipped).
-#[derive(Default, Deserialize)]
-struct Head {
-    schema: Option<serde_json::Value>,
-    schema_version: Option<serde_json::Value>,
-}
 /// Version 2 added `force_to_pressure` and `provenance`; version-1 files still load (they
 /// lack both, so a law built from one needs its contact stated).
 pub const SCHEMA_VERSION: u32 = 2;
@@ -212,18 +205,16 @@ impl ModelFile {
         Self::parse(&text, &path.display().to_string())
     }
 
-    /// Parse and verify a model file's text. The schema and version are read first (the
-    /// rest of the text skipped, not built), then the file straight into its types: no
-    /// generic JSON tree of a forest's millions of nodes is held.
+    /// Parse and verify a model file's text. The schema and version are read first
+    /// ([`greybox_core::json_head`]), then the file straight into its types: no generic JSON
+    /// tree of a forest's millions of nodes is held.
     pub fn parse(text: &str, source: &str) -> Result<Self> {
         let pos = || SourcePos::file(source);
         let not_json = |e: serde_json::Error| {
             Error::input(pos().line(e.line() as u64), format!("not JSON: {e}"))
         };
-        serde_json::from_str::<serde::de::IgnoredAny>(text).map_err(not_json)?;
-        // Not an object (an array, a number): no schema.
-        let head: Head = serde_json::from_str(text).unwrap_or_default();
-        if head.schema.as_ref().and_then(|s| s.as_str()) != Some(SCHEMA) {
+        let head = greybox_core::json_head::read(text).map_err(not_json)?;
+        if head.schema() != Some(SCHEMA) {
             return Err(Error::input(
                 pos().field("schema"),
                 format!("not a greybox model file (schema must be \"{SCHEMA}\")"),
