@@ -15,7 +15,7 @@ use crate::classical::{
 };
 use crate::greybox::{GreyBoxLaw, PowerLaw};
 use crate::learned::LearnedLaw;
-use crate::table_file::{read_table, TABLE_SCHEMA};
+use crate::table_file::{parse_table, read_table, TABLE_SCHEMA};
 use greybox_contact::PinContact;
 use greybox_core::{units, Error, FrictionLaw, Result, SourcePos};
 use greybox_model::modelfile::{ModelFile, SCHEMA as MODEL_SCHEMA};
@@ -154,11 +154,7 @@ impl LawSpec {
             }
             LawSpec::Learned { model, contact } => {
                 let path = resolve(base, model);
-                let m = ModelFile::load(&path)?;
-                Box::new(
-                    LearnedLaw::new(m, contact.as_ref())
-                        .map_err(|e| Error::input(SourcePos::path(&path), e.to_string()))?,
-                )
+                learned(ModelFile::load(&path)?, contact.as_ref(), &path)?
             }
             LawSpec::PowerFit => {
                 return Err(Error::invalid(
@@ -216,40 +212,98 @@ fn resolve(base: &Path, p: &Path) -> PathBuf {
     }
 }
 
+/// A learned law from a loaded model file (`path` names it in errors).
+fn learned(
+    model: ModelFile,
+    contact: Option<&PinContact>,
+    path: &Path,
+) -> Result<Box<dyn FrictionLaw>> {
+    Ok(Box::new(LearnedLaw::new(model, contact).map_err(|e| {
+        Error::input(SourcePos::path(path), e.to_string())
+    })?))
+}
+
 /// Load a law from a law file, a model file or a table file.
 pub fn load_law(path: &Path) -> Result<Box<dyn FrictionLaw>> {
-    let (spec, base) = read_spec(path)?;
-    spec.build(&base)
+    LawFile::read(path)?.build()
 }
 
 /// Every file loading the law at `path` reads: the file itself and the model files and
 /// tables it names. All are inputs of a command that takes the law: an output must not
 /// replace any of them.
 pub fn law_inputs(path: &Path) -> Result<Vec<PathBuf>> {
-    let (spec, base) = read_spec(path)?;
-    let mut files = vec![path.to_path_buf()];
-    files.extend(spec.files(&base).into_iter().filter(|f| f != path));
-    Ok(files)
+    Ok(LawFile::read(path)?.inputs())
 }
 
-/// The law file's spec and the directory its relative paths are resolved against.
-fn read_spec(path: &Path) -> Result<(LawSpec, PathBuf)> {
-    let text = greybox_core::budget::read_regular_text(path, "law file")?;
-    let at_line = |e: &serde_json::Error| SourcePos::path(path).line(e.line() as u64);
-    // Only the schema: a model file used as a law can be hundreds of MB, and is read into
-    // its own types by the model loader.
-    let head = greybox_core::json_head::read(&text)
-        .map_err(|e| Error::input(at_line(&e), format!("not JSON: {e}")))?;
-    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let file_name = PathBuf::from(path.file_name().unwrap_or_default());
-    let spec = match head.schema() {
-        Some(s) if s == MODEL_SCHEMA => LawSpec::Learned {
-            model: file_name,
-            contact: None,
-        },
-        Some(s) if s == TABLE_SCHEMA => LawSpec::Table { file: file_name },
-        _ => serde_json::from_str(&text)
-            .map_err(|e| Error::input(at_line(&e), format!("invalid law file: {e}")))?,
-    };
-    Ok((spec, base))
+/// A law file read once: a command that first checks its outputs against the law's inputs
+/// ([`LawFile::inputs`]) and then builds the law ([`LawFile::build`]) reads the file one time,
+/// which matters for a model file of hundreds of MB given as the law (before, such a file
+/// was read three times: for its inputs, for its schema and by the model loader).
+#[derive(Debug)]
+pub struct LawFile {
+    path: PathBuf,
+    /// The directory relative paths are resolved against.
+    base: PathBuf,
+    content: LawContent,
+}
+
+#[derive(Debug)]
+enum LawContent {
+    /// A model file from `greybox fit`, its text kept for the model loader.
+    Model(String),
+    /// A table file, its text kept for the table reader.
+    Table(String),
+    /// A law file proper.
+    Spec(LawSpec),
+}
+
+impl LawFile {
+    /// Reads the file at `path` and tells a model file, a table file and a law file apart by
+    /// their schema (a model or table file is not parsed here: it can be hundreds of MB).
+    pub fn read(path: &Path) -> Result<Self> {
+        let text = greybox_core::budget::read_regular_text(path, "law file")?;
+        let at_line = |e: &serde_json::Error| SourcePos::path(path).line(e.line() as u64);
+        let head = greybox_core::json_head::read(&text)
+            .map_err(|e| Error::input(at_line(&e), format!("not JSON: {e}")))?;
+        let content = match head.schema() {
+            Some(s) if s == MODEL_SCHEMA => LawContent::Model(text),
+            Some(s) if s == TABLE_SCHEMA => LawContent::Table(text),
+            _ => LawContent::Spec(
+                serde_json::from_str(&text)
+                    .map_err(|e| Error::input(at_line(&e), format!("invalid law file: {e}")))?,
+            ),
+        };
+        Ok(LawFile {
+            path: path.to_path_buf(),
+            base: path.parent().map(Path::to_path_buf).unwrap_or_default(),
+            content,
+        })
+    }
+
+    /// The law file itself, then the model files and tables it names (see [`law_inputs`]).
+    pub fn inputs(&self) -> Vec<PathBuf> {
+        let mut files = vec![self.path.clone()];
+        if let LawContent::Spec(spec) = &self.content {
+            files.extend(
+                spec.files(&self.base)
+                    .into_iter()
+                    .filter(|f| f != &self.path),
+            );
+        }
+        files
+    }
+
+    /// Builds the law: a model or table file from the text already read, a law file through
+    /// [`LawSpec::build`] (which reads the files it names).
+    pub fn build(self) -> Result<Box<dyn FrictionLaw>> {
+        match self.content {
+            LawContent::Model(text) => learned(
+                ModelFile::parse(&text, &self.path.display().to_string())?,
+                None,
+                &self.path,
+            ),
+            LawContent::Table(text) => Ok(parse_table(&text, &self.path)?.into_law()),
+            LawContent::Spec(spec) => spec.build(&self.base),
+        }
+    }
 }

@@ -181,6 +181,34 @@ fn law_files() {
     assert!(e.contains("missing.json"), "{e}");
 }
 
+/// One read of a law file serves both its inputs and the law: a model file is its own only
+/// input (tables: `tables.rs`), a law file adds the files it names; the law built from the
+/// read file is the one `load_law` gives.
+#[test]
+fn a_law_file_read_once_names_its_inputs_and_builds_the_law() {
+    use greybox_friction::spec::LawFile;
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("m.json");
+    fitted_model(Family::Svr).save(&model).unwrap();
+    let law_path = dir.path().join("law.json");
+    std::fs::write(
+        &law_path,
+        r#"{"law": "grey-box", "inner": {"law": "learned", "model": "m.json"}, "outside": {"law": "coulomb", "mu": 0.4}}"#,
+    )
+    .unwrap();
+    let at = st(1200.0, 150.0);
+    for (path, inputs) in [
+        (&model, vec![model.clone()]),
+        (&law_path, vec![law_path.clone(), model.clone()]),
+    ] {
+        let file = LawFile::read(path).unwrap();
+        assert_eq!(file.inputs(), inputs, "{}", path.display());
+        let mu = file.build().unwrap().mu(&at);
+        assert_eq!(mu.to_bits(), load_law(path).unwrap().mu(&at).to_bits());
+        assert!(mu.is_finite() && mu > 0.0, "{mu}");
+    }
+}
+
 /// A model trained on a normal force: without a recorded or stated contact it is refused
 /// (never the textbook-max default); with its recorded map it needs none.
 #[test]

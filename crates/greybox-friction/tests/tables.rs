@@ -300,12 +300,20 @@ fn table_files_round_trip_through_load_law() {
         assert_eq!(back.kind(), t.kind());
         assert_eq!(back.shape(), t.shape());
         let loaded = load_law(&path).unwrap();
+        let read_once = greybox_friction::spec::LawFile::read(&path).unwrap();
+        assert_eq!(read_once.inputs(), vec![path.clone()]);
+        let built = read_once.build().unwrap();
         for s in random_states(src, 5_000, 21, 0.1) {
+            assert_eq!(built.mu(&s).to_bits(), loaded.mu(&s).to_bits());
             assert_eq!(loaded.mu(&s).to_bits(), t.law().mu(&s).to_bits());
         }
         // through a law file, as the C ABI loads it
         let spec = dir.path().join(format!("law-{name}"));
         std::fs::write(&spec, format!(r#"{{"law": "table", "file": "{name}"}}"#)).unwrap();
+        assert_eq!(
+            greybox_friction::spec::law_inputs(&spec).unwrap(),
+            vec![spec.clone(), path.clone()]
+        );
         let s = random_states(src, 1, 5, 0.0)[0];
         assert_eq!(load_law(&spec).unwrap().mu(&s), t.law().mu(&s));
     }

@@ -235,9 +235,13 @@ pub fn cut_case(setup: CuttingSetup, base: &Path) -> Result<CutCase> {
     let (law, law_source): (Arc<dyn FrictionLaw>, String) = match &setup.friction.law_file {
         Some(f) => {
             let p = base.join(f);
-            let law = greybox_friction::spec::load_law(&p)
+            let law_file = greybox_friction::spec::LawFile::read(&p)
                 .with_context(|| format!("friction.law_file {}", p.display()))?;
-            for f in greybox_friction::spec::law_inputs(&p)? {
+            let law_files = law_file.inputs();
+            let law = law_file
+                .build()
+                .with_context(|| format!("friction.law_file {}", p.display()))?;
+            for f in law_files {
                 let role = if f == p {
                     "friction.law_file"
                 } else {

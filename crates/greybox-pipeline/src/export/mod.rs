@@ -12,7 +12,7 @@ use greybox_core::choice::Choice;
 use greybox_core::law::Range;
 use greybox_core::outputs::check_file_output;
 use greybox_friction::export::{self, DeformWindow, Deviation, Exported, Grid, TableOptions};
-use greybox_friction::spec::{law_inputs, load_law};
+use greybox_friction::spec::LawFile;
 use greybox_friction::surrogate::{self, SurrogateOptions};
 use greybox_friction::table::Axis;
 use greybox_friction::table_file::{AnyTable, TableKind};
@@ -95,7 +95,10 @@ pub fn parse_values(text: &str, what: &str) -> Result<Vec<f64>> {
 /// Export; returns what was written and its deviation from the law.
 pub fn export(a: &ExportOptions) -> Result<ExportReport> {
     a.validate()?;
-    let law_files = law_inputs(&a.law)?;
+    // Read once: the outputs are checked against the law's inputs before the law (possibly
+    // a model file of hundreds of MB) is built from the text read here.
+    let law_file = LawFile::read(&a.law)?;
+    let law_files = law_file.inputs();
     let mut inputs = vec![("law", a.law.as_path())];
     inputs.extend(
         law_files[1..]
@@ -106,7 +109,7 @@ pub fn export(a: &ExportOptions) -> Result<ExportReport> {
         inputs.push(("deform_windows", w.as_path()));
     }
     check_file_output(&a.out, "out", &inputs)?;
-    let law = load_law(&a.law)?;
+    let law = law_file.build()?;
     let refined;
     let grid = if a.adaptive_grid && a.format() != ExportFormat::Table {
         refined = adaptive_grid(law.as_ref(), a)?;
