@@ -269,6 +269,10 @@ pub fn cut_case(setup: CuttingSetup, base: &Path) -> Result<CutCase> {
 pub struct CutSummary {
     pub particles: usize,
     pub steps: u64,
+    /// Steps of the tool's approach, before any particle could move, that skipped the
+    /// particle passes (their results would be the same); included in `steps` and left out
+    /// of the particle-steps rates.
+    pub idle_steps: u64,
     pub dt_s: f64,
     pub simulated_cut_length_mm: f64,
     pub wall_s: f64,
@@ -374,6 +378,7 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
     let s = CutSummary {
         particles: r.sim.particle_count(),
         steps: r.summary.steps,
+        idle_steps: r.summary.idle_steps,
         dt_s: r.sim.dt,
         simulated_cut_length_mm: r.sim.time * v * 1e3,
         wall_s: r.summary.wall_s,

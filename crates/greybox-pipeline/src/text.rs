@@ -228,8 +228,8 @@ pub fn johnson_cook(f: &JcFit) -> String {
 pub fn cut(s: &CutSummary) -> String {
     let mut text = String::new();
     let _ = writeln!(text,
-        "{} particles, {} steps (dt {:.3e} s, mass scaling {}), {:.3} mm of cut in {:.1} s: {:.3e} particle-steps/s ({:.3e} per core, {} threads)",
-        s.particles, s.steps, s.dt_s, s.mass_scaling, s.simulated_cut_length_mm, s.wall_s, s.particle_steps_per_s, s.particle_steps_per_s_per_core, s.threads
+        "{} particles, {} steps ({} idle before first contact; dt {:.3e} s, mass scaling {}), {:.3} mm of cut in {:.1} s: {:.3e} particle-steps/s ({:.3e} per core, {} threads)",
+        s.particles, s.steps, s.idle_steps, s.dt_s, s.mass_scaling, s.simulated_cut_length_mm, s.wall_s, s.particle_steps_per_s, s.particle_steps_per_s_per_core, s.threads
     );
     let _ = writeln!(
         text,

@@ -134,6 +134,7 @@ impl Checkpoint {
             }
         }
         sim.neighbours.build(&sim.particles.x, &sim.particles.y);
+        sim.check_rest();
         Ok(())
     }
 }

@@ -57,6 +57,34 @@ pub(crate) struct ContactWork {
     pub tool_heat: f64,
 }
 
+/// Particle `i`'s closest point on `tool` when the particle is free and inside the tool
+/// (signed distance < 0), the one case that makes a contact force; `tool_box` is the
+/// shape's bounding box, widened by `reach` as a first, cheap test.
+#[inline]
+fn contact_point(
+    tool: &Tool,
+    (lo, hi): ([f64; 2], [f64; 2]),
+    reach: f64,
+    p: &Particles,
+    i: usize,
+) -> Option<crate::geometry::SurfacePoint> {
+    let lx = p.x[i] - tool.position[0];
+    let ly = p.y[i] - tool.position[1];
+    if lx < lo[0] - reach || lx > hi[0] + reach || ly < lo[1] - reach || ly > hi[1] + reach {
+        return None;
+    }
+    let sp = tool.shape.closest([lx, ly]);
+    (sp.distance < 0.0 && p.group[i] == FREE).then_some(sp)
+}
+
+/// Whether any particle touches any tool: whether [`apply`] would make a contact force.
+pub(crate) fn any(tools: &[Tool], p: &Particles, reach: f64) -> bool {
+    tools.iter().any(|tool| {
+        let tool_box = tool.shape.bounding_box();
+        (0..p.len()).any(|i| contact_point(tool, tool_box, reach, p, i).is_some())
+    })
+}
+
 #[allow(clippy::needless_range_loop)] // several arrays are indexed by i
 pub(crate) fn apply(
     c: &ContactParams,
@@ -89,16 +117,10 @@ pub(crate) fn apply(
             w.acc.steps += 1;
         }
         for i in 0..p.len() {
-            let lx = p.x[i] - x0;
-            let ly = p.y[i] - y0;
-            if lx < lo[0] - reach || lx > hi[0] + reach || ly < lo[1] - reach || ly > hi[1] + reach
-            {
+            let (lx, ly) = (p.x[i] - x0, p.y[i] - y0);
+            let Some(sp) = contact_point(tool, (lo, hi), reach, p, i) else {
                 continue;
-            }
-            let sp = tool.shape.closest([lx, ly]);
-            if sp.distance >= 0.0 || p.group[i] != FREE {
-                continue;
-            }
+            };
             let n = sp.normal;
             let fn_ = -alpha * m * sp.distance / (dt * dt);
             let rvx = p.vx[i] - vt[0];

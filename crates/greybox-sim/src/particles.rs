@@ -153,6 +153,39 @@ impl Particles {
         .sqrt()
     }
 
+    /// Whether every particle is at rest, unstressed, at density `rho0` and at one
+    /// temperature: a state in which every pair term, the update and the kick are exact
+    /// zeros (see [`crate::solver::Solver::step`]).
+    pub fn at_rest(&self, rho0: f64) -> bool {
+        let t0 = self.temp.first().copied().unwrap_or(0.0);
+        let zero = |v: &[f64]| v.iter().all(|&a| a == 0.0);
+        [
+            &self.vx,
+            &self.vy,
+            &self.p,
+            &self.sxx,
+            &self.sxy,
+            &self.syy,
+            &self.szz,
+            &self.eps_rate,
+        ]
+        .into_iter()
+        .all(|v| zero(v))
+            && self.rho.iter().all(|&r| r == rho0)
+            && self.temp.iter().all(|&t| t == t0)
+    }
+
+    /// The smallest box holding every particle centre: (lower-left, upper-right), m.
+    pub fn bounding_box(&self) -> ([f64; 2], [f64; 2]) {
+        let mut lo = [f64::INFINITY; 2];
+        let mut hi = [f64::NEG_INFINITY; 2];
+        for (&x, &y) in self.x.iter().zip(&self.y) {
+            lo = [lo[0].min(x), lo[1].min(y)];
+            hi = [hi[0].max(x), hi[1].max(y)];
+        }
+        (lo, hi)
+    }
+
     /// Checks that every array has the particle count (after reading a checkpoint).
     pub fn check_lengths(&self) -> bool {
         let n = self.len();

@@ -152,6 +152,12 @@ pub struct Solver {
     rebuild_due: bool,
     /// Reciprocal of W(Δx) for the artificial-stress factor f = W(r)/W(Δx).
     inv_w_dx: f64,
+    /// The box of the particle centres while the particles are exactly at rest (see
+    /// [`Solver::step`]); `None` once a step has done work, for good.
+    rest_box: Option<([f64; 2], [f64; 2])>,
+    /// Steps that skipped the particle passes because nothing could move (see
+    /// [`Solver::step`]).
+    pub idle_steps: u64,
 }
 
 impl Solver {
@@ -233,7 +239,46 @@ impl Solver {
             pair_force: Vec::new(),
             chunk_sums: Vec::new(),
             rebuild_due: false,
-        })
+            rest_box: None,
+            idle_steps: 0,
+        }
+        .with_rest_checked())
+    }
+
+    /// Notes whether the particles are exactly at rest (and where), so that the steps before
+    /// a tool first reaches them skip the particle passes; called on a new or restored state.
+    pub(crate) fn with_rest_checked(mut self) -> Self {
+        self.check_rest();
+        self
+    }
+
+    pub(crate) fn check_rest(&mut self) {
+        let groups_hold_still = self
+            .groups
+            .iter()
+            .all(|g| g.vx.unwrap_or(0.0) == 0.0 && g.vy.unwrap_or(0.0) == 0.0);
+        self.rest_box = (groups_hold_still && self.particles.at_rest(self.derived.rho0))
+            .then(|| self.particles.bounding_box());
+    }
+
+    /// Whether a step from the current state is idle: the particles are at rest (every pair
+    /// term, the kick and the update would be exact zeros) and no particle touches a tool
+    /// (contact's own test, so no contact force arises). While the tools' boxes, widened by
+    /// the contact reach, are clear of the particles' box, no particle needs to be tested.
+    fn idle(&self) -> bool {
+        let Some((lo, hi)) = self.rest_box else {
+            return false;
+        };
+        let reach = self.kernel.h;
+        let clear = self.tools.iter().all(|t| {
+            let (tlo, thi) = t.shape.bounding_box();
+            let (x0, y0) = (t.position[0], t.position[1]);
+            hi[0] < x0 + tlo[0] - reach
+                || lo[0] > x0 + thi[0] + reach
+                || hi[1] < y0 + tlo[1] - reach
+                || lo[1] > y0 + thi[1] + reach
+        });
+        clear || !contact::any(&self.tools, &self.particles, reach)
     }
 
     /// Longitudinal elastic wave speed used for the time step (with mass scaling), m/s.
@@ -242,7 +287,22 @@ impl Solver {
     }
 
     /// Advances one step.
+    ///
+    /// While the particles are exactly at rest and no tool is within reach of them (the
+    /// approach before the first contact), a step does only its bookkeeping — contact (which
+    /// finds no particle, but counts the windows' steps and sub-steps a thermal tool), the
+    /// boundary reactions (zero) and the clock — because its particle passes would leave
+    /// every value as it is (they add exact zeros; only the sign of a zero velocity could
+    /// differ). The first step that is not idle ends this for good.
     pub fn step(&mut self) -> Result<(), SimError> {
+        if self.idle() {
+            self.apply_contact();
+            self.book_boundaries();
+            self.advance_clock();
+            self.idle_steps += 1;
+            return Ok(());
+        }
+        self.rest_box = None;
         // The displacement test runs inside the previous update; a fresh or restored solver
         // (lists built for other positions) is checked here.
         if self.rebuild_due
@@ -262,6 +322,12 @@ impl Solver {
         self.kick();
         self.gather_kinematics();
         self.update()?;
+        self.advance_clock();
+        Ok(())
+    }
+
+    /// Step 8's motion: the tools move by their velocity at the step's start, the clock by Δt.
+    fn advance_clock(&mut self) {
         let t = self.time;
         let dt = self.dt;
         for tool in &mut self.tools {
@@ -271,7 +337,6 @@ impl Solver {
         }
         self.time += dt;
         self.step += 1;
-        Ok(())
     }
 
     /// Step 2: the per-particle packed record.
@@ -743,4 +808,105 @@ fn jaumann_update(
         oyy + dt * (g2 * (dyy - tr3) - 2.0 * w * oxy),
         dt * (-g2 * tr3),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cutting::InsertGeometry;
+    use crate::model::BoundaryGroup;
+    use crate::tool::{ConstantMu, Motion};
+    use std::sync::Arc;
+
+    /// A block at rest with its base clamped, and an insert starting 5 spacings to its right,
+    /// moving left at 10 m/s, 20 µm deep.
+    fn approach_model() -> Model {
+        let dx = 20e-6;
+        let (nx, ny) = (20, 10);
+        let material = Material::aisi1045_article();
+        let mut particles = Particles::block(0.0, 0.0, nx, ny, dx, material.density_kg_m3, 293.15);
+        for i in 0..nx {
+            particles.group[i] = 1;
+        }
+        let shape = InsertGeometry {
+            rake_deg: 0.0,
+            clearance_deg: 7.0,
+            edge_radius_m: 10e-6,
+            rake_length_m: 0.2e-3,
+            flank_length_m: 0.1e-3,
+        }
+        .shape()
+        .unwrap();
+        let (lo, _) = shape.bounding_box();
+        let lowest = shape.closest([0.0, -1.0]).distance - 1.0;
+        let position = [
+            nx as f64 * dx + 5.0 * dx - lo[0],
+            ny as f64 * dx - dx - lowest,
+        ];
+        let tool = Tool::with_uniform_law(
+            "insert",
+            shape,
+            position,
+            Motion::constant([-10.0, 0.0]),
+            Arc::new(ConstantMu(0.3)),
+        );
+        Model {
+            particles,
+            material,
+            tools: vec![tool],
+            groups: vec![BoundaryGroup {
+                name: "base".into(),
+                vx: Some(0.0),
+                vy: Some(0.0),
+            }],
+            numerics: Numerics {
+                mass_scaling: 100.0,
+                ..Numerics::default()
+            },
+        }
+    }
+
+    /// The steps of the approach skip the particle passes, and the run is the one that does
+    /// every pass: every value equal (a zero's sign aside), through and after first contact.
+    #[test]
+    fn idle_approach_steps_change_nothing() {
+        let mut skipping = Solver::new(approach_model()).unwrap();
+        let mut full = Solver::new(approach_model()).unwrap();
+        full.rest_box = None;
+        let mut idle_steps = 0;
+        let mut steps_in_contact = 0;
+        while steps_in_contact < 200 {
+            idle_steps += usize::from(skipping.idle());
+            skipping.step().unwrap();
+            full.step().unwrap();
+            assert_eq!(
+                skipping.tools[0].force, full.tools[0].force,
+                "step {}",
+                full.step
+            );
+            if full.tools[0].contacts > 0 {
+                steps_in_contact += 1;
+            }
+            assert!(full.step < 5_000, "no contact");
+        }
+        assert!(idle_steps > 100, "{idle_steps} idle steps");
+        assert!(skipping.rest_box.is_none());
+        let (a, b) = (&skipping.particles, &full.particles);
+        for (name, u, v) in [
+            ("x", &a.x, &b.x),
+            ("y", &a.y, &b.y),
+            ("vx", &a.vx, &b.vx),
+            ("vy", &a.vy, &b.vy),
+            ("rho", &a.rho, &b.rho),
+            ("sxx", &a.sxx, &b.sxx),
+            ("sxy", &a.sxy, &b.sxy),
+            ("syy", &a.syy, &b.syy),
+            ("temp", &a.temp, &b.temp),
+        ] {
+            assert!(u.iter().zip(v).all(|(p, q)| p == q), "{name} differs");
+        }
+        assert!(a.vx.iter().any(|&v| v != 0.0), "nothing moved");
+        assert_eq!(skipping.time.to_bits(), full.time.to_bits());
+        assert_eq!(skipping.energy.external_work, full.energy.external_work);
+    }
 }
