@@ -22,6 +22,9 @@
 //!    stress rate, Johnson–Cook radial return, heating;
 //! 8. the tools move; energies are booked; non-finite or runaway states stop the run.
 //!
+//! A step while the particles are exactly at rest and no tool touches them does steps 4 and
+//! 8 only (see [`Solver::step`]).
+//!
 //! Steps 5–7 make the velocity–stress update symplectic (the stress rate uses v_{n+1}):
 //! evaluating both from the old state is forward Euler for the elastic wave equation, which
 //! amplifies every mode and is only kept alive by artificial viscosity at small Courant numbers.
