@@ -175,17 +175,6 @@ impl Particles {
             && self.temp.iter().all(|&t| t == t0)
     }
 
-    /// The smallest box holding every particle centre: (lower-left, upper-right), m.
-    pub fn bounding_box(&self) -> ([f64; 2], [f64; 2]) {
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
-        for (&x, &y) in self.x.iter().zip(&self.y) {
-            lo = [lo[0].min(x), lo[1].min(y)];
-            hi = [hi[0].max(x), hi[1].max(y)];
-        }
-        (lo, hi)
-    }
-
     /// Checks that every array has the particle count (after reading a checkpoint).
     pub fn check_lengths(&self) -> bool {
         let n = self.len();

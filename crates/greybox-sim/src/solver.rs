@@ -155,9 +155,9 @@ pub struct Solver {
     rebuild_due: bool,
     /// Reciprocal of W(Δx) for the artificial-stress factor f = W(r)/W(Δx).
     inv_w_dx: f64,
-    /// The box of the particle centres while the particles are exactly at rest (see
-    /// [`Solver::step`]); `None` once a step has done work, for good.
-    rest_box: Option<([f64; 2], [f64; 2])>,
+    /// The particles are exactly at rest (see [`Solver::step`]); false once a step has done
+    /// work, for good.
+    at_rest: bool,
     /// Steps that skipped the particle passes because nothing could move (see
     /// [`Solver::step`]).
     pub idle_steps: u64,
@@ -220,7 +220,7 @@ impl Solver {
         }
         let n = particles.len();
         let ngroups = groups.len();
-        Ok(Solver {
+        let mut solver = Solver {
             inv_w_dx: 1.0 / kernel.w(particles.spacing),
             particles,
             material,
@@ -242,46 +242,29 @@ impl Solver {
             pair_force: Vec::new(),
             chunk_sums: Vec::new(),
             rebuild_due: false,
-            rest_box: None,
+            at_rest: false,
             idle_steps: 0,
-        }
-        .with_rest_checked())
+        };
+        solver.check_rest();
+        Ok(solver)
     }
 
-    /// Notes whether the particles are exactly at rest (and where), so that the steps before
-    /// a tool first reaches them skip the particle passes; called on a new or restored state.
-    pub(crate) fn with_rest_checked(mut self) -> Self {
-        self.check_rest();
-        self
-    }
-
+    /// Notes whether the particles are exactly at rest — unstressed, at ρ₀ and one
+    /// temperature, the boundary groups holding still — so that the steps before a tool
+    /// first touches them skip the particle passes; called on a new or restored state.
     pub(crate) fn check_rest(&mut self) {
         let groups_hold_still = self
             .groups
             .iter()
             .all(|g| g.vx.unwrap_or(0.0) == 0.0 && g.vy.unwrap_or(0.0) == 0.0);
-        self.rest_box = (groups_hold_still && self.particles.at_rest(self.derived.rho0))
-            .then(|| self.particles.bounding_box());
+        self.at_rest = groups_hold_still && self.particles.at_rest(self.derived.rho0);
     }
 
     /// Whether a step from the current state is idle: the particles are at rest (every pair
     /// term, the kick and the update would be exact zeros) and no particle touches a tool
-    /// (contact's own test, so no contact force arises). While the tools' boxes, widened by
-    /// the contact reach, are clear of the particles' box, no particle needs to be tested.
+    /// (contact's own test, so no contact force arises).
     fn idle(&self) -> bool {
-        let Some((lo, hi)) = self.rest_box else {
-            return false;
-        };
-        let reach = self.kernel.h;
-        let clear = self.tools.iter().all(|t| {
-            let (tlo, thi) = t.shape.bounding_box();
-            let (x0, y0) = (t.position[0], t.position[1]);
-            hi[0] < x0 + tlo[0] - reach
-                || lo[0] > x0 + thi[0] + reach
-                || hi[1] < y0 + tlo[1] - reach
-                || lo[1] > y0 + thi[1] + reach
-        });
-        clear || !contact::any(&self.tools, &self.particles, reach)
+        self.at_rest && !contact::any(&self.tools, &self.particles, self.kernel.h)
     }
 
     /// Longitudinal elastic wave speed used for the time step (with mass scaling), m/s.
@@ -291,8 +274,8 @@ impl Solver {
 
     /// Advances one step.
     ///
-    /// While the particles are exactly at rest and no tool is within reach of them (the
-    /// approach before the first contact), a step does only its bookkeeping — contact (which
+    /// While the particles are exactly at rest and no particle touches a tool (the approach
+    /// before the first contact), a step does only its bookkeeping — contact (which
     /// finds no particle, but counts the windows' steps and sub-steps a thermal tool), the
     /// boundary reactions (zero) and the clock — because its particle passes would leave
     /// every value as it is (they add exact zeros; only the sign of a zero velocity could
@@ -305,7 +288,7 @@ impl Solver {
             self.idle_steps += 1;
             return Ok(());
         }
-        self.rest_box = None;
+        self.at_rest = false;
         // The displacement test runs inside the previous update; a fresh or restored solver
         // (lists built for other positions) is checked here.
         if self.rebuild_due
@@ -875,7 +858,7 @@ mod tests {
     fn idle_approach_steps_change_nothing() {
         let mut skipping = Solver::new(approach_model()).unwrap();
         let mut full = Solver::new(approach_model()).unwrap();
-        full.rest_box = None;
+        full.at_rest = false;
         let mut idle_steps = 0;
         let mut steps_in_contact = 0;
         while steps_in_contact < 200 {
@@ -893,7 +876,7 @@ mod tests {
             assert!(full.step < 5_000, "no contact");
         }
         assert!(idle_steps > 100, "{idle_steps} idle steps");
-        assert!(skipping.rest_box.is_none());
+        assert!(!skipping.at_rest);
         let (a, b) = (&skipping.particles, &full.particles);
         for (name, u, v) in [
             ("x", &a.x, &b.x),
