@@ -516,6 +516,19 @@ pub fn ingest(results: &[IngestResult]) -> String {
     text
 }
 
+/// Full run's wall time over a `fraction`'s: the working steps' ratio, since the idle steps
+/// of the tool's approach (`idle_steps` of the run's `steps`; the same number in the full
+/// run) cost next to nothing.
+fn full_run_scale(steps: u64, idle_steps: u64, fraction: f64) -> f64 {
+    let working = steps.saturating_sub(idle_steps) as f64;
+    let full_working = steps as f64 / fraction - idle_steps as f64;
+    if working > 0.0 {
+        full_working / working
+    } else {
+        1.0 / fraction
+    }
+}
+
 /// The SPH benchmark: speed per core and the full run's time.
 pub fn sph_bench(config: &Path, fraction: f64, case: &CutCase, s: &CutSummary) -> String {
     let mut text = String::new();
@@ -525,7 +538,10 @@ pub fn sph_bench(config: &Path, fraction: f64, case: &CutCase, s: &CutSummary) -
             s.wall_s,
             format!(", stopped at a steady force that set in at {mm:.3} mm"),
         ),
-        _ if fraction < 1.0 => (s.wall_s / fraction, ", extrapolated".to_string()),
+        _ if fraction < 1.0 => (
+            s.wall_s * full_run_scale(s.steps, s.idle_steps, fraction),
+            ", extrapolated".to_string(),
+        ),
         _ => (s.wall_s, String::new()),
     };
     let _ = writeln!(
@@ -758,4 +774,20 @@ pub fn fit(report: &FitReport, outputs: &FitOutputs) -> String {
         outputs.plots.len()
     );
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::full_run_scale;
+
+    #[test]
+    fn full_runs_scale_by_their_working_steps() {
+        // 1 000 steps of a tenth, 400 of them idle: the full run has 10 000 steps, 9 600
+        // of them working, 16 times the 600 timed.
+        assert_eq!(full_run_scale(1_000, 400, 0.1), 16.0);
+        // No idle steps: the fraction's inverse.
+        assert!((full_run_scale(1_000, 0, 0.25) - 4.0).abs() < 1e-12);
+        // Nothing but idle steps timed: no better guess than the fraction's inverse.
+        assert_eq!(full_run_scale(500, 500, 0.5), 2.0);
+    }
 }
