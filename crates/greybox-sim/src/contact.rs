@@ -117,10 +117,10 @@ pub(crate) fn apply(
             w.acc.steps += 1;
         }
         for i in 0..p.len() {
-            let (lx, ly) = (p.x[i] - x0, p.y[i] - y0);
             let Some(sp) = contact_point(tool, (lo, hi), reach, p, i) else {
                 continue;
             };
+            let (lx, ly) = (p.x[i] - x0, p.y[i] - y0);
             let n = sp.normal;
             let fn_ = -alpha * m * sp.distance / (dt * dt);
             let rvx = p.vx[i] - vt[0];
