@@ -4,6 +4,23 @@
 
 use crate::{Error, Result};
 
+/// A number as a person reads it in a message: plain where that is short, in scientific
+/// notation for the very large and very small (a `1e308` typed by mistake is not printed
+/// as 309 digits).
+#[derive(Debug, Clone, Copy)]
+pub struct Compact(pub f64);
+
+impl std::fmt::Display for Compact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || !a.is_finite() || (1e-4..1e7).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
 /// The violations found in one configuration (`what`, e.g. "cutting set-up").
 #[derive(Debug)]
 pub struct Rules {
@@ -46,27 +63,42 @@ impl Rules {
 
     /// A finite number.
     pub fn finite(&mut self, field: &str, v: f64) -> &mut Self {
-        self.check(field, v.is_finite(), "a finite number", v)
+        self.check(field, v.is_finite(), "a finite number", Compact(v))
     }
     /// > 0 and finite.
     pub fn positive(&mut self, field: &str, v: f64) -> &mut Self {
-        self.check(field, v.is_finite() && v > 0.0, "> 0", v)
+        self.check(field, v.is_finite() && v > 0.0, "> 0", Compact(v))
     }
     /// ≥ 0 and finite.
     pub fn non_negative(&mut self, field: &str, v: f64) -> &mut Self {
-        self.check(field, v.is_finite() && v >= 0.0, "≥ 0", v)
+        self.check(field, v.is_finite() && v >= 0.0, "≥ 0", Compact(v))
     }
     /// In [lo, hi].
     pub fn within(&mut self, field: &str, v: f64, lo: f64, hi: f64) -> &mut Self {
-        self.check(field, v >= lo && v <= hi, &format!("in [{lo}, {hi}]"), v)
+        self.check(
+            field,
+            v >= lo && v <= hi,
+            &format!("in [{lo}, {hi}]"),
+            Compact(v),
+        )
     }
     /// In (lo, hi].
     pub fn above_up_to(&mut self, field: &str, v: f64, lo: f64, hi: f64) -> &mut Self {
-        self.check(field, v > lo && v <= hi, &format!("in ({lo}, {hi}]"), v)
+        self.check(
+            field,
+            v > lo && v <= hi,
+            &format!("in ({lo}, {hi}]"),
+            Compact(v),
+        )
     }
     /// In (lo, hi).
     pub fn between(&mut self, field: &str, v: f64, lo: f64, hi: f64) -> &mut Self {
-        self.check(field, v > lo && v < hi, &format!("in ({lo}, {hi})"), v)
+        self.check(
+            field,
+            v > lo && v < hi,
+            &format!("in ({lo}, {hi})"),
+            Compact(v),
+        )
     }
     /// An integer of at least `min`.
     pub fn at_least(&mut self, field: &str, v: u64, min: u64) -> &mut Self {
@@ -98,6 +130,17 @@ mod tests {
     use super::*;
 
     #[test]
+    fn numbers_in_messages_stay_short() {
+        let shown = |v: f64| Compact(v).to_string();
+        assert_eq!(shown(0.02), "0.02");
+        assert_eq!(shown(-5.0), "-5");
+        assert_eq!(shown(1e308), "1e308");
+        assert_eq!(shown(-2.5e-9), "-2.5e-9");
+        assert_eq!(shown(f64::NAN), "NaN");
+        assert_eq!(shown(0.0), "0");
+    }
+
+    #[test]
     fn names_every_broken_field_and_rule() {
         let e = Rules::new("cutting set-up")
             .positive("cutting_speed_m_s", -5.0)
@@ -112,7 +155,7 @@ mod tests {
         assert!(e.contains("cutting_speed_m_s must be > 0, got -5"), "{e}");
         assert!(e.contains("spacing_m must be > 0, got NaN"), "{e}");
         assert!(
-            e.contains("insert.edge_radius_m must be ≥ 0, got -0.000001"),
+            e.contains("insert.edge_radius_m must be ≥ 0, got -1e-6"),
             "{e}"
         );
         assert!(!e.contains("tolerance"), "{e}");

@@ -47,7 +47,7 @@ impl Mesh {
 
 /// Read a mesh, choosing the reader by extension (`.msh` or `.inp`).
 pub fn read_mesh(path: &Path) -> Result<Mesh> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = greybox_core::budget::read_regular_text(path, "mesh")?;
     let src = path.display().to_string();
     match path
         .extension()
@@ -72,136 +72,134 @@ fn corners(n: usize) -> Option<usize> {
     }
 }
 
+/// The lines of a Gmsh file with checked access: every number finite, every count a whole
+/// number no larger than the file could hold, every record as long as its format says.
+struct GmshLines<'a> {
+    lines: Vec<&'a str>,
+    source: &'a str,
+}
+
+impl GmshLines<'_> {
+    fn err(&self, i: usize, msg: String) -> Error {
+        Error::input(SourcePos::file(self.source).line(i as u64 + 1), msg)
+    }
+
+    fn find(&self, tag: &str) -> Option<usize> {
+        self.lines.iter().position(|l| l.trim() == tag)
+    }
+
+    fn line(&self, i: usize) -> Result<&str> {
+        self.lines
+            .get(i)
+            .copied()
+            .ok_or_else(|| self.err(i, "unexpected end of file".into()))
+    }
+
+    /// The numbers on line `i`, at least `min` of them (`what` names the record).
+    fn numbers(&self, i: usize, min: usize, what: &str) -> Result<Vec<f64>> {
+        let v = self
+            .line(i)?
+            .split_whitespace()
+            .map(|t| match t.parse::<f64>() {
+                Ok(x) if x.is_finite() => Ok(x),
+                _ => Err(self.err(i, format!("expected a finite number, found '{t}'"))),
+            })
+            .collect::<Result<Vec<f64>>>()?;
+        if v.len() < min {
+            return Err(self.err(i, format!("{what} needs {min} numbers, found {}", v.len())));
+        }
+        Ok(v)
+    }
+
+    /// A whole number ≥ 0 read on line `i`.
+    fn whole(&self, i: usize, x: f64, what: &str) -> Result<u64> {
+        if x >= 0.0 && x.fract() == 0.0 && x < u64::MAX as f64 {
+            Ok(x as u64)
+        } else {
+            Err(self.err(i, format!("{what} must be a whole number ≥ 0, found {x}")))
+        }
+    }
+
+    /// A count of records that take at least `lines_each` lines each: no more than the lines
+    /// after line `i` can hold (a huge count in a damaged file is refused before any loop or
+    /// allocation).
+    fn count(&self, i: usize, x: f64, lines_each: usize, what: &str) -> Result<usize> {
+        let n = self.whole(i, x, what)?;
+        let room = self.lines.len().saturating_sub(i + 1) / lines_each.max(1);
+        if n > room as u64 {
+            return Err(self.err(
+                i,
+                format!("{what} is {n}, but only {room} fit in the rest of the file"),
+            ));
+        }
+        Ok(n as usize)
+    }
+}
+
 /// Gmsh MSH 4.1 ASCII: `$PhysicalNames`, `$Entities`, `$Nodes`, `$Elements`.
 pub fn parse_gmsh(text: &str, source: &str) -> Result<Mesh> {
-    let lines: Vec<&str> = text.lines().collect();
-    let err = |i: usize, msg: String| Error::input(SourcePos::file(source).line(i as u64 + 1), msg);
-    let find = |tag: &str| lines.iter().position(|l| l.trim() == tag);
-    let fmt =
-        find("$MeshFormat").ok_or_else(|| err(0, "not a Gmsh file: no $MeshFormat".into()))?;
-    let version = lines
-        .get(fmt + 1)
-        .and_then(|l| l.split_whitespace().next())
-        .unwrap_or("");
+    let g = GmshLines {
+        lines: text.lines().collect(),
+        source,
+    };
+    let fmt = g
+        .find("$MeshFormat")
+        .ok_or_else(|| g.err(0, "not a Gmsh file: no $MeshFormat".into()))?;
+    let format_line = g.lines.get(fmt + 1).copied().unwrap_or("");
+    let version = format_line.split_whitespace().next().unwrap_or("");
     if !version.starts_with('4') {
-        return Err(err(
+        return Err(g.err(
             fmt + 1,
             format!("Gmsh format {version}: only MSH 4.x ASCII is supported"),
         ));
     }
-    if lines.get(fmt + 1).and_then(|l| l.split_whitespace().nth(1)) != Some("0") {
-        return Err(err(
+    if format_line.split_whitespace().nth(1) != Some("0") {
+        return Err(g.err(
             fmt + 1,
             "binary MSH files are not supported; save as ASCII".into(),
         ));
     }
-    let nums = |i: usize| -> Result<Vec<f64>> {
-        let l = lines
-            .get(i)
-            .ok_or_else(|| err(i, "unexpected end of file".into()))?;
-        l.split_whitespace()
-            .map(|t| {
-                t.parse::<f64>()
-                    .map_err(|_| err(i, format!("expected a number, found '{t}'")))
-            })
-            .collect()
-    };
-    // physical names (dim 2)
-    let mut phys_names: HashMap<i64, String> = HashMap::new();
-    if let Some(p) = find("$PhysicalNames") {
-        let n = nums(p + 1)?[0] as usize;
-        for k in 0..n {
-            let l = lines[p + 2 + k];
-            let mut it = l.splitn(3, char::is_whitespace);
-            let dim: i64 = it
-                .next()
-                .unwrap_or("")
-                .parse()
-                .map_err(|_| err(p + 2 + k, "bad physical name line".into()))?;
-            let tag: i64 = it
-                .next()
-                .unwrap_or("")
-                .parse()
-                .map_err(|_| err(p + 2 + k, "bad physical name line".into()))?;
-            if dim == 2 {
-                phys_names.insert(
-                    tag,
-                    it.next().unwrap_or("").trim().trim_matches('"').to_string(),
-                );
-            }
-        }
-    }
-    // surface entity → physical tags
-    let mut surf_phys: HashMap<i64, Vec<i64>> = HashMap::new();
-    if let Some(e) = find("$Entities") {
-        let c = nums(e + 1)?;
-        let (np, nc, ns) = (c[0] as usize, c[1] as usize, c[2] as usize);
-        for k in 0..ns {
-            let v = nums(e + 2 + np + nc + k)?;
-            let nphys = v[7] as usize;
-            surf_phys.insert(
-                v[0] as i64,
-                v[8..8 + nphys].iter().map(|x| *x as i64).collect(),
-            );
-        }
-    }
+    let phys_names = gmsh_physical_names(&g)?;
+    let surf_phys = gmsh_surface_physicals(&g)?;
     let mut mesh = Mesh {
         source: source.to_string(),
         ..Default::default()
     };
-    let mut index: HashMap<u64, usize> = HashMap::new();
-    let nb = find("$Nodes").ok_or_else(|| err(0, "no $Nodes section".into()))?;
-    let h = nums(nb + 1)?;
-    let mut i = nb + 2;
-    for _ in 0..h[0] as usize {
-        let b = nums(i)?;
-        let n = b[3] as usize;
-        let tags: Vec<u64> = (0..n)
-            .map(|k| nums(i + 1 + k).map(|v| v[0] as u64))
-            .collect::<Result<_>>()?;
-        for (k, tag) in tags.iter().enumerate() {
-            let c = nums(i + 1 + n + k)?;
-            if c.len() < 2 {
-                return Err(err(i + 1 + n + k, "node coordinates need x y z".into()));
-            }
-            index.insert(*tag, mesh.nodes.len());
-            mesh.nodes.push([c[0], c[1]]);
-            mesh.node_ids.push(*tag);
-        }
-        i += 1 + 2 * n;
-    }
-    let eb = find("$Elements").ok_or_else(|| err(0, "no $Elements section".into()))?;
-    let h = nums(eb + 1)?;
+    let index = gmsh_nodes(&g, &mut mesh)?;
+    let eb = g
+        .find("$Elements")
+        .ok_or_else(|| g.err(0, "no $Elements section".into()))?;
+    let h = g.numbers(eb + 1, 1, "the $Elements header")?;
     let mut i = eb + 2;
-    for _ in 0..h[0] as usize {
-        let b = nums(i)?;
-        let (dim, entity, etype, n) = (b[0] as i64, b[1] as i64, b[2] as i64, b[3] as usize);
+    for _ in 0..g.count(eb + 1, h[0], 1, "the number of element blocks")? {
+        let b = g.numbers(i, 4, "an element block header (dim, entity, type, count)")?;
+        let (dim, entity, etype) = (b[0], b[1] as i64, b[2]);
+        let n = g.count(i, b[3], 1, "the number of elements in the block")?;
+        let nc = match etype as i64 {
+            _ if dim != 2.0 => 0,
+            2 | 9 => 3,
+            3 | 10 | 16 => 4,
+            _ => return Err(g.err(i, format!("unsupported 2D element type {etype}"))),
+        };
         for k in 0..n {
-            let v = nums(i + 1 + k)?;
-            if dim != 2 {
+            let line = i + 1 + k;
+            if dim != 2.0 {
                 continue;
             }
-            let nc = match etype {
-                2 | 9 => 3,
-                3 | 10 | 16 => 4,
-                _ => {
-                    return Err(err(
-                        i + 1 + k,
-                        format!("unsupported 2D element type {etype}"),
-                    ))
-                }
-            };
+            let v = g.numbers(line, 1 + nc, "an element (tag and corner nodes)")?;
             let nodes = v[1..1 + nc]
                 .iter()
                 .map(|t| {
-                    index.get(&(*t as u64)).copied().ok_or_else(|| {
-                        err(i + 1 + k, format!("element refers to unknown node {t}"))
-                    })
+                    let tag = g.whole(line, *t, "a node tag")?;
+                    index
+                        .get(&tag)
+                        .copied()
+                        .ok_or_else(|| g.err(line, format!("element refers to unknown node {tag}")))
                 })
                 .collect::<Result<Vec<_>>>()?;
             let ei = mesh.elements.len();
             mesh.elements.push(Element {
-                id: v[0] as u64,
+                id: g.whole(line, v[0], "an element tag")?,
                 nodes,
             });
             for ph in surf_phys.get(&entity).into_iter().flatten() {
@@ -215,9 +213,87 @@ pub fn parse_gmsh(text: &str, source: &str) -> Result<Mesh> {
         i += 1 + n;
     }
     if mesh.elements.is_empty() {
-        return Err(err(eb, "no 2D elements in the mesh".into()));
+        return Err(g.err(eb, "no 2D elements in the mesh".into()));
     }
     Ok(mesh)
+}
+
+/// `$PhysicalNames`: physical tag → name, for surfaces (dimension 2).
+fn gmsh_physical_names(g: &GmshLines) -> Result<HashMap<i64, String>> {
+    let mut names = HashMap::new();
+    let Some(p) = g.find("$PhysicalNames") else {
+        return Ok(names);
+    };
+    let n = g.numbers(p + 1, 1, "the $PhysicalNames count")?[0];
+    for k in 0..g.count(p + 1, n, 1, "the number of physical names")? {
+        let line = p + 2 + k;
+        let mut it = g.line(line)?.trim().splitn(3, char::is_whitespace);
+        let mut int = || -> Result<i64> {
+            it.next()
+                .unwrap_or("")
+                .parse()
+                .map_err(|_| g.err(line, "a physical name line is: dim tag \"name\"".into()))
+        };
+        let (dim, tag) = (int()?, int()?);
+        if dim == 2 {
+            names.insert(
+                tag,
+                it.next().unwrap_or("").trim().trim_matches('"').to_string(),
+            );
+        }
+    }
+    Ok(names)
+}
+
+/// `$Entities`: surface entity → its physical tags.
+fn gmsh_surface_physicals(g: &GmshLines) -> Result<HashMap<i64, Vec<i64>>> {
+    let mut surf_phys = HashMap::new();
+    let Some(e) = g.find("$Entities") else {
+        return Ok(surf_phys);
+    };
+    let c = g.numbers(e + 1, 3, "the $Entities header (points, curves, surfaces)")?;
+    let points = g.count(e + 1, c[0], 1, "the number of point entities")?;
+    let curves = g.count(e + 1, c[1], 1, "the number of curve entities")?;
+    let surfaces = g.count(e + 1, c[2], 1, "the number of surface entities")?;
+    for k in 0..surfaces {
+        let line = e + 2 + points + curves + k;
+        let v = g.numbers(line, 8, "a surface entity (tag, box, physical count)")?;
+        let nphys = g.whole(line, v[7], "the number of physical tags")? as usize;
+        let tags = v.get(8..8usize.saturating_add(nphys)).ok_or_else(|| {
+            g.err(
+                line,
+                format!("the surface entity names {nphys} physical tags but has fewer"),
+            )
+        })?;
+        surf_phys.insert(v[0] as i64, tags.iter().map(|x| *x as i64).collect());
+    }
+    Ok(surf_phys)
+}
+
+/// `$Nodes`: fills the mesh's nodes and returns node tag → index.
+fn gmsh_nodes(g: &GmshLines, mesh: &mut Mesh) -> Result<HashMap<u64, usize>> {
+    let mut index = HashMap::new();
+    let nb = g
+        .find("$Nodes")
+        .ok_or_else(|| g.err(0, "no $Nodes section".into()))?;
+    let h = g.numbers(nb + 1, 1, "the $Nodes header")?;
+    let mut i = nb + 2;
+    for _ in 0..g.count(nb + 1, h[0], 1, "the number of node blocks")? {
+        let b = g.numbers(i, 4, "a node block header (dim, entity, parametric, count)")?;
+        // each node takes two lines: its tag, then its coordinates
+        let n = g.count(i, b[3], 2, "the number of nodes in the block")?;
+        for k in 0..n {
+            let tag_line = i + 1 + k;
+            let tag = g.numbers(tag_line, 1, "a node tag")?[0];
+            let id = g.whole(tag_line, tag, "a node tag")?;
+            let c = g.numbers(i + 1 + n + k, 2, "node coordinates (x y z)")?;
+            index.insert(id, mesh.nodes.len());
+            mesh.nodes.push([c[0], c[1]]);
+            mesh.node_ids.push(id);
+        }
+        i += 1 + 2 * n;
+    }
+    Ok(index)
 }
 
 /// Abaqus input: `*NODE`, `*ELEMENT[, ELSET=name]`, `*ELSET, ELSET=name[, GENERATE]`.
@@ -236,6 +312,7 @@ pub fn parse_abaqus(text: &str, source: &str) -> Result<Mesh> {
     }
     let mut block = Block::None;
     let mut pending_sets: Vec<(String, Vec<u64>, u64)> = Vec::new();
+    let line_count = text.lines().count();
     for (i, raw) in text.lines().enumerate() {
         let line = raw.trim();
         let pos = || SourcePos::file(source).line(i as u64 + 1);
@@ -272,22 +349,32 @@ pub fn parse_abaqus(text: &str, source: &str) -> Result<Mesh> {
             .map(str::trim)
             .filter(|s| !s.is_empty())
             .collect();
-        let num = |s: &str| {
-            s.parse::<f64>()
-                .map_err(|_| Error::input(pos(), format!("expected a number, found '{s}'")))
+        let num = |s: &str| match s.parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            _ => Err(Error::input(
+                pos(),
+                format!("expected a finite number, found '{s}'"),
+            )),
+        };
+        let whole = |s: &str| match s.parse::<f64>() {
+            Ok(x) if x >= 0.0 && x.fract() == 0.0 && x < u64::MAX as f64 => Ok(x as u64),
+            _ => Err(Error::input(
+                pos(),
+                format!("expected a node or element number (a whole number ≥ 0), found '{s}'"),
+            )),
         };
         match &block {
             Block::Node => {
                 if fields.len() < 3 {
                     return Err(Error::input(pos(), "a *NODE line needs id, x, y"));
                 }
-                let id = num(fields[0])? as u64;
+                let id = whole(fields[0])?;
                 index.insert(id, mesh.nodes.len());
                 mesh.nodes.push([num(fields[1])?, num(fields[2])?]);
                 mesh.node_ids.push(id);
             }
             Block::Element(set) => {
-                let n = fields.len() - 1;
+                let n = fields.len().saturating_sub(1);
                 let Some(nc) = corners(n) else {
                     return Err(Error::input(
                         pos(),
@@ -296,11 +383,11 @@ pub fn parse_abaqus(text: &str, source: &str) -> Result<Mesh> {
                         ),
                     ));
                 };
-                let id = num(fields[0])? as u64;
+                let id = whole(fields[0])?;
                 let nodes = fields[1..1 + nc]
                     .iter()
                     .map(|t| {
-                        let tag = num(t)? as u64;
+                        let tag = whole(t)?;
                         index.get(&tag).copied().ok_or_else(|| {
                             Error::input(
                                 pos(),
@@ -319,10 +406,7 @@ pub fn parse_abaqus(text: &str, source: &str) -> Result<Mesh> {
                 mesh.elements.push(Element { id, nodes });
             }
             Block::Elset(name, generate) => {
-                let v: Vec<u64> = fields
-                    .iter()
-                    .map(|f| num(f).map(|x| x as u64))
-                    .collect::<Result<_>>()?;
+                let v: Vec<u64> = fields.iter().map(|f| whole(f)).collect::<Result<_>>()?;
                 let ids = if *generate {
                     if v.len() < 2 {
                         return Err(Error::input(
@@ -331,6 +415,18 @@ pub fn parse_abaqus(text: &str, source: &str) -> Result<Mesh> {
                         ));
                     }
                     let step = v.get(2).copied().unwrap_or(1).max(1);
+                    let count = v[1].saturating_sub(v[0]) / step + u64::from(v[1] >= v[0]);
+                    // every element takes a line of its own: a longer range is a damaged file
+                    if count > line_count as u64 {
+                        return Err(Error::input(
+                            pos(),
+                            format!(
+                                "*ELSET, GENERATE {}..{} names {count} elements, more than the \
+                                 file's {line_count} lines can hold",
+                                v[0], v[1]
+                            ),
+                        ));
+                    }
                     (v[0]..=v[1]).step_by(step as usize).collect()
                 } else {
                     v

@@ -79,6 +79,23 @@ pub fn build_windows(mesh: &Mesh, coating_set: &str, opt: WindowOptions) -> Resu
     for (chain, closed) in chains(mesh, &next) {
         chain_windows(mesh, &next, &chain, closed, &opt, &mut windows);
     }
+    // A boundary that folds back on itself leaves a corner without a direction.
+    if let Some(w) = windows.iter().find(|w| {
+        !w.points
+            .iter()
+            .flatten()
+            .chain(&w.normal)
+            .all(|x| x.is_finite())
+    }) {
+        return Err(Error::input(
+            SourcePos::file(&mesh.source),
+            format!(
+                "window {} over surface nodes {:?} has no finite corners: the coating boundary \
+                 folds back on itself or has coincident nodes there",
+                w.number, w.surface_nodes
+            ),
+        ));
+    }
     Ok(windows)
 }
 
@@ -113,6 +130,15 @@ fn coating_surface(
         }
         let (pa, pb) = (mesh.nodes[a], mesh.nodes[b]);
         let d = sub(pb, pa);
+        if !(d[0] != 0.0 || d[1] != 0.0) {
+            return Err(Error::input(
+                SourcePos::file(&mesh.source),
+                format!(
+                    "the coating boundary has an edge of zero length: nodes {} and {} both lie at ({}, {})",
+                    mesh.node_ids[a], mesh.node_ids[b], pa[0], pa[1]
+                ),
+            ));
+        }
         let n_cw = norm([d[1], -d[0]]);
         let mid = [(pa[0] + pb[0]) / 2.0, (pa[1] + pb[1]) / 2.0];
         let c = centroid(own[0]);

@@ -153,6 +153,14 @@ pub fn read_channels(path: &Path, a: &ImpactChannels) -> Result<ImpactRecording>
             }
             let fs = if t.len() > 1 {
                 let dt = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
+                if !(dt > 0.0) {
+                    bail!(
+                        "{src}: the time column '{}' must increase (it goes from {} to {} s)",
+                        a.time,
+                        t[0],
+                        t[t.len() - 1]
+                    );
+                }
                 if let Some(k) = t
                     .windows(2)
                     .position(|w| ((w[1] - w[0]) - dt).abs() > 1e-3 * dt)

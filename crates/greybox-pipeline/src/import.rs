@@ -72,10 +72,7 @@ impl ContactSpec {
 
 /// The `[contact]` table of a study TOML, as JSON values.
 fn study_contact_table(path: &Path) -> Result<serde_json::Map<String, serde_json::Value>> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read study file {}", path.display()))?;
-    let value: toml::Value =
-        toml::from_str(&text).with_context(|| format!("{}: invalid study file", path.display()))?;
+    let value: toml::Value = crate::config_toml::read(path, "study file")?;
     let Some(contact) = value.get("contact") else {
         bail!(
             "{}: no [contact] table: the study must state the tribometer's pin contact",

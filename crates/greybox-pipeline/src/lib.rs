@@ -38,6 +38,7 @@ pub mod adhesive_loads;
 pub mod bench;
 pub mod characterize;
 pub mod chip_picture;
+pub mod config_toml;
 pub mod couple;
 pub mod demo;
 pub mod export;

@@ -198,9 +198,7 @@ pub struct CutCase {
 
 /// Reads a cutting set-up TOML and loads its law file (relative to the set-up's folder).
 pub fn read_cutting_setup(path: &Path) -> Result<CutCase> {
-    let text = greybox_core::budget::read_config(path, "cutting set-up")?;
-    let mut setup: CuttingSetup = toml::from_str(&text)
-        .with_context(|| format!("{}: not a cutting set-up", path.display()))?;
+    let mut setup: CuttingSetup = crate::config_toml::read(path, "cutting set-up")?;
     let base = path.parent().unwrap_or(Path::new("."));
     let material_inputs = load_material_files(&mut setup.material, base)
         .with_context(|| path.display().to_string())?;

@@ -37,8 +37,7 @@ impl Study {
     /// assert!(format!("{e:#}").contains("velocity_cnt"));
     /// ```
     pub fn parse(text: &str, source: &str) -> Result<Self> {
-        let study: Study =
-            toml::from_str(text).with_context(|| format!("{source}: invalid study file"))?;
+        let study: Study = crate::config_toml::parse(text, source, "study file")?;
         study
             .contact
             .validate()
@@ -46,8 +45,7 @@ impl Study {
         Ok(study)
     }
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read study file {}", path.display()))?;
+        let text = crate::config_toml::read_text(path, "study file")?;
         Self::parse(&text, &path.display().to_string())
     }
     /// The study from `--study`, or all defaults.
@@ -60,10 +58,7 @@ impl Study {
     /// Whether the study file at `path` has a `[plan]` section (its other sections are not
     /// checked here).
     pub fn declares_plan(path: &Path) -> Result<bool> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read study file {}", path.display()))?;
-        let value: toml::Value = toml::from_str(&text)
-            .with_context(|| format!("{}: invalid study file", path.display()))?;
+        let value: toml::Value = crate::config_toml::read(path, "study file")?;
         Ok(value.get("plan").is_some())
     }
     /// The study as TOML.

@@ -40,9 +40,7 @@ pub struct Suite {
 impl Suite {
     /// Reads a suite file.
     pub fn read(path: &Path) -> Result<Suite> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read {}", path.display()))?;
-        toml::from_str(&text).with_context(|| format!("{}: not a validation suite", path.display()))
+        crate::config_toml::read(path, "validation suite")
     }
 
     /// The files the suite at `path` reads: its data and its set-up templates (relative

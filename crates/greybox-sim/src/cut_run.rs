@@ -128,6 +128,17 @@ pub fn check_steps_ahead(
     dt_s: f64,
 ) -> Result<(), SimError> {
     if sim.time < end_s - 0.5 * sim.dt {
+        let steps = ((end_s - sim.time) / sim.dt).ceil();
+        let max = sim
+            .numerics
+            .max_steps
+            .unwrap_or(crate::model::DEFAULT_MAX_STEPS);
+        if steps > max as f64 {
+            return Err(SimError::Invalid(format!(
+                "the run would take {steps:.3e} time steps of {:.3e} s to reach t = {end_s:.3e} s, over numerics.max_steps = {max}: check cutting_speed_m_s (m/s) and cut_length_m (m), or raise numerics.max_steps",
+                sim.dt
+            )));
+        }
         return Ok(());
     }
     Err(SimError::Invalid(if resumed {

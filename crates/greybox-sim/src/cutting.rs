@@ -87,6 +87,10 @@ impl InsertGeometry {
     }
 }
 
+/// Most friction windows along a tool: far more than any resolved contact needs, few enough
+/// that their per-update work and memory stay small.
+const MAX_WINDOWS: f64 = 100_000.0;
+
 /// The cutting edge in the tool's arc length s (m): the rake face is s ∈ [0, `rake_end_s`)
 /// running down towards the edge, the edge arc [`rake_end_s`, `arc_end_s`), the flank face
 /// [`arc_end_s`, `flank_end_s`). Distances "from the edge" are measured along the surface
@@ -297,6 +301,13 @@ impl CuttingSetup {
             .map_or(1.0, |v| self.cutting_speed_m_s / v)
     }
 
+    /// Length of the modelled tool surface that carries windows (an upper bound: rake and
+    /// flank faces and a half circle of the edge radius), m.
+    fn modelled_surface_m(&self) -> f64 {
+        let g = &self.insert;
+        g.rake_length_m + g.flank_length_m + std::f64::consts::PI * g.edge_radius_m
+    }
+
     /// Workpiece length: the cut plus a margin of 0.2 mm ahead.
     pub fn workpiece_length(&self) -> f64 {
         self.cut_length_m + 0.2e-3
@@ -333,6 +344,14 @@ impl CuttingSetup {
                 r.positive("window_length_m", self.friction.window_length_m)
                     .at_least("update_every_steps", self.friction.update_every_steps, 1);
             })
+            .relation(
+                !(self.modelled_surface_m() / self.friction.window_length_m > MAX_WINDOWS),
+                format!(
+                    "[friction] window_length_m = {:e} m cuts the modelled tool surface ({:.3} mm) into more than {MAX_WINDOWS:.0e} windows",
+                    self.friction.window_length_m,
+                    self.modelled_surface_m() * 1e3
+                ),
+            )
             .section("steady", |r| {
                 r.positive("block_length_m", self.steady.block_length_m)
                     .at_least("blocks", self.steady.blocks as u64, 2)
@@ -367,6 +386,16 @@ impl CuttingSetup {
         self.friction.smoothing.validate()?;
         if let Some(t) = &self.tool_thermal {
             t.validate()?;
+            let grid = if t.grid_spacing_m > 0.0 {
+                t.grid_spacing_m
+            } else {
+                dx
+            };
+            ToolThermal::check_grid_budget(
+                &self.insert.shape()?,
+                grid,
+                self.numerics.max_particles,
+            )?;
         }
         self.material.validate()
     }

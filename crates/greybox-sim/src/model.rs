@@ -48,7 +48,16 @@ pub struct Numerics {
     /// [`BYTES_PER_PARTICLE`]: crate::particles::BYTES_PER_PARTICLE
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_particles: Option<u64>,
+    /// Most time steps a run may take (default [`DEFAULT_MAX_STEPS`], 10⁸: about a day at
+    /// the IWF case's size). The count follows from the duration and the stable time step
+    /// before the first step; a cutting speed typed in m/min where m/s was meant would
+    /// otherwise run for months. Unset, it is not written out.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_steps: Option<u64>,
 }
+
+/// Default of `numerics.max_steps`.
+pub const DEFAULT_MAX_STEPS: u64 = 100_000_000;
 
 impl Default for Numerics {
     fn default() -> Self {
@@ -67,6 +76,7 @@ impl Default for Numerics {
             skin_ratio: 0.05,
             max_speed_ratio: 0.5,
             max_particles: None,
+            max_steps: None,
         }
     }
 }

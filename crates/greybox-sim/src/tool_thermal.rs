@@ -156,6 +156,48 @@ pub struct ToolThermal {
 }
 
 impl ToolThermal {
+    /// The grid of a tool of `shape` at spacing `dx`: cells along x and y (the bounding box
+    /// with one cell of margin).
+    fn grid_size(shape: &RoundedPolygon, dx: f64) -> (f64, f64) {
+        let (lo, hi) = shape.bounding_box();
+        (
+            ((hi[0] - lo[0]) / dx).ceil() + 1.0,
+            ((hi[1] - lo[1]) / dx).ceil() + 1.0,
+        )
+    }
+
+    /// Refuses a tool grid of more than `max` cells (`numerics.max_particles`, the same
+    /// budget as the workpiece's particles; `None`: its default) before anything is
+    /// allocated: a face length given in mm where m was meant would otherwise ask for
+    /// gigabytes.
+    pub fn check_grid_budget(
+        shape: &RoundedPolygon,
+        dx: f64,
+        max: Option<u64>,
+    ) -> greybox_core::Result<()> {
+        let (nx, ny) = Self::grid_size(shape, dx);
+        let max = max.unwrap_or(crate::particles::DEFAULT_MAX_PARTICLES);
+        if nx * ny <= max as f64 {
+            return Ok(());
+        }
+        let found = format!(
+            "the thermal tool's grid at {dx:e} m covers the modelled insert ({:.3} mm × {:.3} mm) with {:.3e} cells",
+            (nx - 1.0) * dx * 1e3,
+            (ny - 1.0) * dx * 1e3,
+            nx * ny
+        );
+        let refusal = greybox_core::budget::over_cap(
+            &found,
+            "numerics.max_particles",
+            &max.to_string(),
+            "numerics.max_particles in the set-up",
+        );
+        Err(greybox_core::Error::invalid(
+            "cutting set-up",
+            format!("{refusal}; otherwise shorten [insert] rake_length_m / flank_length_m or coarsen [tool_thermal] grid_spacing_m"),
+        ))
+    }
+
     /// The grid for `shape` at spacing `dx` (m), all at `t0` (K); the outermost cells along
     /// the surface from arc length `ambient_from_s` on are held at the ambient temperature.
     pub fn new(
@@ -166,9 +208,9 @@ impl ToolThermal {
         ambient_from_s: f64,
         conductivity_scale: f64,
     ) -> Self {
-        let (lo, hi) = shape.bounding_box();
-        let nx = ((hi[0] - lo[0]) / dx).ceil() as usize + 1;
-        let ny = ((hi[1] - lo[1]) / dx).ceil() as usize + 1;
+        let (lo, _) = shape.bounding_box();
+        let (nx, ny) = Self::grid_size(shape, dx);
+        let (nx, ny) = (nx as usize, ny as usize);
         let origin = [lo[0] - 0.5 * dx, lo[1] - 0.5 * dx];
         let centre = |i: usize, j: usize| {
             [

@@ -231,6 +231,25 @@ pub fn estimate(recs: &[ImpactRecording], cfg: &ImpactConfig) -> Result<Frf> {
             "exponential_end must be in (0, 1], block_s > 0, zero_pad ≥ 1",
         ));
     }
+    // The block is filled from one recording: a longer block (or a rate read from a broken
+    // time column) is refused here, before its buffers are allocated.
+    let longest = recs.iter().map(|r| r.hammer.len()).max().unwrap_or(0);
+    let block = cfg.block_s * fs;
+    if !(fs.is_finite() && fs > 0.0 && block <= longest as f64) {
+        return Err(Error::invalid(
+            "FRF",
+            format!(
+                "block_s = {} s at {fs} Hz is {block} samples; the longest recording has {longest}",
+                cfg.block_s
+            ),
+        ));
+    }
+    if cfg.zero_pad > 64 {
+        return Err(Error::invalid(
+            "FRF",
+            format!("zero_pad = {} (at most 64)", cfg.zero_pad),
+        ));
+    }
     let mut sums = SpectralSums::new(fs, cfg);
     let mut rejected = Vec::new();
     for rec in recs {

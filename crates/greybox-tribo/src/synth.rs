@@ -22,6 +22,7 @@
 use crate::hertz::PinContact;
 use crate::plan::Plan;
 use greybox_core::dataset::PressureConvention;
+use greybox_core::rules::Compact;
 use greybox_core::{units, ContactState, Error, FrictionLaw, Result};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -199,46 +200,52 @@ pub struct TruthRow {
     pub cof_true: f64,
 }
 
+/// Most samples of one synthetic pin recording (five channels of f64: 800 MB): a real rig
+/// at 100 kHz for over three minutes, far above the article's 1 kHz.
+const MAX_SAMPLES_PER_PIN: f64 = 2e7;
+
 impl SynthConfig {
     fn validate(&self) -> Result<()> {
-        let checks = [
-            ("sample_rate_hz", self.sample_rate_hz, true),
-            ("pre_trigger_s", self.pre_trigger_s, false),
-            ("post_trigger_s", self.post_trigger_s, false),
-            ("noise_normal_n", self.noise_normal_n, false),
-            ("noise_tangential_n", self.noise_tangential_n, false),
-            ("noise_radial_n", self.noise_radial_n, false),
-            ("offset_std_n", self.offset_std_n, false),
-            ("drift_std_n_per_s", self.drift_std_n_per_s, false),
-            ("spike_rate_per_s", self.spike_rate_per_s, false),
-            ("spike_amplitude_n", self.spike_amplitude_n, false),
-            ("run_in_time_s", self.run_in_time_s, true),
-            ("disturbance_scale", self.disturbance_scale, false),
-        ];
-        for (name, v, strictly) in checks {
-            if !v.is_finite() || v < 0.0 || (strictly && v == 0.0) {
-                return Err(Error::invalid(
-                    "synth",
-                    format!(
-                        "{name} must be {}, got {v}",
-                        if strictly { "> 0" } else { "≥ 0" }
-                    ),
-                ));
-            }
-        }
-        if !(0.0..0.9).contains(&self.spindle_accel_error) {
-            return Err(Error::invalid(
-                "synth",
-                "spindle_accel_error must be in [0, 0.9)",
-            ));
-        }
-        if !(self.load_rise_fraction > 0.0 && self.load_rise_fraction <= 1.0) {
-            return Err(Error::invalid(
-                "synth",
-                "load_rise_fraction must be in (0, 1]",
-            ));
-        }
-        Ok(())
+        greybox_core::rules::Rules::new("synth")
+            .positive("sample_rate_hz", self.sample_rate_hz)
+            .non_negative("pre_trigger_s", self.pre_trigger_s)
+            .non_negative("post_trigger_s", self.post_trigger_s)
+            .non_negative("latency_s", self.latency_s)
+            .non_negative("latency_jitter_s", self.latency_jitter_s)
+            .relation(
+                (0.0..0.9).contains(&self.spindle_accel_error),
+                format!(
+                    "spindle_accel_error must be in [0, 0.9), got {}",
+                    Compact(self.spindle_accel_error)
+                ),
+            )
+            .above_up_to("load_rise_fraction", self.load_rise_fraction, 0.0, 1.0)
+            .non_negative("noise_normal_n", self.noise_normal_n)
+            .non_negative("noise_tangential_n", self.noise_tangential_n)
+            .non_negative("noise_radial_n", self.noise_radial_n)
+            .non_negative("offset_std_n", self.offset_std_n)
+            .non_negative("drift_std_n_per_s", self.drift_std_n_per_s)
+            .non_negative("tangential_vibration_rel", self.tangential_vibration_rel)
+            .non_negative("radial_fraction", self.radial_fraction)
+            .non_negative("spike_rate_per_s", self.spike_rate_per_s)
+            .non_negative("spike_amplitude_n", self.spike_amplitude_n)
+            .non_negative("run_in_rel", self.run_in_rel)
+            .positive("run_in_time_s", self.run_in_time_s)
+            .positive("trigger_high_v", self.trigger_high_v)
+            .non_negative("trigger_noise_v", self.trigger_noise_v)
+            .non_negative("disturbance_scale", self.disturbance_scale)
+            .relation(
+                self.runout_rel.iter().all(|v| v.is_finite() && *v >= 0.0),
+                format!("runout_rel must be numbers ≥ 0, got {:?}", self.runout_rel),
+            )
+            .section("stick_slip", |r| {
+                if let Some(s) = &self.stick_slip {
+                    r.non_negative("below_m_per_min", s.below_m_per_min)
+                        .non_negative("amplitude_rel", s.amplitude_rel)
+                        .positive("frequency_hz", s.frequency_hz);
+                }
+            })
+            .finish()
     }
 
     /// Ground truth for every plateau of the plan.
@@ -286,7 +293,18 @@ impl SynthConfig {
         let dt = 1.0 / self.sample_rate_hz;
         let t_start = -self.pre_trigger_s;
         let t_end = sched.end_s + self.post_trigger_s;
-        let n = ((t_end - t_start) / dt).floor() as usize + 1;
+        let samples = ((t_end - t_start) / dt).floor() + 1.0;
+        if samples > MAX_SAMPLES_PER_PIN {
+            return Err(Error::invalid(
+                "synth",
+                format!(
+                    "pin {pin}'s recording of {} s at sample_rate_hz = {} would be {samples:.3e} samples, more than {MAX_SAMPLES_PER_PIN:.0e}: lower sample_rate_hz",
+                    Compact(t_end - t_start),
+                    Compact(self.sample_rate_hz)
+                ),
+            ));
+        }
+        let n = samples as usize;
 
         let std_normal = Normal::new(0.0, 1.0).expect("unit normal");
         let d = self.draw_pin(spec.spindle_accel_rpm_per_s, &mut rng, &std_normal);

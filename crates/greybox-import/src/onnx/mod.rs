@@ -58,6 +58,46 @@ fn at(v: &[f64], i: usize) -> f64 {
 }
 
 impl Elementwise {
+    /// Its constants' lengths: each must be 1 (broadcast) or the width of the data it meets.
+    fn lengths(&self) -> Vec<usize> {
+        match self {
+            Elementwise::Add(v)
+            | Elementwise::Sub(v)
+            | Elementwise::Mul(v)
+            | Elementwise::Div(v) => vec![v.len()],
+            Elementwise::Scaler { offset, scale } => vec![offset.len(), scale.len()],
+            Elementwise::ToF32 => Vec::new(),
+        }
+    }
+
+    /// Refuses constants that neither broadcast nor match the `width` features they act on.
+    pub(crate) fn check_width(ops: &[Elementwise], width: usize) -> Result<(), String> {
+        Self::check_lengths(ops, width, |len| len == width)
+    }
+
+    /// Refuses constants that neither broadcast nor cover the first `width` features (a tree
+    /// ensemble reads only the features it splits on, which may be fewer than its inputs).
+    pub(crate) fn check_covers(ops: &[Elementwise], width: usize) -> Result<(), String> {
+        Self::check_lengths(ops, width, |len| len >= width)
+    }
+
+    fn check_lengths(
+        ops: &[Elementwise],
+        width: usize,
+        fits: impl Fn(usize) -> bool,
+    ) -> Result<(), String> {
+        match ops
+            .iter()
+            .flat_map(Elementwise::lengths)
+            .find(|&len| len != 1 && !fits(len))
+        {
+            Some(len) => Err(format!(
+                "an element-wise constant of {len} values meets data of {width} columns (expected 1 or {width})"
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// Element `i`, in float32 arithmetic when `f32` (a float tensor), as the runtime does.
     pub(crate) fn apply(&self, i: usize, x: f64, f32: bool) -> f64 {
         let r = |v: f64| if f32 { v as f32 as f64 } else { v };
@@ -413,6 +453,7 @@ fn svm(node: &NodeProto, pre: &[Elementwise]) -> Result<(FittedModel, Family, us
         ));
     }
     let n = sv.len() / n_sv;
+    Elementwise::check_width(pre, n)?;
     let rho = a.floats("rho")?.first().copied().unwrap_or(0.0);
     Ok((
         FittedModel::Svr(SvrModel {
@@ -453,6 +494,7 @@ fn network(stages: Vec<Stage>) -> Result<(FittedModel, Family, usize), String> {
                     );
                 }
                 let (w, n_in, n_out, bias) = layers.last_mut().expect("a layer");
+                Elementwise::check_width(std::slice::from_ref(&e), *n_out)?;
                 for o in 0..*n_out {
                     let (ea, eb) = e.affine(o);
                     for i in 0..*n_in {
@@ -472,6 +514,9 @@ fn network(stages: Vec<Stage>) -> Result<(FittedModel, Family, usize), String> {
                         "two linear layers without an activation between them are not supported"
                             .into(),
                     );
+                }
+                if layers.is_empty() {
+                    Elementwise::check_width(&pre, n_in)?;
                 }
                 if let Some(prev) = layers.last() {
                     if prev.2 != n_in {

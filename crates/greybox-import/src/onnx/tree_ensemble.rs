@@ -173,6 +173,7 @@ pub fn convert(
     }
     let nodes = read(&a)?;
     let n_features = nodes.feature.iter().copied().max().unwrap_or(0).max(0) as usize + 1;
+    Elementwise::check_covers(pre, n_features)?;
     let mut trees = nodes.tree.clone();
     trees.sort_unstable();
     trees.dedup();

@@ -70,29 +70,45 @@ fn run_sheet(dir: &Path, p: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
     let mut pins: Vec<(String, f64, usize, f64, f64, f64)> = Vec::new();
     for (k, r) in rdr.records().enumerate() {
         let r = r.with_context(|| format!("line {}", k + 2))?;
-        let cell = |c: Option<usize>| -> f64 {
-            c.and_then(|c| r.get(c))
-                .and_then(|v| v.trim().parse().ok())
-                .unwrap_or(f64::NAN)
+        // A column the sheet lacks stays NaN (shown as such); a cell that is there must be
+        // a finite number.
+        let cell = |c: Option<usize>| -> Result<f64> {
+            let Some(c) = c else {
+                return Ok(f64::NAN);
+            };
+            let v = r.get(c).unwrap_or("").trim();
+            match v.parse::<f64>() {
+                Ok(x) if x.is_finite() => Ok(x),
+                _ => anyhow::bail!(
+                    "line {}: {} is '{v}', expected a finite number",
+                    k + 2,
+                    hdr[c]
+                ),
+            }
         };
         let pin = cp.and_then(|c| r.get(c)).unwrap_or("").to_string();
-        let v = cell(cv);
+        let v = cell(cv)?;
         match pins.last_mut() {
             Some(last) if last.0 == pin => {
                 last.2 += 1;
                 last.3 = last.3.min(v);
                 last.4 = last.4.max(v);
             }
-            _ => pins.push((pin, cell(cf), 1, v, v, cell(ce))),
+            _ => pins.push((pin, cell(cf)?, 1, v, v, cell(ce)?)),
         }
-        full.row(
-            r.iter()
-                .map(|c| match c.trim().parse::<f64>() {
-                    Ok(x) if c.contains('.') => num(x, 6),
-                    _ => c.to_string(),
-                })
-                .collect(),
-        );
+        let mut row = Vec::with_capacity(r.len());
+        for (c, text) in r.iter().enumerate() {
+            row.push(match text.trim().parse::<f64>() {
+                Ok(x) if !x.is_finite() => anyhow::bail!(
+                    "line {}: {} is '{text}', expected a finite number",
+                    k + 2,
+                    hdr.get(c).unwrap_or(&"a column past the header")
+                ),
+                Ok(x) if text.contains('.') => num(x, 6),
+                _ => text.to_string(),
+            });
+        }
+        full.row(row);
     }
     let mut per_pin = Table::new(
         &format!("Plan: one pin per load ({name})"),

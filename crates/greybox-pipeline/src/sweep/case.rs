@@ -86,9 +86,7 @@ pub fn absolute_file(path: &str, value: &toml::Value, base: &Path) -> toml::Valu
 /// The base configuration as a TOML value, its relative file paths made absolute; cuts
 /// stop when steady where the sweep says so (`[sweep] stop_when_steady`).
 pub fn read_base(path: &Path, kind: CaseKind, stop_when_steady: bool) -> Result<toml::Value> {
-    let text = greybox_core::budget::read_config(path, "base configuration")?;
-    let mut v: toml::Value =
-        toml::from_str(&text).with_context(|| format!("{}: not TOML", path.display()))?;
+    let mut v: toml::Value = crate::config_toml::read(path, "base configuration")?;
     let dir = path.parent().unwrap_or(Path::new(""));
     if kind == CaseKind::Cutting {
         let stop = toml::Value::Boolean(stop_when_steady);

@@ -210,7 +210,10 @@ fn write_plots(plan: &Plan, out: &Path, table: &[BTreeMap<String, String>]) -> R
             };
             let key = others
                 .iter()
-                .map(|f| format!("{f} = {}", short_value(f, &r[*f])))
+                .map(|f| {
+                    let v = r.get(*f).map_or("(not set)", String::as_str);
+                    format!("{f} = {}", short_value(f, v))
+                })
                 .collect::<Vec<_>>()
                 .join(", ");
             curves.entry(key).or_default().push((x, y));

@@ -187,9 +187,8 @@ fn run_config(plan: &Plan, dir: &CaseDir) -> Result<serde_json::Value> {
             serde_json::to_value(run_cut(&case, plan.fraction, &o)?)?
         }
         CaseKind::Pin => {
-            let text = greybox_core::budget::read_config(&dir.config(), "pin set-up")?;
-            let setup: greybox_sim::pin::PinSetup = toml::from_str(&text)
-                .with_context(|| format!("{}: not a pin set-up", dir.config().display()))?;
+            let setup: greybox_sim::pin::PinSetup =
+                crate::config_toml::read(&dir.config(), "pin set-up")?;
             serde_json::to_value(run_pin(&setup, &o)?)?
         }
     })

@@ -31,7 +31,7 @@
 //! `material.plasticity.c`); the value `"none"` removes an optional field (e.g. the law
 //! file: back to the constant `mu`).
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -204,9 +204,7 @@ pub struct ExpandedAxis {
 impl SweepFile {
     /// Reads and checks a sweep file.
     pub fn load(path: &Path) -> Result<(SweepFile, PathBuf)> {
-        let text = greybox_core::budget::read_config(path, "sweep file")?;
-        let f: SweepFile = toml::from_str(&text)
-            .with_context(|| format!("{}: invalid sweep file", path.display()))?;
+        let f: SweepFile = crate::config_toml::read(path, "sweep file")?;
         if !(f.sweep.fraction > 0.0 && f.sweep.fraction <= 1.0) {
             bail!(
                 "{}: [sweep] fraction must be in (0, 1], got {}",
