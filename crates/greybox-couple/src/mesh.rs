@@ -408,26 +408,7 @@ pub fn parse_abaqus(text: &str, source: &str) -> Result<Mesh> {
             Block::Elset(name, generate) => {
                 let v: Vec<u64> = fields.iter().map(|f| whole(f)).collect::<Result<_>>()?;
                 let ids = if *generate {
-                    if v.len() < 2 {
-                        return Err(Error::input(
-                            pos(),
-                            "*ELSET, GENERATE needs start, end[, step]",
-                        ));
-                    }
-                    let step = v.get(2).copied().unwrap_or(1).max(1);
-                    let count = v[1].saturating_sub(v[0]) / step + u64::from(v[1] >= v[0]);
-                    // every element takes a line of its own: a longer range is a damaged file
-                    if count > line_count as u64 {
-                        return Err(Error::input(
-                            pos(),
-                            format!(
-                                "*ELSET, GENERATE {}..{} names {count} elements, more than the \
-                                 file's {line_count} lines can hold",
-                                v[0], v[1]
-                            ),
-                        ));
-                    }
-                    (v[0]..=v[1]).step_by(step as usize).collect()
+                    generated_ids(&v, line_count).map_err(|m| Error::input(pos(), m))?
                 } else {
                     v
                 };
@@ -454,4 +435,21 @@ pub fn parse_abaqus(text: &str, source: &str) -> Result<Mesh> {
         ));
     }
     Ok(mesh)
+}
+
+/// The element numbers of `*ELSET, GENERATE`'s `start, end[, step]`, refused when the range
+/// names more elements than a file of `line_count` lines can hold (each takes a line).
+fn generated_ids(v: &[u64], line_count: usize) -> std::result::Result<Vec<u64>, String> {
+    let [start, end, ..] = v[..] else {
+        return Err("*ELSET, GENERATE needs start, end[, step]".into());
+    };
+    let step = v.get(2).copied().unwrap_or(1).max(1);
+    let count = end.saturating_sub(start) / step + u64::from(end >= start);
+    if count > line_count as u64 {
+        return Err(format!(
+            "*ELSET, GENERATE {start}..{end} names {count} elements, more than the file's \
+             {line_count} lines can hold"
+        ));
+    }
+    Ok((start..=end).step_by(step as usize).collect())
 }
