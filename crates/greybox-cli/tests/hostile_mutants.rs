@@ -247,3 +247,79 @@ fn a_hammer_recording_whose_clock_stands_still_is_refused() {
         &["h.csv", "the time column 'time_s' must increase"],
     );
 }
+
+/// A two-load, three-speed campaign of half-second dwells (seconds to synthesise).
+const SMALL_STUDY: &str = "[plan]\nnormal_force_min_N = 150.0\nnormal_force_max_N = 2000.0\n\
+normal_force_count = 2\nvelocity_min_m_per_min = 20.0\nvelocity_max_m_per_min = 250.0\n\
+velocity_count = 3\ndwell_s = 0.5\ntrack_radius_mm = 100.0\n";
+
+#[test]
+fn settings_that_combine_into_infinity_or_nothing_are_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    // a ground truth whose velocity exponent is 10¹¹: was ∞ in every recording, exit 0
+    std::fs::write(
+        p.join("exp.toml"),
+        format!("{SMALL_STUDY}[synth.ground_truth]\nvelocity_exponent = 1.9e11\n"),
+    )
+    .unwrap();
+    refused_with(
+        &run(&["synth", "--study", "exp.toml", "--out", "s"], p),
+        &["tangential force is inf", "[synth.ground_truth]"],
+    );
+    assert!(!p.join("s").exists());
+    // an end margin longer than the dwell: was an index past the step's window (a panic)
+    std::fs::write(p.join("ok.toml"), SMALL_STUDY).unwrap();
+    common::ok(&run(&["synth", "--study", "ok.toml", "--out", "rec"], p));
+    std::fs::write(
+        p.join("margin.toml"),
+        format!("{SMALL_STUDY}[identify]\nend_margin_s = 2.0\n"),
+    )
+    .unwrap();
+    refused_with(
+        &run(
+            &[
+                "identify",
+                "--study",
+                "margin.toml",
+                "--recordings",
+                "rec/pin01.csv",
+                "rec/pin02.csv",
+                "--out",
+                "d.csv",
+            ],
+            p,
+        ),
+        &["pin01.csv", "end_margin_s (2 s) leave nothing"],
+    );
+    assert!(!p.join("d.csv").exists());
+}
+
+#[test]
+fn a_rig_export_with_an_overflowing_speed_writes_no_dataset() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    // the fuzz campaign's reduced mutant of examples/foreign-rig/rotary-export.csv: 91 of
+    // its rows, the steady speeds of step 1 set to 10³⁰⁸ rpm (finite, but not in m/min)
+    let mutant = include_str!("fixtures/rotary-rpm-1e308.csv");
+    assert!(mutant.contains(",1e308,"));
+    std::fs::write(p.join("r.csv"), mutant).unwrap();
+    // was: sliding_velocity_m_per_min = inf in the dataset, exit 0
+    refused_with(
+        &run(
+            &[
+                "identify",
+                "--no-plan",
+                "--recordings",
+                "r.csv",
+                "--track-radii-mm",
+                "10",
+                "--out",
+                "d.csv",
+            ],
+            p,
+        ),
+        &["sliding_velocity_m_per_min is inf"],
+    );
+    assert!(!p.join("d.csv").exists());
+}

@@ -144,9 +144,43 @@ const LEGACY_MEASURED: &str = "normal_force_measured_N";
 impl FrictionDataset {
     /// Write the dataset CSV atomically. `cof_adhesive` is written only if every record has it.
     pub fn write_csv(&self, path: &Path) -> Result<()> {
+        self.check_finite()?;
         let with_adhesive =
             !self.records.is_empty() && self.records.iter().all(|r| r.cof_adhesive.is_some());
         write_atomic(path, |w| self.write_csv_to(w, with_adhesive))
+    }
+
+    /// Every number of every record finite: a dataset that [`FrictionDataset::read_csv`]
+    /// would refuse is never written (a rig export with a speed of 10³⁰⁸ rpm gives an
+    /// infinite sliding velocity).
+    pub fn check_finite(&self) -> Result<()> {
+        for r in &self.records {
+            let values = [
+                ("normal_force_N", r.normal_force_n),
+                (
+                    "normal_force_planned_N",
+                    r.normal_force_planned_n.unwrap_or(0.0),
+                ),
+                ("sliding_velocity_m_per_min", r.sliding_velocity_m_s),
+                ("hertz_pressure_MPa", r.hertz_pressure_pa),
+                ("cof_apparent", r.cof_apparent),
+                ("cof_apparent_std", r.cof_apparent_std),
+                ("plateau_start_s", r.plateau_start_s),
+                ("plateau_end_s", r.plateau_end_s),
+                ("cof_trend_per_s", r.cof_trend_per_s),
+                ("cof_adhesive", r.cof_adhesive.unwrap_or(0.0)),
+            ];
+            if let Some((column, v)) = values.iter().find(|(_, v)| !v.is_finite()) {
+                return Err(Error::invalid(
+                    "friction dataset",
+                    format!(
+                        "pin {} step {}: {column} is {v}, not a number: the recording or the settings it was identified with are at fault",
+                        r.pin, r.step
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     fn write_csv_to(&self, w: &mut dyn Write, with_adhesive: bool) -> std::io::Result<()> {

@@ -231,11 +231,24 @@ pub fn estimate(recs: &[ImpactRecording], cfg: &ImpactConfig) -> Result<Frf> {
             "exponential_end must be in (0, 1], block_s > 0, zero_pad ≥ 1",
         ));
     }
-    // The block is filled from one recording: a longer block (or a rate read from a broken
-    // time column) is refused here, before its buffers are allocated.
+    if !(fs.is_finite() && fs > 0.0) {
+        return Err(Error::invalid(
+            "FRF",
+            format!("the sample rate is {fs} Hz: expected a finite rate > 0"),
+        ));
+    }
+    let mut impacts = Vec::with_capacity(recs.len());
+    let mut rejected = Vec::new();
+    for rec in recs {
+        let (starts, rej) = find_impacts(rec, cfg)?;
+        rejected.extend(rej);
+        impacts.push(starts);
+    }
+    // The block is filled from one recording: a longer block is refused here, before its
+    // buffers are allocated.
     let longest = recs.iter().map(|r| r.hammer.len()).max().unwrap_or(0);
     let block = cfg.block_s * fs;
-    if !(fs.is_finite() && fs > 0.0 && block <= longest as f64) {
+    if !(block <= longest as f64) {
         return Err(Error::invalid(
             "FRF",
             format!(
@@ -251,10 +264,7 @@ pub fn estimate(recs: &[ImpactRecording], cfg: &ImpactConfig) -> Result<Frf> {
         ));
     }
     let mut sums = SpectralSums::new(fs, cfg);
-    let mut rejected = Vec::new();
-    for rec in recs {
-        let (starts, rej) = find_impacts(rec, cfg)?;
-        rejected.extend(rej);
+    for (rec, starts) in recs.iter().zip(impacts) {
         for s in starts {
             sums.add(rec, s)?;
         }

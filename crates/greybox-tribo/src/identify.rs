@@ -421,15 +421,30 @@ fn measure_plateaus(
             .unwrap_or(a);
         let p_start = detected.max(nominal_start) + cfg.settle_time_s;
         let p_end = b - cfg.end_margin_s;
+        // settle and end margins longer than the step leave an empty plateau, not an index
+        // outside the step's window
         let (pi, pj) = (
-            index_at(&rec.time_s, p_start) - i,
-            index_at(&rec.time_s, p_end) - i,
+            index_at(&rec.time_s, p_start).saturating_sub(i).min(n),
+            index_at(&rec.time_s, p_end).saturating_sub(i).min(n),
         );
         let mut st = plateau_stats(&rec.time_s, &d.normal_n, &sig, pi, pj, ts, cfg).ok_or_else(|| {
-            let usable = (pi..pj.max(pi)).filter(|k| sig.good[*k]).count();
+            let usable = (pi..pj).filter(|k| sig.good[*k]).count();
+            let why = if p_end <= nominal_start + cfg.settle_time_s {
+                format!(
+                    "settle_time_s ({} s) and end_margin_s ({} s) leave nothing of the step's {:.3} s plateau",
+                    cfg.settle_time_s,
+                    cfg.end_margin_s,
+                    b - nominal_start
+                )
+            } else {
+                "the spindle ramp overran the dwell".to_string()
+            };
             Error::input(
                 pos(),
-                format!("only {usable} usable samples in the plateau (min {}): the spindle ramp overran the dwell", cfg.min_plateau_samples),
+                format!(
+                    "only {usable} usable samples in the plateau (min {}): {why}",
+                    cfg.min_plateau_samples
+                ),
             )
         })?;
         if detected > nominal_start + 0.5 * c.plan.spec.dwell_s {

@@ -321,7 +321,10 @@ pub fn plateau_stats(
     cfg: &IdentifyConfig,
 ) -> Option<PlateauStats> {
     let i = sig.i;
-    let idx: Vec<usize> = (pi..pj.max(pi)).filter(|k| sig.good[*k]).collect();
+    // A plateau reaching past the step's window (margins longer than the step) is cut to it.
+    let pj = pj.min(sig.good.len());
+    let pi = pi.min(pj);
+    let idx: Vec<usize> = (pi..pj).filter(|k| sig.good[*k]).collect();
     if idx.len() < cfg.min_plateau_samples.max(2) {
         return None;
     }

@@ -200,6 +200,19 @@ pub struct TruthRow {
     pub cof_true: f64,
 }
 
+/// The ground truth's μ of a plateau, refused when it is not a finite number.
+fn finite_cof(mu: f64, pin: u32, step: u32) -> Result<f64> {
+    if mu.is_finite() {
+        return Ok(mu);
+    }
+    Err(Error::invalid(
+        "synth",
+        format!(
+            "[synth.ground_truth] gives μ = {mu} at pin {pin} step {step}: check its parameters"
+        ),
+    ))
+}
+
 /// Most samples of one synthetic pin recording (five channels of f64: 800 MB): a real rig
 /// at 100 kHz for over three minutes, far above the article's 1 kHz.
 const MAX_SAMPLES_PER_PIN: f64 = 2e7;
@@ -265,7 +278,11 @@ impl SynthConfig {
                     actual_velocity_m_s: v,
                     hertz_pressure_pa: contact.pressure_pa(s.normal_force_n)?,
                     pressure_convention: contact.convention,
-                    cof_true: self.ground_truth.mu(&ContactState::new(p0, v)),
+                    cof_true: finite_cof(
+                        self.ground_truth.mu(&ContactState::new(p0, v)),
+                        s.pin,
+                        s.step,
+                    )?,
                 })
             })
             .collect()
@@ -387,6 +404,23 @@ impl SynthConfig {
                 .push(trig + self.trigger_noise_v * std_normal.sample(&mut rng));
         }
         self.add_spikes(&mut rec, &mut rng, t_end - t_start)?;
+        // Settings that pass their own checks can still combine into ∞ (a velocity exponent
+        // of 10¹¹): a recording is written only when every sample is a number.
+        let channels = [
+            ("normal force", &rec.normal_n),
+            ("tangential force", &rec.tangential_n),
+        ];
+        for (name, values) in channels {
+            if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+                return Err(Error::invalid(
+                    "synth",
+                    format!(
+                        "pin {pin}'s {name} is {} at t = {:.3} s: check [synth.ground_truth] and the disturbances",
+                        values[k], rec.time_s[k]
+                    ),
+                ));
+            }
+        }
         Ok(rec)
     }
 }
