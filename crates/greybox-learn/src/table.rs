@@ -32,6 +32,13 @@ const POSITIVE_UNITS: [&str; 10] = [
 /// Why a value of column `name` is not physical, if it is not: a quantity of a
 /// [`POSITIVE_UNITS`] unit ≤ 0, or a friction coefficient (`cof…`, `mu…`) < 0.
 fn non_physical(name: &str, v: f64) -> Option<String> {
+    // Sums of squares (standardising, MSE) overflow past about 1e154; no force, speed,
+    // pressure or coefficient in any unit comes near MAX_MAGNITUDE.
+    if v.abs() > MAX_MAGNITUDE {
+        return Some(format!(
+            "{v:e} is not physical: beyond {MAX_MAGNITUDE:e} in any unit (check the column's unit)"
+        ));
+    }
     let unit = unit_of(name);
     if POSITIVE_UNITS.contains(&unit) && !(v > 0.0) {
         return Some(format!(
@@ -46,6 +53,9 @@ fn non_physical(name: &str, v: f64) -> Option<String> {
     }
     None
 }
+
+/// Largest magnitude a training value may have.
+const MAX_MAGNITUDE: f64 = 1e100;
 
 /// Exact duplicates (same features and target): each later row with the first one it
 /// repeats, as 0-based row indices.
@@ -234,6 +244,23 @@ mod tests {
         assert_eq!(d.x.row(1), &[2.0, 3.0]);
         assert_eq!(d.features[1].unit, "m/min");
         assert_eq!(d.target.unit, "1");
+    }
+
+    /// A speed of 10³⁰⁸ m/min is finite, but its square is not: the fuzz campaign's mutant
+    /// made every error of the fit ∞ and its intervals NaN.
+    #[test]
+    fn values_too_large_for_their_statistics_are_refused() {
+        let e = read(
+            &CSV.replace(",3,0.4,", ",1e308,0.4,"),
+            &["a_N", "b_m_per_min"],
+            "mu",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("d.csv, line 3") && e.contains("b_m_per_min") && e.contains("1e308"),
+            "{e}"
+        );
     }
 
     #[test]
