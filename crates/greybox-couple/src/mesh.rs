@@ -72,6 +72,11 @@ fn corners(n: usize) -> Option<usize> {
     }
 }
 
+/// `x` as a node, element or tag number: a whole number ≥ 0 that fits a u64.
+fn whole_number(x: f64) -> Option<u64> {
+    (x >= 0.0 && x.fract() == 0.0 && x < u64::MAX as f64).then_some(x as u64)
+}
+
 /// The lines of a Gmsh file with checked access: every number finite, every count a whole
 /// number no larger than the file could hold, every record as long as its format says.
 struct GmshLines<'a> {
@@ -113,11 +118,8 @@ impl GmshLines<'_> {
 
     /// A whole number ≥ 0 read on line `i`.
     fn whole(&self, i: usize, x: f64, what: &str) -> Result<u64> {
-        if x >= 0.0 && x.fract() == 0.0 && x < u64::MAX as f64 {
-            Ok(x as u64)
-        } else {
-            Err(self.err(i, format!("{what} must be a whole number ≥ 0, found {x}")))
-        }
+        whole_number(x)
+            .ok_or_else(|| self.err(i, format!("{what} must be a whole number ≥ 0, found {x}")))
     }
 
     /// A count of records that take at least `lines_each` lines each: no more than the lines
@@ -356,9 +358,9 @@ pub fn parse_abaqus(text: &str, source: &str) -> Result<Mesh> {
                 format!("expected a finite number, found '{s}'"),
             )),
         };
-        let whole = |s: &str| match s.parse::<f64>() {
-            Ok(x) if x >= 0.0 && x.fract() == 0.0 && x < u64::MAX as f64 => Ok(x as u64),
-            _ => Err(Error::input(
+        let whole = |s: &str| match s.parse::<f64>().ok().and_then(whole_number) {
+            Some(id) => Ok(id),
+            None => Err(Error::input(
                 pos(),
                 format!("expected a node or element number (a whole number ≥ 0), found '{s}'"),
             )),
