@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Independent reference friction coefficients for the real tribometer exports.
 
-Reads every ``[[file]]`` of ``tests/data/real-rigs/manifest.toml`` with pandas,
+Reads every ``[[file]]`` of ``tests/data/real-rigs/manifest.toml`` with pandas
+(the raw files themselves are kept outside the project, in ``../shared/data/real-rigs``
+beside the checkout, or the directory given as the second argument),
 using only the explicit settings written there (delimiter, decimal mark,
 encoding, line terminator, header line, footer lines, block layout), and writes
 ``tests/data/real-rigs/reference.csv`` with the columns
@@ -202,12 +204,12 @@ def fmt(x: float) -> str:
     return "" if x is None or not np.isfinite(x) else "%.6g" % x
 
 
-def main(root: Path) -> int:
+def main(root: Path, corpus: Path) -> int:
     base = root / "tests/data/real-rigs"
     manifest = tomllib.loads((base / "manifest.toml").read_text(encoding="utf-8"))
     out = []
     for spec in manifest["file"]:
-        path = base / spec["path"]
+        path = corpus / spec["path"]
         mode = spec["mode"]
         if mode == "reciprocating":
             r = reciprocating_stats(read_table(path, spec), spec)
@@ -243,4 +245,6 @@ def main(root: Path) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(Path(sys.argv[1]) if len(sys.argv) > 1 else Path(__file__).resolve().parents[1]))
+    root = Path(sys.argv[1]) if len(sys.argv) > 1 else Path(__file__).resolve().parents[1]
+    corpus = Path(sys.argv[2]) if len(sys.argv) > 2 else root.parent / "shared" / "data" / "real-rigs"
+    sys.exit(main(root, corpus))

@@ -71,8 +71,9 @@ pub mod flags {
     /// No unloaded window in the recording: force offsets could not be removed.
     pub const NO_BASELINE: &str = "no-baseline";
     /// A segment boundary touching this row is weakly determined (the change across it is
-    /// comparable to the noise, or the segments contradict the plan's count or regular
-    /// timing); the identification report gives its uncertainty in seconds.
+    /// comparable to the noise, or the segments contradict the plan's regular timing) AND
+    /// its uncertainty reaches into the steady window, moving μ by more than half the
+    /// mean-uncertainty tolerance; the identification report gives it in seconds.
     pub const UNCERTAIN_BOUNDARY: &str = "uncertain-boundary";
     /// The steady window is short against a slow disturbance (e.g. spindle run-out below two
     /// turns per window): twice the mean's standard error under serial correlation exceeds
@@ -81,6 +82,10 @@ pub mod flags {
     /// A linear reciprocating test (ASTM G133): μ is the mean over the steady cycles of the
     /// forward and backward strokes' mid-stroke μ (sign taken by direction).
     pub const RECIPROCATING: &str = "reciprocating";
+    /// The file's rows rest on less than the stated share of its sliding time
+    /// (`min_steady_share`): most of the recording was run-in, transitions or dropped, as
+    /// its coverage line says.
+    pub const LOW_COVERAGE: &str = "low-coverage";
 }
 
 /// One identified friction coefficient (SI units).

@@ -19,6 +19,21 @@ if os.environ.get("GREYBOX_REQUIRE_REFERENCES") == "1":
     _cli = os.environ.get("GREYBOX_CLI") or os.path.join(os.path.dirname(__file__), "..", "..", "..", "target", "release", "greybox")
     assert os.path.exists(_cli), f"GREYBOX_REQUIRE_REFERENCES=1 but the greybox binary {_cli} is missing"
 
+
+
+@pytest.fixture(scope="session")
+def real_rigs():
+    """The real-rig corpus (raw public exports kept outside the project, in
+    ../shared/data/real-rigs beside the checkout, or GREYBOX_REAL_RIGS_DIR): skips where it is
+    absent, unless GREYBOX_REQUIRE_REAL_RIGS=1 (.ci/run), where its absence fails."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    d = os.environ.get("GREYBOX_REAL_RIGS_DIR") or os.path.join(here, "..", "..", "..", "..", "shared", "data", "real-rigs")
+    if not os.path.isdir(d):
+        assert os.environ.get("GREYBOX_REQUIRE_REAL_RIGS") != "1", f"GREYBOX_REQUIRE_REAL_RIGS=1 but {d} is missing"
+        pytest.skip(f"the real-rig corpus {d} is not here")
+    return d
+
+
 FEATURES = ["normal_force_N", "sliding_velocity_m_per_min"]
 DOMAIN = [(150.0, 2000.0), (20.0, 250.0)]
 

@@ -216,11 +216,11 @@ def test_errors_carry_the_command_lines_message(tmp_path):
     assert "missing.json" in str(e.value) and str(e.value).count("No such file") == 1, str(e.value)
 
 
-def test_identify_a_real_rig_export_with_channel_settings(tmp_path):
-    """A real Phoenix TE67 export (tests/data/real-rigs) through the Python API: the rig's
+def test_identify_a_real_rig_export_with_channel_settings(tmp_path, real_rigs):
+    """A real Phoenix TE67 export (the real-rig corpus) through the Python API: the rig's
     profile detected, the steady rule and the channel settings passed as in the CLI, the same
     μ as the CLI's real-rig test and the independent reference (0.1196 over the last half)."""
-    rigs = os.path.join(os.path.dirname(__file__), "..", "..", "..", "tests", "data", "real-rigs")
+    rigs = real_rigs
     table, summary = gb.identify(
         [os.path.join(rigs, "phoenix-te", "PPS_60N_1.tsv")],
         tmp_path / "d.csv",

@@ -79,10 +79,10 @@ def test_an_option_of_another_engine_or_a_mixed_unit_set_is_refused(law, tmp_pat
     assert not any(tmp_path.glob("a.*"))
 
 
-def test_identify_and_simulate_summaries_agree(tmp_path):
+def test_identify_and_simulate_summaries_agree(tmp_path, real_rigs):
     """identify (a real rig export) and a short cut: the same dataset bytes and summary
     numbers from Python and the command line, given the same study."""
-    rigs = os.path.join(REPO, "tests", "data", "real-rigs")
+    rigs = real_rigs
     study = os.path.join(REPO, "examples", "demo-study.toml")
     rec = os.path.join(rigs, "phoenix-te", "PPS_60N_1.tsv")
     channels = {"rig": "phoenix-te", "radius": {"name": "Radius", "unit": "mm"}}
@@ -114,11 +114,11 @@ def test_a_cut_from_python_and_the_cli_gives_the_same_summary_and_forces(tmp_pat
     assert (tmp_path / "cli" / "forces.csv").read_bytes() == (tmp_path / "py" / "forces.csv").read_bytes()
 
 
-def test_every_identify_flag_is_a_python_setting_with_the_same_effect(tmp_path):
+def test_every_identify_flag_is_a_python_setting_with_the_same_effect(tmp_path, real_rigs):
     """The CLI's identify flags and Python's keyword settings are one library type: the same
     real export read with the rig, a channel map, a load unit and the convention given both
     ways writes the same dataset bytes."""
-    rec = os.path.join(REPO, "tests", "data", "real-rigs", "phoenix-te", "PPS_60N_1.tsv")
+    rec = os.path.join(real_rigs, "phoenix-te", "PPS_60N_1.tsv")
     cli("identify", "--rig", "phoenix-te", "--map", "radius=Radius:mm", "--convention", "article-eq7",
         "--steady", "from:30s", "--settle-s", "0.1", "--recordings", rec, "--out", "cli.csv", cwd=tmp_path)
     gb.identify(rec, tmp_path / "py.csv", steady="from:30s", rig="phoenix-te", map=["radius=Radius:mm"],

@@ -26,7 +26,10 @@ use crate::identify_config::SteadyRule;
 use crate::plan::Plan;
 use crate::reciprocating::Reciprocating;
 use crate::recording::{ReadReport, Recording, SpeedTrace};
+use crate::align::{Assigned, Candidate};
+use crate::coverage::{Coverage, Dropped, SegmentTime};
 use crate::signal::{mad_sigma, median, moving_average, quantum};
+use crate::sliding::{quantile, SlidingEvidence};
 use crate::steady::{
     final_stationary, mean_standard_error, plateau_stats, rule_span, steady_span, step_signals,
     windows, StepSignals,
@@ -39,13 +42,17 @@ use serde::Serialize;
 
 pub use crate::identify_config::Segmentation;
 
-/// One step a plan expects: pin, step, load and velocity (no timing).
+/// One step a plan expects: pin, step, load, velocity and, where the plan states it, the
+/// step's duration (ramp and dwell).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ExpectedStep {
     pub pin: u32,
     pub step: u32,
     pub normal_force_n: f64,
     pub sliding_velocity_m_s: f64,
+    /// Planned duration of the step from the start of its ramp to the end of its dwell, s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub duration_s: Option<f64>,
 }
 
 /// The steps of a greybox plan, in run order.
@@ -57,12 +64,15 @@ pub fn expected_from_plan(plan: &Plan) -> Vec<ExpectedStep> {
             step: s.step,
             normal_force_n: s.normal_force_n,
             sliding_velocity_m_s: s.sliding_velocity_m_s,
+            duration_s: Some(s.plateau_end_s - s.step_start_s),
         })
         .collect()
 }
 
 /// Read expected steps from a CSV in run order: `pin, normal_force_N,
-/// sliding_velocity_m_per_min` and optionally `step` (default: numbered per pin).
+/// sliding_velocity_m_per_min`, optionally `step` (default: numbered per pin) and
+/// `duration_s` (the step's planned duration, ramp and dwell: the alignment then uses it,
+/// and a sliding run without a speed channel is cut at the plan's timing).
 pub fn read_expected_steps(path: &std::path::Path) -> Result<Vec<ExpectedStep>> {
     let source = path.display().to_string();
     let mut rdr = csv::ReaderBuilder::new()
@@ -76,6 +86,7 @@ pub fn read_expected_steps(path: &std::path::Path) -> Result<Vec<ExpectedStep>> 
         header.require("sliding_velocity_m_per_min")?,
     );
     let is = header.find("step");
+    let id = header.find("duration_s");
     let mut out: Vec<ExpectedStep> = Vec::new();
     for (k, row) in rdr.records().enumerate() {
         let row = row.map_err(|e| csv_error(&source, e))?;
@@ -93,11 +104,25 @@ pub fn read_expected_steps(path: &std::path::Path) -> Result<Vec<ExpectedStep>> 
             Some(i) => parse_u64(&row[i], &source, line, "step")? as u32,
             None => out.iter().filter(|s| s.pin == pin).count() as u32 + 1,
         };
+        let duration_s = match id {
+            Some(i) => {
+                let d = parse_f64(&row[i], &source, line, "duration_s")?;
+                if !(d > 0.0) {
+                    return Err(Error::input(
+                        SourcePos::file(&source).line(line).field("duration_s"),
+                        format!("a step's duration must be positive, got {d}"),
+                    ));
+                }
+                Some(d)
+            }
+            None => None,
+        };
         out.push(ExpectedStep {
             pin,
             step,
             normal_force_n: f,
             sliding_velocity_m_s: units::m_per_min_to_m_per_s(v),
+            duration_s,
         });
     }
     if out.is_empty() {
@@ -203,20 +228,39 @@ pub struct FileReport {
     pub drift_normal_n: f64,
     pub drift_tangential_n: f64,
     pub tangential_sign_flipped: bool,
+    /// The normal force was recorded negative (compression as a negative force) and was
+    /// flipped.
+    pub normal_sign_flipped: bool,
+    /// What decided which loaded samples slide (`speed channel` or `friction`; see
+    /// [`crate::sliding`]).
+    pub sliding: String,
+    /// The rig's revolution or stroke period found in μ, s, if any.
+    pub period_s: Option<f64>,
+    /// How the sliding time was used: steady, run-in, transitions, dropped (with reasons).
+    pub coverage: Coverage,
     pub segments: Vec<SegmentReport>,
     pub notes: Vec<String>,
     /// Rows already identified (plan-timed path).
     #[serde(skip)]
     rows: Vec<FrictionRecord>,
+    /// Sliding spans left out before measuring (shorter than a step may be).
+    #[serde(skip)]
+    too_short: Vec<Dropped>,
 }
 
 /// How segments were matched to a plan.
 #[derive(Debug, Clone, PartialEq, Default, Serialize)]
 pub struct MatchReport {
-    /// `speed and load`, `order`, or `none` (no plan).
+    /// `alignment by load, speed and duration` (the evidence the segments and plan share;
+    /// see [`crate::align`]), `plan timing`, or `none` (no plan).
     pub method: String,
+    /// Planned steps no segment was matched to.
     pub missing: Vec<String>,
+    /// Segments matched to no planned step (an unplanned run-in, a repeated step).
     pub extra: Vec<String>,
+    /// Planned steps that one segment spans together with the next step (the row is the
+    /// later step's).
+    pub merged: Vec<String>,
     pub reordered: Vec<String>,
 }
 
@@ -237,8 +281,23 @@ struct Prepared<'a> {
     fs: f64,
     /// Loaded and sliding per sample.
     sliding: Vec<bool>,
+    /// The rig's period in μ, s (revolution or stroke), if one was found.
+    period_s: Option<f64>,
     no_baseline: bool,
     report: FileReport,
+}
+
+impl Prepared<'_> {
+    /// Shortest step, s: `min_segment_s`, or three of the rig's periods if longer.
+    fn min_step_s(&self, cfg: &IdentifyConfig) -> f64 {
+        cfg.min_segment_s.max(3.0 * self.period_s.unwrap_or(0.0))
+    }
+
+    /// Samples per block of the change-point search: 50 ms, or one period if longer (each
+    /// block then averages whole revolutions).
+    fn step_block(&self) -> usize {
+        ((0.05f64.max(self.period_s.unwrap_or(0.0)) * self.fs).round() as usize).max(1)
+    }
 }
 
 /// Sample ranges of a segment, `[i, j)`, with its step label and the uncertainty of its
@@ -265,22 +324,13 @@ impl Span {
     }
 }
 
-fn quantile(x: &[f64], q: f64) -> f64 {
-    if x.is_empty() {
-        return f64::NAN;
-    }
-    let mut v = x.to_vec();
-    let k = ((v.len() - 1) as f64 * q).round() as usize;
-    *v.select_nth_unstable_by(k, f64::total_cmp).1
-}
-
 /// Block medians of `x` over blocks of `b` samples.
 fn block_medians(x: &[f64], b: usize) -> Vec<f64> {
     x.chunks(b).map(median).collect()
 }
 
 /// Contiguous runs of `true`: `[start, end)`.
-fn runs(mask: &[bool]) -> Vec<(usize, usize)> {
+pub(crate) fn runs(mask: &[bool]) -> Vec<(usize, usize)> {
     let mut out = Vec::new();
     let mut start = None;
     for (k, m) in mask.iter().enumerate() {
@@ -309,13 +359,15 @@ fn prepare<'a>(
     let n = rec.len();
     let fs = rec.sample_rate_hz();
     let b = ((0.01 * fs).round() as usize).clamp(1, (n / 20).max(1));
-    let bn = block_medians(&rec.normal_n, b);
+    // a load cell that reads compression as a negative force: the normal force is flipped
+    let (raw_n, normal_flipped) = normal_positive(&rec.normal_n, b);
+    let bn = block_medians(&raw_n, b);
     let hi = quantile(&bn, 0.99);
     let lo = quantile(&bn, 0.01);
     if !(hi > 0.0) {
         return Err(Error::input(
             SourcePos::file(&rec.source).field("normal"),
-            format!("the normal force never rises above zero (99th percentile {hi:.3} N): check the channel mapping and its sign"),
+            format!("the normal force never departs from zero (1st and 99th percentiles {lo:.3} and {hi:.3} N): check the channel mapping"),
         ));
     }
     // an unloaded level exists only if the low end is far below the loaded range
@@ -348,14 +400,15 @@ fn prepare<'a>(
             (None, None) => (0.0, 0.0, 0.0),
         }
     };
-    let (off_n, slope_n, t_n) = line(&rec.normal_n);
+    let (off_n, slope_n, t_n) = line(&raw_n);
     let (off_t, slope_t, t_t) = line(&rec.tangential_n);
     let fn_c: Vec<f64> = rec
         .time_s
         .iter()
-        .zip(&rec.normal_n)
+        .zip(raw_n.iter())
         .map(|(t, v)| v - off_n - slope_n * (t - t_n))
         .collect();
+    drop(raw_n);
     let mut ft_c: Vec<f64> = rec
         .time_s
         .iter()
@@ -382,27 +435,27 @@ fn prepare<'a>(
             "the tangential force is negative while loaded: its sign was flipped".to_string(),
         );
     }
-    // sliding: loaded blocks whose μ is a fair share of the typical sliding μ
-    let bt = block_medians(&ft_c, b);
-    let bnc = block_medians(&fn_c, b);
-    let mu_blocks: Vec<f64> = (0..bn.len())
-        .map(|k| {
-            if loaded_blocks[k] {
-                bt[k] / bnc[k].max(1e-12)
-            } else {
-                0.0
-            }
-        })
-        .collect();
-    let loaded_mu: Vec<f64> = (0..bn.len())
-        .filter(|k| loaded_blocks[*k])
-        .map(|k| mu_blocks[k])
-        .collect();
-    let typical = quantile(&loaded_mu, 0.75);
-    let sliding_blocks: Vec<bool> = (0..bn.len())
-        .map(|k| loaded_blocks[k] && mu_blocks[k] > cfg.sliding_fraction * typical)
-        .collect();
-    let sliding: Vec<bool> = (0..n).map(|k| sliding_blocks[k / b]).collect();
+    if normal_flipped {
+        notes.push("the normal force is negative while loaded (compression read as a negative force): its sign was flipped".to_string());
+    }
+    let blocks = crate::sliding::Blocks {
+        b,
+        loaded: &loaded_blocks,
+        fs,
+    };
+    let slide = crate::sliding::sliding(rec.speed.as_ref(), &fn_c, &ft_c, &blocks, cfg);
+    if let Some(thr) = slide.mu_threshold {
+        notes.push(format!(
+            "sliding where μ, averaged over {:.3} s, exceeds {thr:.4} (no measured speed channel)",
+            cfg.sliding_smoothing_s.max(slide.period_s.unwrap_or(0.0))
+        ));
+    }
+    if let Some(per) = slide.period_s {
+        notes.push(format!(
+            "μ repeats every {per:.3} s (the rig's revolution or stroke): averaged over it"
+        ));
+    }
+    let sliding_s = slide.mask.iter().filter(|m| **m).count() as f64 / fs;
     let no_baseline = baseline == "none";
     if no_baseline {
         notes.push(
@@ -414,7 +467,8 @@ fn prepare<'a>(
         fn_c,
         ft_c,
         fs,
-        sliding,
+        sliding: slide.mask,
+        period_s: slide.period_s,
         no_baseline,
         report: FileReport {
             source: rec.source.clone(),
@@ -427,11 +481,32 @@ fn prepare<'a>(
             drift_normal_n: slope_n * span,
             drift_tangential_n: slope_t * span,
             tangential_sign_flipped: flipped,
+            normal_sign_flipped: normal_flipped,
+            sliding: slide.evidence.name().to_string(),
+            period_s: slide.period_s,
+            coverage: Coverage {
+                sliding_s,
+                ..Default::default()
+            },
             segments: Vec::new(),
             notes,
             rows: Vec::new(),
+            too_short: Vec::new(),
         },
     })
+}
+
+/// The normal force with a positive load: flipped (and `true`) when the recording's loaded
+/// level is negative, i.e. its 1st percentile of block medians (`b` samples) lies further
+/// below zero than its 99th lies above.
+fn normal_positive(normal: &[f64], b: usize) -> (std::borrow::Cow<'_, [f64]>, bool) {
+    let bn = block_medians(normal, b);
+    let (lo, hi) = (quantile(&bn, 0.01), quantile(&bn, 0.99));
+    if lo < 0.0 && -lo > hi.max(0.0) {
+        (std::borrow::Cow::Owned(normal.iter().map(|v| -v).collect()), true)
+    } else {
+        (std::borrow::Cow::Borrowed(normal), false)
+    }
 }
 
 /// Runs of one step number, restricted to their loaded-and-sliding part.
@@ -612,9 +687,9 @@ fn spans_from_speed(
     out
 }
 
-/// Loaded-and-sliding runs (gaps under 50 ms closed).
+/// Loaded-and-sliding runs (gaps under 50 ms, or two of the rig's periods, closed).
 fn sliding_runs(p: &Prepared) -> Vec<Span> {
-    let gap = (0.05 * p.fs) as usize;
+    let gap = (0.05f64.max(2.0 * p.period_s.unwrap_or(0.0)) * p.fs) as usize;
     let mut out: Vec<Span> = Vec::new();
     for (a, e) in runs(&p.sliding) {
         match out.last_mut() {
@@ -815,17 +890,30 @@ fn trim_transients(x: &[f64]) -> (usize, usize) {
     (a, e)
 }
 
-/// Split a sliding run into `k` steps (or as many as the signal says when `k` is `None`)
-/// at the level changes of μ (50 ms block means).
-fn split_run(p: &Prepared, run: Span, k: Option<usize>, cfg: &IdentifyConfig) -> Result<Vec<Span>> {
-    let b = ((0.05 * p.fs).round() as usize).max(1);
+/// Split a sliding run into the plan's steps for it (or as many as the signal says when
+/// `steps` is `None`) at the level changes of μ (block means over 50 ms or the rig's period);
+/// where every step has a planned duration, at the plan's timing instead ([`timed_bounds`]).
+fn split_run(
+    p: &Prepared,
+    run: Span,
+    steps: Option<&[ExpectedStep]>,
+    cfg: &IdentifyConfig,
+) -> Result<Vec<Span>> {
+    let b = p.step_block();
     let mu: Vec<f64> = (run.i..run.j).map(|i| p.ft_c[i] / p.fn_c[i]).collect();
     let all_blocks: Vec<f64> = mu.chunks(b).map(median).collect();
+    let block_s = b as f64 / p.fs;
+    let durations: Option<Vec<f64>> = steps.and_then(|s| s.iter().map(|e| e.duration_s).collect());
+    if let Some(d) = durations.filter(|d| d.len() > 1) {
+        let bounds = timed_bounds(&all_blocks, &d, block_s);
+        return Ok(spans_at(run, &bounds, b, &[], 0.0));
+    }
     // the spindle's run-up and run-down and the run-in at the ends of a run are no steps
     let (ta, tb) = trim_transients(&all_blocks);
     let blocks = &all_blocks[ta..tb];
     let run = Span::new(run.i + ta * b, (run.i + tb * b).min(run.j), None);
-    let min_abs = ((cfg.min_segment_s * p.fs / b as f64).ceil() as usize).max(2);
+    let min_abs = ((p.min_step_s(cfg) / block_s).ceil() as usize).max(2);
+    let k = steps.map(<[ExpectedStep]>::len);
     let bounds = match k {
         Some(k) => {
             let min_len =
@@ -843,28 +931,75 @@ fn split_run(p: &Prepared, run: Span, k: Option<usize>, cfg: &IdentifyConfig) ->
         }
         None => split_penalised(blocks, min_abs),
     };
-    let block_s = b as f64 / p.fs;
     let unc = weak_boundaries(blocks, &bounds, k.is_some(), block_s);
     // the run's disturbance (noise and slow periodic parts such as run-out) as the standard
     // error of a mean over one second: SE(T) = run_sem / √T
     let resid = split_residuals(blocks, &bounds);
     let run_sem = mean_standard_error(&resid) * (resid.len() as f64 * block_s).sqrt();
+    Ok(spans_at(run, &bounds, b, &unc, run_sem))
+}
+
+/// The spans of `run` cut at block `bounds` (`b` samples a block), with each boundary's
+/// uncertainty (s, none: sharp) and the run's disturbance.
+fn spans_at(run: Span, bounds: &[usize], b: usize, unc: &[f64], run_sem: f64) -> Vec<Span> {
     let mut edges = vec![run.i];
-    edges.extend(bounds.iter().map(|c| run.i + c * b));
+    edges.extend(bounds.iter().map(|c| (run.i + c * b).min(run.j)));
     edges.push(run.j);
-    Ok(edges
+    edges
         .windows(2)
         .enumerate()
+        .filter(|(_, w)| w[1] > w[0])
         .map(|(s, w)| {
             let mut span = Span::new(w[0], w[1], None);
             span.run_sem = run_sem;
             span.unc = (
-                s.checked_sub(1).map_or(0.0, |q| unc[q]),
+                s.checked_sub(1).and_then(|q| unc.get(q)).copied().unwrap_or(0.0),
                 unc.get(s).copied().unwrap_or(0.0),
             );
             span
         })
-        .collect())
+        .collect()
+}
+
+/// Step boundaries (in blocks of `block_s` s) from the plan's step durations: the planned
+/// boundaries shifted by the offset, within the difference between the run's length and the
+/// plan's, that best fits μ as a constant per piece (least squares over prefix sums). A run
+/// longer than planned (an unplanned run-in before the first step, a late stop) gets the
+/// surplus as a piece of its own, which the alignment then leaves unmatched, instead of
+/// shifting every step's label.
+fn timed_bounds(blocks: &[f64], durations: &[f64], block_s: f64) -> Vec<usize> {
+    let n = blocks.len();
+    let planned: Vec<f64> = std::iter::once(0.0)
+        .chain(durations.iter().scan(0.0, |t, d| {
+            *t += d;
+            Some(*t / block_s)
+        }))
+        .collect();
+    let total = *planned.last().unwrap_or(&0.0);
+    let slack = n as f64 - total;
+    let (lo, hi) = (slack.min(0.0).floor() as i64, slack.max(0.0).ceil() as i64);
+    let sums = PrefixSums::new(blocks);
+    // every edge of the plan shifted by `off`, inside the run, without the run's own ends
+    let at = |off: i64| -> Vec<usize> {
+        let mut e: Vec<usize> = planned
+            .iter()
+            .map(|c| (c + off as f64).round().clamp(0.0, n as f64) as usize)
+            .filter(|c| *c > 0 && *c < n)
+            .collect();
+        e.dedup();
+        e
+    };
+    let cost = |bounds: &[usize]| {
+        let edges: Vec<usize> = std::iter::once(0)
+            .chain(bounds.iter().copied())
+            .chain(std::iter::once(n))
+            .collect();
+        edges.windows(2).map(|w| sums.cost(w[0], w[1])).sum::<f64>()
+    };
+    let best = (lo..=hi)
+        .min_by(|a, b| cost(&at(*a)).total_cmp(&cost(&at(*b))))
+        .unwrap_or(0);
+    at(best)
 }
 
 /// The uncertainty, s, of each inner boundary of a run split at `bounds` (blocks of
@@ -1005,7 +1140,7 @@ fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> Segm
     if p.no_baseline {
         rep.flags.push(flags::NO_BASELINE.to_string());
     }
-    if rep.boundary_uncertainty_s.is_some() {
+    if boundary_matters(span, &sig, (pa, pb), p.fs, cfg) {
         rep.flags.push(flags::UNCERTAIN_BOUNDARY.to_string());
     }
     let used: Vec<f64> = (pa..pb)
@@ -1022,6 +1157,33 @@ fn measure(p: &Prepared, span: Span, index: usize, cfg: &IdentifyConfig) -> Segm
     }
     rep.stats = Some(st);
     rep
+}
+
+/// Whether a segment's uncertain boundaries matter for its μ: they reach into the steady
+/// window `[pa, pb)` (segment-relative samples), and μ over the window without the reach
+/// differs from μ over the whole window by more than half `mean_uncertainty_tolerance` (or
+/// nothing is left).
+fn boundary_matters(
+    span: Span,
+    sig: &StepSignals,
+    (pa, pb): (usize, usize),
+    fs: f64,
+    cfg: &IdentifyConfig,
+) -> bool {
+    let len = span.j - span.i;
+    let a = pa.max((span.unc.0 * fs).ceil() as usize);
+    let b = pb.min(len.saturating_sub((span.unc.1 * fs).ceil() as usize));
+    if (a, b) == (pa, pb) {
+        return false;
+    }
+    let mean = |a: usize, b: usize| {
+        let v: Vec<f64> = (a..b).filter(|k| sig.good[*k]).map(|k| sig.mu[k]).collect();
+        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+    };
+    match (mean(pa, pb), (a < b).then(|| mean(a, b)).flatten()) {
+        (Some(all), Some(inner)) => (all - inner).abs() > 0.5 * cfg.mean_uncertainty_tolerance,
+        _ => true,
+    }
 }
 
 /// Drift per sliding distance (1/km) of every measured segment with a known speed, and a
@@ -1275,38 +1437,19 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
     }
     // signal runs: split into the plan's steps when the run count says which pin each is
     if !signal_runs.is_empty() {
-        let pins: Vec<usize> = c.expected.map_or(Vec::new(), |e| {
-            let mut counts: Vec<usize> = Vec::new();
-            let mut last = None;
-            for s in e {
-                if last != Some(s.pin) {
-                    counts.push(0);
-                    last = Some(s.pin);
-                }
-                *counts.last_mut().expect("pushed") += 1;
+        let per_run = plan_steps_per_run(c.expected, signal_runs.len());
+        if c.expected.is_some() && per_run.iter().all(Option::is_none) {
+            let pins = c.expected.map_or(0, |e| pin_groups(e).len());
+            for p in prepared.iter_mut() {
+                p.report.notes.push(format!(
+                    "{} loaded sliding runs in all files, the plan has {pins} pins and {} steps: runs split by the signal alone, then aligned with the plan",
+                    signal_runs.len(),
+                    c.expected.map_or(0, <[ExpectedStep]>::len)
+                ));
             }
-            counts
-        });
-        let total_steps = c.expected.map_or(0, <[ExpectedStep]>::len);
-        let counts: Vec<Option<usize>> = if !pins.is_empty() && signal_runs.len() == pins.len() {
-            pins.iter().map(|k| Some(*k)).collect()
-        } else if total_steps > 0 && signal_runs.len() == total_steps {
-            vec![Some(1); signal_runs.len()]
-        } else {
-            if c.expected.is_some() {
-                for p in prepared.iter_mut() {
-                    p.report.notes.push(format!(
-                        "{} loaded sliding runs in all files, the plan has {} pins and {} steps: runs split by the signal alone",
-                        signal_runs.len(),
-                        pins.len(),
-                        total_steps
-                    ));
-                }
-            }
-            vec![None; signal_runs.len()]
-        };
-        for ((f, run), k) in signal_runs.iter().zip(counts) {
-            let parts = split_run(&prepared[*f], *run, k, cfg)?;
+        }
+        for ((f, run), steps) in signal_runs.iter().zip(per_run) {
+            let parts = split_run(&prepared[*f], *run, steps, cfg)?;
             spans[*f].extend(parts);
         }
     }
@@ -1316,10 +1459,18 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
             reciprocating_segments(p, why, cfg);
             continue;
         }
-        let kept: Vec<Span> = s
+        let (kept, short): (Vec<Span>, Vec<Span>) =
+            s.iter().partition(|s| s.j - s.i >= min_len(p).max(4));
+        p.report.too_short = short
             .iter()
-            .copied()
-            .filter(|s| s.j - s.i >= min_len(p).max(4))
+            .map(|sp| Dropped {
+                what: format!("{:.3}–{:.3} s", p.rec.time_s[sp.i], p.rec.time_s[sp.j - 1]),
+                reason: format!(
+                    "shorter than the shortest step (min_segment_s = {} s)",
+                    cfg.min_segment_s
+                ),
+                seconds: (sp.j - sp.i) as f64 / p.fs,
+            })
             .collect();
         let segs: Vec<SegmentReport> = kept
             .iter()
@@ -1328,18 +1479,110 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
             .collect();
         p.report.segments = segs;
         if p.report.segments.is_empty() {
-            let hint = match p.report.segmentation.as_str() {
-                "step-column" => "no step of the step column is loaded and sliding",
-                "speed" => "the speed channel never holds a constant speed above rest while loaded",
-                _ => "the normal force never holds a load while the tangential force shows sliding; a step column (--map step=NAME) or a speed channel (--map speed=NAME:UNIT) would segment it",
-            };
+            let hint = no_segment_hint(p);
             p.report.notes.push(format!("no segment found: {hint}"));
         }
     }
     let mut files: Vec<FileReport> = prepared.into_iter().map(|p| p.report).collect();
     resolve_velocities(&mut files, c)?;
     steady_notes(&mut files);
+    for f in files.iter_mut() {
+        update_coverage(f, cfg, true);
+    }
     Ok(files)
+}
+
+/// Why a file gave no segment, from what its signals showed.
+fn no_segment_hint(p: &Prepared) -> String {
+    let fs = p.fs;
+    let loaded_s = p.fn_c.iter().filter(|f| **f > 0.0).count() as f64 / fs;
+    let sliding_s = p.report.coverage.sliding_s;
+    match p.report.segmentation.as_str() {
+        "step-column" => "no step of the step column is loaded and sliding".into(),
+        "speed" => {
+            "the speed channel never holds a constant speed above rest while loaded".into()
+        }
+        _ if sliding_s == 0.0 => format!(
+            "the normal force is above its loaded threshold for {loaded_s:.1} s, but μ never exceeds the sliding threshold there (sliding_fraction × the 75th percentile, at least sliding_min_mu; sliding evidence: {}); a step column (--map step=NAME) or a speed channel (--map speed=NAME:UNIT) would segment it",
+            p.report.sliding
+        ),
+        _ => format!(
+            "{sliding_s:.1} s slide, but in pieces shorter than min_segment_s; a step column (--map step=NAME) or a speed channel (--map speed=NAME:UNIT) would segment it"
+        ),
+    }
+}
+
+/// A file's coverage from its segments' state: rows from the measured (and, once matched,
+/// the matched) segments, dropped parts with reasons. Before matching (`flag`), a file
+/// whose steady share is below `min_steady_share` flags its measured segments
+/// `low-coverage`.
+fn update_coverage(f: &mut FileReport, cfg: &IdentifyConfig, flag: bool) {
+    let matched_any = f.segments.iter().any(|s| s.matched.is_some());
+    let mut rows = Vec::new();
+    let mut dropped = f.too_short.clone();
+    for s in &f.segments {
+        let what = format!("segment {}", s.index);
+        let seconds = s.end_s - s.start_s;
+        let reason = match (&s.problem, s.steady_start_s.zip(s.steady_end_s)) {
+            (Some(p), _) => Some(p.clone()),
+            (None, None) => Some("no steady part".to_string()),
+            (None, Some(_)) if matched_any && s.matched.is_none() => {
+                Some("matched to no planned step".to_string())
+            }
+            (None, Some(_)) => None,
+        };
+        match (reason, s.steady_start_s.zip(s.steady_end_s)) {
+            (Some(reason), _) => dropped.push(Dropped {
+                what,
+                reason,
+                seconds,
+            }),
+            (None, Some((a, b))) => rows.push(SegmentTime {
+                start_s: s.start_s,
+                end_s: s.end_s,
+                steady_s: b - a,
+                run_in_s: s.run_in_s.unwrap_or(0.0),
+            }),
+            (None, None) => {}
+        }
+    }
+    f.coverage = Coverage::of(f.coverage.sliding_s, &rows, dropped);
+    if flag && !rows.is_empty() && f.coverage.steady_share() < cfg.min_steady_share {
+        for s in f.segments.iter_mut().filter(|s| s.stats.is_some()) {
+            s.flags.push(flags::LOW_COVERAGE.to_string());
+        }
+        f.notes.push(format!(
+            "low coverage: the rows rest on {:.0} % of the sliding time (min_steady_share {:.0} %); {}",
+            100.0 * f.coverage.steady_share(),
+            100.0 * cfg.min_steady_share,
+            f.coverage.line()
+        ));
+    }
+}
+
+/// The plan's steps grouped by pin, in run order (a pin's steps are contiguous).
+fn pin_groups(expected: &[ExpectedStep]) -> Vec<&[ExpectedStep]> {
+    expected.chunk_by(|a, b| a.pin == b.pin).collect()
+}
+
+/// Which planned steps each of `runs` sliding runs holds: a pin's steps each when there are
+/// as many runs as pins, one step each when there are as many runs as steps, else unknown
+/// (`None`: the run is split by the signal alone and aligned afterwards).
+fn plan_steps_per_run(
+    expected: Option<&[ExpectedStep]>,
+    runs: usize,
+) -> Vec<Option<&[ExpectedStep]>> {
+    let Some(e) = expected else {
+        return vec![None; runs];
+    };
+    let pins = pin_groups(e);
+    if pins.len() == runs {
+        pins.into_iter().map(Some).collect()
+    } else if e.len() == runs {
+        e.chunks(1).map(Some).collect()
+    } else {
+        vec![None; runs]
+    }
 }
 
 /// Sliding velocities of segments with a spindle speed: v = 2π R n / 60, R from the radius
@@ -1647,166 +1890,130 @@ fn describe_step(e: &ExpectedStep) -> String {
     )
 }
 
-/// With a plan: segments assigned to planned steps (by measured speed and load when every
-/// segment has a speed, else by order), then rows for the matched ones and a report of the
-/// missing, extra and reordered steps.
+/// With a plan: segments aligned with the planned steps ([`crate::align`]), then rows for
+/// the matched ones and a report of the missing, extra, merged and reordered steps.
 fn match_to_plan(
     files: &mut [FileReport],
     segs: &[(usize, usize)],
     expected: &[ExpectedStep],
     c: &Campaign,
 ) -> Result<(FrictionDataset, MatchReport)> {
-    let mut report = MatchReport::default();
-    let all_speed = segs
+    let candidates: Vec<Candidate> = segs
         .iter()
-        .all(|&(f, k)| files[f].segments[k].sliding_velocity_m_per_min.is_some());
-    let assignment = if all_speed && !segs.is_empty() {
-        report.method = "speed and load".into();
-        assign_by_speed_and_load(files, segs, expected, c)
-    } else {
-        report.method = "order".into();
-        assign_by_order(files, segs, expected)?
-    };
-    let mut records = Vec::new();
-    let mut last_ei: Option<usize> = None;
-    for (si, &(f, k)) in segs.iter().enumerate() {
-        match assignment[si] {
-            Some(ei) => {
-                let e = &expected[ei];
-                if let Some(prev) = last_ei {
-                    if ei < prev {
-                        report.reordered.push(format!(
-                            "{} recorded after {}",
-                            describe_step(e),
-                            describe_step(&expected[prev])
-                        ));
-                    }
-                }
-                last_ei = Some(last_ei.map_or(ei, |p| p.max(ei)));
-                files[f].segments[k].matched = Some((e.pin, e.step));
-                let s = &files[f].segments[k];
-                records.push(segment_record(
-                    c,
-                    (e.pin, e.step),
-                    Some(e.normal_force_n),
-                    e.sliding_velocity_m_s,
-                    s,
-                )?);
+        .enumerate()
+        .map(|(si, &(f, k))| {
+            let s = &files[f].segments[k];
+            Candidate {
+                file: f,
+                load_n: s.normal_force_n,
+                // a stated constant speed is no evidence of which step a segment is
+                velocity_m_s: s
+                    .sliding_velocity_m_per_min
+                    .filter(|_| files[f].sliding == SlidingEvidence::SpeedChannel.name())
+                    .map(units::m_per_min_to_m_per_s),
+                duration_s: s.end_s - s.start_s,
+                first_in_file: si == 0 || segs[si - 1].0 != f,
+                running_in: s.run_in_s.is_some_and(|r| r > 0.0)
+                    || s.flags.iter().any(|x| x == flags::TREND),
             }
-            None => {
+        })
+        .collect();
+    let aligned = crate::align::align(&candidates, expected, c.cfg)
+        .map_err(|m| Error::invalid("identify", m))?;
+    let mut report = MatchReport {
+        method: alignment_method(&candidates, expected),
+        ..Default::default()
+    };
+    let given: Vec<usize> = {
+        let mut v: Vec<usize> = segs.iter().map(|s| s.0).collect();
+        v.dedup();
+        v
+    };
+    if aligned.file_order != given {
+        report.reordered.push(format!(
+            "the files were aligned with the plan in the order {}",
+            aligned
+                .file_order
+                .iter()
+                .map(|f| files[*f].source.clone())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    let mut records = Vec::new();
+    let mut matched = vec![false; expected.len()];
+    for (si, &(f, k)) in segs.iter().enumerate() {
+        let ei = match aligned.assigned[si] {
+            Assigned::Step(ei) => ei,
+            Assigned::Merged { earlier, later } => {
+                matched[earlier] = true;
+                let s = &files[f].segments[k];
+                report.merged.push(format!(
+                    "{} merged with the next step into {} segment {} ({:.3}–{:.3} s): the row is the later step's",
+                    describe_step(&expected[earlier]),
+                    files[f].source,
+                    s.index,
+                    s.start_s,
+                    s.end_s
+                ));
+                later
+            }
+            Assigned::Extra => {
                 let (file, s) = (&files[f], &files[f].segments[k]);
                 let v = s
                     .sliding_velocity_m_per_min
                     .map_or(String::new(), |v| format!(", {v:.1} m/min"));
                 report.extra.push(format!(
-                    "{} segment {} ({:.3}–{:.3} s) at {:.1} N{v}: no planned step within tolerance",
-                    file.source, s.index, s.start_s, s.end_s, s.normal_force_n
+                    "{} segment {} ({:.3}–{:.3} s, {:.1} s) at {:.1} N{v}: no planned step fits (an unplanned run-in or repeat?)",
+                    file.source,
+                    s.index,
+                    s.start_s,
+                    s.end_s,
+                    s.end_s - s.start_s,
+                    s.normal_force_n
                 ));
+                continue;
             }
-        }
+        };
+        matched[ei] = true;
+        let e = &expected[ei];
+        files[f].segments[k].matched = Some((e.pin, e.step));
+        let s = &files[f].segments[k];
+        records.push(segment_record(
+            c,
+            (e.pin, e.step),
+            Some(e.normal_force_n),
+            e.sliding_velocity_m_s,
+            s,
+        )?);
     }
-    let matched: Vec<usize> = assignment.iter().flatten().copied().collect();
     for (ei, e) in expected.iter().enumerate() {
-        if !matched.contains(&ei) {
+        if !matched[ei] {
             report.missing.push(describe_step(e));
         }
+    }
+    for f in files.iter_mut() {
+        update_coverage(f, c.cfg, false);
     }
     records.sort_by_key(|r| (r.pin, r.step));
     Ok((FrictionDataset { records }, report))
 }
 
-/// Greedy assignment of segments to planned steps by the combined relative distance of
-/// load and speed, within the tolerances; each step at most once.
-fn assign_by_speed_and_load(
-    files: &[FileReport],
-    segs: &[(usize, usize)],
-    expected: &[ExpectedStep],
-    c: &Campaign,
-) -> Vec<Option<usize>> {
-    let tol_f = c.cfg.match_load_tolerance;
-    let tol_v = c.cfg.match_speed_tolerance;
-    let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
-    for (si, &(f, k)) in segs.iter().enumerate() {
-        let s = &files[f].segments[k];
-        let v = units::m_per_min_to_m_per_s(
-            s.sliding_velocity_m_per_min
-                .expect("every segment has a speed"),
-        );
-        for (ei, e) in expected.iter().enumerate() {
-            let df = (s.normal_force_n / e.normal_force_n).ln().abs();
-            let dv = (v / e.sliding_velocity_m_s).ln().abs();
-            if df <= (1.0 + tol_f).ln() && dv <= (1.0 + tol_v).ln() {
-                pairs.push((df / tol_f + dv / tol_v, si, ei));
-            }
-        }
+/// `alignment by load, speed and duration`: the evidence the segments and the plan share.
+fn alignment_method(segs: &[Candidate], expected: &[ExpectedStep]) -> String {
+    let mut by = vec!["load"];
+    if !segs.is_empty() && segs.iter().all(|s| s.velocity_m_s.is_some()) {
+        by.push("speed");
     }
-    pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
-    let mut assignment = vec![None; segs.len()];
-    let mut used = vec![false; expected.len()];
-    for (_, si, ei) in pairs {
-        if assignment[si].is_none() && !used[ei] {
-            assignment[si] = Some(ei);
-            used[ei] = true;
-        }
+    if expected.iter().all(|e| e.duration_s.is_some()) {
+        by.push("duration");
     }
-    assignment
-}
-
-/// Segment i to planned step i; the counts must agree, and a segment whose measured load is
-/// nearer another pin's than its own is an error (files out of the plan's pin order).
-fn assign_by_order(
-    files: &[FileReport],
-    segs: &[(usize, usize)],
-    expected: &[ExpectedStep],
-) -> Result<Vec<Option<usize>>> {
-    if segs.len() != expected.len() {
-        let per_file: Vec<String> = files
-            .iter()
-            .map(|f| {
-                format!(
-                    "{}: {}",
-                    f.source,
-                    f.segments.iter().filter(|s| s.stats.is_some()).count()
-                )
-            })
-            .collect();
-        return Err(Error::invalid(
-            "identify",
-            format!(
-                "{} segments were found ({}) but the plan expects {} steps, and without a speed channel they can only be matched by order: map a speed channel (--map speed=NAME:UNIT) or a step column, or check the plan",
-                segs.len(),
-                per_file.join("; "),
-                expected.len()
-            ),
-        ));
+    let last = by.pop().expect("load");
+    if by.is_empty() {
+        format!("alignment by {last}")
+    } else {
+        format!("alignment by {} and {last}", by.join(", "))
     }
-    let pin_loads: Vec<(u32, f64)> = expected.iter().fold(Vec::new(), |mut v, e| {
-        if !v.iter().any(|(p, _)| *p == e.pin) {
-            v.push((e.pin, e.normal_force_n));
-        }
-        v
-    });
-    for (si, &(f, k)) in segs.iter().enumerate() {
-        let s = &files[f].segments[k];
-        let e = &expected[si];
-        let distance = |l: f64| (s.normal_force_n / l).ln().abs();
-        let nearest_other = pin_loads
-            .iter()
-            .filter(|(p, _)| *p != e.pin)
-            .min_by(|a, b| distance(a.1).total_cmp(&distance(b.1)));
-        if let Some((p, l)) = nearest_other {
-            if distance(*l) < distance(e.normal_force_n) {
-                return Err(Error::input(
-                    SourcePos::file(&files[f].source),
-                    format!(
-                        "segment {} measures {:.1} N, closer to pin {p} ({l:.1} N) than to pin {} ({:.1} N) it is matched to by order: are the recordings in the plan's pin order?",
-                        s.index, s.normal_force_n, e.pin, e.normal_force_n
-                    ),
-                ));
-            }
-        }
-    }
-    Ok((0..segs.len()).map(Some).collect())
 }
 
 /// The greybox NC-program path: one recording per pin, the plan's timing from the trigger.
@@ -1866,13 +2073,23 @@ fn plan_timed(recs: &[Recording], plan: &Plan, c: &Campaign) -> Result<Vec<FileR
             drift_normal_n: d.drift_normal_n,
             drift_tangential_n: d.drift_tangential_n,
             tangential_sign_flipped: false,
+            normal_sign_flipped: false,
+            sliding: "plan timing".into(),
+            period_s: None,
+            coverage: Coverage::default(),
             segments,
             notes: vec![format!(
                 "trigger at {:.4} s, NC-to-spindle latency {:.4} s, {} spikes removed",
                 d.trigger_s, d.latency_s, d.spikes_removed
             )],
             rows,
+            too_short: Vec::new(),
         });
+    }
+    for f in files.iter_mut() {
+        // the plan's steps are the sliding time
+        f.coverage.sliding_s = f.segments.iter().map(|s| s.end_s - s.start_s).sum();
+        update_coverage(f, c.cfg, true);
     }
     Ok(files)
 }

@@ -233,8 +233,21 @@ pub struct IdentifyConfig {
     pub segmentation: Segmentation,
     /// A sample is loaded above the unloaded level plus this share of the loaded range (0.04).
     pub loaded_fraction: f64,
-    /// A loaded block slides when its μ exceeds this share of the typical μ (0.25).
+    /// Without a measured speed channel, a loaded block slides when its μ, averaged over the
+    /// rig's period and `sliding_smoothing_s`, exceeds this share of that smoothed μ's 75th
+    /// percentile over the loaded blocks (0.25; see [`crate::sliding`]).
     pub sliding_fraction: f64,
+    /// ... and exceeds this μ in any case (0.005, the low end of plausible friction).
+    pub sliding_min_mu: f64,
+    /// Shortest averaging of μ before the sliding test, s (0.1; the rig's period if longer).
+    pub sliding_smoothing_s: f64,
+    /// With a measured speed channel, a loaded block slides above this share of the
+    /// channel's largest block speed (0.02).
+    pub speed_rest_fraction: f64,
+    /// Longest revolution or stroke period looked for in μ, s (10).
+    pub max_period_s: f64,
+    /// Autocorrelation a period must reach to count (0.3).
+    pub period_min_correlation: f64,
     /// Relative speed change that ends a constant-speed segment (0.01).
     pub speed_tolerance: f64,
     /// Shortest segment, s (0.3).
@@ -246,6 +259,18 @@ pub struct IdentifyConfig {
     pub match_load_tolerance: f64,
     /// Plan matching: largest relative speed deviation (0.1).
     pub match_speed_tolerance: f64,
+    /// Plan matching, where the plan gives step durations: largest relative deviation of a
+    /// segment's duration, as a factor − 1 (1.0: within a factor 2; a segment is the step's
+    /// sliding time without its ramps).
+    pub match_duration_tolerance: f64,
+    /// Plan alignment: cost of a segment left unmatched (an extra segment), in units of a
+    /// pairing at the edge of every tolerance (1.0; see [`crate::align`]).
+    pub unmatched_segment_cost: f64,
+    /// Plan alignment: cost of a planned step left without a segment (1.0).
+    pub unmatched_step_cost: f64,
+    /// A file whose rows rest on less than this share of its sliding time (steady windows
+    /// over sliding time) flags its rows `low-coverage` (0.25).
+    pub min_steady_share: f64,
     /// Which part of a segment gives its steady value (`auto`: after run-in, see
     /// [`SteadyRule`]).
     pub steady: SteadyRule,
@@ -274,11 +299,20 @@ impl Default for IdentifyConfig {
             segmentation: Segmentation::Auto,
             loaded_fraction: 0.04,
             sliding_fraction: 0.25,
+            sliding_min_mu: 0.005,
+            sliding_smoothing_s: 0.1,
+            speed_rest_fraction: 0.02,
+            max_period_s: 10.0,
+            period_min_correlation: 0.3,
             speed_tolerance: 0.01,
             min_segment_s: 0.3,
             min_segment_fraction: 0.5,
             match_load_tolerance: 0.3,
             match_speed_tolerance: 0.1,
+            match_duration_tolerance: 1.0,
+            unmatched_segment_cost: 1.0,
+            unmatched_step_cost: 1.0,
+            min_steady_share: 0.25,
             steady: SteadyRule::Auto,
             mean_uncertainty_tolerance: 0.003,
             mode: None,

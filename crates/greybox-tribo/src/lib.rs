@@ -7,8 +7,10 @@
 //! * [`synth`] — a virtual tribometer that writes realistic recordings from a ground-truth law.
 //! * [`identify`] — plateau detection and apparent COF identification.
 
+pub mod align;
 mod bulk;
 pub mod campaign;
+pub mod coverage;
 pub mod csv_recording;
 pub mod decimal;
 pub mod frf;
@@ -28,6 +30,7 @@ pub mod readers;
 pub mod reciprocating;
 pub mod recording;
 pub mod signal;
+pub mod sliding;
 pub mod steady;
 pub mod synth;
 pub mod synth_recip;

@@ -148,3 +148,61 @@ mod tests {
         assert_eq!(moving_average(&[1.0, 2.0, 3.0], 3), vec![1.5, 2.0, 2.5]);
     }
 }
+
+/// The dominant period of `x` in samples, from its autocorrelation (Wiener–Khinchin, via a
+/// real FFT zero-padded to twice the length): the first lag in `[2, max_lag]` where the
+/// autocorrelation of `x` about its slow trend (a moving average over `2 max_lag + 1`
+/// samples, so that level steps do not count as periodic content) peaks above
+/// `min_correlation` after having fallen below half that peak (a real oscillation, not the
+/// slow decay of a smooth signal). `max_lag` is capped at a third of the length, so that a
+/// period found is seen at least three times; `None` when no lag qualifies.
+///
+/// Used to find a rig's revolution or stroke period in a friction trace (once-per-revolution
+/// dips, run-out), over which the signal is then averaged.
+pub fn dominant_period(x: &[f64], max_lag: usize, min_correlation: f64) -> Option<usize> {
+    let n = x.len();
+    let max_lag = max_lag.min(n / 3);
+    if max_lag < 2 {
+        return None;
+    }
+    let trend = moving_average(x, 2 * max_lag + 1);
+    let hp: Vec<f64> = x.iter().zip(&trend).map(|(v, t)| v - t).collect();
+    let acf = autocorrelation(&hp, max_lag)?;
+    let mut lowest = f64::INFINITY;
+    for lag in 2..max_lag {
+        lowest = lowest.min(acf[lag - 1]);
+        let peak = acf[lag] >= acf[lag - 1] && acf[lag] >= acf[lag + 1];
+        if peak && acf[lag] >= min_correlation && lowest <= 0.5 * acf[lag] {
+            return Some(lag);
+        }
+    }
+    None
+}
+
+/// Normalised autocorrelation of `x` (its mean removed) at lags `0..=max_lag`; `None` for a
+/// constant series.
+pub fn autocorrelation(x: &[f64], max_lag: usize) -> Option<Vec<f64>> {
+    use realfft::RealFftPlanner;
+    let n = x.len();
+    let m = x.iter().sum::<f64>() / n.max(1) as f64;
+    let size = (2 * n).next_power_of_two();
+    let mut planner = RealFftPlanner::<f64>::new();
+    let fwd = planner.plan_fft_forward(size);
+    let inv = planner.plan_fft_inverse(size);
+    let mut buf = fwd.make_input_vec();
+    for (b, v) in buf.iter_mut().zip(x) {
+        *b = v - m;
+    }
+    let mut spec = fwd.make_output_vec();
+    fwd.process(&mut buf, &mut spec).ok()?;
+    for c in spec.iter_mut() {
+        *c = realfft::num_complex::Complex::new(c.norm_sqr(), 0.0);
+    }
+    let mut out = inv.make_output_vec();
+    inv.process(&mut spec, &mut out).ok()?;
+    let zero = out[0];
+    if !(zero > 0.0) {
+        return None;
+    }
+    Some(out[..=max_lag.min(n - 1)].iter().map(|v| v / zero).collect())
+}

@@ -38,6 +38,7 @@ fn expected_of(truth: &[TruthStep]) -> Vec<ExpectedStep> {
             step: t.step,
             normal_force_n: t.normal_force_n,
             sliding_velocity_m_s: units::m_per_min_to_m_per_s(t.velocity_m_per_min),
+            duration_s: None,
         })
         .collect()
 }
@@ -225,6 +226,7 @@ fn a_missing_step_is_reported_by_name() {
         step: 7,
         normal_force_n: 1800.0,
         sliding_velocity_m_s: units::m_per_min_to_m_per_s(280.0),
+        duration_s: None,
     });
     let id = identify(&recs, Some(&expected), &[100.0]);
     assert_eq!(

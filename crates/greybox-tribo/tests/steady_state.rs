@@ -302,6 +302,7 @@ fn lathe_steps(runout_rel: f64) -> (f64, usize) {
                 step: k as u32 + 1,
                 normal_force_n: *f,
                 sliding_velocity_m_s: v / 60.0,
+                duration_s: None,
             })
             .collect();
         let contact = PinContact::default();

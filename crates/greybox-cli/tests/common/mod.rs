@@ -122,3 +122,7 @@ pub fn refused_with(out: &Output, needles: &[&str]) -> String {
     }
     stderr
 }
+
+#[path = "../../../../tests/support/real_rigs.rs"]
+mod real_rigs;
+pub use real_rigs::real_rigs_dir;
