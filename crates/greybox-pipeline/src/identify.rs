@@ -239,6 +239,10 @@ pub fn identify(
         }
     }
     let (dataset, matching) = match_segments(&mut files_found, &campaign)?;
+    if let Some(dir) = inspect_dir {
+        // again, now that each segment knows its planned step (or that it has none)
+        write_inspect_plots(&recs, &files_found, dir)?;
+    }
     let id = Identification {
         dataset,
         files: files_found,
@@ -341,7 +345,20 @@ pub fn files_table(id: &Identification) -> String {
             f.notes.len().to_string(),
         ]);
     }
-    t.render()
+    let mut s = t.render();
+    for f in &id.files {
+        s.push_str(&coverage_lines(f));
+    }
+    s
+}
+
+/// A file's coverage line and its dropped parts, with their reasons.
+pub fn coverage_lines(f: &FileReport) -> String {
+    let mut s = format!("coverage of {}: {}\n", f.source, f.coverage.line());
+    for d in f.coverage.dropped_notes() {
+        s.push_str(&format!("   {d}\n"));
+    }
+    s
 }
 
 /// Every plateau, one row each.
@@ -405,18 +422,27 @@ pub fn inspect_text(files: &[FileReport]) -> String {
         }
         let _ = writeln!(
             s,
-            "   {} samples at {:.3} Hz over {:.3} s; segmentation: {}; baseline: {}{}",
+            "   {} samples at {:.3} Hz over {:.3} s; sliding from the {}{}; segmentation: {}; baseline: {}{}{}",
             f.samples,
             f.sample_rate_hz,
             f.duration_s,
+            f.sliding,
+            f.period_s
+                .map_or(String::new(), |p| format!(" (period {p:.3} s)")),
             f.segmentation,
             f.baseline,
             if f.tangential_sign_flipped {
                 "; tangential sign flipped"
             } else {
                 ""
+            },
+            if f.normal_sign_flipped {
+                "; normal sign flipped"
+            } else {
+                ""
             }
         );
+        let _ = write!(s, "   {}", coverage_lines(f));
         for n in &f.notes {
             let _ = writeln!(s, "   note: {n}");
         }
@@ -473,6 +499,7 @@ pub fn matching_text(m: &MatchReport) -> String {
     for (what, list) in [
         ("missing", &m.missing),
         ("extra", &m.extra),
+        ("merged", &m.merged),
         ("reordered", &m.reordered),
     ] {
         for item in list {
@@ -614,6 +641,17 @@ pub fn identify_campaign(
     })
 }
 
+/// A segment's label in the inspect plot: its number, and once matched its planned step
+/// (`3 → p1 s2`) or, where matching left it out, `extra`.
+fn segment_label(g: &greybox_tribo::campaign::SegmentReport, matched_any: bool) -> String {
+    match (g.matched, g.cof.is_some(), matched_any) {
+        (Some((p, k)), _, _) => format!("{} → p{p} s{k}", g.index),
+        (None, true, true) => format!("{} extra", g.index),
+        (None, true, false) => format!("{}", g.index),
+        (None, false, _) => format!("{} (no steady part)", g.index),
+    }
+}
+
 /// One SVG per recording: μ = F_t/F_N and F_N / max F_N over time, steady windows shaded.
 fn write_inspect_plots(recs: &[Recording], found: &[FileReport], dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
@@ -639,7 +677,12 @@ fn write_inspect_plots(recs: &[Recording], found: &[FileReport], dir: &Path) -> 
                 0.0
             });
         }
-        let labels: Vec<String> = f.segments.iter().map(|g| format!("{}", g.index)).collect();
+        let matched_any = f.segments.iter().any(|g| g.matched.is_some());
+        let labels: Vec<String> = f
+            .segments
+            .iter()
+            .map(|g| segment_label(g, matched_any))
+            .collect();
         let mut bands: Vec<(f64, f64, &str)> = f
             .segments
             .iter()

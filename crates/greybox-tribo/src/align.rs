@@ -23,9 +23,11 @@
 //!
 //! Files are aligned in plan order: each file's segments are first placed against the whole
 //! plan (free start and end), files are ordered by where they fit, and the concatenation is
-//! aligned globally; a file recorded out of the plan's order is reported as reordered. A
-//! count mismatch alone is never an error: unmatched steps and extra segments are reported
-//! by name.
+//! aligned globally; a file recorded out of the plan's order is reported as reordered.
+//! Steps a rig ran out of the plan's order within a file are then paired from what the
+//! alignment left over, where the segments have a measured speed (nearest load and speed
+//! first), and reported as reordered. A count mismatch alone is never an error: unmatched
+//! steps and extra segments are reported by name.
 
 use crate::campaign::ExpectedStep;
 use crate::identify::IdentifyConfig;
@@ -48,7 +50,10 @@ pub(crate) struct Candidate {
 pub(crate) enum Assigned {
     Step(usize),
     /// A row for the later step; the earlier one was merged into the segment.
-    Merged { earlier: usize, later: usize },
+    Merged {
+        earlier: usize,
+        later: usize,
+    },
     Extra,
 }
 
@@ -146,7 +151,11 @@ fn align_sequence(
     let mut back = vec![Move::Start; (n + 1) * w];
     cost[0] = 0.0;
     for j in 1..=m {
-        cost[j] = if free_ends { 0.0 } else { j as f64 * costs.missing() };
+        cost[j] = if free_ends {
+            0.0
+        } else {
+            j as f64 * costs.missing()
+        };
         back[j] = Move::Missing;
     }
     for i in 1..=n {
@@ -271,10 +280,51 @@ pub(crate) fn align(
     for (k, i) in order.iter().enumerate() {
         assigned[*i] = a[k];
     }
+    pair_reordered(segs, steps, &costs, &mut assigned);
     Ok(Alignment {
         assigned,
         file_order,
     })
+}
+
+/// Steps run out of the plan's order: segments left over by the alignment that have a
+/// measured speed are paired with steps left over, nearest first (load and speed both within
+/// tolerance; without a speed, load alone is too weak to reorder on).
+fn pair_reordered(
+    segs: &[Candidate],
+    steps: &[ExpectedStep],
+    costs: &Costs,
+    assigned: &mut [Assigned],
+) {
+    let mut used = vec![false; steps.len()];
+    for a in assigned.iter() {
+        match a {
+            Assigned::Step(e) => used[*e] = true,
+            Assigned::Merged { earlier, later } => {
+                used[*earlier] = true;
+                used[*later] = true;
+            }
+            Assigned::Extra => {}
+        }
+    }
+    let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+    for (si, s) in segs.iter().enumerate() {
+        if assigned[si] != Assigned::Extra || s.velocity_m_s.is_none() {
+            continue;
+        }
+        for (ei, e) in steps.iter().enumerate().filter(|(ei, _)| !used[*ei]) {
+            if let Some(c) = costs.pair(s, e, None) {
+                pairs.push((c, si, ei));
+            }
+        }
+    }
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    for (_, si, ei) in pairs {
+        if assigned[si] == Assigned::Extra && !used[ei] {
+            assigned[si] = Assigned::Step(ei);
+            used[ei] = true;
+        }
+    }
 }
 
 #[cfg(test)]
@@ -335,7 +385,10 @@ mod tests {
         let a = align(&segs, &plan, &IdentifyConfig::default()).unwrap();
         assert_eq!(a.assigned[0], Assigned::Extra);
         assert_eq!(
-            a.assigned.iter().filter(|x| matches!(x, Assigned::Step(_))).count(),
+            a.assigned
+                .iter()
+                .filter(|x| matches!(x, Assigned::Step(_)))
+                .count(),
             3
         );
     }

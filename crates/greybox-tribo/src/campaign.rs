@@ -20,14 +20,14 @@
 //! every segment has a speed, else by order; missing, extra and reordered steps are reported
 //! by name. Without a plan, loads and velocities are the measured ones.
 
+use crate::align::{Assigned, Candidate};
+use crate::coverage::{Coverage, Dropped, SegmentTime};
 use crate::hertz::PinContact;
 use crate::identify::{identify_pin, IdentifyConfig};
 use crate::identify_config::SteadyRule;
 use crate::plan::Plan;
 use crate::reciprocating::Reciprocating;
 use crate::recording::{ReadReport, Recording, SpeedTrace};
-use crate::align::{Assigned, Candidate};
-use crate::coverage::{Coverage, Dropped, SegmentTime};
 use crate::signal::{mad_sigma, median, moving_average, quantum};
 use crate::sliding::{quantile, SlidingEvidence};
 use crate::steady::{
@@ -503,7 +503,10 @@ fn normal_positive(normal: &[f64], b: usize) -> (std::borrow::Cow<'_, [f64]>, bo
     let bn = block_medians(normal, b);
     let (lo, hi) = (quantile(&bn, 0.01), quantile(&bn, 0.99));
     if lo < 0.0 && -lo > hi.max(0.0) {
-        (std::borrow::Cow::Owned(normal.iter().map(|v| -v).collect()), true)
+        (
+            std::borrow::Cow::Owned(normal.iter().map(|v| -v).collect()),
+            true,
+        )
     } else {
         (std::borrow::Cow::Borrowed(normal), false)
     }
@@ -665,8 +668,7 @@ fn spans_from_speed(
     let n = speed.len();
     let b = ((0.02 * p.fs).round() as usize).max(1);
     let sm = block_medians(speed, b);
-    let vmax = sm.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let rest = 0.02 * vmax;
+    let rest = crate::sliding::speed_rest_level(&sm, cfg);
     let tol = LevelTolerance::from_noise(
         &sm,
         speed,
@@ -953,7 +955,10 @@ fn spans_at(run: Span, bounds: &[usize], b: usize, unc: &[f64], run_sem: f64) ->
             let mut span = Span::new(w[0], w[1], None);
             span.run_sem = run_sem;
             span.unc = (
-                s.checked_sub(1).and_then(|q| unc.get(q)).copied().unwrap_or(0.0),
+                s.checked_sub(1)
+                    .and_then(|q| unc.get(q))
+                    .copied()
+                    .unwrap_or(0.0),
                 unc.get(s).copied().unwrap_or(0.0),
             );
             span
@@ -1942,6 +1947,7 @@ fn match_to_plan(
     }
     let mut records = Vec::new();
     let mut matched = vec![false; expected.len()];
+    let mut last_ei: Option<usize> = None;
     for (si, &(f, k)) in segs.iter().enumerate() {
         let ei = match aligned.assigned[si] {
             Assigned::Step(ei) => ei,
@@ -1977,6 +1983,14 @@ fn match_to_plan(
         };
         matched[ei] = true;
         let e = &expected[ei];
+        if let Some(prev) = last_ei.filter(|p| ei < *p) {
+            report.reordered.push(format!(
+                "{} recorded after {}",
+                describe_step(e),
+                describe_step(&expected[prev])
+            ));
+        }
+        last_ei = Some(last_ei.map_or(ei, |p| p.max(ei)));
         files[f].segments[k].matched = Some((e.pin, e.step));
         let s = &files[f].segments[k];
         records.push(segment_record(

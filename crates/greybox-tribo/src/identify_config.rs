@@ -242,7 +242,8 @@ pub struct IdentifyConfig {
     /// Shortest averaging of μ before the sliding test, s (0.1; the rig's period if longer).
     pub sliding_smoothing_s: f64,
     /// With a measured speed channel, a loaded block slides above this share of the
-    /// channel's largest block speed (0.02).
+    /// channel's largest block speed (0.001: a Stribeck sweep spans decades), or five times
+    /// the channel's noise if more (see [`crate::sliding::speed_rest_level`]).
     pub speed_rest_fraction: f64,
     /// Longest revolution or stroke period looked for in μ, s (10).
     pub max_period_s: f64,
@@ -301,7 +302,7 @@ impl Default for IdentifyConfig {
             sliding_fraction: 0.25,
             sliding_min_mu: 0.005,
             sliding_smoothing_s: 0.1,
-            speed_rest_fraction: 0.02,
+            speed_rest_fraction: 0.001,
             max_period_s: 10.0,
             period_min_correlation: 0.3,
             speed_tolerance: 0.01,

@@ -204,5 +204,10 @@ pub fn autocorrelation(x: &[f64], max_lag: usize) -> Option<Vec<f64>> {
     if !(zero > 0.0) {
         return None;
     }
-    Some(out[..=max_lag.min(n - 1)].iter().map(|v| v / zero).collect())
+    Some(
+        out[..=max_lag.min(n - 1)]
+            .iter()
+            .map(|v| v / zero)
+            .collect(),
+    )
 }

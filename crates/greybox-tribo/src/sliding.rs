@@ -3,7 +3,8 @@
 //!
 //! * **With a measured speed channel** (one that varies: a constant stated with
 //!   `constant_sliding_m_s` is no evidence of motion), a loaded block slides while its speed
-//!   exceeds `speed_rest_fraction` of the channel's largest block speed.
+//!   is above rest ([`speed_rest_level`]: `speed_rest_fraction` of the channel's largest
+//!   block speed, or five times its block-to-block noise if that is more).
 //! * **Without one**, the friction coefficient μ = F_t/F_N of the loaded blocks (10 ms block
 //!   medians) is first averaged over the rig's own period — the revolution of a disc or the
 //!   stroke of a reciprocating rig, found as the dominant lag of μ's autocorrelation
@@ -69,6 +70,21 @@ pub(crate) fn measured_speed(speed: Option<&SpeedTrace>) -> Option<&[f64]> {
     v.iter().any(|x| *x != first).then_some(v)
 }
 
+/// The speed below which a channel is at rest, from its block values `vb`: the larger of
+/// `speed_rest_fraction` of its largest magnitude (a Stribeck sweep spans decades: 0.1 %
+/// keeps a 0.01 m/s step of a 1 m/s sweep) and five times the block-to-block noise (robust
+/// σ of first differences / √2), so that a channel jittering at rest does not slide.
+pub(crate) fn speed_rest_level(vb: &[f64], cfg: &IdentifyConfig) -> f64 {
+    let vmax = vb.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let d: Vec<f64> = vb.windows(2).map(|w| w[1].abs() - w[0].abs()).collect();
+    let noise = if d.len() >= 4 {
+        crate::signal::mad_sigma(&d, 0.0) / std::f64::consts::SQRT_2
+    } else {
+        0.0
+    };
+    (cfg.speed_rest_fraction * vmax).max(5.0 * noise)
+}
+
 /// Which loaded samples slide (see the module documentation).
 pub(crate) fn sliding(
     speed: Option<&SpeedTrace>,
@@ -87,7 +103,7 @@ pub(crate) fn sliding(
             .chunks(blocks.b)
             .map(|c| median(&c.iter().map(|x| x.abs()).collect::<Vec<_>>()))
             .collect();
-        let rest = cfg.speed_rest_fraction * vb.iter().fold(0.0f64, |m, x| m.max(*x));
+        let rest = speed_rest_level(&vb, cfg);
         let mask: Vec<bool> = (0..vb.len())
             .map(|k| blocks.loaded[k] && vb[k] > rest)
             .collect();
@@ -186,7 +202,13 @@ mod tests {
             .map(|k| if k % 130 < 5 { 6.0 } else { 30.0 })
             .collect();
         let loaded = vec![true; n];
-        let s = sliding(None, &fn_c, &ft_c, &blocks(&loaded), &IdentifyConfig::default());
+        let s = sliding(
+            None,
+            &fn_c,
+            &ft_c,
+            &blocks(&loaded),
+            &IdentifyConfig::default(),
+        );
         assert!(s.mask.iter().all(|m| *m), "dips cut the slide");
         let p = s.period_s.expect("the revolution is found");
         assert!((p - 1.3).abs() < 0.011, "{p}");
@@ -200,7 +222,13 @@ mod tests {
         ft.extend((0..2000).map(|k| 4.0 + 2.0 * (((k * 7919) % 13) as f64 / 6.0 - 1.0)));
         let fn_c = vec![100.0; ft.len()];
         let loaded = vec![true; ft.len()];
-        let s = sliding(None, &fn_c, &ft, &blocks(&loaded), &IdentifyConfig::default());
+        let s = sliding(
+            None,
+            &fn_c,
+            &ft,
+            &blocks(&loaded),
+            &IdentifyConfig::default(),
+        );
         let pieces = crate::campaign::runs(&s.mask);
         assert_eq!(pieces.len(), 2, "{pieces:?}");
     }
