@@ -1842,7 +1842,7 @@ fn number_without_plan(
         let Some(v) = s.sliding_velocity_m_per_min else {
             return Err(Error::input(
                 SourcePos::file(&files[f].source),
-                "without a plan the sliding velocity must come from the recording: map a speed channel (--map speed=NAME:UNIT, with --track-radius-mm for rpm) or give a plan (--study or --plan-steps)",
+                "without a plan the sliding velocity must come from the recording: map a speed channel (--map speed=NAME:UNIT, with --track-radius-mm for rpm), state a constant one (--constant-sliding-velocity-m-per-min V) or give a plan (--study or --plan-steps)",
             ));
         };
         let single = |ff: usize| {

@@ -216,3 +216,59 @@ fn nine_timed_steps_per_pin_without_a_speed_channel_are_placed_by_the_plan() {
         coverage_line(&id, f, 30.0);
     }
 }
+
+/// A load cell that reads compression as a negative force (a steady −20 N): the normal force
+/// is flipped and said so, instead of "the normal force never holds a load".
+#[test]
+fn a_normal_force_recorded_negative_is_flipped_and_reported() {
+    let d = tempfile::tempdir().unwrap();
+    let path = d.path().join("negative.csv");
+    let mut text = String::from("Time [s],Fz [N],Fx [N],Speed [m/s]\n");
+    for k in 0..3000 {
+        let t = k as f64 / 100.0;
+        let on = (2.0..28.0).contains(&t);
+        let wobble = 0.01 * ((k * 37 % 11) as f64 - 5.0);
+        let fz = if on { -20.0 } else { 0.0 } + wobble;
+        let fx = if on { 0.3 * 20.0 } else { 0.0 } + wobble;
+        let v = if on { 0.2 } else { 0.0 };
+        text.push_str(&format!("{t:.2},{fz:.3},{fx:.3},{v}\n"));
+    }
+    std::fs::write(&path, text).unwrap();
+    let rec = read_recording(&path, &ChannelMap::default()).unwrap();
+    let id = identify(&[rec], None);
+    assert!(id.files[0].normal_sign_flipped);
+    assert!(
+        id.files[0].notes.iter().any(|n| n.contains("normal force is negative")),
+        "{:#?}",
+        id.files[0].notes
+    );
+    assert_eq!(id.dataset.records.len(), 1);
+    assert!((id.dataset.records[0].cof_apparent - 0.3).abs() < 0.003);
+    assert!((id.dataset.records[0].normal_force_n - 20.0).abs() < 0.1);
+    coverage_line(&id, 0, 50.0);
+}
+
+/// Without a plan or a speed channel, the error names every way to give the speed,
+/// including a stated constant.
+#[test]
+fn no_speed_and_no_plan_names_the_constant_speed() {
+    let d = tempfile::tempdir().unwrap();
+    let t = unseen::cof_trace_with_dips(d.path(), 3);
+    let rec = read_recording(&t.file, &ChannelMap::default()).unwrap();
+    let contact = PinContact::default();
+    let cfg = IdentifyConfig::default();
+    let e = identify_recordings(
+        &[rec],
+        &Campaign {
+            expected: None,
+            plan: None,
+            contact: &contact,
+            cfg: &cfg,
+            track_radius_mm: &[],
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("--constant-sliding-velocity-m-per-min"), "{e}");
+    assert!(e.contains("cof-trace.csv"), "{e}");
+}
