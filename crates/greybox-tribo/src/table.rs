@@ -306,11 +306,17 @@ pub fn split_unit(header: &str) -> (String, Option<String>) {
             return (h[..i].to_string(), Some(suffix.to_string()));
         }
     }
-    // `name/unit`, where the unit may itself contain a slash (`v/m/s` is unusual; `Ft/N`)
+    // `name/unit`, where the unit may itself contain a slash (`v/m/s` is unusual; `Ft/N`),
+    // and `name, unit` (a quoted `"Load, N"`)
     for (i, _) in h.match_indices('/') {
         let suffix = &h[i + 1..];
         if is_known_unit(suffix) && i > 0 {
             return (h[..i].trim().to_string(), Some(suffix.to_string()));
+        }
+    }
+    if let Some((name, unit)) = h.rsplit_once(',') {
+        if is_known_unit(unit) && !name.trim().is_empty() {
+            return (name.trim().to_string(), Some(unit.trim().to_string()));
         }
     }
     (h.to_string(), None)
@@ -369,6 +375,9 @@ mod tests {
             ("normal_force_N", "normal_force", Some("N")),
             ("time_s", "time", Some("s")),
             ("Velocity (rpm)", "Velocity", Some("rpm")),
+            ("Load, N", "Load", Some("N")),
+            ("Time, s", "Time", Some("s")),
+            ("a,b", "a,b", None),
             ("v [m/min]", "v", Some("m/min")),
             ("normal_force", "normal_force", None),
             ("Step", "Step", None),
