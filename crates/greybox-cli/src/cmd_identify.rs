@@ -58,15 +58,21 @@ pub struct Args {
     pub settle_s: Option<f64>,
     /// Channel mapping ROLE=NAME[:UNIT[:SCALE]], repeatable. Roles: time, normal, tangential,
     /// radial, trigger, step, speed, radius, cof, position; an empty name (speed=) ignores a role. Unmapped
-    /// roles are found by their usual names (Fz, Fx, Time, Step, Velocity, ...).
+    /// roles are found by their usual names (Fz, Fx, Time, Step, Velocity, ...). NAME `#K` is
+    /// column K of the file, counted from 1 (`--map normal=#3:N`), as in a log without header.
     #[arg(long = "map")]
     pub map: Vec<String>,
     /// 1-based header line of text files (default: found below any preamble).
     #[arg(long = "header-line")]
     pub header_line: Option<u64>,
-    /// Sample rate of files without a time column, Hz.
+    /// Sample rate of files without a time column, Hz: time = k / rate.
     #[arg(long = "sample-rate-hz")]
     pub sample_rate_hz: Option<f64>,
+    /// Names for the columns in file order, comma-separated, units in the names as in a
+    /// header (`t_s,Fn_N,Ft_N`): for a log without a header line, whose columns are otherwise
+    /// `#1`, `#2`, … (`--map normal=#2:N` maps by number), or to rename a file's columns.
+    #[arg(long, value_delimiter = ',')]
+    pub columns: Vec<String>,
     /// Rig profile of the files (phoenix-te, pcs-mtm, bruker-umt, rtec, pod-dwf; `list`
     /// prints them); default: detected from each file's preamble and header when exactly one
     /// profile matches.
@@ -112,6 +118,7 @@ impl Args {
             tdms_group: self.tdms_group.clone(),
             header_line: self.header_line,
             sample_rate_hz: self.sample_rate_hz,
+            columns: self.columns.clone(),
             sheet: self.sheet.clone(),
             align: self.align.clone(),
             segment: self.segment.clone(),
@@ -140,6 +147,9 @@ pub fn run(args: Args) -> Result<()> {
     if args.rig.as_deref() == Some("list") {
         print_rigs();
         return Ok(());
+    }
+    if args.inputs.recordings.is_empty() {
+        anyhow::bail!("--recordings is required (only `--rig list` runs without it)");
     }
     let mut study = args.plan.study()?;
     args.settings().apply(&mut study)?;

@@ -239,7 +239,9 @@ impl LengthUnit {
             "m" => Some(LengthUnit::Metre),
             "cm" => Some(LengthUnit::Centimetre),
             "mm" => Some(LengthUnit::Millimetre),
-            "um" | "µm" | "μm" => Some(LengthUnit::Micrometre),
+            "um" | "µm" | "μm" | "micron" | "microns" | "micrometre" | "micrometer" => {
+                Some(LengthUnit::Micrometre)
+            }
             _ => None,
         }
     }

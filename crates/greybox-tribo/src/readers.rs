@@ -1,4 +1,5 @@
-//! The recording readers' registry: which reader a file goes to (by extension), and the one
+//! The recording readers' registry: which reader a file goes to (by its content, the name
+//! being only a hint: [`RecordingFormat::detect`]), and the one
 //! call that reads any supported file into a [`Recording`]. It sits beside the readers and
 //! the [`Recording`] seam, so neither imports the other back (readers → table → recording).
 
@@ -29,7 +30,53 @@ impl RecordingFormat {
             RecordingFormat::Spreadsheet => "xlsx",
         }
     }
-    /// The format a file name's extension says.
+    /// The format a file's first bytes say, the name only breaking a tie: TDMS by its `TDSm`
+    /// lead-in, a spreadsheet by the zip (`PK\x03\x04`: xlsx, xlsm, ods) or OLE (`D0 CF 11
+    /// E0`: xls) signature, else delimited text when the head is text (no NUL byte, UTF-8 or a
+    /// single-byte code page; a UTF-16 byte-order mark too, which the text reader refuses by
+    /// name). A file without extension or with an unknown one (`.log`, `.out`) is read by its
+    /// content like any other; a `.xls` that is really tab-separated text is text. `None`:
+    /// binary content of no known format.
+    pub fn of_content(head: &[u8]) -> Option<Self> {
+        if head.starts_with(b"TDSm") {
+            return Some(RecordingFormat::Tdms);
+        }
+        if head.starts_with(b"PK\x03\x04") || head.starts_with(&[0xD0, 0xCF, 0x11, 0xE0]) {
+            return Some(RecordingFormat::Spreadsheet);
+        }
+        let utf16 = head.starts_with(&[0xFF, 0xFE]) || head.starts_with(&[0xFE, 0xFF]);
+        let text = head
+            .iter()
+            .all(|&b| b != 0 && (b >= 0x20 || b"\t\n\r\x0c".contains(&b)));
+        (utf16 || text).then_some(RecordingFormat::Csv)
+    }
+    /// The format of the file at `path`, from its first KiB ([`Self::of_content`]); an empty
+    /// file goes by its extension (to a reader that names what is missing). An error names
+    /// the file when it cannot be read or its content is of no known format.
+    pub fn detect(path: &std::path::Path) -> Result<Self> {
+        use std::io::Read;
+        let mut head = Vec::with_capacity(1024);
+        std::fs::File::open(path)
+            .and_then(|f| f.take(1024).read_to_end(&mut head))
+            .map_err(|e| Error::io(path, e))?;
+        let by_name = Self::of_path(path);
+        if head.is_empty() {
+            return Ok(by_name.unwrap_or(RecordingFormat::Csv));
+        }
+        Self::of_content(&head).ok_or_else(|| {
+            Error::input(
+                SourcePos::path(path),
+                format!(
+                    "unknown recording format: the content is neither delimited text nor a spreadsheet (xlsx, xls, ods) nor TDMS{}",
+                    by_name.map_or(String::new(), |f| format!(
+                        " (the name says {f}, the first bytes do not)"
+                    ))
+                ),
+            )
+        })
+    }
+    /// The format a file name's extension says (used to pick files from a directory; reading
+    /// goes by the content, [`Self::detect`]).
     pub fn of_path(path: &std::path::Path) -> Option<Self> {
         match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
             "csv" | "txt" | "tsv" | "dat" | "asc" | "prn" | "dwf" => Some(RecordingFormat::Csv),
@@ -40,21 +87,17 @@ impl RecordingFormat {
     }
 }
 
-/// Read a file's table, choosing the reader from the extension.
+/// Read a file's table, choosing the reader from the content ([`RecordingFormat::detect`]).
 pub fn read_table(path: &std::path::Path, map: &ChannelMap) -> Result<Table> {
-    match RecordingFormat::of_path(path) {
-        Some(RecordingFormat::Csv) => crate::text_table::read_text_table(path, &map.text_options()),
-        Some(RecordingFormat::Tdms) => {
+    match RecordingFormat::detect(path)? {
+        RecordingFormat::Csv => crate::text_table::read_text_table(path, &map.text_options()),
+        RecordingFormat::Tdms => {
             let file = crate::tdms::TdmsFile::read(path)?;
             crate::tdms::table_from_tdms(file, map.tdms_group.as_deref())
         }
-        Some(RecordingFormat::Spreadsheet) => {
+        RecordingFormat::Spreadsheet => {
             crate::xlsx_table::read_spreadsheet(path, map.sheet.as_deref())
         }
-        None => Err(Error::input(
-            SourcePos::path(path),
-            "unknown recording format: expected delimited text (.csv, .txt, .tsv, .dat, .dwf), a spreadsheet (.xlsx, .xls, .ods) or .tdms",
-        )),
     }
 }
 
@@ -82,7 +125,13 @@ pub fn read_recording(path: &std::path::Path, map: &ChannelMap) -> Result<Record
 
 /// A table's recording through `map` completed by the rig profile named in it or detected
 /// from the table ([`crate::profiles`]); the profile used is noted in the read report.
+///
+/// `map.columns` (`--columns`) names the table's columns first, so that the profile and the
+/// role search see the given names.
 pub fn recording_with_profile(mut table: Table, map: &ChannelMap) -> Result<Recording> {
+    if !map.columns.is_empty() {
+        table.name_columns(&map.columns)?;
+    }
     let mut notes = std::mem::take(&mut table.notes);
     let mode = crate::profiles::detect(&table, map.rig.as_deref())
         .ok()

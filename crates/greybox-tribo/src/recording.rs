@@ -526,6 +526,10 @@ pub struct ChannelMap {
     pub decimal_comma: Option<bool>,
     /// Spreadsheets: sheet name (default: the first sheet holding a table).
     pub sheet: Option<String>,
+    /// Names for the file's columns in order (`--columns t_s,Fn_N,Ft_N`), units in the names
+    /// as in any header; for a headerless log, whose columns are otherwise `#1`, `#2`, …, and
+    /// for renaming the columns of a file with a header alike. Empty: the file's own names.
+    pub columns: Vec<String>,
 }
 
 impl Default for ChannelMap {
@@ -555,6 +559,7 @@ impl Default for ChannelMap {
             delimiter: None,
             decimal_comma: None,
             sheet: None,
+            columns: Vec::new(),
         }
     }
 }
@@ -682,7 +687,7 @@ fn check_unit(role: Role, unit: &str) -> std::result::Result<(), String> {
             "unknown speed unit '{unit}'; expected rpm (1/min), rps, m/s, mm/s, cm/s or m/min"
         ),
         Role::Radius | Role::Position => {
-            format!("unknown length unit '{unit}'; expected m, cm, mm or um")
+            format!("unknown length unit '{unit}'; expected m, cm, mm or um (µm, micron)")
         }
         Role::Cof => {
             format!("unknown friction-coefficient unit '{unit}'; expected none, '-', '1' or '%'")
@@ -699,13 +704,16 @@ fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, boo
     for role in Role::ALL {
         if let Some(spec) = map.spec(role) {
             let idx = first_match(table, &spec.name).ok_or_else(|| {
+                let has = match column_number(&spec.name) {
+                    Some(_) => format!("the file's columns are {}", positions_list(table)),
+                    None => format!("the header has: {}", table.header_list()),
+                };
                 Error::input(
                     pos().field(&spec.name),
                     format!(
-                        "missing column '{}' (mapped as {}); the header has: {}",
+                        "missing column '{}' (mapped as {}); {has}",
                         spec.name,
                         role.name(),
-                        table.header_list()
                     ),
                 )
             })?;
@@ -730,13 +738,11 @@ fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, boo
             {
                 continue;
             }
+            // a friction coefficient is never a force, whatever its name (`Friction (µ)`)
+            let fits = |c: &Column| !(is_force(role) && looks_like_cof(c));
             let found = aliases.iter().find_map(|a| {
-                table
-                    .columns
-                    .iter()
-                    .any(|c| column_matches(c, a))
-                    .then(|| first_match(table, a))
-                    .flatten()
+                (0..table.columns.len())
+                    .find(|&i| column_matches(&table.columns[i], a) && fits(&table.columns[i]))
             });
             if let Some(idx) = found {
                 match taken.iter().find(|(_, i, _)| *i == idx) {
@@ -763,9 +769,55 @@ fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, boo
 }
 
 /// The first column matching `wanted` (the reader names a repeated header's later columns
-/// `NAME #2`, … and notes it, so the first is the one that answers to the name).
+/// `NAME #2`, … and notes it, so the first is the one that answers to the name); `#K` is the
+/// column at 1-based position K in the file.
 fn first_match(table: &Table, wanted: &str) -> Option<usize> {
-    (0..table.columns.len()).find(|&i| column_matches(&table.columns[i], wanted))
+    match column_number(wanted) {
+        Some(k) => table.at_position(k),
+        None => (0..table.columns.len()).find(|&i| column_matches(&table.columns[i], wanted)),
+    }
+}
+
+/// `#K` in a mapping (`--map normal=#3:N`): column K of the file, counted from 1.
+pub fn column_number(wanted: &str) -> Option<usize> {
+    let k = wanted
+        .trim()
+        .strip_prefix('#')?
+        .trim()
+        .parse::<usize>()
+        .ok()?;
+    (k > 0).then_some(k)
+}
+
+/// Whether a column's name or unit says it holds a friction coefficient (`COF`, `µ`, `mu`,
+/// `Friction coefficient`, `Reibwert`, a unit `-` or `µ`): such a column is never taken or
+/// suggested as a force.
+pub fn looks_like_cof(col: &Column) -> bool {
+    let name = crate::table::normalise_name(&col.header);
+    let says = name.split(|c: char| !c.is_alphanumeric()).any(|w| {
+        matches!(
+            w,
+            "cof"
+                | "mu"
+                | "µ"
+                | "μ"
+                | "coefficient"
+                | "coeff"
+                | "coef"
+                | "reibwert"
+                | "reibungszahl"
+                | "reibungskoeffizient"
+        )
+    });
+    let unit = col
+        .unit
+        .as_deref()
+        .is_some_and(|u| matches!(u.trim(), "-" | "µ" | "μ" | "mu" | "()" | "[-]" | "(-)"));
+    says || unit
+}
+
+fn is_force(role: Role) -> bool {
+    matches!(role, Role::Normal | Role::Tangential | Role::Radial)
 }
 
 /// Optional roles found by their usual name (not mapped) in a column that states no unit are
@@ -816,33 +868,56 @@ fn map_flag(role: Role, name: &str, unit: &str) -> String {
     format!("--map {word}")
 }
 
+/// The file's column positions for messages: `#1 to #3`, or `#1, #2, #5` where columns
+/// without values were left out.
+fn positions_list(table: &Table) -> String {
+    let p: Vec<usize> = (0..table.columns.len())
+        .map(|k| table.position(k))
+        .collect();
+    match (p.first(), p.last()) {
+        (Some(a), Some(b)) if b - a + 1 == p.len() && p.len() > 2 => format!("#{a} to #{b}"),
+        _ => p
+            .iter()
+            .map(|k| format!("#{k}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+    }
+}
+
 /// Every role the file and the map leave unresolved, all at once: missing forces (a friction
 /// coefficient stands in for the friction force), a missing time without a sample rate, and
 /// mapped or found columns whose unit nobody states.
 fn unresolved(table: &Table, map: &ChannelMap, taken: &[(Role, usize, bool)]) -> Vec<Unresolved> {
     let has = |r: Role| taken.iter().any(|(t, _, _)| *t == r);
-    let free: Vec<&str> = table
+    let free: Vec<&Column> = table
         .columns
         .iter()
         .enumerate()
         .filter(|(i, c)| {
             !taken.iter().any(|(_, t, _)| t == i) && matches!(c.data, ColumnData::Numbers(_))
         })
-        .map(|(_, c)| c.header.as_str())
+        .map(|(_, c)| c)
         .collect();
-    let candidates = || {
-        if free.is_empty() {
+    // a friction coefficient is never offered as a force
+    let candidates = |role: Role| {
+        let shown: Vec<String> = free
+            .iter()
+            .filter(|c| !(is_force(role) && looks_like_cof(c)))
+            .take(8)
+            .map(|c| format!("'{}'", c.header))
+            .collect();
+        if shown.is_empty() {
             "no unassigned numeric column".to_string()
         } else {
-            let shown: Vec<String> = free.iter().take(8).map(|c| format!("'{c}'")).collect();
             format!("candidates: {}", shown.join(", "))
         }
     };
+    let name = if table.headerless { "#K" } else { "NAME" };
     let mut out = Vec::new();
     let missing = |role: Role, what: &str, unit: &str| Unresolved {
         role,
-        why: format!("no {what} column by a usual name ({})", candidates()),
-        flag: map_flag(role, "NAME", unit),
+        why: format!("no {what} column by a usual name ({})", candidates(role)),
+        flag: map_flag(role, name, unit),
         or: None,
     };
     if !has(Role::Normal) && map.constant_normal_n.is_none() {
@@ -856,7 +931,11 @@ fn unresolved(table: &Table, map: &ChannelMap, taken: &[(Role, usize, bool)]) ->
             "friction force (tangential) or friction coefficient (cof)",
             "N",
         );
-        u.or = Some(map_flag(Role::Cof, "NAME", ""));
+        let cof = free
+            .iter()
+            .find(|c| looks_like_cof(c))
+            .map_or(name, |c| &c.name);
+        u.or = Some(map_flag(Role::Cof, cof, ""));
         out.push(u);
     }
     if !has(Role::Time) && map.sample_rate_hz.is_none() && table.sample_interval_s.is_none() {
@@ -874,10 +953,15 @@ fn unresolved(table: &Table, map: &ChannelMap, taken: &[(Role, usize, bool)]) ->
             .and_then(|s| s.unit)
             .or_else(|| col.unit.clone());
         if stated.is_none() {
+            // a column that says it is a friction coefficient is offered as one, not in N
+            let cof = is_force(*role) && looks_like_cof(col);
             out.push(Unresolved {
                 role: *role,
                 why: format!("column '{}' states no unit", col.header),
-                flag: map_flag(*role, &col.name, example_unit(*role)),
+                flag: match cof {
+                    true => map_flag(Role::Cof, &col.name, ""),
+                    false => map_flag(*role, &col.name, example_unit(*role)),
+                },
                 or: None,
             });
         }
@@ -898,6 +982,18 @@ fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
         })
         .collect();
     let all: Vec<&str> = problems.iter().map(|u| u.flag.as_str()).collect();
+    if table.headerless {
+        return Error::input(
+            SourcePos::file(&table.source),
+            format!(
+                "{} channel(s) unresolved in a file without a header line; its columns, by number:\n{}\n{}\nmap them by number, e.g. {} (columns counted from 1), or name them in order with --columns NAME,NAME,… (units in the names, e.g. --columns t_s,Fn_N,Ft_N); without a time column give --sample-rate-hz HZ",
+                problems.len(),
+                column_overview(table),
+                lines.join("\n"),
+                all.join(" ")
+            ),
+        );
+    }
     Error::input(
         SourcePos::file(&table.source).line(table.header_line),
         format!(
@@ -908,6 +1004,39 @@ fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
             all.join(" ")
         ),
     )
+}
+
+/// Each column of a table by number with its first values and what they look like, e.g.
+/// `  #1: 0, 0.01, 0.02, … (increasing: time?)`.
+fn column_overview(table: &Table) -> String {
+    let lines: Vec<String> = table
+        .columns
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            let label = match c.name == format!("#{}", table.position(k)) {
+                true => c.name.clone(),
+                false => format!("#{} '{}'", table.position(k), c.header),
+            };
+            let v = match &c.data {
+                ColumnData::Numbers(v) => v,
+                ColumnData::NotNumeric { line, text } => {
+                    return format!("  {label}: not numbers ('{}' on line {line})", text.trim())
+                }
+            };
+            let shown: Vec<String> = v.iter().take(4).map(|x| format!("{x}")).collect();
+            let more = if v.len() > 4 { ", …" } else { "" };
+            let looks = if v.len() > 1 && v.windows(2).all(|w| w[1] > w[0]) {
+                " (increasing: time?)"
+            } else if v.iter().all(|x| x.abs() <= 1.0) {
+                " (all within ±1: friction coefficient?)"
+            } else {
+                ""
+            };
+            format!("  {label}: {}{more}{looks}", shown.join(", "))
+        })
+        .collect();
+    lines.join("\n")
 }
 
 /// Convert a table into a recording through a channel map.
@@ -992,7 +1121,12 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
             _ => SpeedTrace::SlidingMPerS(v),
         })
         .or_else(|| {
-            let v = map.constant_sliding_m_s?;
+            let Some(v) = map.constant_sliding_m_s else {
+                if !map.ignore.iter().any(|r| r == "speed") {
+                    report.notes.push("no speed channel (none mapped, none with a usual name): the sliding velocity must come from a plan (--study, --plan-steps), a speed channel (--map speed=NAME:UNIT) or, for a rig that runs at one speed, --constant-sliding-velocity-m-per-min V".into());
+                }
+                return None;
+            };
             report.notes.push(format!(
                 "no speed column: the stated constant sliding velocity {v} m/s at every sample"
             ));

@@ -46,6 +46,10 @@ pub struct Table {
     pub layout: String,
     /// 1-based line (row) of the header; 0 when the format has no header line (TDMS).
     pub header_line: u64,
+    /// The file has no header line (a log of numbers only): its columns are named `#1`, `#2`,
+    /// … by position (until [`Table::name_columns`] names them), and [`Table::header_line`]
+    /// is the line above the data.
+    pub headerless: bool,
     /// Lines above the header (instrument metadata), as text.
     pub preamble: Vec<String>,
     /// Non-data lines after the data: (1-based line, text). Reported, not an error.
@@ -111,7 +115,7 @@ impl Table {
     /// Column `k` for messages: its 1-based position in the file and, when other columns share
     /// its header, which of them it is, e.g. `column 14, the first of 2 with that name`.
     pub fn column_label(&self, k: usize) -> String {
-        let position = self.positions.get(k).copied().unwrap_or(k + 1);
+        let position = self.position(k);
         let header = &self.columns[k].header;
         let same: Vec<usize> = (0..self.columns.len())
             .filter(|&j| &self.columns[j].header == header)
@@ -130,6 +134,61 @@ impl Table {
             "column {position}, the {nth} of {} with that name",
             same.len()
         )
+    }
+    /// 1-based position of column `k` among the fields of a row in the file.
+    pub fn position(&self, k: usize) -> usize {
+        self.positions.get(k).copied().unwrap_or(k + 1)
+    }
+    /// The column at 1-based position `position` in the file, if it has values.
+    pub fn at_position(&self, position: usize) -> Option<usize> {
+        (0..self.columns.len()).find(|&k| self.position(k) == position)
+    }
+    /// Name the columns in file order (`--columns t_s,Fn_N,Ft_N`): `names[k]` becomes the
+    /// header of the column at position k + 1, its unit split off as from any header. Fewer
+    /// names than columns leave the rest as they are, and so does an empty name. An error
+    /// names the file when there are more names than fields or a name is given twice.
+    pub fn name_columns(&mut self, names: &[String]) -> Result<()> {
+        let fields = (0..self.columns.len())
+            .map(|k| self.position(k))
+            .max()
+            .unwrap_or(0);
+        let pos = || SourcePos::file(&self.source).field("columns");
+        if names.len() > fields {
+            return Err(Error::input(
+                pos(),
+                format!(
+                    "{} names given ({}) but the file has {fields} columns",
+                    names.len(),
+                    names.join(",")
+                ),
+            ));
+        }
+        let given: Vec<&str> = names
+            .iter()
+            .map(|n| n.trim())
+            .filter(|n| !n.is_empty())
+            .collect();
+        if let Some(twice) = given
+            .iter()
+            .find(|n| given.iter().filter(|m| m == n).count() > 1)
+        {
+            return Err(Error::input(
+                pos(),
+                format!("'{twice}' is given twice: each column needs its own name"),
+            ));
+        }
+        for (k, name) in names.iter().enumerate() {
+            let Some(i) = self.at_position(k + 1).filter(|_| !name.trim().is_empty()) else {
+                continue;
+            };
+            let data =
+                std::mem::replace(&mut self.columns[i].data, ColumnData::Numbers(Vec::new()));
+            self.columns[i] = Column {
+                data,
+                ..Column::numbers(name, Vec::new())
+            };
+        }
+        Ok(())
     }
     /// The block (0-based) that row `row` belongs to; 0 for a single table.
     pub fn block_of_row(&self, row: usize) -> usize {
@@ -247,11 +306,17 @@ pub fn split_unit(header: &str) -> (String, Option<String>) {
             return (h[..i].to_string(), Some(suffix.to_string()));
         }
     }
-    // `name/unit`, where the unit may itself contain a slash (`v/m/s` is unusual; `Ft/N`)
+    // `name/unit`, where the unit may itself contain a slash (`v/m/s` is unusual; `Ft/N`),
+    // and `name, unit` (a quoted `"Load, N"`)
     for (i, _) in h.match_indices('/') {
         let suffix = &h[i + 1..];
         if is_known_unit(suffix) && i > 0 {
             return (h[..i].trim().to_string(), Some(suffix.to_string()));
+        }
+    }
+    if let Some((name, unit)) = h.rsplit_once(',') {
+        if is_known_unit(unit) && !name.trim().is_empty() {
+            return (name.trim().to_string(), Some(unit.trim().to_string()));
         }
     }
     (h.to_string(), None)
@@ -310,6 +375,9 @@ mod tests {
             ("normal_force_N", "normal_force", Some("N")),
             ("time_s", "time", Some("s")),
             ("Velocity (rpm)", "Velocity", Some("rpm")),
+            ("Load, N", "Load", Some("N")),
+            ("Time, s", "Time", Some("s")),
+            ("a,b", "a,b", None),
             ("v [m/min]", "v", Some("m/min")),
             ("normal_force", "normal_force", None),
             ("Step", "Step", None),

@@ -1939,6 +1939,7 @@ pub fn table_from_tdms(mut file: TdmsFile, group: Option<&str>) -> Result<Table>
         rows,
         layout: format!("TDMS, group '{group}'"),
         header_line: 0,
+        headerless: false,
         preamble: Vec::new(),
         footer: Vec::new(),
         sample_interval_s: interval,

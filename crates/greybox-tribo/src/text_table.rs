@@ -127,10 +127,23 @@ fn unquote(b: &[u8]) -> &[u8] {
     }
 }
 
-/// Split a line into fields (no quoting rules: numeric data has none; see [`split_header`]).
+/// Split a line into fields. Double quotes protect a delimiter inside a field (`"Load, N"`,
+/// `"1,5"`); a line without quotes is split at every delimiter.
 fn split_fields(line: &[u8], d: Delimiter, out: &mut Vec<(usize, usize)>) {
     out.clear();
     match d.byte() {
+        Some(b) if memchr::memchr(b'"', line).is_some() => {
+            let (mut start, mut quoted) = (0, false);
+            for (i, &c) in line.iter().enumerate() {
+                if c == b'"' {
+                    quoted = !quoted;
+                } else if c == b && !quoted {
+                    out.push((start, i));
+                    start = i + 1;
+                }
+            }
+            out.push((start, line.len()));
+        }
         Some(b) => {
             let mut start = 0;
             for i in memchr::memchr_iter(b, line) {
@@ -159,8 +172,10 @@ fn split_fields(line: &[u8], d: Delimiter, out: &mut Vec<(usize, usize)>) {
     }
 }
 
-/// Parse a number; with `decimal_comma`, `,` is the decimal mark. `None` for anything else
-/// (including NaN and infinities, which a recording never legitimately holds).
+/// Parse a number; with `decimal_comma`, `,` is the decimal mark, and a quoted field with one
+/// comma (`"1,5"`, as spreadsheets write decimal commas into a comma-delimited file) is read
+/// with a decimal comma too. `None` for anything else (including NaN and infinities, which a
+/// recording never legitimately holds).
 #[inline]
 fn parse_number(field: &[u8], decimal_comma: bool) -> Option<f64> {
     // fast path: a plain number without spaces or quotes
@@ -173,7 +188,8 @@ fn parse_number(field: &[u8], decimal_comma: bool) -> Option<f64> {
     if t.is_empty() {
         return None;
     }
-    let v = if decimal_comma && memchr::memchr(b',', t).is_some() {
+    let quoted_comma = t.len() < trim(field).len() && memchr::memchr_iter(b',', t).count() == 1;
+    let v = if (decimal_comma || quoted_comma) && memchr::memchr(b',', t).is_some() {
         if t.len() > 64 || memchr::memchr(b'.', t).is_some() {
             return None;
         }
@@ -188,11 +204,21 @@ fn parse_number(field: &[u8], decimal_comma: bool) -> Option<f64> {
     v.is_finite().then_some(v)
 }
 
-/// Split a header line into names; double quotes may protect delimiters inside a name.
-fn split_header(line: &str, d: Delimiter) -> Vec<String> {
+/// Text of a header or preamble line: UTF-8, else Latin-1 (Windows rig software writes `µm`
+/// and `°C` as single bytes 0xB5 and 0xB0), so that a unit survives either encoding.
+fn decode(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
+    match std::str::from_utf8(bytes) {
+        Ok(s) => std::borrow::Cow::Borrowed(s),
+        Err(_) => std::borrow::Cow::Owned(bytes.iter().map(|&b| char::from(b)).collect()),
+    }
+}
+
+/// Split a header line into names; double quotes may protect delimiters inside a name
+/// ([`split_fields`]) and are removed.
+fn split_header(line: &[u8], d: Delimiter) -> Vec<String> {
     if d == Delimiter::Whitespace {
         // names with single spaces ("Normal force") are separated by two or more spaces or tabs
-        let by_wide: Vec<String> = line
+        let by_wide: Vec<String> = decode(line)
             .split('\t')
             .flat_map(|p| p.split("  "))
             .map(str::trim)
@@ -201,19 +227,12 @@ fn split_header(line: &str, d: Delimiter) -> Vec<String> {
             .collect();
         return by_wide;
     }
-    let delim = d.byte().map(char::from).unwrap_or(',');
-    let mut out = Vec::new();
-    let mut cur = String::new();
-    let mut quoted = false;
-    for c in line.chars() {
-        match c {
-            '"' => quoted = !quoted,
-            c if c == delim && !quoted => out.push(std::mem::take(&mut cur)),
-            c => cur.push(c),
-        }
-    }
-    out.push(cur);
-    out.into_iter().map(|s| s.trim().to_string()).collect()
+    let mut spans = Vec::new();
+    split_fields(line, d, &mut spans);
+    spans
+        .iter()
+        .map(|&(a, b)| decode(&line[a..b]).replace('"', "").trim().to_string())
+        .collect()
 }
 
 /// The shape of a split line: `core` fields up to the last non-empty one and `raw` fields in
@@ -285,7 +304,7 @@ fn numeric_row(
 /// The names of a header (or units) line with trailing empty names (trailing delimiters)
 /// dropped.
 fn header_names(text: &[u8], d: Delimiter) -> Vec<String> {
-    let mut names = split_header(&String::from_utf8_lossy(text), d);
+    let mut names = split_header(text, d);
     while names.last().is_some_and(|s| s.is_empty()) {
         names.pop();
     }
@@ -363,9 +382,10 @@ fn find_header(
     };
     let units_ok = |u: usize| numeric[u].is_none() && units_row(lines[u].text, d);
     if let Some(h) = forced {
+        // the user's header is taken as it stands, even of numbers (channel numbers `1,2,3`)
         let units =
             prev_text(data, h + 1).filter(|&u| units_ok(u) && prev_text(u, h + 1).is_none());
-        return (header_ok(h).then_some(h), units);
+        return (Some(h), units);
     }
     let Some(last) = prev_text(data, 0) else {
         return (None, None);
@@ -472,11 +492,11 @@ fn choose_layout(lines: &[Line], opts: &TextOptions, source: &str) -> Result<Can
             ),
         )
     })?;
-    if c.header.is_none() {
+    if c.header.is_none() && !headerless(lines, &c) {
         return Err(Error::input(
             SourcePos::file(source).line(lines[c.data].number),
             format!(
-                "found {}-delimited numeric data from line {} but no header line above it that names its {} columns; give --header-line N",
+                "found {}-delimited numeric data from line {} in {} columns, but the lines above it are not a header that names them (nor comments above a file of numbers only); give --header-line N for the header's line",
                 c.delimiter.name(),
                 lines[c.data].number,
                 c.fields
@@ -484,6 +504,21 @@ fn choose_layout(lines: &[Line], opts: &TextOptions, source: &str) -> Result<Can
         ));
     }
     Ok(c)
+}
+
+/// A file of numbers only (a DAQ or microcontroller log): no header above the data, at most
+/// comment lines of one field each (`# logger v2`). Its columns are named `#1`, `#2`, … A line
+/// of several names or of numbers above the data is a header that does not fit, or broken
+/// data: not headerless.
+fn headerless(lines: &[Line], c: &Candidate) -> bool {
+    lines[..c.data].iter().all(|l| {
+        is_blank(l.text)
+            || header_names(l.text, c.delimiter)
+                .iter()
+                .filter(|n| !n.is_empty())
+                .count()
+                < 2
+    })
 }
 
 /// A line of the data region that is not a data row (a footer, a block's settings or header
@@ -646,7 +681,7 @@ fn parse_chunk(part: &[u8], first_line: u64, c: &Candidate, out: &mut [&mut [f64
             let numeric = !s.fits(n) && mostly_numeric(l.text, &spans[..s.core], c.decimal_comma);
             ch.other.push(OtherLine {
                 line: l.number,
-                text: String::from_utf8_lossy(l.text).into_owned(),
+                text: decode(l.text).into_owned(),
                 wrong: numeric.then_some(if s.core > n { s.core } else { s.raw }),
                 row: ch.rows,
             });
@@ -784,19 +819,14 @@ fn parse_in_chunks(
     check_head_line_lengths(body, source)?;
     let head = head_lines(body);
     let c = choose_layout(&head, opts, source)?;
-    let h = c.header.expect("checked in choose_layout");
-    let key = HeaderKey {
-        names: header_names(head[h].text, c.delimiter),
-        units: c.units.map(|u| header_names(head[u].text, c.delimiter)),
-    };
-    let names = column_names(&head[h], &c, source)?;
-    let preamble: Vec<String> = head[..h]
+    let Header { key, names, line } = resolve_header(&head, &c, source)?;
+    let preamble: Vec<String> = head[..c.header.unwrap_or(c.data)]
         .iter()
         .filter(|l| !is_blank(l.text))
-        .map(|l| String::from_utf8_lossy(l.text).trim().to_string())
+        .map(|l| decode(l.text).trim().to_string())
         .collect();
     let (columns_data, chunks) = parse_data(body, &head[c.data], &c, min_chunk);
-    let regions = assemble(&chunks, &c, &key, head[h].number, source)?;
+    let regions = assemble(&chunks, &c, &key, line, source)?;
     let rows: usize = chunks.iter().map(|ch| ch.rows).sum();
     let built = build_columns(&names, key.units.as_deref(), columns_data, &chunks);
     let mut block_preambles = regions.block_preambles;
@@ -812,7 +842,7 @@ fn parse_in_chunks(
         bom,
         crlf,
         cr,
-        header_line: head[h].number,
+        header_line: line,
         units_line: c.units.map(|u| head[u].number),
         preamble: preamble.len(),
         footer: regions.footer.len(),
@@ -823,7 +853,10 @@ fn parse_in_chunks(
         columns: built.columns,
         rows,
         layout: layout.describe(),
-        header_line: head[h].number,
+        // a headerless table's "header" is the line above its data, so that line numbers
+        // computed from it (header + 1 + row) stay right
+        header_line: line.unwrap_or(head[c.data].number - 1),
+        headerless: line.is_none(),
         preamble,
         footer: regions.footer,
         sample_interval_s: None,
@@ -903,6 +936,43 @@ fn head_lines(body: &[u8]) -> Vec<Line<'_>> {
         pos = end + 1;
     }
     head
+}
+
+/// What stands above the data: the header as written (names and units row, which every later
+/// block repeats), one column name per field, and the header's line (`None`: a headerless
+/// file, whose columns are named `#1`, `#2`, … by position).
+struct Header {
+    key: HeaderKey,
+    names: Vec<String>,
+    line: Option<u64>,
+}
+
+fn resolve_header(head: &[Line], c: &Candidate, source: &str) -> Result<Header> {
+    let Some(h) = c.header else {
+        return Ok(Header {
+            key: HeaderKey {
+                names: Vec::new(),
+                units: None,
+            },
+            names: (1..=c.fields).map(|k| format!("#{k}")).collect(),
+            line: None,
+        });
+    };
+    Ok(Header {
+        key: HeaderKey {
+            names: header_names(head[h].text, c.delimiter),
+            units: c.units.map(|u| header_names(head[u].text, c.delimiter)),
+        },
+        names: column_names(&head[h], c, source)?,
+        line: Some(head[h].number),
+    })
+}
+
+/// "header on line N", or "no header line" for a headerless file.
+fn header_at(line: Option<u64>) -> String {
+    line.map_or("no header line".to_string(), |h| {
+        format!("header on line {h}")
+    })
 }
 
 /// The header's column names, one per data field (an empty one named `column K`); an error
@@ -1026,7 +1096,7 @@ fn assemble(
     chunks: &[Chunk],
     c: &Candidate,
     key: &HeaderKey,
-    header_line: u64,
+    header_line: Option<u64>,
     source: &str,
 ) -> Result<Regions> {
     let total: usize = chunks.iter().map(|ch| ch.rows).sum();
@@ -1080,7 +1150,7 @@ fn region_error(
     region: &[&OtherLine],
     c: &Candidate,
     key: &HeaderKey,
-    header_line: u64,
+    header_line: Option<u64>,
     source: &str,
 ) -> Error {
     let last = region[region.len() - 1];
@@ -1093,11 +1163,14 @@ fn region_error(
     });
     let (line, msg) = if let Some(o) = header_like {
         let names = header_names(o.text.as_bytes(), c.delimiter);
-        let what = if names == key.names {
+        let what = if key.names.is_empty() {
+            "the file has no header line above its first data".to_string()
+        } else if names == key.names {
             "its units row differs from the first block's (or is missing)".to_string()
         } else {
             format!(
-                "its header differs from the first block's (line {header_line}): first '{}', here '{}'",
+                "its header differs from the first block's (line {}): first '{}', here '{}'",
+                header_line.unwrap_or(0),
                 clip(&key.names.join(", ")),
                 clip(&names.join(", "))
             )
@@ -1105,9 +1178,10 @@ fn region_error(
         (o.line, format!("a new block of the table starts here, but {what}; every block must have the same columns"))
     } else if let Some(k) = last.wrong {
         let msg = format!(
-            "malformed row: expected {} fields, found {k} ({}-delimited, header on line {header_line})",
+            "malformed row: expected {} fields, found {k} ({}-delimited, {})",
             c.fields,
             c.delimiter.name(),
+            header_at(header_line),
         );
         (last.line, msg)
     } else {
@@ -1142,7 +1216,7 @@ struct Layout<'a> {
     bom: bool,
     crlf: bool,
     cr: bool,
-    header_line: u64,
+    header_line: Option<u64>,
     units_line: Option<u64>,
     preamble: usize,
     footer: usize,
@@ -1165,7 +1239,11 @@ impl Layout<'_> {
                 layout.push_str(what);
             }
         }
-        layout.push_str(&format!(", header on line {}", self.header_line));
+        layout.push_str(", ");
+        layout.push_str(&header_at(self.header_line));
+        if self.header_line.is_none() {
+            layout.push_str(&format!(" (columns #1 to #{})", self.c.fields));
+        }
         if let Some(u) = self.units_line {
             layout.push_str(&format!(", units row on line {u}"));
         }
@@ -1279,10 +1357,112 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("no table found"), "{e}");
-        let e = parse("0,1\n1,2\n2,3\n").unwrap_err().to_string();
-        assert!(e.contains("no header line"), "{e}");
+        // numbers only are a headerless table (see `headerless_logs`), but numbers and
+        // broken rows above the data are not
         let e = parse("t_s,F_N\n0,1\n1,abc\n2,3\n").unwrap_err().to_string();
-        assert!(e.contains("line 4") && e.contains("no header line"), "{e}");
+        assert!(
+            e.contains("line 4") && e.contains("not a header that names them"),
+            "{e}"
+        );
+        // a header line that names fewer columns than the data has is not taken as comments
+        let e = parse("time,force\n0,1,2\n1,2,3\n2,3,4\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 2") && e.contains("3 columns"), "{e}");
+    }
+
+    /// DAQ and microcontroller logs without a header: comma, semicolon with decimal comma,
+    /// tab and whitespace, with comment lines above; columns are `#1`, `#2`, …
+    #[test]
+    fn headerless_logs() {
+        let cases = [
+            ("0.00,12.1,3.4\n0.01,12.0,3.5\n0.02,12.2,3.6\n", "comma"),
+            (
+                "0,00;12,1;3,4\r\n0,01;12,0;3,5\r\n0,02;12,2;3,6\r\n",
+                "semicolon",
+            ),
+            (
+                "# logger v2\n\n0.00\t12.1\t3.4\n0.01\t12.0\t3.5\n0.02\t12.2\t3.6\n",
+                "tab",
+            ),
+            (
+                "  0.00  12.1  3.4\n  0.01  12.0  3.5\n  0.02  12.2  3.6\n",
+                "whitespace",
+            ),
+        ];
+        for (text, delim) in cases {
+            let t = parse(text).unwrap();
+            assert!(t.headerless, "{delim}");
+            let names: Vec<&str> = t.columns.iter().map(|c| c.name.as_str()).collect();
+            assert_eq!(names, ["#1", "#2", "#3"], "{delim}");
+            assert_eq!(col(&t, 0), &[0.0, 0.01, 0.02], "{delim}");
+            assert_eq!(col(&t, 2), &[3.4, 3.5, 3.6], "{delim}");
+            assert!(t.layout.starts_with(delim), "{}", t.layout);
+            assert!(
+                t.layout.contains("no header line (columns #1 to #3)"),
+                "{}",
+                t.layout
+            );
+            // the "header" is the line above the data, so header + 1 + row is the row's line
+            assert_eq!(t.header_line + 1, if delim == "tab" { 3 } else { 1 });
+        }
+        let t = parse("# logger v2\n0.00\t12.1\t3.4\n0.01\t12.0\t3.5\n").unwrap();
+        assert_eq!(t.preamble, ["# logger v2"]);
+        // a malformed row names the line and that there is no header
+        let e = parse("1,2\n3,4\n5\n6,7\n").unwrap_err().to_string();
+        assert!(e.contains("line 3") && e.contains("no header line"), "{e}");
+    }
+
+    /// A forced header line is taken even where sniffing would choose another layout, and a
+    /// forced line that is no header is an error naming it, never ignored.
+    #[test]
+    fn forced_header_is_never_ignored() {
+        let opts = |h| TextOptions {
+            header_line: Some(h),
+            ..Default::default()
+        };
+        let text = "Time,Fn,Ft\n0,1,2\n1,2,3\n2,3,4\n";
+        let t = parse_text_table(text.as_bytes(), "t.csv", &opts(1)).unwrap();
+        assert_eq!(t.header_line, 1);
+        assert!(!t.headerless);
+        assert_eq!(t.columns[2].name, "Ft");
+        // a header of channel numbers, which sniffing takes for data, is the header when forced
+        let t = parse_text_table(b"0,1,2\n1,2,3\n2,3,4\n", "t.csv", &opts(1)).unwrap();
+        assert!(!t.headerless);
+        assert_eq!(t.rows, 2);
+        assert_eq!(t.columns[1].name, "1");
+        assert_eq!(col(&t, 1), &[2.0, 3.0]);
+        let t = parse_text_table(b"0,1,2\n1,2,3\n2,3,4\n", "t.csv", &TextOptions::default());
+        assert!(t.unwrap().headerless);
+        // a forced header naming another number of columns is an error naming its line
+        let e = parse_text_table(b"a,b\n1,2,3\n2,3,4\n", "t.csv", &opts(1))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 1") && e.contains("names 2 columns"), "{e}");
+    }
+
+    /// Quotes protect delimiters in headers and in data fields; a quoted `"1,5"` in a
+    /// comma-delimited file is a decimal comma.
+    #[test]
+    fn quoted_fields_with_delimiters() {
+        let text = "\"Time, s\",\"Load, N\",\"Friction, N\"\n\"0,0\",\"10,5\",\"1,5\"\n\"0,1\",\"10,5\",\"1,25\"\n0.2,10.5,\"1,0\"\n";
+        let t = parse(text).unwrap();
+        assert_eq!(t.columns.len(), 3);
+        assert_eq!(t.columns[1].header, "Load, N");
+        assert_eq!(col(&t, 0), &[0.0, 0.1, 0.2]);
+        assert_eq!(col(&t, 2), &[1.5, 1.25, 1.0]);
+        // two commas in quotes are no number
+        assert_eq!(parse_number(b"\"1,234,5\"", false), None);
+    }
+
+    /// Header bytes that are not UTF-8 are Latin-1: `µm` written as 0xB5 keeps its unit.
+    #[test]
+    fn latin1_header() {
+        let mut bytes = b"t (s);Pos (".to_vec();
+        bytes.push(0xB5);
+        bytes.extend_from_slice(b"m);Fz (N)\n0;1;2\n1;2;3\n2;3;4\n");
+        let t = parse_text_table(&bytes, "t.csv", &TextOptions::default()).unwrap();
+        assert_eq!(t.columns[1].unit.as_deref(), Some("µm"));
     }
 
     #[test]

@@ -388,6 +388,7 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
         rows: body.len(),
         layout,
         header_line: row_no(header),
+        headerless: false,
         preamble,
         footer,
         sample_interval_s: None,

@@ -50,6 +50,9 @@ pub struct IdentifySettings {
     pub header_line: Option<u64>,
     /// Sample rate of files without a time column, Hz.
     pub sample_rate_hz: Option<f64>,
+    /// Names for the columns in file order (units in the names: `t_s`, `Fn_N`), for logs
+    /// without a header line; empty keeps the study's (default: the file's own names).
+    pub columns: Vec<String>,
     /// Spreadsheet sheet.
     pub sheet: Option<String>,
     /// How the plan is aligned with each recording (sets plan-timing segmentation).
@@ -125,6 +128,9 @@ impl IdentifySettings {
         rec.header_line = self.header_line.or(rec.header_line);
         rec.sample_rate_hz = rate.or(rec.sample_rate_hz);
         rec.sheet = self.sheet.clone().or(rec.sheet.take());
+        if !self.columns.is_empty() {
+            rec.columns = self.columns.clone();
+        }
         let id = &mut study.identify;
         if let Some(a) = align {
             id.align = a;
@@ -151,7 +157,8 @@ pub struct IdentifyInputs {
     /// Recording files (CSV/TXT, XLSX/XLS/ODS, TDMS) or directories: a file per step, per
     /// pin or for the whole campaign. A directory gives its pinNN files when the plan's pins
     /// are all there, else every recording file in natural order.
-    #[cfg_attr(feature = "cli", arg(long, num_args = 1.., required = true))]
+    /// Required, except by `identify --rig list`.
+    #[cfg_attr(feature = "cli", arg(long, num_args = 1.., required_unless_present = "rig"))]
     pub recordings: Vec<PathBuf>,
     /// Which files to pick from a directory: csv, tdms or spreadsheet (default: every
     /// supported format).

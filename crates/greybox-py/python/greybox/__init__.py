@@ -518,6 +518,7 @@ def identify(
     tdms_group: Optional[str] = None,
     header_line: Optional[int] = None,
     sample_rate_hz: Optional[float] = None,
+    columns: Optional[Sequence[str]] = None,
     sheet: Optional[str] = None,
     align: Optional[str] = None,
     segment: Optional[str] = None,
@@ -539,7 +540,9 @@ def identify(
     The keyword-only settings are ``greybox identify``'s flags by the library's names (SI):
     ``map=["radius=Radius:mm"]``, ``rig``, ``constant_normal_force_N``,
     ``constant_sliding_velocity_m_per_s``, ``tdms_group``, ``header_line``,
-    ``sample_rate_hz``, ``sheet``, ``align``, ``segment``, ``test_mode``, ``settle_time_s``,
+    ``sample_rate_hz``, ``columns`` (names for a headerless log's columns in order, units in
+    the names: ``["t_s", "Fn_N", "Ft_N"]``; ``map=["normal=#2:N"]`` maps by column number),
+    ``sheet``, ``align``, ``segment``, ``test_mode``, ``settle_time_s``,
     ``convention``; each overrides the study, as the flag does."""
     if isinstance(recordings, (str, os.PathLike)):
         recordings = [recordings]
@@ -552,6 +555,7 @@ def identify(
         "tdms_group": _opt_str(tdms_group, "tdms_group"),
         "header_line": _count(header_line, "header_line"),
         "sample_rate_hz": _opt_float(sample_rate_hz, "sample_rate_hz"),
+        "columns": None if columns is None else _strs(columns, "columns"),
         "sheet": _opt_str(sheet, "sheet"),
         "align": _opt_str(align, "align"),
         "segment": _opt_str(segment, "segment"),
