@@ -1466,17 +1466,7 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
         }
         let (kept, short): (Vec<Span>, Vec<Span>) =
             s.iter().partition(|s| s.j - s.i >= min_len(p).max(4));
-        p.report.too_short = short
-            .iter()
-            .map(|sp| Dropped {
-                what: format!("{:.3}–{:.3} s", p.rec.time_s[sp.i], p.rec.time_s[sp.j - 1]),
-                reason: format!(
-                    "shorter than the shortest step (min_segment_s = {} s)",
-                    cfg.min_segment_s
-                ),
-                seconds: (sp.j - sp.i) as f64 / p.fs,
-            })
-            .collect();
+        p.report.too_short = too_short(p, &short, cfg);
         let segs: Vec<SegmentReport> = kept
             .iter()
             .enumerate()
@@ -1495,6 +1485,45 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
         update_coverage(f, cfg, true);
     }
     Ok(files)
+}
+
+/// Sliding pieces shorter than a step, as dropped parts: pieces less than `min_segment_s`
+/// apart are one entry, and three or more such pieces in a row are a ramp cut into short
+/// levels: transitions, not dropped data.
+fn too_short(p: &Prepared, short: &[Span], cfg: &IdentifyConfig) -> Vec<Dropped> {
+    let gap = (cfg.min_segment_s * p.fs) as usize;
+    let mut groups: Vec<(usize, usize, usize, usize)> = Vec::new(); // first, last, samples, count
+    for sp in short {
+        match groups.last_mut() {
+            Some(g) if sp.i <= g.1 + gap => {
+                g.1 = sp.j;
+                g.2 += sp.j - sp.i;
+                g.3 += 1;
+            }
+            _ => groups.push((sp.i, sp.j, sp.j - sp.i, 1)),
+        }
+    }
+    groups
+        .into_iter()
+        .filter(|g| g.3 < 3)
+        .map(|(i, j, samples, count)| Dropped {
+            what: format!(
+                "{} {:.3}–{:.3} s",
+                if count == 1 {
+                    "a piece".to_string()
+                } else {
+                    format!("{count} pieces")
+                },
+                p.rec.time_s[i],
+                p.rec.time_s[j - 1]
+            ),
+            reason: format!(
+                "shorter than the shortest step (min_segment_s = {} s)",
+                cfg.min_segment_s
+            ),
+            seconds: samples as f64 / p.fs,
+        })
+        .collect()
 }
 
 /// Why a file gave no segment, from what its signals showed.
