@@ -55,23 +55,25 @@ impl RecordingFormat {
     /// the file when it cannot be read or its content is of no known format.
     pub fn detect(path: &std::path::Path) -> Result<Self> {
         use std::io::Read;
+        let by_name = Self::of_path(path);
+        // a FIFO, a device or a directory is never opened here: its reader refuses it by name
+        let regular = std::fs::metadata(path).map_err(|e| Error::io(path, e))?.is_file();
+        if !regular {
+            return Ok(by_name.unwrap_or(RecordingFormat::Csv));
+        }
         let mut head = Vec::with_capacity(1024);
         std::fs::File::open(path)
             .and_then(|f| f.take(1024).read_to_end(&mut head))
             .map_err(|e| Error::io(path, e))?;
-        let by_name = Self::of_path(path);
         if head.is_empty() {
             return Ok(by_name.unwrap_or(RecordingFormat::Csv));
         }
-        Self::of_content(&head).ok_or_else(|| {
+        // content of no known format but a known name: that format's reader says what is
+        // wrong with it (a file of zeros named .csv has no line end in its first line)
+        Self::of_content(&head).or(by_name).ok_or_else(|| {
             Error::input(
                 SourcePos::path(path),
-                format!(
-                    "unknown recording format: the content is neither delimited text nor a spreadsheet (xlsx, xls, ods) nor TDMS{}",
-                    by_name.map_or(String::new(), |f| format!(
-                        " (the name says {f}, the first bytes do not)"
-                    ))
-                ),
+                "unknown recording format: the content is neither delimited text nor a spreadsheet (xlsx, xls, ods) nor TDMS, and the name has no known extension",
             )
         })
     }

@@ -192,13 +192,20 @@ fn format_from_content_not_name() {
         let p = write(&dir, "noext", head);
         assert_eq!(RecordingFormat::detect(&p).unwrap(), want);
     }
-    // binary content of no known kind names the file and what the name claimed
+    // binary content of no known kind: a known name goes to its reader, which refuses it
+    // with the file named; without a known name the format is unknown
     let p = write(&dir, "data.csv", &[0u8, 1, 2, 3, 0, 0, 7]);
+    assert_eq!(RecordingFormat::detect(&p).unwrap(), RecordingFormat::Csv);
+    let e = read_table(&p, &ChannelMap::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("data.csv"), "{e}");
+    let p = write(&dir, "data.bin", &[0u8, 1, 2, 3, 0, 0, 7]);
     let e = read_table(&p, &ChannelMap::default())
         .unwrap_err()
         .to_string();
     assert!(
-        e.contains("data.csv") && e.contains("the name says csv"),
+        e.contains("data.bin") && e.contains("unknown recording format"),
         "{e}"
     );
 }
