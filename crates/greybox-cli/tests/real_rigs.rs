@@ -9,7 +9,7 @@
 
 use std::path::{Path, PathBuf};
 mod common;
-use common::{greybox, ok};
+use common::{csv_column, greybox, ok};
 
 fn corpus() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/real-rigs")
@@ -41,13 +41,7 @@ fn identify(file: &str, extra: &[&str]) -> Vec<f64> {
     ];
     args.extend_from_slice(extra);
     ok(&greybox(&args, d.path()));
-    let text = std::fs::read_to_string(d.path().join("data.csv")).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let k = header.iter().position(|h| *h == "cof_apparent").unwrap();
-    lines
-        .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
-        .collect()
+    csv_column(&d.path().join("data.csv"), "cof_apparent")
 }
 
 fn check(file: &str, extra: &[&str], tol: f64) {

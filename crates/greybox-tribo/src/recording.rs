@@ -221,7 +221,8 @@ fn first_non_increasing(t: &[f64]) -> Option<usize> {
 #[serde(deny_unknown_fields)]
 pub struct ChannelSpec {
     /// Column or TDMS channel name; matched ignoring case, surrounding spaces and the unit
-    /// in the header (`fz` finds ` DAQ.Fz (N)`).
+    /// in the header (`fz` finds ` DAQ.Fz (N)`). `#K` is column K of the file counted from 1
+    /// (a log without a header line names its columns so).
     pub name: String,
     /// Unit (`kN`, `rpm`, `mm/s`, `ms`, …); if absent it is taken from the header (`Fz (N)`,
     /// `Fz [kN]`, `Fz_kN`, `Fz/N`) or the TDMS `unit_string`; an error if neither names one.
@@ -251,7 +252,7 @@ impl ChannelSpec {
             scale: 1.0,
         }
     }
-    /// Parse `NAME[:UNIT[:SCALE]]`, e.g. `Fz:kN:-1`.
+    /// Parse `NAME[:UNIT[:SCALE]]`, e.g. `Fz:kN:-1` or `#3:N` (column 3).
     pub fn parse(text: &str) -> Result<Self> {
         let mut parts = text.split(':');
         let name = parts.next().unwrap_or("").trim();
@@ -1110,28 +1111,7 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
             (0..n).into_par_iter().map(|i| t0 + i as f64 * dt).collect()
         }
     };
-    let speed_unit = report
-        .columns
-        .iter()
-        .find(|c| c.role == "speed")
-        .and_then(|c| SpeedUnit::parse(&c.unit));
-    let speed = take(Role::Speed)
-        .map(|(_, v, _)| match speed_unit {
-            Some(u) if u.is_rotational() => SpeedTrace::SpindleRpm(v),
-            _ => SpeedTrace::SlidingMPerS(v),
-        })
-        .or_else(|| {
-            let Some(v) = map.constant_sliding_m_s else {
-                if !map.ignore.iter().any(|r| r == "speed") {
-                    report.notes.push("no speed channel (none mapped, none with a usual name): the sliding velocity must come from a plan (--study, --plan-steps), a speed channel (--map speed=NAME:UNIT) or, for a rig that runs at one speed, --constant-sliding-velocity-m-per-min V".into());
-                }
-                return None;
-            };
-            report.notes.push(format!(
-                "no speed column: the stated constant sliding velocity {v} m/s at every sample"
-            ));
-            Some(SpeedTrace::SlidingMPerS(vec![v; n]))
-        });
+    let speed = speed_trace(take(Role::Speed).map(|c| c.1), map, n, &mut report);
     let rec = Recording {
         source: source.clone(),
         time_s,
@@ -1148,6 +1128,38 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
     };
     rec.validate()?;
     Ok(rec)
+}
+
+/// The speed channel as recorded (rpm where its unit turns, else m/s), else the stated
+/// constant sliding velocity; without either, a note on how to give one (unless the user
+/// said the file has no speed).
+fn speed_trace(
+    recorded: Option<Vec<f64>>,
+    map: &ChannelMap,
+    n: usize,
+    report: &mut ReadReport,
+) -> Option<SpeedTrace> {
+    if let Some(v) = recorded {
+        let unit = report
+            .columns
+            .iter()
+            .find(|c| c.role == "speed")
+            .and_then(|c| SpeedUnit::parse(&c.unit));
+        return Some(match unit {
+            Some(u) if u.is_rotational() => SpeedTrace::SpindleRpm(v),
+            _ => SpeedTrace::SlidingMPerS(v),
+        });
+    }
+    let Some(v) = map.constant_sliding_m_s else {
+        if !map.ignore.iter().any(|r| r == "speed") {
+            report.notes.push("no speed channel (none mapped, none with a usual name): the sliding velocity must come from a plan (--study, --plan-steps), a speed channel (--map speed=NAME:UNIT) or, for a rig that runs at one speed, --constant-sliding-velocity-m-per-min V".into());
+        }
+        return None;
+    };
+    report.notes.push(format!(
+        "no speed column: the stated constant sliding velocity {v} m/s at every sample"
+    ));
+    Some(SpeedTrace::SlidingMPerS(vec![v; n]))
 }
 
 /// A file of blocks (each with its own settings and header, as UMT and PCS exports write one
