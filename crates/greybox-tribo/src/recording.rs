@@ -699,7 +699,7 @@ fn check_unit(role: Role, unit: &str) -> std::result::Result<(), String> {
 
 /// Which column each role takes, and how it was found.
 fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, bool)>> {
-    let pos = || SourcePos::file(&table.source).line(table.header_line);
+    let pos = || table.header_pos();
     let mut taken: Vec<(Role, usize, bool)> = Vec::new();
     // explicit mappings first, so that automatic ones never steal their columns
     for role in Role::ALL {
@@ -1363,16 +1363,13 @@ fn convert_channels(
     report: &mut ReadReport,
 ) -> Result<Vec<(Role, Vec<f64>, String)>> {
     let source = table.source.clone();
+    let at = table.header_pos();
     let mut channels: Vec<(Role, Vec<f64>, String)> = Vec::new();
     for (role, idx, mapped) in roles {
         let spec = map.spec(*role);
         let col: &mut Column = &mut table.columns[*idx];
         let header = col.header.clone();
-        let pos = || {
-            SourcePos::file(&source)
-                .line(table.header_line)
-                .field(&header)
-        };
+        let pos = || at.clone().field(&header);
         let unit = match (spec.as_ref().and_then(|s| s.unit.clone()), col.unit.clone()) {
             (Some(m), Some(f)) if *role != Role::Trigger && *role != Role::Step => {
                 if !same_unit(*role, &m, &f) {
@@ -1430,6 +1427,44 @@ fn convert_channels(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn column_numbers_and_cof_names() {
+        assert_eq!(column_number("#3"), Some(3));
+        assert_eq!(column_number(" # 12 "), Some(12));
+        for not in ["#0", "#", "3", "F #2", "#x"] {
+            assert_eq!(column_number(not), None, "{not}");
+        }
+        let cof = |h: &str| looks_like_cof(&Column::numbers(h, Vec::new()));
+        for h in [
+            "COF",
+            "DAQ.COF ()",
+            "µ",
+            "Mu kinetic",
+            "Friction coefficient",
+            "Friction coeff.",
+            "Reibwert",
+            "Friction (-)",
+            "Friction (µ)",
+            "COF_avg",
+        ] {
+            assert!(cof(h), "{h}");
+        }
+        for h in [
+            "Friction force (N)",
+            "Fx",
+            "Load",
+            "Friction",
+            "Muffle temp (K)",
+        ] {
+            assert!(!cof(h), "{h}");
+        }
+        let spec = ChannelSpec::parse("#3:N").unwrap();
+        assert_eq!(
+            (spec.name.as_str(), spec.unit.as_deref()),
+            ("#3", Some("N"))
+        );
+    }
 
     /// The parallel block screens find the same index as a plain scan, at block edges too.
     #[test]

@@ -165,6 +165,7 @@ fn unresolved_headerless_log_lists_columns_with_samples() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("'#7'") && e.contains("#1 to #3"), "{e}");
+    assert!(!e.contains("line 0"), "{e}");
 }
 
 #[test]
