@@ -202,6 +202,20 @@ fn format_from_content_not_name() {
         e.contains("data.csv") && e.contains("the name says csv"),
         "{e}"
     );
+    // JSON and XML side files are text, but no recording
+    for (name, text, what) in [
+        ("run.provenance.json", "{\n  \"a\": 1\n}\n", "JSON text"),
+        ("plot.svg", "<svg></svg>\n", "XML or HTML text"),
+    ] {
+        let p = write(&dir, name, text.as_bytes());
+        let e = read_table(&p, &ChannelMap::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("unknown recording format") && e.contains(what),
+            "{e}"
+        );
+    }
 }
 
 #[test]
