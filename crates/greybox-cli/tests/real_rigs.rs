@@ -10,7 +10,7 @@
 
 use std::path::{Path, PathBuf};
 mod common;
-use common::{greybox, ok};
+use common::{csv_column, greybox, ok};
 
 /// The corpus of raw exports (`../shared/data/real-rigs` beside the checkout, or
 /// `GREYBOX_REAL_RIGS_DIR`); `None` skips, unless `GREYBOX_REQUIRE_REAL_RIGS=1` (`.ci/run`).
@@ -50,15 +50,7 @@ fn identify(file: &str, extra: &[&str]) -> Option<Vec<f64>> {
     ];
     args.extend_from_slice(extra);
     ok(&greybox(&args, d.path()));
-    let text = std::fs::read_to_string(d.path().join("data.csv")).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let k = header.iter().position(|h| *h == "cof_apparent").unwrap();
-    Some(
-        lines
-            .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
-            .collect(),
-    )
+    Some(csv_column(&d.path().join("data.csv"), "cof_apparent"))
 }
 
 fn check(file: &str, extra: &[&str], tol: f64) {

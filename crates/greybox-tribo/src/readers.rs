@@ -30,13 +30,13 @@ impl RecordingFormat {
             RecordingFormat::Spreadsheet => "xlsx",
         }
     }
-    /// The format a file's first bytes say, the name only breaking a tie: TDMS by its `TDSm`
+    /// The format a file's first bytes say (its name plays no part): TDMS by its `TDSm`
     /// lead-in, a spreadsheet by the zip (`PK\x03\x04`: xlsx, xlsm, ods) or OLE (`D0 CF 11
     /// E0`: xls) signature, else delimited text when the head is text (no NUL byte, UTF-8 or a
     /// single-byte code page; a UTF-16 byte-order mark too, which the text reader refuses by
-    /// name). A file without extension or with an unknown one (`.log`, `.out`) is read by its
-    /// content like any other; a `.xls` that is really tab-separated text is text. `None`:
-    /// binary content of no known format.
+    /// name) and not JSON or XML ([`markup`]). A file without extension or with an unknown
+    /// one (`.log`, `.out`) is read by its content like any other; a `.xls` that is really
+    /// tab-separated text is text. `None`: content of no known format.
     pub fn of_content(head: &[u8]) -> Option<Self> {
         if head.starts_with(b"TDSm") {
             return Some(RecordingFormat::Tdms);
@@ -48,7 +48,7 @@ impl RecordingFormat {
         let text = head
             .iter()
             .all(|&b| b != 0 && (b >= 0x20 || b"\t\n\r\x0c".contains(&b)));
-        (utf16 || text).then_some(RecordingFormat::Csv)
+        (utf16 || (text && markup(head).is_none())).then_some(RecordingFormat::Csv)
     }
     /// The format of the file at `path`, from its first KiB ([`Self::of_content`]); an empty
     /// file goes by its extension (to a reader that names what is missing). An error names
@@ -57,7 +57,9 @@ impl RecordingFormat {
         use std::io::Read;
         let by_name = Self::of_path(path);
         // a FIFO, a device or a directory is never opened here: its reader refuses it by name
-        let regular = std::fs::metadata(path).map_err(|e| Error::io(path, e))?.is_file();
+        let regular = std::fs::metadata(path)
+            .map_err(|e| Error::io(path, e))?
+            .is_file();
         if !regular {
             return Ok(by_name.unwrap_or(RecordingFormat::Csv));
         }
@@ -69,11 +71,21 @@ impl RecordingFormat {
             return Ok(by_name.unwrap_or(RecordingFormat::Csv));
         }
         // content of no known format but a known name: that format's reader says what is
-        // wrong with it (a file of zeros named .csv has no line end in its first line)
-        Self::of_content(&head).or(by_name).ok_or_else(|| {
-            Error::input(
-                SourcePos::path(path),
-                "unknown recording format: the content is neither delimited text nor a spreadsheet (xlsx, xls, ods) nor TDMS, and the name has no known extension",
+        // wrong with it (a file of zeros named .csv has no line end in its first line);
+        // markup (HTML, XML) is refused here whatever its name
+        let markup = markup(&head);
+        Self::of_content(&head)
+            .or(by_name.filter(|_| markup.is_none()))
+            .ok_or_else(|| {
+                let what = markup.map_or("binary data".to_string(), |m| format!("{m} text"));
+                Error::input(
+                    SourcePos::path(path),
+                    format!(
+                        "unknown recording format: the content is {what}, neither a delimited text table nor a spreadsheet (xlsx, xls, ods) nor TDMS{}",
+                        by_name.map_or(String::new(), |f| format!(
+                            " (the name says {f}, the first bytes do not)"
+                        ))
+                    ),
             )
         })
     }
@@ -86,6 +98,17 @@ impl RecordingFormat {
             "xlsx" | "xlsm" | "xls" | "xlsb" | "ods" => Some(RecordingFormat::Spreadsheet),
             _ => None,
         }
+    }
+}
+
+/// Text that is JSON or XML/HTML (its first character after any BOM and blanks is `{` or
+/// `<`): a side file such as a provenance record, never a recording's table.
+fn markup(head: &[u8]) -> Option<&'static str> {
+    let body = head.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(head);
+    match body.iter().find(|b| !b.is_ascii_whitespace()) {
+        Some(b'{') => Some("JSON"),
+        Some(b'<') => Some("XML or HTML"),
+        _ => None,
     }
 }
 

@@ -221,7 +221,8 @@ fn first_non_increasing(t: &[f64]) -> Option<usize> {
 #[serde(deny_unknown_fields)]
 pub struct ChannelSpec {
     /// Column or TDMS channel name; matched ignoring case, surrounding spaces and the unit
-    /// in the header (`fz` finds ` DAQ.Fz (N)`).
+    /// in the header (`fz` finds ` DAQ.Fz (N)`). `#K` is column K of the file counted from 1
+    /// (a log without a header line names its columns so).
     pub name: String,
     /// Unit (`kN`, `rpm`, `mm/s`, `ms`, …); if absent it is taken from the header (`Fz (N)`,
     /// `Fz [kN]`, `Fz_kN`, `Fz/N`) or the TDMS `unit_string`; an error if neither names one.
@@ -251,7 +252,7 @@ impl ChannelSpec {
             scale: 1.0,
         }
     }
-    /// Parse `NAME[:UNIT[:SCALE]]`, e.g. `Fz:kN:-1`.
+    /// Parse `NAME[:UNIT[:SCALE]]`, e.g. `Fz:kN:-1` or `#3:N` (column 3).
     pub fn parse(text: &str) -> Result<Self> {
         let mut parts = text.split(':');
         let name = parts.next().unwrap_or("").trim();
@@ -698,7 +699,7 @@ fn check_unit(role: Role, unit: &str) -> std::result::Result<(), String> {
 
 /// Which column each role takes, and how it was found.
 fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role, usize, bool)>> {
-    let pos = || SourcePos::file(&table.source).line(table.header_line);
+    let pos = || table.header_pos();
     let mut taken: Vec<(Role, usize, bool)> = Vec::new();
     // explicit mappings first, so that automatic ones never steal their columns
     for role in Role::ALL {
@@ -1110,28 +1111,7 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
             (0..n).into_par_iter().map(|i| t0 + i as f64 * dt).collect()
         }
     };
-    let speed_unit = report
-        .columns
-        .iter()
-        .find(|c| c.role == "speed")
-        .and_then(|c| SpeedUnit::parse(&c.unit));
-    let speed = take(Role::Speed)
-        .map(|(_, v, _)| match speed_unit {
-            Some(u) if u.is_rotational() => SpeedTrace::SpindleRpm(v),
-            _ => SpeedTrace::SlidingMPerS(v),
-        })
-        .or_else(|| {
-            let Some(v) = map.constant_sliding_m_s else {
-                if !map.ignore.iter().any(|r| r == "speed") {
-                    report.notes.push("no speed channel (none mapped, none with a usual name): the sliding velocity must come from a plan (--study, --plan-steps), a speed channel (--map speed=NAME:UNIT) or, for a rig that runs at one speed, --constant-sliding-velocity-m-per-min V".into());
-                }
-                return None;
-            };
-            report.notes.push(format!(
-                "no speed column: the stated constant sliding velocity {v} m/s at every sample"
-            ));
-            Some(SpeedTrace::SlidingMPerS(vec![v; n]))
-        });
+    let speed = speed_trace(take(Role::Speed).map(|c| c.1), map, n, &mut report);
     let rec = Recording {
         source: source.clone(),
         time_s,
@@ -1148,6 +1128,38 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
     };
     rec.validate()?;
     Ok(rec)
+}
+
+/// The speed channel as recorded (rpm where its unit turns, else m/s), else the stated
+/// constant sliding velocity; without either, a note on how to give one (unless the user
+/// said the file has no speed).
+fn speed_trace(
+    recorded: Option<Vec<f64>>,
+    map: &ChannelMap,
+    n: usize,
+    report: &mut ReadReport,
+) -> Option<SpeedTrace> {
+    if let Some(v) = recorded {
+        let unit = report
+            .columns
+            .iter()
+            .find(|c| c.role == "speed")
+            .and_then(|c| SpeedUnit::parse(&c.unit));
+        return Some(match unit {
+            Some(u) if u.is_rotational() => SpeedTrace::SpindleRpm(v),
+            _ => SpeedTrace::SlidingMPerS(v),
+        });
+    }
+    let Some(v) = map.constant_sliding_m_s else {
+        if !map.ignore.iter().any(|r| r == "speed") {
+            report.notes.push("no speed channel (none mapped, none with a usual name): the sliding velocity must come from a plan (--study, --plan-steps), a speed channel (--map speed=NAME:UNIT) or, for a rig that runs at one speed, --constant-sliding-velocity-m-per-min V".into());
+        }
+        return None;
+    };
+    report.notes.push(format!(
+        "no speed column: the stated constant sliding velocity {v} m/s at every sample"
+    ));
+    Some(SpeedTrace::SlidingMPerS(vec![v; n]))
 }
 
 /// A file of blocks (each with its own settings and header, as UMT and PCS exports write one
@@ -1351,16 +1363,13 @@ fn convert_channels(
     report: &mut ReadReport,
 ) -> Result<Vec<(Role, Vec<f64>, String)>> {
     let source = table.source.clone();
+    let at = table.header_pos();
     let mut channels: Vec<(Role, Vec<f64>, String)> = Vec::new();
     for (role, idx, mapped) in roles {
         let spec = map.spec(*role);
         let col: &mut Column = &mut table.columns[*idx];
         let header = col.header.clone();
-        let pos = || {
-            SourcePos::file(&source)
-                .line(table.header_line)
-                .field(&header)
-        };
+        let pos = || at.clone().field(&header);
         let unit = match (spec.as_ref().and_then(|s| s.unit.clone()), col.unit.clone()) {
             (Some(m), Some(f)) if *role != Role::Trigger && *role != Role::Step => {
                 if !same_unit(*role, &m, &f) {
@@ -1418,6 +1427,44 @@ fn convert_channels(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn column_numbers_and_cof_names() {
+        assert_eq!(column_number("#3"), Some(3));
+        assert_eq!(column_number(" # 12 "), Some(12));
+        for not in ["#0", "#", "3", "F #2", "#x"] {
+            assert_eq!(column_number(not), None, "{not}");
+        }
+        let cof = |h: &str| looks_like_cof(&Column::numbers(h, Vec::new()));
+        for h in [
+            "COF",
+            "DAQ.COF ()",
+            "µ",
+            "Mu kinetic",
+            "Friction coefficient",
+            "Friction coeff.",
+            "Reibwert",
+            "Friction (-)",
+            "Friction (µ)",
+            "COF_avg",
+        ] {
+            assert!(cof(h), "{h}");
+        }
+        for h in [
+            "Friction force (N)",
+            "Fx",
+            "Load",
+            "Friction",
+            "Muffle temp (K)",
+        ] {
+            assert!(!cof(h), "{h}");
+        }
+        let spec = ChannelSpec::parse("#3:N").unwrap();
+        assert_eq!(
+            (spec.name.as_str(), spec.unit.as_deref()),
+            ("#3", Some("N"))
+        );
+    }
 
     /// The parallel block screens find the same index as a plain scan, at block edges too.
     #[test]

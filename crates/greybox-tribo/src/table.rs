@@ -135,6 +135,15 @@ impl Table {
             same.len()
         )
     }
+    /// Where the header is, for messages about a column: the file and the header's line (the
+    /// file alone when it has no header line, headerless text or TDMS).
+    pub fn header_pos(&self) -> SourcePos {
+        let file = SourcePos::file(&self.source);
+        match self.headerless || self.header_line == 0 {
+            true => file,
+            false => file.line(self.header_line),
+        }
+    }
     /// 1-based position of column `k` among the fields of a row in the file.
     pub fn position(&self, k: usize) -> usize {
         self.positions.get(k).copied().unwrap_or(k + 1)

@@ -4,7 +4,12 @@
 //! delimiter (tab, semicolon, comma or runs of whitespace), decimal commas, the header line
 //! below any preamble (the last line above the first run of numeric rows that has as many
 //! fields), and a trailing delimiter on every line. Lines after the data that are not data
-//! (an `End of data` or a summary) are the footer: reported, not an error. A non-numeric cell
+//! (an `End of data` or a summary) are the footer: reported, not an error. A file of numbers
+//! only (a DAQ or microcontroller log; comment lines of one field may stand above) has no
+//! header: its columns are named `#1`, `#2`, … by position ([`crate::table::Table::headerless`]).
+//! Double quotes protect a delimiter inside a field, in the header and in the data (a quoted
+//! `"1,5"` in a comma-delimited file is a decimal comma); header bytes that are not UTF-8 are
+//! Latin-1. A non-numeric cell
 //! inside the data only matters when a role is mapped to its column
 //! ([`crate::table::ColumnData::NotNumeric`]).
 //!
@@ -58,7 +63,8 @@ impl Delimiter {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct TextOptions {
-    /// 1-based line of the header (default: found automatically).
+    /// 1-based line of the header (default: found automatically). A line given is always
+    /// the header, even one of numbers (channel numbers `1,2,3`); the data starts below it.
     pub header_line: Option<u64>,
     pub delimiter: Option<Delimiter>,
     pub decimal_comma: Option<bool>,

@@ -165,6 +165,7 @@ fn unresolved_headerless_log_lists_columns_with_samples() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("'#7'") && e.contains("#1 to #3"), "{e}");
+    assert!(!e.contains("line 0"), "{e}");
 }
 
 #[test]
@@ -208,6 +209,20 @@ fn format_from_content_not_name() {
         e.contains("data.bin") && e.contains("unknown recording format"),
         "{e}"
     );
+    // JSON and XML side files are text, but no recording
+    for (name, text, what) in [
+        ("run.provenance.json", "{\n  \"a\": 1\n}\n", "JSON text"),
+        ("plot.svg", "<svg></svg>\n", "XML or HTML text"),
+    ] {
+        let p = write(&dir, name, text.as_bytes());
+        let e = read_table(&p, &ChannelMap::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("unknown recording format") && e.contains(what),
+            "{e}"
+        );
+    }
 }
 
 #[test]

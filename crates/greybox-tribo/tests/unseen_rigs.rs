@@ -238,7 +238,10 @@ fn a_normal_force_recorded_negative_is_flipped_and_reported() {
     let id = identify(&[rec], None);
     assert!(id.files[0].normal_sign_flipped);
     assert!(
-        id.files[0].notes.iter().any(|n| n.contains("normal force is negative")),
+        id.files[0]
+            .notes
+            .iter()
+            .any(|n| n.contains("normal force is negative")),
         "{:#?}",
         id.files[0].notes
     );

@@ -7,9 +7,12 @@
 //! use greybox_pipeline::Study;
 //! let mut study = Study::default();
 //! let s = IdentifySettings::from_json(r#"{"steady": "last:50%", "convention": "article-eq7",
-//!     "map": ["radius=Radius:mm"], "constant_normal_force_N": 60}"#)?;
+//!     "map": ["radius=Radius:mm", "normal=#2:N"], "constant_normal_force_N": 60,
+//!     "columns": ["t_s", "Fn_N"]}"#)?;
 //! s.apply(&mut study)?;
 //! assert_eq!(study.recording.constant_normal_n, Some(60.0));
+//! assert_eq!(study.recording.columns, ["t_s", "Fn_N"]);
+//! assert_eq!(study.recording.normal.as_ref().unwrap().name, "#2");
 //! assert_eq!(study.contact.convention.to_string(), "article-eq7");
 //! let e = IdentifySettings { sample_rate_hz: Some(-1.0), ..Default::default() }
 //!     .apply(&mut study).unwrap_err();
