@@ -218,23 +218,27 @@ fn nine_timed_steps_per_pin_without_a_speed_channel_are_placed_by_the_plan() {
 }
 
 /// A load cell that reads compression as a negative force (a steady −20 N): the normal force
-/// is flipped and said so, instead of "the normal force never holds a load".
+/// is flipped and said so (by the reader for a file, by identification for a recording built
+/// through the library), instead of "the normal force never holds a load".
 #[test]
 fn a_normal_force_recorded_negative_is_flipped_and_reported() {
-    let d = tempfile::tempdir().unwrap();
-    let path = d.path().join("negative.csv");
-    let mut text = String::from("Time [s],Fz [N],Fx [N],Speed [m/s]\n");
-    for k in 0..3000 {
+    let n = 3000;
+    let mut time = Vec::with_capacity(n);
+    let (mut fz, mut fx, mut v) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..n {
         let t = k as f64 / 100.0;
         let on = (2.0..28.0).contains(&t);
         let wobble = 0.01 * ((k * 37 % 11) as f64 - 5.0);
-        let fz = if on { -20.0 } else { 0.0 } + wobble;
-        let fx = if on { 0.3 * 20.0 } else { 0.0 } + wobble;
-        let v = if on { 0.2 } else { 0.0 };
-        text.push_str(&format!("{t:.2},{fz:.3},{fx:.3},{v}\n"));
+        time.push(t);
+        fz.push(if on { -20.0 } else { 0.0 } + wobble);
+        fx.push(if on { 0.3 * 20.0 } else { 0.0 } + wobble);
+        v.push(if on { 0.2 } else { 0.0 });
     }
-    std::fs::write(&path, text).unwrap();
-    let rec = read_recording(&path, &ChannelMap::default()).unwrap();
+    // through the library: identification flips it
+    let mut rec = Recording::new("negative", time.clone(), fz.clone(), fx.clone());
+    rec.speed = Some(greybox_tribo::recording::SpeedTrace::SlidingMPerS(
+        v.clone(),
+    ));
     let id = identify(&[rec], None);
     assert!(id.files[0].normal_sign_flipped);
     assert!(
@@ -249,6 +253,25 @@ fn a_normal_force_recorded_negative_is_flipped_and_reported() {
     assert!((id.dataset.records[0].cof_apparent - 0.3).abs() < 0.003);
     assert!((id.dataset.records[0].normal_force_n - 20.0).abs() < 0.1);
     coverage_line(&id, 0, 50.0);
+    // through a file: the reader flips it and says so
+    let d = tempfile::tempdir().unwrap();
+    let path = d.path().join("negative.csv");
+    let mut text = String::from("Time [s],Fz [N],Fx [N],Speed [m/s]\n");
+    for k in 0..n {
+        text.push_str(&format!(
+            "{:.2},{:.3},{:.3},{}\n",
+            time[k], fz[k], fx[k], v[k]
+        ));
+    }
+    std::fs::write(&path, text).unwrap();
+    let rec = read_recording(&path, &ChannelMap::default()).unwrap();
+    let notes = rec.provenance.as_ref().unwrap().notes.join("\n");
+    assert!(
+        notes.contains("normal force is recorded negative"),
+        "{notes}"
+    );
+    let id = identify(&[rec], None);
+    assert!((id.dataset.records[0].cof_apparent - 0.3).abs() < 0.003);
 }
 
 /// Without a plan or a speed channel, the error names every way to give the speed,
