@@ -50,9 +50,11 @@ impl RecordingFormat {
             .all(|&b| b != 0 && (b >= 0x20 || b"\t\n\r\x0c".contains(&b)));
         (utf16 || (text && markup(head).is_none())).then_some(RecordingFormat::Csv)
     }
-    /// The format of the file at `path`, from its first KiB ([`Self::of_content`]); an empty
-    /// file goes by its extension (to a reader that names what is missing). An error names
-    /// the file when it cannot be read or its content is of no known format.
+    /// The format of the file at `path`, from its first KiB ([`Self::of_content`]). The name
+    /// is a hint only where the content says nothing: an empty file, or one that is neither
+    /// of a known signature nor plain text, goes to the text reader when its extension names
+    /// text (which then refuses it by line and reason, e.g. gigabytes without a line end). An
+    /// error names the file when it cannot be read or nothing tells its format.
     pub fn detect(path: &std::path::Path) -> Result<Self> {
         use std::io::Read;
         let mut head = Vec::with_capacity(1024);
@@ -63,7 +65,11 @@ impl RecordingFormat {
         if head.is_empty() {
             return Ok(by_name.unwrap_or(RecordingFormat::Csv));
         }
-        Self::of_content(&head).ok_or_else(|| {
+        let content = Self::of_content(&head);
+        if content.is_none() && by_name == Some(RecordingFormat::Csv) && markup(&head).is_none() {
+            return Ok(RecordingFormat::Csv);
+        }
+        content.ok_or_else(|| {
             let what = markup(&head).map_or("binary data".to_string(), |m| format!("{m} text"));
             Error::input(
                 SourcePos::path(path),
