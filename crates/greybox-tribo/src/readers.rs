@@ -50,9 +50,12 @@ impl RecordingFormat {
             .all(|&b| b != 0 && (b >= 0x20 || b"\t\n\r\x0c".contains(&b)));
         (utf16 || (text && markup(head).is_none())).then_some(RecordingFormat::Csv)
     }
-    /// The format of the file at `path`, from its first KiB ([`Self::of_content`]); an empty
-    /// file goes by its extension (to a reader that names what is missing). An error names
-    /// the file when it cannot be read or its content is of no known format.
+    /// The format of the file at `path`, from its first KiB ([`Self::of_content`]). The name
+    /// is a hint only where the content says nothing: an empty file, or one that is neither
+    /// of a known signature nor plain text (nor markup), goes to the reader its extension
+    /// names (which then refuses it by line and reason, e.g. gigabytes without a line end); a
+    /// FIFO, device or directory is never opened here. An error names the file when it
+    /// cannot be read or nothing tells its format.
     pub fn detect(path: &std::path::Path) -> Result<Self> {
         use std::io::Read;
         let by_name = Self::of_path(path);

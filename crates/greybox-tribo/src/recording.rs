@@ -941,6 +941,11 @@ fn unresolved(table: &Table, map: &ChannelMap, taken: &[(Role, usize, bool)]) ->
     }
     if !has(Role::Time) && map.sample_rate_hz.is_none() && table.sample_interval_s.is_none() {
         let mut u = missing(Role::Time, "time", "s");
+        // a headerless log's one increasing column is most likely its time
+        let rising: Vec<&&Column> = free.iter().filter(|c| increasing(&c.data)).collect();
+        if let ([c], true) = (&rising[..], table.headerless) {
+            u.flag = map_flag(Role::Time, &c.name, "s");
+        }
         u.or = Some("--sample-rate-hz HZ".into());
         out.push(u);
     }
@@ -1007,6 +1012,11 @@ fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
     )
 }
 
+/// A column of at least two numbers, each above the one before (a time, most likely).
+fn increasing(data: &ColumnData) -> bool {
+    matches!(data, ColumnData::Numbers(v) if v.len() > 1 && v.windows(2).all(|w| w[1] > w[0]))
+}
+
 /// Each column of a table by number with its first values and what they look like, e.g.
 /// `  #1: 0, 0.01, 0.02, … (increasing: time?)`.
 fn column_overview(table: &Table) -> String {
@@ -1027,7 +1037,7 @@ fn column_overview(table: &Table) -> String {
             };
             let shown: Vec<String> = v.iter().take(4).map(|x| format!("{x}")).collect();
             let more = if v.len() > 4 { ", …" } else { "" };
-            let looks = if v.len() > 1 && v.windows(2).all(|w| w[1] > w[0]) {
+            let looks = if increasing(&c.data) {
                 " (increasing: time?)"
             } else if v.iter().all(|x| x.abs() <= 1.0) {
                 " (all within ±1: friction coefficient?)"

@@ -155,6 +155,7 @@ fn unresolved_headerless_log_lists_columns_with_samples() {
         "#2: 12.5, 12, 12.25, 12.5, …",
         "#3: 3.25, 3.5, 3.75, 3.5, …",
         "--map 'normal=#K:N'",
+        "--map 'time=#1:s'",
         "--columns",
         "--sample-rate-hz",
     ] {
@@ -209,6 +210,10 @@ fn format_from_content_not_name() {
         e.contains("data.bin") && e.contains("unknown recording format"),
         "{e}"
     );
+    // where the content tells nothing, a text name sends it to the text reader, which says why
+    let p = write(&dir, "data.csv", &[0u8, 1, 2, 3, 0, 0, 7]);
+    assert_eq!(RecordingFormat::detect(&p).unwrap(), RecordingFormat::Csv);
+    assert!(read_table(&p, &ChannelMap::default()).is_err());
     // JSON and XML side files are text, but no recording
     for (name, text, what) in [
         ("run.provenance.json", "{\n  \"a\": 1\n}\n", "JSON text"),
