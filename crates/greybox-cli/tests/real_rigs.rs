@@ -95,20 +95,10 @@ fn pcs_mtm_single_step_exports() {
 #[test]
 fn pcs_mtm_file_of_blocks() {
     // 49 blocks (profile steps), each with its own preamble and header; 24 sliding steps.
-    // The first sliding step's load is still ramping (38.6 N mean against 50 N): greybox
-    // leaves it out as non-stationary; every other step against its reference.
-    let want = reference("pcs-mtm/demo-mtm-output.txt");
-    let Some(got) = identify("pcs-mtm/demo-mtm-output.txt", &[]) else {
-        return;
-    };
-    assert_eq!(got.len(), want.len() - 1, "{got:?}");
-    for (k, (g, w)) in got.iter().zip(&want[1..]).enumerate() {
-        assert!(
-            (g - w).abs() <= 0.005,
-            "step {}: μ {g:.4} vs reference {w:.4}",
-            k + 2
-        );
-    }
+    // The first sliding step's load is still ramping (38.6 N mean against 50 N); with sliding
+    // taken from the speed channel it is identified like the others (it used to be left out)
+    // and agrees with the reference like every other step.
+    check("pcs-mtm/demo-mtm-output.txt", &[], 0.005);
 }
 
 #[test]
