@@ -1698,6 +1698,11 @@ pub const IMPLAUSIBLE_LEVEL_FACTOR: f64 = 20.0;
 /// for steel on steel).
 pub const PLAUSIBLE_MU: std::ops::RangeInclusive<f64> = 0.005..=3.0;
 
+/// The fastest sliding a measured speed may give a row, m/s (12 000 m/min: above the
+/// cutting speeds of high-speed machining and any pin-on-disc rig); a faster one is a unit
+/// mistake and is refused.
+pub const MAX_SLIDING_VELOCITY_M_S: f64 = 200.0;
+
 /// Refuse a campaign whose median μ lies outside [`PLAUSIBLE_MU`], with the numbers and the
 /// likely unit slip.
 fn check_campaign_level(median_mu: f64, rows: usize, files: &[FileReport]) -> Result<()> {
@@ -1868,6 +1873,20 @@ fn number_without_plan(
     let mut prev: Option<(usize, f64)> = None; // file, load
     for &(f, k) in segs {
         let s = &files[f].segments[k];
+        if let Some(v) = s.sliding_velocity_m_per_min.filter(|v| {
+            !(v.abs() <= units::m_per_s_to_m_per_min(MAX_SLIDING_VELOCITY_M_S))
+        }) {
+            return Err(Error::input(
+                SourcePos::file(&files[f].source).field("speed"),
+                format!(
+                    "segment {} ({:.3}–{:.3} s): a sliding velocity of {v:.4e} m/min is beyond any tribometer or cut (at most {:.0} m/min): is the speed channel's unit right (rpm against m/s, mm/s against m/s)?",
+                    s.index,
+                    s.start_s,
+                    s.end_s,
+                    units::m_per_s_to_m_per_min(MAX_SLIDING_VELOCITY_M_S)
+                ),
+            ));
+        }
         let Some(v) = s.sliding_velocity_m_per_min else {
             return Err(Error::input(
                 SourcePos::file(&files[f].source),

@@ -77,7 +77,7 @@ impl Coverage {
     pub fn line(&self) -> String {
         let pct = |x: f64| {
             if self.sliding_s > 0.0 {
-                100.0 * x / self.sliding_s
+                (100.0 * x / self.sliding_s).max(0.0)
             } else {
                 0.0
             }
