@@ -11,6 +11,7 @@ pub mod align;
 mod bulk;
 pub mod campaign;
 pub mod coverage;
+pub mod expected;
 pub mod csv_recording;
 pub mod decimal;
 pub mod frf;

@@ -211,3 +211,29 @@ pub fn autocorrelation(x: &[f64], max_lag: usize) -> Option<Vec<f64>> {
             .collect(),
     )
 }
+
+/// Block medians of `x` over blocks of `b` samples.
+pub fn block_medians(x: &[f64], b: usize) -> Vec<f64> {
+    x.chunks(b).map(median).collect()
+}
+
+/// Contiguous runs of `true`: `[start, end)`.
+pub fn runs(mask: &[bool]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut start = None;
+    for (k, m) in mask.iter().enumerate() {
+        match (m, start) {
+            (true, None) => start = Some(k),
+            (false, Some(s)) => {
+                out.push((s, k));
+                start = None;
+            }
+            _ => {}
+        }
+    }
+    if let Some(s) = start {
+        out.push((s, mask.len()));
+    }
+    out
+}
+

@@ -164,7 +164,7 @@ fn friction_period(mu: &[f64], blocks: &Blocks, cfg: &IdentifyConfig) -> Option<
 /// neither contribute nor receive a value: they stay 0).
 fn smooth_loaded(x: &[f64], loaded: &[bool], w: usize) -> Vec<f64> {
     let mut out = vec![0.0; x.len()];
-    for (a, e) in crate::campaign::runs(loaded) {
+    for (a, e) in crate::signal::runs(loaded) {
         let s = moving_average(&x[a..e], w);
         out[a..e].copy_from_slice(&s);
     }
@@ -229,7 +229,7 @@ mod tests {
             &blocks(&loaded),
             &IdentifyConfig::default(),
         );
-        let pieces = crate::campaign::runs(&s.mask);
+        let pieces = crate::signal::runs(&s.mask);
         assert_eq!(pieces.len(), 2, "{pieces:?}");
     }
 

@@ -136,4 +136,5 @@ pub fn refused_with(out: &Output, needles: &[&str]) -> String {
 
 #[path = "../../../../tests/support/real_rigs.rs"]
 mod real_rigs;
+#[allow(unused_imports)] // only the real-rig tests use it
 pub use real_rigs::real_rigs_dir;
