@@ -180,8 +180,9 @@ fn split_fields(line: &[u8], d: Delimiter, out: &mut Vec<(usize, usize)>) {
 
 /// Parse a number; with `decimal_comma`, `,` is the decimal mark, and a quoted field with one
 /// comma (`"1,5"`, as spreadsheets write decimal commas into a comma-delimited file) is read
-/// with a decimal comma too. `None` for anything else (including NaN and infinities, which a
-/// recording never legitimately holds).
+/// with a decimal comma too unless it may be a thousands separator ([`quoted_decimal_comma`]).
+/// `None` for anything else (including NaN and infinities, which a recording never
+/// legitimately holds).
 #[inline]
 fn parse_number(field: &[u8], decimal_comma: bool) -> Option<f64> {
     // fast path: a plain number without spaces or quotes
@@ -194,7 +195,7 @@ fn parse_number(field: &[u8], decimal_comma: bool) -> Option<f64> {
     if t.is_empty() {
         return None;
     }
-    let quoted_comma = t.len() < trim(field).len() && memchr::memchr_iter(b',', t).count() == 1;
+    let quoted_comma = t.len() < trim(field).len() && quoted_decimal_comma(t);
     let v = if (decimal_comma || quoted_comma) && memchr::memchr(b',', t).is_some() {
         if t.len() > 64 || memchr::memchr(b'.', t).is_some() {
             return None;
@@ -208,6 +209,27 @@ fn parse_number(field: &[u8], decimal_comma: bool) -> Option<f64> {
         fast_float2::parse::<f64, _>(t).ok()?
     };
     v.is_finite().then_some(v)
+}
+
+/// Whether the one comma of a quoted number can only be a decimal mark: `"1,5"`, `"0,125"`,
+/// `"12,25"`. `"1,234"` or `"-12,500"` (1 to 3 digits, not led by 0, then 3 digits) may be a
+/// thousands separator as well, so it is no number (an error naming its line when the column
+/// is used) rather than a value that may be 1000 times off.
+fn quoted_decimal_comma(t: &[u8]) -> bool {
+    let mut parts = t.split(|&b| b == b',');
+    let (Some(int), Some(frac), None) = (parts.next(), parts.next(), parts.next()) else {
+        return false;
+    };
+    let digits = int
+        .strip_prefix(b"-")
+        .or(int.strip_prefix(b"+"))
+        .unwrap_or(int);
+    let thousands = (1..=3).contains(&digits.len())
+        && digits[0] != b'0'
+        && digits.iter().all(u8::is_ascii_digit)
+        && frac.len() == 3
+        && frac.iter().all(u8::is_ascii_digit);
+    !thousands
 }
 
 /// Text of a header or preamble line: UTF-8, else Latin-1 (Windows rig software writes `µm`
@@ -1457,8 +1479,19 @@ mod tests {
         assert_eq!(t.columns[1].header, "Load, N");
         assert_eq!(col(&t, 0), &[0.0, 0.1, 0.2]);
         assert_eq!(col(&t, 2), &[1.5, 1.25, 1.0]);
-        // two commas in quotes are no number
-        assert_eq!(parse_number(b"\"1,234,5\"", false), None);
+        // two commas in quotes are no number, nor a comma that may separate thousands
+        for bad in ["\"1,234,5\"", "\"1,234\"", "\"-12,500\"", "\"999,000\""] {
+            assert_eq!(parse_number(bad.as_bytes(), false), None, "{bad}");
+        }
+        for (good, v) in [
+            ("\"0,125\"", 0.125),
+            ("\"12,25\"", 12.25),
+            ("\"1234,500\"", 1234.5),
+        ] {
+            assert_eq!(parse_number(good.as_bytes(), false), Some(v), "{good}");
+        }
+        // with the file's decimal comma, the same field is a decimal
+        assert_eq!(parse_number(b"\"1,234\"", true), Some(1.234));
     }
 
     /// Header bytes that are not UTF-8 are Latin-1: `µm` written as 0xB5 keeps its unit.
