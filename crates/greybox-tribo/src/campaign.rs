@@ -1757,9 +1757,10 @@ fn number_without_plan(
     let mut prev: Option<(usize, f64)> = None; // file, load
     for &(f, k) in segs {
         let s = &files[f].segments[k];
-        if let Some(v) = s.sliding_velocity_m_per_min.filter(|v| {
-            !(v.abs() <= units::m_per_s_to_m_per_min(MAX_SLIDING_VELOCITY_M_S))
-        }) {
+        if let Some(v) = s
+            .sliding_velocity_m_per_min
+            .filter(|v| !(v.abs() <= units::m_per_s_to_m_per_min(MAX_SLIDING_VELOCITY_M_S)))
+        {
             return Err(Error::input(
                 SourcePos::file(&files[f].source).field("speed"),
                 format!(

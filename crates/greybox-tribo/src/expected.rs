@@ -98,4 +98,3 @@ pub fn read_expected_steps(path: &std::path::Path) -> Result<Vec<ExpectedStep>> 
     }
     Ok(out)
 }
-

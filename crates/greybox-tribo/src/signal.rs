@@ -172,11 +172,25 @@ pub fn dominant_period(x: &[f64], max_lag: usize, min_correlation: f64) -> Optio
     for lag in 2..max_lag {
         lowest = lowest.min(acf[lag - 1]);
         let peak = acf[lag] >= acf[lag - 1] && acf[lag] >= acf[lag + 1];
-        if peak && acf[lag] >= min_correlation && lowest <= 0.5 * acf[lag] {
+        if peak
+            && acf[lag] >= min_correlation
+            && lowest <= 0.5 * acf[lag]
+            && repeats_in_place(x, lag)
+        {
             return Some(lag);
         }
     }
     None
+}
+
+/// Whether `x` one `lag` later is, on average, where it was: the mean of x[k + lag] − x[k]
+/// is under half their standard deviation. A revolution's dips or run-out repeat around one
+/// level; a staircase of regularly timed steps also correlates at its step length, but moves
+/// by a step each time, and is no period to average over.
+fn repeats_in_place(x: &[f64], lag: usize) -> bool {
+    let d: Vec<f64> = x.windows(lag + 1).map(|w| w[lag] - w[0]).collect();
+    let (mean, std) = mean_std(&d);
+    mean.abs() <= 0.5 * std
 }
 
 /// Normalised autocorrelation of `x` (its mean removed) at lags `0..=max_lag`; `None` for a
@@ -236,4 +250,3 @@ pub fn runs(mask: &[bool]) -> Vec<(usize, usize)> {
     }
     out
 }
-

@@ -124,14 +124,28 @@ pub(crate) fn sliding(
         .collect();
     let typical = quantile(&loaded_mu, 0.75);
     let thr = (cfg.sliding_fraction * typical).max(cfg.sliding_min_mu);
-    let mask: Vec<bool> = (0..mu.len())
+    let mut mask: Vec<bool> = (0..mu.len())
         .map(|k| blocks.loaded[k] && smooth[k] > thr)
         .collect();
+    sharpen_ends(&mut mask, &mu, thr);
     Sliding {
         mask: per_sample(&mask),
         evidence: SlidingEvidence::Friction,
         period_s,
         mu_threshold: Some(thr),
+    }
+}
+
+/// The smoothing blurs a sharp start or stop by half its window: each sliding run's ends
+/// are moved in to the first and last block whose own μ exceeds the threshold (dips inside
+/// the run stay averaged over).
+fn sharpen_ends(mask: &mut [bool], mu: &[f64], thr: f64) {
+    for (a, e) in crate::signal::runs(mask) {
+        let first = (a..e).find(|k| mu[*k] > thr).unwrap_or(e);
+        let last = (a..e).rev().find(|k| mu[*k] > thr).map_or(a, |k| k + 1);
+        for k in (a..first).chain(last.max(first)..e) {
+            mask[k] = false;
+        }
     }
 }
 
@@ -209,9 +223,32 @@ mod tests {
             &blocks(&loaded),
             &IdentifyConfig::default(),
         );
-        assert!(s.mask.iter().all(|m| *m), "dips cut the slide");
+        // one slide; only the dip the recording starts in lies before its first block
+        assert_eq!(
+            crate::signal::runs(&s.mask),
+            vec![(5, n)],
+            "dips cut the slide"
+        );
         let p = s.period_s.expect("the revolution is found");
         assert!((p - 1.3).abs() < 0.011, "{p}");
+    }
+
+    #[test]
+    fn a_staircase_of_regular_steps_is_no_period() {
+        // 9 steps of 0.8 s at 100 Hz, μ falling by 0.01 a step, a little noise
+        let ft: Vec<f64> = (0..720)
+            .map(|k| 30.0 - (k / 80) as f64 + 0.1 * (((k * 7919) % 13) as f64 / 6.0 - 1.0))
+            .collect();
+        let fn_c = vec![100.0; ft.len()];
+        let loaded = vec![true; ft.len()];
+        let s = sliding(
+            None,
+            &fn_c,
+            &ft,
+            &blocks(&loaded),
+            &IdentifyConfig::default(),
+        );
+        assert_eq!(s.period_s, None);
     }
 
     #[test]

@@ -298,3 +298,27 @@ fn no_speed_and_no_plan_names_the_constant_speed() {
     assert!(e.contains("--constant-sliding-velocity-m-per-min"), "{e}");
     assert!(e.contains("cof-trace.csv"), "{e}");
 }
+
+/// The same rig with a plan that gives no durations: the steps come from μ's level changes
+/// (the regular staircase is not mistaken for a revolution period), each within 0.003 or
+/// named missing.
+#[test]
+fn nine_steps_per_pin_without_durations_are_found_by_their_levels() {
+    let d = tempfile::tempdir().unwrap();
+    let truth = unseen::timed_steps(d.path(), 6, 2);
+    let mut files: Vec<_> = truth.iter().map(|t| t.file.clone()).collect();
+    files.dedup();
+    let recs: Vec<Recording> = files
+        .iter()
+        .map(|f| read_recording(f, &ChannelMap::default()).unwrap())
+        .collect();
+    let plan = plan_of(&truth, false);
+    let id = identify(&recs, Some(&plan));
+    for f in &id.files {
+        assert_eq!(f.period_s, None, "{}", f.source);
+    }
+    check(&id, &truth, 0.003);
+    for f in 0..files.len() {
+        coverage_line(&id, f, 30.0);
+    }
+}
