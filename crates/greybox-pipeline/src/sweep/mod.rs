@@ -25,6 +25,7 @@ pub mod text;
 use anyhow::{bail, Context, Result};
 use case::{Case, CaseDir, Done, Status};
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::outputs::path_component;
 use serde::{Deserialize, Serialize};
 use spec::{CaseKind, SlurmSection, SweepFile};
 use std::path::{Path, PathBuf};
@@ -125,7 +126,16 @@ impl Plan {
                 p.display()
             )
         })?;
-        serde_json::from_str(&text).with_context(|| format!("{}: not a sweep plan", p.display()))
+        let plan: Plan = serde_json::from_str(&text)
+            .with_context(|| format!("{}: not a sweep plan", p.display()))?;
+        // every id becomes a directory under cases/, every field part of a plot's file name
+        for (i, c) in plan.cases.iter().enumerate() {
+            path_component(&c.id, &p, &format!("cases[{i}].id"))?;
+        }
+        for (i, f) in plan.fields.iter().enumerate() {
+            path_component(f, &p, &format!("fields[{i}]"))?;
+        }
+        Ok(plan)
     }
 
     /// The status of every case in `out`.
