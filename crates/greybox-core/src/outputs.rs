@@ -11,7 +11,8 @@
 //!   ancestors, the user's home or `/` ([`refuse_enclosing_dir`]): replacing it would delete
 //!   the files the user is working among.
 //! * [`path_component`]: a name read from a file (a sweep case id) that becomes a path
-//!   component is one plain component, so that it never leads out of its directory.
+//!   component is one plain component, so that it never leads out of its directory;
+//!   [`output_subdir`]: a directory written into is a directory, never a planted link.
 
 use crate::atomic::{describe_kind, replaceable_target};
 use crate::cleanup::{self, CleanupGuard};
@@ -228,6 +229,32 @@ pub fn path_component<'a>(name: &'a str, file: &Path, field: &str) -> Result<&'a
                 name.chars().take(80).collect::<String>()
             ),
         )),
+    }
+}
+
+/// The directory `parent/name` (`name` a fixed name or one checked by [`path_component`]),
+/// created if missing: what is there must be a real directory, never a symbolic link, which
+/// a hostile directory could plant to lead the files written there outside it.
+pub fn output_subdir(parent: &Path, name: &str) -> Result<PathBuf> {
+    let dir = parent.join(name);
+    match std::fs::symlink_metadata(&dir) {
+        Ok(m) if m.is_dir() => Ok(dir),
+        Ok(m) => {
+            let what = if m.file_type().is_symlink() {
+                "a symbolic link: greybox writes into a directory only when it is one, never through a link, which could lead outside"
+            } else {
+                describe_kind(&m)
+            };
+            Err(Error::input(
+                SourcePos::path(&dir),
+                format!("expected an output directory, but the path is {what}"),
+            ))
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+            Ok(dir)
+        }
+        Err(e) => Err(Error::io(&dir, e)),
     }
 }
 
@@ -575,5 +602,25 @@ mod tests {
                 "{e}"
             );
         }
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_link_planted_as_an_output_subdirectory_is_refused() {
+        let d = tempfile::tempdir().unwrap();
+        let outside = d.path().join("outside");
+        std::fs::create_dir(&outside).unwrap();
+        let sweep = d.path().join("sweep");
+        std::fs::create_dir(&sweep).unwrap();
+        std::os::unix::fs::symlink(&outside, sweep.join("plots")).unwrap();
+        let e = output_subdir(&sweep, "plots").unwrap_err().to_string();
+        assert!(e.contains("plots") && e.contains("symbolic link"), "{e}");
+        std::fs::write(sweep.join("cases"), "a file").unwrap();
+        let e = output_subdir(&sweep, "cases").unwrap_err().to_string();
+        assert!(e.contains("a regular file"), "{e}");
+        let made = output_subdir(&sweep, "result").unwrap();
+        assert!(made.is_dir());
+        assert_eq!(output_subdir(&sweep, "result").unwrap(), made);
+        assert_eq!(std::fs::read_dir(&outside).unwrap().count(), 0);
     }
 }

@@ -6,7 +6,7 @@ use super::spec::CaseKind;
 use super::Plan;
 use anyhow::{Context, Result};
 use greybox_core::atomic::write_string_atomic;
-use greybox_core::outputs::path_component;
+use greybox_core::outputs::{output_subdir, path_component};
 use greybox_core::plot::{lines, Line};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -196,8 +196,7 @@ fn write_plots(plan: &Plan, out: &Path, table: &[BTreeMap<String, String>]) -> R
             })
             .unwrap_or_default(),
     };
-    let dir = out.join("plots");
-    std::fs::create_dir_all(&dir)?;
+    let dir = output_subdir(out, "plots")?;
     let palette = [
         "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b",
     ];

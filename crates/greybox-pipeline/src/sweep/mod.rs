@@ -163,6 +163,7 @@ pub fn run_case(out: &Path, index: usize) -> Result<Status> {
     if dir.status() == Status::Done {
         return Ok(Status::Done);
     }
+    dir.ensure()?;
     let _ = std::fs::remove_file(dir.failed());
     let t0 = std::time::Instant::now();
     match run_config(&plan, &dir) {
