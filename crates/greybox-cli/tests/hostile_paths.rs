@@ -3,7 +3,7 @@
 //! out of its sweep. Each case runs the binary under a memory and a wall-clock limit and
 //! checks that it is refused by name and that nothing outside was changed or deleted.
 mod common;
-use common::{coarse_config, greybox_limited, ok, refused_with};
+use common::{coarse_config, greybox_limited, ok, refused_with, study};
 use std::path::Path;
 use std::process::Output;
 
@@ -12,21 +12,6 @@ const SECONDS: u64 = 60;
 
 fn run(args: &[&str], cwd: &Path) -> Output {
     greybox_limited(args, cwd, MIB, SECONDS)
-}
-
-const PLOT: &str = r#"<?xml version="1.0"?><svg xmlns="http://www.w3.org/2000/svg" width="200" height="100"><polyline fill="none" stroke="black" points="0,0 100,50 200,20"/></svg>"#;
-
-/// A study directory the report recognises (a cut: summary and force plot).
-fn study(root: &Path) -> std::path::PathBuf {
-    let s = root.join("study");
-    std::fs::create_dir_all(s.join("cut")).unwrap();
-    std::fs::write(
-        s.join("cut/summary.json"),
-        r#"{"cutting_force_n_per_mm": 201.5, "law": "coulomb"}"#,
-    )
-    .unwrap();
-    std::fs::write(s.join("cut/forces.svg"), PLOT).unwrap();
-    s
 }
 
 /// A planned (not run) sweep of the coarse cut in `root/o`: two cases.
