@@ -4,7 +4,7 @@
 //! names the cap; an `--out` that is one of the files read, or under /dev, is refused with
 //! nothing written.
 mod common;
-use common::{greybox_limited, refused_with};
+use common::{greybox_limited, refused_with, study, PLOT};
 use std::path::Path;
 use std::process::Output;
 
@@ -13,29 +13,6 @@ const MEMORY_MIB: u64 = 1024;
 const SECONDS: u64 = 60;
 /// Every page here is small: a few figures and tables.
 const PAGE_LIMIT: usize = 2 << 20;
-
-const PLOT: &str = r#"<?xml version="1.0"?><svg xmlns="http://www.w3.org/2000/svg" width="200" height="100" viewBox="0 0 200 100"><rect width="200" height="100" fill="white"/><polyline fill="none" stroke="black" points="0,0 100,50 200,20"/><text x="10" y="20">forces</text></svg>"#;
-
-/// A cut directory the report recognises: `summary.json`, a force plot and three frames.
-fn study(root: &Path) -> std::path::PathBuf {
-    let s = root.join("study");
-    std::fs::create_dir_all(s.join("cut/frames")).unwrap();
-    std::fs::write(
-        s.join("cut/summary.json"),
-        r#"{"cutting_force_n_per_mm": 201.5, "law": "coulomb"}"#,
-    )
-    .unwrap();
-    std::fs::write(s.join("cut/forces.svg"), PLOT).unwrap();
-    for k in 1..=3 {
-        std::fs::write(s.join(format!("cut/frames/chip_00{k}.svg")), PLOT).unwrap();
-    }
-    std::fs::write(
-        s.join("wear.csv"),
-        "pin,normal_force_N,velocity_m_per_min,duration_s,k_1e-7_mm3_per_Nm,mean_depth_um\n1,100,60,30,2.5,1.2\n",
-    )
-    .unwrap();
-    s
-}
 
 /// The run succeeded by itself (not killed by a limit); returns the JSON summary.
 fn report_ok(out: &Output) -> serde_json::Value {

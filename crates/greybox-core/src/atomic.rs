@@ -2,32 +2,43 @@
 //!
 //! A reader never sees a half-written file, a failed write leaves no file, and an interrupted
 //! one leaves none either when the program removes [`crate::cleanup`]'s registered paths on
-//! a signal. What is replaced is looked at first: only a regular file (or a link to one, which
-//! stays a link: its target is replaced) is ever replaced; a FIFO, a device, a socket or a
-//! directory at the output path is an error, never turned into a regular file. A replaced
-//! file keeps its permission bits; a new one gets `0666` less the umask (`0644` usually), as
-//! any program's `open(2)` would give it.
+//! a signal. What is replaced is looked at first: only a regular file is ever replaced; a
+//! symbolic link at the output path is refused (a link planted in a directory could point
+//! anywhere, and a write through it would change a file outside), and so are a FIFO, a
+//! device, a socket or a directory, never turned into a regular file. The temporary file is
+//! created new (`O_EXCL`, which never follows a link), and the rename replaces a name, never
+//! what a link there points to. A replaced file keeps its permission bits; a new one gets
+//! `0666` less the umask (`0644` usually), as any program's `open(2)` would give it.
+//!
+//! This module is the one way greybox opens an output file: [`write_atomic`] (and
+//! [`write_string_atomic`]) for a complete file, [`create_output_file`] for one written as a
+//! stream (a child process's log).
 
 use crate::{Error, Result, SourcePos};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-/// The path a write to `path` really replaces: `path` itself, or the file a symbolic link
-/// there points to. An error if something other than a regular file is there.
+/// The path a write to `path` replaces: `path` itself, once known to be nothing, or a regular
+/// file. An error if a symbolic link (even a dangling one), a directory, a FIFO, a device or
+/// a socket is there, or if the path is under `/dev`, `/proc` or `/sys`.
 pub fn replaceable_target(path: &Path) -> Result<PathBuf> {
     refuse_system_path(path)?;
-    let meta = match std::fs::metadata(path) {
+    let meta = match std::fs::symlink_metadata(path) {
         Ok(m) => m,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            // nothing there (or a dangling link: create what it points to)
-            return Ok(match std::fs::read_link(path) {
-                Ok(target) if target.is_absolute() => target,
-                Ok(target) => path.parent().unwrap_or(Path::new(".")).join(target),
-                Err(_) => path.to_path_buf(),
-            });
-        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(path.to_path_buf()),
         Err(e) => return Err(Error::io(path, e)),
     };
+    if meta.file_type().is_symlink() {
+        let to = std::fs::read_link(path)
+            .map(|t| format!(" (to {})", t.display()))
+            .unwrap_or_default();
+        return Err(Error::input(
+            SourcePos::path(path),
+            format!(
+                "the output path is a symbolic link{to}: greybox never writes through a link, which could change a file outside the output's directory; remove the link or give the path it points to"
+            ),
+        ));
+    }
     if !meta.is_file() {
         return Err(Error::input(
             SourcePos::path(path),
@@ -37,10 +48,26 @@ pub fn replaceable_target(path: &Path) -> Result<PathBuf> {
             ),
         ));
     }
-    if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
-        return std::fs::canonicalize(path).map_err(|e| Error::io(path, e));
-    }
     Ok(path.to_path_buf())
+}
+
+/// Create (or truncate) the output file `path` for writing as a stream, never through a link:
+/// [`replaceable_target`]'s checks, then an open that refuses a link planted since
+/// (`O_NOFOLLOW` on Linux). Parent directories are created. For a file written while
+/// something runs (a log); a complete file is written with [`write_atomic`].
+pub fn create_output_file(path: &Path) -> Result<std::fs::File> {
+    let target = replaceable_target(path)?;
+    if let Some(dir) = target.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    let mut o = std::fs::OpenOptions::new();
+    o.write(true).create(true).truncate(true);
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        o.custom_flags(libc::O_NOFOLLOW);
+    }
+    o.open(&target).map_err(|e| Error::io(path, e))
 }
 
 /// Directories of the system's pseudo-files: an output there is a stream (`/dev/stdout`, a
@@ -205,20 +232,52 @@ mod tests {
         let mode = std::fs::metadata(&q).unwrap().permissions().mode() & 0o777;
         let mask = umask_now();
         assert_eq!(mode, 0o666 & !mask, "mode {mode:o}, umask {mask:o}");
-        // a link stays a link; its target is replaced
-        let link = dir.path().join("link.json");
-        std::os::unix::fs::symlink(&p, &link).unwrap();
-        write_string_atomic(&link, "via link").unwrap();
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            3,
+            "temp file left"
+        );
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_link_at_the_output_path_is_refused_and_its_target_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let outside = dir.path().join("outside.txt");
+        std::fs::write(&outside, "precious").unwrap();
+        let inner = dir.path().join("study");
+        std::fs::create_dir(&inner).unwrap();
+        let link = inner.join("report.html");
+        std::os::unix::fs::symlink(&outside, &link).unwrap();
+        let e = write_string_atomic(&link, "page").unwrap_err().to_string();
+        assert!(
+            e.contains("symbolic link") && e.contains("report.html"),
+            "{e}"
+        );
+        let e = create_output_file(&link).unwrap_err().to_string();
+        assert!(e.contains("symbolic link"), "{e}");
+        // a dangling link is refused too, and nothing is created where it points
+        let dangling = inner.join("results.csv");
+        let nowhere = dir.path().join("created-outside.csv");
+        std::os::unix::fs::symlink(&nowhere, &dangling).unwrap();
+        assert!(write_string_atomic(&dangling, "x").is_err());
+        assert!(create_output_file(&dangling).is_err());
+        assert!(!nowhere.exists());
+        assert_eq!(std::fs::read_to_string(&outside).unwrap(), "precious");
         assert!(std::fs::symlink_metadata(&link)
             .unwrap()
             .file_type()
             .is_symlink());
-        assert_eq!(std::fs::read_to_string(&p).unwrap(), "via link");
         assert_eq!(
-            std::fs::read_dir(dir.path()).unwrap().count(),
-            4,
+            std::fs::read_dir(&inner).unwrap().count(),
+            2,
             "temp file left"
         );
+        // a plain new file is created, and truncated when written again
+        let log = inner.join("log.txt");
+        std::io::Write::write_all(&mut create_output_file(&log).unwrap(), b"long text").unwrap();
+        std::io::Write::write_all(&mut create_output_file(&log).unwrap(), b"short").unwrap();
+        assert_eq!(std::fs::read_to_string(&log).unwrap(), "short");
     }
 
     /// The process umask, read from /proc (Linux) without changing it.

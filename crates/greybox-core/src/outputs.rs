@@ -7,7 +7,12 @@
 //! * [`StagedDir`]: a directory output is written into a fresh staging directory beside it and
 //!   swapped in whole when complete, so the directory holds one complete run or the previous
 //!   one, never a mix; an existing non-empty directory is replaced only when asked
-//!   ([`Existing::Replace`], the CLI's `--force`).
+//!   ([`Existing::Replace`], the CLI's `--force`). Never the working directory, one of its
+//!   ancestors, the user's home or `/` ([`refuse_enclosing_dir`]): replacing it would delete
+//!   the files the user is working among.
+//! * [`path_component`]: a name read from a file (a sweep case id) that becomes a path
+//!   component is one plain component, so that it never leads out of its directory;
+//!   [`output_subdir`]: a directory written into is a directory, never a planted link.
 
 use crate::atomic::{describe_kind, replaceable_target};
 use crate::cleanup::{self, CleanupGuard};
@@ -161,9 +166,102 @@ fn non_empty_dir(p: &Path) -> bool {
     std::fs::read_dir(p).is_ok_and(|mut d| d.next().is_some())
 }
 
+/// Refuse a directory output that is (once links and `..` are resolved) the working
+/// directory or one of its ancestors, the user's home or one of its ancestors, or `/`: it is
+/// replaced whole, and with it everything the user is working among (`--out "$PWD"
+/// --force`, `--out ..`, `--out ~`).
+pub fn refuse_enclosing_dir(target: &Path, flag: &str) -> Result<()> {
+    let Ok(dir) = std::fs::canonicalize(target) else {
+        // nothing there yet (or unreadable: the write fails later, naming it)
+        return Ok(());
+    };
+    let canon = |p: PathBuf| std::fs::canonicalize(&p).unwrap_or(p);
+    let cwd = std::env::current_dir().ok().map(canon);
+    let home = std::env::var_os("HOME")
+        .filter(|h| !h.is_empty())
+        .map(|h| canon(PathBuf::from(h)));
+    let why = if cwd.as_ref().is_some_and(|c| c.starts_with(&dir)) {
+        "the working directory or one of its ancestors"
+    } else if home.as_ref().is_some_and(|h| h.starts_with(&dir)) {
+        "the home directory or one of its ancestors"
+    } else if dir.parent().is_none() {
+        "the root directory"
+    } else {
+        return Ok(());
+    };
+    Err(Error::input(
+        SourcePos::path(target),
+        format!(
+            "{flag} is {why} ({}): an output directory is replaced whole, which would delete the files there; choose a new directory for the output",
+            dir.display()
+        ),
+    ))
+}
+
+/// The longest name [`path_component`] lets through, in bytes (a file name's limit on
+/// common file systems is 255).
+pub const MAX_COMPONENT_BYTES: usize = 200;
+
+/// `name`, read from `file`'s `field`, if it is one plain path component: not empty, not `.`
+/// or `..`, no `/` or `\`, no NUL or other control character, at most
+/// [`MAX_COMPONENT_BYTES`] bytes. Otherwise an error naming the file and the field: joined
+/// to a directory, such a name could lead outside it (`../../victim`).
+pub fn path_component<'a>(name: &'a str, file: &Path, field: &str) -> Result<&'a str> {
+    let problem = if name.is_empty() {
+        Some("is empty")
+    } else if name == "." || name == ".." {
+        Some("is `.` or `..`")
+    } else if name.contains(['/', '\\']) {
+        Some("holds a path separator (`/` or `\\`)")
+    } else if name.chars().any(char::is_control) {
+        Some("holds a control character")
+    } else if name.len() > MAX_COMPONENT_BYTES {
+        Some("is too long")
+    } else {
+        None
+    };
+    match problem {
+        None => Ok(name),
+        Some(p) => Err(Error::input(
+            SourcePos::path(file).field(field),
+            format!(
+                "the name {:?} {p}: it becomes a file or directory name, and must be one plain name (at most {MAX_COMPONENT_BYTES} bytes) that stays inside its directory",
+                name.chars().take(80).collect::<String>()
+            ),
+        )),
+    }
+}
+
+/// The directory `parent/name` (`name` a fixed name or one checked by [`path_component`]),
+/// created if missing: what is there must be a real directory, never a symbolic link, which
+/// a hostile directory could plant to lead the files written there outside it.
+pub fn output_subdir(parent: &Path, name: &str) -> Result<PathBuf> {
+    let dir = parent.join(name);
+    match std::fs::symlink_metadata(&dir) {
+        Ok(m) if m.is_dir() => Ok(dir),
+        Ok(m) => {
+            let what = if m.file_type().is_symlink() {
+                "a symbolic link: greybox writes into a directory only when it is one, never through a link, which could lead outside"
+            } else {
+                describe_kind(&m)
+            };
+            Err(Error::input(
+                SourcePos::path(&dir),
+                format!("expected an output directory, but the path is {what}"),
+            ))
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+            Ok(dir)
+        }
+        Err(e) => Err(Error::io(&dir, e)),
+    }
+}
+
 impl StagedDir {
     /// Start writing the directory `target` (`flag` names it in errors).
     pub fn begin(target: &Path, flag: &str, existing: Existing) -> Result<Self> {
+        refuse_enclosing_dir(target, flag)?;
         check_replaceable_dir(target, flag, existing)?;
         let (parent, name) = split(target)?;
         std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
@@ -194,6 +292,7 @@ impl StagedDir {
     /// when there is none, start one there from a checkpoint taken elsewhere); otherwise start
     /// afresh, refusing a left-over partial run unless `existing` is [`Existing::Replace`].
     pub fn resumable(target: &Path, flag: &str, existing: Existing, resume: bool) -> Result<Self> {
+        refuse_enclosing_dir(target, flag)?;
         let (parent, name) = split(target)?;
         let staging = parent.join(format!("{name}.partial"));
         let there = staging.is_dir();
@@ -445,5 +544,83 @@ mod tests {
         s.commit().unwrap();
         assert!(out.join("checkpoint.json").exists() && out.join("forces.csv").exists());
         assert!(!d.path().join("sim.partial").exists());
+    }
+
+    #[test]
+    fn the_working_directory_and_its_ancestors_are_never_replaced() {
+        let d = tempfile::tempdir().unwrap();
+        let cwd = std::env::current_dir().unwrap();
+        for p in [
+            cwd.clone(),
+            cwd.join(".."),
+            PathBuf::from("/"),
+            PathBuf::from(".."),
+        ] {
+            let e = refuse_enclosing_dir(&p, "--out").unwrap_err().to_string();
+            assert!(
+                e.contains("--out is the") && e.contains("replaced whole"),
+                "{e}"
+            );
+            let e = StagedDir::begin(&p, "--out", Existing::Replace)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("working directory"), "{e}");
+            assert!(StagedDir::resumable(&p, "--out", Existing::Replace, false).is_err());
+        }
+        if let Some(home) = std::env::var_os("HOME").filter(|h| !h.is_empty()) {
+            assert!(refuse_enclosing_dir(Path::new(&home), "--out").is_err());
+        }
+        // a directory beside the working directory, or a new one, is fine
+        refuse_enclosing_dir(d.path(), "--out").unwrap();
+        refuse_enclosing_dir(&d.path().join("new"), "--out").unwrap();
+    }
+
+    #[test]
+    fn a_name_from_a_file_is_one_plain_component() {
+        let f = Path::new("sweep/plan.json");
+        for ok in ["c0007-1a2b3c4d", "a.b", "x..y", "ünïcode"] {
+            assert_eq!(path_component(ok, f, "cases[0].id").unwrap(), ok);
+        }
+        let long = "a".repeat(MAX_COMPONENT_BYTES + 1);
+        for bad in [
+            "",
+            ".",
+            "..",
+            "../../victim",
+            "/etc",
+            "a/b",
+            "a\\b",
+            "a\0b",
+            "a\nb",
+            &long,
+        ] {
+            let e = path_component(bad, f, "cases[3].id")
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("sweep/plan.json") && e.contains("cases[3].id"),
+                "{e}"
+            );
+        }
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_link_planted_as_an_output_subdirectory_is_refused() {
+        let d = tempfile::tempdir().unwrap();
+        let outside = d.path().join("outside");
+        std::fs::create_dir(&outside).unwrap();
+        let sweep = d.path().join("sweep");
+        std::fs::create_dir(&sweep).unwrap();
+        std::os::unix::fs::symlink(&outside, sweep.join("plots")).unwrap();
+        let e = output_subdir(&sweep, "plots").unwrap_err().to_string();
+        assert!(e.contains("plots") && e.contains("symbolic link"), "{e}");
+        std::fs::write(sweep.join("cases"), "a file").unwrap();
+        let e = output_subdir(&sweep, "cases").unwrap_err().to_string();
+        assert!(e.contains("a regular file"), "{e}");
+        let made = output_subdir(&sweep, "result").unwrap();
+        assert!(made.is_dir());
+        assert_eq!(output_subdir(&sweep, "result").unwrap(), made);
+        assert_eq!(std::fs::read_dir(&outside).unwrap().count(), 0);
     }
 }

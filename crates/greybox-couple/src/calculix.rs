@@ -375,7 +375,7 @@ impl Engine for CalculixEngine {
             })?;
         let mut text = out.stdout.clone();
         text.extend_from_slice(&out.stderr);
-        std::fs::write(&log, &text).map_err(|e| Error::io(&log, e))?;
+        greybox_core::atomic::write_atomic(&log, |w| w.write_all(&text))?;
         let text = String::from_utf8_lossy(&text);
         if !out.status.success() || text.contains("*ERROR") || !text.contains("Job finished") {
             return Err(Error::invalid(

@@ -212,7 +212,7 @@ impl Engine for CommandEngine {
         let log = dir.join("command.log");
         let mut text = out.stdout.clone();
         text.extend_from_slice(&out.stderr);
-        std::fs::write(&log, &text).map_err(|e| Error::io(&log, e))?;
+        greybox_core::atomic::write_atomic(&log, |w| w.write_all(&text))?;
         if !out.status.success() {
             let t = String::from_utf8_lossy(&text);
             let tail: Vec<&str> = t.lines().rev().take(15).collect();

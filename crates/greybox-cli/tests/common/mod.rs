@@ -134,6 +134,31 @@ pub fn refused_with(out: &Output, needles: &[&str]) -> String {
     stderr
 }
 
+/// A small SVG plot (a polyline and a label), as greybox draws them.
+pub const PLOT: &str = r#"<?xml version="1.0"?><svg xmlns="http://www.w3.org/2000/svg" width="200" height="100" viewBox="0 0 200 100"><rect width="200" height="100" fill="white"/><polyline fill="none" stroke="black" points="0,0 100,50 200,20"/><text x="10" y="20">forces</text></svg>"#;
+
+/// A study directory `root/study` that `greybox report` recognises: a cut directory
+/// (`summary.json`, a force plot and three frames) and a wear table.
+pub fn study(root: &Path) -> std::path::PathBuf {
+    let s = root.join("study");
+    std::fs::create_dir_all(s.join("cut/frames")).unwrap();
+    std::fs::write(
+        s.join("cut/summary.json"),
+        r#"{"cutting_force_n_per_mm": 201.5, "law": "coulomb"}"#,
+    )
+    .unwrap();
+    std::fs::write(s.join("cut/forces.svg"), PLOT).unwrap();
+    for k in 1..=3 {
+        std::fs::write(s.join(format!("cut/frames/chip_00{k}.svg")), PLOT).unwrap();
+    }
+    std::fs::write(
+        s.join("wear.csv"),
+        "pin,normal_force_N,velocity_m_per_min,duration_s,k_1e-7_mm3_per_Nm,mean_depth_um\n1,100,60,30,2.5,1.2\n",
+    )
+    .unwrap();
+    s
+}
+
 #[path = "../../../../tests/support/real_rigs.rs"]
 mod real_rigs;
 #[allow(unused_imports)] // only the real-rig tests use it

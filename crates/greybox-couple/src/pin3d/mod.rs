@@ -264,7 +264,7 @@ pub fn simulate(setup: &Pin3dSetup, dir: &Path) -> Result<Pin3dResult> {
     let wall_s = started.elapsed().as_secs_f64();
     let log = String::from_utf8_lossy(&out.stdout).to_string();
     let log_path = dir.join("pin.log");
-    std::fs::write(&log_path, &log).map_err(|e| Error::io(&log_path, e))?;
+    greybox_core::atomic::write_string_atomic(&log_path, &log)?;
     let dat_path = dir.join("pin.dat");
     let text = std::fs::read_to_string(&dat_path).unwrap_or_default();
     let incs = dat::parse(&text, &dat_path.display().to_string())?;

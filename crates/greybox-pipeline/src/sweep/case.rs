@@ -9,6 +9,7 @@
 use super::spec::CaseKind;
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::outputs::output_subdir;
 use greybox_sim::cutting::CuttingSetup;
 use greybox_sim::pin::PinSetup;
 use serde::{Deserialize, Serialize};
@@ -252,10 +253,19 @@ impl CaseDir {
             Status::Pending
         }
     }
+    /// Creates the directory (and `cases/`) if missing, refusing a link planted at either:
+    /// it could lead the case's files outside the sweep.
+    pub fn ensure(&self) -> Result<()> {
+        let (Some(cases), Some(id)) = (self.0.parent(), self.0.file_name()) else {
+            bail!("{}: not a case directory", self.0.display());
+        };
+        let sweep = cases.parent().unwrap_or(Path::new("."));
+        output_subdir(&output_subdir(sweep, "cases")?, &id.to_string_lossy())?;
+        Ok(())
+    }
     /// Creates the directory and writes `config.toml` (if it is not there already).
     pub fn prepare(&self, case: &Case) -> Result<()> {
-        std::fs::create_dir_all(&self.0)
-            .with_context(|| format!("cannot create {}", self.0.display()))?;
+        self.ensure()?;
         if !self.config().is_file() {
             write_string_atomic(&self.config(), &case.config)?;
         }

@@ -6,6 +6,7 @@ use super::spec::CaseKind;
 use super::Plan;
 use anyhow::{Context, Result};
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::outputs::{output_subdir, path_component};
 use greybox_core::plot::{lines, Line};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -195,8 +196,7 @@ fn write_plots(plan: &Plan, out: &Path, table: &[BTreeMap<String, String>]) -> R
             })
             .unwrap_or_default(),
     };
-    let dir = out.join("plots");
-    std::fs::create_dir_all(&dir)?;
+    let dir = output_subdir(out, "plots")?;
     let palette = [
         "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b",
     ];
@@ -251,7 +251,9 @@ fn write_plots(plan: &Plan, out: &Path, table: &[BTreeMap<String, String>]) -> R
             false,
             &[],
         );
-        let p = dir.join(format!("{col}_vs_{}.svg", x_axis.replace('.', "_")));
+        let name = format!("{col}_vs_{}.svg", x_axis.replace('.', "_"));
+        let field = "a plot's file name (from its fields and the cases' summary keys)";
+        let p = dir.join(path_component(&name, &out.join(super::PLAN_FILE), field)?);
         write_string_atomic(&p, &svg)?;
         written.push(p.display().to_string());
     }

@@ -9,6 +9,7 @@
 use super::case::{CaseDir, Status};
 use super::{failures, Plan, RunReport};
 use anyhow::{Context, Result};
+use greybox_core::atomic::create_output_file;
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
@@ -36,7 +37,7 @@ pub fn run(plan: &Plan, out: &Path, jobs: usize, exe: &Path) -> Result<RunReport
         while running.len() < jobs {
             let Some(c) = queue.next() else { break };
             let dir = CaseDir::of(out, &c.id);
-            let log = std::fs::File::create(dir.log())
+            let log = create_output_file(&dir.log())
                 .with_context(|| format!("cannot write {}", dir.log().display()))?;
             let child = Command::new(exe)
                 .args(["--quiet", "sweep", "run-case"])

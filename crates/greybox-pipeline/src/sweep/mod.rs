@@ -25,6 +25,7 @@ pub mod text;
 use anyhow::{bail, Context, Result};
 use case::{Case, CaseDir, Done, Status};
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::outputs::path_component;
 use serde::{Deserialize, Serialize};
 use spec::{CaseKind, SlurmSection, SweepFile};
 use std::path::{Path, PathBuf};
@@ -125,7 +126,16 @@ impl Plan {
                 p.display()
             )
         })?;
-        serde_json::from_str(&text).with_context(|| format!("{}: not a sweep plan", p.display()))
+        let plan: Plan = serde_json::from_str(&text)
+            .with_context(|| format!("{}: not a sweep plan", p.display()))?;
+        // every id becomes a directory under cases/, every field part of a plot's file name
+        for (i, c) in plan.cases.iter().enumerate() {
+            path_component(&c.id, &p, &format!("cases[{i}].id"))?;
+        }
+        for (i, f) in plan.fields.iter().enumerate() {
+            path_component(f, &p, &format!("fields[{i}]"))?;
+        }
+        Ok(plan)
     }
 
     /// The status of every case in `out`.
@@ -153,6 +163,7 @@ pub fn run_case(out: &Path, index: usize) -> Result<Status> {
     if dir.status() == Status::Done {
         return Ok(Status::Done);
     }
+    dir.ensure()?;
     let _ = std::fs::remove_file(dir.failed());
     let t0 = std::time::Instant::now();
     match run_config(&plan, &dir) {

@@ -13,6 +13,7 @@ use super::spec::SlurmSection;
 use super::{FailedCase, Plan, RunReport};
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::outputs::path_component;
 use greybox_core::shell;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -229,6 +230,8 @@ pub fn run(plan: &Plan, out: &Path, exe: &Path, dry_run: bool, poll_s: f64) -> R
     if job.is_empty() {
         bail!("sbatch printed no job id");
     }
+    // the job id names the tasks' log files
+    path_component(&job, Path::new("sbatch --parsable's output"), "job id")?;
     report.slurm_job = Some(job.clone());
     follow(plan, &out, &job, &indices, poll_s)?;
     let states = task_states(&job);
