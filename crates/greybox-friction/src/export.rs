@@ -41,6 +41,7 @@
 use crate::engine_table::mu_checked;
 pub use crate::engine_table::{Deviation, EngineTable, StepLines, TableOptions};
 pub use crate::grid::{Grid, PressureUnit, SpeedUnit, TempUnit, Units};
+use greybox_core::escape::deck_comment;
 use greybox_core::{ContactState, Error, FrictionLaw, Result, SourcePos};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -126,7 +127,7 @@ pub fn abaqus_checked(
     let mut s = String::new();
     let with_t = grid.temperature_k.is_some();
     let _ = writeln!(s, "** greybox export: Abaqus *FRICTION table");
-    let _ = writeln!(s, "** law: {}", law.name());
+    let _ = writeln!(s, "** law: {}", deck_comment(&law.name()));
     let _ = writeln!(
         s,
         "** Abaqus has no unit system. This table uses: slip rate in {}, contact pressure in {}{}{}.",
@@ -277,7 +278,7 @@ pub fn deform_checked(
         s,
         "* greybox export: DEFORM inter-object friction (FRCFAC / FRCWIN)"
     );
-    let _ = writeln!(s, "* law: {}", law.name());
+    let _ = writeln!(s, "* law: {}", deck_comment(&law.name()));
     let _ = writeln!(s, "* FRCFAC: Coulomb (FricType 2), FricDefType 5 = f(pressure MPa, temperature C, stretch), pressure fastest,");
     let _ = writeln!(s, "* evaluated at the reference sliding velocity {} m/min (DEFORM tables cannot encode velocity)", reference_velocity_m_s * 60.0);
     s.push_str(&out.notes("*"));
@@ -389,7 +390,7 @@ pub fn lsdyna_checked(
         s,
         "$ greybox export: mu(pressure, sliding velocity) for LS-DYNA"
     );
-    let _ = writeln!(s, "$ law: {}", law.name());
+    let _ = writeln!(s, "$ law: {}", deck_comment(&law.name()));
     let _ = writeln!(s, "$ Consumed by *CONTACT_SURFACE_TO_SURFACE or *CONTACT_ONE_WAY_SURFACE_TO_SURFACE with FS = 2 and");
     let _ = writeln!(s, "$ FD = {table_id}: table abscissa = relative sliding velocity, curve abscissa = contact pressure.");
     let _ = writeln!(s, "$ (FS = 2 semantics as recalled from the LS-DYNA Keyword Manual; check them in your release.)");
