@@ -654,6 +654,61 @@ mod tests {
     use super::*;
     use crate::classical::Zorev;
 
+    /// A law whose name is whatever a hostile model file, `--target` or hand edit made it.
+    struct Named(String);
+
+    impl FrictionLaw for Named {
+        fn name(&self) -> String {
+            self.0.clone()
+        }
+        fn mu(&self, _: &ContactState) -> f64 {
+            0.3
+        }
+    }
+
+    /// Names that would start a keyword line in each deck if written as they are.
+    const HOSTILE: &[&str] = &[
+        "cof\n*INCLUDE, INPUT=/etc/passwd",
+        "cof\r\n*KEYWORD\n*INCLUDE\n/etc/passwd",
+        "cof\nFRCFAC 1 2 2 0 1 1 1",
+        "cof\u{2028}*INCLUDE\u{85}*END",
+        "$(touch PWNED) <script>alert(1)</script> \"'",
+    ];
+
+    /// Every deck line is the writer's: the comment with the name is one line, and the
+    /// keyword lines are exactly those of a plain name.
+    #[test]
+    fn hostile_law_names_stay_inside_their_comment_line() {
+        let grid = Grid {
+            pressure_pa: vec![100e6, 200e6],
+            velocity_m_s: vec![1.0, 2.0],
+            temperature_k: None,
+        };
+        let u = Units::of(crate::grid::UnitSystem::MpaMmS, crate::grid::TempUnit::C);
+        let decks = |name: &str| -> [(String, &str); 3] {
+            let law = Named(name.to_string());
+            [
+                (abaqus(&law, &grid, u, None).unwrap(), "** law: "),
+                (lsdyna(&law, &grid, u, 7).unwrap(), "$ law: "),
+                (deform(&law, &grid, 1.0, &[], (2, 1)).unwrap(), "* law: "),
+            ]
+        };
+        let plain = decks("plain");
+        for name in HOSTILE {
+            for ((text, prefix), (reference, _)) in decks(name).iter().zip(&plain) {
+                assert_eq!(text.lines().count(), reference.lines().count(), "{text}");
+                let law_lines: Vec<&str> = text.lines().filter(|l| l.starts_with(prefix)).collect();
+                assert_eq!(law_lines.len(), 1, "{text}");
+                assert_eq!(law_lines[0], format!("{prefix}{}", deck_comment(name)));
+                for (l, r) in text.lines().zip(reference.lines()) {
+                    if !r.starts_with(prefix) {
+                        assert_eq!(l, r, "only the law's comment line differs");
+                    }
+                }
+            }
+        }
+    }
+
     #[test]
     fn deform_frcfac_round_trip() {
         let law = Zorev {

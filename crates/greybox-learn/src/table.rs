@@ -106,6 +106,12 @@ pub fn read_dataset_from(
             "give at least one feature column",
         ));
     }
+    // the names become a model file's feature and target names: words, not lines
+    let named = std::iter::once(("target", target))
+        .chain(features.iter().map(|f| ("features", f.as_str())));
+    for (field, name) in named {
+        greybox_core::escape::check_name(SourcePos::file(source).field(field), name)?;
+    }
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(true)
         .from_reader(reader);
