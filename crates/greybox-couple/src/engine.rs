@@ -192,15 +192,10 @@ impl Engine for CommandEngine {
             dir.clone()
         };
         std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
-        let mut f = String::from("window,mu\n");
-        for (i, w) in self.windows.iter().enumerate() {
-            f.push_str(&format!(
-                "{},{}\n",
-                greybox_core::escape::csv_field(w),
-                friction.map(|m| format!("{:?}", m[i])).unwrap_or_default()
-            ));
-        }
-        write_string_atomic(&dir.join("friction.csv"), &f)?;
+        write_string_atomic(
+            &dir.join("friction.csv"),
+            &friction_csv(&self.windows, friction),
+        )?;
         let cmd = command_line(
             &self.command,
             &[
@@ -278,6 +273,20 @@ impl Engine for CommandEngine {
             })
             .collect()
     }
+}
+
+/// `friction.csv` of a cycle: `window,mu`, window names as CSV fields, μ empty without
+/// `friction` (cycle 0: the model's own).
+fn friction_csv(windows: &[String], friction: Option<&[f64]>) -> String {
+    let mut f = String::from("window,mu\n");
+    for (i, w) in windows.iter().enumerate() {
+        f.push_str(&format!(
+            "{},{}\n",
+            greybox_core::escape::csv_field(w),
+            friction.map(|m| format!("{:?}", m[i])).unwrap_or_default()
+        ));
+    }
+    f
 }
 
 /// The command template with each `{name}` of `values` replaced by its value as one
