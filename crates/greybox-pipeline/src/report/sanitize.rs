@@ -352,8 +352,8 @@ fn fan_out(g: &UseGraph) -> Result<()> {
     let extra = size[0].saturating_sub(n as u64);
     if extra > MAX_USE_INSTANCES {
         bail!(
-            "its <use> references expand to {}{extra} element instances beyond its {n} elements (at most {MAX_USE_INSTANCES} are drawn in a report figure): nested references multiply (\"billion laughs\")",
-            if size[0] == u64::MAX { "more than " } else { "" }
+            "its <use> references expand to {} element instances beyond its {n} elements (at most {MAX_USE_INSTANCES} are drawn in a report figure): nested references multiply (\"billion laughs\")",
+            if size[0] == u64::MAX { "more than 10^19".to_string() } else { extra.to_string() }
         );
     }
     Ok(())
@@ -800,7 +800,7 @@ mod tests {
         }
         deep.push_str(r#"<rect id="b80"/></svg>"#);
         let e = sanitize_svg(&deep, "f1").unwrap_err().to_string();
-        assert!(e.contains("more than"), "{e}");
+        assert!(e.contains("more than 10^19 element instances"), "{e}");
     }
 
     #[test]
