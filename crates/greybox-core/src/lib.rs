@@ -19,6 +19,8 @@
 //! * [`roots`] — bracketing root finding for expensive functions.
 //! * [`linalg`] — small least-squares helpers.
 //! * [`shell`] — quoting of every value a generated shell script receives.
+//! * [`escape`] — free text escaped (or refused) for the format it lands in: deck comments,
+//!   CSV fields, shell words, XML/SVG/HTML; names checked to be words.
 //! * [`budget`] — the named caps of readers and walkers (bytes, cells, array lengths, lines).
 //! * [`choice`] — option enums with one spelling on the command line, in Python and in files.
 //!
@@ -33,6 +35,7 @@ pub mod contact;
 pub mod csvutil;
 pub mod dataset;
 pub mod error;
+pub mod escape;
 pub mod interrupt;
 pub mod json_head;
 pub mod law;

@@ -261,21 +261,8 @@ pub fn heatmap(h: &Heatmap) -> String {
     svg
 }
 
-/// Text made safe for XML/HTML content and attribute values.
-pub fn escape(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&#39;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
+/// Text made safe for XML/HTML content and attribute values: [`crate::escape::xml_text`].
+pub use crate::escape::xml_text as escape;
 
 /// A perceptually uniform colour map whose lightness rises monotonically, so that a
 /// figure printed in greyscale still reads (Smith & van der Walt's viridis and inferno,

@@ -78,17 +78,10 @@ pub fn directive_value<'a>(field: &str, value: &'a str) -> Result<&'a str> {
     Ok(value)
 }
 
-/// `text` for a `#` comment line: control characters escaped, so the comment stays one line.
+/// `text` for a `#` comment line: control characters escaped, so the comment stays one line
+/// ([`crate::escape::one_line`]).
 pub fn comment(text: &str) -> String {
-    text.chars()
-        .map(|c| {
-            if c.is_control() {
-                c.escape_debug().to_string()
-            } else {
-                c.to_string()
-            }
-        })
-        .collect()
+    crate::escape::one_line(text)
 }
 
 #[cfg(test)]

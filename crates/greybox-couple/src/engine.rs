@@ -168,7 +168,8 @@ pub fn write_history(path: &Path, rows: &[HistoryRow]) -> Result<()> {
 /// edit the keyword file's FRCWIN blocks, KFREAD/GENDB, run the solver, export the window
 /// states). Per cycle greybox writes `friction.csv` (`window,mu`; empty μ in cycle 0 = keep the
 /// model's own) into `work/cycle_NNN/`, runs the command template through `sh -c` with
-/// `{cycle}`, `{dir}` and `{prev_dir}` substituted, and reads `states.csv` that the command
+/// `{cycle}`, `{dir}` and `{prev_dir}` substituted as shell-quoted words ([`command_line`]:
+/// write `solver {dir}`, not `solver "{dir}"`), and reads `states.csv` that the command
 /// must write there: `window,pressure_MPa,sliding_velocity_m_per_min,temperature_K,shear_ratio`
 /// (temperature may be empty).
 pub struct CommandEngine {
@@ -191,19 +192,18 @@ impl Engine for CommandEngine {
             dir.clone()
         };
         std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
-        let mut f = String::from("window,mu\n");
-        for (i, w) in self.windows.iter().enumerate() {
-            f.push_str(&format!(
-                "{w},{}\n",
-                friction.map(|m| format!("{:?}", m[i])).unwrap_or_default()
-            ));
-        }
-        write_string_atomic(&dir.join("friction.csv"), &f)?;
-        let cmd = self
-            .command
-            .replace("{cycle}", &cycle.to_string())
-            .replace("{dir}", &dir.display().to_string())
-            .replace("{prev_dir}", &prev.display().to_string());
+        write_string_atomic(
+            &dir.join("friction.csv"),
+            &friction_csv(&self.windows, friction),
+        )?;
+        let cmd = command_line(
+            &self.command,
+            &[
+                ("cycle", cycle.to_string()),
+                ("dir", dir.display().to_string()),
+                ("prev_dir", prev.display().to_string()),
+            ],
+        )?;
         let out = std::process::Command::new("sh")
             .arg("-c")
             .arg(&cmd)
@@ -273,4 +273,53 @@ impl Engine for CommandEngine {
             })
             .collect()
     }
+}
+
+/// `friction.csv` of a cycle: `window,mu`, window names as CSV fields, μ empty without
+/// `friction` (cycle 0: the model's own).
+fn friction_csv(windows: &[String], friction: Option<&[f64]>) -> String {
+    let mut f = String::from("window,mu\n");
+    for (i, w) in windows.iter().enumerate() {
+        f.push_str(&format!(
+            "{},{}\n",
+            greybox_core::escape::csv_field(w),
+            friction.map(|m| format!("{:?}", m[i])).unwrap_or_default()
+        ));
+    }
+    f
+}
+
+/// The command template with each `{name}` of `values` replaced by its value as one
+/// shell-quoted word ([`greybox_core::escape::shell_quote`], POSIX single quotes), in one
+/// pass (a value holding `{dir}` is not substituted again). A work directory named
+/// `w;touch PWNED;x` or `my runs` stays one argument. A placeholder the template itself
+/// quotes (`"{dir}"`, `'{dir}'`) is refused: the quotes would become part of the argument.
+pub fn command_line(template: &str, values: &[(&str, String)]) -> Result<String> {
+    for (name, _) in values {
+        for q in ['"', '\'', '`'] {
+            if template.contains(&format!("{q}{{{name}}}")) {
+                return Err(Error::invalid(
+                    "command engine",
+                    format!("the command template quotes {{{name}}} ({q}{{{name}}}…): greybox substitutes placeholders already shell-quoted, so write {{{name}}} without quotes"),
+                ));
+            }
+        }
+    }
+    let mut out = String::with_capacity(template.len() + 64);
+    let mut rest = template;
+    'scan: while let Some(i) = rest.find('{') {
+        out.push_str(&rest[..i]);
+        for (name, value) in values {
+            let key = format!("{{{name}}}");
+            if rest[i..].starts_with(&key) {
+                out.push_str(&greybox_core::escape::shell_quote(value)?);
+                rest = &rest[i + key.len()..];
+                continue 'scan;
+            }
+        }
+        out.push('{');
+        rest = &rest[i + 1..];
+    }
+    out.push_str(rest);
+    Ok(out)
 }

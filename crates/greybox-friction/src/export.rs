@@ -41,6 +41,7 @@
 use crate::engine_table::mu_checked;
 pub use crate::engine_table::{Deviation, EngineTable, StepLines, TableOptions};
 pub use crate::grid::{Grid, PressureUnit, SpeedUnit, TempUnit, Units};
+use greybox_core::escape::deck_comment;
 use greybox_core::{ContactState, Error, FrictionLaw, Result, SourcePos};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -126,7 +127,7 @@ pub fn abaqus_checked(
     let mut s = String::new();
     let with_t = grid.temperature_k.is_some();
     let _ = writeln!(s, "** greybox export: Abaqus *FRICTION table");
-    let _ = writeln!(s, "** law: {}", law.name());
+    let _ = writeln!(s, "** law: {}", deck_comment(&law.name()));
     let _ = writeln!(
         s,
         "** Abaqus has no unit system. This table uses: slip rate in {}, contact pressure in {}{}{}.",
@@ -277,7 +278,7 @@ pub fn deform_checked(
         s,
         "* greybox export: DEFORM inter-object friction (FRCFAC / FRCWIN)"
     );
-    let _ = writeln!(s, "* law: {}", law.name());
+    let _ = writeln!(s, "* law: {}", deck_comment(&law.name()));
     let _ = writeln!(s, "* FRCFAC: Coulomb (FricType 2), FricDefType 5 = f(pressure MPa, temperature C, stretch), pressure fastest,");
     let _ = writeln!(s, "* evaluated at the reference sliding velocity {} m/min (DEFORM tables cannot encode velocity)", reference_velocity_m_s * 60.0);
     s.push_str(&out.notes("*"));
@@ -389,7 +390,7 @@ pub fn lsdyna_checked(
         s,
         "$ greybox export: mu(pressure, sliding velocity) for LS-DYNA"
     );
-    let _ = writeln!(s, "$ law: {}", law.name());
+    let _ = writeln!(s, "$ law: {}", deck_comment(&law.name()));
     let _ = writeln!(s, "$ Consumed by *CONTACT_SURFACE_TO_SURFACE or *CONTACT_ONE_WAY_SURFACE_TO_SURFACE with FS = 2 and");
     let _ = writeln!(s, "$ FD = {table_id}: table abscissa = relative sliding velocity, curve abscissa = contact pressure.");
     let _ = writeln!(s, "$ (FS = 2 semantics as recalled from the LS-DYNA Keyword Manual; check them in your release.)");
@@ -652,6 +653,61 @@ pub fn parse_frcfac(text: &str, source: &str) -> Result<Vec<FrcFac>> {
 mod tests {
     use super::*;
     use crate::classical::Zorev;
+
+    /// A law whose name is whatever a hostile model file, `--target` or hand edit made it.
+    struct Named(String);
+
+    impl FrictionLaw for Named {
+        fn name(&self) -> String {
+            self.0.clone()
+        }
+        fn mu(&self, _: &ContactState) -> f64 {
+            0.3
+        }
+    }
+
+    /// Names that would start a keyword line in each deck if written as they are.
+    const HOSTILE: &[&str] = &[
+        "cof\n*INCLUDE, INPUT=/etc/passwd",
+        "cof\r\n*KEYWORD\n*INCLUDE\n/etc/passwd",
+        "cof\nFRCFAC 1 2 2 0 1 1 1",
+        "cof\u{2028}*INCLUDE\u{85}*END",
+        "$(touch PWNED) <script>alert(1)</script> \"'",
+    ];
+
+    /// Every deck line is the writer's: the comment with the name is one line, and the
+    /// keyword lines are exactly those of a plain name.
+    #[test]
+    fn hostile_law_names_stay_inside_their_comment_line() {
+        let grid = Grid {
+            pressure_pa: vec![100e6, 200e6],
+            velocity_m_s: vec![1.0, 2.0],
+            temperature_k: None,
+        };
+        let u = Units::of(crate::grid::UnitSystem::MpaMmS, crate::grid::TempUnit::C);
+        let decks = |name: &str| -> [(String, &str); 3] {
+            let law = Named(name.to_string());
+            [
+                (abaqus(&law, &grid, u, None).unwrap(), "** law: "),
+                (lsdyna(&law, &grid, u, 7).unwrap(), "$ law: "),
+                (deform(&law, &grid, 1.0, &[], (2, 1)).unwrap(), "* law: "),
+            ]
+        };
+        let plain = decks("plain");
+        for name in HOSTILE {
+            for ((text, prefix), (reference, _)) in decks(name).iter().zip(&plain) {
+                assert_eq!(text.lines().count(), reference.lines().count(), "{text}");
+                let law_lines: Vec<&str> = text.lines().filter(|l| l.starts_with(prefix)).collect();
+                assert_eq!(law_lines.len(), 1, "{text}");
+                assert_eq!(law_lines[0], format!("{prefix}{}", deck_comment(name)));
+                for (l, r) in text.lines().zip(reference.lines()) {
+                    if !r.starts_with(prefix) {
+                        assert_eq!(l, r, "only the law's comment line differs");
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn deform_frcfac_round_trip() {

@@ -161,6 +161,10 @@ pub fn read_model(path: &Path) -> Result<Imported> {
             ))
         }
     };
+    for (k, n) in imported.feature_names.iter().flatten().enumerate() {
+        let pos = SourcePos::file(&source).field(format!("feature_names[{k}]"));
+        greybox_core::escape::check_name(pos, n)?;
+    }
     imported.from.source = Some(format!("{name} (sha256 {hash})"));
     Ok(imported)
 }
@@ -351,6 +355,10 @@ fn r2(y: &[f64], pred: &[f64]) -> f64 {
 /// stated names must match recorded ones when both exist.
 fn feature_names(imported: &Imported, opts: &ImportOptions) -> Result<Vec<String>> {
     let n = imported.n_features;
+    let given = opts.features.iter().flatten().map(|f| ("--features", f));
+    for (field, name) in std::iter::once(("--target", &opts.target)).chain(given) {
+        greybox_core::escape::check_name(SourcePos::file("import").field(field), name)?;
+    }
     let names = match (&opts.features, &imported.feature_names) {
         (Some(given), Some(recorded)) if given != recorded => {
             return Err(Error::invalid(

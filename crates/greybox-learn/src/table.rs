@@ -93,6 +93,17 @@ pub fn read_dataset(
     )
 }
 
+/// The target and feature names (`--target`, `--features`) become a model file's names:
+/// words, not lines ([`greybox_core::escape::check_name`]); the error names `source`.
+fn check_column_names(source: &str, features: &[String], target: &str) -> Result<()> {
+    let named = std::iter::once(("target", target))
+        .chain(features.iter().map(|f| ("features", f.as_str())));
+    for (field, name) in named {
+        greybox_core::escape::check_name(SourcePos::file(source).field(field), name)?;
+    }
+    Ok(())
+}
+
 pub fn read_dataset_from(
     reader: impl std::io::Read,
     source: &str,
@@ -106,6 +117,7 @@ pub fn read_dataset_from(
             "give at least one feature column",
         ));
     }
+    check_column_names(source, features, target)?;
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(true)
         .from_reader(reader);

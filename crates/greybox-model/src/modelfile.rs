@@ -260,6 +260,7 @@ impl ModelFile {
                 "a model needs at least one feature".into(),
             ));
         }
+        self.check_names(source)?;
         if self.training_domain.len() != n {
             return Err(bad(
                 "training_domain".into(),
@@ -300,6 +301,25 @@ impl ModelFile {
         }
         crate::structure::check_model(&self.model, n)
             .map_err(|e| bad(format!("model.{}", e.field), e.message))
+    }
+
+    /// Feature and target names (and their units) are words, not lines
+    /// ([`greybox_core::escape::check_name`]): they land in deck comments, CSV headers and
+    /// plot labels. The error names the file and the field (`features[1].name`).
+    pub fn check_names(&self, source: &str) -> Result<()> {
+        let named = self
+            .features
+            .iter()
+            .enumerate()
+            .map(|(k, c)| (format!("features[{k}]"), c))
+            .chain(std::iter::once(("target".to_string(), &self.target)));
+        for (field, c) in named {
+            for (part, text) in [("name", &c.name), ("unit", &c.unit)] {
+                let pos = SourcePos::file(source).field(format!("{field}.{part}"));
+                greybox_core::escape::check_name(pos, text)?;
+            }
+        }
+        Ok(())
     }
 
     /// Whether `x` lies inside the training domain widened by `margin` × range per feature.

@@ -73,6 +73,10 @@ pub fn couple(o: &CoupleOptions) -> Result<CouplingResult> {
             if windows.is_empty() {
                 bail!("couple.engine: a user command needs the friction windows (windows)");
             }
+            for w in windows {
+                let pos = greybox_core::SourcePos::file("couple").field("windows");
+                greybox_core::escape::check_name(pos, w)?;
+            }
             Box::new(CommandEngine {
                 windows: windows.clone(),
                 command: command.clone(),

@@ -323,10 +323,10 @@ pub fn write_windows_csv(path: &Path, tool: &Tool, spacing: f64) -> greybox_core
         for (k, win) in tool.windows.iter().enumerate() {
             write!(
                 w,
-                "{k},{:.6},{:.6},\"{}\",{:.6}",
+                "{k},{:.6},{:.6},{},{:.6}",
                 win.s_start * 1e3,
                 win.s_end * 1e3,
-                win.law.name().replace('"', "'"),
+                greybox_core::escape::csv_quoted(&win.law.name()),
                 win.mu
             )?;
             write_stats(w, win.acc.stats(spacing, win.length()).as_ref())?;

@@ -11,13 +11,20 @@
 //! `url(…)`), animations, entity declarations and custom entities (never expanded),
 //! processing instructions and comments. Ids are prefixed per figure so that two figures'
 //! ids never meet and no id can shadow a global name of the page's script (`window.x`).
+//! `<use>` references are bounded: a figure whose references would make the browser draw
+//! more than [`MAX_USE_INSTANCES`] extra elements (nested `<use>` of `<use>`, the SVG form of
+//! "billion laughs": 1 kB, 10⁹ instances) or that refer in a cycle is refused ([`fan_out`]).
 
 use anyhow::{bail, Context, Result};
 use greybox_core::plot::escape;
 use quick_xml::escape::resolve_xml_entity;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::{Reader, XmlVersion};
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap};
+
+/// The most element instances `<use>` references may add to a figure (each `<use>` counts
+/// the expanded size of what it refers to, recursively).
+pub const MAX_USE_INSTANCES: u64 = 10_000;
 
 /// Elements kept (what greybox's plots and chip pictures use, and the plain drawing
 /// vocabulary around them). `image` keeps only embedded PNG/JPEG/GIF/WebP data; `use` only
@@ -228,6 +235,7 @@ pub fn sanitize_svg(text: &str, id_prefix: &str) -> Result<Sanitized> {
         open: Vec::new(),
         skip: 0,
         root_closed: false,
+        graph: UseGraph::default(),
         res: Sanitized {
             svg: String::new(),
             removed_elements: 0,
@@ -252,6 +260,7 @@ pub fn sanitize_svg(text: &str, id_prefix: &str) -> Result<Sanitized> {
             "the SVG ends before its <svg> element is closed"
         });
     }
+    fan_out(&s.graph)?;
     s.res.svg = s.out;
     Ok(s.res)
 }
@@ -265,7 +274,89 @@ struct Rebuild<'p> {
     /// Depth inside a dropped element (its content is dropped with it).
     skip: usize,
     root_closed: bool,
+    /// The kept elements and their `<use>` references, for [`fan_out`].
+    graph: UseGraph,
     res: Sanitized,
+}
+
+/// The kept elements as a tree with `<use>` edges: what a browser instantiates.
+#[derive(Default)]
+struct UseGraph {
+    /// Per element: its kept children.
+    children: Vec<Vec<usize>>,
+    /// Per element: the id a `<use>` refers to (same figure).
+    target: Vec<Option<String>>,
+    /// Element of each id (the first with it, as `getElementById` finds it).
+    ids: HashMap<String, usize>,
+    /// Open kept elements (parallel to [`Rebuild::open`]).
+    open: Vec<usize>,
+}
+
+impl UseGraph {
+    /// A kept element starts (child of the innermost open one).
+    fn add(&mut self, id: Option<&str>, target: Option<&str>, empty: bool) {
+        let k = self.children.len();
+        if let Some(&parent) = self.open.last() {
+            self.children[parent].push(k);
+        }
+        self.children.push(Vec::new());
+        self.target.push(target.map(str::to_string));
+        if let Some(id) = id {
+            self.ids.entry(id.to_string()).or_insert(k);
+        }
+        if !empty {
+            self.open.push(k);
+        }
+    }
+}
+
+/// Refuses a figure whose `<use>` references expand to more than [`MAX_USE_INSTANCES`]
+/// extra element instances or form a cycle. Each element counts 1 plus its children plus,
+/// for a `<use>`, the expanded size of the element it refers to; sizes are memoised (each
+/// element is expanded once, so a 1 kB file of 10 levels × 10 references costs 100 steps,
+/// not 10⁹), summed saturating, and walked without recursion.
+fn fan_out(g: &UseGraph) -> Result<()> {
+    let n = g.children.len();
+    if n == 0 {
+        return Ok(());
+    }
+    // 0: not seen, 1: on the current path, 2: size known
+    let mut state = vec![0u8; n];
+    let mut size = vec![0u64; n];
+    let target = |k: usize| g.target[k].as_ref().and_then(|t| g.ids.get(t).copied());
+    let mut stack = vec![(0usize, false)];
+    while let Some((k, done)) = stack.pop() {
+        if done {
+            let refs = g.children[k].iter().copied().chain(target(k));
+            size[k] = refs.fold(1u64, |s, c| s.saturating_add(size[c]));
+            state[k] = 2;
+            continue;
+        }
+        match state[k] {
+            2 => continue,
+            1 => bail!(
+                "its <use> references form a cycle (through #{}): a report figure may not refer to itself",
+                g.target.iter().flatten().find(|t| g.ids.get(*t) == Some(&k)).map_or("?", |t| t.as_str())
+            ),
+            _ => {}
+        }
+        state[k] = 1;
+        stack.push((k, true));
+        stack.extend(
+            g.children[k]
+                .iter()
+                .chain(target(k).as_ref())
+                .map(|&c| (c, false)),
+        );
+    }
+    let extra = size[0].saturating_sub(n as u64);
+    if extra > MAX_USE_INSTANCES {
+        bail!(
+            "its <use> references expand to {} element instances beyond its {n} elements (at most {MAX_USE_INSTANCES} are drawn in a report figure): nested references multiply (\"billion laughs\")",
+            if size[0] == u64::MAX { "more than 10^19".to_string() } else { extra.to_string() }
+        );
+    }
+    Ok(())
 }
 
 impl Rebuild<'_> {
@@ -278,6 +369,7 @@ impl Rebuild<'_> {
             Event::End(_) if self.skip > 0 => self.skip -= 1,
             Event::End(_) => {
                 if let Some(name) = self.open.pop() {
+                    self.graph.open.pop();
                     self.out.push_str("</");
                     self.out.push_str(name);
                     self.out.push('>');
@@ -338,6 +430,7 @@ impl Rebuild<'_> {
         if self.open.is_empty() {
             self.out.push_str(" xmlns=\"http://www.w3.org/2000/svg\"");
         }
+        let (mut id, mut target) = (None, None);
         for a in e.attributes() {
             let Ok(a) = a else {
                 self.drop_attribute("(malformed attribute)");
@@ -345,8 +438,15 @@ impl Rebuild<'_> {
             };
             let key = a.key.as_ref().to_string();
             let value = a.normalized_value_with(XmlVersion::Implicit1_0, 1, resolve_xml_entity);
-            match value.ok().and_then(|v| self.attribute(name, &key, &v)) {
+            let value = value.ok();
+            match value.as_deref().and_then(|v| self.attribute(name, &key, v)) {
                 Some((k, v)) => {
+                    let raw = value.as_deref().unwrap_or_default().trim();
+                    match k {
+                        "id" => id = Some(raw.to_string()),
+                        "href" if name == "use" => target = raw.strip_prefix('#').map(String::from),
+                        _ => {}
+                    }
                     self.out.push(' ');
                     self.out.push_str(k);
                     self.out.push_str("=\"");
@@ -357,6 +457,7 @@ impl Rebuild<'_> {
                 None => self.drop_attribute(&key),
             }
         }
+        self.graph.add(id.as_deref(), target.as_deref(), empty);
         if empty {
             self.out.push_str("/>");
             self.root_closed = self.open.is_empty();
@@ -656,5 +757,74 @@ mod tests {
         let chip = r##"<svg xmlns="http://www.w3.org/2000/svg" width="300" height="200" viewBox="0 0 300 200" font-family="sans-serif" font-size="12"><rect width="300" height="200" fill="white"/><svg x="60" y="40" width="200" height="120" viewBox="0 0 200 120"><image width="200" height="120" href="data:image/png;base64,iVBORw0KGgo="/><polygon points="1.0,2.0 3.0,4.0" fill="#bdbdbd" stroke="black" stroke-width="1"/></svg><text x="1" y="2" paint-order="stroke" fill-opacity="0.5">0.5</text></svg>"##;
         let s = clean(chip);
         assert_eq!(s.svg, chip);
+    }
+
+    /// 1 kB of nested `<use>`: level k holds 10 references to level k−1, 10⁹ rects at level 9.
+    fn billion_laughs(xlink: bool) -> String {
+        let attr = if xlink { "xlink:href" } else { "href" };
+        let mut s = String::from(
+            r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"><defs><rect id="a0" width="1" height="1"/>"#,
+        );
+        for k in 1..10 {
+            s.push_str(&format!("<g id=\"a{k}\">"));
+            for _ in 0..10 {
+                s.push_str(&format!("<use {attr}=\"#a{}\"/>", k - 1));
+            }
+            s.push_str("</g>");
+        }
+        s.push_str(r##"</defs><use href="#a9"/></svg>"##);
+        s
+    }
+
+    #[test]
+    fn nested_use_fan_out_is_refused() {
+        for xlink in [false, true] {
+            let svg = billion_laughs(xlink);
+            assert!(svg.len() < 2_500, "{} bytes", svg.len());
+            let t = std::time::Instant::now();
+            let e = sanitize_svg(&svg, "f1").unwrap_err().to_string();
+            assert!(t.elapsed().as_secs_f64() < 1.0, "{:?}", t.elapsed());
+            assert!(
+                e.contains("<use> references expand to") && e.contains("10000"),
+                "{e}"
+            );
+        }
+        // deeper, with forward references: counts saturate, no overflow
+        let mut deep =
+            String::from(r##"<svg xmlns="http://www.w3.org/2000/svg"><use href="#b0"/>"##);
+        for k in 0..80 {
+            deep.push_str(&format!(
+                "<g id=\"b{k}\"><use href=\"#b{0}\"/><use href=\"#b{0}\"/></g>",
+                k + 1
+            ));
+        }
+        deep.push_str(r#"<rect id="b80"/></svg>"#);
+        let e = sanitize_svg(&deep, "f1").unwrap_err().to_string();
+        assert!(e.contains("more than 10^19 element instances"), "{e}");
+    }
+
+    #[test]
+    fn use_cycles_are_refused() {
+        for svg in [
+            r##"<svg xmlns="http://www.w3.org/2000/svg"><g id="a"><use href="#a"/></g></svg>"##,
+            r##"<svg xmlns="http://www.w3.org/2000/svg"><g id="a"><use href="#b"/></g><g id="b"><use href="#a"/></g></svg>"##,
+        ] {
+            let e = sanitize_svg(svg, "f1").unwrap_err().to_string();
+            assert!(e.contains("cycle"), "{e}");
+        }
+    }
+
+    #[test]
+    fn modest_use_is_kept() {
+        // a marker symbol drawn 500 times, and references to missing ids
+        let mut svg = String::from(
+            r##"<svg xmlns="http://www.w3.org/2000/svg"><defs><g id="m"><circle r="2"/><line x2="1"/></g></defs>"##,
+        );
+        for i in 0..500 {
+            svg.push_str(&format!("<use href=\"#m\" x=\"{i}\"/>"));
+        }
+        svg.push_str(r##"<use href="#missing"/></svg>"##);
+        let s = clean(&svg);
+        assert_eq!(s.svg.matches("<use").count(), 501);
     }
 }

@@ -1,0 +1,258 @@
+//! Text escaped where it lands: the one place where free text (model, law, feature and
+//! window names, labels, titles, paths) is made safe for the file format it is written into.
+//!
+//! Every writer that embeds text it did not choose itself goes through one of these, never
+//! through `format!` alone:
+//!
+//! | lands in | function | rule |
+//! | --- | --- | --- |
+//! | a name read from a file or the command line | [`check_name`] | a word, not a line: no control characters, at most [`MAX_NAME_CHARS`] characters |
+//! | an Abaqus / CalculiX `.inp` comment, an LS-DYNA `.k` comment, a DEFORM keyword-file comment | [`deck_comment`] | one line: control characters and line separators written as `\n`, `\u{…}` |
+//! | a CSV field (header or cell) | [`csv_field`], [`csv_quoted`] | one line, then RFC 4180 §2.6–2.7 quoting |
+//! | a shell word (`sh -c`, generated scripts) | [`shell_quote`] (= [`crate::shell::quote`]) | POSIX single quotes, `'` as `'\''` |
+//! | XML / SVG / HTML text and attribute values | [`xml_text`] | the five predefined entities of XML 1.0 §4.6 |
+//!
+//! Deck comments: an Abaqus input line starting with `**` is a comment, one starting with a
+//! single `*` a keyword (Abaqus Analysis User's Guide, "Input syntax rules"); an LS-DYNA
+//! keyword-file line starting with `$` is a comment, one starting with `*` a keyword (LS-DYNA
+//! Keyword User's Manual, "General card format"); greybox's DEFORM keyword files start
+//! comment lines with `*` (DEFORM's keyword reader skips them; a keyword such as `FRCFAC`
+//! starts a line with its name). In all three a comment ends at the end of its line, so a
+//! name that cannot hold a line break cannot leave the comment: once [`deck_comment`] has
+//! written every line-breaking character as a visible escape, the line's prefix (`**`, `$`,
+//! `*`) decides what it is, and it stays a comment whatever the name says.
+
+use crate::{Error, Result, SourcePos};
+
+/// The longest name accepted ([`check_name`]): longer than any column or feature name a
+/// person writes, short enough for a deck's comment line (Abaqus reads 256 characters).
+pub const MAX_NAME_CHARS: usize = 256;
+
+/// Whether `c` can start a new line or is invisible control: C0 and C1 control characters
+/// (newline, CR, NUL, tab, escape, NEL U+0085, …) and the Unicode line and paragraph
+/// separators U+2028 and U+2029.
+fn breaks_text(c: char) -> bool {
+    c.is_control() || c == '\u{2028}' || c == '\u{2029}'
+}
+
+/// Why `name` is not a word (a name that may stand in a deck comment, a CSV header, a plot
+/// label): `None` when it is one. Names with control characters or line separators, or of
+/// more than [`MAX_NAME_CHARS`] characters, are not.
+pub fn name_problem(name: &str) -> Option<String> {
+    if let Some((i, c)) = name.chars().enumerate().find(|(_, c)| breaks_text(*c)) {
+        return Some(format!(
+            "a name must be a word, not a line: it holds the control character {:?} at character {} ({:?}…)",
+            c,
+            i + 1,
+            name.chars().take(40).collect::<String>()
+        ));
+    }
+    let n = name.chars().count();
+    if n > MAX_NAME_CHARS {
+        return Some(format!(
+            "a name must be a word, not a text: {n} characters, at most {MAX_NAME_CHARS} are accepted ({:?}…)",
+            name.chars().take(40).collect::<String>()
+        ));
+    }
+    None
+}
+
+/// `name` checked to be a word ([`name_problem`]); the error names `pos` (file and field, or
+/// the command-line option).
+pub fn check_name(pos: SourcePos, name: &str) -> Result<()> {
+    match name_problem(name) {
+        None => Ok(()),
+        Some(m) => Err(Error::input(pos, m)),
+    }
+}
+
+/// `text` as one line: every control character and line separator written as its Rust
+/// escape (`\n`, `\r`, `\0`, `\u{2028}`), everything else as it is. Plain text comes out
+/// unchanged.
+pub fn one_line(text: &str) -> String {
+    if !text.chars().any(breaks_text) {
+        return text.to_string();
+    }
+    let mut s = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if breaks_text(c) {
+            s.extend(c.escape_default());
+        } else {
+            s.push(c);
+        }
+    }
+    s
+}
+
+/// `text` for the body of an FE-engine deck comment (Abaqus/CalculiX `** …`, LS-DYNA `$ …`,
+/// DEFORM `* …`): [`one_line`], so the comment cannot end early and nothing after it can
+/// start a keyword (see the module's notes on each format's comment rule).
+pub fn deck_comment(text: &str) -> String {
+    one_line(text)
+}
+
+/// `text` as one CSV field on one line: [`one_line`] first (a record never spans lines, so
+/// line-oriented readers and `grep` see one record per line), then RFC 4180 §2.6–2.7
+/// quoting — as it is when it holds no comma or double quote, else enclosed in double quotes
+/// with each `"` doubled. A CSV reader returns exactly `text` when `text` has no control
+/// characters (names never have: [`check_name`]).
+pub fn csv_field(text: &str) -> String {
+    let t = one_line(text);
+    if t.contains([',', '"']) {
+        csv_quoted(&t)
+    } else {
+        t
+    }
+}
+
+/// [`csv_field`], always enclosed in double quotes (for columns of free text that are quoted
+/// in every row).
+pub fn csv_quoted(text: &str) -> String {
+    let t = one_line(text);
+    let mut s = String::with_capacity(t.len() + 2);
+    s.push('"');
+    for c in t.chars() {
+        if c == '"' {
+            s.push('"');
+        }
+        s.push(c);
+    }
+    s.push('"');
+    s
+}
+
+/// `text` as one POSIX shell word; see [`crate::shell::quote`] (NUL refused).
+pub fn shell_quote(text: &str) -> Result<String> {
+    crate::shell::quote(text)
+}
+
+/// `text` safe in XML/SVG/HTML character data and in single- or double-quoted attribute
+/// values: `& < > " '` written as the predefined entities (XML 1.0 §4.6), so no tag,
+/// attribute or entity can start inside it.
+pub fn xml_text(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The names a tester tries against every format.
+    fn hostile() -> Vec<String> {
+        vec![
+            "cof\n*INCLUDE, INPUT=/etc/passwd".into(),
+            "cof\r\n$ x\n*KEYWORD".into(),
+            "cof\nFRCFAC 1 2 2 0 1 1 1".into(),
+            "it's \"quoted\"".into(),
+            "$(touch PWNED)".into(),
+            "<script>alert(1)</script>".into(),
+            "a\u{2028}b\u{85}c\0d".into(),
+            "x".repeat(10_000_000),
+        ]
+    }
+
+    #[test]
+    fn plain_names_pass_unchanged() {
+        for n in [
+            "cof_adhesive",
+            "normal_force_N",
+            "μ ratio (−)",
+            "Reibwert µ",
+        ] {
+            assert_eq!(name_problem(n), None);
+            assert_eq!(deck_comment(n), n);
+            assert_eq!(csv_field(n), n);
+            assert_eq!(xml_text(n), n);
+        }
+    }
+
+    #[test]
+    fn hostile_names_are_refused_with_the_field() {
+        for n in hostile() {
+            let expect_refused = n.chars().any(breaks_text) || n.chars().count() > 256;
+            let r = check_name(SourcePos::file("m.json").field("target.name"), &n);
+            assert_eq!(r.is_err(), expect_refused, "{:?}", &n[..n.len().min(40)]);
+            if let Err(e) = r {
+                let e = e.to_string();
+                assert!(e.contains("m.json") && e.contains("target.name"), "{e}");
+                assert!(e.contains("a word"), "{e}");
+                assert!(
+                    e.len() < 400,
+                    "the error quotes at most a prefix: {} bytes",
+                    e.len()
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn deck_comments_stay_one_line() {
+        for n in hostile() {
+            let c = deck_comment(&n);
+            assert!(!c.contains(['\n', '\r', '\0', '\u{85}', '\u{2028}']));
+            for prefix in ["** law: ", "$ law: ", "* law: "] {
+                assert_eq!(format!("{prefix}{c}\n").lines().count(), 1);
+            }
+        }
+        assert_eq!(
+            deck_comment("cof\n*INCLUDE, INPUT=/etc/passwd"),
+            "cof\\n*INCLUDE, INPUT=/etc/passwd"
+        );
+    }
+
+    /// A minimal RFC 4180 reader of one record, as spreadsheets read it.
+    fn read_field(s: &str) -> String {
+        match s.strip_prefix('"').and_then(|r| r.strip_suffix('"')) {
+            Some(inner) => inner.replace("\"\"", "\""),
+            None => s.to_string(),
+        }
+    }
+
+    #[test]
+    fn csv_fields_round_trip_and_keep_the_record() {
+        for n in ["it's \"quoted\"", "a,b", "$(touch PWNED)", "<b>", "plain"] {
+            let f = csv_field(n);
+            assert_eq!(read_field(&f), n);
+            assert_eq!(read_field(&csv_quoted(n)), n);
+        }
+        assert_eq!(csv_field("a,\"b\""), "\"a,\"\"b\"\"\"");
+        assert_eq!(csv_quoted("plain"), "\"plain\"");
+        for n in hostile() {
+            for f in [csv_field(&n), csv_quoted(&n)] {
+                assert!(!f.contains(['\n', '\r']), "one record, one line");
+                if f.starts_with('"') {
+                    // every quote inside is doubled: no field ends inside
+                    assert_eq!(f[1..f.len() - 1].matches('"').count() % 2, 0);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn xml_text_opens_no_tag() {
+        let x = xml_text("<script>alert('x')</script>&amp;\"");
+        assert!(!x.contains(['<', '>', '"', '\'']));
+        assert_eq!(
+            x,
+            "&lt;script&gt;alert(&#39;x&#39;)&lt;/script&gt;&amp;amp;&quot;"
+        );
+    }
+
+    #[test]
+    fn shell_quote_is_the_shell_module_rule() {
+        assert_eq!(shell_quote("w;touch PWNED;x").unwrap(), "'w;touch PWNED;x'");
+        assert_eq!(shell_quote("it's").unwrap(), "'it'\\''s'");
+        assert!(shell_quote("a\0b").is_err());
+    }
+}
