@@ -9,7 +9,7 @@
 //! | a name read from a file or the command line | [`check_name`] | a word, not a line: no control characters, at most [`MAX_NAME_CHARS`] characters |
 //! | an Abaqus / CalculiX `.inp` comment, an LS-DYNA `.k` comment, a DEFORM keyword-file comment | [`deck_comment`] | one line: control characters and line separators written as `\n`, `\u{…}` |
 //! | a CSV field (header or cell) | [`csv_field`], [`csv_quoted`] | one line, then RFC 4180 §2.6–2.7 quoting |
-//! | a shell word (`sh -c`, generated scripts) | [`shell_quote`] (= [`crate::shell::quote`]) | POSIX single quotes, `'` as `'\''` |
+//! | a shell word (`sh -c`, generated scripts) | [`shell_quote`] (also `shell::quote`) | POSIX single quotes, `'` as `'\''` |
 //! | XML / SVG / HTML text and attribute values | [`xml_text`] | the five predefined entities of XML 1.0 §4.6 |
 //!
 //! Deck comments: an Abaqus input line starting with `**` is a comment, one starting with a
@@ -121,9 +121,27 @@ pub fn csv_quoted(text: &str) -> String {
     s
 }
 
-/// `text` as one POSIX shell word; see [`crate::shell::quote`] (NUL refused).
+/// `text` as one POSIX shell word (POSIX.1-2017 XCU 2.2.2, single quotes: every character
+/// between them is literal, so a `'` is written `'\''`); NUL is refused, since no argument
+/// can carry it.
 pub fn shell_quote(text: &str) -> Result<String> {
-    crate::shell::quote(text)
+    if text.contains('\0') {
+        return Err(Error::invalid(
+            "shell word",
+            format!("{text:?} holds a NUL byte, which no shell argument can carry"),
+        ));
+    }
+    let mut q = String::with_capacity(text.len() + 2);
+    q.push('\'');
+    for c in text.chars() {
+        if c == '\'' {
+            q.push_str("'\\''");
+        } else {
+            q.push(c);
+        }
+    }
+    q.push('\'');
+    Ok(q)
 }
 
 /// `text` safe in XML/SVG/HTML character data and in single- or double-quoted attribute

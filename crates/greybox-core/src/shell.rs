@@ -19,26 +19,7 @@ use crate::{Error, Result};
 /// `s` as one shell word in POSIX single quotes; `sh -c "printf %s <quoted>"` prints exactly
 /// `s`. Refused: a NUL byte (no shell argument can hold one).
 pub fn quote(s: &str) -> Result<String> {
-    if s.contains('\0') {
-        return Err(Error::invalid(
-            "shell word",
-            format!(
-                "{:?} holds a NUL byte, which no shell argument can carry",
-                s
-            ),
-        ));
-    }
-    let mut q = String::with_capacity(s.len() + 2);
-    q.push('\'');
-    for c in s.chars() {
-        if c == '\'' {
-            q.push_str("'\\''");
-        } else {
-            q.push(c);
-        }
-    }
-    q.push('\'');
-    Ok(q)
+    crate::escape::shell_quote(s)
 }
 
 /// `s` as one shell word, quoted only where it needs to be: as it is when it is non-empty and
