@@ -34,7 +34,6 @@ use crate::steady::{
     final_stationary, mean_standard_error, plateau_stats, rule_span, steady_span, step_signals,
     windows, StepSignals,
 };
-use greybox_core::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header};
 use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
 use greybox_core::units;
 use greybox_core::{Error, Result, SourcePos};
