@@ -191,6 +191,8 @@ struct Prepared<'a> {
     sliding: Vec<bool>,
     /// The rig's period in μ, s (revolution or stroke), if one was found.
     period_s: Option<f64>,
+    /// Time above the loaded threshold, s.
+    loaded_s: f64,
     no_baseline: bool,
     report: FileReport,
 }
@@ -243,8 +245,8 @@ fn prepare<'a>(
     let fs = rec.sample_rate_hz();
     let b = ((0.01 * fs).round() as usize).clamp(1, (n / 20).max(1));
     // a load cell that reads compression as a negative force: the normal force is flipped
-    let (raw_n, normal_flipped) = normal_positive(&rec.normal_n, b);
-    let bn = block_medians(&raw_n, b);
+    let (raw_n, bn, normal_flipped) =
+        normal_positive(&rec.normal_n, block_medians(&rec.normal_n, b));
     let hi = quantile(&bn, 0.99);
     let lo = quantile(&bn, 0.01);
     if !(hi > 0.0) {
@@ -352,6 +354,7 @@ fn prepare<'a>(
         fs,
         sliding: slide.mask,
         period_s: slide.period_s,
+        loaded_s: loaded.iter().filter(|l| **l).count() as f64 / fs,
         no_baseline,
         report: FileReport {
             source: rec.source.clone(),
@@ -379,19 +382,20 @@ fn prepare<'a>(
     })
 }
 
-/// The normal force with a positive load: flipped (and `true`) when the recording's loaded
-/// level is negative, i.e. its 1st percentile of block medians (`b` samples) lies further
-/// below zero than its 99th lies above.
-fn normal_positive(normal: &[f64], b: usize) -> (std::borrow::Cow<'_, [f64]>, bool) {
-    let bn = block_medians(normal, b);
+/// The normal force with a positive load, and its block medians `bn`: both flipped (and
+/// `true`) when the recording's loaded level is negative, i.e. the 1st percentile of the
+/// block medians lies further below zero than their 99th lies above.
+fn normal_positive(
+    normal: &[f64],
+    mut bn: Vec<f64>,
+) -> (std::borrow::Cow<'_, [f64]>, Vec<f64>, bool) {
     let (lo, hi) = (quantile(&bn, 0.01), quantile(&bn, 0.99));
     if lo < 0.0 && -lo > hi.max(0.0) {
-        (
-            std::borrow::Cow::Owned(normal.iter().map(|v| -v).collect()),
-            true,
-        )
+        bn.iter_mut().for_each(|v| *v = -*v);
+        let flipped = normal.iter().map(|v| -v).collect();
+        (std::borrow::Cow::Owned(flipped), bn, true)
     } else {
-        (std::borrow::Cow::Borrowed(normal), false)
+        (std::borrow::Cow::Borrowed(normal), bn, false)
     }
 }
 
@@ -1411,8 +1415,7 @@ fn too_short(p: &Prepared, short: &[Span], cfg: &IdentifyConfig) -> Vec<Dropped>
 
 /// Why a file gave no segment, from what its signals showed.
 fn no_segment_hint(p: &Prepared) -> String {
-    let fs = p.fs;
-    let loaded_s = p.fn_c.iter().filter(|f| **f > 0.0).count() as f64 / fs;
+    let loaded_s = p.loaded_s;
     let sliding_s = p.report.coverage.sliding_s;
     match p.report.segmentation.as_str() {
         "step-column" => "no step of the step column is loaded and sliding".into(),

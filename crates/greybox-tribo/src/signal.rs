@@ -117,36 +117,29 @@ pub fn quantum(raw: &[f64]) -> f64 {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    /// A half-window far past the data (a spike window of 10⁹ s in a study) is the whole
-    /// slice: the same medians, without a buffer of 2·10¹² samples.
-    #[test]
-    fn a_half_window_past_the_data_is_the_whole_slice() {
-        let x = [5.0, 1.0, 4.0, 2.0, 3.0, 9.0];
-        assert_eq!(
-            running_median(&x, usize::MAX / 4),
-            running_median(&x, x.len())
-        );
-        assert_eq!(running_median(&x, 6), vec![4.0, 4.0, 4.0, 4.0, 4.0, 4.0]);
-    }
+/// Block medians of `x` over blocks of `b` samples.
+pub fn block_medians(x: &[f64], b: usize) -> Vec<f64> {
+    x.chunks(b).map(median).collect()
+}
 
-    #[test]
-    fn basics() {
-        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
-        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
-        let x: Vec<f64> = (0..50).map(|i| (i as f64 * 0.7).sin() * 0.01).collect();
-        let mut y = x.clone();
-        y[20] += 5.0;
-        let m = hampel_outliers(&y, 5, 6.0);
-        assert!(m[20] && m.iter().filter(|b| **b).count() == 1);
-        let t: Vec<f64> = (0..10).map(|i| i as f64).collect();
-        let y: Vec<f64> = t.iter().map(|v| 2.0 + 0.5 * v).collect();
-        let (a, b, _) = linear_fit(&t, &y);
-        assert!((a - 2.0).abs() < 1e-12 && (b - 0.5).abs() < 1e-12);
-        assert_eq!(moving_average(&[1.0, 2.0, 3.0], 3), vec![1.5, 2.0, 2.5]);
+/// Contiguous runs of `true`: `[start, end)`.
+pub fn runs(mask: &[bool]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut start = None;
+    for (k, m) in mask.iter().enumerate() {
+        match (m, start) {
+            (true, None) => start = Some(k),
+            (false, Some(s)) => {
+                out.push((s, k));
+                start = None;
+            }
+            _ => {}
+        }
     }
+    if let Some(s) = start {
+        out.push((s, mask.len()));
+    }
+    out
 }
 
 /// The dominant period of `x` in samples, from its autocorrelation (Wiener–Khinchin, via a
@@ -226,27 +219,34 @@ pub fn autocorrelation(x: &[f64], max_lag: usize) -> Option<Vec<f64>> {
     )
 }
 
-/// Block medians of `x` over blocks of `b` samples.
-pub fn block_medians(x: &[f64], b: usize) -> Vec<f64> {
-    x.chunks(b).map(median).collect()
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    /// A half-window far past the data (a spike window of 10⁹ s in a study) is the whole
+    /// slice: the same medians, without a buffer of 2·10¹² samples.
+    #[test]
+    fn a_half_window_past_the_data_is_the_whole_slice() {
+        let x = [5.0, 1.0, 4.0, 2.0, 3.0, 9.0];
+        assert_eq!(
+            running_median(&x, usize::MAX / 4),
+            running_median(&x, x.len())
+        );
+        assert_eq!(running_median(&x, 6), vec![4.0, 4.0, 4.0, 4.0, 4.0, 4.0]);
+    }
 
-/// Contiguous runs of `true`: `[start, end)`.
-pub fn runs(mask: &[bool]) -> Vec<(usize, usize)> {
-    let mut out = Vec::new();
-    let mut start = None;
-    for (k, m) in mask.iter().enumerate() {
-        match (m, start) {
-            (true, None) => start = Some(k),
-            (false, Some(s)) => {
-                out.push((s, k));
-                start = None;
-            }
-            _ => {}
-        }
+    #[test]
+    fn basics() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
+        let x: Vec<f64> = (0..50).map(|i| (i as f64 * 0.7).sin() * 0.01).collect();
+        let mut y = x.clone();
+        y[20] += 5.0;
+        let m = hampel_outliers(&y, 5, 6.0);
+        assert!(m[20] && m.iter().filter(|b| **b).count() == 1);
+        let t: Vec<f64> = (0..10).map(|i| i as f64).collect();
+        let y: Vec<f64> = t.iter().map(|v| 2.0 + 0.5 * v).collect();
+        let (a, b, _) = linear_fit(&t, &y);
+        assert!((a - 2.0).abs() < 1e-12 && (b - 0.5).abs() < 1e-12);
+        assert_eq!(moving_average(&[1.0, 2.0, 3.0], 3), vec![1.5, 2.0, 2.5]);
     }
-    if let Some(s) = start {
-        out.push((s, mask.len()));
-    }
-    out
 }

@@ -207,22 +207,28 @@ mod tests {
         }
     }
 
+    /// Sliding of a 100 Hz friction force `ft` under a constant, always loaded 100 N, no
+    /// speed channel, default settings.
+    fn sliding_of(ft: &[f64]) -> Sliding {
+        let fn_c = vec![100.0; ft.len()];
+        let loaded = vec![true; ft.len()];
+        sliding(
+            None,
+            &fn_c,
+            ft,
+            &blocks(&loaded),
+            &IdentifyConfig::default(),
+        )
+    }
+
     #[test]
     fn once_per_revolution_dips_do_not_cut_the_slide() {
         // 100 Hz, 60 s at μ 0.3 with a dip to 20 % of μ for 50 ms once per 1.3 s revolution
         let n = 6000;
-        let fn_c = vec![100.0; n];
         let ft_c: Vec<f64> = (0..n)
             .map(|k| if k % 130 < 5 { 6.0 } else { 30.0 })
             .collect();
-        let loaded = vec![true; n];
-        let s = sliding(
-            None,
-            &fn_c,
-            &ft_c,
-            &blocks(&loaded),
-            &IdentifyConfig::default(),
-        );
+        let s = sliding_of(&ft_c);
         // one slide; only the dip the recording starts in lies before its first block
         assert_eq!(
             crate::signal::runs(&s.mask),
@@ -239,15 +245,7 @@ mod tests {
         let ft: Vec<f64> = (0..720)
             .map(|k| 30.0 - (k / 80) as f64 + 0.1 * (((k * 7919) % 13) as f64 / 6.0 - 1.0))
             .collect();
-        let fn_c = vec![100.0; ft.len()];
-        let loaded = vec![true; ft.len()];
-        let s = sliding(
-            None,
-            &fn_c,
-            &ft,
-            &blocks(&loaded),
-            &IdentifyConfig::default(),
-        );
+        let s = sliding_of(&ft);
         assert_eq!(s.period_s, None);
     }
 
@@ -257,15 +255,7 @@ mod tests {
         let mut ft = vec![12.0; 2000];
         ft.extend(vec![0.0; 200]);
         ft.extend((0..2000).map(|k| 4.0 + 2.0 * (((k * 7919) % 13) as f64 / 6.0 - 1.0)));
-        let fn_c = vec![100.0; ft.len()];
-        let loaded = vec![true; ft.len()];
-        let s = sliding(
-            None,
-            &fn_c,
-            &ft,
-            &blocks(&loaded),
-            &IdentifyConfig::default(),
-        );
+        let s = sliding_of(&ft);
         let pieces = crate::signal::runs(&s.mask);
         assert_eq!(pieces.len(), 2, "{pieces:?}");
     }

@@ -27,6 +27,16 @@ fn plan_of(truth: &[Truth], with_durations: bool) -> Vec<ExpectedStep> {
         .collect()
 }
 
+/// The recordings of the truth's files, once each, in order, read with default settings.
+fn read_each_file(truth: &[Truth]) -> Vec<Recording> {
+    let mut files: Vec<_> = truth.iter().map(|t| t.file.clone()).collect();
+    files.dedup();
+    files
+        .iter()
+        .map(|f| read_recording(f, &ChannelMap::default()).unwrap())
+        .collect()
+}
+
 fn identify(recs: &[Recording], expected: Option<&[ExpectedStep]>) -> Identification {
     let contact = PinContact::default();
     let cfg = IdentifyConfig::default();
@@ -100,8 +110,10 @@ fn coverage_line(id: &Identification, file: usize, min_steady: f64) -> String {
 fn a_cof_trace_with_once_per_revolution_dips_is_one_steady_step() {
     let d = tempfile::tempdir().unwrap();
     let t = unseen::cof_trace_with_dips(d.path(), 7);
-    let mut map = ChannelMap::default();
-    map.constant_sliding_m_s = Some(0.5);
+    let map = ChannelMap {
+        constant_sliding_m_s: Some(0.5),
+        ..Default::default()
+    };
     let rec = read_recording(&t.file, &map).unwrap();
     let id = identify(&[rec], None);
     assert_eq!(id.dataset.records.len(), 1, "{:#?}", id.files[0]);
@@ -202,17 +214,12 @@ fn a_plan_with_an_extra_step_in_the_recording_names_the_segment() {
 fn nine_timed_steps_per_pin_without_a_speed_channel_are_placed_by_the_plan() {
     let d = tempfile::tempdir().unwrap();
     let truth = unseen::timed_steps(d.path(), 5, 3);
-    let mut files: Vec<_> = truth.iter().map(|t| t.file.clone()).collect();
-    files.dedup();
-    let recs: Vec<Recording> = files
-        .iter()
-        .map(|f| read_recording(f, &ChannelMap::default()).unwrap())
-        .collect();
+    let recs = read_each_file(&truth);
     let plan = plan_of(&truth, true);
     let id = identify(&recs, Some(&plan));
     check(&id, &truth, 0.003);
     assert!(id.dataset.records.len() >= 25, "{:#?}", id.matching);
-    for f in 0..files.len() {
+    for f in 0..recs.len() {
         coverage_line(&id, f, 30.0);
     }
 }
@@ -306,19 +313,14 @@ fn no_speed_and_no_plan_names_the_constant_speed() {
 fn nine_steps_per_pin_without_durations_are_found_by_their_levels() {
     let d = tempfile::tempdir().unwrap();
     let truth = unseen::timed_steps(d.path(), 6, 2);
-    let mut files: Vec<_> = truth.iter().map(|t| t.file.clone()).collect();
-    files.dedup();
-    let recs: Vec<Recording> = files
-        .iter()
-        .map(|f| read_recording(f, &ChannelMap::default()).unwrap())
-        .collect();
+    let recs = read_each_file(&truth);
     let plan = plan_of(&truth, false);
     let id = identify(&recs, Some(&plan));
     for f in &id.files {
         assert_eq!(f.period_s, None, "{}", f.source);
     }
     check(&id, &truth, 0.003);
-    for f in 0..files.len() {
+    for f in 0..recs.len() {
         coverage_line(&id, f, 30.0);
     }
 }
