@@ -1,5 +1,7 @@
 //! `greybox bench`: measured speed of the things that must be fast.
 
+use greybox_core::count::Count;
+use greybox_pipeline::export::{AxisPoints, TableSize, DEFAULT_MAX_TABLE_SIZE};
 use crate::output::emit;
 use anyhow::Result;
 use greybox_core::choice::{clap_parsers::choice, Choice};
@@ -7,6 +9,11 @@ use greybox_friction::table_file::TableKind;
 use greybox_pipeline::validate::ToolModel;
 use greybox_pipeline::{bench, text, validate};
 use std::path::PathBuf;
+
+/// Timed repetitions of a benchmark.
+type Repeats = Count<1, 1_000>;
+/// Timed calls of a law, a table or a model (a few ns to µs each).
+type Calls = Count<1, 10_000_000_000>;
 
 #[derive(clap::Subcommand, Debug)]
 pub enum Bench {
@@ -16,8 +23,8 @@ pub enum Bench {
         #[arg(long = "size-mb", default_value_t = 100.0)]
         size_mb: f64,
         /// Timed repetitions per format (the best and the median are reported).
-        #[arg(long, default_value_t = 3)]
-        repeats: usize,
+        #[arg(long, default_value_t = Repeats::of(3))]
+        repeats: Repeats,
         /// Directory for the files (default: a temporary directory, removed afterwards).
         #[arg(long)]
         dir: Option<PathBuf>,
@@ -36,17 +43,17 @@ pub enum Bench {
         #[arg(long, value_parser = choice::<TableKind>())]
         kind: Option<TableKind>,
         /// Uniform tables: grid points per axis (pressure, velocity).
-        #[arg(long, default_value_t = 201)]
-        points: usize,
+        #[arg(long, default_value_t = AxisPoints::of(201))]
+        points: AxisPoints,
         /// Adaptive tables: max deviation on the refinement's check set.
         #[arg(long, default_value_t = 1e-4)]
         tolerance: f64,
         /// Most cells (exact) or nodes (adaptive).
-        #[arg(long = "max-table-size", default_value_t = 1 << 22)]
-        max_size: usize,
+        #[arg(long = "max-table-size", default_value_t = DEFAULT_MAX_TABLE_SIZE)]
+        max_size: TableSize,
         /// Timed evaluations of the table (the raw law gets a hundredth, at least 10 000).
-        #[arg(long, default_value_t = 20_000_000)]
-        calls: usize,
+        #[arg(long, default_value_t = Calls::of(20_000_000))]
+        calls: Calls,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -95,8 +102,8 @@ pub enum Bench {
         #[arg(long, num_args = 1.., required = true)]
         models: Vec<PathBuf>,
         /// Timed calls per model.
-        #[arg(long, default_value_t = 200_000)]
-        calls: usize,
+        #[arg(long, default_value_t = Calls::of(200_000))]
+        calls: Calls,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -130,10 +137,10 @@ pub fn run(a: Args) -> Result<()> {
         } => {
             let o = bench::SurrogateBench {
                 kind,
-                points: points.max(2),
+                points: points.get(),
                 tolerance,
-                max_size,
-                calls: calls.max(1),
+                max_size: max_size.get(),
+                calls: calls.get(),
             };
             emit(json, &bench::surrogate(&law, &o)?, text::surrogate_speed)
         }
@@ -144,7 +151,7 @@ pub fn run(a: Args) -> Result<()> {
         } => {
             let rows = models
                 .iter()
-                .map(|m| bench::predict_latency(m, calls.max(1)))
+                .map(|m| bench::predict_latency(m, calls.get()))
                 .collect::<Result<Vec<_>>>()?;
             emit(json, &rows, |r| text::predict_latency(r))
         }
@@ -181,7 +188,7 @@ pub fn run(a: Args) -> Result<()> {
             repeats,
             dir,
             json,
-        } => emit(json, &bench::ingest(size_mb, repeats, dir)?, |r| {
+        } => emit(json, &bench::ingest(size_mb, repeats.get(), dir)?, |r| {
             text::ingest(r)
         }),
     }

@@ -38,8 +38,8 @@ pub struct Args {
     #[arg(long)]
     pub exponential_end: Option<f64>,
     /// Harmonics of the spindle rotation frequency in the excitation check.
-    #[arg(long, default_value_t = 3)]
-    pub harmonics: usize,
+    #[arg(long, default_value_t = greybox_pipeline::characterize::Harmonics::of(3))]
+    pub harmonics: greybox_pipeline::characterize::Harmonics,
     /// The campaign plan for the excitation check (study TOML and/or plan flags).
     #[command(flatten)]
     pub plan: PlanSettings,

@@ -12,8 +12,8 @@ pub struct Args {
     #[arg(long)]
     pub example: Option<PathBuf>,
     /// Friction windows in the example.
-    #[arg(long, default_value_t = 5)]
-    pub example_windows: usize,
+    #[arg(long, default_value_t = greybox_couple::example::ExampleWindows::of(5))]
+    pub example_windows: greybox_couple::example::ExampleWindows,
     #[command(flatten)]
     pub settings: CoupleSettings,
     #[arg(long)]
@@ -22,7 +22,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<()> {
     if let Some(dir) = &a.example {
-        greybox_couple::example::write_example(dir, a.example_windows)?;
+        greybox_couple::example::write_example(dir, a.example_windows.get())?;
         println!(
             "wrote {0}/model.inp, {0}/segment.inp and {0}/law.json; run:\n  greybox couple --deck {0}/model.inp --segment {0}/segment.inp --law {0}/law.json --work {0}/run",
             dir.display()

@@ -69,7 +69,7 @@ pub struct Args {
     /// Random points of the deviation check of every format (cell centres and the
     /// neighbours of every grid line come on top); 0: no check [default: 100000].
     #[arg(long)]
-    pub check_points: Option<usize>,
+    pub check_points: Option<greybox_pipeline::export::CheckPoints>,
     /// Engine tables: grid lines at the split thresholds of tree ensembles, two points one
     /// float apart per threshold (exact for engines that interpolate linearly); auto: for
     /// tree-ensemble laws [default: auto].
@@ -90,7 +90,7 @@ pub struct Args {
     /// Largest table in values (engine-table points, surrogate cells or nodes); a bigger
     /// one is refused with its size [default: 4194304].
     #[arg(long = "max-table-size")]
-    pub max_table_size: Option<usize>,
+    pub max_table_size: Option<greybox_pipeline::export::TableSize>,
     /// Print the export report as JSON.
     #[arg(long)]
     pub json: bool,

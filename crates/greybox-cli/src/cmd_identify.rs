@@ -64,7 +64,7 @@ pub struct Args {
     pub map: Vec<String>,
     /// 1-based header line of text files (default: found below any preamble).
     #[arg(long = "header-line")]
-    pub header_line: Option<u64>,
+    pub header_line: Option<greybox_pipeline::settings::identify::HeaderLine>,
     /// Sample rate of files without a time column, Hz: time = k / rate.
     #[arg(long = "sample-rate-hz")]
     pub sample_rate_hz: Option<f64>,

@@ -64,8 +64,8 @@ pub struct FitCArgs {
     #[arg(long = "tolerance-n-per-mm", default_value_t = 3.0)]
     pub tolerance_n_per_mm: f64,
     /// At most this many cutting simulations.
-    #[arg(long = "max-runs", default_value_t = 6)]
-    pub max_runs: usize,
+    #[arg(long = "max-runs", default_value_t = greybox_pipeline::material::CalibrationRuns::of(6))]
+    pub max_runs: greybox_pipeline::material::CalibrationRuns,
     #[arg(long)]
     pub out: Option<PathBuf>,
     #[arg(long)]

@@ -20,9 +20,10 @@ mod cmd_sweep;
 mod cmd_synth;
 mod cmd_wear;
 mod cmd_windows;
+mod count_help;
 mod output;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 /// greybox — tribometer measurements to data-driven friction models for cutting simulation.
 #[derive(Parser)]
@@ -126,7 +127,8 @@ fn main() {
         eprintln!("warning: rayon thread pool: {e}");
     }
     greybox_pipeline::output::remove_temporaries_on_interrupt();
-    let cli = Cli::parse();
+    let matches = count_help::state_count_ranges(Cli::command()).get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     greybox_pipeline::progress_display::Mode::choose(cli.quiet).install();
     cli.budget.install();
     let result = match cli.command {

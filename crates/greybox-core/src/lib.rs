@@ -23,6 +23,7 @@
 //!   CSV fields, shell words, XML/SVG/HTML; names checked to be words.
 //! * [`budget`] — the named caps of readers and walkers (bytes, cells, array lengths, lines).
 //! * [`choice`] — option enums with one spelling on the command line, in Python and in files.
+//! * [`count`] — counts as bounded types: the cap part of the type, checked where the number enters.
 //!
 //! SI units everywhere inside: Pa, m/s, N, K, s.
 
@@ -31,6 +32,7 @@ pub mod boundary;
 pub mod budget;
 pub mod choice;
 pub mod cleanup;
+pub mod count;
 pub mod contact;
 pub mod csvutil;
 pub mod dataset;

@@ -134,6 +134,9 @@ pub fn deck(windows: usize, initial_mu: f64) -> (String, String) {
 pub const EXAMPLE_LAW: &str =
     r#"{"law": "usui-childs", "mu": 0.5, "m": 1.0, "n": 1.0, "k_MPa": 20}"#;
 
+/// Friction windows of the example problem.
+pub type ExampleWindows = greybox_core::count::Count<1, 1_000>;
+
 /// Write model.inp, segment.inp and law.json into `dir`.
 pub fn write_example(dir: &Path, windows: usize) -> Result<()> {
     let (deck, segment) = deck(windows, 0.3);

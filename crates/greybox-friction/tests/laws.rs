@@ -34,8 +34,8 @@ fn fitted_model(family: Family) -> greybox_learn::modelfile::ModelFile {
     let mut cfg = FitConfig {
         families: vec![family],
         skip_nested: true,
-        bootstrap_resamples: 10,
-        importance_repeats: 1,
+        bootstrap_resamples: greybox_learn::protocol::Resamples::of(10),
+        importance_repeats: greybox_learn::protocol::Repeats::of(1),
         ..Default::default()
     };
     cfg.grid.svr.kernel = vec![greybox_learn::svr::Kernel::Rbf];

@@ -13,6 +13,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 pub use greybox_model::ensemble::BoostParams;
+use greybox_model::ensemble::{BoostDepth, Trees};
 
 /// XGBoost's smallest accepted loss change (kRtEps).
 const MIN_LOSS_CHANGE: f64 = 1e-6;
@@ -21,12 +22,9 @@ impl Regressor for BoostParams {
     type Fitted = TreeEnsemble;
 
     fn validate(&self) -> Result<()> {
-        if self.n_estimators == 0 || self.max_depth == 0 {
-            return Err(Error::invalid(
-                "gradient boosting",
-                "n_estimators and max_depth must be ≥ 1",
-            ));
-        }
+        let invalid = |e| Error::invalid("gradient boosting", e);
+        Trees::of_usize(self.n_estimators, "n_estimators").map_err(invalid)?;
+        BoostDepth::of_usize(self.max_depth, "max_depth").map_err(invalid)?;
         if !(self.learning_rate > 0.0 && self.learning_rate <= 1.0) {
             return Err(Error::invalid(
                 "gradient boosting",

@@ -11,14 +11,14 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 pub use greybox_model::ensemble::ForestParams;
+use greybox_model::ensemble::Trees;
 
 impl Regressor for ForestParams {
     type Fitted = TreeEnsemble;
 
     fn validate(&self) -> Result<()> {
-        if self.n_estimators == 0 {
-            return Err(Error::invalid("random forest", "n_estimators must be ≥ 1"));
-        }
+        Trees::of_usize(self.n_estimators, "n_estimators")
+            .map_err(|e| Error::invalid("random forest", e))?;
         if self.min_samples_leaf == 0 {
             return Err(Error::invalid(
                 "random forest",

@@ -11,6 +11,7 @@ use crate::model::Regressor;
 use crate::Matrix;
 use greybox_core::{Error, Result};
 pub use greybox_model::mlp::{Activation, MlpModel, MlpParams, MAX_WIDTH};
+use greybox_model::mlp::{Epochs, LayerWidth, MAX_LAYERS};
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -141,13 +142,16 @@ impl Regressor for MlpParams {
     type Fitted = MlpModel;
 
     fn validate(&self) -> Result<()> {
-        if self.hidden_layers.is_empty()
-            || self.hidden_layers.iter().any(|&h| h == 0 || h > MAX_WIDTH)
-        {
+        let invalid = |e| Error::invalid("MLP", e);
+        for &h in &self.hidden_layers {
+            LayerWidth::of_usize(h, "hidden layer size").map_err(invalid)?;
+        }
+        Epochs::of_usize(self.max_epochs, "max_epochs").map_err(invalid)?;
+        if self.hidden_layers.is_empty() || self.hidden_layers.len() > MAX_LAYERS {
             return Err(Error::invalid(
                 "MLP",
                 format!(
-                    "hidden layer sizes must be 1..={MAX_WIDTH}, got {:?}",
+                    "1..={MAX_LAYERS} hidden layers of 1..={MAX_WIDTH} neurons are needed, got {:?}",
                     self.hidden_layers
                 ),
             ));

@@ -22,6 +22,7 @@ use crate::model::{Family, Hyperparameters, Predictor};
 use crate::modelfile::{FeatureRange, ModelFile, SCHEMA, SCHEMA_VERSION};
 use crate::svr::{Kernel, SvrParams};
 use crate::table::Dataset;
+use greybox_core::count::Count;
 use greybox_core::{Error, Result};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -183,16 +184,26 @@ impl Grids {
     }
 }
 
-/// Protocol settings (study TOML `[fit]`).
+/// Cross-validation folds (outer and inner): at least two; at most one per row of any
+/// dataset greybox is meant for.
+pub type Folds = Count<2, 10_000>;
+/// Bootstrap resamples of the 95 % CIs (1000 in the article); each costs a pass over the rows.
+pub type Resamples = Count<1, 100_000>;
+/// Permutation-importance repeats (30 in the article); each holds a permuted column in memory.
+pub type Repeats = Count<1, 10_000>;
+
+/// Protocol settings (study TOML `[fit]`). The counts are bounded types ([`Folds`],
+/// [`Resamples`], [`Repeats`]): a study file or Python's JSON beyond a cap is refused when
+/// read, with the range.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct FitConfig {
     pub families: Vec<Family>,
-    pub folds: usize,
-    pub inner_folds: usize,
+    pub folds: Folds,
+    pub inner_folds: Folds,
     pub seed: u64,
-    pub bootstrap_resamples: usize,
-    pub importance_repeats: usize,
+    pub bootstrap_resamples: Resamples,
+    pub importance_repeats: Repeats,
     pub importance_seed: u64,
     pub interval_coverage: f64,
     /// Skip nested CV (the held-out estimate) — for quick looks only.
@@ -204,11 +215,11 @@ impl Default for FitConfig {
     fn default() -> Self {
         FitConfig {
             families: Family::ALL.to_vec(),
-            folds: 5,
-            inner_folds: 5,
+            folds: Folds::of(5),
+            inner_folds: Folds::of(5),
             seed: 42,
-            bootstrap_resamples: 1000,
-            importance_repeats: 30,
+            bootstrap_resamples: Resamples::of(1000),
+            importance_repeats: Repeats::of(30),
             importance_seed: 42,
             interval_coverage: 0.95,
             skip_nested: false,
@@ -267,8 +278,8 @@ pub fn run_protocol(data: &Dataset, cfg: &FitConfig) -> Result<(FitReport, Vec<M
     let ids = match &data.folds {
         Some(f) => f.clone(),
         None => {
-            check_folds(n, cfg.folds)?;
-            kfold_ids(n, cfg.folds, cfg.seed)
+            check_folds(n, cfg.folds.get())?;
+            kfold_ids(n, cfg.folds.get(), cfg.seed)
         }
     };
     if !(cfg.interval_coverage > 0.0 && cfg.interval_coverage < 1.0) {
@@ -333,16 +344,16 @@ fn run_family(
             None => fit_all(&selected)?,
         };
         let pred = model.predict(&data.x);
-        let training = metrics_with_ci(&data.y, &pred, cfg.bootstrap_resamples, cfg.seed);
+        let training = metrics_with_ci(&data.y, &pred, cfg.bootstrap_resamples.get(), cfg.seed);
         progress.inc(1);
         greybox_core::interrupt::check()?;
         let held_out = if cfg.skip_nested {
             None
         } else {
             let (oof, folds): (Vec<f64>, Vec<OuterFold>) =
-                nested_cv(&grid, &data.x, &data.y, &ids, cfg.inner_folds, cfg.seed)?;
+                nested_cv(&grid, &data.x, &data.y, &ids, cfg.inner_folds.get(), cfg.seed)?;
             Some(HeldOut {
-                metrics: metrics_with_ci(&data.y, &oof, cfg.bootstrap_resamples, cfg.seed),
+                metrics: metrics_with_ci(&data.y, &oof, cfg.bootstrap_resamples.get(), cfg.seed),
                 r2_per_fold: folds.iter().map(|f| f.r2).collect(),
                 selected_per_fold: folds.iter().map(|f| f.selected.label()).collect(),
                 predictions: oof,
@@ -355,7 +366,7 @@ fn run_family(
             &data.x,
             &data.y,
             names,
-            cfg.importance_repeats,
+            cfg.importance_repeats.get(),
             cfg.importance_seed,
         );
         progress.inc(1);

@@ -26,9 +26,9 @@ fn csv(n: usize, seed: u64) -> String {
 
 fn small_config() -> FitConfig {
     let mut c = FitConfig {
-        bootstrap_resamples: 200,
-        importance_repeats: 5,
-        inner_folds: 3,
+        bootstrap_resamples: greybox_learn::protocol::Resamples::of(200),
+        importance_repeats: greybox_learn::protocol::Repeats::of(5),
+        inner_folds: greybox_learn::protocol::Folds::of(3),
         ..Default::default()
     };
     c.grid.random_forest.n_estimators = vec![10, 30];

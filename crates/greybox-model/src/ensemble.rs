@@ -2,7 +2,13 @@
 //! (scikit-learn's `RandomForestRegressor` defaults) and XGBoost-style gradient boosting
 //! (XGBoost's defaults where the grid sets none). Fitting is `greybox-learn`'s.
 
+use greybox_core::count::Count;
 use serde::{Deserialize, Serialize};
+
+/// Trees of a forest or boosting rounds: each is fitted and held in memory.
+pub type Trees = Count<1, 100_000>;
+/// Depth of a boosted tree: up to 2^depth leaves each.
+pub type BoostDepth = Count<1, 64>;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]

@@ -90,6 +90,13 @@ impl Default for MlpParams {
 /// Widest layer a single-point prediction handles without allocating.
 pub const MAX_WIDTH: usize = 256;
 
+/// Width of one hidden layer.
+pub type LayerWidth = greybox_core::count::Count<1, { MAX_WIDTH as u64 }>;
+/// Most hidden layers of a network.
+pub const MAX_LAYERS: usize = 16;
+/// Epoch limit of training: each is a pass over the rows.
+pub type Epochs = greybox_core::count::Count<1, 1_000_000>;
+
 /// A fitted network. Layer k maps `sizes[k]` → `sizes[k+1]`; `weights[k]` is row-major
 /// (`sizes[k]` × `sizes[k+1]`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

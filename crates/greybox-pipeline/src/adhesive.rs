@@ -2,6 +2,7 @@
 //! Bowden–Tabor model or by inverse pin-sliding simulation (the article's method).
 
 pub use crate::adhesive_3d::Simulation3dOptions;
+use greybox_core::count::Count;
 use crate::adhesive_loads::loads_to_simulate;
 use crate::output::provenance;
 use anyhow::{bail, Context, Result};
@@ -25,12 +26,19 @@ pub enum AdhesiveMethod {
     Simulation3d(Simulation3dOptions),
 }
 
+/// Loads simulated by an inverse route: each is a search of several pin runs.
+pub type SimLoads = Count<1, 1_000>;
+/// Runs of one load's search.
+pub type SimRuns = Count<1, 100>;
+/// Every n-th distinct load, from the highest.
+pub type LoadStride = Count<1, 1_000>;
+
 /// The inverse pin-sliding simulation of [`AdhesiveMethod::Simulation`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimulationOptions {
     /// Number of highest distinct loads simulated (the share is fitted against load and
     /// applied to all loads, as in the article).
-    pub loads: usize,
+    pub loads: SimLoads,
     /// Particle spacing, µm.
     pub spacing_um: f64,
     /// Slide length, mm.
@@ -40,19 +48,19 @@ pub struct SimulationOptions {
     /// Stop when |simulated F_t/F_N − μ_app| ≤ this.
     pub tolerance: f64,
     /// Maximum runs per load.
-    pub max_runs: usize,
+    pub max_runs: SimRuns,
 }
 
 impl SimulationOptions {
     /// The defaults: the three highest loads, 10 µm particles, a 1.5 mm slide on the
     /// article's 1 mm workpiece, |Δμ| ≤ 0.002 in at most 5 runs per load.
     pub const DEFAULT: SimulationOptions = SimulationOptions {
-        loads: 3,
+        loads: SimLoads::of(3),
         spacing_um: 10.0,
         slide_mm: 1.5,
         height_mm: 1.0,
         tolerance: 0.002,
-        max_runs: 5,
+        max_runs: SimRuns::of(5),
     };
 }
 
@@ -186,7 +194,7 @@ fn correct_by_simulation(
             sim.tolerance
         );
     }
-    let loads = loads_to_simulate(ds, r, &law, sim.loads, 1, "adhesive.sim_loads")?;
+    let loads = loads_to_simulate(ds, r, &law, sim.loads.get(), 1, "adhesive.sim_loads")?;
     let simulated: Vec<f64> = loads.iter().map(|l| l.0).collect();
     let mut base = PinSetup::article(loads[0].1, loads[0].2, sim.spacing_um * 1e-6);
     base.pin_radius_m = r;
@@ -208,7 +216,7 @@ fn correct_by_simulation(
         None,
         "loads",
     );
-    let inv = inverse_over_loads(&base, &loads, sim.tolerance, sim.max_runs.max(2))?;
+    let inv = inverse_over_loads(&base, &loads, sim.tolerance, sim.max_runs.get().max(2))?;
     progress.set(inv.len() as u64);
     progress.finish("done");
     let share = ShareLaw::fit(

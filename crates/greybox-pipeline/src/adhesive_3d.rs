@@ -19,7 +19,8 @@ use crate::adhesive_loads::loads_to_simulate;
 use anyhow::{bail, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::dataset::FrictionDataset;
-use greybox_couple::pin3d::{find_adhesive_mu, Pin3dInverse, Pin3dSetup};
+use crate::adhesive::{LoadStride, SimLoads, SimRuns};
+use greybox_couple::pin3d::{find_adhesive_mu, Increments, Pin3dInverse, Pin3dSetup};
 use greybox_sim::pin::ShareLaw;
 use greybox_tribo::ploughing::{bowden_tabor_mu, correct_with, Correction, TrackWidth, WidthLaw};
 use rayon::prelude::*;
@@ -34,18 +35,18 @@ const PILOTS: usize = 2;
 pub struct Simulation3dOptions {
     /// Number of loads simulated, taken every `load_stride`-th distinct load from the highest
     /// (the article: six, every second load).
-    pub loads: usize,
-    pub load_stride: usize,
+    pub loads: SimLoads,
+    pub load_stride: LoadStride,
     /// Elements per nominal contact radius.
     pub elements_per_radius: f64,
     /// Slide length in nominal contact radii.
     pub slide_per_radius: f64,
     /// Slide increments.
-    pub increments: usize,
+    pub increments: Increments,
     /// Stop when |simulated F_t/F_N − μ_app| ≤ this.
     pub tolerance: f64,
     /// Maximum runs per load.
-    pub max_runs: usize,
+    pub max_runs: SimRuns,
     /// The CalculiX executable.
     pub ccx: PathBuf,
 }
@@ -81,15 +82,6 @@ fn check(sim: &Simulation3dOptions) -> Result<()> {
             sim.tolerance
         );
     }
-    if sim.load_stride == 0 {
-        bail!("adhesive.sim3d_load_stride: must be at least 1");
-    }
-    if sim.max_runs == 0 {
-        bail!("adhesive.sim_max_runs: must be at least 1");
-    }
-    if sim.increments == 0 {
-        bail!("adhesive.sim3d_increments: must be at least 1");
-    }
     for (v, field) in [
         (
             sim.elements_per_radius,
@@ -100,6 +92,13 @@ fn check(sim: &Simulation3dOptions) -> Result<()> {
         if !(v.is_finite() && v > 0.0) {
             bail!("{field}: expected a positive number, got {v}");
         }
+    }
+    // the mesh's size follows from the two ratios alone (not from the load's depth)
+    let mut probe = Pin3dSetup::article(0.1e-3, 0.0);
+    probe.elements_per_radius = sim.elements_per_radius;
+    probe.slide_per_radius = sim.slide_per_radius;
+    if let Err(e) = probe.mesh_spec().check_size() {
+        bail!("adhesive.sim3d_elements_per_radius / sim3d_slide_per_radius: {e}");
     }
     // a missing CalculiX is the user's set-up, not a load that failed to converge
     if let Err(e) = std::process::Command::new(&sim.ccx).arg("-v").output() {
@@ -135,8 +134,8 @@ pub fn correct(
         ds,
         r,
         &law,
-        sim.loads,
-        sim.load_stride,
+        sim.loads.get(),
+        sim.load_stride.get(),
         "adhesive.sim3d_loads",
     )?;
     let dir = runs_dir(out);
@@ -145,7 +144,7 @@ pub fn correct(
         s.pin_radius_m = r;
         s.elements_per_radius = sim.elements_per_radius;
         s.slide_per_radius = sim.slide_per_radius;
-        s.increments = sim.increments;
+        s.increments = sim.increments.get();
         s.ccx = sim.ccx.clone();
         s
     };
@@ -166,7 +165,7 @@ pub fn correct(
     let search = |&(f, depth, mu_app): &Load, factor: f64| -> Outcome {
         let guess = factor * nominal(f).map_err(|e| e.to_string())?;
         let d = dir.join(format!("load_{f:.0}N"));
-        let inv = find_adhesive_mu(&base(depth), mu_app, guess, sim.tolerance, sim.max_runs, &d);
+        let inv = find_adhesive_mu(&base(depth), mu_app, guess, sim.tolerance, sim.max_runs.get(), &d);
         progress.inc(1);
         inv.map(|i| (guess, i))
             .map_err(|e| format!("{f:.0} N: {e}"))

@@ -57,6 +57,9 @@ pub fn recording_with_load(spec: &str) -> Result<(PathBuf, Option<f64>)> {
 }
 
 /// Options of [`characterize`].
+/// Harmonics of the spindle frequency checked against the rig's resonances.
+pub type Harmonics = greybox_core::count::Count<1, 100>;
+
 #[derive(Debug, Clone)]
 pub struct CharacterizeOptions {
     /// Hammer recordings (CSV or TDMS) with their normal load, N. Recordings with the same
@@ -66,7 +69,7 @@ pub struct CharacterizeOptions {
     /// Record length, window and resonance picking.
     pub impact: ImpactConfig,
     /// Harmonics of the spindle rotation frequency in the excitation check.
-    pub harmonics: usize,
+    pub harmonics: Harmonics,
     /// The campaign plan for the excitation check (none: no check).
     pub plan: Option<Plan>,
     /// The study file the plan came from, recorded in the provenance.
@@ -252,7 +255,7 @@ pub fn characterize(a: &CharacterizeOptions) -> Result<CharacterizeReport> {
         });
     }
     let check = match &a.plan {
-        Some(p) => Some(excitation_check(&all_res, p, a.harmonics)?),
+        Some(p) => Some(excitation_check(&all_res, p, a.harmonics.get())?),
         None => None,
     };
     // plots: |H1| (log) with the excitation band, and coherence

@@ -351,7 +351,7 @@ fn dynamics(base: &Path, plan: &Plan) -> Result<CharacterizeReport> {
             ..ImpactChannels::default()
         },
         impact: ImpactConfig::default(),
-        harmonics: 3,
+        harmonics: crate::characterize::Harmonics::of(3),
         plan: Some(plan.clone()),
         study: Some(study_file),
         out: base.join("characterize"),
@@ -427,7 +427,7 @@ fn material(base: &Path) -> Result<(PathBuf, greybox_material::fit::JcFit)> {
 }
 
 /// Pictures of the chip the demo's cut draws while it forms.
-pub const DEMO_CHIP_FRAMES: usize = 8;
+pub const DEMO_CHIP_FRAMES: crate::simulate::Frames = crate::simulate::Frames::of(8);
 
 /// The article's cut (coarser: 12.5 µm spacing) with the grey-box law in 12.5 µm windows
 /// along rake and flank, re-evaluated every 500 steps from smoothed window states.

@@ -26,6 +26,9 @@ pub fn fit_flow_curves(curves: &Path, options: &FitOptions, out: Option<&Path>) 
     Ok(f)
 }
 
+/// Cutting simulations of one calibration of C (the search needs two to bracket).
+pub type CalibrationRuns = greybox_core::count::Count<2, 100>;
+
 /// Options of [`fit_rate_sensitivity`].
 #[derive(Debug, Clone)]
 pub struct RateSensitivityOptions {
@@ -38,7 +41,7 @@ pub struct RateSensitivityOptions {
     /// Stop when the force is matched within this, N/m.
     pub tolerance_n_per_m: f64,
     /// At most this many cutting simulations.
-    pub max_runs: usize,
+    pub max_runs: CalibrationRuns,
     /// Write the result as JSON here.
     pub out: Option<PathBuf>,
 }
@@ -56,7 +59,7 @@ pub fn fit_rate_sensitivity(o: &RateSensitivityOptions) -> Result<RateSensitivit
         o.measured_force_n_per_m,
         o.c_range,
         o.tolerance_n_per_m,
-        o.max_runs,
+        o.max_runs.get(),
     )?;
     if let Some(p) = &o.out {
         write_json_beside_provenance(p, &r, &inputs)?;

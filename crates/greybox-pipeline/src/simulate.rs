@@ -31,11 +31,11 @@ pub struct RunOutput {
     #[cfg_attr(feature = "cli", arg(long, default_value = "sim-out"))]
     pub out: PathBuf,
     /// Write VTK particle files every N steps (0: first and last only).
-    #[cfg_attr(feature = "cli", arg(long = "vtk-every", default_value_t = 0))]
-    pub vtk_every: u64,
+    #[cfg_attr(feature = "cli", arg(long = "vtk-every", default_value_t = StepInterval::of(0)))]
+    pub vtk_every: StepInterval,
     /// Write a checkpoint every N steps (0: none).
-    #[cfg_attr(feature = "cli", arg(long = "checkpoint-every", default_value_t = 0))]
-    pub checkpoint_every: u64,
+    #[cfg_attr(feature = "cli", arg(long = "checkpoint-every", default_value_t = StepInterval::of(0)))]
+    pub checkpoint_every: StepInterval,
     /// Resume an interrupted run from its checkpoint (`OUT.partial/checkpoint.json`: a run
     /// with checkpoints works in `OUT.partial` until it is complete, then becomes `OUT`).
     /// The resumed run's outputs equal those of an uninterrupted one.
@@ -47,8 +47,8 @@ pub struct RunOutput {
     /// Cuts: also draw the chip at this many evenly spaced instants (`frames/chip_NNN.svg`,
     /// shown as a strip and a slider by the report); 0: only the last state
     /// (`chip_temperature.svg`, `chip_plastic_strain.svg`).
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = 0))]
-    pub frames: usize,
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = Frames::of(0)))]
+    pub frames: Frames,
 }
 
 impl RunOutput {
@@ -63,7 +63,7 @@ impl RunOutput {
     /// completes; for runs with checkpoints, the resumable `OUT.partial`.
     fn stage(&self) -> Result<StagedDir> {
         let existing = Existing::from_force(self.force);
-        if self.checkpoint_every > 0 || self.resume.is_some() {
+        if self.checkpoint_every.get() > 0 || self.resume.is_some() {
             return Ok(StagedDir::resumable(
                 &self.out,
                 "out",
@@ -76,6 +76,11 @@ impl RunOutput {
     }
 }
 
+/// Time steps between two outputs (VTK files, checkpoints); 0: none.
+pub type StepInterval = greybox_core::count::Count<0, 1_000_000_000_000>;
+/// Chip pictures drawn during a cut (each an SVG file); 0: the last state only.
+pub type Frames = greybox_core::count::Count<0, 10_000>;
+
 /// Output observers shared by pin and cutting runs.
 struct Observers {
     vtk: VtkSeries,
@@ -87,14 +92,13 @@ impl Observers {
         Observers {
             vtk: VtkSeries::new(
                 &dir.join("vtk"),
-                if o.vtk_every == 0 {
-                    u64::MAX
-                } else {
-                    o.vtk_every
+                match o.vtk_every.as_u64() {
+                    0 => u64::MAX,
+                    n => n,
                 },
             ),
-            ckpt: (o.checkpoint_every > 0).then(|| {
-                Checkpointer::new(&dir.join("checkpoint.json"), o.checkpoint_every, setup_id)
+            ckpt: (o.checkpoint_every.get() > 0).then(|| {
+                Checkpointer::new(&dir.join("checkpoint.json"), o.checkpoint_every.as_u64(), setup_id)
             }),
         }
     }
@@ -330,7 +334,7 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
         .and_then(|c| c.observers.get(FrameRecorder::STATE_KEY))
     {
         Some(v) => serde_json::from_value(v.clone()).context("the checkpoint's chip frames")?,
-        None => FrameRecorder::new(setup.duration_s() * fraction, o.frames.max(1)),
+        None => FrameRecorder::new(setup.duration_s() * fraction, o.frames.get().max(1)),
     };
     let r = {
         let mut list = obs.list();
@@ -368,7 +372,7 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
     files.extend(write_chip_pictures(
         out,
         &frames.frames,
-        o.frames > 0,
+        o.frames.get() > 0,
         &|t| t * v * 1e3,
     )?);
     let threads = greybox_sim::threads();

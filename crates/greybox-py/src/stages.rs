@@ -4,6 +4,7 @@
 
 use crate::{py_err, run_interruptible, to_json};
 use greybox_core::dataset::PressureConvention;
+use greybox_tribo::plan::{PinCount, VelocityCount};
 use greybox_pipeline::adhesive::adhesive;
 use greybox_pipeline::export::{export, ExportFormat, ExportOptions, ExportOverrides};
 use greybox_pipeline::fit::{fit, FitOptions};
@@ -55,10 +56,12 @@ fn study_or_example(
         )?,
     };
     if let Some(n) = normal_force_count {
-        s.plan.normal_force_count = n;
+        s.plan.normal_force_count =
+            PinCount::of_usize(n, "normal_force_count").map_err(anyhow::Error::msg)?;
     }
     if let Some(n) = velocity_count {
-        s.plan.velocity_count = n;
+        s.plan.velocity_count =
+            VelocityCount::of_usize(n, "velocity_count").map_err(anyhow::Error::msg)?;
     }
     Ok(s)
 }
@@ -382,7 +385,8 @@ fn simulate_cut(
         }
         let mut o = RunOutput::to(out);
         o.force = force;
-        o.frames = frames;
+        o.frames = greybox_pipeline::simulate::Frames::of_usize(frames, "frames")
+            .map_err(anyhow::Error::msg)?;
         run_cut(&case, fraction, &o)
     });
     to_json(&summary?)

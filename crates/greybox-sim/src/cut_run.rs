@@ -132,7 +132,7 @@ pub fn check_steps_ahead(
         let max = sim
             .numerics
             .max_steps
-            .unwrap_or(crate::model::DEFAULT_MAX_STEPS);
+            .map_or(crate::model::DEFAULT_MAX_STEPS, |c| c.as_u64());
         if steps > max as f64 {
             return Err(SimError::Invalid(format!(
                 "the run would take {steps:.3e} time steps of {:.3e} s to reach t = {end_s:.3e} s, over numerics.max_steps = {max}: check cutting_speed_m_s (m/s) and cut_length_m (m), or raise numerics.max_steps",

@@ -381,7 +381,7 @@ impl CuttingSetup {
             self.workpiece_length(),
             self.workpiece_height_m,
             dx,
-            self.numerics.max_particles,
+            self.numerics.max_particles.map(|c| c.as_u64()),
         )?;
         self.friction.smoothing.validate()?;
         if let Some(t) = &self.tool_thermal {
@@ -394,7 +394,7 @@ impl CuttingSetup {
             ToolThermal::check_grid_budget(
                 &self.insert.shape()?,
                 grid,
-                self.numerics.max_particles,
+                self.numerics.max_particles.map(|c| c.as_u64()),
             )?;
         }
         self.material.validate()

@@ -47,14 +47,19 @@ pub struct Numerics {
     /// [`DEFAULT_MAX_PARTICLES`]: crate::particles::DEFAULT_MAX_PARTICLES
     /// [`BYTES_PER_PARTICLE`]: crate::particles::BYTES_PER_PARTICLE
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub max_particles: Option<u64>,
+    pub max_particles: Option<ParticleCap>,
     /// Most time steps a run may take (default [`DEFAULT_MAX_STEPS`], 10⁸: about a day at
     /// the IWF case's size). The count follows from the duration and the stable time step
     /// before the first step; a cutting speed typed in m/min where m/s was meant would
     /// otherwise run for months. Unset, it is not written out.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub max_steps: Option<u64>,
+    pub max_steps: Option<StepCap>,
 }
+
+/// Values `numerics.max_particles` may be raised to: 10⁹ particles are about 4 TB.
+pub type ParticleCap = greybox_core::count::Count<1, 1_000_000_000>;
+/// Values `numerics.max_steps` may be raised to.
+pub type StepCap = greybox_core::count::Count<1, 1_000_000_000_000>;
 
 /// Default of `numerics.max_steps`.
 pub const DEFAULT_MAX_STEPS: u64 = 100_000_000;

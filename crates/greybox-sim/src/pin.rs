@@ -125,7 +125,7 @@ impl PinSetup {
             self.workpiece_length(),
             self.workpiece_height_m,
             self.spacing_m,
-            self.numerics.max_particles,
+            self.numerics.max_particles.map(|c| c.as_u64()),
         )
     }
 

@@ -6,7 +6,7 @@
 //! recording trigger output. The plan parameters are stated in `(PLAN KEY=VALUE)` header
 //! comments so that the program alone documents — and can rebuild — the campaign.
 
-use crate::plan::{Plan, PlanSpec};
+use crate::plan::{PinCount, Plan, PlanSpec, VelocityCount};
 use greybox_core::{units, Error, Result, SourcePos};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -393,8 +393,11 @@ pub fn plan_spec_from_programs(programs: &[NcProgram]) -> Result<PlanSpec> {
         }
     }
     let velocities = velocities.expect("at least one program");
-    spec.normal_force_count = forces.len();
-    spec.velocity_count = velocities.len();
+    let count_error = |e: String| Error::invalid("NC programs", e);
+    spec.normal_force_count =
+        PinCount::of_usize(forces.len(), "normal forces").map_err(count_error)?;
+    spec.velocity_count =
+        VelocityCount::of_usize(velocities.len(), "velocity steps").map_err(count_error)?;
     spec.normal_forces_n = Some(forces);
     spec.velocities_m_per_min = Some(velocities);
     // S words already carry the rounding; keep enough decimals to reproduce them exactly.

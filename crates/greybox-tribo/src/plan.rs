@@ -12,8 +12,16 @@
 //! ```
 //! Spindle speed for velocity v on track radius R: n = v / (2 π R).
 
+use greybox_core::count::Count;
 use greybox_core::{units, Error, Result};
 use serde::{Deserialize, Serialize};
+
+/// Normal forces (pins) of a plan.
+pub type PinCount = Count<1, 1_000_000>;
+/// Sliding velocities (steps per pin) of a plan.
+pub type VelocityCount = Count<1, 100_000>;
+/// Steps of a whole plan (pins × velocities): each is a run-sheet row and NC blocks.
+pub type StepCount = Count<1, 10_000_000>;
 
 /// A campaign as the user states it. Field names carry their units (study TOML `[plan]`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -26,13 +34,13 @@ pub struct PlanSpec {
     #[serde(rename = "normal_force_max_N")]
     pub normal_force_max_n: f64,
     /// Number of normal forces (= number of pins).
-    pub normal_force_count: usize,
+    pub normal_force_count: PinCount,
     /// Explicit list of normal forces, N; replaces the equidistant series when given.
     #[serde(rename = "normal_forces_N", skip_serializing_if = "Option::is_none")]
     pub normal_forces_n: Option<Vec<f64>>,
     pub velocity_min_m_per_min: f64,
     pub velocity_max_m_per_min: f64,
-    pub velocity_count: usize,
+    pub velocity_count: VelocityCount,
     /// Explicit list of sliding velocities, m/min; replaces the equidistant series when given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub velocities_m_per_min: Option<Vec<f64>>,
@@ -63,11 +71,11 @@ impl Default for PlanSpec {
         PlanSpec {
             normal_force_min_n: 150.0,
             normal_force_max_n: 2000.0,
-            normal_force_count: 10,
+            normal_force_count: PinCount::of(10),
             normal_forces_n: None,
             velocity_min_m_per_min: 20.0,
             velocity_max_m_per_min: 250.0,
-            velocity_count: 21,
+            velocity_count: VelocityCount::of(21),
             velocities_m_per_min: None,
             dwell_s: 0.5,
             track_radius_mm: None,
@@ -198,7 +206,7 @@ impl PlanSpec {
             "N",
             self.normal_force_min_n,
             self.normal_force_max_n,
-            self.normal_force_count,
+            self.normal_force_count.get(),
             &self.normal_forces_n,
         )
     }
@@ -209,7 +217,7 @@ impl PlanSpec {
             "m/min",
             self.velocity_min_m_per_min,
             self.velocity_max_m_per_min,
-            self.velocity_count,
+            self.velocity_count.get(),
             &self.velocities_m_per_min,
         )
     }
@@ -242,6 +250,8 @@ impl PlanSpec {
     pub fn build(&self) -> Result<Plan> {
         let forces = self.normal_forces()?;
         let velocities = self.velocities_m_per_min()?;
+        StepCount::of_usize(forces.len().saturating_mul(velocities.len()), "plan steps (normal forces × velocities)")
+            .map_err(|e| Error::invalid("plan", e))?;
         let radius = self.track_radius_m()?;
         let positive = |name: &str, v: f64, unit: &str| -> Result<()> {
             if v.is_finite() && v > 0.0 {
@@ -443,14 +453,23 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("must be positive"), "{e}");
+        let e = serde_json::from_str::<PlanSpec>(r#"{"velocity_count": 0}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("0 is below the least allowed 1"), "{e}");
+        let e = serde_json::from_str::<PlanSpec>(r#"{"normal_force_count": 1000000000}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("above the cap of 1000000"), "{e}");
         let e = PlanSpec {
-            velocity_count: 0,
+            normal_force_count: PinCount::of(1_000_000),
+            velocity_count: VelocityCount::of(100),
             ..article_spec()
         }
         .build()
         .unwrap_err()
         .to_string();
-        assert!(e.contains("empty range"), "{e}");
+        assert!(e.contains("plan steps (normal forces × velocities): 100000000 is above the cap of 10000000"), "{e}");
         let e = PlanSpec {
             velocity_min_m_per_min: 300.0,
             ..article_spec()

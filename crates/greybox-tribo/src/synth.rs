@@ -601,9 +601,9 @@ mod tests {
     fn same_seed_same_bytes() {
         let plan = crate::plan::PlanSpec {
             track_radius_mm: Some(100.0),
-            normal_force_count: 2,
+            normal_force_count: crate::plan::PinCount::of(2),
             normal_force_max_n: 300.0,
-            velocity_count: 3,
+            velocity_count: crate::plan::VelocityCount::of(3),
             velocity_max_m_per_min: 43.0,
             ..Default::default()
         }

@@ -8,9 +8,9 @@ use greybox_tribo::synth::{StickSlip, SynthConfig};
 fn small_plan() -> Plan {
     PlanSpec {
         track_radius_mm: Some(100.0),
-        normal_force_count: 2,
+        normal_force_count: greybox_tribo::plan::PinCount::of(2),
         normal_force_max_n: 1000.0,
-        velocity_count: 5,
+        velocity_count: greybox_tribo::plan::VelocityCount::of(5),
         velocity_max_m_per_min: 120.0,
         ..Default::default()
     }

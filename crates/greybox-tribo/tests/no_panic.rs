@@ -56,9 +56,9 @@ fn small_recording() -> greybox_tribo::recording::Recording {
     // one pin, two velocity steps
     let plan = PlanSpec {
         track_radius_mm: Some(100.0),
-        normal_force_count: 1,
+        normal_force_count: greybox_tribo::plan::PinCount::of(1),
         normal_force_max_n: 150.0,
-        velocity_count: 2,
+        velocity_count: greybox_tribo::plan::VelocityCount::of(2),
         velocity_max_m_per_min: 31.5,
         ..Default::default()
     }

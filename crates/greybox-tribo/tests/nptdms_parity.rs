@@ -104,7 +104,7 @@ fn nptdms_reads_greybox_tdms() {
     };
     let plan = greybox_tribo::plan::PlanSpec {
         track_radius_mm: Some(100.0),
-        normal_force_count: 1,
+        normal_force_count: greybox_tribo::plan::PinCount::of(1),
         normal_force_max_n: 150.0,
         ..Default::default()
     }

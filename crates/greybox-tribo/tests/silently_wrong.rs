@@ -12,9 +12,9 @@ use greybox_tribo::synth::SynthConfig;
 fn plan() -> Plan {
     PlanSpec {
         track_radius_mm: Some(100.0),
-        normal_force_count: 3,
+        normal_force_count: greybox_tribo::plan::PinCount::of(3),
         normal_force_max_n: 1000.0,
-        velocity_count: 3,
+        velocity_count: greybox_tribo::plan::VelocityCount::of(3),
         velocity_max_m_per_min: 120.0,
         ..Default::default()
     }

@@ -99,7 +99,32 @@ fn brick(id: impl Fn(usize, usize, usize) -> usize, i: usize, j: usize, k: usize
     ]
 }
 
+/// Grid lines of the band along one axis (the band is uniform at the element size).
+pub type BandLines = greybox_core::count::Count<1, 4_000>;
+/// Nodes of the uniform band's top layer (the contact surface CalculiX searches).
+pub type BandNodes = greybox_core::count::Count<1, 1_000_000>;
+
 impl MeshSpec {
+    /// Refuses a mesh too large to build or solve, before anything is allocated: the band's
+    /// grid lines along x (slide plus both ends) and y, and their product, each a bounded
+    /// count naming the setting that makes it.
+    pub fn check_size(&self) -> Result<(), String> {
+        let band = BAND * self.contact_radius;
+        let nx: BandLines = greybox_core::count::checked(
+            ((self.slide + 2.0 * band) / self.element).ceil() + 1.0,
+            "pin3d mesh: grid lines along the slide (slide_per_radius × elements_per_radius)",
+        )?;
+        let ny: BandLines = greybox_core::count::checked(
+            (band / self.element).ceil() + 1.0,
+            "pin3d mesh: grid lines across the band (elements_per_radius)",
+        )?;
+        greybox_core::count::checked::<1, { BandNodes::MAX }>(
+            nx.get() as f64 * ny.get() as f64,
+            "pin3d mesh: nodes of the contact band",
+        )?;
+        Ok(())
+    }
+
     /// Builds the disk and pin meshes.
     pub fn build(&self) -> PinMesh {
         let (a, h) = (self.contact_radius, self.element);

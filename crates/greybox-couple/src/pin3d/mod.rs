@@ -63,6 +63,8 @@ pub const SLIDE_PER_RADIUS: f64 = 1.6;
 /// 64 (first order in the increment; F_t itself moved 0.5 %, then 0.0 %). 32 keeps six loads
 /// within 30 min on 2 cores; 64 would take about twice the time of 16.
 pub const INCREMENTS: usize = 32;
+/// Slide increments of one run: each is a CalculiX increment (seconds to minutes).
+pub type Increments = greybox_core::count::Count<1, 10_000>;
 
 impl Pin3dSetup {
     /// The article's pin (r = 17 mm) on its AISI 1045 disk 1 mm thick at depth `depth_m`,
@@ -123,9 +125,11 @@ impl Pin3dSetup {
                 "expected a slide ≥ 0",
             ));
         }
-        if self.increments == 0 {
-            return Err(Error::invalid("pin3d.increments", "must be at least 1"));
-        }
+        Increments::of_usize(self.increments, "pin3d.increments")
+            .map_err(|e| Error::invalid("pin3d", e))?;
+        self.mesh_spec()
+            .check_size()
+            .map_err(|e| Error::invalid("pin3d", e))?;
         self.material.validate()
     }
 

@@ -28,8 +28,8 @@ pub fn small_model(family: Family, activation: Activation) -> ModelFile {
     let mut cfg = FitConfig {
         families: vec![family],
         skip_nested: true,
-        bootstrap_resamples: 5,
-        importance_repeats: 1,
+        bootstrap_resamples: greybox_learn::protocol::Resamples::of(5),
+        importance_repeats: greybox_learn::protocol::Repeats::of(1),
         ..Default::default()
     };
     cfg.grid.mlp.hidden_layers = vec![vec![16, 8]];

@@ -46,8 +46,8 @@ pub fn model(family: Family, features: &[&str]) -> ModelFile {
     let mut cfg = FitConfig {
         families: vec![family],
         skip_nested: true,
-        bootstrap_resamples: 2,
-        importance_repeats: 1,
+        bootstrap_resamples: greybox_learn::protocol::Resamples::of(2),
+        importance_repeats: greybox_learn::protocol::Repeats::of(1),
         ..Default::default()
     };
     cfg.grid.random_forest.n_estimators = vec![20];

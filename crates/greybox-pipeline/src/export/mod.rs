@@ -80,14 +80,13 @@ pub fn parse_values(text: &str, what: &str) -> Result<Vec<f64>> {
     let parts: Vec<&str> = text.split(':').collect();
     if parts.len() == 3 {
         let (a, b) = (nums(parts[0])?, nums(parts[1])?);
-        let n: usize = parts[2]
-            .trim()
+        let n: AxisPoints = parts[2]
             .parse()
-            .with_context(|| format!("{what}: count '{}' is not an integer", parts[2]))?;
-        if n < 2 || !(b > a) {
-            bail!("{what}: MIN:MAX:N needs MIN < MAX and N ≥ 2");
+            .with_context(|| format!("{what}: the N of MIN:MAX:N"))?;
+        if !(b > a) {
+            bail!("{what}: MIN:MAX:N needs MIN < MAX");
         }
-        return Ok(equidistant(a, b, n));
+        return Ok(equidistant(a, b, n.get()));
     }
     text.split(',').map(nums).collect()
 }
@@ -120,11 +119,11 @@ pub fn export(a: &ExportOptions) -> Result<ExportReport> {
     let (text, report, note) = match &a.engine {
         Engine::Table { kind } => surrogate_table(law.as_ref(), a, *kind)?,
         engine => {
-            check_table_size(grid_points(grid), a.max_table_size)?;
+            check_table_size(grid_points(grid), a.max_table_size.get())?;
             engine_table(law.as_ref(), grid, engine, a)?
         }
     };
-    check_table_size(report.shape.iter().product(), a.max_table_size)?;
+    check_table_size(report.shape.iter().product(), a.max_table_size.get())?;
     write_string_atomic(&a.out, &text)?;
     provenance(&inputs)?.write_beside(&a.out)?;
     let deviation = match report.max_deviation {
@@ -191,7 +190,7 @@ fn engine_table(
 ) -> Result<(String, ExportReport, String)> {
     let o = TableOptions {
         steps: a.steps,
-        check_points: a.check_points,
+        check_points: a.check_points.get(),
         seed: 42,
     };
     Ok(match engine {
@@ -277,7 +276,7 @@ fn adaptive_grid(law: &dyn greybox_core::FrictionLaw, a: &ExportOptions) -> Resu
     );
     so.kind = Some(TableKind::Adaptive);
     so.tolerance = a.tolerance;
-    so.max_size = a.max_table_size;
+    so.max_size = a.max_table_size.get();
     so.seed = 42;
     if g.pressure_pa.len() < 2 || g.velocity_m_s.len() < 2 {
         bail!("export.adaptive_grid: needs a range of pressures and of velocities (at least two of each)");
@@ -310,8 +309,8 @@ fn surrogate_table(
     );
     so.kind = kind;
     so.tolerance = a.tolerance;
-    so.check_points = a.check_points;
-    so.max_size = a.max_table_size;
+    so.check_points = a.check_points.get();
+    so.max_size = a.max_table_size.get();
     so.seed = 42;
     if so.kind.unwrap_or_else(|| surrogate::auto_kind(law)) == TableKind::Uniform {
         let axis = |v: &[f64], what: &str| -> Result<usize> {
@@ -338,7 +337,7 @@ fn surrogate_table(
     let (max_deviation, check_points) = match &t {
         AnyTable::Exact(e) => (e.max_deviation, e.check_points),
         AnyTable::Adaptive(e) => (e.max_deviation, e.check_points),
-        AnyTable::Uniform(e) => (e.max_deviation, Some(a.check_points)),
+        AnyTable::Uniform(e) => (e.max_deviation, Some(a.check_points.get())),
     };
     let shape = t.shape();
     let note = format!(
@@ -357,7 +356,7 @@ fn surrogate_table(
         line: String::new(),
         bytes: 0,
         warnings: Vec::new(),
-        max_deviation: max_deviation.filter(|_| a.check_points > 0),
+        max_deviation: max_deviation.filter(|_| a.check_points.get() > 0),
         check_points: check_points.unwrap_or(0),
         shape,
         exact_steps: t.kind() == TableKind::Exact,

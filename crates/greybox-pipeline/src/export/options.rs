@@ -20,6 +20,7 @@
 
 use anyhow::{bail, Context, Result};
 use greybox_core::choice::Choice;
+use greybox_core::count::Count;
 use greybox_core::units::{m_per_min_to_m_per_s, mpa_to_pa};
 use greybox_friction::export::{Grid, StepLines, TempUnit, Units};
 use greybox_friction::grid::UnitSystem;
@@ -93,12 +94,18 @@ pub const DEFAULT_DEFORM_REFERENCE_VELOCITY_M_S: f64 = 2.5;
 pub const DEFAULT_DEFORM_OBJECTS: (u32, u32) = (2, 1);
 /// The default LS-DYNA table id (curves take the ids after it).
 pub const DEFAULT_LSDYNA_TABLE_ID: u32 = 1000;
+/// Random points of the deviation check: each is a law evaluation held in memory (24 B).
+pub type CheckPoints = Count<0, 10_000_000>;
+/// The largest table one export may be allowed to write, in values (a few GB as text).
+pub type TableSize = Count<1, { 1 << 28 }>;
+/// Values of one grid axis given as `MIN:MAX:N`.
+pub type AxisPoints = Count<2, 1_000_000>;
 /// The default number of random points of the deviation check.
-pub const DEFAULT_CHECK_POINTS: usize = 100_000;
+pub const DEFAULT_CHECK_POINTS: CheckPoints = CheckPoints::of(100_000);
 /// The default tolerance of adaptive tables and grids (max |Δμ| on the check set).
 pub const DEFAULT_TOLERANCE: f64 = 1e-4;
 /// The default largest table, in values (engine-table points, surrogate cells or nodes).
-pub const DEFAULT_MAX_TABLE_SIZE: usize = 1 << 22;
+pub const DEFAULT_MAX_TABLE_SIZE: TableSize = TableSize::of(1 << 22);
 
 /// Each engine with its own options.
 #[derive(Debug, Clone, PartialEq)]
@@ -211,7 +218,7 @@ pub struct ExportOptions {
     /// or an adaptive grid covers their box (min and max per axis).
     pub grid: Grid,
     /// Random points of the deviation check (every format; 0: no check).
-    pub check_points: usize,
+    pub check_points: CheckPoints,
     /// Engine tables: grid lines at a tree ensemble's split thresholds (two points one
     /// float apart, so that linear interpolation is exact); `Auto`: for piecewise-constant
     /// laws.
@@ -225,7 +232,7 @@ pub struct ExportOptions {
     /// Largest table in values: engine-table points (pressures × velocities ×
     /// temperatures), surrogate cells (exact) or nodes (adaptive). A bigger table is
     /// refused with the size it would have.
-    pub max_table_size: usize,
+    pub max_table_size: TableSize,
 }
 
 impl ExportOptions {
@@ -284,9 +291,6 @@ impl ExportOptions {
                 self.tolerance
             );
         }
-        if self.max_table_size == 0 {
-            bail!("export.max_table_size: must be at least 1");
-        }
         match &self.engine {
             Engine::Abaqus {
                 taumax_pa: Some(t), ..
@@ -327,11 +331,11 @@ pub struct ExportOverrides {
     pub lsdyna_table_id: Option<u32>,
     /// Surrogate table: exact, adaptive or uniform.
     pub table_kind: Option<TableKind>,
-    pub check_points: Option<usize>,
+    pub check_points: Option<CheckPoints>,
     pub steps: Option<StepLines>,
     pub adaptive_grid: Option<bool>,
     pub tolerance: Option<f64>,
-    pub max_table_size: Option<usize>,
+    pub max_table_size: Option<TableSize>,
 }
 
 impl ExportOverrides {

@@ -7,7 +7,7 @@
 //! let s: AdhesiveSettings = greybox_pipeline::settings::from_json("adhesive",
 //!     r#"{"data": "d.csv", "method": "simulation", "sim_loads": 2, "track_width": ["1777:1010"]}"#)?;
 //! let o = s.options()?;
-//! assert!(matches!(o.method, AdhesiveMethod::Simulation(ref m) if m.loads == 2));
+//! assert!(matches!(o.method, AdhesiveMethod::Simulation(ref m) if m.loads.get() == 2));
 //! assert_eq!(o.track_widths[0].width_um, 1010.0);
 //! let bad = AdhesiveSettings { track_width: vec!["1777".into()], ..Default::default() };
 //! assert!(bad.options().unwrap_err().to_string().starts_with("adhesive.track_width"));
@@ -15,8 +15,10 @@
 //! ```
 
 use crate::adhesive::{
-    AdhesiveMethod, AdhesiveOptions, Simulation3dOptions, SimulationOptions, ARTICLE_PIN_RADIUS_MM,
+    AdhesiveMethod, AdhesiveOptions, LoadStride, SimLoads, SimRuns, Simulation3dOptions,
+    SimulationOptions, ARTICLE_PIN_RADIUS_MM,
 };
+use greybox_couple::pin3d::Increments;
 use anyhow::{Context, Result};
 use greybox_couple::pin3d;
 use greybox_tribo::ploughing::TrackWidth;
@@ -72,7 +74,7 @@ pub struct AdhesiveSettings {
     /// Simulation: number of highest distinct loads simulated (the share is fitted against
     /// load and applied to all loads, as in the article).
     #[cfg_attr(feature = "cli", arg(long = "sim-loads", default_value_t = SIM.loads))]
-    pub sim_loads: usize,
+    pub sim_loads: SimLoads,
     /// Simulation: particle spacing, µm.
     #[cfg_attr(feature = "cli", arg(long = "sim-spacing-um", default_value_t = SIM.spacing_um))]
     pub sim_spacing_um: f64,
@@ -87,13 +89,13 @@ pub struct AdhesiveSettings {
     pub sim_tolerance: f64,
     /// Simulation: maximum runs per load.
     #[cfg_attr(feature = "cli", arg(long = "sim-max-runs", default_value_t = SIM.max_runs))]
-    pub sim_max_runs: usize,
+    pub sim_max_runs: SimRuns,
     /// simulation-3d: number of loads simulated.
     #[cfg_attr(feature = "cli", arg(long = "sim3d-loads", default_value_t = SIM3D_LOADS))]
-    pub sim3d_loads: usize,
+    pub sim3d_loads: SimLoads,
     /// simulation-3d: take every n-th distinct load from the highest (the article: 2).
     #[cfg_attr(feature = "cli", arg(long = "sim3d-load-stride", default_value_t = SIM3D_LOAD_STRIDE))]
-    pub sim3d_load_stride: usize,
+    pub sim3d_load_stride: LoadStride,
     /// simulation-3d: elements per nominal contact radius √(2rd − d²).
     #[cfg_attr(feature = "cli", arg(long = "sim3d-elements-per-radius", default_value_t = pin3d::ELEMENTS_PER_RADIUS))]
     pub sim3d_elements_per_radius: f64,
@@ -101,17 +103,19 @@ pub struct AdhesiveSettings {
     #[cfg_attr(feature = "cli", arg(long = "sim3d-slide-per-radius", default_value_t = pin3d::SLIDE_PER_RADIUS))]
     pub sim3d_slide_per_radius: f64,
     /// simulation-3d: slide increments (the quasi-static analysis's one step size).
-    #[cfg_attr(feature = "cli", arg(long = "sim3d-increments", default_value_t = pin3d::INCREMENTS))]
-    pub sim3d_increments: usize,
+    #[cfg_attr(feature = "cli", arg(long = "sim3d-increments", default_value_t = SIM3D_INCREMENTS))]
+    pub sim3d_increments: Increments,
     /// simulation-3d: the CalculiX executable.
     #[cfg_attr(feature = "cli", arg(long = "ccx", default_value = DEFAULT_CCX))]
     pub ccx: PathBuf,
 }
 
 /// The article's inverse plan: six loads, every second one from the highest.
-pub const SIM3D_LOADS: usize = 6;
+pub const SIM3D_LOADS: SimLoads = SimLoads::of(6);
 /// See [`SIM3D_LOADS`].
-pub const SIM3D_LOAD_STRIDE: usize = 2;
+pub const SIM3D_LOAD_STRIDE: LoadStride = LoadStride::of(2);
+/// The slide increments of one 3D run ([`pin3d::INCREMENTS`]).
+pub const SIM3D_INCREMENTS: Increments = Increments::of(pin3d::INCREMENTS as u64);
 /// The CalculiX executable looked up on the PATH.
 pub const DEFAULT_CCX: &str = "ccx";
 
@@ -134,7 +138,7 @@ impl Default for AdhesiveSettings {
             sim3d_load_stride: SIM3D_LOAD_STRIDE,
             sim3d_elements_per_radius: pin3d::ELEMENTS_PER_RADIUS,
             sim3d_slide_per_radius: pin3d::SLIDE_PER_RADIUS,
-            sim3d_increments: pin3d::INCREMENTS,
+            sim3d_increments: SIM3D_INCREMENTS,
             ccx: DEFAULT_CCX.into(),
         }
     }

@@ -32,7 +32,9 @@ greybox_core::choice!(EngineName, "couple.engine", [Calculix => "calculix", Comm
 
 /// Defaults: the loop's work directory, cycle limit and tolerance, one segment's duration.
 pub const DEFAULT_WORK: &str = "couple-out";
-pub const DEFAULT_MAX_CYCLES: usize = 20;
+pub const DEFAULT_MAX_CYCLES: Cycles = Cycles::of(20);
+/// Segments of one restart loop after the first: each is a run of the FE engine.
+pub type Cycles = greybox_core::count::Count<1, 10_000>;
 pub const DEFAULT_TOL: f64 = 1e-3;
 pub const DEFAULT_SEGMENT_S: f64 = 1e-3;
 
@@ -69,7 +71,7 @@ pub struct CoupleSettings {
     pub work: PathBuf,
     /// Most restart cycles.
     #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_MAX_CYCLES))]
-    pub max_cycles: usize,
+    pub max_cycles: Cycles,
     /// Converged when every window's μ changes less than this.
     #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_TOL))]
     pub tol: f64,
@@ -121,9 +123,6 @@ impl CoupleSettings {
                 self.segment_s
             );
         }
-        if self.max_cycles == 0 {
-            bail!("couple.max_cycles: expected at least 1 cycle");
-        }
         let engine = match self.engine {
             EngineName::Calculix => EngineOptions::Calculix {
                 ccx: self.ccx.clone(),
@@ -145,7 +144,7 @@ impl CoupleSettings {
                 .clone()
                 .context("couple.law: a friction law is required")?,
             work: self.work.clone(),
-            max_cycles: self.max_cycles,
+            max_cycles: self.max_cycles.get(),
             tol: self.tol,
         })
     }

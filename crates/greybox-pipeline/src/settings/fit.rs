@@ -8,7 +8,7 @@
 //!     r#"{"folds": 3, "svr_kernel": ["rbf"], "mlp_hidden": ["8x4"]}"#)?;
 //! let mut c = FitConfig::default();
 //! s.apply(&mut c)?;
-//! assert_eq!((c.folds, c.grid.mlp.hidden_layers.clone()), (3, vec![vec![8, 4]]));
+//! assert_eq!((c.folds.get(), c.grid.mlp.hidden_layers.clone()), (3, vec![vec![8, 4]]));
 //! let bad = FitSettings { mlp_hidden: Some(vec!["8y4".into()]), ..Default::default() };
 //! assert!(bad.apply(&mut c).unwrap_err().to_string().starts_with("fit.mlp_hidden"));
 //! # Ok::<(), anyhow::Error>(())
@@ -18,9 +18,10 @@ use crate::fit::{default_target, FitOptions, DEFAULT_FEATURES};
 use crate::study::Study;
 use anyhow::{Context, Result};
 use greybox_core::choice::Choice;
-use greybox_learn::protocol::FitConfig;
+use greybox_learn::protocol::{FitConfig, Folds, Repeats, Resamples};
+use greybox_model::ensemble::{BoostDepth, Trees};
 use greybox_model::family::Family;
-use greybox_model::mlp::Activation;
+use greybox_model::mlp::{Activation, Epochs, LayerWidth};
 use greybox_model::svr::Kernel;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -47,10 +48,10 @@ pub struct FitSettings {
     pub families: Option<Vec<String>>,
     /// Folds of the grid search and of the outer nested-CV loop.
     #[cfg_attr(feature = "cli", arg(long))]
-    pub folds: Option<usize>,
+    pub folds: Option<Folds>,
     /// Folds of the inner nested-CV loop.
     #[cfg_attr(feature = "cli", arg(long))]
-    pub inner_folds: Option<usize>,
+    pub inner_folds: Option<Folds>,
     /// Integer column holding fold ids (replaces the seeded shuffled k-fold split).
     #[cfg_attr(feature = "cli", arg(long))]
     pub fold_column: Option<String>,
@@ -59,16 +60,16 @@ pub struct FitSettings {
     pub seed: Option<u64>,
     /// Bootstrap resamples for the 95 % CIs.
     #[cfg_attr(feature = "cli", arg(long))]
-    pub bootstrap: Option<usize>,
+    pub bootstrap: Option<Resamples>,
     /// Permutation-importance repeats.
     #[cfg_attr(feature = "cli", arg(long))]
-    pub importance_repeats: Option<usize>,
+    pub importance_repeats: Option<Repeats>,
     /// Skip nested cross-validation (no held-out metrics; quick looks only).
     #[cfg_attr(feature = "cli", arg(long))]
     pub skip_nested: bool,
     /// Random-forest grid: n_estimators values.
     #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
-    pub rf_n_estimators: Option<Vec<usize>>,
+    pub rf_n_estimators: Option<Vec<Trees>>,
     /// SVR grid: C values.
     #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
     pub svr_c: Option<Vec<f64>>,
@@ -80,10 +81,10 @@ pub struct FitSettings {
     pub svr_epsilon: Option<Vec<f64>>,
     /// Boosting grid: n_estimators values.
     #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
-    pub gb_n_estimators: Option<Vec<usize>>,
+    pub gb_n_estimators: Option<Vec<Trees>>,
     /// Boosting grid: max_depth values.
     #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
-    pub gb_max_depth: Option<Vec<usize>>,
+    pub gb_max_depth: Option<Vec<BoostDepth>>,
     /// Boosting grid: learning_rate values.
     #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
     pub gb_learning_rate: Option<Vec<f64>>,
@@ -98,7 +99,7 @@ pub struct FitSettings {
     pub mlp_learning_rate: Option<Vec<f64>>,
     /// MLP epoch limit.
     #[cfg_attr(feature = "cli", arg(long))]
-    pub mlp_max_epochs: Option<usize>,
+    pub mlp_max_epochs: Option<Epochs>,
     /// Output directory: report.json, report.md, models/, plots/.
     #[cfg_attr(feature = "cli", arg(long, default_value = "fit-out"))]
     pub out: PathBuf,
@@ -116,14 +117,21 @@ fn choices<T: Choice>(values: &[String], field: &str) -> Result<Vec<T>> {
         .collect()
 }
 
-/// `64x32` as layer sizes.
+/// `64x32` as layer sizes, each a [`LayerWidth`].
 fn hidden_layers(spec: &str) -> Result<Vec<usize>> {
     spec.split('x')
-        .map(|n| n.trim().parse().ok().filter(|&n: &usize| n > 0))
-        .collect::<Option<Vec<_>>>()
+        .map(|n| n.parse::<LayerWidth>().map(LayerWidth::get))
+        .collect::<Result<Vec<_>, _>>()
         .with_context(|| {
             format!("fit.mlp_hidden: '{spec}' is not layer sizes joined by x, e.g. 64x32")
         })
+}
+
+/// Grid values as plain lengths.
+fn counts<const MIN: u64, const MAX: u64>(
+    values: &Option<Vec<greybox_core::count::Count<MIN, MAX>>>,
+) -> Option<Vec<usize>> {
+    values.as_ref().map(|v| v.iter().map(|c| c.get()).collect())
 }
 
 impl FitSettings {
@@ -144,14 +152,14 @@ impl FitSettings {
         set(&mut c.importance_repeats, &self.importance_repeats);
         c.skip_nested |= self.skip_nested;
         let g = &mut c.grid;
-        set(&mut g.random_forest.n_estimators, &self.rf_n_estimators);
+        set(&mut g.random_forest.n_estimators, &counts(&self.rf_n_estimators));
         set(&mut g.svr.c, &self.svr_c);
         set(&mut g.svr.epsilon, &self.svr_epsilon);
         if let Some(k) = &self.svr_kernel {
             g.svr.kernel = choices::<Kernel>(k, "svr_kernel")?;
         }
-        set(&mut g.gradient_boosting.n_estimators, &self.gb_n_estimators);
-        set(&mut g.gradient_boosting.max_depth, &self.gb_max_depth);
+        set(&mut g.gradient_boosting.n_estimators, &counts(&self.gb_n_estimators));
+        set(&mut g.gradient_boosting.max_depth, &counts(&self.gb_max_depth));
         set(
             &mut g.gradient_boosting.learning_rate,
             &self.gb_learning_rate,
@@ -163,7 +171,7 @@ impl FitSettings {
             g.mlp.activation = choices::<Activation>(a, "mlp_activation")?;
         }
         set(&mut g.mlp.learning_rate, &self.mlp_learning_rate);
-        set(&mut g.mlp.base.max_epochs, &self.mlp_max_epochs);
+        set(&mut g.mlp.base.max_epochs, &self.mlp_max_epochs.map(Epochs::get));
         Ok(())
     }
 

@@ -34,6 +34,9 @@ use greybox_tribo::readers::RecordingFormat;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
+
+/// A 1-based line number of a recording's head (0: no header line).
+pub type HeaderLine = greybox_core::count::Count<0, 1_000_000>;
 /// Overrides of a study for one identification; `None` (or empty) keeps the study's value.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -50,7 +53,7 @@ pub struct IdentifySettings {
     pub constant_sliding_velocity_m_per_s: Option<f64>,
     pub tdms_group: Option<String>,
     /// 1-based header line of text files.
-    pub header_line: Option<u64>,
+    pub header_line: Option<HeaderLine>,
     /// Sample rate of files without a time column, Hz.
     pub sample_rate_hz: Option<f64>,
     /// Names for the columns in file order (units in the names: `t_s`, `Fn_N`), for logs
@@ -128,7 +131,7 @@ impl IdentifySettings {
         rec.constant_normal_n = force.or(rec.constant_normal_n);
         rec.constant_sliding_m_s = speed.or(rec.constant_sliding_m_s);
         rec.tdms_group = self.tdms_group.clone().or(rec.tdms_group.take());
-        rec.header_line = self.header_line.or(rec.header_line);
+        rec.header_line = self.header_line.map(HeaderLine::as_u64).or(rec.header_line);
         rec.sample_rate_hz = rate.or(rec.sample_rate_hz);
         rec.sheet = self.sheet.clone().or(rec.sheet.take());
         if !self.columns.is_empty() {

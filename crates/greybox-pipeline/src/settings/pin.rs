@@ -66,7 +66,7 @@ pub struct PinSettings {
     /// Most particles the workpiece may have (numerics.max_particles; default 5 million,
     /// about 20 GB): a finer spacing is refused before anything is allocated.
     #[cfg_attr(feature = "cli", arg(long = "max-particles"))]
-    pub max_particles: Option<u64>,
+    pub max_particles: Option<greybox_sim::model::ParticleCap>,
 }
 
 impl Default for PinSettings {

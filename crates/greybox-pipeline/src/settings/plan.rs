@@ -3,16 +3,18 @@
 //!
 //! ```
 //! use greybox_pipeline::settings::plan::PlanSettings;
-//! let s = PlanSettings { normal_force_count: Some(2), velocity_max_m_per_min: Some(200.0),
+//! use greybox_tribo::plan::PinCount;
+//! let s = PlanSettings { normal_force_count: Some(PinCount::of(2)), velocity_max_m_per_min: Some(200.0),
 //!     ..Default::default() };
 //! let study = s.study()?;
-//! assert_eq!((study.plan.normal_force_count, study.plan.velocity_max_m_per_min), (2, 200.0));
+//! assert_eq!((study.plan.normal_force_count.get(), study.plan.velocity_max_m_per_min), (2, 200.0));
 //! assert!(s.gives_plan()?);
 //! assert!(!PlanSettings::default().gives_plan()?);
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
 use crate::study::Study;
+use greybox_tribo::plan::{PinCount, VelocityCount};
 use anyhow::Result;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -38,7 +40,7 @@ pub struct PlanSettings {
     pub normal_force_max_n: Option<f64>,
     /// Number of normal forces (one pin each).
     #[cfg_attr(feature = "cli", arg(long = "normal-force-count"))]
-    pub normal_force_count: Option<usize>,
+    pub normal_force_count: Option<PinCount>,
     /// Lowest sliding velocity, m/min.
     #[cfg_attr(feature = "cli", arg(long = "velocity-min-m-per-min"))]
     pub velocity_min_m_per_min: Option<f64>,
@@ -47,7 +49,7 @@ pub struct PlanSettings {
     pub velocity_max_m_per_min: Option<f64>,
     /// Number of sliding velocities.
     #[cfg_attr(feature = "cli", arg(long = "velocity-count"))]
-    pub velocity_count: Option<usize>,
+    pub velocity_count: Option<VelocityCount>,
     /// Dwell per velocity once the spindle reached it, s.
     #[cfg_attr(feature = "cli", arg(long = "dwell-s"))]
     pub dwell_s: Option<f64>,

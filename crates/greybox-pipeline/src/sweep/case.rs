@@ -7,6 +7,7 @@
 //! atomically: the marker that the case is finished), or `failed.json` with the error.
 
 use super::spec::CaseKind;
+use crate::simulate::Frames;
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::outputs::output_subdir;
@@ -107,7 +108,7 @@ pub fn read_base(path: &Path, kind: CaseKind, stop_when_steady: bool) -> Result<
 
 /// The canonical JSON of a resolved configuration with every referenced file replaced by
 /// its content's SHA-256, and the case id from it.
-fn case_id(kind: CaseKind, fraction: f64, frames: usize, canonical: &serde_json::Value) -> String {
+fn case_id(kind: CaseKind, fraction: f64, frames: Frames, canonical: &serde_json::Value) -> String {
     let key = serde_json::json!({ "kind": kind, "fraction": fraction, "frames": frames, "config": canonical });
     greybox_core::provenance::sha256_bytes(key.to_string().as_bytes())[..12].to_string()
 }
@@ -172,7 +173,7 @@ pub fn build(
     values: &[(String, toml::Value)],
     sweep_dir: &Path,
     fraction: f64,
-    frames: usize,
+    frames: Frames,
     index: usize,
 ) -> Result<Case> {
     let mut v = base.clone();

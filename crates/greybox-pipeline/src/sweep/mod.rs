@@ -36,7 +36,7 @@ use std::path::{Path, PathBuf};
 pub struct Plan {
     pub kind: CaseKind,
     pub fraction: f64,
-    pub frames: usize,
+    pub frames: crate::simulate::Frames,
     /// The fields the axes vary, in order.
     pub fields: Vec<String>,
     pub cases: Vec<Case>,

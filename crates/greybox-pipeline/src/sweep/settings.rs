@@ -6,8 +6,8 @@
 //! use greybox_pipeline::sweep::Executor;
 //! let s = ExecutorSettings { executor: ExecutorName::Slurm, ..Default::default() };
 //! assert!(matches!(s.executor(true), Ok(Executor::Slurm { dry_run: true, .. })));
-//! let none = ExecutorSettings { jobs: 0, ..Default::default() };
-//! assert_eq!(none.executor(false).unwrap_err().to_string(), "sweep.jobs: expected at least 1 case at once");
+//! let none: Result<ExecutorSettings, _> = serde_json::from_str(r#"{"jobs": 0}"#);
+//! assert!(none.unwrap_err().to_string().starts_with("0 is below the least allowed 1"));
 //! assert_eq!("lsf".parse::<ExecutorName>().unwrap_err().to_string(),
 //!     "sweep.executor: 'lsf' is not one of local, slurm");
 //! ```
@@ -17,6 +17,13 @@ use super::Executor;
 use anyhow::{bail, Result};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
+
+/// Cases run at once by the local executor (each a process, often multi-threaded).
+pub type Jobs = greybox_core::count::Count<1, 1_024>;
+/// Iterations of a calibration: each runs every calibration case once.
+pub type Iterations = greybox_core::count::Count<1, 1_000>;
+/// Every n-th condition held out of a calibration (2: every other one).
+pub type HoldOutEvery = greybox_core::count::Count<2, 1_000>;
 
 /// Where the cases run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -43,8 +50,8 @@ pub struct ExecutorSettings {
         value_parser = greybox_core::choice::clap_parsers::choice::<ExecutorName>()))]
     pub executor: ExecutorName,
     /// Local: cases at once.
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = 1))]
-    pub jobs: usize,
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = Jobs::of(1)))]
+    pub jobs: Jobs,
     /// Slurm: seconds between squeue polls.
     #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_POLL_S))]
     pub poll_s: f64,
@@ -54,7 +61,7 @@ impl Default for ExecutorSettings {
     fn default() -> Self {
         ExecutorSettings {
             executor: ExecutorName::Local,
-            jobs: 1,
+            jobs: Jobs::of(1),
             poll_s: DEFAULT_POLL_S,
         }
     }
@@ -63,9 +70,6 @@ impl Default for ExecutorSettings {
 impl ExecutorSettings {
     /// The executor; `dry_run` (Slurm) prints the array script and submits nothing.
     pub fn executor(&self, dry_run: bool) -> Result<Executor> {
-        if self.jobs == 0 {
-            bail!("sweep.jobs: expected at least 1 case at once");
-        }
         if !(self.poll_s.is_finite() && self.poll_s > 0.0) {
             bail!(
                 "sweep.poll_s: expected a positive number of seconds, got {}",
@@ -73,7 +77,7 @@ impl ExecutorSettings {
             );
         }
         Ok(match self.executor {
-            ExecutorName::Local => Executor::Local { jobs: self.jobs },
+            ExecutorName::Local => Executor::Local { jobs: self.jobs.get() },
             ExecutorName::Slurm => Executor::Slurm {
                 dry_run,
                 poll_s: self.poll_s,
@@ -103,11 +107,11 @@ pub struct CalibrateSettings {
     #[cfg_attr(feature = "cli", arg(long = "c-max", default_value_t = 0.1))]
     pub c_max: f64,
     /// Evaluations per golden-section search.
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = 10))]
-    pub iterations: usize,
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = Iterations::of(10)))]
+    pub iterations: Iterations,
     /// Hold out every k-th condition (default 3) …
-    #[cfg_attr(feature = "cli", arg(long = "hold-out-every", default_value_t = 3))]
-    pub hold_out_every: usize,
+    #[cfg_attr(feature = "cli", arg(long = "hold-out-every", default_value_t = HoldOutEvery::of(3)))]
+    pub hold_out_every: HoldOutEvery,
     /// … or these conditions (1-based, comma-separated).
     #[cfg_attr(feature = "cli", arg(long = "hold-out", value_delimiter = ','))]
     pub hold_out: Vec<usize>,
@@ -124,8 +128,8 @@ impl Default for CalibrateSettings {
             executor: ExecutorSettings::default(),
             c_min: 0.001,
             c_max: 0.1,
-            iterations: 10,
-            hold_out_every: 3,
+            iterations: Iterations::of(10),
+            hold_out_every: HoldOutEvery::of(3),
             hold_out: Vec::new(),
             friction_scale: false,
         }
@@ -142,9 +146,9 @@ impl CalibrateSettings {
             executor: self.executor.executor(false)?,
             exe,
             c_range: (self.c_min, self.c_max),
-            iterations: self.iterations,
+            iterations: self.iterations.get(),
             hold_out: if self.hold_out.is_empty() {
-                HoldOut::Every(self.hold_out_every)
+                HoldOut::Every(self.hold_out_every.get())
             } else {
                 HoldOut::List(self.hold_out.clone())
             },

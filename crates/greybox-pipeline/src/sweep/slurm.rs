@@ -323,7 +323,7 @@ mod tests {
         Plan {
             kind: super::super::spec::CaseKind::Pin,
             fraction: 1.0,
-            frames: 0,
+            frames: crate::simulate::Frames::of(0),
             fields: vec![],
             cases: vec![Case {
                 index: 0,

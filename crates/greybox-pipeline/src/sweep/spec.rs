@@ -56,26 +56,33 @@ pub struct SweepSection {
     #[serde(default = "one")]
     pub fraction: f64,
     /// Cutting: chip pictures per case (0: the last state only).
-    #[serde(default)]
-    pub frames: usize,
+    #[serde(default = "no_frames")]
+    pub frames: crate::simulate::Frames,
     /// Most cases the axes may multiply to (default [`DEFAULT_MAX_CASES`]): counted from the
     /// axes' lengths before any case is built, so a mistyped range cannot fill memory.
     #[serde(default = "default_max_cases")]
-    pub max_cases: u64,
+    pub max_cases: MaxCases,
     /// Cutting: end each cut once its forces are steady by the base's `[steady]` criterion
     /// (default); `false` runs every cut to its full length.
     #[serde(default = "yes")]
     pub stop_when_steady: bool,
 }
 
+fn no_frames() -> crate::simulate::Frames {
+    crate::simulate::Frames::of(0)
+}
+
+/// Values `[sweep] max_cases` may be raised to: every case is a directory and a run.
+pub type MaxCases = greybox_core::count::Count<1, 10_000_000>;
+
 fn yes() -> bool {
     true
 }
 
 /// Default of `[sweep] max_cases`: 10 000 cases.
-pub const DEFAULT_MAX_CASES: u64 = 10_000;
+pub const DEFAULT_MAX_CASES: MaxCases = MaxCases::of(10_000);
 
-fn default_max_cases() -> u64 {
+fn default_max_cases() -> MaxCases {
     DEFAULT_MAX_CASES
 }
 
@@ -239,7 +246,7 @@ impl SweepFile {
     /// expanded when the axes multiply to more than `[sweep] max_cases`.
     pub fn expand_axes(&self) -> Result<Vec<ExpandedAxis>> {
         let (count, lens) = self.case_count();
-        if count > self.sweep.max_cases as f64 {
+        if count > self.sweep.max_cases.as_u64() as f64 {
             let per_axis: Vec<String> = lens.iter().map(usize::to_string).collect();
             bail!(greybox_core::budget::over_cap(
                 &format!(
