@@ -1,11 +1,11 @@
 //! `greybox bench`: measured speed of the things that must be fast.
 
-use greybox_core::count::Count;
-use greybox_pipeline::export::{AxisPoints, TableSize, DEFAULT_MAX_TABLE_SIZE};
 use crate::output::emit;
 use anyhow::Result;
 use greybox_core::choice::{clap_parsers::choice, Choice};
+use greybox_core::count::Count;
 use greybox_friction::table_file::TableKind;
+use greybox_pipeline::export::{AxisPoints, TableSize, DEFAULT_MAX_TABLE_SIZE};
 use greybox_pipeline::validate::ToolModel;
 use greybox_pipeline::{bench, text, validate};
 use std::path::PathBuf;

@@ -35,8 +35,8 @@ pub fn state_count_ranges(cmd: Command) -> Command {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use clap::CommandFactory;
     use clap::error::ErrorKind::{InvalidValue, ValueValidation};
+    use clap::CommandFactory;
     use std::ffi::OsStr;
 
     /// Integer options that are not counts: identifiers, seeds and codes (any value is
@@ -66,7 +66,10 @@ mod tests {
 
     /// Every option of `cmd` and its subcommands, with the subcommand that holds it.
     fn options(cmd: &Command, path: String, out: &mut Vec<(String, Command, Arg)>) {
-        for a in cmd.get_arguments().filter(|a| a.get_action().takes_values()) {
+        for a in cmd
+            .get_arguments()
+            .filter(|a| a.get_action().takes_values())
+        {
             out.push((path.clone(), cmd.clone(), a.clone()));
         }
         for s in cmd.get_subcommands() {
@@ -88,7 +91,10 @@ mod tests {
             // and subcommands only after
             let parse = |v: &str| -> Result<(), clap::Error> {
                 let flag = format!("--{long}={v}");
-                match sub.clone().try_get_matches_from([OsStr::new("greybox"), OsStr::new(&flag)]) {
+                match sub
+                    .clone()
+                    .try_get_matches_from([OsStr::new("greybox"), OsStr::new(&flag)])
+                {
                     Err(e) if e.kind() == ValueValidation || e.kind() == InvalidValue => Err(e),
                     _ => Ok(()),
                 }
@@ -103,17 +109,26 @@ mod tests {
                 continue;
             };
             let help = arg.get_help().map(|h| h.to_string()).unwrap_or_default();
-            assert!(help.contains(&format!("[count: {range}]")), "{name}: {help}");
+            assert!(
+                help.contains(&format!("[count: {range}]")),
+                "{name}: {help}"
+            );
             for hostile in ["0", "-1", "1000000000", "1000000000000000000", "1e9"] {
                 if let Err(e) = parse(hostile) {
                     let text = e.to_string();
                     assert!(text.contains(&range), "{name} {hostile}: {text}");
                 }
             }
-            assert!(parse("1000000000000000000").is_err(), "{name}: 10^18 accepted");
+            assert!(
+                parse("1000000000000000000").is_err(),
+                "{name}: 10^18 accepted"
+            );
             counts += 1;
         }
-        assert!(missing.is_empty(), "integer options that are not bounded Counts: {missing:#?}");
+        assert!(
+            missing.is_empty(),
+            "integer options that are not bounded Counts: {missing:#?}"
+        );
         assert!(counts >= 25, "only {counts} count options found");
     }
 }

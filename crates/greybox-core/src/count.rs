@@ -260,7 +260,9 @@ mod clap_parser {
         }
         fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
             let marker = format!("{HELP_MARKER}{MIN}..={MAX}");
-            Some(Box::new(std::iter::once(PossibleValue::new(marker).hide(true))))
+            Some(Box::new(std::iter::once(
+                PossibleValue::new(marker).hide(true),
+            )))
         }
     }
 
@@ -284,7 +286,10 @@ mod tests {
     fn hostile_counts_are_refused_with_the_range() {
         for (given, want) in [
             ("0", "0 is below the least allowed 2 (a count in 2..=1000)"),
-            ("-1", "'-1' is not a count: a whole number in 2..=1000 is expected"),
+            (
+                "-1",
+                "'-1' is not a count: a whole number in 2..=1000 is expected",
+            ),
             ("1000000000", "1000000000 is above the cap of 1000"),
             ("1000000000000000000", "above the cap of 1000"),
             ("99999999999999999999999", "above the cap of 1000"),
@@ -312,9 +317,19 @@ mod tests {
 
     #[test]
     fn computed_counts_refuse_nan_and_huge_values() {
-        assert!(checked::<1, 10>(f64::INFINITY, "n").unwrap_err().contains("above"));
-        assert!(checked::<1, 10>(-1.0, "n").unwrap_err().contains("not a count"));
-        assert_eq!(checked::<1, 10>(0.0, "n").unwrap_err(), "n: 0 is below the least allowed 1 (a count in 1..=10)");
-        assert_eq!(C::of_usize(5000, "grid").unwrap_err(), "grid: 5000 is above the cap of 1000 (a count in 2..=1000)");
+        assert!(checked::<1, 10>(f64::INFINITY, "n")
+            .unwrap_err()
+            .contains("above"));
+        assert!(checked::<1, 10>(-1.0, "n")
+            .unwrap_err()
+            .contains("not a count"));
+        assert_eq!(
+            checked::<1, 10>(0.0, "n").unwrap_err(),
+            "n: 0 is below the least allowed 1 (a count in 1..=10)"
+        );
+        assert_eq!(
+            C::of_usize(5000, "grid").unwrap_err(),
+            "grid: 5000 is above the cap of 1000 (a count in 2..=1000)"
+        );
     }
 }

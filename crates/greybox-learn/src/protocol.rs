@@ -350,8 +350,14 @@ fn run_family(
         let held_out = if cfg.skip_nested {
             None
         } else {
-            let (oof, folds): (Vec<f64>, Vec<OuterFold>) =
-                nested_cv(&grid, &data.x, &data.y, &ids, cfg.inner_folds.get(), cfg.seed)?;
+            let (oof, folds): (Vec<f64>, Vec<OuterFold>) = nested_cv(
+                &grid,
+                &data.x,
+                &data.y,
+                &ids,
+                cfg.inner_folds.get(),
+                cfg.seed,
+            )?;
             Some(HeldOut {
                 metrics: metrics_with_ci(&data.y, &oof, cfg.bootstrap_resamples.get(), cfg.seed),
                 r2_per_fold: folds.iter().map(|f| f.r2).collect(),

@@ -2,11 +2,11 @@
 //! Bowden–Tabor model or by inverse pin-sliding simulation (the article's method).
 
 pub use crate::adhesive_3d::Simulation3dOptions;
-use greybox_core::count::Count;
 use crate::adhesive_loads::loads_to_simulate;
 use crate::output::provenance;
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::count::Count;
 use greybox_core::dataset::FrictionDataset;
 use greybox_core::outputs::check_file_output;
 use greybox_sim::pin::{inverse_over_loads, PinSetup, ShareLaw};
@@ -144,6 +144,9 @@ pub fn analytic_beside(a: &AdhesiveOptions, data: &FrictionDataset) -> Result<Op
 
 /// Apply the correction and write the dataset and the correction record.
 pub fn adhesive(a: &AdhesiveOptions) -> Result<(FrictionDataset, Correction)> {
+    if let AdhesiveMethod::Simulation3d(sim) = &a.method {
+        crate::adhesive_3d::validate(sim)?;
+    }
     let mut inputs = vec![("data", a.data.as_path())];
     if let Some(w) = &a.track_widths_csv {
         inputs.push(("track_widths_csv", w.as_path()));

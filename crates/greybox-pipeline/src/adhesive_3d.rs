@@ -15,11 +15,11 @@
 //! in `<out>.pin3d/load_<F>N/run_<k>/`, each load's force history of its returned run in
 //! `<out>.pin3d/load_<F>N.csv`, and the searches in `<out>.pin3d/inverse.json`.
 
+use crate::adhesive::{LoadStride, SimLoads, SimRuns};
 use crate::adhesive_loads::loads_to_simulate;
 use anyhow::{bail, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::dataset::FrictionDataset;
-use crate::adhesive::{LoadStride, SimLoads, SimRuns};
 use greybox_couple::pin3d::{find_adhesive_mu, Increments, Pin3dInverse, Pin3dSetup};
 use greybox_sim::pin::ShareLaw;
 use greybox_tribo::ploughing::{bowden_tabor_mu, correct_with, Correction, TrackWidth, WidthLaw};
@@ -75,7 +75,8 @@ type Load = (f64, f64, f64);
 /// A load's search: (share guess, search), or why it failed.
 type Outcome = std::result::Result<(f64, Pin3dInverse), String>;
 
-fn check(sim: &Simulation3dOptions) -> Result<()> {
+/// The numeric options, the mesh they make included: checked before any input is read.
+pub fn validate(sim: &Simulation3dOptions) -> Result<()> {
     if !(sim.tolerance > 0.0 && sim.tolerance.is_finite()) {
         bail!(
             "adhesive.sim_tolerance: expected a positive number, got {}",
@@ -100,6 +101,11 @@ fn check(sim: &Simulation3dOptions) -> Result<()> {
     if let Err(e) = probe.mesh_spec().check_size() {
         bail!("adhesive.sim3d_elements_per_radius / sim3d_slide_per_radius: {e}");
     }
+    Ok(())
+}
+
+fn check(sim: &Simulation3dOptions) -> Result<()> {
+    validate(sim)?;
     // a missing CalculiX is the user's set-up, not a load that failed to converge
     if let Err(e) = std::process::Command::new(&sim.ccx).arg("-v").output() {
         bail!(
@@ -165,7 +171,14 @@ pub fn correct(
     let search = |&(f, depth, mu_app): &Load, factor: f64| -> Outcome {
         let guess = factor * nominal(f).map_err(|e| e.to_string())?;
         let d = dir.join(format!("load_{f:.0}N"));
-        let inv = find_adhesive_mu(&base(depth), mu_app, guess, sim.tolerance, sim.max_runs.get(), &d);
+        let inv = find_adhesive_mu(
+            &base(depth),
+            mu_app,
+            guess,
+            sim.tolerance,
+            sim.max_runs.get(),
+            &d,
+        );
         progress.inc(1);
         inv.map(|i| (guess, i))
             .map_err(|e| format!("{f:.0} N: {e}"))

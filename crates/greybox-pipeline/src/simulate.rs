@@ -98,7 +98,11 @@ impl Observers {
                 },
             ),
             ckpt: (o.checkpoint_every.get() > 0).then(|| {
-                Checkpointer::new(&dir.join("checkpoint.json"), o.checkpoint_every.as_u64(), setup_id)
+                Checkpointer::new(
+                    &dir.join("checkpoint.json"),
+                    o.checkpoint_every.as_u64(),
+                    setup_id,
+                )
             }),
         }
     }

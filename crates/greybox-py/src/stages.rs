@@ -4,7 +4,6 @@
 
 use crate::{py_err, run_interruptible, to_json};
 use greybox_core::dataset::PressureConvention;
-use greybox_tribo::plan::{PinCount, VelocityCount};
 use greybox_pipeline::adhesive::adhesive;
 use greybox_pipeline::export::{export, ExportFormat, ExportOptions, ExportOverrides};
 use greybox_pipeline::fit::{fit, FitOptions};
@@ -18,6 +17,7 @@ use greybox_pipeline::settings::pin::PinSettings;
 use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, RunOutput};
 use greybox_pipeline::study::Study;
 use greybox_pipeline::synth::synth as synth_campaign;
+use greybox_tribo::plan::{PinCount, VelocityCount};
 use greybox_tribo::readers::RecordingFormat;
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;

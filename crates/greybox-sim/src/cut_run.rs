@@ -63,7 +63,7 @@ impl CutRun {
         let mut steady = SteadyForce::new(
             0,
             st.block_length_m / v,
-            st.blocks,
+            st.blocks.get(),
             st.tolerance,
             st.stop_when_steady,
         )

@@ -236,6 +236,9 @@ impl Default for FrictionSetup {
     }
 }
 
+/// Force blocks of the steady criterion.
+pub type SteadyBlocks = greybox_core::count::Count<2, 10_000>;
+
 /// When the cutting force counts as steady: over the last `blocks` blocks of `block_length_m`
 /// of cut, the block means lie within `tolerance` (relative) of their common mean and their
 /// fitted trend changes by less than that (see [`crate::steady`]), and at least
@@ -247,7 +250,8 @@ pub struct SteadySetup {
     /// Stop the run once the force is steady (otherwise run the whole `cut_length_m`).
     pub stop_when_steady: bool,
     pub block_length_m: f64,
-    pub blocks: usize,
+    /// Blocks that must agree (a bounded count: a set-up beyond it is refused when read).
+    pub blocks: SteadyBlocks,
     pub tolerance: f64,
     /// No steady state is declared before this much has been cut, m (the chip must have
     /// formed; 0: the `blocks` blocks alone).
@@ -259,7 +263,7 @@ impl Default for SteadySetup {
         SteadySetup {
             stop_when_steady: false,
             block_length_m: 0.05e-3,
-            blocks: 4,
+            blocks: SteadyBlocks::of(4),
             tolerance: 0.03,
             min_cut_length_m: 0.0,
         }
@@ -354,7 +358,6 @@ impl CuttingSetup {
             )
             .section("steady", |r| {
                 r.positive("block_length_m", self.steady.block_length_m)
-                    .at_least("blocks", self.steady.blocks as u64, 2)
                     .above_up_to("tolerance", self.steady.tolerance, 0.0, 1.0)
                     .non_negative("min_cut_length_m", self.steady.min_cut_length_m);
             })

@@ -300,7 +300,6 @@ fn bad_configurations_name_the_field_and_the_rule() {
             |s| s.steady.block_length_m = -1.0,
             "steady.block_length_m must be > 0",
         ),
-        (|s| s.steady.blocks = 1, "steady.blocks must be ≥ 2"),
         (
             |s| s.steady.tolerance = 0.0,
             "steady.tolerance must be in (0, 1]",
@@ -430,4 +429,19 @@ fn smoothed_windows_give_a_steadier_mu_profile() {
         checked += 1;
     }
     assert!(checked > 20);
+}
+
+/// A count in a set-up file is a bounded type: refused when the file is read, with the range
+/// (`steady.blocks` of 1 or 10¹⁸ never reaches a run).
+#[test]
+fn counts_in_a_set_up_are_refused_when_read() {
+    for (blocks, want) in [
+        ("1", "1 is below the least allowed 2"),
+        ("1000000000000000000", "above the cap of 10000"),
+    ] {
+        let e = toml::from_str::<greybox_sim::cutting::SteadySetup>(&format!("blocks = {blocks}"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(want) && e.contains("blocks"), "{e}");
+    }
 }

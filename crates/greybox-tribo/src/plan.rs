@@ -250,8 +250,11 @@ impl PlanSpec {
     pub fn build(&self) -> Result<Plan> {
         let forces = self.normal_forces()?;
         let velocities = self.velocities_m_per_min()?;
-        StepCount::of_usize(forces.len().saturating_mul(velocities.len()), "plan steps (normal forces × velocities)")
-            .map_err(|e| Error::invalid("plan", e))?;
+        StepCount::of_usize(
+            forces.len().saturating_mul(velocities.len()),
+            "plan steps (normal forces × velocities)",
+        )
+        .map_err(|e| Error::invalid("plan", e))?;
         let radius = self.track_radius_m()?;
         let positive = |name: &str, v: f64, unit: &str| -> Result<()> {
             if v.is_finite() && v > 0.0 {
@@ -469,7 +472,12 @@ mod tests {
         .build()
         .unwrap_err()
         .to_string();
-        assert!(e.contains("plan steps (normal forces × velocities): 100000000 is above the cap of 10000000"), "{e}");
+        assert!(
+            e.contains(
+                "plan steps (normal forces × velocities): 100000000 is above the cap of 10000000"
+            ),
+            "{e}"
+        );
         let e = PlanSpec {
             velocity_min_m_per_min: 300.0,
             ..article_spec()

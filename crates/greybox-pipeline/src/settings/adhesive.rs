@@ -18,9 +18,9 @@ use crate::adhesive::{
     AdhesiveMethod, AdhesiveOptions, LoadStride, SimLoads, SimRuns, Simulation3dOptions,
     SimulationOptions, ARTICLE_PIN_RADIUS_MM,
 };
-use greybox_couple::pin3d::Increments;
 use anyhow::{Context, Result};
 use greybox_couple::pin3d;
+use greybox_couple::pin3d::Increments;
 use greybox_tribo::ploughing::TrackWidth;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;

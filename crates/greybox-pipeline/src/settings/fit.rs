@@ -152,14 +152,23 @@ impl FitSettings {
         set(&mut c.importance_repeats, &self.importance_repeats);
         c.skip_nested |= self.skip_nested;
         let g = &mut c.grid;
-        set(&mut g.random_forest.n_estimators, &counts(&self.rf_n_estimators));
+        set(
+            &mut g.random_forest.n_estimators,
+            &counts(&self.rf_n_estimators),
+        );
         set(&mut g.svr.c, &self.svr_c);
         set(&mut g.svr.epsilon, &self.svr_epsilon);
         if let Some(k) = &self.svr_kernel {
             g.svr.kernel = choices::<Kernel>(k, "svr_kernel")?;
         }
-        set(&mut g.gradient_boosting.n_estimators, &counts(&self.gb_n_estimators));
-        set(&mut g.gradient_boosting.max_depth, &counts(&self.gb_max_depth));
+        set(
+            &mut g.gradient_boosting.n_estimators,
+            &counts(&self.gb_n_estimators),
+        );
+        set(
+            &mut g.gradient_boosting.max_depth,
+            &counts(&self.gb_max_depth),
+        );
         set(
             &mut g.gradient_boosting.learning_rate,
             &self.gb_learning_rate,
@@ -171,7 +180,10 @@ impl FitSettings {
             g.mlp.activation = choices::<Activation>(a, "mlp_activation")?;
         }
         set(&mut g.mlp.learning_rate, &self.mlp_learning_rate);
-        set(&mut g.mlp.base.max_epochs, &self.mlp_max_epochs.map(Epochs::get));
+        set(
+            &mut g.mlp.base.max_epochs,
+            &self.mlp_max_epochs.map(Epochs::get),
+        );
         Ok(())
     }
 

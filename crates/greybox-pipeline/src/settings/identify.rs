@@ -34,7 +34,6 @@ use greybox_tribo::readers::RecordingFormat;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
-
 /// A 1-based line number of a recording's head (0: no header line).
 pub type HeaderLine = greybox_core::count::Count<0, 1_000_000>;
 /// Overrides of a study for one identification; `None` (or empty) keeps the study's value.

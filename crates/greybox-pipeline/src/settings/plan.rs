@@ -14,8 +14,8 @@
 //! ```
 
 use crate::study::Study;
-use greybox_tribo::plan::{PinCount, VelocityCount};
 use anyhow::Result;
+use greybox_tribo::plan::{PinCount, VelocityCount};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 

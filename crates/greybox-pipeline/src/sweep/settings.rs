@@ -77,7 +77,9 @@ impl ExecutorSettings {
             );
         }
         Ok(match self.executor {
-            ExecutorName::Local => Executor::Local { jobs: self.jobs.get() },
+            ExecutorName::Local => Executor::Local {
+                jobs: self.jobs.get(),
+            },
             ExecutorName::Slurm => Executor::Slurm {
                 dry_run,
                 poll_s: self.poll_s,
