@@ -293,8 +293,7 @@ fn fit_models(
     }
     o.force = force;
     if let Some(c) = config {
-        o.config =
-            serde_json::from_str(c).map_err(|e| py_err(anyhow::anyhow!("fit config: {e}")))?;
+        o.config = greybox_pipeline::settings::from_json("fit config", c).map_err(py_err)?;
     }
     let r = run_interruptible(py, || fit(&o))?;
     to_json(&serde_json::json!({

@@ -388,7 +388,7 @@ impl ExportOverrides {
 
     /// Overrides from JSON (Python's keyword arguments); unknown keys are errors.
     pub fn from_json(text: &str) -> Result<Self> {
-        serde_json::from_str(text).context("export options")
+        crate::settings::from_json("export", text)
     }
 
     /// Set the grid from values in the command line's units (`MIN:MAX:N` or comma lists:
