@@ -83,7 +83,7 @@ fn the_size_budget_refuses_before_writing_and_a_fitting_table_is_written() {
     let out = d.path().join("t.inp");
     let o = ExportOptions::new(law.clone(), ExportFormat::Abaqus, out.clone())
         .overridden(&ExportOverrides {
-            max_table_size: Some(629),
+            max_table_size: Some(greybox_pipeline::export::TableSize::of(629)),
             ..Default::default()
         })
         .unwrap();
@@ -94,7 +94,7 @@ fn the_size_budget_refuses_before_writing_and_a_fitting_table_is_written() {
     );
     assert!(!out.exists());
     let o = ExportOptions {
-        max_table_size: 630,
+        max_table_size: greybox_pipeline::export::TableSize::of(630),
         ..o
     };
     let r = export(&o).unwrap();

@@ -93,6 +93,10 @@ def test_fit_reports_every_family_and_writes_loadable_models(fitted):
     assert all(os.path.exists(p) or os.path.exists(d / "fit" / p) for p in report["outputs"]["models"])
     with pytest.raises(gb.GreyboxError, match="unknown field"):
         gb.fit(d / "adhesive.csv", d / "fit2", config={"folds_typo": 3})
+    # counts are bounded types on every surface: refused before any work, naming the key
+    with pytest.raises(gb.GreyboxError, match=r"bootstrap_resamples: 1000000000 is above the cap of 100000"):
+        gb.fit(d / "adhesive.csv", d / "fit2", config={"bootstrap_resamples": 10**9})
+    assert not os.path.exists(d / "fit2")
 
 
 def test_model_mu_with_intervals_and_domain_check(fitted):

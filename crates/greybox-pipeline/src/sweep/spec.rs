@@ -96,23 +96,25 @@ fn one() -> f64 {
 pub struct Range {
     pub start: f64,
     pub stop: f64,
-    pub count: usize,
+    /// Values of the axis (each case is a directory and a run: at most [`MaxCases::MAX`]).
+    pub count: MaxCases,
     #[serde(default)]
     pub log: bool,
 }
 
 impl Range {
     fn values(&self, what: &str) -> Result<Vec<f64>> {
-        let ok = self.start.is_finite() && self.stop.is_finite() && self.count >= 1;
+        let count = self.count.get();
+        let ok = self.start.is_finite() && self.stop.is_finite();
         if !ok || (self.log && !(self.start > 0.0 && self.stop > 0.0)) {
-            bail!("{what}: range needs finite start and stop (> 0 with log = true) and count ≥ 1");
+            bail!("{what}: range needs finite start and stop (> 0 with log = true)");
         }
-        if self.count == 1 {
+        if count == 1 {
             return Ok(vec![self.start]);
         }
-        Ok((0..self.count)
+        Ok((0..count)
             .map(|k| {
-                let t = k as f64 / (self.count - 1) as f64;
+                let t = k as f64 / (count - 1) as f64;
                 if self.log {
                     (self.start.ln() + t * (self.stop.ln() - self.start.ln())).exp()
                 } else {
@@ -139,7 +141,7 @@ impl FieldValues {
     fn len(&self) -> usize {
         match (&self.values, &self.range) {
             (Some(v), None) => v.len(),
-            (None, Some(r)) => r.count,
+            (None, Some(r)) => r.count.get(),
             _ => 0,
         }
     }
@@ -370,10 +372,10 @@ zip = [ { field = "friction.law_file", values = ["a.json", "none"] }, { field = 
             e.contains("10000000000 cases (100000 × 100000)") && e.contains("max_cases = 10000"),
             "{e}"
         );
-        let raised = t.replace(
-            "base = \"b.toml\"",
-            "base = \"b.toml\"\nmax_cases = 20000000000",
-        );
-        assert_eq!(parse(&raised).case_count().0, 1e10);
+        // raising the cap is allowed up to the cap of the cap
+        let raised = |n: &str| t.replace("base = \"b.toml\"", &format!("base = \"b.toml\"\nmax_cases = {n}"));
+        assert_eq!(parse(&raised("10000000")).case_count().0, 1e10);
+        let e = toml::from_str::<SweepFile>(&raised("20000000000")).unwrap_err().to_string();
+        assert!(e.contains("max_cases") && e.contains("above the cap of 10000000"), "{e}");
     }
 }
