@@ -148,12 +148,24 @@ pub struct FileReport {
     pub coverage: Coverage,
     pub segments: Vec<SegmentReport>,
     pub notes: Vec<String>,
+    /// What was dropped, split, left unread or contradicts what was used, one line each: the
+    /// reader's ([`ReadReport::warnings`]) and the segmentation's (a gap in time that splits a
+    /// segment). Printed in the summary of every run and written into its JSON, never only
+    /// under `--inspect`; dropped segments are in [`Coverage::dropped`], with their reasons.
+    pub warnings: Vec<String>,
     /// Rows already identified (plan-timed path).
     #[serde(skip)]
     rows: Vec<FrictionRecord>,
     /// Sliding spans left out before measuring (shorter than a step may be).
     #[serde(skip)]
     too_short: Vec<Dropped>,
+}
+
+/// The reader's summary lines of a recording ([`ReadReport::warnings`]).
+fn read_warnings(rec: &Recording) -> Vec<String> {
+    rec.provenance
+        .as_ref()
+        .map_or_else(Vec::new, |r| r.warnings.clone())
 }
 
 /// How segments were matched to a plan.
@@ -359,6 +371,7 @@ fn prepare<'a>(
         report: FileReport {
             source: rec.source.clone(),
             read: rec.provenance.clone(),
+            warnings: read_warnings(rec),
             sample_rate_hz: fs,
             samples: n,
             duration_s: span,
@@ -939,7 +952,7 @@ fn steady_window(
     cfg: &IdentifyConfig,
     fs: f64,
 ) -> std::result::Result<(usize, usize, Option<usize>), String> {
-    if let Some((a, b)) = rule_span(cfg.steady, t_rel) {
+    if let Some((a, b)) = rule_span(cfg.steady, t_rel, cfg.min_plateau_samples, "samples")? {
         return Ok((a, b, None));
     }
     let never =
@@ -1351,6 +1364,7 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
             reciprocating_segments(p, why, cfg);
             continue;
         }
+        let s = split_at_gaps(p, s);
         let (kept, short): (Vec<Span>, Vec<Span>) =
             s.iter().partition(|s| s.j - s.i >= min_len(p).max(4));
         p.report.too_short = too_short(p, &short, cfg);
@@ -1372,6 +1386,58 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
         update_coverage(f, cfg, true);
     }
     Ok(files)
+}
+
+/// A pause in the recording longer than this many (median) sample intervals splits the
+/// segment it falls in: no steady window spans it (an 11-day pause inside one test is two
+/// tests), and the split is a line of the summary.
+pub const GAP_SPLIT_INTERVALS: f64 = 100.0;
+
+/// The spans split at every gap in time longer than [`GAP_SPLIT_INTERVALS`] sample intervals,
+/// each split a warning of the file's report.
+fn split_at_gaps(p: &mut Prepared, spans: &[Span]) -> Vec<Span> {
+    let t = &p.rec.time_s;
+    let limit = GAP_SPLIT_INTERVALS / p.fs;
+    let mut out = Vec::with_capacity(spans.len());
+    for sp in spans {
+        let mut start = sp.i;
+        for k in sp.i + 1..sp.j {
+            let gap = t[k] - t[k - 1];
+            if gap > limit {
+                p.report.warnings.push(format!(
+                    "a gap of {} in time (t = {:.3} s to {:.3} s, {:.0} sample intervals, more than {GAP_SPLIT_INTERVALS}) splits a segment: no steady window spans it",
+                    duration_text(gap),
+                    t[k - 1],
+                    t[k],
+                    gap * p.fs
+                ));
+                out.push(Span {
+                    i: start,
+                    j: k,
+                    unc: (if start == sp.i { sp.unc.0 } else { 0.0 }, 0.0),
+                    ..*sp
+                });
+                start = k;
+            }
+        }
+        out.push(Span {
+            i: start,
+            unc: (if start == sp.i { sp.unc.0 } else { 0.0 }, sp.unc.1),
+            ..*sp
+        });
+    }
+    out
+}
+
+/// A duration for messages: `42.0 s`, `3.5 h`, `11.0 days`.
+fn duration_text(s: f64) -> String {
+    if s >= 86_400.0 {
+        format!("{:.1} days", s / 86_400.0)
+    } else if s >= 3600.0 {
+        format!("{:.1} h", s / 3600.0)
+    } else {
+        format!("{s:.1} s")
+    }
 }
 
 /// Sliding pieces shorter than a step, as dropped parts: pieces less than `min_segment_s`
@@ -2014,6 +2080,7 @@ fn plan_timed(recs: &[Recording], plan: &Plan, c: &Campaign) -> Result<Vec<FileR
         files.push(FileReport {
             source: rec.source.clone(),
             read: rec.provenance.clone(),
+            warnings: read_warnings(rec),
             sample_rate_hz: rec.sample_rate_hz(),
             samples: rec.len(),
             duration_s: rec.duration_s(),

@@ -146,8 +146,7 @@ impl TdmsFile {
 
     fn read_tuned(path: &Path, tuning: &Tuning) -> Result<Self> {
         let source = path.display().to_string();
-        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-        let len = file.metadata().map_err(|e| Error::io(path, e))?.len();
+        let (file, len) = greybox_core::budget::open_recording(path)?;
         #[cfg(any(unix, windows))]
         if len >= tuning.whole_read_max as u64 {
             if let Ok(len) = usize::try_from(len) {
@@ -159,10 +158,8 @@ impl TdmsFile {
                 return parse_source(&src, &source, tuning);
             }
         }
-        let mut bytes = Vec::new();
-        // a hint only: the read below finds the real length
-        let _ = bytes.try_reserve_exact(usize::try_from(len).unwrap_or(0));
-        std::io::Read::read_to_end(&mut &file, &mut bytes).map_err(|e| Error::io(path, e))?;
+        drop(file);
+        let bytes = greybox_core::budget::read_recording_bytes(path)?;
         parse_source(&Source::Mem(&bytes), &source, tuning)
     }
 

@@ -77,14 +77,15 @@ const CONFIRM_ROWS: usize = 3;
 
 /// Read a text table from a file.
 ///
-/// A regular file is memory-mapped (no copy of a file of hundreds of MB into a buffer); the
-/// file must not be truncated while it is read, as with any reader that maps files. Anything
-/// else (a pipe, an empty file, a file system without mmap) is read into memory.
+/// Only a regular file of at most the budget `max_recording_bytes` is read
+/// ([`greybox_core::budget::open_recording`]: a FIFO, a device or a link to one is refused by
+/// name). It is memory-mapped (no copy of a file of hundreds of MB into a buffer); the file
+/// must not be truncated while it is read, as with any reader that maps files. On a file
+/// system without mmap it is read into memory.
 pub fn read_text_table(path: &std::path::Path, opts: &TextOptions) -> Result<Table> {
     let source = path.display().to_string();
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    let regular = file.metadata().is_ok_and(|m| m.is_file() && m.len() > 0);
-    if regular {
+    let (file, len) = greybox_core::budget::open_recording(path)?;
+    if len > 0 {
         // SAFETY: the map is read-only and lives only for this call. Like every reader that
         // maps files (ripgrep, polars), this relies on no other process truncating or
         // rewriting the recording while it is parsed, as the doc comment states.
@@ -92,9 +93,12 @@ pub fn read_text_table(path: &std::path::Path, opts: &TextOptions) -> Result<Tab
             return parse_text_table(&map, &source, opts);
         }
     }
-    let mut bytes = Vec::new();
-    std::io::Read::read_to_end(&mut &file, &mut bytes).map_err(|e| Error::io(path, e))?;
-    parse_text_table(&bytes, &source, opts)
+    drop(file);
+    parse_text_table(
+        &greybox_core::budget::read_recording_bytes(path)?,
+        &source,
+        opts,
+    )
 }
 
 /// One line of the file: its 1-based number and its bytes without the line end.
@@ -848,6 +852,9 @@ fn parse_in_chunks(
     let head = head_lines(body);
     let c = choose_layout(&head, opts, source)?;
     let Header { key, names, line } = resolve_header(&head, &c, source)?;
+    if let (Some(units), Some(u)) = (key.units.as_deref(), c.units) {
+        check_units_row(&names, units, head[u].number, source)?;
+    }
     let preamble: Vec<String> = head[..c.header.unwrap_or(c.data)]
         .iter()
         .filter(|l| !is_blank(l.text))
@@ -1024,6 +1031,36 @@ fn column_names(header: &Line, c: &Candidate, source: &str) -> Result<Vec<String
         }
     }
     Ok(names)
+}
+
+/// Refuses a units row that contradicts the unit its column's header states (`Fz (kN)` over
+/// `N`): which one is meant cannot be told, and taking either silently scales the column by
+/// the ratio. The error names the file, the units row's line, the column and both units.
+fn check_units_row(
+    names: &[String],
+    units: &[String],
+    units_line: u64,
+    source: &str,
+) -> Result<()> {
+    for (k, name) in names.iter().enumerate() {
+        let (bare, Some(stated)) = crate::table::split_unit(name) else {
+            continue;
+        };
+        let Some(row) = units.get(k).and_then(|u| unit_token(u)) else {
+            continue;
+        };
+        if row != stated {
+            return Err(Error::input(
+                SourcePos::file(source).line(units_line),
+                format!(
+                    "column {} ('{bare}'): the header states the unit {stated} but the units row says {row}; \
+                     correct one of them (or name the column's unit with --columns)",
+                    k + 1
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The columns of a text table, where they sit in the file, and notes on what was changed.
@@ -1590,12 +1627,20 @@ mod tests {
         );
         assert_eq!(t.header_line, 1);
         assert!(t.layout.contains("units row on line 2"), "{}", t.layout);
-        // an empty unit, and a header that states its own unit keeps it
-        let t = parse("Instrument X\n\nt;Fz (kN);Step\ns;N;\n0;1;1\n1;2;1\n2;3;2\n").unwrap();
+        // an empty unit, and a header that states its own unit, the same as the units row's
+        let t = parse("Instrument X\n\nt;Fz (kN);Step\ns;kN;\n0;1;1\n1;2;1\n2;3;2\n").unwrap();
         assert_eq!(t.columns[0].unit.as_deref(), Some("s"));
         assert_eq!(t.columns[1].unit.as_deref(), Some("kN"));
         assert_eq!(t.columns[2].unit, None);
         assert_eq!(t.preamble, ["Instrument X"]);
+        // a units row that contradicts the header is refused with both units and its line
+        let e = parse("Instrument X\n\nt;Fz (kN);Step\ns;N;\n0;1;1\n1;2;1\n2;3;2\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 4") && e.contains("Fz") && e.contains("kN") && e.contains("says N"),
+            "{e}"
+        );
         // a text row of non-units above the data is the header, not units
         let t = parse("Instrument X,Serial 12\nTime,Force\n0,1\n1,2\n").unwrap();
         assert_eq!(t.columns[1].name, "Force");

@@ -1,0 +1,189 @@
+//! Nothing read is dropped, split or contradicted without a line in the summary, and every
+//! recording reader opens its file the same guarded way (issue 46 items 2, 5 and 6).
+
+use greybox_tribo::campaign::{identify_recordings, Campaign, Identification};
+use greybox_tribo::hertz::PinContact;
+use greybox_tribo::identify_config::IdentifyConfig;
+use greybox_tribo::readers::read_recording;
+use greybox_tribo::recording::{ChannelMap, Recording};
+use std::fmt::Write as _;
+use std::path::Path;
+
+fn read(path: &Path) -> greybox_core::Result<Recording> {
+    read_recording(path, &ChannelMap::default())
+}
+
+fn identify(recs: &[Recording]) -> Identification {
+    let contact = PinContact::default();
+    identify_recordings(
+        recs,
+        &Campaign {
+            expected: None,
+            plan: None,
+            contact: &contact,
+            cfg: &IdentifyConfig::default(),
+            track_radius_mm: &[],
+        },
+    )
+    .unwrap()
+}
+
+/// A text recording at 10 Hz: `rows` rows of time, F_N = 100 N and F_t = 30 N (μ 0.3), and
+/// `cof` as the rig's own μ column when given.
+fn table(rows: usize, cof: Option<f64>) -> String {
+    let mut s = String::from("Time [s],Fn [N],Ft [N]");
+    s.push_str(if cof.is_some() { ",COF\n" } else { "\n" });
+    for k in 0..rows {
+        let _ = write!(s, "{:.1},100,30", k as f64 * 0.1);
+        match cof {
+            Some(c) => {
+                let _ = writeln!(s, ",{c}");
+            }
+            None => s.push('\n'),
+        }
+    }
+    s
+}
+
+/// Every reader (text, spreadsheet, TDMS, by the name's format) refuses a link to a device and
+/// a FIFO by name and kind, without opening the FIFO (which would wait for a writer).
+#[cfg(target_os = "linux")]
+#[test]
+fn every_reader_refuses_what_is_not_a_regular_file() {
+    let d = tempfile::tempdir().unwrap();
+    for ext in ["csv", "xlsx", "tdms"] {
+        let link = d.path().join(format!("zero.{ext}"));
+        std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+        let e = read(&link).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("zero.{ext}")) && e.contains("character device"),
+            "{ext}: {e}"
+        );
+        let fifo = d.path().join(format!("fifo.{ext}"));
+        let status = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        let e = read(&fifo).unwrap_err().to_string();
+        assert!(
+            e.contains("FIFO") && e.contains("not a regular file"),
+            "{ext}: {e}"
+        );
+    }
+}
+
+/// A units row that contradicts the header's unit is an error naming the file, the line and
+/// both units, not a column silently read in one of them.
+#[test]
+fn a_units_row_that_contradicts_the_header_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path().join("units.csv");
+    std::fs::write(
+        &p,
+        "Time,Fn (kN),Ft (N)\ns,N,N\n0,1,0.3\n0.1,1,0.3\n0.2,1,0.3\n0.3,1,0.3\n",
+    )
+    .unwrap();
+    let e = read(&p).unwrap_err().to_string();
+    assert!(
+        e.contains("units.csv") && e.contains("line 2") && e.contains("kN") && e.contains("says N"),
+        "{e}"
+    );
+}
+
+/// A rig's own μ 50 % off F_t/F_N is a warning with the numbers (not only an `--inspect`
+/// note), carried into the identification's file report.
+#[test]
+fn a_cof_column_far_from_the_forces_is_a_summary_line() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path().join("cof.csv");
+    std::fs::write(&p, table(200, Some(0.6))).unwrap();
+    let rec = read(&p).unwrap();
+    let w = rec.provenance.as_ref().unwrap().warnings.join("\n");
+    assert!(
+        w.contains("differs") && w.contains("50 %") && w.contains("0.6000"),
+        "{w}"
+    );
+    // agreeing within the tolerance: no warning
+    std::fs::write(&p, table(200, Some(0.31))).unwrap();
+    let rec = read(&p).unwrap();
+    assert!(rec.provenance.as_ref().unwrap().warnings.is_empty());
+}
+
+/// Rows written with another delimiter after the data are not silently a "footer": the
+/// summary says how many lines were left unread and that they hold numbers.
+#[test]
+fn rows_left_unread_after_the_data_are_a_summary_line() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path().join("footer.csv");
+    let mut text = table(100, None);
+    for k in 100..1100 {
+        let _ = writeln!(text, "{:.1};100;30", k as f64 * 0.1);
+    }
+    std::fs::write(&p, text).unwrap();
+    match read(&p) {
+        Ok(rec) => {
+            let w = rec.provenance.as_ref().unwrap().warnings.join("\n");
+            assert!(
+                w.contains("1000 line(s) after the data") && w.contains("mostly numbers"),
+                "{w}"
+            );
+        }
+        // refused outright is as good: nothing is lost silently
+        Err(e) => assert!(e.to_string().contains("footer.csv"), "{e}"),
+    }
+    // an `End of data` line stays a quiet footer
+    std::fs::write(&p, table(100, None) + "End of data\n").unwrap();
+    let rec = read(&p).unwrap();
+    assert!(rec.provenance.as_ref().unwrap().warnings.is_empty());
+}
+
+/// An 11-day pause inside one loaded sliding stretch splits it: no steady window spans the
+/// gap, and the split is named in the file's warnings.
+#[test]
+fn a_long_gap_in_time_splits_the_segment_and_is_named() {
+    let (fs, half) = (10.0, 3000);
+    let gap_s = 11.0 * 86_400.0;
+    let mut r = Recording::new("gap.csv", Vec::new(), Vec::new(), Vec::new());
+    let mut push = |t: f64, loaded: bool| {
+        r.time_s.push(t);
+        r.normal_n.push(if loaded { 100.0 } else { 0.0 });
+        r.tangential_n.push(if loaded { 30.0 } else { 0.0 });
+    };
+    // 20 s unloaded, 300 s sliding, the pause, 300 s sliding, 20 s unloaded
+    for k in 0..200 {
+        push(k as f64 / fs, false);
+    }
+    for k in 0..half {
+        push(20.0 + k as f64 / fs, true);
+    }
+    let resume = 20.0 + half as f64 / fs + gap_s;
+    for k in 0..half {
+        push(resume + k as f64 / fs, true);
+    }
+    let end = resume + half as f64 / fs;
+    for k in 0..200 {
+        push(end + k as f64 / fs, false);
+    }
+    let id = identify(&[r]);
+    let f = &id.files[0];
+    let w = f.warnings.join("\n");
+    assert!(
+        w.contains("11.0 days") && w.contains("splits a segment"),
+        "{w}"
+    );
+    let gap = (20.0 + half as f64 / fs, resume);
+    for s in &f.segments {
+        if let (Some(a), Some(b)) = (s.steady_start_s, s.steady_end_s) {
+            assert!(
+                b <= gap.0 || a >= gap.1,
+                "steady window {a}..{b} spans the gap"
+            );
+        }
+    }
+    assert!(
+        f.segments.iter().filter(|s| s.cof.is_some()).count() >= 2,
+        "{:#?}",
+        f.segments
+    );
+}
