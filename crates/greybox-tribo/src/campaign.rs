@@ -1775,7 +1775,7 @@ fn match_segments_unchecked(
     }
     let segs = measured_segments(files);
     match c.expected {
-        None => number_without_plan(files, &segs, c),
+        None => number_without_plan(files, c),
         Some(expected) => match_to_plan(files, &segs, expected, c),
     }
 }
@@ -1817,14 +1817,45 @@ fn segment_record(
 /// changes by more than 10 % or a new multi-step file starts); speeds must be measured.
 fn number_without_plan(
     files: &mut [FileReport],
-    segs: &[(usize, usize)],
     c: &Campaign,
 ) -> Result<(FrictionDataset, MatchReport)> {
     let mut records = Vec::new();
     let (mut pin, mut step) = (0u32, 0u32);
     let mut prev: Option<(usize, f64)> = None; // file, load
-    for &(f, k) in segs {
+    let mut prev_label: Option<f64> = None; // the recording's own step number (step column, block)
+                                            // a dropped segment keeps its place: the steps after it keep their numbers
+    let all: Vec<(usize, usize)> = files
+        .iter()
+        .enumerate()
+        .flat_map(|(f, file)| (0..file.segments.len()).map(move |k| (f, k)))
+        .collect();
+    for &(f, k) in &all {
         let s = &files[f].segments[k];
+        if s.stats.is_none() {
+            if s.problem.is_none() || !(s.normal_force_n > 0.0) {
+                continue;
+            }
+            let same_pin = prev
+                .is_some_and(|(pf, load)| pf == f && (s.normal_force_n / load - 1.0).abs() <= 0.1);
+            if !same_pin {
+                pin += 1;
+                step = 0;
+            } else {
+                step += labels_skipped(prev_label, s.step_label);
+            }
+            step += 1;
+            prev = Some((f, s.normal_force_n));
+            prev_label = s.step_label;
+            let note = format!(
+                "segment {} ({:.3}–{:.3} s) would be pin {pin} step {step} but gave no row ({}): the step is left empty, the steps after it keep their numbers",
+                s.index,
+                s.start_s,
+                s.end_s,
+                s.problem.as_deref().unwrap_or_default()
+            );
+            files[f].warnings.push(note);
+            continue;
+        }
         if let Some(v) = s
             .sliding_velocity_m_per_min
             .filter(|v| !(v.abs() <= units::m_per_s_to_m_per_min(MAX_SLIDING_VELOCITY_M_S)))
@@ -1862,12 +1893,26 @@ fn number_without_plan(
                 load_changed || new_file
             }
         };
-        if new_pin {
+        let skipped = if new_pin {
             pin += 1;
             step = 0;
-        }
-        step += 1;
+            0
+        } else {
+            labels_skipped(prev_label, s.step_label)
+        };
+        step += 1 + skipped;
         prev = Some((f, s.normal_force_n));
+        prev_label = s.step_label;
+        if skipped > 0 {
+            let note = format!(
+                "the recording's steps jump from {} to {}: pin {pin} steps {}–{} have no segment and are left empty, the steps after them keep their numbers",
+                prev_label.unwrap_or_default() - skipped as f64 - 1.0,
+                prev_label.unwrap_or_default(),
+                step - skipped,
+                step - 1
+            );
+            files[f].warnings.push(note);
+        }
         files[f].segments[k].matched = Some((pin, step));
         let s = &files[f].segments[k];
         records.push(segment_record(
@@ -1883,6 +1928,19 @@ fn number_without_plan(
         ..Default::default()
     };
     Ok((FrictionDataset { records }, report))
+}
+
+/// Steps the recording's own numbering (a step column, blocks) skips between two segments of
+/// one pin: `prev` 2 and `label` 4 skip one. Only whole, increasing numbers count.
+fn labels_skipped(prev: Option<f64>, label: Option<f64>) -> u32 {
+    match (prev, label) {
+        (Some(a), Some(b))
+            if a.fract() == 0.0 && b.fract() == 0.0 && b > a + 1.0 && b - a < 1e4 =>
+        {
+            (b - a - 1.0) as u32
+        }
+        _ => 0,
+    }
 }
 
 /// "pin P step S (F N, v m/min)" for reports.

@@ -1193,6 +1193,13 @@ fn block_steps(table: &Table, n: usize, report: &mut ReadReport) -> Option<Vec<f
     let mut step = vec![0.0; n];
     for (b, w) in table.block_starts.iter().enumerate() {
         let end = table.block_starts.get(b + 1).copied().unwrap_or(n).min(n);
+        if end <= *w {
+            report.warnings.push(format!(
+                "block {} has a header but no data row: step {} is empty, the blocks after it keep their numbers",
+                b + 1,
+                b + 1
+            ));
+        }
         step[(*w).min(n)..end]
             .iter_mut()
             .for_each(|s| *s = (b + 1) as f64);

@@ -1190,11 +1190,39 @@ fn assemble(
         let Some(h) = block_header(&region, c.delimiter, key) else {
             return Err(region_error(&region, c, key, header_line, source));
         };
+        // headers before the last one: blocks without a data row, kept (empty) so that the
+        // blocks after them keep their numbers
+        let (kl, mut start, mut i) = (key_lines(key), 0, 0);
+        while i + kl <= h {
+            // the lines start..i+kl end in a header (and units row) that starts at i
+            if block_header(&region[start..i + kl], c.delimiter, key) == Some(i - start) {
+                out.block_starts.push(row);
+                out.block_preambles.push(
+                    trimmed(&region[start..i])
+                        .into_iter()
+                        .map(|(_, t)| t)
+                        .collect(),
+                );
+                start = i + kl;
+                i = start;
+            } else {
+                i += 1;
+            }
+        }
         out.block_starts.push(row);
-        out.block_preambles
-            .push(trimmed(&region[..h]).into_iter().map(|(_, t)| t).collect());
+        out.block_preambles.push(
+            trimmed(&region[start..h])
+                .into_iter()
+                .map(|(_, t)| t)
+                .collect(),
+        );
     }
     Ok(out)
+}
+
+/// Lines of a block's header: the names, and the units row if the first block has one.
+fn key_lines(key: &HeaderKey) -> usize {
+    1 + usize::from(key.units.is_some())
 }
 
 /// Where a region ends in the first block's header (and units row): the header's index.
@@ -1737,6 +1765,28 @@ mod tests {
         let t = parse("Time,Fz\n0,1\n1,2\n").unwrap();
         assert!(t.block_starts.is_empty() && t.block_preambles.is_empty());
         assert_eq!(t.block_of_row(1), 0);
+    }
+
+    /// A block with a header but no data row keeps its place: the blocks after it keep their
+    /// numbers (issue 46 item 5: an empty block renumbered the rest).
+    #[test]
+    fn an_empty_block_keeps_its_place() {
+        let full = blocks_text(3, "Time,Fz,Fx");
+        // block 2's rows removed: its settings and header stand right above block 3's
+        let text: String = full
+            .lines()
+            .filter(|l| !(l.starts_with(|c: char| c.is_ascii_digit()) && l.contains(",20,")))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        for min_chunk in [1, 16, usize::MAX] {
+            let t = parse_in_chunks(text.as_bytes(), "b.csv", &TextOptions::default(), min_chunk)
+                .unwrap();
+            assert_eq!(t.rows, 8);
+            assert_eq!(t.block_starts, [0, 4, 4]);
+            assert_eq!(t.block_preambles[1], ["Step 2 started", "Load setpoint,20"]);
+            assert_eq!(t.block_preambles[2], ["Step 3 started", "Load setpoint,30"]);
+            assert_eq!(t.block_of_row(4), 2);
+        }
     }
 
     #[test]

@@ -5,7 +5,7 @@ use greybox_tribo::campaign::{identify_recordings, Campaign, Identification};
 use greybox_tribo::hertz::PinContact;
 use greybox_tribo::identify_config::IdentifyConfig;
 use greybox_tribo::readers::read_recording;
-use greybox_tribo::recording::{ChannelMap, Recording};
+use greybox_tribo::recording::{ChannelMap, Recording, SpeedTrace};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -145,10 +145,12 @@ fn a_long_gap_in_time_splits_the_segment_and_is_named() {
     let (fs, half) = (10.0, 3000);
     let gap_s = 11.0 * 86_400.0;
     let mut r = Recording::new("gap.csv", Vec::new(), Vec::new(), Vec::new());
+    let mut speed = Vec::new();
     let mut push = |t: f64, loaded: bool| {
         r.time_s.push(t);
         r.normal_n.push(if loaded { 100.0 } else { 0.0 });
         r.tangential_n.push(if loaded { 30.0 } else { 0.0 });
+        speed.push(if loaded { 0.1 } else { 0.0 });
     };
     // 20 s unloaded, 300 s sliding, the pause, 300 s sliding, 20 s unloaded
     for k in 0..200 {
@@ -165,6 +167,7 @@ fn a_long_gap_in_time_splits_the_segment_and_is_named() {
     for k in 0..200 {
         push(end + k as f64 / fs, false);
     }
+    r.speed = Some(SpeedTrace::SlidingMPerS(speed));
     let id = identify(&[r]);
     let f = &id.files[0];
     let w = f.warnings.join("\n");
@@ -186,4 +189,60 @@ fn a_long_gap_in_time_splits_the_segment_and_is_named() {
         "{:#?}",
         f.segments
     );
+}
+
+/// A block with a header but no rows keeps its step number (the blocks after it are not
+/// renumbered) and is a summary line.
+#[test]
+fn an_empty_block_keeps_its_step_number_and_is_named() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path().join("blocks.csv");
+    let mut text = String::from("Rig 7\n");
+    for b in 1..=3 {
+        let _ = write!(text, "\nStep {b} started\nTime,Fz,Fx\ns,N,N\n");
+        if b != 2 {
+            for i in 0..40 {
+                let _ = writeln!(text, "{:.1},{},{}", i as f64 * 0.1, 10 * b, 3 * b);
+            }
+        }
+    }
+    std::fs::write(&p, text).unwrap();
+    let rec = read(&p).unwrap();
+    let steps = rec.step.as_ref().expect("blocks give the step");
+    assert_eq!(steps.first(), Some(&1.0));
+    assert_eq!(steps.last(), Some(&3.0), "block 3 renumbered");
+    assert!(!steps.contains(&2.0));
+    let w = rec.provenance.as_ref().unwrap().warnings.join("\n");
+    assert!(w.contains("block 2 has a header but no data row"), "{w}");
+}
+
+/// An xlsx time column formatted as clock times is read as seconds, not dropped.
+#[test]
+fn an_xlsx_time_column_of_dates_is_read_as_seconds() {
+    use rust_xlsxwriter::{Format, Workbook};
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path().join("dates.xlsx");
+    let mut wb = Workbook::new();
+    let sheet = wb.add_worksheet();
+    for (c, h) in ["Time", "Fn (N)", "Ft (N)"].iter().enumerate() {
+        sheet.write_string(0, c as u16, *h).unwrap();
+    }
+    let clock = Format::new().set_num_format("hh:mm:ss");
+    // 2026-05-03 12:00:00 onwards, one row a second
+    let start = 46_145.5;
+    for k in 0..60u32 {
+        let row = k + 1;
+        sheet
+            .write_number_with_format(row, 0, start + f64::from(k) / 86_400.0, &clock)
+            .unwrap();
+        sheet.write_number(row, 1, 100.0).unwrap();
+        sheet.write_number(row, 2, 30.0).unwrap();
+    }
+    wb.save(&p).unwrap();
+    let rec = read(&p).unwrap();
+    assert_eq!(rec.len(), 60);
+    let dt = rec.time_s[1] - rec.time_s[0];
+    assert!((dt - 1.0).abs() < 1e-3, "one row a second, got {dt} s");
+    let notes = rec.provenance.as_ref().unwrap().notes.join("\n");
+    assert!(notes.contains("dates or times"), "{notes}");
 }
