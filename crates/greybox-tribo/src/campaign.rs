@@ -24,7 +24,7 @@ use crate::align::{Assigned, Candidate};
 use crate::coverage::{Coverage, Dropped, SegmentTime};
 use crate::hertz::PinContact;
 use crate::identify::{identify_pin, IdentifyConfig};
-use crate::identify_config::SteadyRule;
+use crate::identify_config::{SteadyRule, TestMode};
 use crate::plan::Plan;
 use crate::reciprocating::Reciprocating;
 use crate::recording::{ReadReport, Recording, SpeedTrace};
@@ -1378,6 +1378,9 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
             let hint = no_segment_hint(p);
             p.report.notes.push(format!("no segment found: {hint}"));
         }
+        if let Some(w) = forced_mode_contradicted(p, cfg) {
+            p.report.warnings.push(w);
+        }
     }
     let mut files: Vec<FileReport> = prepared.into_iter().map(|p| p.report).collect();
     resolve_velocities(&mut files, c)?;
@@ -1386,6 +1389,37 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
         update_coverage(f, cfg, true);
     }
     Ok(files)
+}
+
+/// Why a file gave no row under a test mode the user named (`--test-mode continuous` or
+/// `stepped`) that its signals contradict: the separate sliding runs it holds, and whether its
+/// friction force changes sign like a reciprocating test's. `None` when a row came out or the
+/// mode was not named.
+fn forced_mode_contradicted(p: &Prepared, cfg: &IdentifyConfig) -> Option<String> {
+    let mode = cfg.mode.filter(|m| *m != TestMode::Reciprocating)?;
+    if p.report.segments.iter().any(|s| s.stats.is_some()) {
+        return None;
+    }
+    let runs = p
+        .sliding
+        .iter()
+        .zip(std::iter::once(&false).chain(&p.sliding))
+        .filter(|(now, before)| **now && !**before)
+        .count();
+    let profile = p.rec.provenance.as_ref().and_then(|r| r.test_mode);
+    let recip = crate::reciprocating::detect(
+        &crate::reciprocating::Signals::of(p.rec),
+        None,
+        profile,
+        cfg,
+    );
+    Some(format!(
+        "--test-mode {} was named, but the recording has {runs} separate sliding run(s) and none gave a steady window{}",
+        mode.name(),
+        recip.map_or(String::new(), |why| format!(
+            "; its signals look like a reciprocating test ({why}): try --test-mode reciprocating or leave the mode to the signals"
+        ))
+    ))
 }
 
 /// A pause in the recording longer than this many (median) sample intervals splits the

@@ -246,3 +246,66 @@ fn an_xlsx_time_column_of_dates_is_read_as_seconds() {
     let notes = rec.provenance.as_ref().unwrap().notes.join("\n");
     assert!(notes.contains("dates or times"), "{notes}");
 }
+
+/// `--test-mode continuous` forced on a reciprocating recording: the file's warnings say that
+/// the named mode is contradicted (runs, strokes), instead of a bare "no plateau".
+#[test]
+fn a_forced_test_mode_the_signals_contradict_is_named() {
+    use greybox_tribo::campaign::segment_recordings;
+    use greybox_tribo::identify_config::TestMode;
+    use greybox_tribo::synth_recip::{reciprocating_recording, RecipSpec};
+    let (rec, _) = reciprocating_recording(&RecipSpec::default());
+    let contact = PinContact::default();
+    let cfg = IdentifyConfig {
+        mode: Some(TestMode::Continuous),
+        ..Default::default()
+    };
+    let files = segment_recordings(
+        &[rec],
+        &Campaign {
+            expected: None,
+            plan: None,
+            contact: &contact,
+            cfg: &cfg,
+            track_radius_mm: &[],
+        },
+    )
+    .unwrap();
+    let f = &files[0];
+    assert!(
+        f.segments.iter().all(|s| s.cof.is_none()),
+        "a continuous row from a reciprocating test: {:#?}",
+        f.segments
+    );
+    let w = f.warnings.join("\n");
+    assert!(
+        w.contains("--test-mode continuous was named")
+            && w.contains("sliding run(s)")
+            && w.contains("reciprocating"),
+        "{w}"
+    );
+}
+
+/// `µm` written by Windows rig software as the single Latin-1 byte 0xB5, in the header or in
+/// a units row, is micrometres, not an unknown unit.
+#[test]
+fn latin1_micro_is_micrometres() {
+    let d = tempfile::tempdir().unwrap();
+    for (name, head) in [
+        (
+            "header.csv",
+            &b"Time [s];Fn [N];Ft [N];Position [\xB5m]\n"[..],
+        ),
+        ("units.csv", &b"Time;Fn;Ft;Position\ns;N;N;\xB5m\n"[..]),
+    ] {
+        let p = d.path().join(name);
+        let mut bytes = head.to_vec();
+        for k in 0..50 {
+            bytes.extend_from_slice(format!("{:.1};10;3;{}\n", k as f64 * 0.1, k * 100).as_bytes());
+        }
+        std::fs::write(&p, bytes).unwrap();
+        let rec = read(&p).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let x = rec.position_m.as_ref().expect("the position column");
+        assert!((x[10] - 1000e-6).abs() < 1e-12, "{name}: {}", x[10]);
+    }
+}
