@@ -309,3 +309,53 @@ fn latin1_micro_is_micrometres() {
         assert!((x[10] - 1000e-6).abs() < 1e-12, "{name}: {}", x[10]);
     }
 }
+
+/// Three speed steps without a plan, the second with its friction force's sign reversed:
+/// whatever becomes of step 2, step 3's row keeps number 3 (never written under 2), and a
+/// step without a row is named.
+#[test]
+fn a_reversed_step_never_takes_the_next_steps_number() {
+    let fs = 10.0;
+    let mut r = Recording::new("reversed.csv", Vec::new(), Vec::new(), Vec::new());
+    let mut speed = Vec::new();
+    let mut t = 0.0;
+    let mut push = |r: &mut Recording, n: usize, f_n: f64, f_t: f64, v: f64| {
+        for k in 0..n {
+            r.time_s.push(t);
+            t += 1.0 / fs;
+            // a little noise, deterministic
+            let wobble = 0.01 * ((k as f64) * 0.7).sin();
+            r.normal_n.push(f_n + wobble);
+            r.tangential_n.push(f_t + wobble);
+            speed.push(v);
+        }
+    };
+    push(&mut r, 100, 0.0, 0.0, 0.0);
+    for (k, v) in [0.1, 0.2, 0.3].into_iter().enumerate() {
+        let f_t = if k == 1 { -30.0 } else { 30.0 };
+        push(&mut r, 1000, 100.0, f_t, v);
+        push(&mut r, 50, 100.0, 0.0, 0.0);
+    }
+    push(&mut r, 100, 0.0, 0.0, 0.0);
+    r.speed = Some(SpeedTrace::SlidingMPerS(speed));
+    let id = identify(&[r]);
+    let rows: Vec<(u32, f64)> = id
+        .dataset
+        .records
+        .iter()
+        .map(|x| (x.step, x.sliding_velocity_m_s))
+        .collect();
+    let third = rows
+        .iter()
+        .find(|(_, v)| (v - 0.3).abs() < 0.01)
+        .expect("step 3 gave a row");
+    assert_eq!(third.0, 3, "step 3 renumbered: {rows:?}");
+    if !rows.iter().any(|(_, v)| (v - 0.2).abs() < 0.01) {
+        let said = id.files[0]
+            .warnings
+            .iter()
+            .chain(&id.files[0].coverage.dropped_notes())
+            .any(|w| w.contains("step 2") || w.contains("segment 2"));
+        assert!(said, "step 2 dropped silently: {:#?}", id.files[0]);
+    }
+}
