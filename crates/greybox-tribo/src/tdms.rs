@@ -304,7 +304,7 @@ fn read_exact_at(file: &std::fs::File, mut buf: &mut [u8], mut at: u64) -> std::
 
 fn parse_source(src: &Source, source: &str, tuning: &Tuning) -> Result<TdmsFile> {
     let (mut file, plan) = scan(src, source, tuning)?;
-    plan.fill(src, &mut file.objects, tuning)?;
+    plan.fill(src, source, &mut file.objects, tuning)?;
     Ok(file)
 }
 
@@ -762,7 +762,13 @@ impl Plan {
     /// Second pass: every object's values, allocated once at their exact count, the raw data
     /// converted into place. Big files are split into groups of blocks (and large blocks into
     /// pieces) converted in parallel.
-    fn fill(&self, src: &Source, objects: &mut [TdmsObject], tuning: &Tuning) -> Result<()> {
+    fn fill(
+        &self,
+        src: &Source,
+        source: &str,
+        objects: &mut [TdmsObject],
+        tuning: &Tuning,
+    ) -> Result<()> {
         if self.runs.is_empty() {
             return Ok(());
         }
@@ -806,7 +812,14 @@ impl Plan {
             .map(|_| Vec::with_capacity(n_obj))
             .collect();
         for (o, obj) in objects.iter_mut().enumerate() {
-            obj.data = crate::bulk::zeroed_values(groups.iter().map(|(_, c)| c[o]).sum());
+            obj.data = crate::bulk::zeroed_values(groups.iter().map(|(_, c)| c[o]).sum()).map_err(
+                |m| {
+                    Error::input(
+                        SourcePos::file(source),
+                        format!("channel {}: {m}", obj.path),
+                    )
+                },
+            )?;
             let mut rest: &mut [f64] = &mut obj.data;
             for (g, (_, counts)) in groups.iter().enumerate() {
                 dests[g].push(take_front(&mut rest, counts[o]));

@@ -765,12 +765,18 @@ fn parse_chunks(
     first_line: &[u64],
     room: &[usize],
     c: &Candidate,
-) -> (Vec<Vec<f64>>, Vec<Chunk>) {
+) -> std::result::Result<(Vec<Vec<f64>>, Vec<Chunk>), String> {
     let total: usize = room.iter().sum();
     // zeroed allocations: pages are touched first by the thread that parses into them
     let mut columns: Vec<Vec<f64>> = (0..c.fields)
         .map(|_| crate::bulk::zeroed_values(total))
-        .collect();
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|m| {
+            format!(
+                "the table's {} columns of up to {total} rows: {m} for each (raise the memory limit or split the recording)",
+                c.fields
+            )
+        })?;
     let mut slices: Vec<Vec<&mut [f64]>> =
         room.iter().map(|_| Vec::with_capacity(c.fields)).collect();
     for col in columns.iter_mut() {
@@ -798,7 +804,7 @@ fn parse_chunks(
         }
         col.truncate(to);
     }
-    (columns, chunks)
+    Ok((columns, chunks))
 }
 
 /// Parse a text table from bytes (`source` names it in errors).
@@ -860,7 +866,8 @@ fn parse_in_chunks(
         .filter(|l| !is_blank(l.text))
         .map(|l| decode(l.text).trim().to_string())
         .collect();
-    let (columns_data, chunks) = parse_data(body, &head[c.data], &c, min_chunk);
+    let (columns_data, chunks) = parse_data(body, &head[c.data], &c, min_chunk)
+        .map_err(|m| Error::input(SourcePos::file(source), m))?;
     let regions = assemble(&chunks, &c, &key, line, source)?;
     let rows: usize = chunks.iter().map(|ch| ch.rows).sum();
     let built = build_columns(&names, key.units.as_deref(), columns_data, &chunks);
@@ -909,7 +916,7 @@ fn parse_data(
     first: &Line,
     c: &Candidate,
     min_chunk: usize,
-) -> (Vec<Vec<f64>>, Vec<Chunk>) {
+) -> std::result::Result<(Vec<Vec<f64>>, Vec<Chunk>), String> {
     let data_start = first.text.as_ptr() as usize - body.as_ptr() as usize;
     let data = &body[data_start..];
     let threads = rayon::current_num_threads().max(1);
