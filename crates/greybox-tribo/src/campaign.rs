@@ -1857,7 +1857,8 @@ fn number_without_plan(
     let (mut pin, mut step) = (0u32, 0u32);
     let mut prev: Option<(usize, f64)> = None; // file, load
     let mut prev_label: Option<f64> = None; // the recording's own step number (step column, block)
-                                            // a dropped segment keeps its place: the steps after it keep their numbers
+    let mut pending: Vec<(usize, String)> = Vec::new(); // dropped steps whose number is kept
+                                                        // a dropped segment keeps its place: the steps after it keep their numbers
     let all: Vec<(usize, usize)> = files
         .iter()
         .enumerate()
@@ -1874,6 +1875,9 @@ fn number_without_plan(
             if !same_pin {
                 pin += 1;
                 step = 0;
+                // the dropped segments at the end of a pin shift no number: their dropped
+                // notes say enough
+                pending.clear();
             } else {
                 step += labels_skipped(prev_label, s.step_label);
             }
@@ -1881,13 +1885,13 @@ fn number_without_plan(
             prev = Some((f, s.normal_force_n));
             prev_label = s.step_label;
             let note = format!(
-                "segment {} ({:.3}–{:.3} s) would be pin {pin} step {step} but gave no row ({}): the step is left empty, the steps after it keep their numbers",
+                "segment {} ({:.3}–{:.3} s) is pin {pin} step {step} but gave no row ({}): the step is left empty, the steps after it keep their numbers",
                 s.index,
                 s.start_s,
                 s.end_s,
                 s.problem.as_deref().unwrap_or_default()
             );
-            files[f].warnings.push(note);
+            pending.push((f, note));
             continue;
         }
         if let Some(v) = s
@@ -1930,10 +1934,13 @@ fn number_without_plan(
         let skipped = if new_pin {
             pin += 1;
             step = 0;
+            pending.clear();
             0
         } else {
             labels_skipped(prev_label, s.step_label)
         };
+        // a dropped step before this one in the pin: its number stays taken, and says so
+        let kept: Vec<(usize, String)> = pending.drain(..).collect();
         step += 1 + skipped;
         prev = Some((f, s.normal_force_n));
         prev_label = s.step_label;
@@ -1946,6 +1953,9 @@ fn number_without_plan(
                 step - 1
             );
             files[f].warnings.push(note);
+        }
+        for (pf, note) in kept {
+            files[pf].warnings.push(note);
         }
         files[f].segments[k].matched = Some((pin, step));
         let s = &files[f].segments[k];

@@ -310,13 +310,11 @@ fn latin1_micro_is_micrometres() {
     }
 }
 
-/// Three speed steps without a plan, the second with its friction force's sign reversed:
-/// whatever becomes of step 2, step 3's row keeps number 3 (never written under 2), and a
-/// step without a row is named.
-#[test]
-fn a_reversed_step_never_takes_the_next_steps_number() {
+/// Speed steps at 10 Hz without a plan: 10 s unloaded, then per step (speed m/s, length s,
+/// F_t N) at F_N = 100 N with 5 s at rest after each, then 10 s unloaded.
+fn speed_steps(source: &str, steps: &[(f64, usize, f64)]) -> Recording {
     let fs = 10.0;
-    let mut r = Recording::new("reversed.csv", Vec::new(), Vec::new(), Vec::new());
+    let mut r = Recording::new(source, Vec::new(), Vec::new(), Vec::new());
     let mut speed = Vec::new();
     let mut t = 0.0;
     let mut push = |r: &mut Recording, n: usize, f_n: f64, f_t: f64, v: f64| {
@@ -331,13 +329,63 @@ fn a_reversed_step_never_takes_the_next_steps_number() {
         }
     };
     push(&mut r, 100, 0.0, 0.0, 0.0);
-    for (k, v) in [0.1, 0.2, 0.3].into_iter().enumerate() {
-        let f_t = if k == 1 { -30.0 } else { 30.0 };
-        push(&mut r, 1000, 100.0, f_t, v);
+    for &(v, secs, f_t) in steps {
+        push(&mut r, secs * 10, 100.0, f_t, v);
         push(&mut r, 50, 100.0, 0.0, 0.0);
     }
     push(&mut r, 100, 0.0, 0.0, 0.0);
     r.speed = Some(SpeedTrace::SlidingMPerS(speed));
+    r
+}
+
+/// Without a plan, a step that gives no row keeps its number: the next step's row is not
+/// written under it, and the summary says which step is empty and why.
+#[test]
+fn a_dropped_step_keeps_its_number() {
+    let r = speed_steps(
+        "short.csv",
+        &[(0.1, 100, 30.0), (0.2, 20, 30.0), (0.3, 100, 30.0)],
+    );
+    let contact = PinContact::default();
+    let cfg = IdentifyConfig {
+        steady: "from:50s".parse().unwrap(),
+        ..Default::default()
+    };
+    let id = identify_recordings(
+        &[r],
+        &Campaign {
+            expected: None,
+            plan: None,
+            contact: &contact,
+            cfg: &cfg,
+            track_radius_mm: &[],
+        },
+    )
+    .unwrap();
+    let rows: Vec<(u32, f64)> = id
+        .dataset
+        .records
+        .iter()
+        .map(|x| (x.step, x.sliding_velocity_m_s))
+        .collect();
+    assert_eq!(rows.len(), 2, "{rows:?}");
+    assert_eq!(rows[1].0, 3, "step 3 renumbered: {rows:?}");
+    let w = id.files[0].warnings.join("\n");
+    assert!(
+        w.contains("pin 1 step 2 but gave no row") && w.contains("from:50s"),
+        "{w}"
+    );
+}
+
+/// Three speed steps without a plan, the second with its friction force's sign reversed:
+/// whatever becomes of step 2, step 3's row keeps number 3 (never written under 2), and a
+/// step without a row is named.
+#[test]
+fn a_reversed_step_never_takes_the_next_steps_number() {
+    let r = speed_steps(
+        "reversed.csv",
+        &[(0.1, 100, 30.0), (0.2, 100, -30.0), (0.3, 100, 30.0)],
+    );
     let id = identify(&[r]);
     let rows: Vec<(u32, f64)> = id
         .dataset
