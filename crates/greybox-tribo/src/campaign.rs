@@ -1940,7 +1940,7 @@ fn number_without_plan(
             labels_skipped(prev_label, s.step_label)
         };
         // a dropped step before this one in the pin: its number stays taken, and says so
-        let kept: Vec<(usize, String)> = pending.drain(..).collect();
+        let kept = std::mem::take(&mut pending);
         step += 1 + skipped;
         prev = Some((f, s.normal_force_n));
         prev_label = s.step_label;
