@@ -57,6 +57,9 @@ struct BudgetArgs {
     /// Longest line in the head of a text recording, KiB.
     #[arg(long = "max-line-kib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_line_bytes >> 10)]
     max_line_kib: u64,
+    /// Largest recording file (text, spreadsheet, TDMS) read, MiB.
+    #[arg(long = "max-recording-mib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_recording_bytes >> 20)]
+    max_recording_mib: u64,
 }
 
 impl BudgetArgs {
@@ -67,6 +70,7 @@ impl BudgetArgs {
             max_sheet_cells: self.max_sheet_cells,
             max_uncompressed_bytes: self.max_uncompressed_mib.saturating_mul(1 << 20),
             max_line_bytes: self.max_line_kib.saturating_mul(1 << 10),
+            max_recording_bytes: self.max_recording_mib.saturating_mul(1 << 20),
         });
     }
 }

@@ -458,3 +458,79 @@ fn a_recording_without_line_ends_is_refused_at_its_first_line() {
     refused_with(&r, &["r.csv", "line 1", "max_line_bytes", "--max-line-kib"]);
     assert_eq!(listing(p), ["r.csv"], "nothing written");
 }
+
+/// A 3 GB recording (sparse, no newline) is refused by the recording cap before any byte is
+/// read; with the cap raised, the line cap stops it at line 1 without reading the line whole.
+#[test]
+fn a_recording_over_the_recording_cap_is_refused_unread() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let f = std::fs::File::create(p.join("r.csv")).unwrap();
+    f.set_len(3_000_000_000).unwrap();
+    let args = [
+        "identify",
+        "--no-plan",
+        "--recordings",
+        "r.csv",
+        "--out",
+        "d.csv",
+    ];
+    let r = run(&args, p);
+    refused_with(
+        &r,
+        &[
+            "r.csv",
+            "3.00 GB",
+            "max_recording_bytes",
+            "--max-recording-mib",
+        ],
+    );
+    assert_eq!(listing(p), ["r.csv"], "nothing written");
+    let mut raised = vec!["--max-recording-mib", "4096"];
+    raised.extend(args);
+    let r = greybox_limited(&raised, p, MEMORY_MIB + 3072 + 512, SECONDS);
+    refused_with(&r, &["r.csv", "line 1", "max_line_bytes"]);
+    assert_eq!(listing(p), ["r.csv"], "nothing written");
+}
+
+/// A FIFO given as a recording is refused by kind at once, never opened (opening it would
+/// wait for a writer until the time limit).
+#[cfg(target_os = "linux")]
+#[test]
+fn a_fifo_recording_is_refused_without_waiting() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    for name in ["r.csv", "r.xlsx", "r.tdms"] {
+        let status = std::process::Command::new("mkfifo")
+            .arg(p.join(name))
+            .status()
+            .unwrap();
+        assert!(status.success());
+        let r = run(
+            &[
+                "identify",
+                "--no-plan",
+                "--recordings",
+                name,
+                "--out",
+                "d.csv",
+            ],
+            p,
+        );
+        refused_with(&r, &[name, "FIFO", "not a regular file"]);
+        std::fs::remove_file(p.join(name)).unwrap();
+    }
+    std::os::unix::fs::symlink("/dev/zero", p.join("z.csv")).unwrap();
+    let r = run(
+        &[
+            "identify",
+            "--no-plan",
+            "--recordings",
+            "z.csv",
+            "--out",
+            "d.csv",
+        ],
+        p,
+    );
+    refused_with(&r, &["z.csv", "character device"]);
+}

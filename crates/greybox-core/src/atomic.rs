@@ -131,6 +131,27 @@ pub fn write_atomic<F>(path: &Path, fill: F) -> Result<()>
 where
     F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
 {
+    stage(path, fill)?.commit()
+}
+
+/// A file written in full beside its target (synced), not yet in place: [`Staged::commit`]
+/// renames it there; dropped without a commit, it is removed. Outputs that belong together
+/// (a dataset and its provenance record) are all staged before any is committed, so that a
+/// full disk or a failed write leaves none of them new rather than one without the other
+/// ([`commit_together`]).
+pub struct Staged {
+    tmp: tempfile::NamedTempFile,
+    target: PathBuf,
+    path: PathBuf,
+    guard: crate::cleanup::CleanupGuard,
+}
+
+/// Write `path`'s new content beside it (parent directories are created), synced, without
+/// putting it in place yet: see [`Staged`].
+pub fn stage<F>(path: &Path, fill: F) -> Result<Staged>
+where
+    F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
+{
     let target = replaceable_target(path)?;
     let dir = match target.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
@@ -159,11 +180,38 @@ where
             .map_err(|e| Error::io(path, e))?;
     }
     tmp.as_file().sync_all().map_err(|e| Error::io(path, e))?;
-    guard.complete(|| {
-        tmp.persist(&target)
-            .map(|_| ())
-            .map_err(|e| Error::io(path, e.error))
-    })?;
+    Ok(Staged {
+        tmp,
+        target,
+        path: path.to_path_buf(),
+        guard,
+    })
+}
+
+impl Staged {
+    /// Put the staged file in place (a rename over the target).
+    pub fn commit(self) -> Result<()> {
+        let Staged {
+            tmp,
+            target,
+            path,
+            guard,
+        } = self;
+        guard.complete(|| {
+            tmp.persist(&target)
+                .map(|_| ())
+                .map_err(|e| Error::io(&path, e.error))
+        })
+    }
+}
+
+/// Commit staged files in order (each was written in full before any is renamed): the record
+/// that describes an output first, the output last, so that the output is never in place
+/// without its record.
+pub fn commit_together(files: Vec<Staged>) -> Result<()> {
+    for f in files {
+        f.commit()?;
+    }
     Ok(())
 }
 
@@ -192,6 +240,32 @@ mod tests {
         );
         write_string_atomic(&p, "ok\n").unwrap();
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "ok\n");
+    }
+
+    /// A disk-full write of the second of two files that belong together leaves neither new.
+    #[test]
+    fn files_staged_together_land_together_or_not_at_all() {
+        let dir = tempfile::tempdir().unwrap();
+        let (rec, data) = (
+            dir.path().join("d.provenance.json"),
+            dir.path().join("d.csv"),
+        );
+        let both = |fail: bool| -> Result<()> {
+            let first = stage(&rec, |w| w.write_all(b"{}\n"))?;
+            let second = stage(&data, |w| {
+                w.write_all(b"a,b\n")?;
+                if fail {
+                    return Err(std::io::Error::from_raw_os_error(28)); // ENOSPC
+                }
+                Ok(())
+            })?;
+            commit_together(vec![first, second])
+        };
+        assert!(both(true).is_err());
+        assert!(!rec.exists() && !data.exists(), "one without the other");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+        both(false).unwrap();
+        assert!(rec.exists() && data.exists());
     }
 
     #[cfg(unix)]

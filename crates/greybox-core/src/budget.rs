@@ -32,6 +32,10 @@ pub struct Budget {
     /// Longest line in the head of a text recording (the lines its layout is sniffed from),
     /// bytes. Default 1 MiB.
     pub max_line_bytes: u64,
+    /// Largest recording file read (delimited text, spreadsheet, TDMS), bytes. Default 2 GiB:
+    /// a recording above it is refused with the cap named before any of it is read, never
+    /// read until memory runs out.
+    pub max_recording_bytes: u64,
 }
 
 /// The default caps.
@@ -41,6 +45,7 @@ pub const DEFAULT: Budget = Budget {
     max_sheet_cells: 20_000_000,
     max_uncompressed_bytes: 512 << 20,
     max_line_bytes: 1 << 20,
+    max_recording_bytes: 2 << 30,
 };
 
 impl Default for Budget {
@@ -69,6 +74,7 @@ pub enum Cap {
     SheetCells,
     UncompressedBytes,
     LineBytes,
+    RecordingBytes,
 }
 
 impl Cap {
@@ -80,6 +86,7 @@ impl Cap {
             Cap::SheetCells => "max_sheet_cells",
             Cap::UncompressedBytes => "max_uncompressed_bytes",
             Cap::LineBytes => "max_line_bytes",
+            Cap::RecordingBytes => "max_recording_bytes",
         }
     }
     /// The `greybox` option that raises it.
@@ -90,6 +97,7 @@ impl Cap {
             Cap::SheetCells => "greybox --max-sheet-cells",
             Cap::UncompressedBytes => "greybox --max-uncompressed-mib",
             Cap::LineBytes => "greybox --max-line-kib",
+            Cap::RecordingBytes => "greybox --max-recording-mib",
         }
     }
     /// The cap's value now.
@@ -101,6 +109,7 @@ impl Cap {
             Cap::SheetCells => b.max_sheet_cells,
             Cap::UncompressedBytes => b.max_uncompressed_bytes,
             Cap::LineBytes => b.max_line_bytes,
+            Cap::RecordingBytes => b.max_recording_bytes,
         }
     }
     /// `Ok` when `value` is within the cap, else the message: `found` (what was found, e.g.
@@ -173,6 +182,72 @@ pub fn read_config_bytes(path: &Path, what: &str) -> Result<Vec<u8>> {
     Ok(bytes)
 }
 
+/// Opens a recording for reading: the one way every recording reader (text, spreadsheet,
+/// TDMS) opens its file. Only a regular file after links are followed (a link to `/dev/zero`,
+/// a FIFO, a device or a directory is refused with the path and its kind named; a FIFO is
+/// never opened for reading, which would wait for a writer) of at most
+/// [`Budget::max_recording_bytes`] (refused with the cap and its option named before any
+/// byte is read). Returns the open file and its length; a reader reads at most that length
+/// ([`read_recording_bytes`]), so a file that grows while it is read cannot take more.
+pub fn open_recording(path: &Path) -> Result<(std::fs::File, u64)> {
+    let pos = || SourcePos::path(path);
+    let not_regular = |meta: &std::fs::Metadata| {
+        Error::input(
+            pos(),
+            format!(
+                "the recording is {}, not a regular file: only regular files are read as recordings",
+                crate::atomic::describe_kind(meta)
+            ),
+        )
+    };
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if !meta.is_file() {
+        return Err(not_regular(&meta));
+    }
+    let mut opts = std::fs::OpenOptions::new();
+    opts.read(true);
+    // the path may have been replaced by a FIFO since the check: never wait for a writer
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        opts.custom_flags(libc::O_NONBLOCK);
+    }
+    let file = opts.open(path).map_err(|e| Error::io(path, e))?;
+    let meta = file.metadata().map_err(|e| Error::io(path, e))?;
+    if !meta.is_file() {
+        return Err(not_regular(&meta));
+    }
+    let len = meta.len();
+    Cap::RecordingBytes
+        .check(len, || {
+            format!("the recording is {} ({len} bytes)", bytes_text(len as f64))
+        })
+        .map_err(|m| Error::input(pos(), m))?;
+    Ok((file, len))
+}
+
+/// A recording's bytes, whole: [`open_recording`]'s checks, then at most the length it found
+/// (a buffer of that size is asked for without aborting: memory that cannot be had is an
+/// error naming the file and the size).
+pub fn read_recording_bytes(path: &Path) -> Result<Vec<u8>> {
+    let (file, len) = open_recording(path)?;
+    let size = usize::try_from(len).unwrap_or(usize::MAX);
+    let mut bytes = Vec::new();
+    bytes.try_reserve_exact(size).map_err(|_| {
+        Error::input(
+            SourcePos::path(path),
+            format!(
+                "the recording is {} and that much memory is not available to read it",
+                bytes_text(len as f64)
+            ),
+        )
+    })?;
+    file.take(len)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(path, e))?;
+    Ok(bytes)
+}
+
 /// Reads a model, law or table file whole: only a regular file (`/dev/zero` or a FIFO named as
 /// a model would never end or never start), with no size cap beyond the file's own size (a
 /// forest of many trees is legitimately large, and the C ABI inside an FE engine has no flag
@@ -228,6 +303,43 @@ mod tests {
             e.contains("big.toml")
                 && e.contains("max_input_bytes")
                 && e.contains("--max-input-mib"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn recordings_are_regular_files_under_the_cap() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("r.csv");
+        std::fs::write(&p, "t,Fn\n0,1\n").unwrap();
+        assert_eq!(read_recording_bytes(&p).unwrap(), b"t,Fn\n0,1\n");
+        #[cfg(unix)]
+        {
+            let link = d.path().join("zero.csv");
+            std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+            let e = open_recording(&link).unwrap_err().to_string();
+            assert!(
+                e.contains("zero.csv") && e.contains("character device") && e.contains("regular"),
+                "{e}"
+            );
+        }
+        #[cfg(target_os = "linux")]
+        {
+            let fifo = d.path().join("fifo.csv");
+            let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+            // SAFETY: a valid NUL-terminated path
+            assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+            let e = open_recording(&fifo).unwrap_err().to_string();
+            assert!(e.contains("FIFO") && e.contains("fifo.csv"), "{e}");
+        }
+        let big = d.path().join("big.csv");
+        let f = std::fs::File::create(&big).unwrap();
+        f.set_len(DEFAULT.max_recording_bytes + 1).unwrap();
+        let e = open_recording(&big).unwrap_err().to_string();
+        assert!(
+            e.contains("big.csv")
+                && e.contains("max_recording_bytes")
+                && e.contains("--max-recording-mib"),
             "{e}"
         );
     }

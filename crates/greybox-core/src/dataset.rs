@@ -11,7 +11,6 @@
 //! `normal_force_measured_N` beside a planned `normal_force_N`) are still read, with the
 //! columns given their meaning.
 
-use crate::atomic::write_atomic;
 use crate::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header};
 use crate::{units, Error, Result, SourcePos};
 use serde::{Deserialize, Serialize};
@@ -149,10 +148,16 @@ const LEGACY_MEASURED: &str = "normal_force_measured_N";
 impl FrictionDataset {
     /// Write the dataset CSV atomically. `cof_adhesive` is written only if every record has it.
     pub fn write_csv(&self, path: &Path) -> Result<()> {
+        self.stage_csv(path)?.commit()
+    }
+
+    /// [`Self::write_csv`] written in full beside `path` but not yet in place
+    /// ([`crate::atomic::Staged`]), to be committed together with its provenance record.
+    pub fn stage_csv(&self, path: &Path) -> Result<crate::atomic::Staged> {
         self.check_finite()?;
         let with_adhesive =
             !self.records.is_empty() && self.records.iter().all(|r| r.cof_adhesive.is_some());
-        write_atomic(path, |w| self.write_csv_to(w, with_adhesive))
+        crate::atomic::stage(path, |w| self.write_csv_to(w, with_adhesive))
     }
 
     /// Every number of every record finite: a dataset that [`FrictionDataset::read_csv`]

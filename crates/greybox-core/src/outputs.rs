@@ -265,8 +265,11 @@ impl StagedDir {
         check_replaceable_dir(target, flag, existing)?;
         let (parent, name) = split(target)?;
         std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
+        remove_stale_staging(&parent, &name);
         let mut b = tempfile::Builder::new();
-        let prefix = format!(".{name}.greybox-staging-");
+        // the owner's process id in the name: a later run removes the staging directories
+        // of runs that were killed ([`remove_stale_staging`])
+        let prefix = format!("{}{}-", staging_prefix(&name), std::process::id());
         b.prefix(&prefix);
         #[cfg(unix)]
         {
@@ -369,6 +372,48 @@ impl Drop for StagedDir {
     }
 }
 
+/// The start of the names of `name`'s staging directories, before the owner's process id.
+fn staging_prefix(name: &str) -> String {
+    format!(".{name}.greybox-staging-")
+}
+
+/// Removes the staging directories of `name` in `parent` left by runs that were killed (a
+/// `SIGKILL`, a power cut: no clean-up ran), so that they do not pile up beside the output:
+/// those whose owner process (the id in the name) no longer runs. A directory of a running
+/// process (another run writing the same output) or one whose owner cannot be told is left.
+fn remove_stale_staging(parent: &Path, name: &str) {
+    let prefix = staging_prefix(name);
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let file_name = e.file_name();
+        let Some(rest) = file_name.to_str().and_then(|n| n.strip_prefix(&prefix)) else {
+            continue;
+        };
+        let Some(pid) = rest.split('-').next().and_then(|p| p.parse::<u32>().ok()) else {
+            continue;
+        };
+        let is_dir = e.file_type().is_ok_and(|t| t.is_dir());
+        if is_dir && pid != std::process::id() && process_gone(pid) {
+            let _ = std::fs::remove_dir_all(e.path());
+        }
+    }
+}
+
+/// Whether no process `pid` runs (only where the system says so: `/proc` on Linux).
+fn process_gone(pid: u32) -> bool {
+    #[cfg(target_os = "linux")]
+    {
+        Path::new("/proc/self").exists() && !Path::new(&format!("/proc/{pid}")).exists()
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        let _ = pid;
+        false
+    }
+}
+
 fn split(target: &Path) -> Result<(PathBuf, String)> {
     let name = target
         .file_name()
@@ -467,6 +512,29 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("must be a directory"), "{e}");
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_killed_runs_staging_is_removed_by_the_next_run() {
+        let d = tempfile::tempdir().unwrap();
+        let out = d.path().join("fit");
+        // a run killed before its commit: no process has this id (above pid_max)
+        let dead = d.path().join(".fit.greybox-staging-4294967295-abc123");
+        std::fs::create_dir(&dead).unwrap();
+        std::fs::write(dead.join("half.json"), "{").unwrap();
+        // a staging directory of a running process (this one's parent shell, pid 1) stays
+        let alive = d.path().join(".fit.greybox-staging-1-def456");
+        std::fs::create_dir(&alive).unwrap();
+        let s = StagedDir::begin(&out, "--out", Existing::Refuse).unwrap();
+        std::fs::write(s.path().join("report.json"), "ok").unwrap();
+        s.commit().unwrap();
+        assert!(!dead.exists(), "the killed run's staging survived");
+        assert!(alive.exists(), "a running process's staging was removed");
+        assert_eq!(
+            std::fs::read_to_string(out.join("report.json")).unwrap(),
+            "ok"
+        );
     }
 
     #[test]

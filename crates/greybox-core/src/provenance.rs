@@ -157,10 +157,22 @@ impl Provenance {
         Ok(p)
     }
 
-    fn write_to(&self, p: &Path) -> Result<()> {
+    /// The record `provenance.json`-beside-`output` written in full but not yet in place
+    /// ([`crate::atomic::Staged`]): committed before the output it describes, after both are
+    /// written, so that a full disk leaves neither new.
+    pub fn stage_beside(&self, output: &Path) -> Result<crate::atomic::Staged> {
+        let text = self.text()?;
+        crate::atomic::stage(&Self::path_beside(output), |w| w.write_all(text.as_bytes()))
+    }
+
+    fn text(&self) -> Result<String> {
         let text = serde_json::to_string_pretty(self)
             .map_err(|e| Error::invalid("provenance", e.to_string()))?;
-        write_string_atomic(p, &(text + "\n"))
+        Ok(text + "\n")
+    }
+
+    fn write_to(&self, p: &Path) -> Result<()> {
+        write_string_atomic(p, &self.text()?)
     }
 
     /// Read a record.

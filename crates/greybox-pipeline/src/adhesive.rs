@@ -5,7 +5,6 @@ pub use crate::adhesive_3d::Simulation3dOptions;
 use crate::adhesive_loads::loads_to_simulate;
 use crate::output::provenance;
 use anyhow::{bail, Context, Result};
-use greybox_core::atomic::write_string_atomic;
 use greybox_core::count::Count;
 use greybox_core::dataset::FrictionDataset;
 use greybox_core::outputs::check_file_output;
@@ -171,12 +170,17 @@ pub fn adhesive(a: &AdhesiveOptions) -> Result<(FrictionDataset, Correction)> {
             sim,
         )?,
     };
-    ds.write_csv(&a.out)?;
-    write_string_atomic(
-        &correction_path(&a.out),
-        &serde_json::to_string_pretty(&corr)?,
-    )?;
-    provenance(&inputs)?.write_beside(&a.out)?;
+    // all three written in full before any is put in place, the provenance record first: a
+    // full disk leaves none of them new, never a dataset without its record
+    let correction = serde_json::to_string_pretty(&corr)?;
+    let staged = vec![
+        provenance(&inputs)?.stage_beside(&a.out)?,
+        greybox_core::atomic::stage(&correction_path(&a.out), |w| {
+            w.write_all(correction.as_bytes())
+        })?,
+        ds.stage_csv(&a.out)?,
+    ];
+    greybox_core::atomic::commit_together(staged)?;
     Ok((ds, corr))
 }
 

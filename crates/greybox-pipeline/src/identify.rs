@@ -252,7 +252,14 @@ pub fn identify(
         let notes: Vec<String> = id
             .files
             .iter()
-            .flat_map(|f| f.notes.iter().map(move |n| format!("{}: {n}", f.source)))
+            .flat_map(|f| {
+                f.notes
+                    .iter()
+                    .chain(&f.warnings)
+                    .cloned()
+                    .chain(f.coverage.dropped_notes())
+                    .map(move |n| format!("{}: {n}", f.source))
+            })
             .collect();
         bail!(
             "no plateau was identified in any recording\n  {}",
@@ -273,13 +280,18 @@ pub fn identify(
         None
     };
     greybox_core::interrupt::check()?;
-    id.dataset.write_csv(out)?;
-    if let Some((path, text)) = cycles {
-        greybox_core::atomic::write_string_atomic(&path, &text)?;
-    }
     let mut all_inputs = inputs.clone();
     all_inputs.extend_from_slice(side_inputs);
-    provenance(&all_inputs)?.write_beside(out)?;
+    // every file written in full before any is put in place, the provenance record before
+    // the dataset: a full disk leaves neither new, never a dataset without its provenance
+    let mut staged = vec![provenance(&all_inputs)?.stage_beside(out)?];
+    if let Some((path, text)) = cycles {
+        staged.push(greybox_core::atomic::stage(&path, |w| {
+            w.write_all(text.as_bytes())
+        })?);
+    }
+    staged.push(id.dataset.stage_csv(out)?);
+    greybox_core::atomic::commit_together(staged)?;
     Ok((id.dataset.clone(), id))
 }
 
@@ -352,11 +364,16 @@ pub fn files_table(id: &Identification) -> String {
     s
 }
 
-/// A file's coverage line and its dropped parts, with their reasons.
+/// A file's coverage line, its dropped parts with their reasons, and its warnings (what was
+/// split, left unread or contradicts what was used): the one place the summary and
+/// `--inspect` say what did not make it into the dataset.
 pub fn coverage_lines(f: &FileReport) -> String {
     let mut s = format!("coverage of {}: {}\n", f.source, f.coverage.line());
     for d in f.coverage.dropped_notes() {
         s.push_str(&format!("   {d}\n"));
+    }
+    for w in &f.warnings {
+        s.push_str(&format!("   warning: {w}\n"));
     }
     s
 }

@@ -4,7 +4,6 @@
 use crate::output::provenance;
 use crate::simulate::read_cutting_setup;
 use anyhow::{Context, Result};
-use greybox_core::atomic::write_string_atomic;
 use greybox_core::outputs::check_file_output;
 use greybox_material::fit::{fit_johnson_cook, read_flow_curves, FitOptions, JcFit};
 use greybox_sim::cut_run::{find_rate_sensitivity, RateSensitivityFit};
@@ -73,7 +72,11 @@ fn write_json_beside_provenance(
     value: &impl Serialize,
     inputs: &[(&str, &Path)],
 ) -> Result<()> {
-    write_string_atomic(path, &serde_json::to_string_pretty(value)?)?;
-    provenance(inputs)?.write_beside(path)?;
+    let text = serde_json::to_string_pretty(value)?;
+    let staged = vec![
+        provenance(inputs)?.stage_beside(path)?,
+        greybox_core::atomic::stage(path, |w| w.write_all(text.as_bytes()))?,
+    ];
+    greybox_core::atomic::commit_together(staged)?;
     Ok(())
 }

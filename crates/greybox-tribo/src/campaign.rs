@@ -24,7 +24,7 @@ use crate::align::{Assigned, Candidate};
 use crate::coverage::{Coverage, Dropped, SegmentTime};
 use crate::hertz::PinContact;
 use crate::identify::{identify_pin, IdentifyConfig};
-use crate::identify_config::SteadyRule;
+use crate::identify_config::{SteadyRule, TestMode};
 use crate::plan::Plan;
 use crate::reciprocating::Reciprocating;
 use crate::recording::{ReadReport, Recording, SpeedTrace};
@@ -148,12 +148,24 @@ pub struct FileReport {
     pub coverage: Coverage,
     pub segments: Vec<SegmentReport>,
     pub notes: Vec<String>,
+    /// What was dropped, split, left unread or contradicts what was used, one line each: the
+    /// reader's ([`ReadReport::warnings`]) and the segmentation's (a gap in time that splits a
+    /// segment). Printed in the summary of every run and written into its JSON, never only
+    /// under `--inspect`; dropped segments are in [`Coverage::dropped`], with their reasons.
+    pub warnings: Vec<String>,
     /// Rows already identified (plan-timed path).
     #[serde(skip)]
     rows: Vec<FrictionRecord>,
     /// Sliding spans left out before measuring (shorter than a step may be).
     #[serde(skip)]
     too_short: Vec<Dropped>,
+}
+
+/// The reader's summary lines of a recording ([`ReadReport::warnings`]).
+fn read_warnings(rec: &Recording) -> Vec<String> {
+    rec.provenance
+        .as_ref()
+        .map_or_else(Vec::new, |r| r.warnings.clone())
 }
 
 /// How segments were matched to a plan.
@@ -359,6 +371,7 @@ fn prepare<'a>(
         report: FileReport {
             source: rec.source.clone(),
             read: rec.provenance.clone(),
+            warnings: read_warnings(rec),
             sample_rate_hz: fs,
             samples: n,
             duration_s: span,
@@ -939,7 +952,7 @@ fn steady_window(
     cfg: &IdentifyConfig,
     fs: f64,
 ) -> std::result::Result<(usize, usize, Option<usize>), String> {
-    if let Some((a, b)) = rule_span(cfg.steady, t_rel) {
+    if let Some((a, b)) = rule_span(cfg.steady, t_rel, cfg.min_plateau_samples, "samples")? {
         return Ok((a, b, None));
     }
     let never =
@@ -1351,6 +1364,7 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
             reciprocating_segments(p, why, cfg);
             continue;
         }
+        let s = split_at_gaps(p, s);
         let (kept, short): (Vec<Span>, Vec<Span>) =
             s.iter().partition(|s| s.j - s.i >= min_len(p).max(4));
         p.report.too_short = too_short(p, &short, cfg);
@@ -1364,6 +1378,9 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
             let hint = no_segment_hint(p);
             p.report.notes.push(format!("no segment found: {hint}"));
         }
+        if let Some(w) = forced_mode_contradicted(p, cfg) {
+            p.report.warnings.push(w);
+        }
     }
     let mut files: Vec<FileReport> = prepared.into_iter().map(|p| p.report).collect();
     resolve_velocities(&mut files, c)?;
@@ -1372,6 +1389,89 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
         update_coverage(f, cfg, true);
     }
     Ok(files)
+}
+
+/// Why a file gave no row under a test mode the user named (`--test-mode continuous` or
+/// `stepped`) that its signals contradict: the separate sliding runs it holds, and whether its
+/// friction force changes sign like a reciprocating test's. `None` when a row came out or the
+/// mode was not named.
+fn forced_mode_contradicted(p: &Prepared, cfg: &IdentifyConfig) -> Option<String> {
+    let mode = cfg.mode.filter(|m| *m != TestMode::Reciprocating)?;
+    if p.report.segments.iter().any(|s| s.stats.is_some()) {
+        return None;
+    }
+    let runs = p
+        .sliding
+        .iter()
+        .zip(std::iter::once(&false).chain(&p.sliding))
+        .filter(|(now, before)| **now && !**before)
+        .count();
+    let profile = p.rec.provenance.as_ref().and_then(|r| r.test_mode);
+    let recip = crate::reciprocating::detect(
+        &crate::reciprocating::Signals::of(p.rec),
+        None,
+        profile,
+        cfg,
+    );
+    Some(format!(
+        "--test-mode {} was named, but the recording has {runs} separate sliding run(s) and none gave a steady window{}",
+        mode.name(),
+        recip.map_or(String::new(), |why| format!(
+            "; its signals look like a reciprocating test ({why}): try --test-mode reciprocating or leave the mode to the signals"
+        ))
+    ))
+}
+
+/// A pause in the recording longer than this many (median) sample intervals splits the
+/// segment it falls in: no steady window spans it (an 11-day pause inside one test is two
+/// tests), and the split is a line of the summary.
+pub const GAP_SPLIT_INTERVALS: f64 = 100.0;
+
+/// The spans split at every gap in time longer than [`GAP_SPLIT_INTERVALS`] sample intervals,
+/// each split a warning of the file's report.
+fn split_at_gaps(p: &mut Prepared, spans: &[Span]) -> Vec<Span> {
+    let t = &p.rec.time_s;
+    let limit = GAP_SPLIT_INTERVALS / p.fs;
+    let mut out = Vec::with_capacity(spans.len());
+    for sp in spans {
+        let mut start = sp.i;
+        for k in sp.i + 1..sp.j {
+            let gap = t[k] - t[k - 1];
+            if gap > limit {
+                p.report.warnings.push(format!(
+                    "a gap of {} in time (t = {:.3} s to {:.3} s, {:.0} sample intervals, more than {GAP_SPLIT_INTERVALS}) splits a segment: no steady window spans it",
+                    duration_text(gap),
+                    t[k - 1],
+                    t[k],
+                    gap * p.fs
+                ));
+                out.push(Span {
+                    i: start,
+                    j: k,
+                    unc: (if start == sp.i { sp.unc.0 } else { 0.0 }, 0.0),
+                    ..*sp
+                });
+                start = k;
+            }
+        }
+        out.push(Span {
+            i: start,
+            unc: (if start == sp.i { sp.unc.0 } else { 0.0 }, sp.unc.1),
+            ..*sp
+        });
+    }
+    out
+}
+
+/// A duration for messages: `42.0 s`, `3.5 h`, `11.0 days`.
+fn duration_text(s: f64) -> String {
+    if s >= 86_400.0 {
+        format!("{:.1} days", s / 86_400.0)
+    } else if s >= 3600.0 {
+        format!("{:.1} h", s / 3600.0)
+    } else {
+        format!("{s:.1} s")
+    }
 }
 
 /// Sliding pieces shorter than a step, as dropped parts: pieces less than `min_segment_s`
@@ -1709,7 +1809,7 @@ fn match_segments_unchecked(
     }
     let segs = measured_segments(files);
     match c.expected {
-        None => number_without_plan(files, &segs, c),
+        None => number_without_plan(files, c),
         Some(expected) => match_to_plan(files, &segs, expected, c),
     }
 }
@@ -1751,14 +1851,49 @@ fn segment_record(
 /// changes by more than 10 % or a new multi-step file starts); speeds must be measured.
 fn number_without_plan(
     files: &mut [FileReport],
-    segs: &[(usize, usize)],
     c: &Campaign,
 ) -> Result<(FrictionDataset, MatchReport)> {
     let mut records = Vec::new();
     let (mut pin, mut step) = (0u32, 0u32);
     let mut prev: Option<(usize, f64)> = None; // file, load
-    for &(f, k) in segs {
+    let mut prev_label: Option<f64> = None; // the recording's own step number (step column, block)
+    let mut pending: Vec<(usize, String)> = Vec::new(); // dropped steps whose number is kept
+                                                        // a dropped segment keeps its place: the steps after it keep their numbers
+    let all: Vec<(usize, usize)> = files
+        .iter()
+        .enumerate()
+        .flat_map(|(f, file)| (0..file.segments.len()).map(move |k| (f, k)))
+        .collect();
+    for &(f, k) in &all {
         let s = &files[f].segments[k];
+        if s.stats.is_none() {
+            if s.problem.is_none() || !(s.normal_force_n > 0.0) {
+                continue;
+            }
+            let same_pin = prev
+                .is_some_and(|(pf, load)| pf == f && (s.normal_force_n / load - 1.0).abs() <= 0.1);
+            if !same_pin {
+                pin += 1;
+                step = 0;
+                // the dropped segments at the end of a pin shift no number: their dropped
+                // notes say enough
+                pending.clear();
+            } else {
+                step += labels_skipped(prev_label, s.step_label);
+            }
+            step += 1;
+            prev = Some((f, s.normal_force_n));
+            prev_label = s.step_label;
+            let note = format!(
+                "segment {} ({:.3}–{:.3} s) is pin {pin} step {step} but gave no row ({}): the step is left empty, the steps after it keep their numbers",
+                s.index,
+                s.start_s,
+                s.end_s,
+                s.problem.as_deref().unwrap_or_default()
+            );
+            pending.push((f, note));
+            continue;
+        }
         if let Some(v) = s
             .sliding_velocity_m_per_min
             .filter(|v| !(v.abs() <= units::m_per_s_to_m_per_min(MAX_SLIDING_VELOCITY_M_S)))
@@ -1796,12 +1931,32 @@ fn number_without_plan(
                 load_changed || new_file
             }
         };
-        if new_pin {
+        let skipped = if new_pin {
             pin += 1;
             step = 0;
-        }
-        step += 1;
+            pending.clear();
+            0
+        } else {
+            labels_skipped(prev_label, s.step_label)
+        };
+        // a dropped step before this one in the pin: its number stays taken, and says so
+        let kept = std::mem::take(&mut pending);
+        step += 1 + skipped;
         prev = Some((f, s.normal_force_n));
+        prev_label = s.step_label;
+        if skipped > 0 {
+            let note = format!(
+                "the recording's steps jump from {} to {}: pin {pin} steps {}–{} have no segment and are left empty, the steps after them keep their numbers",
+                prev_label.unwrap_or_default() - skipped as f64 - 1.0,
+                prev_label.unwrap_or_default(),
+                step - skipped,
+                step - 1
+            );
+            files[f].warnings.push(note);
+        }
+        for (pf, note) in kept {
+            files[pf].warnings.push(note);
+        }
         files[f].segments[k].matched = Some((pin, step));
         let s = &files[f].segments[k];
         records.push(segment_record(
@@ -1817,6 +1972,19 @@ fn number_without_plan(
         ..Default::default()
     };
     Ok((FrictionDataset { records }, report))
+}
+
+/// Steps the recording's own numbering (a step column, blocks) skips between two segments of
+/// one pin: `prev` 2 and `label` 4 skip one. Only whole, increasing numbers count.
+fn labels_skipped(prev: Option<f64>, label: Option<f64>) -> u32 {
+    match (prev, label) {
+        (Some(a), Some(b))
+            if a.fract() == 0.0 && b.fract() == 0.0 && b > a + 1.0 && b - a < 1e4 =>
+        {
+            (b - a - 1.0) as u32
+        }
+        _ => 0,
+    }
 }
 
 /// "pin P step S (F N, v m/min)" for reports.
@@ -2014,6 +2182,7 @@ fn plan_timed(recs: &[Recording], plan: &Plan, c: &Campaign) -> Result<Vec<FileR
         files.push(FileReport {
             source: rec.source.clone(),
             read: rec.provenance.clone(),
+            warnings: read_warnings(rec),
             sample_rate_hz: rec.sample_rate_hz(),
             samples: rec.len(),
             duration_s: rec.duration_s(),

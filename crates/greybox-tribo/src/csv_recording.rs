@@ -5,8 +5,8 @@ use crate::readers::recording_with_profile as recording_from_table;
 use crate::recording::{ChannelMap, Recording};
 use crate::text_table::parse_text_table;
 use greybox_core::atomic::write_atomic;
-use greybox_core::{Error, Result};
-use std::io::Write;
+use greybox_core::{Error, Result, SourcePos};
+use std::io::{Read, Write};
 use std::path::Path;
 
 /// Read a delimited-text recording with a channel map.
@@ -17,14 +17,20 @@ pub fn read_csv_recording(path: &Path, map: &ChannelMap) -> Result<Recording> {
 
 /// Read a delimited-text recording from any reader (`source` names it in errors).
 pub fn read_csv_recording_from(
-    mut reader: impl std::io::Read,
+    reader: impl std::io::Read,
     source: &str,
     map: &ChannelMap,
 ) -> Result<Recording> {
+    let cap = greybox_core::budget::Cap::RecordingBytes;
     let mut bytes = Vec::new();
     reader
+        .take(cap.limit().saturating_add(1))
         .read_to_end(&mut bytes)
         .map_err(|e| Error::io(source, e))?;
+    cap.check(bytes.len() as u64, || {
+        format!("the recording is more than {} bytes", cap.limit())
+    })
+    .map_err(|m| Error::input(SourcePos::file(source), m))?;
     recording_from_table(parse_text_table(&bytes, source, &map.text_options())?, map)
 }
 

@@ -67,8 +67,9 @@ impl RecordingFormat {
             return Ok(by_name.unwrap_or(RecordingFormat::Csv));
         }
         let mut head = Vec::with_capacity(1024);
-        std::fs::File::open(path)
-            .and_then(|f| f.take(1024).read_to_end(&mut head))
+        let (file, _) = greybox_core::budget::open_recording(path)?;
+        file.take(1024)
+            .read_to_end(&mut head)
             .map_err(|e| Error::io(path, e))?;
         if head.is_empty() {
             return Ok(by_name.unwrap_or(RecordingFormat::Csv));

@@ -481,25 +481,27 @@ pub fn cycles(strokes: &[Stroke]) -> Vec<Cycle> {
     out
 }
 
-/// Steady cycles `[a, b)` under `rule` and the run-in (cycles) found under `auto`.
-pub fn steady_cycles(cycles: &[Cycle], rule: SteadyRule) -> Option<(usize, usize, Option<usize>)> {
+/// Steady cycles `[a, b)` under `rule` and the run-in (cycles) found under `auto`. An error
+/// says why a user's rule cannot be honoured ([`rule_span`]) or that there is no cycle.
+pub fn steady_cycles(
+    cycles: &[Cycle],
+    rule: SteadyRule,
+) -> Result<(usize, usize, Option<usize>), String> {
     let n = cycles.len();
     if n == 0 {
-        return None;
+        return Err("no complete cycle".into());
     }
     let t: Vec<f64> = cycles.iter().map(|c| c.time_s).collect();
-    if let Some((a, b)) = rule_span(rule, &t) {
-        return Some((a, b, None));
-    }
-    if rule != SteadyRule::Auto {
-        return None;
+    if let Some((a, b)) = rule_span(rule, &t, 1, "cycles")? {
+        return Ok((a, b, None));
     }
     if n < 16 {
-        return Some((0, n, Some(0)));
+        return Ok((0, n, Some(0)));
     }
     let mu: Vec<f64> = cycles.iter().map(|c| c.mu_mean).collect();
-    let fin = final_stationary(&mu, &t, 3, 0.002)?;
-    Some((fin.a, fin.b, Some(fin.run_in_end)))
+    let fin = final_stationary(&mu, &t, 3, 0.002)
+        .ok_or_else(|| "μ never settles over the cycles".to_string())?;
+    Ok((fin.a, fin.b, Some(fin.run_in_end)))
 }
 
 /// Identify a reciprocating test over samples `[i0, j0)`: strokes, cycles, steady cycles and
@@ -519,12 +521,8 @@ pub fn analyse(
             source.describe()
         ));
     }
-    let (a, b, run_in) = steady_cycles(&cy, cfg.steady).ok_or_else(|| {
-        format!(
-            "reciprocating: the steady-state rule {} leaves no cycle",
-            cfg.steady
-        )
-    })?;
+    let (a, b, run_in) =
+        steady_cycles(&cy, cfg.steady).map_err(|m| format!("reciprocating: {m}"))?;
     let used = &cy[a..b];
     let mean = |f: &dyn Fn(&Cycle) -> f64| used.iter().map(f).sum::<f64>() / used.len() as f64;
     let mus: Vec<f64> = used.iter().map(|c| c.mu_mean).collect();

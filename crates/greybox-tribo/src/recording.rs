@@ -73,6 +73,10 @@ pub struct ReadReport {
     pub preamble: Vec<String>,
     /// Anything the reader repaired, e.g. a time that restarts per step.
     pub notes: Vec<String>,
+    /// What was read but not used, or contradicts what was used (a long footer, a rig's own μ
+    /// far from F_t/F_N): lines of the identification's summary, not only of `--inspect`
+    /// (carried into [`crate::campaign::FileReport::warnings`]).
+    pub warnings: Vec<String>,
     /// How the rig profile says the rig runs its tests (`None`: no profile).
     pub test_mode: Option<crate::identify_config::TestMode>,
 }
@@ -1067,6 +1071,9 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
         notes,
         ..Default::default()
     };
+    if let Some(w) = footer_warning(&report.footer) {
+        report.warnings.push(w);
+    }
     let mut channels = convert_channels(&mut table, map, &roles, &mut report)?;
     let n = channels.first().map_or(table.rows, |c| c.1.len());
     let mut take = |role: Role| {
@@ -1186,6 +1193,13 @@ fn block_steps(table: &Table, n: usize, report: &mut ReadReport) -> Option<Vec<f
     let mut step = vec![0.0; n];
     for (b, w) in table.block_starts.iter().enumerate() {
         let end = table.block_starts.get(b + 1).copied().unwrap_or(n).min(n);
+        if end <= *w {
+            report.warnings.push(format!(
+                "block {} has a header but no data row: step {} is empty, the blocks after it keep their numbers",
+                b + 1,
+                b + 1
+            ));
+        }
         step[(*w).min(n)..end]
             .iter_mut()
             .for_each(|s| *s = (b + 1) as f64);
@@ -1222,13 +1236,56 @@ fn forces_by_convention(
         );
     };
     if let Some(mu) = cof {
-        report.notes.push(cof_disagreement(&normal, &ft, mu));
+        let (note, far) = cof_disagreement(&normal, &ft, mu);
+        if far {
+            report.warnings.push(note.clone());
+        }
+        report.notes.push(note);
     }
     (normal, ft)
 }
 
-/// How far the rig's own μ lies from F_t/F_N (both taken as magnitudes, loaded samples only).
-fn cof_disagreement(normal: &[f64], ft: &[f64], mu: &[f64]) -> String {
+/// A rig's own μ further than this fraction of itself from F_t/F_N (median over the loaded
+/// samples) is a line of the summary: the forces' units, a channel or the rig's own
+/// computation are wrong, and only one of them was used.
+pub const COF_DISAGREEMENT_FRACTION: f64 = 0.1;
+
+/// Footer lines beyond this many are a line of the summary: a footer is an `End of data` or
+/// a few summary lines, not hundreds of lines left unread.
+pub const FOOTER_LINES_NOTED: usize = 5;
+
+/// The summary line for a footer that is more than a few closing lines, or that holds
+/// numbers (rows written with another delimiter, which the table's layout does not read).
+fn footer_warning(footer: &[(u64, String)]) -> Option<String> {
+    let (first, text) = footer.first()?;
+    let numeric = footer
+        .iter()
+        .filter(|(_, t)| {
+            let digits = t.chars().filter(char::is_ascii_digit).count();
+            digits > 0 && 2 * digits >= t.chars().filter(|c| !c.is_whitespace()).count()
+        })
+        .count();
+    if footer.len() <= FOOTER_LINES_NOTED && numeric == 0 {
+        return None;
+    }
+    let last = footer.last().map_or(*first, |l| l.0);
+    Some(format!(
+        "{} line(s) after the data (lines {first}-{last}, first: '{}') were not read as data{}",
+        footer.len(),
+        greybox_core::escape::one_line(text.chars().take(60).collect::<String>().as_str()),
+        if numeric > 0 {
+            format!(
+                "; {numeric} of them hold mostly numbers (rows with another delimiter or layout?)"
+            )
+        } else {
+            String::new()
+        }
+    ))
+}
+
+/// How far the rig's own μ lies from F_t/F_N (both taken as magnitudes, loaded samples only),
+/// and whether that is more than [`COF_DISAGREEMENT_FRACTION`] of the rig's μ.
+fn cof_disagreement(normal: &[f64], ft: &[f64], mu: &[f64]) -> (String, bool) {
     let f_ref = median(normal).abs();
     let diffs: Vec<f64> = normal
         .iter()
@@ -1238,14 +1295,34 @@ fn cof_disagreement(normal: &[f64], ft: &[f64], mu: &[f64]) -> String {
         .map(|((f, t), m)| (t / f).abs() - m.abs())
         .collect();
     if diffs.is_empty() {
-        return "the rig's own μ (cof) could not be compared with F_t/F_N: no loaded samples"
-            .into();
+        return (
+            "the rig's own μ (cof) could not be compared with F_t/F_N: no loaded samples".into(),
+            false,
+        );
     }
     let med = median(&diffs);
     let worst = diffs.iter().fold(0.0f64, |w, d| w.max(d.abs()));
-    format!(
-        "μ from the forces; the rig's own μ (cof) differs from F_t/F_N by {med:+.4} (median) and at most {worst:.4} over {} loaded samples",
-        diffs.len()
+    let own: Vec<f64> = mu
+        .iter()
+        .filter(|m| m.is_finite())
+        .map(|m| m.abs())
+        .collect();
+    let own = median(&own);
+    let far = med.abs() > COF_DISAGREEMENT_FRACTION * own;
+    let share = if own > 0.0 {
+        format!(
+            " ({:.0} % of the rig's μ {own:.4})",
+            100.0 * med.abs() / own
+        )
+    } else {
+        String::new()
+    };
+    (
+        format!(
+            "μ from the forces; the rig's own μ (cof) differs from F_t/F_N by {med:+.4} (median){share} and at most {worst:.4} over {} loaded samples",
+            diffs.len()
+        ),
+        far,
     )
 }
 

@@ -203,16 +203,46 @@ const SUFFIX_GRID: usize = 128;
 
 /// Window-relative samples `[a, b)` of a step of `n` samples at times `t` (s, from the step's
 /// start) under a user's rule: `last:P%` the last P % of the samples, `from:Ts` the samples
-/// at or after T s. `None` under [`SteadyRule::Auto`] (found from the signal) or when the rule
-/// leaves nothing.
-pub fn rule_span(rule: SteadyRule, t: &[f64]) -> Option<(usize, usize)> {
+/// at or after T s. `Ok(None)` under [`SteadyRule::Auto`] (found from the signal).
+///
+/// A rule that cannot be honoured is never replaced by `auto`: `from:500s` on a 198 s segment,
+/// or a window of fewer than `min_samples` (`last:0.01%` of 198 s is 0.02 s), is an error
+/// naming the rule, the segment's length and what the window would hold. `what` names the
+/// samples in it ("samples", "cycles").
+pub fn rule_span(
+    rule: SteadyRule,
+    t: &[f64],
+    min_samples: usize,
+    what: &str,
+) -> Result<Option<(usize, usize)>, String> {
     let n = t.len();
-    let a = match rule {
-        SteadyRule::Auto => return None,
-        SteadyRule::Last(p) => n - ((p * n as f64).round() as usize).clamp(1, n),
-        SteadyRule::From(s) => t.iter().position(|v| *v - t[0] >= s - 1e-9)?,
+    let length = match (t.first(), t.last()) {
+        (Some(a), Some(b)) => b - a,
+        _ => 0.0,
     };
-    (a < n).then_some((a, n))
+    let a = match rule {
+        SteadyRule::Auto => return Ok(None),
+        SteadyRule::Last(p) => n - ((p * n as f64).round() as usize).min(n),
+        SteadyRule::From(s) => match t.iter().position(|v| *v - t[0] >= s - 1e-9) {
+            Some(a) => a,
+            None => {
+                return Err(format!(
+                    "the steady rule {rule} starts after the end of the segment, which lasts {length:.1} s \
+                     (give a start below {length:.1} s, a last:P% rule or auto)"
+                ))
+            }
+        },
+    };
+    let held = n - a;
+    if held < min_samples.max(1) {
+        let span = if held > 0 { t[n - 1] - t[a] } else { 0.0 };
+        return Err(format!(
+            "the steady rule {rule} of a {length:.1} s segment is {span:.3} s ({held} {what}), \
+             fewer than the {} {what} a steady window needs (min_plateau_samples)",
+            min_samples.max(1)
+        ));
+    }
+    Ok(Some((a, n)))
 }
 
 /// Standard error of the mean of `x` under serial correlation: the variance of the mean is

@@ -146,8 +146,7 @@ impl TdmsFile {
 
     fn read_tuned(path: &Path, tuning: &Tuning) -> Result<Self> {
         let source = path.display().to_string();
-        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-        let len = file.metadata().map_err(|e| Error::io(path, e))?.len();
+        let (file, len) = greybox_core::budget::open_recording(path)?;
         #[cfg(any(unix, windows))]
         if len >= tuning.whole_read_max as u64 {
             if let Ok(len) = usize::try_from(len) {
@@ -159,10 +158,8 @@ impl TdmsFile {
                 return parse_source(&src, &source, tuning);
             }
         }
-        let mut bytes = Vec::new();
-        // a hint only: the read below finds the real length
-        let _ = bytes.try_reserve_exact(usize::try_from(len).unwrap_or(0));
-        std::io::Read::read_to_end(&mut &file, &mut bytes).map_err(|e| Error::io(path, e))?;
+        drop(file);
+        let bytes = greybox_core::budget::read_recording_bytes(path)?;
         parse_source(&Source::Mem(&bytes), &source, tuning)
     }
 
@@ -307,7 +304,7 @@ fn read_exact_at(file: &std::fs::File, mut buf: &mut [u8], mut at: u64) -> std::
 
 fn parse_source(src: &Source, source: &str, tuning: &Tuning) -> Result<TdmsFile> {
     let (mut file, plan) = scan(src, source, tuning)?;
-    plan.fill(src, &mut file.objects, tuning)?;
+    plan.fill(src, source, &mut file.objects, tuning)?;
     Ok(file)
 }
 
@@ -765,7 +762,13 @@ impl Plan {
     /// Second pass: every object's values, allocated once at their exact count, the raw data
     /// converted into place. Big files are split into groups of blocks (and large blocks into
     /// pieces) converted in parallel.
-    fn fill(&self, src: &Source, objects: &mut [TdmsObject], tuning: &Tuning) -> Result<()> {
+    fn fill(
+        &self,
+        src: &Source,
+        source: &str,
+        objects: &mut [TdmsObject],
+        tuning: &Tuning,
+    ) -> Result<()> {
         if self.runs.is_empty() {
             return Ok(());
         }
@@ -809,7 +812,14 @@ impl Plan {
             .map(|_| Vec::with_capacity(n_obj))
             .collect();
         for (o, obj) in objects.iter_mut().enumerate() {
-            obj.data = crate::bulk::zeroed_values(groups.iter().map(|(_, c)| c[o]).sum());
+            obj.data = crate::bulk::zeroed_values(groups.iter().map(|(_, c)| c[o]).sum()).map_err(
+                |m| {
+                    Error::input(
+                        SourcePos::file(source),
+                        format!("channel {}: {m}", obj.path),
+                    )
+                },
+            )?;
             let mut rest: &mut [f64] = &mut obj.data;
             for (g, (_, counts)) in groups.iter().enumerate() {
                 dests[g].push(take_front(&mut rest, counts[o]));

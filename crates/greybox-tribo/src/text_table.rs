@@ -77,14 +77,15 @@ const CONFIRM_ROWS: usize = 3;
 
 /// Read a text table from a file.
 ///
-/// A regular file is memory-mapped (no copy of a file of hundreds of MB into a buffer); the
-/// file must not be truncated while it is read, as with any reader that maps files. Anything
-/// else (a pipe, an empty file, a file system without mmap) is read into memory.
+/// Only a regular file of at most the budget `max_recording_bytes` is read
+/// ([`greybox_core::budget::open_recording`]: a FIFO, a device or a link to one is refused by
+/// name). It is memory-mapped (no copy of a file of hundreds of MB into a buffer); the file
+/// must not be truncated while it is read, as with any reader that maps files. On a file
+/// system without mmap it is read into memory.
 pub fn read_text_table(path: &std::path::Path, opts: &TextOptions) -> Result<Table> {
     let source = path.display().to_string();
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    let regular = file.metadata().is_ok_and(|m| m.is_file() && m.len() > 0);
-    if regular {
+    let (file, len) = greybox_core::budget::open_recording(path)?;
+    if len > 0 {
         // SAFETY: the map is read-only and lives only for this call. Like every reader that
         // maps files (ripgrep, polars), this relies on no other process truncating or
         // rewriting the recording while it is parsed, as the doc comment states.
@@ -92,9 +93,12 @@ pub fn read_text_table(path: &std::path::Path, opts: &TextOptions) -> Result<Tab
             return parse_text_table(&map, &source, opts);
         }
     }
-    let mut bytes = Vec::new();
-    std::io::Read::read_to_end(&mut &file, &mut bytes).map_err(|e| Error::io(path, e))?;
-    parse_text_table(&bytes, &source, opts)
+    drop(file);
+    parse_text_table(
+        &greybox_core::budget::read_recording_bytes(path)?,
+        &source,
+        opts,
+    )
 }
 
 /// One line of the file: its 1-based number and its bytes without the line end.
@@ -761,12 +765,18 @@ fn parse_chunks(
     first_line: &[u64],
     room: &[usize],
     c: &Candidate,
-) -> (Vec<Vec<f64>>, Vec<Chunk>) {
+) -> std::result::Result<(Vec<Vec<f64>>, Vec<Chunk>), String> {
     let total: usize = room.iter().sum();
     // zeroed allocations: pages are touched first by the thread that parses into them
     let mut columns: Vec<Vec<f64>> = (0..c.fields)
         .map(|_| crate::bulk::zeroed_values(total))
-        .collect();
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|m| {
+            format!(
+                "the table's {} columns of up to {total} rows: {m} for each (raise the memory limit or split the recording)",
+                c.fields
+            )
+        })?;
     let mut slices: Vec<Vec<&mut [f64]>> =
         room.iter().map(|_| Vec::with_capacity(c.fields)).collect();
     for col in columns.iter_mut() {
@@ -794,7 +804,7 @@ fn parse_chunks(
         }
         col.truncate(to);
     }
-    (columns, chunks)
+    Ok((columns, chunks))
 }
 
 /// Parse a text table from bytes (`source` names it in errors).
@@ -848,12 +858,16 @@ fn parse_in_chunks(
     let head = head_lines(body);
     let c = choose_layout(&head, opts, source)?;
     let Header { key, names, line } = resolve_header(&head, &c, source)?;
+    if let (Some(units), Some(u)) = (key.units.as_deref(), c.units) {
+        check_units_row(&names, units, head[u].number, source)?;
+    }
     let preamble: Vec<String> = head[..c.header.unwrap_or(c.data)]
         .iter()
         .filter(|l| !is_blank(l.text))
         .map(|l| decode(l.text).trim().to_string())
         .collect();
-    let (columns_data, chunks) = parse_data(body, &head[c.data], &c, min_chunk);
+    let (columns_data, chunks) = parse_data(body, &head[c.data], &c, min_chunk)
+        .map_err(|m| Error::input(SourcePos::file(source), m))?;
     let regions = assemble(&chunks, &c, &key, line, source)?;
     let rows: usize = chunks.iter().map(|ch| ch.rows).sum();
     let built = build_columns(&names, key.units.as_deref(), columns_data, &chunks);
@@ -902,7 +916,7 @@ fn parse_data(
     first: &Line,
     c: &Candidate,
     min_chunk: usize,
-) -> (Vec<Vec<f64>>, Vec<Chunk>) {
+) -> std::result::Result<(Vec<Vec<f64>>, Vec<Chunk>), String> {
     let data_start = first.text.as_ptr() as usize - body.as_ptr() as usize;
     let data = &body[data_start..];
     let threads = rayon::current_num_threads().max(1);
@@ -1024,6 +1038,36 @@ fn column_names(header: &Line, c: &Candidate, source: &str) -> Result<Vec<String
         }
     }
     Ok(names)
+}
+
+/// Refuses a units row that contradicts the unit its column's header states (`Fz (kN)` over
+/// `N`): which one is meant cannot be told, and taking either silently scales the column by
+/// the ratio. The error names the file, the units row's line, the column and both units.
+fn check_units_row(
+    names: &[String],
+    units: &[String],
+    units_line: u64,
+    source: &str,
+) -> Result<()> {
+    for (k, name) in names.iter().enumerate() {
+        let (bare, Some(stated)) = crate::table::split_unit(name) else {
+            continue;
+        };
+        let Some(row) = units.get(k).and_then(|u| unit_token(u)) else {
+            continue;
+        };
+        if row != stated {
+            return Err(Error::input(
+                SourcePos::file(source).line(units_line),
+                format!(
+                    "column {} ('{bare}'): the header states the unit {stated} but the units row says {row}; \
+                     correct one of them (or name the column's unit with --columns)",
+                    k + 1
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The columns of a text table, where they sit in the file, and notes on what was changed.
@@ -1153,11 +1197,39 @@ fn assemble(
         let Some(h) = block_header(&region, c.delimiter, key) else {
             return Err(region_error(&region, c, key, header_line, source));
         };
+        // headers before the last one: blocks without a data row, kept (empty) so that the
+        // blocks after them keep their numbers
+        let (kl, mut start, mut i) = (key_lines(key), 0, 0);
+        while i + kl <= h {
+            // the lines start..i+kl end in a header (and units row) that starts at i
+            if block_header(&region[start..i + kl], c.delimiter, key) == Some(i - start) {
+                out.block_starts.push(row);
+                out.block_preambles.push(
+                    trimmed(&region[start..i])
+                        .into_iter()
+                        .map(|(_, t)| t)
+                        .collect(),
+                );
+                start = i + kl;
+                i = start;
+            } else {
+                i += 1;
+            }
+        }
         out.block_starts.push(row);
-        out.block_preambles
-            .push(trimmed(&region[..h]).into_iter().map(|(_, t)| t).collect());
+        out.block_preambles.push(
+            trimmed(&region[start..h])
+                .into_iter()
+                .map(|(_, t)| t)
+                .collect(),
+        );
     }
     Ok(out)
+}
+
+/// Lines of a block's header: the names, and the units row if the first block has one.
+fn key_lines(key: &HeaderKey) -> usize {
+    1 + usize::from(key.units.is_some())
 }
 
 /// Where a region ends in the first block's header (and units row): the header's index.
@@ -1590,12 +1662,20 @@ mod tests {
         );
         assert_eq!(t.header_line, 1);
         assert!(t.layout.contains("units row on line 2"), "{}", t.layout);
-        // an empty unit, and a header that states its own unit keeps it
-        let t = parse("Instrument X\n\nt;Fz (kN);Step\ns;N;\n0;1;1\n1;2;1\n2;3;2\n").unwrap();
+        // an empty unit, and a header that states its own unit, the same as the units row's
+        let t = parse("Instrument X\n\nt;Fz (kN);Step\ns;kN;\n0;1;1\n1;2;1\n2;3;2\n").unwrap();
         assert_eq!(t.columns[0].unit.as_deref(), Some("s"));
         assert_eq!(t.columns[1].unit.as_deref(), Some("kN"));
         assert_eq!(t.columns[2].unit, None);
         assert_eq!(t.preamble, ["Instrument X"]);
+        // a units row that contradicts the header is refused with both units and its line
+        let e = parse("Instrument X\n\nt;Fz (kN);Step\ns;N;\n0;1;1\n1;2;1\n2;3;2\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 4") && e.contains("Fz") && e.contains("kN") && e.contains("says N"),
+            "{e}"
+        );
         // a text row of non-units above the data is the header, not units
         let t = parse("Instrument X,Serial 12\nTime,Force\n0,1\n1,2\n").unwrap();
         assert_eq!(t.columns[1].name, "Force");
@@ -1692,6 +1772,28 @@ mod tests {
         let t = parse("Time,Fz\n0,1\n1,2\n").unwrap();
         assert!(t.block_starts.is_empty() && t.block_preambles.is_empty());
         assert_eq!(t.block_of_row(1), 0);
+    }
+
+    /// A block with a header but no data row keeps its place: the blocks after it keep their
+    /// numbers (issue 46 item 5: an empty block renumbered the rest).
+    #[test]
+    fn an_empty_block_keeps_its_place() {
+        let full = blocks_text(3, "Time,Fz,Fx");
+        // block 2's rows removed: its settings and header stand right above block 3's
+        let text: String = full
+            .lines()
+            .filter(|l| !(l.starts_with(|c: char| c.is_ascii_digit()) && l.contains(",20,")))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        for min_chunk in [1, 16, usize::MAX] {
+            let t = parse_in_chunks(text.as_bytes(), "b.csv", &TextOptions::default(), min_chunk)
+                .unwrap();
+            assert_eq!(t.rows, 8);
+            assert_eq!(t.block_starts, [0, 4, 4]);
+            assert_eq!(t.block_preambles[1], ["Step 2 started", "Load setpoint,20"]);
+            assert_eq!(t.block_preambles[2], ["Step 3 started", "Load setpoint,30"]);
+            assert_eq!(t.block_of_row(4), 2);
+        }
     }
 
     #[test]

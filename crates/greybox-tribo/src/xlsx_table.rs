@@ -29,14 +29,19 @@ pub fn is_spreadsheet(path: &std::path::Path) -> bool {
 
 /// Read one sheet (`sheet`: a name; default the first sheet that holds a table).
 pub fn read_spreadsheet(path: &std::path::Path, sheet: Option<&str>) -> Result<Table> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = greybox_core::budget::read_recording_bytes(path)?;
     parse_spreadsheet(&bytes, &path.display().to_string(), sheet)
 }
+
+/// Excel stores dates and times as days since 1899-12-30.
+const SECONDS_PER_DAY: f64 = 86_400.0;
 
 fn cell_number(c: &Data) -> Option<f64> {
     match c {
         Data::Float(v) => Some(*v).filter(|v| v.is_finite()),
         Data::Int(v) => Some(*v as f64),
+        // a date, clock time or duration: Excel's serial days, as seconds
+        Data::DateTime(d) => Some(d.as_f64() * SECONDS_PER_DAY).filter(|v| v.is_finite()),
         Data::String(s) => s.trim().parse::<f64>().ok().filter(|v| v.is_finite()),
         _ => None,
     }
@@ -350,8 +355,10 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
         };
         let mut values = Vec::with_capacity(body.len());
         let mut bad = None;
+        let mut dated = false;
         for &i in &body {
             let cell = rows[i].get(k).unwrap_or(&Data::Empty);
+            dated |= matches!(cell, Data::DateTime(_));
             match cell_number(cell) {
                 Some(v) => values.push(v),
                 None => {
@@ -365,6 +372,18 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
             col.unit = units
                 .and_then(|u| rows[u].get(k))
                 .and_then(|c| unit_token(&cell_text(c)));
+        }
+        if dated {
+            let unit = col.unit.get_or_insert_with(|| "s".to_string());
+            notes.push(format!(
+                "column '{}' holds dates or times: read as seconds (Excel serial days × 86 400){}",
+                col.name,
+                if unit == "s" {
+                    String::new()
+                } else {
+                    format!(", but its unit says {unit}")
+                }
+            ));
         }
         col.data = match bad {
             Some((line, text)) => ColumnData::NotNumeric { line, text },

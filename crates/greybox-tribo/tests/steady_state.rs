@@ -224,6 +224,36 @@ fn steady_rules_give_the_windows_asked_for() {
     assert!((s.cof.unwrap() - MU_SS).abs() < 0.005);
 }
 
+/// A steady rule the segment cannot honour is never replaced by `auto`: the segment is
+/// dropped with the rule and the segment's length named (issue 46 items 5 and 6).
+#[test]
+fn a_steady_rule_that_cannot_be_honoured_is_named_not_replaced() {
+    let rec = long_test(12, 198, jitter);
+    for (rule, words) in [
+        ("from:500s", &["from:500s", "after the end", "lasts"][..]),
+        (
+            "last:0.01%",
+            &["last:0.01%", "0 samples", "min_plateau_samples"][..],
+        ),
+    ] {
+        let cfg = IdentifyConfig {
+            steady: rule.parse::<SteadyRule>().unwrap(),
+            ..Default::default()
+        };
+        let id = identify(std::slice::from_ref(&rec), &cfg);
+        let f = &id.files[0];
+        assert!(
+            f.segments.iter().all(|s| s.cof.is_none()),
+            "{rule}: a row from a rule that leaves nothing: {:#?}",
+            f.segments
+        );
+        let dropped = f.coverage.dropped_notes().join("\n");
+        for w in words {
+            assert!(dropped.contains(w), "{rule}: '{w}' missing from: {dropped}");
+        }
+    }
+}
+
 /// The lathe rig of issue 29 item 6: one pin at 800 N, six velocities 20…77.5 m/min
 /// (the article's 11.5 m/min step) on a 50 mm track, a 0.15 s cosine ramp to each speed (0.3 s
 /// from rest) and a 0.5 s dwell, 1 kHz; spindle run-out adds 1 % of F_N to F_t at the
