@@ -311,15 +311,7 @@ pub fn likely_mistake(q: Quantity, value: f64) -> Option<String> {
         .iter()
         .filter_map(|m| {
             let (fixed, how, text) = match *m {
-                Mistake::Scale(f, t) => (
-                    value / f,
-                    if f >= 1.0 {
-                        format!("÷{}", Compact(f))
-                    } else {
-                        format!("×{}", Compact(1.0 / f))
-                    },
-                    t,
-                ),
+                Mistake::Scale(f, t) => (value / f, undo_text(f), t),
                 Mistake::Inverse(t) => (1.0 / value, "1/μ".to_string(), t),
                 Mistake::Offset(o, t) => (value + o, format!("+{o}"), t),
                 Mistake::Rpm(t) => {
@@ -333,6 +325,24 @@ pub fn likely_mistake(q: Quantity, value: f64) -> Option<String> {
         })
         .collect();
     (!found.is_empty()).then(|| found.join(" or "))
+}
+
+/// How a scale mistake moved the number: "×1000", "÷9.80665".
+fn factor_text(f: f64) -> String {
+    if f >= 1.0 {
+        format!("×{}", Compact(round_sig(f, 6)))
+    } else {
+        format!("÷{}", Compact(round_sig(1.0 / f, 6)))
+    }
+}
+
+/// How to undo it: "÷1000", "×9.80665".
+fn undo_text(f: f64) -> String {
+    if f >= 1.0 {
+        format!("÷{}", Compact(round_sig(f, 6)))
+    } else {
+        format!("×{}", Compact(round_sig(1.0 / f, 6)))
+    }
 }
 
 /// Three significant digits, for a corrected value in a hint.
@@ -433,7 +443,7 @@ pub fn markdown_table() -> String {
             .mistakes
             .iter()
             .map(|m| match *m {
-                Mistake::Scale(f, t) => format!("×{}: {t}", Compact(f)),
+                Mistake::Scale(f, t) => format!("{}: {t}", factor_text(f)),
                 Mistake::Inverse(t) => format!("1/x: {t}"),
                 Mistake::Offset(o, t) => format!("−{o}: {t}"),
                 Mistake::Rpm(t) => t.to_string(),
@@ -493,6 +503,17 @@ mod tests {
             assert!(!s.why.is_empty());
         }
         assert!(markdown_table().contains("| μ |"));
+    }
+
+    /// docs/reliability.md carries the table as the code has it.
+    #[test]
+    fn the_documented_table_is_this_one() {
+        let doc = include_str!("../../../docs/reliability.md");
+        let t = markdown_table();
+        assert!(
+            doc.contains(&t),
+            "docs/reliability.md lacks the current table:\n{t}"
+        );
     }
 
     #[test]

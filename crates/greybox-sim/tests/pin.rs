@@ -33,3 +33,18 @@ fn ploughing_share_grows_with_depth_and_energy_balances() {
     }
     assert!(deep.deformation_share > shallow.deformation_share);
 }
+
+/// A simulated F_t/F_N below the adhesive μ gave a negative ploughing share without a word:
+/// it is now reported in the result's `unusual` lines with the numbers.
+#[test]
+fn a_negative_ploughing_share_is_reported() {
+    use greybox_sim::pin::ploughing_share_flags;
+    let f = ploughing_share_flags(0.28, 0.3);
+    assert_eq!(f.len(), 1, "{f:?}");
+    assert!(
+        f[0].contains("ploughing (F_t/F_N 0.2800 − μ 0.3) / F_t/F_N: share -0.07143 is outside the possible range 0..1")
+            && f[0].contains("below the adhesive μ"),
+        "{f:?}"
+    );
+    assert!(ploughing_share_flags(0.35, 0.3).is_empty());
+}
