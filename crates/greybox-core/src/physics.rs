@@ -430,11 +430,6 @@ pub fn check(q: Quantity, value: f64, what: &str) -> std::result::Result<Option<
     Ok(None)
 }
 
-/// [`check`] with its refusal as an [`crate::Error::invalid`] of `what`.
-pub fn check_invalid(q: Quantity, value: f64, what: &str) -> crate::Result<Option<Flag>> {
-    check(q, value, what).map_err(|e| crate::Error::invalid(what.to_string(), e))
-}
-
 /// The table as Markdown (quantity, unit, hard, usual, unit mistakes), for docs and `--help`.
 pub fn markdown_table() -> String {
     let mut t = String::from("| quantity | unit | hard (refused outside) | usual (flagged outside) | likely unit mistakes |\n|---|---|---|---|---|\n");

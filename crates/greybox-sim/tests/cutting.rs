@@ -461,7 +461,7 @@ fn a_zero_cutting_force_is_an_error() {
     use greybox_sim::cut_run::check_cutting_force;
     let e = check_cutting_force(0.0, 0.5e-3).unwrap_err().to_string();
     assert!(
-        e.contains("cutting force of exactly 0 N/mm over 0.5 mm") && e.contains("never engaged"),
+        e.contains("cutting force of exactly 0 N/mm over 0.500 mm") && e.contains("never engaged"),
         "{e}"
     );
     let e = check_cutting_force(1e12, 0.5e-3).unwrap_err().to_string();
