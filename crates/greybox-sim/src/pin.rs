@@ -86,16 +86,27 @@ impl PinSetup {
     }
 
     pub fn validate(&self) -> greybox_core::Result<()> {
+        use greybox_core::physics::Quantity;
         greybox_core::rules::Rules::new("pin set-up")
             .positive("pin_radius_m", self.pin_radius_m)
             .positive("depth_m", self.depth_m)
-            .non_negative("mu", self.mu)
+            .physics("mu", Quantity::Mu, self.mu)
             .positive("sliding_speed_m_s", self.sliding_speed_m_s)
+            .physics(
+                "sliding_speed_m_s",
+                Quantity::SlidingVelocity,
+                self.sliding_speed_m_s,
+            )
             .positive("slide_length_m", self.slide_length_m)
             .positive("spacing_m", self.spacing_m)
             .positive("workpiece_height_m", self.workpiece_height_m)
             .above_up_to("mach", self.mach, 0.0, 0.1)
             .positive("initial_temperature_k", self.initial_temperature_k)
+            .physics(
+                "initial_temperature_k",
+                Quantity::Temperature,
+                self.initial_temperature_k,
+            )
             .relation(
                 !(self.depth_m >= self.pin_radius_m),
                 format!(

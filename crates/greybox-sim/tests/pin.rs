@@ -48,3 +48,23 @@ fn a_negative_ploughing_share_is_reported() {
     );
     assert!(ploughing_share_flags(0.35, 0.3).is_empty());
 }
+
+/// The pin set-up's μ, sliding speed and temperature are checked against the physics table.
+#[test]
+fn a_pin_set_up_in_the_wrong_unit_is_refused() {
+    let mut s = small_pin(20e-6);
+    s.mu = 30.0;
+    let e = s.validate().unwrap_err().to_string();
+    assert!(
+        e.contains("mu: μ 30 is outside the possible range 0..3")
+            && e.contains("in % read as a fraction (÷100 → 0.3)"),
+        "{e}"
+    );
+    let mut s = small_pin(20e-6);
+    s.sliding_speed_m_s = 6000.0;
+    let e = s.validate().unwrap_err().to_string();
+    assert!(
+        e.contains("sliding_speed_m_s: sliding velocity 6000 m/s is outside the possible range 0..200 m/s"),
+        "{e}"
+    );
+}
