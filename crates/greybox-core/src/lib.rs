@@ -14,6 +14,7 @@
 //! * [`plot`] — small self-contained SVG plots.
 //! * [`progress`] — progress of long work, shown by whatever display the process installed.
 //! * [`interrupt`] — cooperative cancellation: long loops stop at their next step on request.
+//! * [`physics`] — the plausible ranges of every physical quantity and the likely unit mistake.
 //! * [`rules`] — field-by-field configuration checks whose errors name the field and the rule.
 //! * [`boundary`] — exact boundaries of monotone floating-point predicates (split thresholds).
 //! * [`roots`] — bracketing root finding for expensive functions.
@@ -43,6 +44,7 @@ pub mod json_head;
 pub mod law;
 pub mod linalg;
 pub mod outputs;
+pub mod physics;
 pub mod plot;
 pub mod progress;
 pub mod provenance;

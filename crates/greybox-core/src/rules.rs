@@ -104,6 +104,16 @@ impl Rules {
     pub fn at_least(&mut self, field: &str, v: u64, min: u64) -> &mut Self {
         self.check(field, v >= min, &format!("≥ {min}"), v)
     }
+    /// In the possible range of a physical quantity ([`crate::physics`], SI): the refusal
+    /// names the field, the number, the ranges and the likely unit mistake. Outside the
+    /// usual range it is not broken (the caller that reports flags checks with
+    /// [`crate::physics::check`] itself).
+    pub fn physics(&mut self, field: &str, q: crate::physics::Quantity, v: f64) -> &mut Self {
+        if let Err(e) = crate::physics::check(q, v, &format!("{}{field}", self.prefix)) {
+            self.broken.push(e);
+        }
+        self
+    }
     /// A rule relating several fields, stated in words.
     pub fn relation(&mut self, ok: bool, rule: impl Into<String>) -> &mut Self {
         if !ok {

@@ -24,6 +24,8 @@ use crate::exact_table::deviation;
 use crate::grid::{Grid, PressureUnit, SpeedUnit, TempUnit};
 use crate::lines::multilinear;
 use greybox_core::boundary::last_true;
+use greybox_core::physics::Quantity;
+use greybox_core::rules::Compact;
 use greybox_core::{Breaks, ContactState, Error, FrictionLaw, Result};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -172,6 +174,9 @@ pub struct EngineTable {
     pub mu: Vec<f64>,
     /// Whether the axes carry the law's step lines.
     pub exact_steps: bool,
+    /// μ outside its usual range ([`greybox_core::physics`]): the first node's line and how
+    /// many more; the exports write it into their header.
+    pub unusual: Option<String>,
 }
 
 impl EngineTable {
@@ -206,26 +211,38 @@ impl EngineTable {
             .as_ref()
             .map_or(vec![ContactState::ROOM_TEMPERATURE_K], |t| t.si.clone());
         let mut mu = Vec::with_capacity(temps.len() * pressure.si.len() * speed.si.len());
+        let (mut first_unusual, mut unusual_count) = (None, 0usize);
         for &t in &temps {
             for &p in &pressure.si {
                 for &v in &speed.si {
-                    mu.push(mu_checked(
+                    let (m, flag) = mu_flagged(
                         law,
                         &ContactState {
                             pressure_pa: p,
                             sliding_velocity_m_s: v,
                             temperature_k: t,
                         },
-                    )?);
+                    )?;
+                    if let Some(f) = flag {
+                        unusual_count += 1;
+                        first_unusual.get_or_insert(f);
+                    }
+                    mu.push(m);
                 }
             }
         }
+        let unusual = first_unusual.map(|f| match unusual_count {
+            1 => f,
+            2 => format!("{f} (and 1 more node)"),
+            n => format!("{f} (and {} more nodes)", n - 1),
+        });
         Ok(EngineTable {
             speed,
             pressure,
             temperature,
             mu,
             exact_steps,
+            unusual,
         })
     }
 
@@ -337,15 +354,21 @@ impl EngineTable {
 
 /// μ at a state, which must be finite and ≥ 0 for a table.
 pub fn mu_checked(law: &dyn FrictionLaw, s: &ContactState) -> Result<f64> {
+    Ok(mu_flagged(law, s)?.0)
+}
+
+/// [`mu_checked`] with the physics table's flag ([`greybox_core::physics`]): μ outside the
+/// possible range 0..3 refused, outside the usual range returned with its line.
+pub fn mu_flagged(law: &dyn FrictionLaw, s: &ContactState) -> Result<(f64, Option<String>)> {
     let mu = law.mu(s);
-    if !mu.is_finite() || mu < 0.0 {
-        return Err(Error::invalid(
-            "export",
-            format!(
-                "the law gives μ = {mu} at p = {} Pa, v = {} m/s, T = {} K",
-                s.pressure_pa, s.sliding_velocity_m_s, s.temperature_k
-            ),
-        ));
+    let at = format!(
+        "the law at p = {} Pa, v = {} m/s, T = {} K",
+        Compact(s.pressure_pa),
+        Compact(s.sliding_velocity_m_s),
+        Compact(s.temperature_k)
+    );
+    match greybox_core::physics::check(Quantity::Mu, mu, &at) {
+        Ok(flag) => Ok((mu, flag.map(|f| f.text))),
+        Err(e) => Err(Error::invalid("export", e)),
     }
-    Ok(mu)
 }

@@ -78,6 +78,9 @@ impl Exported {
     /// Header comment lines (after `prefix`) on the grid and the check.
     fn notes(&self, prefix: &str) -> String {
         let mut s = String::new();
+        if let Some(u) = &self.table.unusual {
+            let _ = writeln!(s, "{prefix} unusual: {}", deck_comment(u));
+        }
         if self.table.exact_steps {
             let _ = writeln!(s, "{prefix} grid lines at the law's steps: two points one float apart per split threshold (b, b+), exact for linear interpolation");
         }

@@ -36,6 +36,7 @@ impl GreyBoxLaw {
         shear_cap_k_pa: Option<f64>,
         clamp: Option<(f64, f64)>,
     ) -> Result<Self> {
+        use greybox_core::physics::Quantity;
         let mut rules = greybox_core::rules::Rules::new("grey-box law");
         rules.positive("blend_fraction", blend_fraction);
         if let Some(k) = shear_cap_k_pa {
@@ -51,8 +52,8 @@ impl GreyBoxLaw {
         }
         if let Some((lo, hi)) = clamp {
             rules
-                .non_negative("clamp[0]", lo)
-                .finite("clamp[1]", hi)
+                .physics("clamp[0]", Quantity::Mu, lo)
+                .physics("clamp[1]", Quantity::Mu, hi)
                 .relation(lo <= hi, format!("clamp needs min ≤ max, got [{lo}, {hi}]"));
         }
         rules.finish()?;

@@ -8,7 +8,8 @@
 use greybox_contact::PinContact;
 use greybox_core::boundary::last_true;
 use greybox_core::law::{Range, ValidityDomain};
-use greybox_core::{Breaks, ContactState, Error, FrictionLaw, Result};
+use greybox_core::physics::Quantity;
+use greybox_core::{units, Breaks, ContactState, Error, FrictionLaw, Result};
 use greybox_model::column::FeatureQuantity;
 use greybox_model::family::{FittedModel, Hyperparameters};
 use greybox_model::modelfile::ModelFile;
@@ -208,12 +209,52 @@ impl LearnedLaw {
             FittedModel::TreeEnsemble(e) => DecisionGrid::build(e, MAX_GRID_CELLS),
             _ => None,
         };
-        Ok(LearnedLaw {
+        let law = LearnedLaw {
             model,
             inputs,
             domain,
             grid,
-        })
+        };
+        law.check_corners()?;
+        Ok(law)
+    }
+
+    /// μ at the corners and the centre of the training domain must lie in the possible
+    /// range of [`Quantity::Mu`]: a model trained on a target in % or a force ratio in the
+    /// wrong unit is refused with the number, where it was predicted and the likely mistake.
+    fn check_corners(&self) -> Result<()> {
+        let d = self.domain;
+        let t = d
+            .temperature_k
+            .map_or([ContactState::ROOM_TEMPERATURE_K; 2], |r| [r.min, r.max]);
+        let mid = |r: Range| 0.5 * (r.min + r.max);
+        let mut states = vec![ContactState {
+            pressure_pa: mid(d.pressure_pa),
+            sliding_velocity_m_s: mid(d.sliding_velocity_m_s),
+            temperature_k: 0.5 * (t[0] + t[1]),
+        }];
+        for p in [d.pressure_pa.min, d.pressure_pa.max] {
+            for v in [d.sliding_velocity_m_s.min, d.sliding_velocity_m_s.max] {
+                for &tk in &t {
+                    states.push(ContactState {
+                        pressure_pa: p,
+                        sliding_velocity_m_s: v,
+                        temperature_k: tk,
+                    });
+                }
+            }
+        }
+        for s in &states {
+            let at = format!(
+                "the model's prediction at p = {} MPa, v = {} m/min, T = {} K",
+                greybox_core::rules::Compact(s.pressure_pa / units::PA_PER_MPA),
+                greybox_core::rules::Compact(units::m_per_s_to_m_per_min(s.sliding_velocity_m_s)),
+                greybox_core::rules::Compact(s.temperature_k)
+            );
+            greybox_core::physics::check(Quantity::Mu, self.mu(s), &at)
+                .map_err(|e| Error::invalid("learned law", e))?;
+        }
+        Ok(())
     }
 }
 

@@ -17,6 +17,8 @@ use crate::greybox::{GreyBoxLaw, PowerLaw};
 use crate::learned::LearnedLaw;
 use crate::table_file::{parse_table, read_table, TABLE_SCHEMA};
 use greybox_contact::PinContact;
+use greybox_core::physics::Quantity;
+use greybox_core::rules::Rules;
 use greybox_core::{units, Error, FrictionLaw, Result, SourcePos};
 use greybox_model::modelfile::{ModelFile, SCHEMA as MODEL_SCHEMA};
 use serde::{Deserialize, Serialize};
@@ -83,6 +85,16 @@ pub enum LawSpec {
     },
 }
 
+/// Check law parameters against the physics table ([`greybox_core::physics`]): each
+/// `(field, quantity, SI value)` must lie in its possible range.
+fn physical(fields: &[(&str, Quantity, f64)]) -> Result<()> {
+    let mut r = Rules::new("law");
+    for &(f, q, v) in fields {
+        r.physics(f, q, v);
+    }
+    r.finish()
+}
+
 fn default_blend() -> f64 {
     0.1
 }
@@ -103,9 +115,16 @@ impl LawSpec {
     pub fn build(&self, base: &Path) -> Result<Box<dyn FrictionLaw>> {
         let mpa = units::PA_PER_MPA;
         Ok(match self {
-            LawSpec::Coulomb { mu } => Box::new(Coulomb { mu: *mu }),
+            LawSpec::Coulomb { mu } => {
+                physical(&[("mu", Quantity::Mu, *mu)])?;
+                Box::new(Coulomb { mu: *mu })
+            }
             LawSpec::ShearFactor { m, k_mpa } => {
                 positive("k_MPa", *k_mpa)?;
+                physical(&[
+                    ("m", Quantity::ShearFactor, *m),
+                    ("k_MPa", Quantity::ShearFlowStress, k_mpa * mpa),
+                ])?;
                 Box::new(ShearFactor {
                     m: *m,
                     k_pa: k_mpa * mpa,
@@ -113,6 +132,10 @@ impl LawSpec {
             }
             LawSpec::Zorev { mu, k_mpa } => {
                 positive("k_MPa", *k_mpa)?;
+                physical(&[
+                    ("mu", Quantity::Mu, *mu),
+                    ("k_MPa", Quantity::ShearFlowStress, k_mpa * mpa),
+                ])?;
                 Box::new(Zorev {
                     mu: *mu,
                     k_pa: k_mpa * mpa,
@@ -122,6 +145,11 @@ impl LawSpec {
                 positive("k_MPa", *k_mpa)?;
                 positive("m", *m)?;
                 positive("n", *n)?;
+                physical(&[
+                    ("mu", Quantity::Mu, *mu),
+                    ("m", Quantity::ShearFactor, *m),
+                    ("k_MPa", Quantity::ShearFlowStress, k_mpa * mpa),
+                ])?;
                 Box::new(UsuiChilds {
                     mu: *mu,
                     m: *m,
@@ -135,6 +163,10 @@ impl LawSpec {
                 v_c_m_per_min,
             } => {
                 positive("v_c_m_per_min", *v_c_m_per_min)?;
+                physical(&[
+                    ("mu_static", Quantity::Mu, *mu_static),
+                    ("mu_dynamic", Quantity::Mu, *mu_dynamic),
+                ])?;
                 Box::new(ExponentialVelocity {
                     mu_static: *mu_static,
                     mu_dynamic: *mu_dynamic,
@@ -142,6 +174,11 @@ impl LawSpec {
                 })
             }
             LawSpec::ThermalSoftening { mu0, t0_k, tm_k, q } => {
+                physical(&[
+                    ("mu0", Quantity::Mu, *mu0),
+                    ("t0_K", Quantity::Temperature, *t0_k),
+                    ("tm_K", Quantity::Temperature, *tm_k),
+                ])?;
                 if !(tm_k > t0_k) {
                     return Err(Error::invalid("law", "thermal softening needs tm_K > t0_K"));
                 }

@@ -15,6 +15,11 @@ use greybox_learn::table::read_dataset_from;
 
 /// A smooth SVR (rbf) model of μ(hertz_pressure_MPa, sliding_velocity_m_per_min).
 fn fitted_model(family: Family) -> greybox_learn::modelfile::ModelFile {
+    fitted_model_scaled(family, 1.0)
+}
+
+/// [`fitted_model`] trained on `scale` × μ (100: a target in %).
+fn fitted_model_scaled(family: Family, scale: f64) -> greybox_learn::modelfile::ModelFile {
     let mut csv = String::from("hertz_pressure_MPa,sliding_velocity_m_per_min,mu\n");
     for i in 0..12 {
         for j in 0..12 {
@@ -22,7 +27,7 @@ fn fitted_model(family: Family) -> greybox_learn::modelfile::ModelFile {
             let v = 20.0 + 20.0 * j as f64;
             csv.push_str(&format!(
                 "{p},{v},{}\n",
-                0.5 - 0.1 * (p - 900.0) / 1300.0 - 0.1 * (v / 250.0).sqrt()
+                scale * (0.5 - 0.1 * (p - 900.0) / 1300.0 - 0.1 * (v / 250.0).sqrt())
             ));
         }
     }
@@ -286,4 +291,135 @@ fn a_shear_cap_in_gpa_is_refused_with_the_number() {
             "50 MPa is accepted: {e}"
         );
     }
+}
+
+// ---- physics as data (issue 46 item 4): laws outside the physics table are refused with
+// the number and the likely unit mistake.
+
+fn law_error(json: &str) -> String {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path().join("law.json");
+    std::fs::write(&p, json).unwrap();
+    load_law(&p).err().expect("refused").to_string()
+}
+
+#[test]
+fn a_law_with_mu_1e300_is_refused() {
+    let e = law_error(r#"{"law": "coulomb", "mu": 1e300}"#);
+    assert!(
+        e.contains("mu: μ 1e300 is outside the possible range 0..3"),
+        "{e}"
+    );
+    let e = law_error(r#"{"law": "zorev", "mu": 30, "k_MPa": 500}"#);
+    assert!(
+        e.contains("μ 30 is outside") && e.contains("in % read as a fraction"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_clamp_of_50_to_100_is_refused() {
+    let e = law_error(
+        r#"{"law": "grey-box", "inner": {"law": "coulomb", "mu": 0.4}, "outside": {"law": "coulomb", "mu": 0.4}, "clamp": [50, 100]}"#,
+    );
+    assert!(
+        e.contains("clamp[0]: μ 50 is outside the possible range 0..3")
+            && e.contains("clamp[1]: μ 100 is outside")
+            && e.contains("in % read as a fraction (÷100 → 0.5)"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_shear_factor_of_5_is_refused() {
+    let e = law_error(r#"{"law": "shear-factor", "m": 5, "k_MPa": 500}"#);
+    assert!(
+        e.contains("m: shear factor m 5 is outside the possible range 0..1"),
+        "{e}"
+    );
+    let e = law_error(r#"{"law": "shear-factor", "m": 80, "k_MPa": 500}"#);
+    assert!(
+        e.contains("a share in % read as a fraction (÷100 → 0.8)"),
+        "{e}"
+    );
+    let e = law_error(r#"{"law": "usui-childs", "mu": 0.5, "m": 1.5, "n": 1, "k_MPa": 500}"#);
+    assert!(e.contains("m: shear factor m 1.5"), "{e}");
+    // a shear flow stress in Pa where MPa is asked
+    let e = law_error(r#"{"law": "zorev", "mu": 0.3, "k_MPa": 5e8}"#);
+    assert!(
+        e.contains("k_MPa: shear flow stress 5e14 Pa") && e.contains("MPa is asked"),
+        "{e}"
+    );
+}
+
+/// A model trained on μ in % (or predicting 1000) is refused when a law is built from it.
+#[test]
+fn a_model_of_a_target_in_percent_or_of_1000_is_refused() {
+    let e = LearnedLaw::new(fitted_model_scaled(Family::GradientBoosting, 100.0), None)
+        .map(|_| ())
+        .expect_err("refused")
+        .to_string();
+    assert!(
+        e.contains("the model's prediction at p = ")
+            && e.contains("is outside the possible range 0..3")
+            && e.contains("a model's target) in % read as a fraction"),
+        "{e}"
+    );
+    let e = LearnedLaw::new(fitted_model_scaled(Family::GradientBoosting, 2500.0), None)
+        .map(|_| ())
+        .expect_err("refused")
+        .to_string();
+    assert!(
+        e.contains("the model's prediction at p = ")
+            && e.contains("is outside the possible range 0..3"),
+        "{e}"
+    );
+}
+
+/// Engine tables: μ beyond 3 refused, beyond the usual 1 written with a line in the header.
+#[test]
+fn engine_tables_bound_mu() {
+    use greybox_friction::classical::{Coulomb, ShearFactor};
+    use greybox_friction::export::{abaqus_checked, TableOptions};
+    let grid = Grid {
+        pressure_pa: vec![500e6, 1000e6],
+        velocity_m_s: vec![1.0, 2.0],
+        temperature_k: None,
+    };
+    let u = Units {
+        pressure: PressureUnit::MPa,
+        speed: SpeedUnit::MmPerS,
+        temperature: TempUnit::C,
+    };
+    let o = TableOptions::default();
+    // a law object built without its law file (no parameter check): the table refuses it
+    let e = abaqus_checked(&Coulomb { mu: 40.0 }, &grid, u, None, &o)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("the law at p = 500000000 Pa") || e.contains("the law at p = 5e8 Pa"),
+        "{e}"
+    );
+    assert!(e.contains("μ 40 is outside the possible range 0..3"), "{e}");
+    let e = abaqus_checked(&Coulomb { mu: 1.5 }, &grid, u, None, &o).unwrap();
+    assert!(
+        e.text.contains("** unusual: the law at p = ")
+            && e.text.contains("μ 1.5 is outside the usual range 0.005..1")
+            && e.text.contains("(and 3 more nodes)"),
+        "{}",
+        e.text
+    );
+    // a shear-factor law's μ = m k / p stays in range at these pressures
+    let ok = abaqus_checked(
+        &ShearFactor {
+            m: 0.8,
+            k_pa: 500e6,
+        },
+        &grid,
+        u,
+        None,
+        &o,
+    )
+    .unwrap();
+    assert!(!ok.text.contains("unusual"), "{}", ok.text);
 }

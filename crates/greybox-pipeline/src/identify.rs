@@ -463,6 +463,9 @@ pub fn inspect_text(files: &[FileReport]) -> String {
         for n in &f.notes {
             let _ = writeln!(s, "   note: {n}");
         }
+        for u in &f.unusual {
+            let _ = writeln!(s, "   unusual: {u}");
+        }
         s.push_str(&crate::identify_cycles::inspect_lines(f));
         let mut t = Table::new(&[
             "seg",

@@ -77,6 +77,12 @@ pub fn identify_footer(s: &IdentifySummary) -> String {
         "identify: {} plateaus ({} non-stationary), pressure convention {}, dataset {}",
         s.plateaus, s.non_stationary, s.pressure_convention, s.dataset
     );
+    // values outside their usual range (greybox_core::physics), with the likely unit mistake
+    for f in &s.identification.files {
+        for u in &f.unusual {
+            let _ = writeln!(text, "  unusual: {}: {u}", f.source);
+        }
+    }
     if let Some(c) = &s.cycles {
         let _ = writeln!(
             text,
@@ -638,6 +644,9 @@ pub fn pin(setup: &PinSetup, res: &PinResult, speed_m_per_min: f64) -> String {
         "  simulated slide speed {:.1} m/s (strain rate scaled to {} m/min), mass scaling {}",
         res.simulated_speed_m_s, speed_m_per_min, res.mass_scaling
     );
+    for u in &res.unusual {
+        let _ = writeln!(text, "  unusual: {u}");
+    }
     text
 }
 

@@ -9,6 +9,7 @@ use crate::friction_loop::FrictionUpdater;
 use crate::output::{ForceHistory, PeakTemperature};
 use crate::solver::{SimError, Solver};
 use crate::steady::SteadyForce;
+use greybox_core::physics::Quantity;
 use greybox_core::FrictionLaw;
 use std::sync::Arc;
 
@@ -95,6 +96,11 @@ impl CutRun {
             .steady_mean()
             .or_else(|| forces.mean_force(averaged_from_s, t_end))
             .unwrap_or([0.0, 0.0]);
+        if !summary.stopped_by_observer {
+            // a run that reached its end (one an observer stopped, killed or steady, has its
+            // own account)
+            check_cutting_force(force[0], t_end * v)?;
+        }
         let profile = contact_profile(
             &sim.tools[0],
             &layout,
@@ -116,6 +122,26 @@ impl CutRun {
             measures,
         })
     }
+}
+
+/// A cut's mean cutting force (N/m) over `cut_m` of cut: exactly 0 means the tool never
+/// engaged the workpiece (a speed or mass scaling that leaves the chip behind, a cut shorter
+/// than the approach) and is an error, not a result of 0.0 N/mm; outside the possible range
+/// of [`Quantity::ForcePerWidth`] it is refused with the number.
+pub fn check_cutting_force(force_n_per_m: f64, cut_m: f64) -> Result<(), SimError> {
+    if force_n_per_m == 0.0 {
+        return Err(SimError::Invalid(format!(
+            "the cut gave a cutting force of exactly 0 N/mm over {:.3} mm: the tool never engaged the workpiece (check the cutting speed, mass scaling and cut length)",
+            cut_m * 1e3
+        )));
+    }
+    greybox_core::physics::check(
+        Quantity::ForcePerWidth,
+        force_n_per_m.abs(),
+        "cutting force",
+    )
+    .map_err(SimError::Invalid)?;
+    Ok(())
 }
 
 /// A run must have steps ahead of it: a checkpoint at or past the requested end, or a cut

@@ -318,6 +318,7 @@ impl CuttingSetup {
     }
 
     pub fn validate(&self) -> greybox_core::Result<()> {
+        use greybox_core::physics::Quantity;
         let h = self.uncut_chip_thickness_m;
         let dx = self.spacing_m;
         greybox_core::rules::Rules::new("cutting set-up")
@@ -329,12 +330,16 @@ impl CuttingSetup {
                     .positive("rake_length_m", g.rake_length_m)
                     .positive("flank_length_m", g.flank_length_m);
             })
-            .positive("cutting_speed_m_s", self.cutting_speed_m_s)
+            .physics(
+                "cutting_speed_m_s",
+                Quantity::CuttingSpeed,
+                self.cutting_speed_m_s,
+            )
             .positive("uncut_chip_thickness_m", h)
             .positive("cut_length_m", self.cut_length_m)
             .positive("spacing_m", dx)
             .positive("workpiece_height_m", self.workpiece_height_m)
-            .non_negative("mu", self.mu)
+            .physics("mu", Quantity::Mu, self.mu)
             .relation(
                 self.physical_cutting_speed_m_s
                     .is_none_or(|v| v > 0.0 && v <= self.cutting_speed_m_s),
@@ -344,6 +349,11 @@ impl CuttingSetup {
                 ),
             )
             .positive("initial_temperature_k", self.initial_temperature_k)
+            .physics(
+                "initial_temperature_k",
+                Quantity::Temperature,
+                self.initial_temperature_k,
+            )
             .section("friction", |r| {
                 r.positive("window_length_m", self.friction.window_length_m)
                     .at_least("update_every_steps", self.friction.update_every_steps, 1);

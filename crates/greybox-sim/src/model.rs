@@ -97,7 +97,11 @@ impl Numerics {
             .within("xsph", self.xsph, 0.0, 1.0)
             .above_up_to("contact_penalty", self.contact_penalty, 0.0, 1.0)
             .within("friction_heat_share", self.friction_heat_share, 0.0, 1.0)
-            .within("mass_scaling", self.mass_scaling, 1.0, f64::MAX)
+            .physics(
+                "mass_scaling",
+                greybox_core::physics::Quantity::MassScaling,
+                self.mass_scaling,
+            )
             .positive("strain_rate_scale", self.strain_rate_scale)
             .positive("skin_ratio", self.skin_ratio)
             .positive("max_speed_ratio", self.max_speed_ratio)

@@ -86,16 +86,27 @@ impl PinSetup {
     }
 
     pub fn validate(&self) -> greybox_core::Result<()> {
+        use greybox_core::physics::Quantity;
         greybox_core::rules::Rules::new("pin set-up")
             .positive("pin_radius_m", self.pin_radius_m)
             .positive("depth_m", self.depth_m)
-            .non_negative("mu", self.mu)
+            .physics("mu", Quantity::Mu, self.mu)
             .positive("sliding_speed_m_s", self.sliding_speed_m_s)
+            .physics(
+                "sliding_speed_m_s",
+                Quantity::SlidingVelocity,
+                self.sliding_speed_m_s,
+            )
             .positive("slide_length_m", self.slide_length_m)
             .positive("spacing_m", self.spacing_m)
             .positive("workpiece_height_m", self.workpiece_height_m)
             .above_up_to("mach", self.mach, 0.0, 0.1)
             .positive("initial_temperature_k", self.initial_temperature_k)
+            .physics(
+                "initial_temperature_k",
+                Quantity::Temperature,
+                self.initial_temperature_k,
+            )
             .relation(
                 !(self.depth_m >= self.pin_radius_m),
                 format!(
@@ -269,6 +280,26 @@ pub struct PinResult {
     pub mass_scaling: f64,
     /// Energy-balance residual at the end, relative to the external work.
     pub energy_error: f64,
+    /// Results outside the physics table's range ([`greybox_core::physics`]): the ploughing
+    /// share (deformation share / F_t/F_N) outside 0..1 — a simulated F_t/F_N below the
+    /// adhesive μ (ploughing only adds) — with the numbers.
+    #[serde(default)]
+    pub unusual: Vec<String>,
+}
+
+/// The ploughing share of a pin run, (F_t/F_N − μ) / (F_t/F_N), against the physics
+/// table's [`Quantity::Share`](greybox_core::physics::Quantity::Share): a line for each
+/// problem (none when it lies in 0..1).
+pub fn ploughing_share_flags(force_ratio: f64, mu: f64) -> Vec<String> {
+    let share = (force_ratio - mu) / force_ratio;
+    let what = format!("ploughing (F_t/F_N {force_ratio:.4} − μ {mu}) / F_t/F_N");
+    match greybox_core::physics::check(greybox_core::physics::Quantity::Share, share, &what) {
+        Ok(None) => Vec::new(),
+        Ok(Some(f)) => vec![f.text],
+        Err(e) => vec![format!(
+            "{e}: the simulated force ratio is below the adhesive μ (ploughing only adds): refine the particles or lengthen the slide"
+        )],
+    }
 }
 
 /// Runs the press and slide; extra observers (VTK, checkpoints) may be attached.
@@ -343,6 +374,7 @@ pub fn simulate_from(
         simulated_speed_m_s: setup.mach * sim.wave_speed(),
         mass_scaling: sim.numerics.mass_scaling,
         energy_error: sim.energy_balance().relative_error,
+        unusual: ploughing_share_flags(ratio, setup.mu),
     };
     Ok((res, hist, sim))
 }

@@ -248,7 +248,16 @@ fn bad_configurations_name_the_field_and_the_rule() {
     let cases: Vec<(Mutation, &str)> = vec![
         (
             |s| s.cutting_speed_m_s = -5.0,
-            "cutting_speed_m_s must be > 0, got -5",
+            "cutting_speed_m_s: cutting speed -5 m/s is outside the possible range 1e-6..1000 m/s",
+        ),
+        // used to run and report 0.0 N/mm
+        (
+            |s| s.cutting_speed_m_s = 1e9,
+            "cutting_speed_m_s: cutting speed 1e9 m/s is outside the possible range 1e-6..1000 m/s",
+        ),
+        (
+            |s| s.cutting_speed_m_s = 6000.0,
+            "a speed in m/min read as m/s (÷60 → 100)",
         ),
         (
             |s| s.uncut_chip_thickness_m = 0.0,
@@ -263,7 +272,15 @@ fn bad_configurations_name_the_field_and_the_rule() {
             "spacing_m must be > 0, got inf",
         ),
         (|s| s.workpiece_height_m = 0.1e-3, "workpiece_height_m"),
-        (|s| s.mu = -0.1, "mu must be ≥ 0"),
+        (
+            |s| s.mu = -0.1,
+            "mu: μ -0.1 is outside the possible range 0..3",
+        ),
+        (|s| s.mu = 30.0, "in % read as a fraction (÷100 → 0.3)"),
+        (
+            |s| s.initial_temperature_k = -10.0,
+            "a temperature in °C read as K (+273.15 → 263)",
+        ),
         (
             |s| s.initial_temperature_k = 0.0,
             "initial_temperature_k must be > 0",
@@ -307,7 +324,12 @@ fn bad_configurations_name_the_field_and_the_rule() {
         (|s| s.numerics.cfl = 2.0, "cfl must be in (0, 1], got 2"),
         (
             |s| s.numerics.mass_scaling = 0.5,
-            "mass_scaling must be in [1,",
+            "mass_scaling: mass scaling 0.5 is outside the possible range 1..1e8",
+        ),
+        // used to run and report 0.0 N/mm
+        (
+            |s| s.numerics.mass_scaling = 1e300,
+            "mass_scaling: mass scaling 1e300 is outside the possible range 1..1e8",
         ),
         (
             |s| s.numerics.friction_heat_share = 1.5,
@@ -444,4 +466,22 @@ fn counts_in_a_set_up_are_refused_when_read() {
             .to_string();
         assert!(e.contains(want) && e.contains("blocks"), "{e}");
     }
+}
+
+/// A cut whose force is exactly 0 (the tool never engaged) is an error, not 0.0 N/mm; a force
+/// beyond the physics table's range is refused with the number.
+#[test]
+fn a_zero_cutting_force_is_an_error() {
+    use greybox_sim::cut_run::check_cutting_force;
+    let e = check_cutting_force(0.0, 0.5e-3).unwrap_err().to_string();
+    assert!(
+        e.contains("cutting force of exactly 0 N/mm over 0.500 mm") && e.contains("never engaged"),
+        "{e}"
+    );
+    let e = check_cutting_force(1e12, 0.5e-3).unwrap_err().to_string();
+    assert!(
+        e.contains("cutting force: force per width 1e12 N/m is outside the possible range"),
+        "{e}"
+    );
+    check_cutting_force(2e5, 0.5e-3).unwrap();
 }

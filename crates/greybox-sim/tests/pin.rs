@@ -33,3 +33,38 @@ fn ploughing_share_grows_with_depth_and_energy_balances() {
     }
     assert!(deep.deformation_share > shallow.deformation_share);
 }
+
+/// A simulated F_t/F_N below the adhesive μ gave a negative ploughing share without a word:
+/// it is now reported in the result's `unusual` lines with the numbers.
+#[test]
+fn a_negative_ploughing_share_is_reported() {
+    use greybox_sim::pin::ploughing_share_flags;
+    let f = ploughing_share_flags(0.28, 0.3);
+    assert_eq!(f.len(), 1, "{f:?}");
+    assert!(
+        f[0].contains("ploughing (F_t/F_N 0.2800 − μ 0.3) / F_t/F_N: share -0.07143 is outside the possible range 0..1")
+            && f[0].contains("below the adhesive μ"),
+        "{f:?}"
+    );
+    assert!(ploughing_share_flags(0.35, 0.3).is_empty());
+}
+
+/// The pin set-up's μ, sliding speed and temperature are checked against the physics table.
+#[test]
+fn a_pin_set_up_in_the_wrong_unit_is_refused() {
+    let mut s = small_pin(20e-6);
+    s.mu = 30.0;
+    let e = s.validate().unwrap_err().to_string();
+    assert!(
+        e.contains("mu: μ 30 is outside the possible range 0..3")
+            && e.contains("in % read as a fraction (÷100 → 0.3)"),
+        "{e}"
+    );
+    let mut s = small_pin(20e-6);
+    s.sliding_speed_m_s = 6000.0;
+    let e = s.validate().unwrap_err().to_string();
+    assert!(
+        e.contains("sliding_speed_m_s: sliding velocity 6000 m/s is outside the possible range 0..200 m/s"),
+        "{e}"
+    );
+}

@@ -35,6 +35,7 @@ use crate::steady::{
     windows, StepSignals,
 };
 use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
+use greybox_core::physics::{self, Quantity};
 use greybox_core::units;
 use greybox_core::{Error, Result, SourcePos};
 use serde::Serialize;
@@ -153,6 +154,9 @@ pub struct FileReport {
     /// segment). Printed in the summary of every run and written into its JSON, never only
     /// under `--inspect`; dropped segments are in [`Coverage::dropped`], with their reasons.
     pub warnings: Vec<String>,
+    /// Values outside their usual range ([`greybox_core::physics`]), with the number and the
+    /// likely unit mistake: one line per quantity and file.
+    pub unusual: Vec<String>,
     /// Rows already identified (plan-timed path).
     #[serde(skip)]
     rows: Vec<FrictionRecord>,
@@ -389,6 +393,7 @@ fn prepare<'a>(
             },
             segments: Vec::new(),
             notes,
+            unusual: Vec::new(),
             rows: Vec::new(),
             too_short: Vec::new(),
         },
@@ -1645,6 +1650,14 @@ fn resolve_velocities(files: &mut [FileReport], c: &Campaign) -> Result<()> {
             };
             local += 1;
             global += 1;
+            if let Some(r) = r_mm {
+                let what = format!("track radius for {} segment {}", f.source, s.index);
+                match physics::check(Quantity::TrackRadius, r * units::M_PER_MM, &what) {
+                    Err(e) => return Err(Error::invalid("track radius", e)),
+                    Ok(Some(flag)) if !f.unusual.contains(&flag.text) => f.unusual.push(flag.text),
+                    Ok(_) => {}
+                }
+            }
             match r_mm {
                 Some(r) if r > 0.0 => {
                     s.sliding_velocity_m_per_min = Some(units::m_per_s_to_m_per_min(
@@ -1670,6 +1683,7 @@ pub fn match_segments(
 ) -> Result<(FrictionDataset, MatchReport)> {
     let (ds, report) = match_segments_unchecked(files, c)?;
     check_levels(&ds, files)?;
+    check_physics(&ds, files)?;
     Ok((ds, report))
 }
 
@@ -1678,43 +1692,102 @@ pub fn match_segments(
 /// of each other, a channel read in the wrong unit (kN as N, mN as N) moves them by 1000.
 pub const IMPLAUSIBLE_LEVEL_FACTOR: f64 = 20.0;
 
-/// The range of a whole campaign's median μ that dry or lubricated sliding of engineering
-/// materials gives: below 0.005 only superlubric contacts, above 3 only clean metals in vacuum.
-/// Outside it, a force channel is in another unit than the one read (kN as N: μ 0.0002-0.0007
-/// for steel on steel).
-pub const PLAUSIBLE_MU: std::ops::RangeInclusive<f64> = 0.005..=3.0;
+/// The fastest sliding a measured speed may give a row, m/s: the hard end of
+/// [`Quantity::SlidingVelocity`] (12 000 m/min: above the cutting speeds of high-speed
+/// machining and any pin-on-disc rig); a faster one is a unit mistake and is refused.
+pub const MAX_SLIDING_VELOCITY_M_S: f64 = Quantity::SlidingVelocity.spec().hard.1;
 
-/// The fastest sliding a measured speed may give a row, m/s (12 000 m/min: above the
-/// cutting speeds of high-speed machining and any pin-on-disc rig); a faster one is a unit
-/// mistake and is refused.
-pub const MAX_SLIDING_VELOCITY_M_S: f64 = 200.0;
-
-/// Refuse a campaign whose median μ lies outside [`PLAUSIBLE_MU`], with the numbers and the
-/// likely unit slip.
+/// Refuse a campaign whose median μ lies outside the possible range of
+/// [`Quantity::CampaignMu`], with the numbers and the likely unit slip.
 fn check_campaign_level(median_mu: f64, rows: usize, files: &[FileReport]) -> Result<()> {
-    if PLAUSIBLE_MU.contains(&median_mu) {
+    let what = format!("{rows} steps");
+    let Err(e) = physics::check(Quantity::CampaignMu, median_mu, &what) else {
         return Ok(());
-    }
-    let hint = if median_mu < *PLAUSIBLE_MU.start() {
-        "is the tangential channel in kN (or the normal one in mN or g) read as N? state its unit: --map tangential=NAME:kN"
+    };
+    let hint = if median_mu < *Quantity::CampaignMu.hard().start() {
+        "state the unit of the tangential channel: --map tangential=NAME:kN"
     } else {
-        "is the normal channel in kN (or the tangential one in mN or g) read as N? state its unit: --map normal=NAME:kN"
+        "state the unit of the normal channel: --map normal=NAME:kN"
     };
     let sources: Vec<&str> = files.iter().map(|f| f.source.as_str()).take(3).collect();
     Err(Error::input(
         SourcePos::file(sources.join(", ")).field("tangential / normal"),
-        format!(
-            "the campaign's median μ over {rows} steps is {median_mu:.5}, outside the plausible {}..{} for any sliding pair: {hint}",
-            PLAUSIBLE_MU.start(),
-            PLAUSIBLE_MU.end()
-        ),
+        format!("{e}; {hint}"),
     ))
+}
+
+/// The file that holds (pin, step), for messages.
+fn source_of(files: &[FileReport], pin: u32, step: Option<u32>) -> Option<usize> {
+    files.iter().position(|f| {
+        f.segments.iter().any(|s| {
+            s.matched
+                .is_some_and(|(p, k)| p == pin && step.is_none_or(|st| st == k))
+        }) || f
+            .rows
+            .iter()
+            .any(|r| r.pin == pin && step.is_none_or(|st| st == r.step))
+    })
+}
+
+/// Check every step's μ, load, sliding velocity and pressure against the physics table
+/// ([`greybox_core::physics`]): outside the possible range refused, outside the usual range
+/// flagged in the file's [`FileReport::unusual`] (one line per quantity and file: the first
+/// step's number and hint, and how many more steps).
+pub fn check_physics(ds: &FrictionDataset, files: &mut [FileReport]) -> Result<()> {
+    // (file, quantity) → first flag and how many
+    let mut flagged: Vec<(Option<usize>, Quantity, String, usize)> = Vec::new();
+    for r in &ds.records {
+        let file = source_of(files, r.pin, Some(r.step));
+        let at = format!("pin {} step {}", r.pin, r.step);
+        let mut values = vec![
+            (Quantity::Mu, r.cof_apparent.abs(), "tangential / normal"),
+            (Quantity::NormalForce, r.normal_force_n.abs(), "normal"),
+            (
+                Quantity::SlidingVelocity,
+                r.sliding_velocity_m_s.abs(),
+                "speed",
+            ),
+        ];
+        if r.hertz_pressure_pa != 0.0 {
+            values.push((Quantity::ContactPressure, r.hertz_pressure_pa, "pressure"));
+        }
+        for (q, v, field) in values {
+            match physics::check(q, v, &at) {
+                Ok(None) => {}
+                Ok(Some(flag)) => match flagged.iter_mut().find(|e| e.0 == file && e.1 == q) {
+                    Some(e) => e.3 += 1,
+                    None => flagged.push((file, q, flag.text, 0)),
+                },
+                Err(e) => {
+                    let source = file.map_or_else(|| at.clone(), |f| files[f].source.clone());
+                    return Err(Error::input(SourcePos::file(source).field(field), e));
+                }
+            }
+        }
+    }
+    for (file, _, text, more) in flagged {
+        let line = match more {
+            0 => text,
+            1 => format!("{text} (and 1 more step)"),
+            _ => format!("{text} (and {more} more steps)"),
+        };
+        match file {
+            Some(f) => files[f].unusual.push(line),
+            None => {
+                if let Some(f) = files.first_mut() {
+                    f.unusual.push(line)
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Refuse a pin whose μ level is implausible against its neighbours (at least three pins):
 /// its median μ more than [`IMPLAUSIBLE_LEVEL_FACTOR`] from the median of the other pins'.
 ///
-/// Before that, the campaign as a whole: its median μ must lie in [`PLAUSIBLE_MU`] (a channel
+/// Before that, the campaign as a whole: its median μ must lie in the possible range of
+/// [`Quantity::CampaignMu`] (a channel
 /// in the wrong unit in every pin moves all of them together, where no pin stands out).
 pub fn check_levels(ds: &FrictionDataset, files: &[FileReport]) -> Result<()> {
     let median_of = |mut v: Vec<f64>| {
@@ -2200,6 +2273,7 @@ fn plan_timed(recs: &[Recording], plan: &Plan, c: &Campaign) -> Result<Vec<FileR
                 "trigger at {:.4} s, NC-to-spindle latency {:.4} s, {} spikes removed",
                 d.trigger_s, d.latency_s, d.spikes_removed
             )],
+            unusual: Vec::new(),
             rows,
             too_short: Vec::new(),
         });

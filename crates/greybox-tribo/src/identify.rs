@@ -131,9 +131,29 @@ fn check_pin_load(
         }
     }
     if (loaded_n / own - 1.0).abs() > tolerance {
+        let ratio = loaded_n / own;
+        // the physics table's unit mistakes of a load against its plan (kgf, kN, mN as N);
+        // a friction force in the normal channel is μ × the load
+        let mut hints: Vec<String> = greybox_core::physics::mistake_against(
+            greybox_core::physics::Quantity::NormalForce,
+            loaded_n,
+            own,
+        )
+        .into_iter()
+        .collect();
+        if ratio < 1.0 && greybox_core::physics::Quantity::Mu.usual().contains(&ratio) {
+            hints.push(format!(
+                "normal and friction channels swapped (the load would be μ {ratio:.3} × the planned one)"
+            ));
+        }
+        let hint = if hints.is_empty() {
+            String::new()
+        } else {
+            format!(": {}?", hints.join(" or "))
+        };
         return Err(format!(
-            "measured normal force {loaded_n:.3} N during the first plateau is {:+.0} % off the planned {own} N (tolerance {:.0} %): check the channel mapping and units",
-            100.0 * (loaded_n / own - 1.0),
+            "measured normal force {loaded_n:.3} N during the first plateau is {:+.0} % off the planned {own} N (tolerance {:.0} %){hint}; check the channel mapping and units",
+            100.0 * (ratio - 1.0),
             100.0 * tolerance
         ));
     }

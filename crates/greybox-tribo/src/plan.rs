@@ -223,7 +223,16 @@ impl PlanSpec {
     }
     pub fn track_radius_m(&self) -> Result<f64> {
         match self.track_radius_mm {
-            Some(r) if r.is_finite() && r > 0.0 => Ok(r * units::M_PER_MM),
+            Some(r) if r.is_finite() && r > 0.0 => {
+                let m = r * units::M_PER_MM;
+                greybox_core::physics::check(
+                    greybox_core::physics::Quantity::TrackRadius,
+                    m,
+                    "track_radius_mm",
+                )
+                .map_err(|e| Error::invalid("plan", e))?;
+                Ok(m)
+            }
             Some(r) => Err(Error::invalid(
                 "plan",
                 format!("track radius must be positive, got {r} mm"),

@@ -136,3 +136,143 @@ fn one_column_for_two_roles_is_refused() {
     let e = read_recording(&p, &map).unwrap_err().to_string();
     assert!(e.contains("pin01.csv") && e.contains("two roles"), "{e}");
 }
+
+// ---- physics as data (issue 46 item 4): each unit mistake refused or flagged with the
+// number and the likely mistake.
+
+/// The lines of every file's `unusual` values, or the refusal.
+fn unusual(plan: &Plan, recs: &[Recording]) -> Result<String, String> {
+    identify(plan, recs)
+        .map(|id| {
+            id.files
+                .iter()
+                .flat_map(|f| f.unusual.iter().map(move |u| format!("{}: {u}", f.source)))
+                .collect::<Vec<_>>()
+                .join("\n")
+        })
+        .map_err(|e| e.to_string())
+}
+
+/// A load in kgf labelled N: μ 9.81× too high (2.94 for 0.3); against the plan, the load is
+/// 0.102× the planned one.
+#[test]
+fn a_load_in_kgf_is_refused_with_the_hint() {
+    let plan = plan();
+    let mut recs = recordings(&plan, &SynthConfig::default());
+    recs.iter_mut()
+        .for_each(|r| r.normal_n.iter_mut().for_each(|v| *v /= 9.80665));
+    let e = unusual(&plan, &recs).unwrap_err();
+    assert!(
+        e.contains("-90 % off the planned 150 N") && e.contains("a load in kgf read as N"),
+        "{e}"
+    );
+}
+
+/// Normal and friction channels swapped: the "load" is μ × the planned one.
+#[test]
+fn swapped_normal_and_friction_channels_are_refused_with_the_hint() {
+    let plan = plan();
+    let mut recs = recordings(&plan, &SynthConfig::default());
+    recs.iter_mut()
+        .for_each(|r| std::mem::swap(&mut r.normal_n, &mut r.tangential_n));
+    let e = unusual(&plan, &recs).unwrap_err();
+    assert!(
+        e.contains("off the planned 150 N") && e.contains("normal and friction channels swapped"),
+        "{e}"
+    );
+}
+
+/// μ above the usual 1 (a lubricated COF of 2.31 % read as 2.31, or a kgf load) is flagged in
+/// the file's result with the number and the hints; above 3 it is refused.
+#[test]
+fn a_mu_above_the_usual_range_is_flagged_and_above_three_refused() {
+    let plan = plan();
+    let base = recordings(&plan, &SynthConfig::default());
+    let mut high = base.clone();
+    high.iter_mut()
+        .for_each(|r| r.tangential_n.iter_mut().for_each(|v| *v *= 2.0));
+    let u = unusual(&plan, &high).unwrap();
+    assert!(
+        u.contains("μ ") && u.contains("is outside the usual range 0.005..1 (possible 0..3)"),
+        "{u}"
+    );
+    assert!(
+        u.contains("in % read as a fraction (÷100 → ")
+            && u.contains("a load in kgf read as N")
+            && u.contains("normal and friction channels swapped (1/μ → ")
+            && u.contains("(and 1 more step)"),
+        "{u}"
+    );
+    let mut refused = base.clone();
+    refused
+        .iter_mut()
+        .for_each(|r| r.tangential_n.iter_mut().for_each(|v| *v *= 10.0));
+    let e = unusual(&plan, &refused).unwrap_err();
+    assert!(
+        e.contains("the campaign's median μ 4.516 is outside the possible range 0.005..3")
+            && e.contains("in % read as a fraction"),
+        "{e}"
+    );
+    // the same recordings in their units: nothing unusual
+    assert_eq!(unusual(&plan, &base).unwrap(), "");
+}
+
+/// A speed channel in rpm or mm/s labelled m/s (11 460 or 6 000 m/min): flagged per step
+/// with the number and the unit.
+#[test]
+fn speeds_beyond_the_usual_range_are_flagged_with_the_unit() {
+    use greybox_tribo::campaign::check_physics;
+    let plan = plan();
+    let recs = recordings(&plan, &SynthConfig::default());
+    for (v_m_s, hint) in [
+        (100.0, "a speed in mm/s read as m/s (÷1000 → 0.1)"),
+        (191.0, "a spindle speed in rpm read as m/s"),
+    ] {
+        let mut id = identify(&plan, &recs).unwrap();
+        id.dataset
+            .records
+            .iter_mut()
+            .for_each(|r| r.sliding_velocity_m_s = v_m_s);
+        check_physics(&id.dataset, &mut id.files).unwrap();
+        let u = id.files[0].unusual.join("\n");
+        assert!(
+            u.contains("pin 1 step 1: sliding velocity")
+                && u.contains("m/s is outside the usual range")
+                && u.contains(hint),
+            "{u}"
+        );
+        // beyond 200 m/s: refused
+        id.dataset.records[0].sliding_velocity_m_s = 1000.0;
+        let e = check_physics(&id.dataset, &mut id.files)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("sliding velocity 1000 m/s is outside the possible range 0..200 m/s"),
+            "{e}"
+        );
+    }
+}
+
+/// A track radius of 15 µm or 15 m: refused with the unit.
+#[test]
+fn a_track_radius_of_microns_or_metres_is_refused() {
+    use greybox_tribo::plan::PlanSpec;
+    for (mm, hint) in [
+        (0.015, "a length in m read as mm"),
+        (15000.0, "a length in mm read as m"),
+    ] {
+        let e = PlanSpec {
+            track_radius_mm: Some(mm),
+            ..Default::default()
+        }
+        .track_radius_m()
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("track_radius_mm: track radius")
+                && e.contains("outside the possible range 0.0001..5 m")
+                && e.contains(hint),
+            "{e}"
+        );
+    }
+}
