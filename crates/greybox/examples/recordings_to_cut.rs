@@ -20,8 +20,8 @@ fn main() -> Result<()> {
         .map(PathBuf::from)
         .unwrap_or_else(|| tmp.path().to_path_buf());
     let mut study = Study::parse(DEMO_STUDY, "bundled examples/demo-study.toml")?;
-    study.plan.normal_force_count = 4;
-    study.plan.velocity_count = 6;
+    study.plan.normal_force_count = greybox::tribo::plan::PinCount::of(4);
+    study.plan.velocity_count = greybox::tribo::plan::VelocityCount::of(6);
 
     // 1. recordings from a virtual rig (the article's NC programs, noise, drift, spikes)
     let recordings = dir.join("recordings");
