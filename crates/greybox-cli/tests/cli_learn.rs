@@ -336,7 +336,11 @@ fn adhesive_and_export() {
         ],
         p,
     ));
-    assert!(e.contains("--sim-loads") && e.contains("0 is below the least allowed 1 (a count in 1..=1000)"), "{e}");
+    assert!(
+        e.contains("--sim-loads")
+            && e.contains("0 is below the least allowed 1 (a count in 1..=1000)"),
+        "{e}"
+    );
     let e = err(&greybox(
         &["adhesive", "--data", "data.csv", "--track-width", "150:abc"],
         p,

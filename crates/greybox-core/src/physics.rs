@@ -14,7 +14,7 @@
 //! with a direction (μ and forces of a reciprocating test) are checked by their magnitude:
 //! the caller passes `abs()`.
 
-use crate::rules::Compact;
+use crate::units::Compact;
 
 /// Every physical quantity greybox takes or produces.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -293,6 +293,23 @@ impl TimeUnit {
     }
 }
 
+/// A number as a person reads it in a message: plain where that is short, in scientific
+/// notation for the very large and very small (a `1e308` typed by mistake is not printed
+/// as 309 digits).
+#[derive(Debug, Clone, Copy)]
+pub struct Compact(pub f64);
+
+impl std::fmt::Display for Compact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || !a.is_finite() || (1e-4..1e7).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

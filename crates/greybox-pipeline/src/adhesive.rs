@@ -3,9 +3,9 @@
 
 pub use crate::adhesive_3d::Simulation3dOptions;
 use crate::adhesive_loads::loads_to_simulate;
+pub use crate::adhesive_loads::{LoadStride, SimLoads, SimRuns};
 use crate::output::provenance;
 use anyhow::{bail, Context, Result};
-use greybox_core::count::Count;
 use greybox_core::dataset::FrictionDataset;
 use greybox_core::outputs::check_file_output;
 use greybox_sim::pin::{inverse_over_loads, PinSetup, ShareLaw};
@@ -24,13 +24,6 @@ pub enum AdhesiveMethod {
     /// The article's inverse route on a 3D model of the spherical pin on CalculiX.
     Simulation3d(Simulation3dOptions),
 }
-
-/// Loads simulated by an inverse route: each is a search of several pin runs.
-pub type SimLoads = Count<1, 1_000>;
-/// Runs of one load's search.
-pub type SimRuns = Count<1, 100>;
-/// Every n-th distinct load, from the highest.
-pub type LoadStride = Count<1, 1_000>;
 
 /// The inverse pin-sliding simulation of [`AdhesiveMethod::Simulation`].
 #[derive(Debug, Clone, PartialEq)]

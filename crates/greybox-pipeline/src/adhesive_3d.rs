@@ -15,8 +15,8 @@
 //! in `<out>.pin3d/load_<F>N/run_<k>/`, each load's force history of its returned run in
 //! `<out>.pin3d/load_<F>N.csv`, and the searches in `<out>.pin3d/inverse.json`.
 
-use crate::adhesive::{LoadStride, SimLoads, SimRuns};
 use crate::adhesive_loads::loads_to_simulate;
+use crate::adhesive_loads::{LoadStride, SimLoads, SimRuns};
 use anyhow::{bail, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::dataset::FrictionDataset;
@@ -113,6 +113,29 @@ fn check(sim: &Simulation3dOptions) -> Result<()> {
             sim.ccx.display()
         );
     }
+    Ok(())
+}
+
+/// Each load's force history (`load_<F>N.csv`) and every search, converged or not
+/// (`inverse.json`), into the runs directory.
+fn write_searches(dir: &Path, loads: &[Load], all: &[Outcome]) -> Result<()> {
+    let mut records = Vec::new();
+    for (l, o) in loads.iter().zip(all) {
+        if let Ok((_, inv)) = o {
+            write_history(&dir.join(format!("load_{:.0}N.csv", l.0)), inv)?;
+        }
+        records.push(LoadRecord {
+            normal_force_n: l.0,
+            depth_um: l.1 * 1e6,
+            share_guess: o.as_ref().map_or(f64::NAN, |x| x.0),
+            search: o.as_ref().ok().map(|x| &x.1),
+            error: o.as_ref().err(),
+        });
+    }
+    write_string_atomic(
+        &dir.join("inverse.json"),
+        &serde_json::to_string_pretty(&records)?,
+    )?;
     Ok(())
 }
 
@@ -218,23 +241,7 @@ pub fn correct(
                 .join("; ")
         );
     }
-    let mut records = Vec::new();
-    for (l, o) in loads.iter().zip(&all) {
-        if let Ok((_, inv)) = o {
-            write_history(&dir.join(format!("load_{:.0}N.csv", l.0)), inv)?;
-        }
-        records.push(LoadRecord {
-            normal_force_n: l.0,
-            depth_um: l.1 * 1e6,
-            share_guess: o.as_ref().map_or(f64::NAN, |x| x.0),
-            search: o.as_ref().ok().map(|x| &x.1),
-            error: o.as_ref().err(),
-        });
-    }
-    write_string_atomic(
-        &dir.join("inverse.json"),
-        &serde_json::to_string_pretty(&records)?,
-    )?;
+    write_searches(&dir, &loads, &all)?;
     let share = ShareLaw::fit(
         &done
             .iter()

@@ -4,6 +4,13 @@ use anyhow::{bail, Result};
 use greybox_core::dataset::FrictionDataset;
 use greybox_tribo::ploughing::{track_depth, WidthLaw};
 
+/// Loads simulated by an inverse route: each is a search of several pin runs.
+pub type SimLoads = greybox_core::count::Count<1, 1_000>;
+/// Runs of one load's search.
+pub type SimRuns = greybox_core::count::Count<1, 100>;
+/// Every n-th distinct load, from the highest.
+pub type LoadStride = greybox_core::count::Count<1, 1_000>;
+
 /// Relative spread of measured normal forces taken as one load level when a dataset has no
 /// planned forces.
 const LEVEL_SPREAD: f64 = 0.05;

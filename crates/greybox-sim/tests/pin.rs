@@ -64,7 +64,9 @@ fn a_pin_set_up_in_the_wrong_unit_is_refused() {
     s.sliding_speed_m_s = 6000.0;
     let e = s.validate().unwrap_err().to_string();
     assert!(
-        e.contains("sliding_speed_m_s: sliding velocity 6000 m/s is outside the possible range 0..200 m/s"),
+        e.contains(
+            "sliding_speed_m_s: sliding velocity 6000 m/s is outside the possible range 0..200 m/s"
+        ),
         "{e}"
     );
 }

@@ -373,9 +373,19 @@ zip = [ { field = "friction.law_file", values = ["a.json", "none"] }, { field = 
             "{e}"
         );
         // raising the cap is allowed up to the cap of the cap
-        let raised = |n: &str| t.replace("base = \"b.toml\"", &format!("base = \"b.toml\"\nmax_cases = {n}"));
+        let raised = |n: &str| {
+            t.replace(
+                "base = \"b.toml\"",
+                &format!("base = \"b.toml\"\nmax_cases = {n}"),
+            )
+        };
         assert_eq!(parse(&raised("10000000")).case_count().0, 1e10);
-        let e = toml::from_str::<SweepFile>(&raised("20000000000")).unwrap_err().to_string();
-        assert!(e.contains("max_cases") && e.contains("above the cap of 10000000"), "{e}");
+        let e = toml::from_str::<SweepFile>(&raised("20000000000"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("max_cases") && e.contains("above the cap of 10000000"),
+            "{e}"
+        );
     }
 }
