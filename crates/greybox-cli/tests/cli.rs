@@ -145,7 +145,10 @@ fn impossible_plans_are_rejected() {
         ],
         d.path(),
     ));
-    assert!(e.contains("--velocity-count") && e.contains("0 is below the least allowed 1"), "{e}");
+    assert!(
+        e.contains("--velocity-count") && e.contains("0 is below the least allowed 1"),
+        "{e}"
+    );
     let e = err(&greybox(
         &[
             "plan",

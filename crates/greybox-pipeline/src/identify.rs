@@ -591,8 +591,8 @@ pub struct IdentifyResult {
 /// use greybox_tribo::readers::RecordingFormat;
 /// let dir = tempfile::tempdir().unwrap();
 /// let mut study = Study::parse(greybox_pipeline::study::DEMO_STUDY, "demo").unwrap();
-/// study.plan.normal_force_count = 2;
-/// study.plan.velocity_count = 3;
+/// study.plan.normal_force_count = greybox_tribo::plan::PinCount::of(2);
+/// study.plan.velocity_count = greybox_tribo::plan::VelocityCount::of(3);
 /// let rec = dir.path().join("recordings");
 /// synth(&study, &[RecordingFormat::Csv], &rec, false, &[]).unwrap();
 /// let mut o = IdentifyOptions::new(vec![rec.clone()], dir.path().join("dataset.csv"))

@@ -32,7 +32,7 @@ impl Study {
     /// ```
     /// use greybox_pipeline::Study;
     /// let s = Study::parse("[plan]\nvelocity_count = 5\ntrack_radius_mm = 80.0\n", "s.toml").unwrap();
-    /// assert_eq!((s.plan.velocity_count, s.plan.normal_force_count), (5, 10));
+    /// assert_eq!((s.plan.velocity_count.get(), s.plan.normal_force_count.get()), (5, 10));
     /// let e = Study::parse("[plan]\nvelocity_cnt = 5\n", "s.toml").unwrap_err();
     /// assert!(format!("{e:#}").contains("velocity_cnt"));
     /// ```
