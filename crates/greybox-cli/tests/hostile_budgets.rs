@@ -5,7 +5,7 @@
 //! particle lattice, 80 M UBJSON nulls, a 3 GB xlsx sheet) or turned a value into a shell
 //! command (the Slurm script).
 mod common;
-use common::{coarse_config, greybox_limited, ok, refused_with};
+use common::{coarse_config, greybox_limited, listing, ok, refused_with};
 use std::io::Write;
 use std::path::Path;
 
@@ -17,16 +17,6 @@ const SECONDS: u64 = 60;
 
 fn run(args: &[&str], cwd: &Path) -> std::process::Output {
     greybox_limited(args, cwd, MEMORY_MIB, SECONDS)
-}
-
-/// The names in `dir`, sorted (to show that a refused run added nothing).
-fn listing(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 fn sweep_file(dir: &Path, name: &str, extra_sweep: &str, axes: &str, slurm: &str) {

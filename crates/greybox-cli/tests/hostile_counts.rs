@@ -5,7 +5,7 @@
 //! working directory as it was. Before, 10 of 20 count options tried aborted on an
 //! allocation failure or started runs that did not end.
 mod common;
-use common::{greybox_limited, refused_with};
+use common::{greybox_limited, listing, refused_with};
 use std::path::Path;
 
 /// The subcommand paths below `path` (from the "Commands:" section of its help).
@@ -47,15 +47,6 @@ fn count_options(help: &str) -> Vec<(String, i128, i128)> {
         }
     }
     out
-}
-
-fn listing(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 #[test]

@@ -194,7 +194,7 @@ fn correct_by_simulation(
             sim.tolerance
         );
     }
-    let loads = loads_to_simulate(ds, r, &law, sim.loads.get(), 1, "adhesive.sim_loads")?;
+    let loads = loads_to_simulate(ds, r, &law, sim.loads, LoadStride::of(1))?;
     let simulated: Vec<f64> = loads.iter().map(|l| l.0).collect();
     let mut base = PinSetup::article(loads[0].1, loads[0].2, sim.spacing_um * 1e-6);
     base.pin_radius_m = r;

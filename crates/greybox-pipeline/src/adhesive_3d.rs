@@ -159,14 +159,7 @@ pub fn correct(
 ) -> Result<Correction> {
     check(sim)?;
     let law = WidthLaw::fit(measured)?;
-    let loads = loads_to_simulate(
-        ds,
-        r,
-        &law,
-        sim.loads.get(),
-        sim.load_stride.get(),
-        "adhesive.sim3d_loads",
-    )?;
+    let loads = loads_to_simulate(ds, r, &law, sim.loads, sim.load_stride)?;
     let dir = runs_dir(out);
     let base = |depth: f64| {
         let mut s = Pin3dSetup::article(depth, 0.0);

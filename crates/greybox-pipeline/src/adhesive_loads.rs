@@ -1,6 +1,6 @@
 //! The load levels of a friction dataset and the loads an inverse ploughing route simulates.
 
-use anyhow::{bail, Result};
+use anyhow::Result;
 use greybox_core::dataset::FrictionDataset;
 use greybox_tribo::ploughing::{track_depth, WidthLaw};
 
@@ -62,17 +62,13 @@ pub fn loads_to_simulate(
     ds: &FrictionDataset,
     pin_radius_m: f64,
     law: &WidthLaw,
-    count: usize,
-    stride: usize,
-    field: &str,
+    count: SimLoads,
+    stride: LoadStride,
 ) -> Result<Vec<(f64, f64, f64)>> {
-    if count == 0 {
-        bail!("{field}: must be at least 1");
-    }
     load_levels(ds)
         .into_iter()
-        .step_by(stride.max(1))
-        .take(count)
+        .step_by(stride.get())
+        .take(count.get())
         .map(|(f, mu_app)| {
             Ok((
                 f,
@@ -124,13 +120,13 @@ mod tests {
         assert!((l[0].0 - 2002.0).abs() < 1e-9 && (l[1].0 - 996.5).abs() < 1e-9);
         // every second level from the highest
         let w = WidthLaw { a_um: 50.0, b: 0.5 };
-        let s = loads_to_simulate(&measured, 17e-3, &w, 6, 2, "f").unwrap();
+        let s =
+            loads_to_simulate(&measured, 17e-3, &w, SimLoads::of(6), LoadStride::of(2)).unwrap();
         assert_eq!(s.len(), 1);
-        assert!(
-            loads_to_simulate(&measured, 17e-3, &w, 0, 2, "adhesive.sim3d_loads")
-                .unwrap_err()
-                .to_string()
-                .starts_with("adhesive.sim3d_loads")
-        );
+        // no load to simulate is not a value of the count: refused where it enters
+        assert!(SimLoads::new(0)
+            .unwrap_err()
+            .to_string()
+            .starts_with("0 is below the least allowed 1"));
     }
 }

@@ -147,7 +147,7 @@ fn check_series(
     unit: &str,
     min: f64,
     max: f64,
-    count: usize,
+    count: usize, // ≥ 1: a PinCount or VelocityCount
     list: &Option<Vec<f64>>,
 ) -> Result<Vec<f64>> {
     let values = match list {
@@ -161,12 +161,6 @@ fn check_series(
             l.clone()
         }
         None => {
-            if count == 0 {
-                return Err(Error::invalid(
-                    "plan",
-                    format!("{what}: count must be at least 1 (empty range)"),
-                ));
-            }
             if !(min.is_finite() && max.is_finite()) || max < min {
                 return Err(Error::invalid(
                     "plan",

@@ -13,7 +13,7 @@ fn read(path: &Path) -> greybox_core::Result<Recording> {
     read_recording(path, &ChannelMap::default())
 }
 
-fn identify(recs: &[Recording]) -> Identification {
+fn identify(recs: &[Recording], cfg: &IdentifyConfig) -> Identification {
     let contact = PinContact::default();
     identify_recordings(
         recs,
@@ -21,7 +21,7 @@ fn identify(recs: &[Recording]) -> Identification {
             expected: None,
             plan: None,
             contact: &contact,
-            cfg: &IdentifyConfig::default(),
+            cfg,
             track_radius_mm: &[],
         },
     )
@@ -168,7 +168,7 @@ fn a_long_gap_in_time_splits_the_segment_and_is_named() {
         push(end + k as f64 / fs, false);
     }
     r.speed = Some(SpeedTrace::SlidingMPerS(speed));
-    let id = identify(&[r]);
+    let id = identify(&[r], &IdentifyConfig::default());
     let f = &id.files[0];
     let w = f.warnings.join("\n");
     assert!(
@@ -346,22 +346,11 @@ fn a_dropped_step_keeps_its_number() {
         "short.csv",
         &[(0.1, 100, 30.0), (0.2, 20, 30.0), (0.3, 100, 30.0)],
     );
-    let contact = PinContact::default();
     let cfg = IdentifyConfig {
         steady: "from:50s".parse().unwrap(),
         ..Default::default()
     };
-    let id = identify_recordings(
-        &[r],
-        &Campaign {
-            expected: None,
-            plan: None,
-            contact: &contact,
-            cfg: &cfg,
-            track_radius_mm: &[],
-        },
-    )
-    .unwrap();
+    let id = identify(&[r], &cfg);
     let rows: Vec<(u32, f64)> = id
         .dataset
         .records
@@ -386,7 +375,7 @@ fn a_reversed_step_never_takes_the_next_steps_number() {
         "reversed.csv",
         &[(0.1, 100, 30.0), (0.2, 100, -30.0), (0.3, 100, 30.0)],
     );
-    let id = identify(&[r]);
+    let id = identify(&[r], &IdentifyConfig::default());
     let rows: Vec<(u32, f64)> = id
         .dataset
         .records

@@ -163,3 +163,13 @@ pub fn study(root: &Path) -> std::path::PathBuf {
 mod real_rigs;
 #[allow(unused_imports)] // only the real-rig tests use it
 pub use real_rigs::real_rigs_dir;
+
+/// The names in `dir`, sorted (to show that a refused run added nothing).
+pub fn listing(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
