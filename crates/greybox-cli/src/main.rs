@@ -11,6 +11,7 @@ mod cmd_fit;
 mod cmd_hertz;
 mod cmd_identify;
 mod cmd_import;
+mod cmd_law;
 mod cmd_material;
 mod cmd_plan;
 mod cmd_predict;
@@ -91,6 +92,8 @@ enum Command {
     Export(cmd_export::Args),
     /// Train and compare regressors (RF, SVR, boosting, MLP) with nested CV, CIs, importance.
     Fit(cmd_fit::Args),
+    /// Grey-box friction law around a fitted model (power law outside its domain, clamp, shear cap).
+    Law(cmd_law::Args),
     /// Import a model trained elsewhere (XGBoost JSON/UBJSON, ONNX, scikit-learn via greybox.export_sklearn).
     Import(cmd_import::Args),
     /// Evaluate a model file at points, with prediction intervals and a domain check.
@@ -145,6 +148,7 @@ fn main() {
         Command::Export(a) => cmd_export::run(a),
         Command::Predict(a) => cmd_predict::run(a),
         Command::Import(a) => cmd_import::run(a),
+        Command::Law(a) => cmd_law::run(a),
         Command::Simulate(a) => cmd_simulate::run(a),
         Command::Sweep(a) => cmd_sweep::run(a),
         Command::Material(a) => cmd_material::run(a),

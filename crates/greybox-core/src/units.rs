@@ -327,3 +327,23 @@ mod tests {
         assert_eq!(TimeUnit::parse("ms"), Some(TimeUnit::Millisecond));
     }
 }
+
+/// clap parsers that read a flag in its edge unit and give the SI value the settings field
+/// holds (feature `clap`): the conversion is an attribute of the field, not a second struct
+/// (`#[arg(long = "speed-m-per-min", value_parser = m_per_min_as_m_per_s)] speed_m_per_s`).
+#[cfg(feature = "clap")]
+pub mod clap_parsers {
+    fn number(s: &str) -> Result<f64, String> {
+        s.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("'{s}' is not a number"))
+    }
+    /// A velocity given in m/min, as m/s.
+    pub fn m_per_min_as_m_per_s(s: &str) -> Result<f64, String> {
+        number(s).map(super::m_per_min_to_m_per_s)
+    }
+    /// A pressure or stress given in MPa, as Pa.
+    pub fn mpa_as_pa(s: &str) -> Result<f64, String> {
+        number(s).map(super::mpa_to_pa)
+    }
+}

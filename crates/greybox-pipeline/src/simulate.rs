@@ -22,13 +22,16 @@ use greybox_sim::{Observer, Solver};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+/// The output directory of a simulation when no `out` is given.
+pub const DEFAULT_SIM_DIR: &str = "sim-out";
+
 /// Where and how a simulation writes.
-#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::Args))]
 #[serde(deny_unknown_fields, default)]
 pub struct RunOutput {
     /// Output directory.
-    #[cfg_attr(feature = "cli", arg(long, default_value = "sim-out"))]
+    #[cfg_attr(feature = "cli", arg(long, default_value = DEFAULT_SIM_DIR))]
     pub out: PathBuf,
     /// Write VTK particle files every N steps (0: first and last only).
     #[cfg_attr(feature = "cli", arg(long = "vtk-every", default_value_t = StepInterval::of(0)))]
@@ -49,6 +52,19 @@ pub struct RunOutput {
     /// (`chip_temperature.svg`, `chip_plastic_strain.svg`).
     #[cfg_attr(feature = "cli", arg(long, default_value_t = Frames::of(0)))]
     pub frames: Frames,
+}
+
+impl Default for RunOutput {
+    fn default() -> Self {
+        RunOutput {
+            out: PathBuf::from(DEFAULT_SIM_DIR),
+            vtk_every: StepInterval::of(0),
+            checkpoint_every: StepInterval::of(0),
+            resume: None,
+            force: false,
+            frames: Frames::of(0),
+        }
+    }
 }
 
 impl RunOutput {

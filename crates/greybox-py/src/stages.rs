@@ -3,23 +3,21 @@
 //! the GIL while it works.
 
 use crate::{py_err, run_interruptible, to_json};
-use greybox_core::dataset::PressureConvention;
 use greybox_pipeline::adhesive::adhesive;
 use greybox_pipeline::export::{export, ExportFormat, ExportOptions, ExportOverrides};
-use greybox_pipeline::fit::{fit, FitOptions};
-use greybox_pipeline::hertz::{hertz, Geometry, HertzOptions};
-use greybox_pipeline::identify::{identify_campaign, IdentifyOptions};
+use greybox_pipeline::fit::fit;
+use greybox_pipeline::identify::identify_campaign;
 use greybox_pipeline::settings::adhesive::AdhesiveSettings;
 use greybox_pipeline::settings::couple::CoupleSettings;
+use greybox_pipeline::settings::fit::FitSettings;
 use greybox_pipeline::settings::from_json;
+use greybox_pipeline::settings::hertz::HertzSettings;
 use greybox_pipeline::settings::identify::IdentifySettings;
+use greybox_pipeline::settings::law::GreyBoxSettings;
+use greybox_pipeline::settings::synth::SynthSettings;
 use greybox_pipeline::settings::pin::PinSettings;
 use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, RunOutput};
 use greybox_pipeline::study::Study;
-use greybox_pipeline::synth::synth as synth_campaign;
-use greybox_tribo::plan::{PinCount, VelocityCount};
-use greybox_tribo::readers::RecordingFormat;
-use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -34,6 +32,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(grey_box_law, m)?)?;
     m.add_function(wrap_pyfunction!(export_table, m)?)?;
     m.add_function(wrap_pyfunction!(export_defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(settings_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_cut, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_pin, m)?)?;
     m.add_function(wrap_pyfunction!(couple, m)?)?;
@@ -41,103 +40,24 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     Ok(())
 }
 
-/// The study file, or the bundled example study (the article's campaign), with the plan's
-/// numbers of loads and velocities overridden where given.
-fn study_or_example(
-    path: Option<&std::path::Path>,
-    normal_force_count: Option<usize>,
-    velocity_count: Option<usize>,
-) -> anyhow::Result<Study> {
-    let mut s = match path {
-        Some(p) => Study::load(p)?,
-        None => Study::parse(
-            greybox_pipeline::study::DEMO_STUDY,
-            "the bundled example study",
-        )?,
-    };
-    if let Some(n) = normal_force_count {
-        s.plan.normal_force_count =
-            PinCount::of_usize(n, "normal_force_count").map_err(anyhow::Error::msg)?;
-    }
-    if let Some(n) = velocity_count {
-        s.plan.velocity_count =
-            VelocityCount::of_usize(n, "velocity_count").map_err(anyhow::Error::msg)?;
-    }
-    Ok(s)
-}
-
-fn convention(name: &str) -> anyhow::Result<PressureConvention> {
-    PressureConvention::parse(name).ok_or_else(|| {
-        anyhow::anyhow!(
-            "convention '{name}': expected one of {}",
-            PressureConvention::ALL.map(|c| c.name()).join(", ")
-        )
-    })
-}
-
-/// Hertz contact of a sphere (or a cylinder of `length_mm`) on a flat for each normal force:
-/// JSON {"effective_modulus_pa", "rows": [{force_n, contact_half_width_mm, max_pressure_mpa,
-/// mean_pressure_mpa, approach_um, convention, convention_pressure_mpa}]}.
+/// Hertz contact of a sphere (or a cylinder) on a flat for each normal force: JSON
+/// {"effective_modulus_pa", "rows": [{force_n, contact_half_width_mm, max_pressure_mpa,
+/// mean_pressure_mpa, approach_um, convention, convention_pressure_mpa}]}. `settings` is
+/// JSON of the library's [`HertzSettings`] (`force_N`, `radius_mm`, `geometry`, …).
 #[pyfunction]
-#[pyo3(signature = (normal_force_n, radius_mm, e1_gpa, nu1, e2_gpa, nu2, length_mm = None, convention = "textbook-max"))]
-#[allow(clippy::too_many_arguments)]
-fn hertz_rows(
-    normal_force_n: PyReadonlyArray1<'_, f64>,
-    radius_mm: f64,
-    e1_gpa: f64,
-    nu1: f64,
-    e2_gpa: f64,
-    nu2: f64,
-    length_mm: Option<f64>,
-    convention: &str,
-) -> PyResult<String> {
-    let o = HertzOptions {
-        geometry: match length_mm {
-            Some(length_mm) => Geometry::Cylinder { length_mm },
-            None => Geometry::Sphere,
-        },
-        radius_mm,
-        e1_gpa,
-        nu1,
-        e2_gpa,
-        nu2,
-        convention: self::convention(convention).map_err(py_err)?,
-    };
-    let (e_star, rows) = hertz(&o, normal_force_n.as_slice()?).map_err(py_err)?;
+fn hertz_rows(settings: &str) -> PyResult<String> {
+    let s: HertzSettings = from_json("hertz", settings).map_err(py_err)?;
+    let (e_star, rows) = s.run().map_err(py_err)?;
     to_json(&serde_json::json!({"effective_modulus_pa": e_star, "rows": rows}))
 }
 
-/// The virtual tribometer: the study's plan (default: the bundled example study, optionally
-/// with fewer loads and velocities) simulated into recordings and `ground_truth.csv` in
-/// `out`: JSON summary.
+/// The virtual tribometer: a study's plan (default: the library's default campaign)
+/// simulated into recordings and `ground_truth.csv`: JSON summary. `settings` is JSON of the
+/// library's [`SynthSettings`] (`out`, `study`, `format`, `seed`, the plan's overrides).
 #[pyfunction]
-#[pyo3(signature = (out, study = None, formats = vec!["csv".to_string()], normal_force_count = None, velocity_count = None, force = false))]
-fn synth(
-    py: Python<'_>,
-    out: PathBuf,
-    study: Option<PathBuf>,
-    formats: Vec<String>,
-    normal_force_count: Option<usize>,
-    velocity_count: Option<usize>,
-    force: bool,
-) -> PyResult<String> {
-    let formats = formats
-        .iter()
-        .map(|f| match f.as_str() {
-            "csv" => Ok(RecordingFormat::Csv),
-            "tdms" => Ok(RecordingFormat::Tdms),
-            o => Err(py_err(anyhow::anyhow!(
-                "format '{o}': expected csv or tdms"
-            ))),
-        })
-        .collect::<PyResult<Vec<_>>>()?;
-    let r = run_interruptible(py, || -> anyhow::Result<_> {
-        let s = study_or_example(study.as_deref(), normal_force_count, velocity_count)?;
-        let inputs: Vec<(&str, &std::path::Path)> =
-            study.iter().map(|p| ("study", p.as_path())).collect();
-        synth_campaign(&s, &formats, &out, force, &inputs)
-    });
-    to_json(&r?)
+fn synth(py: Python<'_>, settings: &str) -> PyResult<String> {
+    let s: SynthSettings = from_json("synth", settings).map_err(py_err)?;
+    to_json(&run_interruptible(py, || s.run())?)
 }
 
 /// One recording of any supported rig format, read through a channel map (`channels`: JSON
@@ -157,7 +77,7 @@ fn read_recording<'py>(
     let rec = run_interruptible(py, || -> anyhow::Result<_> {
         let map = match channels {
             Some(c) => serde_json::from_str(c).map_err(|e| anyhow::anyhow!("channels: {e}"))?,
-            None => study_or_example(study.as_deref(), None, None)?.recording,
+            None => Study::load_or_default(study.as_deref())?.recording,
         };
         Ok(greybox_tribo::readers::read_recording(&path, &map)?)
     })?;
@@ -191,46 +111,15 @@ fn read_recording<'py>(
 }
 
 /// Identify a campaign's recordings (files or directories, any supported rig format) into
-/// the dataset CSV `dataset`: JSON summary. `study` is a study TOML (default: the bundled
-/// example study, its plan's counts overridable); `use_plan` matches segments to its plan
-/// instead of taking loads and velocities from the recordings. `settings`: JSON of the
-/// library's [`IdentifySettings`] (the command line's flags by their library names).
-/// `channels`: JSON of the `[recording]` settings (roles, `rig`, `constant_normal_n`, …),
-/// replacing the study's; `settings` apply on top.
+/// a dataset CSV: JSON summary. `settings` is JSON of the library's [`IdentifySettings`]
+/// (the command line's flags by their field names, its defaults: no study unless one is
+/// given, a study's plan used when it has one).
 #[pyfunction]
-#[pyo3(signature = (recordings, dataset, study = None, use_plan = false, truth = None, track_radii_mm = Vec::new(), normal_force_count = None, velocity_count = None, settings = None, channels = None))]
-#[allow(clippy::too_many_arguments)]
-fn identify(
-    py: Python<'_>,
-    recordings: Vec<PathBuf>,
-    dataset: PathBuf,
-    study: Option<PathBuf>,
-    use_plan: bool,
-    truth: Option<PathBuf>,
-    track_radii_mm: Vec<f64>,
-    normal_force_count: Option<usize>,
-    velocity_count: Option<usize>,
-    settings: Option<&str>,
-    channels: Option<&str>,
-) -> PyResult<String> {
+fn identify(py: Python<'_>, settings: &str) -> PyResult<String> {
+    let s: IdentifySettings = from_json("identify", settings).map_err(py_err)?;
     let r = run_interruptible(py, || -> anyhow::Result<_> {
-        let mut s = study_or_example(study.as_deref(), normal_force_count, velocity_count)?;
-        if let Some(c) = channels {
-            s.recording = serde_json::from_str(c).map_err(|e| anyhow::anyhow!("channels: {e}"))?;
-        }
-        if let Some(settings) = settings {
-            IdentifySettings::from_json(settings)?.apply(&mut s)?;
-        }
-        let mut o = IdentifyOptions::new(recordings, dataset);
-        if use_plan {
-            o = o.with_plan(s.plan.build()?);
-        }
-        o.truth = truth;
-        o.track_radii_mm = track_radii_mm;
-        if let Some(p) = &study {
-            o.side_inputs.push(("study".into(), p.clone()));
-        }
-        identify_campaign(&s, &o, None)
+        let (study, options) = s.prepare()?;
+        identify_campaign(&study, &options, None)
     });
     to_json(&r?.summary)
 }
@@ -269,32 +158,14 @@ fn couple(py: Python<'_>, settings: &str) -> PyResult<String> {
     })?)
 }
 
-/// The article's learning protocol on a dataset: JSON {report, outputs, warnings}. `config`
-/// is JSON of the `[fit]` settings (families, folds, seed, grids …; absent: the article's).
-/// `target` and `features` default as on the command line (the library's defaults).
+/// The article's learning protocol on a dataset: JSON {report, outputs, warnings}.
+/// `settings` is JSON of the library's [`FitSettings`] (`data`, `out`, `target`,
+/// `features`, `study`, `families`, `folds`, `bootstrap`, `mlp_hidden`, …: the command
+/// line's flags by their field names and defaults).
 #[pyfunction]
-#[pyo3(signature = (data, out, target = None, features = None, config = None, force = false))]
-fn fit_models(
-    py: Python<'_>,
-    data: PathBuf,
-    out: PathBuf,
-    target: Option<String>,
-    features: Option<Vec<String>>,
-    config: Option<&str>,
-    force: bool,
-) -> PyResult<String> {
-    let target = match target {
-        Some(t) => t,
-        None => greybox_pipeline::fit::default_target(&data).map_err(py_err)?,
-    };
-    let mut o = FitOptions::article(data, &target, out);
-    if let Some(f) = features {
-        o.features = f;
-    }
-    o.force = force;
-    if let Some(c) = config {
-        o.config = greybox_pipeline::settings::from_json("fit config", c).map_err(py_err)?;
-    }
+fn fit_models(py: Python<'_>, settings: &str) -> PyResult<String> {
+    let s: FitSettings = from_json("fit", settings).map_err(py_err)?;
+    let o = s.options().map_err(py_err)?;
     let r = run_interruptible(py, || fit(&o))?;
     to_json(&serde_json::json!({
         "report": r.report,
@@ -303,32 +174,13 @@ fn fit_models(
     }))
 }
 
-/// Write the grey-box law file `out` around the model file `model` (as the law file will
-/// refer to it): the model inside its domain, a power law fitted to its training data
-/// outside, blended over `blend_fraction` of each range, μ clamped and (optionally) the
-/// shear stress capped at k. Returns the law file's JSON.
+/// Write a grey-box law file around a fitted model: the law's JSON. `settings` is JSON of
+/// the library's [`GreyBoxSettings`] (`model`, `out`, `blend_fraction`, `mu_min`, `mu_max`,
+/// `no_clamp`, `shear_cap_k_MPa`, `study`), the defaults of `greybox law`.
 #[pyfunction]
-#[pyo3(signature = (model, out, blend_fraction = 0.1, clamp = Some((0.05, 1.0)), shear_cap_k_mpa = None))]
-fn grey_box_law(
-    model: PathBuf,
-    out: PathBuf,
-    blend_fraction: f64,
-    clamp: Option<(f64, f64)>,
-    shear_cap_k_mpa: Option<f64>,
-) -> PyResult<String> {
-    let o = greybox_pipeline::law::GreyBoxOptions {
-        blend_fraction,
-        shear_cap_k_mpa,
-        clamp,
-    };
-    let model_path = model.clone();
-    let law = greybox_pipeline::law::grey_box_law(model, None, &o);
-    let base = out.parent().unwrap_or(std::path::Path::new("."));
-    // the law file must not replace the model it refers to (resolved as the law will)
-    greybox_core::outputs::check_file_output(&out, "out", &[("model", &base.join(&model_path))])
-        .map_err(py_err)?;
-    law.build(base).map_err(py_err)?;
-    greybox_pipeline::law::write_law(&out, &law).map_err(py_err)?;
+fn grey_box_law(settings: &str) -> PyResult<String> {
+    let s: GreyBoxSettings = from_json("law", settings).map_err(py_err)?;
+    let law = s.write().map_err(py_err)?;
     serde_json::to_string_pretty(&law).map_err(py_err)
 }
 
@@ -351,6 +203,28 @@ fn export_table(
         .overridden(&overrides)
         .map_err(py_err)?;
     to_json(&run_interruptible(py, || export(&o))?)
+}
+
+/// The library's settings of `stage` with their defaults, as JSON (every key the stage's
+/// function takes: the fields of its settings type, the command line's flags by name).
+#[pyfunction]
+fn settings_defaults(stage: &str) -> PyResult<String> {
+    use greybox_pipeline::settings::plan::PlanSettings;
+    match stage {
+        "identify" => to_json(&IdentifySettings::default()),
+        "synth" => to_json(&SynthSettings::default()),
+        "hertz" => to_json(&HertzSettings::default()),
+        "plan" => to_json(&PlanSettings::default()),
+        "fit" => to_json(&FitSettings::default()),
+        "adhesive" => to_json(&AdhesiveSettings::default()),
+        "pin" => to_json(&PinSettings::default()),
+        "output" => to_json(&RunOutput::default()),
+        "couple" => to_json(&CoupleSettings::default()),
+        "law" => to_json(&GreyBoxSettings::default()),
+        other => Err(py_err(anyhow::anyhow!(
+            "stage '{other}': expected one of identify, synth, hertz, plan, fit, adhesive, pin, output, couple, law"
+        ))),
+    }
 }
 
 /// The library's default export options of `format` as JSON (the keys `export_table`

@@ -26,6 +26,9 @@ use greybox_model::svr::Kernel;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
+/// The output directory when no `out` is given.
+pub const DEFAULT_FIT_DIR: &str = "fit-out";
+
 /// One fit as a user states it; `None` keeps the study's (or the article's) value.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::Args))]
@@ -100,9 +103,9 @@ pub struct FitSettings {
     /// MLP epoch limit.
     #[cfg_attr(feature = "cli", arg(long))]
     pub mlp_max_epochs: Option<Epochs>,
-    /// Output directory: report.json, report.md, models/, plots/.
-    #[cfg_attr(feature = "cli", arg(long, default_value = "fit-out"))]
-    pub out: PathBuf,
+    /// Output directory: report.json, report.md, models/, plots/ [default: fit-out].
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub out: Option<PathBuf>,
     /// Replace an existing, non-empty output directory (swapped out whole once this run is
     /// complete; without it such a directory is refused).
     #[cfg_attr(feature = "cli", arg(long))]
@@ -208,7 +211,7 @@ impl FitSettings {
             fold_column: self.fold_column.clone(),
             config,
             study: self.study.clone(),
-            out: self.out.clone(),
+            out: self.out.clone().unwrap_or_else(|| DEFAULT_FIT_DIR.into()),
             force: self.force,
         })
     }

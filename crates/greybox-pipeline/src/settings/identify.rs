@@ -1,21 +1,28 @@
-//! The settings of one identification run that override a study's `[recording]`,
-//! `[identify]` and `[contact]` sections: one type, applied the same way by the command
-//! line (its flags) and Python (its keyword arguments), with errors that name the setting.
+//! The settings of one identification: one type, [`IdentifySettings`], parsed from the
+//! command line (clap, feature `cli`) and from Python's keyword arguments (the same JSON by
+//! the same field names), with one default per field. It holds the study and its `[plan]`
+//! overrides ([`PlanSettings`], flattened), what is read and written, and the overrides of
+//! the study's `[recording]`, `[identify]` and `[contact]` sections; errors name the field.
+//!
+//! Without a study nothing is assumed: the contact takes the library's default
+//! convention (textbook-max) and loads and speeds come from the recordings. A study with a
+//! `[plan]` section (or a load or velocity range given here) is matched to the recordings
+//! unless `no_plan` is set.
 //!
 //! ```
 //! use greybox_pipeline::settings::identify::IdentifySettings;
-//! use greybox_pipeline::Study;
-//! let mut study = Study::default();
-//! let s = IdentifySettings::from_json(r#"{"steady": "last:50%", "convention": "article-eq7",
+//! let s: IdentifySettings = greybox_pipeline::settings::from_json("identify",
+//!     r#"{"recordings": ["r.csv"], "steady": "last:50%", "convention": "article-eq7",
 //!     "map": ["radius=Radius:mm", "normal=#2:N"], "constant_normal_force_N": 60,
-//!     "columns": ["t_s", "Fn_N"]}"#)?;
-//! s.apply(&mut study)?;
+//!     "columns": ["t_s", "Fn_N"], "normal_force_count": 3}"#)?;
+//! let study = s.study()?;
 //! assert_eq!(study.recording.constant_normal_n, Some(60.0));
 //! assert_eq!(study.recording.columns, ["t_s", "Fn_N"]);
 //! assert_eq!(study.recording.normal.as_ref().unwrap().name, "#2");
 //! assert_eq!(study.contact.convention.to_string(), "article-eq7");
+//! assert_eq!(study.plan.normal_force_count.get(), 3);
 //! let e = IdentifySettings { sample_rate_hz: Some(-1.0), ..Default::default() }
-//!     .apply(&mut study).unwrap_err();
+//!     .study().unwrap_err();
 //! assert!(e.to_string().contains("identify.sample_rate_hz"));
 //! # Ok::<(), anyhow::Error>(())
 //! ```
@@ -24,7 +31,6 @@ use crate::identify::{Expectation, IdentifyOptions};
 use crate::settings::plan::PlanSettings;
 use crate::study::Study;
 use anyhow::{bail, Context, Result};
-use greybox_core::choice::Choice;
 use greybox_core::dataset::PressureConvention;
 use greybox_tribo::campaign::read_expected_steps;
 use greybox_tribo::campaign::Segmentation;
@@ -36,50 +42,188 @@ use std::path::PathBuf;
 
 /// A 1-based line number of a recording's head (0: no header line).
 pub type HeaderLine = greybox_core::count::Count<0, 1_000_000>;
-/// Overrides of a study for one identification; `None` (or empty) keeps the study's value.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-#[allow(non_snake_case)]
-pub struct IdentifySettings {
-    /// Channel mappings `ROLE=NAME[:UNIT[:SCALE]]` (roles: time, normal, tangential, radial,
-    /// trigger, step, speed, radius, cof, position); an empty name ignores a role.
-    pub map: Vec<String>,
-    /// Rig profile (see `greybox_tribo::profiles`).
-    pub rig: Option<String>,
-    /// Normal load of rigs that do not record it, N.
-    pub constant_normal_force_N: Option<f64>,
-    /// Sliding velocity of rigs that do not record their speed, m/s.
-    pub constant_sliding_velocity_m_per_s: Option<f64>,
-    pub tdms_group: Option<String>,
-    /// 1-based header line of text files.
-    pub header_line: Option<HeaderLine>,
-    /// Sample rate of files without a time column, Hz.
-    pub sample_rate_hz: Option<f64>,
-    /// Names for the columns in file order (units in the names: `t_s`, `Fn_N`), for logs
-    /// without a header line; empty keeps the study's (default: the file's own names).
-    pub columns: Vec<String>,
-    /// Spreadsheet sheet.
-    pub sheet: Option<String>,
-    /// How the plan is aligned with each recording (sets plan-timing segmentation).
-    pub align: Option<String>,
-    /// How the steps are found: auto, plan-timing, step-column, speed, signals.
-    pub segment: Option<String>,
-    /// Steady-state rule: `auto`, `last:P%`, `from:Ts`.
-    pub steady: Option<String>,
-    /// auto, continuous, stepped or reciprocating.
-    pub test_mode: Option<String>,
-    /// Time dropped after the spindle ramp, s.
-    pub settle_time_s: Option<f64>,
-    /// Pressure convention of the dataset: textbook-max, textbook-mean, article-eq7.
-    pub convention: Option<String>,
+
+/// The dataset written when no `out` is given.
+pub const DEFAULT_DATASET: &str = "dataset.csv";
+
+/// How the rig ran its tests: `auto` (from the rig profile or the signals) or one mode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TestModeSetting {
+    #[default]
+    Auto,
+    Continuous,
+    Stepped,
+    Reciprocating,
+}
+greybox_core::choice!(TestModeSetting, "identify.test_mode", [
+    Auto => "auto", Continuous => "continuous", Stepped => "stepped",
+    Reciprocating => "reciprocating",
+]);
+
+impl TestModeSetting {
+    /// The study's `[identify] mode`: `None` detects it.
+    pub fn mode(self) -> Option<TestMode> {
+        match self {
+            TestModeSetting::Auto => None,
+            TestModeSetting::Continuous => Some(TestMode::Continuous),
+            TestModeSetting::Stepped => Some(TestMode::Stepped),
+            TestModeSetting::Reciprocating => Some(TestMode::Reciprocating),
+        }
+    }
 }
 
-/// A choice named `field` in errors.
-fn choice<T: Choice>(text: &Option<String>) -> Result<Option<T>> {
-    text.as_deref()
-        .map(T::parse_choice)
-        .transpose()
-        .map_err(|e| anyhow::anyhow!("identify.{e}"))
+#[cfg(feature = "cli")]
+fn parse_steady(s: &str) -> std::result::Result<SteadyRule, String> {
+    s.parse()
+}
+
+/// One identification as a user states it; `None` (or empty) keeps the study's value.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+#[serde(default)]
+#[allow(non_snake_case)]
+pub struct IdentifySettings {
+    #[serde(flatten)]
+    #[cfg_attr(feature = "cli", command(flatten))]
+    pub plan: PlanSettings,
+    /// Recording files (CSV/TXT, XLSX/XLS/ODS, TDMS) or directories: a file per step, per
+    /// pin or for the whole campaign. A directory gives its pinNN files when the plan's pins
+    /// are all there, else every recording file in natural order.
+    /// Required, except by `identify --rig list`.
+    #[cfg_attr(feature = "cli", arg(long, num_args = 1.., required_unless_present = "rig"))]
+    pub recordings: Vec<PathBuf>,
+    /// Which files to pick from a directory: csv, tdms or spreadsheet (default: every
+    /// supported format).
+    #[cfg_attr(feature = "cli", arg(long,
+        value_parser = greybox_core::choice::clap_parsers::choice::<RecordingFormat>()))]
+    pub format: Option<RecordingFormat>,
+    /// Expected steps without timing: CSV with pin, normal_force_N,
+    /// sliding_velocity_m_per_min [, step], in the order they were run.
+    #[cfg_attr(feature = "cli", arg(long = "plan-steps"))]
+    pub plan_steps: Option<PathBuf>,
+    /// Ignore the study's plan: loads and velocities from the recordings.
+    #[cfg_attr(feature = "cli", arg(long = "no-plan"))]
+    pub no_plan: bool,
+    /// Track radius per segment for rpm speed channels, mm (comma-separated: one per segment
+    /// of each file, or of the whole campaign).
+    #[cfg_attr(feature = "cli", arg(long = "track-radii-mm", value_delimiter = ','))]
+    pub track_radii_mm: Vec<f64>,
+    /// Output dataset CSV.
+    #[cfg_attr(feature = "cli", arg(long, default_value = DEFAULT_DATASET))]
+    pub out: PathBuf,
+    /// Ground truth CSV from `synth`: report the identification error against it.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub truth: Option<PathBuf>,
+    /// Report per file the mapped columns, sampling rate and every segment (start, end,
+    /// load, speed, steady window, μ, flags), and write an SVG per recording with the steady
+    /// windows shaded into `inspect_dir`.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub inspect: bool,
+    /// Where inspect writes its SVGs (default: DATASET_inspect/ beside the dataset).
+    #[cfg_attr(feature = "cli", arg(long = "inspect-dir"))]
+    pub inspect_dir: Option<PathBuf>,
+    /// How the steps are found: auto (a step column, then a speed channel, then the plan's
+    /// timing for greybox's own NC-program recordings, then the signals), plan-timing,
+    /// step-column, speed, signals.
+    #[cfg_attr(feature = "cli", arg(long,
+        value_parser = greybox_core::choice::clap_parsers::choice::<Segmentation>()))]
+    pub segment: Option<Segmentation>,
+    /// How the rig ran its tests (study `[identify] mode`). `reciprocating` (ASTM G133):
+    /// strokes instead of plateaus, μ from the middle half of each stroke with the sign taken
+    /// by direction, one row per test averaged over the steady cycles, the per-cycle μ in
+    /// `<out>.cycles.csv`. `auto`: reciprocating where the rig profile says so or the
+    /// signals show it (a reversing position, or a friction force that changes sign
+    /// regularly). Default: the study's (auto).
+    #[cfg_attr(feature = "cli", arg(long = "test-mode",
+        value_parser = greybox_core::choice::clap_parsers::choice::<TestModeSetting>()))]
+    pub test_mode: Option<TestModeSetting>,
+    /// How to align the plan with each recording (sets plan-timing segmentation).
+    #[cfg_attr(feature = "cli", arg(long,
+        value_parser = greybox_core::choice::clap_parsers::choice::<Alignment>()))]
+    pub align: Option<Alignment>,
+    /// Which part of each segment gives its steady value: `auto` (the final stationary
+    /// stretch after run-in, ASTM G99/G133 practice; drift reported as a trend), `last:P%`
+    /// (the last P % of the segment's sliding time) or `from:Ts` (from T seconds after the
+    /// segment's start). Default: the study's (auto).
+    #[cfg_attr(feature = "cli", arg(long, value_parser = parse_steady))]
+    pub steady: Option<SteadyRule>,
+    /// Time dropped after the spindle ramp, s.
+    #[cfg_attr(feature = "cli", arg(long = "settle-s"))]
+    pub settle_time_s: Option<f64>,
+    /// Channel mappings `ROLE=NAME[:UNIT[:SCALE]]`. Roles: time, normal, tangential,
+    /// radial, trigger, step, speed, radius, cof, position; an empty name (`speed=`) ignores
+    /// a role. Unmapped roles are found by their usual names (Fz, Fx, Time, Step, Velocity,
+    /// ...). NAME `#K` is column K of the file, counted from 1 (`normal=#3:N`), as in a log
+    /// without header.
+    #[cfg_attr(feature = "cli", arg(long = "map"))]
+    pub map: Vec<String>,
+    /// 1-based header line of text files (default: found below any preamble).
+    #[cfg_attr(feature = "cli", arg(long = "header-line"))]
+    pub header_line: Option<HeaderLine>,
+    /// Sample rate of files without a time column, Hz: time = k / rate.
+    #[cfg_attr(feature = "cli", arg(long = "sample-rate-hz"))]
+    pub sample_rate_hz: Option<f64>,
+    /// Names for the columns in file order, units in the names as in a header
+    /// (`t_s,Fn_N,Ft_N`): for a log without a header line, whose columns are otherwise
+    /// `#1`, `#2`, … (`normal=#2:N` maps by number), or to rename a file's columns.
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub columns: Vec<String>,
+    /// Rig profile of the files (phoenix-te, pcs-mtm, bruker-umt, rtec, pod-dwf;
+    /// `identify --rig list` prints them); default: detected from each file's preamble and
+    /// header when exactly one profile matches.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub rig: Option<String>,
+    /// Normal load, N, for rigs that do not record it (dead-weight pin-on-disc rigs).
+    #[cfg_attr(feature = "cli", arg(long = "constant-normal-force-N"))]
+    pub constant_normal_force_N: Option<f64>,
+    /// Sliding velocity, m/s, for rigs that do not record their speed (on the command line
+    /// in m/min: `--constant-sliding-velocity-m-per-min`).
+    #[cfg_attr(feature = "cli", arg(long = "constant-sliding-velocity-m-per-min",
+        value_parser = greybox_core::units::clap_parsers::m_per_min_as_m_per_s))]
+    pub constant_sliding_velocity_m_per_s: Option<f64>,
+    /// Spreadsheet sheet to read (default: the first holding a table).
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub sheet: Option<String>,
+    /// TDMS group holding the channels.
+    #[cfg_attr(feature = "cli", arg(long = "tdms-group"))]
+    pub tdms_group: Option<String>,
+    /// Pressure convention written to the dataset (overrides the study's `[contact]
+    /// convention`; without a study: textbook-max).
+    #[cfg_attr(feature = "cli", arg(long,
+        value_parser = greybox_core::choice::clap_parsers::choice::<PressureConvention>()))]
+    pub convention: Option<PressureConvention>,
+}
+
+impl Default for IdentifySettings {
+    fn default() -> Self {
+        IdentifySettings {
+            plan: PlanSettings::default(),
+            recordings: Vec::new(),
+            format: None,
+            plan_steps: None,
+            no_plan: false,
+            track_radii_mm: Vec::new(),
+            out: PathBuf::from(DEFAULT_DATASET),
+            truth: None,
+            inspect: false,
+            inspect_dir: None,
+            segment: None,
+            test_mode: None,
+            align: None,
+            steady: None,
+            settle_time_s: None,
+            map: Vec::new(),
+            header_line: None,
+            sample_rate_hz: None,
+            columns: Vec::new(),
+            rig: None,
+            constant_normal_force_N: None,
+            constant_sliding_velocity_m_per_s: None,
+            sheet: None,
+            tdms_group: None,
+            convention: None,
+        }
+    }
 }
 
 /// A positive, finite number, or an error naming the setting.
@@ -93,26 +237,26 @@ fn positive(v: Option<f64>, field: &str) -> Result<Option<f64>> {
 }
 
 impl IdentifySettings {
-    /// Settings from JSON (Python's keyword arguments); unknown keys are errors.
-    pub fn from_json(text: &str) -> Result<Self> {
-        serde_json::from_str(text).context("identify settings")
+    /// The study file (or none) with the plan overrides and every setting here applied.
+    pub fn study(&self) -> Result<Study> {
+        let mut study = self.plan.study()?;
+        self.apply(&mut study)?;
+        Ok(study)
+    }
+
+    /// The study and the identification's options: what [`crate::identify::identify_campaign`]
+    /// runs.
+    pub fn prepare(&self) -> Result<(Study, IdentifyOptions)> {
+        if self.recordings.is_empty() {
+            bail!("identify.recordings: give at least one recording file or directory");
+        }
+        let study = self.study()?;
+        let options = self.options(&study)?;
+        Ok((study, options))
     }
 
     /// Override `study` with every setting given, after checking all of them.
-    pub fn apply(&self, study: &mut Study) -> Result<()> {
-        let align = choice::<Alignment>(&self.align)?;
-        let segment = choice::<Segmentation>(&self.segment)?;
-        let convention = choice::<PressureConvention>(&self.convention)?;
-        let test_mode = match self.test_mode.as_deref() {
-            Some("auto") => Some(None),
-            _ => choice::<TestMode>(&self.test_mode)?.map(Some),
-        };
-        let steady = self
-            .steady
-            .as_deref()
-            .map(|s| s.parse::<SteadyRule>())
-            .transpose()
-            .map_err(|e| anyhow::anyhow!("identify.steady: {e}"))?;
+    fn apply(&self, study: &mut Study) -> Result<()> {
         let force = positive(self.constant_normal_force_N, "constant_normal_force_N")?;
         let speed = positive(
             self.constant_sliding_velocity_m_per_s,
@@ -137,109 +281,63 @@ impl IdentifySettings {
             rec.columns = self.columns.clone();
         }
         let id = &mut study.identify;
-        if let Some(a) = align {
+        if let Some(a) = self.align {
             id.align = a;
             id.segmentation = Segmentation::PlanTiming;
         }
-        id.segmentation = segment.unwrap_or(id.segmentation);
-        if let Some(s) = steady {
+        id.segmentation = self.segment.unwrap_or(id.segmentation);
+        if let Some(s) = self.steady {
             id.steady = s;
         }
-        if let Some(m) = test_mode {
-            id.mode = m;
+        if let Some(m) = self.test_mode {
+            id.mode = m.mode();
         }
         id.settle_time_s = self.settle_time_s.unwrap_or(id.settle_time_s);
-        study.contact.convention = convention.unwrap_or(study.contact.convention);
+        study.contact.convention = self.convention.unwrap_or(study.contact.convention);
         Ok(())
     }
-}
 
-/// What one identification reads and writes, and what it matches the segments to.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[cfg_attr(feature = "cli", derive(clap::Args))]
-#[serde(deny_unknown_fields, default)]
-pub struct IdentifyInputs {
-    /// Recording files (CSV/TXT, XLSX/XLS/ODS, TDMS) or directories: a file per step, per
-    /// pin or for the whole campaign. A directory gives its pinNN files when the plan's pins
-    /// are all there, else every recording file in natural order.
-    /// Required, except by `identify --rig list`.
-    #[cfg_attr(feature = "cli", arg(long, num_args = 1.., required_unless_present = "rig"))]
-    pub recordings: Vec<PathBuf>,
-    /// Which files to pick from a directory: csv, tdms or spreadsheet (default: every
-    /// supported format).
-    #[cfg_attr(feature = "cli", arg(long,
-        value_parser = greybox_core::choice::clap_parsers::choice::<RecordingFormat>()))]
-    pub format: Option<RecordingFormat>,
-    /// Expected steps without timing: CSV with pin, normal_force_N,
-    /// sliding_velocity_m_per_min [, step], in the order they were run.
-    #[cfg_attr(feature = "cli", arg(long = "plan-steps"))]
-    pub plan_steps: Option<PathBuf>,
-    /// Ignore the study's plan: loads and velocities from the recordings.
-    #[cfg_attr(feature = "cli", arg(long = "no-plan"))]
-    pub no_plan: bool,
-    /// Track radius per segment for rpm speed channels, mm (comma-separated: one per segment
-    /// of each file, or of the whole campaign).
-    #[cfg_attr(feature = "cli", arg(long = "track-radii-mm", value_delimiter = ','))]
-    pub track_radii_mm: Vec<f64>,
-    /// Output dataset CSV.
-    #[cfg_attr(feature = "cli", arg(long, default_value = "dataset.csv"))]
-    pub out: PathBuf,
-    /// Ground truth CSV from `greybox synth`: report the identification error against it.
-    #[cfg_attr(feature = "cli", arg(long))]
-    pub truth: Option<PathBuf>,
-    /// Print per file the mapped columns, sampling rate and every segment (start, end, load,
-    /// speed, steady window, μ, flags), and write an SVG per recording with the steady
-    /// windows shaded into the inspect directory.
-    #[cfg_attr(feature = "cli", arg(long))]
-    pub inspect: bool,
-    /// Where inspect writes its SVGs (default: DATASET_inspect/ beside the dataset).
-    #[cfg_attr(feature = "cli", arg(long = "inspect-dir"))]
-    pub inspect_dir: Option<PathBuf>,
-}
-
-impl IdentifyInputs {
     /// The identification's options: the steps file, else the plan where one is given
-    /// (`plan`'s study or ranges, unless `no_plan`), else the loads and speeds measured;
-    /// without a plan, the plan settings' track radius serves the rpm channels.
-    pub fn options(&self, study: &Study, plan: &PlanSettings) -> Result<IdentifyOptions> {
+    /// (the study's `[plan]` or a range here, unless `no_plan`), else the loads and speeds
+    /// measured; without a plan, the plan settings' track radius serves the rpm channels.
+    pub fn options(&self, study: &Study) -> Result<IdentifyOptions> {
         let expect = if let Some(path) = &self.plan_steps {
             Expectation::Steps(read_expected_steps(path)?)
-        } else if !self.no_plan && plan.gives_plan()? {
+        } else if !self.no_plan && self.plan.gives_plan()? {
             Expectation::Plan(study.plan.build().context("cannot build the plan")?)
         } else {
             Expectation::None
         };
         let mut radii = self.track_radii_mm.clone();
         if radii.is_empty() && !matches!(expect, Expectation::Plan(_)) {
-            radii.extend(plan.track_radius_mm);
+            radii.extend(self.plan.track_radius_mm);
         }
         let side_inputs = [
-            ("study", plan.study.as_ref()),
+            ("study", self.plan.study.as_ref()),
             ("plan_steps", self.plan_steps.as_ref()),
             ("truth", self.truth.as_ref()),
         ]
         .into_iter()
         .filter_map(|(f, p)| p.map(|p| (f.to_string(), p.clone())))
         .collect();
-        let inspect_dir = self.inspect.then(|| {
-            self.inspect_dir.clone().unwrap_or_else(|| {
-                let stem = self
-                    .out
-                    .file_stem()
-                    .map(|s| s.to_string_lossy().to_string());
-                let stem = stem.unwrap_or_else(|| "dataset".into());
-                self.out.with_file_name(format!("{stem}_inspect"))
-            })
-        });
         Ok(IdentifyOptions {
             recordings: self.recordings.clone(),
             format: self.format,
             expect,
             track_radii_mm: radii,
             dataset: self.out.clone(),
-            inspect_dir,
+            inspect_dir: self.inspect.then(|| self.inspect_dir()),
             truth: self.truth.clone(),
             side_inputs,
+        })
+    }
+
+    /// Where inspect writes its SVGs: `inspect_dir`, else DATASET_inspect/ beside the dataset.
+    fn inspect_dir(&self) -> PathBuf {
+        self.inspect_dir.clone().unwrap_or_else(|| {
+            let stem = self.out.file_stem().map(|s| s.to_string_lossy().to_string());
+            let stem = stem.unwrap_or_else(|| "dataset".into());
+            self.out.with_file_name(format!("{stem}_inspect"))
         })
     }
 }

@@ -11,30 +11,53 @@
 pub mod adhesive;
 pub mod couple;
 pub mod fit;
+pub mod hertz;
 pub mod identify;
+pub mod law;
 pub mod pin;
 pub mod plan;
+pub mod synth;
 
 use anyhow::{Context, Result};
 use serde::de::DeserializeOwned;
+use serde::Serialize;
 
 /// Settings of stage `stage` from JSON (an unknown or mistyped key is an error naming it;
 /// a value refused by its type, such as a count beyond its cap, names its key too):
 ///
 /// ```
-/// let e = greybox_pipeline::settings::from_json::<greybox_pipeline::settings::fit::FitSettings>(
-///     "fit", r#"{"data": "d.csv", "bootstrap": 1000000000}"#).unwrap_err();
+/// use greybox_pipeline::settings::{from_json, fit::FitSettings, identify::IdentifySettings};
+/// let e = from_json::<FitSettings>("fit", r#"{"data": "d.csv", "bootstrap": 1000000000}"#)
+///     .unwrap_err();
 /// assert!(format!("{e:#}").starts_with("fit settings: bootstrap: 1000000000 is above the cap"));
+/// // a key of no field, also where a type gathers another's fields (identify's plan)
+/// let e = from_json::<IdentifySettings>("identify", r#"{"normal_force_cout": 3}"#).unwrap_err();
+/// assert!(format!("{e:#}").contains("unknown key `normal_force_cout`"));
 /// ```
-pub fn from_json<T: DeserializeOwned>(stage: &str, text: &str) -> Result<T> {
-    let de = &mut serde_json::Deserializer::from_str(text);
-    let value = serde_path_to_error::deserialize(de).map_err(|e| {
+pub fn from_json<T: DeserializeOwned + Serialize>(stage: &str, text: &str) -> Result<T> {
+    parse_keys(text).with_context(|| format!("{stage} settings"))
+}
+
+fn parse_keys<T: DeserializeOwned + Serialize>(text: &str) -> Result<T> {
+    let given: serde_json::Value = serde_json::from_str(text)?;
+    let value: T = serde_path_to_error::deserialize(&given).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner();
         match path.as_str() {
             "." | "" => anyhow::Error::new(inner),
             _ => anyhow::anyhow!("{path}: {inner}"),
         }
-    });
-    value.with_context(|| format!("{stage} settings"))
+    })?;
+    // Every field serializes under its key, so a key the value does not write back is one
+    // no field took (`deny_unknown_fields` cannot see through a flattened field).
+    let known = serde_json::to_value(&value)?;
+    if let (Some(given), Some(known)) = (given.as_object(), known.as_object()) {
+        if let Some(unknown) = given.keys().find(|k| !known.contains_key(*k)) {
+            let mut names: Vec<&String> = known.keys().collect();
+            names.sort();
+            let names: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
+            anyhow::bail!("unknown key `{unknown}` (known: {})", names.join(", "));
+        }
+    }
+    Ok(value)
 }

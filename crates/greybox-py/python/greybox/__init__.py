@@ -71,6 +71,7 @@ __all__ = [
     "grey_box_law",
     "export_table",
     "export_defaults",
+    "settings_defaults",
     "simulate_cut",
     "simulate_pin",
     "couple",
@@ -420,30 +421,28 @@ def load_law(path: PathLike) -> Law:
 
 def hertz(
     normal_force_N: ArrayLike,
-    radius_mm: float,
-    youngs_modulus_1_GPa: float,
-    poisson_1: float,
-    youngs_modulus_2_GPa: float,
-    poisson_2: float,
+    *,
+    radius_mm: Optional[float] = None,
+    geometry: Optional[str] = None,
     length_mm: Optional[float] = None,
-    convention: str = "textbook-max",
+    e1_GPa: Optional[float] = None,
+    nu1: Optional[float] = None,
+    e2_GPa: Optional[float] = None,
+    nu2: Optional[float] = None,
+    convention: Optional[str] = None,
     as_frame: Optional[bool] = None,
 ) -> Any:
-    """Hertz contact of a sphere (or a cylinder of ``length_mm``) on a flat, per normal force:
-    contact half-width, maximum and mean pressure, approach, and the pressure under
-    ``convention`` (textbook-max, textbook-mean, article-eq7). ``inf`` modulus: rigid."""
-    out = json.loads(
-        _native.hertz_rows(
-            _f64(normal_force_N, "normal_force_N"),
-            radius_mm,
-            youngs_modulus_1_GPa,
-            poisson_1,
-            youngs_modulus_2_GPa,
-            poisson_2,
-            length_mm,
-            convention,
-        )
-    )
+    """Hertz contact of a sphere (or a ``geometry="cylinder"`` of ``length_mm``) on a flat,
+    per normal force, as ``greybox hertz``: contact half-width, maximum and mean pressure,
+    approach, and the pressure under ``convention`` (textbook-max, textbook-mean,
+    article-eq7). The settings and their defaults are the library's (``None``: the default:
+    the article's 17 mm WC-Co pin, E 650 GPa, on steel, E 210 GPa, ν 0.3); ``inf`` modulus:
+    rigid."""
+    out = json.loads(_native.hertz_rows(_settings({
+        "force_N": _f64(normal_force_N, "normal_force_N").ravel().tolist(),
+        "radius_mm": radius_mm, "geometry": geometry, "length_mm": length_mm,
+        "e1_GPa": e1_GPa, "nu1": nu1, "e2_GPa": e2_GPa, "nu2": nu2, "convention": convention,
+    })))
     rows = out["rows"]
     cols = {k: [r[k] for r in rows] for k in (rows[0] if rows else {})}
     cols = {k: (v if k == "convention" else np.array([np.nan if x is None else x for x in v], dtype=float)) for k, v in cols.items()}
@@ -456,26 +455,25 @@ def read_dataset(path: PathLike, as_frame: Optional[bool] = None) -> Any:
 
 
 def synth(
-    out: PathLike,
+    out: Optional[PathLike] = None,
+    *,
     study: Optional[PathLike] = None,
-    formats: Sequence[str] = ("csv",),
-    normal_force_count: Optional[int] = None,
-    velocity_count: Optional[int] = None,
+    format: Optional[str] = None,
+    seed: Optional[int] = None,
+    disturbance_scale: Optional[float] = None,
     force: bool = False,
+    **plan: Any,
 ) -> dict:
-    """The virtual tribometer: the study's campaign (default: the bundled example study,
-    optionally with fewer loads and velocities) simulated into raw recordings (csv, tdms)
-    and ``ground_truth.csv`` in ``out``. Returns the summary dict."""
-    return json.loads(
-        _native.synth(
-            _path(out, "out"),
-            _opt_path(study, "study"),
-            _strs(formats, "formats"),
-            _count(normal_force_count, "normal_force_count"),
-            _count(velocity_count, "velocity_count"),
-            force,
-        )
-    )
+    """The virtual tribometer, as ``greybox synth``: a study's campaign (default: the
+    library's default campaign) simulated into raw recordings (``format`` ``"csv"``,
+    ``"tdms"`` or ``"both"``) and ``ground_truth.csv`` in ``out`` (default ``synth-out``).
+    ``plan`` takes the ``[plan]`` overrides by the library's names
+    (``normal_force_count=2``, ``velocity_max_m_per_min=200``, see ``settings_defaults("plan")``).
+    Returns the summary dict."""
+    return json.loads(_native.synth(_settings({
+        "out": out, "study": study, "format": format, "seed": seed,
+        "disturbance_scale": disturbance_scale, "force": force or None, **plan,
+    })))
 
 
 def read_recording(
@@ -500,90 +498,83 @@ def read_recording(
 
 def identify(
     recordings: Union[PathLike, Sequence[PathLike]],
-    dataset: PathLike,
-    study: Optional[PathLike] = None,
-    use_plan: bool = False,
-    truth: Optional[PathLike] = None,
-    track_radii_mm: ArrayLike = (),
-    normal_force_count: Optional[int] = None,
-    velocity_count: Optional[int] = None,
-    as_frame: Optional[bool] = None,
-    steady: Optional[str] = None,
-    channels: Optional[dict] = None,
+    out: Optional[PathLike] = None,
     *,
+    as_frame: Optional[bool] = None,
+    study: Optional[PathLike] = None,
+    no_plan: bool = False,
+    plan_steps: Optional[PathLike] = None,
+    format: Optional[str] = None,
+    track_radii_mm: Optional[ArrayLike] = None,
+    truth: Optional[PathLike] = None,
+    inspect: bool = False,
+    inspect_dir: Optional[PathLike] = None,
+    segment: Optional[str] = None,
+    test_mode: Optional[str] = None,
+    align: Optional[str] = None,
+    steady: Optional[str] = None,
+    settle_time_s: Optional[float] = None,
     map: Optional[Sequence[str]] = None,
-    rig: Optional[str] = None,
-    constant_normal_force_N: Optional[float] = None,
-    constant_sliding_velocity_m_per_s: Optional[float] = None,
-    tdms_group: Optional[str] = None,
     header_line: Optional[int] = None,
     sample_rate_hz: Optional[float] = None,
     columns: Optional[Sequence[str]] = None,
+    rig: Optional[str] = None,
+    constant_normal_force_N: Optional[float] = None,
+    constant_sliding_velocity_m_per_s: Optional[float] = None,
     sheet: Optional[str] = None,
-    align: Optional[str] = None,
-    segment: Optional[str] = None,
-    test_mode: Optional[str] = None,
-    settle_time_s: Optional[float] = None,
+    tdms_group: Optional[str] = None,
     convention: Optional[str] = None,
+    **plan: Any,
 ) -> tuple:
     """Identify apparent friction coefficients per plateau from recordings of any supported
-    rig (files or directories) into the dataset CSV ``dataset``; returns (dataset table,
-    summary dict). ``study`` is a study TOML (default: the bundled example study);
-    ``use_plan`` matches segments to its plan (``normal_force_count``/``velocity_count``
-    override the study's, as in :func:`synth`) instead of taking loads and speeds from the
-    recordings. ``steady`` is the steady-state rule: ``"auto"`` (after run-in, ASTM G99
-    practice), ``"last:50%"`` or ``"from:300s"`` (default: the study's, ``auto``).
-    ``channels`` replaces the study's ``[recording]`` settings, e.g. ``{"rig": "phoenix-te"}``,
-    ``{"constant_normal_n": 50.0, "constant_sliding_m_s": 0.33}`` or
-    ``{"normal": {"name": "Load", "unit": "N"}, "cof": {"name": "COF"}}``.
+    rig (files or directories) into the dataset CSV ``out`` (default ``dataset.csv``), as
+    ``greybox identify`` with the same settings and defaults; returns (dataset table,
+    summary dict).
 
-    The keyword-only settings are ``greybox identify``'s flags by the library's names (SI):
-    ``map=["radius=Radius:mm"]``, ``rig``, ``constant_normal_force_N``,
-    ``constant_sliding_velocity_m_per_s``, ``tdms_group``, ``header_line``,
-    ``sample_rate_hz``, ``columns`` (names for a headerless log's columns in order, units in
-    the names: ``["t_s", "Fn_N", "Ft_N"]``; ``map=["normal=#2:N"]`` maps by column number),
-    ``sheet``, ``align``, ``segment``, ``test_mode``, ``settle_time_s``,
-    ``convention``; each overrides the study, as the flag does."""
+    Nothing is assumed behind your back: without ``study`` the contact takes the library's
+    default convention (textbook-max) and loads and speeds come from the recordings. A study
+    with a ``[plan]`` (or a load or velocity range in ``plan``: ``normal_force_count``,
+    ``velocity_min_m_per_min``, …, ``track_radius_mm``) is matched to the recordings unless
+    ``no_plan``; ``plan_steps`` is a CSV of the steps run (pin, normal_force_N,
+    sliding_velocity_m_per_min). ``steady``: ``"auto"`` (after run-in, ASTM G99 practice),
+    ``"last:50%"`` or ``"from:300s"``. ``map``: channel mappings
+    ``["normal=Load:N", "radius=Radius:mm"]``, ``"normal=#2:N"`` by column number;
+    ``columns`` names a headerless log's columns in order, units in the names
+    (``["t_s", "Fn_N", "Ft_N"]``). ``inspect`` writes an SVG per recording with the steady
+    windows shaded into ``inspect_dir``. Every setting is the library's
+    ``IdentifySettings`` field of the same name (``None``: its default)."""
     if isinstance(recordings, (str, os.PathLike)):
         recordings = [recordings]
-    settings = {
-        "steady": _opt_str(steady, "steady"),
-        "map": None if map is None else _strs(map, "map"),
-        "rig": _opt_str(rig, "rig"),
-        "constant_normal_force_N": _opt_float(constant_normal_force_N, "constant_normal_force_N"),
-        "constant_sliding_velocity_m_per_s": _opt_float(constant_sliding_velocity_m_per_s, "constant_sliding_velocity_m_per_s"),
-        "tdms_group": _opt_str(tdms_group, "tdms_group"),
-        "header_line": _count(header_line, "header_line"),
-        "sample_rate_hz": _opt_float(sample_rate_hz, "sample_rate_hz"),
-        "columns": None if columns is None else _strs(columns, "columns"),
-        "sheet": _opt_str(sheet, "sheet"),
-        "align": _opt_str(align, "align"),
-        "segment": _opt_str(segment, "segment"),
-        "test_mode": _opt_str(test_mode, "test_mode"),
-        "settle_time_s": _opt_float(settle_time_s, "settle_time_s"),
-        "convention": _opt_str(convention, "convention"),
-    }
-    settings = {k: v for k, v in settings.items() if v is not None}
-    summary = json.loads(
-        _native.identify(
-            [_path(r, "recordings") for r in _iterable(recordings, "recordings")],
-            _path(dataset, "dataset"),
-            _opt_path(study, "study"),
-            use_plan,
-            _opt_path(truth, "truth"),
-            _f64(track_radii_mm, "track_radii_mm").tolist(),
-            _count(normal_force_count, "normal_force_count"),
-            _count(velocity_count, "velocity_count"),
-            json.dumps(settings),
-            None if channels is None else json.dumps(channels),
-        )
-    )
-    return read_csv(dataset, as_frame), summary
+    summary = json.loads(_native.identify(_settings({
+        "recordings": _iterable(recordings, "recordings"), "out": out, "study": study,
+        "no_plan": no_plan or None, "plan_steps": plan_steps, "format": format,
+        "track_radii_mm": None if track_radii_mm is None else _f64(track_radii_mm, "track_radii_mm").ravel().tolist(),
+        "truth": truth, "inspect": inspect or None, "inspect_dir": inspect_dir,
+        "segment": segment, "test_mode": test_mode, "align": align, "steady": steady,
+        "settle_time_s": settle_time_s, "map": map, "header_line": header_line,
+        "sample_rate_hz": sample_rate_hz, "columns": columns, "rig": rig,
+        "constant_normal_force_N": constant_normal_force_N,
+        "constant_sliding_velocity_m_per_s": constant_sliding_velocity_m_per_s,
+        "sheet": sheet, "tdms_group": tdms_group, "convention": convention, **plan,
+    })))
+    return read_csv(summary["dataset"], as_frame), summary
+
+
+def _json_value(x: Any) -> Any:
+    """A path, NumPy scalar or array as JSON (for :func:`_settings`)."""
+    if isinstance(x, os.PathLike):
+        return os.fspath(x)
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, np.generic):
+        return x.item()
+    raise GreyboxError(f"settings: {type(x).__name__} {x!r} is not a number, text, path or list")
 
 
 def _settings(values: dict) -> str:
-    """Keyword arguments as the library's settings JSON; ``None`` keeps the library's default."""
-    return json.dumps({k: v for k, v in values.items() if v is not None})
+    """Keyword arguments as the library's settings JSON; ``None`` keeps the library's default.
+    The library checks every value and names the key of a wrong one."""
+    return json.dumps({k: v for k, v in values.items() if v is not None}, default=_json_value)
 
 
 def ploughing_correction(
@@ -730,28 +721,52 @@ def couple(
 
 def fit(
     data: PathLike,
-    out: PathLike,
+    out: Optional[PathLike] = None,
+    *,
     target: Optional[str] = None,
     features: Optional[Sequence[str]] = None,
-    config: Optional[dict] = None,
+    study: Optional[PathLike] = None,
+    families: Optional[Sequence[str]] = None,
+    folds: Optional[int] = None,
+    inner_folds: Optional[int] = None,
+    fold_column: Optional[str] = None,
+    seed: Optional[int] = None,
+    bootstrap: Optional[int] = None,
+    importance_repeats: Optional[int] = None,
+    skip_nested: bool = False,
+    rf_n_estimators: Optional[Sequence[int]] = None,
+    svr_c: Optional[Sequence[float]] = None,
+    svr_kernel: Optional[Sequence[str]] = None,
+    svr_epsilon: Optional[Sequence[float]] = None,
+    gb_n_estimators: Optional[Sequence[int]] = None,
+    gb_max_depth: Optional[Sequence[int]] = None,
+    gb_learning_rate: Optional[Sequence[float]] = None,
+    mlp_hidden: Optional[Sequence[str]] = None,
+    mlp_activation: Optional[Sequence[str]] = None,
+    mlp_learning_rate: Optional[Sequence[float]] = None,
+    mlp_max_epochs: Optional[int] = None,
     force: bool = False,
 ) -> dict:
     """The article's learning protocol (grid search, nested cross-validation, bootstrap CIs,
-    permutation importance, conformal intervals) on a dataset; model files, report and
-    plots go into ``out``. ``target`` defaults to ``cof_adhesive`` where the dataset has it,
-    else ``cof_apparent``; ``features`` to normal force and sliding velocity (the command
-    line's defaults, owned by the library). ``config`` holds ``[fit]`` settings (families,
-    folds, seed, skip_nested, grid …). Returns {"report", "outputs", "warnings"}."""
-    return json.loads(
-        _native.fit_models(
-            _path(data, "data"),
-            _path(out, "out"),
-            target,
-            None if features is None else _strs(features, "features"),
-            None if config is None else json.dumps(config),
-            force,
-        )
-    )
+    permutation importance, conformal intervals) on a dataset, as ``greybox fit`` with the
+    same settings and defaults; model files, report and plots go into ``out`` (default
+    ``fit-out``). ``target`` defaults to ``cof_adhesive`` where the dataset has it, else
+    ``cof_apparent``; ``features`` to normal force and sliding velocity. ``study`` is a
+    study TOML whose ``[fit]`` section the other settings override; ``fold_column`` an
+    integer column of fold ids (grouped CV); grids by the flags' names (``mlp_hidden=["64x32",
+    "32x16"]``, ``svr_kernel=["rbf"]``). Returns {"report", "outputs", "warnings"}."""
+    return json.loads(_native.fit_models(_settings({
+        "data": data, "out": out, "target": target, "features": features, "study": study,
+        "families": families, "folds": folds, "inner_folds": inner_folds,
+        "fold_column": fold_column, "seed": seed, "bootstrap": bootstrap,
+        "importance_repeats": importance_repeats, "skip_nested": skip_nested or None,
+        "rf_n_estimators": rf_n_estimators, "svr_c": svr_c, "svr_kernel": svr_kernel,
+        "svr_epsilon": svr_epsilon, "gb_n_estimators": gb_n_estimators,
+        "gb_max_depth": gb_max_depth, "gb_learning_rate": gb_learning_rate,
+        "mlp_hidden": mlp_hidden, "mlp_activation": mlp_activation,
+        "mlp_learning_rate": mlp_learning_rate, "mlp_max_epochs": mlp_max_epochs,
+        "force": force or None,
+    })))
 
 
 def _contact(contact: Any) -> tuple:
@@ -845,24 +860,31 @@ def from_xgboost(
 
 def grey_box_law(
     model: PathLike,
-    out: PathLike,
-    blend_fraction: float = 0.1,
-    clamp: Optional[tuple] = (0.05, 1.0),
+    out: Optional[PathLike] = None,
+    *,
+    blend_fraction: Optional[float] = None,
+    mu_min: Optional[float] = None,
+    mu_max: Optional[float] = None,
+    no_clamp: bool = False,
     shear_cap_k_MPa: Optional[float] = None,
+    study: Optional[PathLike] = None,
 ) -> Law:
-    """Write the grey-box law file ``out`` around the model file ``model`` (the article's
-    hybrid: the learned model inside its training domain, a power law fitted to its training
-    data outside, blended over ``blend_fraction`` of each range; μ clamped to ``clamp``;
-    optionally Zorev's cap τ ≤ k) and return it as a :class:`Law`. A relative ``model`` path
-    is resolved against the law file's folder, as the law file records it."""
-    _native.grey_box_law(
-        _path(model, "model"),
-        _path(out, "out"),
-        blend_fraction,
-        None if clamp is None else _pair(clamp, "clamp"),
-        shear_cap_k_MPa,
-    )
-    return load_law(out)
+    """Write the grey-box law file ``out`` (default ``law.json``) around the model file
+    ``model``, as ``greybox law`` with the same settings and defaults, and return it as a
+    :class:`Law`: the learned model inside its training domain, a power law fitted to its
+    training data outside, blended over ``blend_fraction`` (0.1) of each range; μ clamped to
+    ``mu_min``..``mu_max`` (0.05..1.0) unless ``no_clamp``; Zorev's cap τ ≤ k when
+    ``shear_cap_k_MPa`` is given (default: none, stated as ``null`` in the file); the contact
+    of ``study``'s ``[contact]``, else the one the model recorded from its training data. A
+    relative ``model`` path is resolved against the law file's folder, as the file records
+    it."""
+    settings = {
+        "model": model, "out": out, "blend_fraction": blend_fraction, "mu_min": mu_min,
+        "mu_max": mu_max, "no_clamp": no_clamp or None, "shear_cap_k_MPa": shear_cap_k_MPa,
+        "study": study,
+    }
+    _native.grey_box_law(_settings(settings))
+    return load_law(out if out is not None else json.loads(_native.settings_defaults("law"))["out"])
 
 
 def import_model(
@@ -986,6 +1008,13 @@ def export_table(
     for w in report.get("warnings", []):
         warnings.warn(w, stacklevel=3)
     return report
+
+
+def settings_defaults(stage: str) -> dict:
+    """The library's settings of ``stage`` (identify, synth, hertz, plan, fit, adhesive,
+    pin, output, couple, law) with their defaults: the keyword arguments of its function,
+    which are the command line's flags by the library's field names."""
+    return json.loads(_native.settings_defaults(stage))
 
 
 def export_defaults(format: str) -> dict:
