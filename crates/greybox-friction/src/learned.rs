@@ -175,6 +175,8 @@ impl LearnedLaw {
                 format!("at most {MAX_FEATURES} features"),
             ));
         }
+        greybox_model::column::check_law_features(&model.features)
+            .map_err(|m| Error::invalid("learned law", m))?;
         let c = force_pressure_constant(&model, contact)?;
         let inputs: Vec<Input> = model
             .features

@@ -42,12 +42,15 @@ pub fn domain(d: &crate::Domain, names: &[String]) -> Result<TrainingDomain> {
                 force_to_pressure,
             })
         }
-        crate::Domain::Rows(x) => {
+        crate::Domain::Rows {
+            x,
+            force_to_pressure,
+        } => {
             check_rows(x, names.len(), "training rows")?;
             Ok(TrainingDomain {
                 ranges: ranges(x, names.len()),
                 rows: x.len(),
-                force_to_pressure: None,
+                force_to_pressure: *force_to_pressure,
             })
         }
     }

@@ -60,8 +60,13 @@ pub enum Domain {
     /// The training data: a CSV with a column per feature (a greybox friction dataset also
     /// gives the force-to-pressure map of its contact).
     Data(PathBuf),
-    /// The training rows themselves (feature units, one row per sample).
-    Rows(Vec<Vec<f64>>),
+    /// The training rows themselves (feature units, one row per sample), with the
+    /// force-to-pressure map of their contact when the table they came from records one
+    /// ([`ForcePressure::of_rows`] of a friction dataset's columns).
+    Rows {
+        x: Vec<Vec<f64>>,
+        force_to_pressure: Option<ForcePressure>,
+    },
 }
 
 /// Rows the model was not trained on, with their target.
@@ -269,6 +274,8 @@ pub fn model_file(imported: Imported, opts: &ImportOptions) -> Result<ModelFile>
         content_hash: String::new(),
     };
     file.check_structure("imported model")?;
+    greybox_model::column::check_law_features(&file.features)
+        .map_err(|m| Error::invalid("imported model", m))?;
     if let Some(calibration) = &opts.calibration {
         let (x, y) = match calibration {
             Calibration::File(path) => {

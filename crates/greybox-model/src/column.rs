@@ -104,6 +104,58 @@ impl FeatureQuantity {
     }
 }
 
+/// Check that `features` can be the inputs of a friction law μ(p, v[, T]): each maps to a
+/// contact quantity, exactly one is a pressure or a normal force, exactly one a sliding
+/// velocity, at most one a temperature. The error names the feature set and what is missing
+/// or given twice, so that a model is refused where it is made (fit, import), not where it
+/// is first used as a law.
+///
+/// ```
+/// use greybox_model::column::{check_law_features, Column};
+/// let cols = |n: &[&str]| n.iter().map(|n| Column::new(n)).collect::<Vec<_>>();
+/// assert!(check_law_features(&cols(&["normal_force_N", "sliding_velocity_m_per_min"])).is_ok());
+/// let e = check_law_features(&cols(&["normal_force_N", "hertz_pressure_MPa"])).unwrap_err();
+/// assert!(e.contains("no sliding velocity") && e.contains("two of pressure"), "{e}");
+/// ```
+pub fn check_law_features(features: &[Column]) -> std::result::Result<(), String> {
+    let quantities = features
+        .iter()
+        .map(FeatureQuantity::of_column)
+        .collect::<std::result::Result<Vec<_>, _>>()?;
+    let count = |pick: fn(&FeatureQuantity) -> bool| quantities.iter().filter(|q| pick(q)).count();
+    let pressure = count(|q| {
+        matches!(
+            q,
+            FeatureQuantity::Pressure { .. } | FeatureQuantity::NormalForce { .. }
+        )
+    });
+    let velocity = count(|q| matches!(q, FeatureQuantity::Velocity { .. }));
+    let temperature = count(|q| matches!(q, FeatureQuantity::Temperature { .. }));
+    let mut wrong = Vec::new();
+    match pressure {
+        0 => wrong.push("no pressure or normal force (e.g. normal_force_N, hertz_pressure_MPa)".to_string()),
+        1 => {}
+        n => wrong.push(format!("{n} features that are each a pressure or a normal force (two of pressure/force describe one contact variable)")),
+    }
+    match velocity {
+        0 => wrong.push("no sliding velocity (e.g. sliding_velocity_m_per_min)".to_string()),
+        1 => {}
+        n => wrong.push(format!("{n} sliding velocities")),
+    }
+    if temperature > 1 {
+        wrong.push(format!("{temperature} temperatures"));
+    }
+    if wrong.is_empty() {
+        return Ok(());
+    }
+    let names: Vec<&str> = features.iter().map(|f| f.name.as_str()).collect();
+    Err(format!(
+        "features [{}] cannot be a friction law μ(p, v[, T]): {}",
+        names.join(", "),
+        wrong.join("; ")
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

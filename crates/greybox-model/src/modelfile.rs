@@ -63,31 +63,36 @@ impl ForcePressure {
     /// agreeing over every row (to 1e-6) for the row's load (the measured one, or for files of
     /// the earlier schema the planned one). `None` when the rows do not share one map.
     pub fn of_dataset(ds: &greybox_core::dataset::FrictionDataset) -> Option<Self> {
-        let first = ds.records.first()?;
-        if ds
-            .records
-            .iter()
-            .any(|r| r.pressure_convention != first.pressure_convention)
-        {
-            return None;
-        }
         let loads: [fn(&greybox_core::dataset::FrictionRecord) -> Option<f64>; 2] =
             [|r| Some(r.normal_force_n), |r| r.normal_force_planned_n];
         loads.iter().find_map(|load| {
-            let cs: Vec<f64> = ds
+            let rows: Option<Vec<_>> = ds
                 .records
                 .iter()
-                .map(|r| load(r).map(|f| r.hertz_pressure_pa / f.cbrt()))
-                .collect::<Option<_>>()?;
-            let c = cs[0];
-            (c.is_finite() && c > 0.0 && cs.iter().all(|x| (x / c - 1.0).abs() < 1e-6)).then_some(
-                ForcePressure {
-                    pressure_convention: first.pressure_convention,
-                    pressure_pa_at_1_n: c,
-                },
-            )
+                .map(|r| Some((r.pressure_convention, r.hertz_pressure_pa, load(r)?)))
+                .collect();
+            Self::of_rows(&rows?)
         })
     }
+
+    /// The map of rows (pressure convention, Hertz pressure in Pa, normal force in N) of one
+    /// convention and one contact (every p / F^(1/3) equal to 1 part in 10⁶), else `None`:
+    /// the training data of an imported model, as columns of a table.
+    pub fn of_rows(rows: &[(greybox_core::dataset::PressureConvention, f64, f64)]) -> Option<Self> {
+        let (convention, _, _) = *rows.first()?;
+        if rows.iter().any(|r| r.0 != convention) {
+            return None;
+        }
+        let cs: Vec<f64> = rows.iter().map(|(_, p, f)| p / f.cbrt()).collect();
+        let c = cs[0];
+        (c.is_finite() && c > 0.0 && cs.iter().all(|x| (x / c - 1.0).abs() < 1e-6)).then_some(
+            ForcePressure {
+                pressure_convention: convention,
+                pressure_pa_at_1_n: c,
+            },
+        )
+    }
+
 }
 
 /// What to do when a point lies outside the training domain.

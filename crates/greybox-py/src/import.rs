@@ -5,7 +5,9 @@ use crate::laws::Model;
 use crate::{py_err, run_interruptible};
 use greybox_contact::PinContact;
 use greybox_import::{Calibration, Domain, ImportOptions};
-use greybox_model::modelfile::FeatureRange;
+use greybox_core::dataset::PressureConvention;
+use greybox_core::units::mpa_to_pa;
+use greybox_model::modelfile::{FeatureRange, ForcePressure};
 use greybox_pipeline::import::{ContactSpec, CONTACT_KEYS};
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
@@ -42,6 +44,19 @@ fn contact(json: Option<&str>, study: Option<PathBuf>) -> PyResult<Option<PinCon
     ContactSpec { study, fields }.resolve().map_err(py_err)
 }
 
+/// The contact of a friction dataset's columns (pressure convention names, Hertz pressures
+/// in MPa, normal forces in N), when they share one.
+fn force_to_pressure(
+    (conventions, pressure_mpa, force_n): (Vec<String>, Vec<f64>, Vec<f64>),
+) -> Option<ForcePressure> {
+    let rows: Option<Vec<_>> = conventions
+        .iter()
+        .zip(pressure_mpa.iter().zip(&force_n))
+        .map(|(c, (p, f))| Some((PressureConvention::parse(c)?, mpa_to_pa(*p), *f)))
+        .collect();
+    ForcePressure::of_rows(&rows?)
+}
+
 /// Import a model: `source` is a file path (XGBoost JSON/UBJSON, a greybox-sklearn JSON) or,
 /// with `is_json`, the JSON text of a scikit-learn export. The domain comes from `domain`
 /// ((min, max) per feature) or `x_train`; `x_cal`/`y_cal` give the split-conformal interval.
@@ -49,7 +64,11 @@ fn contact(json: Option<&str>, study: Option<PathBuf>) -> PyResult<Option<PinCon
 /// `contact_json` (a JSON object of the study's `[contact]` keys) and `contact_study` (a study
 /// TOML whose `[contact]` table it overrides) state the pin contact of a model trained on a
 /// normal force.
-#[pyo3(signature = (source, features = None, target = "cof_adhesive", domain = None, x_train = None, x_cal = None, y_cal = None, coverage = 0.95, is_json = false, contact_json = None, contact_study = None))]
+/// `training_data` is a CSV of the training rows (as `greybox import --training-data`: a
+/// greybox friction dataset also gives its contact); `training_contact` the friction
+/// dataset columns (pressure_convention, hertz_pressure_MPa, normal_force_N) of `x_train`'s
+/// table, from which its contact is taken the same way.
+#[pyo3(signature = (source, features = None, target = "cof_adhesive", domain = None, x_train = None, x_cal = None, y_cal = None, coverage = 0.95, is_json = false, contact_json = None, contact_study = None, training_data = None, training_contact = None))]
 #[allow(clippy::too_many_arguments)]
 fn import_model(
     py: Python<'_>,
@@ -64,18 +83,24 @@ fn import_model(
     is_json: bool,
     contact_json: Option<&str>,
     contact_study: Option<PathBuf>,
+    training_data: Option<PathBuf>,
+    training_contact: Option<(Vec<String>, Vec<f64>, Vec<f64>)>,
 ) -> PyResult<Model> {
     let contact = contact(contact_json, contact_study)?;
-    let domain = match (domain, &x_train) {
-        (Some(d), None) => Domain::Stated(
+    let domain = match (domain, &x_train, training_data) {
+        (Some(d), None, None) => Domain::Stated(
             d.into_iter()
                 .map(|(min, max)| FeatureRange { min, max })
                 .collect(),
         ),
-        (None, Some(x)) => Domain::Rows(rows(x)),
+        (None, Some(x), None) => Domain::Rows {
+            x: rows(x),
+            force_to_pressure: training_contact.and_then(force_to_pressure),
+        },
+        (None, None, Some(path)) => Domain::Data(path),
         _ => {
             return Err(py_err(anyhow::anyhow!(
-                "state the training domain: domain=[(min, max), …] or the training rows x_train"
+                "state the training domain, one way: domain=[(min, max), …], the training rows X_train, or the training_data CSV"
             )))
         }
     };

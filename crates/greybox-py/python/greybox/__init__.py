@@ -780,21 +780,61 @@ def _contact(contact: Any) -> tuple:
     raise GreyboxError(f"contact: expected a dict of the study's [contact] keys or a study TOML path, got {type(contact).__name__}")
 
 
-def _import(source: str, is_json: bool, features, target, domain, X_train, X_cal, y_cal, coverage, contact) -> Model:
+_DATASET_CONTACT = ("pressure_convention", "hertz_pressure_MPa", "normal_force_N")
+
+
+def _columns_of(x: Any) -> Optional[list]:
+    """The column names of a DataFrame or a dict table, else None (an array)."""
+    if hasattr(x, "columns"):
+        return [str(c) for c in x.columns]
+    if isinstance(x, dict):
+        return list(x)
+    return None
+
+
+def _by_name(x: Any, features: Optional[Sequence[str]], name: str) -> Any:
+    """A table's feature columns in the model's input order, taken by name (an array as is):
+    reordered columns cannot swap a model's inputs."""
+    cols = _columns_of(x)
+    if cols is None:
+        return _f64_2d(x, name)
+    if features is None:
+        raise GreyboxError(f"{name}: a table's columns are taken by name: give features=[…] in the model's input order (its columns: {', '.join(cols)})")
+    missing = [f for f in features if f not in cols]
+    if missing:
+        raise GreyboxError(f"{name}: no column {', '.join(missing)} (its columns: {', '.join(cols)})")
+    return _f64_2d(np.column_stack([np.asarray(x[f], dtype=float) for f in features]), name)
+
+
+def _training_contact(x: Any) -> Optional[tuple]:
+    """The friction dataset columns of a training table (gb.read_dataset), from which its
+    contact is taken as ``greybox import --training-data`` takes it from the CSV."""
+    cols = _columns_of(x)
+    if cols is None or not all(c in cols for c in _DATASET_CONTACT):
+        return None
+    conv, p, f = (x[c] for c in _DATASET_CONTACT)
+    return [str(c) for c in conv], np.asarray(p, dtype=float).tolist(), np.asarray(f, dtype=float).tolist()
+
+
+def _import(source: str, is_json: bool, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data=None) -> Model:
     contact_json, contact_study = _contact(contact)
+    if features is None and X_train is not None and _columns_of(X_train) is not None and is_json:
+        features = json.loads(source).get("feature_names")
     return Model(
         _native.import_model(
             source,
-            None if features is None else list(features),
+            None if features is None else _strs(features, "features"),
             target,
             None if domain is None else [(float(a), float(b)) for a, b in domain],
-            None if X_train is None else _f64_2d(X_train, "X_train"),
-            None if X_cal is None else _f64_2d(X_cal, "X_cal"),
+            None if X_train is None else _by_name(X_train, features, "X_train"),
+            None if X_cal is None else _by_name(X_cal, features, "X_cal"),
             None if y_cal is None else _f64(y_cal, "y_cal"),
             coverage,
             is_json,
             contact_json,
             contact_study,
+            _opt_path(training_data, "training_data"),
+            None if X_train is None else _training_contact(X_train),
         )
     )
 
@@ -809,6 +849,7 @@ def from_sklearn(
     y_cal: Any = None,
     coverage: float = 0.95,
     contact: Any = None,
+    training_data: Optional[PathLike] = None,
 ) -> Model:
     """A fitted scikit-learn regressor as a greybox model: RandomForestRegressor,
     ExtraTreesRegressor, GradientBoostingRegressor, SVR (linear, poly, rbf, sigmoid) or
@@ -816,7 +857,13 @@ def from_sklearn(
 
     ``features`` name the inputs with unit suffixes (default: ``feature_names_in_``). State
     the training domain as ``domain=[(min, max), …]`` or give ``X_train``. Rows the model
-    was not trained on (``X_cal``, ``y_cal``) give a split-conformal interval.
+    was not trained on (``X_cal``, ``y_cal``) give a split-conformal interval. A DataFrame
+    (or a dict table) is read by column name in the order of ``features``, never by
+    position; ``training_data`` is the training CSV instead (as ``greybox import
+    --training-data``). Training data that is a greybox friction dataset (the CSV, or its
+    table from :func:`read_dataset`) also gives the model its contact, as on the command
+    line. A feature set that cannot be a friction law μ(p, v[, T]) — no velocity, two
+    force or pressure features — is refused here, naming what is missing.
 
     ``contact`` states the tribometer's pin contact, needed for a model trained on a normal
     force (``normal_force_N``) to be a friction law (:meth:`Model.law`, :meth:`Model.mu`,
@@ -831,7 +878,7 @@ def from_sklearn(
     ``_degC``; force ``_N``, ``_kN``); others are refused. Tree
     predictions agree with scikit-learn to rounding of the sum (splits bit-exact, including
     its float32 input cast); SVR and MLP to rounding."""
-    return _import(export_sklearn_json(estimator), True, features, target, domain, X_train, X_cal, y_cal, coverage, contact)
+    return _import(export_sklearn_json(estimator), True, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
 
 
 def from_xgboost(
@@ -844,18 +891,21 @@ def from_xgboost(
     y_cal: Any = None,
     coverage: float = 0.95,
     contact: Any = None,
+    training_data: Optional[PathLike] = None,
 ) -> Model:
     """An XGBoost model (a ``Booster``, an ``XGBRegressor`` or a path to a booster saved as
     JSON or UBJSON) as a greybox model whose predictions equal ``Booster.predict`` bit for
     bit (float32 splits and float32 sums reproduced). Other arguments as in
     :func:`from_sklearn`."""
     if isinstance(booster, (str, os.PathLike)):
-        return _import(os.fspath(booster), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact)
+        return _import(os.fspath(booster), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
     b = booster.get_booster() if hasattr(booster, "get_booster") else booster
+    if features is None and getattr(b, "feature_names", None):
+        features = list(b.feature_names)
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "booster.ubj")
         b.save_model(path)
-        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage, contact)
+        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
 
 
 def grey_box_law(
@@ -897,11 +947,12 @@ def import_model(
     y_cal: Optional[ArrayLike] = None,
     coverage: float = 0.95,
     contact: Any = None,
+    training_data: Optional[PathLike] = None,
 ) -> Model:
     """A model file of another library, as ``greybox import`` reads it: an XGBoost booster
     (JSON/UBJSON), an ONNX model, or a scikit-learn export written from
     :func:`export_sklearn`. Other arguments as in :func:`from_sklearn`."""
-    return _import(_path(path, "path"), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact)
+    return _import(_path(path, "path"), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
 
 
 def from_onnx(
@@ -914,6 +965,7 @@ def from_onnx(
     y_cal: Any = None,
     coverage: float = 0.95,
     contact: Any = None,
+    training_data: Optional[PathLike] = None,
 ) -> Model:
     """An ONNX model (a path, the file's bytes, or an ``onnx.ModelProto``) converted into a
     greybox model — tree ensembles (``TreeEnsembleRegressor``), SVMs (``SVMRegressor``),
@@ -923,13 +975,13 @@ def from_onnx(
     float32 rounding (the runtime computes in float32). ONNX graphs carry no usable feature
     names: state ``features`` with units. Other arguments as in :func:`from_sklearn`."""
     if isinstance(model, (str, os.PathLike)):
-        return _import(os.fspath(model), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact)
+        return _import(os.fspath(model), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
     data = model if isinstance(model, (bytes, bytearray)) else model.SerializeToString()
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "model.onnx")
         with open(path, "wb") as f:
             f.write(data)
-        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage, contact)
+        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
 
 
 def _law_path(law: Any, tmp: str) -> str:
