@@ -22,6 +22,7 @@ mod cmd_synth;
 mod cmd_wear;
 mod cmd_windows;
 mod count_help;
+mod export_help;
 mod output;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
@@ -134,7 +135,8 @@ fn main() {
         eprintln!("warning: rayon thread pool: {e}");
     }
     greybox_pipeline::output::remove_temporaries_on_interrupt();
-    let matches = count_help::state_count_ranges(Cli::command()).get_matches();
+    let command = export_help::state_export_defaults(Cli::command());
+    let matches = count_help::state_count_ranges(command).get_matches();
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     greybox_pipeline::progress_display::Mode::choose(cli.quiet).install();
     cli.budget.install();

@@ -6,7 +6,7 @@ mod common;
 
 use common::{err, greybox, ok};
 use greybox_core::choice::Choice;
-use greybox_pipeline::export::{export, ExportFormat, ExportOptions, ExportOverrides};
+use greybox_pipeline::export::{export, AxisValues, ExportFormat, ExportOptions, ExportOverrides};
 use std::path::Path;
 
 /// A law that depends on pressure (Usui–Childs: the friction stress saturates at m·k).
@@ -77,8 +77,8 @@ fn same_file(format: ExportFormat, flags: &[&str], overrides: ExportOverrides) -
 #[test]
 fn overrides_in_the_clis_units_give_the_librarys_si_options() {
     let grid = ExportOverrides {
-        pressure_Pa: Some(vec![100e6, 300e6, 500e6, 700e6, 900e6]),
-        velocity_m_per_s: Some(vec![0.5, 1.0, 2.0]),
+        pressure_Pa: Some(AxisValues(vec![100e6, 300e6, 500e6, 700e6, 900e6])),
+        velocity_m_per_s: Some(AxisValues(vec![0.5, 1.0, 2.0])),
         ..Default::default()
     };
     let grid_flags = [
@@ -112,7 +112,7 @@ fn overrides_in_the_clis_units_give_the_librarys_si_options() {
         ExportFormat::Abaqus,
         &flags,
         ExportOverrides {
-            temperature_K: Some(vec![300.0, 600.0]),
+            temperature_K: Some(AxisValues(vec![300.0, 600.0])),
             taumax_Pa: Some(350e6),
             temperature_unit: Some("K".parse().unwrap()),
             ..grid.clone()

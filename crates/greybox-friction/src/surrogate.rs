@@ -33,9 +33,26 @@ pub struct SurrogateOptions {
     pub max_size: usize,
 }
 
+/// The default tolerance of adaptive tables and grids: max |Δμ| on the check set.
+///
+/// 10⁻³, an order of magnitude below the repeatability of measured friction coefficients
+/// (±0.01–0.02 between pin-on-disk tests, ASTM G99 §12), and affordable for the laws users
+/// tabulate: a grey-box law has creases where its clamp, its shear cap or its power law's
+/// bounds take over, and across a crease running diagonally through (p, v) bilinear
+/// interpolation errs by about h·|Δ∇μ|/4 whatever the spacing elsewhere. A tensor-product
+/// table must refine whole grid lines to shrink h there, so its size grows as the
+/// tolerance's inverse square: the demo's law needs ≈ 7·10⁶ nodes for 10⁻⁴ and 7·10⁴ for
+/// 10⁻³.
+pub const DEFAULT_TOLERANCE: f64 = 1e-3;
+/// The default number of random states of a table's deviation check.
+pub const DEFAULT_CHECK_POINTS: usize = 100_000;
+/// The default largest table, in values (cells or nodes).
+pub const DEFAULT_MAX_SIZE: usize = 1 << 22;
+
 impl SurrogateOptions {
-    /// Defaults over a box: automatic kind, tolerance 1e-4, 100 000 check states, 4 Mi
-    /// values at most, 201 points per axis for a uniform table.
+    /// Defaults over a box: automatic kind, [`DEFAULT_TOLERANCE`], [`DEFAULT_CHECK_POINTS`]
+    /// check states, [`DEFAULT_MAX_SIZE`] values at most, 201 points per axis for a uniform
+    /// table.
     pub fn over(p: Range, v: Range, t: Option<Range>) -> Self {
         SurrogateOptions {
             kind: None,
@@ -43,10 +60,10 @@ impl SurrogateOptions {
             velocity_m_s: v,
             temperature_k: t,
             uniform_points: [201, 201, 21],
-            tolerance: 1e-4,
-            check_points: 100_000,
+            tolerance: DEFAULT_TOLERANCE,
+            check_points: DEFAULT_CHECK_POINTS,
             seed: 1,
-            max_size: 1 << 22,
+            max_size: DEFAULT_MAX_SIZE,
         }
     }
     /// Defaults over a law's validity domain.

@@ -6,6 +6,16 @@ import os
 import numpy as np
 import pytest
 
+def greybox_cli() -> str:
+    """The greybox binary the differential tests compare against, found without any
+    environment variable: this checkout's release build, else `greybox` on PATH
+    (GREYBOX_CLI, when set, wins)."""
+    import shutil
+
+    built = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "target", "release", "greybox")
+    return os.environ.get("GREYBOX_CLI") or (built if os.path.exists(built) else shutil.which("greybox") or built)
+
+
 # Under CI the reference libraries and the CLI must be there: the tests that use them run,
 # never skip (GREYBOX_REQUIRE_REFERENCES=1 makes a missing one an error here).
 if os.environ.get("GREYBOX_REQUIRE_REFERENCES") == "1":
@@ -16,7 +26,7 @@ if os.environ.get("GREYBOX_REQUIRE_REFERENCES") == "1":
     import sklearn  # noqa: F401
     import xgboost  # noqa: F401
 
-    _cli = os.environ.get("GREYBOX_CLI") or os.path.join(os.path.dirname(__file__), "..", "..", "..", "target", "release", "greybox")
+    _cli = greybox_cli()
     assert os.path.exists(_cli), f"GREYBOX_REQUIRE_REFERENCES=1 but the greybox binary {_cli} is missing"
 
 

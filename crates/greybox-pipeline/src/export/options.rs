@@ -101,11 +101,14 @@ pub type TableSize = Count<1, { 1 << 28 }>;
 /// Values of one grid axis given as `MIN:MAX:N`.
 pub type AxisPoints = Count<2, 1_000_000>;
 /// The default number of random points of the deviation check.
-pub const DEFAULT_CHECK_POINTS: CheckPoints = CheckPoints::of(100_000);
-/// The default tolerance of adaptive tables and grids (max |Δμ| on the check set).
-pub const DEFAULT_TOLERANCE: f64 = 1e-4;
+pub const DEFAULT_CHECK_POINTS: CheckPoints =
+    CheckPoints::of(greybox_friction::surrogate::DEFAULT_CHECK_POINTS as u64);
+/// The default tolerance of adaptive tables and grids (max |Δμ| on the check set; see
+/// [`greybox_friction::surrogate::DEFAULT_TOLERANCE`] for why 10⁻³).
+pub const DEFAULT_TOLERANCE: f64 = greybox_friction::surrogate::DEFAULT_TOLERANCE;
 /// The default largest table, in values (engine-table points, surrogate cells or nodes).
-pub const DEFAULT_MAX_TABLE_SIZE: TableSize = TableSize::of(1 << 22);
+pub const DEFAULT_MAX_TABLE_SIZE: TableSize =
+    TableSize::of(greybox_friction::surrogate::DEFAULT_MAX_SIZE as u64);
 
 /// Each engine with its own options.
 #[derive(Debug, Clone, PartialEq)]
@@ -308,34 +311,194 @@ impl ExportOptions {
     }
 }
 
-/// The options a surface overrides, by their names with units (SI: the command line
-/// converts its edge units first). `None` keeps the default. Python passes these as keyword
-/// arguments, JSON and sweep files as a table with these keys.
+/// The options a surface overrides, by their names with units, SI. `None` keeps the
+/// format's default ([`ExportOverrides::defaults_of`]; the command line states them in its
+/// help). Python passes these as keyword arguments, JSON and sweep files as a table with
+/// these keys; the command line's flags are the same fields, their edge units (MPa, m/min)
+/// converted by the flag's parser.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub struct ExportOverrides {
-    pub pressure_Pa: Option<Vec<f64>>,
-    pub velocity_m_per_s: Option<Vec<f64>>,
-    pub temperature_K: Option<Vec<f64>>,
-    /// Abaqus and LS-DYNA: the model's unit system.
+    /// Pressures, MPa: MIN:MAX:N (equidistant) or a comma list.
+    #[cfg_attr(feature = "cli", arg(long = "pressure-MPa", value_parser = edge::pressures_mpa))]
+    pub pressure_Pa: Option<AxisValues>,
+    /// Sliding velocities, m/min: MIN:MAX:N or a comma list.
+    #[cfg_attr(feature = "cli", arg(long = "velocity-m-per-min", value_parser = edge::velocities_m_per_min))]
+    pub velocity_m_per_s: Option<AxisValues>,
+    /// Temperatures, K: MIN:MAX:N or a comma list (none: μ(p, v) only).
+    #[cfg_attr(feature = "cli", arg(long = "temperature-K", value_parser = edge::temperatures_k))]
+    pub temperature_K: Option<AxisValues>,
+    /// Abaqus/LS-DYNA: the model's consistent unit system (pressure and slip-rate units
+    /// follow from it).
+    #[cfg_attr(feature = "cli", arg(long,
+        value_parser = greybox_core::choice::clap_parsers::choice::<UnitSystem>()))]
     pub units: Option<UnitSystem>,
-    /// Abaqus and LS-DYNA: K or C.
+    /// Abaqus/LS-DYNA temperature unit.
+    #[cfg_attr(feature = "cli", arg(long,
+        value_parser = greybox_core::choice::clap_parsers::choice::<TempUnit>()))]
     pub temperature_unit: Option<TempUnit>,
-    /// Abaqus: TAUMAX, Pa.
+    /// Abaqus TAUMAX (limiting shear stress), MPa.
+    #[cfg_attr(feature = "cli", arg(long = "taumax-MPa",
+        value_parser = greybox_core::units::clap_parsers::mpa_as_pa))]
     pub taumax_Pa: Option<f64>,
+    /// DEFORM: sliding velocity at which the FRCFAC p-T table is evaluated, m/min.
+    #[cfg_attr(feature = "cli", arg(long = "deform-reference-velocity-m-per-min",
+        value_parser = greybox_core::units::clap_parsers::m_per_min_as_m_per_s))]
     pub deform_reference_velocity_m_per_s: Option<f64>,
-    /// DEFORM: (tool, workpiece).
+    /// DEFORM: object numbers TOOL,WORKPIECE.
+    #[cfg_attr(feature = "cli", arg(long, value_parser = edge::object_pair))]
     pub deform_objects: Option<[u32; 2]>,
+    /// DEFORM: JSON list of windows {points_mm, pressure_mpa, velocity_m_per_min, temperature_k}.
+    #[cfg_attr(feature = "cli", arg(long))]
     pub deform_windows: Option<PathBuf>,
+    /// LS-DYNA table id (curves take the following ids).
+    #[cfg_attr(feature = "cli", arg(long))]
     pub lsdyna_table_id: Option<u32>,
-    /// Surrogate table: exact, adaptive or uniform.
+    /// Surrogate table (format table): exact, adaptive (over the box of the grid) or
+    /// uniform (the grid itself, equidistant); default: exact for tree ensembles, adaptive
+    /// otherwise.
+    #[cfg_attr(feature = "cli", arg(long,
+        value_parser = greybox_core::choice::clap_parsers::choice::<TableKind>()))]
     pub table_kind: Option<TableKind>,
+    /// Random points of the deviation check of every format (cell centres and the
+    /// neighbours of every grid line come on top); 0: no check.
+    #[cfg_attr(feature = "cli", arg(long))]
     pub check_points: Option<CheckPoints>,
+    /// Engine tables: grid lines at the split thresholds of tree ensembles, two points one
+    /// float apart per threshold (exact for engines that interpolate linearly); auto: for
+    /// tree-ensemble laws.
+    #[cfg_attr(feature = "cli", arg(long,
+        value_parser = greybox_core::choice::clap_parsers::choice::<StepLines>()))]
     pub steps: Option<StepLines>,
+    /// Engine tables: grid lines of an adaptive table over the box of the grid, refined to
+    /// the tolerance, instead of the given values.
+    #[cfg_attr(feature = "cli", arg(long, num_args = 0..=1, default_missing_value = "true"))]
     pub adaptive_grid: Option<bool>,
+    /// Adaptive table or grid: max deviation of μ from the law on its check set.
+    #[cfg_attr(feature = "cli", arg(long))]
     pub tolerance: Option<f64>,
+    /// Largest table in values (engine-table points, surrogate cells or nodes); a bigger
+    /// one is refused with its size.
+    #[cfg_attr(feature = "cli", arg(long = "max-table-size"))]
     pub max_table_size: Option<TableSize>,
+}
+
+/// The values of one grid axis, SI (JSON: a list of numbers).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct AxisValues(pub Vec<f64>);
+
+/// The command line's edge units of the export options, parsed into SI (clap value
+/// parsers, so that the flag and the field are one).
+#[cfg(feature = "cli")]
+pub mod edge {
+    use super::AxisValues;
+    use greybox_core::units::{m_per_min_to_m_per_s, mpa_to_pa};
+
+    fn axis(text: &str, field: &str, to_si: fn(f64) -> f64) -> Result<AxisValues, String> {
+        crate::export::parse_values(text, field)
+            .map(|v| AxisValues(v.into_iter().map(to_si).collect()))
+            .map_err(|e| format!("{e:#}"))
+    }
+    pub fn pressures_mpa(text: &str) -> Result<AxisValues, String> {
+        axis(text, "export.pressure_MPa", mpa_to_pa)
+    }
+    pub fn velocities_m_per_min(text: &str) -> Result<AxisValues, String> {
+        axis(text, "export.velocity_m_per_min", m_per_min_to_m_per_s)
+    }
+    pub fn temperatures_k(text: &str) -> Result<AxisValues, String> {
+        axis(text, "export.temperature_K", |t| t)
+    }
+    /// A default in the flag's unit: grids as `MIN:MAX:N` when equidistant.
+    fn shown(field: &str, value: &serde_json::Value) -> Option<String> {
+        use greybox_core::units::{m_per_s_to_m_per_min, pa_to_mpa};
+        let edge: fn(f64) -> f64 = match field {
+            "pressure_Pa" | "taumax_Pa" => pa_to_mpa,
+            "velocity_m_per_s" | "deform_reference_velocity_m_per_s" => m_per_s_to_m_per_min,
+            _ => |x| x,
+        };
+        let number = |x: f64| greybox_core::units::Compact(edge(x)).to_string();
+        Some(match value {
+            serde_json::Value::Null => return None,
+            serde_json::Value::Number(n) => number(n.as_f64()?),
+            serde_json::Value::Array(items) if items.len() > 2 => {
+                let v: Vec<f64> = items.iter().filter_map(|x| x.as_f64()).collect();
+                let (a, b, n) = (v[0], v[v.len() - 1], v.len());
+                let even = crate::export::equidistant(a, b, n)
+                    .iter()
+                    .zip(&v)
+                    .all(|(x, y)| (x - y).abs() <= 1e-9 * y.abs().max(1e-300));
+                if even {
+                    format!("{}:{}:{n}", number(a), number(b))
+                } else {
+                    v.iter().map(|x| number(*x)).collect::<Vec<_>>().join(",")
+                }
+            }
+            serde_json::Value::Array(items) => {
+                items.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(",")
+            }
+            serde_json::Value::String(t) => t.clone(),
+            other => other.to_string(),
+        })
+    }
+
+    /// Per option, its defaults as `--help` states them, in the flag's units, by format
+    /// where they differ (`MPa-mm-s for abaqus, lsdyna`): from
+    /// [`super::ExportOverrides::defaults_of`], so that no default is typed twice.
+    pub fn default_help() -> Vec<(String, String)> {
+        use greybox_core::choice::Choice;
+        let mut by_field: Vec<(String, Vec<(String, Vec<&str>)>)> = Vec::new();
+        for format in super::ExportFormat::ALL {
+            let d = serde_json::to_value(super::ExportOverrides::defaults_of(*format))
+                .expect("overrides serialize");
+            for (field, value) in d.as_object().into_iter().flatten() {
+                let Some(text) = shown(field, value) else {
+                    continue;
+                };
+                let at = match by_field.iter().position(|(f, _)| f == field) {
+                    Some(i) => i,
+                    None => {
+                        by_field.push((field.clone(), Vec::new()));
+                        by_field.len() - 1
+                    }
+                };
+                let texts = &mut by_field[at].1;
+                match texts.iter_mut().find(|(t, _)| *t == text) {
+                    Some((_, formats)) => formats.push(format.name()),
+                    None => texts.push((text, vec![format.name()])),
+                }
+            }
+        }
+        let all = super::ExportFormat::ALL.len();
+        by_field
+            .into_iter()
+            .map(|(field, texts)| {
+                let parts: Vec<String> = texts
+                    .iter()
+                    .map(|(t, f)| match f.len() == all {
+                        true => t.clone(),
+                        false => format!("{t} for {}", f.join(", ")),
+                    })
+                    .collect();
+                (field, parts.join("; "))
+            })
+            .collect()
+    }
+
+    /// Two object numbers, `TOOL,WORKPIECE`.
+    pub fn object_pair(s: &str) -> Result<[u32; 2], String> {
+        let n: Vec<u32> = s
+            .split(',')
+            .map(|x| {
+                x.trim()
+                    .parse()
+                    .map_err(|_| format!("'{x}' is not an object number"))
+            })
+            .collect::<Result<_, _>>()?;
+        <[u32; 2]>::try_from(n).map_err(|_| "expected two object numbers, TOOL,WORKPIECE".into())
+    }
 }
 
 impl ExportOverrides {
@@ -344,8 +507,8 @@ impl ExportOverrides {
         let o = ExportOptions::new(PathBuf::new(), format, PathBuf::new());
         let engine_tables = format != ExportFormat::Table;
         let mut d = ExportOverrides {
-            pressure_Pa: Some(o.grid.pressure_pa),
-            velocity_m_per_s: Some(o.grid.velocity_m_s),
+            pressure_Pa: Some(AxisValues(o.grid.pressure_pa)),
+            velocity_m_per_s: Some(AxisValues(o.grid.velocity_m_s)),
             check_points: Some(o.check_points),
             tolerance: Some(o.tolerance),
             max_table_size: Some(o.max_table_size),
@@ -391,40 +554,16 @@ impl ExportOverrides {
         crate::settings::from_json("export", text)
     }
 
-    /// Set the grid from values in the command line's units (`MIN:MAX:N` or comma lists:
-    /// pressures in MPa, sliding velocities in m/min, temperatures in K), converted to SI
-    /// the way the defaults are.
-    #[allow(non_snake_case)]
-    pub fn with_edge_grid(
-        mut self,
-        pressure_MPa: Option<&str>,
-        velocity_m_per_min: Option<&str>,
-        temperature_K: Option<&str>,
-    ) -> Result<Self> {
-        let values = |text: Option<&str>, field: &str, to_si: fn(f64) -> f64| {
-            text.map(|t| super::parse_values(t, field).map(|v| v.into_iter().map(to_si).collect()))
-                .transpose()
-        };
-        self.pressure_Pa = values(pressure_MPa, "export.pressure_MPa", mpa_to_pa)?;
-        self.velocity_m_per_s = values(
-            velocity_m_per_min,
-            "export.velocity_m_per_min",
-            m_per_min_to_m_per_s,
-        )?;
-        self.temperature_K = values(temperature_K, "export.temperature_K", |t| t)?;
-        Ok(self)
-    }
-
     fn apply_common(&self, o: &mut ExportOptions) {
-        let set = |v: &Option<Vec<f64>>, into: &mut Vec<f64>| {
+        let set = |v: &Option<AxisValues>, into: &mut Vec<f64>| {
             if let Some(v) = v {
-                *into = v.clone();
+                *into = v.0.clone();
             }
         };
         set(&self.pressure_Pa, &mut o.grid.pressure_pa);
         set(&self.velocity_m_per_s, &mut o.grid.velocity_m_s);
-        if self.temperature_K.is_some() {
-            o.grid.temperature_k = self.temperature_K.clone();
+        if let Some(t) = &self.temperature_K {
+            o.grid.temperature_k = Some(t.0.clone());
         }
         o.check_points = self.check_points.unwrap_or(o.check_points);
         o.steps = self.steps.unwrap_or(o.steps);

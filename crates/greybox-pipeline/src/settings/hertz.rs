@@ -32,7 +32,7 @@ pub enum HertzShape {
     /// Cylinder on a flat: line contact (needs `length_mm`).
     Cylinder,
 }
-greybox_core::choice!(HertzShape, "hertz.geometry", [Sphere => "sphere", Cylinder => "cylinder"]);
+greybox_core::choice!(HertzShape, "geometry", [Sphere => "sphere", Cylinder => "cylinder"]);
 
 /// One Hertz calculation as a user states it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

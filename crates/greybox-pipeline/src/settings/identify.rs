@@ -55,7 +55,7 @@ pub enum TestModeSetting {
     Stepped,
     Reciprocating,
 }
-greybox_core::choice!(TestModeSetting, "identify.test_mode", [
+greybox_core::choice!(TestModeSetting, "test_mode", [
     Auto => "auto", Continuous => "continuous", Stepped => "stepped",
     Reciprocating => "reciprocating",
 ]);

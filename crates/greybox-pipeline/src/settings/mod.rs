@@ -43,9 +43,13 @@ fn parse_keys<T: DeserializeOwned + Serialize>(text: &str) -> Result<T> {
     let value: T = serde_path_to_error::deserialize(&given).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner();
+        let text = inner.to_string();
+        // a value type that names its field already (`segment: 'x' is not one of …`)
+        let named = path.rsplit('.').next().is_some_and(|last| text.starts_with(&format!("{last}:")));
         match path.as_str() {
             "." | "" => anyhow::Error::new(inner),
-            _ => anyhow::anyhow!("{path}: {inner}"),
+            _ if named => anyhow::anyhow!("{text}"),
+            _ => anyhow::anyhow!("{path}: {text}"),
         }
     })?;
     // Every field serializes under its key, so a key the value does not write back is one

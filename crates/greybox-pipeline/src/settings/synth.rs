@@ -31,7 +31,7 @@ pub enum SynthFormats {
     Tdms,
     Both,
 }
-greybox_core::choice!(SynthFormats, "synth.format", [Csv => "csv", Tdms => "tdms", Both => "both"]);
+greybox_core::choice!(SynthFormats, "format", [Csv => "csv", Tdms => "tdms", Both => "both"]);
 
 impl SynthFormats {
     /// The formats written.

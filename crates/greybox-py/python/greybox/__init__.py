@@ -1021,13 +1021,13 @@ def export_table(
 ) -> dict:
     """Export a law (path or Model) as ``format`` — abaqus, deform, lsdyna, csv or table.
 
-    Every option left at ``None`` takes the library's default, the same as ``greybox export``
-    on the command line (see :func:`export_defaults`): the grid 500–2500 MPa × 10–300 m/min,
-    ``units="MPa-mm-s"`` (Abaqus, LS-DYNA: the model's consistent unit system, also
-    ``"Pa-m-s"`` and ``"MPa-mm-ms"``), ``temperature_unit="C"``, DEFORM objects ``(2, 1)``
-    (tool, workpiece) and its p–T table at 2.5 m/s, LS-DYNA table id 1000. Grid values and
-    options are SI (``pressure_Pa``, ``velocity_m_per_s``, ``temperature_K``,
-    ``taumax_Pa``); an option of another engine than ``format``'s is an error.
+    Every option left at ``None`` takes the library's default for ``format``, the same as
+    ``greybox export`` on the command line: ``export_defaults(format)`` lists them (the grid,
+    the engine's unit system — ``"MPa-mm-s"``, ``"Pa-m-s"`` or ``"MPa-mm-ms"`` —, its
+    temperature unit, DEFORM's objects and reference velocity, LS-DYNA's table id, the
+    tolerance). Grid values and options are SI (``pressure_Pa``, ``velocity_m_per_s``,
+    ``temperature_K``, ``taumax_Pa``); an option of another engine than ``format``'s is an
+    error.
 
     Tree-ensemble laws get two table points at each split threshold (``steps="auto"``), so an
     engine interpolating linearly reproduces the model exactly; a surrogate table

@@ -1,0 +1,179 @@
+"""Python and the command line as one surface: per stage, the same task through `greybox …`
+and through `gb.…`, **each with its own defaults** (nothing passed that a user would not
+pass), gives the same bytes; and every setting of a stage's library type is a keyword of its
+Python function, so no field is reachable from one surface only."""
+
+import glob
+import inspect
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import greybox as gb
+from conftest import greybox_cli
+
+CLI = greybox_cli()
+
+
+def cli(*args, cwd, ok=True):
+    r = subprocess.run([CLI, "-q", *map(str, args)], cwd=cwd, capture_output=True, text=True)
+    if ok:
+        assert r.returncode == 0, r.stderr
+    return r
+
+
+# The Python function of each stage and the library settings type it sends (the same JSON
+# `greybox <stage>` flattens into its flags).
+STAGES = {
+    "identify": gb.identify,
+    "synth": gb.synth,
+    "hertz": gb.hertz,
+    "fit": gb.fit,
+    "law": gb.grey_box_law,
+    "adhesive": gb.ploughing_correction,
+    "pin": gb.simulate_pin,
+    "couple": gb.couple,
+}
+# Python names for settings a function takes positionally under another name.
+POSITIONAL = {("hertz", "force_N"): "normal_force_N"}
+
+
+@pytest.mark.parametrize("stage", sorted(STAGES))
+def test_every_setting_of_a_stage_is_a_python_keyword(stage):
+    params = inspect.signature(STAGES[stage]).parameters
+    takes_plan = any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values())
+    plan = set(gb.settings_defaults("plan")) if takes_plan else set()
+    missing = [k for k in gb.settings_defaults(stage)
+               if POSITIONAL.get((stage, k), k) not in params and k not in plan]
+    assert not missing, f"gb.{STAGES[stage].__name__} lacks settings {missing}"
+
+
+def _rig_files(real_rigs):
+    files = sorted(f for f in glob.glob(os.path.join(real_rigs, "*", "*")) if os.path.isfile(f))
+    assert len(files) >= 5, files
+    return files
+
+
+def test_identify_with_each_sides_defaults_writes_the_same_dataset(tmp_path, real_rigs):
+    """Every real export of the corpus, nothing but the recording given: both surfaces
+    succeed with the same dataset bytes, or both refuse it."""
+    agreed = 0
+    for k, rec in enumerate(_rig_files(real_rigs)):
+        r = cli("identify", "--recordings", rec, "--out", f"cli{k}.csv", cwd=tmp_path, ok=False)
+        try:
+            table, summary = gb.identify(rec, tmp_path / f"py{k}.csv", as_frame=False)
+        except gb.GreyboxError as e:
+            assert r.returncode != 0, f"{rec}: Python refused ({e}) but the CLI identified it"
+            continue
+        assert r.returncode == 0, f"{rec}: the CLI refused ({r.stderr}) but Python identified it"
+        assert (tmp_path / f"cli{k}.csv").read_bytes() == (tmp_path / f"py{k}.csv").read_bytes(), rec
+        assert summary["pressure_convention"] == "textbook-max"  # no study behind the user's back
+        agreed += 1
+    assert agreed >= 3
+
+
+def test_a_studys_plan_is_used_when_it_has_one_on_both_surfaces(tmp_path):
+    study = gb.example("demo-study.toml")
+    (tmp_path / "study.toml").write_text(study)
+    cli("synth", "--study", "study.toml", "--normal-force-count", "2", "--velocity-count", "2",
+        "--out", "rec", cwd=tmp_path)
+    cli("identify", "--study", "study.toml", "--normal-force-count", "2", "--velocity-count", "2",
+        "--recordings", "rec", "--out", "cli.csv", cwd=tmp_path)
+    _, summary = gb.identify(tmp_path / "rec", tmp_path / "py.csv", study=tmp_path / "study.toml",
+                             normal_force_count=2, velocity_count=2)
+    assert (tmp_path / "cli.csv").read_bytes() == (tmp_path / "py.csv").read_bytes()
+    assert summary["pressure_convention"] == "article-eq7"  # the study's, because it was given
+
+
+def test_synth_with_each_sides_defaults_writes_the_same_recordings(tmp_path):
+    cli("synth", "--normal-force-count", "2", "--velocity-count", "2", "--out", "cli", cwd=tmp_path)
+    gb.synth(tmp_path / "py", normal_force_count=2, velocity_count=2)
+    names = sorted(os.listdir(tmp_path / "cli"))
+    assert names == sorted(os.listdir(tmp_path / "py"))
+    for n in names:
+        if n.endswith(".csv"):
+            assert (tmp_path / "cli" / n).read_bytes() == (tmp_path / "py" / n).read_bytes(), n
+
+
+def test_hertz_with_each_sides_defaults_gives_the_same_contact():
+    rows = json.loads(cli("hertz", "--force-N", "60", "500", "--json", cwd=".").stdout)
+    table = gb.hertz([60, 500], as_frame=False)
+    assert [r["max_pressure_mpa"] for r in rows] == table["max_pressure_mpa"].tolist()
+    assert [r["contact_half_width_mm"] for r in rows] == table["contact_half_width_mm"].tolist()
+
+
+def _fitted_model(tmp_path):
+    """A small model fitted by greybox (a contact recorded from its dataset)."""
+    rng = np.random.default_rng(3)
+    head = ("pin,step,normal_force_N,normal_force_measured_N,sliding_velocity_m_per_min,"
+            "hertz_pressure_MPa,pressure_convention,cof_apparent,cof_apparent_std,n_samples,"
+            "plateau_start_s,plateau_end_s,cof_trend_per_s,stationary,flags\n")
+    rows = []
+    for k in range(40):
+        f, v = 150 + 50 * (k % 8), 20 + 40 * (k // 8)
+        p = 1068.7 * (f / 60) ** (1 / 3)
+        rows.append(f"{k // 8 + 1},{k},{f},{f},{v},{p:.6f},textbook-max,{0.5 - 0.001 * v + rng.normal(0, 0.005):.5f},0.01,1000,1,2,0,true,\n")
+    (tmp_path / "ds.csv").write_text(head + "".join(rows))
+    gb.fit(tmp_path / "ds.csv", tmp_path / "fit", families=["svr"], skip_nested=True, bootstrap=10,
+           importance_repeats=2, folds=3)
+    return tmp_path / "fit" / "models" / "svr.json"
+
+
+def test_fit_and_the_law_with_each_sides_defaults_give_the_same_files(tmp_path):
+    _fitted_model(tmp_path)
+    cli("fit", "--data", "ds.csv", "--out", "cli-fit", "--families", "svr", "--skip-nested",
+        "--bootstrap", "10", "--importance-repeats", "2", "--folds", "3", cwd=tmp_path)
+    for f in ("report.json", "models/svr.json"):
+        a = json.loads((tmp_path / "fit" / f).read_text())
+        b = json.loads((tmp_path / "cli-fit" / f).read_text())
+        for d in (a, b):
+            d.pop("provenance", None)
+            d.pop("content_hash", None)
+            d.pop("wall_s", None)
+        assert a == b, f
+    cli("law", "--model", "fit/models/svr.json", "--out", "cli-law.json", cwd=tmp_path)
+    gb.grey_box_law("fit/models/svr.json", tmp_path / "py-law.json")
+    assert (tmp_path / "cli-law.json").read_bytes() == (tmp_path / "py-law.json").read_bytes()
+    law = json.loads((tmp_path / "py-law.json").read_text())
+    # the file states the cap and the contact, even where they are the defaults
+    assert "shear_cap_k_mpa" in law and law["shear_cap_k_mpa"] is None
+    assert "contact" in law["inner"]
+
+
+def test_the_demos_law_exports_a_default_table_on_both_surfaces(tmp_path):
+    """`greybox export --format table` of a grey-box law with a shear cap (the demo's)."""
+    model = _fitted_model(tmp_path)
+    gb.grey_box_law(model, tmp_path / "law.json", shear_cap_k_MPa=600)
+    cli("export", "--law", "law.json", "--format", "table", "--out", "cli.table", cwd=tmp_path)
+    gb.export_table(tmp_path / "law.json", "table", tmp_path / "py.table")
+    assert (tmp_path / "cli.table").read_bytes() == (tmp_path / "py.table").read_bytes()
+
+
+def test_import_reads_tables_by_name_and_takes_the_contact_from_training_data(tmp_path):
+    sk = pytest.importorskip("sklearn.ensemble")
+    pd = pytest.importorskip("pandas")
+    _fitted_model(tmp_path)
+    ds = gb.read_dataset(tmp_path / "ds.csv", as_frame=True)
+    X = ds[["normal_force_N", "sliding_velocity_m_per_min"]]
+    est = sk.RandomForestRegressor(n_estimators=5, random_state=0).fit(X, ds["cof_apparent"])
+    # the same training table, columns reordered: the same domain (taken by name)
+    a = gb.from_sklearn(est, X_train=X)
+    b = gb.from_sklearn(est, X_train=X[X.columns[::-1]])
+    assert a.training_domain == b.training_domain
+    # the dataset's table gives the contact, as --training-data gives it from the CSV
+    m = gb.from_sklearn(est, X_train=ds)
+    assert m.law().domain is not None
+    gb.export_sklearn(est, tmp_path / "rf.json")
+    cli("import", "rf.json", "--training-data", "ds.csv", "--out", "cli-rf.json", cwd=tmp_path)
+    via_cli = gb.load_model(tmp_path / "cli-rf.json")
+    via_py = gb.import_model(tmp_path / "rf.json", training_data=tmp_path / "ds.csv")
+    assert via_cli.training_domain == via_py.training_domain == m.training_domain
+    assert json.loads(via_cli.to_json())["force_to_pressure"] == json.loads(m.to_json())["force_to_pressure"]
+    # a feature set that can never be a friction law is refused at import, naming what is missing
+    est2 = sk.RandomForestRegressor(n_estimators=2, random_state=0).fit(ds[["normal_force_N", "hertz_pressure_MPa"]], ds["cof_apparent"])
+    with pytest.raises(gb.GreyboxError, match="no sliding velocity"):
+        gb.from_sklearn(est2, X_train=ds)
+    assert isinstance(pd.DataFrame, type)
