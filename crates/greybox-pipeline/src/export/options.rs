@@ -322,13 +322,13 @@ impl ExportOptions {
 #[allow(non_snake_case)]
 pub struct ExportOverrides {
     /// Pressures, MPa: MIN:MAX:N (equidistant) or a comma list.
-    #[cfg_attr(feature = "cli", arg(long = "pressure-MPa", value_parser = edge::pressures_mpa))]
+    #[cfg_attr(feature = "cli", arg(long = "pressure-MPa", value_name = "MPA_GRID", value_parser = edge::pressures_mpa))]
     pub pressure_Pa: Option<AxisValues>,
     /// Sliding velocities, m/min: MIN:MAX:N or a comma list.
-    #[cfg_attr(feature = "cli", arg(long = "velocity-m-per-min", value_parser = edge::velocities_m_per_min))]
+    #[cfg_attr(feature = "cli", arg(long = "velocity-m-per-min", value_name = "M_PER_MIN_GRID", value_parser = edge::velocities_m_per_min))]
     pub velocity_m_per_s: Option<AxisValues>,
     /// Temperatures, K: MIN:MAX:N or a comma list (none: μ(p, v) only).
-    #[cfg_attr(feature = "cli", arg(long = "temperature-K", value_parser = edge::temperatures_k))]
+    #[cfg_attr(feature = "cli", arg(long = "temperature-K", value_name = "K_GRID", value_parser = edge::temperatures_k))]
     pub temperature_K: Option<AxisValues>,
     /// Abaqus/LS-DYNA: the model's consistent unit system (pressure and slip-rate units
     /// follow from it).
@@ -340,11 +340,11 @@ pub struct ExportOverrides {
         value_parser = greybox_core::choice::clap_parsers::choice::<TempUnit>()))]
     pub temperature_unit: Option<TempUnit>,
     /// Abaqus TAUMAX (limiting shear stress), MPa.
-    #[cfg_attr(feature = "cli", arg(long = "taumax-MPa",
+    #[cfg_attr(feature = "cli", arg(long = "taumax-MPa", value_name = "MPA",
         value_parser = greybox_core::units::clap_parsers::mpa_as_pa))]
     pub taumax_Pa: Option<f64>,
     /// DEFORM: sliding velocity at which the FRCFAC p-T table is evaluated, m/min.
-    #[cfg_attr(feature = "cli", arg(long = "deform-reference-velocity-m-per-min",
+    #[cfg_attr(feature = "cli", arg(long = "deform-reference-velocity-m-per-min", value_name = "M_PER_MIN",
         value_parser = greybox_core::units::clap_parsers::m_per_min_as_m_per_s))]
     pub deform_reference_velocity_m_per_s: Option<f64>,
     /// DEFORM: object numbers TOOL,WORKPIECE.

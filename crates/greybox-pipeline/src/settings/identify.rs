@@ -178,7 +178,7 @@ pub struct IdentifySettings {
     pub constant_normal_force_N: Option<f64>,
     /// Sliding velocity, m/s, for rigs that do not record their speed (on the command line
     /// in m/min: `--constant-sliding-velocity-m-per-min`).
-    #[cfg_attr(feature = "cli", arg(long = "constant-sliding-velocity-m-per-min",
+    #[cfg_attr(feature = "cli", arg(long = "constant-sliding-velocity-m-per-min", value_name = "M_PER_MIN",
         value_parser = greybox_core::units::clap_parsers::m_per_min_as_m_per_s))]
     pub constant_sliding_velocity_m_per_s: Option<f64>,
     /// Spreadsheet sheet to read (default: the first holding a table).
