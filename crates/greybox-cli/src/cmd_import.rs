@@ -20,7 +20,7 @@ pub struct Args {
     #[arg(long, value_delimiter = ',')]
     pub features: Vec<String>,
     /// Target name.
-    #[arg(long, default_value = "cof_adhesive")]
+    #[arg(long, default_value = greybox_pipeline::import::DEFAULT_TARGET)]
     pub target: String,
     /// Training data (CSV with the feature columns): the training domain is taken from it.
     #[arg(long, conflicts_with = "domain")]
@@ -34,7 +34,7 @@ pub struct Args {
     #[arg(long)]
     pub calibration: Option<PathBuf>,
     /// Nominal coverage of the prediction interval.
-    #[arg(long, default_value_t = 0.95)]
+    #[arg(long, default_value_t = greybox_pipeline::import::DEFAULT_COVERAGE)]
     pub coverage: f64,
     #[command(flatten)]
     pub contact: ContactArgs,

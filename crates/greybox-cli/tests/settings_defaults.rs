@@ -3,9 +3,11 @@
 //! the command line and Python cannot drift apart again.
 
 use clap::Parser;
+use greybox_pipeline::export::ExportOverrides;
 use greybox_pipeline::settings::{
-    adhesive::AdhesiveSettings, couple::CoupleSettings, fit::FitSettings, pin::PinSettings,
-    plan::PlanSettings,
+    adhesive::AdhesiveSettings, couple::CoupleSettings, fit::FitSettings, hertz::HertzSettings,
+    identify::IdentifySettings, law::GreyBoxSettings, pin::PinSettings, plan::PlanSettings,
+    synth::SynthSettings,
 };
 use greybox_pipeline::simulate::RunOutput;
 use greybox_pipeline::sweep::settings::{CalibrateSettings, ExecutorSettings};
@@ -52,6 +54,57 @@ fn clap_and_serde_fill_in_the_same_defaults() {
         keys(r#"{"data": "d.csv"}"#),
     );
     same(flags::<RunOutput>(&[]), keys("{}"));
+    same(
+        flags::<IdentifySettings>(&["--recordings", "r.csv"]),
+        keys(r#"{"recordings": ["r.csv"]}"#),
+    );
+    same(flags::<SynthSettings>(&[]), keys("{}"));
+    same(
+        flags::<HertzSettings>(&["--force-N", "60"]),
+        keys(r#"{"force_N": [60]}"#),
+    );
+    same(
+        flags::<GreyBoxSettings>(&["--model", "m.json"]),
+        keys(r#"{"model": "m.json"}"#),
+    );
+    same(flags::<ExportOverrides>(&[]), keys("{}"));
+}
+
+#[test]
+fn a_flag_in_its_edge_unit_sets_the_si_field() {
+    same(
+        flags::<IdentifySettings>(&[
+            "--recordings",
+            "r.csv",
+            "--constant-sliding-velocity-m-per-min",
+            "30",
+            "--settle-s",
+            "0.5",
+            "--test-mode",
+            "reciprocating",
+            "--normal-force-count",
+            "3",
+        ]),
+        keys(
+            r#"{"recordings": ["r.csv"], "constant_sliding_velocity_m_per_s": 0.5,
+            "settle_time_s": 0.5, "test_mode": "reciprocating", "normal_force_count": 3}"#,
+        ),
+    );
+    same(
+        flags::<ExportOverrides>(&[
+            "--pressure-MPa",
+            "100,200",
+            "--taumax-MPa",
+            "350",
+            "--deform-reference-velocity-m-per-min",
+            "60",
+            "--adaptive-grid",
+        ]),
+        keys(
+            r#"{"pressure_Pa": [1e8, 2e8], "taumax_Pa": 3.5e8,
+            "deform_reference_velocity_m_per_s": 1.0, "adaptive_grid": true}"#,
+        ),
+    );
 }
 
 #[test]

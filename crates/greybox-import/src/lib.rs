@@ -52,6 +52,11 @@ pub struct Imported {
     pub feature_names: Option<Vec<String>>,
 }
 
+/// The target an imported model is taken to predict when none is named.
+pub const DEFAULT_TARGET: &str = "cof_adhesive";
+/// The nominal coverage of an imported model's prediction interval.
+pub const DEFAULT_COVERAGE: f64 = 0.95;
+
 /// Where the training domain comes from.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Domain {
@@ -102,14 +107,15 @@ pub struct ImportOptions {
 }
 
 impl ImportOptions {
-    /// Features as the source names them, target `cof_adhesive`, 95 % intervals.
+    /// Features as the source names them, target [`DEFAULT_TARGET`], intervals of
+    /// [`DEFAULT_COVERAGE`].
     pub fn new(domain: Domain) -> Self {
         ImportOptions {
             features: None,
-            target: "cof_adhesive".into(),
+            target: DEFAULT_TARGET.into(),
             domain,
             calibration: None,
-            coverage: 0.95,
+            coverage: DEFAULT_COVERAGE,
             contact: None,
         }
     }

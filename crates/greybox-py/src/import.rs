@@ -68,18 +68,18 @@ fn force_to_pressure(
 /// greybox friction dataset also gives its contact); `training_contact` the friction
 /// dataset columns (pressure_convention, hertz_pressure_MPa, normal_force_N) of `x_train`'s
 /// table, from which its contact is taken the same way.
-#[pyo3(signature = (source, features = None, target = "cof_adhesive", domain = None, x_train = None, x_cal = None, y_cal = None, coverage = 0.95, is_json = false, contact_json = None, contact_study = None, training_data = None, training_contact = None))]
+#[pyo3(signature = (source, features = None, target = None, domain = None, x_train = None, x_cal = None, y_cal = None, coverage = None, is_json = false, contact_json = None, contact_study = None, training_data = None, training_contact = None))]
 #[allow(clippy::too_many_arguments)]
 fn import_model(
     py: Python<'_>,
     source: &str,
     features: Option<Vec<String>>,
-    target: &str,
+    target: Option<String>,
     domain: Option<Vec<(f64, f64)>>,
     x_train: Option<PyReadonlyArray2<'_, f64>>,
     x_cal: Option<PyReadonlyArray2<'_, f64>>,
     y_cal: Option<PyReadonlyArray1<'_, f64>>,
-    coverage: f64,
+    coverage: Option<f64>,
     is_json: bool,
     contact_json: Option<&str>,
     contact_study: Option<PathBuf>,
@@ -115,10 +115,10 @@ fn import_model(
     };
     let opts = ImportOptions {
         features,
-        target: target.to_string(),
+        target: target.unwrap_or_else(|| greybox_import::DEFAULT_TARGET.into()),
         domain,
         calibration,
-        coverage,
+        coverage: coverage.unwrap_or(greybox_import::DEFAULT_COVERAGE),
         contact,
     };
     let source = source.to_string();

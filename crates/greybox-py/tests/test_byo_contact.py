@@ -35,8 +35,8 @@ def xgb(data):
 
 
 def pressure_pa(force_n):
-    h = gb.hertz(force_n, radius_mm=17.0, youngs_modulus_1_GPa=650.0, poisson_1=0.3,
-                 youngs_modulus_2_GPa=210.0, poisson_2=0.3, convention="article-eq7", as_frame=False)
+    h = gb.hertz(force_n, radius_mm=17.0, e1_GPa=650.0, nu1=0.3, e2_GPa=210.0, nu2=0.3,
+                 convention="article-eq7", as_frame=False)
     return np.asarray(h["convention_pressure_mpa"]) * 1e6
 
 
@@ -80,7 +80,9 @@ def test_contact_from_a_study_records_the_same_map(xgb, data, tmp_path):
     assert key(by_study) == key(by_dict)
     # the command line records the same map from the study, and its flags override the
     # study's keys as the keys of a Python dict state them
-    cli = os.environ.get("GREYBOX_CLI") or os.path.join(os.path.dirname(__file__), "..", "..", "..", "target", "release", "greybox")
+    from conftest import greybox_cli
+
+    cli = greybox_cli()
     if not os.path.exists(cli):
         pytest.skip("the greybox binary is not built (cargo build --release -p greybox-cli)")
     xgb.get_booster().save_model(tmp_path / "booster.ubj")

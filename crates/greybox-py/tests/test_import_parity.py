@@ -215,7 +215,9 @@ def test_python_and_the_command_line_report_the_same_error(tmp_path):
     import os
     import subprocess
 
-    cli = os.environ.get("GREYBOX_CLI") or os.path.join(os.path.dirname(__file__), "..", "..", "..", "target", "release", "greybox")
+    from conftest import greybox_cli
+
+    cli = greybox_cli()
     if not os.path.exists(cli):
         pytest.skip("the greybox binary is not built (cargo build --release -p greybox-cli)")
     bad = tmp_path / "bad.json"

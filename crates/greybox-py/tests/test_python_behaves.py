@@ -23,7 +23,7 @@ def adhesive(tmp_path_factory):
     """A small identified, ploughing-corrected campaign (4 × 4) to fit on."""
     d = tmp_path_factory.mktemp("behaves")
     gb.synth(d / "recordings", normal_force_count=4, velocity_count=4)
-    gb.identify([d / "recordings"], d / "dataset.csv", use_plan=True, normal_force_count=4, velocity_count=4)
+    gb.identify([d / "recordings"], d / "dataset.csv", normal_force_count=4, velocity_count=4)
     gb.ploughing_correction(d / "dataset.csv", d / "adhesive.csv")
     return d / "adhesive.csv"
 
@@ -31,7 +31,7 @@ def adhesive(tmp_path_factory):
 @pytest.fixture(scope="module")
 def model(adhesive, tmp_path_factory):
     out = tmp_path_factory.mktemp("fit") / "fit"
-    gb.fit(adhesive, out, config={"families": ["svr", "random-forest"], "skip_nested": True, "folds": 4, "bootstrap_resamples": 10, "importance_repeats": 2})
+    gb.fit(adhesive, out, families=["svr", "random-forest"], skip_nested=True, folds=4, bootstrap=10, importance_repeats=2)
     return gb.load_model(out / "models" / "svr.json"), gb.load_model(out / "models" / "random-forest.json")
 
 
@@ -66,13 +66,9 @@ def test_ctrl_c_stops_a_cut_and_leaves_no_output(tmp_path):
 
 def test_ctrl_c_stops_a_fit_and_leaves_no_output(adhesive, tmp_path):
     # a grid far too big to finish in the test (hundreds of MLP trainings)
-    config = {
-        "families": ["mlp"],
-        "folds": 4,
-        "inner_folds": 3,
-        "grid": {"mlp": {"hidden_layers": [[128, 128]] * 4, "learning_rate": [0.001 * (i + 1) for i in range(20)]}},
-    }
-    e, took = interrupted_after(0.5, lambda: gb.fit(adhesive, tmp_path / "fit", config=config))
+    grid = dict(families=["mlp"], folds=4, inner_folds=3, mlp_hidden=["128x128"] * 4,
+                mlp_learning_rate=[0.001 * (i + 1) for i in range(20)])
+    e, took = interrupted_after(0.5, lambda: gb.fit(adhesive, tmp_path / "fit", **grid))
     assert isinstance(e, KeyboardInterrupt), e
     assert took < 5.0, took
     assert os.listdir(tmp_path) == [], os.listdir(tmp_path)
@@ -83,12 +79,12 @@ def _bad_calls(tmp_path, model):
     m = model[0]
     p, v = np.array([1e9, 2e9]), np.array([1.0, 2.0])
     return [
-        (lambda: gb.hertz([100.0], "17", 650.0, 0.22, 210.0, 0.3), "radius_mm"),
-        (lambda: gb.hertz("heavy", 17.0, 650.0, 0.22, 210.0, 0.3), "normal_force_N"),
-        (lambda: gb.hertz([100.0], 17.0, None, 0.22, 210.0, 0.3), "youngs_modulus_1_GPa"),
+        (lambda: gb.hertz([100.0], radius_mm="17"), "radius_mm"),
+        (lambda: gb.hertz("heavy"), "normal_force_N"),
+        (lambda: gb.hertz([100.0], e1_GPa="stiff"), "e1_GPa"),
         (lambda: gb.synth(tmp_path / "s", normal_force_count=-1), "normal_force_count"),
         (lambda: gb.synth(3.5), "out"),
-        (lambda: gb.synth(tmp_path / "s", formats="csv"), "formats"),
+        (lambda: gb.synth(tmp_path / "s", format="xml"), "format"),
         (lambda: gb.read_recording(None), "path"),
         (lambda: gb.identify([tmp_path], tmp_path / "d.csv", velocity_count=-2), "velocity_count"),
         (lambda: gb.identify([tmp_path], tmp_path / "d.csv", track_radii_mm=["wide"]), "track_radii_mm"),
@@ -100,7 +96,7 @@ def _bad_calls(tmp_path, model):
         (lambda: gb.load_model(None), "path"),
         (lambda: gb.load_law(1), "path"),
         (lambda: gb.grey_box_law("m.json", "l.json", blend_fraction="x"), "blend_fraction"),
-        (lambda: gb.grey_box_law("m.json", "l.json", clamp=(0.1,)), "clamp"),
+        (lambda: gb.grey_box_law("m.json", "l.json", mu_min="low"), "mu_min"),
         (lambda: gb.export_table("l.json", "csv", "o.csv", p, v, check_points=-5), "check_points"),
         (lambda: gb.export_table("l.json", "csv", "o.csv", "x", v), "pressure_Pa"),
         (lambda: gb.export_table("l.json", "csv", "o.csv", p, v, tolerance="tight"), "tolerance"),
@@ -170,7 +166,7 @@ m = gb.load_model("svr.json")
 pred: gb.Prediction = m.mu(p, v, temperature_K=np.full(5, 300.0))
 vals: gb.LawValues = m.law().mu(pressure_Pa=p, velocity_m_per_s=[1.0, 2.0, 3.0, 4.0, 5.0])
 rows = m.predict(np.zeros((3, 2)))
-t = gb.hertz(np.array([100.0, 200.0]), 17.0, 650.0, 0.22, 210.0, 0.3)
+t = gb.hertz(np.array([100.0, 200.0]), radius_mm=17.0, e1_GPa=650.0, nu1=0.22)
 r = gb.export_table(m, "csv", "o.csv", pressure_Pa=p, velocity_m_per_s=v)
 ds = gb.identify(["recordings"], "d.csv", track_radii_mm=np.array([20.0]))
 """

@@ -11,7 +11,9 @@ import pytest
 import greybox as gb
 
 REPO = os.path.join(os.path.dirname(__file__), "..", "..", "..")
-CLI = os.environ.get("GREYBOX_CLI") or os.path.join(REPO, "target", "release", "greybox")
+from conftest import greybox_cli
+
+CLI = greybox_cli()
 FORMATS = ["abaqus", "deform", "lsdyna", "csv", "table"]
 LAW = '{"law": "usui-childs", "mu": 0.5, "m": 0.8, "n": 1.0, "k_MPa": 500}'
 
@@ -85,9 +87,8 @@ def test_identify_and_simulate_summaries_agree(tmp_path, real_rigs):
     rigs = real_rigs
     study = os.path.join(REPO, "examples", "demo-study.toml")
     rec = os.path.join(rigs, "phoenix-te", "PPS_60N_1.tsv")
-    channels = {"rig": "phoenix-te", "radius": {"name": "Radius", "unit": "mm"}}
-    _, py = gb.identify([rec], tmp_path / "py.csv", study=study, steady="last:50%",
-                        channels=channels, as_frame=False)
+    _, py = gb.identify([rec], tmp_path / "py.csv", study=study, no_plan=True, steady="last:50%",
+                        rig="phoenix-te", map=["radius=Radius:mm"], as_frame=False)
     out = cli("identify", "--study", study, "--no-plan", "--steady", "last:50%", "--rig", "phoenix-te",
               "--map", "radius=Radius:mm", "--recordings", rec, "--out", "cli.csv", "--json",
               cwd=tmp_path)
@@ -124,7 +125,7 @@ def test_every_identify_flag_is_a_python_setting_with_the_same_effect(tmp_path, 
     gb.identify(rec, tmp_path / "py.csv", steady="from:30s", rig="phoenix-te", map=["radius=Radius:mm"],
                 convention="article-eq7", settle_time_s=0.1, as_frame=False)
     assert (tmp_path / "cli.csv").read_bytes() == (tmp_path / "py.csv").read_bytes()
-    with pytest.raises(gb.GreyboxError, match="identify.segment: 'steps' is not one of auto"):
+    with pytest.raises(gb.GreyboxError, match="segment: 'steps' is not one of auto"):
         gb.identify(rec, tmp_path / "x.csv", segment="steps")
 
 

@@ -1,18 +1,18 @@
 //! The settings of a grey-box law around a fitted model (`greybox law`, Python's
 //! `grey_box_law`): one type, one default per field. The file written states every choice:
-//! the blend, the μ clamp, the shear cap (`null`: none) and the contact (`null`: the
-//! force-to-pressure map the model recorded from its training data).
+//! the blend, the μ clamp, the shear cap (`shear_cap_k_MPa`, `null`: none) and the contact
+//! (`null`: the force-to-pressure map the model recorded from its training data).
 //!
 //! ```
 //! use greybox_pipeline::settings::{from_json, law::GreyBoxSettings};
 //! let s: GreyBoxSettings = from_json("law", r#"{"model": "fit/models/svr.json"}"#)?;
 //! let law = serde_json::to_value(s.law()?)?;
-//! assert_eq!((law["blend_fraction"].as_f64(), law["shear_cap_k_mpa"].as_f64()), (Some(0.1), None));
+//! assert_eq!((law["blend_fraction"].as_f64(), law["shear_cap_k_MPa"].as_f64()), (Some(0.1), None));
 //! assert_eq!(law["clamp"], serde_json::json!([0.05, 1.0]));
 //! let capped: GreyBoxSettings = from_json("law",
 //!     r#"{"model": "m.json", "shear_cap_k_MPa": 600, "no_clamp": true}"#)?;
 //! let law = serde_json::to_value(capped.law()?)?;
-//! assert_eq!((law["shear_cap_k_mpa"].as_f64(), law["clamp"].is_null()), (Some(600.0), true));
+//! assert_eq!((law["shear_cap_k_MPa"].as_f64(), law["clamp"].is_null()), (Some(600.0), true));
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 

@@ -842,12 +842,12 @@ def _import(source: str, is_json: bool, features, target, domain, X_train, X_cal
 def from_sklearn(
     estimator: Any,
     features: Optional[Sequence[str]] = None,
-    target: str = "cof_adhesive",
+    target: Optional[str] = None,
     domain: Optional[Sequence[tuple]] = None,
     X_train: Any = None,
     X_cal: Any = None,
     y_cal: Any = None,
-    coverage: float = 0.95,
+    coverage: Optional[float] = None,
     contact: Any = None,
     training_data: Optional[PathLike] = None,
 ) -> Model:
@@ -884,12 +884,12 @@ def from_sklearn(
 def from_xgboost(
     booster: Any,
     features: Optional[Sequence[str]] = None,
-    target: str = "cof_adhesive",
+    target: Optional[str] = None,
     domain: Optional[Sequence[tuple]] = None,
     X_train: Any = None,
     X_cal: Any = None,
     y_cal: Any = None,
-    coverage: float = 0.95,
+    coverage: Optional[float] = None,
     contact: Any = None,
     training_data: Optional[PathLike] = None,
 ) -> Model:
@@ -940,12 +940,12 @@ def grey_box_law(
 def import_model(
     path: PathLike,
     features: Optional[Sequence[str]] = None,
-    target: str = "cof_adhesive",
+    target: Optional[str] = None,
     domain: Optional[Sequence[tuple]] = None,
     X_train: Optional[ArrayLike] = None,
     X_cal: Optional[ArrayLike] = None,
     y_cal: Optional[ArrayLike] = None,
-    coverage: float = 0.95,
+    coverage: Optional[float] = None,
     contact: Any = None,
     training_data: Optional[PathLike] = None,
 ) -> Model:
@@ -958,12 +958,12 @@ def import_model(
 def from_onnx(
     model: Any,
     features: Sequence[str],
-    target: str = "cof_adhesive",
+    target: Optional[str] = None,
     domain: Optional[Sequence[tuple]] = None,
     X_train: Any = None,
     X_cal: Any = None,
     y_cal: Any = None,
-    coverage: float = 0.95,
+    coverage: Optional[float] = None,
     contact: Any = None,
     training_data: Optional[PathLike] = None,
 ) -> Model:
