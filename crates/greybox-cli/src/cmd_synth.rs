@@ -4,6 +4,9 @@ use crate::output::print_json;
 use anyhow::Result;
 use greybox_pipeline::settings::synth::SynthSettings;
 
+/// The virtual tribometer: a study's campaign simulated into raw recordings and their
+/// ground truth. Without `--study`, the bundled example study (the article's campaign, as
+/// `greybox demo` runs it); the plan flags override either.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     #[command(flatten)]

@@ -51,7 +51,7 @@ fn hertz_rows(settings: &str) -> PyResult<String> {
     to_json(&serde_json::json!({"effective_modulus_pa": e_star, "rows": rows}))
 }
 
-/// The virtual tribometer: a study's plan (default: the library's default campaign)
+/// The virtual tribometer: a study's plan (default: the bundled example study)
 /// simulated into recordings and `ground_truth.csv`: JSON summary. `settings` is JSON of the
 /// library's [`SynthSettings`] (`out`, `study`, `format`, `seed`, the plan's overrides).
 #[pyfunction]

@@ -146,7 +146,7 @@ def test_an_adhesive_correction_is_the_same_from_python_and_the_cli(tmp_path):
     out = cli("adhesive", "--data", "ds.csv", "--pin-radius-mm", "1", "--track-width", "1000:400",
               "--track-width", "1500:500", "--out", "cli.csv", "--json", cwd=tmp_path)
     _, py = gb.ploughing_correction(tmp_path / "ds.csv", tmp_path / "py.csv", pin_radius_mm=1.0,
-                                    track_widths=[(1000, 400), (1500, 500)], as_frame=False)
+                                    track_width=[(1000, 400), (1500, 500)], as_frame=False)
     assert (tmp_path / "cli.csv").read_bytes() == (tmp_path / "py.csv").read_bytes()
     assert json.loads(out) == py
     # the defaults are the library's: the article's pin and Table 3 from both

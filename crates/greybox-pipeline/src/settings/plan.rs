@@ -71,7 +71,15 @@ impl PlanSettings {
     /// The study (or the default one) with these overrides; a new load or velocity range
     /// replaces the study's explicit lists.
     pub fn study(&self) -> Result<Study> {
-        let mut s = Study::load_or_default(self.study.as_deref())?;
+        self.study_over(Study::default())
+    }
+
+    /// The study file, else `base`, with these overrides.
+    pub fn study_over(&self, base: Study) -> Result<Study> {
+        let mut s = match &self.study {
+            Some(path) => Study::load(path)?,
+            None => base,
+        };
         let p = &mut s.plan;
         fn set<T: Copy>(dst: &mut T, src: Option<T>) {
             if let Some(v) = src {

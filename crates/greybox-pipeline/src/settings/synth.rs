@@ -1,6 +1,8 @@
 //! The settings of the virtual tribometer (`synth`): the study and its `[plan]` overrides,
 //! the output, the formats and the `[synth]` overrides, one type for the command line and
-//! Python. Without a study the library's default campaign is simulated.
+//! Python. Without a study the bundled example study (the article's campaign, rig and
+//! material) is simulated: a virtual rig needs every one of its parameters, and its
+//! recordings say what they are (ground_truth.csv, the study in the provenance).
 //!
 //! ```
 //! use greybox_pipeline::settings::{from_json, synth::{SynthSettings, SynthFormats}};
@@ -85,9 +87,10 @@ impl Default for SynthSettings {
 }
 
 impl SynthSettings {
-    /// The study (or the default one) with every override here.
+    /// The study (or the bundled example study) with every override here.
     pub fn study(&self) -> Result<Study> {
-        let mut study = self.plan.study()?;
+        let example = Study::parse(crate::study::DEMO_STUDY, "the bundled example study")?;
+        let mut study = self.plan.study_over(example)?;
         if let Some(s) = self.seed {
             study.synth.seed = s;
         }

@@ -465,7 +465,7 @@ def synth(
     **plan: Any,
 ) -> dict:
     """The virtual tribometer, as ``greybox synth``: a study's campaign (default: the
-    library's default campaign) simulated into raw recordings (``format`` ``"csv"``,
+    bundled example study, the article's campaign) simulated into raw recordings (``format`` ``"csv"``,
     ``"tdms"`` or ``"both"``) and ``ground_truth.csv`` in ``out`` (default ``synth-out``).
     ``plan`` takes the ``[plan]`` overrides by the library's names
     (``normal_force_count=2``, ``velocity_max_m_per_min=200``, see ``settings_defaults("plan")``).
@@ -585,7 +585,7 @@ def ploughing_correction(
     as_frame: Optional[bool] = None,
     *,
     method: Optional[str] = None,
-    track_widths: Optional[Sequence[tuple]] = None,
+    track_width: Optional[Sequence[Any]] = None,
     sim_loads: Optional[int] = None,
     sim_spacing_um: Optional[float] = None,
     sim_slide_mm: Optional[float] = None,
@@ -604,13 +604,14 @@ def ploughing_correction(
     sphere ploughing, the default), ``"simulation"`` (inverse pin sliding in plane strain,
     with the ``sim_*`` settings) or ``"simulation-3d"`` (the article's inverse route on a 3D
     spherical pin in CalculiX, with ``sim_tolerance``, ``sim_max_runs``, the ``sim3d_*``
-    settings and the ``ccx`` executable). Track widths: ``track_widths`` as
-    ``[(normal_force_N, width_um), …]`` and/or a CSV (normal_force_N, track_width_um), else
+    settings and the ``ccx`` executable). Track widths: ``track_width`` as
+    ``[(normal_force_N, width_um), …]`` (or ``"F:W"`` texts, as ``--track-width``) and/or a CSV (normal_force_N, track_width_um), else
     the article's Table 3. The settings and their defaults are ``greybox adhesive``'s, by the
     library's names (``None``: the default)."""
     widths = None
-    if track_widths is not None:
-        widths = [f"{float(f)!r}:{float(w)!r}" for f, w in (_pair(t, "track_widths") for t in _iterable(track_widths, "track_widths"))]
+    if track_width is not None:
+        widths = [t if isinstance(t, str) else "{!r}:{!r}".format(*map(float, _pair(t, "track_width")))
+                  for t in _iterable(track_width, "track_width")]
     settings = {
         "data": _path(data, "data"),
         "out": _path(out, "out"),
