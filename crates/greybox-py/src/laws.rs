@@ -358,3 +358,11 @@ impl Law {
         format!("Law({})", self.law.name())
     }
 }
+
+/// The files loading the law at `path` reads: the file itself first, then the model files
+/// and tables it names (resolved against its folder). The Python layer keeps their bytes so
+/// that a `Law` pickles (and is passed on) with its content, not a path to re-read later.
+#[pyfunction]
+pub fn law_files(py: Python<'_>, path: PathBuf) -> PyResult<Vec<PathBuf>> {
+    run_interruptible(py, || Ok(greybox_friction::spec::law_inputs(&path)?))
+}
