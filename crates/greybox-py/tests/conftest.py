@@ -1,10 +1,28 @@
 """Shared data for the Python tests: a friction-like dataset over the article's ranges
-(normal force 150–2000 N, sliding velocity 20–250 m/min) and seeded random query points."""
+(normal force 150–2000 N, sliding velocity 20–250 m/min) and seeded random query points; the
+greybox command line for the differential tests (:data:`GREYBOX_CLI`)."""
 
 import os
+import shutil
 
 import numpy as np
 import pytest
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+
+
+def find_cli():
+    """The greybox binary: ``greybox`` on PATH, else the checkout's ``target/release/greybox``
+    (``cargo build --release -p greybox-cli``); None when neither is there."""
+    on_path = shutil.which("greybox")
+    if on_path:
+        return on_path
+    built = os.path.join(REPO, "target", "release", "greybox")
+    return built if os.access(built, os.X_OK) else None
+
+
+#: The binary the differential tests compare against (None: they skip).
+GREYBOX_CLI = find_cli()
 
 # Under CI the reference libraries and the CLI must be there: the tests that use them run,
 # never skip (GREYBOX_REQUIRE_REFERENCES=1 makes a missing one an error here).
@@ -16,9 +34,16 @@ if os.environ.get("GREYBOX_REQUIRE_REFERENCES") == "1":
     import sklearn  # noqa: F401
     import xgboost  # noqa: F401
 
-    _cli = os.environ.get("GREYBOX_CLI") or os.path.join(os.path.dirname(__file__), "..", "..", "..", "target", "release", "greybox")
-    assert os.path.exists(_cli), f"GREYBOX_REQUIRE_REFERENCES=1 but the greybox binary {_cli} is missing"
+    assert GREYBOX_CLI is not None, "GREYBOX_REQUIRE_REFERENCES=1 but no greybox binary: not on PATH, nor at " + os.path.join(REPO, "target", "release", "greybox")
 
+
+@pytest.fixture(scope="session")
+def greybox_cli():
+    """The greybox binary's path; the test skips where there is none (fails under
+    GREYBOX_REQUIRE_REFERENCES=1, at the check above)."""
+    if GREYBOX_CLI is None:
+        pytest.skip("the greybox binary is not built (cargo build --release -p greybox-cli) nor on PATH")
+    return GREYBOX_CLI
 
 
 @pytest.fixture(scope="session")
