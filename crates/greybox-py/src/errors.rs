@@ -27,7 +27,10 @@ fn kind(e: &anyhow::Error) -> &'static str {
         {
             return "KeyboardInterrupt";
         }
-        if cause.downcast_ref::<serde_json::Error>().is_some() {
+        // settings JSON, or a stage's settings refused (`settings::from_json` says "<stage> settings")
+        if cause.downcast_ref::<serde_json::Error>().is_some()
+            || cause.to_string().ends_with(" settings")
+        {
             return "SettingsError";
         }
     }

@@ -196,12 +196,12 @@ def test_errors_are_one_hierarchy(tmp_path, law_file):
 
 
 def test_provenance_records_the_function_and_its_options(tmp_path):
-    gb.simulate_cut(small_cut(tmp_path), tmp_path / "cut", fraction=0.5, as_frame=False)
+    gb.simulate_cut(small_cut(tmp_path), tmp_path / "cut", force=True, as_frame=False)
     with open(tmp_path / "cut" / "provenance.json") as f:
         command = json.load(f)["command"]
     assert command[0] == "greybox.simulate_cut"
     options = json.loads(command[1])
-    assert options["fraction"] == 0.5 and options["out"] == str(tmp_path / "cut") and options["law"] is None
+    assert options["force"] is True and options["fraction"] == 1.0 and options["out"] == str(tmp_path / "cut") and options["law"] is None
 
 
 # 7. a pickled law carries its content

@@ -15,7 +15,7 @@ Models trained in scikit-learn or XGBoost come in through :func:`from_sklearn` a
 :func:`from_xgboost`. Arrays in and out are NumPy arrays; tables are pandas DataFrames when
 pandas is installed (``as_frame=None``), else dicts of arrays. Units are SI and named in
 every argument (``pressure_Pa``, ``velocity_m_per_s``, ``temperature_K``). Errors are
-:class:`GreyboxError`\ s with the command line's message: :class:`InputError` (a
+:class:`GreyboxError` with the command line's message: :class:`InputError` (a
 ``ValueError``) for bad input — a wrong type or value of any argument too, naming the
 argument — :class:`SettingsError` for refused settings, :class:`MissingFileError` (a
 ``FileNotFoundError``) for a missing file. Long calls release the GIL, stop on Ctrl-C
@@ -425,7 +425,8 @@ def _broadcast(**arrays: Any) -> tuple:
     """The broadcast shape of the named arrays (None left out) and each as a flat float64
     array of that shape's size (None stays None); shapes that do not broadcast are an
     InputError naming the arguments."""
-    given = {k: _asarray(v, k) for k, v in arrays.items() if v is not None}
+    # (_asarray makes a scalar 1-D; a scalar's shape here is ())
+    given = {k: _asarray(v, k).reshape(np.shape(v)) for k, v in arrays.items() if v is not None}
     try:
         shape = np.broadcast_shapes(*(a.shape for a in given.values()))
     except ValueError:
