@@ -1,7 +1,8 @@
 //! Cooperative cancellation of long work (a fit, a cut, an identification).
 //!
 //! A host that wants to stop a running call (the Python package on Ctrl-C, while the call
-//! runs with the GIL released) calls [`request_stop`]; the long loops of the library call
+//! runs with the GIL released) stops its token, or calls [`request_stop`] to stop every
+//! call; the long loops of the library call
 //! [`check`] between their steps (grid points and folds, time steps, recordings, refinement
 //! rounds) and return [`Interrupted`] at the next one. Outputs are staged, so an interrupted
 //! call leaves no half-written file behind.
