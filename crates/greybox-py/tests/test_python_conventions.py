@@ -178,6 +178,8 @@ def test_errors_are_one_hierarchy(tmp_path, law_file):
     assert isinstance(e.value, FileNotFoundError) and isinstance(e.value, gb.GreyboxError)
     with pytest.raises(FileNotFoundError):
         gb.simulate_cut(tmp_path / "absent.toml", tmp_path / "out")
+    with pytest.raises(gb.MissingFileError):
+        gb.read_dataset(tmp_path / "absent.csv")
     (tmp_path / "bad.json").write_text("{not json")
     with pytest.raises(gb.InputError) as e:
         gb.load_law(tmp_path / "bad.json")
@@ -189,6 +191,8 @@ def test_errors_are_one_hierarchy(tmp_path, law_file):
         gb.simulate_cut("c.toml", "out", nonsense=1)
     with pytest.raises(gb.InputError):
         gb.load_law()
+    with pytest.raises(gb.InputError, match="deform_objects"):
+        gb.export_table(law_file, "deform", tmp_path / "t.key", deform_objects=["tool"])
     assert issubclass(gb.SettingsError, gb.InputError) and issubclass(gb.InputError, ValueError)
 
 

@@ -1024,7 +1024,7 @@ def export_table(
         "temperature_unit": _opt_str(temperature_unit, "temperature_unit"),
         "taumax_Pa": _opt_float(taumax_Pa, "taumax_Pa"),
         "deform_reference_velocity_m_per_s": _opt_float(deform_reference_velocity_m_per_s, "deform_reference_velocity_m_per_s"),
-        "deform_objects": None if deform_objects is None else [int(x) for x in deform_objects],
+        "deform_objects": None if deform_objects is None else [_count(x, "deform_objects") for x in _iterable(deform_objects, "deform_objects")],
         "deform_windows": _opt_path(deform_windows, "deform_windows"),
         "lsdyna_table_id": _count(lsdyna_table_id, "lsdyna_table_id"),
         "check_points": _count(check_points, "check_points"),

@@ -9,6 +9,8 @@ from typing import Any, Optional
 
 import numpy as np
 
+from ._errors import MissingFileError
+
 
 def _has_pandas() -> bool:
     try:
@@ -52,8 +54,11 @@ def _column(name: str, values: list) -> Any:
 def read_csv(path: "str | os.PathLike[str]", as_frame: Optional[bool] = None) -> Any:
     """A CSV with a header: count and index columns as int64 arrays, other numeric columns as
     float64 arrays, the rest as object arrays."""
-    with open(os.fspath(path), newline="", encoding="utf-8") as f:
-        rows = list(csv.reader(line for line in f if not line.startswith("#")))
+    try:
+        with open(os.fspath(path), newline="", encoding="utf-8") as f:
+            rows = list(csv.reader(line for line in f if not line.startswith("#")))
+    except FileNotFoundError as e:
+        raise MissingFileError(f"{os.fspath(path)}: no such file") from e
     if not rows:
         return table({}, as_frame)
     head, body = rows[0], rows[1:]
