@@ -1,15 +1,19 @@
 //! Cooperative cancellation of long work (a fit, a cut, an identification).
 //!
 //! A host that wants to stop a running call (the Python package on Ctrl-C, while the call
-//! runs with the GIL released) calls [`request_stop`]; the long loops of the library call
+//! runs with the GIL released) stops its token, or calls [`request_stop`] to stop every
+//! call; the long loops of the library call
 //! [`check`] between their steps (grid points and folds, time steps, recordings, refinement
 //! rounds) and return [`Interrupted`] at the next one. Outputs are staged, so an interrupted
 //! call leaves no half-written file behind.
 //!
-//! The flag is the one piece of process-wide state in the library, on purpose: an interrupt
-//! (SIGINT) is itself process-wide, and threading a cancellation token through every
-//! workflow, solver and learner signature for it would touch every seam of the design. A
-//! host clears it ([`clear`]) before starting a call. Nothing here installs signal handlers.
+//! Two kinds of request: the process-wide flag ([`request_stop`], every call stops), and
+//! one call's [`StopToken`](crate::call_scope::StopToken) carried by its
+//! [`CallScope`](crate::call_scope::CallScope) (only the threads working for that call
+//! stop). A host running several calls at once (the Python package) uses the token, so
+//! Ctrl-C in one thread leaves the others' calls running; passing the token through the
+//! thread's scope instead of every workflow, solver and learner signature keeps it off the
+//! design's seams. Nothing here installs signal handlers.
 //!
 //! ```
 //! use greybox_core::interrupt;
@@ -39,13 +43,16 @@ pub fn clear() {
     STOP.store(false, Ordering::SeqCst);
 }
 
-/// Whether a stop has been requested (and not cleared since).
+/// Whether a stop has been requested (and not cleared since), process-wide or for the call
+/// the current thread works for.
 pub fn stop_requested() -> bool {
     STOP.load(Ordering::Relaxed)
+        || crate::call_scope::CallScope::with_current(|s| s.stop.as_ref().map(|t| t.is_stopped()))
+            .unwrap_or(false)
 }
 
 /// `Err(Interrupted)` once a stop has been requested; for long loops to call between steps
-/// (one relaxed atomic load).
+/// (an atomic load and a thread-local look-up).
 pub fn check() -> Result<(), Interrupted> {
     if stop_requested() {
         Err(Interrupted)

@@ -31,6 +31,7 @@
 pub mod atomic;
 pub mod boundary;
 pub mod budget;
+pub mod call_scope;
 pub mod choice;
 pub mod cleanup;
 pub mod contact;

@@ -50,7 +50,12 @@ pub fn uninstall() {
     *SINK.write().unwrap_or_else(|e| e.into_inner()) = None;
 }
 
+/// The sink of the call the current thread works for ([`crate::call_scope`]), else the
+/// process's installed one.
 fn installed() -> Option<Arc<dyn Sink>> {
+    if let Some(s) = crate::call_scope::CallScope::with_current(|s| s.sink.clone()) {
+        return Some(s);
+    }
     if !INSTALLED.load(Ordering::Acquire) {
         return None;
     }

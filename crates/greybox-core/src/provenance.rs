@@ -34,6 +34,13 @@ pub struct Provenance {
     pub seed: Option<u64>,
 }
 
+/// The command to record: the current call's ([`crate::call_scope`]; a host library such as
+/// the Python package names its function and options there), else the process's command line.
+pub fn command() -> Vec<String> {
+    crate::call_scope::CallScope::with_current(|s| s.command.clone())
+        .unwrap_or_else(|| std::env::args().collect())
+}
+
 /// Hex digits of a SHA-256 digest.
 fn hex(digest: &[u8]) -> String {
     digest.iter().map(|b| format!("{b:02x}")).collect()

@@ -6,13 +6,14 @@ use greybox_core::outputs::{check_dir_output, Existing, StagedDir};
 use greybox_core::provenance::Provenance;
 use std::path::Path;
 
-/// The provenance record of this run: greybox's version, the process's command line and
+/// The provenance record of this run: greybox's version, the command (the process's command
+/// line, or the host call's: [`greybox_core::provenance::command`]) and
 /// `inputs` (role, path; hashed now).
 pub fn provenance(inputs: &[(&str, &Path)]) -> Result<Provenance> {
     Ok(Provenance::new(
         "greybox",
         env!("CARGO_PKG_VERSION"),
-        std::env::args().collect(),
+        greybox_core::provenance::command(),
     )
     .inputs(inputs)?)
 }

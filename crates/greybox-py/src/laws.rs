@@ -1,6 +1,6 @@
 //! Model files and friction laws, evaluated on NumPy arrays.
 
-use crate::{py_err, run_interruptible, to_json};
+use crate::{py_err, run_sequential, to_json};
 use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::ContactState;
 use greybox_friction::learned::LearnedLaw;
@@ -124,7 +124,7 @@ impl Model {
         policy: DomainPolicy,
         margin: f64,
     ) -> PyResult<Arrays<'py>> {
-        let out = run_interruptible(py, || {
+        let out = run_sequential(py, || {
             Ok(rows
                 .iter()
                 .map(|x| self.file.predict(x, policy, margin))
@@ -161,7 +161,7 @@ impl Model {
     /// Load and verify a model file (schema, content hash, structure).
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let file = run_interruptible(py, || Ok(ModelFile::load(&path)?))?;
+        let file = run_sequential(py, || Ok(ModelFile::load(&path)?))?;
         Ok(Model { file })
     }
 
@@ -294,7 +294,7 @@ impl Law {
     /// Load a law file (JSON), a model file or a surrogate table.
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let law = run_interruptible(py, || Ok(greybox_friction::spec::load_law(&path)?))?;
+        let law = run_sequential(py, || Ok(greybox_friction::spec::load_law(&path)?))?;
         Ok(Law { law })
     }
 
@@ -331,7 +331,7 @@ impl Law {
         let policy = policy(outside)?;
         let t = temperature_k.as_ref().map(|t| t.as_slice()).transpose()?;
         let s = states(pressure_pa.as_slice()?, velocity_m_s.as_slice()?, t).map_err(py_err)?;
-        let (mu, inside) = run_interruptible(py, || {
+        let (mu, inside) = run_sequential(py, || {
             let d = self.law.domain();
             let mu: Vec<f64> = s.iter().map(|s| self.law.mu(s)).collect();
             let inside: Vec<bool> = s.iter().map(|s| d.is_none_or(|d| d.contains(s))).collect();
@@ -357,4 +357,12 @@ impl Law {
     fn __repr__(&self) -> String {
         format!("Law({})", self.law.name())
     }
+}
+
+/// The files loading the law at `path` reads: the file itself first, then the model files
+/// and tables it names (resolved against its folder). The Python layer keeps their bytes so
+/// that a `Law` pickles (and is passed on) with its content, not a path to re-read later.
+#[pyfunction]
+pub fn law_files(py: Python<'_>, path: PathBuf) -> PyResult<Vec<PathBuf>> {
+    run_sequential(py, || Ok(greybox_friction::spec::law_inputs(&path)?))
 }

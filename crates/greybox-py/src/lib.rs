@@ -3,55 +3,161 @@
 //! turns its JSON reports into dicts and its tables into NumPy arrays or pandas DataFrames.
 //!
 //! Every call that reads files, fits or simulates releases the GIL and stays interruptible
-//! with Ctrl-C ([`run_interruptible`]). Errors arrive as
-//! `greybox.GreyboxError` (a `ValueError`) carrying the same message the command line prints
-//! after `error:`.
+//! with Ctrl-C ([`run_interruptible`]), each call on its own: its own stop token, progress
+//! and provenance command ([`greybox_core::call_scope`]). Errors arrive as the classes of
+//! `greybox._errors` ([`errors`]), carrying the same message the command line prints after
+//! `error:`.
 
+mod errors;
 mod import;
 mod laws;
 mod stages;
 
+use greybox_core::call_scope::{CallScope, StopToken};
 use pyo3::prelude::*;
+use std::cell::RefCell;
+use std::sync::{Arc, Condvar, Mutex};
 
-pyo3::create_exception!(
-    greybox,
-    GreyboxError,
-    pyo3::exceptions::PyValueError,
-    "An error of greybox: bad input (naming the file, line or field), or a failed stage."
-);
+pub(crate) use errors::py_err;
 
-/// A greybox error as a Python exception, with the command line's message (causes joined).
-pub(crate) fn py_err(e: impl Into<anyhow::Error>) -> PyErr {
-    GreyboxError::new_err(format!("{:#}", e.into()))
-}
-
-/// The stack of the worker thread of [`run_interruptible`] (that of a main thread, as the
-/// calls had when they ran on Python's own thread).
+/// The stack of the threads running a call (that of a main thread, as the calls had when
+/// they ran on Python's own thread).
 const WORKER_STACK_BYTES: usize = 8 << 20;
 
-/// How often a waiting call looks for a pending signal (Ctrl-C).
+/// How often a waiting call looks for a pending signal (Ctrl-C) and hands progress over.
 const SIGNAL_POLL: std::time::Duration = std::time::Duration::from_millis(50);
 
-/// Run `f` with the GIL released on a worker thread while this thread polls Python's
-/// signal handlers every [`SIGNAL_POLL`]: on Ctrl-C (an error from `check_signals`, a
-/// `KeyboardInterrupt`) it asks the work to stop ([`greybox_core::interrupt`]), waits for
-/// the worker to return at its next check, and raises that `KeyboardInterrupt`. Other errors
-/// of `f` become [`GreyboxError`].
+/// What the Python layer set for the calls of this (Python) thread: the progress callback
+/// `callable(stage, done, total)` and the provenance command ([`swap_call`]).
+#[derive(Default)]
+struct CallOptions {
+    progress: Option<Py<PyAny>>,
+    command: Option<Vec<String>>,
+}
+
+thread_local! {
+    static CALL: RefCell<CallOptions> = RefCell::new(CallOptions::default());
+}
+
+/// Set this thread's progress callback and provenance command for the native calls it makes
+/// next; returns the previous pair (for the caller to restore).
+#[pyfunction]
+#[pyo3(signature = (progress = None, command = None))]
+fn swap_call(
+    progress: Option<Py<PyAny>>,
+    command: Option<Vec<String>>,
+) -> (Option<Py<PyAny>>, Option<Vec<String>>) {
+    CALL.with(|c| {
+        let old = std::mem::replace(&mut *c.borrow_mut(), CallOptions { progress, command });
+        (old.progress, old.command)
+    })
+}
+
+/// A progress sink that queues updates for the calling thread, which hands them to the
+/// Python callback with the GIL held ([`ProgressQueue::drain`]).
+#[derive(Default)]
+struct ProgressQueue {
+    /// Open tasks: id → (label, total).
+    tasks: Mutex<std::collections::HashMap<u64, (String, Option<u64>)>>,
+    /// (stage, done, total) not yet handed over.
+    pending: Mutex<Vec<(String, u64, Option<u64>)>>,
+}
+
+impl greybox_core::progress::Sink for ProgressQueue {
+    fn begin(&self, id: u64, label: &str, total: Option<u64>, _unit: &str) {
+        lock(&self.tasks).insert(id, (label.to_string(), total));
+        lock(&self.pending).push((label.to_string(), 0, total));
+    }
+    fn update(&self, id: u64, done: u64, _message: Option<&str>) {
+        if let Some((label, total)) = lock(&self.tasks).get(&id).cloned() {
+            lock(&self.pending).push((label, done, total));
+        }
+    }
+    fn end(&self, id: u64, _outcome: &str) {
+        lock(&self.tasks).remove(&id);
+    }
+}
+
+impl ProgressQueue {
+    /// Call `callback(stage, done, total)` for each queued update; the callback's error.
+    fn drain(&self, py: Python<'_>, callback: &Py<PyAny>) -> PyResult<()> {
+        let pending = std::mem::take(&mut *lock(&self.pending));
+        for (stage, done, total) in pending {
+            callback.call1(py, (stage, done, total))?;
+        }
+        Ok(())
+    }
+}
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Run `f` with the GIL released on a worker thread (its parallel work on a pool of its own,
+/// every thread in the call's [`CallScope`]) while this thread polls Python's signal
+/// handlers every [`SIGNAL_POLL`] and hands progress to the callback set by [`swap_call`].
+/// On Ctrl-C (an error from `check_signals`, a `KeyboardInterrupt`, raised in the main
+/// thread only) or an error of the callback it stops this call alone, waits for the worker
+/// to return at its next check, and raises that error. Other errors of `f` become the
+/// package's exceptions ([`py_err`]).
 pub(crate) fn run_interruptible<T: Send>(
     py: Python<'_>,
     f: impl FnOnce() -> anyhow::Result<T> + Send,
 ) -> PyResult<T> {
-    use std::sync::{Condvar, Mutex};
-    greybox_core::interrupt::clear();
+    run_call(py, true, f)
+}
+
+/// [`run_interruptible`] for work with no parallel part (a model's or law's evaluation, a
+/// file read): on the worker thread alone, without starting a pool (a millisecond saved per
+/// call of `Law.mu` in a loop).
+pub(crate) fn run_sequential<T: Send>(
+    py: Python<'_>,
+    f: impl FnOnce() -> anyhow::Result<T> + Send,
+) -> PyResult<T> {
+    run_call(py, false, f)
+}
+
+fn run_call<T: Send>(
+    py: Python<'_>,
+    pooled: bool,
+    f: impl FnOnce() -> anyhow::Result<T> + Send,
+) -> PyResult<T> {
+    let (callback, command) = CALL.with(|c| {
+        let c = c.borrow();
+        (
+            c.progress.as_ref().map(|p| p.clone_ref(py)),
+            c.command.clone(),
+        )
+    });
+    let queue = Arc::new(ProgressQueue::default());
+    let stop = StopToken::new();
+    let scope = CallScope {
+        stop: Some(stop.clone()),
+        sink: callback
+            .is_some()
+            .then(|| queue.clone() as Arc<dyn greybox_core::progress::Sink>),
+        command,
+    };
+    let handover = |py: Python<'_>| match &callback {
+        Some(cb) => queue.drain(py, cb),
+        None => Ok(()),
+    };
     let done = (Mutex::new(false), Condvar::new());
-    let (result, signal) = std::thread::scope(|s| {
+    let (result, stopped_by) = std::thread::scope(|s| {
         let worker = std::thread::Builder::new()
             .stack_size(WORKER_STACK_BYTES)
             .spawn_scoped(s, || {
+                let _in = scope.enter();
                 // a panic must still wake the waiting thread: caught here, an error below
-                let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f))
-                    .unwrap_or_else(|_| Err(anyhow::anyhow!("internal error: a panic in greybox")));
-                *done.0.lock().unwrap_or_else(|e| e.into_inner()) = true;
+                let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    if pooled {
+                        call_pool(&scope)?.install(f)
+                    } else {
+                        f()
+                    }
+                }))
+                .unwrap_or_else(|_| Err(anyhow::anyhow!("internal error: a panic in greybox")));
+                *lock(&done.0) = true;
                 done.1.notify_all();
                 r
             });
@@ -64,41 +170,52 @@ pub(crate) fn run_interruptible<T: Send>(
                 )
             }
         };
-        let signal = wait_or_signal(py, &done);
-        if signal.is_some() {
-            // asked again while waiting: another thread's new call clears the flag
-            py.detach(|| loop {
-                greybox_core::interrupt::request_stop();
-                if wait_done(&done) {
-                    break;
-                }
-            });
+        let stopped_by = wait_or_signal(py, &done, &handover);
+        if stopped_by.is_some() {
+            stop.stop();
         }
         let result = py.detach(|| worker.join()).unwrap_or_else(|_| {
             Err(anyhow::anyhow!(
                 "internal error: the worker thread panicked"
             ))
         });
-        (result, signal)
+        (result, stopped_by)
     });
-    match (result, signal) {
-        (_, Some(interrupt)) => Err(interrupt),
-        // stopped by Ctrl-C in another thread's call
-        (Err(e), None) if e.root_cause().to_string() == "interrupted" => Err(
-            pyo3::exceptions::PyKeyboardInterrupt::new_err("interrupted"),
-        ),
-        (r, None) => r.map_err(py_err),
+    let last = handover(py);
+    match (result, stopped_by) {
+        (_, Some(e)) => Err(e),
+        (r, None) => {
+            let v = r.map_err(py_err)?;
+            last?;
+            Ok(v)
+        }
     }
 }
 
-/// Wait (GIL released) until `done` is set, polling Python's signal handlers meanwhile: the
-/// error a handler raised (KeyboardInterrupt on Ctrl-C), if any.
+/// The worker pool of one call: its threads carry the call's scope.
+fn call_pool(scope: &CallScope) -> anyhow::Result<rayon::ThreadPool> {
+    let scope = scope.clone();
+    rayon::ThreadPoolBuilder::new()
+        .stack_size(WORKER_STACK_BYTES)
+        .start_handler(move |_| scope.adopt())
+        .build()
+        .map_err(|e| anyhow::anyhow!("cannot start the worker threads: {e}"))
+}
+
+/// Wait (GIL released) until `done` is set, polling Python's signal handlers and handing
+/// progress over meanwhile: the error a handler (KeyboardInterrupt on Ctrl-C) or the
+/// progress callback raised, if any.
 fn wait_or_signal(
     py: Python<'_>,
-    done: &(std::sync::Mutex<bool>, std::sync::Condvar),
+    done: &(Mutex<bool>, Condvar),
+    handover: &dyn Fn(Python<'_>) -> PyResult<()>,
 ) -> Option<PyErr> {
     loop {
-        if py.detach(|| wait_done(done)) {
+        let finished = py.detach(|| wait_done(done));
+        if let Err(e) = handover(py) {
+            return Some(e);
+        }
+        if finished {
             return None;
         }
         if let Err(e) = py.check_signals() {
@@ -108,8 +225,8 @@ fn wait_or_signal(
 }
 
 /// Wait up to [`SIGNAL_POLL`] for `done` to be set; whether it is.
-fn wait_done(done: &(std::sync::Mutex<bool>, std::sync::Condvar)) -> bool {
-    let g = done.0.lock().unwrap_or_else(|e| e.into_inner());
+fn wait_done(done: &(Mutex<bool>, Condvar)) -> bool {
+    let g = lock(&done.0);
     let (g, _) = done
         .1
         .wait_timeout_while(g, SIGNAL_POLL, |d| !*d)
@@ -149,7 +266,12 @@ fn example(name: &str) -> PyResult<&'static str> {
 
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add("GreyboxError", m.py().get_type::<GreyboxError>())?;
+    m.add(
+        "GreyboxError",
+        m.py().import("greybox._errors")?.getattr("GreyboxError")?,
+    )?;
+    m.add_function(wrap_pyfunction!(swap_call, m)?)?;
+    m.add_function(wrap_pyfunction!(laws::law_files, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<laws::Model>()?;
     m.add_class::<laws::Law>()?;

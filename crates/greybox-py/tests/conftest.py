@@ -1,20 +1,28 @@
 """Shared data for the Python tests: a friction-like dataset over the article's ranges
-(normal force 150–2000 N, sliding velocity 20–250 m/min) and seeded random query points."""
+(normal force 150–2000 N, sliding velocity 20–250 m/min) and seeded random query points; the
+greybox command line for the differential tests (:data:`GREYBOX_CLI`)."""
 
 import os
+import shutil
 
 import numpy as np
 import pytest
 
-def greybox_cli() -> str:
-    """The greybox binary the differential tests compare against, found without any
-    environment variable: this checkout's release build, else `greybox` on PATH
-    (GREYBOX_CLI, when set, wins)."""
-    import shutil
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
 
-    built = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "target", "release", "greybox")
-    return os.environ.get("GREYBOX_CLI") or (built if os.path.exists(built) else shutil.which("greybox") or built)
 
+def find_cli():
+    """The greybox binary, found without any environment variable: this checkout's
+    ``target/release/greybox`` (``cargo build --release -p greybox-cli``: the build the
+    package was made from), else ``greybox`` on PATH; None when neither is there."""
+    built = os.path.join(REPO, "target", "release", "greybox")
+    if os.access(built, os.X_OK):
+        return built
+    return shutil.which("greybox")
+
+
+#: The binary the differential tests compare against (None: they skip).
+GREYBOX_CLI = find_cli()
 
 # Under CI the reference libraries and the CLI must be there: the tests that use them run,
 # never skip (GREYBOX_REQUIRE_REFERENCES=1 makes a missing one an error here).
@@ -26,9 +34,16 @@ if os.environ.get("GREYBOX_REQUIRE_REFERENCES") == "1":
     import sklearn  # noqa: F401
     import xgboost  # noqa: F401
 
-    _cli = greybox_cli()
-    assert os.path.exists(_cli), f"GREYBOX_REQUIRE_REFERENCES=1 but the greybox binary {_cli} is missing"
+    assert GREYBOX_CLI is not None, "GREYBOX_REQUIRE_REFERENCES=1 but no greybox binary: not on PATH, nor at " + os.path.join(REPO, "target", "release", "greybox")
 
+
+@pytest.fixture(scope="session")
+def greybox_cli():
+    """The greybox binary's path; the test skips where there is none (fails under
+    GREYBOX_REQUIRE_REFERENCES=1, at the check above)."""
+    if GREYBOX_CLI is None:
+        pytest.skip("the greybox binary is not built (cargo build --release -p greybox-cli) nor on PATH")
+    return GREYBOX_CLI
 
 
 @pytest.fixture(scope="session")

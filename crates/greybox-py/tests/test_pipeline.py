@@ -220,7 +220,7 @@ def test_errors_carry_the_command_lines_message(tmp_path):
     assert "missing.json" in str(e.value) and str(e.value).count("No such file") == 1, str(e.value)
 
 
-def test_identify_a_real_rig_export_with_channel_settings(tmp_path, real_rigs):
+def test_identify_a_real_rig_export_with_channel_settings(tmp_path, real_rigs, greybox_cli):
     """A real Phoenix TE67 export (the real-rig corpus) through the Python API: the rig's
     profile detected, the steady rule and the channel settings passed as in the CLI, the same
     μ as the CLI's real-rig test and the independent reference (0.1196 over the last half)."""
@@ -238,10 +238,9 @@ def test_identify_a_real_rig_export_with_channel_settings(tmp_path, real_rigs):
     # dataset bytes (one default on both surfaces: no study, textbook-max)
     import subprocess
 
-    from conftest import greybox_cli
-
+    cli = greybox_cli
     subprocess.run(
-        [greybox_cli(), "identify", "-q", "--steady", "last:50%", "--rig", "phoenix-te", "--map", "radius=Radius:mm",
+        [cli, "identify", "-q", "--steady", "last:50%", "--rig", "phoenix-te", "--map", "radius=Radius:mm",
          "--recordings", os.path.join(rigs, "phoenix-te", "PPS_60N_1.tsv"), "--out", str(tmp_path / "c.csv")],
         check=True,
     )
@@ -250,15 +249,13 @@ def test_identify_a_real_rig_export_with_channel_settings(tmp_path, real_rigs):
     assert "cof" in channels and "pcs-mtm" in json.dumps(how)
 
 
-def test_fit_from_python_and_the_cli_gives_the_same_report_and_models(fitted, tmp_path):
+def test_fit_from_python_and_the_cli_gives_the_same_report_and_models(fitted, tmp_path, greybox_cli):
     """The same [fit] settings through gb.fit and `greybox fit`: the same report (every
     score, interval and importance) and model files that predict identically."""
     import subprocess
 
     d, py = fitted
-    from conftest import greybox_cli
-
-    cli = greybox_cli()
+    cli = greybox_cli
     r = subprocess.run(
         [cli, "-q", "fit", "--data", str(d / "adhesive.csv"), "--out", str(tmp_path / "fit"),
          "--families", "svr,random-forest", "--folds", "4", "--inner-folds", "3",

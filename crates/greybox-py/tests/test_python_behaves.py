@@ -57,7 +57,7 @@ def test_ctrl_c_stops_a_cut_and_leaves_no_output(tmp_path):
     assert isinstance(e, KeyboardInterrupt), e
     assert took < 5.0, took
     assert os.listdir(tmp_path) == [], os.listdir(tmp_path)  # no half-written output
-    # the flag is cleared for the next call
+    # the next call runs (the stop was that call's own)
     small = tmp_path / "small.toml"
     text = open(setup).read().replace("spacing_m = 1.0e-5", "spacing_m = 2.5e-5").replace("cut_length_m = 1.0e-3", "cut_length_m = 2.0e-5")
     small.write_text(text)

@@ -15,9 +15,14 @@ Models trained in scikit-learn or XGBoost come in through :func:`from_sklearn` a
 :func:`from_xgboost`. Arrays in and out are NumPy arrays; tables are pandas DataFrames when
 pandas is installed (``as_frame=None``), else dicts of arrays. Units are SI and named in
 every argument (``pressure_Pa``, ``velocity_m_per_s``, ``temperature_K``). Errors are
-:class:`GreyboxError` (a ``ValueError``) with the command line's message — a wrong type or value
-of any argument too, naming the argument. Long calls release the GIL and stop on Ctrl-C
-(``KeyboardInterrupt``, leaving no half-written output). Models and laws pickle.
+:class:`GreyboxError` with the command line's message: :class:`InputError` (a
+``ValueError``) for bad input — a wrong type or value of any argument too, naming the
+argument — :class:`SettingsError` for refused settings, :class:`MissingFileError` (a
+``FileNotFoundError``) for a missing file. Long calls release the GIL, stop on Ctrl-C
+(``KeyboardInterrupt`` in the thread whose call was interrupted, leaving no half-written
+output and other threads' calls running) and report progress when asked (``progress=``).
+A :class:`Law` or :class:`Model` object goes wherever a law or model file does. Models and
+laws pickle with their content.
 """
 
 from __future__ import annotations
@@ -34,8 +39,8 @@ from typing import Any, Callable, NamedTuple, Optional, Sequence, TypeVar, Union
 import numpy as np
 import numpy.typing as npt
 
-from . import _native
-from ._native import GreyboxError
+from . import _calls, _native
+from ._errors import GreyboxError, InputError, MissingFileError, SettingsError
 from ._sklearn import export_sklearn, export_sklearn_json
 from ._tables import read_csv, table
 
@@ -49,6 +54,9 @@ ArrayLike = npt.ArrayLike
 
 __all__ = [
     "GreyboxError",
+    "InputError",
+    "SettingsError",
+    "MissingFileError",
     "DomainWarning",
     "Model",
     "Law",
@@ -81,20 +89,20 @@ __all__ = [
 
 
 def _asarray(x: Any, name: str) -> np.ndarray:
-    """``x`` as a contiguous float64 array; an unconvertible value is a GreyboxError naming
+    """``x`` as a contiguous float64 array; an unconvertible value is an InputError naming
     the argument."""
     try:
         return np.ascontiguousarray(np.asarray(x, dtype=np.float64))
     except (TypeError, ValueError) as e:
-        raise GreyboxError(f"{name}: expected numbers, got {type(x).__name__} ({e})") from e
+        raise InputError(f"{name}: expected numbers, got {type(x).__name__} ({e})") from e
 
 
 def _path(p: Any, name: str) -> str:
-    """A path argument as a string; anything else is a GreyboxError naming the argument."""
+    """A path argument as a string; anything else is an InputError naming the argument."""
     try:
         return os.fspath(p)
     except TypeError as e:
-        raise GreyboxError(f"{name}: expected a path (str or os.PathLike), got {type(p).__name__}") from e
+        raise InputError(f"{name}: expected a path (str or os.PathLike), got {type(p).__name__}") from e
 
 
 def _opt_path(p: Any, name: str) -> Optional[str]:
@@ -104,23 +112,23 @@ def _opt_path(p: Any, name: str) -> Optional[str]:
 def _strs(x: Any, name: str) -> list:
     """A sequence of strings (a lone string is not one)."""
     if isinstance(x, str) or not all(isinstance(v, str) for v in _iterable(x, name)):
-        raise GreyboxError(f"{name}: expected a sequence of strings, got {x!r}")
+        raise InputError(f"{name}: expected a sequence of strings, got {x!r}")
     return list(x)
 
 
 def _opt_str(x: Any, name: str) -> Optional[str]:
-    """A string or None; anything else is a GreyboxError naming the argument."""
+    """A string or None; anything else is an InputError naming the argument."""
     if x is not None and not isinstance(x, str):
-        raise GreyboxError(f"{name}: expected a string, got {type(x).__name__} {x!r}")
+        raise InputError(f"{name}: expected a string, got {type(x).__name__} {x!r}")
     return x
 
 
 def _opt_float(x: Any, name: str) -> Optional[float]:
-    """A number or None; anything else is a GreyboxError naming the argument."""
+    """A number or None; anything else is an InputError naming the argument."""
     if x is None:
         return None
     if isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
-        raise GreyboxError(f"{name}: expected a number, got {type(x).__name__} {x!r}")
+        raise InputError(f"{name}: expected a number, got {type(x).__name__} {x!r}")
     return float(x)
 
 
@@ -130,9 +138,9 @@ def _count(n: Any, name: str) -> Optional[int]:
     if n is None:
         return None
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
-        raise GreyboxError(f"{name}: expected a count (an integer ≥ 0), got {type(n).__name__} {n!r}")
+        raise InputError(f"{name}: expected a count (an integer ≥ 0), got {type(n).__name__} {n!r}")
     if n < 0:
-        raise GreyboxError(f"{name}: expected a count ≥ 0, got {n}")
+        raise InputError(f"{name}: expected a count ≥ 0, got {n}")
     return int(n)
 
 
@@ -140,14 +148,14 @@ def _iterable(x: Any, name: str) -> list:
     try:
         return list(x)
     except TypeError as e:
-        raise GreyboxError(f"{name}: expected a sequence, got {type(x).__name__}") from e
+        raise InputError(f"{name}: expected a sequence, got {type(x).__name__}") from e
 
 
 def _pair(x: Any, name: str) -> tuple:
     """(a, b) of two numbers."""
     a = _asarray(x, name)
     if a.shape != (2,):
-        raise GreyboxError(f"{name}: expected (low, high), got {x!r}")
+        raise InputError(f"{name}: expected (low, high), got {x!r}")
     return (float(a[0]), float(a[1]))
 
 
@@ -177,7 +185,7 @@ def _public_name(native: str, params: Sequence[str]) -> str:
 def _argument_errors(f: _F) -> _F:
     """Wrap a public function or method: a wrong type or value of an argument, found when the
     native module converts it (pyo3 raises TypeError or OverflowError, e.g. a string for a
-    float or a negative count), becomes a GreyboxError naming the argument."""
+    float or a negative count), becomes an InputError naming the argument."""
     params = list(inspect.signature(f).parameters)
 
     @functools.wraps(f)
@@ -188,7 +196,7 @@ def _argument_errors(f: _F) -> _F:
             m = _NATIVE_ARGUMENT.match(str(e))
             if m is None:
                 raise
-            raise GreyboxError(f"{_public_name(m.group(1), params)}: {m.group(2)}") from e
+            raise InputError(f"{_public_name(m.group(1), params)}: {m.group(2)}") from e
 
     return wrapper  # type: ignore[return-value]
 
@@ -212,7 +220,7 @@ def _f64(x: Any, name: str) -> np.ndarray:
     if a.ndim == 0:
         a = a.reshape(1)
     if a.ndim != 1:
-        raise GreyboxError(f"{name}: expected a 1-D array, got shape {a.shape}")
+        raise InputError(f"{name}: expected a 1-D array, got shape {a.shape}")
     return a
 
 
@@ -221,7 +229,7 @@ def _f64_2d(x: Any, name: str) -> np.ndarray:
     if a.ndim == 1:
         a = a.reshape(1, -1)
     if a.ndim != 2:
-        raise GreyboxError(f"{name}: expected a 2-D array (rows × features), got shape {a.shape}")
+        raise InputError(f"{name}: expected a 2-D array (rows × features), got shape {a.shape}")
     return a
 
 
@@ -305,7 +313,7 @@ class Model:
         if hasattr(X, "columns"):
             missing = [f for f in self.features if f not in X.columns]
             if missing:
-                raise GreyboxError(f"X lacks the model's feature columns {missing}")
+                raise InputError(f"X lacks the model's feature columns {missing}")
             X = X[self.features].to_numpy()  # type: ignore[index]
         return Prediction(*_warn_outside(self._m.predict(_f64_2d(X, "X"), outside, margin)))
 
@@ -319,19 +327,25 @@ class Model:
     ) -> Prediction:
         """μ at contact states in SI, mapped to the model's feature units (a normal-force
         feature through the training contact's Hertz relation), with intervals and the
-        domain check (``outside`` and ``margin`` as in :meth:`predict`)."""
-        p = _f64(pressure_Pa, "pressure_Pa")
-        v = _f64(velocity_m_per_s, "velocity_m_per_s")
-        t = None if temperature_K is None else _f64(temperature_K, "temperature_K")
-        return Prediction(*_warn_outside(self._m.mu(p, v, t, outside, margin)))
+        domain check (``outside`` and ``margin`` as in :meth:`predict`). The states broadcast
+        as in NumPy (a scalar pressure with an array of velocities, a grid from a column and
+        a row); each array returned has the broadcast shape."""
+        shape, (p, v, t) = _broadcast(pressure_Pa=pressure_Pa, velocity_m_per_s=velocity_m_per_s, temperature_K=temperature_K)
+        return Prediction(*(a.reshape(shape) for a in _warn_outside(self._m.mu(p, v, t, outside, margin))))
 
     def law(self) -> "Law":
         """This model as a friction law."""
-        return Law(_native.Law.from_model(self._m), ("model", self.to_json()))
+        return Law(_native.Law.from_model(self._m), ("model.json", {"model.json": self.to_json().encode()}))
 
     def save(self, path: PathLike) -> None:
         """Write the model file (atomically)."""
         self._m.save(_path(path, "path"))
+
+    def _write_into(self, folder: str) -> str:
+        """The model file written into ``folder`` (for a call taking a model or law file)."""
+        path = os.path.join(folder, "model.json")
+        self.save(path)
+        return path
 
     def to_json(self) -> str:
         """The model file's JSON text (what :meth:`save` writes)."""
@@ -353,18 +367,26 @@ class Model:
 class Law:
     """A friction law: a law file, a model or a surrogate table.
 
-    A law pickles: one made from a model (:meth:`Model.law`) as the model's text, one loaded
-    from a file (:func:`load_law`) as the file's absolute path, read again on unpickling."""
+    A law keeps the bytes of the files it was loaded from (the law file and the model files
+    and tables it names by relative path): it pickles with that content, and a call taking a
+    law file gets a copy of it, so neither depends on what the files hold later."""
 
-    def __init__(self, native: "_native.Law", origin: Optional[tuple] = None):
+    def __init__(self, native: "_native.Law", files: Optional[tuple] = None):
         self._l = native
-        # how to make it again: ("model", model JSON) or ("file", absolute path)
-        self._origin = origin
+        # (the law file's relative name, {relative name: bytes}), or None (nothing to write)
+        self._files = files
 
     def __reduce__(self) -> tuple:
-        if self._origin is None:
-            raise GreyboxError(f"{self!r} cannot be pickled: it was made without a model or a file")
-        return (_law_from_origin, self._origin)
+        if self._files is None:
+            raise InputError(f"{self!r} cannot be pickled: it was made without a model or a file")
+        return (_law_from_files, self._files)
+
+    def _write_into(self, folder: str) -> str:
+        """The law's files written into ``folder``, in their relative places: the law file's
+        path (for a call taking a law file)."""
+        if self._files is None:
+            raise InputError(f"law: {self!r} has no file to pass on (made without a model or a file)")
+        return _write_files(folder, *self._files)
 
     @property
     def name(self) -> str:
@@ -386,11 +408,10 @@ class Law:
     ) -> LawValues:
         """μ at contact states in SI (Pa, m/s, K). States outside the law's validity domain
         are flagged in ``in_domain``; ``outside="warn"`` also warns (:class:`DomainWarning`),
-        ``"refuse"`` raises."""
-        p = _f64(pressure_Pa, "pressure_Pa")
-        v = _f64(velocity_m_per_s, "velocity_m_per_s")
-        t = None if temperature_K is None else _f64(temperature_K, "temperature_K")
-        return LawValues(*_warn_outside(self._l.mu(p, v, t, outside)))
+        ``"refuse"`` raises. The states broadcast as in NumPy; each array returned has the
+        broadcast shape."""
+        shape, (p, v, t) = _broadcast(pressure_Pa=pressure_Pa, velocity_m_per_s=velocity_m_per_s, temperature_K=temperature_K)
+        return LawValues(*(a.reshape(shape) for a in _warn_outside(self._l.mu(p, v, t, outside))))
 
     def __repr__(self) -> str:
         return repr(self._l)
@@ -401,8 +422,43 @@ def _model_from_json(text: str) -> Model:
     return Model.from_json(text)
 
 
+def _broadcast(**arrays: Any) -> tuple:
+    """The broadcast shape of the named arrays (None left out) and each as a flat float64
+    array of that shape's size (None stays None); shapes that do not broadcast are an
+    InputError naming the arguments."""
+    # (_asarray makes a scalar 1-D; a scalar's shape here is ())
+    given = {k: _asarray(v, k).reshape(np.shape(v)) for k, v in arrays.items() if v is not None}
+    try:
+        shape = np.broadcast_shapes(*(a.shape for a in given.values()))
+    except ValueError:
+        shapes = ", ".join(f"{k} {a.shape}" for k, a in given.items())
+        raise InputError(f"{', '.join(given)}: shapes do not broadcast ({shapes})") from None
+    flat = {k: np.ascontiguousarray(np.broadcast_to(a, shape).ravel()) for k, a in given.items()}
+    return shape, tuple(flat.get(k) for k in arrays)
+
+
+def _write_files(folder: str, main: str, files: dict) -> str:
+    """A law's files (``{relative name: bytes}``) written into ``folder`` in their relative
+    places: the path of the law file ``main``."""
+    # a file named as ../x lies above the law file's folder: put the law file deeper
+    up = max((os.path.normpath(n).split(os.sep).count(os.pardir) for n in files), default=0)
+    root = os.path.join(folder, *(["_"] * up))
+    for name, data in files.items():
+        p = os.path.normpath(os.path.join(root, name))
+        os.makedirs(os.path.dirname(p), exist_ok=True)
+        with open(p, "wb") as f:
+            f.write(data)
+    return os.path.join(root, main)
+
+
+def _law_from_files(main: str, files: dict) -> Law:
+    """Unpickling of a :class:`Law`: its files written into a temporary folder and loaded."""
+    with tempfile.TemporaryDirectory() as d:
+        return Law(_native.Law.load(_write_files(d, main, files)), (main, files))
+
+
 def _law_from_origin(kind: str, what: str) -> Law:
-    """Unpickling of a :class:`Law`: from a model's text or a file's path."""
+    """Unpickling of a :class:`Law` pickled by an earlier version: a model's text or a path."""
     if kind == "model":
         return Model.from_json(what).law()
     return load_law(what)
@@ -415,8 +471,13 @@ def load_model(path: PathLike) -> Model:
 
 def load_law(path: PathLike) -> Law:
     """Load a law file, model file or surrogate table as a friction law."""
-    p = _path(path, "path")
-    return Law(_native.Law.load(p), ("file", os.path.abspath(p)))
+    p = os.path.abspath(_path(path, "path"))
+    base = os.path.dirname(p)
+    files = {}
+    for f in _native.law_files(p):
+        with open(f, "rb") as fh:
+            files[os.path.relpath(f, base)] = fh.read()
+    return Law(_native.Law.load(p), (os.path.basename(p), files))
 
 
 def hertz(
@@ -778,7 +839,7 @@ def _contact(contact: Any) -> tuple:
         return None, os.fspath(contact)
     if isinstance(contact, dict):
         return json.dumps(contact), None
-    raise GreyboxError(f"contact: expected a dict of the study's [contact] keys or a study TOML path, got {type(contact).__name__}")
+    raise InputError(f"contact: expected a dict of the study's [contact] keys or a study TOML path, got {type(contact).__name__}")
 
 
 _DATASET_CONTACT = ("pressure_convention", "hertz_pressure_MPa", "normal_force_N")
@@ -986,16 +1047,12 @@ def from_onnx(
 
 
 def _law_path(law: Any, tmp: str) -> str:
-    """A path for a law given as a path, a Model or a Law file path."""
-    if isinstance(law, Law):
-        raise GreyboxError("law: pass the law's file path (a Law object has no file of its own)")
-    if isinstance(law, Model):
-        p = os.path.join(tmp, "model.json")
-        law.save(p)
-        return p
+    """A path for a law given as a path, a Model or a Law (written into ``tmp``)."""
+    if isinstance(law, (Law, Model)):
+        return law._write_into(tmp)
     if isinstance(law, (str, os.PathLike)):
         return os.fspath(law)
-    raise GreyboxError(f"law: expected a path or a greybox.Model, got {type(law).__name__}")
+    raise InputError(f"law: expected a path, a greybox.Law or a greybox.Model, got {type(law).__name__}")
 
 
 def export_table(
@@ -1042,7 +1099,7 @@ def export_table(
         "temperature_unit": _opt_str(temperature_unit, "temperature_unit"),
         "taumax_Pa": _opt_float(taumax_Pa, "taumax_Pa"),
         "deform_reference_velocity_m_per_s": _opt_float(deform_reference_velocity_m_per_s, "deform_reference_velocity_m_per_s"),
-        "deform_objects": None if deform_objects is None else [int(x) for x in deform_objects],
+        "deform_objects": None if deform_objects is None else [_count(x, "deform_objects") for x in _iterable(deform_objects, "deform_objects")],
         "deform_windows": _opt_path(deform_windows, "deform_windows"),
         "lsdyna_table_id": _count(lsdyna_table_id, "lsdyna_table_id"),
         "check_points": _count(check_points, "check_points"),
@@ -1125,11 +1182,13 @@ def report(study_dir: PathLike, out: Optional[PathLike] = None) -> dict:
     )
 
 
-# Every public function and method reports a wrong argument as a GreyboxError naming it.
+# Every public function and method reports a wrong argument as an InputError naming it; the
+# functions also take Law/Model objects for law and model files, record their options as
+# provenance and (the long ones) take progress= (_calls).
 for _name in __all__:
     _obj = globals()[_name]
     if inspect.isfunction(_obj):
-        globals()[_name] = _argument_errors(_obj)
+        globals()[_name] = _calls.public(_argument_errors(_obj))
 for _cls in (Model, Law):
     for _name, _obj in list(vars(_cls).items()):
         if inspect.isfunction(_obj) and not _name.startswith("_"):

@@ -2,14 +2,19 @@
 take any array-like (``numpy.typing.ArrayLike``) and hand these functions contiguous float64
 arrays. Long calls run on a worker thread and raise ``KeyboardInterrupt`` on Ctrl-C."""
 
-from typing import Optional, Sequence, Tuple
+from typing import Any, Callable, Optional, Sequence, Tuple
 
 import numpy as np
 import numpy.typing as npt
 
 __version__: str
 
-class GreyboxError(ValueError): ...
+from ._errors import GreyboxError as GreyboxError
+
+# this thread's progress callback and provenance command for its next calls; the previous pair
+def swap_call(progress: Optional[Callable[[str, int, Optional[int]], Any]] = None, command: Optional[Sequence[str]] = None) -> Tuple[Any, Any]: ...
+# the law file at path and the model files and tables it names
+def law_files(path: str) -> list[Any]: ...
 
 # value, low, high, in_domain, and the outside-domain warning (None when all points lie inside)
 _Arrays = Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.bool_], Optional[str]]

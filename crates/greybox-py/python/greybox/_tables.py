@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import csv
 import os
+import re
 from typing import Any, Optional
 
 import numpy as np
+
+from ._errors import MissingFileError
 
 
 def _has_pandas() -> bool:
@@ -29,7 +32,19 @@ def table(columns: dict, as_frame: Optional[bool] = None) -> Any:
     return columns
 
 
-def _column(values: list) -> Any:
+#: Columns that hold counts or indices (``pin``, ``step``, ``n``, ``n_samples``,
+#: ``segment_count``, ``frame_index`` …): integers, as int64 when every value is one. Other
+#: numeric columns stay float64 even where their values happen to be whole (the library
+#: writes 150.0 N as ``150``), so a column's type does not depend on its data.
+_INTEGER = re.compile(r"^(pin|step|n|segment|cycle|case|fold|frame|index|n_\w+|\w+_(count|index))$")
+
+
+def _column(name: str, values: list) -> Any:
+    if _INTEGER.match(name):
+        try:
+            return np.array([int(v) for v in values], dtype=np.int64)
+        except ValueError:
+            pass
     try:
         return np.array([float(v) if v != "" else np.nan for v in values], dtype=np.float64)
     except ValueError:
@@ -37,11 +52,15 @@ def _column(values: list) -> Any:
 
 
 def read_csv(path: "str | os.PathLike[str]", as_frame: Optional[bool] = None) -> Any:
-    """A CSV with a header: numeric columns as float arrays, others as object arrays."""
-    with open(os.fspath(path), newline="", encoding="utf-8") as f:
-        rows = list(csv.reader(line for line in f if not line.startswith("#")))
+    """A CSV with a header: count and index columns as int64 arrays, other numeric columns as
+    float64 arrays, the rest as object arrays."""
+    try:
+        with open(os.fspath(path), newline="", encoding="utf-8") as f:
+            rows = list(csv.reader(line for line in f if not line.startswith("#")))
+    except FileNotFoundError as e:
+        raise MissingFileError(f"{os.fspath(path)}: no such file") from e
     if not rows:
         return table({}, as_frame)
     head, body = rows[0], rows[1:]
-    cols = {name: _column([r[i] if i < len(r) else "" for r in body]) for i, name in enumerate(head)}
+    cols = {name: _column(name, [r[i] if i < len(r) else "" for r in body]) for i, name in enumerate(head)}
     return table(cols, as_frame)

@@ -1,0 +1,61 @@
+//! Rust errors to Python exceptions, by kind, in one place. The classes live in
+//! `greybox._errors` (Python, so that they can also derive from `ValueError` or
+//! `FileNotFoundError`); this module only picks the class by the error's kind.
+
+use pyo3::prelude::*;
+
+/// The `greybox._errors` class for an error: a missing file, bad settings, other bad input;
+/// "interrupted" is Python's `KeyboardInterrupt`.
+fn kind(e: &anyhow::Error) -> &'static str {
+    use greybox_core::error::Error as Core;
+    for cause in e.chain() {
+        if let Some(io) = cause.downcast_ref::<std::io::Error>() {
+            if io.kind() == std::io::ErrorKind::NotFound {
+                return "MissingFileError";
+            }
+        }
+        match cause.downcast_ref::<Core>() {
+            Some(Core::Io { error, .. }) if error.kind() == std::io::ErrorKind::NotFound => {
+                return "MissingFileError"
+            }
+            Some(Core::Interrupted) => return "KeyboardInterrupt",
+            _ => {}
+        }
+        if cause
+            .downcast_ref::<greybox_core::interrupt::Interrupted>()
+            .is_some()
+        {
+            return "KeyboardInterrupt";
+        }
+        // settings JSON, or a stage's settings refused (`settings::from_json` says "<stage> settings")
+        if cause.downcast_ref::<serde_json::Error>().is_some()
+            || cause.to_string().ends_with(" settings")
+        {
+            return "SettingsError";
+        }
+    }
+    if e.root_cause().to_string() == "interrupted" {
+        return "KeyboardInterrupt";
+    }
+    "InputError"
+}
+
+/// A greybox error as a Python exception of its kind, with the command line's message
+/// (causes joined).
+pub(crate) fn py_err(e: impl Into<anyhow::Error>) -> PyErr {
+    let e = e.into();
+    let message = format!("{e:#}");
+    match kind(&e) {
+        "KeyboardInterrupt" => pyo3::exceptions::PyKeyboardInterrupt::new_err(message),
+        class => Python::attach(|py| {
+            let made = py
+                .import("greybox._errors")
+                .and_then(|m| m.getattr(class))
+                .and_then(|c| c.call1((message.clone(),)));
+            match made {
+                Ok(exc) => PyErr::from_value(exc),
+                Err(e) => e,
+            }
+        }),
+    }
+}
