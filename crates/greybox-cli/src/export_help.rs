@@ -36,12 +36,24 @@ mod tests {
                 .map(|h| h.to_string())
                 .unwrap_or_default()
         };
-        assert!(help("pressure_Pa").ends_with("[default: 500:2500:21]"), "{}", help("pressure_Pa"));
+        assert!(
+            help("pressure_Pa").ends_with("[default: 500:2500:21]"),
+            "{}",
+            help("pressure_Pa")
+        );
         assert!(help("velocity_m_per_s").ends_with("[default: 10:300:30]"));
-        assert!(help("units").contains("MPa-mm-s for abaqus, lsdyna"), "{}", help("units"));
+        assert!(
+            help("units").contains("MPa-mm-s for abaqus, lsdyna"),
+            "{}",
+            help("units")
+        );
         assert!(help("deform_reference_velocity_m_per_s").contains("[default: 150 for deform]"));
         let tolerance = greybox_pipeline::export::DEFAULT_TOLERANCE;
-        assert!(help("tolerance").contains(&format!("{tolerance}")), "{}", help("tolerance"));
+        assert!(
+            help("tolerance").contains(&format!("{tolerance}")),
+            "{}",
+            help("tolerance")
+        );
         for (field, _) in greybox_pipeline::export::edge::default_help() {
             assert!(help(&field).contains("[default: "), "{field}");
         }

@@ -92,7 +92,6 @@ impl ForcePressure {
             },
         )
     }
-
 }
 
 /// What to do when a point lies outside the training domain.

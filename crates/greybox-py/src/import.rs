@@ -4,9 +4,9 @@
 use crate::laws::Model;
 use crate::{py_err, run_interruptible};
 use greybox_contact::PinContact;
-use greybox_import::{Calibration, Domain, ImportOptions};
 use greybox_core::dataset::PressureConvention;
 use greybox_core::units::mpa_to_pa;
+use greybox_import::{Calibration, Domain, ImportOptions};
 use greybox_model::modelfile::{FeatureRange, ForcePressure};
 use greybox_pipeline::import::{ContactSpec, CONTACT_KEYS};
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};

@@ -436,9 +436,11 @@ pub mod edge {
                     v.iter().map(|x| number(*x)).collect::<Vec<_>>().join(",")
                 }
             }
-            serde_json::Value::Array(items) => {
-                items.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(",")
-            }
+            serde_json::Value::Array(items) => items
+                .iter()
+                .map(|x| x.to_string())
+                .collect::<Vec<_>>()
+                .join(","),
             serde_json::Value::String(t) => t.clone(),
             other => other.to_string(),
         })

@@ -335,7 +335,10 @@ impl IdentifySettings {
     /// Where inspect writes its SVGs: `inspect_dir`, else DATASET_inspect/ beside the dataset.
     fn inspect_dir(&self) -> PathBuf {
         self.inspect_dir.clone().unwrap_or_else(|| {
-            let stem = self.out.file_stem().map(|s| s.to_string_lossy().to_string());
+            let stem = self
+                .out
+                .file_stem()
+                .map(|s| s.to_string_lossy().to_string());
             let stem = stem.unwrap_or_else(|| "dataset".into());
             self.out.with_file_name(format!("{stem}_inspect"))
         })

@@ -106,8 +106,12 @@ impl GreyBoxSettings {
             }
         }
         if let Some(k) = self.shear_cap_k_MPa {
-            physics::check(Quantity::ShearFlowStress, mpa_to_pa(k), "law.shear_cap_k_MPa")
-                .map_err(anyhow::Error::msg)?;
+            physics::check(
+                Quantity::ShearFlowStress,
+                mpa_to_pa(k),
+                "law.shear_cap_k_MPa",
+            )
+            .map_err(anyhow::Error::msg)?;
         }
         let contact = match &self.study {
             Some(p) => Some(Study::load(p)?.contact),

@@ -45,7 +45,10 @@ fn parse_keys<T: DeserializeOwned + Serialize>(text: &str) -> Result<T> {
         let inner = e.into_inner();
         let text = inner.to_string();
         // a value type that names its field already (`segment: 'x' is not one of …`)
-        let named = path.rsplit('.').next().is_some_and(|last| text.starts_with(&format!("{last}:")));
+        let named = path
+            .rsplit('.')
+            .next()
+            .is_some_and(|last| text.starts_with(&format!("{last}:")));
         match path.as_str() {
             "." | "" => anyhow::Error::new(inner),
             _ if named => anyhow::anyhow!("{text}"),

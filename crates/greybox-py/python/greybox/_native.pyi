@@ -71,50 +71,31 @@ class Law:
         outside: str = "warn",
     ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_], Optional[str]]: ...
 
-def hertz_rows(
-    normal_force_n: npt.NDArray[np.float64],
-    radius_mm: float,
-    e1_gpa: float,
-    nu1: float,
-    e2_gpa: float,
-    nu2: float,
-    length_mm: Optional[float] = None,
-    convention: str = "textbook-max",
-) -> str: ...
-def synth(
-    out: str,
-    study: Optional[str] = None,
-    formats: Sequence[str] = ...,
-    normal_force_count: Optional[int] = None,
-    velocity_count: Optional[int] = None,
-    force: bool = False,
-) -> str: ...
+def hertz_rows(settings: str) -> str:
+    """JSON of the library's HertzSettings in, JSON {effective_modulus_pa, rows} out."""
+    ...
+def synth(settings: str) -> str:
+    """JSON of the library's SynthSettings in, the summary JSON out."""
+    ...
 def read_recording(path: str, study: Optional[str] = None, channels: Optional[str] = None) -> dict: ...
-def identify(
-    recordings: Sequence[str],
-    dataset: str,
-    study: Optional[str] = None,
-    use_plan: bool = False,
-    truth: Optional[str] = None,
-    track_radii_mm: Sequence[float] | npt.NDArray[np.float64] = ...,
-    normal_force_count: Optional[int] = None,
-    velocity_count: Optional[int] = None,
-    settings: Optional[str] = None,
-    channels: Optional[str] = None,
-) -> str: ...
+def identify(settings: str) -> str:
+    """JSON of the library's IdentifySettings in, the summary JSON out."""
+    ...
 def ploughing_correction(settings: str) -> str: ...
 def simulate_pin(settings: str, output: str) -> str: ...
 def couple(settings: str) -> str: ...
-def fit_models(data: str, out: str, target: Optional[str] = None, features: Optional[Sequence[str]] = None, config: Optional[str] = None, force: bool = False) -> str: ...
-def grey_box_law(
-    model: str,
-    out: str,
-    blend_fraction: float = 0.1,
-    clamp: Optional[tuple[float, float]] = (0.05, 1.0),
-    shear_cap_k_mpa: Optional[float] = None,
-) -> str: ...
+def fit_models(settings: str) -> str:
+    """JSON of the library's FitSettings in, {report, outputs, warnings} JSON out."""
+    ...
+def grey_box_law(settings: str) -> str:
+    """JSON of the library's GreyBoxSettings in, the law file's JSON out."""
+    ...
 def export_table(law: str, format: str, out: str, options: str = "{}") -> str:
     """Export `law` as `format`; `options`: JSON of the overrides (library names, SI)."""
+    ...
+
+def settings_defaults(stage: str) -> str:
+    """JSON of the settings of `stage` with their defaults."""
     ...
 
 def export_defaults(format: str) -> str:
@@ -127,13 +108,15 @@ def example(name: str) -> str: ...
 def import_model(
     source: str,
     features: Optional[Sequence[str]] = None,
-    target: str = "cof_adhesive",
+    target: Optional[str] = None,
     domain: Optional[Sequence[tuple[float, float]]] = None,
     x_train: Optional[npt.NDArray[np.float64]] = None,
     x_cal: Optional[npt.NDArray[np.float64]] = None,
     y_cal: Optional[npt.NDArray[np.float64]] = None,
-    coverage: float = 0.95,
+    coverage: Optional[float] = None,
     is_json: bool = False,
     contact_json: Optional[str] = None,
     contact_study: Optional[str] = None,
+    training_data: Optional[str] = None,
+    training_contact: Optional[tuple[list[str], list[float], list[float]]] = None,
 ) -> Model: ...
