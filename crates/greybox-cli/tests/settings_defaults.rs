@@ -6,8 +6,9 @@ use clap::Parser;
 use greybox_pipeline::export::ExportOverrides;
 use greybox_pipeline::settings::{
     adhesive::AdhesiveSettings, couple::CoupleSettings, fit::FitSettings, hertz::HertzSettings,
-    identify::IdentifySettings, law::GreyBoxSettings, pin::PinSettings, plan::PlanSettings,
-    synth::SynthSettings,
+    identify::IdentifySettings, law::GreyBoxSettings, material::FlowCurveSettings,
+    material::RateSensitivitySettings, pin::PinSettings, plan::PlanSettings, synth::SynthSettings,
+    windows::WindowsSettings,
 };
 use greybox_pipeline::simulate::RunOutput;
 use greybox_pipeline::sweep::settings::{CalibrateSettings, ExecutorSettings};
@@ -68,6 +69,23 @@ fn clap_and_serde_fill_in_the_same_defaults() {
         keys(r#"{"model": "m.json"}"#),
     );
     same(flags::<ExportOverrides>(&[]), keys("{}"));
+    same(
+        flags::<WindowsSettings>(&["--mesh", "t.msh"]),
+        keys(r#"{"mesh": "t.msh"}"#),
+    );
+    same(
+        flags::<FlowCurveSettings>(&["--curves", "c.csv"]),
+        keys(r#"{"curves": "c.csv"}"#),
+    );
+    same(
+        flags::<RateSensitivitySettings>(&[
+            "--config",
+            "c.toml",
+            "--measured-force-n-per-mm",
+            "250",
+        ]),
+        keys(r#"{"config": "c.toml", "measured_force_N_per_mm": 250}"#),
+    );
 }
 
 #[test]

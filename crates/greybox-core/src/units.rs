@@ -36,6 +36,12 @@ pub fn mpa_to_pa(p: f64) -> f64 {
 pub fn pa_to_mpa(p: f64) -> f64 {
     p / PA_PER_MPA
 }
+/// The Kelvin temperature of 0 °C.
+pub const KELVIN_AT_0_C: f64 = 273.15;
+/// °C → K.
+pub fn celsius_to_kelvin(t: f64) -> f64 {
+    t + KELVIN_AT_0_C
+}
 /// m/min → m/s.
 pub fn m_per_min_to_m_per_s(v: f64) -> f64 {
     v / S_PER_MIN

@@ -14,8 +14,10 @@ use greybox_pipeline::settings::from_json;
 use greybox_pipeline::settings::hertz::HertzSettings;
 use greybox_pipeline::settings::identify::IdentifySettings;
 use greybox_pipeline::settings::law::GreyBoxSettings;
+use greybox_pipeline::settings::material::{FlowCurveSettings, RateSensitivitySettings};
 use greybox_pipeline::settings::pin::PinSettings;
 use greybox_pipeline::settings::synth::SynthSettings;
+use greybox_pipeline::settings::windows::WindowsSettings;
 use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, RunOutput};
 use greybox_pipeline::study::Study;
 use pyo3::prelude::*;
@@ -33,6 +35,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(export_table, m)?)?;
     m.add_function(wrap_pyfunction!(export_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(settings_defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(windows, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_flow_curves, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_rate_sensitivity, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_cut, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_pin, m)?)?;
     m.add_function(wrap_pyfunction!(couple, m)?)?;
@@ -205,6 +210,38 @@ fn export_table(
     to_json(&run_interruptible(py, || export(&o))?)
 }
 
+/// Friction windows from a coated tool mesh, written into `out`: JSON {windows, nodes,
+/// elements}. `settings` is JSON of the library's [`WindowsSettings`].
+#[pyfunction]
+fn windows(py: Python<'_>, settings: &str) -> PyResult<String> {
+    let s: WindowsSettings = from_json("windows", settings).map_err(py_err)?;
+    let (mesh, w) = run_interruptible(py, || s.run())?;
+    to_json(&serde_json::json!({
+        "windows": w,
+        "nodes": mesh.nodes.len(),
+        "elements": mesh.elements.len(),
+    }))
+}
+
+/// Johnson–Cook A, B, n, m from flow curves: JSON of the fit. `settings` is JSON of the
+/// library's [`FlowCurveSettings`].
+#[pyfunction]
+fn fit_flow_curves(py: Python<'_>, settings: &str) -> PyResult<String> {
+    let s: FlowCurveSettings = from_json("material fit", settings).map_err(py_err)?;
+    to_json(&run_interruptible(py, || s.run())?)
+}
+
+/// Johnson–Cook C from a measured cutting force: JSON of the search. `settings` is JSON of
+/// the library's [`RateSensitivitySettings`].
+#[pyfunction]
+fn fit_rate_sensitivity(py: Python<'_>, settings: &str) -> PyResult<String> {
+    let s: RateSensitivitySettings = from_json("material fit-c", settings).map_err(py_err)?;
+    let o = s.options().map_err(py_err)?;
+    to_json(&run_interruptible(py, || {
+        greybox_pipeline::material::fit_rate_sensitivity(&o)
+    })?)
+}
+
 /// The library's settings of `stage` with their defaults, as JSON (every key the stage's
 /// function takes: the fields of its settings type, the command line's flags by name).
 #[pyfunction]
@@ -221,8 +258,11 @@ fn settings_defaults(stage: &str) -> PyResult<String> {
         "output" => to_json(&RunOutput::default()),
         "couple" => to_json(&CoupleSettings::default()),
         "law" => to_json(&GreyBoxSettings::default()),
+        "windows" => to_json(&WindowsSettings::default()),
+        "flow_curves" => to_json(&FlowCurveSettings::default()),
+        "rate_sensitivity" => to_json(&RateSensitivitySettings::default()),
         other => Err(py_err(anyhow::anyhow!(
-            "stage '{other}': expected one of identify, synth, hertz, plan, fit, adhesive, pin, output, couple, law"
+            "stage '{other}': expected one of identify, synth, hertz, plan, fit, adhesive, pin, output, couple, law, windows, flow_curves, rate_sensitivity"
         ))),
     }
 }

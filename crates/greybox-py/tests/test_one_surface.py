@@ -36,6 +36,9 @@ STAGES = {
     "adhesive": gb.ploughing_correction,
     "pin": gb.simulate_pin,
     "couple": gb.couple,
+    "windows": gb.windows,
+    "flow_curves": gb.fit_flow_curves,
+    "rate_sensitivity": gb.fit_rate_sensitivity,
 }
 # Python names for settings a function takes positionally under another name.
 POSITIONAL = {("hertz", "force_N"): "normal_force_N"}

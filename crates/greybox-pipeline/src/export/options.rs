@@ -92,6 +92,42 @@ pub const DEFAULT_DEFORM_REFERENCE_VELOCITY_M_S: f64 = 2.5;
 /// The default DEFORM object numbers (tool, workpiece): DEFORM's machining templates number
 /// the workpiece 1 and the tool 2.
 pub const DEFAULT_DEFORM_OBJECTS: (u32, u32) = (2, 1);
+/// DEFORM object numbers (tool, workpiece); `TOOL,WORKPIECE` as text (the command line),
+/// a list of two numbers in JSON.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct ObjectPair(pub [u32; 2]);
+
+impl ObjectPair {
+    /// DEFORM's usual numbering: [`DEFAULT_DEFORM_OBJECTS`].
+    pub const DEFORM_DEFAULT: ObjectPair =
+        ObjectPair([DEFAULT_DEFORM_OBJECTS.0, DEFAULT_DEFORM_OBJECTS.1]);
+}
+
+impl std::fmt::Display for ObjectPair {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{},{}", self.0[0], self.0[1])
+    }
+}
+
+impl std::str::FromStr for ObjectPair {
+    type Err = String;
+    /// Two object numbers, `TOOL,WORKPIECE`.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let n: Vec<u32> = s
+            .split(',')
+            .map(|x| {
+                x.trim()
+                    .parse()
+                    .map_err(|_| format!("'{x}' is not an object number"))
+            })
+            .collect::<Result<_, _>>()?;
+        <[u32; 2]>::try_from(n)
+            .map(ObjectPair)
+            .map_err(|_| "expected two object numbers, TOOL,WORKPIECE".into())
+    }
+}
+
 /// The default LS-DYNA table id (curves take the ids after it).
 pub const DEFAULT_LSDYNA_TABLE_ID: u32 = 1000;
 /// Random points of the deviation check: each is a law evaluation held in memory (24 B).
@@ -491,15 +527,7 @@ pub mod edge {
 
     /// Two object numbers, `TOOL,WORKPIECE`.
     pub fn object_pair(s: &str) -> Result<[u32; 2], String> {
-        let n: Vec<u32> = s
-            .split(',')
-            .map(|x| {
-                x.trim()
-                    .parse()
-                    .map_err(|_| format!("'{x}' is not an object number"))
-            })
-            .collect::<Result<_, _>>()?;
-        <[u32; 2]>::try_from(n).map_err(|_| "expected two object numbers, TOOL,WORKPIECE".into())
+        s.parse::<super::ObjectPair>().map(|p| p.0)
     }
 }
 

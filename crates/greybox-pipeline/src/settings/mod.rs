@@ -14,9 +14,11 @@ pub mod fit;
 pub mod hertz;
 pub mod identify;
 pub mod law;
+pub mod material;
 pub mod pin;
 pub mod plan;
 pub mod synth;
+pub mod windows;
 
 use anyhow::{Context, Result};
 use serde::de::DeserializeOwned;

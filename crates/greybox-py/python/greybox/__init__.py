@@ -80,6 +80,9 @@ __all__ = [
     "export_table",
     "export_defaults",
     "settings_defaults",
+    "windows",
+    "fit_flow_curves",
+    "fit_rate_sensitivity",
     "simulate_cut",
     "simulate_pin",
     "couple",
@@ -1120,9 +1123,73 @@ def export_table(
     return report
 
 
+def windows(
+    mesh: PathLike,
+    out: Optional[PathLike] = None,
+    *,
+    coating_set: Optional[str] = None,
+    outward: Optional[float] = None,
+    inward: Optional[float] = None,
+    segment_length: Optional[float] = None,
+    mu: Optional[float] = None,
+    deform_objects: Optional[Sequence[int]] = None,
+    force: bool = False,
+) -> dict:
+    """Friction windows from a coated tool mesh (Gmsh .msh or Abaqus .inp), as ``greybox
+    windows`` with the same settings and defaults: windows.json, windows.csv, windows.vtk
+    and windows_frcwin.key written into ``out`` (default ``windows-out``). Returns
+    {"windows": [...], "nodes", "elements"}."""
+    return json.loads(_native.windows(_settings({
+        "mesh": mesh, "out": out, "coating_set": coating_set, "outward": outward,
+        "inward": inward, "segment_length": segment_length, "mu": mu,
+        "deform_objects": None if deform_objects is None else list(deform_objects),
+        "force": force or None,
+    })))
+
+
+def fit_flow_curves(
+    curves: PathLike,
+    *,
+    c: Optional[float] = None,
+    ref_strain_rate_per_s: Optional[float] = None,
+    room_temperature_C: Optional[float] = None,
+    melt_temperature_K: Optional[float] = None,
+    misfit_threshold: Optional[float] = None,
+    out: Optional[PathLike] = None,
+) -> dict:
+    """Johnson–Cook A, B, n, m fitted to compression flow curves (CSV: strain, stress_MPa,
+    temperature_C, strain_rate_per_s), as ``greybox material fit`` with the same settings
+    and defaults; with ``out``, the fit is also written there as JSON. Returns the fit."""
+    return json.loads(_native.fit_flow_curves(_settings({
+        "curves": curves, "c": c, "ref_strain_rate_per_s": ref_strain_rate_per_s,
+        "room_temperature_C": room_temperature_C, "melt_temperature_K": melt_temperature_K,
+        "misfit_threshold": misfit_threshold, "out": out,
+    })))
+
+
+def fit_rate_sensitivity(
+    config: PathLike,
+    measured_force_N_per_mm: float,
+    *,
+    c_min: Optional[float] = None,
+    c_max: Optional[float] = None,
+    tolerance_N_per_mm: Optional[float] = None,
+    max_runs: Optional[int] = None,
+    out: Optional[PathLike] = None,
+) -> dict:
+    """Johnson–Cook C such that the simulated steady cutting force of the set-up ``config``
+    matches ``measured_force_N_per_mm``, as ``greybox material fit-c`` with the same settings
+    and defaults (each run is a cutting simulation). Returns the search."""
+    return json.loads(_native.fit_rate_sensitivity(_settings({
+        "config": config, "measured_force_N_per_mm": measured_force_N_per_mm, "c_min": c_min,
+        "c_max": c_max, "tolerance_N_per_mm": tolerance_N_per_mm, "max_runs": max_runs,
+        "out": out,
+    })))
+
+
 def settings_defaults(stage: str) -> dict:
     """The library's settings of ``stage`` (identify, synth, hertz, plan, fit, adhesive,
-    pin, output, couple, law) with their defaults: the keyword arguments of its function,
+    pin, output, couple, law, windows, flow_curves, rate_sensitivity) with their defaults: the keyword arguments of its function,
     which are the command line's flags by the library's field names."""
     return json.loads(_native.settings_defaults(stage))
 
