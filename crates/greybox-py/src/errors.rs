@@ -27,9 +27,11 @@ fn kind(e: &anyhow::Error) -> &'static str {
         {
             return "KeyboardInterrupt";
         }
-        // settings JSON, or a stage's settings refused (`settings::from_json` says "<stage> settings")
-        if cause.downcast_ref::<serde_json::Error>().is_some()
-            || cause.to_string().ends_with(" settings")
+        // a setting refused by its stage's settings type, or settings JSON that is not JSON
+        if cause
+            .downcast_ref::<greybox_pipeline::settings::SettingError>()
+            .is_some()
+            || cause.downcast_ref::<serde_json::Error>().is_some()
         {
             return "SettingsError";
         }

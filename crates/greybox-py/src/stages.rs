@@ -10,7 +10,7 @@ use greybox_pipeline::identify::identify_campaign;
 use greybox_pipeline::settings::adhesive::AdhesiveSettings;
 use greybox_pipeline::settings::couple::CoupleSettings;
 use greybox_pipeline::settings::fit::FitSettings;
-use greybox_pipeline::settings::from_json;
+use greybox_pipeline::settings::from_keywords;
 use greybox_pipeline::settings::hertz::HertzSettings;
 use greybox_pipeline::settings::identify::IdentifySettings;
 use greybox_pipeline::settings::law::GreyBoxSettings;
@@ -51,7 +51,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 /// JSON of the library's [`HertzSettings`] (`force_N`, `radius_mm`, `geometry`, …).
 #[pyfunction]
 fn hertz_rows(settings: &str) -> PyResult<String> {
-    let s: HertzSettings = from_json("hertz", settings).map_err(py_err)?;
+    let s: HertzSettings = from_keywords(settings).map_err(py_err)?;
     let (e_star, rows) = s.run().map_err(py_err)?;
     to_json(&serde_json::json!({"effective_modulus_pa": e_star, "rows": rows}))
 }
@@ -61,7 +61,7 @@ fn hertz_rows(settings: &str) -> PyResult<String> {
 /// library's [`SynthSettings`] (`out`, `study`, `format`, `seed`, the plan's overrides).
 #[pyfunction]
 fn synth(py: Python<'_>, settings: &str) -> PyResult<String> {
-    let s: SynthSettings = from_json("synth", settings).map_err(py_err)?;
+    let s: SynthSettings = from_keywords(settings).map_err(py_err)?;
     to_json(&run_interruptible(py, || s.run())?)
 }
 
@@ -121,7 +121,7 @@ fn read_recording<'py>(
 /// given, a study's plan used when it has one).
 #[pyfunction]
 fn identify(py: Python<'_>, settings: &str) -> PyResult<String> {
-    let s: IdentifySettings = from_json("identify", settings).map_err(py_err)?;
+    let s: IdentifySettings = from_keywords(settings).map_err(py_err)?;
     let r = run_interruptible(py, || -> anyhow::Result<_> {
         let (study, options) = s.prepare()?;
         identify_campaign(&study, &options, None)
@@ -135,7 +135,7 @@ fn identify(py: Python<'_>, settings: &str) -> PyResult<String> {
 /// line's flags by their field names.
 #[pyfunction]
 fn ploughing_correction(py: Python<'_>, settings: &str) -> PyResult<String> {
-    let s: AdhesiveSettings = from_json("adhesive", settings).map_err(py_err)?;
+    let s: AdhesiveSettings = from_keywords(settings).map_err(py_err)?;
     let o = s.options().map_err(py_err)?;
     let (_, correction) = run_interruptible(py, || adhesive(&o))?;
     to_json(&correction)
@@ -146,8 +146,8 @@ fn ploughing_correction(py: Python<'_>, settings: &str) -> PyResult<String> {
 /// `output` of its run output (`out`, `force`, `vtk_every`, `checkpoint_every`, `resume`).
 #[pyfunction]
 fn simulate_pin(py: Python<'_>, settings: &str, output: &str) -> PyResult<String> {
-    let s: PinSettings = from_json("pin", settings).map_err(py_err)?;
-    let o: RunOutput = from_json("output", output).map_err(py_err)?;
+    let s: PinSettings = from_keywords(settings).map_err(py_err)?;
+    let o: RunOutput = from_keywords(output).map_err(py_err)?;
     let setup = s.setup().map_err(py_err)?;
     to_json(&run_interruptible(py, || run_pin(&setup, &o))?)
 }
@@ -156,7 +156,7 @@ fn simulate_pin(py: Python<'_>, settings: &str, output: &str) -> PyResult<String
 /// JSON of the library's couple settings (`engine`, `deck`, `segment`, `law`, `units`, …).
 #[pyfunction]
 fn couple(py: Python<'_>, settings: &str) -> PyResult<String> {
-    let s: CoupleSettings = from_json("couple", settings).map_err(py_err)?;
+    let s: CoupleSettings = from_keywords(settings).map_err(py_err)?;
     let o = s.options().map_err(py_err)?;
     to_json(&run_interruptible(py, || {
         greybox_pipeline::couple::couple(&o)
@@ -169,7 +169,7 @@ fn couple(py: Python<'_>, settings: &str) -> PyResult<String> {
 /// line's flags by their field names and defaults).
 #[pyfunction]
 fn fit_models(py: Python<'_>, settings: &str) -> PyResult<String> {
-    let s: FitSettings = from_json("fit", settings).map_err(py_err)?;
+    let s: FitSettings = from_keywords(settings).map_err(py_err)?;
     let o = s.options().map_err(py_err)?;
     let r = run_interruptible(py, || fit(&o))?;
     to_json(&serde_json::json!({
@@ -184,7 +184,7 @@ fn fit_models(py: Python<'_>, settings: &str) -> PyResult<String> {
 /// `no_clamp`, `shear_cap_k_MPa`, `study`), the defaults of `greybox law`.
 #[pyfunction]
 fn grey_box_law(settings: &str) -> PyResult<String> {
-    let s: GreyBoxSettings = from_json("law", settings).map_err(py_err)?;
+    let s: GreyBoxSettings = from_keywords(settings).map_err(py_err)?;
     let law = s.write().map_err(py_err)?;
     serde_json::to_string_pretty(&law).map_err(py_err)
 }
@@ -214,7 +214,7 @@ fn export_table(
 /// elements}. `settings` is JSON of the library's [`WindowsSettings`].
 #[pyfunction]
 fn windows(py: Python<'_>, settings: &str) -> PyResult<String> {
-    let s: WindowsSettings = from_json("windows", settings).map_err(py_err)?;
+    let s: WindowsSettings = from_keywords(settings).map_err(py_err)?;
     let (mesh, w) = run_interruptible(py, || s.run())?;
     to_json(&serde_json::json!({
         "windows": w,
@@ -227,7 +227,7 @@ fn windows(py: Python<'_>, settings: &str) -> PyResult<String> {
 /// library's [`FlowCurveSettings`].
 #[pyfunction]
 fn fit_flow_curves(py: Python<'_>, settings: &str) -> PyResult<String> {
-    let s: FlowCurveSettings = from_json("material fit", settings).map_err(py_err)?;
+    let s: FlowCurveSettings = from_keywords(settings).map_err(py_err)?;
     to_json(&run_interruptible(py, || s.run())?)
 }
 
@@ -235,7 +235,7 @@ fn fit_flow_curves(py: Python<'_>, settings: &str) -> PyResult<String> {
 /// the library's [`RateSensitivitySettings`].
 #[pyfunction]
 fn fit_rate_sensitivity(py: Python<'_>, settings: &str) -> PyResult<String> {
-    let s: RateSensitivitySettings = from_json("material fit-c", settings).map_err(py_err)?;
+    let s: RateSensitivitySettings = from_keywords(settings).map_err(py_err)?;
     let o = s.options().map_err(py_err)?;
     to_json(&run_interruptible(py, || {
         greybox_pipeline::material::fit_rate_sensitivity(&o)

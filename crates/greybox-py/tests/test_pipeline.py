@@ -24,7 +24,7 @@ def test_hertz_matches_johnson_sphere_formulas():
     np.testing.assert_allclose(t["contact_half_width_mm"], a * 1e3, rtol=1e-12)
     np.testing.assert_allclose(t["max_pressure_mpa"], p0 / 1e6, rtol=1e-12)
     np.testing.assert_allclose(t["mean_pressure_mpa"], 2 / 3 * p0 / 1e6, rtol=1e-12)
-    with pytest.raises(gb.GreyboxError, match="convention: 'nope' is not one of"):
+    with pytest.raises(gb.GreyboxError, match="convention: unknown variant `nope`, expected one of `textbook-max`"):
         gb.hertz(F, convention="nope")
 
 
@@ -32,8 +32,9 @@ def test_hertz_matches_johnson_sphere_formulas():
 def campaign(tmp_path_factory):
     """A 4 × 4 virtual campaign, identified against its plan, corrected for ploughing."""
     d = tmp_path_factory.mktemp("campaign")
-    s = gb.synth(d / "recordings", normal_force_count=4, velocity_count=4)
-    ds, summary = gb.identify([d / "recordings"], d / "dataset.csv", normal_force_count=4, velocity_count=4, truth=d / "recordings" / "ground_truth.csv", as_frame=False)
+    (d / "study.toml").write_text(gb.example("demo-study.toml"))  # stated on both stages
+    s = gb.synth(d / "recordings", study=d / "study.toml", normal_force_count=4, velocity_count=4)
+    ds, summary = gb.identify([d / "recordings"], d / "dataset.csv", study=d / "study.toml", normal_force_count=4, velocity_count=4, truth=d / "recordings" / "ground_truth.csv", as_frame=False)
     adh, corr = gb.ploughing_correction(d / "dataset.csv", d / "adhesive.csv", as_frame=False)
     return d, s, ds, summary, adh, corr
 
@@ -91,7 +92,7 @@ def test_fit_reports_every_family_and_writes_loadable_models(fitted):
     for f in report["report"]["families"]:
         assert f["held_out"] is not None and np.isfinite(f["held_out"]["metrics"]["r2"]["value"])
     assert all(os.path.exists(p) or os.path.exists(d / "fit" / p) for p in report["outputs"]["models"])
-    with pytest.raises(TypeError, match="folds_typo"):
+    with pytest.raises(gb.InputError, match="folds_typo"):
         gb.fit(d / "adhesive.csv", d / "fit2", folds_typo=3)
     # counts are bounded types on every surface: refused before any work, naming the key
     with pytest.raises(gb.GreyboxError, match=r"bootstrap: 1000000000 is above the cap of 100000"):

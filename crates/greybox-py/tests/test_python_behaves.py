@@ -22,8 +22,9 @@ REPO = os.path.join(os.path.dirname(__file__), "..", "..", "..")
 def adhesive(tmp_path_factory):
     """A small identified, ploughing-corrected campaign (4 × 4) to fit on."""
     d = tmp_path_factory.mktemp("behaves")
-    gb.synth(d / "recordings", normal_force_count=4, velocity_count=4)
-    gb.identify([d / "recordings"], d / "dataset.csv", normal_force_count=4, velocity_count=4)
+    (d / "study.toml").write_text(gb.example("demo-study.toml"))
+    gb.synth(d / "recordings", study=d / "study.toml", normal_force_count=4, velocity_count=4)
+    gb.identify([d / "recordings"], d / "dataset.csv", study=d / "study.toml", normal_force_count=4, velocity_count=4)
     gb.ploughing_correction(d / "dataset.csv", d / "adhesive.csv")
     return d / "adhesive.csv"
 

@@ -121,7 +121,7 @@ def test_every_identify_flag_is_a_python_setting_with_the_same_effect(tmp_path, 
     gb.identify(rec, tmp_path / "py.csv", steady="from:30s", rig="phoenix-te", map=["radius=Radius:mm"],
                 convention="article-eq7", settle_time_s=0.1, as_frame=False)
     assert (tmp_path / "cli.csv").read_bytes() == (tmp_path / "py.csv").read_bytes()
-    with pytest.raises(gb.GreyboxError, match="segment: 'steps' is not one of auto"):
+    with pytest.raises(gb.GreyboxError, match="segment: unknown variant `steps`, expected one of `auto`"):
         gb.identify(rec, tmp_path / "x.csv", segment="steps")
 
 

@@ -40,21 +40,43 @@ pub fn from_json<T: DeserializeOwned + Serialize>(stage: &str, text: &str) -> Re
     parse_keys(text).with_context(|| format!("{stage} settings"))
 }
 
+/// Settings from the keyword arguments of a call (Python's, as JSON): as [`from_json`],
+/// the error starting with the key (`radius_mm: invalid type: …`), since the call names the
+/// stage.
+pub fn from_keywords<T: DeserializeOwned + Serialize>(text: &str) -> Result<T> {
+    parse_keys(text)
+}
+
+/// A settings value or key refused: the key and why (`bootstrap: 1000000000 is above the
+/// cap …`, `unknown key `x` (known: …)`). Its own type, so that a surface can tell a refused
+/// setting from a failed run (Python raises `SettingsError`).
+#[derive(Debug)]
+pub struct SettingError(pub String);
+
+impl std::fmt::Display for SettingError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for SettingError {}
+
 fn parse_keys<T: DeserializeOwned + Serialize>(text: &str) -> Result<T> {
-    let given: serde_json::Value = serde_json::from_str(text)?;
+    let refused = |m: String| anyhow::Error::new(SettingError(m));
+    let given: serde_json::Value =
+        serde_json::from_str(text).map_err(|e| refused(format!("not JSON: {e}")))?;
     let value: T = serde_path_to_error::deserialize(&given).map_err(|e| {
         let path = e.path().to_string();
-        let inner = e.into_inner();
-        let text = inner.to_string();
+        let text = e.into_inner().to_string();
         // a value type that names its field already (`segment: 'x' is not one of …`)
         let named = path
             .rsplit('.')
             .next()
             .is_some_and(|last| text.starts_with(&format!("{last}:")));
         match path.as_str() {
-            "." | "" => anyhow::Error::new(inner),
-            _ if named => anyhow::anyhow!("{text}"),
-            _ => anyhow::anyhow!("{path}: {text}"),
+            "." | "" => refused(text),
+            _ if named => refused(text),
+            _ => refused(format!("{path}: {text}")),
         }
     })?;
     // Every field serializes under its key, so a key the value does not write back is one
@@ -62,10 +84,12 @@ fn parse_keys<T: DeserializeOwned + Serialize>(text: &str) -> Result<T> {
     let known = serde_json::to_value(&value)?;
     if let (Some(given), Some(known)) = (given.as_object(), known.as_object()) {
         if let Some(unknown) = given.keys().find(|k| !known.contains_key(*k)) {
-            let mut names: Vec<&String> = known.keys().collect();
-            names.sort();
-            let names: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
-            anyhow::bail!("unknown key `{unknown}` (known: {})", names.join(", "));
+            let mut names: Vec<&str> = known.keys().map(String::as_str).collect();
+            names.sort_unstable();
+            return Err(refused(format!(
+                "unknown key `{unknown}` (known: {})",
+                names.join(", ")
+            )));
         }
     }
     Ok(value)

@@ -60,7 +60,8 @@ def _as_files(f: Callable, bound: inspect.BoundArguments, stack: contextlib.Exit
         if name in LAW_ARGS and isinstance(v, (Law, Model)):
             bound.arguments[name] = v._write_into(stack.enter_context(tempfile.TemporaryDirectory()))
         elif name == "model" and f.__name__ == "grey_box_law" and isinstance(v, Model):
-            out = os.fspath(bound.arguments["out"])
+            out = bound.arguments.get("out")
+            out = os.fspath(out) if out is not None else json.loads(_native.settings_defaults("law"))["out"]
             model_file = os.path.splitext(os.path.basename(out))[0] + ".model.json"
             v.save(os.path.join(os.path.dirname(os.path.abspath(out)), model_file))
             bound.arguments[name] = model_file  # relative: resolved against the law file's folder
@@ -72,7 +73,8 @@ def public(f: Callable) -> Callable:
     long = f.__name__ in LONG
     if long:
         params = list(sig.parameters.values())
-        params.append(inspect.Parameter("progress", inspect.Parameter.KEYWORD_ONLY, default=None))
+        at = len(params) - (params[-1].kind is inspect.Parameter.VAR_KEYWORD if params else 0)
+        params.insert(at, inspect.Parameter("progress", inspect.Parameter.KEYWORD_ONLY, default=None))
         public_sig = sig.replace(parameters=params)
     else:
         public_sig = sig
