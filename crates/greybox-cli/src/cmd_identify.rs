@@ -1,5 +1,6 @@
 //! `greybox identify`.
 
+use crate::flags::shown;
 use crate::output::print_json;
 use anyhow::Result;
 use greybox_core::choice::clap_parsers::choice_name;
@@ -155,7 +156,7 @@ pub fn run(args: Args) -> Result<()> {
     args.settings().apply(&mut study)?;
     let options = args.inputs.options(&study, &args.plan)?;
     let show = |files: &[FileReport], dir: &Path| {
-        print!("{}", inspect_text(files));
+        print!("{}", shown(&inspect_text(files)));
         println!("inspect plots -> {}", dir.display());
     };
     let show: Option<SegmentsHook> = (!args.json).then_some(&show as _);
@@ -167,7 +168,10 @@ pub fn run(args: Args) -> Result<()> {
         return print_json(&summary);
     }
     if args.inputs.inspect {
-        print!("{}", matching_text(&summary.identification.matching));
+        print!(
+            "{}",
+            shown(&matching_text(&summary.identification.matching))
+        );
     }
     print!(
         "{}",
@@ -177,7 +181,10 @@ pub fn run(args: Args) -> Result<()> {
             summary_table(&ds)
         }
     );
-    print!("{}", files_table(&summary.identification));
-    print!("{}", greybox_pipeline::text::identify_footer(&summary));
+    print!("{}", shown(&files_table(&summary.identification)));
+    print!(
+        "{}",
+        shown(&greybox_pipeline::text::identify_footer(&summary))
+    );
     Ok(())
 }

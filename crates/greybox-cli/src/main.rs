@@ -21,6 +21,7 @@ mod cmd_synth;
 mod cmd_wear;
 mod cmd_windows;
 mod count_help;
+mod flags;
 mod output;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
@@ -131,7 +132,9 @@ fn main() {
         eprintln!("warning: rayon thread pool: {e}");
     }
     greybox_pipeline::output::remove_temporaries_on_interrupt();
-    let matches = count_help::state_count_ranges(Cli::command()).get_matches();
+    let command = count_help::state_count_ranges(Cli::command());
+    let matches = command.clone().get_matches();
+    flags::Flags::of(&command, &matches).install();
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     greybox_pipeline::progress_display::Mode::choose(cli.quiet).install();
     cli.budget.install();
@@ -157,7 +160,7 @@ fn main() {
         Command::Bench(a) => cmd_bench::run(a),
     };
     if let Err(e) = result {
-        eprintln!("error: {e:#}");
+        eprintln!("error: {}", flags::shown(&format!("{e:#}")));
         std::process::exit(1);
     }
 }

@@ -66,7 +66,10 @@ fn rust_files(dir: &Path) -> Vec<PathBuf> {
 const COMMAND_LINES: [(&str, &str); 4] = [
     ("greybox-pipeline/src/sweep/slurm.rs", ""),
     ("greybox-pipeline/src/sweep/local.rs", ""),
-    ("greybox-pipeline/src/text.rs", "cargo build --release -p greybox-ffi"),
+    (
+        "greybox-pipeline/src/text.rs",
+        "cargo build --release -p greybox-ffi",
+    ),
     ("greybox-pipeline/src/text.rs", "greybox couple --deck"),
 ];
 
@@ -221,7 +224,11 @@ fn no_library_crate_names_a_command_line_flag() {
     let mut found = Vec::new();
     for dir in &dirs {
         for f in rust_files(&dir.join("src")) {
-            let rel = f.strip_prefix(crates).unwrap().to_string_lossy().replace('\\', "/");
+            let rel = f
+                .strip_prefix(crates)
+                .unwrap()
+                .to_string_lossy()
+                .replace('\\', "/");
             let allowed: Vec<&str> = COMMAND_LINES
                 .iter()
                 .filter(|(file, _)| *file == rel)
@@ -246,7 +253,10 @@ fn the_flag_check_finds_a_flag_in_code_only() {
         ["lib.rs:5: --raw", "lib.rs:6: --foo"]
     );
     assert!(flags_in_source("lib.rs", src, &[""]).is_empty());
-    assert_eq!(flags_in_source("lib.rs", src, &["--raw"]), ["lib.rs:6: --foo"]);
+    assert_eq!(
+        flags_in_source("lib.rs", src, &["--raw"]),
+        ["lib.rs:6: --foo"]
+    );
     assert_eq!(flag_in("a -- b --- c"), None);
     assert_eq!(flag_in("x=--max-input-mib."), Some("--max-input-mib"));
 }

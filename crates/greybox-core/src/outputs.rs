@@ -508,9 +508,7 @@ mod tests {
             .to_string();
         assert!(e.contains("holds the input `data`"), "{e}");
         check_dir_output(&d.path().join("elsewhere"), "out", &[("data", &data)]).unwrap();
-        let e = check_dir_output(&data, "out", &[])
-            .unwrap_err()
-            .to_string();
+        let e = check_dir_output(&data, "out", &[]).unwrap_err().to_string();
         assert!(e.contains("must be a directory"), "{e}");
     }
 
