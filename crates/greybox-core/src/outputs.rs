@@ -45,6 +45,16 @@ fn same_file(a: &Path, b: &Path) -> bool {
         || canonical_or_lexical(a) == canonical_or_lexical(b)
 }
 
+/// A setting's name as messages show it: a field (`out`, `recordings`) in backticks, which
+/// the command line shows as its flag; a description ("a file the law reads") as it is.
+fn named(name: &str) -> String {
+    if !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        format!("`{name}`")
+    } else {
+        name.to_string()
+    }
+}
+
 /// Refuse a file output (given as `out_flag`) that is one of `inputs` or is not a regular
 /// file.
 ///
@@ -55,10 +65,11 @@ pub fn check_file_output(out: &Path, out_flag: &str, inputs: &[Input]) -> Result
     let sidecar = crate::provenance::Provenance::path_beside(out);
     for (flag, input) in inputs {
         let written = if same_file(out, input) {
-            format!("`{out_flag}`")
+            named(out_flag)
         } else if same_file(&sidecar, input) {
             format!(
-                "the provenance record beside `{out_flag}` ({})",
+                "the provenance record beside {} ({})",
+                named(out_flag),
                 sidecar.display()
             )
         } else {
@@ -67,7 +78,8 @@ pub fn check_file_output(out: &Path, out_flag: &str, inputs: &[Input]) -> Result
         return Err(Error::input(
             SourcePos::path(out),
             format!(
-                "{written} is the input `{flag}` ({}): writing it would destroy the input; choose another output path",
+                "{written} is the input {} ({}): writing it would destroy the input; choose another output path",
+                named(flag),
                 input.display()
             ),
         ));
@@ -83,7 +95,8 @@ pub fn check_dir_output(out: &Path, out_flag: &str, inputs: &[Input]) -> Result<
             return Err(Error::input(
                 SourcePos::path(out),
                 format!(
-                    "`{out_flag}` must be a directory, but the path is {}",
+                    "{} must be a directory, but the path is {}",
+                    named(out_flag),
                     describe_kind(&m)
                 ),
             ))
@@ -97,7 +110,9 @@ pub fn check_dir_output(out: &Path, out_flag: &str, inputs: &[Input]) -> Result<
             return Err(Error::input(
                 SourcePos::path(out),
                 format!(
-                    "`{out_flag}` would be replaced whole, but it holds the input `{flag}` ({}); choose another output directory",
+                    "{} would be replaced whole, but it holds the input {} ({}); choose another output directory",
+                    named(out_flag),
+                    named(flag),
                     input.display()
                 ),
             ));
@@ -146,7 +161,8 @@ fn check_replaceable_dir(target: &Path, flag: &str, existing: Existing) -> Resul
         return Err(Error::input(
             SourcePos::path(target),
             format!(
-                "`{flag}` must be a directory, but the path is {}",
+                "{} must be a directory, but the path is {}",
+                named(flag),
                 describe_kind(&m)
             ),
         ));
@@ -155,7 +171,8 @@ fn check_replaceable_dir(target: &Path, flag: &str, existing: Existing) -> Resul
         return Err(Error::input(
             SourcePos::path(target),
             format!(
-                "`{flag}` already holds files (an earlier run?): give `force` to replace the directory whole, or choose another `{flag}`"
+                "{name} already holds files (an earlier run?): give `force` to replace the directory whole, or choose another {name}",
+                name = named(flag)
             ),
         ));
     }
@@ -192,7 +209,8 @@ pub fn refuse_enclosing_dir(target: &Path, flag: &str) -> Result<()> {
     Err(Error::input(
         SourcePos::path(target),
         format!(
-            "`{flag}` is {why} ({}): an output directory is replaced whole, which would delete the files there; choose a new directory for the output",
+            "{} is {why} ({}): an output directory is replaced whole, which would delete the files there; choose a new directory for the output",
+            named(flag),
             dir.display()
         ),
     ))
