@@ -1008,12 +1008,11 @@ fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
     Error::input(
         SourcePos::file(&table.source).line(table.header_line),
         format!(
-            "{} channel(s) unresolved (the header has: {}):\n{}\npass them together: {} (or name the rig with `rig` NAME, one of: {})",
+            "{} channel(s) unresolved (the header has: {}):\n{}\npass them together: {} (or name the rig with `rig` NAME; `rig` list lists the profiles)",
             problems.len(),
             table.header_list(),
             lines.join("\n"),
-            all.join(" "),
-            crate::profiles::names().join(", ")
+            all.join(" ")
         ),
     )
 }
