@@ -1,8 +1,8 @@
 //! The library names its settings by their fields (`` `map` ``, `identify.track_radii_mm`),
 //! as both surfaces know them; the command line shows those names as its flags (`--map`,
 //! `--track-radii-mm`) when it prints a message. Only the arguments of the subcommand that
-//! ran (and the global ones) are rewritten, and only in backticks or as `stage.field`, so
-//! ordinary words are never touched.
+//! ran (and the global ones) are rewritten, and only in backticks, as `stage.field` or as a
+//! source position's `field 'name'`, so ordinary words are never touched.
 
 use std::collections::HashMap;
 use std::sync::OnceLock;
@@ -74,7 +74,16 @@ impl Flags {
         let mut out = String::with_capacity(text.len());
         let mut rest = text;
         while let Some(c) = rest.chars().next() {
-            if c == '`' {
+            if c == '\'' && out.ends_with("field ") {
+                // a source position's `field 'target'`
+                if let Some(end) = rest[1..].find('\'') {
+                    if let Some(flag) = self.flag(&rest[1..1 + end]) {
+                        out.push_str(&format!("'{flag}'"));
+                        rest = &rest[end + 2..];
+                        continue;
+                    }
+                }
+            } else if c == '`' {
                 if let Some(end) = rest[1..].find('`') {
                     if let Some(flag) = self.flag(&rest[1..1 + end]) {
                         out.push_str(flag);
@@ -172,6 +181,10 @@ mod tests {
         );
         assert_eq!(f.rewrite("a `b` `map` ü"), "a `b` --map ü");
         assert_eq!(f.rewrite("unclosed `map"), "unclosed `map");
+        assert_eq!(
+            f.rewrite("import, field 'map': 'map' x"),
+            "import, field '--map': 'map' x"
+        );
         assert_eq!(
             flags(&["greybox", "fit"]).rewrite("give `force`"),
             "give --force"

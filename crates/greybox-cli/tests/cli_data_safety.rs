@@ -57,7 +57,7 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
     // the same file through another name
     std::fs::hard_link(p.join("r/pin02.csv"), p.join("alias.csv")).unwrap();
     let e = err(&identify(p, "alias.csv"));
-    assert!(e.contains("input recordings"), "{e}");
+    assert!(e.contains("input --recordings"), "{e}");
     ok(&identify(p, "data.csv"));
     // what produced the dataset: the command and every recording with its SHA-256
     let prov: serde_json::Value =
