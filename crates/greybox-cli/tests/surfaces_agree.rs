@@ -198,7 +198,7 @@ fn a_table_over_the_size_budget_is_refused_with_its_size_for_every_format() {
             d.path(),
         ));
         assert!(
-            e.contains("--max-table-size:") && (e.contains("values") || e.contains("nodes")),
+            e.contains("--max-table-size") && (e.contains("values") || e.contains("nodes")),
             "{}: {e}",
             format.name()
         );
