@@ -87,7 +87,7 @@ fn without_test_mods(source: &str) -> String {
             let end = (i + 2..lines.len())
                 .find(|&k| lines[k] == close)
                 .unwrap_or(lines.len() - 1);
-            out.extend(std::iter::repeat("").take(end + 1 - i));
+            out.extend(std::iter::repeat_n("", end + 1 - i));
             i = end + 1;
         } else {
             out.push(lines[i]);
