@@ -19,7 +19,8 @@ use crate::cleanup::{self, CleanupGuard};
 use crate::{Error, Result, SourcePos};
 use std::path::{Path, PathBuf};
 
-/// A command's input: the flag (or role) it came from and its path.
+/// A command's input: the setting it came from (its field name, `data`, shown in backticks;
+/// the command line shows its flag) or a role in words, and its path.
 pub type Input<'a> = (&'a str, &'a Path);
 
 fn canonical_or_lexical(p: &Path) -> PathBuf {
@@ -55,7 +56,7 @@ fn named(name: &str) -> String {
     }
 }
 
-/// Refuse a file output (given as `out_flag`) that is one of `inputs` or is not a regular
+/// Refuse a file output (the setting `out_flag`, e.g. `out`) that is one of `inputs` or is not a regular
 /// file.
 ///
 /// The provenance record written beside it (`<out>.provenance.json`) is an output too: it
