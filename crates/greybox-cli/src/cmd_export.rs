@@ -36,7 +36,7 @@ impl Args {
 pub fn run(a: Args) -> Result<()> {
     let report = export(&a.options()?)?;
     for w in &report.warnings {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {}", crate::flags::shown(w));
     }
     emit(a.json, &report, |r| format!("{}\n", r.line))
 }

@@ -21,7 +21,7 @@ pub fn run(a: Args) -> Result<()> {
         warnings,
     } = fit(&a.settings.options()?)?;
     for w in &warnings {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {}", crate::flags::shown(w));
     }
     if a.json {
         return print_json(&report);

@@ -1,5 +1,6 @@
 //! `greybox identify`.
 
+use crate::flags::shown;
 use crate::output::print_json;
 use anyhow::Result;
 use greybox_pipeline::identify::{
@@ -52,7 +53,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let (study, options) = args.settings.prepare()?;
     let show = |files: &[FileReport], dir: &Path| {
-        print!("{}", inspect_text(files));
+        print!("{}", shown(&inspect_text(files)));
         println!("inspect plots -> {}", dir.display());
     };
     let show: Option<SegmentsHook> = (!args.json).then_some(&show as _);
@@ -64,7 +65,10 @@ pub fn run(args: Args) -> Result<()> {
         return print_json(&summary);
     }
     if args.settings.inspect {
-        print!("{}", matching_text(&summary.identification.matching));
+        print!(
+            "{}",
+            shown(&matching_text(&summary.identification.matching))
+        );
     }
     print!(
         "{}",
@@ -74,7 +78,10 @@ pub fn run(args: Args) -> Result<()> {
             summary_table(&ds)
         }
     );
-    print!("{}", files_table(&summary.identification));
-    print!("{}", greybox_pipeline::text::identify_footer(&summary));
+    print!("{}", shown(&files_table(&summary.identification)));
+    print!(
+        "{}",
+        shown(&greybox_pipeline::text::identify_footer(&summary))
+    );
     Ok(())
 }

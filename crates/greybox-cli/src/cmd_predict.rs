@@ -70,7 +70,7 @@ pub fn run(a: Args) -> Result<()> {
     };
     let rows = predict_points(&m, points, policy, a.margin)?;
     if let Some(o) = m.outside_domain(rows.iter().map(|r| r.features.as_slice()), a.margin) {
-        eprintln!("warning: {o}");
+        eprintln!("warning: {}", crate::flags::shown(&o.to_string()));
     }
     if a.json {
         return print_json(&rows);

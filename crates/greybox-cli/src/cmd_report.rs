@@ -62,7 +62,7 @@ pub fn run(a: Args) -> Result<()> {
             s.figures
         );
         for w in &s.warnings {
-            t += &format!("warning: {w}\n");
+            t += &format!("warning: {}\n", crate::flags::shown(w));
         }
         t
     })

@@ -23,6 +23,7 @@ mod cmd_wear;
 mod cmd_windows;
 mod count_help;
 mod export_help;
+mod flags;
 mod output;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
@@ -135,8 +136,10 @@ fn main() {
         eprintln!("warning: rayon thread pool: {e}");
     }
     greybox_pipeline::output::remove_temporaries_on_interrupt();
-    let command = export_help::state_export_defaults(Cli::command());
-    let matches = count_help::state_count_ranges(command).get_matches();
+    let command =
+        count_help::state_count_ranges(export_help::state_export_defaults(Cli::command()));
+    let matches = command.clone().get_matches();
+    flags::Flags::of(&command, &matches).install();
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     greybox_pipeline::progress_display::Mode::choose(cli.quiet).install();
     cli.budget.install();
@@ -163,7 +166,7 @@ fn main() {
         Command::Bench(a) => cmd_bench::run(a),
     };
     if let Err(e) = result {
-        eprintln!("error: {e:#}");
+        eprintln!("error: {}", flags::shown(&format!("{e:#}")));
         std::process::exit(1);
     }
 }

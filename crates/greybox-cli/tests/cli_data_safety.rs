@@ -48,7 +48,7 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
     campaign(p);
     let raw = std::fs::read(p.join("r/pin01.csv")).unwrap();
     let e = err(&identify(p, "r/pin01.csv"));
-    assert!(e.contains("out is the input recordings"), "{e}");
+    assert!(e.contains("--out is the input --recordings"), "{e}");
     assert_eq!(
         std::fs::read(p.join("r/pin01.csv")).unwrap(),
         raw,
@@ -57,7 +57,7 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
     // the same file through another name
     std::fs::hard_link(p.join("r/pin02.csv"), p.join("alias.csv")).unwrap();
     let e = err(&identify(p, "alias.csv"));
-    assert!(e.contains("input recordings"), "{e}");
+    assert!(e.contains("input --recordings"), "{e}");
     ok(&identify(p, "data.csv"));
     // what produced the dataset: the command and every recording with its SHA-256
     let prov: serde_json::Value =
@@ -90,7 +90,7 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
         &["adhesive", "--data", "data.csv", "--out", "data.csv"],
         p,
     ));
-    assert!(e.contains("out is the input data"), "{e}");
+    assert!(e.contains("--out is the input --data"), "{e}");
     assert_eq!(std::fs::read(p.join("data.csv")).unwrap(), data);
     std::fs::write(p.join("law.json"), r#"{"law": "coulomb", "mu": 0.4}"#).unwrap();
     let e = err(&greybox(
@@ -99,7 +99,7 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
         ],
         p,
     ));
-    assert!(e.contains("out is the input law"), "{e}");
+    assert!(e.contains("--out is the input --law"), "{e}");
     assert!(std::fs::read_to_string(p.join("law.json"))
         .unwrap()
         .contains("coulomb"));
@@ -182,7 +182,7 @@ fn a_directory_holds_one_complete_run() {
         ],
         p,
     ));
-    assert!(e.contains("holds the input data"), "{e}");
+    assert!(e.contains("holds the input --data"), "{e}");
 }
 
 /// SIGTERM while a large plan is being written: no hidden temporary is left behind.

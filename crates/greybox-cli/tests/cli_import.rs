@@ -246,7 +246,7 @@ fn force_model_without_contact_says_how_to_state_it() {
         d,
     ));
     assert!(
-        e.contains("imported without a contact") && e.contains("--contact STUDY.toml"),
+        e.contains("imported without a contact") && e.contains("`contact` STUDY.toml"),
         "{e}"
     );
     assert!(!e.contains("schema version"), "{e}");

@@ -284,7 +284,7 @@ fn fit_bad_inputs() {
         p,
     ));
     assert!(
-        e.contains("fit.families: family: 'svm' is not one of random-forest"),
+        e.contains("--families: family: 'svm' is not one of random-forest"),
         "{e}"
     );
     let e = err(&greybox(&["fit", "--data", "data.csv", "--folds", "40"], p));

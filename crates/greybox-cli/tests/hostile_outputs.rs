@@ -68,7 +68,7 @@ fn the_provenance_record_beside_an_output_must_not_be_an_input() {
             ],
             p,
         ),
-        &["the provenance record beside out", "is the input data"],
+        &["the provenance record beside --out", "is the input --data"],
     );
     assert_eq!(
         std::fs::read_to_string(p.join("y.csv.provenance.json")).unwrap(),

@@ -167,7 +167,7 @@ fn link_loops_are_searched_once() {
         "{w}"
     );
     assert!(
-        w.contains("max_entries") && w.contains("--max-entries"),
+        w.contains("max_entries") && w.contains("raise it with `max_entries`"),
         "{w}"
     );
 }
@@ -236,19 +236,19 @@ fn huge_files_are_read_within_their_caps() {
     let summary = report_ok(&run(&["report", "study", "--json"], d.path()));
     let w = warnings(&summary);
     assert!(
-        w.contains("big.csv") && w.contains("max_header_bytes") && w.contains("--max-header-bytes"),
+        w.contains("big.csv") && w.contains("max_header_bytes") && w.contains("`max_header_bytes`"),
         "{w}"
     );
     assert!(
         w.contains("dataset.csv")
             && w.contains("over max_file_bytes")
-            && w.contains("--max-file-bytes"),
+            && w.contains("`max_file_bytes`"),
         "{w}"
     );
     assert!(
         w.contains("profile_mu.svg")
             && w.contains("over max_svg_bytes")
-            && w.contains("--max-svg-bytes"),
+            && w.contains("`max_svg_bytes`"),
         "{w}"
     );
     page_is_inert(&s.join("report.html"));
@@ -268,7 +268,7 @@ fn huge_files_are_read_within_their_caps() {
         w.contains("cut/forces.svg")
             && w.contains("left out")
             && w.contains("max_page_bytes")
-            && w.contains("--max-page-bytes"),
+            && w.contains("`max_page_bytes`"),
         "{w}"
     );
     assert!(summary["bytes"].as_u64().unwrap() <= 40000);

@@ -89,15 +89,16 @@ impl Cap {
             Cap::RecordingBytes => "max_recording_bytes",
         }
     }
-    /// The `greybox` option that raises it.
+    /// The setting that raises it, named as a field (`` `max_input_mib` ``): the command line
+    /// shows it as its flag.
     pub fn option(self) -> &'static str {
         match self {
-            Cap::InputBytes => "greybox --max-input-mib",
-            Cap::ArrayLen => "greybox --max-array-len",
-            Cap::SheetCells => "greybox --max-sheet-cells",
-            Cap::UncompressedBytes => "greybox --max-uncompressed-mib",
-            Cap::LineBytes => "greybox --max-line-kib",
-            Cap::RecordingBytes => "greybox --max-recording-mib",
+            Cap::InputBytes => "`max_input_mib`",
+            Cap::ArrayLen => "`max_array_len`",
+            Cap::SheetCells => "`max_sheet_cells`",
+            Cap::UncompressedBytes => "`max_uncompressed_mib`",
+            Cap::LineBytes => "`max_line_kib`",
+            Cap::RecordingBytes => "`max_recording_mib`",
         }
     }
     /// The cap's value now.
@@ -302,7 +303,7 @@ mod tests {
         assert!(
             e.contains("big.toml")
                 && e.contains("max_input_bytes")
-                && e.contains("--max-input-mib"),
+                && e.contains("`max_input_mib`"),
             "{e}"
         );
     }
@@ -339,7 +340,7 @@ mod tests {
         assert!(
             e.contains("big.csv")
                 && e.contains("max_recording_bytes")
-                && e.contains("--max-recording-mib"),
+                && e.contains("`max_recording_mib`"),
             "{e}"
         );
     }
@@ -355,7 +356,7 @@ mod tests {
             })
             .unwrap_err();
         assert!(
-            e.contains("max_sheet_cells = 20000000") && e.contains("--max-sheet-cells"),
+            e.contains("max_sheet_cells = 20000000") && e.contains("`max_sheet_cells`"),
             "{e}"
         );
         assert_eq!(bytes_text(2.9e12), "2.90 TB");

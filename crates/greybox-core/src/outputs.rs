@@ -19,7 +19,8 @@ use crate::cleanup::{self, CleanupGuard};
 use crate::{Error, Result, SourcePos};
 use std::path::{Path, PathBuf};
 
-/// A command's input: the flag (or role) it came from and its path.
+/// A command's input: the setting it came from (its field name, `data`, shown in backticks;
+/// the command line shows its flag) or a role in words, and its path.
 pub type Input<'a> = (&'a str, &'a Path);
 
 fn canonical_or_lexical(p: &Path) -> PathBuf {
@@ -45,7 +46,17 @@ fn same_file(a: &Path, b: &Path) -> bool {
         || canonical_or_lexical(a) == canonical_or_lexical(b)
 }
 
-/// Refuse a file output (given as `out_flag`) that is one of `inputs` or is not a regular
+/// A setting's name as messages show it: a field (`out`, `recordings`) in backticks, which
+/// the command line shows as its flag; a description ("a file the law reads") as it is.
+fn named(name: &str) -> String {
+    if !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        format!("`{name}`")
+    } else {
+        name.to_string()
+    }
+}
+
+/// Refuse a file output (the setting `out_flag`, e.g. `out`) that is one of `inputs` or is not a regular
 /// file.
 ///
 /// The provenance record written beside it (`<out>.provenance.json`) is an output too: it
@@ -55,10 +66,11 @@ pub fn check_file_output(out: &Path, out_flag: &str, inputs: &[Input]) -> Result
     let sidecar = crate::provenance::Provenance::path_beside(out);
     for (flag, input) in inputs {
         let written = if same_file(out, input) {
-            out_flag.to_string()
+            named(out_flag)
         } else if same_file(&sidecar, input) {
             format!(
-                "the provenance record beside {out_flag} ({})",
+                "the provenance record beside {} ({})",
+                named(out_flag),
                 sidecar.display()
             )
         } else {
@@ -67,7 +79,8 @@ pub fn check_file_output(out: &Path, out_flag: &str, inputs: &[Input]) -> Result
         return Err(Error::input(
             SourcePos::path(out),
             format!(
-                "{written} is the input {flag} ({}): writing it would destroy the input; choose another output path",
+                "{written} is the input {} ({}): writing it would destroy the input; choose another output path",
+                named(flag),
                 input.display()
             ),
         ));
@@ -83,7 +96,8 @@ pub fn check_dir_output(out: &Path, out_flag: &str, inputs: &[Input]) -> Result<
             return Err(Error::input(
                 SourcePos::path(out),
                 format!(
-                    "{out_flag} must be a directory, but the path is {}",
+                    "{} must be a directory, but the path is {}",
+                    named(out_flag),
                     describe_kind(&m)
                 ),
             ))
@@ -97,7 +111,9 @@ pub fn check_dir_output(out: &Path, out_flag: &str, inputs: &[Input]) -> Result<
             return Err(Error::input(
                 SourcePos::path(out),
                 format!(
-                    "{out_flag} would be replaced whole, but it holds the input {flag} ({}); choose another output directory",
+                    "{} would be replaced whole, but it holds the input {} ({}); choose another output directory",
+                    named(out_flag),
+                    named(flag),
                     input.display()
                 ),
             ));
@@ -146,7 +162,8 @@ fn check_replaceable_dir(target: &Path, flag: &str, existing: Existing) -> Resul
         return Err(Error::input(
             SourcePos::path(target),
             format!(
-                "{flag} must be a directory, but the path is {}",
+                "{} must be a directory, but the path is {}",
+                named(flag),
                 describe_kind(&m)
             ),
         ));
@@ -155,7 +172,8 @@ fn check_replaceable_dir(target: &Path, flag: &str, existing: Existing) -> Resul
         return Err(Error::input(
             SourcePos::path(target),
             format!(
-                "{flag} already holds files (an earlier run?): give --force to replace the directory whole, or choose another {flag}"
+                "{name} already holds files (an earlier run?): give `force` to replace the directory whole, or choose another {name}",
+                name = named(flag)
             ),
         ));
     }
@@ -192,7 +210,8 @@ pub fn refuse_enclosing_dir(target: &Path, flag: &str) -> Result<()> {
     Err(Error::input(
         SourcePos::path(target),
         format!(
-            "{flag} is {why} ({}): an output directory is replaced whole, which would delete the files there; choose a new directory for the output",
+            "{} is {why} ({}): an output directory is replaced whole, which would delete the files there; choose a new directory for the output",
+            named(flag),
             dir.display()
         ),
     ))
@@ -303,7 +322,7 @@ impl StagedDir {
             if existing == Existing::Refuse {
                 return Err(Error::input(
                     SourcePos::path(&staging),
-                    "an interrupted run is here: give --resume with its checkpoint to continue it, or --force to start afresh",
+                    "an interrupted run is here: give `resume` with its checkpoint to continue it, or `force` to start afresh",
                 ));
             }
             std::fs::remove_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
@@ -482,17 +501,17 @@ mod tests {
         let d = tempfile::tempdir().unwrap();
         let raw = d.path().join("pin01.csv");
         std::fs::write(&raw, "raw").unwrap();
-        let e = check_file_output(&raw, "--out", &[("--recordings", &raw)])
+        let e = check_file_output(&raw, "out", &[("recordings", &raw)])
             .unwrap_err()
             .to_string();
-        assert!(e.contains("--out is the input --recordings"), "{e}");
+        assert!(e.contains("`out` is the input `recordings`"), "{e}");
         let dotted = d.path().join(".").join("pin01.csv");
-        assert!(check_file_output(&dotted, "--out", &[("--recordings", &raw)]).is_err());
+        assert!(check_file_output(&dotted, "out", &[("recordings", &raw)]).is_err());
         let link = d.path().join("hard.csv");
         std::fs::hard_link(&raw, &link).unwrap();
-        assert!(check_file_output(&link, "--out", &[("--data", &raw)]).is_err());
+        assert!(check_file_output(&link, "out", &[("data", &raw)]).is_err());
         let other = d.path().join("dataset.csv");
-        check_file_output(&other, "--out", &[("--recordings", &raw)]).unwrap();
+        check_file_output(&other, "out", &[("recordings", &raw)]).unwrap();
         assert_eq!(std::fs::read_to_string(&raw).unwrap(), "raw");
     }
 
@@ -503,14 +522,12 @@ mod tests {
         std::fs::create_dir(&out).unwrap();
         let data = out.join("dataset.csv");
         std::fs::write(&data, "x").unwrap();
-        let e = check_dir_output(&out, "--out", &[("--data", &data)])
+        let e = check_dir_output(&out, "out", &[("data", &data)])
             .unwrap_err()
             .to_string();
-        assert!(e.contains("holds the input --data"), "{e}");
-        check_dir_output(&d.path().join("elsewhere"), "--out", &[("--data", &data)]).unwrap();
-        let e = check_dir_output(&data, "--out", &[])
-            .unwrap_err()
-            .to_string();
+        assert!(e.contains("holds the input `data`"), "{e}");
+        check_dir_output(&d.path().join("elsewhere"), "out", &[("data", &data)]).unwrap();
+        let e = check_dir_output(&data, "out", &[]).unwrap_err().to_string();
         assert!(e.contains("must be a directory"), "{e}");
     }
 
@@ -526,7 +543,7 @@ mod tests {
         // a staging directory of a running process (this one's parent shell, pid 1) stays
         let alive = d.path().join(".fit.greybox-staging-1-def456");
         std::fs::create_dir(&alive).unwrap();
-        let s = StagedDir::begin(&out, "--out", Existing::Refuse).unwrap();
+        let s = StagedDir::begin(&out, "out", Existing::Refuse).unwrap();
         std::fs::write(s.path().join("report.json"), "ok").unwrap();
         s.commit().unwrap();
         assert!(!dead.exists(), "the killed run's staging survived");
@@ -542,19 +559,19 @@ mod tests {
         let d = tempfile::tempdir().unwrap();
         let out = d.path().join("fit");
         // first run
-        let s = StagedDir::begin(&out, "--out", Existing::Refuse).unwrap();
+        let s = StagedDir::begin(&out, "out", Existing::Refuse).unwrap();
         std::fs::write(s.path().join("svr.json"), "old").unwrap();
         std::fs::write(s.path().join("report.json"), "old").unwrap();
         assert!(!out.exists(), "nothing visible before the commit");
         s.commit().unwrap();
         // second run refused without --force
-        let e = StagedDir::begin(&out, "--out", Existing::Refuse)
+        let e = StagedDir::begin(&out, "out", Existing::Refuse)
             .unwrap_err()
             .to_string();
-        assert!(e.contains("--force"), "{e}");
+        assert!(e.contains("give `force`"), "{e}");
         // a failed second run leaves the first one untouched and no staging behind
         {
-            let s = StagedDir::begin(&out, "--out", Existing::Replace).unwrap();
+            let s = StagedDir::begin(&out, "out", Existing::Replace).unwrap();
             std::fs::write(s.path().join("report.json"), "new").unwrap();
             // dropped: the run failed
         }
@@ -568,7 +585,7 @@ mod tests {
             "staging left behind"
         );
         // a complete second run replaces the first whole: no stale svr.json
-        let s = StagedDir::begin(&out, "--out", Existing::Replace).unwrap();
+        let s = StagedDir::begin(&out, "out", Existing::Replace).unwrap();
         std::fs::write(s.path().join("report.json"), "new").unwrap();
         s.commit().unwrap();
         assert_eq!(
@@ -583,7 +600,7 @@ mod tests {
         // an existing empty directory needs no --force
         let empty = d.path().join("empty");
         std::fs::create_dir(&empty).unwrap();
-        StagedDir::begin(&empty, "--out", Existing::Refuse)
+        StagedDir::begin(&empty, "out", Existing::Refuse)
             .unwrap()
             .commit()
             .unwrap();
@@ -594,7 +611,7 @@ mod tests {
         let d = tempfile::tempdir().unwrap();
         let out = d.path().join("sim");
         {
-            let s = StagedDir::resumable(&out, "--out", Existing::Refuse, false).unwrap();
+            let s = StagedDir::resumable(&out, "out", Existing::Refuse, false).unwrap();
             assert!(s.path().ends_with("sim.partial"));
             std::fs::write(s.path().join("checkpoint.json"), "step 500").unwrap();
             // the run fails or is killed here
@@ -603,11 +620,11 @@ mod tests {
             d.path().join("sim.partial/checkpoint.json").exists(),
             "checkpoint lost"
         );
-        let e = StagedDir::resumable(&out, "--out", Existing::Refuse, false)
+        let e = StagedDir::resumable(&out, "out", Existing::Refuse, false)
             .unwrap_err()
             .to_string();
-        assert!(e.contains("--resume") && e.contains("--force"), "{e}");
-        let s = StagedDir::resumable(&out, "--out", Existing::Refuse, true).unwrap();
+        assert!(e.contains("`resume`") && e.contains("`force`"), "{e}");
+        let s = StagedDir::resumable(&out, "out", Existing::Refuse, true).unwrap();
         std::fs::write(s.path().join("forces.csv"), "done").unwrap();
         s.commit().unwrap();
         assert!(out.join("checkpoint.json").exists() && out.join("forces.csv").exists());
@@ -624,23 +641,23 @@ mod tests {
             PathBuf::from("/"),
             PathBuf::from(".."),
         ] {
-            let e = refuse_enclosing_dir(&p, "--out").unwrap_err().to_string();
+            let e = refuse_enclosing_dir(&p, "out").unwrap_err().to_string();
             assert!(
-                e.contains("--out is the") && e.contains("replaced whole"),
+                e.contains("`out` is the") && e.contains("replaced whole"),
                 "{e}"
             );
-            let e = StagedDir::begin(&p, "--out", Existing::Replace)
+            let e = StagedDir::begin(&p, "out", Existing::Replace)
                 .unwrap_err()
                 .to_string();
             assert!(e.contains("working directory"), "{e}");
-            assert!(StagedDir::resumable(&p, "--out", Existing::Replace, false).is_err());
+            assert!(StagedDir::resumable(&p, "out", Existing::Replace, false).is_err());
         }
         if let Some(home) = std::env::var_os("HOME").filter(|h| !h.is_empty()) {
-            assert!(refuse_enclosing_dir(Path::new(&home), "--out").is_err());
+            assert!(refuse_enclosing_dir(Path::new(&home), "out").is_err());
         }
         // a directory beside the working directory, or a new one, is fine
-        refuse_enclosing_dir(d.path(), "--out").unwrap();
-        refuse_enclosing_dir(&d.path().join("new"), "--out").unwrap();
+        refuse_enclosing_dir(d.path(), "out").unwrap();
+        refuse_enclosing_dir(&d.path().join("new"), "out").unwrap();
     }
 
     #[test]

@@ -207,7 +207,7 @@ mod tests {
         );
         assert_eq!(n, 3);
         let p = Provenance::new("greybox", "0.1.0", vec!["greybox".into(), "fit".into()])
-            .input("--data", &f)
+            .input("data", &f)
             .unwrap()
             .with_seed(7);
         let out = d.path().join("dataset.csv");

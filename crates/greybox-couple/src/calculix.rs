@@ -368,7 +368,7 @@ impl Engine for CalculixEngine {
                 Error::invalid(
                     "CalculiX",
                     format!(
-                        "cannot run '{}': {e} (install calculix-ccx or pass --ccx PATH)",
+                        "cannot run '{}': {e} (install calculix-ccx or set `ccx` to its path)",
                         self.cfg.ccx.display()
                     ),
                 )

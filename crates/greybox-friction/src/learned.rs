@@ -144,7 +144,7 @@ fn no_contact_message(model: &ModelFile) -> String {
         return format!("{what} but its file does not record the dataset's pressure convention and contact (a file from before schema version 2): re-fit it, {law_file}");
     }
     if matches!(model.hyperparameters, Hyperparameters::Imported(_)) {
-        return format!("{what} but was imported without a contact, so nothing maps contact pressure to that force: re-import it stating the tribometer's pin contact (`greybox import … --contact STUDY.toml` for a study's [contact] table, or --convention, --pin-tip-radius-mm, …; in Python contact={{\"convention\": \"article-eq7\", …}} or contact=\"study.toml\"), {law_file}");
+        return format!("{what} but was imported without a contact, so nothing maps contact pressure to that force: re-import it stating the tribometer's pin contact: import's `contact` STUDY.toml for a study's [contact] table, or `convention`, `pin_tip_radius_mm`, … (in Python contact={{\"convention\": \"article-eq7\", …}} or contact=\"study.toml\"), {law_file}");
     }
     format!("{what} but its file does not record a contact's force-to-pressure map (the data it was fitted on did not share one pressure convention and contact): {law_file}")
 }

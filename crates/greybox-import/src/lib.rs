@@ -368,8 +368,8 @@ fn r2(y: &[f64], pred: &[f64]) -> f64 {
 /// stated names must match recorded ones when both exist.
 fn feature_names(imported: &Imported, opts: &ImportOptions) -> Result<Vec<String>> {
     let n = imported.n_features;
-    let given = opts.features.iter().flatten().map(|f| ("--features", f));
-    for (field, name) in std::iter::once(("--target", &opts.target)).chain(given) {
+    let given = opts.features.iter().flatten().map(|f| ("features", f));
+    for (field, name) in std::iter::once(("target", &opts.target)).chain(given) {
         greybox_core::escape::check_name(SourcePos::file("import").field(field), name)?;
     }
     let names = match (&opts.features, &imported.feature_names) {

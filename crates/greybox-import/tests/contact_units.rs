@@ -94,7 +94,7 @@ fn without_a_contact_the_import_predicts_and_the_law_says_what_is_missing() {
     let e = LearnedLaw::new(m, None).unwrap_err().to_string();
     assert!(e.contains("imported without a contact"), "{e}");
     assert!(
-        e.contains("--contact STUDY.toml") && e.contains("contact="),
+        e.contains("`contact` STUDY.toml") && e.contains("contact="),
         "{e}"
     );
     assert!(!e.contains("schema version"), "{e}");

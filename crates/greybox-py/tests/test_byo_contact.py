@@ -111,7 +111,7 @@ def test_without_contact_the_law_says_how_to_state_it(xgb, data):
         with pytest.raises(gb.GreyboxError) as e:
             use()
         msg = str(e.value)
-        assert "imported without a contact" in msg and "contact=" in msg and "--contact" in msg, msg
+        assert "imported without a contact" in msg and "contact=" in msg and "`contact`" in msg, msg
         assert "schema version" not in msg, msg
 
 

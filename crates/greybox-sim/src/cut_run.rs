@@ -45,7 +45,7 @@ impl CutRun {
         let invalid = |e: greybox_core::Error| SimError::Invalid(e.to_string());
         if !(fraction > 0.0 && fraction <= 1.0) {
             return Err(SimError::Invalid(format!(
-                "fraction of the cut length (--fraction): expected a number in (0, 1], got {fraction}"
+                "fraction of the cut length (`fraction`): expected a number in (0, 1], got {fraction}"
             )));
         }
         let (model, duration) = setup.model_with_law(law).map_err(invalid)?;
@@ -169,12 +169,12 @@ pub fn check_steps_ahead(
     }
     Err(SimError::Invalid(if resumed {
         format!(
-            "the checkpoint is at step {} (t = {:.6e} s), at or past the requested end t = {:.6e} s: nothing left to run (resume with a larger --fraction, or use the finished run)",
+            "the checkpoint is at step {} (t = {:.6e} s), at or past the requested end t = {:.6e} s: nothing left to run (resume with a larger `fraction`, or use the finished run)",
             sim.step, sim.time, end_s
         )
     } else {
         format!(
-            "--fraction {fraction} gives an end time of {end_s:.3e} s, less than one time step ({dt_s:.3e} s): no step would run"
+            "`fraction` {fraction} gives an end time of {end_s:.3e} s, less than one time step ({dt_s:.3e} s): no step would run"
         )
     }))
 }

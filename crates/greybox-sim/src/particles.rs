@@ -37,7 +37,7 @@ pub fn check_workpiece_budget(
         &found,
         "numerics.max_particles",
         &max.to_string(),
-        "numerics.max_particles in the set-up or `greybox simulate pin --max-particles`",
+        "numerics.max_particles in the set-up or `max_particles`",
     );
     Err(greybox_core::Error::invalid(
         what,

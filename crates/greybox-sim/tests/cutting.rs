@@ -235,7 +235,7 @@ fn resume_equals_the_uninterrupted_run() {
         .unwrap()
         .to_string();
     assert!(
-        e.contains("--fraction") && e.contains("no step would run"),
+        e.contains("`fraction`") && e.contains("no step would run"),
         "{e}"
     );
 }

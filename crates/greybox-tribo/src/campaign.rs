@@ -1287,13 +1287,13 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
         if methods.iter().any(|m| *m != Segmentation::PlanTiming) {
             return Err(Error::invalid(
                 "identify",
-                "some recordings have a trigger for the plan's timing and others do not: choose one segmentation for all with --segment",
+                "some recordings have a trigger for the plan's timing and others do not: choose one segmentation for all with `segment`",
             ));
         }
         let plan = c.plan.ok_or_else(|| {
             Error::invalid(
                 "identify",
-                "--segment plan-timing needs a plan with timing (--study)",
+                "`segment` plan-timing needs a plan with timing (`study`)",
             )
         })?;
         return plan_timed(recs, plan, c);
@@ -1301,17 +1301,17 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
     for (rec, m) in recs.iter().zip(&methods) {
         let missing = match m {
             Segmentation::StepColumn if rec.step.is_none() => {
-                Some("a step column (--map step=NAME)")
+                Some("a step column (`map` step=NAME)")
             }
             Segmentation::Speed if rec.speed.is_none() => {
-                Some("a speed channel (--map speed=NAME:UNIT)")
+                Some("a speed channel (`map` speed=NAME:UNIT)")
             }
             _ => None,
         };
         if let Some(what) = missing {
             return Err(Error::input(
                 SourcePos::file(&rec.source),
-                format!("--segment {} needs {what}, and none was found", m.name()),
+                format!("`segment` {} needs {what}, and none was found", m.name()),
             ));
         }
     }
@@ -1419,10 +1419,10 @@ fn forced_mode_contradicted(p: &Prepared, cfg: &IdentifyConfig) -> Option<String
         cfg,
     );
     Some(format!(
-        "--test-mode {} was named, but the recording has {runs} separate sliding run(s) and none gave a steady window{}",
+        "`test_mode` {} was named, but the recording has {runs} separate sliding run(s) and none gave a steady window{}",
         mode.name(),
         recip.map_or(String::new(), |why| format!(
-            "; its signals look like a reciprocating test ({why}): try --test-mode reciprocating or leave the mode to the signals"
+            "; its signals look like a reciprocating test ({why}): try `test_mode` reciprocating or leave the mode to the signals"
         ))
     ))
 }
@@ -1528,11 +1528,11 @@ fn no_segment_hint(p: &Prepared) -> String {
             "the speed channel never holds a constant speed above rest while loaded".into()
         }
         _ if sliding_s == 0.0 => format!(
-            "the normal force is above its loaded threshold for {loaded_s:.1} s, but μ never exceeds the sliding threshold there (sliding_fraction × the 75th percentile, at least sliding_min_mu; sliding evidence: {}); a step column (--map step=NAME) or a speed channel (--map speed=NAME:UNIT) would segment it",
+            "the normal force is above its loaded threshold for {loaded_s:.1} s, but μ never exceeds the sliding threshold there (sliding_fraction × the 75th percentile, at least sliding_min_mu; sliding evidence: {}); a step column (`map` step=NAME) or a speed channel (`map` speed=NAME:UNIT) would segment it",
             p.report.sliding
         ),
         _ => format!(
-            "{sliding_s:.1} s slide, but in pieces shorter than min_segment_s; a step column (--map step=NAME) or a speed channel (--map speed=NAME:UNIT) would segment it"
+            "{sliding_s:.1} s slide, but in pieces shorter than min_segment_s; a step column (`map` step=NAME) or a speed channel (`map` speed=NAME:UNIT) would segment it"
         ),
     }
 }
@@ -1667,7 +1667,7 @@ fn resolve_velocities(files: &mut [FileReport], c: &Campaign) -> Result<()> {
                 _ => {
                     return Err(Error::input(
                         SourcePos::file(&f.source),
-                        "the speed channel is a spindle speed (rpm) but no track radius is known: give --track-radius-mm (one value or one per segment) or map a radius column",
+                        "the speed channel is a spindle speed (rpm) but no track radius is known: give `track_radii_mm` (one value or one per segment) or map a radius column",
                     ))
                 }
             }
@@ -1705,9 +1705,9 @@ fn check_campaign_level(median_mu: f64, rows: usize, files: &[FileReport]) -> Re
         return Ok(());
     };
     let hint = if median_mu < *Quantity::CampaignMu.hard().start() {
-        "state the unit of the tangential channel: --map tangential=NAME:kN"
+        "state the unit of the tangential channel: `map` tangential=NAME:kN"
     } else {
-        "state the unit of the normal channel: --map normal=NAME:kN"
+        "state the unit of the normal channel: `map` normal=NAME:kN"
     };
     let sources: Vec<&str> = files.iter().map(|f| f.source.as_str()).take(3).collect();
     Err(Error::input(
@@ -1843,9 +1843,9 @@ pub fn check_levels(ds: &FrictionDataset, files: &[FileReport]) -> Result<()> {
                 })
                 .map_or_else(|| format!("pin {pin}"), |f| f.source.clone());
             let hint = if factor < 1.0 {
-                "is the tangential channel in kN (or the normal one in mN) read as N? state its unit: --map tangential=NAME:kN"
+                "is the tangential channel in kN (or the normal one in mN) read as N? state its unit: `map` tangential=NAME:kN"
             } else {
-                "is the normal channel in kN (or the tangential one in mN) read as N? state its unit: --map normal=NAME:kN"
+                "is the normal channel in kN (or the tangential one in mN) read as N? state its unit: `map` normal=NAME:kN"
             };
             return Err(Error::input(
                 SourcePos::file(source).field("tangential / normal"),
@@ -1985,7 +1985,7 @@ fn number_without_plan(
         let Some(v) = s.sliding_velocity_m_per_min else {
             return Err(Error::input(
                 SourcePos::file(&files[f].source),
-                "without a plan the sliding velocity must come from the recording: map a speed channel (--map speed=NAME:UNIT, with --track-radius-mm for rpm), state a constant one (--constant-sliding-velocity-m-per-min V) or give a plan (--study or --plan-steps)",
+                "without a plan the sliding velocity must come from the recording: map a speed channel (`map` speed=NAME:UNIT, with `track_radii_mm` for rpm), state a constant one (`constant_sliding_velocity_m_per_s`) or give a plan (`study` or `plan_steps`)",
             ));
         };
         let single = |ff: usize| {

@@ -124,7 +124,7 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(
-            e.contains("tangential: no friction force") && e.contains("--map tangential=NAME:N"),
+            e.contains("tangential: no friction force") && e.contains("`map` tangential=NAME:N"),
             "{e}"
         );
     }
@@ -139,7 +139,7 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(
-            e.contains("states no unit") && e.contains("--map normal="),
+            e.contains("states no unit") && e.contains("`map` normal="),
             "{e}"
         );
         let e = map
@@ -165,7 +165,7 @@ mod tests {
         let e = read(&text.replace("Step", "Stp"), &ChannelMap::default())
             .unwrap_err()
             .to_string();
-        assert!(e.contains("line 4") && e.contains("--map step="), "{e}");
+        assert!(e.contains("line 4") && e.contains("`map` step="), "{e}");
     }
     #[test]
     fn malformed_csv() {

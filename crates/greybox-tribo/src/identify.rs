@@ -55,7 +55,7 @@ fn trigger_edge(rec: &Recording, cfg: &IdentifyConfig) -> Result<f64> {
     let trig = rec.trigger_v.as_ref().ok_or_else(|| {
         Error::input(
             SourcePos::file(&rec.source).field("trigger"),
-            "no trigger channel mapped; map one or use --align first-plateau",
+            "no trigger channel mapped; map one or use `align` first-plateau",
         )
     })?;
     let (lo, hi) = trig
@@ -73,7 +73,7 @@ fn trigger_edge(rec: &Recording, cfg: &IdentifyConfig) -> Result<f64> {
     if trig[0] >= thr {
         return Err(Error::input(
             SourcePos::file(&rec.source).field("trigger"),
-            "the trigger is already high at the first sample: the recording misses the trigger edge (use --align first-plateau)",
+            "the trigger is already high at the first sample: the recording misses the trigger edge (use `align` first-plateau)",
         ));
     }
     let i = trig

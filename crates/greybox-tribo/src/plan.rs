@@ -233,7 +233,7 @@ impl PlanSpec {
             )),
             None => Err(Error::invalid(
                 "plan",
-                "the track radius is required (track_radius_mm / --track-radius-mm)",
+                "the track radius is required (`track_radius_mm`)",
             )),
         }
     }

@@ -126,7 +126,7 @@ pub fn by_name(name: &str) -> Result<&'static RigProfile> {
         .find(|p| p.name == name.trim())
         .ok_or_else(|| {
             Error::invalid(
-                "--rig",
+                "rig",
                 format!(
                     "unknown rig profile '{name}'; known: {}",
                     names().join(", ")
@@ -226,7 +226,7 @@ pub fn apply(table: &Table, map: &ChannelMap, notes: &mut Vec<String>) -> Result
         .as_deref()
         .is_some_and(|n| !n.is_empty() && n != "auto")
     {
-        "named with --rig"
+        "named with `rig`"
     } else {
         "detected from the file's preamble and header"
     };

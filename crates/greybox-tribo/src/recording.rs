@@ -862,7 +862,8 @@ struct Unresolved {
     or: Option<String>,
 }
 
-/// `--map ROLE=NAME:UNIT`, quoted for a shell where the name needs it.
+/// `` `map` ROLE=NAME:UNIT ``, the mapping quoted for a shell where the name needs it (the
+/// command line shows the setting as its flag).
 fn map_flag(role: Role, name: &str, unit: &str) -> String {
     let arg = if unit.is_empty() {
         format!("{}={name}", role.name())
@@ -870,7 +871,7 @@ fn map_flag(role: Role, name: &str, unit: &str) -> String {
         format!("{}={name}:{unit}", role.name())
     };
     let word = greybox_core::shell::word(&arg).unwrap_or_else(|_| arg.escape_debug().to_string());
-    format!("--map {word}")
+    format!("`map` {word}")
 }
 
 /// The file's column positions for messages: `#1 to #3`, or `#1, #2, #5` where columns
@@ -927,7 +928,7 @@ fn unresolved(table: &Table, map: &ChannelMap, taken: &[(Role, usize, bool)]) ->
     };
     if !has(Role::Normal) && map.constant_normal_n.is_none() {
         let mut u = missing(Role::Normal, "normal force", "N");
-        u.or = Some("for a dead-weight rig, --constant-normal-force-N VALUE".into());
+        u.or = Some("for a dead-weight rig, `constant_normal_force_N` VALUE".into());
         out.push(u);
     }
     if !has(Role::Tangential) && !has(Role::Cof) {
@@ -950,7 +951,7 @@ fn unresolved(table: &Table, map: &ChannelMap, taken: &[(Role, usize, bool)]) ->
         if let ([c], true) = (&rising[..], table.headerless) {
             u.flag = map_flag(Role::Time, &c.name, "s");
         }
-        u.or = Some("--sample-rate-hz HZ".into());
+        u.or = Some("`sample_rate_hz` HZ".into());
         out.push(u);
     }
     for (role, idx, _) in taken {
@@ -996,7 +997,7 @@ fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
         return Error::input(
             SourcePos::file(&table.source),
             format!(
-                "{} channel(s) unresolved in a file without a header line; its columns, by number:\n{}\n{}\nmap them by number, e.g. {} (columns counted from 1), or name them in order with --columns NAME,NAME,… (units in the names, e.g. --columns t_s,Fn_N,Ft_N); without a time column give --sample-rate-hz HZ",
+                "{} channel(s) unresolved in a file without a header line; its columns, by number:\n{}\n{}\nmap them by number, e.g. {} (columns counted from 1), or name them in order with `columns` NAME,NAME,… (units in the names, e.g. `columns` t_s,Fn_N,Ft_N); without a time column give `sample_rate_hz` HZ",
                 problems.len(),
                 column_overview(table),
                 lines.join("\n"),
@@ -1007,7 +1008,7 @@ fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
     Error::input(
         SourcePos::file(&table.source).line(table.header_line),
         format!(
-            "{} channel(s) unresolved (the header has: {}):\n{}\npass them together: {} (or name the rig with --rig NAME; `greybox identify --rig list` lists the profiles)",
+            "{} channel(s) unresolved (the header has: {}):\n{}\npass them together: {} (or name the rig with `rig` NAME; `rig` list lists the profiles)",
             problems.len(),
             table.header_list(),
             lines.join("\n"),
@@ -1117,7 +1118,7 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
                 .ok_or_else(|| {
                     Error::input(
                         SourcePos::file(&source),
-                        "no time column (none mapped, none with a usual name) and no sample rate: give --sample-rate-hz or map the time column with --map time=NAME:UNIT",
+                        "no time column (none mapped, none with a usual name) and no sample rate: give `sample_rate_hz` or map the time column with `map` time=NAME:UNIT",
                     )
                 })?;
             let t0 = table.start_time_s.unwrap_or(0.0);
@@ -1169,7 +1170,7 @@ fn speed_trace(
     }
     let Some(v) = map.constant_sliding_m_s else {
         if !map.ignore.iter().any(|r| r == "speed") {
-            report.notes.push("no speed channel (none mapped, none with a usual name): the sliding velocity must come from a plan (--study, --plan-steps), a speed channel (--map speed=NAME:UNIT) or, for a rig that runs at one speed, --constant-sliding-velocity-m-per-min V".into());
+            report.notes.push("no speed channel (none mapped, none with a usual name): the sliding velocity must come from a plan (`study`, `plan_steps`), a speed channel (`map` speed=NAME:UNIT) or, for a rig that runs at one speed, `constant_sliding_velocity_m_per_s`".into());
         }
         return None;
     };
@@ -1429,7 +1430,7 @@ fn continuous_time(
                 if step.is_some() {
                     ""
                 } else {
-                    " (a time that restarts per step needs the step column mapped: --map step=NAME)"
+                    " (a time that restarts per step needs the step column mapped: `map` step=NAME)"
                 }
             ),
         ));
@@ -1480,7 +1481,7 @@ fn convert_channels(
                     Error::input(
                         pos(),
                         format!(
-                            "column '{header}' ({}) states no unit: name it with one (e.g. '{} ({})') or map it as --map {}={}:{}",
+                            "column '{header}' ({}) states no unit: name it with one (e.g. '{} ({})') or map it as `map` {}={}:{}",
                             role.name(),
                             col.name,
                             example_unit(*role),

@@ -1888,7 +1888,7 @@ pub fn table_from_tdms(mut file: TdmsFile, group: Option<&str>) -> Result<Table>
             return Err(Error::input(
                 SourcePos::file(&file.source),
                 format!(
-                    "{} groups hold channels ({}): name one with --tdms-group",
+                    "{} groups hold channels ({}): name one with `tdms_group`",
                     groups.len(),
                     groups.join(", ")
                 ),

@@ -473,7 +473,7 @@ fn choose_layout(lines: &[Line], opts: &TextOptions, source: &str) -> Result<Can
         Some(h) => Some(lines.iter().position(|l| l.number == h).ok_or_else(|| {
             Error::input(
                 SourcePos::file(source).line(h),
-                format!("--header-line {h}: the file has only {} lines", lines.len()),
+                format!("`header_line` {h}: the file has only {} lines", lines.len()),
             )
         })?),
         None => None,
@@ -528,7 +528,7 @@ fn choose_layout(lines: &[Line], opts: &TextOptions, source: &str) -> Result<Can
         return Err(Error::input(
             SourcePos::file(source).line(lines[c.data].number),
             format!(
-                "found {}-delimited numeric data from line {} in {} columns, but the lines above it are not a header that names them (nor comments above a file of numbers only); give --header-line N for the header's line",
+                "found {}-delimited numeric data from line {} in {} columns, but the lines above it are not a header that names them (nor comments above a file of numbers only); give `header_line` N for the header's line",
                 c.delimiter.name(),
                 lines[c.data].number,
                 c.fields
@@ -1061,7 +1061,7 @@ fn check_units_row(
                 SourcePos::file(source).line(units_line),
                 format!(
                     "column {} ('{bare}'): the header states the unit {stated} but the units row says {row}; \
-                     correct one of them (or name the column's unit with --columns)",
+                     correct one of them (or name the column's unit with `columns`)",
                     k + 1
                 ),
             ));

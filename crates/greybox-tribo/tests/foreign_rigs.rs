@@ -325,7 +325,7 @@ fn tab_separated_files_per_step_without_time() {
     let e = read_recording(&truth[0].file, &map)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("--sample-rate-hz"), "{e}");
+    assert!(e.contains("`sample_rate_hz`"), "{e}");
     map.sample_rate_hz = Some(support::exports::TAB_SAMPLE_RATE_HZ);
     let id = check_export(&truth, &map, &[]);
     // one pin made of four files

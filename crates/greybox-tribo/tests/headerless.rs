@@ -92,7 +92,7 @@ fn semicolon_decimal_comma_without_time_named_by_columns() {
     // without the sample rate, the error says how to give one
     map.sample_rate_hz = None;
     let e = read_recording(&p, &map).unwrap_err().to_string();
-    assert!(e.contains("--sample-rate-hz"), "{e}");
+    assert!(e.contains("`sample_rate_hz`"), "{e}");
 }
 
 #[test]
@@ -154,10 +154,10 @@ fn unresolved_headerless_log_lists_columns_with_samples() {
         "#1: 0, 0.01, 0.02, 0.03, … (increasing: time?)",
         "#2: 12.5, 12, 12.25, 12.5, …",
         "#3: 3.25, 3.5, 3.75, 3.5, …",
-        "--map 'normal=#K:N'",
-        "--map 'time=#1:s'",
-        "--columns",
-        "--sample-rate-hz",
+        "`map` 'normal=#K:N'",
+        "`map` 'time=#1:s'",
+        "`columns`",
+        "`sample_rate_hz`",
     ] {
         assert!(e.contains(want), "missing '{want}' in:\n{e}");
     }
@@ -243,7 +243,7 @@ fn cof_column_is_never_offered_as_a_force() {
         .unwrap_err()
         .to_string();
     assert!(!e.contains("tangential=Friction"), "{e}");
-    assert!(e.contains("--map cof=Friction"), "{e}");
+    assert!(e.contains("`map` cof=Friction"), "{e}");
     // an unusual COF name is not among the force candidates, and is offered as cof
     let p = write(
         &dir,
@@ -254,7 +254,7 @@ fn cof_column_is_never_offered_as_a_force() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("candidates: 'Temp (K)'"), "{e}");
-    assert!(e.contains("--map 'cof=COF avg'"), "{e}");
+    assert!(e.contains("`map` 'cof=COF avg'"), "{e}");
     let rec = read_recording(&p, &map_of(&["cof=COF avg"])).unwrap();
     assert!((rec.tangential_n[2] - 2.2).abs() < 1e-12);
 }
@@ -272,7 +272,7 @@ fn missing_speed_note_names_the_constant_velocity_flag() {
     assert!(
         notes
             .iter()
-            .any(|n| n.contains("--constant-sliding-velocity-m-per-min")),
+            .any(|n| n.contains("`constant_sliding_velocity_m_per_s`")),
         "{notes:?}"
     );
     // not when the user said the file has no speed, nor when a constant is given

@@ -279,7 +279,7 @@ fn a_forced_test_mode_the_signals_contradict_is_named() {
     );
     let w = f.warnings.join("\n");
     assert!(
-        w.contains("--test-mode continuous was named")
+        w.contains("`test_mode` continuous was named")
             && w.contains("sliding run(s)")
             && w.contains("reciprocating"),
         "{w}"

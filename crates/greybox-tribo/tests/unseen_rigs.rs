@@ -302,7 +302,7 @@ fn no_speed_and_no_plan_names_the_constant_speed() {
     )
     .unwrap_err()
     .to_string();
-    assert!(e.contains("--constant-sliding-velocity-m-per-min"), "{e}");
+    assert!(e.contains("`constant_sliding_velocity_m_per_s`"), "{e}");
     assert!(e.contains("cof-trace.csv"), "{e}");
 }
 

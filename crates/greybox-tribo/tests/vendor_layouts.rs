@@ -140,10 +140,10 @@ fn everything_unresolved_is_one_message_with_the_flags_to_pass() {
         .to_string();
     for want in [
         "3 channel(s) unresolved",
-        "time: column 'Time' states no unit → --map time=Time:s",
-        "normal: column 'Load' states no unit → --map normal=Load:N",
-        "tangential: column 'Friction Force' states no unit → --map 'tangential=Friction Force:N'",
-        "pass them together: --map time=Time:s --map normal=Load:N --map 'tangential=Friction Force:N'",
+        "time: column 'Time' states no unit → `map` time=Time:s",
+        "normal: column 'Load' states no unit → `map` normal=Load:N",
+        "tangential: column 'Friction Force' states no unit → `map` 'tangential=Friction Force:N'",
+        "pass them together: `map` time=Time:s `map` normal=Load:N `map` 'tangential=Friction Force:N'",
     ] {
         assert!(e.contains(want), "{want:?} missing in\n{e}");
     }
@@ -166,8 +166,8 @@ fn everything_unresolved_is_one_message_with_the_flags_to_pass() {
         .to_string();
     assert!(
         e.contains("candidates: 'A', 'B'")
-            && e.contains("--constant-normal-force-N")
-            && e.contains("--map cof=NAME"),
+            && e.contains("`constant_normal_force_N`")
+            && e.contains("`map` cof=NAME"),
         "{e}"
     );
 }
@@ -205,7 +205,7 @@ fn a_named_profile_and_an_unknown_one() {
         .unwrap()
         .notes
         .iter()
-        .any(|n| n.contains("rig profile rtec") && n.contains("named with --rig")));
+        .any(|n| n.contains("rig profile rtec") && n.contains("named with `rig`")));
     let map = ChannelMap {
         rig: Some("nope".into()),
         ..ChannelMap::default()

@@ -8,7 +8,7 @@ use std::io::Read;
 use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
 use std::path::Path;
 
-/// A cap, with the option field that holds it and the CLI flag that raises it.
+/// A cap, with the option field that holds (and raises) it.
 #[derive(Debug, Clone, Copy)]
 pub struct Cap {
     pub bytes: u64,
@@ -17,11 +17,12 @@ pub struct Cap {
 }
 
 impl Cap {
-    /// `--max-file-bytes` for `max_file_bytes`.
+    /// The setting that raises it, as a field in backticks (`` `max_file_bytes` ``): the
+    /// command line shows it as its flag.
     pub fn flag(&self) -> String {
-        format!("--{}", self.field.replace('_', "-"))
+        format!("`{}`", self.field)
     }
-    /// "over max_svg_bytes (8388608 bytes; raise max_svg_bytes)".
+    /// "over max_svg_bytes (8388608 bytes; raise it with `max_svg_bytes`)".
     pub fn exceeded(&self) -> String {
         format!(
             "over {} ({} bytes; raise it with {})",
