@@ -61,6 +61,18 @@ impl std::fmt::Display for SettingError {
 
 impl std::error::Error for SettingError {}
 
+/// The key of `given` whose value alone gives the error `text` (every settings type defaults
+/// its other fields).
+fn blame<T: DeserializeOwned>(given: &serde_json::Value, text: &str) -> Option<String> {
+    given.as_object()?.iter().find_map(|(key, value)| {
+        let alone = serde_json::json!({ key: value });
+        match serde_json::from_value::<T>(alone) {
+            Err(e) if e.to_string().starts_with(text) => Some(key.clone()),
+            _ => None,
+        }
+    })
+}
+
 fn parse_keys<T: DeserializeOwned + Serialize>(text: &str) -> Result<T> {
     let refused = |m: String| anyhow::Error::new(SettingError(m));
     let given: serde_json::Value =
@@ -68,13 +80,18 @@ fn parse_keys<T: DeserializeOwned + Serialize>(text: &str) -> Result<T> {
     let value: T = serde_path_to_error::deserialize(&given).map_err(|e| {
         let path = e.path().to_string();
         let text = e.into_inner().to_string();
+        let path = match path.as_str() {
+            // a flattened field's error has no path: the key whose value alone fails
+            "." | "" => blame::<T>(&given, &text).unwrap_or_default(),
+            _ => path,
+        };
         // a value type that names its field already (`segment: 'x' is not one of …`)
         let named = path
             .rsplit('.')
             .next()
             .is_some_and(|last| text.starts_with(&format!("{last}:")));
         match path.as_str() {
-            "." | "" => refused(text),
+            "" => refused(text),
             _ if named => refused(text),
             _ => refused(format!("{path}: {text}")),
         }
@@ -93,4 +110,22 @@ fn parse_keys<T: DeserializeOwned + Serialize>(text: &str) -> Result<T> {
         }
     }
     Ok(value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A value refused inside a flattened field (identify's plan) still names its key.
+    #[test]
+    fn a_refused_value_of_a_flattened_field_names_its_key() {
+        let e = from_keywords::<identify::IdentifySettings>(r#"{"velocity_count": -2}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("velocity_count: "), "{e}");
+        let e = from_keywords::<identify::IdentifySettings>(r#"{"steady": 5}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("steady: "), "{e}");
+    }
 }
