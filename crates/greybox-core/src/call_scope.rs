@@ -20,7 +20,7 @@
 //! assert!(greybox_core::interrupt::check().is_err());
 //! ```
 
-use crate::progress::Sink;
+use crate::progress_sink::Sink;
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;

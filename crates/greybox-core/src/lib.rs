@@ -48,6 +48,7 @@ pub mod outputs;
 pub mod physics;
 pub mod plot;
 pub mod progress;
+pub mod progress_sink;
 pub mod provenance;
 pub mod roots;
 pub mod rules;
