@@ -28,7 +28,7 @@ fn flags<T: clap::Args + clap::FromArgMatches>(args: &[&str]) -> T {
 }
 
 /// `T` from JSON holding only `json`'s keys.
-fn keys<T: DeserializeOwned>(json: &str) -> T {
+fn keys<T: DeserializeOwned + serde::Serialize>(json: &str) -> T {
     greybox_pipeline::settings::from_json("test", json).unwrap()
 }
 
