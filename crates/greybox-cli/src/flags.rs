@@ -130,7 +130,7 @@ mod tests {
             #[arg(long = "track-radii-mm")]
             track_radii_mm: Vec<f64>,
             #[arg(long = "settle-s")]
-            settle_s: Option<f64>,
+            settle_time_s: Option<f64>,
             #[arg(long)]
             json: bool,
         },
