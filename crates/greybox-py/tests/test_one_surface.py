@@ -181,3 +181,19 @@ def test_import_reads_tables_by_name_and_takes_the_contact_from_training_data(tm
     with pytest.raises(gb.GreyboxError, match="no sliding velocity"):
         gb.from_sklearn(est2, X_train=ds)
     assert isinstance(ds, pd.DataFrame)
+
+
+# One quad in a physical surface "COATING" (Gmsh 4.1).
+MESH = ("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n2 1 \"COATING\"\n$EndPhysicalNames\n"
+        "$Entities\n0 0 1 0\n1 0 0 0 1 1 0 1 1 0\n$EndEntities\n"
+        "$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n$EndNodes\n"
+        "$Elements\n1 1 1 1\n2 1 3 1\n1 1 2 3 4\n$EndElements\n")
+
+
+def test_windows_with_each_sides_defaults_write_the_same_files(tmp_path):
+    (tmp_path / "tool.msh").write_text(MESH)
+    cli("windows", "--mesh", "tool.msh", "--out", "cli", cwd=tmp_path)
+    summary = gb.windows(tmp_path / "tool.msh", tmp_path / "py")
+    assert summary["windows"] and summary["elements"] == 1
+    for name in ("windows.json", "windows.csv", "windows_frcwin.key", "windows.vtk"):
+        assert (tmp_path / "cli" / name).read_bytes() == (tmp_path / "py" / name).read_bytes(), name
