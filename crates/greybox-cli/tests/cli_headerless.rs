@@ -80,5 +80,8 @@ fn rig_list_needs_no_recordings() {
     let e = err(&greybox(&["identify", "--out", "x.csv"], d.path()));
     assert!(e.contains("--recordings"), "{e}");
     let e = err(&greybox(&["identify", "--rig", "rtec"], d.path()));
-    assert!(e.contains("--recordings: give at least one recording"), "{e}");
+    assert!(
+        e.contains("--recordings: give at least one recording"),
+        "{e}"
+    );
 }

@@ -482,12 +482,15 @@ pub mod edge {
         })
     }
 
+    /// One option's default texts, each with the formats that have it.
+    type DefaultsByText = Vec<(String, Vec<&'static str>)>;
+
     /// Per option, its defaults as `--help` states them, in the flag's units, by format
     /// where they differ (`MPa-mm-s for abaqus, lsdyna`): from
     /// [`super::ExportOverrides::defaults_of`], so that no default is typed twice.
     pub fn default_help() -> Vec<(String, String)> {
         use greybox_core::choice::Choice;
-        let mut by_field: Vec<(String, Vec<(String, Vec<&str>)>)> = Vec::new();
+        let mut fields: Vec<(String, DefaultsByText)> = Vec::new();
         for format in super::ExportFormat::ALL {
             let d = serde_json::to_value(super::ExportOverrides::defaults_of(*format))
                 .expect("overrides serialize");
@@ -495,14 +498,13 @@ pub mod edge {
                 let Some(text) = shown(field, value) else {
                     continue;
                 };
-                let at = match by_field.iter().position(|(f, _)| f == field) {
-                    Some(i) => i,
+                let texts = match fields.iter().position(|(f, _)| f == field) {
+                    Some(i) => &mut fields[i].1,
                     None => {
-                        by_field.push((field.clone(), Vec::new()));
-                        by_field.len() - 1
+                        fields.push((field.clone(), Vec::new()));
+                        &mut fields.last_mut().expect("just pushed").1
                     }
                 };
-                let texts = &mut by_field[at].1;
                 match texts.iter_mut().find(|(t, _)| *t == text) {
                     Some((_, formats)) => formats.push(format.name()),
                     None => texts.push((text, vec![format.name()])),
@@ -510,16 +512,14 @@ pub mod edge {
             }
         }
         let all = super::ExportFormat::ALL.len();
-        by_field
+        let describe = |(text, formats): &(String, Vec<&str>)| match formats.len() == all {
+            true => text.clone(),
+            false => format!("{text} for {}", formats.join(", ")),
+        };
+        fields
             .into_iter()
             .map(|(field, texts)| {
-                let parts: Vec<String> = texts
-                    .iter()
-                    .map(|(t, f)| match f.len() == all {
-                        true => t.clone(),
-                        false => format!("{t} for {}", f.join(", ")),
-                    })
-                    .collect();
+                let parts: Vec<String> = texts.iter().map(describe).collect();
                 (field, parts.join("; "))
             })
             .collect()
