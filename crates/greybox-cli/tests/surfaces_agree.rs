@@ -6,7 +6,9 @@ mod common;
 
 use common::{err, greybox, ok};
 use greybox_core::choice::Choice;
-use greybox_pipeline::export::{export, AxisValues, ExportFormat, ExportOptions, ExportOverrides};
+use greybox_pipeline::export::{
+    export, AxisValues, ExportFormat, ExportOptions, ExportOverrides, ObjectPair,
+};
 use std::path::Path;
 
 /// A law that depends on pressure (Usui–Childs: the friction stress saturates at m·k).
@@ -129,7 +131,7 @@ fn overrides_in_the_clis_units_give_the_librarys_si_options() {
         ],
         ExportOverrides {
             deform_reference_velocity_m_per_s: Some(1.5),
-            deform_objects: Some([3, 4]),
+            deform_objects: Some(ObjectPair([3, 4])),
             ..Default::default()
         },
     );

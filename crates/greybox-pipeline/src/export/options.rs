@@ -7,13 +7,13 @@
 //! demo and library users through the builder methods.
 //!
 //! ```
-//! use greybox_pipeline::export::{ExportFormat, ExportOptions, ExportOverrides};
+//! use greybox_pipeline::export::{ExportFormat, ExportOptions, ExportOverrides, ObjectPair};
 //! let o = ExportOptions::new("law.json".into(), ExportFormat::Lsdyna, "law.k".into());
 //! assert_eq!(o.engine.lsdyna_table_id(), Some(1000));
 //! let o = o.overridden(&ExportOverrides { lsdyna_table_id: Some(7), ..Default::default() })?;
 //! assert_eq!(o.engine.lsdyna_table_id(), Some(7));
 //! // an option of another engine is refused, naming it
-//! let e = o.overridden(&ExportOverrides { deform_objects: Some([1, 2]), ..Default::default() });
+//! let e = o.overridden(&ExportOverrides { deform_objects: Some(ObjectPair([1, 2])), ..Default::default() });
 //! assert!(e.unwrap_err().to_string().contains("export.deform_objects"));
 //! # Ok::<(), anyhow::Error>(())
 //! ```
@@ -384,8 +384,8 @@ pub struct ExportOverrides {
         value_parser = greybox_core::units::clap_parsers::m_per_min_as_m_per_s))]
     pub deform_reference_velocity_m_per_s: Option<f64>,
     /// DEFORM: object numbers TOOL,WORKPIECE.
-    #[cfg_attr(feature = "cli", arg(long, value_parser = edge::object_pair))]
-    pub deform_objects: Option<[u32; 2]>,
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub deform_objects: Option<ObjectPair>,
     /// DEFORM: JSON list of windows {points_mm, pressure_mpa, velocity_m_per_min, temperature_k}.
     #[cfg_attr(feature = "cli", arg(long))]
     pub deform_windows: Option<PathBuf>,
@@ -524,11 +524,6 @@ pub mod edge {
             })
             .collect()
     }
-
-    /// Two object numbers, `TOOL,WORKPIECE`.
-    pub fn object_pair(s: &str) -> Result<[u32; 2], String> {
-        s.parse::<super::ObjectPair>().map(|p| p.0)
-    }
 }
 
 impl ExportOverrides {
@@ -562,7 +557,7 @@ impl ExportOverrides {
                 windows,
             } => {
                 d.deform_reference_velocity_m_per_s = Some(reference_velocity_m_s);
-                d.deform_objects = Some([objects.0, objects.1]);
+                d.deform_objects = Some(ObjectPair([objects.0, objects.1]));
                 d.deform_windows = windows;
             }
             Engine::Lsdyna {
@@ -623,7 +618,9 @@ impl ExportOverrides {
                 *reference_velocity_m_s = self
                     .deform_reference_velocity_m_per_s
                     .unwrap_or(*reference_velocity_m_s);
-                *objects = self.deform_objects.map_or(*objects, |[t, w]| (t, w));
+                *objects = self
+                    .deform_objects
+                    .map_or(*objects, |ObjectPair([t, w])| (t, w));
                 if self.deform_windows.is_some() {
                     windows.clone_from(&self.deform_windows);
                 }
