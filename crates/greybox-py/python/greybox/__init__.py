@@ -999,7 +999,7 @@ def grey_box_law(
         "study": study,
     }
     _native.grey_box_law(_settings(settings))
-    return load_law(out if out is not None else json.loads(_native.settings_defaults("law"))["out"])
+    return load_law(out if out is not None else _calls.library_default("law", "out"))
 
 
 def import_model(

@@ -61,10 +61,16 @@ def _as_files(f: Callable, bound: inspect.BoundArguments, stack: contextlib.Exit
             bound.arguments[name] = v._write_into(stack.enter_context(tempfile.TemporaryDirectory()))
         elif name == "model" and f.__name__ == "grey_box_law" and isinstance(v, Model):
             out = bound.arguments.get("out")
-            out = os.fspath(out) if out is not None else json.loads(_native.settings_defaults("law"))["out"]
+            out = os.fspath(out) if out is not None else library_default("law", "out")
             model_file = os.path.splitext(os.path.basename(out))[0] + ".model.json"
             v.save(os.path.join(os.path.dirname(os.path.abspath(out)), model_file))
             bound.arguments[name] = model_file  # relative: resolved against the law file's folder
+
+
+def library_default(stage: str, key: str) -> Any:
+    """The library's default of setting ``key`` of ``stage`` (where Python needs the value a
+    ``None`` stands for, e.g. the law file to read back)."""
+    return json.loads(_native.settings_defaults(stage))[key]
 
 
 def public(f: Callable) -> Callable:
