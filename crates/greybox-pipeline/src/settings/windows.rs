@@ -5,6 +5,8 @@
 //! use greybox_pipeline::settings::{from_json, windows::WindowsSettings};
 //! let s: WindowsSettings = from_json("windows", r#"{"mesh": "tool.msh"}"#)?;
 //! assert_eq!((s.coating_set.as_str(), s.deform_objects.0), ("COATING", [2, 1]));
+//! let bad = WindowsSettings { mu: -3.0, ..s };
+//! assert!(bad.run().unwrap_err().to_string().starts_with("windows.mu"));
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
@@ -84,6 +86,8 @@ impl WindowsSettings {
         if self.mesh.as_os_str().is_empty() {
             bail!("windows.mesh: give the tool mesh (.msh or .inp)");
         }
+        greybox_core::physics::check(greybox_core::physics::Quantity::Mu, self.mu, "windows.mu")
+            .map_err(anyhow::Error::msg)?;
         crate::windows::windows(
             &self.mesh,
             &self.coating_set,
