@@ -2,9 +2,10 @@
 
 use crate::output::emit;
 use anyhow::Result;
-use greybox_pipeline::sweep::calibrate::calibrate;
-use greybox_pipeline::sweep::settings::{CalibrateSettings, ExecutorSettings};
-use greybox_pipeline::sweep::{self, collect::collect, text, Plan};
+use greybox_sweep::calibrate::calibrate;
+use greybox_sweep::settings::{CalibrateSettings, ExecutorSettings};
+use greybox_sweep::launch::{CaseArg, CaseCommand};
+use greybox_sweep::{self as sweep, collect::collect, text, Plan};
 use std::path::PathBuf;
 
 #[derive(clap::Subcommand, Debug)]
@@ -63,8 +64,22 @@ pub struct Args {
     pub what: Sweep,
 }
 
+/// How a case of a sweep starts: this binary, `greybox --quiet sweep run-case OUT --index N`.
+fn case_command() -> Result<CaseCommand> {
+    Ok(CaseCommand::new(
+        std::env::current_exe()?,
+        [
+            CaseArg::text("--quiet"),
+            CaseArg::text("sweep"),
+            CaseArg::text("run-case"),
+            CaseArg::OutDir,
+            CaseArg::text("--index"),
+            CaseArg::Index,
+        ],
+    ))
+}
+
 pub fn run(a: Args) -> Result<()> {
-    let exe = std::env::current_exe()?;
     match a.what {
         Sweep::Plan {
             sweep_file,
@@ -82,7 +97,7 @@ pub fn run(a: Args) -> Result<()> {
             dry_run,
             json,
         } => {
-            let r = sweep::run(&sweep_file, &out, &executor.executor(dry_run)?, &exe)?;
+            let r = sweep::run(&sweep_file, &out, &executor.executor(dry_run)?, &case_command()?)?;
             emit(json, &r, |r| text::run(r, dry_run))?;
             match r.failed.len() {
                 0 => Ok(()),
@@ -97,7 +112,7 @@ pub fn run(a: Args) -> Result<()> {
             json,
         } => emit(
             json,
-            &calibrate(&settings.options(sweep_file, exe)?)?,
+            &calibrate(&settings.options(sweep_file, case_command()?)?)?,
             text::calibration,
         ),
     }

@@ -61,11 +61,10 @@ fn rust_files(dir: &Path) -> Vec<PathBuf> {
     out
 }
 
-/// Files that write real command lines (a Slurm script, the argv of `sweep run-case`), and
-/// lines of others that show a whole command: their flags are the command's own.
-const COMMAND_LINES: [(&str, &str); 4] = [
-    ("greybox-pipeline/src/sweep/slurm.rs", ""),
-    ("greybox-pipeline/src/sweep/local.rs", ""),
+/// Files that write real command lines (a Slurm script with its `#SBATCH` lines and `sbatch`
+/// calls), and lines of others that show a whole command: their flags are the command's own.
+const COMMAND_LINES: [(&str, &str); 3] = [
+    ("greybox-sweep/src/slurm.rs", ""),
     (
         "greybox-pipeline/src/text.rs",
         "cargo build --release -p greybox-ffi",

@@ -11,7 +11,7 @@ use greybox_pipeline::settings::{
     windows::WindowsSettings,
 };
 use greybox_pipeline::simulate::RunOutput;
-use greybox_pipeline::sweep::settings::{CalibrateSettings, ExecutorSettings};
+use greybox_sweep::settings::{CalibrateSettings, ExecutorSettings};
 use serde::de::DeserializeOwned;
 use std::fmt::Debug;
 

@@ -26,7 +26,6 @@
 //! | wear | [`wear`] | volumes, height maps, scars → Archard k |
 //! | tool windows | [`windows`] | coated tool mesh → friction windows |
 //! | everything | [`demo`] | bundled study → all of the above |
-//! | many cases, here or on Slurm | [`sweep`] | sweep file → cases, results table, calibrated C |
 //! | one page | [`report`] | a study directory → self-contained `report.html` |
 //! | speed | [`bench`](mod@bench) | ingestion, prediction latency, surrogate tables, SPH |
 //!
@@ -58,11 +57,9 @@ pub mod report;
 pub mod settings;
 pub mod simulate;
 pub mod study;
-pub mod sweep;
 pub mod synth;
 pub mod table;
 pub mod text;
-pub mod validate;
 pub mod wear;
 pub mod windows;
 

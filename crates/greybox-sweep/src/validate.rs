@@ -40,7 +40,7 @@ pub struct Suite {
 impl Suite {
     /// Reads a suite file.
     pub fn read(path: &Path) -> Result<Suite> {
-        crate::config_toml::read(path, "validation suite")
+        greybox_pipeline::config_toml::read(path, "validation suite")
     }
 
     /// The files the suite at `path` reads: its data and its set-up templates (relative
@@ -404,7 +404,7 @@ fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Va
             );
         }
         let setup_path = base.join(&runs.setup);
-        let mut template = crate::simulate::read_cutting_setup(&setup_path)?.setup;
+        let mut template = greybox_pipeline::simulate::read_cutting_setup(&setup_path)?.setup;
         template.cut_length_m *= o.fraction;
         let wanted = |c: &&Condition| o.only.is_empty() || o.only.contains(&c.id);
         let is_cal = |c: &&Condition| runs.calibration.contains(&c.id);
@@ -617,13 +617,13 @@ pub fn validate_into(
     let files = suite.input_files(suite_path);
     let mut inputs = vec![("suite", suite_path)];
     inputs.extend(files.iter().map(|f| ("suite input", f.as_path())));
-    let staged = crate::output::stage_out_dir(out, force, &inputs)?;
+    let staged = greybox_pipeline::output::stage_out_dir(out, force, &inputs)?;
     let v = run_suite(&suite, suite_path, o)?;
     let files: Vec<PathBuf> = write_outputs(&v, staged.path())?
         .iter()
         .map(|p| staged.shown(p))
         .collect();
-    crate::output::provenance(&inputs)?.write_into(staged.path())?;
+    greybox_pipeline::output::provenance(&inputs)?.write_into(staged.path())?;
     staged.commit()?;
     Ok((v, files))
 }

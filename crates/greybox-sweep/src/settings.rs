@@ -2,8 +2,8 @@
 //! the calibration's search, with the defaults once.
 //!
 //! ```
-//! use greybox_pipeline::sweep::settings::{ExecutorName, ExecutorSettings};
-//! use greybox_pipeline::sweep::Executor;
+//! use greybox_sweep::settings::{ExecutorName, ExecutorSettings};
+//! use greybox_sweep::Executor;
 //! let s = ExecutorSettings { executor: ExecutorName::Slurm, ..Default::default() };
 //! assert!(matches!(s.executor(true), Ok(Executor::Slurm { dry_run: true, .. })));
 //! let none: Result<ExecutorSettings, _> = serde_json::from_str(r#"{"jobs": 0}"#);
@@ -13,6 +13,7 @@
 //! ```
 
 use super::calibrate::{CalibrateOptions, HoldOut};
+use super::launch::CaseCommand;
 use super::Executor;
 use anyhow::{bail, Result};
 use serde::{Deserialize, Serialize};
@@ -139,14 +140,14 @@ impl Default for CalibrateSettings {
 }
 
 impl CalibrateSettings {
-    /// The calibration of `sweep_file`'s base, its executors starting `exe`.
-    pub fn options(&self, sweep_file: PathBuf, exe: PathBuf) -> Result<CalibrateOptions> {
+    /// The calibration of `sweep_file`'s base, each case's process started by `command`.
+    pub fn options(&self, sweep_file: PathBuf, command: CaseCommand) -> Result<CalibrateOptions> {
         Ok(CalibrateOptions {
             sweep_file,
             measured: self.measured.clone(),
             out: self.out.clone(),
             executor: self.executor.executor(false)?,
-            exe,
+            command,
             c_range: (self.c_min, self.c_max),
             iterations: self.iterations.get(),
             hold_out: if self.hold_out.is_empty() {

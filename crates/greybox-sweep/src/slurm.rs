@@ -10,6 +10,7 @@
 
 use super::case::{tail, CaseDir, Status};
 use super::spec::SlurmSection;
+use super::launch::CaseCommand;
 use super::{FailedCase, Plan, RunReport};
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
@@ -100,11 +101,11 @@ fn user_directives(s: &SlurmSection, time: &str, source: &str) -> Result<Vec<Str
     Ok(lines)
 }
 
-/// The array script for `indices` of `plan` (output directory `out` and executable `exe`
-/// as absolute paths). Every value from the user goes through [`greybox_core::shell`]:
+/// The array script for `indices` of `plan` (output directory `out` and the case command
+/// `command` with an absolute program). Every value from the user goes through [`greybox_core::shell`]:
 /// quoted for the shell, checked against an allow-list in `#SBATCH` lines (which sbatch
 /// parses itself), escaped in comments; what cannot go in safely is refused.
-pub fn script(plan: &Plan, out: &Path, exe: &Path, indices: &[usize]) -> Result<String> {
+pub fn script(plan: &Plan, out: &Path, command: &CaseCommand, indices: &[usize]) -> Result<String> {
     let s = &plan.slurm;
     let cpus = s.cpus_per_task.unwrap_or(1).max(1);
     let largest = indices
@@ -125,7 +126,7 @@ pub fn script(plan: &Plan, out: &Path, exe: &Path, indices: &[usize]) -> Result<
             .map(str::to_string)
             .with_context(|| format!("{what} {}: not UTF-8", p.display()))
     };
-    let (out_text, exe_text) = (text(out, "--out")?, text(exe, "the greybox executable")?);
+    let out_text = text(out, "--out")?;
     let log = format!("{out_text}/slurm/logs/%A_%a.log");
     let mut t = String::from("#!/bin/bash\n");
     let _ = writeln!(t, "#SBATCH --job-name=greybox-sweep");
@@ -159,24 +160,17 @@ pub fn script(plan: &Plan, out: &Path, exe: &Path, indices: &[usize]) -> Result<
     );
     let _ = writeln!(
         t,
-        "exec {} --quiet sweep run-case {} --index \"$SLURM_ARRAY_TASK_ID\"",
-        shell::quote(&exe_text)?,
-        shell::quote(&out_text)?
+        "exec {}",
+        command.shell_line(&out_text, "\"$SLURM_ARRAY_TASK_ID\"")?
     );
     Ok(t)
 }
 
 /// Refuses, before anything is written, a plan whose Slurm script could not be written
 /// safely (the same checks as [`script`]).
-pub fn check(plan: &Plan, out: &Path, exe: &Path) -> Result<()> {
+pub fn check(plan: &Plan, out: &Path, command: &CaseCommand) -> Result<()> {
     let all: Vec<usize> = (0..plan.cases.len()).collect();
-    script(
-        plan,
-        &std::path::absolute(out)?,
-        &std::path::absolute(exe)?,
-        &all,
-    )
-    .map(drop)
+    script(plan, &std::path::absolute(out)?, &command.absolute()?, &all).map(drop)
 }
 
 fn command_output(cmd: &mut Command, what: &str) -> Result<String> {
@@ -195,9 +189,15 @@ fn command_output(cmd: &mut Command, what: &str) -> Result<String> {
 
 /// Writes the script for the unfinished cases, submits it (unless `dry_run`) and follows
 /// the job until it has left the queue.
-pub fn run(plan: &Plan, out: &Path, exe: &Path, dry_run: bool, poll_s: f64) -> Result<RunReport> {
+pub fn run(
+    plan: &Plan,
+    out: &Path,
+    command: &CaseCommand,
+    dry_run: bool,
+    poll_s: f64,
+) -> Result<RunReport> {
     let out = std::path::absolute(out)?;
-    let exe = std::path::absolute(exe)?;
+    let command = command.absolute()?;
     let statuses = plan.statuses(&out);
     let indices: Vec<usize> = (0..plan.cases.len())
         .filter(|&i| statuses[i] != Status::Done)
@@ -214,7 +214,7 @@ pub fn run(plan: &Plan, out: &Path, exe: &Path, dry_run: bool, poll_s: f64) -> R
     if indices.is_empty() {
         return Ok(report);
     }
-    let text = script(plan, &out, &exe, &indices)?;
+    let text = script(plan, &out, &command, &indices)?;
     report.slurm_script = Some(text.clone());
     if dry_run {
         return Ok(report);
@@ -318,12 +318,28 @@ mod tests {
         assert_eq!(hms(3.0 * 3600.0), "03:00:00");
     }
 
+    /// The case command the `greybox` binary hands in, with `program` as its executable.
+    fn cmd(program: &str) -> CaseCommand {
+        use crate::launch::CaseArg;
+        CaseCommand::new(
+            program,
+            [
+                CaseArg::text("--quiet"),
+                CaseArg::text("sweep"),
+                CaseArg::text("run-case"),
+                CaseArg::OutDir,
+                CaseArg::text("--index"),
+                CaseArg::Index,
+            ],
+        )
+    }
+
     fn plan(slurm: SlurmSection, source: &str) -> Plan {
         use super::super::case::{Case, Cost};
         Plan {
             kind: super::super::spec::CaseKind::Pin,
             fraction: 1.0,
-            frames: crate::simulate::Frames::of(0),
+            frames: greybox_pipeline::simulate::Frames::of(0),
             fields: vec![],
             cases: vec![Case {
                 index: 0,
@@ -352,7 +368,7 @@ mod tests {
         let source = format!("s.toml\ntouch {m}\n");
         let p = plan(SlurmSection::default(), &source);
         let out = d.path().join("o");
-        let t = script(&p, &out, Path::new("/bin/echo"), &[0]).unwrap();
+        let t = script(&p, &out, &cmd("/bin/echo"), &[0]).unwrap();
         assert!(t.lines().filter(|l| l.starts_with('#')).count() >= 8, "{t}");
         let run = std::process::Command::new("/bin/bash")
             .arg("-c")
@@ -367,7 +383,7 @@ mod tests {
         assert!(!marker.exists(), "{t}");
         // a quote, a substitution and a newline in --out: refused for the #SBATCH line
         for bad in ["o'x", "o$(touch M)", "o\ntouch M", "o x"] {
-            let e = script(&p, &d.path().join(bad), Path::new("/bin/echo"), &[0])
+            let e = script(&p, &d.path().join(bad), &cmd("/bin/echo"), &[0])
                 .unwrap_err()
                 .to_string();
             assert!(e.contains("--out") && e.contains("#SBATCH"), "{e}");
@@ -377,7 +393,7 @@ mod tests {
     #[test]
     fn slurm_section_values_are_checked_field_by_field() {
         let refused = |s: SlurmSection, field: &str| {
-            let e = script(&plan(s, "s.toml"), Path::new("/o"), Path::new("/g"), &[0])
+            let e = script(&plan(s, "s.toml"), Path::new("/o"), &cmd("/g"), &[0])
                 .unwrap_err()
                 .to_string();
             assert!(e.contains(field) && e.contains("s.toml"), "{field}: {e}");
@@ -422,7 +438,7 @@ mod tests {
             s.time = Some("1-02:00:00".into());
             s.extra = vec!["--qos=short".into(), " --exclusive ".into()];
         });
-        let t = script(&plan(ok, "s.toml"), Path::new("/o"), Path::new("/g"), &[0]).unwrap();
+        let t = script(&plan(ok, "s.toml"), Path::new("/o"), &cmd("/g"), &[0]).unwrap();
         for l in [
             "#SBATCH --partition=compute",
             "#SBATCH --account=proj-42",

@@ -1,4 +1,4 @@
-//! The local executor: a pool of `greybox sweep run-case` processes, `jobs` at a time,
+//! The local executor: a pool of case processes (the handed-in [`CaseCommand`]), `jobs` at a time,
 //! each with its share of the cores (`RAYON_NUM_THREADS`) and its own log file.
 //!
 //! Finished cases are skipped, failed ones run again. A case counts as finished only when
@@ -7,6 +7,7 @@
 //! without it, so the next run repeats them.
 
 use super::case::{CaseDir, Status};
+use super::launch::CaseCommand;
 use super::{failures, Plan, RunReport};
 use anyhow::{Context, Result};
 use greybox_core::atomic::create_output_file;
@@ -14,9 +15,9 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
-/// Runs the unfinished cases of `plan` (already written to `out`) with `jobs` processes of
-/// the greybox executable `exe`.
-pub fn run(plan: &Plan, out: &Path, jobs: usize, exe: &Path) -> Result<RunReport> {
+/// Runs the unfinished cases of `plan` (already written to `out`) with `jobs` processes,
+/// each started by `command`.
+pub fn run(plan: &Plan, out: &Path, jobs: usize, command: &CaseCommand) -> Result<RunReport> {
     let jobs = jobs.max(1);
     let statuses = plan.statuses(out);
     let skipped = statuses.iter().filter(|s| **s == Status::Done).count();
@@ -39,16 +40,14 @@ pub fn run(plan: &Plan, out: &Path, jobs: usize, exe: &Path) -> Result<RunReport
             let dir = CaseDir::of(out, &c.id);
             let log = create_output_file(&dir.log())
                 .with_context(|| format!("cannot write {}", dir.log().display()))?;
-            let child = Command::new(exe)
-                .args(["--quiet", "sweep", "run-case"])
-                .arg(out)
-                .args(["--index", &c.index.to_string()])
+            let child = Command::new(&command.program)
+                .args(command.args_for(out, &c.index.to_string()))
                 .env("RAYON_NUM_THREADS", threads.to_string())
                 .stdin(Stdio::null())
                 .stdout(log.try_clone()?)
                 .stderr(log)
                 .spawn()
-                .with_context(|| format!("cannot start {}", exe.display()))?;
+                .with_context(|| format!("cannot start {}", command.program.display()))?;
             running.push((c.index, child));
         }
         let mut still = Vec::with_capacity(running.len());

@@ -57,7 +57,7 @@ pub struct SweepSection {
     pub fraction: f64,
     /// Cutting: chip pictures per case (0: the last state only).
     #[serde(default = "no_frames")]
-    pub frames: crate::simulate::Frames,
+    pub frames: greybox_pipeline::simulate::Frames,
     /// Most cases the axes may multiply to (default [`DEFAULT_MAX_CASES`]): counted from the
     /// axes' lengths before any case is built, so a mistyped range cannot fill memory.
     #[serde(default = "default_max_cases")]
@@ -68,8 +68,8 @@ pub struct SweepSection {
     pub stop_when_steady: bool,
 }
 
-fn no_frames() -> crate::simulate::Frames {
-    crate::simulate::Frames::of(0)
+fn no_frames() -> greybox_pipeline::simulate::Frames {
+    greybox_pipeline::simulate::Frames::of(0)
 }
 
 /// Values `[sweep] max_cases` may be raised to: every case is a directory and a run.
@@ -213,7 +213,7 @@ pub struct ExpandedAxis {
 impl SweepFile {
     /// Reads and checks a sweep file.
     pub fn load(path: &Path) -> Result<(SweepFile, PathBuf)> {
-        let f: SweepFile = crate::config_toml::read(path, "sweep file")?;
+        let f: SweepFile = greybox_pipeline::config_toml::read(path, "sweep file")?;
         if !(f.sweep.fraction > 0.0 && f.sweep.fraction <= 1.0) {
             bail!(
                 "{}: [sweep] fraction must be in (0, 1], got {}",

@@ -1,29 +1,40 @@
-//! Parameter sweeps: a base case (a cut or a pin) and axes of any configuration field,
-//! expanded into cases that run on a local process pool or as one Slurm array job, resume
-//! where they stopped, and are collected into one table with plots; a calibration of the
-//! Johnson–Cook C against measured forces uses sweeps as its inner loop.
+//! Studies of many cuts. Parameter sweeps: a base case (a cut or a pin) and axes of any
+//! configuration field, expanded into cases that run on a local process pool or as one Slurm
+//! array job, resume where they stopped, and are collected into one table with plots; a
+//! calibration of the Johnson–Cook C against measured forces uses sweeps as its inner loop.
+//! The validation suite runs the cutting model against measured cuts.
+//!
+//! This crate sits above the pipeline (a case is a pipeline cut or pin) and knows no command
+//! line: the program running a sweep hands in how a case's process starts ([`launch`]).
 //!
 //! | step | module |
 //! |---|---|
 //! | sweep file, axes | [`spec`] |
 //! | cases: resolved configs, ids, cost, case directories | [`case`] |
-//! | the plan and running one case | this module |
+//! | the plan and running one case | this crate's root |
+//! | how a case's process starts (handed in) | [`launch`] |
 //! | a local process pool | [`local`] |
 //! | Slurm: array script, submission, following | [`slurm`] |
 //! | one table and plots | [`collect`] |
 //! | J-C C across conditions | [`calibrate`] |
+//! | the executor and calibration settings | [`settings`] |
+//! | plain-text tables | [`text`] |
+//! | measured cuts: μ* calibration, held-out errors | [`validate`] |
 
 pub mod calibrate;
 pub mod case;
 pub mod collect;
+pub mod launch;
 pub mod local;
 pub mod settings;
 pub mod slurm;
 pub mod spec;
 pub mod text;
+pub mod validate;
 
 use anyhow::{bail, Context, Result};
 use case::{Case, CaseDir, Done, Status};
+use launch::CaseCommand;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::outputs::path_component;
 use serde::{Deserialize, Serialize};
@@ -36,7 +47,7 @@ use std::path::{Path, PathBuf};
 pub struct Plan {
     pub kind: CaseKind,
     pub fraction: f64,
-    pub frames: crate::simulate::Frames,
+    pub frames: greybox_pipeline::simulate::Frames,
     /// The fields the axes vary, in order.
     pub fields: Vec<String>,
     pub cases: Vec<Case>,
@@ -186,7 +197,7 @@ pub fn run_case(out: &Path, index: usize) -> Result<Status> {
 }
 
 fn run_config(plan: &Plan, dir: &CaseDir) -> Result<serde_json::Value> {
-    use crate::simulate::{read_cutting_setup, run_cut, run_pin, RunOutput};
+    use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, RunOutput};
     let o = RunOutput {
         force: true,
         frames: plan.frames,
@@ -199,7 +210,7 @@ fn run_config(plan: &Plan, dir: &CaseDir) -> Result<serde_json::Value> {
         }
         CaseKind::Pin => {
             let setup: greybox_sim::pin::PinSetup =
-                crate::config_toml::read(&dir.config(), "pin set-up")?;
+                greybox_pipeline::config_toml::read(&dir.config(), "pin set-up")?;
             serde_json::to_value(run_pin(&setup, &o)?)?
         }
     })
@@ -254,15 +265,31 @@ pub fn failures(plan: &Plan, out: &Path, log: &dyn Fn(&Case) -> PathBuf) -> Vec<
         .collect()
 }
 
-/// Plans the sweep file into `out` and runs its unfinished cases on `executor`.
-pub fn run(sweep_file: &Path, out: &Path, executor: &Executor, exe: &Path) -> Result<RunReport> {
+impl Executor {
+    /// Runs the unfinished cases of `plan` (written to `out`), each case's process started by
+    /// `command`.
+    pub fn run(&self, plan: &Plan, out: &Path, command: &CaseCommand) -> Result<RunReport> {
+        match self {
+            Executor::Local { jobs } => local::run(plan, out, *jobs, command),
+            Executor::Slurm { dry_run, poll_s } => {
+                slurm::run(plan, out, command, *dry_run, *poll_s)
+            }
+        }
+    }
+}
+
+/// Plans the sweep file into `out` and runs its unfinished cases on `executor`, each case's
+/// process started by `command`.
+pub fn run(
+    sweep_file: &Path,
+    out: &Path,
+    executor: &Executor,
+    command: &CaseCommand,
+) -> Result<RunReport> {
     let plan = Plan::from_file(sweep_file)?;
     if let Executor::Slurm { .. } = executor {
-        slurm::check(&plan, out, exe)?;
+        slurm::check(&plan, out, command)?;
     }
     plan.write(out)?;
-    match executor {
-        Executor::Local { jobs } => local::run(&plan, out, *jobs, exe),
-        Executor::Slurm { dry_run, poll_s } => slurm::run(&plan, out, exe, *dry_run, *poll_s),
-    }
+    executor.run(&plan, out, command)
 }

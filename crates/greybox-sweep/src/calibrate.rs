@@ -8,6 +8,7 @@
 //! values; every evaluation's cases are kept, so a repeated value costs nothing.
 
 use super::spec::{Axis, FieldValues, SweepFile};
+use super::launch::CaseCommand;
 use super::{Executor, Plan};
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
@@ -106,8 +107,8 @@ pub struct CalibrateOptions {
     pub measured: PathBuf,
     pub out: PathBuf,
     pub executor: Executor,
-    /// The greybox executable the executors start.
-    pub exe: PathBuf,
+    /// How a case's process starts (handed in by the program running the calibration).
+    pub command: CaseCommand,
     /// The bracket of C.
     pub c_range: (f64, f64),
     /// Evaluations per golden-section search.
@@ -187,12 +188,7 @@ fn evaluate(
     }
     let plan = Plan::expand(&f, dir, &o.sweep_file.display().to_string(), &extra)?;
     plan.write(&o.out)?;
-    let report = match &o.executor {
-        Executor::Local { jobs } => super::local::run(&plan, &o.out, *jobs, &o.exe)?,
-        Executor::Slurm { dry_run, poll_s } => {
-            super::slurm::run(&plan, &o.out, &o.exe, *dry_run, *poll_s)?
-        }
-    };
+    let report = o.executor.run(&plan, &o.out, &o.command)?;
     if let Some(first) = report.failed.first() {
         bail!("C = {c}: case {} failed: {}", first.index, first.error);
     }

@@ -7,7 +7,7 @@
 //! atomically: the marker that the case is finished), or `failed.json` with the error.
 
 use super::spec::CaseKind;
-use crate::simulate::Frames;
+use greybox_pipeline::simulate::Frames;
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::outputs::output_subdir;
@@ -88,7 +88,7 @@ pub fn absolute_file(path: &str, value: &toml::Value, base: &Path) -> toml::Valu
 /// The base configuration as a TOML value, its relative file paths made absolute; cuts
 /// stop when steady where the sweep says so (`[sweep] stop_when_steady`).
 pub fn read_base(path: &Path, kind: CaseKind, stop_when_steady: bool) -> Result<toml::Value> {
-    let mut v: toml::Value = crate::config_toml::read(path, "base configuration")?;
+    let mut v: toml::Value = greybox_pipeline::config_toml::read(path, "base configuration")?;
     let dir = path.parent().unwrap_or(Path::new(""));
     if kind == CaseKind::Cutting {
         let stop = toml::Value::Boolean(stop_when_steady);
@@ -128,7 +128,7 @@ pub fn check(kind: CaseKind, v: &toml::Value, fraction: f64) -> Result<(serde_js
             let mut s: CuttingSetup = v.clone().try_into().context("not a valid cutting set-up")?;
             // A flow-stress table's curves go into the canonical form: the case id follows
             // their content.
-            crate::simulate::load_material_files(&mut s.material, Path::new(""))?;
+            greybox_pipeline::simulate::load_material_files(&mut s.material, Path::new(""))?;
             s.validate()?;
             let mut canonical = serde_json::to_value(&s)?;
             if let Some(f) = s.friction.law_file.as_deref().map(Path::new) {
