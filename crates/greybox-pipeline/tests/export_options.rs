@@ -15,7 +15,7 @@ fn law_dir() -> tempfile::TempDir {
 #[test]
 fn the_documented_defaults_are_the_libraries() {
     let o = |f| ExportOptions::new("l".into(), f, "o".into());
-    match o(ExportFormat::Deform).engine {
+    match o(ExportFormat::Deform).table.engine {
         Engine::Deform {
             reference_velocity_m_s,
             objects,
@@ -27,10 +27,10 @@ fn the_documented_defaults_are_the_libraries() {
         }
         e => panic!("{e:?}"),
     }
-    assert_eq!(o(ExportFormat::Lsdyna).engine.lsdyna_table_id(), Some(1000));
-    let u = o(ExportFormat::Abaqus).engine.units().unwrap();
+    assert_eq!(o(ExportFormat::Lsdyna).table.engine.lsdyna_table_id(), Some(1000));
+    let u = o(ExportFormat::Abaqus).table.engine.units().unwrap();
     assert_eq!((u.pressure.name(), u.speed.name()), ("MPa", "mm/s"));
-    let g = o(ExportFormat::Csv).grid;
+    let g = o(ExportFormat::Csv).table.grid;
     assert_eq!((g.pressure_pa[0], g.pressure_pa[20]), (500e6, 2500e6));
     assert_eq!(
         (g.velocity_m_s[0] * 60.0, g.velocity_m_s[29] * 60.0),
@@ -93,10 +93,8 @@ fn the_size_budget_refuses_before_writing_and_a_fitting_table_is_written() {
         "{e}"
     );
     assert!(!out.exists());
-    let o = ExportOptions {
-        max_table_size: greybox_pipeline::export::TableSize::of(630),
-        ..o
-    };
+    let mut o = o;
+    o.table.max_table_size = greybox_pipeline::export::TableSize::of(630);
     let r = export(&o).unwrap();
     assert_eq!(r.shape.iter().product::<usize>(), 630);
     assert_eq!(r.bytes as u64, std::fs::metadata(&out).unwrap().len());

@@ -1,6 +1,7 @@
-//! The options of [`export`](super::export), owned here once: the documented defaults, the
-//! engine each option belongs to, and validation whose errors name the option
-//! (`export.deform_reference_velocity_m_per_s`), never a command-line flag.
+//! The options of [`export`](super::export): the law and the file, and the table as the
+//! friction crate's registry states it ([`TableSpec`], [`Engine`] with its defaults and
+//! validation, whose errors name the option, `export.deform_reference_velocity_m_per_s`,
+//! never a command-line flag); and the overrides a surface sets by name.
 //!
 //! Every surface starts from [`ExportOptions::new`] and only overrides fields: the command
 //! line and Python through [`ExportOverrides`] (the same names, with units in them), the
@@ -9,269 +10,39 @@
 //! ```
 //! use greybox_pipeline::export::{ExportFormat, ExportOptions, ExportOverrides, ObjectPair};
 //! let o = ExportOptions::new("law.json".into(), ExportFormat::Lsdyna, "law.k".into());
-//! assert_eq!(o.engine.lsdyna_table_id(), Some(1000));
+//! assert_eq!(o.table.engine.lsdyna_table_id(), Some(1000));
 //! let o = o.overridden(&ExportOverrides { lsdyna_table_id: Some(7), ..Default::default() })?;
-//! assert_eq!(o.engine.lsdyna_table_id(), Some(7));
+//! assert_eq!(o.table.engine.lsdyna_table_id(), Some(7));
 //! // an option of another engine is refused, naming it
 //! let e = o.overridden(&ExportOverrides { deform_objects: Some(ObjectPair([1, 2])), ..Default::default() });
 //! assert!(e.unwrap_err().to_string().contains("export.deform_objects"));
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use greybox_core::choice::Choice;
-use greybox_core::count::Count;
-use greybox_core::units::{m_per_min_to_m_per_s, mpa_to_pa};
-use greybox_friction::export::{Grid, StepLines, TempUnit, Units};
+pub use greybox_friction::export::engine::{
+    default_pressures_pa, default_velocities_m_s, equidistant, AxisPoints, CheckPoints, Engine,
+    ExportFormat, ObjectPair, TableSize, TableSpec, DEFAULT_CHECK_POINTS,
+    DEFAULT_DEFORM_OBJECTS, DEFAULT_DEFORM_REFERENCE_VELOCITY_M_S, DEFAULT_LSDYNA_TABLE_ID,
+    DEFAULT_MAX_TABLE_SIZE, DEFAULT_TEMPERATURE_UNIT, DEFAULT_TOLERANCE, DEFAULT_UNITS,
+};
+use greybox_friction::export::{Grid, StepLines, TempUnit};
 use greybox_friction::grid::UnitSystem;
 use greybox_friction::table_file::TableKind;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
-/// The exported form.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ExportFormat {
-    /// Abaqus *FRICTION data lines.
-    Abaqus,
-    /// DEFORM FRCFAC / FRCWIN keyword blocks.
-    Deform,
-    /// LS-DYNA *DEFINE_TABLE + *DEFINE_CURVE.
-    Lsdyna,
-    /// The grid as CSV.
-    Csv,
-    /// A greybox surrogate table (JSON): exact for tree ensembles, adaptive otherwise.
-    Table,
-}
-
-impl Choice for ExportFormat {
-    const FIELD: &'static str = "export.format";
-    const ALL: &'static [Self] = &[
-        ExportFormat::Abaqus,
-        ExportFormat::Deform,
-        ExportFormat::Lsdyna,
-        ExportFormat::Csv,
-        ExportFormat::Table,
-    ];
-    fn name(self) -> &'static str {
-        match self {
-            ExportFormat::Abaqus => "abaqus",
-            ExportFormat::Deform => "deform",
-            ExportFormat::Lsdyna => "lsdyna",
-            ExportFormat::Csv => "csv",
-            ExportFormat::Table => "table",
-        }
-    }
-}
-greybox_core::choice_traits!(ExportFormat);
-
-/// The default pressures of an engine table: 500 to 2500 MPa in 21 steps (the article's
-/// rake-face range, 100 MPa apart), Pa.
-pub fn default_pressures_pa() -> Vec<f64> {
-    super::equidistant(500.0, 2500.0, 21)
-        .into_iter()
-        .map(mpa_to_pa)
-        .collect()
-}
-
-/// The default sliding velocities: 10 to 300 m/min in 30 steps (10 m/min apart), m/s.
-pub fn default_velocities_m_s() -> Vec<f64> {
-    super::equidistant(10.0, 300.0, 30)
-        .into_iter()
-        .map(m_per_min_to_m_per_s)
-        .collect()
-}
-
-/// The default unit system of Abaqus and LS-DYNA tables (tonne–mm–s–N–MPa, the usual one
-/// of metal-cutting models).
-pub const DEFAULT_UNITS: UnitSystem = UnitSystem::MpaMmS;
-/// The default temperature unit of the tables.
-pub const DEFAULT_TEMPERATURE_UNIT: TempUnit = TempUnit::C;
-/// The default sliding velocity of DEFORM's FRCFAC p–T table, m/s (150 m/min, mid-range of
-/// the article's cutting speeds).
-pub const DEFAULT_DEFORM_REFERENCE_VELOCITY_M_S: f64 = 2.5;
-/// The default DEFORM object numbers (tool, workpiece): DEFORM's machining templates number
-/// the workpiece 1 and the tool 2.
-pub const DEFAULT_DEFORM_OBJECTS: (u32, u32) = (2, 1);
-/// DEFORM object numbers (tool, workpiece); `TOOL,WORKPIECE` as text (the command line),
-/// a list of two numbers in JSON.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(transparent)]
-pub struct ObjectPair(pub [u32; 2]);
-
-impl ObjectPair {
-    /// DEFORM's usual numbering: [`DEFAULT_DEFORM_OBJECTS`].
-    pub const DEFORM_DEFAULT: ObjectPair =
-        ObjectPair([DEFAULT_DEFORM_OBJECTS.0, DEFAULT_DEFORM_OBJECTS.1]);
-}
-
-impl std::fmt::Display for ObjectPair {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{},{}", self.0[0], self.0[1])
-    }
-}
-
-impl std::str::FromStr for ObjectPair {
-    type Err = String;
-    /// Two object numbers, `TOOL,WORKPIECE`.
-    fn from_str(s: &str) -> Result<Self, String> {
-        let n: Vec<u32> = s
-            .split(',')
-            .map(|x| {
-                x.trim()
-                    .parse()
-                    .map_err(|_| format!("'{x}' is not an object number"))
-            })
-            .collect::<Result<_, _>>()?;
-        <[u32; 2]>::try_from(n)
-            .map(ObjectPair)
-            .map_err(|_| "expected two object numbers, TOOL,WORKPIECE".into())
-    }
-}
-
-/// The default LS-DYNA table id (curves take the ids after it).
-pub const DEFAULT_LSDYNA_TABLE_ID: u32 = 1000;
-/// Random points of the deviation check: each is a law evaluation held in memory (24 B).
-pub type CheckPoints = Count<0, 10_000_000>;
-/// The largest table one export may be allowed to write, in values (a few GB as text).
-pub type TableSize = Count<1, { 1 << 28 }>;
-/// Values of one grid axis given as `MIN:MAX:N`.
-pub type AxisPoints = Count<2, 1_000_000>;
-/// The default number of random points of the deviation check.
-pub const DEFAULT_CHECK_POINTS: CheckPoints =
-    CheckPoints::of(greybox_friction::surrogate::DEFAULT_CHECK_POINTS as u64);
-/// The default tolerance of adaptive tables and grids (max |Δμ| on the check set; see
-/// [`greybox_friction::surrogate::DEFAULT_TOLERANCE`] for why 10⁻³).
-pub const DEFAULT_TOLERANCE: f64 = greybox_friction::surrogate::DEFAULT_TOLERANCE;
-/// The default largest table, in values (engine-table points, surrogate cells or nodes).
-pub const DEFAULT_MAX_TABLE_SIZE: TableSize =
-    TableSize::of(greybox_friction::surrogate::DEFAULT_MAX_SIZE as u64);
-
-/// Each engine with its own options.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Engine {
-    Abaqus {
-        units: UnitSystem,
-        temperature_unit: TempUnit,
-        /// TAUMAX, the limiting shear stress, Pa.
-        taumax_pa: Option<f64>,
-    },
-    Deform {
-        /// Sliding velocity at which the FRCFAC p–T table is evaluated, m/s.
-        reference_velocity_m_s: f64,
-        /// Object numbers (tool, workpiece).
-        objects: (u32, u32),
-        /// JSON list of windows {points_mm, pressure_mpa, velocity_m_per_min, temperature_k}.
-        windows: Option<PathBuf>,
-    },
-    Lsdyna {
-        units: UnitSystem,
-        temperature_unit: TempUnit,
-        /// Table id (curves take the following ids).
-        table_id: u32,
-    },
-    Csv,
-    Table {
-        /// `None`: exact for tree ensembles, adaptive otherwise.
-        kind: Option<TableKind>,
-    },
-}
-
-impl Engine {
-    /// The engine of `format` with its documented defaults.
-    pub fn defaults(format: ExportFormat) -> Self {
-        match format {
-            ExportFormat::Abaqus => Engine::Abaqus {
-                units: DEFAULT_UNITS,
-                temperature_unit: DEFAULT_TEMPERATURE_UNIT,
-                taumax_pa: None,
-            },
-            ExportFormat::Deform => Engine::Deform {
-                reference_velocity_m_s: DEFAULT_DEFORM_REFERENCE_VELOCITY_M_S,
-                objects: DEFAULT_DEFORM_OBJECTS,
-                windows: None,
-            },
-            ExportFormat::Lsdyna => Engine::Lsdyna {
-                units: DEFAULT_UNITS,
-                temperature_unit: DEFAULT_TEMPERATURE_UNIT,
-                table_id: DEFAULT_LSDYNA_TABLE_ID,
-            },
-            ExportFormat::Csv => Engine::Csv,
-            ExportFormat::Table => Engine::Table { kind: None },
-        }
-    }
-
-    pub fn format(&self) -> ExportFormat {
-        match self {
-            Engine::Abaqus { .. } => ExportFormat::Abaqus,
-            Engine::Deform { .. } => ExportFormat::Deform,
-            Engine::Lsdyna { .. } => ExportFormat::Lsdyna,
-            Engine::Csv => ExportFormat::Csv,
-            Engine::Table { .. } => ExportFormat::Table,
-        }
-    }
-
-    /// The table units of an Abaqus or LS-DYNA export.
-    pub fn units(&self) -> Option<Units> {
-        match self {
-            Engine::Abaqus {
-                units,
-                temperature_unit,
-                ..
-            }
-            | Engine::Lsdyna {
-                units,
-                temperature_unit,
-                ..
-            } => Some(Units::of(*units, *temperature_unit)),
-            _ => None,
-        }
-    }
-
-    /// The LS-DYNA table id, for an LS-DYNA export.
-    pub fn lsdyna_table_id(&self) -> Option<u32> {
-        match self {
-            Engine::Lsdyna { table_id, .. } => Some(*table_id),
-            _ => None,
-        }
-    }
-
-    /// The DEFORM windows file, which the export reads.
-    pub fn deform_windows(&self) -> Option<&PathBuf> {
-        match self {
-            Engine::Deform { windows, .. } => windows.as_ref(),
-            _ => None,
-        }
-    }
-}
-
-/// Options of [`export`](super::export()).
+/// Options of [`export`](super::export()): the law, the file, and the table
+/// ([`TableSpec`]: engine, grid, check; its defaults are the friction crate's registry's).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ExportOptions {
     /// Law file, model file or table.
     pub law: PathBuf,
     /// Output file.
     pub out: PathBuf,
-    /// The engine and its own options.
-    pub engine: Engine,
-    /// Pressures, sliding velocities (and temperatures) of the table, SI. A surrogate table
-    /// or an adaptive grid covers their box (min and max per axis).
-    pub grid: Grid,
-    /// Random points of the deviation check (every format; 0: no check).
-    pub check_points: CheckPoints,
-    /// Engine tables: grid lines at a tree ensemble's split thresholds (two points one
-    /// float apart, so that linear interpolation is exact); `Auto`: for piecewise-constant
-    /// laws.
-    pub steps: StepLines,
-    /// Engine tables: the grid lines of an adaptive table refined to `tolerance` over the
-    /// box of `grid`, so that a smooth law's table is within the tolerance under the
-    /// engine's linear interpolation too.
-    pub adaptive_grid: bool,
-    /// Adaptive table or grid: max deviation on its check set.
-    pub tolerance: f64,
-    /// Largest table in values: engine-table points (pressures × velocities ×
-    /// temperatures), surrogate cells (exact) or nodes (adaptive). A bigger table is
-    /// refused with the size it would have.
-    pub max_table_size: TableSize,
+    /// The engine with its options, the grid and the check.
+    pub table: TableSpec,
 }
 
 impl ExportOptions {
@@ -280,70 +51,38 @@ impl ExportOptions {
         ExportOptions {
             law,
             out,
-            engine: Engine::defaults(format),
-            grid: Grid {
-                pressure_pa: default_pressures_pa(),
-                velocity_m_s: default_velocities_m_s(),
-                temperature_k: None,
-            },
-            check_points: DEFAULT_CHECK_POINTS,
-            steps: StepLines::Auto,
-            adaptive_grid: false,
-            tolerance: DEFAULT_TOLERANCE,
-            max_table_size: DEFAULT_MAX_TABLE_SIZE,
+            table: TableSpec::new(format),
         }
     }
 
     pub fn format(&self) -> ExportFormat {
-        self.engine.format()
+        self.table.format()
     }
 
     /// With this grid (SI).
     pub fn with_grid(mut self, grid: Grid) -> Self {
-        self.grid = grid;
+        self.table.grid = grid;
         self
     }
 
     /// With this engine (and its options).
     pub fn with_engine(mut self, engine: Engine) -> Self {
-        self.engine = engine;
+        self.table.engine = engine;
         self
     }
 
     /// These options with the fields `o` sets replaced, then validated. An option of
     /// another engine than this export's is an error naming it.
     pub fn overridden(mut self, o: &ExportOverrides) -> Result<Self> {
-        o.apply_common(&mut self);
-        o.apply_engine(&mut self.engine)?;
+        o.apply_common(&mut self.table);
+        o.apply_engine(&mut self.table.engine)?;
         self.validate()?;
         Ok(self)
     }
 
     /// Check every option; errors name the option (`export.tolerance`).
     pub fn validate(&self) -> Result<()> {
-        self.grid
-            .validate()
-            .context("export.pressure_Pa, export.velocity_m_per_s or export.temperature_K")?;
-        if !(self.tolerance > 0.0 && self.tolerance.is_finite()) {
-            bail!(
-                "export.tolerance: {} is not a positive number",
-                self.tolerance
-            );
-        }
-        match &self.engine {
-            Engine::Abaqus {
-                taumax_pa: Some(t), ..
-            } if !(*t > 0.0 && t.is_finite()) => {
-                bail!("export.taumax_Pa: {t} is not a positive stress")
-            }
-            Engine::Deform {
-                reference_velocity_m_s: v,
-                ..
-            } if !(*v > 0.0 && v.is_finite()) => {
-                bail!("export.deform_reference_velocity_m_per_s: {v} is not a positive speed")
-            }
-            _ => Ok(()),
-        }
+        Ok(self.table.validate()?)
     }
 }
 
@@ -462,7 +201,7 @@ pub mod edge {
             serde_json::Value::Array(items) if items.len() > 2 => {
                 let v: Vec<f64> = items.iter().filter_map(|x| x.as_f64()).collect();
                 let (a, b, n) = (v[0], v[v.len() - 1], v.len());
-                let even = crate::export::equidistant(a, b, n)
+                let even = super::equidistant(a, b, n)
                     .iter()
                     .zip(&v)
                     .all(|(x, y)| (x - y).abs() <= 1e-9 * y.abs().max(1e-300));
@@ -529,7 +268,7 @@ pub mod edge {
 impl ExportOverrides {
     /// Every option of `format` at its default, the others `None`: what a user may set.
     pub fn defaults_of(format: ExportFormat) -> Self {
-        let o = ExportOptions::new(PathBuf::new(), format, PathBuf::new());
+        let o = TableSpec::new(format);
         let engine_tables = format != ExportFormat::Table;
         let mut d = ExportOverrides {
             pressure_Pa: Some(AxisValues(o.grid.pressure_pa)),
@@ -579,7 +318,7 @@ impl ExportOverrides {
         crate::settings::from_json("export", text)
     }
 
-    fn apply_common(&self, o: &mut ExportOptions) {
+    fn apply_common(&self, o: &mut TableSpec) {
         let set = |v: &Option<AxisValues>, into: &mut Vec<f64>| {
             if let Some(v) = v {
                 *into = v.0.clone();

@@ -18,6 +18,10 @@
 //! tree ensembles with step lines). See [`crate::engine_table`] for how each engine reads
 //! the table.
 //!
+//! The formats and their options are registered in [`engine`] (one list, with the defaults);
+//! [`write::table_text`] dispatches a table's spec to its writer below, so that an export from
+//! the pipeline walks down once, to here.
+//!
 //! Any [`FrictionLaw`] goes to an engine this way — here a Coulomb law as Abaqus lines in
 //! the tonne–mm–s–MPa system (slip rates in mm/s), checked against the law:
 //!
@@ -37,6 +41,9 @@
 //! assert_eq!(e.deviation.unwrap().max, 0.0);
 //! # Ok::<(), greybox_core::Error>(())
 //! ```
+
+pub mod engine;
+pub mod write;
 
 use crate::engine_table::mu_checked;
 pub use crate::engine_table::{Deviation, EngineTable, StepLines, TableOptions};
