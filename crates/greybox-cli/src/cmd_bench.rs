@@ -6,9 +6,9 @@ use greybox_core::choice::{clap_parsers::choice, Choice};
 use greybox_core::count::Count;
 use greybox_friction::table_file::TableKind;
 use greybox_pipeline::export::{AxisPoints, TableSize, DEFAULT_MAX_TABLE_SIZE};
-use greybox_sweep::validate::ToolModel;
 use greybox_pipeline::{bench, text};
 use greybox_sweep::validate;
+use greybox_sweep::validate::ToolModel;
 use std::path::PathBuf;
 
 /// Timed repetitions of a benchmark.

@@ -3,8 +3,8 @@
 use crate::output::emit;
 use anyhow::Result;
 use greybox_sweep::calibrate::calibrate;
-use greybox_sweep::settings::{CalibrateSettings, ExecutorSettings};
 use greybox_sweep::launch::{CaseArg, CaseCommand};
+use greybox_sweep::settings::{CalibrateSettings, ExecutorSettings};
 use greybox_sweep::{self as sweep, collect::collect, text, Plan};
 use std::path::PathBuf;
 
@@ -97,7 +97,12 @@ pub fn run(a: Args) -> Result<()> {
             dry_run,
             json,
         } => {
-            let r = sweep::run(&sweep_file, &out, &executor.executor(dry_run)?, &case_command()?)?;
+            let r = sweep::run(
+                &sweep_file,
+                &out,
+                &executor.executor(dry_run)?,
+                &case_command()?,
+            )?;
             emit(json, &r, |r| text::run(r, dry_run))?;
             match r.failed.len() {
                 0 => Ok(()),

@@ -171,6 +171,55 @@ pub fn correct(
         s
     };
     let nominal = |f: f64| bowden_tabor_mu(r, law.width_um(f) * 1e-6);
+    let all = search_loads(&loads, &nominal, &base, &dir, sim);
+    let failed: Vec<&String> = all.iter().filter_map(|o| o.as_ref().err()).collect();
+    let done: Vec<(&Load, &(f64, Pin3dInverse))> = loads
+        .iter()
+        .zip(&all)
+        .filter_map(|(l, o)| Some((l, o.as_ref().ok()?)))
+        .collect();
+    if done.is_empty() {
+        bail!(
+            "3D pin: no simulated load converged: {}",
+            failed
+                .iter()
+                .map(|s| s.as_str())
+                .collect::<Vec<_>>()
+                .join("; ")
+        );
+    }
+    write_searches(&dir, &loads, &all)?;
+    let share = ShareLaw::fit(
+        &done
+            .iter()
+            .map(|(l, (_, i))| (l.0, i.deformation_share))
+            .collect::<Vec<_>>(),
+    )?;
+    let runs = run_lines(&done, &failed);
+    let method = format!(
+        "simulation-3d: CalculiX half model of the spherical pin (r = {} mm, {} elements per contact radius, slide {} contact radii in {} increments), deformation share = {:.4e} F^{:.3}; {}",
+        r * 1e3,
+        sim.elements_per_radius,
+        sim.slide_per_radius,
+        sim.increments,
+        share.a,
+        share.b,
+        runs.join("; ")
+    );
+    Ok(correct_with(ds, r, measured, method, |f, _| {
+        Ok(share.share(f))
+    })?)
+}
+
+/// Every load's inverse search, in order: the first [`PILOTS`] from the Bowden–Tabor
+/// guess, the others from it scaled by the pilots' mean ratio of found share to guess.
+fn search_loads(
+    loads: &[Load],
+    nominal: &(dyn Fn(f64) -> greybox_core::Result<f64> + Sync),
+    base: &(dyn Fn(f64) -> Pin3dSetup + Sync),
+    dir: &Path,
+    sim: &Simulation3dOptions,
+) -> Vec<Outcome> {
     let progress =
         greybox_core::progress::task(
             &format!(
@@ -217,30 +266,12 @@ pub fn correct(
         .map(|l| search(l, factor))
         .collect();
     progress.finish("done");
-    let all: Vec<Outcome> = pilots.into_iter().chain(rest).collect();
-    let failed: Vec<&String> = all.iter().filter_map(|o| o.as_ref().err()).collect();
-    let done: Vec<(&Load, &(f64, Pin3dInverse))> = loads
-        .iter()
-        .zip(&all)
-        .filter_map(|(l, o)| Some((l, o.as_ref().ok()?)))
-        .collect();
-    if done.is_empty() {
-        bail!(
-            "3D pin: no simulated load converged: {}",
-            failed
-                .iter()
-                .map(|s| s.as_str())
-                .collect::<Vec<_>>()
-                .join("; ")
-        );
-    }
-    write_searches(&dir, &loads, &all)?;
-    let share = ShareLaw::fit(
-        &done
-            .iter()
-            .map(|(l, (_, i))| (l.0, i.deformation_share))
-            .collect::<Vec<_>>(),
-    )?;
+    pilots.into_iter().chain(rest).collect()
+}
+
+/// One line per converged load (depth, μ_app → μ_adh, residual, runs), and one naming the
+/// loads left out.
+fn run_lines(done: &[(&Load, &(f64, Pin3dInverse))], failed: &[&String]) -> Vec<String> {
     let mut runs: Vec<String> = done
         .iter()
         .map(|(l, (_, i))| {
@@ -265,17 +296,5 @@ pub fn correct(
                 .join("; ")
         ));
     }
-    let method = format!(
-        "simulation-3d: CalculiX half model of the spherical pin (r = {} mm, {} elements per contact radius, slide {} contact radii in {} increments), deformation share = {:.4e} F^{:.3}; {}",
-        r * 1e3,
-        sim.elements_per_radius,
-        sim.slide_per_radius,
-        sim.increments,
-        share.a,
-        share.b,
-        runs.join("; ")
-    );
-    Ok(correct_with(ds, r, measured, method, |f, _| {
-        Ok(share.share(f))
-    })?)
+    runs
 }

@@ -258,7 +258,28 @@ pub fn characterize(a: &CharacterizeOptions) -> Result<CharacterizeReport> {
         Some(p) => Some(excitation_check(&all_res, p, a.harmonics.get())?),
         None => None,
     };
-    // plots: |H1| (log) with the excitation band, and coherence
+    for p in plot_frfs(&series_f, check.as_ref(), out)? {
+        files.push(staged.shown(&p).display().to_string());
+    }
+    let report = CharacterizeReport {
+        loads,
+        excitation_check: check,
+        files,
+    };
+    let p = out.join("report.json");
+    write_string_atomic(&p, &serde_json::to_string_pretty(&report)?)?;
+    provenance(&inputs)?.write_into(out)?;
+    staged.commit()?;
+    Ok(report)
+}
+
+/// The plots of the FRFs up to the highest usable frequency: |H1| (log) with the spindle's
+/// excitation band, and the coherence; returns the files written into `out`.
+fn plot_frfs(
+    series_f: &[(String, Frf)],
+    check: Option<&ExcitationCheck>,
+    out: &Path,
+) -> Result<Vec<std::path::PathBuf>> {
     let colours = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e"];
     let fmax = series_f
         .iter()
@@ -275,7 +296,6 @@ pub fn characterize(a: &CharacterizeOptions) -> Result<CharacterizeReport> {
         .map(|(_, f)| f.h1[..cut(f)].iter().map(|h| h.0.norm()).collect())
         .collect();
     let band = check
-        .as_ref()
         .map(|c| vec![(0.0, c.max_excitation_hz, "spindle excitation")])
         .unwrap_or_default();
     let mag_lines: Vec<Line> = series_f
@@ -289,7 +309,7 @@ pub fn characterize(a: &CharacterizeOptions) -> Result<CharacterizeReport> {
             y: m,
         })
         .collect();
-    let svg = lines(
+    let magnitude = lines(
         "FRF |H1| (impact hammer)",
         "frequency (Hz)",
         "|H1| (response unit per N)",
@@ -297,9 +317,6 @@ pub fn characterize(a: &CharacterizeOptions) -> Result<CharacterizeReport> {
         true,
         &band,
     );
-    let p = out.join("frf_magnitude.svg");
-    write_string_atomic(&p, &svg)?;
-    files.push(staged.shown(&p).display().to_string());
     let coh_lines: Vec<Line> = series_f
         .iter()
         .enumerate()
@@ -310,7 +327,7 @@ pub fn characterize(a: &CharacterizeOptions) -> Result<CharacterizeReport> {
             y: &f.coherence[..cut(f)],
         })
         .collect();
-    let svg = lines(
+    let coherence = lines(
         "coherence",
         "frequency (Hz)",
         "coherence (-)",
@@ -318,17 +335,14 @@ pub fn characterize(a: &CharacterizeOptions) -> Result<CharacterizeReport> {
         false,
         &band,
     );
-    let p = out.join("coherence.svg");
-    write_string_atomic(&p, &svg)?;
-    files.push(staged.shown(&p).display().to_string());
-    let report = CharacterizeReport {
-        loads,
-        excitation_check: check,
-        files,
-    };
-    let p = out.join("report.json");
-    write_string_atomic(&p, &serde_json::to_string_pretty(&report)?)?;
-    provenance(&inputs)?.write_into(out)?;
-    staged.commit()?;
-    Ok(report)
+    let mut files = Vec::new();
+    for (name, svg) in [
+        ("frf_magnitude.svg", magnitude),
+        ("coherence.svg", coherence),
+    ] {
+        let p = out.join(name);
+        write_string_atomic(&p, &svg)?;
+        files.push(p);
+    }
+    Ok(files)
 }

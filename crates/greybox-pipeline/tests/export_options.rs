@@ -27,7 +27,10 @@ fn the_documented_defaults_are_the_libraries() {
         }
         e => panic!("{e:?}"),
     }
-    assert_eq!(o(ExportFormat::Lsdyna).table.engine.lsdyna_table_id(), Some(1000));
+    assert_eq!(
+        o(ExportFormat::Lsdyna).table.engine.lsdyna_table_id(),
+        Some(1000)
+    );
     let u = o(ExportFormat::Abaqus).table.engine.units().unwrap();
     assert_eq!((u.pressure.name(), u.speed.name()), ("MPa", "mm/s"));
     let g = o(ExportFormat::Csv).table.grid;

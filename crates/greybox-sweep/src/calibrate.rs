@@ -7,8 +7,8 @@
 //! derivative and tolerates the solver's small run-to-run differences between parameter
 //! values; every evaluation's cases are kept, so a repeated value costs nothing.
 
-use super::spec::{Axis, FieldValues, SweepFile};
 use super::launch::CaseCommand;
+use super::spec::{Axis, FieldValues, SweepFile};
 use super::{Executor, Plan};
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;

@@ -7,10 +7,10 @@
 //! atomically: the marker that the case is finished), or `failed.json` with the error.
 
 use super::spec::CaseKind;
-use greybox_pipeline::simulate::Frames;
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::outputs::output_subdir;
+use greybox_pipeline::simulate::Frames;
 use greybox_sim::cutting::CuttingSetup;
 use greybox_sim::pin::PinSetup;
 use serde::{Deserialize, Serialize};

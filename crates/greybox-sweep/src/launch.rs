@@ -81,9 +81,10 @@ impl CaseCommand {
     /// the program and the output directory quoted, every other argument quoted where it
     /// needs to be ([`shell::word`]).
     pub fn shell_line(&self, out: &str, index_expr: &str) -> Result<String> {
-        let program = self.program.to_str().with_context(|| {
-            format!("the case program {}: not UTF-8", self.program.display())
-        })?;
+        let program = self
+            .program
+            .to_str()
+            .with_context(|| format!("the case program {}: not UTF-8", self.program.display()))?;
         let mut words = vec![shell::quote(program)?];
         for a in &self.args {
             words.push(match a {

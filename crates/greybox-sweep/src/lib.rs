@@ -34,9 +34,9 @@ pub mod validate;
 
 use anyhow::{bail, Context, Result};
 use case::{Case, CaseDir, Done, Status};
-use launch::CaseCommand;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::outputs::path_component;
+use launch::CaseCommand;
 use serde::{Deserialize, Serialize};
 use spec::{CaseKind, SlurmSection, SweepFile};
 use std::path::{Path, PathBuf};

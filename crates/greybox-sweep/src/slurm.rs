@@ -9,8 +9,8 @@
 //! docs/scaling.md); memory = 256 MB + 4 kB per particle.
 
 use super::case::{tail, CaseDir, Status};
-use super::spec::SlurmSection;
 use super::launch::CaseCommand;
+use super::spec::SlurmSection;
 use super::{FailedCase, Plan, RunReport};
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;

@@ -334,8 +334,38 @@ fn distinct_in_order(tools: &[ToolModel]) -> Vec<ToolModel> {
     once
 }
 
-/// Runs `suite`, read from `suite_path` (relative paths resolve against its directory).
+/// Runs `suite`, read from `suite_path` (relative paths resolve against its directory):
+/// μ* calibrated per material and tool model, then every wanted condition cut at its μ*.
 fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Validation> {
+    check_options(o)?;
+    let base = suite_path.parent().unwrap_or(Path::new("."));
+    let conditions = read_conditions(&base.join(&suite.data))?;
+    check_only(o, &conditions, &suite.data)?;
+    let plans = suite
+        .material
+        .iter()
+        .map(|runs| material_plan(runs, &conditions, suite, suite_path, o))
+        .collect::<Result<Vec<_>>>()?;
+    let tools = distinct_in_order(&o.tools);
+    let groups: Vec<(&Plan, ToolModel)> = plans
+        .iter()
+        .flat_map(|p| tools.iter().map(move |&t| (p, t)))
+        .collect();
+    let mus = calibrate(&groups)?;
+    // Every condition of every group at its μ*, as one batch.
+    let done: Vec<Outcome> = jobs(&groups, &mus)
+        .par_iter()
+        .map(|j| simulate(j.plan, j.condition, j.tool, j.mu, j.role))
+        .collect::<Result<_>>()?;
+    Ok(Validation {
+        summaries: summaries(&groups, &mus, &done),
+        outcomes: done,
+        fraction: o.fraction,
+    })
+}
+
+/// The run's own options: a fraction of the cut length in (0, 1] and at least one tool model.
+fn check_options(o: &ValidateOptions) -> Result<()> {
     if !(o.fraction > 0.0 && o.fraction <= 1.0) {
         bail!(
             "fraction of the cut length (fraction): expected a number in (0, 1], got {}",
@@ -345,16 +375,18 @@ fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Va
     if o.tools.is_empty() {
         bail!("tool models (tools): expected at least one of adiabatic, thermal");
     }
-    let base = suite_path.parent().unwrap_or(Path::new("."));
-    let conditions = read_conditions(&base.join(&suite.data))?;
+    Ok(())
+}
+
+/// Every id of `o.only` is a condition of the data file `data`.
+fn check_only(o: &ValidateOptions, conditions: &[Condition], data: &str) -> Result<()> {
     if let Some(id) = o
         .only
         .iter()
         .find(|id| !conditions.iter().any(|c| &c.id == *id))
     {
         bail!(
-            "only: condition '{id}' is not in {} (ids: {})",
-            suite.data,
+            "only: condition '{id}' is not in {data} (ids: {})",
             conditions
                 .iter()
                 .map(|c| c.id.as_str())
@@ -362,73 +394,92 @@ fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Va
                 .join(", ")
         );
     }
-    let mut plans = Vec::new();
-    for runs in &suite.material {
-        let rows: Vec<&Condition> = conditions
+    Ok(())
+}
+
+/// The plan of one material: its checked calibration conditions, its held-out conditions
+/// (those `o.only` wants) and its cutting set-up shortened to `o.fraction`.
+fn material_plan<'a>(
+    runs: &'a MaterialRuns,
+    conditions: &'a [Condition],
+    suite: &Suite,
+    suite_path: &Path,
+    o: &ValidateOptions,
+) -> Result<Plan<'a>> {
+    let rows: Vec<&Condition> = conditions
+        .iter()
+        .filter(|c| c.material == runs.name)
+        .collect();
+    check_material(runs, &rows, suite, suite_path)?;
+    let base = suite_path.parent().unwrap_or(Path::new("."));
+    let mut template =
+        greybox_pipeline::simulate::read_cutting_setup(&base.join(&runs.setup))?.setup;
+    template.cut_length_m *= o.fraction;
+    let wanted = |c: &&Condition| o.only.is_empty() || o.only.contains(&c.id);
+    let is_cal = |c: &&Condition| runs.calibration.contains(&c.id);
+    Ok(Plan {
+        runs,
+        template,
+        calibration: rows.iter().copied().filter(is_cal).collect(),
+        held_out: rows
             .iter()
-            .filter(|c| c.material == runs.name)
-            .collect();
-        if rows.is_empty() {
+            .copied()
+            .filter(|c| !is_cal(c) && wanted(c))
+            .collect(),
+    })
+}
+
+/// A material's rows exist, its calibration conditions are its own and at most a third of
+/// them, and its μ bracket is ordered.
+fn check_material(
+    runs: &MaterialRuns,
+    rows: &[&Condition],
+    suite: &Suite,
+    suite_path: &Path,
+) -> Result<()> {
+    if rows.is_empty() {
+        bail!(
+            "{}: no conditions of material '{}' in {}",
+            suite_path.display(),
+            runs.name,
+            suite.data
+        );
+    }
+    for id in &runs.calibration {
+        if !rows.iter().any(|c| &c.id == id) {
             bail!(
-                "{}: no conditions of material '{}' in {}",
+                "{}: calibration condition '{id}' is not a {} row of {}",
                 suite_path.display(),
                 runs.name,
                 suite.data
             );
         }
-        for id in &runs.calibration {
-            if !rows.iter().any(|c| &c.id == id) {
-                bail!(
-                    "{}: calibration condition '{id}' is not a {} row of {}",
-                    suite_path.display(),
-                    runs.name,
-                    suite.data
-                );
-            }
-        }
-        if 3 * runs.calibration.len() > rows.len() || runs.calibration.is_empty() {
-            bail!(
-                "{}: material {}: {} calibration conditions of {}: expected at least one and at most a third",
-                suite_path.display(),
-                runs.name,
-                runs.calibration.len(),
-                rows.len()
-            );
-        }
-        let [lo, hi] = runs.mu_bracket;
-        if !(lo >= 0.0 && hi > lo) {
-            bail!(
-                "{}: material {}: mu_bracket must be [low, high] with 0 ≤ low < high",
-                suite_path.display(),
-                runs.name
-            );
-        }
-        let setup_path = base.join(&runs.setup);
-        let mut template = greybox_pipeline::simulate::read_cutting_setup(&setup_path)?.setup;
-        template.cut_length_m *= o.fraction;
-        let wanted = |c: &&Condition| o.only.is_empty() || o.only.contains(&c.id);
-        let is_cal = |c: &&Condition| runs.calibration.contains(&c.id);
-        plans.push(Plan {
-            runs,
-            template,
-            calibration: rows.iter().copied().filter(is_cal).collect(),
-            held_out: rows
-                .iter()
-                .copied()
-                .filter(|c| !is_cal(c) && wanted(c))
-                .collect(),
-        });
     }
-    let tools = distinct_in_order(&o.tools);
-    let groups: Vec<(&Plan, ToolModel)> = plans
+    if 3 * runs.calibration.len() > rows.len() || runs.calibration.is_empty() {
+        bail!(
+            "{}: material {}: {} calibration conditions of {}: expected at least one and at most a third",
+            suite_path.display(),
+            runs.name,
+            runs.calibration.len(),
+            rows.len()
+        );
+    }
+    let [lo, hi] = runs.mu_bracket;
+    if !(lo >= 0.0 && hi > lo) {
+        bail!(
+            "{}: material {}: mu_bracket must be [low, high] with 0 ≤ low < high",
+            suite_path.display(),
+            runs.name
+        );
+    }
+    Ok(())
+}
+
+/// Every condition of every group (calibration first, then held out) at its group's μ*.
+fn jobs<'a>(groups: &[(&'a Plan<'a>, ToolModel)], mus: &[f64]) -> Vec<Job<'a>> {
+    groups
         .iter()
-        .flat_map(|p| tools.iter().map(move |&t| (p, t)))
-        .collect();
-    let mus = calibrate(&groups)?;
-    // Every condition of every group at its μ*, as one batch.
-    let jobs: Vec<Job> = groups
-        .iter()
-        .zip(&mus)
+        .zip(mus)
         .flat_map(|(&(plan, tool), &mu)| {
             let calibration = plan.calibration.iter().map(|&c| (c, "calibration"));
             let held_out = plan.held_out.iter().map(|&c| (c, "held-out"));
@@ -440,14 +491,14 @@ fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Va
                 role,
             })
         })
-        .collect();
-    let done: Vec<Outcome> = jobs
-        .par_iter()
-        .map(|j| simulate(j.plan, j.condition, j.tool, j.mu, j.role))
-        .collect::<Result<_>>()?;
+        .collect()
+}
+
+/// Per group and role, the summary of its outcomes (`done` in the order of [`jobs`]).
+fn summaries(groups: &[(&Plan, ToolModel)], mus: &[f64], done: &[Outcome]) -> Vec<ErrorSummary> {
     let mut summaries = Vec::new();
-    let mut rest = &done[..];
-    for (&(plan, tool), &mu) in groups.iter().zip(&mus) {
+    let mut rest = done;
+    for (&(plan, tool), &mu) in groups.iter().zip(mus) {
         let (of_group, after) = rest.split_at(plan.calibration.len() + plan.held_out.len());
         rest = after;
         for role in ["calibration", "held-out"] {
@@ -456,11 +507,7 @@ fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Va
             }
         }
     }
-    Ok(Validation {
-        outcomes: done,
-        summaries,
-        fraction: o.fraction,
-    })
+    summaries
 }
 
 /// One cut of the suite: a condition of a material's plan, with a tool model, at μ.

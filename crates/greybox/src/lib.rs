@@ -54,8 +54,8 @@ pub use greybox_learn as learn;
 pub use greybox_material as material;
 pub use greybox_model as model;
 pub use greybox_pipeline as pipeline;
-pub use greybox_sweep as sweep;
 pub use greybox_sim as sim;
+pub use greybox_sweep as sweep;
 pub use greybox_tribo as tribo;
 
 pub use greybox_core::{ContactState, FrictionLaw};

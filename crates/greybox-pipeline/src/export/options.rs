@@ -23,9 +23,9 @@ use anyhow::{bail, Result};
 use greybox_core::choice::Choice;
 pub use greybox_friction::export::engine::{
     default_pressures_pa, default_velocities_m_s, equidistant, AxisPoints, CheckPoints, Engine,
-    ExportFormat, ObjectPair, TableSize, TableSpec, DEFAULT_CHECK_POINTS,
-    DEFAULT_DEFORM_OBJECTS, DEFAULT_DEFORM_REFERENCE_VELOCITY_M_S, DEFAULT_LSDYNA_TABLE_ID,
-    DEFAULT_MAX_TABLE_SIZE, DEFAULT_TEMPERATURE_UNIT, DEFAULT_TOLERANCE, DEFAULT_UNITS,
+    ExportFormat, ObjectPair, TableSize, TableSpec, DEFAULT_CHECK_POINTS, DEFAULT_DEFORM_OBJECTS,
+    DEFAULT_DEFORM_REFERENCE_VELOCITY_M_S, DEFAULT_LSDYNA_TABLE_ID, DEFAULT_MAX_TABLE_SIZE,
+    DEFAULT_TEMPERATURE_UNIT, DEFAULT_TOLERANCE, DEFAULT_UNITS,
 };
 use greybox_friction::export::{Grid, StepLines, TempUnit};
 use greybox_friction::grid::UnitSystem;
