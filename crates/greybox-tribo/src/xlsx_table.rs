@@ -14,19 +14,6 @@ use std::io::Read as _;
 /// Rows of numbers that must follow the header.
 const CONFIRM_ROWS: usize = 3;
 
-/// Whether a path names a spreadsheet by its extension.
-pub fn is_spreadsheet(path: &std::path::Path) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .map(|e| {
-            matches!(
-                e.to_ascii_lowercase().as_str(),
-                "xlsx" | "xlsm" | "xls" | "xlsb" | "ods"
-            )
-        })
-        .unwrap_or(false)
-}
-
 /// Read one sheet (`sheet`: a name; default the first sheet that holds a table).
 pub fn read_spreadsheet(path: &std::path::Path, sheet: Option<&str>) -> Result<Table> {
     let bytes = greybox_core::budget::read_recording_bytes(path)?;
