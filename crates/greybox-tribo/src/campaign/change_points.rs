@@ -1,4 +1,5 @@
-//! Change points of μ inside a sliding run: a least-squares split into a known number of steps, a penalised split without one, the plan's timing, and the uncertainty of each boundary.
+//! Change points of μ inside a sliding run: a least-squares split into a known number of steps, a
+//! penalised split without one, the plan's timing, and the uncertainty of each boundary.
 
 use super::prepare::{Prepared, Span};
 use crate::expected::ExpectedStep;

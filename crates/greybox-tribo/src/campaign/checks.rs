@@ -1,4 +1,5 @@
-//! Plausibility checks of an identified campaign: μ, load, speed and pressure against the physics table, and each pin's μ level against the others'.
+//! Plausibility checks of an identified campaign: μ, load, speed and pressure against the physics
+//! table, and each pin's μ level against the others'.
 
 use super::report::FileReport;
 use greybox_core::dataset::FrictionDataset;

@@ -1,4 +1,5 @@
-//! Matching segments with the plan's steps (or numbering them without a plan) into the dataset, with a report of the missing, extra, merged and reordered steps.
+//! Matching segments with the plan's steps (or numbering them without a plan) into the dataset,
+//! with a report of the missing, extra, merged and reordered steps.
 
 use super::checks::{check_levels, check_physics};
 use super::numbering::number_without_plan;
@@ -83,47 +84,15 @@ pub(super) fn match_to_plan(
     expected: &[ExpectedStep],
     c: &Campaign,
 ) -> Result<(FrictionDataset, MatchReport)> {
-    let candidates: Vec<Candidate> = segs
-        .iter()
-        .enumerate()
-        .map(|(si, &(f, k))| {
-            let s = &files[f].segments[k];
-            Candidate {
-                file: f,
-                load_n: s.normal_force_n,
-                // a stated constant speed is no evidence of which step a segment is
-                velocity_m_s: s
-                    .sliding_velocity_m_per_min
-                    .filter(|_| files[f].sliding == SlidingEvidence::SpeedChannel.name())
-                    .map(units::m_per_min_to_m_per_s),
-                duration_s: s.end_s - s.start_s,
-                first_in_file: si == 0 || segs[si - 1].0 != f,
-                running_in: s.run_in_s.is_some_and(|r| r > 0.0)
-                    || s.flags.iter().any(|x| x == flags::TREND),
-            }
-        })
-        .collect();
+    let candidates = candidates(files, segs);
     let aligned = crate::align::align(&candidates, expected, c.cfg)
         .map_err(|m| Error::invalid("identify", m))?;
     let mut report = MatchReport {
         method: alignment_method(&candidates, expected),
         ..Default::default()
     };
-    let given: Vec<usize> = {
-        let mut v: Vec<usize> = segs.iter().map(|s| s.0).collect();
-        v.dedup();
-        v
-    };
-    if aligned.file_order != given {
-        report.reordered.push(format!(
-            "the files were aligned with the plan in the order {}",
-            aligned
-                .file_order
-                .iter()
-                .map(|f| files[*f].source.clone())
-                .collect::<Vec<_>>()
-                .join(", ")
-        ));
+    if let Some(line) = file_order_note(files, segs, &aligned.file_order) {
+        report.reordered.push(line);
     }
     let mut records = Vec::new();
     let mut matched = vec![false; expected.len()];
@@ -191,6 +160,52 @@ pub(super) fn match_to_plan(
     }
     records.sort_by_key(|r| (r.pin, r.step));
     Ok((FrictionDataset { records }, report))
+}
+
+/// The alignment's view of each measured segment (`segs`: file and segment indices).
+fn candidates(files: &[FileReport], segs: &[(usize, usize)]) -> Vec<Candidate> {
+    segs.iter()
+        .enumerate()
+        .map(|(si, &(f, k))| {
+            let s = &files[f].segments[k];
+            Candidate {
+                file: f,
+                load_n: s.normal_force_n,
+                // a stated constant speed is no evidence of which step a segment is
+                velocity_m_s: s
+                    .sliding_velocity_m_per_min
+                    .filter(|_| files[f].sliding == SlidingEvidence::SpeedChannel.name())
+                    .map(units::m_per_min_to_m_per_s),
+                duration_s: s.end_s - s.start_s,
+                first_in_file: si == 0 || segs[si - 1].0 != f,
+                running_in: s.run_in_s.is_some_and(|r| r > 0.0)
+                    || s.flags.iter().any(|x| x == flags::TREND),
+            }
+        })
+        .collect()
+}
+
+/// A line for the report when the alignment took the files in another order than given.
+fn file_order_note(
+    files: &[FileReport],
+    segs: &[(usize, usize)],
+    file_order: &[usize],
+) -> Option<String> {
+    let given: Vec<usize> = {
+        let mut v: Vec<usize> = segs.iter().map(|s| s.0).collect();
+        v.dedup();
+        v
+    };
+    (file_order != given).then(|| {
+        format!(
+            "the files were aligned with the plan in the order {}",
+            file_order
+                .iter()
+                .map(|f| files[*f].source.clone())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    })
 }
 
 /// `alignment by load, speed and duration`: the evidence the segments and the plan share.

@@ -1,4 +1,5 @@
-//! Measuring a segment: its steady window, μ statistics and speed, whether its uncertain boundaries matter, and the notes on run-in and drift.
+//! Measuring a segment: its steady window, μ statistics and speed, whether its uncertain boundaries
+//! matter, and the notes on run-in and drift.
 
 use super::prepare::{Prepared, Span};
 use super::report::{FileReport, SegmentReport};

@@ -1,7 +1,7 @@
 //! Pins and steps numbered from the recordings alone, when there is no plan.
 
 use super::checks::MAX_SLIDING_VELOCITY_M_S;
-use super::report::{segment_record, Campaign, FileReport, MatchReport};
+use super::report::{segment_record, Campaign, FileReport, MatchReport, SegmentReport};
 use greybox_core::dataset::FrictionDataset;
 use greybox_core::units;
 use greybox_core::{Error, Result, SourcePos};
@@ -53,43 +53,11 @@ pub(super) fn number_without_plan(
             pending.push((f, note));
             continue;
         }
-        if let Some(v) = s
-            .sliding_velocity_m_per_min
-            .filter(|v| !(v.abs() <= units::m_per_s_to_m_per_min(MAX_SLIDING_VELOCITY_M_S)))
-        {
-            return Err(Error::input(
-                SourcePos::file(&files[f].source).field("speed"),
-                format!(
-                    "segment {} ({:.3}–{:.3} s): a sliding velocity of {v:.4e} m/min is beyond any tribometer or cut (at most {:.0} m/min): is the speed channel's unit right (rpm against m/s, mm/s against m/s)?",
-                    s.index,
-                    s.start_s,
-                    s.end_s,
-                    units::m_per_s_to_m_per_min(MAX_SLIDING_VELOCITY_M_S)
-                ),
-            ));
-        }
-        let Some(v) = s.sliding_velocity_m_per_min else {
-            return Err(Error::input(
-                SourcePos::file(&files[f].source),
-                "without a plan the sliding velocity must come from the recording: map a speed channel (`map` speed=NAME:UNIT, with `track_radii_mm` for rpm), state a constant one (`constant_sliding_velocity_m_per_s`) or give a plan (`study` or `plan_steps`)",
-            ));
-        };
-        let single = |ff: usize| {
-            files[ff]
-                .segments
-                .iter()
-                .filter(|s| s.stats.is_some())
-                .count()
-                == 1
-        };
-        let new_pin = match prev {
-            None => true,
-            Some((pf, load)) => {
-                let load_changed = (s.normal_force_n / load - 1.0).abs() > 0.1;
-                let new_file = pf != f && !(single(pf) && single(f));
-                load_changed || new_file
-            }
-        };
+        let v = measured_velocity(&files[f], s)?;
+        let new_pin = prev.is_none_or(|(pf, load)| {
+            let load_changed = (s.normal_force_n / load - 1.0).abs() > 0.1;
+            load_changed || (pf != f && !(single_step(&files[pf]) && single_step(&files[f])))
+        });
         let skipped = if new_pin {
             pin += 1;
             step = 0;
@@ -104,13 +72,7 @@ pub(super) fn number_without_plan(
         prev = Some((f, s.normal_force_n));
         prev_label = s.step_label;
         if skipped > 0 {
-            let note = format!(
-                "the recording's steps jump from {} to {}: pin {pin} steps {}–{} have no segment and are left empty, the steps after them keep their numbers",
-                prev_label.unwrap_or_default() - skipped as f64 - 1.0,
-                prev_label.unwrap_or_default(),
-                step - skipped,
-                step - 1
-            );
+            let note = labels_jump_note(pin, step, skipped, prev_label.unwrap_or_default());
             files[f].warnings.push(note);
         }
         for (pf, note) in kept {
@@ -131,6 +93,49 @@ pub(super) fn number_without_plan(
         ..Default::default()
     };
     Ok((FrictionDataset { records }, report))
+}
+
+/// A measured segment's sliding velocity, m/min: refused beyond any tribometer or cut (a
+/// unit mistake) or when the recording has none (no plan to take it from).
+fn measured_velocity(file: &FileReport, s: &SegmentReport) -> Result<f64> {
+    if let Some(v) = s
+        .sliding_velocity_m_per_min
+        .filter(|v| !(v.abs() <= units::m_per_s_to_m_per_min(MAX_SLIDING_VELOCITY_M_S)))
+    {
+        return Err(Error::input(
+            SourcePos::file(&file.source).field("speed"),
+            format!(
+                "segment {} ({:.3}–{:.3} s): a sliding velocity of {v:.4e} m/min is beyond any tribometer or cut (at most {:.0} m/min): is the speed channel's unit right (rpm against m/s, mm/s against m/s)?",
+                s.index,
+                s.start_s,
+                s.end_s,
+                units::m_per_s_to_m_per_min(MAX_SLIDING_VELOCITY_M_S)
+            ),
+        ));
+    }
+    s.sliding_velocity_m_per_min.ok_or_else(|| {
+        Error::input(
+            SourcePos::file(&file.source),
+            "without a plan the sliding velocity must come from the recording: map a speed channel (`map` speed=NAME:UNIT, with `track_radii_mm` for rpm), state a constant one (`constant_sliding_velocity_m_per_s`) or give a plan (`study` or `plan_steps`)",
+        )
+    })
+}
+
+/// Whether a file gave exactly one measured segment (files of one step each continue a pin).
+fn single_step(file: &FileReport) -> bool {
+    file.segments.iter().filter(|s| s.stats.is_some()).count() == 1
+}
+
+/// The warning for steps the recording's own numbering skips: `skipped` steps before `step`
+/// of `pin`, the recording's label now `label`.
+fn labels_jump_note(pin: u32, step: u32, skipped: u32, label: f64) -> String {
+    format!(
+        "the recording's steps jump from {} to {}: pin {pin} steps {}–{} have no segment and are left empty, the steps after them keep their numbers",
+        label - skipped as f64 - 1.0,
+        label,
+        step - skipped,
+        step - 1
+    )
 }
 
 /// Steps the recording's own numbering (a step column, blocks) skips between two segments of

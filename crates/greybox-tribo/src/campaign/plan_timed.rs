@@ -1,4 +1,5 @@
-//! The greybox NC-program path: one recording per pin, segmented by the plan's timing from the trigger.
+//! The greybox NC-program path: one recording per pin, segmented by the plan's timing from the
+//! trigger.
 
 use super::report::{read_warnings, update_coverage, Campaign, FileReport, SegmentReport};
 use crate::coverage::Coverage;

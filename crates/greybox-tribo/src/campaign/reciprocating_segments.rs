@@ -1,4 +1,5 @@
-//! A reciprocating test's segments (ASTM G133): one per test or load/speed step, μ averaged over the steady cycles.
+//! A reciprocating test's segments (ASTM G133): one per test or load/speed step, μ averaged over
+//! the steady cycles.
 
 use super::prepare::{Prepared, Span};
 use super::report::SegmentReport;

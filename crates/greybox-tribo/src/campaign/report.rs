@@ -1,4 +1,5 @@
-//! Reports of an identification: per segment, per file, of the plan matching; the campaign's inputs; a file's coverage from its segments; a segment's dataset row.
+//! Reports of an identification: per segment, per file, of the plan matching; the campaign's
+//! inputs; a file's coverage from its segments; a segment's dataset row.
 
 use crate::coverage::{Coverage, Dropped, SegmentTime};
 use crate::expected::ExpectedStep;

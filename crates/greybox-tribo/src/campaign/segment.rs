@@ -1,4 +1,5 @@
-//! Segmenting every recording: the segmentation each file gets, its spans split at gaps, the short pieces dropped, and each kept segment measured.
+//! Segmenting every recording: the segmentation each file gets, its spans split at gaps, the short
+//! pieces dropped, and each kept segment measured.
 
 use super::change_points::split_run;
 use super::measure::{measure, steady_notes};
@@ -42,21 +43,55 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
         })
         .collect();
     if methods.contains(&Segmentation::PlanTiming) {
-        if methods.iter().any(|m| *m != Segmentation::PlanTiming) {
-            return Err(Error::invalid(
-                "identify",
-                "some recordings have a trigger for the plan's timing and others do not: choose one segmentation for all with `segment`",
-            ));
-        }
-        let plan = c.plan.ok_or_else(|| {
-            Error::invalid(
-                "identify",
-                "`segment` plan-timing needs a plan with timing (`study`)",
-            )
-        })?;
-        return plan_timed(recs, plan, c);
+        return plan_timed_all(recs, &methods, c);
     }
-    for (rec, m) in recs.iter().zip(&methods) {
+    check_evidence(recs, &methods)?;
+    let mut prepared: Vec<Prepared> = recs
+        .iter()
+        .zip(&methods)
+        .zip(&recip)
+        .map(|((r, m), why)| prepare(r, cfg, m.name(), why.is_some()))
+        .collect::<Result<_>>()?;
+    let spans = file_spans(&mut prepared, &methods, &recip, c)?;
+    for ((p, s), why) in prepared.iter_mut().zip(&spans).zip(&recip) {
+        match why {
+            Some(why) => reciprocating_segments(p, why, cfg),
+            None => measure_file(p, s, cfg),
+        }
+    }
+    let mut files: Vec<FileReport> = prepared.into_iter().map(|p| p.report).collect();
+    resolve_velocities(&mut files, c)?;
+    steady_notes(&mut files);
+    for f in files.iter_mut() {
+        update_coverage(f, cfg, true);
+    }
+    Ok(files)
+}
+
+/// The plan-timing path, when every recording takes it (one that does not is an error).
+fn plan_timed_all(
+    recs: &[Recording],
+    methods: &[Segmentation],
+    c: &Campaign,
+) -> Result<Vec<FileReport>> {
+    if methods.iter().any(|m| *m != Segmentation::PlanTiming) {
+        return Err(Error::invalid(
+            "identify",
+            "some recordings have a trigger for the plan's timing and others do not: choose one segmentation for all with `segment`",
+        ));
+    }
+    let plan = c.plan.ok_or_else(|| {
+        Error::invalid(
+            "identify",
+            "`segment` plan-timing needs a plan with timing (`study`)",
+        )
+    })?;
+    plan_timed(recs, plan, c)
+}
+
+/// Refuse a segmentation whose evidence a recording lacks (a step column, a speed channel).
+fn check_evidence(recs: &[Recording], methods: &[Segmentation]) -> Result<()> {
+    for (rec, m) in recs.iter().zip(methods) {
         let missing = match m {
             Segmentation::StepColumn if rec.step.is_none() => {
                 Some("a step column (`map` step=NAME)")
@@ -73,16 +108,22 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
             ));
         }
     }
-    let mut prepared: Vec<Prepared> = recs
-        .iter()
-        .zip(&methods)
-        .zip(&recip)
-        .map(|((r, m), why)| prepare(r, cfg, m.name(), why.is_some()))
-        .collect::<Result<_>>()?;
-    // segments per file
-    let mut spans: Vec<Vec<Span>> = Vec::with_capacity(recs.len());
+    Ok(())
+}
+
+/// Each file's spans: from its step column or speed channel, or its sliding runs split at
+/// μ's level changes (into the plan's steps when the run count says which pin each is). A
+/// reciprocating file (`recip`) gets none here.
+fn file_spans(
+    prepared: &mut [Prepared],
+    methods: &[Segmentation],
+    recip: &[Option<String>],
+    c: &Campaign,
+) -> Result<Vec<Vec<Span>>> {
+    let cfg = c.cfg;
+    let mut spans: Vec<Vec<Span>> = Vec::with_capacity(prepared.len());
     let mut signal_runs: Vec<(usize, Span)> = Vec::new();
-    for (f, (p, m)) in prepared.iter().zip(&methods).enumerate() {
+    for (f, (p, m)) in prepared.iter().zip(methods).enumerate() {
         if recip[f].is_some() {
             spans.push(Vec::new());
             continue;
@@ -121,37 +162,30 @@ pub fn segment_recordings(recs: &[Recording], c: &Campaign) -> Result<Vec<FileRe
             spans[*f].extend(parts);
         }
     }
-    let min_len = |p: &Prepared| (cfg.min_segment_s * p.fs) as usize;
-    for ((p, s), why) in prepared.iter_mut().zip(&spans).zip(&recip) {
-        if let Some(why) = why {
-            reciprocating_segments(p, why, cfg);
-            continue;
-        }
-        let s = split_at_gaps(p, s);
-        let (kept, short): (Vec<Span>, Vec<Span>) =
-            s.iter().partition(|s| s.j - s.i >= min_len(p).max(4));
-        p.report.too_short = too_short(p, &short, cfg);
-        let segs: Vec<SegmentReport> = kept
-            .iter()
-            .enumerate()
-            .map(|(k, sp)| measure(p, *sp, k + 1, cfg))
-            .collect();
-        p.report.segments = segs;
-        if p.report.segments.is_empty() {
-            let hint = no_segment_hint(p);
-            p.report.notes.push(format!("no segment found: {hint}"));
-        }
-        if let Some(w) = forced_mode_contradicted(p, cfg) {
-            p.report.warnings.push(w);
-        }
+    Ok(spans)
+}
+
+/// Measure a file's spans: split at gaps in time, the pieces shorter than a step dropped
+/// (with reasons), each kept one measured; a note when none is left, a warning when a named
+/// test mode is contradicted.
+fn measure_file(p: &mut Prepared, spans: &[Span], cfg: &IdentifyConfig) {
+    let min_len = (cfg.min_segment_s * p.fs) as usize;
+    let s = split_at_gaps(p, spans);
+    let (kept, short): (Vec<Span>, Vec<Span>) = s.iter().partition(|s| s.j - s.i >= min_len.max(4));
+    p.report.too_short = too_short(p, &short, cfg);
+    let segs: Vec<SegmentReport> = kept
+        .iter()
+        .enumerate()
+        .map(|(k, sp)| measure(p, *sp, k + 1, cfg))
+        .collect();
+    p.report.segments = segs;
+    if p.report.segments.is_empty() {
+        let hint = no_segment_hint(p);
+        p.report.notes.push(format!("no segment found: {hint}"));
     }
-    let mut files: Vec<FileReport> = prepared.into_iter().map(|p| p.report).collect();
-    resolve_velocities(&mut files, c)?;
-    steady_notes(&mut files);
-    for f in files.iter_mut() {
-        update_coverage(f, cfg, true);
+    if let Some(w) = forced_mode_contradicted(p, cfg) {
+        p.report.warnings.push(w);
     }
-    Ok(files)
 }
 
 /// Why a file gave no row under a test mode the user named (`--test-mode continuous` or

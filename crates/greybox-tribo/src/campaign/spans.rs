@@ -1,4 +1,5 @@
-//! Segments from a step column or a speed channel (runs of one step number or one speed level), and the loaded-and-sliding runs the signal segmenter splits.
+//! Segments from a step column or a speed channel (runs of one step number or one speed level), and
+//! the loaded-and-sliding runs the signal segmenter splits.
 
 use super::prepare::{Prepared, Span};
 use crate::expected::ExpectedStep;

@@ -1,4 +1,5 @@
-//! Roles assigned to a table's columns: the explicit mapping first, then the usual names, with the optional roles a unitless column cannot fill dropped.
+//! Roles assigned to a table's columns: the explicit mapping first, then the usual names, with the
+//! optional roles a unitless column cannot fill dropped.
 
 use super::channel_map::ChannelMap;
 use super::convert::example_unit;

@@ -1,4 +1,5 @@
-//! Which column plays which role: the user's mapping ([`ChannelMap`], study TOML `[recording]`, `identify --map`).
+//! Which column plays which role: the user's mapping ([`ChannelMap`], study TOML `[recording]`,
+//! `identify --map`).
 
 use super::reader_options::ReaderOptions;
 use super::roles::{check_unit, ChannelSpec, Role};

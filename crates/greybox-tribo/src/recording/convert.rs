@@ -1,4 +1,5 @@
-//! A table converted into a [`Recording`]: channels in SI, time made continuous, forces by the rig's convention, steps and speed, and the reader's warnings.
+//! A table converted into a [`Recording`]: channels in SI, time made continuous, forces by the
+//! rig's convention, steps and speed, and the reader's warnings.
 
 use super::assign::{assign_roles, drop_unitless_optional};
 use super::channel_map::ChannelMap;

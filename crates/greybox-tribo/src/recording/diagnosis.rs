@@ -1,4 +1,5 @@
-//! Why a role found no column: what was looked for, what the file holds, and the flag that would map it.
+//! Why a role found no column: what was looked for, what the file holds, and the flag that would
+//! map it.
 
 use super::assign::{is_force, looks_like_cof};
 use super::channel_map::ChannelMap;

@@ -1,6 +1,7 @@
 //! Raw tribometer recordings and how a file's columns map onto roles.
 //!
-//! A reader gives a [`Table`](crate::table::Table) (named columns with their units); a [`ChannelMap`] says which
+//! A reader gives a [`Table`](crate::table::Table) (named columns with their units); a
+//! [`ChannelMap`] says which
 //! column plays which role — time, normal and tangential force, and where the rig records
 //! them, radial force, trigger, step number, spindle or sliding speed, track radius — and
 //! [`recording_from_table`] converts them to SI. Roles not mapped explicitly are found by

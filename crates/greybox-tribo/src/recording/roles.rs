@@ -1,4 +1,5 @@
-//! The roles a column can play, their usual names, and a role's column with its unit and scale ([`ChannelSpec`]).
+//! The roles a column can play, their usual names, and a role's column with its unit and scale
+//! ([`ChannelSpec`]).
 
 use super::convert::cof_factor;
 use greybox_core::units::{ForceUnit, LengthUnit, SpeedUnit, TimeUnit};

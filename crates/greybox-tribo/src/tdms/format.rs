@@ -1,4 +1,5 @@
-//! The TDMS model: table-of-contents flags, data type codes, property values, objects and the file, with the paths that name groups and channels.
+//! The TDMS model: table-of-contents flags, data type codes, property values, objects and the file,
+//! with the paths that name groups and channels.
 
 use super::source::{parse_source, Source, Tuning};
 use greybox_core::Result;

@@ -1,4 +1,6 @@
-//! Second pass over a TDMS file: each channel allocated once and its raw values (contiguous or interleaved, either byte order, every numeric type) converted into place, in parallel for large files.
+//! Second pass over a TDMS file: each channel allocated once and its raw values (contiguous or
+//! interleaved, either byte order, every numeric type) converted into place, in parallel for large
+//! files.
 
 use super::format::{TdmsObject, T_BOOL, T_TIMESTAMP};
 use super::segments::{columns, type_size, Col, Plan, RawIndex, Run};

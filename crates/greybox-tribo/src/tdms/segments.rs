@@ -1,4 +1,5 @@
-//! First pass over a TDMS file: each segment's lead-in (DAQmx data refused) and metadata, the objects' raw-data indices, and the runs of values they give each channel.
+//! First pass over a TDMS file: each segment's lead-in (DAQmx data refused) and metadata, the
+//! objects' raw-data indices, and the runs of values they give each channel.
 
 use super::format::{
     TdmsFile, TdmsObject, LEAD_IN, NO_RAW_DATA, SAME_AS_PREVIOUS, TOC_BIG_ENDIAN, TOC_DAQMX,

@@ -1,4 +1,5 @@
-//! The bytes of a TDMS file: a memory map or a buffer, windows read from a file, and a cursor over a segment's metadata.
+//! The bytes of a TDMS file: a memory map or a buffer, windows read from a file, and a cursor over
+//! a segment's metadata.
 
 use super::format::{PropValue, TdmsFile, T_BOOL, T_STRING, T_TIMESTAMP};
 use super::segments::scan;

@@ -1,4 +1,5 @@
-//! Reading a text table end to end: the file (memory-mapped) sniffed, its data parsed in chunks, and the columns built, with repeated header blocks and footers found.
+//! Reading a text table end to end: the file (memory-mapped) sniffed, its data parsed in chunks,
+//! and the columns built, with repeated header blocks and footers found.
 
 use super::chunks::{chunk_bounds, parse_chunks, Chunk, OtherLine};
 use super::fields::{clip, decode, is_blank, Line};

@@ -1,4 +1,5 @@
-//! The data lines parsed in parallel chunks straight into columns: a fast path for plain numeric rows, the general field splitter for the rest, and the lines that are not data.
+//! The data lines parsed in parallel chunks straight into columns: a fast path for plain numeric
+//! rows, the general field splitter for the rest, and the lines that are not data.
 
 use super::fields::{decode, is_blank, parse_number, strip_cr, trim, Line};
 use super::sniff::{mostly_numeric, shape, Candidate};

@@ -1,4 +1,5 @@
-//! Lines and fields of a text table: line ends, quoting, splitting at the delimiter, number parsing (decimal comma included), header bytes decoded.
+//! Lines and fields of a text table: line ends, quoting, splitting at the delimiter, number parsing
+//! (decimal comma included), header bytes decoded.
 
 use super::options::Delimiter;
 

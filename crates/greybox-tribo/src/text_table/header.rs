@@ -1,4 +1,5 @@
-//! The header and units rows of a sniffed table: column names (or `#1`, `#2`, … without a header), units, the lines above the data checked, and the layout in words.
+//! The header and units rows of a sniffed table: column names (or `#1`, `#2`, … without a header),
+//! units, the lines above the data checked, and the layout in words.
 
 use super::assemble::HeaderKey;
 use super::fields::{strip_cr, Line};

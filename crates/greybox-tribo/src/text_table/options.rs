@@ -1,4 +1,5 @@
-//! The reader's dialect vocabulary: the delimiter, the user's options, and how many lines sniffing reads.
+//! The reader's dialect vocabulary: the delimiter, the user's options, and how many lines sniffing
+//! reads.
 
 use serde::{Deserialize, Serialize};
 

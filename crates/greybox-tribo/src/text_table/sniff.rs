@@ -1,4 +1,5 @@
-//! Dialect sniffing and header detection: the delimiter and decimal comma that give the longest run of numeric rows, the header line above it, or none (a headerless log).
+//! Dialect sniffing and header detection: the delimiter and decimal comma that give the longest run
+//! of numeric rows, the header line above it, or none (a headerless log).
 
 use super::fields::{is_blank, parse_number, split_fields, split_header, trim, Line};
 use super::options::{Delimiter, TextOptions, CONFIRM_ROWS, SNIFF_LINES};
