@@ -316,12 +316,7 @@ impl SynthConfig {
         let d = self.draw_pin(spec.spindle_accel_rpm_per_s, &mut rng, &std_normal);
         let (latency, accel) = (d.latency_s, d.accel_rpm_per_s);
 
-        // NC events shifted by the latency: (time, target rpm)
-        let commands: Vec<(f64, f64)> = steps
-            .iter()
-            .map(|s| (s.step_start_s + latency, s.spindle_rpm))
-            .chain(std::iter::once((sched.spindle_stop_s + latency, 0.0)))
-            .collect();
+        let commands = spindle_commands(steps, sched.spindle_stop_s, latency);
         let rise = self.load_rise_fraction * spec.load_time_s;
         let load_on = sched.load_start_s + latency;
         let load_off = sched.unload_start_s + latency;
@@ -408,6 +403,16 @@ impl SynthConfig {
         }
         Ok(samples as usize)
     }
+}
+
+/// The NC's spindle commands shifted by the `latency`, s: (time, target rpm) for each step's
+/// start and the stop at `stop_s`.
+fn spindle_commands(steps: &[crate::plan::PlanStep], stop_s: f64, latency: f64) -> Vec<(f64, f64)> {
+    steps
+        .iter()
+        .map(|s| (s.step_start_s + latency, s.spindle_rpm))
+        .chain(std::iter::once((stop_s + latency, 0.0)))
+        .collect()
 }
 
 /// A pin's recording with room for `n` samples of each channel (force, radial, trigger).
