@@ -65,6 +65,7 @@ pub fn synthesize(
                     &rec,
                     study
                         .recording
+                        .reader
                         .tdms_group
                         .as_deref()
                         .unwrap_or(greybox_tribo::recording::DEFAULT_TDMS_GROUP),

@@ -11,7 +11,7 @@ use std::path::Path;
 
 /// Read a delimited-text recording with a channel map.
 pub fn read_csv_recording(path: &Path, map: &ChannelMap) -> Result<Recording> {
-    let table = crate::text_table::read_text_table(path, &map.text_options())?;
+    let table = crate::text_table::read_text_table(path, &map.reader.text_options())?;
     recording_from_table(table, map)
 }
 
@@ -31,7 +31,10 @@ pub fn read_csv_recording_from(
         format!("the recording is more than {} bytes", cap.limit())
     })
     .map_err(|m| Error::input(SourcePos::file(source), m))?;
-    recording_from_table(parse_text_table(&bytes, source, &map.text_options())?, map)
+    recording_from_table(
+        parse_text_table(&bytes, source, &map.reader.text_options())?,
+        map,
+    )
 }
 
 /// Write a recording as CSV (`time_s,normal_force_N,tangential_force_N,radial_force_N,trigger_V`).

@@ -146,65 +146,12 @@ pub fn parse_program(text: &str, source: &str) -> Result<NcProgram> {
     for (i, raw) in text.lines().enumerate() {
         let line = i as u64 + 1;
         let pos = || SourcePos::file(source).line(line);
-        let mut code = String::new();
-        let mut rest = raw;
-        // strip comments: (...) and ; to end of line
-        while let Some(open) = rest.find(['(', ';']) {
-            code.push_str(&rest[..open]);
-            if rest.as_bytes()[open] == b';' {
-                rest = "";
-                break;
-            }
-            let close = rest[open..]
-                .find(')')
-                .ok_or_else(|| Error::input(pos(), "unclosed comment '('"))?
-                + open;
-            let comment = rest[open + 1..close].trim();
-            if let Some(kv) = comment.strip_prefix("PLAN ") {
-                let (k, v) = kv.split_once('=').ok_or_else(|| {
-                    Error::input(pos(), format!("plan comment without '=': '{comment}'"))
-                })?;
-                prog.plan_params
-                    .insert(k.trim().to_string(), v.trim().to_string());
-            }
-            code.push(' ');
-            rest = &rest[close + 1..];
-        }
-        code.push_str(rest);
+        let code = strip_comments(raw, &pos, &mut prog.plan_params)?;
         let code = code.trim();
         if code.is_empty() || code == "%" {
             continue;
         }
-        // words: letter + number
-        let bytes = code.as_bytes();
-        let mut words: Vec<(char, f64, &str)> = Vec::new();
-        let mut j = 0;
-        while j < bytes.len() {
-            let c = bytes[j] as char;
-            if c.is_whitespace() {
-                j += 1;
-                continue;
-            }
-            if !c.is_ascii_alphabetic() {
-                return Err(Error::input(
-                    pos(),
-                    format!("unexpected character '{c}' in '{code}'"),
-                ));
-            }
-            let start = j + 1;
-            let mut k = start;
-            while k < bytes.len()
-                && (bytes[k].is_ascii_digit() || matches!(bytes[k], b'.' | b'-' | b'+'))
-            {
-                k += 1;
-            }
-            let num = &code[start..k];
-            let value: f64 = num.parse().map_err(|_| {
-                Error::input(pos(), format!("word '{c}' needs a number, found '{num}'"))
-            })?;
-            words.push((c.to_ascii_uppercase(), value, num));
-            j = k;
-        }
+        let words = words(code, &pos)?;
         let mut dwell = false;
         let mut dwell_s: Option<f64> = None;
         let mut mcodes = Vec::new();
@@ -279,6 +226,73 @@ pub fn parse_program(text: &str, source: &str) -> Result<NcProgram> {
     Ok(prog)
 }
 
+/// A line's code without its comments (`(...)`, each replaced by a space, and `;` to the end
+/// of the line); `(PLAN KEY=VALUE)` comments go into `plan_params`.
+fn strip_comments(
+    raw: &str,
+    pos: &impl Fn() -> SourcePos,
+    plan_params: &mut BTreeMap<String, String>,
+) -> Result<String> {
+    let mut code = String::new();
+    let mut rest = raw;
+    while let Some(open) = rest.find(['(', ';']) {
+        code.push_str(&rest[..open]);
+        if rest.as_bytes()[open] == b';' {
+            rest = "";
+            break;
+        }
+        let close = rest[open..]
+            .find(')')
+            .ok_or_else(|| Error::input(pos(), "unclosed comment '('"))?
+            + open;
+        let comment = rest[open + 1..close].trim();
+        if let Some(kv) = comment.strip_prefix("PLAN ") {
+            let (k, v) = kv.split_once('=').ok_or_else(|| {
+                Error::input(pos(), format!("plan comment without '=': '{comment}'"))
+            })?;
+            plan_params.insert(k.trim().to_string(), v.trim().to_string());
+        }
+        code.push(' ');
+        rest = &rest[close + 1..];
+    }
+    code.push_str(rest);
+    Ok(code)
+}
+
+/// The words of a line's code: (letter in upper case, value, the number as written).
+fn words<'c>(code: &'c str, pos: &impl Fn() -> SourcePos) -> Result<Vec<(char, f64, &'c str)>> {
+    let bytes = code.as_bytes();
+    let mut words: Vec<(char, f64, &str)> = Vec::new();
+    let mut j = 0;
+    while j < bytes.len() {
+        let c = bytes[j] as char;
+        if c.is_whitespace() {
+            j += 1;
+            continue;
+        }
+        if !c.is_ascii_alphabetic() {
+            return Err(Error::input(
+                pos(),
+                format!("unexpected character '{c}' in '{code}'"),
+            ));
+        }
+        let start = j + 1;
+        let mut k = start;
+        while k < bytes.len()
+            && (bytes[k].is_ascii_digit() || matches!(bytes[k], b'.' | b'-' | b'+'))
+        {
+            k += 1;
+        }
+        let num = &code[start..k];
+        let value: f64 = num.parse().map_err(|_| {
+            Error::input(pos(), format!("word '{c}' needs a number, found '{num}'"))
+        })?;
+        words.push((c.to_ascii_uppercase(), value, num));
+        j = k;
+    }
+    Ok(words)
+}
+
 impl NcProgram {
     fn param(&self, key: &str) -> Result<f64> {
         let v = self.plan_params.get(key).ok_or_else(|| {
@@ -294,6 +308,73 @@ impl NcProgram {
             )
         })
     }
+}
+
+/// One pin's program read against the event sequence greybox writes: the zero, load and
+/// plateau dwells into `spec`, and the step velocities, m/min, from the S words on a track
+/// of `radius_mm` (ramps at `accel` rpm/s taken out of each step's dwell).
+fn read_pin_events(
+    prog: &NcProgram,
+    spec: &mut PlanSpec,
+    radius_mm: f64,
+    accel: f64,
+) -> Result<Vec<f64>> {
+    let err = |msg: String| Error::input(SourcePos::file(&prog.source), msg);
+    // The event sequence: trigger on, zero dwell, load dwell, (S, dwell)*, stop, ramp-down,
+    // unload dwell, zero dwell, trigger off.
+    let ev = &prog.events;
+    let on = ev
+        .iter()
+        .position(|e| *e == NcEvent::MCode(spec.trigger_on_mcode))
+        .ok_or_else(|| err(format!("no trigger-on M{}", spec.trigger_on_mcode)))?;
+    let dwell_at = |i: usize| match ev.get(i) {
+        Some(NcEvent::Dwell { seconds }) => Ok(*seconds),
+        other => Err(err(format!(
+            "expected a G04 dwell as event {i}, found {other:?}"
+        ))),
+    };
+    spec.zero_time_s = dwell_at(on + 1)?;
+    spec.load_time_s = dwell_at(on + 2)?;
+    let mut i = on + 3;
+    let mut prev = 0.0;
+    let mut vs = Vec::new();
+    let mut dwells = Vec::new();
+    while let Some(NcEvent::Spindle { rpm }) = ev.get(i) {
+        let total = dwell_at(i + 1)?;
+        dwells.push(total - (rpm - prev).abs() / accel);
+        vs.push(units::m_per_s_to_m_per_min(units::velocity_for_rpm(
+            *rpm,
+            radius_mm * units::M_PER_MM,
+        )));
+        // rpm decimals as written
+        prev = *rpm;
+        i += 2;
+    }
+    if vs.is_empty() {
+        return Err(err(
+            "no spindle steps (S … M03 followed by G04) found".into()
+        ));
+    }
+    if ev.get(i) != Some(&NcEvent::SpindleStop) {
+        return Err(err(format!(
+            "expected M05 after the last step, found {:?}",
+            ev.get(i)
+        )));
+    }
+    if !ev[i..].contains(&NcEvent::MCode(spec.trigger_off_mcode)) {
+        return Err(err(format!(
+            "no trigger-off M{} after the spindle stop",
+            spec.trigger_off_mcode
+        )));
+    }
+    let dwell = dwells.iter().sum::<f64>() / dwells.len() as f64;
+    if dwells.iter().any(|d| (d - dwell).abs() > 2e-3) {
+        return Err(err(format!(
+            "plateau dwells differ between steps: {dwells:?}"
+        )));
+    }
+    spec.dwell_s = (dwell * 1000.0).round() / 1000.0;
+    Ok(vs)
 }
 
 /// Rebuild the plan from the programs of all pins (in any order). Velocities come from the
@@ -329,60 +410,7 @@ pub fn plan_spec_from_programs(programs: &[NcProgram]) -> Result<PlanSpec> {
             )));
         }
         forces.push(prog.param("NORMAL_FORCE_N")?);
-        // The event sequence: trigger on, zero dwell, load dwell, (S, dwell)*, stop, ramp-down,
-        // unload dwell, zero dwell, trigger off.
-        let ev = &prog.events;
-        let on = ev
-            .iter()
-            .position(|e| *e == NcEvent::MCode(spec.trigger_on_mcode))
-            .ok_or_else(|| err(format!("no trigger-on M{}", spec.trigger_on_mcode)))?;
-        let dwell_at = |i: usize| match ev.get(i) {
-            Some(NcEvent::Dwell { seconds }) => Ok(*seconds),
-            other => Err(err(format!(
-                "expected a G04 dwell as event {i}, found {other:?}"
-            ))),
-        };
-        spec.zero_time_s = dwell_at(on + 1)?;
-        spec.load_time_s = dwell_at(on + 2)?;
-        let mut i = on + 3;
-        let mut prev = 0.0;
-        let mut vs = Vec::new();
-        let mut dwells = Vec::new();
-        while let Some(NcEvent::Spindle { rpm }) = ev.get(i) {
-            let total = dwell_at(i + 1)?;
-            dwells.push(total - (rpm - prev).abs() / accel);
-            vs.push(units::m_per_s_to_m_per_min(units::velocity_for_rpm(
-                *rpm,
-                radius_mm * units::M_PER_MM,
-            )));
-            // rpm decimals as written
-            prev = *rpm;
-            i += 2;
-        }
-        if vs.is_empty() {
-            return Err(err(
-                "no spindle steps (S … M03 followed by G04) found".into()
-            ));
-        }
-        if ev.get(i) != Some(&NcEvent::SpindleStop) {
-            return Err(err(format!(
-                "expected M05 after the last step, found {:?}",
-                ev.get(i)
-            )));
-        }
-        if !ev[i..].contains(&NcEvent::MCode(spec.trigger_off_mcode)) {
-            return Err(err(format!(
-                "no trigger-off M{} after the spindle stop",
-                spec.trigger_off_mcode
-            )));
-        }
-        let dwell = dwells.iter().sum::<f64>() / dwells.len() as f64;
-        if dwells.iter().any(|d| (d - dwell).abs() > 2e-3) {
-            return Err(err(format!(
-                "plateau dwells differ between steps: {dwells:?}"
-            )));
-        }
-        spec.dwell_s = (dwell * 1000.0).round() / 1000.0;
+        let vs = read_pin_events(prog, &mut spec, radius_mm, accel)?;
         match &velocities {
             None => velocities = Some(vs),
             Some(v0) => {

@@ -2,6 +2,7 @@
 //! and matched. Its own module so that the stages using it (`identify`, `steady`, `campaign`)
 //! import it without importing each other.
 
+use greybox_core::choice::Choice;
 use serde::{Deserialize, Serialize};
 
 /// Which evidence cuts a recording into steps.
@@ -22,45 +23,36 @@ pub enum Segmentation {
     Signals,
 }
 
+greybox_core::choice!(
+    Segmentation,
+    "segment",
+    [
+        Auto => "auto",
+        PlanTiming => "plan-timing",
+        StepColumn => "step-column",
+        Speed => "speed",
+        Signals => "signals",
+    ],
+    text
+);
+
 impl Segmentation {
+    /// The segmentation's name (`auto`, `plan-timing`, …), as its [`Choice`] spells it.
     pub fn name(self) -> &'static str {
-        match self {
-            Segmentation::Auto => "auto",
-            Segmentation::PlanTiming => "plan-timing",
-            Segmentation::StepColumn => "step-column",
-            Segmentation::Speed => "speed",
-            Segmentation::Signals => "signals",
-        }
+        Choice::name(self)
     }
 }
 
-impl greybox_core::choice::Choice for Segmentation {
-    const FIELD: &'static str = "segment";
-    const ALL: &'static [Self] = &[
-        Segmentation::Auto,
-        Segmentation::PlanTiming,
-        Segmentation::StepColumn,
-        Segmentation::Speed,
-        Segmentation::Signals,
-    ];
-    fn name(self) -> &'static str {
-        Segmentation::name(self)
-    }
-}
-greybox_core::choice_traits!(Segmentation, text);
-
-impl greybox_core::choice::Choice for TestMode {
-    const FIELD: &'static str = "test_mode";
-    const ALL: &'static [Self] = &[
-        TestMode::Continuous,
-        TestMode::Stepped,
-        TestMode::Reciprocating,
-    ];
-    fn name(self) -> &'static str {
-        TestMode::name(self)
-    }
-}
-greybox_core::choice_traits!(TestMode, text);
+greybox_core::choice!(
+    TestMode,
+    "test_mode",
+    [
+        Continuous => "continuous",
+        Stepped => "stepped",
+        Reciprocating => "reciprocating",
+    ],
+    text
+);
 
 /// How a rig runs its tests.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -75,22 +67,13 @@ pub enum TestMode {
 }
 
 impl TestMode {
+    /// The mode's name (`continuous`, `stepped`, `reciprocating`), as its [`Choice`] spells it.
     pub fn name(self) -> &'static str {
-        match self {
-            TestMode::Continuous => "continuous",
-            TestMode::Stepped => "stepped",
-            TestMode::Reciprocating => "reciprocating",
-        }
+        Choice::name(self)
     }
     /// The mode called `s` (`continuous`, `stepped`, `reciprocating`).
     pub fn parse(s: &str) -> Option<TestMode> {
-        [
-            TestMode::Continuous,
-            TestMode::Stepped,
-            TestMode::Reciprocating,
-        ]
-        .into_iter()
-        .find(|m| m.name() == s.trim())
+        Self::parse_choice(s.trim()).ok()
     }
 }
 
@@ -192,17 +175,12 @@ pub enum Alignment {
     FirstPlateau,
 }
 
-impl greybox_core::choice::Choice for Alignment {
-    const FIELD: &'static str = "align";
-    const ALL: &'static [Self] = &[Alignment::Trigger, Alignment::FirstPlateau];
-    fn name(self) -> &'static str {
-        match self {
-            Alignment::Trigger => "trigger",
-            Alignment::FirstPlateau => "first-plateau",
-        }
-    }
-}
-greybox_core::choice_traits!(Alignment, text);
+greybox_core::choice!(
+    Alignment,
+    "align",
+    [Trigger => "trigger", FirstPlateau => "first-plateau"],
+    text
+);
 
 /// Identification settings (study TOML `[identify]`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -259,64 +259,8 @@ impl PlanSpec {
         )
         .map_err(|e| Error::invalid("plan", e))?;
         let radius = self.track_radius_m()?;
-        let positive = |name: &str, v: f64, unit: &str| -> Result<()> {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(Error::invalid(
-                    "plan",
-                    format!("{name} must be positive, got {v} {unit}"),
-                ))
-            }
-        };
-        positive("dwell_s", self.dwell_s, "s")?;
-        positive(
-            "spindle_accel_rpm_per_s",
-            self.spindle_accel_rpm_per_s,
-            "rpm/s",
-        )?;
-        positive("max_spindle_rpm", self.max_spindle_rpm, "rpm")?;
-        positive("zero_time_s", self.zero_time_s, "s")?;
-        positive("load_time_s", self.load_time_s, "s")?;
-        if self.rpm_decimals > 4 {
-            return Err(Error::invalid(
-                "plan",
-                format!("rpm_decimals must be 0..4, got {}", self.rpm_decimals),
-            ));
-        }
-        if self.trigger_on_mcode == self.trigger_off_mcode {
-            return Err(Error::invalid(
-                "plan",
-                "trigger on and off M-codes must differ",
-            ));
-        }
-        for m in [self.trigger_on_mcode, self.trigger_off_mcode] {
-            if matches!(m, 0..=6 | 30) {
-                return Err(Error::invalid("plan", format!("M{m} is a standard M-code (stop/spindle/end); choose another for the trigger")));
-            }
-        }
-        let rpms: Vec<f64> = velocities
-            .iter()
-            .map(|&v| self.commanded_rpm(v, radius))
-            .collect();
-        for (v, n) in velocities.iter().zip(&rpms) {
-            if *n > self.max_spindle_rpm {
-                return Err(Error::invalid(
-                    "plan",
-                    format!(
-                        "{v} m/min on a {} mm track needs {n} rpm, above the spindle limit of {} rpm",
-                        radius / units::M_PER_MM,
-                        self.max_spindle_rpm
-                    ),
-                ));
-            }
-            if *n <= 0.0 {
-                return Err(Error::invalid(
-                    "plan",
-                    format!("{v} m/min rounds to 0 rpm; raise rpm_decimals"),
-                ));
-            }
-        }
+        self.check_machine()?;
+        let rpms = self.commanded_rpms(&velocities, radius)?;
         let mut steps = Vec::with_capacity(forces.len() * velocities.len());
         let mut pins = Vec::with_capacity(forces.len());
         for (ip, &force) in forces.iter().enumerate() {
@@ -355,6 +299,76 @@ impl PlanSpec {
             pins,
             steps,
         })
+    }
+
+    /// Check the machine settings: dwell, acceleration, spindle limit and load times
+    /// positive, `rpm_decimals` 0..4, and trigger M-codes that differ and are not standard.
+    fn check_machine(&self) -> Result<()> {
+        let positive = |name: &str, v: f64, unit: &str| -> Result<()> {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(Error::invalid(
+                    "plan",
+                    format!("{name} must be positive, got {v} {unit}"),
+                ))
+            }
+        };
+        positive("dwell_s", self.dwell_s, "s")?;
+        positive(
+            "spindle_accel_rpm_per_s",
+            self.spindle_accel_rpm_per_s,
+            "rpm/s",
+        )?;
+        positive("max_spindle_rpm", self.max_spindle_rpm, "rpm")?;
+        positive("zero_time_s", self.zero_time_s, "s")?;
+        positive("load_time_s", self.load_time_s, "s")?;
+        if self.rpm_decimals > 4 {
+            return Err(Error::invalid(
+                "plan",
+                format!("rpm_decimals must be 0..4, got {}", self.rpm_decimals),
+            ));
+        }
+        if self.trigger_on_mcode == self.trigger_off_mcode {
+            return Err(Error::invalid(
+                "plan",
+                "trigger on and off M-codes must differ",
+            ));
+        }
+        for m in [self.trigger_on_mcode, self.trigger_off_mcode] {
+            if matches!(m, 0..=6 | 30) {
+                return Err(Error::invalid("plan", format!("M{m} is a standard M-code (stop/spindle/end); choose another for the trigger")));
+            }
+        }
+        Ok(())
+    }
+
+    /// The commanded spindle speed of each velocity on a track of `radius` m, refused above
+    /// the spindle limit or when it rounds to 0 rpm.
+    fn commanded_rpms(&self, velocities: &[f64], radius: f64) -> Result<Vec<f64>> {
+        let rpms: Vec<f64> = velocities
+            .iter()
+            .map(|&v| self.commanded_rpm(v, radius))
+            .collect();
+        for (v, n) in velocities.iter().zip(&rpms) {
+            if *n > self.max_spindle_rpm {
+                return Err(Error::invalid(
+                    "plan",
+                    format!(
+                        "{v} m/min on a {} mm track needs {n} rpm, above the spindle limit of {} rpm",
+                        radius / units::M_PER_MM,
+                        self.max_spindle_rpm
+                    ),
+                ));
+            }
+            if *n <= 0.0 {
+                return Err(Error::invalid(
+                    "plan",
+                    format!("{v} m/min rounds to 0 rpm; raise rpm_decimals"),
+                ));
+            }
+        }
+        Ok(rpms)
     }
 }
 

@@ -2,11 +2,32 @@
 //! being only a hint: [`RecordingFormat::detect`]), and the one
 //! call that reads any supported file into a [`Recording`]. It sits beside the readers and
 //! the [`Recording`] seam, so neither imports the other back (readers → table → recording).
+//!
+//! Every reader is registered once, in [`READERS`]: its format, the file name extensions
+//! that name it and the function that reads a file into a [`Table`]. Everything else that
+//! enumerates formats is derived from that list or checked against it: the extensions
+//! ([`RecordingFormat::of_path`], [`RecordingFormat::extension`]), the `--format` / `format`
+//! choice (the [`RecordingFormat`] names, one per registered reader: a test checks it), the
+//! dispatch of [`read_table`], and the lists of extensions in `README.md` and
+//! `docs/recordings.md` (a test checks them).
+//!
+//! **Adding a reader** touches at most three files:
+//! 1. its own module (`src/my_format.rs`): `fn read(path: &Path, opts: &ReaderOptions) ->
+//!    Result<Table>` (columns named as in the file, units from the header where it states
+//!    them; the channel map does the rest);
+//! 2. `src/lib.rs`: `pub mod my_format;`
+//! 3. this file: a variant of [`RecordingFormat`] with its name in the `choice!` list, an
+//!    entry in [`READERS`], and, for a binary format, its signature in
+//!    [`RecordingFormat::of_content`].
+//!
+//! A test below (`a_reader_added_to_the_registry_reads_through_the_same_path`) walks through
+//! a toy reader built the same way.
 
-use crate::recording::{recording_from_table, ChannelMap, Recording};
+use crate::recording::{recording_from_table, ChannelMap, ReaderOptions, Recording};
 use crate::table::Table;
 use greybox_core::{Error, Result, SourcePos};
 use serde::{Deserialize, Serialize};
+use std::path::Path;
 
 /// File formats of raw recordings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -22,13 +43,64 @@ pub enum RecordingFormat {
 
 greybox_core::choice!(RecordingFormat, "format", [Csv => "csv", Tdms => "tdms", Spreadsheet => "spreadsheet"], text);
 
+/// One registered reader: the format it reads, the file name extensions that name it, and
+/// the function that reads a file into a [`Table`].
+#[derive(Debug, Clone, Copy)]
+pub struct Reader {
+    pub format: RecordingFormat,
+    /// Extensions naming the format (lower case, no dot); the first is the one written.
+    pub extensions: &'static [&'static str],
+    /// Read the file at the path with the reader options (delimiter, sheet, TDMS group, …).
+    pub read: fn(&Path, &ReaderOptions) -> Result<Table>,
+}
+
+/// Every reader, once: the one place a reader is registered (see the module doc).
+pub const READERS: &[Reader] = &[
+    Reader {
+        format: RecordingFormat::Csv,
+        extensions: &["csv", "txt", "tsv", "dat", "asc", "prn", "dwf"],
+        read: read_text,
+    },
+    Reader {
+        format: RecordingFormat::Tdms,
+        extensions: &["tdms"],
+        read: read_tdms,
+    },
+    Reader {
+        format: RecordingFormat::Spreadsheet,
+        extensions: &["xlsx", "xlsm", "xls", "xlsb", "ods"],
+        read: read_sheet,
+    },
+];
+
+/// Delimited text, dialect sniffed unless the options name it.
+fn read_text(path: &Path, opts: &ReaderOptions) -> Result<Table> {
+    crate::text_table::read_text_table(path, &opts.text_options())
+}
+
+/// TDMS: the options' group, or the default / only group.
+fn read_tdms(path: &Path, opts: &ReaderOptions) -> Result<Table> {
+    let file = crate::tdms::TdmsFile::read(path)?;
+    crate::tdms::table_from_tdms(file, opts.tdms_group.as_deref())
+}
+
+/// A spreadsheet: the options' sheet, or the first one holding a table.
+fn read_sheet(path: &Path, opts: &ReaderOptions) -> Result<Table> {
+    crate::xlsx_table::read_spreadsheet(path, opts.sheet.as_deref())
+}
+
 impl RecordingFormat {
+    /// The format's registered reader ([`READERS`]).
+    pub fn reader(self) -> &'static Reader {
+        READERS
+            .iter()
+            .find(|r| r.format == self)
+            .expect("every format has a reader in READERS (checked by a test)")
+    }
+
+    /// The extension a file of this format is written with (the first registered one).
     pub fn extension(self) -> &'static str {
-        match self {
-            RecordingFormat::Csv => "csv",
-            RecordingFormat::Tdms => "tdms",
-            RecordingFormat::Spreadsheet => "xlsx",
-        }
+        self.reader().extensions[0]
     }
     /// The format a file's first bytes say (its name plays no part): TDMS by its `TDSm`
     /// lead-in, a spreadsheet by the zip (`PK\x03\x04`: xlsx, xlsm, ods) or OLE (`D0 CF 11
@@ -96,12 +168,11 @@ impl RecordingFormat {
     /// The format a file name's extension says (used to pick files from a directory; reading
     /// goes by the content, [`Self::detect`]).
     pub fn of_path(path: &std::path::Path) -> Option<Self> {
-        match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
-            "csv" | "txt" | "tsv" | "dat" | "asc" | "prn" | "dwf" => Some(RecordingFormat::Csv),
-            "tdms" => Some(RecordingFormat::Tdms),
-            "xlsx" | "xlsm" | "xls" | "xlsb" | "ods" => Some(RecordingFormat::Spreadsheet),
-            _ => None,
-        }
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        READERS
+            .iter()
+            .find(|r| r.extensions.contains(&ext.as_str()))
+            .map(|r| r.format)
     }
 }
 
@@ -118,16 +189,7 @@ fn markup(head: &[u8]) -> Option<&'static str> {
 
 /// Read a file's table, choosing the reader from the content ([`RecordingFormat::detect`]).
 pub fn read_table(path: &std::path::Path, map: &ChannelMap) -> Result<Table> {
-    match RecordingFormat::detect(path)? {
-        RecordingFormat::Csv => crate::text_table::read_text_table(path, &map.text_options()),
-        RecordingFormat::Tdms => {
-            let file = crate::tdms::TdmsFile::read(path)?;
-            crate::tdms::table_from_tdms(file, map.tdms_group.as_deref())
-        }
-        RecordingFormat::Spreadsheet => {
-            crate::xlsx_table::read_spreadsheet(path, map.sheet.as_deref())
-        }
-    }
+    (RecordingFormat::detect(path)?.reader().read)(path, &map.reader)
 }
 
 /// Read a recording (any supported format) through a channel map.
@@ -158,8 +220,8 @@ pub fn read_recording(path: &std::path::Path, map: &ChannelMap) -> Result<Record
 /// `map.columns` (`--columns`) names the table's columns first, so that the profile and the
 /// role search see the given names.
 pub fn recording_with_profile(mut table: Table, map: &ChannelMap) -> Result<Recording> {
-    if !map.columns.is_empty() {
-        table.name_columns(&map.columns)?;
+    if !map.reader.columns.is_empty() {
+        table.name_columns(&map.reader.columns)?;
     }
     let mut notes = std::mem::take(&mut table.notes);
     let mode = crate::profiles::detect(&table, map.rig.as_deref())
@@ -173,4 +235,98 @@ pub fn recording_with_profile(mut table: Table, map: &ChannelMap) -> Result<Reco
         r.test_mode = mode;
     }
     Ok(rec)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use greybox_core::choice::Choice;
+
+    /// One reader per format, each registered once, and no extension claimed twice.
+    #[test]
+    fn every_format_is_registered_once() {
+        for f in RecordingFormat::ALL {
+            let n = READERS.iter().filter(|r| r.format == *f).count();
+            assert_eq!(n, 1, "{f} has {n} readers in READERS");
+        }
+        assert_eq!(READERS.len(), RecordingFormat::ALL.len());
+        let mut exts: Vec<&str> = READERS
+            .iter()
+            .flat_map(|r| r.extensions.iter().copied())
+            .collect();
+        let n = exts.len();
+        exts.sort_unstable();
+        exts.dedup();
+        assert_eq!(exts.len(), n, "an extension is claimed by two readers");
+        for r in READERS {
+            let p = Path::new("x").with_extension(r.extensions[0].to_uppercase());
+            assert_eq!(RecordingFormat::of_path(&p), Some(r.format));
+        }
+    }
+
+    /// The user documentation (README, docs/recordings.md) lists every registered extension.
+    #[test]
+    fn the_documented_extensions_are_the_registered_ones() {
+        let docs = [
+            ("README.md", include_str!("../../../README.md")),
+            (
+                "docs/recordings.md",
+                include_str!("../../../docs/recordings.md"),
+            ),
+        ];
+        for (name, doc) in docs {
+            for r in READERS {
+                for e in r.extensions {
+                    let dotted = format!(".{e}");
+                    let listed = doc.match_indices(&dotted).any(|(i, _)| {
+                        !doc[i + dotted.len()..].starts_with(|c: char| c.is_ascii_alphanumeric())
+                    });
+                    assert!(listed, "{name} does not list .{e} ({})", r.format);
+                }
+            }
+        }
+    }
+
+    /// A toy reader (one `t=…;F=…;f=…` line per sample) built as the module doc says: its
+    /// read function gives a [`Table`] that the same channel map and profile path turn into
+    /// a recording. Registering it would be a `READERS` entry with this function.
+    #[test]
+    fn a_reader_added_to_the_registry_reads_through_the_same_path() {
+        fn read_pairs(path: &Path, _opts: &ReaderOptions) -> Result<Table> {
+            let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+            let mut cols: Vec<(String, Vec<f64>)> = Vec::new();
+            for line in text.lines().filter(|l| !l.trim().is_empty()) {
+                for (k, field) in line.split(';').enumerate() {
+                    let (name, value) = field.split_once('=').expect("name=value");
+                    if cols.len() <= k {
+                        cols.push((name.to_string(), Vec::new()));
+                    }
+                    cols[k].1.push(value.parse().expect("a number"));
+                }
+            }
+            Ok(Table {
+                source: path.display().to_string(),
+                rows: cols.first().map_or(0, |c| c.1.len()),
+                layout: "name=value pairs".into(),
+                columns: cols
+                    .into_iter()
+                    .map(|(h, v)| crate::table::Column::numbers(&h, v))
+                    .collect(),
+                ..Default::default()
+            })
+        }
+        let toy = Reader {
+            format: RecordingFormat::Csv,
+            extensions: &["pairs"],
+            read: read_pairs,
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("run.pairs");
+        std::fs::write(&p, "t_s=0;Fn_N=10;Ft_N=2\nt_s=0.1;Fn_N=10;Ft_N=3\n").unwrap();
+        let map = ChannelMap::default();
+        let table = (toy.read)(&p, &map.reader).unwrap();
+        let rec = recording_with_profile(table, &map).unwrap();
+        assert_eq!(rec.time_s, [0.0, 0.1]);
+        assert_eq!(rec.tangential_n, [2.0, 3.0]);
+    }
 }

@@ -310,29 +310,13 @@ impl SynthConfig {
         let dt = 1.0 / self.sample_rate_hz;
         let t_start = -self.pre_trigger_s;
         let t_end = sched.end_s + self.post_trigger_s;
-        let samples = ((t_end - t_start) / dt).floor() + 1.0;
-        if samples > MAX_SAMPLES_PER_PIN {
-            return Err(Error::invalid(
-                "synth",
-                format!(
-                    "pin {pin}'s recording of {} s at sample_rate_hz = {} would be {samples:.3e} samples, more than {MAX_SAMPLES_PER_PIN:.0e}: lower sample_rate_hz",
-                    Compact(t_end - t_start),
-                    Compact(self.sample_rate_hz)
-                ),
-            ));
-        }
-        let n = samples as usize;
+        let n = self.sample_count(pin, t_end - t_start)?;
 
         let std_normal = Normal::new(0.0, 1.0).expect("unit normal");
         let d = self.draw_pin(spec.spindle_accel_rpm_per_s, &mut rng, &std_normal);
         let (latency, accel) = (d.latency_s, d.accel_rpm_per_s);
 
-        // NC events shifted by the latency: (time, target rpm)
-        let commands: Vec<(f64, f64)> = steps
-            .iter()
-            .map(|s| (s.step_start_s + latency, s.spindle_rpm))
-            .chain(std::iter::once((sched.spindle_stop_s + latency, 0.0)))
-            .collect();
+        let commands = spindle_commands(steps, sched.spindle_stop_s, latency);
         let rise = self.load_rise_fraction * spec.load_time_s;
         let load_on = sched.load_start_s + latency;
         let load_off = sched.unload_start_s + latency;
@@ -342,15 +326,7 @@ impl SynthConfig {
             0.5 * (1.0 - (PI * up).cos()) * 0.5 * (1.0 + (PI * down).cos())
         };
 
-        let mut rec = crate::recording::Recording {
-            source: format!("synth pin {pin}"),
-            time_s: Vec::with_capacity(n),
-            normal_n: Vec::with_capacity(n),
-            tangential_n: Vec::with_capacity(n),
-            radial_n: Some(Vec::with_capacity(n)),
-            trigger_v: Some(Vec::with_capacity(n)),
-            ..crate::recording::Recording::new("", Vec::new(), Vec::new(), Vec::new())
-        };
+        let mut rec = empty_recording(pin, n);
         let mut rpm = 0.0f64;
         let mut theta = 0.0f64;
         let mut next_cmd = 0usize;
@@ -406,23 +382,70 @@ impl SynthConfig {
         self.add_spikes(&mut rec, &mut rng, t_end - t_start)?;
         // Settings that pass their own checks can still combine into ∞ (a velocity exponent
         // of 10¹¹): a recording is written only when every sample is a number.
-        let channels = [
-            ("normal force", &rec.normal_n),
-            ("tangential force", &rec.tangential_n),
-        ];
-        for (name, values) in channels {
-            if let Some(k) = values.iter().position(|v| !v.is_finite()) {
-                return Err(Error::invalid(
-                    "synth",
-                    format!(
-                        "pin {pin}'s {name} is {} at t = {:.3} s: check [synth.ground_truth] and the disturbances",
-                        values[k], rec.time_s[k]
-                    ),
-                ));
-            }
-        }
+        check_finite(&rec, pin)?;
         Ok(rec)
     }
+
+    /// Samples of a pin's recording of `duration_s` at the sample rate (both ends included),
+    /// refused above [`MAX_SAMPLES_PER_PIN`].
+    fn sample_count(&self, pin: u32, duration_s: f64) -> Result<usize> {
+        let dt = 1.0 / self.sample_rate_hz;
+        let samples = (duration_s / dt).floor() + 1.0;
+        if samples > MAX_SAMPLES_PER_PIN {
+            return Err(Error::invalid(
+                "synth",
+                format!(
+                    "pin {pin}'s recording of {} s at sample_rate_hz = {} would be {samples:.3e} samples, more than {MAX_SAMPLES_PER_PIN:.0e}: lower sample_rate_hz",
+                    Compact(duration_s),
+                    Compact(self.sample_rate_hz)
+                ),
+            ));
+        }
+        Ok(samples as usize)
+    }
+}
+
+/// The NC's spindle commands shifted by the `latency`, s: (time, target rpm) for each step's
+/// start and the stop at `stop_s`.
+fn spindle_commands(steps: &[crate::plan::PlanStep], stop_s: f64, latency: f64) -> Vec<(f64, f64)> {
+    steps
+        .iter()
+        .map(|s| (s.step_start_s + latency, s.spindle_rpm))
+        .chain(std::iter::once((stop_s + latency, 0.0)))
+        .collect()
+}
+
+/// A pin's recording with room for `n` samples of each channel (force, radial, trigger).
+fn empty_recording(pin: u32, n: usize) -> crate::recording::Recording {
+    crate::recording::Recording {
+        source: format!("synth pin {pin}"),
+        time_s: Vec::with_capacity(n),
+        normal_n: Vec::with_capacity(n),
+        tangential_n: Vec::with_capacity(n),
+        radial_n: Some(Vec::with_capacity(n)),
+        trigger_v: Some(Vec::with_capacity(n)),
+        ..crate::recording::Recording::new("", Vec::new(), Vec::new(), Vec::new())
+    }
+}
+
+/// Refuse a simulated recording whose forces are not all numbers, naming the first sample.
+fn check_finite(rec: &crate::recording::Recording, pin: u32) -> Result<()> {
+    let channels = [
+        ("normal force", &rec.normal_n),
+        ("tangential force", &rec.tangential_n),
+    ];
+    for (name, values) in channels {
+        if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+            return Err(Error::invalid(
+                "synth",
+                format!(
+                    "pin {pin}'s {name} is {} at t = {:.3} s: check [synth.ground_truth] and the disturbances",
+                    values[k], rec.time_s[k]
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The random state of one pin's run, drawn from the pin's seed in a fixed order.

@@ -14,19 +14,6 @@ use std::io::Read as _;
 /// Rows of numbers that must follow the header.
 const CONFIRM_ROWS: usize = 3;
 
-/// Whether a path names a spreadsheet by its extension.
-pub fn is_spreadsheet(path: &std::path::Path) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .map(|e| {
-            matches!(
-                e.to_ascii_lowercase().as_str(),
-                "xlsx" | "xlsm" | "xls" | "xlsb" | "ods"
-            )
-        })
-        .unwrap_or(false)
-}
-
 /// Read one sheet (`sheet`: a name; default the first sheet that holds a table).
 pub fn read_spreadsheet(path: &std::path::Path, sheet: Option<&str>) -> Result<Table> {
     let bytes = greybox_core::budget::read_recording_bytes(path)?;
@@ -275,26 +262,90 @@ fn check_cell_box<RS: std::io::Read + std::io::Seek>(
         .map_err(|m| Error::input(SourcePos::file(source).field(name), m))
 }
 
-fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) -> Result<Table> {
-    let row_no = |i: usize| first_row + i as u64 + 1;
-    let numeric_cols = |r: &[Data]| -> Vec<usize> {
-        r.iter()
-            .enumerate()
-            .filter(|(_, c)| cell_number(c).is_some())
-            .map(|(k, _)| k)
-            .collect()
-    };
-    let is_empty = row_empty;
-    let data = (0..rows.len()).find(|&i| {
+/// The columns holding a number in a row.
+fn numeric_cols(r: &[Data]) -> Vec<usize> {
+    r.iter()
+        .enumerate()
+        .filter(|(_, c)| cell_number(c).is_some())
+        .map(|(k, _)| k)
+        .collect()
+}
+
+/// The first row of the table's data: at least two numbers, and the next
+/// [`CONFIRM_ROWS`] non-empty rows with numbers in the same columns.
+fn first_data_row(rows: &[&[Data]]) -> Option<usize> {
+    (0..rows.len()).find(|&i| {
         let cols = numeric_cols(rows[i]);
         cols.len() >= 2
             && rows[i..]
                 .iter()
-                .filter(|r| !is_empty(r))
+                .filter(|r| !row_empty(r))
                 .take(CONFIRM_ROWS)
                 .all(|r| numeric_cols(r) == cols)
-    });
-    let Some(data) = data else {
+    })
+}
+
+/// Column `k` of a sheet's table: its name from the header row, its unit from the name or
+/// the units row, its values from the `body` rows (up to the first cell that is not a
+/// number); dates and times read as seconds, with a note.
+fn sheet_column(
+    rows: &[&[Data]],
+    k: usize,
+    (header, units): (usize, Option<usize>),
+    body: &[usize],
+    first_row: u64,
+    notes: &mut Vec<String>,
+) -> Column {
+    let row_no = |i: usize| first_row + i as u64 + 1;
+    let head = rows[header].get(k).map(cell_text).unwrap_or_default();
+    let head = if head.is_empty() {
+        format!("column {}", k + 1)
+    } else {
+        head
+    };
+    let mut values = Vec::with_capacity(body.len());
+    let mut bad = None;
+    let mut dated = false;
+    for &i in body {
+        let cell = rows[i].get(k).unwrap_or(&Data::Empty);
+        dated |= matches!(cell, Data::DateTime(_));
+        match cell_number(cell) {
+            Some(v) => values.push(v),
+            None => {
+                bad = Some((row_no(i), cell_text(cell)));
+                break;
+            }
+        }
+    }
+    let mut col = Column::numbers(&head, Vec::new());
+    if col.unit.is_none() {
+        col.unit = units
+            .and_then(|u| rows[u].get(k))
+            .and_then(|c| unit_token(&cell_text(c)));
+    }
+    if dated {
+        let unit = col.unit.get_or_insert_with(|| "s".to_string());
+        notes.push(format!(
+            "column '{}' holds dates or times: read as seconds (Excel serial days × 86 400){}",
+            col.name,
+            if unit == "s" {
+                String::new()
+            } else {
+                format!(", but its unit says {unit}")
+            }
+        ));
+    }
+    col.data = match bad {
+        Some((line, text)) => ColumnData::NotNumeric { line, text },
+        None => ColumnData::Numbers(values),
+    };
+    col
+}
+
+fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) -> Result<Table> {
+    let row_no = |i: usize| first_row + i as u64 + 1;
+    let is_empty = row_empty;
+    let Some(data) = first_data_row(rows) else {
         return Err(Error::input(
             SourcePos::file(source).field(sheet),
             "no table found: expected a header row followed by rows of numbers",
@@ -345,52 +396,10 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
             ));
         }
     }
-    let mut columns = Vec::with_capacity(cols.len());
-    for &k in &cols {
-        let head = rows[header].get(k).map(cell_text).unwrap_or_default();
-        let head = if head.is_empty() {
-            format!("column {}", k + 1)
-        } else {
-            head
-        };
-        let mut values = Vec::with_capacity(body.len());
-        let mut bad = None;
-        let mut dated = false;
-        for &i in &body {
-            let cell = rows[i].get(k).unwrap_or(&Data::Empty);
-            dated |= matches!(cell, Data::DateTime(_));
-            match cell_number(cell) {
-                Some(v) => values.push(v),
-                None => {
-                    bad = Some((row_no(i), cell_text(cell)));
-                    break;
-                }
-            }
-        }
-        let mut col = Column::numbers(&head, Vec::new());
-        if col.unit.is_none() {
-            col.unit = units
-                .and_then(|u| rows[u].get(k))
-                .and_then(|c| unit_token(&cell_text(c)));
-        }
-        if dated {
-            let unit = col.unit.get_or_insert_with(|| "s".to_string());
-            notes.push(format!(
-                "column '{}' holds dates or times: read as seconds (Excel serial days × 86 400){}",
-                col.name,
-                if unit == "s" {
-                    String::new()
-                } else {
-                    format!(", but its unit says {unit}")
-                }
-            ));
-        }
-        col.data = match bad {
-            Some((line, text)) => ColumnData::NotNumeric { line, text },
-            None => ColumnData::Numbers(values),
-        };
-        columns.push(col);
-    }
+    let columns = cols
+        .iter()
+        .map(|&k| sheet_column(rows, k, (header, units), &body, first_row, &mut notes))
+        .collect();
     let mut layout = format!(
         "spreadsheet, sheet '{sheet}', header on row {}",
         row_no(header)

@@ -4,7 +4,7 @@
 //! `read_recording`; expected values are the ones written, in SI.
 
 use greybox_tribo::readers::{read_recording, read_table, RecordingFormat};
-use greybox_tribo::recording::ChannelMap;
+use greybox_tribo::recording::{ChannelMap, ReaderOptions};
 use std::path::PathBuf;
 
 /// Rows of (time s, normal N, friction N) written to every log.
@@ -79,7 +79,10 @@ fn semicolon_decimal_comma_without_time_named_by_columns() {
     let dir = tempfile::tempdir().unwrap();
     let p = write(&dir, "log.txt", log_text(";", true, false).as_bytes());
     let mut map = ChannelMap {
-        columns: vec!["Fn_N".into(), "Ft_N".into()],
+        reader: ReaderOptions {
+            columns: vec!["Fn_N".into(), "Ft_N".into()],
+            ..Default::default()
+        },
         sample_rate_hz: Some(100.0),
         ..Default::default()
     };
@@ -100,7 +103,10 @@ fn tab_log_named_by_columns_and_by_number_alike() {
     let dir = tempfile::tempdir().unwrap();
     let p = write(&dir, "log.tsv", log_text("\t", false, true).as_bytes());
     let named = ChannelMap {
-        columns: vec!["t_s".into(), "Fn_N".into(), "Ft_N".into()],
+        reader: ReaderOptions {
+            columns: vec!["t_s".into(), "Fn_N".into(), "Ft_N".into()],
+            ..Default::default()
+        },
         ..Default::default()
     };
     let a = read_recording(&p, &named).unwrap();
@@ -114,17 +120,17 @@ fn tab_log_named_by_columns_and_by_number_alike() {
     assert_eq!((a.time_s, a.normal_n), (b.time_s, b.normal_n));
     // `#K` still finds a column after `--columns` named it
     let mut both = map_of(&["normal=#2"]);
-    both.columns = named.columns.clone();
+    both.reader.columns = named.reader.columns.clone();
     assert_eq!(read_recording(&p, &both).unwrap().normal_n, column(1));
     // more names than columns, or a name twice, are errors naming the setting
     let mut bad = named.clone();
-    bad.columns.push("extra".into());
+    bad.reader.columns.push("extra".into());
     let e = read_recording(&p, &bad).unwrap_err().to_string();
     assert!(
         e.contains("4 names given") && e.contains("3 columns"),
         "{e}"
     );
-    bad.columns = vec!["a".into(), "a".into()];
+    bad.reader.columns = vec!["a".into(), "a".into()];
     let e = read_recording(&p, &bad).unwrap_err().to_string();
     assert!(e.contains("'a' is given twice"), "{e}");
 }
@@ -135,7 +141,10 @@ fn columns_rename_a_file_with_a_header_too() {
     let text = format!("a,b,c\n{}", log_text(",", false, true));
     let p = write(&dir, "run.csv", text.as_bytes());
     let map = ChannelMap {
-        columns: vec!["time (s)".into(), "Fz (N)".into(), "Fx (N)".into()],
+        reader: ReaderOptions {
+            columns: vec!["time (s)".into(), "Fz (N)".into(), "Fx (N)".into()],
+            ..Default::default()
+        },
         ..Default::default()
     };
     let rec = read_recording(&p, &map).unwrap();

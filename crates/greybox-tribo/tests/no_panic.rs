@@ -200,7 +200,7 @@ fn foreign_layout_readers_survive_mutations() {
     for base in &bases {
         for _ in 0..1500 {
             let m = mutate(base, &mut rng);
-            let r = parse_text_table(&m, "m.csv", &map.text_options())
+            let r = parse_text_table(&m, "m.csv", &map.reader.text_options())
                 .and_then(|t| recording_from_table(t, &map));
             match r {
                 Ok(rec) => {

@@ -6,7 +6,7 @@
 //! fixtures are also regenerated fresh and the reverse check runs.
 
 use greybox_tribo::csv_recording::{read_csv_recording, write_csv_recording};
-use greybox_tribo::recording::{ChannelMap, Recording};
+use greybox_tribo::recording::{ChannelMap, ReaderOptions, Recording};
 use greybox_tribo::tdms::{read_tdms_recording, write_tdms_recording, TdmsFile};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -17,7 +17,10 @@ fn fixtures() -> PathBuf {
 
 fn time_channel_map() -> ChannelMap {
     let mut m = ChannelMap {
-        tdms_group: Some("Dyno".into()),
+        reader: ReaderOptions {
+            tdms_group: Some("Dyno".into()),
+            ..Default::default()
+        },
         ..Default::default()
     };
     m.apply_override("time=time:s").unwrap();

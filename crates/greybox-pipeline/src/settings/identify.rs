@@ -17,7 +17,7 @@
 //!     "columns": ["t_s", "Fn_N"], "normal_force_count": 3}"#)?;
 //! let study = s.study()?;
 //! assert_eq!(study.recording.constant_normal_n, Some(60.0));
-//! assert_eq!(study.recording.columns, ["t_s", "Fn_N"]);
+//! assert_eq!(study.recording.reader.columns, ["t_s", "Fn_N"]);
 //! assert_eq!(study.recording.normal.as_ref().unwrap().name, "#2");
 //! assert_eq!(study.contact.convention.to_string(), "article-eq7");
 //! assert_eq!(study.plan.normal_force_count.get(), 3);
@@ -273,12 +273,15 @@ impl IdentifySettings {
         rec.rig = self.rig.clone().or(rec.rig.take());
         rec.constant_normal_n = force.or(rec.constant_normal_n);
         rec.constant_sliding_m_s = speed.or(rec.constant_sliding_m_s);
-        rec.tdms_group = self.tdms_group.clone().or(rec.tdms_group.take());
-        rec.header_line = self.header_line.map(HeaderLine::as_u64).or(rec.header_line);
+        rec.reader.tdms_group = self.tdms_group.clone().or(rec.reader.tdms_group.take());
+        rec.reader.header_line = self
+            .header_line
+            .map(HeaderLine::as_u64)
+            .or(rec.reader.header_line);
         rec.sample_rate_hz = rate.or(rec.sample_rate_hz);
-        rec.sheet = self.sheet.clone().or(rec.sheet.take());
+        rec.reader.sheet = self.sheet.clone().or(rec.reader.sheet.take());
         if !self.columns.is_empty() {
-            rec.columns = self.columns.clone();
+            rec.reader.columns = self.columns.clone();
         }
         let id = &mut study.identify;
         if let Some(a) = self.align {

@@ -1,0 +1,211 @@
+//! Measuring a segment: its steady window, μ statistics and speed, whether its uncertain boundaries
+//! matter, and the notes on run-in and drift.
+
+use super::prepare::{Prepared, Span};
+use super::report::{FileReport, SegmentReport};
+use crate::identify::IdentifyConfig;
+use crate::identify_config::SteadyRule;
+use crate::recording::SpeedTrace;
+use crate::signal::{median, moving_average, quantum};
+use crate::steady::{
+    final_stationary, mean_standard_error, plateau_stats, rule_span, steady_span, step_signals,
+    windows, StepSignals,
+};
+use greybox_core::dataset::flags;
+use greybox_core::units;
+
+/// The steady part of a segment, window-relative `[a, b)`, and the run-in end (`auto` only).
+///
+/// Under `auto`: F_N and the speed must be within their bands ([`steady_span`], which drops
+/// load and speed ramps), and μ must be in its final stationary stretch
+/// ([`final_stationary`]); the settle time and end margin are then dropped. Under
+/// `last:P%` / `from:Ts` the window is the user's, as given.
+pub(super) fn steady_window(
+    sig: &StepSignals,
+    others: &[(&[f64], f64)],
+    t_rel: &[f64],
+    cfg: &IdentifyConfig,
+    fs: f64,
+) -> std::result::Result<(usize, usize, Option<usize>), String> {
+    if let Some((a, b)) = rule_span(cfg.steady, t_rel, cfg.min_plateau_samples, "samples")? {
+        return Ok((a, b, None));
+    }
+    let never =
+        || "no steady part: μ, F_N or the speed never settle inside the segment".to_string();
+    let (a0, b0) = steady_span(others, sig.w_smooth).ok_or_else(never)?;
+    let fin = final_stationary(&sig.smooth[a0..b0], &t_rel[a0..b0], sig.w_smooth, 0.002)
+        .ok_or_else(never)?;
+    let (a, b) = (a0 + fin.a, a0 + fin.b);
+    let settle = (cfg.settle_time_s * fs).round() as usize;
+    let margin = (cfg.end_margin_s * fs).round() as usize;
+    let run_in = (fin.run_in_end > 0).then_some(a0 + fin.run_in_end);
+    Ok(((a + settle).min(b), b.saturating_sub(margin).max(a), run_in))
+}
+
+/// Identify one segment: steady part, statistics, speed.
+pub(super) fn measure(
+    p: &Prepared,
+    span: Span,
+    index: usize,
+    cfg: &IdentifyConfig,
+) -> SegmentReport {
+    let rec = p.rec;
+    let (i, j) = (span.i, span.j);
+    let unc = span.unc.0.max(span.unc.1);
+    let mut rep = SegmentReport::bare(p, span, index);
+    rep.boundary_uncertainty_s = (unc > 0.0).then_some(unc);
+    let f_ref = rep.normal_force_n.abs().max(1e-9);
+    let sig = match step_signals(&p.fn_c, &p.ft_c, i, j, cfg, p.fs, |k, f_n| {
+        if f_n <= 0.1 * f_ref {
+            Err(format!(
+                "normal force {f_n:.3} N at t = {:.3} s: zero or negative inside a loaded segment",
+                rec.time_s[k]
+            ))
+        } else {
+            Ok(())
+        }
+    }) {
+        Ok(s) => s,
+        Err(m) => {
+            rep.problem = Some(m);
+            return rep;
+        }
+    };
+    let (_, w) = windows(cfg, p.fs);
+    let fn_s = moving_average(&p.fn_c[i..j], w);
+    let speed: Option<Vec<f64>> = rec
+        .speed
+        .as_ref()
+        .map(|s| moving_average(&s.values()[i..j], w));
+    let mut others: Vec<(&[f64], f64)> = vec![(&fn_s, 0.02 * f_ref)];
+    if let Some(v) = &speed {
+        // a quantised channel (a 1 Hz export stepping 0.147/0.150 m/s) wanders by its LSB
+        let lsb = rec
+            .speed
+            .as_ref()
+            .map_or(0.0, |s| quantum(&s.values()[i..j]));
+        others.push((v, 0.01 * median(v).abs() + 1.5 * lsb + 1e-9));
+    }
+    let t_rel: Vec<f64> = rec.time_s[i..j].iter().map(|t| t - rec.time_s[i]).collect();
+    let (pa, pb, run_in) = match steady_window(&sig, &others, &t_rel, cfg, p.fs) {
+        Ok(w) => w,
+        Err(m) => {
+            rep.problem = Some(m);
+            return rep;
+        }
+    };
+    let Some(st) = plateau_stats(&rec.time_s, &p.fn_c, &sig, pa, pb, 0.0, cfg) else {
+        rep.problem = Some(format!(
+            "only {} samples in the steady part (min {}): the segment is too short or never settles",
+            pb.saturating_sub(pa),
+            cfg.min_plateau_samples
+        ));
+        return rep;
+    };
+    if let Some(s) = &rec.speed {
+        let v = median(&s.values()[i + pa..i + pb]);
+        match s {
+            SpeedTrace::SpindleRpm(_) => rep.spindle_rpm = Some(v),
+            SpeedTrace::SlidingMPerS(_) => {
+                rep.sliding_velocity_m_per_min = Some(units::m_per_s_to_m_per_min(v))
+            }
+        }
+    }
+    if cfg.steady == SteadyRule::Auto {
+        rep.run_in_s = Some(run_in.map_or(0.0, |k| t_rel[k]));
+    }
+    rep.drift_per_hour = Some(st.trend_per_s * 3600.0);
+    rep.steady_start_s = Some(st.start_s);
+    rep.steady_end_s = Some(st.end_s);
+    rep.normal_force_n = st.normal_force_n;
+    rep.cof = Some(st.mean);
+    rep.cof_std = Some(st.std);
+    rep.n_samples = st.n_samples;
+    rep.flags = st.flags.clone();
+    if p.no_baseline {
+        rep.flags.push(flags::NO_BASELINE.to_string());
+    }
+    if boundary_matters(span, &sig, (pa, pb), p.fs, cfg) {
+        rep.flags.push(flags::UNCERTAIN_BOUNDARY.to_string());
+    }
+    let used: Vec<f64> = (pa..pb)
+        .filter(|k| sig.good[*k])
+        .map(|k| sig.mu[k])
+        .collect();
+    // the window's own serial correlation, or the run's disturbance over the window's length
+    // (a window on the crest of a slow run-out looks flat on its own)
+    let sem =
+        mean_standard_error(&used).max(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt());
+    rep.cof_sem = Some(sem);
+    if 2.0 * sem > cfg.mean_uncertainty_tolerance {
+        rep.flags.push(flags::UNCERTAIN_MEAN.to_string());
+    }
+    rep.stats = Some(st);
+    rep
+}
+
+/// Whether a segment's uncertain boundaries matter for its μ: they reach into the steady
+/// window `[pa, pb)` (segment-relative samples), and μ over the window without the reach
+/// differs from μ over the whole window by more than half `mean_uncertainty_tolerance` (or
+/// nothing is left).
+pub(super) fn boundary_matters(
+    span: Span,
+    sig: &StepSignals,
+    (pa, pb): (usize, usize),
+    fs: f64,
+    cfg: &IdentifyConfig,
+) -> bool {
+    let len = span.j - span.i;
+    let a = pa.max((span.unc.0 * fs).ceil() as usize);
+    let b = pb.min(len.saturating_sub((span.unc.1 * fs).ceil() as usize));
+    if (a, b) == (pa, pb) {
+        return false;
+    }
+    let mean = |a: usize, b: usize| {
+        let v: Vec<f64> = (a..b).filter(|k| sig.good[*k]).map(|k| sig.mu[k]).collect();
+        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+    };
+    match (mean(pa, pb), (a < b).then(|| mean(a, b)).flatten()) {
+        (Some(all), Some(inner)) => (all - inner).abs() > 0.5 * cfg.mean_uncertainty_tolerance,
+        _ => true,
+    }
+}
+
+/// Drift per sliding distance (1/km) of every measured segment with a known speed, and a
+/// note per segment with a run-in, a drift flagged `trend` or an uncertain boundary.
+pub(super) fn steady_notes(files: &mut [FileReport]) {
+    for f in files.iter_mut() {
+        for s in f.segments.iter_mut() {
+            let (Some(per_h), Some(v)) = (s.drift_per_hour, s.sliding_velocity_m_per_min) else {
+                continue;
+            };
+            // μ/h ÷ (km/h) = μ/km, with v in m/min → 0.06 v km/h
+            if v.abs() > 0.0 {
+                s.drift_per_km = Some(per_h / (0.06 * v.abs()));
+            }
+        }
+        let mut notes = Vec::new();
+        for s in &f.segments {
+            let mut parts = Vec::new();
+            if let Some(r) = s.run_in_s.filter(|r| *r > 0.0) {
+                parts.push(format!("run-in {r:.1} s"));
+            }
+            if s.flags.iter().any(|x| x == flags::TREND) {
+                let km = s
+                    .drift_per_km
+                    .map_or(String::new(), |k| format!(", {k:+.2e} /km"));
+                parts.push(format!(
+                    "μ drifts {:+.4} /h{km} over the steady part",
+                    s.drift_per_hour.unwrap_or(0.0)
+                ));
+            }
+            if let Some(u) = s.boundary_uncertainty_s {
+                parts.push(format!("uncertain boundary (±{u:.3} s)"));
+            }
+            if !parts.is_empty() {
+                notes.push(format!("segment {}: {}", s.index, parts.join("; ")));
+            }
+        }
+        f.notes.extend(notes);
+    }
+}

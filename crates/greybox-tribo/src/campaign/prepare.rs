@@ -1,0 +1,326 @@
+//! Per-file preparation: loaded samples, baseline offsets, sign of the forces and the sliding mask
+//! (steps 1–3 of the campaign), and the sample [`Span`]s the segmenters cut.
+
+use super::report::{read_warnings, FileReport, SegmentReport};
+use crate::coverage::Coverage;
+use crate::identify::IdentifyConfig;
+use crate::recording::Recording;
+use crate::signal::{block_medians, median, runs};
+use crate::sliding::quantile;
+use greybox_core::{Error, Result, SourcePos};
+
+/// Per-file signals after baseline and sign correction.
+pub(super) struct Prepared<'a> {
+    pub(super) rec: &'a Recording,
+    pub(super) fn_c: Vec<f64>,
+    pub(super) ft_c: Vec<f64>,
+    pub(super) fs: f64,
+    /// Loaded and sliding per sample.
+    pub(super) sliding: Vec<bool>,
+    /// The rig's period in μ, s (revolution or stroke), if one was found.
+    pub(super) period_s: Option<f64>,
+    /// Time above the loaded threshold, s.
+    pub(super) loaded_s: f64,
+    pub(super) no_baseline: bool,
+    pub(super) report: FileReport,
+}
+
+impl Prepared<'_> {
+    /// Shortest step, s: `min_segment_s`, or three of the rig's periods if longer.
+    pub(super) fn min_step_s(&self, cfg: &IdentifyConfig) -> f64 {
+        cfg.min_segment_s.max(3.0 * self.period_s.unwrap_or(0.0))
+    }
+
+    /// Samples per block of the change-point search: 50 ms, or one period if longer (each
+    /// block then averages whole revolutions).
+    pub(super) fn step_block(&self) -> usize {
+        ((0.05f64.max(self.period_s.unwrap_or(0.0)) * self.fs).round() as usize).max(1)
+    }
+}
+
+/// Sample ranges of a segment, `[i, j)`, with its step label and the uncertainty of its
+/// start and end boundaries, s (0 where the boundary is sharp).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Span {
+    pub(super) i: usize,
+    pub(super) j: usize,
+    pub(super) label: Option<f64>,
+    pub(super) unc: (f64, f64),
+    /// The run's standard error of a one-second mean of μ, √s (0: from the segment alone).
+    pub(super) run_sem: f64,
+}
+
+impl Span {
+    pub(super) fn new(i: usize, j: usize, label: Option<f64>) -> Self {
+        Span {
+            i,
+            j,
+            label,
+            unc: (0.0, 0.0),
+            run_sem: 0.0,
+        }
+    }
+}
+
+impl SegmentReport {
+    /// A segment's bounds, mean load and label; nothing measured yet.
+    pub(super) fn bare(p: &Prepared, span: Span, index: usize) -> Self {
+        let (i, j) = (span.i, span.j);
+        SegmentReport {
+            index,
+            start_s: p.rec.time_s[i],
+            end_s: p.rec.time_s[j - 1],
+            steady_start_s: None,
+            steady_end_s: None,
+            normal_force_n: p.fn_c[i..j].iter().sum::<f64>() / (j - i) as f64,
+            spindle_rpm: None,
+            sliding_velocity_m_per_min: None,
+            step_label: span.label,
+            cof: None,
+            cof_std: None,
+            cof_sem: None,
+            n_samples: 0,
+            flags: Vec::new(),
+            matched: None,
+            problem: None,
+            run_in_s: None,
+            drift_per_hour: None,
+            drift_per_km: None,
+            boundary_uncertainty_s: None,
+            reciprocating: None,
+            stats: None,
+        }
+    }
+}
+
+/// Prepare one recording (steps 1–3 of the campaign): loaded samples, baseline offsets
+/// removed, the signs of the forces, the sliding mask; `signed`: a reciprocating test,
+/// whose friction force changes sign by design.
+pub(super) fn prepare<'a>(
+    rec: &'a Recording,
+    cfg: &IdentifyConfig,
+    segmentation: &str,
+    signed: bool,
+) -> Result<Prepared<'a>> {
+    rec.validate()?;
+    let n = rec.len();
+    let fs = rec.sample_rate_hz();
+    let b = ((0.01 * fs).round() as usize).clamp(1, (n / 20).max(1));
+    let load = Loading::of(rec, cfg, b)?;
+    let base = Baseline::of(rec, &load.loaded, fs);
+    let (off_n, slope_n, t_n) = base.line(&load.normal);
+    let (off_t, slope_t, t_t) = base.line(&rec.tangential_n);
+    let fn_c = remove_line(&rec.time_s, &load.normal, (off_n, slope_n, t_n));
+    let mut ft_c = remove_line(&rec.time_s, &rec.tangential_n, (off_t, slope_t, t_t));
+    let baseline = base.name();
+    let span = rec.duration_s();
+    let mut notes = Vec::new();
+    // a reciprocating test's friction force changes sign by design: kept as recorded
+    let flipped = !signed && flip_tangential(&load.loaded, &fn_c, &mut ft_c);
+    if flipped {
+        notes.push(
+            "the tangential force is negative while loaded: its sign was flipped".to_string(),
+        );
+    }
+    if load.normal_flipped {
+        notes.push("the normal force is negative while loaded (compression read as a negative force): its sign was flipped".to_string());
+    }
+    let blocks = crate::sliding::Blocks {
+        b,
+        loaded: &load.loaded_blocks,
+        fs,
+    };
+    let slide = crate::sliding::sliding(rec.speed.as_ref(), &fn_c, &ft_c, &blocks, cfg);
+    notes.extend(sliding_notes(&slide, cfg));
+    let sliding_s = slide.mask.iter().filter(|m| **m).count() as f64 / fs;
+    let no_baseline = baseline == "none";
+    if no_baseline {
+        notes.push(
+            "no unloaded window: offsets cannot be removed (rows flagged no-baseline)".to_string(),
+        );
+    }
+    Ok(Prepared {
+        rec,
+        fn_c,
+        ft_c,
+        fs,
+        sliding: slide.mask,
+        period_s: slide.period_s,
+        loaded_s: load.loaded.iter().filter(|l| **l).count() as f64 / fs,
+        no_baseline,
+        report: FileReport {
+            source: rec.source.clone(),
+            read: rec.provenance.clone(),
+            warnings: read_warnings(rec),
+            sample_rate_hz: fs,
+            samples: n,
+            duration_s: span,
+            segmentation: segmentation.to_string(),
+            baseline: baseline.to_string(),
+            drift_normal_n: slope_n * span,
+            drift_tangential_n: slope_t * span,
+            tangential_sign_flipped: flipped,
+            normal_sign_flipped: load.normal_flipped,
+            sliding: slide.evidence.name().to_string(),
+            period_s: slide.period_s,
+            coverage: Coverage {
+                sliding_s,
+                ..Default::default()
+            },
+            segments: Vec::new(),
+            notes,
+            unusual: Vec::new(),
+            rows: Vec::new(),
+            too_short: Vec::new(),
+        },
+    })
+}
+
+/// Which samples are loaded (step 1): the block medians (`b` samples) of the normal force
+/// above the unloaded level plus `loaded_fraction` of the loaded range.
+struct Loading<'a> {
+    /// The normal force, made positive ([`normal_positive`]).
+    normal: std::borrow::Cow<'a, [f64]>,
+    normal_flipped: bool,
+    loaded_blocks: Vec<bool>,
+    /// Per sample.
+    loaded: Vec<bool>,
+}
+
+impl<'a> Loading<'a> {
+    fn of(rec: &'a Recording, cfg: &IdentifyConfig, b: usize) -> Result<Self> {
+        let n = rec.len();
+        // a load cell that reads compression as a negative force: the normal force is flipped
+        let (normal, bn, normal_flipped) =
+            normal_positive(&rec.normal_n, block_medians(&rec.normal_n, b));
+        let hi = quantile(&bn, 0.99);
+        let lo = quantile(&bn, 0.01);
+        if !(hi > 0.0) {
+            return Err(Error::input(
+                SourcePos::file(&rec.source).field("normal"),
+                format!("the normal force never departs from zero (1st and 99th percentiles {lo:.3} and {hi:.3} N): check the channel mapping"),
+            ));
+        }
+        // an unloaded level exists only if the low end is far below the loaded range
+        let unloaded_level = if lo < 0.2 * hi { lo } else { 0.0 };
+        let thr = unloaded_level + cfg.loaded_fraction * (hi - unloaded_level);
+        let loaded_blocks: Vec<bool> = bn.iter().map(|v| *v > thr).collect();
+        let loaded: Vec<bool> = (0..n).map(|k| loaded_blocks[k / b]).collect();
+        Ok(Loading {
+            normal,
+            normal_flipped,
+            loaded_blocks,
+            loaded,
+        })
+    }
+}
+
+/// The unloaded windows at the start and the end of a recording (step 2), sample ranges:
+/// the first 80 % of a leading unloaded run, the last 80 % of a trailing one (each at least
+/// 50 ms, or 5 samples).
+struct Baseline<'r> {
+    rec: &'r Recording,
+    start: Option<(usize, usize)>,
+    end: Option<(usize, usize)>,
+}
+
+impl<'r> Baseline<'r> {
+    fn of(rec: &'r Recording, loaded: &[bool], fs: f64) -> Self {
+        let n = rec.len();
+        let unloaded = runs(&loaded.iter().map(|l| !l).collect::<Vec<_>>());
+        let min_len = ((0.05 * fs) as usize).max(5);
+        let start = unloaded
+            .first()
+            .filter(|(s, e)| *s == 0 && e - s >= min_len)
+            .map(|&(s, e)| (s, s + (e - s) * 8 / 10));
+        let end = unloaded
+            .last()
+            .filter(|(s, e)| *e == n && e - s >= min_len && Some(&(*s, *e)) != unloaded.first())
+            .map(|&(s, e)| (s + (e - s) * 2 / 10, e));
+        Baseline { rec, start, end }
+    }
+
+    /// A channel's baseline as (offset at `t0`, slope per s, `t0`): the line through the
+    /// medians of both windows, or one window's constant level, or zero without a window.
+    fn line(&self, x: &[f64]) -> (f64, f64, f64) {
+        let level = |w: (usize, usize)| median(&x[w.0..w.1]);
+        let mid = |w: (usize, usize)| 0.5 * (self.rec.time_s[w.0] + self.rec.time_s[w.1 - 1]);
+        match (self.start, self.end) {
+            (Some(a), Some(e)) => {
+                let (la, le) = (level(a), level(e));
+                (la, (le - la) / (mid(e) - mid(a)), mid(a))
+            }
+            (Some(a), None) => (level(a), 0.0, 0.0),
+            (None, Some(e)) => (level(e), 0.0, 0.0),
+            (None, None) => (0.0, 0.0, 0.0),
+        }
+    }
+
+    /// `start and end`, `start only`, `end only` or `none` (for the file's report).
+    fn name(&self) -> &'static str {
+        match (self.start, self.end) {
+            (Some(_), Some(_)) => "start and end",
+            (Some(_), None) => "start only",
+            (None, Some(_)) => "end only",
+            (None, None) => "none",
+        }
+    }
+}
+
+/// `x` less its baseline line `(offset at t0, slope, t0)` at each sample time.
+fn remove_line(time_s: &[f64], x: &[f64], (off, slope, t0): (f64, f64, f64)) -> Vec<f64> {
+    time_s
+        .iter()
+        .zip(x)
+        .map(|(t, v)| v - off - slope * (t - t0))
+        .collect()
+}
+
+/// Flip the tangential force `ft` in place when its μ over the loaded samples has a negative
+/// median (step 3); whether it was flipped.
+fn flip_tangential(loaded: &[bool], fn_c: &[f64], ft: &mut [f64]) -> bool {
+    let mu_loaded: Vec<f64> = (0..loaded.len())
+        .filter(|k| loaded[*k])
+        .map(|k| ft[k] / fn_c[k])
+        .collect();
+    let flip = median(&mu_loaded) < 0.0;
+    if flip {
+        ft.iter_mut().for_each(|v| *v = -*v);
+    }
+    flip
+}
+
+/// The notes on how sliding was told apart: μ's threshold (no speed channel) and the rig's
+/// period, when found.
+fn sliding_notes(slide: &crate::sliding::Sliding, cfg: &IdentifyConfig) -> Vec<String> {
+    let mut notes = Vec::new();
+    if let Some(thr) = slide.mu_threshold {
+        notes.push(format!(
+            "sliding where μ, averaged over {:.3} s, exceeds {thr:.4} (no measured speed channel)",
+            cfg.sliding_smoothing_s.max(slide.period_s.unwrap_or(0.0))
+        ));
+    }
+    if let Some(per) = slide.period_s {
+        notes.push(format!(
+            "μ repeats every {per:.3} s (the rig's revolution or stroke): averaged over it"
+        ));
+    }
+    notes
+}
+
+/// The normal force with a positive load, and its block medians `bn`: both flipped (and
+/// `true`) when the recording's loaded level is negative, i.e. the 1st percentile of the
+/// block medians lies further below zero than their 99th lies above.
+pub(super) fn normal_positive(
+    normal: &[f64],
+    mut bn: Vec<f64>,
+) -> (std::borrow::Cow<'_, [f64]>, Vec<f64>, bool) {
+    let (lo, hi) = (quantile(&bn, 0.01), quantile(&bn, 0.99));
+    if lo < 0.0 && -lo > hi.max(0.0) {
+        bn.iter_mut().for_each(|v| *v = -*v);
+        let flipped = normal.iter().map(|v| -v).collect();
+        (std::borrow::Cow::Owned(flipped), bn, true)
+    } else {
+        (std::borrow::Cow::Borrowed(normal), bn, false)
+    }
+}

@@ -1,0 +1,216 @@
+//! Reports of an identification: per segment, per file, of the plan matching; the campaign's
+//! inputs; a file's coverage from its segments; a segment's dataset row.
+
+use crate::coverage::{Coverage, Dropped, SegmentTime};
+use crate::expected::ExpectedStep;
+use crate::hertz::PinContact;
+use crate::identify::IdentifyConfig;
+use crate::plan::Plan;
+use crate::reciprocating::Reciprocating;
+use crate::recording::{ReadReport, Recording};
+use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
+use greybox_core::Result;
+use serde::Serialize;
+
+/// What was found in one segment of a recording.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SegmentReport {
+    /// 1-based, in the file.
+    pub index: usize,
+    /// Segment bounds on the recording's clock, s.
+    pub start_s: f64,
+    pub end_s: f64,
+    /// The steady part used for μ, s (absent when none was found).
+    pub steady_start_s: Option<f64>,
+    pub steady_end_s: Option<f64>,
+    /// Mean measured normal force over the steady part (or the segment), N.
+    pub normal_force_n: f64,
+    /// Recorded speed over the steady part, in the channel's unit base (rpm or m/s).
+    pub spindle_rpm: Option<f64>,
+    pub sliding_velocity_m_per_min: Option<f64>,
+    /// Step-column value, if the segment comes from one.
+    pub step_label: Option<f64>,
+    pub cof: Option<f64>,
+    pub cof_std: Option<f64>,
+    /// Standard error of μ's mean under serial correlation
+    /// ([`crate::steady::mean_standard_error`]).
+    pub cof_sem: Option<f64>,
+    pub n_samples: usize,
+    pub flags: Vec<String>,
+    /// Plan pin and step it was matched to.
+    pub matched: Option<(u32, u32)>,
+    /// Why this segment gave no row.
+    pub problem: Option<String>,
+    /// Run-in before the steady part, s from the segment start: the time until μ's running
+    /// level enters, and stays in, the final stretch's band (ASTM G99-17 §9; `auto` rule only).
+    pub run_in_s: Option<f64>,
+    /// Slope of μ over the steady part, 1/h (a slow drift is reported, not cut away).
+    pub drift_per_hour: Option<f64>,
+    /// Slope of μ over the steady part per sliding distance, 1/km (when the speed is known).
+    pub drift_per_km: Option<f64>,
+    /// Uncertainty of the segment's boundaries where one is weakly determined, s (the larger
+    /// of the two; rows then carry `uncertain-boundary`).
+    pub boundary_uncertainty_s: Option<f64>,
+    /// A reciprocating test's strokes, cycles and μ per direction (ASTM G133; see
+    /// [`crate::reciprocating`]); the row's μ is their mean over the steady cycles.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reciprocating: Option<Reciprocating>,
+    #[serde(skip)]
+    pub(super) stats: Option<crate::steady::PlateauStats>,
+}
+
+/// What was found in one file.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FileReport {
+    pub source: String,
+    /// Layout, mapped columns, footer and repairs, from the reader.
+    pub read: Option<ReadReport>,
+    pub sample_rate_hz: f64,
+    pub samples: usize,
+    pub duration_s: f64,
+    /// The segmentation used.
+    pub segmentation: String,
+    /// `start and end`, `start only`, `end only` or `none`.
+    pub baseline: String,
+    pub drift_normal_n: f64,
+    pub drift_tangential_n: f64,
+    pub tangential_sign_flipped: bool,
+    /// The normal force was recorded negative (compression as a negative force) and was
+    /// flipped.
+    pub normal_sign_flipped: bool,
+    /// What decided which loaded samples slide (`speed channel` or `friction`; see
+    /// [`crate::sliding`]).
+    pub sliding: String,
+    /// The rig's revolution or stroke period found in μ, s, if any.
+    pub period_s: Option<f64>,
+    /// How the sliding time was used: steady, run-in, transitions, dropped (with reasons).
+    pub coverage: Coverage,
+    pub segments: Vec<SegmentReport>,
+    pub notes: Vec<String>,
+    /// What was dropped, split, left unread or contradicts what was used, one line each: the
+    /// reader's ([`ReadReport::warnings`]) and the segmentation's (a gap in time that splits a
+    /// segment). Printed in the summary of every run and written into its JSON, never only
+    /// under `--inspect`; dropped segments are in [`Coverage::dropped`], with their reasons.
+    pub warnings: Vec<String>,
+    /// Values outside their usual range ([`greybox_core::physics`]), with the number and the
+    /// likely unit mistake: one line per quantity and file.
+    pub unusual: Vec<String>,
+    /// Rows already identified (plan-timed path).
+    #[serde(skip)]
+    pub(super) rows: Vec<FrictionRecord>,
+    /// Sliding spans left out before measuring (shorter than a step may be).
+    #[serde(skip)]
+    pub(super) too_short: Vec<Dropped>,
+}
+
+/// The reader's summary lines of a recording ([`ReadReport::warnings`]).
+pub(super) fn read_warnings(rec: &Recording) -> Vec<String> {
+    rec.provenance
+        .as_ref()
+        .map_or_else(Vec::new, |r| r.warnings.clone())
+}
+
+/// How segments were matched to a plan.
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct MatchReport {
+    /// `alignment by load, speed and duration` (the evidence the segments and plan share;
+    /// see [`crate::align`]), `plan timing`, or `none` (no plan).
+    pub method: String,
+    /// Planned steps no segment was matched to.
+    pub missing: Vec<String>,
+    /// Segments matched to no planned step (an unplanned run-in, a repeated step).
+    pub extra: Vec<String>,
+    /// Planned steps that one segment spans together with the next step (the row is the
+    /// later step's).
+    pub merged: Vec<String>,
+    pub reordered: Vec<String>,
+}
+
+/// The result of identifying a set of recordings.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Identification {
+    #[serde(skip)]
+    pub dataset: FrictionDataset,
+    pub files: Vec<FileReport>,
+    pub matching: MatchReport,
+}
+
+/// Inputs of [`identify_recordings`] beyond the recordings.
+#[derive(Debug, Clone, Copy)]
+pub struct Campaign<'a> {
+    /// Expected steps (a plan without timing, or a greybox plan's steps).
+    pub expected: Option<&'a [ExpectedStep]>,
+    /// A greybox plan with timing, for the plan-timing path and its track radius.
+    pub plan: Option<&'a Plan>,
+    pub contact: &'a PinContact,
+    pub cfg: &'a IdentifyConfig,
+    /// Track radius, mm: one value, one per segment of each file, or one per segment of the
+    /// campaign (for rpm speed channels without a radius column).
+    pub track_radius_mm: &'a [f64],
+}
+
+/// A file's coverage from its segments' state: rows from the measured (and, once matched,
+/// the matched) segments, dropped parts with reasons. Before matching (`flag`), a file
+/// whose steady share is below `min_steady_share` flags its measured segments
+/// `low-coverage`.
+pub(super) fn update_coverage(f: &mut FileReport, cfg: &IdentifyConfig, flag: bool) {
+    let matched_any = f.segments.iter().any(|s| s.matched.is_some());
+    let mut rows = Vec::new();
+    let mut dropped = f.too_short.clone();
+    for s in &f.segments {
+        let what = format!("segment {}", s.index);
+        let seconds = s.end_s - s.start_s;
+        let reason = match (&s.problem, s.steady_start_s.zip(s.steady_end_s)) {
+            (Some(p), _) => Some(p.clone()),
+            (None, None) => Some("no steady part".to_string()),
+            (None, Some(_)) if matched_any && s.matched.is_none() => {
+                Some("matched to no planned step".to_string())
+            }
+            (None, Some(_)) => None,
+        };
+        match (reason, s.steady_start_s.zip(s.steady_end_s)) {
+            (Some(reason), _) => dropped.push(Dropped {
+                what,
+                reason,
+                seconds,
+            }),
+            (None, Some((a, b))) => rows.push(SegmentTime {
+                start_s: s.start_s,
+                end_s: s.end_s,
+                steady_s: b - a,
+                run_in_s: s.run_in_s.unwrap_or(0.0),
+            }),
+            (None, None) => {}
+        }
+    }
+    f.coverage = Coverage::of(f.coverage.sliding_s, &rows, dropped);
+    if flag && !rows.is_empty() && f.coverage.steady_share() < cfg.min_steady_share {
+        for s in f.segments.iter_mut().filter(|s| s.stats.is_some()) {
+            s.flags.push(flags::LOW_COVERAGE.to_string());
+        }
+        f.notes.push(format!(
+            "low coverage: the rows rest on {:.0} % of the sliding time (min_steady_share {:.0} %); {}",
+            100.0 * f.coverage.steady_share(),
+            100.0 * cfg.min_steady_share,
+            f.coverage.line()
+        ));
+    }
+}
+
+/// A dataset row from a measured segment (see [`crate::steady::PlateauStats::record`]).
+pub(super) fn segment_record(
+    c: &Campaign,
+    (pin, step): (u32, u32),
+    planned_n: Option<f64>,
+    velocity_m_s: f64,
+    s: &SegmentReport,
+) -> Result<FrictionRecord> {
+    let place = crate::steady::PlateauPlace {
+        pin,
+        step,
+        planned_n,
+        velocity_m_s,
+        flags: s.flags.clone(),
+    };
+    s.stats.as_ref().expect("measured").record(c.contact, place)
+}
