@@ -7,7 +7,8 @@ use greybox_core::count::Count;
 use greybox_friction::table_file::TableKind;
 use greybox_pipeline::export::{AxisPoints, TableSize, DEFAULT_MAX_TABLE_SIZE};
 use greybox_pipeline::validate::ToolModel;
-use greybox_pipeline::{bench, text, validate};
+use greybox_pipeline::{bench, validate};
+use greybox_report::text;
 use std::path::PathBuf;
 
 /// Timed repetitions of a benchmark.

@@ -67,10 +67,10 @@ const COMMAND_LINES: [(&str, &str); 4] = [
     ("greybox-pipeline/src/sweep/slurm.rs", ""),
     ("greybox-pipeline/src/sweep/local.rs", ""),
     (
-        "greybox-pipeline/src/text.rs",
+        "greybox-report/src/text/demo.rs",
         "cargo build --release -p greybox-ffi",
     ),
-    ("greybox-pipeline/src/text.rs", "greybox couple --deck"),
+    ("greybox-report/src/text/demo.rs", "greybox couple --deck"),
 ];
 
 /// `source` without its `#[cfg(test)] mod … { … }` blocks (up to the `}` at the `mod`'s

@@ -120,7 +120,7 @@ impl Walk {
 
 /// Whether `dir` is a sweep's output directory (its `plan.json` lists cases and fields).
 fn is_sweep(dir: &Path, cx: &mut Ctx) -> bool {
-    let plan = dir.join(crate::sweep::PLAN_FILE);
+    let plan = dir.join(greybox_pipeline::sweep::PLAN_FILE);
     if !plan.exists() {
         return false;
     }
@@ -148,7 +148,7 @@ fn classify(p: &Path, name: &str, f: &mut Found, cx: &mut Ctx) {
         f.provenance.push(p.to_path_buf());
         return;
     }
-    if name == crate::sweep::PLAN_FILE {
+    if name == greybox_pipeline::sweep::PLAN_FILE {
         if let Some(d) = p.parent().filter(|d| is_sweep(d, cx)) {
             f.sweeps.push(d.to_path_buf());
             return;

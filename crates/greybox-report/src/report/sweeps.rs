@@ -28,8 +28,8 @@ pub fn section(dir: &Path, found: &Found, w: &mut Ctx) -> Option<Section> {
 }
 
 fn sweep_blocks(dir: &Path, sw: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
-    w.admit(&sw.join(crate::sweep::PLAN_FILE))?;
-    let plan = crate::sweep::Plan::read(sw)?;
+    w.admit(&sw.join(greybox_pipeline::sweep::PLAN_FILE))?;
+    let plan = greybox_pipeline::sweep::Plan::read(sw)?;
     let name = shown(dir, sw);
     let mut out = vec![Block::Heading(format!("Sweep {name}"))];
     let results = sw.join("results.csv");
