@@ -70,7 +70,7 @@ pub struct Demo {
     /// The foreign export identified against its ground truth.
     pub foreign_error: TruthComparison,
     /// The model family inside the grey-box law.
-    pub law_family: String,
+    pub law_family: Family,
     /// One line on the Abaqus export.
     pub export_line: String,
     /// Where each part went, relative to the demo's directory.
@@ -150,7 +150,7 @@ pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
         dataset: campaign.identified.dataset,
         foreign_files: foreign.identified.summary.identification.files,
         foreign_error: foreign.error,
-        law_family: law.family.name().to_string(),
+        law_family: law.family,
         export_line: law.export_line,
         paths: DemoPaths {
             recordings: campaign.recordings,

@@ -97,7 +97,7 @@ fn demo_law(text: &mut String, demo: &Demo, out: &Path) {
     let _ = writeln!(
         text,
         "\n[6/6] grey-box law ({} inside its training domain, fitted power law outside, Zorev cap {DEMO_SHEAR_CAP_MPA} MPa) -> {}",
-        demo.law_family,
+        demo.law_family.name(),
         under(out, &p.law).display()
     );
     let _ = writeln!(text, "{}", demo.export_line);

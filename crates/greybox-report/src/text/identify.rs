@@ -122,56 +122,11 @@ pub fn all_rows_table(ds: &FrictionDataset) -> String {
 
 /// The per-file report of `--inspect`.
 pub fn inspect_text(files: &[FileReport]) -> String {
-    use std::fmt::Write as _;
     let mut s = String::new();
     for f in files {
         let _ = writeln!(s, "== {}", f.source);
-        if let Some(r) = &f.read {
-            let _ = writeln!(s, "   layout: {}", r.layout);
-            for c in &r.columns {
-                let _ = writeln!(
-                    s,
-                    "   {:<10} <- '{}' [{}]{} ({})",
-                    c.role,
-                    c.column,
-                    c.unit,
-                    if c.scale != 1.0 {
-                        format!(" x {}", c.scale)
-                    } else {
-                        String::new()
-                    },
-                    c.how
-                );
-            }
-            for (line, text) in &r.footer {
-                let _ = writeln!(s, "   footer line {line}: {text}");
-            }
-            for n in &r.notes {
-                let _ = writeln!(s, "   note: {n}");
-            }
-        }
-        let _ = writeln!(
-            s,
-            "   {} samples at {:.3} Hz over {:.3} s; sliding from the {}{}; segmentation: {}; baseline: {}{}{}",
-            f.samples,
-            f.sample_rate_hz,
-            f.duration_s,
-            f.sliding,
-            f.period_s
-                .map_or(String::new(), |p| format!(" (period {p:.3} s)")),
-            f.segmentation,
-            f.baseline,
-            if f.tangential_sign_flipped {
-                "; tangential sign flipped"
-            } else {
-                ""
-            },
-            if f.normal_sign_flipped {
-                "; normal sign flipped"
-            } else {
-                ""
-            }
-        );
+        s.push_str(&read_lines(f));
+        s.push_str(&found_line(f));
         let _ = write!(s, "   {}", coverage_lines(f));
         for n in &f.notes {
             let _ = writeln!(s, "   note: {n}");
@@ -180,53 +135,118 @@ pub fn inspect_text(files: &[FileReport]) -> String {
             let _ = writeln!(s, "   unusual: {u}");
         }
         s.push_str(&reciprocating_lines(f));
-        let mut t = Table::new(&[
-            "seg",
-            "start [s]",
-            "end [s]",
-            "F_N [N]",
-            "speed",
-            "v [m/min]",
-            "steady [s]",
-            "run-in [s]",
-            "drift [1/h]",
-            "COF",
-            "flags",
-            "plan",
-        ]);
-        for g in &f.segments {
-            t.row(vec![
-                g.index.to_string(),
-                format!("{:.3}", g.start_s),
-                format!("{:.3}", g.end_s),
-                format!("{:.1}", g.normal_force_n),
-                g.spindle_rpm.map_or("-".into(), |r| format!("{r:.1} rpm")),
-                g.sliding_velocity_m_per_min
-                    .map_or("-".into(), |v| format!("{v:.1}")),
-                match (g.steady_start_s, g.steady_end_s) {
-                    (Some(a), Some(b)) => format!("{a:.3}-{b:.3}"),
-                    _ => "-".into(),
-                },
-                g.run_in_s.map_or("-".into(), |r| format!("{r:.1}")),
-                g.drift_per_hour.map_or("-".into(), |d| format!("{d:+.4}")),
-                g.cof.map_or("-".into(), |c| format!("{c:.4}")),
-                match (&g.problem, g.boundary_uncertainty_s) {
-                    (Some(p), _) => p.clone(),
-                    (None, Some(u)) => format!("{} (boundary ±{u:.3} s)", g.flags.join(";")),
-                    (None, None) => g.flags.join(";"),
-                },
-                g.matched
-                    .map_or("-".into(), |(p, k)| format!("pin {p} step {k}")),
-            ]);
-        }
-        s.push_str(&t.render());
+        s.push_str(&segments_table(f));
     }
     s
 }
 
+/// How a file was read: its layout, the column each channel came from (with its unit, scale
+/// and how it was recognised), its footer lines and the reader's notes; nothing when the file
+/// was not read here.
+fn read_lines(f: &FileReport) -> String {
+    let mut s = String::new();
+    let Some(r) = &f.read else { return s };
+    let _ = writeln!(s, "   layout: {}", r.layout);
+    for c in &r.columns {
+        let _ = writeln!(
+            s,
+            "   {:<10} <- '{}' [{}]{} ({})",
+            c.role,
+            c.column,
+            c.unit,
+            if c.scale != 1.0 {
+                format!(" x {}", c.scale)
+            } else {
+                String::new()
+            },
+            c.how
+        );
+    }
+    for (line, text) in &r.footer {
+        let _ = writeln!(s, "   footer line {line}: {text}");
+    }
+    for n in &r.notes {
+        let _ = writeln!(s, "   note: {n}");
+    }
+    s
+}
+
+/// One line on what was found in a file: samples, rate, duration, where sliding was read
+/// from, its segmentation and baseline, and the signs flipped.
+fn found_line(f: &FileReport) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "   {} samples at {:.3} Hz over {:.3} s; sliding from the {}{}; segmentation: {}; baseline: {}{}{}",
+        f.samples,
+        f.sample_rate_hz,
+        f.duration_s,
+        f.sliding,
+        f.period_s
+            .map_or(String::new(), |p| format!(" (period {p:.3} s)")),
+        f.segmentation,
+        f.baseline,
+        if f.tangential_sign_flipped {
+            "; tangential sign flipped"
+        } else {
+            ""
+        },
+        if f.normal_sign_flipped {
+            "; normal sign flipped"
+        } else {
+            ""
+        }
+    );
+    s
+}
+
+/// A file's segments, one row each: times, load, speed, steady window, run-in, drift, μ,
+/// flags and the planned step it matched.
+fn segments_table(f: &FileReport) -> String {
+    let mut t = Table::new(&[
+        "seg",
+        "start [s]",
+        "end [s]",
+        "F_N [N]",
+        "speed",
+        "v [m/min]",
+        "steady [s]",
+        "run-in [s]",
+        "drift [1/h]",
+        "COF",
+        "flags",
+        "plan",
+    ]);
+    for g in &f.segments {
+        t.row(vec![
+            g.index.to_string(),
+            format!("{:.3}", g.start_s),
+            format!("{:.3}", g.end_s),
+            format!("{:.1}", g.normal_force_n),
+            g.spindle_rpm.map_or("-".into(), |r| format!("{r:.1} rpm")),
+            g.sliding_velocity_m_per_min
+                .map_or("-".into(), |v| format!("{v:.1}")),
+            match (g.steady_start_s, g.steady_end_s) {
+                (Some(a), Some(b)) => format!("{a:.3}-{b:.3}"),
+                _ => "-".into(),
+            },
+            g.run_in_s.map_or("-".into(), |r| format!("{r:.1}")),
+            g.drift_per_hour.map_or("-".into(), |d| format!("{d:+.4}")),
+            g.cof.map_or("-".into(), |c| format!("{c:.4}")),
+            match (&g.problem, g.boundary_uncertainty_s) {
+                (Some(p), _) => p.clone(),
+                (None, Some(u)) => format!("{} (boundary ±{u:.3} s)", g.flags.join(";")),
+                (None, None) => g.flags.join(";"),
+            },
+            g.matched
+                .map_or("-".into(), |(p, k)| format!("pin {p} step {k}")),
+        ]);
+    }
+    t.render()
+}
+
 /// How segments were matched to the plan, with what is missing, extra or reordered.
 pub fn matching_text(m: &MatchReport) -> String {
-    use std::fmt::Write as _;
     let mut s = String::new();
     let _ = writeln!(s, "matching to the plan: {}", m.method);
     for (what, list) in [
@@ -244,7 +264,6 @@ pub fn matching_text(m: &MatchReport) -> String {
 
 /// `--inspect` lines of a file's reciprocating segments: strokes, cycles, μ per direction.
 pub fn reciprocating_lines(f: &FileReport) -> String {
-    use std::fmt::Write as _;
     let mut s = String::new();
     for g in &f.segments {
         let Some(r) = &g.reciprocating else { continue };
