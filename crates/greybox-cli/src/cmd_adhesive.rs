@@ -19,7 +19,7 @@ pub fn run(a: Args) -> Result<()> {
     if a.json {
         return print_json(&c);
     }
-    print!("{}", greybox_pipeline::text::correction(&c));
+    print!("{}", greybox_report::text::correction(&c));
     if let Some(line) = greybox_pipeline::adhesive::analytic_beside(&options, &ds)? {
         println!("{line}");
     }

@@ -92,7 +92,7 @@ pub fn run(a: Args) -> Result<()> {
     if a.json {
         return print_json(&r);
     }
-    print!("{}", greybox_pipeline::text::characterize(&r));
+    print!("{}", greybox_report::text::characterize(&r));
     println!("wrote {}", r.files.join(", "));
     Ok(())
 }

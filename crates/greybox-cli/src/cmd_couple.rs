@@ -34,6 +34,6 @@ pub fn run(a: Args) -> Result<()> {
     if a.json {
         return print_json(&r);
     }
-    print!("{}", greybox_pipeline::text::coupling(&r, s.tol, &s.work));
+    print!("{}", greybox_report::text::coupling(&r, s.tol, &s.work));
     Ok(())
 }

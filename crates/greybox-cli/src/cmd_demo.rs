@@ -1,5 +1,5 @@
 //! `greybox demo`: the whole pipeline on the bundled example study
-//! ([`greybox_pipeline::demo`]), printed stage by stage.
+//! ([`greybox_report::demo`]), printed stage by stage.
 
 use crate::output::print_json;
 use anyhow::Result;
@@ -20,10 +20,10 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<()> {
-    let demo = greybox_pipeline::demo::run(&a.out, a.force)?;
+    let demo = greybox_report::demo::run(&a.out, a.force)?;
     if a.json {
         return print_json(&serde_json::to_value(&demo.summary)?);
     }
-    print!("{}", greybox_pipeline::text::demo(&demo, &a.out)?);
+    print!("{}", greybox_report::text::demo(&demo, &a.out)?);
     Ok(())
 }

@@ -26,6 +26,6 @@ pub fn run(a: Args) -> Result<()> {
     if a.json {
         return print_json(&report);
     }
-    print!("{}", greybox_pipeline::text::fit(&report, &outputs));
+    print!("{}", greybox_report::text::fit(&report, &outputs));
     Ok(())
 }

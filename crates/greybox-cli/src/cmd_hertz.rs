@@ -20,7 +20,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     print!(
         "{}",
-        greybox_pipeline::text::hertz(e_star, &rows, a.settings.convention)
+        greybox_report::text::hertz(e_star, &rows, a.settings.convention)
     );
     Ok(())
 }

@@ -3,11 +3,11 @@
 use crate::flags::shown;
 use crate::output::print_json;
 use anyhow::Result;
-use greybox_pipeline::identify::{
-    all_rows_table, files_table, identify_campaign, inspect_text, matching_text, summary_table,
-    IdentifyResult, SegmentsHook,
-};
+use greybox_pipeline::identify::{identify_campaign, IdentifyResult, SegmentsHook};
 use greybox_pipeline::settings::identify::IdentifySettings;
+use greybox_report::text::identify::{
+    all_rows_table, files_table, inspect_text, matching_text, summary_table,
+};
 use greybox_tribo::campaign::FileReport;
 use std::path::Path;
 
@@ -81,7 +81,7 @@ pub fn run(args: Args) -> Result<()> {
     print!("{}", shown(&files_table(&summary.identification)));
     print!(
         "{}",
-        shown(&greybox_pipeline::text::identify_footer(&summary))
+        shown(&greybox_report::text::identify_footer(&summary))
     );
     Ok(())
 }

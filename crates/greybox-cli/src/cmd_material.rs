@@ -49,7 +49,7 @@ pub fn run(a: Args) -> Result<()> {
             if a.json {
                 return print_json(&f);
             }
-            print!("{}", greybox_pipeline::text::johnson_cook(&f));
+            print!("{}", greybox_report::text::johnson_cook(&f));
             Ok(())
         }
         Material::FitC(a) => {
@@ -57,7 +57,7 @@ pub fn run(a: Args) -> Result<()> {
             if a.json {
                 return print_json(&r);
             }
-            print!("{}", greybox_pipeline::text::rate_sensitivity(&r));
+            print!("{}", greybox_report::text::rate_sensitivity(&r));
             Ok(())
         }
     }

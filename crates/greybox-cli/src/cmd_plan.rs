@@ -28,7 +28,7 @@ pub fn run(args: Args) -> Result<()> {
     if args.json {
         return print_json(&summary);
     }
-    print!("{}", greybox_pipeline::text::plan(&summary));
+    print!("{}", greybox_report::text::plan(&summary));
     println!(
         "  wrote {} files to {}",
         summary.files.len(),

@@ -75,6 +75,6 @@ pub fn run(a: Args) -> Result<()> {
     if a.json {
         return print_json(&rows);
     }
-    print!("{}", greybox_pipeline::text::predictions(&m, &rows));
+    print!("{}", greybox_report::text::predictions(&m, &rows));
     Ok(())
 }

@@ -2,7 +2,7 @@
 
 use crate::output::emit;
 use anyhow::Result;
-use greybox_pipeline::report::{report, ReportOptions};
+use greybox_report::report::{report, ReportOptions};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]

@@ -53,7 +53,7 @@ pub fn run(a: Args) -> Result<()> {
                 return print_json(&r);
             }
             let speed = p.settings.speed_m_per_min;
-            (greybox_pipeline::text::pin(&setup, &r, speed), p.output.out)
+            (greybox_report::text::pin(&setup, &r, speed), p.output.out)
         }
         Simulate::Cutting(c) => {
             let case = read_cutting_setup(&c.config)?;
@@ -61,7 +61,7 @@ pub fn run(a: Args) -> Result<()> {
             if c.json {
                 return print_json(&s);
             }
-            (greybox_pipeline::text::cut(&s), c.output.out)
+            (greybox_report::text::cut(&s), c.output.out)
         }
     };
     print!("{text}");

@@ -21,7 +21,7 @@ pub fn run(args: Args) -> Result<()> {
     if args.json {
         return print_json(&summary);
     }
-    print!("{}", greybox_pipeline::text::synth(&summary));
+    print!("{}", greybox_report::text::synth(&summary));
     println!(
         "  wrote {} files to {}",
         summary.files.len(),

@@ -52,7 +52,7 @@ pub fn run(a: Args) -> Result<()> {
         if a.json {
             return print_json(&rows);
         }
-        print!("{}", greybox_pipeline::text::wear_tests(&rows));
+        print!("{}", greybox_report::text::wear_tests(&rows));
         return Ok(());
     }
     let (Some(f), Some(v), Some(t)) = (a.force_n, a.velocity, a.duration_s) else {
@@ -80,6 +80,6 @@ pub fn run(a: Args) -> Result<()> {
     if a.json {
         return print_json(&r);
     }
-    print!("{}", greybox_pipeline::text::wear(&r));
+    print!("{}", greybox_report::text::wear(&r));
     Ok(())
 }

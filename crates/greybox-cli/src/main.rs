@@ -141,7 +141,7 @@ fn main() {
     let matches = command.clone().get_matches();
     flags::Flags::of(&command, &matches).install();
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
-    greybox_pipeline::progress_display::Mode::choose(cli.quiet).install();
+    greybox_report::progress_display::Mode::choose(cli.quiet).install();
     cli.budget.install();
     let result = match cli.command {
         Command::Plan(a) => cmd_plan::run(a),

@@ -66,10 +66,10 @@ fn rust_files(dir: &Path) -> Vec<PathBuf> {
 const COMMAND_LINES: [(&str, &str); 3] = [
     ("greybox-sweep/src/slurm.rs", ""),
     (
-        "greybox-pipeline/src/text.rs",
+        "greybox-report/src/text/demo.rs",
         "cargo build --release -p greybox-ffi",
     ),
-    ("greybox-pipeline/src/text.rs", "greybox couple --deck"),
+    ("greybox-report/src/text/demo.rs", "greybox couple --deck"),
 ];
 
 /// `source` without its `#[cfg(test)] mod … { … }` blocks (up to the `}` at the `mod`'s

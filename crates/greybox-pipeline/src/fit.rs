@@ -124,7 +124,7 @@ pub fn fit(a: &FitOptions) -> Result<FitResult> {
 }
 
 /// Write the fit's report into `out` as `report.json` and `report.md`; their paths.
-pub(crate) fn write_report(out: &Path, report: &FitReport) -> Result<(PathBuf, PathBuf)> {
+pub fn write_report(out: &Path, report: &FitReport) -> Result<(PathBuf, PathBuf)> {
     let report_json = out.join("report.json");
     write_string_atomic(&report_json, &serde_json::to_string_pretty(report)?)?;
     let report_md = out.join("report.md");

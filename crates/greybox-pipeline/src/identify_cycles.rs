@@ -1,5 +1,6 @@
 //! Reciprocating tests (ASTM G133) in the identify stage: the per-cycle evolution written
-//! beside the dataset (`<dataset>.cycles.csv`), its `--inspect` lines and pictures.
+//! beside the dataset (`<dataset>.cycles.csv`) and its pictures (its `--inspect` lines are
+//! `greybox_report::text::identify::reciprocating_lines`).
 
 use anyhow::Result;
 use greybox_tribo::campaign::FileReport;
@@ -63,37 +64,6 @@ pub fn cycles_csv(files: &[FileReport]) -> Result<String> {
         }
     }
     Ok(String::from_utf8(w.into_inner()?)?)
-}
-
-/// `--inspect` lines of a file's reciprocating segments: strokes, cycles, μ per direction.
-pub fn inspect_lines(f: &FileReport) -> String {
-    use std::fmt::Write as _;
-    let mut s = String::new();
-    for g in &f.segments {
-        let Some(r) = &g.reciprocating else { continue };
-        let (a, b) = r.steady_cycles;
-        let _ = writeln!(
-            s,
-            "   segment {}: reciprocating, {} strokes from the {}, {} cycles{}{}; steady cycles {}-{} ({:.3}-{:.3} s{}): μ forward {:.4}, backward {:.4}, mean {:.4} (std {:.4} over cycles){}",
-            g.index,
-            r.strokes,
-            r.source.describe(),
-            r.cycles.len(),
-            r.stroke_length_m.map_or(String::new(), |l| format!(", stroke {:.3} mm", l * 1e3)),
-            if r.frequency_hz.is_finite() { format!(", {:.2} Hz", r.frequency_hz) } else { String::new() },
-            a + 1,
-            b,
-            r.start_s,
-            r.end_s,
-            r.run_in_cycles.map_or(String::new(), |k| format!(", run-in {k} cycles")),
-            r.mu_forward,
-            r.mu_backward,
-            r.mu_mean,
-            r.mu_std,
-            if r.unsigned { "; friction channel unsigned: μ = |F_t|/F_N" } else { "" }
-        );
-    }
-    s
 }
 
 /// `<name>.cycles.svg`: μ forward, backward and mean per cycle, the steady cycles shaded.

@@ -2,7 +2,7 @@
 //! greybox's workflows as library calls: each stage of the seed article's pipeline takes
 //! plain option types (no command-line types), writes its outputs safely (staged, swapped
 //! in whole, with provenance) and returns what it found. The `greybox` command line only
-//! parses arguments into these options, calls them and prints.
+//! parses arguments into these options, calls them and prints (with `greybox-report`).
 //!
 //! The data path, left to right:
 //!
@@ -25,9 +25,11 @@
 //! | model evaluation | [`predict`] | model file + points → μ with intervals |
 //! | wear | [`wear`] | volumes, height maps, scars → Archard k |
 //! | tool windows | [`windows`] | coated tool mesh → friction windows |
-//! | everything | [`demo`] | bundled study → all of the above |
-//! | one page | [`report`] | a study directory → self-contained `report.html` |
 //! | speed | [`bench`](mod@bench) | ingestion, prediction latency, surrogate tables, SPH |
+//!
+//! How results are shown — the plain-text tables each stage prints, the `report.html` of a
+//! study directory, the progress display and the demo that runs every stage — is the crate
+//! `greybox-report`, which depends on this one (never the other way round).
 //!
 //! Errors are [`anyhow::Error`]s whose messages name the file, line or field at fault.
 
@@ -39,7 +41,6 @@ pub mod characterize;
 pub mod chip_picture;
 pub mod config_toml;
 pub mod couple;
-pub mod demo;
 pub mod export;
 pub mod fit;
 pub mod hertz;
@@ -51,15 +52,10 @@ pub mod material;
 pub mod output;
 pub mod plan;
 pub mod predict;
-#[cfg(feature = "cli")]
-pub mod progress_display;
-pub mod report;
 pub mod settings;
 pub mod simulate;
 pub mod study;
 pub mod synth;
-pub mod table;
-pub mod text;
 pub mod wear;
 pub mod windows;
 

@@ -310,9 +310,9 @@ fn simulate_cut(
 #[pyfunction]
 #[pyo3(signature = (study_dir, out = None))]
 fn report(py: Python<'_>, study_dir: PathBuf, out: Option<PathBuf>) -> PyResult<String> {
-    let mut o = greybox_pipeline::report::ReportOptions::new(study_dir);
+    let mut o = greybox_report::report::ReportOptions::new(study_dir);
     o.out = out;
     to_json(&run_interruptible(py, || {
-        greybox_pipeline::report::report(&o)
+        greybox_report::report::report(&o)
     })?)
 }

@@ -18,7 +18,6 @@
 //! | one table and plots | [`collect`] |
 //! | J-C C across conditions | [`calibrate`] |
 //! | the executor and calibration settings | [`settings`] |
-//! | plain-text tables | [`text`] |
 //! | measured cuts: μ* calibration, held-out errors | [`validate`] |
 
 pub mod calibrate;
@@ -29,7 +28,6 @@ pub mod local;
 pub mod settings;
 pub mod slurm;
 pub mod spec;
-pub mod text;
 pub mod validate;
 
 use anyhow::{bail, Context, Result};

@@ -32,7 +32,7 @@ fn main() -> Result<()> {
     let options =
         identify::IdentifyOptions::new(vec![recordings], &dataset).with_plan(study.plan.build()?);
     let id = identify::identify_campaign(&study, &options, None)?;
-    print!("{}", identify::summary_table(&id.dataset));
+    print!("{}", greybox::report::text::summary_table(&id.dataset));
 
     // 3. adhesive μ: Bowden–Tabor ploughing with the article's track widths (Table 3)
     let adhesive_csv = dir.join("dataset_adhesive.csv");
@@ -82,6 +82,6 @@ fn main() -> Result<()> {
     let mut output = simulate::RunOutput::to(dir.join("cut"));
     output.force = true;
     let cut = simulate::run_cut(&case, 1.0, &output)?;
-    print!("{}", greybox::pipeline::text::cut(&cut));
+    print!("{}", greybox::report::text::cut(&cut));
     Ok(())
 }

@@ -32,7 +32,8 @@
 //!
 //! | crate | re-exported as | owns |
 //! |---|---|---|
-//! | `greybox-pipeline` | [`pipeline`] | the workflows: each stage with plain options, the demo |
+//! | `greybox-pipeline` | [`pipeline`] | the workflows: each stage with plain options |
+//! | `greybox-report` | [`report`] | how results are shown: `report.html`, each stage's text tables, the demo |
 //! | `greybox-sweep` | [`sweep`] | many cuts: sweeps (local pool, Slurm), calibration, the validation suite |
 //! | `greybox-core` | [`core`] | SI units, `ContactState`, the `FrictionLaw` seam, safe outputs, provenance |
 //! | `greybox-contact` | [`contact`] | Hertzian pin-on-disk contact |
@@ -54,6 +55,7 @@ pub use greybox_learn as learn;
 pub use greybox_material as material;
 pub use greybox_model as model;
 pub use greybox_pipeline as pipeline;
+pub use greybox_report as report;
 pub use greybox_sim as sim;
 pub use greybox_sweep as sweep;
 pub use greybox_tribo as tribo;

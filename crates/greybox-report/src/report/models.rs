@@ -55,6 +55,8 @@ fn with_ci(m: &WithCi, digits: usize) -> String {
     )
 }
 
+/// A fit report's blocks: what was fitted, the training, held-out and importance tables,
+/// and the predicted-against-measured plots beside it.
 fn fit_blocks(dir: &Path, p: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
     let text = w.read_text(p)?;
     let r: FitReport = serde_json::from_str(&text).context("not a greybox fit report")?;
@@ -71,6 +73,21 @@ fn fit_blocks(dir: &Path, p: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
             r.config.seed
         )),
     ];
+    out.push(Block::Table(training_table(&r)));
+    for t in [held_out_table(&r), importance_table(&r)] {
+        if !t.rows.is_empty() {
+            out.push(Block::Table(t));
+        }
+    }
+    let figures = predicted_figures(dir, p, &r, w);
+    if !figures.is_empty() {
+        out.push(Block::Row(figures));
+    }
+    Ok(out)
+}
+
+/// The metrics on the training data, one row per family (the article's Table 7).
+fn training_table(r: &FitReport) -> Table {
     let mut train = Table::new(
         "Training data (optimistic, as the article's Table 7)",
         &[
@@ -82,6 +99,22 @@ fn fit_blocks(dir: &Path, p: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
             "selected hyper-parameters",
         ],
     );
+    for f in &r.families {
+        train.row(vec![
+            f.family.name().to_string(),
+            num(f.training.r2.value, 4),
+            num(f.training.mae.value, 3),
+            num(f.training.mse.value, 3),
+            num(100.0 * f.training.mape.value, 3),
+            f.selected_label.clone(),
+        ]);
+    }
+    train
+}
+
+/// The held-out metrics of nested cross-validation with their bootstrap intervals, one row
+/// per family that has them (none when the fit skipped them).
+fn held_out_table(r: &FitReport) -> Table {
     let mut held = Table::new(
         "Held out: nested cross-validation, with 95 % bootstrap intervals",
         &[
@@ -94,74 +127,66 @@ fn fit_blocks(dir: &Path, p: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
             "fit time (s)",
         ],
     );
+    for f in &r.families {
+        let Some(h) = &f.held_out else { continue };
+        let (lo, hi) = h
+            .r2_per_fold
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(*v), b.max(*v))
+            });
+        held.row(vec![
+            f.family.name().to_string(),
+            with_ci(&h.metrics.r2, 4),
+            with_ci(&h.metrics.mae, 3),
+            format!(
+                "{} [{}, {}]",
+                num(100.0 * h.metrics.mape.value, 3),
+                num(100.0 * h.metrics.mape.ci_low, 3),
+                num(100.0 * h.metrics.mape.ci_high, 3)
+            ),
+            format!("{} … {}", num(lo, 3), num(hi, 3)),
+            format!(
+                "{} ({} %)",
+                num(f.interval.half_width, 3),
+                num(100.0 * f.interval.coverage, 3)
+            ),
+            num(f.seconds, 3),
+        ]);
+    }
+    held
+}
+
+/// Permutation importance (increase of the MSE when a feature is shuffled), one row per
+/// family and feature.
+fn importance_table(r: &FitReport) -> Table {
     let mut imp = Table::new(
         "Permutation importance (increase of MSE when a feature is shuffled)",
         &["model", "feature", "mean", "std"],
     );
     for f in &r.families {
-        let fam = f.family.name().to_string();
-        train.row(vec![
-            fam.clone(),
-            num(f.training.r2.value, 4),
-            num(f.training.mae.value, 3),
-            num(f.training.mse.value, 3),
-            num(100.0 * f.training.mape.value, 3),
-            f.selected_label.clone(),
-        ]);
-        if let Some(h) = &f.held_out {
-            let (lo, hi) = h
-                .r2_per_fold
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                    (a.min(*v), b.max(*v))
-                });
-            held.row(vec![
-                fam.clone(),
-                with_ci(&h.metrics.r2, 4),
-                with_ci(&h.metrics.mae, 3),
-                format!(
-                    "{} [{}, {}]",
-                    num(100.0 * h.metrics.mape.value, 3),
-                    num(100.0 * h.metrics.mape.ci_low, 3),
-                    num(100.0 * h.metrics.mape.ci_high, 3)
-                ),
-                format!("{} … {}", num(lo, 3), num(hi, 3)),
-                format!(
-                    "{} ({} %)",
-                    num(f.interval.half_width, 3),
-                    num(100.0 * f.interval.coverage, 3)
-                ),
-                num(f.seconds, 3),
-            ]);
-        }
         for i in &f.importance {
             imp.row(vec![
-                fam.clone(),
+                f.family.name().to_string(),
                 i.feature.clone(),
                 num(i.mean, 3),
                 num(i.std, 3),
             ]);
         }
     }
-    out.push(Block::Table(train));
-    if !held.rows.is_empty() {
-        out.push(Block::Table(held));
-    }
-    if !imp.rows.is_empty() {
-        out.push(Block::Table(imp));
-    }
+    imp
+}
+
+/// The predicted-against-measured plots of the fit report at `p` (in `plots/` beside it),
+/// one per family whose plot is there.
+fn predicted_figures(dir: &Path, p: &Path, r: &FitReport, w: &mut Ctx) -> Vec<Block> {
     let plots = p.parent().unwrap_or(dir).join("plots");
-    let figures: Vec<Block> = r
-        .families
+    r.families
         .iter()
         .map(|f| plots.join(format!("{}-predicted-vs-measured.svg", f.family.name())))
         .filter(|f| f.exists())
         .map(|f| svg_figure(dir, &f, "Predicted against measured", w))
-        .collect();
-    if !figures.is_empty() {
-        out.push(Block::Row(figures));
-    }
-    Ok(out)
+        .collect()
 }
 
 /// Where the law's learned part was fitted: a grey-box law is defined everywhere (its

@@ -3,7 +3,7 @@
 /// A plain-text table with right-aligned columns.
 ///
 /// ```
-/// let mut t = greybox_pipeline::table::Table::new(&["pin", "COF"]);
+/// let mut t = greybox_report::text::table::Table::new(&["pin", "COF"]);
 /// t.row(vec!["1".into(), "0.3124".into()]);
 /// assert_eq!(t.render(), "pin     COF\n---  ------\n  1  0.3124\n");
 /// ```

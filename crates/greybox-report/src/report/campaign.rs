@@ -46,7 +46,7 @@ fn channel_map(found: &Found, w: &mut Ctx) -> ChannelMap {
         .filter_map(|p| p.parent().map(|d| d.join("study.toml")))
         .find(|p| p.is_file())
         .filter(|p| w.admit(p).is_ok())
-        .and_then(|p| crate::Study::load(&p).ok())
+        .and_then(|p| greybox_pipeline::Study::load(&p).ok())
         .map(|s| s.recording)
         .unwrap_or_default()
 }

@@ -3,7 +3,7 @@
 //! and the report over the moved directory finds the same sections.
 
 use greybox_core::provenance::Provenance;
-use greybox_pipeline::report::{report, ReportOptions};
+use greybox_report::report::{report, ReportOptions};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -33,7 +33,7 @@ fn demo_keeps_the_cwd_and_its_directory_is_relocatable() {
     let done = AtomicBool::new(false);
     let demo = std::thread::scope(|s| {
         let run = s.spawn(|| {
-            let r = greybox_pipeline::demo::run(&out, false);
+            let r = greybox_report::demo::run(&out, false);
             done.store(true, Ordering::SeqCst);
             r
         });

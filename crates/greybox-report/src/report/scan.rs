@@ -1,7 +1,5 @@
 //! Finding greybox outputs in a study directory by what they hold, not where they lie.
 
-/// TEMPORARY (see sweeps.rs)
-pub const PLAN_FILE: &str = "plan.json";
 use super::{input, Ctx};
 use anyhow::Result;
 use std::collections::HashSet;
@@ -122,7 +120,7 @@ impl Walk {
 
 /// Whether `dir` is a sweep's output directory (its `plan.json` lists cases and fields).
 fn is_sweep(dir: &Path, cx: &mut Ctx) -> bool {
-    let plan = dir.join(PLAN_FILE);
+    let plan = dir.join(greybox_sweep::PLAN_FILE);
     if !plan.exists() {
         return false;
     }
@@ -150,7 +148,7 @@ fn classify(p: &Path, name: &str, f: &mut Found, cx: &mut Ctx) {
         f.provenance.push(p.to_path_buf());
         return;
     }
-    if name == PLAN_FILE {
+    if name == greybox_sweep::PLAN_FILE {
         if let Some(d) = p.parent().filter(|d| is_sweep(d, cx)) {
             f.sweeps.push(d.to_path_buf());
             return;

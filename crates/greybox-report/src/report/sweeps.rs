@@ -28,24 +28,8 @@ pub fn section(dir: &Path, found: &Found, w: &mut Ctx) -> Option<Section> {
 }
 
 fn sweep_blocks(dir: &Path, sw: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
-    // TEMPORARY while the report moves to its own crate (which reads greybox_sweep::Plan)
-    w.admit(&sw.join(super::scan::PLAN_FILE))?;
-    let plan: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(sw.join(super::scan::PLAN_FILE))?)?;
-    struct P {
-        cases: Vec<()>,
-        source: String,
-        fields: Vec<String>,
-    }
-    let plan = P {
-        cases: vec![(); plan["cases"].as_array().map_or(0, |a| a.len())],
-        source: plan["source"].as_str().unwrap_or("").to_string(),
-        fields: plan["fields"].as_array().map_or(vec![], |a| {
-            a.iter()
-                .filter_map(|f| f.as_str().map(str::to_string))
-                .collect()
-        }),
-    };
+    w.admit(&sw.join(greybox_sweep::PLAN_FILE))?;
+    let plan = greybox_sweep::Plan::read(sw)?;
     let name = shown(dir, sw);
     let mut out = vec![Block::Heading(format!("Sweep {name}"))];
     let results = sw.join("results.csv");

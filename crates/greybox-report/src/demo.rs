@@ -3,26 +3,7 @@
 //! the learning protocol, the grey-box law and its exports, rig dynamics, wear, coupling
 //! with CalculiX (when installed), the material fit and a cut with friction windows.
 
-use crate::adhesive::{adhesive, AdhesiveOptions};
-use crate::characterize::{characterize, CharacterizeOptions, CharacterizeReport, ImpactChannels};
-use crate::couple::{couple, CoupleOptions, EngineOptions};
-use crate::export::{
-    equidistant, export, Engine, ExportFormat, ExportOptions, DEFAULT_TEMPERATURE_UNIT,
-    DEFAULT_UNITS,
-};
-use crate::fit::{fit, write_report, FitOptions, FitOutputs, FitResult};
-use crate::identify::{
-    compare_with_truth, identify_campaign, Expectation, IdentifyOptions, IdentifyResult,
-    IdentifySummary, TruthComparison,
-};
-use crate::law::{best_family, grey_box_law, write_law, GreyBoxOptions};
-use crate::material::fit_flow_curves;
-use crate::output::{provenance, stage_out_dir};
-use crate::plan::{summarize, write_plan, PlanSummary};
 use crate::report::{report, ReportOptions, ReportSummary};
-use crate::simulate::{cut_case, run_cut, CutSummary, RunOutput};
-use crate::study::{Study, DEMO_STUDY};
-use crate::synth::{synthesize, SynthSummary};
 use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::dataset::FrictionDataset;
@@ -32,6 +13,27 @@ use greybox_couple::engine::CouplingResult;
 use greybox_friction::export::Grid;
 use greybox_learn::model::Family;
 use greybox_learn::modelfile::ModelFile;
+use greybox_pipeline::adhesive::{adhesive, AdhesiveOptions};
+use greybox_pipeline::characterize::{
+    characterize, CharacterizeOptions, CharacterizeReport, ImpactChannels,
+};
+use greybox_pipeline::couple::{couple, CoupleOptions, EngineOptions};
+use greybox_pipeline::export::{
+    equidistant, export, Engine, ExportFormat, ExportOptions, DEFAULT_TEMPERATURE_UNIT,
+    DEFAULT_UNITS,
+};
+use greybox_pipeline::fit::{fit, write_report, FitOptions, FitOutputs, FitResult};
+use greybox_pipeline::identify::{
+    compare_with_truth, identify_campaign, Expectation, IdentifyOptions, IdentifyResult,
+    IdentifySummary, TruthComparison,
+};
+use greybox_pipeline::law::{best_family, grey_box_law, write_law, GreyBoxOptions};
+use greybox_pipeline::material::fit_flow_curves;
+use greybox_pipeline::output::{provenance, stage_out_dir};
+use greybox_pipeline::plan::{summarize, write_plan, PlanSummary};
+use greybox_pipeline::simulate::{cut_case, run_cut, CutSummary, RunOutput};
+use greybox_pipeline::study::{Study, DEMO_STUDY};
+use greybox_pipeline::synth::{synthesize, SynthSummary};
 use greybox_tribo::campaign::FileReport;
 use greybox_tribo::frf::ImpactConfig;
 use greybox_tribo::plan::Plan;
@@ -68,7 +70,7 @@ pub struct Demo {
     /// The foreign export identified against its ground truth.
     pub foreign_error: TruthComparison,
     /// The model family inside the grey-box law.
-    pub law_family: String,
+    pub law_family: Family,
     /// One line on the Abaqus export.
     pub export_line: String,
     /// Where each part went, relative to the demo's directory.
@@ -148,7 +150,7 @@ pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
         dataset: campaign.identified.dataset,
         foreign_files: foreign.identified.summary.identification.files,
         foreign_error: foreign.error,
-        law_family: law.family.name().to_string(),
+        law_family: law.family,
         export_line: law.export_line,
         paths: DemoPaths {
             recordings: campaign.recordings,
@@ -351,7 +353,7 @@ fn dynamics(base: &Path, plan: &Plan) -> Result<CharacterizeReport> {
             ..ImpactChannels::default()
         },
         impact: ImpactConfig::default(),
-        harmonics: crate::characterize::Harmonics::of(3),
+        harmonics: greybox_pipeline::characterize::Harmonics::of(3),
         plan: Some(plan.clone()),
         study: Some(study_file),
         out: base.join("characterize"),
@@ -427,7 +429,8 @@ fn material(base: &Path) -> Result<(PathBuf, greybox_material::fit::JcFit)> {
 }
 
 /// Pictures of the chip the demo's cut draws while it forms.
-pub const DEMO_CHIP_FRAMES: crate::simulate::Frames = crate::simulate::Frames::of(8);
+pub const DEMO_CHIP_FRAMES: greybox_pipeline::simulate::Frames =
+    greybox_pipeline::simulate::Frames::of(8);
 
 /// The article's cut (coarser: 12.5 µm spacing) with the grey-box law in 12.5 µm windows
 /// along rake and flank, re-evaluated every 500 steps from smoothed window states.

@@ -1,8 +1,9 @@
-//! The sweep's reports as terminal text.
+//! The sweep's reports as terminal text (its functions are not re-exported in [`super`]:
+//! `text::sweep::plan` is a sweep's plan, `text::plan` a campaign's).
 
-use super::calibrate::Calibration;
-use super::collect::Collected;
-use super::{Plan, RunReport};
+use greybox_sweep::calibrate::Calibration;
+use greybox_sweep::collect::Collected;
+use greybox_sweep::{Plan, RunReport};
 use std::fmt::Write as _;
 
 /// Core-seconds of a sweep at the solver's typical speed, particle-steps per second per core.

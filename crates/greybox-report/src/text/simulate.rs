@@ -1,0 +1,76 @@
+//! Plain text of the simulations: a cut (speed, forces, chip measures) and a pin run.
+
+use greybox_pipeline::simulate::CutSummary;
+use greybox_sim::pin::{PinResult, PinSetup};
+use std::fmt::Write as _;
+
+/// A cut: speed of the run, friction windows, forces, chip measures.
+pub fn cut(s: &CutSummary) -> String {
+    let mut text = String::new();
+    let _ = writeln!(text,
+        "{} particles, {} steps ({} idle before first contact; dt {:.3e} s, mass scaling {}), {:.3} mm of cut in {:.1} s: {:.3e} particle-steps/s ({:.3e} per core, {} threads)",
+        s.particles, s.steps, s.idle_steps, s.dt_s, s.mass_scaling, s.simulated_cut_length_mm, s.wall_s, s.particle_steps_per_s, s.particle_steps_per_s_per_core, s.threads
+    );
+    let _ = writeln!(
+        text,
+        "  friction: {}; {} windows, {} window updates",
+        s.law, s.windows, s.window_updates
+    );
+    let c = &s.steady_criterion;
+    let when = match s.steady_from_mm {
+        Some(mm) if s.stopped_when_steady => format!(
+            "steady from {mm:.3} mm of cut (blocks within ±{:.0} %), run stopped there",
+            100.0 * c.tolerance
+        ),
+        Some(mm) => format!("steady from {mm:.3} mm of cut"),
+        None => format!("not steady; mean from {:.3} mm of cut", s.averaged_from_mm),
+    };
+    let _ = writeln!(text,
+        "  cutting force {:.1} N/mm, feed force {:.1} N/mm (F_f/F_c = {:.3}, k_c = {:.0} N/mm²), {when}",
+        s.cutting_force_n_per_mm, s.feed_force_n_per_mm, s.force_ratio, s.specific_cutting_force_n_per_mm2
+    );
+    let opt = |v: Option<f64>, unit: &str| v.map_or("n/a".to_string(), |v| format!("{v:.3}{unit}"));
+    let m = &s.measures;
+    let _ = writeln!(text,
+        "  chip thickness {}, compression ratio {}, shear angle {}, contact length {}, max temperature {:.0} °C (peak over the run {:.0} °C)",
+        opt(m.chip_thickness_mm, " mm"),
+        opt(m.compression_ratio, ""),
+        opt(m.shear_angle_deg, "°"),
+        opt(m.contact_length_mm, " mm"),
+        m.max_temperature_c,
+        s.peak_temperature_c
+    );
+    if let Some(melt) = s.melt_temperature_c.filter(|&t| s.peak_temperature_c > t) {
+        let _ = writeln!(text,
+            "  note: the hottest particle passed the melting point ({melt:.0} °C); the flow stress is zero there and the model has no liquid phase (an adiabatic tool at high speed does this; docs/validation.md, \"Melting\")"
+        );
+    }
+    text
+}
+
+/// A pin run: force ratio, deformation share, forces, speed.
+pub fn pin(setup: &PinSetup, res: &PinResult, speed_m_per_min: f64) -> String {
+    let mut text = String::new();
+    let _ = writeln!(text,
+        "pin r = {} mm, depth {:.2} µm, μ = {}: F_t/F_N = {:.4} (deformation share {:.4}; analytic cylinder tan(θ/2) = {:.4})",
+        setup.pin_radius_m * 1e3,
+        setup.depth_m * 1e6,
+        setup.mu,
+        res.force_ratio,
+        res.deformation_share,
+        res.analytic_share
+    );
+    let _ = writeln!(text,
+        "  F_N = {:.1} N/mm, F_t = {:.1} N/mm; {} particles, {} steps, {:.1} s wall ({:.2e} particle-steps/s), energy residual {:.2} %",
+        res.normal_force_n_per_mm, res.tangential_force_n_per_mm, res.particles, res.steps, res.wall_s, res.particle_steps_per_s, 100.0 * res.energy_error
+    );
+    let _ = writeln!(
+        text,
+        "  simulated slide speed {:.1} m/s (strain rate scaled to {} m/min), mass scaling {}",
+        res.simulated_speed_m_s, speed_m_per_min, res.mass_scaling
+    );
+    for u in &res.unusual {
+        let _ = writeln!(text, "  unusual: {u}");
+    }
+    text
+}
