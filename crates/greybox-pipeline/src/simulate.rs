@@ -131,6 +131,24 @@ impl Observers {
     }
 }
 
+/// Whether `e` is a call stopped on request rather than a failure, from any stage: the core's
+/// [`greybox_core::interrupt::Interrupted`] or [`greybox_core::Error::Interrupted`], or the
+/// simulator's [`greybox_sim::SimError::Interrupted`], anywhere in its chain of causes.
+pub fn is_interrupted(e: &anyhow::Error) -> bool {
+    e.chain().any(|cause| {
+        cause
+            .downcast_ref::<greybox_core::interrupt::Interrupted>()
+            .is_some()
+            || matches!(
+                cause.downcast_ref::<greybox_core::Error>(),
+                Some(greybox_core::Error::Interrupted)
+            )
+            || cause
+                .downcast_ref::<greybox_sim::SimError>()
+                .is_some_and(greybox_sim::SimError::is_interrupted)
+    })
+}
+
 fn read_checkpoint(p: &Option<PathBuf>) -> Result<Option<Checkpoint>> {
     p.as_ref().map(|p| Ok(Checkpoint::read(p)?)).transpose()
 }

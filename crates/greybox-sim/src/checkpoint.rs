@@ -175,8 +175,7 @@ impl Observer for Checkpointer {
         sim.neighbours.build(&sim.particles.x, &sim.particles.y);
         let mut c = Checkpoint::of(sim, &self.setup);
         c.observers = states.clone();
-        c.write(&self.path)
-            .map_err(|e| SimError::Invalid(e.to_string()))
+        Ok(c.write(&self.path)?)
     }
     fn on_failure(&mut self, sim: &Solver, last_good: &Particles, step: u64, time: f64) {
         let path = self.path.with_extension("last_good.json");

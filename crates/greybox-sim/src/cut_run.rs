@@ -42,14 +42,13 @@ impl CutRun {
         resume: Option<Checkpoint>,
         extra: &mut [&mut dyn Observer],
     ) -> Result<CutRun, SimError> {
-        let invalid = |e: greybox_core::Error| SimError::Invalid(e.to_string());
         if !(fraction > 0.0 && fraction <= 1.0) {
             return Err(SimError::Invalid(format!(
                 "fraction of the cut length (`fraction`): expected a number in (0, 1], got {fraction}"
             )));
         }
-        let (model, duration) = setup.model_with_law(law).map_err(invalid)?;
-        let layout = setup.insert.layout().map_err(invalid)?;
+        let (model, duration) = setup.model_with_law(law)?;
+        let layout = setup.insert.layout()?;
         let mut sim = Solver::new(model)?;
         let end = duration * fraction;
         let fresh_dt = sim.dt;

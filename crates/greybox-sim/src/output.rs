@@ -12,9 +12,6 @@ use greybox_core::atomic::write_atomic;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-fn io_err(e: greybox_core::Error) -> SimError {
-    SimError::Invalid(e.to_string())
-}
 
 /// Writes particles as a VTK legacy ASCII poly-data file (points + vertices + point data:
 /// velocity m/s, pressure Pa, von Mises Pa, plastic strain, plastic strain rate 1/s,
@@ -255,10 +252,10 @@ impl VtkSeries {
     }
     fn write(&mut self, sim: &Solver) -> Result<(), SimError> {
         let path = self.dir.join(format!("particles_{:08}.vtk", sim.step));
-        write_vtk(&path, &sim.particles, sim.numerics.mass_scaling, sim.time).map_err(io_err)?;
+        write_vtk(&path, &sim.particles, sim.numerics.mass_scaling, sim.time)?;
         for (k, t) in sim.tools.iter().enumerate() {
             write_tool_vtk(&self.dir.join(format!("tool{k}_{:08}.vtk", sim.step)), t)
-                .map_err(io_err)?;
+                ?;
         }
         self.written.push(path);
         Ok(())

@@ -317,9 +317,7 @@ pub fn simulate_from(
     resume: Option<crate::checkpoint::Checkpoint>,
     extra: &mut [&mut dyn Observer],
 ) -> Result<(PinResult, ForceHistory, Solver), SimError> {
-    let (model, press, slide) = setup
-        .model()
-        .map_err(|e| SimError::Invalid(e.to_string()))?;
+    let (model, press, slide) = setup.model()?;
     let mut sim = Solver::new(model)?;
     let fresh_dt = sim.dt;
     let states = crate::checkpoint::Checkpoint::resume_into(resume, &mut sim, &fingerprint(setup))?;

@@ -47,35 +47,47 @@ use serde::{Deserialize, Serialize};
 const PAIR_CHUNK: usize = 64;
 
 /// Why a run stopped early.
-#[derive(Debug, Clone, PartialEq)]
+///
+/// The causes from other crates are kept as values (match [`SimError::Core`] or
+/// [`SimError::Interrupted`], or downcast an `anyhow::Error` to `SimError`); the messages are
+/// the causes' own.
+#[derive(Debug, thiserror::Error)]
 pub enum SimError {
+    /// A step produced a non-finite or runaway state.
+    #[error(
+        "simulation went unstable at step {step} (t = {time_s:.4e} s): particle {particle} {reason}; \
+         try a smaller cfl, a larger smoothing_ratio or less mass scaling"
+    )]
     Unstable {
         step: u64,
         time_s: f64,
         particle: usize,
         reason: String,
     },
+    /// A set-up, checkpoint or result the simulator itself refuses, with its message.
+    #[error("{0}")]
     Invalid(String),
+    /// An error of the core library (an invalid set-up, a failed write), kept as it is.
+    #[error(transparent)]
+    Core(#[from] greybox_core::Error),
+    /// The run was stopped on request ([`greybox_core::interrupt`]): "interrupted".
+    #[error("interrupted")]
+    Interrupted,
 }
 
-impl std::fmt::Display for SimError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            SimError::Unstable { step, time_s, particle, reason } => write!(
-                f,
-                "simulation went unstable at step {step} (t = {time_s:.4e} s): particle {particle} {reason}; \
-                 try a smaller cfl, a larger smoothing_ratio or less mass scaling"
-            ),
-            SimError::Invalid(m) => write!(f, "{m}"),
-        }
+impl SimError {
+    /// Whether the run was stopped on request rather than failing.
+    pub fn is_interrupted(&self) -> bool {
+        matches!(
+            self,
+            SimError::Interrupted | SimError::Core(greybox_core::Error::Interrupted)
+        )
     }
 }
 
-impl std::error::Error for SimError {}
-
 impl From<greybox_core::interrupt::Interrupted> for SimError {
-    fn from(e: greybox_core::interrupt::Interrupted) -> Self {
-        SimError::Invalid(e.to_string())
+    fn from(_: greybox_core::interrupt::Interrupted) -> Self {
+        SimError::Interrupted
     }
 }
 
@@ -173,11 +185,10 @@ impl Solver {
             groups,
             numerics,
         } = model;
-        let inv = |e: greybox_core::Error| SimError::Invalid(e.to_string());
-        numerics.validate().map_err(inv)?;
-        material.validate().map_err(inv)?;
+        numerics.validate()?;
+        material.validate()?;
         for t in &tools {
-            t.validate().map_err(inv)?;
+            t.validate()?;
         }
         if particles.is_empty() || !particles.check_lengths() {
             return Err(SimError::Invalid(
