@@ -165,7 +165,7 @@ impl Observer for ForceHistory {
     fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
         Some(("forces", serde_json::to_value(self).ok()?))
     }
-    fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
+    fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
         let t = &sim.tools[self.tool];
         self.sum[0] += t.force[0];
         self.sum[1] += t.force[1];
@@ -217,11 +217,11 @@ impl Observer for PeakTemperature {
     fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
         Some(("peak_temperature", serde_json::to_value(self).ok()?))
     }
-    fn start(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+    fn start(&mut self, sim: &Solver) -> Result<(), SimError> {
         self.sample(sim);
         Ok(())
     }
-    fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
+    fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
         self.count += 1;
         if self.count == self.every {
             self.count = 0;
@@ -229,7 +229,7 @@ impl Observer for PeakTemperature {
         }
         Ok(Control::Continue)
     }
-    fn finish(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+    fn finish(&mut self, sim: &Solver) -> Result<(), SimError> {
         self.sample(sim);
         Ok(())
     }
@@ -263,16 +263,16 @@ impl VtkSeries {
 }
 
 impl Observer for VtkSeries {
-    fn start(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+    fn start(&mut self, sim: &Solver) -> Result<(), SimError> {
         self.write(sim)
     }
-    fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
+    fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
         if sim.step.is_multiple_of(self.every) {
             self.write(sim)?;
         }
         Ok(Control::Continue)
     }
-    fn finish(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+    fn finish(&mut self, sim: &Solver) -> Result<(), SimError> {
         if !sim.step.is_multiple_of(self.every) {
             self.write(sim)?;
         }

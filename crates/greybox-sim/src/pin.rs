@@ -15,7 +15,7 @@
 //! friction fell below μ. The cost of a run is then set by the slide length over the
 //! spacing, not by the physical time.
 
-use crate::executor::{run, Observer, RunSummary};
+use crate::executor::{run, Hooks, RunSummary};
 use crate::geometry::RoundedPolygon;
 use crate::model::{BoundaryGroup, Model, Numerics};
 use crate::output::ForceHistory;
@@ -302,10 +302,10 @@ pub fn ploughing_share_flags(force_ratio: f64, mu: f64) -> Vec<String> {
     }
 }
 
-/// Runs the press and slide; extra observers (VTK, checkpoints) may be attached.
+/// Runs the press and slide; extra seams (VTK, checkpoints) may be attached.
 pub fn simulate(
     setup: &PinSetup,
-    extra: &mut [&mut dyn Observer],
+    extra: &mut Hooks<'_>,
 ) -> Result<(PinResult, ForceHistory, Solver), SimError> {
     simulate_from(setup, None, extra)
 }
@@ -315,7 +315,7 @@ pub fn simulate(
 pub fn simulate_from(
     setup: &PinSetup,
     resume: Option<crate::checkpoint::Checkpoint>,
-    extra: &mut [&mut dyn Observer],
+    extra: &mut Hooks<'_>,
 ) -> Result<(PinResult, ForceHistory, Solver), SimError> {
     let (model, press, slide) = setup.model()?;
     let mut sim = Solver::new(model)?;
@@ -327,13 +327,8 @@ pub fn simulate_from(
     if let Some(states) = &states {
         hist = crate::executor::restored_state(states, "forces")?;
     }
-    let summary: RunSummary = {
-        let mut obs: Vec<&mut dyn Observer> = vec![&mut hist];
-        for o in extra.iter_mut() {
-            obs.push(&mut **o);
-        }
-        run(&mut sim, press + slide, "pin", &mut obs)?
-    };
+    let hooks = Hooks::new().observe(&mut hist).then(extra);
+    let summary: RunSummary = run(&mut sim, press + slide, "pin", hooks)?;
     let (t0, t1) = (press + 0.5 * slide, press + slide);
     let sel: Vec<&[f64; 6]> = hist
         .rows
@@ -408,7 +403,7 @@ pub fn find_adhesive_mu(
     let eval = |mu: f64| -> Result<f64, SimError> {
         let mut s = base.clone();
         s.mu = mu.max(0.0);
-        Ok(simulate(&s, &mut [])?.0.force_ratio - mu_apparent)
+        Ok(simulate(&s, &mut Hooks::new())?.0.force_ratio - mu_apparent)
     };
     let guess = base.analytic_ploughing();
     let mut lo = (mu_apparent - 2.0 * guess - 0.02).max(0.0);
