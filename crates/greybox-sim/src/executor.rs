@@ -152,8 +152,11 @@ pub trait CheckpointWriter {
     /// Write a checkpoint holding `states`, every controller's and observer's saved state.
     /// Gets the solver mutably to put it into the state a resumed run starts from (the
     /// checkpoint writer rebuilds the neighbour lists, as a restore does).
-    fn write_checkpoint(&mut self, sim: &mut Solver, states: &ObserverStates)
-        -> Result<(), SimError>;
+    fn write_checkpoint(
+        &mut self,
+        sim: &mut Solver,
+        states: &ObserverStates,
+    ) -> Result<(), SimError>;
     /// Called when a step failed, with the last good particle state and its step/time.
     fn on_failure(&mut self, _sim: &Solver, _last_good: &Particles, _step: u64, _time: f64) {}
 }

@@ -12,7 +12,6 @@ use greybox_core::atomic::write_atomic;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-
 /// Writes particles as a VTK legacy ASCII poly-data file (points + vertices + point data:
 /// velocity m/s, pressure Pa, von Mises Pa, plastic strain, plastic strain rate 1/s,
 /// temperature K, density kg/m³ (physical), boundary group).
@@ -254,8 +253,7 @@ impl VtkSeries {
         let path = self.dir.join(format!("particles_{:08}.vtk", sim.step));
         write_vtk(&path, &sim.particles, sim.numerics.mass_scaling, sim.time)?;
         for (k, t) in sim.tools.iter().enumerate() {
-            write_tool_vtk(&self.dir.join(format!("tool{k}_{:08}.vtk", sim.step)), t)
-                ?;
+            write_tool_vtk(&self.dir.join(format!("tool{k}_{:08}.vtk", sim.step)), t)?;
         }
         self.written.push(path);
         Ok(())

@@ -34,7 +34,8 @@ fn unstable_run_stops_with_error_and_last_good_state() {
         1.0,
         "test",
         Hooks::new().control(&mut Poison(450)).checkpoint(&mut ck),
-    ).unwrap_err();
+    )
+    .unwrap_err();
     let msg = e.to_string();
     assert!(
         msg.contains("unstable") && msg.contains("non-finite"),
