@@ -105,6 +105,7 @@ pub(crate) fn apply(
 }
 
 /// The contact of every particle with one tool (see [`apply`]), its work added to `work`.
+#[allow(clippy::needless_range_loop)] // the particles' arrays and the rates are indexed by i
 fn apply_tool(
     c: &ContactParams,
     p: &mut Particles,
