@@ -143,6 +143,7 @@ fn main() {
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     greybox_report::progress_display::Mode::choose(cli.quiet).install();
     cli.budget.install();
+    simd_cap_from_env();
     let result = match cli.command {
         Command::Plan(a) => cmd_plan::run(a),
         Command::Synth(a) => cmd_synth::run(a),
@@ -168,5 +169,13 @@ fn main() {
     if let Err(e) = result {
         eprintln!("error: {}", flags::shown(&format!("{e:#}")));
         std::process::exit(1);
+    }
+}
+
+/// The solver's SIMD path capped by `GREYBOX_SIMD` (the library reads no environment).
+fn simd_cap_from_env() {
+    let value = std::env::var(greybox_sim::cpu::SIMD_ENV).ok();
+    if let Err(warning) = greybox_sim::cpu::apply_cap(value.as_deref()) {
+        eprintln!("{warning}");
     }
 }

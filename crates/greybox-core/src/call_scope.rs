@@ -5,10 +5,10 @@
 //! must stop, watch and record each call on its own: Ctrl-C in one thread stops that
 //! thread's call only. The host makes a [`CallScope`] per call and enters it
 //! ([`CallScope::enter`]) on the thread that runs the call and on every thread of the call's
-//! worker pool; [`crate::interrupt::check`], [`crate::progress::task`] and
-//! [`crate::provenance::command`] look here first and fall back to the process-wide
-//! state (what the command line uses). Threads the library spawns by itself outside a
-//! pool do not inherit the scope.
+//! worker pool; [`crate::interrupt::check`] looks only here (a call with no stop token is
+//! never interrupted), [`crate::progress::task`] and [`crate::provenance::command`] look
+//! here first and fall back to the process-wide state (what the command line uses). Threads
+//! the library spawns by itself outside a pool do not inherit the scope.
 //!
 //! ```
 //! use greybox_core::call_scope::{CallScope, StopToken};
@@ -42,8 +42,8 @@ impl StopToken {
     }
 }
 
-/// One call's stop token, progress sink and command line (each optional: absent, the
-/// process-wide one applies).
+/// One call's stop token, progress sink and command line (each optional: without a token the
+/// call is not interruptible; without a sink or command, the process-wide one applies).
 #[derive(Clone, Default)]
 pub struct CallScope {
     pub stop: Option<StopToken>,

@@ -22,7 +22,45 @@ pub struct WindowState {
     pub shear_ratio: f64,
 }
 
-/// An FE engine that runs restartable segments.
+/// An FE engine that runs restartable segments: the seam between the restart loop
+/// ([`couple`]) and an external solver (CalculiX, a DEFORM deck, a test double).
+///
+/// An implementation names its friction windows once and, per segment, runs the engine with
+/// the given μ per window (in the order of [`Engine::windows`]) and reads back each window's
+/// mean contact state. A toy engine whose contact state does not depend on μ converges after
+/// one restart:
+///
+/// ```
+/// use greybox_core::{ContactState, FrictionLaw, Result};
+/// use greybox_couple::engine::{couple, Engine, WindowState};
+///
+/// struct Toy { names: Vec<String> }
+/// impl Engine for Toy {
+///     fn windows(&self) -> &[String] { &self.names }
+///     fn run_segment(&mut self, _cycle: usize, friction: Option<&[f64]>) -> Result<Vec<WindowState>> {
+///         let mu = friction.map_or(0.5, |f| f[0]); // the deck's own μ: 0.5
+///         Ok(vec![WindowState {
+///             pressure_pa: 5e8,
+///             sliding_velocity_m_s: 2.0,
+///             temperature_k: None,
+///             shear_ratio: mu,
+///         }])
+///     }
+/// }
+/// struct Constant;
+/// impl FrictionLaw for Constant {
+///     fn name(&self) -> String { "constant".into() }
+///     fn mu(&self, _: &ContactState) -> f64 { 0.3 }
+/// }
+///
+/// let mut engine = Toy { names: vec!["rake".into()] };
+/// let r = couple(&mut engine, &Constant, 5, 1e-3, None)?;
+/// assert!(r.converged);
+/// assert_eq!(r.cycles, 1);
+/// assert_eq!(r.final_mu, vec![("rake".to_string(), 0.3)]);
+/// assert_eq!(r.history[0].shear_ratio, 0.5); // cycle 0 ran with the deck's μ
+/// # Ok::<(), greybox_core::Error>(())
+/// ```
 pub trait Engine {
     /// The friction windows (names) in a fixed order.
     fn windows(&self) -> &[String];

@@ -382,7 +382,7 @@ impl FrameRecorder {
 }
 
 impl Observer for FrameRecorder {
-    fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
+    fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
         if let Some(t) = self.next_time() {
             if sim.time >= t - 0.5 * sim.dt {
                 self.frames.push(ChipFrame::capture(sim));
@@ -390,7 +390,7 @@ impl Observer for FrameRecorder {
         }
         Ok(Control::Continue)
     }
-    fn finish(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+    fn finish(&mut self, sim: &Solver) -> Result<(), SimError> {
         let last = self.frames.last().map(|f| f.time_s);
         if self.count > 0 && last != Some(sim.time) {
             self.frames.push(ChipFrame::capture(sim));

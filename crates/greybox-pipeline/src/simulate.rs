@@ -18,7 +18,7 @@ use greybox_sim::output::{
 use greybox_sim::pin::{fingerprint, simulate_from, PinResult, PinSetup};
 use greybox_sim::tool::WindowStats;
 use greybox_sim::ConstantMu;
-use greybox_sim::{Observer, Solver};
+use greybox_sim::{Hooks, Solver};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -97,7 +97,7 @@ pub type StepInterval = greybox_core::count::Count<0, 1_000_000_000_000>;
 /// Chip pictures drawn during a cut (each an SVG file); 0: the last state only.
 pub type Frames = greybox_core::count::Count<0, 10_000>;
 
-/// Output observers shared by pin and cutting runs.
+/// Output seams shared by pin and cutting runs: the VTK series and the checkpoints.
 struct Observers {
     vtk: VtkSeries,
     ckpt: Option<Checkpointer>,
@@ -122,13 +122,31 @@ impl Observers {
             }),
         }
     }
-    fn list(&mut self) -> Vec<&mut dyn Observer> {
-        let mut v: Vec<&mut dyn Observer> = vec![&mut self.vtk];
-        if let Some(c) = self.ckpt.as_mut() {
-            v.push(c);
+    fn hooks(&mut self) -> Hooks<'_> {
+        let hooks = Hooks::new().observe(&mut self.vtk);
+        match self.ckpt.as_mut() {
+            Some(c) => hooks.checkpoint(c),
+            None => hooks,
         }
-        v
     }
+}
+
+/// Whether `e` is a call stopped on request rather than a failure, from any stage: the core's
+/// [`greybox_core::interrupt::Interrupted`] or [`greybox_core::Error::Interrupted`], or the
+/// simulator's [`greybox_sim::SimError::Interrupted`], anywhere in its chain of causes.
+pub fn is_interrupted(e: &anyhow::Error) -> bool {
+    e.chain().any(|cause| {
+        cause
+            .downcast_ref::<greybox_core::interrupt::Interrupted>()
+            .is_some()
+            || matches!(
+                cause.downcast_ref::<greybox_core::Error>(),
+                Some(greybox_core::Error::Interrupted)
+            )
+            || cause
+                .downcast_ref::<greybox_sim::SimError>()
+                .is_some_and(greybox_sim::SimError::is_interrupted)
+    })
 }
 
 fn read_checkpoint(p: &Option<PathBuf>) -> Result<Option<Checkpoint>> {
@@ -201,7 +219,7 @@ pub fn run_pin(setup: &PinSetup, o: &RunOutput) -> Result<PinResult> {
     let staged = o.stage()?;
     let mut obs = Observers::new(o, staged.path(), &fingerprint(setup));
     let (res, hist, sim) =
-        simulate_from(setup, resume, &mut obs.list()).map_err(|e| failure_context(e, &obs))?;
+        simulate_from(setup, resume, &mut obs.hooks()).map_err(|e| failure_context(e, &obs))?;
     write_common(staged.path(), &sim, &hist, &res)?;
     let resume_input: Vec<(&str, &Path)> =
         o.resume.iter().map(|r| ("resume", r.as_path())).collect();
@@ -357,9 +375,8 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
         None => FrameRecorder::new(setup.duration_s() * fraction, o.frames.get().max(1)),
     };
     let r = {
-        let mut list = obs.list();
-        list.push(&mut frames);
-        CutRun::execute(setup, case.law.clone(), fraction, resume, &mut list)
+        let mut hooks = obs.hooks().observe(&mut frames);
+        CutRun::execute(setup, case.law.clone(), fraction, resume, &mut hooks)
     }
     .map_err(|e| failure_context(e, &obs))?;
     let v = setup.cutting_speed_m_s;

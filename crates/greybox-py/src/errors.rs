@@ -5,9 +5,13 @@
 use pyo3::prelude::*;
 
 /// The `greybox._errors` class for an error: a missing file, bad settings, other bad input;
-/// "interrupted" is Python's `KeyboardInterrupt`.
+/// a call stopped on request ([`greybox_pipeline::simulate::is_interrupted`]) is Python's
+/// `KeyboardInterrupt`.
 fn kind(e: &anyhow::Error) -> &'static str {
     use greybox_core::error::Error as Core;
+    if greybox_pipeline::simulate::is_interrupted(e) {
+        return "KeyboardInterrupt";
+    }
     for cause in e.chain() {
         if let Some(io) = cause.downcast_ref::<std::io::Error>() {
             if io.kind() == std::io::ErrorKind::NotFound {
@@ -18,14 +22,7 @@ fn kind(e: &anyhow::Error) -> &'static str {
             Some(Core::Io { error, .. }) if error.kind() == std::io::ErrorKind::NotFound => {
                 return "MissingFileError"
             }
-            Some(Core::Interrupted) => return "KeyboardInterrupt",
             _ => {}
-        }
-        if cause
-            .downcast_ref::<greybox_core::interrupt::Interrupted>()
-            .is_some()
-        {
-            return "KeyboardInterrupt";
         }
         // a setting refused by its stage's settings type, or settings JSON that is not JSON
         if cause
@@ -35,9 +32,6 @@ fn kind(e: &anyhow::Error) -> &'static str {
         {
             return "SettingsError";
         }
-    }
-    if e.root_cause().to_string() == "interrupted" {
-        return "KeyboardInterrupt";
     }
     "InputError"
 }

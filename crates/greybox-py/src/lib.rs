@@ -266,6 +266,11 @@ fn example(name: &str) -> PyResult<&'static str> {
 
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // the solver's SIMD path capped by `GREYBOX_SIMD` (the library reads no environment)
+    let simd_cap = std::env::var(greybox_sim::cpu::SIMD_ENV).ok();
+    if let Err(warning) = greybox_sim::cpu::apply_cap(simd_cap.as_deref()) {
+        eprintln!("{warning}");
+    }
     m.add(
         "GreyboxError",
         m.py().import("greybox._errors")?.getattr("GreyboxError")?,

@@ -1,7 +1,7 @@
 //! Checkpoints: the complete mutable solver state as JSON (f64 round-trip exact), written
 //! atomically, so a long run can resume bit-for-bit from the last checkpoint.
 
-use crate::executor::{Control, Observer, ObserverStates};
+use crate::executor::{CheckpointWriter, ObserverStates};
 use crate::particles::Particles;
 use crate::solver::{EnergyBook, SimError, Solver};
 use crate::tool::WindowAccumulator;
@@ -23,7 +23,7 @@ pub struct Checkpoint {
     pub particles: Particles,
     pub tools: Vec<ToolState>,
     pub energy: EnergyBook,
-    /// The observers' histories at this step ([`Observer::save_state`]).
+    /// The observers' histories at this step ([`crate::executor::Observer::save_state`], [`crate::executor::Controller::save_state`]).
     #[serde(default)]
     pub observers: ObserverStates,
 }
@@ -158,10 +158,7 @@ impl Checkpointer {
     }
 }
 
-impl Observer for Checkpointer {
-    fn after_step(&mut self, _sim: &mut Solver) -> Result<Control, SimError> {
-        Ok(Control::Continue)
-    }
+impl CheckpointWriter for Checkpointer {
     fn checkpoint_due(&self, sim: &Solver) -> bool {
         sim.step.is_multiple_of(self.every)
     }
@@ -175,8 +172,7 @@ impl Observer for Checkpointer {
         sim.neighbours.build(&sim.particles.x, &sim.particles.y);
         let mut c = Checkpoint::of(sim, &self.setup);
         c.observers = states.clone();
-        c.write(&self.path)
-            .map_err(|e| SimError::Invalid(e.to_string()))
+        Ok(c.write(&self.path)?)
     }
     fn on_failure(&mut self, sim: &Solver, last_good: &Particles, step: u64, time: f64) {
         let path = self.path.with_extension("last_good.json");

@@ -85,124 +85,212 @@ pub(crate) fn any(tools: &[Tool], p: &Particles, reach: f64) -> bool {
     })
 }
 
-#[allow(clippy::needless_range_loop)] // several arrays are indexed by i
+/// Step 4 for every tool: the contact force of every particle inside it added to the
+/// particle's acceleration, the tool's reaction force and contact count, the friction
+/// windows' sums, friction heating and a thermal tool's exchange; returns the step's work.
 pub(crate) fn apply(
     c: &ContactParams,
     p: &mut Particles,
     rates: &mut [Rates],
     tools: &mut [Tool],
 ) -> ContactWork {
-    let (dt, t, alpha, reach, heat, f_mass, th) = (
-        c.dt,
-        c.time,
-        c.penalty,
-        c.reach,
-        c.heat_share,
-        c.mass_scaling,
-        c.thermal,
-    );
-    let m = p.mass;
-    let mut friction_work = 0.0;
-    let mut penalty_work = 0.0;
-    let mut external_work = 0.0;
-    let mut tool_heat = 0.0;
-    let dx_p = c.spacing;
+    let mut work = ContactWork::default();
     for tool in tools.iter_mut() {
-        let vt = tool.motion.velocity(t);
-        let (lo, hi) = tool.shape.bounding_box();
-        let (x0, y0) = (tool.position[0], tool.position[1]);
-        let mut force = [0.0f64; 2];
-        let mut contacts = 0usize;
-        for w in tool.windows.iter_mut() {
-            w.acc.steps += 1;
-        }
-        for i in 0..p.len() {
-            let Some(sp) = contact_point(tool, (lo, hi), reach, p, i) else {
-                continue;
-            };
-            let (lx, ly) = (p.x[i] - x0, p.y[i] - y0);
-            let n = sp.normal;
-            let fn_ = -alpha * m * sp.distance / (dt * dt);
-            let rvx = p.vx[i] - vt[0];
-            let rvy = p.vy[i] - vt[1];
-            let rvn = rvx * n[0] + rvy * n[1];
-            let (tvx, tvy) = (rvx - rvn * n[0], rvy - rvn * n[1]);
-            // Stick predictor: relative tangential velocity after the step without friction.
-            let (ax, ay) = (rates[i].ax, rates[i].ay);
-            let an = ax * n[0] + ay * n[1];
-            let ux = tvx + dt * (ax - an * n[0]);
-            let uy = tvy + dt * (ay - an * n[1]);
-            let mut ftx = -m * ux / dt;
-            let mut fty = -m * uy / dt;
-            let win = tool.window_at(sp.s);
-            let mu = win.map_or(0.0, |k| tool.windows[k].mu);
-            let ft = ftx.hypot(fty);
-            let cap = mu * fn_;
-            let slipping = ft > cap;
-
-            if slipping {
-                let s = cap / ft;
-                ftx *= s;
-                fty *= s;
-            }
-            let fx = fn_ * n[0] + ftx;
-            let fy = fn_ * n[1] + fty;
-            rates[i].ax += fx / m;
-            rates[i].ay += fy / m;
-            force[0] -= fx;
-            force[1] -= fy;
-            contacts += 1;
-            // Work of the contact force on the mid-step relative velocity, split normal /
-            // tangential (consistent with the kinetic-energy change of the kick).
-            let mvx = rvx + 0.5 * dt * rates[i].ax;
-            let mvy = rvy + 0.5 * dt * rates[i].ay;
-            let mvn = mvx * n[0] + mvy * n[1];
-            let slip_power = -(ftx * (mvx - mvn * n[0]) + fty * (mvy - mvn * n[1]));
-            friction_work += slip_power * dt;
-            penalty_work -= fn_ * mvn * dt;
-            external_work += (fx * vt[0] + fy * vt[1]) * dt;
-            let cp = th.specific_heat.eval(p.temp[i]);
-            if heat > 0.0 && slip_power > 0.0 {
-                rates[i].dtemp += heat * slip_power / (m / f_mass * cp);
-            }
-            let mut t_tool = 0.0;
-            if let (Some(tt), true) = (tool.thermal.as_mut(), c.thermal_on) {
-                // The contact point on the surface, half a tool cell inside.
-                let d = sp.distance + 0.5 * tt.dx;
-                let cell = tt.cell_at([lx - n[0] * d, ly - n[1] * d]);
-                t_tool = tt.temp[cell];
-                // Conduction across coating and interface, W/m, and the tool's share of the
-                // friction heat.
-                let q = tt.conductance(t_tool) * (p.temp[i] - t_tool) * dx_p;
-                rates[i].dtemp -= q / (m / f_mass * cp);
-                let into_tool = (q + (1.0 - heat) * slip_power.max(0.0)) * dt;
-                tt.heat_in[cell] += into_tool;
-                tool_heat += into_tool;
-            }
-            let vslip = tvx.hypot(tvy) * c.velocity_scale;
-            if let Some(k) = win {
-                let a = &mut tool.windows[k].acc;
-                a.contacts += 1.0;
-                a.normal += fn_;
-                a.tangential += ftx.hypot(fty);
-                a.normal_x_slip += fn_ * vslip;
-                a.normal_x_temp += fn_ * p.temp[i];
-                a.normal_x_tool_temp += fn_ * t_tool;
-                if slipping {
-                    a.slipping += 1.0;
-                }
-            }
-        }
-        tool.force = force;
-        tool.contacts = contacts;
+        apply_tool(c, p, rates, tool, &mut work);
         if let (Some(tt), true) = (tool.thermal.as_mut(), c.thermal_on) {
-            tt.after_step(dt);
+            tt.after_step(c.dt);
         }
     }
-    ContactWork {
-        friction: friction_work,
-        penalty: penalty_work,
-        external: external_work,
-        tool_heat,
+    work
+}
+
+/// The contact of every particle with one tool (see [`apply`]), its work added to `work`.
+#[allow(clippy::needless_range_loop)] // the particles' arrays and the rates are indexed by i
+fn apply_tool(
+    c: &ContactParams,
+    p: &mut Particles,
+    rates: &mut [Rates],
+    tool: &mut Tool,
+    work: &mut ContactWork,
+) {
+    let (dt, heat, f_mass, th) = (c.dt, c.heat_share, c.mass_scaling, c.thermal);
+    let m = p.mass;
+    let vt = tool.motion.velocity(c.time);
+    let tool_box = tool.shape.bounding_box();
+    let mut force = [0.0f64; 2];
+    let mut contacts = 0usize;
+    for w in tool.windows.iter_mut() {
+        w.acc.steps += 1;
+    }
+    for i in 0..p.len() {
+        let Some(sp) = contact_point(tool, tool_box, c.reach, p, i) else {
+            continue;
+        };
+        let pc = stick_slip(c, m, tool, vt, &sp, p, &rates[i], i);
+        let n = sp.normal;
+        let fx = pc.fn_ * n[0] + pc.ftx;
+        let fy = pc.fn_ * n[1] + pc.fty;
+        let r = &mut rates[i];
+        r.ax += fx / m;
+        r.ay += fy / m;
+        force[0] -= fx;
+        force[1] -= fy;
+        contacts += 1;
+        let slip_power = book_work(&pc, n, [fx, fy], vt, dt, r, work);
+        let cp = th.specific_heat.eval(p.temp[i]);
+        if heat > 0.0 && slip_power > 0.0 {
+            r.dtemp += heat * slip_power / (m / f_mass * cp);
+        }
+        let t_tool = exchange_heat(c, m, cp, slip_power, tool, &sp, p, i, r, work);
+        let vslip = pc.tv[0].hypot(pc.tv[1]) * c.velocity_scale;
+        record_in_window(tool, &pc, vslip, p.temp[i], t_tool);
+    }
+    tool.force = force;
+    tool.contacts = contacts;
+}
+
+/// One particle's contact force on a tool, before it is applied.
+struct ParticleContact {
+    /// Normal penalty force f_N = −α m g / Δt², N/m.
+    fn_: f64,
+    /// Tangential (friction) force after the slip return, N/m.
+    ftx: f64,
+    fty: f64,
+    /// Whether the stick force exceeded μ f_N (the particle slides).
+    slipping: bool,
+    /// Velocity relative to the tool, m/s.
+    rv: [f64; 2],
+    /// Its tangential part, m/s.
+    tv: [f64; 2],
+    /// The friction window of the contact point.
+    win: Option<usize>,
+}
+
+/// The penalty normal force and the stick predictor with its slip return (module doc) of
+/// particle `i` at the surface point `sp` of a tool moving at `vt`.
+#[allow(clippy::too_many_arguments)]
+fn stick_slip(
+    c: &ContactParams,
+    m: f64,
+    tool: &Tool,
+    vt: [f64; 2],
+    sp: &crate::geometry::SurfacePoint,
+    p: &Particles,
+    rate: &Rates,
+    i: usize,
+) -> ParticleContact {
+    let dt = c.dt;
+    let n = sp.normal;
+    let fn_ = -c.penalty * m * sp.distance / (dt * dt);
+    let rvx = p.vx[i] - vt[0];
+    let rvy = p.vy[i] - vt[1];
+    let rvn = rvx * n[0] + rvy * n[1];
+    let (tvx, tvy) = (rvx - rvn * n[0], rvy - rvn * n[1]);
+    // Stick predictor: relative tangential velocity after the step without friction.
+    let (ax, ay) = (rate.ax, rate.ay);
+    let an = ax * n[0] + ay * n[1];
+    let ux = tvx + dt * (ax - an * n[0]);
+    let uy = tvy + dt * (ay - an * n[1]);
+    let mut ftx = -m * ux / dt;
+    let mut fty = -m * uy / dt;
+    let win = tool.window_at(sp.s);
+    let mu = win.map_or(0.0, |k| tool.windows[k].mu);
+    let ft = ftx.hypot(fty);
+    let cap = mu * fn_;
+    let slipping = ft > cap;
+    if slipping {
+        let s = cap / ft;
+        ftx *= s;
+        fty *= s;
+    }
+    ParticleContact {
+        fn_,
+        ftx,
+        fty,
+        slipping,
+        rv: [rvx, rvy],
+        tv: [tvx, tvy],
+        win,
+    }
+}
+
+/// Work of the contact force `f` on the mid-step relative velocity, split normal /
+/// tangential (consistent with the kinetic-energy change of the kick), added to `work`;
+/// returns the slip power −f_t·v_t, W/m.
+fn book_work(
+    pc: &ParticleContact,
+    n: [f64; 2],
+    f: [f64; 2],
+    vt: [f64; 2],
+    dt: f64,
+    rate: &Rates,
+    work: &mut ContactWork,
+) -> f64 {
+    let mvx = pc.rv[0] + 0.5 * dt * rate.ax;
+    let mvy = pc.rv[1] + 0.5 * dt * rate.ay;
+    let mvn = mvx * n[0] + mvy * n[1];
+    let slip_power = -(pc.ftx * (mvx - mvn * n[0]) + pc.fty * (mvy - mvn * n[1]));
+    work.friction += slip_power * dt;
+    work.penalty -= pc.fn_ * mvn * dt;
+    work.external += (f[0] * vt[0] + f[1] * vt[1]) * dt;
+    slip_power
+}
+
+/// A thermal tool's exchange with particle `i` (heat capacity `cp`, J/(kg·K)): conduction
+/// across coating and interface and the tool's share of the friction heat; returns the
+/// tool's temperature at the contact point, K (0 for an adiabatic tool).
+#[allow(clippy::too_many_arguments)]
+fn exchange_heat(
+    c: &ContactParams,
+    m: f64,
+    cp: f64,
+    slip_power: f64,
+    tool: &mut Tool,
+    sp: &crate::geometry::SurfacePoint,
+    p: &Particles,
+    i: usize,
+    rate: &mut Rates,
+    work: &mut ContactWork,
+) -> f64 {
+    let (Some(tt), true) = (tool.thermal.as_mut(), c.thermal_on) else {
+        return 0.0;
+    };
+    let (lx, ly) = (p.x[i] - tool.position[0], p.y[i] - tool.position[1]);
+    let n = sp.normal;
+    // The contact point on the surface, half a tool cell inside.
+    let d = sp.distance + 0.5 * tt.dx;
+    let cell = tt.cell_at([lx - n[0] * d, ly - n[1] * d]);
+    let t_tool = tt.temp[cell];
+    // Conduction across coating and interface, W/m, and the tool's share of the friction
+    // heat.
+    let q = tt.conductance(t_tool) * (p.temp[i] - t_tool) * c.spacing;
+    rate.dtemp -= q / (m / c.mass_scaling * cp);
+    let into_tool = (q + (1.0 - c.heat_share) * slip_power.max(0.0)) * c.dt;
+    tt.heat_in[cell] += into_tool;
+    work.tool_heat += into_tool;
+    t_tool
+}
+
+/// Adds one particle's contact to its window's sums (`vslip` physical sliding speed, m/s;
+/// `temp_k` the particle's and `tool_temp_k` the tool's temperature, K).
+fn record_in_window(
+    tool: &mut Tool,
+    pc: &ParticleContact,
+    vslip: f64,
+    temp_k: f64,
+    tool_temp_k: f64,
+) {
+    let Some(k) = pc.win else {
+        return;
+    };
+    let a = &mut tool.windows[k].acc;
+    a.contacts += 1.0;
+    a.normal += pc.fn_;
+    a.tangential += pc.ftx.hypot(pc.fty);
+    a.normal_x_slip += pc.fn_ * vslip;
+    a.normal_x_temp += pc.fn_ * temp_k;
+    a.normal_x_tool_temp += pc.fn_ * tool_temp_k;
+    if pc.slipping {
+        a.slipping += 1.0;
     }
 }

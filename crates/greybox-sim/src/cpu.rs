@@ -6,9 +6,11 @@
 //! (`is_x86_feature_detected!`). Rust never fuses a·b + c into one rounding, and the lane
 //! sums run in a fixed order, so every path gives the same bits: the path taken never changes a result.
 //!
-//! `GREYBOX_SIMD=baseline|avx2|avx512` caps the path (for comparisons and diagnosis); a
-//! path the CPU lacks falls back to the widest one below it. Any other value sets no cap
-//! and is named in one warning on stderr.
+//! A cap on the path (for comparisons and diagnosis) is handed in by the host: the command
+//! line and the Python package read `GREYBOX_SIMD=baseline|avx2|avx512` ([`SIMD_ENV`]) at
+//! start and pass its value to [`apply_cap`]; the library itself reads no environment. A
+//! path the CPU lacks falls back to the widest one below it. Any other value sets no cap and
+//! the host names it in one warning on stderr.
 
 use std::sync::atomic::{AtomicU8, Ordering};
 
@@ -64,25 +66,33 @@ fn widest_up_to(cap: SimdPath) -> SimdPath {
         .unwrap_or(SimdPath::Baseline)
 }
 
-/// The path the pair passes run on: the widest the CPU has, capped by `GREYBOX_SIMD`.
+/// The environment variable the hosts (command line, Python package) read the cap from and
+/// hand to [`apply_cap`].
+pub const SIMD_ENV: &str = "GREYBOX_SIMD";
+
+/// The path the pair passes run on: the widest the CPU has, capped by [`apply_cap`] or
+/// [`set_path`] if the host called them.
 pub fn active() -> SimdPath {
     if let Some(p) = SimdPath::from_u8(ACTIVE.load(Ordering::Relaxed)) {
         return p;
     }
-    let cap = match cap_from(std::env::var("GREYBOX_SIMD").ok().as_deref()) {
-        Ok(cap) => cap,
+    set_path(SimdPath::Avx512)
+}
+
+/// Caps the path at the one `value` names (`baseline`, `avx2`, `avx512`, any case; `None`
+/// or empty: no cap) from now on, process-wide, and returns the path taken. Any other value
+/// sets no cap and is returned in the warning the host prints.
+pub fn apply_cap(value: Option<&str>) -> Result<SimdPath, String> {
+    match cap_from(value) {
+        Ok(cap) => Ok(set_path(cap)),
         Err(unknown) => {
-            // Once per process: the path is chosen once and then kept.
-            eprintln!(
-                "greybox: GREYBOX_SIMD={unknown:?} is not one of baseline, avx2, avx512; \
+            set_path(SimdPath::Avx512);
+            Err(format!(
+                "greybox: {SIMD_ENV}={unknown:?} is not one of baseline, avx2, avx512; \
                  no cap is set (the widest path the CPU has runs)"
-            );
-            SimdPath::Avx512
+            ))
         }
-    };
-    let p = widest_up_to(cap);
-    ACTIVE.store(p as u8, Ordering::Relaxed);
-    p
+    }
 }
 
 /// The cap a `GREYBOX_SIMD` value sets: a path's name, or no cap when unset or empty; any

@@ -4,7 +4,7 @@
 use crate::checkpoint::Checkpoint;
 use crate::chip::{contact_profile, measure, CutMeasures, ProfilePoint};
 use crate::cutting::{CuttingSetup, EdgeLayout};
-use crate::executor::{restored_state, run, Observer, RunSummary};
+use crate::executor::{restored_state, run, Hooks, RunSummary};
 use crate::friction_loop::FrictionUpdater;
 use crate::output::{ForceHistory, PeakTemperature};
 use crate::solver::{SimError, Solver};
@@ -33,23 +33,22 @@ pub struct CutRun {
 
 impl CutRun {
     /// Runs `fraction` of the set-up's cut length (or until the force is steady when the
-    /// set-up asks for it) with `law` in every friction window; `extra` observers (outputs,
-    /// checkpoints) run after the built-in ones.
+    /// set-up asks for it) with `law` in every friction window; the `extra` seams (outputs,
+    /// checkpoints) run after the built-in ones of their kind.
     pub fn execute(
         setup: &CuttingSetup,
         law: Arc<dyn FrictionLaw>,
         fraction: f64,
         resume: Option<Checkpoint>,
-        extra: &mut [&mut dyn Observer],
+        extra: &mut Hooks<'_>,
     ) -> Result<CutRun, SimError> {
-        let invalid = |e: greybox_core::Error| SimError::Invalid(e.to_string());
         if !(fraction > 0.0 && fraction <= 1.0) {
             return Err(SimError::Invalid(format!(
                 "fraction of the cut length (`fraction`): expected a number in (0, 1], got {fraction}"
             )));
         }
-        let (model, duration) = setup.model_with_law(law).map_err(invalid)?;
-        let layout = setup.insert.layout().map_err(invalid)?;
+        let (model, duration) = setup.model_with_law(law)?;
+        let layout = setup.insert.layout()?;
         let mut sim = Solver::new(model)?;
         let end = duration * fraction;
         let fresh_dt = sim.dt;
@@ -78,18 +77,13 @@ impl CutRun {
             steady.resumed = true;
             peak_temperature = restored_state(states, "peak_temperature")?;
         }
-        let summary = {
-            let mut obs: Vec<&mut dyn Observer> = vec![
-                &mut forces,
-                &mut updater,
-                &mut steady,
-                &mut peak_temperature,
-            ];
-            for o in extra.iter_mut() {
-                obs.push(&mut **o);
-            }
-            run(&mut sim, end, "cut", &mut obs)?
-        };
+        let hooks = Hooks::new()
+            .control(&mut updater)
+            .observe(&mut forces)
+            .observe(&mut steady)
+            .observe(&mut peak_temperature)
+            .then(extra);
+        let summary = run(&mut sim, end, "cut", hooks)?;
         let t_end = sim.time;
         let averaged_from_s = steady.steady_since_s.unwrap_or(0.5 * t_end);
         let force = steady
@@ -225,7 +219,7 @@ pub fn find_rate_sensitivity(
         if let Some(f) = s.material.plasticity.as_mut() {
             f.set_rate_sensitivity(c);
         }
-        let r = CutRun::execute(&s, law.clone(), 1.0, None, &mut [])?;
+        let r = CutRun::execute(&s, law.clone(), 1.0, None, &mut Hooks::new())?;
         Ok(r.force[0] - measured_force_n_per_m)
     };
     let (flo, fhi) = rayon::join(|| eval(c_lo), || eval(c_hi));

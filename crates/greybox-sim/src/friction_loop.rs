@@ -17,7 +17,7 @@
 //! * in time, an exponential average over updates, x ← x + (x_new − x)/N with
 //!   N = `time_updates` (N = 1: none), started at the window's first contact.
 
-use crate::executor::{Control, Observer};
+use crate::executor::{Control, Controller};
 use crate::solver::{SimError, Solver};
 use crate::tool::{WindowAccumulator, WindowStats};
 use greybox_core::ContactState;
@@ -72,7 +72,7 @@ pub struct Interval {
     pub windows: Vec<WindowAccumulator>,
 }
 
-/// Observer running the loop on one tool.
+/// The controller running the loop on one tool.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct FrictionUpdater {
     pub tool: usize,
@@ -201,7 +201,7 @@ fn state_of(s: &WindowStats) -> ContactState {
     }
 }
 
-impl Observer for FrictionUpdater {
+impl Controller for FrictionUpdater {
     fn start(&mut self, sim: &mut Solver) -> Result<(), SimError> {
         // The windows' sums are kept: after a resume they hold the interval in progress
         // (restored from the checkpoint), so the μ updates continue as in an uninterrupted run;

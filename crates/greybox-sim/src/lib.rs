@@ -5,7 +5,9 @@
 //! Layout (the argmin split: problem / one step / executor with observers):
 //! * [`model`] what is simulated (particles, material, tools, boundary groups, numerics);
 //! * [`solver`] one explicit step ([`solver::Solver::step`]) with its pure per-particle kernels;
-//! * [`executor`] the time loop; outputs, progress and checkpoints are [`executor::Observer`]s;
+//! * [`executor`] the time loop and its seams ([`executor::Hooks`]): read-only
+//!   [`executor::Observer`]s (outputs, histories), [`executor::Controller`]s (the friction
+//!   windows' update) and [`executor::CheckpointWriter`]s;
 //! * [`pin`] the pin-sliding set-up and the inverse search for the adhesive μ.
 
 pub mod checkpoint;
@@ -32,7 +34,10 @@ pub mod steady;
 pub mod tool;
 pub mod tool_thermal;
 
-pub use executor::{restored_state, run, Control, Observer, ObserverStates, RunSummary};
+pub use executor::{
+    restored_state, run, CheckpointWriter, Control, Controller, Hooks, Observer, ObserverStates,
+    RunSummary,
+};
 pub use geometry::RoundedPolygon;
 pub use model::{BoundaryGroup, Model, Numerics};
 pub use particles::Particles;

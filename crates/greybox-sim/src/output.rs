@@ -12,10 +12,6 @@ use greybox_core::atomic::write_atomic;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-fn io_err(e: greybox_core::Error) -> SimError {
-    SimError::Invalid(e.to_string())
-}
-
 /// Writes particles as a VTK legacy ASCII poly-data file (points + vertices + point data:
 /// velocity m/s, pressure Pa, von Mises Pa, plastic strain, plastic strain rate 1/s,
 /// temperature K, density kg/m³ (physical), boundary group).
@@ -168,7 +164,7 @@ impl Observer for ForceHistory {
     fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
         Some(("forces", serde_json::to_value(self).ok()?))
     }
-    fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
+    fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
         let t = &sim.tools[self.tool];
         self.sum[0] += t.force[0];
         self.sum[1] += t.force[1];
@@ -220,11 +216,11 @@ impl Observer for PeakTemperature {
     fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
         Some(("peak_temperature", serde_json::to_value(self).ok()?))
     }
-    fn start(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+    fn start(&mut self, sim: &Solver) -> Result<(), SimError> {
         self.sample(sim);
         Ok(())
     }
-    fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
+    fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
         self.count += 1;
         if self.count == self.every {
             self.count = 0;
@@ -232,7 +228,7 @@ impl Observer for PeakTemperature {
         }
         Ok(Control::Continue)
     }
-    fn finish(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+    fn finish(&mut self, sim: &Solver) -> Result<(), SimError> {
         self.sample(sim);
         Ok(())
     }
@@ -255,10 +251,9 @@ impl VtkSeries {
     }
     fn write(&mut self, sim: &Solver) -> Result<(), SimError> {
         let path = self.dir.join(format!("particles_{:08}.vtk", sim.step));
-        write_vtk(&path, &sim.particles, sim.numerics.mass_scaling, sim.time).map_err(io_err)?;
+        write_vtk(&path, &sim.particles, sim.numerics.mass_scaling, sim.time)?;
         for (k, t) in sim.tools.iter().enumerate() {
-            write_tool_vtk(&self.dir.join(format!("tool{k}_{:08}.vtk", sim.step)), t)
-                .map_err(io_err)?;
+            write_tool_vtk(&self.dir.join(format!("tool{k}_{:08}.vtk", sim.step)), t)?;
         }
         self.written.push(path);
         Ok(())
@@ -266,16 +261,16 @@ impl VtkSeries {
 }
 
 impl Observer for VtkSeries {
-    fn start(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+    fn start(&mut self, sim: &Solver) -> Result<(), SimError> {
         self.write(sim)
     }
-    fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
+    fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
         if sim.step.is_multiple_of(self.every) {
             self.write(sim)?;
         }
         Ok(Control::Continue)
     }
-    fn finish(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+    fn finish(&mut self, sim: &Solver) -> Result<(), SimError> {
         if !sim.step.is_multiple_of(self.every) {
             self.write(sim)?;
         }

@@ -15,7 +15,7 @@
 //! friction fell below μ. The cost of a run is then set by the slide length over the
 //! spacing, not by the physical time.
 
-use crate::executor::{run, Observer, RunSummary};
+use crate::executor::{run, Hooks, RunSummary};
 use crate::geometry::RoundedPolygon;
 use crate::model::{BoundaryGroup, Model, Numerics};
 use crate::output::ForceHistory;
@@ -154,16 +154,48 @@ impl PinSetup {
     /// Builds the model and the press / slide schedule (durations, s).
     pub fn model(&self) -> greybox_core::Result<(Model, f64, f64)> {
         self.validate()?;
+        let (particles, groups) = self.held_workpiece();
+        let c_long = (self.material.elastic.p_wave_modulus()
+            / (self.material.density_kg_m3 * self.numerics.mass_scaling))
+            .sqrt();
+        let v_slide = self.mach * c_long;
+        let (motion, press_time, slide_time) = self.pin_motion(c_long, v_slide);
         let dx = self.spacing_m;
-        let rho0 = self.material.density_kg_m3;
+        let surface = -0.5 * dx; // the top particle centres
+        let gap = 0.1 * dx;
+        let x_start = self.half_chord() + 0.2e-3 + 10.0 * dx;
+        let centre = [x_start, surface + gap + self.pin_radius_m];
+        let pin = Tool::with_uniform_law(
+            "pin",
+            RoundedPolygon::circle(self.pin_radius_m),
+            centre,
+            motion,
+            Arc::new(ConstantMu(self.mu)),
+        );
+        let (numerics, material) = self.time_scaled(v_slide);
+        Ok((
+            Model {
+                particles,
+                material,
+                tools: vec![pin],
+                groups,
+                numerics,
+            },
+            press_time,
+            slide_time,
+        ))
+    }
+
+    /// The workpiece's particles with their boundary groups: group 1, the bottom two rows,
+    /// fixed; group 2, the two outer columns, held in x.
+    fn held_workpiece(&self) -> (Particles, Vec<BoundaryGroup>) {
         let (mut p, nx, ny) = Particles::workpiece(
             self.workpiece_length(),
             self.workpiece_height_m,
-            dx,
-            rho0,
+            self.spacing_m,
+            self.material.density_kg_m3,
             self.initial_temperature_k,
         );
-        // Group 1: bottom two rows fixed; group 2: the two outer columns held in x.
         for j in 0..ny {
             for i in 0..nx {
                 let k = j * nx + i;
@@ -186,11 +218,13 @@ impl PinSetup {
                 vy: None,
             },
         ];
-        let c_long =
-            (self.material.elastic.p_wave_modulus() / (rho0 * self.numerics.mass_scaling)).sqrt();
-        let v_slide = self.mach * c_long;
-        let surface = -0.5 * dx; // the top particle centres
-        let gap = 0.1 * dx;
+        (p, groups)
+    }
+
+    /// The pin's press and slide (longitudinal wave speed `c_long` and sliding speed
+    /// `v_slide` of the run, m/s): its motion and the press and slide durations, s.
+    fn pin_motion(&self, c_long: f64, v_slide: f64) -> (Motion, f64, f64) {
+        let gap = 0.1 * self.spacing_m;
         // Quasi-static press: the pin accelerates smoothly over the first half of the press
         // and decelerates over the second (peak speed ≤ v_slide/2), and each half lasts at
         // least 20 wave transits through the workpiece, so the stress waves the press sends
@@ -202,8 +236,6 @@ impl PinSetup {
         // The slide starts with a ramp over 20 % of its length (covered at half speed).
         let ramp = 0.2 * self.slide_length_m / v_slide * 2.0;
         let slide_time = self.slide_length_m / v_slide + 0.5 * ramp;
-        let x_start = self.half_chord() + 0.2e-3 + 10.0 * dx;
-        let centre = [x_start, surface + gap + self.pin_radius_m];
         let motion = Motion {
             segments: vec![
                 MotionSegment {
@@ -228,13 +260,12 @@ impl PinSetup {
                 },
             ],
         };
-        let pin = Tool::with_uniform_law(
-            "pin",
-            RoundedPolygon::circle(self.pin_radius_m),
-            centre,
-            motion,
-            Arc::new(ConstantMu(self.mu)),
-        );
+        (motion, press_time, slide_time)
+    }
+
+    /// Numerics and material of a run sliding at `v_slide` (m/s) instead of the physical
+    /// speed: the flow stress sees the physical strain rate and conduction keeps pace.
+    fn time_scaled(&self, v_slide: f64) -> (Numerics, Material) {
         let mut numerics = self.numerics.clone();
         numerics.strain_rate_scale = self.sliding_speed_m_s / v_slide;
         let mut material = self.material.clone();
@@ -242,17 +273,7 @@ impl PinSetup {
         for k in material.thermal.conductivity.y.iter_mut() {
             *k *= speed_up;
         }
-        Ok((
-            Model {
-                particles: p,
-                material,
-                tools: vec![pin],
-                groups,
-                numerics,
-            },
-            press_time,
-            slide_time,
-        ))
+        (numerics, material)
     }
 }
 
@@ -302,10 +323,10 @@ pub fn ploughing_share_flags(force_ratio: f64, mu: f64) -> Vec<String> {
     }
 }
 
-/// Runs the press and slide; extra observers (VTK, checkpoints) may be attached.
+/// Runs the press and slide; extra seams (VTK, checkpoints) may be attached.
 pub fn simulate(
     setup: &PinSetup,
-    extra: &mut [&mut dyn Observer],
+    extra: &mut Hooks<'_>,
 ) -> Result<(PinResult, ForceHistory, Solver), SimError> {
     simulate_from(setup, None, extra)
 }
@@ -315,11 +336,9 @@ pub fn simulate(
 pub fn simulate_from(
     setup: &PinSetup,
     resume: Option<crate::checkpoint::Checkpoint>,
-    extra: &mut [&mut dyn Observer],
+    extra: &mut Hooks<'_>,
 ) -> Result<(PinResult, ForceHistory, Solver), SimError> {
-    let (model, press, slide) = setup
-        .model()
-        .map_err(|e| SimError::Invalid(e.to_string()))?;
+    let (model, press, slide) = setup.model()?;
     let mut sim = Solver::new(model)?;
     let fresh_dt = sim.dt;
     let states = crate::checkpoint::Checkpoint::resume_into(resume, &mut sim, &fingerprint(setup))?;
@@ -329,13 +348,8 @@ pub fn simulate_from(
     if let Some(states) = &states {
         hist = crate::executor::restored_state(states, "forces")?;
     }
-    let summary: RunSummary = {
-        let mut obs: Vec<&mut dyn Observer> = vec![&mut hist];
-        for o in extra.iter_mut() {
-            obs.push(&mut **o);
-        }
-        run(&mut sim, press + slide, "pin", &mut obs)?
-    };
+    let hooks = Hooks::new().observe(&mut hist).then(extra);
+    let summary: RunSummary = run(&mut sim, press + slide, "pin", hooks)?;
     let (t0, t1) = (press + 0.5 * slide, press + slide);
     let sel: Vec<&[f64; 6]> = hist
         .rows
@@ -410,7 +424,7 @@ pub fn find_adhesive_mu(
     let eval = |mu: f64| -> Result<f64, SimError> {
         let mut s = base.clone();
         s.mu = mu.max(0.0);
-        Ok(simulate(&s, &mut [])?.0.force_ratio - mu_apparent)
+        Ok(simulate(&s, &mut Hooks::new())?.0.force_ratio - mu_apparent)
     };
     let guess = base.analytic_ploughing();
     let mut lo = (mu_apparent - 2.0 * guess - 0.02).max(0.0);

@@ -39,7 +39,7 @@ use crate::particles::{Particles, FREE};
 use crate::plasticity;
 use crate::rates::Rates;
 use crate::tool::Tool;
-use greybox_material::Material;
+use greybox_material::{FlowStress, Material, Thermal};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -47,35 +47,47 @@ use serde::{Deserialize, Serialize};
 const PAIR_CHUNK: usize = 64;
 
 /// Why a run stopped early.
-#[derive(Debug, Clone, PartialEq)]
+///
+/// The causes from other crates are kept as values (match [`SimError::Core`] or
+/// [`SimError::Interrupted`], or downcast an `anyhow::Error` to `SimError`); the messages are
+/// the causes' own.
+#[derive(Debug, thiserror::Error)]
 pub enum SimError {
+    /// A step produced a non-finite or runaway state.
+    #[error(
+        "simulation went unstable at step {step} (t = {time_s:.4e} s): particle {particle} {reason}; \
+         try a smaller cfl, a larger smoothing_ratio or less mass scaling"
+    )]
     Unstable {
         step: u64,
         time_s: f64,
         particle: usize,
         reason: String,
     },
+    /// A set-up, checkpoint or result the simulator itself refuses, with its message.
+    #[error("{0}")]
     Invalid(String),
+    /// An error of the core library (an invalid set-up, a failed write), kept as it is.
+    #[error(transparent)]
+    Core(#[from] greybox_core::Error),
+    /// The run was stopped on request ([`greybox_core::interrupt`]): "interrupted".
+    #[error("interrupted")]
+    Interrupted,
 }
 
-impl std::fmt::Display for SimError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            SimError::Unstable { step, time_s, particle, reason } => write!(
-                f,
-                "simulation went unstable at step {step} (t = {time_s:.4e} s): particle {particle} {reason}; \
-                 try a smaller cfl, a larger smoothing_ratio or less mass scaling"
-            ),
-            SimError::Invalid(m) => write!(f, "{m}"),
-        }
+impl SimError {
+    /// Whether the run was stopped on request rather than failing.
+    pub fn is_interrupted(&self) -> bool {
+        matches!(
+            self,
+            SimError::Interrupted | SimError::Core(greybox_core::Error::Interrupted)
+        )
     }
 }
 
-impl std::error::Error for SimError {}
-
 impl From<greybox_core::interrupt::Interrupted> for SimError {
-    fn from(e: greybox_core::interrupt::Interrupted) -> Self {
-        SimError::Invalid(e.to_string())
+    fn from(_: greybox_core::interrupt::Interrupted) -> Self {
+        SimError::Interrupted
     }
 }
 
@@ -173,11 +185,10 @@ impl Solver {
             groups,
             numerics,
         } = model;
-        let inv = |e: greybox_core::Error| SimError::Invalid(e.to_string());
-        numerics.validate().map_err(inv)?;
-        material.validate().map_err(inv)?;
+        numerics.validate()?;
+        material.validate()?;
         for t in &tools {
-            t.validate().map_err(inv)?;
+            t.validate()?;
         }
         if particles.is_empty() || !particles.check_lengths() {
             return Err(SimError::Invalid(
@@ -573,23 +584,28 @@ impl Solver {
         self.energy.external_work += w * self.dt;
     }
 
-    /// Step 7: drift, stress rate, plasticity, heating, checks.
+    /// Step 7: drift, stress rate, plasticity, heating, checks — per chunk of particles in
+    /// parallel ([`update_chunk`]), then the chunks' sums booked in chunk order.
     fn update(&mut self) -> Result<(), SimError> {
-        let dt = self.dt;
         let d = self.derived;
-        let flow = &self.material.plasticity;
-        let th = &self.material.thermal;
-        let thermal = self.numerics.thermal;
-        let beta_tq = th.taylor_quinney;
-        let rate_scale = self.numerics.strain_rate_scale;
-        let f_mass = self.numerics.mass_scaling;
-        let vlim2 = (self.numerics.max_speed_ratio * d.c_long).powi(2);
-        let rates = &self.rates;
-        let m = self.particles.mass;
-        let eps_x = self.numerics.xsph;
         let (x0, y0, moved_lim2) = self.neighbours.reference();
+        let inputs = UpdateInputs {
+            dt: self.dt,
+            d,
+            flow: self.material.plasticity.as_ref(),
+            th: &self.material.thermal,
+            thermal: self.numerics.thermal,
+            rate_scale: self.numerics.strain_rate_scale,
+            f_mass: self.numerics.mass_scaling,
+            vlim2: (self.numerics.max_speed_ratio * d.c_long).powi(2),
+            m: self.particles.mass,
+            eps_x: self.numerics.xsph,
+            rates: &self.rates,
+            x0,
+            y0,
+        };
         let p = &mut self.particles;
-        const CH: usize = 512;
+        const CH: usize = UPDATE_CHUNK;
         // (plastic work, max speed², first bad particle)
         (
             p.x.par_chunks_mut(CH),
@@ -609,86 +625,33 @@ impl Solver {
             .enumerate()
             .map(
                 |(c, (x, y, vx, vy, rho, pr, sxx, sxy, syy, szz, eps, (temp, erate)))| {
-                    let mut wp = 0.0;
-                    let mut av = 0.0;
-                    let mut bad = usize::MAX;
-                    let mut moved2: f64 = 0.0;
-                    for k in 0..x.len() {
-                        let i = c * CH + k;
-                        let r = &rates[i];
-                        av += r.av_power;
-                        let [drho, lxx, lxy, lyx, lyy, xsx, xsy] = r.kin;
-                        let (nvx, nvy) = (vx[k], vy[k]);
-                        x[k] += dt * (nvx + eps_x * xsx);
-                        y[k] += dt * (nvy + eps_x * xsy);
-                        moved2 = moved2.max((x[k] - x0[i]).powi(2) + (y[k] - y0[i]).powi(2));
-                        rho[k] += dt * drho;
-                        pr[k] = d.c0_sq * (rho[k] - d.rho0);
-                        let [nxx, nxy, nyy, dzz] = jaumann_update(
-                            [sxx[k], sxy[k], syy[k]],
-                            lxx,
-                            lxy,
-                            lyx,
-                            lyy,
-                            d.shear,
-                            dt,
-                        );
-                        sxx[k] = nxx;
-                        sxy[k] = nxy;
-                        syy[k] = nyy;
-                        szz[k] += dzz;
-                        let mut t_new = temp[k];
-                        if thermal {
-                            t_new += dt * r.dtemp;
-                        }
-                        let previous_increment = erate[k] * dt;
-                        erate[k] = 0.0;
-                        if let Some(flow) = flow {
-                            let mut s = [sxx[k], sxy[k], syy[k], szz[k]];
-                            if let Some(ret) = plasticity::radial_return(
-                                flow,
-                                d.shear,
-                                &mut s,
-                                eps[k],
-                                temp[k],
-                                dt,
-                                rate_scale,
-                                previous_increment,
-                            ) {
-                                sxx[k] = s[0];
-                                sxy[k] = s[1];
-                                syy[k] = s[2];
-                                szz[k] = s[3];
-                                eps[k] += ret.d_eps;
-                                erate[k] = ret.d_eps / dt;
-                                // Plastic work per volume σ_y Δε_p; volume m/ρ.
-                                let wv = ret.flow_stress * ret.d_eps;
-                                wp += wv * m / rho[k];
-                                if thermal {
-                                    let c = th.specific_heat.eval(temp[k]);
-                                    t_new += beta_tq * wv / (rho[k] / f_mass * c);
-                                }
-                            }
-                        }
-                        temp[k] = t_new;
-                        let v2 = nvx * nvx + nvy * nvy;
-                        let finite = x[k].is_finite()
-                            && y[k].is_finite()
-                            && rho[k].is_finite()
-                            && sxx[k].is_finite()
-                            && sxy[k].is_finite()
-                            && syy[k].is_finite()
-                            && temp[k].is_finite();
-                        if bad == usize::MAX && (!finite || v2 > vlim2 || rho[k] <= 0.0) {
-                            bad = i;
-                        }
-                    }
-                    (wp, av, bad, moved2)
+                    let chunk = UpdateChunk {
+                        x,
+                        y,
+                        vx,
+                        vy,
+                        rho,
+                        pr,
+                        sxx,
+                        sxy,
+                        syy,
+                        szz,
+                        eps,
+                        temp,
+                        erate,
+                    };
+                    update_chunk(&inputs, c * CH, chunk)
                 },
             )
             // Per-chunk sums in chunk order (an indexed collect), summed serially below:
             // the energy book is the same bytes on every run, whatever the thread schedule.
             .collect_into_vec(&mut self.chunk_sums);
+        self.book_update(moved_lim2)
+    }
+
+    /// Step 7's sums: the plastic and viscous work booked, a rebuild noted when a particle
+    /// moved too far, the first unstable particle reported.
+    fn book_update(&mut self, moved_lim2: f64) -> Result<(), SimError> {
         let (mut plastic, mut viscous, mut bad) = (0.0, 0.0, usize::MAX);
         for &(wp, av, b, moved2) in &self.chunk_sums {
             plastic += wp;
@@ -698,7 +661,7 @@ impl Solver {
             self.rebuild_due |= moved2 > moved_lim2 || moved2.is_nan();
         }
         self.energy.plastic_work += plastic;
-        self.energy.viscous_work += dt * viscous;
+        self.energy.viscous_work += self.dt * viscous;
         if bad != usize::MAX {
             return Err(self.instability(bad));
         }
@@ -767,6 +730,174 @@ impl Solver {
     pub fn particle_count(&self) -> usize {
         self.particles.len()
     }
+}
+
+/// Particles per parallel task of step 7.
+const UPDATE_CHUNK: usize = 512;
+
+/// What step 7 reads besides the particles: the step's constants, the rates of steps 3–6
+/// and the positions the neighbour lists were built at.
+struct UpdateInputs<'a> {
+    /// Δt, s.
+    dt: f64,
+    d: Derived,
+    flow: Option<&'a FlowStress>,
+    th: &'a Thermal,
+    /// Whether temperatures evolve (conduction and heating).
+    thermal: bool,
+    /// Factor on the strain rate seen by the flow stress (mass scaling's time scaling).
+    rate_scale: f64,
+    /// Mass scaling factor (the heat capacity uses the physical density ρ / f).
+    f_mass: f64,
+    /// Square of the largest allowed speed, m²/s².
+    vlim2: f64,
+    /// Particle mass (scaled), kg/m.
+    m: f64,
+    /// XSPH factor ε.
+    eps_x: f64,
+    rates: &'a [Rates],
+    x0: &'a [f64],
+    y0: &'a [f64],
+}
+
+/// One chunk of the particle arrays in step 7, writable where the step writes.
+struct UpdateChunk<'a> {
+    x: &'a mut [f64],
+    y: &'a mut [f64],
+    vx: &'a [f64],
+    vy: &'a [f64],
+    rho: &'a mut [f64],
+    pr: &'a mut [f64],
+    sxx: &'a mut [f64],
+    sxy: &'a mut [f64],
+    syy: &'a mut [f64],
+    szz: &'a mut [f64],
+    eps: &'a mut [f64],
+    temp: &'a mut [f64],
+    erate: &'a mut [f64],
+}
+
+/// Step 7 on one chunk whose first particle is `first`: (plastic work J/m, viscous power
+/// W/m, first unstable particle or `usize::MAX`, largest squared displacement since the
+/// neighbour build m²).
+fn update_chunk(
+    inp: &UpdateInputs<'_>,
+    first: usize,
+    mut ch: UpdateChunk<'_>,
+) -> (f64, f64, usize, f64) {
+    let mut wp = 0.0;
+    let mut av = 0.0;
+    let mut bad = usize::MAX;
+    let mut moved2: f64 = 0.0;
+    for k in 0..ch.x.len() {
+        let i = first + k;
+        let r = &inp.rates[i];
+        av += r.av_power;
+        moved2 = moved2.max(drift_and_stress_rate(inp, r, i, k, &mut ch));
+        if let Some(w) = plastic_and_heating(inp, r, k, &mut ch) {
+            wp += w;
+        }
+        if bad == usize::MAX && unstable(inp, k, &ch) {
+            bad = i;
+        }
+    }
+    (wp, av, bad, moved2)
+}
+
+/// Drift with the XSPH velocity, continuity, equation of state and the Jaumann stress rate of
+/// particle `i` (`k` in the chunk); returns its squared displacement since the neighbour
+/// build, m².
+fn drift_and_stress_rate(
+    inp: &UpdateInputs<'_>,
+    r: &Rates,
+    i: usize,
+    k: usize,
+    ch: &mut UpdateChunk<'_>,
+) -> f64 {
+    let (dt, d, eps_x) = (inp.dt, inp.d, inp.eps_x);
+    let [drho, lxx, lxy, lyx, lyy, xsx, xsy] = r.kin;
+    let (nvx, nvy) = (ch.vx[k], ch.vy[k]);
+    ch.x[k] += dt * (nvx + eps_x * xsx);
+    ch.y[k] += dt * (nvy + eps_x * xsy);
+    let moved2 = (ch.x[k] - inp.x0[i]).powi(2) + (ch.y[k] - inp.y0[i]).powi(2);
+    ch.rho[k] += dt * drho;
+    ch.pr[k] = d.c0_sq * (ch.rho[k] - d.rho0);
+    let [nxx, nxy, nyy, dzz] = jaumann_update(
+        [ch.sxx[k], ch.sxy[k], ch.syy[k]],
+        lxx,
+        lxy,
+        lyx,
+        lyy,
+        d.shear,
+        dt,
+    );
+    ch.sxx[k] = nxx;
+    ch.sxy[k] = nxy;
+    ch.syy[k] = nyy;
+    ch.szz[k] += dzz;
+    moved2
+}
+
+/// Conduction heating, the radial return and its plastic heating of particle `k` of the
+/// chunk; returns its plastic work (m/ρ) σ_y Δε_p, J/m, when it yielded.
+fn plastic_and_heating(
+    inp: &UpdateInputs<'_>,
+    r: &Rates,
+    k: usize,
+    ch: &mut UpdateChunk<'_>,
+) -> Option<f64> {
+    let dt = inp.dt;
+    let mut t_new = ch.temp[k];
+    if inp.thermal {
+        t_new += dt * r.dtemp;
+    }
+    let previous_increment = ch.erate[k] * dt;
+    ch.erate[k] = 0.0;
+    let mut work = None;
+    if let Some(flow) = inp.flow {
+        let mut s = [ch.sxx[k], ch.sxy[k], ch.syy[k], ch.szz[k]];
+        if let Some(ret) = plasticity::radial_return(
+            flow,
+            inp.d.shear,
+            &mut s,
+            ch.eps[k],
+            ch.temp[k],
+            dt,
+            inp.rate_scale,
+            previous_increment,
+        ) {
+            ch.sxx[k] = s[0];
+            ch.sxy[k] = s[1];
+            ch.syy[k] = s[2];
+            ch.szz[k] = s[3];
+            ch.eps[k] += ret.d_eps;
+            ch.erate[k] = ret.d_eps / dt;
+            // Plastic work per volume σ_y Δε_p; volume m/ρ.
+            let wv = ret.flow_stress * ret.d_eps;
+            work = Some(wv * inp.m / ch.rho[k]);
+            if inp.thermal {
+                let c = inp.th.specific_heat.eval(ch.temp[k]);
+                t_new += inp.th.taylor_quinney * wv / (ch.rho[k] / inp.f_mass * c);
+            }
+        }
+    }
+    ch.temp[k] = t_new;
+    work
+}
+
+/// Whether particle `k` of the chunk is unstable after step 7: a non-finite state, a speed
+/// above the limit or a non-positive density.
+fn unstable(inp: &UpdateInputs<'_>, k: usize, ch: &UpdateChunk<'_>) -> bool {
+    let (nvx, nvy) = (ch.vx[k], ch.vy[k]);
+    let v2 = nvx * nvx + nvy * nvy;
+    let finite = ch.x[k].is_finite()
+        && ch.y[k].is_finite()
+        && ch.rho[k].is_finite()
+        && ch.sxx[k].is_finite()
+        && ch.sxy[k].is_finite()
+        && ch.syy[k].is_finite()
+        && ch.temp[k].is_finite();
+    !finite || v2 > inp.vlim2 || ch.rho[k] <= 0.0
 }
 
 /// The deviatoric stress (s_xx, s_xy, s_yy) advanced by `dt` with its Jaumann rate under the

@@ -126,7 +126,7 @@ impl SteadyForce {
 }
 
 impl Observer for SteadyForce {
-    fn start(&mut self, sim: &mut Solver) -> Result<(), SimError> {
+    fn start(&mut self, sim: &Solver) -> Result<(), SimError> {
         if !self.resumed {
             self.t_start = sim.time;
         }
@@ -135,7 +135,7 @@ impl Observer for SteadyForce {
     fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
         Some(("steady", serde_json::to_value(self).ok()?))
     }
-    fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
+    fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
         let f = sim.tools.get(self.tool).map_or([0.0; 2], |t| t.force);
         self.sum[0] += f[0];
         self.sum[1] += f[1];

@@ -26,7 +26,14 @@ impl FrictionLaw for VelocityLaw {
 fn greybox_loop_sets_each_window_to_the_law_at_its_recorded_state() {
     let setup = coarse_cut();
     let law: Arc<dyn FrictionLaw> = Arc::new(VelocityLaw);
-    let r = CutRun::execute(&setup, law.clone(), 1.0, None, &mut []).unwrap();
+    let r = CutRun::execute(
+        &setup,
+        law.clone(),
+        1.0,
+        None,
+        &mut greybox_sim::Hooks::new(),
+    )
+    .unwrap();
     let h = &r.updater.history;
     assert!(h.len() > 50, "only {} window updates", h.len());
     // Each update: μ is the law at the state averaged over that interval, to round-off.
@@ -67,7 +74,14 @@ fn greybox_loop_sets_each_window_to_the_law_at_its_recorded_state() {
 
     // Against a constant μ equal to the law's value at the nominal state: the forces differ.
     let nominal = law.mu(&setup.nominal_contact());
-    let c = CutRun::execute(&setup, Arc::new(ConstantMu(nominal)), 1.0, None, &mut []).unwrap();
+    let c = CutRun::execute(
+        &setup,
+        Arc::new(ConstantMu(nominal)),
+        1.0,
+        None,
+        &mut greybox_sim::Hooks::new(),
+    )
+    .unwrap();
     assert!(c.updater.history.iter().all(|u| u.mu == nominal));
     let rel = (r.force[0] - c.force[0]).abs() / c.force[0];
     println!(
@@ -84,7 +98,14 @@ fn same_setup_same_bytes() {
     let mut setup = coarse_cut();
     setup.cut_length_m = 0.1e-3;
     let run = || {
-        let r = CutRun::execute(&setup, Arc::new(VelocityLaw), 1.0, None, &mut []).unwrap();
+        let r = CutRun::execute(
+            &setup,
+            Arc::new(VelocityLaw),
+            1.0,
+            None,
+            &mut greybox_sim::Hooks::new(),
+        )
+        .unwrap();
         (
             r.forces.rows.clone(),
             r.updater.history.iter().map(|u| u.mu).collect::<Vec<_>>(),
@@ -115,9 +136,15 @@ fn inverse_rate_sensitivity_recovers_the_c_that_made_the_force() {
         .as_mut()
         .unwrap()
         .set_rate_sensitivity(0.03);
-    let measured = CutRun::execute(&truth, law.clone(), 1.0, None, &mut [])
-        .unwrap()
-        .force[0];
+    let measured = CutRun::execute(
+        &truth,
+        law.clone(),
+        1.0,
+        None,
+        &mut greybox_sim::Hooks::new(),
+    )
+    .unwrap()
+    .force[0];
     setup
         .material
         .plasticity
@@ -159,7 +186,7 @@ struct KillAt(u64);
 impl greybox_sim::Observer for KillAt {
     fn after_step(
         &mut self,
-        sim: &mut greybox_sim::Solver,
+        sim: &greybox_sim::Solver,
     ) -> Result<greybox_sim::Control, greybox_sim::SimError> {
         Ok(if sim.step >= self.0 {
             greybox_sim::Control::Stop
@@ -183,7 +210,14 @@ fn resume_equals_the_uninterrupted_run() {
     let every = 150;
     let clean_ck = d.path().join("clean.json");
     let mut ck = Checkpointer::new(&clean_ck, every, &id);
-    let clean = CutRun::execute(&setup, law.clone(), 1.0, None, &mut [&mut ck]).unwrap();
+    let clean = CutRun::execute(
+        &setup,
+        law.clone(),
+        1.0,
+        None,
+        &mut greybox_sim::Hooks::new().checkpoint(&mut ck),
+    )
+    .unwrap();
     let steps = clean.sim.step;
     assert!(steps > 3 * every, "{steps} steps");
     // the interrupted run: checkpoints, then killed between two of them
@@ -195,13 +229,22 @@ fn resume_equals_the_uninterrupted_run() {
         law.clone(),
         1.0,
         None,
-        &mut [&mut KillAt(kill_at), &mut ck],
+        &mut greybox_sim::Hooks::new()
+            .observe(&mut KillAt(kill_at))
+            .checkpoint(&mut ck),
     )
     .unwrap();
     let c = Checkpoint::read(&ck_path).unwrap();
     assert_eq!(c.step, 2 * every);
     let mut ck = Checkpointer::new(&ck_path, every, &id);
-    let resumed = CutRun::execute(&setup, law.clone(), 1.0, Some(c), &mut [&mut ck]).unwrap();
+    let resumed = CutRun::execute(
+        &setup,
+        law.clone(),
+        1.0,
+        Some(c),
+        &mut greybox_sim::Hooks::new().checkpoint(&mut ck),
+    )
+    .unwrap();
     assert_eq!(resumed.sim.step, steps);
     assert_eq!(resumed.forces.rows, clean.forces.rows, "force history");
     assert_eq!(resumed.steady.blocks, clean.steady.blocks, "steady blocks");
@@ -222,7 +265,7 @@ fn resume_equals_the_uninterrupted_run() {
         law.clone(),
         (end.time_s / clean.sim.time).min(1.0) * 0.5,
         Some(end),
-        &mut [],
+        &mut greybox_sim::Hooks::new(),
     );
     let e = done
         .err()
@@ -230,7 +273,7 @@ fn resume_equals_the_uninterrupted_run() {
         .to_string();
     assert!(e.contains("past the requested end"), "{e}");
     // and a fraction shorter than one step
-    let e = CutRun::execute(&setup, law, 1e-9, None, &mut [])
+    let e = CutRun::execute(&setup, law, 1e-9, None, &mut greybox_sim::Hooks::new())
         .err()
         .unwrap()
         .to_string();
@@ -367,7 +410,13 @@ fn bad_configurations_name_the_field_and_the_rule() {
         let e = s.validate().expect_err(want).to_string();
         assert!(e.contains(want), "case {k}: {e}");
         // and it reaches the run as an error, never a panic or a NaN
-        let r = CutRun::execute(&s, Arc::new(ConstantMu(0.3)), 1.0, None, &mut []);
+        let r = CutRun::execute(
+            &s,
+            Arc::new(ConstantMu(0.3)),
+            1.0,
+            None,
+            &mut greybox_sim::Hooks::new(),
+        );
         assert!(r.is_err(), "case {k}: ran");
     }
     coarse_cut().validate().unwrap();
@@ -413,12 +462,26 @@ fn roughness(r: &CutRun) -> (f64, f64) {
 fn smoothed_windows_give_a_steadier_mu_profile() {
     let mut setup = coarse_cut();
     setup.friction.update_every_steps = 50;
-    let raw = CutRun::execute(&setup, Arc::new(PressureLaw), 1.0, None, &mut []).unwrap();
+    let raw = CutRun::execute(
+        &setup,
+        Arc::new(PressureLaw),
+        1.0,
+        None,
+        &mut greybox_sim::Hooks::new(),
+    )
+    .unwrap();
     setup.friction.smoothing = greybox_sim::friction_loop::Smoothing {
         time_updates: 4.0,
         space_windows: 1,
     };
-    let smooth = CutRun::execute(&setup, Arc::new(PressureLaw), 1.0, None, &mut []).unwrap();
+    let smooth = CutRun::execute(
+        &setup,
+        Arc::new(PressureLaw),
+        1.0,
+        None,
+        &mut greybox_sim::Hooks::new(),
+    )
+    .unwrap();
     let (rs, rt) = roughness(&raw);
     let (ss, st) = roughness(&smooth);
     eprintln!("mean |Δμ| between windows {rs:.4} → {ss:.4}, between updates {rt:.4} → {st:.4}");
@@ -432,7 +495,14 @@ fn smoothed_windows_give_a_steadier_mu_profile() {
         time_updates: 4.0,
         space_windows: 0,
     };
-    let ema = CutRun::execute(&setup, Arc::new(PressureLaw), 1.0, None, &mut []).unwrap();
+    let ema = CutRun::execute(
+        &setup,
+        Arc::new(PressureLaw),
+        1.0,
+        None,
+        &mut greybox_sim::Hooks::new(),
+    )
+    .unwrap();
     let mut last: std::collections::HashMap<usize, f64> = Default::default();
     let mut checked = 0;
     for u in &ema.updater.history {

@@ -18,7 +18,14 @@ fn example(name: &str) -> CuttingSetup {
 }
 
 fn cut(setup: &CuttingSetup) -> CutRun {
-    let r = CutRun::execute(setup, Arc::new(ConstantMu(setup.mu)), 1.0, None, &mut []).unwrap();
+    let r = CutRun::execute(
+        setup,
+        Arc::new(ConstantMu(setup.mu)),
+        1.0,
+        None,
+        &mut greybox_sim::Hooks::new(),
+    )
+    .unwrap();
     assert!(
         r.steady.steady_since_s.is_some(),
         "the force never became steady"

@@ -13,8 +13,12 @@ fn small_pin(depth: f64) -> PinSetup {
 
 #[test]
 fn ploughing_share_grows_with_depth_and_energy_balances() {
-    let shallow = simulate(&small_pin(20e-6), &mut []).unwrap().0;
-    let deep = simulate(&small_pin(40e-6), &mut []).unwrap().0;
+    let shallow = simulate(&small_pin(20e-6), &mut greybox_sim::Hooks::new())
+        .unwrap()
+        .0;
+    let deep = simulate(&small_pin(40e-6), &mut greybox_sim::Hooks::new())
+        .unwrap()
+        .0;
     for r in [&shallow, &deep] {
         eprintln!(
             "d = {:.0} µm: F_t/F_N = {:.4}, share {:.4} (analytic {:.4}), energy error {:.2} %",

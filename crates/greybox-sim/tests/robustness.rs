@@ -3,11 +3,11 @@
 mod common;
 use greybox_material::Material;
 use greybox_sim::checkpoint::{Checkpoint, Checkpointer};
-use greybox_sim::{run, BoundaryGroup, Control, Observer, SimError, Solver};
+use greybox_sim::{run, BoundaryGroup, Control, Controller, Hooks, SimError, Solver};
 
 /// Corrupts one particle at a given step (stands in for any numerical blow-up).
 struct Poison(u64);
-impl Observer for Poison {
+impl Controller for Poison {
     fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
         if sim.step == self.0 {
             sim.particles.sxx[5] = f64::NAN;
@@ -29,7 +29,13 @@ fn unstable_run_stops_with_error_and_last_good_state() {
     });
     let mut sim = Solver::new(model).unwrap();
     let mut ck = Checkpointer::new(&d.path().join("ck.json"), 100, "test");
-    let e = run(&mut sim, 1.0, "test", &mut [&mut Poison(450), &mut ck]).unwrap_err();
+    let e = run(
+        &mut sim,
+        1.0,
+        "test",
+        Hooks::new().control(&mut Poison(450)).checkpoint(&mut ck),
+    )
+    .unwrap_err();
     let msg = e.to_string();
     assert!(
         msg.contains("unstable") && msg.contains("non-finite"),

@@ -37,7 +37,14 @@ fn every_simd_path_gives_the_same_bits() {
     setup.cut_length_m = 0.15e-3;
     let run_on = |path: SimdPath| {
         let taken = cpu::set_path(path);
-        let r = CutRun::execute(&setup, Arc::new(ConstantMu(0.35)), 1.0, None, &mut []).unwrap();
+        let r = CutRun::execute(
+            &setup,
+            Arc::new(ConstantMu(0.35)),
+            1.0,
+            None,
+            &mut greybox_sim::Hooks::new(),
+        )
+        .unwrap();
         (taken, fingerprint(&r), r.force)
     };
     let (_, reference, force) = run_on(SimdPath::Baseline);

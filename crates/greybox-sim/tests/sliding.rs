@@ -51,9 +51,21 @@ fn sliding_ratio(mu: f64, material: Material) -> f64 {
     model.numerics.thermal = false;
     let mut sim = Solver::new(model).unwrap();
     let mut hist = ForceHistory::new(0, 20);
-    run(&mut sim, press + 0.5 * slide, "pin", &mut [&mut hist]).unwrap();
+    run(
+        &mut sim,
+        press + 0.5 * slide,
+        "pin",
+        greybox_sim::Hooks::new().observe(&mut hist),
+    )
+    .unwrap();
     sim.tools[0].windows[0].acc = Default::default();
-    run(&mut sim, press + slide, "pin", &mut [&mut hist]).unwrap();
+    run(
+        &mut sim,
+        press + slide,
+        "pin",
+        greybox_sim::Hooks::new().observe(&mut hist),
+    )
+    .unwrap();
     let f = hist.mean_force(press + 0.5 * slide, press + slide).unwrap();
     let stats = sim.tools[0].windows[0].acc.stats(dx, 1.0).unwrap();
     eprintln!(

@@ -20,7 +20,14 @@ fn coarse_ti_cut(thermal_tool: bool) -> CuttingSetup {
 }
 
 fn run(setup: &CuttingSetup) -> CutRun {
-    CutRun::execute(setup, Arc::new(ConstantMu(setup.mu)), 1.0, None, &mut []).unwrap()
+    CutRun::execute(
+        setup,
+        Arc::new(ConstantMu(setup.mu)),
+        1.0,
+        None,
+        &mut greybox_sim::Hooks::new(),
+    )
+    .unwrap()
 }
 
 /// Heat balance: the workpiece's heat content gained plus the tool's plus what left the

@@ -573,7 +573,7 @@ fn run(s: &CuttingSetup) -> Result<CutRun> {
         Arc::new(ConstantMu(s.mu)),
         1.0,
         None,
-        &mut [],
+        &mut greybox_sim::Hooks::new(),
     )?)
 }
 
