@@ -30,32 +30,27 @@ pub enum PressureConvention {
     ArticleEq7,
 }
 
-impl PressureConvention {
-    pub const ALL: [PressureConvention; 3] = [
-        PressureConvention::TextbookMax,
-        PressureConvention::TextbookMean,
-        PressureConvention::ArticleEq7,
-    ];
-    pub fn name(self) -> &'static str {
-        match self {
-            PressureConvention::TextbookMax => "textbook-max",
-            PressureConvention::TextbookMean => "textbook-mean",
-            PressureConvention::ArticleEq7 => "article-eq7",
-        }
-    }
-    pub fn parse(s: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|c| c.name() == s.trim())
-    }
-}
+crate::choice!(
+    PressureConvention,
+    "convention",
+    [
+        TextbookMax => "textbook-max",
+        TextbookMean => "textbook-mean",
+        ArticleEq7 => "article-eq7",
+    ],
+    text
+);
 
-impl crate::choice::Choice for PressureConvention {
-    const FIELD: &'static str = "convention";
-    const ALL: &'static [Self] = &PressureConvention::ALL;
-    fn name(self) -> &'static str {
-        PressureConvention::name(self)
+impl PressureConvention {
+    /// The convention's name (its [`Choice`](crate::choice::Choice) name).
+    pub fn name(self) -> &'static str {
+        crate::choice::Choice::name(self)
+    }
+    /// The convention named `s` (surrounding blanks ignored), if any.
+    pub fn parse(s: &str) -> Option<Self> {
+        <Self as crate::choice::Choice>::parse_choice(s.trim()).ok()
     }
 }
-crate::choice_traits!(PressureConvention, text);
 
 /// Quality flags raised while identifying one plateau.
 pub mod flags {

@@ -128,11 +128,9 @@ impl TempUnit {
             TempUnit::C => x + 273.15,
         }
     }
+    /// The unit's name (its [`Choice`](greybox_core::choice::Choice) name).
     pub fn name(self) -> &'static str {
-        match self {
-            TempUnit::K => "K",
-            TempUnit::C => "C",
-        }
+        greybox_core::choice::Choice::name(self)
     }
 }
 
@@ -170,18 +168,11 @@ pub enum UnitSystem {
     MpaMmMs,
 }
 
-impl greybox_core::choice::Choice for UnitSystem {
-    const FIELD: &'static str = "units";
-    const ALL: &'static [Self] = &[UnitSystem::MpaMmS, UnitSystem::PaMS, UnitSystem::MpaMmMs];
-    fn name(self) -> &'static str {
-        match self {
-            UnitSystem::MpaMmS => "MPa-mm-s",
-            UnitSystem::PaMS => "Pa-m-s",
-            UnitSystem::MpaMmMs => "MPa-mm-ms",
-        }
-    }
-}
-greybox_core::choice_traits!(UnitSystem);
+greybox_core::choice!(
+    UnitSystem,
+    "units",
+    [MpaMmS => "MPa-mm-s", PaMS => "Pa-m-s", MpaMmMs => "MPa-mm-ms"]
+);
 
 impl UnitSystem {
     /// The table's pressure and slip-rate units in this system.
@@ -205,11 +196,4 @@ impl UnitSystem {
     }
 }
 
-impl greybox_core::choice::Choice for TempUnit {
-    const FIELD: &'static str = "temperature_unit";
-    const ALL: &'static [Self] = &[TempUnit::C, TempUnit::K];
-    fn name(self) -> &'static str {
-        TempUnit::name(self)
-    }
-}
-greybox_core::choice_traits!(TempUnit, text);
+greybox_core::choice!(TempUnit, "temperature_unit", [C => "C", K => "K"], text);

@@ -31,23 +31,17 @@ pub enum TableKind {
 }
 
 impl TableKind {
+    /// The kind's name (its [`Choice`](greybox_core::choice::Choice) name).
     pub fn name(self) -> &'static str {
-        match self {
-            TableKind::Uniform => "uniform",
-            TableKind::Exact => "exact",
-            TableKind::Adaptive => "adaptive",
-        }
+        greybox_core::choice::Choice::name(self)
     }
 }
 
-impl greybox_core::choice::Choice for TableKind {
-    const FIELD: &'static str = "table_kind";
-    const ALL: &'static [Self] = &[TableKind::Exact, TableKind::Adaptive, TableKind::Uniform];
-    fn name(self) -> &'static str {
-        TableKind::name(self)
-    }
-}
-greybox_core::choice_traits!(TableKind);
+greybox_core::choice!(
+    TableKind,
+    "table_kind",
+    [Exact => "exact", Adaptive => "adaptive", Uniform => "uniform"]
+);
 
 /// A table of any kind.
 #[derive(Debug, Clone)]

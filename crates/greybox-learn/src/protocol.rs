@@ -10,167 +10,56 @@
 //! 6. a CV-conformal prediction interval from the selected configuration's out-of-fold
 //!    residuals of step 1.
 
-use crate::boost::BoostParams;
 use crate::cv::{check_folds, grid_search, kfold_ids, nested_cv, OuterFold};
-use crate::forest::ForestParams;
 use crate::importance::{permutation_importance, Importance};
 use crate::interval::{conformal_half_width, IntervalMethod, PredictionInterval};
 use crate::metrics::{metrics_with_ci, Metrics};
-use crate::mlp::{Activation, MlpParams};
-use crate::model::Train;
 use crate::model::{Family, Hyperparameters, Predictor};
+use crate::model::{GridSearch, Train};
 use crate::modelfile::{FeatureRange, ModelFile, SCHEMA, SCHEMA_VERSION};
-use crate::svr::{Kernel, SvrParams};
 use crate::table::Dataset;
 use greybox_core::count::Count;
 use greybox_core::{Error, Result};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-/// Random-forest grid (article: n_estimators ∈ {10, 50, 100, 200}).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct ForestGrid {
-    pub base: ForestParams,
-    pub n_estimators: Vec<usize>,
-}
-impl Default for ForestGrid {
-    fn default() -> Self {
-        ForestGrid {
-            base: ForestParams::default(),
-            n_estimators: vec![10, 50, 100, 200],
-        }
-    }
-}
+pub use crate::boost::BoostGrid;
+pub use crate::forest::ForestGrid;
+pub use crate::mlp::MlpGrid;
+pub use crate::svr::SvrGrid;
 
-/// SVR grid (article: C ∈ {0.1, 1, 10, 100} × 4 kernels × ε ∈ {0.01, 0.1, 0.2, 0.5}).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct SvrGrid {
-    pub base: SvrParams,
-    pub c: Vec<f64>,
-    pub kernel: Vec<Kernel>,
-    pub epsilon: Vec<f64>,
-}
-impl Default for SvrGrid {
-    fn default() -> Self {
-        SvrGrid {
-            base: SvrParams::default(),
-            c: vec![0.1, 1.0, 10.0, 100.0],
-            kernel: vec![Kernel::Linear, Kernel::Poly, Kernel::Rbf, Kernel::Sigmoid],
-            epsilon: vec![0.01, 0.1, 0.2, 0.5],
+/// [`Grids`] from the registry's entries: one field per family, its [`GridSearch::Grid`].
+macro_rules! define_grids {
+    ($($v:ident { name: $n:literal, title: $t:literal, grid: $g:ident, params: $p:ty },)+) => {
+        /// All grids (study TOML `[fit.grid.*]`), one per family of the registry.
+        #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+        #[serde(deny_unknown_fields, default)]
+        pub struct Grids {
+            $(
+                #[doc = concat!("`", $n, "`")]
+                pub $g: <$p as GridSearch>::Grid,
+            )+
         }
-    }
-}
 
-/// Boosting grid (article: n_estimators ∈ {100, 300, 500} × max_depth ∈ {3, 5, 7} × lr ∈ {0.01, 0.05, 0.1}).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct BoostGrid {
-    pub base: BoostParams,
-    pub n_estimators: Vec<usize>,
-    pub max_depth: Vec<usize>,
-    pub learning_rate: Vec<f64>,
-}
-impl Default for BoostGrid {
-    fn default() -> Self {
-        BoostGrid {
-            base: BoostParams::default(),
-            n_estimators: vec![100, 300, 500],
-            max_depth: vec![3, 5, 7],
-            learning_rate: vec![0.01, 0.05, 0.1],
+        impl Grids {
+            /// Every candidate of one family's grid (unvalidated).
+            fn candidates(&self, family: Family) -> Vec<Hyperparameters> {
+                match family {
+                    $(Family::$v => <$p as GridSearch>::candidates(&self.$g)
+                        .into_iter()
+                        .map(Hyperparameters::$v)
+                        .collect(),)+
+                }
+            }
         }
-    }
+    };
 }
-
-/// MLP grid (article: {(64,32), (32,16)} × {relu, tanh} × lr ∈ {0.001, 0.01, 0.1}).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct MlpGrid {
-    pub base: MlpParams,
-    pub hidden_layers: Vec<Vec<usize>>,
-    pub activation: Vec<Activation>,
-    pub learning_rate: Vec<f64>,
-}
-impl Default for MlpGrid {
-    fn default() -> Self {
-        MlpGrid {
-            base: MlpParams::default(),
-            hidden_layers: vec![vec![64, 32], vec![32, 16]],
-            activation: vec![Activation::Relu, Activation::Tanh],
-            learning_rate: vec![0.001, 0.01, 0.1],
-        }
-    }
-}
-
-/// All grids (study TOML `[fit.grid.*]`).
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct Grids {
-    pub random_forest: ForestGrid,
-    pub svr: SvrGrid,
-    pub gradient_boosting: BoostGrid,
-    pub mlp: MlpGrid,
-}
+greybox_model::for_each_family!(define_grids);
 
 impl Grids {
     /// Every candidate of one family, validated.
     pub fn expand(&self, family: Family) -> Result<Vec<Hyperparameters>> {
-        let mut out = Vec::new();
-        match family {
-            Family::RandomForest => {
-                for &n in &self.random_forest.n_estimators {
-                    out.push(Hyperparameters::RandomForest(ForestParams {
-                        n_estimators: n,
-                        ..self.random_forest.base.clone()
-                    }));
-                }
-            }
-            Family::Svr => {
-                for &k in &self.svr.kernel {
-                    for &c in &self.svr.c {
-                        for &e in &self.svr.epsilon {
-                            out.push(Hyperparameters::Svr(SvrParams {
-                                kernel: k,
-                                c,
-                                epsilon: e,
-                                ..self.svr.base.clone()
-                            }));
-                        }
-                    }
-                }
-            }
-            Family::GradientBoosting => {
-                let g = &self.gradient_boosting;
-                for &n in &g.n_estimators {
-                    for &d in &g.max_depth {
-                        for &lr in &g.learning_rate {
-                            out.push(Hyperparameters::GradientBoosting(BoostParams {
-                                n_estimators: n,
-                                max_depth: d,
-                                learning_rate: lr,
-                                ..g.base.clone()
-                            }));
-                        }
-                    }
-                }
-            }
-            Family::Mlp => {
-                let g = &self.mlp;
-                for h in &g.hidden_layers {
-                    for &a in &g.activation {
-                        for &lr in &g.learning_rate {
-                            out.push(Hyperparameters::Mlp(MlpParams {
-                                hidden_layers: h.clone(),
-                                activation: a,
-                                learning_rate: lr,
-                                ..g.base.clone()
-                            }));
-                        }
-                    }
-                }
-            }
-        }
+        let out = self.candidates(family);
         if out.is_empty() {
             return Err(Error::invalid(
                 "grid",
