@@ -30,32 +30,27 @@ pub enum PressureConvention {
     ArticleEq7,
 }
 
-impl PressureConvention {
-    pub const ALL: [PressureConvention; 3] = [
-        PressureConvention::TextbookMax,
-        PressureConvention::TextbookMean,
-        PressureConvention::ArticleEq7,
-    ];
-    pub fn name(self) -> &'static str {
-        match self {
-            PressureConvention::TextbookMax => "textbook-max",
-            PressureConvention::TextbookMean => "textbook-mean",
-            PressureConvention::ArticleEq7 => "article-eq7",
-        }
-    }
-    pub fn parse(s: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|c| c.name() == s.trim())
-    }
-}
+crate::choice!(
+    PressureConvention,
+    "convention",
+    [
+        TextbookMax => "textbook-max",
+        TextbookMean => "textbook-mean",
+        ArticleEq7 => "article-eq7",
+    ],
+    text
+);
 
-impl crate::choice::Choice for PressureConvention {
-    const FIELD: &'static str = "convention";
-    const ALL: &'static [Self] = &PressureConvention::ALL;
-    fn name(self) -> &'static str {
-        PressureConvention::name(self)
+impl PressureConvention {
+    /// The convention's name (its [`Choice`](crate::choice::Choice) name).
+    pub fn name(self) -> &'static str {
+        crate::choice::Choice::name(self)
+    }
+    /// The convention named `s` (surrounding blanks ignored), if any.
+    pub fn parse(s: &str) -> Option<Self> {
+        <Self as crate::choice::Choice>::parse_choice(s.trim()).ok()
     }
 }
-crate::choice_traits!(PressureConvention, text);
 
 /// Quality flags raised while identifying one plateau.
 pub mod flags {
@@ -235,11 +230,46 @@ impl FrictionDataset {
         Self::read_csv_from(file, &path.display().to_string())
     }
 
+    /// Read dataset CSV text strictly (as [`FrictionDataset::read_csv`]); `source` names the
+    /// text in errors.
     pub fn read_csv_from(reader: impl std::io::Read, source: &str) -> Result<Self> {
         let mut rdr = csv::ReaderBuilder::new()
             .has_headers(true)
             .from_reader(reader);
         let header = Header::new(source, rdr.headers().map_err(|e| csv_error(source, e))?);
+        let cols = Columns::of(&header)?;
+        let mut records = Vec::new();
+        for (k, rec) in rdr.records().enumerate() {
+            let rec = rec.map_err(|e| csv_error(source, e))?;
+            let line = record_line(rec.position(), k as u64 + 2);
+            let row = Row {
+                rec: &rec,
+                cols: &cols,
+                source,
+                line,
+            };
+            records.push(row.record()?);
+        }
+        if records.is_empty() {
+            return Err(Error::input(
+                SourcePos::file(source),
+                "the dataset has no rows",
+            ));
+        }
+        Ok(FrictionDataset { records })
+    }
+}
+
+/// Where a dataset file's columns are: [`COLUMNS`] (`None` for an absent optional one) and
+/// the legacy measured-force column, if the file has it.
+struct Columns {
+    idx: Vec<Option<usize>>,
+    legacy_measured: Option<usize>,
+}
+
+impl Columns {
+    /// The columns of `header`: every required one present, no unknown one.
+    fn of(header: &Header) -> Result<Self> {
         let legacy_measured = header.find(LEGACY_MEASURED);
         let mut known = COLUMNS.to_vec();
         known.push(LEGACY_MEASURED);
@@ -254,98 +284,130 @@ impl FrictionDataset {
                 }
             })
             .collect::<Result<_>>()?;
-        let col = |i: usize| idx[i].expect("required column resolved");
-        let mut records = Vec::new();
-        for (k, rec) in rdr.records().enumerate() {
-            let rec = rec.map_err(|e| csv_error(source, e))?;
-            let line = record_line(rec.position(), k as u64 + 2);
-            let f = |i: usize| parse_f64(&rec[col(i)], source, line, COLUMNS[i]);
-            let u = |i: usize| parse_u64(&rec[col(i)], source, line, COLUMNS[i]);
-            let pos = |i: usize| SourcePos::file(source).line(line).field(COLUMNS[i]);
-            let positive = |i: usize| -> Result<f64> {
-                let v = f(i)?;
-                if v <= 0.0 {
-                    return Err(Error::input(
-                        pos(i),
-                        format!("expected a positive value, found {v}"),
-                    ));
-                }
-                Ok(v)
-            };
-            let convention = PressureConvention::parse(&rec[col(6)]).ok_or_else(|| {
-                Error::input(
-                    pos(6),
-                    format!(
-                        "unknown pressure convention '{}'; expected one of textbook-max, textbook-mean, article-eq7",
-                        &rec[col(6)]
-                    ),
-                )
-            })?;
-            let stationary = match rec[col(13)].trim() {
-                "true" => true,
-                "false" => false,
-                other => {
-                    return Err(Error::input(
-                        pos(13),
-                        format!("expected true or false, found '{other}'"),
-                    ))
-                }
-            };
-            let flags = rec[col(14)]
-                .split(';')
-                .map(str::trim)
-                .filter(|s| !s.is_empty())
-                .map(String::from)
-                .collect();
-            let cof_adhesive = match idx[15] {
-                Some(i) => Some(parse_f64(&rec[i], source, line, COLUMNS[15])?),
-                None => None,
-            };
-            let (normal_force_n, normal_force_planned_n) = match legacy_measured {
-                Some(i) => {
-                    let measured = parse_f64(&rec[i], source, line, LEGACY_MEASURED)?;
-                    if !(measured > 0.0) {
-                        return Err(Error::input(
-                            SourcePos::file(source).line(line).field(LEGACY_MEASURED),
-                            format!("expected a positive value, found {measured}"),
-                        ));
-                    }
-                    (measured, Some(positive(2)?))
-                }
-                None => {
-                    let planned = match idx[3].map(|i| rec[i].trim()) {
-                        None | Some("") => None,
-                        Some(_) => Some(positive(3)?),
-                    };
-                    (positive(2)?, planned)
-                }
-            };
-            records.push(FrictionRecord {
-                pin: u(0)? as u32,
-                step: u(1)? as u32,
-                normal_force_n,
-                normal_force_planned_n,
-                sliding_velocity_m_s: units::m_per_min_to_m_per_s(positive(4)?),
-                hertz_pressure_pa: positive(5)? * units::PA_PER_MPA,
-                pressure_convention: convention,
-                cof_apparent: f(7)?,
-                cof_apparent_std: f(8)?,
-                n_samples: u(9)?,
-                plateau_start_s: f(10)?,
-                plateau_end_s: f(11)?,
-                cof_trend_per_s: f(12)?,
-                stationary,
-                flags,
-                cof_adhesive,
-            });
-        }
-        if records.is_empty() {
+        Ok(Columns {
+            idx,
+            legacy_measured,
+        })
+    }
+}
+
+/// One data row of a dataset file, read field by field (`i`: the index in [`COLUMNS`]).
+struct Row<'a> {
+    rec: &'a csv::StringRecord,
+    cols: &'a Columns,
+    source: &'a str,
+    line: u64,
+}
+
+impl Row<'_> {
+    /// The text of required column `i`.
+    fn text(&self, i: usize) -> &str {
+        &self.rec[self.cols.idx[i].expect("required column resolved")]
+    }
+    fn f(&self, i: usize) -> Result<f64> {
+        parse_f64(self.text(i), self.source, self.line, COLUMNS[i])
+    }
+    fn u(&self, i: usize) -> Result<u64> {
+        parse_u64(self.text(i), self.source, self.line, COLUMNS[i])
+    }
+    fn pos(&self, i: usize) -> SourcePos {
+        SourcePos::file(self.source)
+            .line(self.line)
+            .field(COLUMNS[i])
+    }
+    fn positive(&self, i: usize) -> Result<f64> {
+        let v = self.f(i)?;
+        if v <= 0.0 {
             return Err(Error::input(
-                SourcePos::file(source),
-                "the dataset has no rows",
+                self.pos(i),
+                format!("expected a positive value, found {v}"),
             ));
         }
-        Ok(FrictionDataset { records })
+        Ok(v)
+    }
+
+    /// The row as a record (fields checked in the order of the file's columns' meaning).
+    fn record(&self) -> Result<FrictionRecord> {
+        let convention = PressureConvention::parse(self.text(6)).ok_or_else(|| {
+            Error::input(
+                self.pos(6),
+                format!(
+                    "unknown pressure convention '{}'; expected one of textbook-max, textbook-mean, article-eq7",
+                    self.text(6)
+                ),
+            )
+        })?;
+        let stationary = match self.text(13).trim() {
+            "true" => true,
+            "false" => false,
+            other => {
+                return Err(Error::input(
+                    self.pos(13),
+                    format!("expected true or false, found '{other}'"),
+                ))
+            }
+        };
+        let flags = self
+            .text(14)
+            .split(';')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .map(String::from)
+            .collect();
+        let cof_adhesive = match self.cols.idx[15] {
+            Some(i) => Some(parse_f64(
+                &self.rec[i],
+                self.source,
+                self.line,
+                COLUMNS[15],
+            )?),
+            None => None,
+        };
+        let (normal_force_n, normal_force_planned_n) = self.normal_forces()?;
+        Ok(FrictionRecord {
+            pin: self.u(0)? as u32,
+            step: self.u(1)? as u32,
+            normal_force_n,
+            normal_force_planned_n,
+            sliding_velocity_m_s: units::m_per_min_to_m_per_s(self.positive(4)?),
+            hertz_pressure_pa: self.positive(5)? * units::PA_PER_MPA,
+            pressure_convention: convention,
+            cof_apparent: self.f(7)?,
+            cof_apparent_std: self.f(8)?,
+            n_samples: self.u(9)?,
+            plateau_start_s: self.f(10)?,
+            plateau_end_s: self.f(11)?,
+            cof_trend_per_s: self.f(12)?,
+            stationary,
+            flags,
+            cof_adhesive,
+        })
+    }
+
+    /// The measured and planned normal forces, N: a legacy file's measured column holds the
+    /// measured force and `normal_force_N` the planned one.
+    fn normal_forces(&self) -> Result<(f64, Option<f64>)> {
+        Ok(match self.cols.legacy_measured {
+            Some(i) => {
+                let measured = parse_f64(&self.rec[i], self.source, self.line, LEGACY_MEASURED)?;
+                if !(measured > 0.0) {
+                    return Err(Error::input(
+                        SourcePos::file(self.source)
+                            .line(self.line)
+                            .field(LEGACY_MEASURED),
+                        format!("expected a positive value, found {measured}"),
+                    ));
+                }
+                (measured, Some(self.positive(2)?))
+            }
+            None => {
+                let planned = match self.cols.idx[3].map(|i| self.rec[i].trim()) {
+                    None | Some("") => None,
+                    Some(_) => Some(self.positive(3)?),
+                };
+                (self.positive(2)?, planned)
+            }
+        })
     }
 }
 

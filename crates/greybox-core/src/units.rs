@@ -7,6 +7,10 @@ pub const PA_PER_MPA: f64 = 1.0e6;
 pub const PA_PER_GPA: f64 = 1.0e9;
 /// m per mm.
 pub const M_PER_MM: f64 = 1.0e-3;
+/// mm per m.
+pub const MM_PER_M: f64 = 1.0e3;
+/// MPa per Pa.
+pub const MPA_PER_PA: f64 = 1.0e-6;
 /// m per µm.
 pub const M_PER_UM: f64 = 1.0e-6;
 /// Seconds per minute.
@@ -296,6 +300,112 @@ impl TimeUnit {
             "h" => Some(TimeUnit::Hour),
             _ => None,
         }
+    }
+}
+
+/// The pressure (stress) unit of a table's column for an FE engine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum PressureUnit {
+    Pa,
+    #[serde(rename = "MPa")]
+    MPa,
+}
+
+impl PressureUnit {
+    /// Units of this per Pa (the factor a Pa value is multiplied by: 1 or 10⁻⁶).
+    pub fn per_pa(self) -> f64 {
+        match self {
+            PressureUnit::Pa => 1.0,
+            PressureUnit::MPa => MPA_PER_PA,
+        }
+    }
+    /// Pa of a number in this unit (exact factors: Pa·1, MPa·10⁶).
+    pub fn to_pa(self, x: f64) -> f64 {
+        match self {
+            PressureUnit::Pa => x,
+            PressureUnit::MPa => mpa_to_pa(x),
+        }
+    }
+    /// The unit's symbol.
+    pub fn name(self) -> &'static str {
+        match self {
+            PressureUnit::Pa => "Pa",
+            PressureUnit::MPa => "MPa",
+        }
+    }
+}
+
+/// The sliding-velocity unit of a table's column for an FE engine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum VelocityUnit {
+    #[serde(rename = "m/s")]
+    MPerS,
+    #[serde(rename = "mm/s")]
+    MmPerS,
+    #[serde(rename = "m/min")]
+    MPerMin,
+    /// mm/ms: numerically m/s, the speed unit of the g–mm–ms and kg–mm–ms sets.
+    #[serde(rename = "mm/ms")]
+    MmPerMs,
+}
+
+impl VelocityUnit {
+    /// Units of this per m/s (the factor an m/s value is multiplied by: 1, 10³ or 60).
+    pub fn per_m_s(self) -> f64 {
+        match self {
+            VelocityUnit::MPerS => 1.0,
+            VelocityUnit::MmPerS => MM_PER_M,
+            VelocityUnit::MPerMin => S_PER_MIN,
+            VelocityUnit::MmPerMs => 1.0,
+        }
+    }
+    /// m/s of a number in this unit (divided by an exact 1, 10³ or 60).
+    pub fn to_m_s(self, x: f64) -> f64 {
+        match self {
+            VelocityUnit::MPerS => x,
+            VelocityUnit::MmPerS => x / MM_PER_M,
+            VelocityUnit::MPerMin => m_per_min_to_m_per_s(x),
+            VelocityUnit::MmPerMs => x,
+        }
+    }
+    /// The unit's symbol.
+    pub fn name(self) -> &'static str {
+        match self {
+            VelocityUnit::MPerS => "m/s",
+            VelocityUnit::MmPerS => "mm/s",
+            VelocityUnit::MPerMin => "m/min",
+            VelocityUnit::MmPerMs => "mm/ms",
+        }
+    }
+}
+
+/// The temperature unit of a table's column: kelvin or degrees Celsius.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum TemperatureUnit {
+    K,
+    C,
+}
+
+crate::choice!(TemperatureUnit, "temperature_unit", [C => "C", K => "K"], text);
+
+impl TemperatureUnit {
+    /// A temperature t in K, in this unit.
+    pub fn from_k(self, t: f64) -> f64 {
+        match self {
+            TemperatureUnit::K => t,
+            TemperatureUnit::C => t - KELVIN_AT_0_C,
+        }
+    }
+    /// K of a number in this unit.
+    pub fn to_k(self, x: f64) -> f64 {
+        match self {
+            TemperatureUnit::K => x,
+            TemperatureUnit::C => celsius_to_kelvin(x),
+        }
+    }
+    /// The unit's name (its [`Choice`](crate::choice::Choice) name).
+    pub fn name(self) -> &'static str {
+        crate::choice::Choice::name(self)
     }
 }
 

@@ -73,6 +73,130 @@ fn keyword_blocks<'a>(text: &'a str, keyword: &str) -> Vec<(&'a str, Vec<&'a str
     out
 }
 
+/// An error in the file `src`.
+fn missing(src: &str, what: String) -> Error {
+    Error::input(SourcePos::file(src), what)
+}
+
+/// The deck's friction windows: one `*CONTACT PAIR` each (its master surface and surface
+/// interaction), all sharing one slave surface.
+struct ContactPairs {
+    windows: Vec<String>,
+    interactions: Vec<String>,
+    slave: String,
+}
+
+/// The deck's contact pairs (at least one, surface-to-surface, one slave surface).
+fn contact_pairs(deck: &str, dsrc: &str) -> Result<ContactPairs> {
+    let (mut windows, mut interactions, mut slave) = (Vec::new(), Vec::new(), String::new());
+    for (head, data) in keyword_blocks(deck, "*CONTACT PAIR") {
+        let inter = keyword_param(head, "INTERACTION")
+            .ok_or_else(|| missing(dsrc, format!("'{head}' has no INTERACTION=")))?;
+        if keyword_param(head, "TYPE").is_some_and(|t| t.to_ascii_uppercase().contains("MORTAR")) {
+            return Err(missing(dsrc, format!("'{head}': use TYPE=SURFACE TO SURFACE (mortar contact with a shared slave surface fails in CalculiX 2.20)")));
+        }
+        let pair: Vec<&str> = data
+            .first()
+            .map(|d| d.split(',').map(str::trim).collect())
+            .unwrap_or_default();
+        if pair.len() < 2 {
+            return Err(missing(
+                dsrc,
+                format!("'{head}' needs a data line SLAVE, MASTER"),
+            ));
+        }
+        if !slave.is_empty() && !slave.eq_ignore_ascii_case(pair[0]) {
+            return Err(missing(
+                dsrc,
+                format!(
+                    "all windows must share one slave surface; found {slave} and {}",
+                    pair[0]
+                ),
+            ));
+        }
+        slave = pair[0].to_string();
+        windows.push(pair[1].to_string());
+        interactions.push(inter);
+    }
+    if windows.is_empty() {
+        return Err(missing(dsrc, "no *CONTACT PAIR: every friction window needs its own contact pair and surface interaction".into()));
+    }
+    Ok(ContactPairs {
+        windows,
+        interactions,
+        slave,
+    })
+}
+
+/// The stick slope λ of every interaction: from the `*FRICTION` that follows its
+/// `*SURFACE INTERACTION` (0 where none gives one); an interaction the deck does not define
+/// is an error.
+fn stick_slopes(deck: &str, interactions: &[String], dsrc: &str) -> Result<Vec<f64>> {
+    let inter_blocks = keyword_blocks(deck, "*SURFACE INTERACTION");
+    let mut stick_slopes = Vec::new();
+    for name in interactions {
+        if !inter_blocks
+            .iter()
+            .any(|(h, _)| keyword_param(h, "NAME").is_some_and(|n| n.eq_ignore_ascii_case(name)))
+        {
+            return Err(missing(
+                dsrc,
+                format!("no *SURFACE INTERACTION, NAME={name} for the contact pair that uses it"),
+            ));
+        }
+        // the *FRICTION that follows this interaction's definition: take its stick slope λ
+        let pos = deck
+            .to_ascii_uppercase()
+            .find(&format!("NAME={}", name.to_ascii_uppercase()))
+            .unwrap_or(0);
+        let after = &deck[pos..];
+        let lambda = keyword_blocks(after, "*FRICTION")
+            .first()
+            .and_then(|(_, d)| d.first())
+            .and_then(|l| l.split(',').nth(1))
+            .and_then(|v| v.trim().parse::<f64>().ok())
+            .unwrap_or(0.0);
+        stick_slopes.push(lambda);
+    }
+    Ok(stick_slopes)
+}
+
+/// The outputs greybox reads, in the deck or the segment template `text`: each window's
+/// contact forces (CF), the slips (CDIS) and a restart file.
+fn check_outputs(text: &str, src: &str, windows: &[String], slave: &str) -> Result<()> {
+    let prints: Vec<String> = keyword_blocks(text, "*CONTACT PRINT")
+        .iter()
+        .filter(|(_, d)| {
+            d.iter()
+                .any(|l| l.split(',').any(|v| v.trim().eq_ignore_ascii_case("CF")))
+        })
+        .filter_map(|(h, _)| keyword_param(h, "MASTER"))
+        .collect();
+    for w in windows {
+        if !prints.iter().any(|m| m.eq_ignore_ascii_case(w)) {
+            return Err(missing(src, format!("no *CONTACT PRINT, SLAVE={slave}, MASTER={w} with CF: greybox reads each window's forces from it")));
+        }
+    }
+    if !text.to_ascii_uppercase().contains("*RESTART,WRITE")
+        && !text.to_ascii_uppercase().contains("*RESTART, WRITE")
+    {
+        return Err(missing(
+            src,
+            "no *RESTART,WRITE: the next segment restarts from it".into(),
+        ));
+    }
+    if !keyword_blocks(text, "*CONTACT PRINT")
+        .iter()
+        .any(|(_, d)| d.iter().any(|l| l.to_ascii_uppercase().contains("CDIS")))
+    {
+        return Err(missing(
+            src,
+            "no *CONTACT PRINT with CDIS: the sliding velocity comes from it".into(),
+        ));
+    }
+    Ok(())
+}
+
 impl CalculixEngine {
     /// Read and check the deck and the segment template before anything runs.
     pub fn new(cfg: CalculixConfig) -> Result<Self> {
@@ -81,103 +205,14 @@ impl CalculixEngine {
         let template = read(&cfg.segment_template)?;
         let dsrc = cfg.deck.display().to_string();
         let tsrc = cfg.segment_template.display().to_string();
-        let missing = |src: &str, what: String| Error::input(SourcePos::file(src), what);
-        let (mut windows, mut interactions, mut slave) = (Vec::new(), Vec::new(), String::new());
-        for (head, data) in keyword_blocks(&deck, "*CONTACT PAIR") {
-            let inter = keyword_param(head, "INTERACTION")
-                .ok_or_else(|| missing(&dsrc, format!("'{head}' has no INTERACTION=")))?;
-            if keyword_param(head, "TYPE")
-                .is_some_and(|t| t.to_ascii_uppercase().contains("MORTAR"))
-            {
-                return Err(missing(&dsrc, format!("'{head}': use TYPE=SURFACE TO SURFACE (mortar contact with a shared slave surface fails in CalculiX 2.20)")));
-            }
-            let pair: Vec<&str> = data
-                .first()
-                .map(|d| d.split(',').map(str::trim).collect())
-                .unwrap_or_default();
-            if pair.len() < 2 {
-                return Err(missing(
-                    &dsrc,
-                    format!("'{head}' needs a data line SLAVE, MASTER"),
-                ));
-            }
-            if !slave.is_empty() && !slave.eq_ignore_ascii_case(pair[0]) {
-                return Err(missing(
-                    &dsrc,
-                    format!(
-                        "all windows must share one slave surface; found {slave} and {}",
-                        pair[0]
-                    ),
-                ));
-            }
-            slave = pair[0].to_string();
-            windows.push(pair[1].to_string());
-            interactions.push(inter);
-        }
-        if windows.is_empty() {
-            return Err(missing(&dsrc, "no *CONTACT PAIR: every friction window needs its own contact pair and surface interaction".into()));
-        }
-        let inter_blocks = keyword_blocks(&deck, "*SURFACE INTERACTION");
-        let mut stick_slopes = Vec::new();
-        for name in &interactions {
-            if !inter_blocks.iter().any(|(h, _)| {
-                keyword_param(h, "NAME").is_some_and(|n| n.eq_ignore_ascii_case(name))
-            }) {
-                return Err(missing(
-                    &dsrc,
-                    format!(
-                        "no *SURFACE INTERACTION, NAME={name} for the contact pair that uses it"
-                    ),
-                ));
-            }
-            // the *FRICTION that follows this interaction's definition: take its stick slope λ
-            let pos = deck
-                .to_ascii_uppercase()
-                .find(&format!("NAME={}", name.to_ascii_uppercase()))
-                .unwrap_or(0);
-            let after = &deck[pos..];
-            let lambda = keyword_blocks(after, "*FRICTION")
-                .first()
-                .and_then(|(_, d)| d.first())
-                .and_then(|l| l.split(',').nth(1))
-                .and_then(|v| v.trim().parse::<f64>().ok())
-                .unwrap_or(0.0);
-            stick_slopes.push(lambda);
-        }
-        let prints = |text: &str| -> Vec<String> {
-            keyword_blocks(text, "*CONTACT PRINT")
-                .iter()
-                .filter(|(_, d)| {
-                    d.iter()
-                        .any(|l| l.split(',').any(|v| v.trim().eq_ignore_ascii_case("CF")))
-                })
-                .filter_map(|(h, _)| keyword_param(h, "MASTER"))
-                .collect()
-        };
+        let ContactPairs {
+            windows,
+            interactions,
+            slave,
+        } = contact_pairs(&deck, &dsrc)?;
+        let stick_slopes = stick_slopes(&deck, &interactions, &dsrc)?;
         for (text, src) in [(&deck, &dsrc), (&template, &tsrc)] {
-            let p = prints(text);
-            for w in &windows {
-                if !p.iter().any(|m| m.eq_ignore_ascii_case(w)) {
-                    return Err(missing(src, format!("no *CONTACT PRINT, SLAVE={slave}, MASTER={w} with CF: greybox reads each window's forces from it")));
-                }
-            }
-            if !text.to_ascii_uppercase().contains("*RESTART,WRITE")
-                && !text.to_ascii_uppercase().contains("*RESTART, WRITE")
-            {
-                return Err(missing(
-                    src,
-                    "no *RESTART,WRITE: the next segment restarts from it".into(),
-                ));
-            }
-            if !keyword_blocks(text, "*CONTACT PRINT")
-                .iter()
-                .any(|(_, d)| d.iter().any(|l| l.to_ascii_uppercase().contains("CDIS")))
-            {
-                return Err(missing(
-                    src,
-                    "no *CONTACT PRINT with CDIS: the sliding velocity comes from it".into(),
-                ));
-            }
+            check_outputs(text, src, &windows, &slave)?;
         }
         if !template.contains("{{FRICTION}}") {
             return Err(missing(

@@ -8,6 +8,7 @@
 //! input and output files.
 
 use greybox_core::atomic::write_string_atomic;
+use greybox_core::units;
 use greybox_core::{ContactState, Error, FrictionLaw, Result};
 use serde::Serialize;
 use std::path::Path;
@@ -147,8 +148,8 @@ pub fn couple(
             history.push(HistoryRow {
                 cycle,
                 window: names[i].clone(),
-                pressure_mpa: s.pressure_pa * 1e-6,
-                velocity_m_per_min: s.sliding_velocity_m_s * 60.0,
+                pressure_mpa: s.pressure_pa * units::MPA_PER_PA,
+                velocity_m_per_min: units::m_per_s_to_m_per_min(s.sliding_velocity_m_s),
                 temperature_k: s.temperature_k,
                 shear_ratio: s.shear_ratio,
                 mu_used: used.as_ref().map(|u| u[i]),
@@ -295,8 +296,11 @@ impl Engine for CommandEngine {
             rows.insert(
                 f[0].to_string(),
                 WindowState {
-                    pressure_pa: num(f[1], "pressure_MPa")? * 1e6,
-                    sliding_velocity_m_s: num(f[2], "sliding_velocity_m_per_min")? / 60.0,
+                    pressure_pa: units::mpa_to_pa(num(f[1], "pressure_MPa")?),
+                    sliding_velocity_m_s: units::m_per_min_to_m_per_s(num(
+                        f[2],
+                        "sliding_velocity_m_per_min",
+                    )?),
                     temperature_k: t,
                     shear_ratio: num(f[4], "shear_ratio")?,
                 },

@@ -306,12 +306,6 @@ pub fn parse_abaqus(text: &str, source: &str) -> Result<Mesh> {
     };
     let mut index: HashMap<u64, usize> = HashMap::new();
     let mut elem_index: HashMap<u64, usize> = HashMap::new();
-    enum Block {
-        None,
-        Node,
-        Element(Option<String>),
-        Elset(String, bool),
-    }
     let mut block = Block::None;
     let mut pending_sets: Vec<(String, Vec<u64>, u64)> = Vec::new();
     let line_count = text.lines().count();
@@ -322,14 +316,83 @@ pub fn parse_abaqus(text: &str, source: &str) -> Result<Mesh> {
             continue;
         }
         if line.starts_with('*') {
-            let upper = line.to_ascii_uppercase();
-            let param = |key: &str| {
-                line.split(',').skip(1).find_map(|p| {
-                    let (k, v) = p.split_once('=')?;
-                    (k.trim().eq_ignore_ascii_case(key)).then(|| v.trim().to_string())
-                })
-            };
-            block = if upper.starts_with("*NODE")
+            block = Block::of_keyword(line, &pos)?;
+            continue;
+        }
+        let fields: Vec<&str> = line
+            .split(',')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .collect();
+        match &block {
+            Block::Node => {
+                if fields.len() < 3 {
+                    return Err(Error::input(pos(), "a *NODE line needs id, x, y"));
+                }
+                let id = whole(fields[0], &pos)?;
+                index.insert(id, mesh.nodes.len());
+                mesh.nodes
+                    .push([finite(fields[1], &pos)?, finite(fields[2], &pos)?]);
+                mesh.node_ids.push(id);
+            }
+            Block::Element(set) => {
+                let element = element_line(&fields, &index, &pos)?;
+                elem_index.insert(element.id, mesh.elements.len());
+                if let Some(s) = set {
+                    mesh.sets
+                        .entry(s.clone())
+                        .or_default()
+                        .push(mesh.elements.len());
+                }
+                mesh.elements.push(element);
+            }
+            Block::Elset(name, generate) => {
+                let v: Vec<u64> = fields
+                    .iter()
+                    .map(|f| whole(f, &pos))
+                    .collect::<Result<_>>()?;
+                let ids = if *generate {
+                    generated_ids(&v, line_count).map_err(|m| Error::input(pos(), m))?
+                } else {
+                    v
+                };
+                pending_sets.push((name.clone(), ids, i as u64 + 1));
+            }
+            Block::None => {}
+        }
+    }
+    add_element_sets(&mut mesh, pending_sets, &elem_index, source)?;
+    if mesh.elements.is_empty() {
+        return Err(Error::input(
+            SourcePos::file(source),
+            "no 2D elements (*ELEMENT) in the file",
+        ));
+    }
+    Ok(mesh)
+}
+
+/// The keyword block a data line of an Abaqus input belongs to.
+enum Block {
+    None,
+    Node,
+    /// `*ELEMENT`, with its `ELSET=` if any.
+    Element(Option<String>),
+    /// `*ELSET`: its name and whether it is `GENERATE`d.
+    Elset(String, bool),
+}
+
+impl Block {
+    /// The block a keyword line (`*…`) opens; `pos` gives the line for errors.
+    fn of_keyword(line: &str, pos: &dyn Fn() -> SourcePos) -> Result<Block> {
+        let upper = line.to_ascii_uppercase();
+        let param = |key: &str| {
+            line.split(',').skip(1).find_map(|p| {
+                let (k, v) = p.split_once('=')?;
+                (k.trim().eq_ignore_ascii_case(key)).then(|| v.trim().to_string())
+            })
+        };
+        Ok(
+            if upper.starts_with("*NODE")
                 && !upper.starts_with("*NODE ")
                 && !upper.contains("PRINT")
                 && !upper.contains("OUTPUT")
@@ -343,83 +406,69 @@ pub fn parse_abaqus(text: &str, source: &str) -> Result<Mesh> {
                 Block::Elset(name, upper.contains("GENERATE"))
             } else {
                 Block::None
-            };
-            continue;
-        }
-        let fields: Vec<&str> = line
-            .split(',')
-            .map(str::trim)
-            .filter(|s| !s.is_empty())
-            .collect();
-        let num = |s: &str| match s.parse::<f64>() {
-            Ok(x) if x.is_finite() => Ok(x),
-            _ => Err(Error::input(
-                pos(),
-                format!("expected a finite number, found '{s}'"),
-            )),
-        };
-        let whole = |s: &str| match s.parse::<f64>().ok().and_then(whole_number) {
-            Some(id) => Ok(id),
-            None => Err(Error::input(
-                pos(),
-                format!("expected a node or element number (a whole number ≥ 0), found '{s}'"),
-            )),
-        };
-        match &block {
-            Block::Node => {
-                if fields.len() < 3 {
-                    return Err(Error::input(pos(), "a *NODE line needs id, x, y"));
-                }
-                let id = whole(fields[0])?;
-                index.insert(id, mesh.nodes.len());
-                mesh.nodes.push([num(fields[1])?, num(fields[2])?]);
-                mesh.node_ids.push(id);
-            }
-            Block::Element(set) => {
-                let n = fields.len().saturating_sub(1);
-                let Some(nc) = corners(n) else {
-                    return Err(Error::input(
-                        pos(),
-                        format!(
-                            "unsupported element with {n} nodes (2D elements have 3, 4, 6 or 8)"
-                        ),
-                    ));
-                };
-                let id = whole(fields[0])?;
-                let nodes = fields[1..1 + nc]
-                    .iter()
-                    .map(|t| {
-                        let tag = whole(t)?;
-                        index.get(&tag).copied().ok_or_else(|| {
-                            Error::input(
-                                pos(),
-                                format!("element {id} refers to unknown node {tag}"),
-                            )
-                        })
-                    })
-                    .collect::<Result<Vec<_>>>()?;
-                elem_index.insert(id, mesh.elements.len());
-                if let Some(s) = set {
-                    mesh.sets
-                        .entry(s.clone())
-                        .or_default()
-                        .push(mesh.elements.len());
-                }
-                mesh.elements.push(Element { id, nodes });
-            }
-            Block::Elset(name, generate) => {
-                let v: Vec<u64> = fields.iter().map(|f| whole(f)).collect::<Result<_>>()?;
-                let ids = if *generate {
-                    generated_ids(&v, line_count).map_err(|m| Error::input(pos(), m))?
-                } else {
-                    v
-                };
-                pending_sets.push((name.clone(), ids, i as u64 + 1));
-            }
-            Block::None => {}
-        }
+            },
+        )
     }
-    for (name, ids, line) in pending_sets {
+}
+
+/// A finite number of a data line.
+fn finite(s: &str, pos: &dyn Fn() -> SourcePos) -> Result<f64> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(Error::input(
+            pos(),
+            format!("expected a finite number, found '{s}'"),
+        )),
+    }
+}
+
+/// A node or element number of a data line.
+fn whole(s: &str, pos: &dyn Fn() -> SourcePos) -> Result<u64> {
+    match s.parse::<f64>().ok().and_then(whole_number) {
+        Some(id) => Ok(id),
+        None => Err(Error::input(
+            pos(),
+            format!("expected a node or element number (a whole number ≥ 0), found '{s}'"),
+        )),
+    }
+}
+
+/// An `*ELEMENT` data line: its number and its corner nodes (indices into the mesh's nodes,
+/// through `index`).
+fn element_line(
+    fields: &[&str],
+    index: &HashMap<u64, usize>,
+    pos: &dyn Fn() -> SourcePos,
+) -> Result<Element> {
+    let n = fields.len().saturating_sub(1);
+    let Some(nc) = corners(n) else {
+        return Err(Error::input(
+            pos(),
+            format!("unsupported element with {n} nodes (2D elements have 3, 4, 6 or 8)"),
+        ));
+    };
+    let id = whole(fields[0], pos)?;
+    let nodes = fields[1..1 + nc]
+        .iter()
+        .map(|t| {
+            let tag = whole(t, pos)?;
+            index.get(&tag).copied().ok_or_else(|| {
+                Error::input(pos(), format!("element {id} refers to unknown node {tag}"))
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Element { id, nodes })
+}
+
+/// The `*ELSET` blocks' elements added to their sets (after every element is known);
+/// `pending` holds each set's name, element numbers and line.
+fn add_element_sets(
+    mesh: &mut Mesh,
+    pending: Vec<(String, Vec<u64>, u64)>,
+    elem_index: &HashMap<u64, usize>,
+    source: &str,
+) -> Result<()> {
+    for (name, ids, line) in pending {
         for id in ids {
             let e = elem_index.get(&id).copied().ok_or_else(|| {
                 Error::input(
@@ -430,13 +479,7 @@ pub fn parse_abaqus(text: &str, source: &str) -> Result<Mesh> {
             mesh.sets.entry(name.clone()).or_default().push(e);
         }
     }
-    if mesh.elements.is_empty() {
-        return Err(Error::input(
-            SourcePos::file(source),
-            "no 2D elements (*ELEMENT) in the file",
-        ));
-    }
-    Ok(mesh)
+    Ok(())
 }
 
 /// The element numbers of `*ELSET, GENERATE`'s `start, end[, step]`, refused when the range

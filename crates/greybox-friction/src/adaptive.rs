@@ -7,6 +7,7 @@
 //! The refinement is [`crate::refine`]; this module holds the table and its lookup.
 
 use crate::lines::Lines;
+use crate::table_schema::TableKind;
 use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::{ContactState, Error, FrictionLaw, Result};
 use serde::{Deserialize, Serialize};
@@ -17,8 +18,8 @@ pub struct AdaptiveTable {
     /// [`crate::table_schema::TABLE_SCHEMA`].
     pub schema: String,
     pub schema_version: u32,
-    /// "adaptive".
-    pub kind: String,
+    /// [`TableKind::Adaptive`].
+    pub kind: TableKind,
     /// Name of the law it was built from.
     pub source: String,
     /// Pressure nodes, Pa (≥ 2).
@@ -79,7 +80,7 @@ impl AdaptiveTable {
         AdaptiveTable {
             schema: crate::table_schema::TABLE_SCHEMA.into(),
             schema_version: crate::table_schema::TABLE_SCHEMA_VERSION,
-            kind: "adaptive".into(),
+            kind: TableKind::Adaptive,
             source: law.name(),
             pressure_pa: axes[0].clone(),
             velocity_m_s: axes[1].clone(),

@@ -9,6 +9,7 @@
 //! confirms on random points and on every line and its neighbouring floats.
 
 use crate::lines::Lines;
+use crate::table_schema::TableKind;
 use greybox_core::law::ValidityDomain;
 use greybox_core::{Breaks, ContactState, Error, FrictionLaw, Result};
 use rand::{Rng, SeedableRng};
@@ -25,8 +26,8 @@ pub struct ExactTable {
     /// [`crate::table_schema::TABLE_SCHEMA`].
     pub schema: String,
     pub schema_version: u32,
-    /// "exact".
-    pub kind: String,
+    /// [`TableKind::Exact`].
+    pub kind: TableKind,
     /// Name of the law it was built from.
     pub source: String,
     /// Cell boundaries along the pressure, Pa.
@@ -123,7 +124,7 @@ impl ExactTable {
         ExactTable {
             schema: crate::table_schema::TABLE_SCHEMA.into(),
             schema_version: crate::table_schema::TABLE_SCHEMA_VERSION,
-            kind: "exact".into(),
+            kind: TableKind::Exact,
             source: law.name(),
             pressure_pa: breaks.pressure_pa,
             velocity_m_s: breaks.sliding_velocity_m_s,

@@ -1,7 +1,6 @@
 //! The grid a friction law is tabulated on for an FE engine (SI), and the engine's units.
 
 use greybox_core::{Error, Result};
-use serde::{Deserialize, Serialize};
 
 /// The grid a law is evaluated on (SI).
 #[derive(Debug, Clone, PartialEq)]
@@ -41,100 +40,11 @@ impl Grid {
     }
 }
 
-/// Units of an Abaqus table.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum PressureUnit {
-    Pa,
-    #[serde(rename = "MPa")]
-    MPa,
-}
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum SpeedUnit {
-    #[serde(rename = "m/s")]
-    MPerS,
-    #[serde(rename = "mm/s")]
-    MmPerS,
-    #[serde(rename = "m/min")]
-    MPerMin,
-    /// mm/ms: numerically m/s, the speed unit of the g–mm–ms and kg–mm–ms sets.
-    #[serde(rename = "mm/ms")]
-    MmPerMs,
-}
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum TempUnit {
-    K,
-    C,
-}
-
-impl PressureUnit {
-    pub fn per_pa(self) -> f64 {
-        match self {
-            PressureUnit::Pa => 1.0,
-            PressureUnit::MPa => 1e-6,
-        }
-    }
-    /// Pa of a number in this unit (exact factors: Pa·1, MPa·10⁶).
-    pub fn to_pa(self, x: f64) -> f64 {
-        match self {
-            PressureUnit::Pa => x,
-            PressureUnit::MPa => x * 1e6,
-        }
-    }
-    pub fn name(self) -> &'static str {
-        match self {
-            PressureUnit::Pa => "Pa",
-            PressureUnit::MPa => "MPa",
-        }
-    }
-}
-impl SpeedUnit {
-    pub fn per_m_s(self) -> f64 {
-        match self {
-            SpeedUnit::MPerS => 1.0,
-            SpeedUnit::MmPerS => 1e3,
-            SpeedUnit::MPerMin => 60.0,
-            SpeedUnit::MmPerMs => 1.0,
-        }
-    }
-    /// m/s of a number in this unit (divided by an exact 1, 10³ or 60).
-    pub fn to_m_s(self, x: f64) -> f64 {
-        match self {
-            SpeedUnit::MPerS => x,
-            SpeedUnit::MmPerS => x / 1e3,
-            SpeedUnit::MPerMin => x / 60.0,
-            SpeedUnit::MmPerMs => x,
-        }
-    }
-    pub fn name(self) -> &'static str {
-        match self {
-            SpeedUnit::MPerS => "m/s",
-            SpeedUnit::MmPerS => "mm/s",
-            SpeedUnit::MPerMin => "m/min",
-            SpeedUnit::MmPerMs => "mm/ms",
-        }
-    }
-}
-impl TempUnit {
-    pub fn from_k(self, t: f64) -> f64 {
-        match self {
-            TempUnit::K => t,
-            TempUnit::C => t - 273.15,
-        }
-    }
-    /// K of a number in this unit.
-    pub fn to_k(self, x: f64) -> f64 {
-        match self {
-            TempUnit::K => x,
-            TempUnit::C => x + 273.15,
-        }
-    }
-    pub fn name(self) -> &'static str {
-        match self {
-            TempUnit::K => "K",
-            TempUnit::C => "C",
-        }
-    }
-}
+/// The units of a table's columns: the conversions are `greybox_core::units`' (under the
+/// names this crate has always used).
+pub use greybox_core::units::{
+    PressureUnit, TemperatureUnit as TempUnit, VelocityUnit as SpeedUnit,
+};
 
 /// The units of an engine table's columns.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -170,18 +80,11 @@ pub enum UnitSystem {
     MpaMmMs,
 }
 
-impl greybox_core::choice::Choice for UnitSystem {
-    const FIELD: &'static str = "units";
-    const ALL: &'static [Self] = &[UnitSystem::MpaMmS, UnitSystem::PaMS, UnitSystem::MpaMmMs];
-    fn name(self) -> &'static str {
-        match self {
-            UnitSystem::MpaMmS => "MPa-mm-s",
-            UnitSystem::PaMS => "Pa-m-s",
-            UnitSystem::MpaMmMs => "MPa-mm-ms",
-        }
-    }
-}
-greybox_core::choice_traits!(UnitSystem);
+greybox_core::choice!(
+    UnitSystem,
+    "units",
+    [MpaMmS => "MPa-mm-s", PaMS => "Pa-m-s", MpaMmMs => "MPa-mm-ms"]
+);
 
 impl UnitSystem {
     /// The table's pressure and slip-rate units in this system.
@@ -199,17 +102,8 @@ impl UnitSystem {
     /// m per length unit of a deck in this system (mm: 10⁻³).
     pub fn m_per_length_unit(self) -> f64 {
         match self {
-            UnitSystem::MpaMmS | UnitSystem::MpaMmMs => 1e-3,
+            UnitSystem::MpaMmS | UnitSystem::MpaMmMs => greybox_core::units::M_PER_MM,
             UnitSystem::PaMS => 1.0,
         }
     }
 }
-
-impl greybox_core::choice::Choice for TempUnit {
-    const FIELD: &'static str = "temperature_unit";
-    const ALL: &'static [Self] = &[TempUnit::C, TempUnit::K];
-    fn name(self) -> &'static str {
-        TempUnit::name(self)
-    }
-}
-greybox_core::choice_traits!(TempUnit, text);

@@ -110,6 +110,38 @@ fn positive(what: &str, v: f64) -> Result<()> {
     }
 }
 
+/// Usui–Childs' law from its spec's numbers (k in MPa), checked.
+fn usui_childs(mu: f64, m: f64, n: f64, k_mpa: f64) -> Result<Box<dyn FrictionLaw>> {
+    let mpa = units::PA_PER_MPA;
+    positive("k_MPa", k_mpa)?;
+    positive("m", m)?;
+    positive("n", n)?;
+    physical(&[
+        ("mu", Quantity::Mu, mu),
+        ("m", Quantity::ShearFactor, m),
+        ("k_MPa", Quantity::ShearFlowStress, k_mpa * mpa),
+    ])?;
+    Ok(Box::new(UsuiChilds {
+        mu,
+        m,
+        n,
+        k_pa: k_mpa * mpa,
+    }))
+}
+
+/// Thermal softening from its spec's numbers (temperatures in K), checked.
+fn thermal_softening(mu0: f64, t0_k: f64, tm_k: f64, q: f64) -> Result<Box<dyn FrictionLaw>> {
+    physical(&[
+        ("mu0", Quantity::Mu, mu0),
+        ("t0_K", Quantity::Temperature, t0_k),
+        ("tm_K", Quantity::Temperature, tm_k),
+    ])?;
+    if !(tm_k > t0_k) {
+        return Err(Error::invalid("law", "thermal softening needs tm_K > t0_K"));
+    }
+    Ok(Box::new(ThermalSoftening { mu0, t0_k, tm_k, q }))
+}
+
 impl LawSpec {
     /// Build the law; relative paths are resolved against `base`.
     pub fn build(&self, base: &Path) -> Result<Box<dyn FrictionLaw>> {
@@ -141,22 +173,7 @@ impl LawSpec {
                     k_pa: k_mpa * mpa,
                 })
             }
-            LawSpec::UsuiChilds { mu, m, n, k_mpa } => {
-                positive("k_MPa", *k_mpa)?;
-                positive("m", *m)?;
-                positive("n", *n)?;
-                physical(&[
-                    ("mu", Quantity::Mu, *mu),
-                    ("m", Quantity::ShearFactor, *m),
-                    ("k_MPa", Quantity::ShearFlowStress, k_mpa * mpa),
-                ])?;
-                Box::new(UsuiChilds {
-                    mu: *mu,
-                    m: *m,
-                    n: *n,
-                    k_pa: k_mpa * mpa,
-                })
-            }
+            LawSpec::UsuiChilds { mu, m, n, k_mpa } => usui_childs(*mu, *m, *n, *k_mpa)?,
             LawSpec::ExponentialVelocity {
                 mu_static,
                 mu_dynamic,
@@ -174,20 +191,7 @@ impl LawSpec {
                 })
             }
             LawSpec::ThermalSoftening { mu0, t0_k, tm_k, q } => {
-                physical(&[
-                    ("mu0", Quantity::Mu, *mu0),
-                    ("t0_K", Quantity::Temperature, *t0_k),
-                    ("tm_K", Quantity::Temperature, *tm_k),
-                ])?;
-                if !(tm_k > t0_k) {
-                    return Err(Error::invalid("law", "thermal softening needs tm_K > t0_K"));
-                }
-                Box::new(ThermalSoftening {
-                    mu0: *mu0,
-                    t0_k: *t0_k,
-                    tm_k: *tm_k,
-                    q: *q,
-                })
+                thermal_softening(*mu0, *t0_k, *tm_k, *q)?
             }
             LawSpec::Learned { model, contact } => {
                 let path = resolve(base, model);

@@ -4,6 +4,7 @@
 //! of tree ensembles are [`crate::exact_table`], tables refined to a tolerance
 //! [`crate::adaptive`]; files of every kind are read by [`crate::table_file`].
 
+use crate::table_schema::TableKind;
 use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::{ContactState, Error, FrictionLaw, Result};
 use rand::{Rng, SeedableRng};
@@ -54,9 +55,9 @@ pub struct TabulatedLaw {
     /// 1 for files written before table kinds existed (no field), else 2.
     #[serde(default = "version_1")]
     pub schema_version: u32,
-    /// "uniform".
+    /// [`TableKind::Uniform`] (absent from version-1 files).
     #[serde(default = "uniform")]
-    pub kind: String,
+    pub kind: TableKind,
     pub source: String,
     /// Pressure, Pa.
     pub pressure: Axis,
@@ -78,8 +79,8 @@ pub use crate::table_schema::TABLE_SCHEMA;
 fn version_1() -> u32 {
     1
 }
-fn uniform() -> String {
-    "uniform".into()
+fn uniform() -> TableKind {
+    TableKind::Uniform
 }
 
 impl TabulatedLaw {

@@ -13,41 +13,12 @@
 use crate::adaptive::AdaptiveTable;
 use crate::exact_table::ExactTable;
 use crate::table::TabulatedLaw;
+use greybox_core::choice::Choice;
 use greybox_core::{Error, FrictionLaw, Result, SourcePos};
 use serde::de::DeserializeOwned;
 use std::path::Path;
 
-pub use crate::table_schema::{TABLE_SCHEMA, TABLE_SCHEMA_VERSION};
-
-/// The kinds of table.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TableKind {
-    /// Uniform grid, bilinear/trilinear ([`TabulatedLaw`]).
-    Uniform,
-    /// Cells between a piecewise-constant law's thresholds ([`ExactTable`]).
-    Exact,
-    /// Non-uniform grid refined to a tolerance, bilinear/trilinear ([`AdaptiveTable`]).
-    Adaptive,
-}
-
-impl TableKind {
-    pub fn name(self) -> &'static str {
-        match self {
-            TableKind::Uniform => "uniform",
-            TableKind::Exact => "exact",
-            TableKind::Adaptive => "adaptive",
-        }
-    }
-}
-
-impl greybox_core::choice::Choice for TableKind {
-    const FIELD: &'static str = "table_kind";
-    const ALL: &'static [Self] = &[TableKind::Exact, TableKind::Adaptive, TableKind::Uniform];
-    fn name(self) -> &'static str {
-        TableKind::name(self)
-    }
-}
-greybox_core::choice_traits!(TableKind);
+pub use crate::table_schema::{TableKind, TABLE_SCHEMA, TABLE_SCHEMA_VERSION};
 
 /// A table of any kind.
 #[derive(Debug, Clone)]
@@ -153,8 +124,16 @@ pub fn parse_table(text: &str, path: &Path) -> Result<AnyTable> {
             })?,
     };
     let kind = match (version, v.get("kind")) {
-        (1, _) => "uniform",
-        (_, Some(k)) => k.as_str().unwrap_or("?"),
+        (1, _) => TableKind::Uniform,
+        (_, Some(k)) => {
+            let name = k.as_str().unwrap_or("?");
+            TableKind::parse_choice(name).map_err(|_| {
+                Error::input(
+                    pos().field("kind"),
+                    format!("unknown table kind '{name}' (expected uniform, exact or adaptive)"),
+                )
+            })?
+        }
         (_, None) => {
             return Err(Error::input(
                 pos().field("kind"),
@@ -167,27 +146,21 @@ pub fn parse_table(text: &str, path: &Path) -> Result<AnyTable> {
         other => Error::input(pos(), other.to_string()),
     };
     Ok(match kind {
-        "uniform" => {
+        TableKind::Uniform => {
             let t: TabulatedLaw = parse(text, path)?;
             t.validate().map_err(field_error)?;
             AnyTable::Uniform(t.prepare())
         }
-        "exact" => AnyTable::Exact(
+        TableKind::Exact => AnyTable::Exact(
             parse::<ExactTable>(text, path)?
                 .prepare()
                 .map_err(field_error)?,
         ),
-        "adaptive" => AnyTable::Adaptive(
+        TableKind::Adaptive => AnyTable::Adaptive(
             parse::<AdaptiveTable>(text, path)?
                 .prepare()
                 .map_err(field_error)?,
         ),
-        other => {
-            return Err(Error::input(
-                pos().field("kind"),
-                format!("unknown table kind '{other}' (expected uniform, exact or adaptive)"),
-            ))
-        }
     })
 }
 

@@ -10,7 +10,7 @@
 //! prediction is the margin itself (squared, absolute, pseudo-Huber, squared-log error).
 
 use crate::trees::{boundary, ArrayTree};
-use greybox_model::tree::{Accumulation, TreeEnsemble};
+use greybox_model::tree::{Accumulation, Node, TreeEnsemble};
 use serde_json::Value;
 
 /// Objectives whose prediction is the raw margin (no link function).
@@ -84,6 +84,38 @@ pub fn convert(doc: &Value) -> Result<Booster, String> {
                 .join(".")
         })
         .unwrap_or_else(|| "unknown".into());
+    let objective = supported_objective(learner)?;
+    let (n_features, base) = model_params(learner)?;
+    let trees = get(learner, &["gradient_booster", "model", "trees"])?
+        .as_array()
+        .ok_or("gradient_booster.model.trees is not an array")?;
+    if trees.is_empty() {
+        return Err("the booster has no trees".into());
+    }
+    let mut ensemble = TreeEnsemble::new(n_features, base as f64, 1.0);
+    ensemble.accumulation = Accumulation::F32;
+    for (k, tree) in trees.iter().enumerate() {
+        ensemble.push_tree(tree_nodes(tree, k, n_features)?, 0);
+    }
+    let feature_names = learner
+        .get("feature_names")
+        .and_then(|v| v.as_array())
+        .filter(|v| !v.is_empty())
+        .map(|v| {
+            v.iter()
+                .filter_map(|s| s.as_str().map(str::to_string))
+                .collect()
+        });
+    Ok(Booster {
+        ensemble,
+        version,
+        objective,
+        feature_names,
+    })
+}
+
+/// The learner's objective, if it predicts the margin itself, with a `gbtree` booster.
+fn supported_objective(learner: &Value) -> Result<String, String> {
     let objective = text(learner, &["objective", "name"])?.to_string();
     if !IDENTITY_OBJECTIVES.contains(&objective.as_str()) {
         return Err(format!(
@@ -97,6 +129,11 @@ pub fn convert(doc: &Value) -> Result<Booster, String> {
             "booster '{booster}': only 'gbtree' is supported (dart and gblinear are not)"
         ));
     }
+    Ok(objective)
+}
+
+/// The number of features and the base score of a single-output regression model.
+fn model_params(learner: &Value) -> Result<(usize, f32), String> {
     let param = get(learner, &["learner_model_param"])?;
     for (key, ok) in [("num_class", "0"), ("num_target", "1")] {
         if let Ok(v) = text(param, &[key]) {
@@ -114,64 +151,43 @@ pub fn convert(doc: &Value) -> Result<Booster, String> {
         return Err("num_feature is 0".into());
     }
     let base = number_string(param, &["base_score"])? as f32;
-    let trees = get(learner, &["gradient_booster", "model", "trees"])?
-        .as_array()
-        .ok_or("gradient_booster.model.trees is not an array")?;
-    if trees.is_empty() {
-        return Err("the booster has no trees".into());
-    }
-    let mut ensemble = TreeEnsemble::new(n_features, base as f64, 1.0);
-    ensemble.accumulation = Accumulation::F32;
+    Ok((n_features, base))
+}
+
+/// Tree `k` as greybox nodes (numerical splits and scalar leaves only).
+fn tree_nodes(tree: &Value, k: usize, n_features: usize) -> Result<Vec<Node>, String> {
     // left ⟺ float32(x) < s: restated as x <= boundary on the f64 input.
     let split = |_f: usize, s: f64| {
         let s = s as f32;
         boundary(|x| (x as f32) < s)
     };
-    for (k, tree) in trees.iter().enumerate() {
-        let int = |x: &Value| x.as_i64();
-        let float = |x: &Value| x.as_f64().map(|v| v as f32 as f64);
-        let left = numbers(tree, "left_children", k, int)?;
-        let right = numbers(tree, "right_children", k, int)?;
-        let feature = numbers(tree, "split_indices", k, int)?;
-        let cond = numbers(tree, "split_conditions", k, float)?;
-        if let Ok(types) = numbers(tree, "split_type", k, int) {
-            if let Some(i) = types.iter().position(|t| *t != 0) {
-                return Err(format!(
-                    "tree {k}: node {i} is a categorical split (not supported)"
-                ));
-            }
+    let int = |x: &Value| x.as_i64();
+    let float = |x: &Value| x.as_f64().map(|v| v as f32 as f64);
+    let left = numbers(tree, "left_children", k, int)?;
+    let right = numbers(tree, "right_children", k, int)?;
+    let feature = numbers(tree, "split_indices", k, int)?;
+    let cond = numbers(tree, "split_conditions", k, float)?;
+    if let Ok(types) = numbers(tree, "split_type", k, int) {
+        if let Some(i) = types.iter().position(|t| *t != 0) {
+            return Err(format!(
+                "tree {k}: node {i} is a categorical split (not supported)"
+            ));
         }
-        if let Some(size) = tree.pointer("/tree_param/size_leaf_vector") {
-            if !matches!(size.as_str(), Some("1") | Some("0")) {
-                return Err(format!(
-                    "tree {k}: vector leaves (size_leaf_vector {size}) are not supported"
-                ));
-            }
-        }
-        // A leaf's value is its split_condition.
-        let arrays = ArrayTree {
-            left: &left,
-            right: &right,
-            feature: &feature,
-            threshold: &cond,
-            value: &cond,
-        };
-        let nodes = arrays.flatten(n_features, &format!("tree {k}"), &split)?;
-        ensemble.push_tree(nodes, 0);
     }
-    let feature_names = learner
-        .get("feature_names")
-        .and_then(|v| v.as_array())
-        .filter(|v| !v.is_empty())
-        .map(|v| {
-            v.iter()
-                .filter_map(|s| s.as_str().map(str::to_string))
-                .collect()
-        });
-    Ok(Booster {
-        ensemble,
-        version,
-        objective,
-        feature_names,
-    })
+    if let Some(size) = tree.pointer("/tree_param/size_leaf_vector") {
+        if !matches!(size.as_str(), Some("1") | Some("0")) {
+            return Err(format!(
+                "tree {k}: vector leaves (size_leaf_vector {size}) are not supported"
+            ));
+        }
+    }
+    // A leaf's value is its split_condition.
+    let arrays = ArrayTree {
+        left: &left,
+        right: &right,
+        feature: &feature,
+        threshold: &cond,
+        value: &cond,
+    };
+    arrays.flatten(n_features, &format!("tree {k}"), &split)
 }

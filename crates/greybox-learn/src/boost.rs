@@ -5,12 +5,13 @@
 //! estimated intercept for `reg:squarederror`). Defaults follow XGBoost where the grid does
 //! not set a value (λ = 1, min_child_weight = 1, γ = 0).
 
-use crate::model::Regressor;
+use crate::model::{GridSearch, Regressor};
 use crate::tree::{grow_with_leaves, GrowParams, TreeEnsemble};
 use crate::Matrix;
 use greybox_core::{Error, Result};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
 
 pub use greybox_model::ensemble::BoostParams;
 use greybox_model::ensemble::{BoostDepth, Trees};
@@ -77,5 +78,47 @@ impl Regressor for BoostParams {
             ens.push_tree(nodes, root);
         }
         Ok(ens)
+    }
+}
+
+/// Boosting grid (article: n_estimators ∈ {100, 300, 500} × max_depth ∈ {3, 5, 7} × lr ∈ {0.01, 0.05, 0.1}).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BoostGrid {
+    pub base: BoostParams,
+    pub n_estimators: Vec<usize>,
+    pub max_depth: Vec<usize>,
+    pub learning_rate: Vec<f64>,
+}
+
+impl Default for BoostGrid {
+    fn default() -> Self {
+        BoostGrid {
+            base: BoostParams::default(),
+            n_estimators: vec![100, 300, 500],
+            max_depth: vec![3, 5, 7],
+            learning_rate: vec![0.01, 0.05, 0.1],
+        }
+    }
+}
+
+impl GridSearch for BoostParams {
+    type Grid = BoostGrid;
+    /// Rounds outermost, then depth, then learning rate.
+    fn candidates(grid: &BoostGrid) -> Vec<Self> {
+        let mut out = Vec::new();
+        for &n_estimators in &grid.n_estimators {
+            for &max_depth in &grid.max_depth {
+                for &learning_rate in &grid.learning_rate {
+                    out.push(BoostParams {
+                        n_estimators,
+                        max_depth,
+                        learning_rate,
+                        ..grid.base.clone()
+                    });
+                }
+            }
+        }
+        out
     }
 }

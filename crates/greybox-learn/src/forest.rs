@@ -2,13 +2,14 @@
 //! CART trees grown to purity on bootstrap samples, averaged. Defaults follow
 //! scikit-learn's `RandomForestRegressor` (all features per split, min_samples_leaf = 1).
 
-use crate::model::Regressor;
+use crate::model::{GridSearch, Regressor};
 use crate::tree::{grow, GrowParams, TreeEnsemble};
 use crate::Matrix;
 use greybox_core::{Error, Result};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 pub use greybox_model::ensemble::ForestParams;
 use greybox_model::ensemble::Trees;
@@ -68,5 +69,35 @@ impl Regressor for ForestParams {
             ens.push_tree(nodes, root);
         }
         Ok(ens)
+    }
+}
+
+/// Random-forest grid (article: n_estimators ∈ {10, 50, 100, 200}).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ForestGrid {
+    pub base: ForestParams,
+    pub n_estimators: Vec<usize>,
+}
+
+impl Default for ForestGrid {
+    fn default() -> Self {
+        ForestGrid {
+            base: ForestParams::default(),
+            n_estimators: vec![10, 50, 100, 200],
+        }
+    }
+}
+
+impl GridSearch for ForestParams {
+    type Grid = ForestGrid;
+    fn candidates(grid: &ForestGrid) -> Vec<Self> {
+        grid.n_estimators
+            .iter()
+            .map(|&n| ForestParams {
+                n_estimators: n,
+                ..grid.base.clone()
+            })
+            .collect()
     }
 }

@@ -7,7 +7,7 @@
 //! are standardised inside the model.
 
 use crate::matrix::{standardize_target, Standardizer};
-use crate::model::Regressor;
+use crate::model::{GridSearch, Regressor};
 use crate::Matrix;
 use greybox_core::{Error, Result};
 pub use greybox_model::mlp::{Activation, MlpModel, MlpParams, MAX_WIDTH};
@@ -15,6 +15,7 @@ use greybox_model::mlp::{Epochs, LayerWidth, MAX_LAYERS};
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
 
 /// The activation's derivative expressed through its output a.
 #[inline]
@@ -510,4 +511,46 @@ fn train_on(
         best_epoch = epochs;
     }
     Ok((epochs, best_epoch))
+}
+
+/// MLP grid (article: {(64,32), (32,16)} × {relu, tanh} × lr ∈ {0.001, 0.01, 0.1}).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MlpGrid {
+    pub base: MlpParams,
+    pub hidden_layers: Vec<Vec<usize>>,
+    pub activation: Vec<Activation>,
+    pub learning_rate: Vec<f64>,
+}
+
+impl Default for MlpGrid {
+    fn default() -> Self {
+        MlpGrid {
+            base: MlpParams::default(),
+            hidden_layers: vec![vec![64, 32], vec![32, 16]],
+            activation: vec![Activation::Relu, Activation::Tanh],
+            learning_rate: vec![0.001, 0.01, 0.1],
+        }
+    }
+}
+
+impl GridSearch for MlpParams {
+    type Grid = MlpGrid;
+    /// Layer sizes outermost, then activation, then learning rate.
+    fn candidates(grid: &MlpGrid) -> Vec<Self> {
+        let mut out = Vec::new();
+        for hidden_layers in &grid.hidden_layers {
+            for &activation in &grid.activation {
+                for &learning_rate in &grid.learning_rate {
+                    out.push(MlpParams {
+                        hidden_layers: hidden_layers.clone(),
+                        activation,
+                        learning_rate,
+                        ..grid.base.clone()
+                    });
+                }
+            }
+        }
+        out
+    }
 }

@@ -38,6 +38,20 @@ pub trait Regressor: Send + Sync {
     fn fit(&self, x: &Matrix, y: &[f64], seed: u64) -> Result<Self::Fitted>;
 }
 
+/// A family's grid search: the grid type (a study's `[fit.grid.<family>]`, serde data with
+/// the article's values as default) and the hyperparameter sets it expands to, in the order
+/// they are tried.
+pub trait GridSearch: Regressor + Sized {
+    type Grid: std::fmt::Debug
+        + Clone
+        + PartialEq
+        + Default
+        + serde::Serialize
+        + serde::de::DeserializeOwned;
+    /// Every candidate of the grid (unvalidated).
+    fn candidates(grid: &Self::Grid) -> Vec<Self>;
+}
+
 /// Training for every family of the registry: validate and fit whatever
 /// [`Hyperparameters`] hold.
 pub trait Train {
@@ -45,26 +59,26 @@ pub trait Train {
     fn fit(&self, x: &Matrix, y: &[f64], seed: u64) -> Result<FittedModel>;
 }
 
-impl Train for Hyperparameters {
-    fn validate(&self) -> Result<()> {
-        match self {
-            Hyperparameters::RandomForest(p) => p.validate(),
-            Hyperparameters::Svr(p) => p.validate(),
-            Hyperparameters::GradientBoosting(p) => p.validate(),
-            Hyperparameters::Mlp(p) => p.validate(),
-            Hyperparameters::Imported(i) => Err(refit_imported(i)),
+/// [`Train`] from the registry's entries: each family's [`Regressor`].
+macro_rules! train_families {
+    ($($v:ident { name: $n:literal, title: $t:literal, grid: $g:ident, params: $p:ty },)+) => {
+        impl Train for Hyperparameters {
+            fn validate(&self) -> Result<()> {
+                match self {
+                    $(Hyperparameters::$v(p) => p.validate(),)+
+                    Hyperparameters::Imported(i) => Err(refit_imported(i)),
+                }
+            }
+            fn fit(&self, x: &Matrix, y: &[f64], seed: u64) -> Result<FittedModel> {
+                match self {
+                    $(Hyperparameters::$v(p) => Ok(p.fit(x, y, seed)?.into()),)+
+                    Hyperparameters::Imported(i) => Err(refit_imported(i)),
+                }
+            }
         }
-    }
-    fn fit(&self, x: &Matrix, y: &[f64], seed: u64) -> Result<FittedModel> {
-        Ok(match self {
-            Hyperparameters::RandomForest(p) => FittedModel::TreeEnsemble(p.fit(x, y, seed)?),
-            Hyperparameters::Svr(p) => FittedModel::Svr(p.fit(x, y, seed)?),
-            Hyperparameters::GradientBoosting(p) => FittedModel::TreeEnsemble(p.fit(x, y, seed)?),
-            Hyperparameters::Mlp(p) => FittedModel::Mlp(p.fit(x, y, seed)?),
-            Hyperparameters::Imported(i) => return Err(refit_imported(i)),
-        })
-    }
+    };
 }
+greybox_model::for_each_family!(train_families);
 
 fn refit_imported(i: &greybox_model::family::ImportedFrom) -> greybox_core::Error {
     greybox_core::Error::invalid(

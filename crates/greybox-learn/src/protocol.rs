@@ -10,167 +10,56 @@
 //! 6. a CV-conformal prediction interval from the selected configuration's out-of-fold
 //!    residuals of step 1.
 
-use crate::boost::BoostParams;
-use crate::cv::{check_folds, grid_search, kfold_ids, nested_cv, OuterFold};
-use crate::forest::ForestParams;
+use crate::cv::{check_folds, grid_search, kfold_ids, nested_cv, CvResult, OuterFold};
 use crate::importance::{permutation_importance, Importance};
 use crate::interval::{conformal_half_width, IntervalMethod, PredictionInterval};
 use crate::metrics::{metrics_with_ci, Metrics};
-use crate::mlp::{Activation, MlpParams};
-use crate::model::Train;
 use crate::model::{Family, Hyperparameters, Predictor};
+use crate::model::{GridSearch, Train};
 use crate::modelfile::{FeatureRange, ModelFile, SCHEMA, SCHEMA_VERSION};
-use crate::svr::{Kernel, SvrParams};
 use crate::table::Dataset;
 use greybox_core::count::Count;
 use greybox_core::{Error, Result};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-/// Random-forest grid (article: n_estimators ∈ {10, 50, 100, 200}).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct ForestGrid {
-    pub base: ForestParams,
-    pub n_estimators: Vec<usize>,
-}
-impl Default for ForestGrid {
-    fn default() -> Self {
-        ForestGrid {
-            base: ForestParams::default(),
-            n_estimators: vec![10, 50, 100, 200],
-        }
-    }
-}
+pub use crate::boost::BoostGrid;
+pub use crate::forest::ForestGrid;
+pub use crate::mlp::MlpGrid;
+pub use crate::svr::SvrGrid;
 
-/// SVR grid (article: C ∈ {0.1, 1, 10, 100} × 4 kernels × ε ∈ {0.01, 0.1, 0.2, 0.5}).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct SvrGrid {
-    pub base: SvrParams,
-    pub c: Vec<f64>,
-    pub kernel: Vec<Kernel>,
-    pub epsilon: Vec<f64>,
-}
-impl Default for SvrGrid {
-    fn default() -> Self {
-        SvrGrid {
-            base: SvrParams::default(),
-            c: vec![0.1, 1.0, 10.0, 100.0],
-            kernel: vec![Kernel::Linear, Kernel::Poly, Kernel::Rbf, Kernel::Sigmoid],
-            epsilon: vec![0.01, 0.1, 0.2, 0.5],
+/// [`Grids`] from the registry's entries: one field per family, its [`GridSearch::Grid`].
+macro_rules! define_grids {
+    ($($v:ident { name: $n:literal, title: $t:literal, grid: $g:ident, params: $p:ty },)+) => {
+        /// All grids (study TOML `[fit.grid.*]`), one per family of the registry.
+        #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+        #[serde(deny_unknown_fields, default)]
+        pub struct Grids {
+            $(
+                #[doc = concat!("`", $n, "`")]
+                pub $g: <$p as GridSearch>::Grid,
+            )+
         }
-    }
-}
 
-/// Boosting grid (article: n_estimators ∈ {100, 300, 500} × max_depth ∈ {3, 5, 7} × lr ∈ {0.01, 0.05, 0.1}).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct BoostGrid {
-    pub base: BoostParams,
-    pub n_estimators: Vec<usize>,
-    pub max_depth: Vec<usize>,
-    pub learning_rate: Vec<f64>,
-}
-impl Default for BoostGrid {
-    fn default() -> Self {
-        BoostGrid {
-            base: BoostParams::default(),
-            n_estimators: vec![100, 300, 500],
-            max_depth: vec![3, 5, 7],
-            learning_rate: vec![0.01, 0.05, 0.1],
+        impl Grids {
+            /// Every candidate of one family's grid (unvalidated).
+            fn candidates(&self, family: Family) -> Vec<Hyperparameters> {
+                match family {
+                    $(Family::$v => <$p as GridSearch>::candidates(&self.$g)
+                        .into_iter()
+                        .map(Hyperparameters::$v)
+                        .collect(),)+
+                }
+            }
         }
-    }
+    };
 }
-
-/// MLP grid (article: {(64,32), (32,16)} × {relu, tanh} × lr ∈ {0.001, 0.01, 0.1}).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct MlpGrid {
-    pub base: MlpParams,
-    pub hidden_layers: Vec<Vec<usize>>,
-    pub activation: Vec<Activation>,
-    pub learning_rate: Vec<f64>,
-}
-impl Default for MlpGrid {
-    fn default() -> Self {
-        MlpGrid {
-            base: MlpParams::default(),
-            hidden_layers: vec![vec![64, 32], vec![32, 16]],
-            activation: vec![Activation::Relu, Activation::Tanh],
-            learning_rate: vec![0.001, 0.01, 0.1],
-        }
-    }
-}
-
-/// All grids (study TOML `[fit.grid.*]`).
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct Grids {
-    pub random_forest: ForestGrid,
-    pub svr: SvrGrid,
-    pub gradient_boosting: BoostGrid,
-    pub mlp: MlpGrid,
-}
+greybox_model::for_each_family!(define_grids);
 
 impl Grids {
     /// Every candidate of one family, validated.
     pub fn expand(&self, family: Family) -> Result<Vec<Hyperparameters>> {
-        let mut out = Vec::new();
-        match family {
-            Family::RandomForest => {
-                for &n in &self.random_forest.n_estimators {
-                    out.push(Hyperparameters::RandomForest(ForestParams {
-                        n_estimators: n,
-                        ..self.random_forest.base.clone()
-                    }));
-                }
-            }
-            Family::Svr => {
-                for &k in &self.svr.kernel {
-                    for &c in &self.svr.c {
-                        for &e in &self.svr.epsilon {
-                            out.push(Hyperparameters::Svr(SvrParams {
-                                kernel: k,
-                                c,
-                                epsilon: e,
-                                ..self.svr.base.clone()
-                            }));
-                        }
-                    }
-                }
-            }
-            Family::GradientBoosting => {
-                let g = &self.gradient_boosting;
-                for &n in &g.n_estimators {
-                    for &d in &g.max_depth {
-                        for &lr in &g.learning_rate {
-                            out.push(Hyperparameters::GradientBoosting(BoostParams {
-                                n_estimators: n,
-                                max_depth: d,
-                                learning_rate: lr,
-                                ..g.base.clone()
-                            }));
-                        }
-                    }
-                }
-            }
-            Family::Mlp => {
-                let g = &self.mlp;
-                for h in &g.hidden_layers {
-                    for &a in &g.activation {
-                        for &lr in &g.learning_rate {
-                            out.push(Hyperparameters::Mlp(MlpParams {
-                                hidden_layers: h.clone(),
-                                activation: a,
-                                learning_rate: lr,
-                                ..g.base.clone()
-                            }));
-                        }
-                    }
-                }
-            }
-        }
+        let out = self.candidates(family);
         if out.is_empty() {
             return Err(Error::invalid(
                 "grid",
@@ -320,128 +209,153 @@ fn run_family(
     family: Family,
     progress: &greybox_core::progress::Task,
 ) -> Result<(FamilyReport, ModelFile)> {
-    let n = data.y.len();
-    {
-        let ids = ids.to_vec();
-        let t0 = std::time::Instant::now();
-        let grid = cfg.grid.expand(family)?;
-        // A one-candidate grid's final fit does not wait for its CV: both run at once (the
-        // same fit, seed and data either way, so the same model).
-        let fit_all = |h: &Hyperparameters| h.fit(&data.x, &data.y, cfg.seed);
-        let (searched, early) = if grid.len() == 1 {
-            let (s, m) = rayon::join(
-                || grid_search(&grid, &data.x, &data.y, &ids, cfg.seed),
-                || fit_all(&grid[0]),
-            );
-            (s, Some(m))
-        } else {
-            (grid_search(&grid, &data.x, &data.y, &ids, cfg.seed), None)
-        };
-        let (results, best) = searched?;
-        let selected = grid[best].clone();
-        let model = match early {
-            Some(m) => m?,
-            None => fit_all(&selected)?,
-        };
-        let pred = model.predict(&data.x);
-        let training = metrics_with_ci(&data.y, &pred, cfg.bootstrap_resamples.get(), cfg.seed);
-        progress.inc(1);
-        greybox_core::interrupt::check()?;
-        let held_out = if cfg.skip_nested {
-            None
-        } else {
-            let (oof, folds): (Vec<f64>, Vec<OuterFold>) = nested_cv(
-                &grid,
-                &data.x,
-                &data.y,
-                &ids,
-                cfg.inner_folds.get(),
-                cfg.seed,
-            )?;
-            Some(HeldOut {
-                metrics: metrics_with_ci(&data.y, &oof, cfg.bootstrap_resamples.get(), cfg.seed),
-                r2_per_fold: folds.iter().map(|f| f.r2).collect(),
-                selected_per_fold: folds.iter().map(|f| f.selected.label()).collect(),
-                predictions: oof,
+    let t0 = std::time::Instant::now();
+    let grid = cfg.grid.expand(family)?;
+    let Searched {
+        results,
+        best,
+        model,
+    } = search_and_fit(data, cfg, ids, &grid)?;
+    let selected = grid[best].clone();
+    let pred = model.predict(&data.x);
+    let training = metrics_with_ci(&data.y, &pred, cfg.bootstrap_resamples.get(), cfg.seed);
+    progress.inc(1);
+    greybox_core::interrupt::check()?;
+    let held_out = if cfg.skip_nested {
+        None
+    } else {
+        Some(held_out(data, cfg, ids, &grid)?)
+    };
+    progress.inc(1);
+    greybox_core::interrupt::check()?;
+    let importance = permutation_importance(
+        &model,
+        &data.x,
+        &data.y,
+        names,
+        cfg.importance_repeats.get(),
+        cfg.importance_seed,
+    );
+    progress.inc(1);
+    let interval = PredictionInterval {
+        coverage: cfg.interval_coverage,
+        half_width: conformal_half_width(&data.y, &results[best].oof, cfg.interval_coverage),
+        method: IntervalMethod::CvConformal,
+    };
+    let report = FamilyReport {
+        family,
+        selected_label: selected.label(),
+        selected: selected.clone(),
+        cv_mse: results[best].mse,
+        grid: grid
+            .iter()
+            .zip(&results)
+            .map(|(h, r)| Candidate {
+                hyperparameters: h.label(),
+                cv_mse: r.mse,
             })
-        };
-        progress.inc(1);
-        greybox_core::interrupt::check()?;
-        let importance = permutation_importance(
-            &model,
-            &data.x,
-            &data.y,
-            names,
-            cfg.importance_repeats.get(),
-            cfg.importance_seed,
+            .collect(),
+        training,
+        training_predictions: pred,
+        held_out,
+        importance,
+        interval,
+        seconds: t0.elapsed().as_secs_f64(),
+    };
+    let file = model_file(data, &report, model)?;
+    Ok((report, file))
+}
+
+/// Step 1 and 2's outcome: the grid's CV results, the best candidate and its model refitted
+/// on all rows.
+struct Searched {
+    results: Vec<CvResult>,
+    best: usize,
+    model: crate::model::FittedModel,
+}
+
+/// Steps 1–2: grid search by k-fold CV, then the selected configuration fitted on all rows.
+/// A one-candidate grid's final fit does not wait for its CV: both run at once (the same
+/// fit, seed and data either way, so the same model).
+fn search_and_fit(
+    data: &Dataset,
+    cfg: &FitConfig,
+    ids: &[usize],
+    grid: &[Hyperparameters],
+) -> Result<Searched> {
+    let fit_all = |h: &Hyperparameters| h.fit(&data.x, &data.y, cfg.seed);
+    let (searched, early) = if grid.len() == 1 {
+        let (s, m) = rayon::join(
+            || grid_search(grid, &data.x, &data.y, ids, cfg.seed),
+            || fit_all(&grid[0]),
         );
-        progress.inc(1);
-        let interval = PredictionInterval {
-            coverage: cfg.interval_coverage,
-            half_width: conformal_half_width(&data.y, &results[best].oof, cfg.interval_coverage),
-            method: IntervalMethod::CvConformal,
-        };
-        let report = FamilyReport {
-            family,
-            selected_label: selected.label(),
-            selected: selected.clone(),
-            cv_mse: results[best].mse,
-            grid: grid
-                .iter()
-                .zip(&results)
-                .map(|(h, r)| Candidate {
-                    hyperparameters: h.label(),
-                    cv_mse: r.mse,
-                })
-                .collect(),
-            training,
-            training_predictions: pred,
-            held_out,
-            importance,
-            interval,
-            seconds: t0.elapsed().as_secs_f64(),
-        };
-        let file = ModelFile {
-            schema: SCHEMA.into(),
-            schema_version: SCHEMA_VERSION,
-            family,
-            hyperparameters: selected,
-            features: data.features.clone(),
-            target: data.target.clone(),
-            training_domain: data
-                .x
-                .column_ranges()
-                .into_iter()
-                .map(|(min, max)| FeatureRange { min, max })
-                .collect(),
-            n_train: n,
-            prediction_interval: interval,
-            held_out_r2: report.held_out.as_ref().map(|h| h.metrics.r2.value),
-            model,
-            force_to_pressure: None,
-            provenance: None,
-            content_hash: String::new(),
-        }
-        .seal()?;
-        Ok((report, file))
+        (s, Some(m))
+    } else {
+        (grid_search(grid, &data.x, &data.y, ids, cfg.seed), None)
+    };
+    let (results, best) = searched?;
+    let model = match early {
+        Some(m) => m?,
+        None => fit_all(&grid[best])?,
+    };
+    Ok(Searched {
+        results,
+        best,
+        model,
+    })
+}
+
+/// Step 4: held-out metrics from nested CV.
+fn held_out(
+    data: &Dataset,
+    cfg: &FitConfig,
+    ids: &[usize],
+    grid: &[Hyperparameters],
+) -> Result<HeldOut> {
+    let (oof, folds): (Vec<f64>, Vec<OuterFold>) =
+        nested_cv(grid, &data.x, &data.y, ids, cfg.inner_folds.get(), cfg.seed)?;
+    Ok(HeldOut {
+        metrics: metrics_with_ci(&data.y, &oof, cfg.bootstrap_resamples.get(), cfg.seed),
+        r2_per_fold: folds.iter().map(|f| f.r2).collect(),
+        selected_per_fold: folds.iter().map(|f| f.selected.label()).collect(),
+        predictions: oof,
+    })
+}
+
+/// The family's model file: the selected model with its training domain and interval, sealed.
+fn model_file(
+    data: &Dataset,
+    report: &FamilyReport,
+    model: crate::model::FittedModel,
+) -> Result<ModelFile> {
+    ModelFile {
+        schema: SCHEMA.into(),
+        schema_version: SCHEMA_VERSION,
+        family: report.family,
+        hyperparameters: report.selected.clone(),
+        features: data.features.clone(),
+        target: data.target.clone(),
+        training_domain: data
+            .x
+            .column_ranges()
+            .into_iter()
+            .map(|(min, max)| FeatureRange { min, max })
+            .collect(),
+        n_train: data.y.len(),
+        prediction_interval: report.interval,
+        held_out_r2: report.held_out.as_ref().map(|h| h.metrics.r2.value),
+        model,
+        force_to_pressure: None,
+        provenance: None,
+        content_hash: String::new(),
     }
+    .seal()
 }
 
 /// The report as Markdown tables shaped like the article's Tables 7 and 8.
 pub fn markdown(report: &FitReport) -> String {
     let fams = &report.families;
     let mut s = String::new();
-    let head = |s: &mut String, title: &str| {
-        s.push_str(&format!("| {title} |"));
-        for f in fams {
-            s.push_str(&format!(" {} |", f.family.title()));
-        }
-        s.push_str("\n|---|");
-        for _ in fams {
-            s.push_str("---|");
-        }
-        s.push('\n');
-    };
     s.push_str(&format!(
         "Dataset `{}`: {} rows, features {}, target `{}`.\n\n",
         report.source,
@@ -450,7 +364,7 @@ pub fn markdown(report: &FitReport) -> String {
         report.target
     ));
     s.push_str("**Selected hyperparameters** (k-fold CV MSE):\n\n");
-    head(&mut s, "family");
+    table_head(&mut s, fams, "family");
     s.push_str("| selected |");
     for f in fams {
         s.push_str(&format!(" {} |", f.selected_label));
@@ -460,54 +374,81 @@ pub fn markdown(report: &FitReport) -> String {
         s.push_str(&format!(" {:.3e} |", f.cv_mse));
     }
     s.push_str("\n\n");
-    let metric_rows = |s: &mut String, pick: &dyn Fn(&FamilyReport) -> Option<Metrics>| {
-        for (name, get) in [
-            (
-                "MAE",
-                (|m: &Metrics| m.mae) as fn(&Metrics) -> crate::metrics::WithCi,
-            ),
-            ("MSE", |m: &Metrics| m.mse),
-            ("MAPE", |m: &Metrics| m.mape),
-        ] {
-            s.push_str(&format!("| {name} |"));
-            for f in fams {
-                match pick(f) {
-                    Some(m) => {
-                        let v = get(&m);
-                        if name == "MSE" {
-                            s.push_str(&format!(
-                                " {:.2e} [{:.2e}, {:.2e}] |",
-                                v.value, v.ci_low, v.ci_high
-                            ));
-                        } else {
-                            s.push_str(&format!(
-                                " {:.4} [{:.4}, {:.4}] |",
-                                v.value, v.ci_low, v.ci_high
-                            ));
-                        }
-                    }
-                    None => s.push_str(" – |"),
-                }
-            }
-            s.push('\n');
-        }
-        s.push_str("| R² |");
+    s.push_str("**Training metrics** (as in the article's Table 7: on the training data, optimistic; 95 % bootstrap CIs):\n\n");
+    table_head(&mut s, fams, "metric");
+    metric_rows(&mut s, fams, &|f| Some(f.training));
+    s.push_str("\n**Held-out metrics** (nested cross-validation; the honest estimate):\n\n");
+    table_head(&mut s, fams, "metric");
+    metric_rows(&mut s, fams, &|f| f.held_out.as_ref().map(|h| h.metrics));
+    importance_and_interval(&mut s, report);
+    s
+}
+
+/// A table's head: `title` and one column per family (its title).
+fn table_head(s: &mut String, fams: &[FamilyReport], title: &str) {
+    s.push_str(&format!("| {title} |"));
+    for f in fams {
+        s.push_str(&format!(" {} |", f.family.title()));
+    }
+    s.push_str("\n|---|");
+    for _ in fams {
+        s.push_str("---|");
+    }
+    s.push('\n');
+}
+
+/// MAE, MSE and MAPE with their CIs, then R², of the metrics `pick` gives per family
+/// ("–" where none).
+fn metric_rows(
+    s: &mut String,
+    fams: &[FamilyReport],
+    pick: &dyn Fn(&FamilyReport) -> Option<Metrics>,
+) {
+    for (name, get) in [
+        (
+            "MAE",
+            (|m: &Metrics| m.mae) as fn(&Metrics) -> crate::metrics::WithCi,
+        ),
+        ("MSE", |m: &Metrics| m.mse),
+        ("MAPE", |m: &Metrics| m.mape),
+    ] {
+        s.push_str(&format!("| {name} |"));
         for f in fams {
             match pick(f) {
-                Some(m) => s.push_str(&format!(" {:.4} |", m.r2.value)),
+                Some(m) => {
+                    let v = get(&m);
+                    if name == "MSE" {
+                        s.push_str(&format!(
+                            " {:.2e} [{:.2e}, {:.2e}] |",
+                            v.value, v.ci_low, v.ci_high
+                        ));
+                    } else {
+                        s.push_str(&format!(
+                            " {:.4} [{:.4}, {:.4}] |",
+                            v.value, v.ci_low, v.ci_high
+                        ));
+                    }
+                }
                 None => s.push_str(" – |"),
             }
         }
         s.push('\n');
-    };
-    s.push_str("**Training metrics** (as in the article's Table 7: on the training data, optimistic; 95 % bootstrap CIs):\n\n");
-    head(&mut s, "metric");
-    metric_rows(&mut s, &|f| Some(f.training));
-    s.push_str("\n**Held-out metrics** (nested cross-validation; the honest estimate):\n\n");
-    head(&mut s, "metric");
-    metric_rows(&mut s, &|f| f.held_out.as_ref().map(|h| h.metrics));
+    }
+    s.push_str("| R² |");
+    for f in fams {
+        match pick(f) {
+            Some(m) => s.push_str(&format!(" {:.4} |", m.r2.value)),
+            None => s.push_str(" – |"),
+        }
+    }
+    s.push('\n');
+}
+
+/// The permutation-importance table (Table 8) and the prediction intervals.
+fn importance_and_interval(s: &mut String, report: &FitReport) {
+    let fams = &report.families;
     s.push_str("\n**Permutation importance** (Table 8: R² drop, mean ± std over repeats):\n\n");
-    head(&mut s, "feature");
+    table_head(s, fams, "feature");
     for (j, name) in report.features.iter().enumerate() {
         s.push_str(&format!("| {name} |"));
         for f in fams {
@@ -517,7 +458,7 @@ pub fn markdown(report: &FitReport) -> String {
         s.push('\n');
     }
     s.push_str("\n**Prediction interval** (CV-conformal):\n\n");
-    head(&mut s, "interval");
+    table_head(s, fams, "interval");
     s.push_str("| ± half-width |");
     for f in fams {
         s.push_str(&format!(
@@ -527,5 +468,4 @@ pub fn markdown(report: &FitReport) -> String {
         ));
     }
     s.push('\n');
-    s
 }

@@ -12,12 +12,13 @@
 //! ([`crate::svr_lowrank`]).
 
 use crate::matrix::Standardizer;
-use crate::model::Regressor;
+use crate::model::{GridSearch, Regressor};
 use crate::Matrix;
 use greybox_core::{Error, Result};
 pub use greybox_model::svr::{
     dot, kernel_value, Kernel, SvrModel, SvrParams, SvrSolver, MAX_FEATURES,
 };
+use serde::{Deserialize, Serialize};
 
 /// Memory for the kernel rows SMO keeps between iterations (each row K(r, ·) takes 8 l bytes;
 /// a row that does not fit is recomputed when needed). When the whole kernel matrix fits, it
@@ -173,4 +174,46 @@ fn fit_low_rank(p: &SvrParams, z: &Matrix, y: &[f64], gamma: f64) -> Option<SvrM
         rho: -sol.bias,
         iterations: sol.iterations,
     })
+}
+
+/// SVR grid (article: C ∈ {0.1, 1, 10, 100} × 4 kernels × ε ∈ {0.01, 0.1, 0.2, 0.5}).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SvrGrid {
+    pub base: SvrParams,
+    pub c: Vec<f64>,
+    pub kernel: Vec<Kernel>,
+    pub epsilon: Vec<f64>,
+}
+
+impl Default for SvrGrid {
+    fn default() -> Self {
+        SvrGrid {
+            base: SvrParams::default(),
+            c: vec![0.1, 1.0, 10.0, 100.0],
+            kernel: vec![Kernel::Linear, Kernel::Poly, Kernel::Rbf, Kernel::Sigmoid],
+            epsilon: vec![0.01, 0.1, 0.2, 0.5],
+        }
+    }
+}
+
+impl GridSearch for SvrParams {
+    type Grid = SvrGrid;
+    /// Kernels outermost, then C, then ε.
+    fn candidates(grid: &SvrGrid) -> Vec<Self> {
+        let mut out = Vec::new();
+        for &kernel in &grid.kernel {
+            for &c in &grid.c {
+                for &epsilon in &grid.epsilon {
+                    out.push(SvrParams {
+                        kernel,
+                        c,
+                        epsilon,
+                        ..grid.base.clone()
+                    });
+                }
+            }
+        }
+        out
+    }
 }

@@ -15,7 +15,7 @@ use crate::Matrix;
 use greybox_model::svr::{dot, kernel_value, Kernel, SvrParams};
 
 /// Row r of the kernel matrix of the standardised rows `z` into `row` (length z.n_rows).
-pub(crate) fn kernel_row(p: &SvrParams, gamma: f64, z: &Matrix, r: usize, row: &mut [f64]) {
+pub fn kernel_row(p: &SvrParams, gamma: f64, z: &Matrix, r: usize, row: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx512f") {

@@ -6,7 +6,7 @@
 //! The iterates are those of the full-matrix solver this replaces, bit for bit: every kernel
 //! value is computed by the same expression, the gradient updates and the reconstruction of
 //! the shrunk variables' gradients add the same terms in the same order (see the test
-//! against the full-matrix reference, `svr_smo_dense`).
+//! against the full-matrix reference, `tests/common/old_svr.rs`).
 
 use crate::svr_rows::{kernel_diagonal, kernel_row};
 use crate::Matrix;
@@ -16,7 +16,7 @@ const TAU: f64 = 1e-12;
 
 /// The solution of the dual in the original variable order (t < l: α_t; t ≥ l: α*_{t−l}),
 /// with the gradient of every variable and the SMO iterations used.
-pub(crate) struct Dual {
+pub struct Dual {
     pub alpha: Vec<f64>,
     pub grad: Vec<f64>,
     pub iterations: usize,
@@ -24,7 +24,7 @@ pub(crate) struct Dual {
 
 /// Solve the ε-SVR dual on standardised rows `z` with at most `cache_bytes` of cached kernel
 /// rows (at least two rows are kept whatever the budget).
-pub(crate) fn solve(p: &SvrParams, z: &Matrix, y: &[f64], gamma: f64, cache_bytes: usize) -> Dual {
+pub fn solve(p: &SvrParams, z: &Matrix, y: &[f64], gamma: f64, cache_bytes: usize) -> Dual {
     let l = z.n_rows;
     let fill = |r: usize, row: &mut [f64]| kernel_row(p, gamma, z, r, row);
     let qd = kernel_diagonal(p, gamma, z);
@@ -414,7 +414,7 @@ fn update_grad_avx2(c: &mut GCols, kj: &[f64], di: f64, dj: f64) -> Option<(f64,
 /// The factor ±y_t C by which Ḡ changes along K_t· when α_t moves from `old` to `new`:
 /// + when it reached the upper bound C, − when it left it, `None` otherwise.
 #[inline]
-pub(crate) fn g_bar_change(old: f64, new: f64, c: f64, yt: f64) -> Option<f64> {
+pub fn g_bar_change(old: f64, new: f64, c: f64, yt: f64) -> Option<f64> {
     match (old >= c, new >= c) {
         (false, true) => Some(yt * c),
         (true, false) => Some(-(yt * c)),
@@ -757,70 +757,8 @@ impl<F: Fn(usize, &mut [f64])> Smo<F> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use greybox_model::matrix::Standardizer;
-    use greybox_model::svr::Kernel;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
-
-    /// μ(F, v) falling with load and speed, 1 % noise; standardised rows.
-    fn data(n: usize, seed: u64) -> (Matrix, Vec<f64>) {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let normal = rand_distr::Normal::new(0.0, 1.0).unwrap();
-        let mut rows = Vec::new();
-        let mut y = Vec::new();
-        for _ in 0..n {
-            let f: f64 = rng.gen_range(150.0..2000.0);
-            let v: f64 = rng.gen_range(20.0..250.0);
-            let e: f64 = rand_distr::Distribution::sample(&normal, &mut rng);
-            rows.push(vec![f, v]);
-            y.push(
-                (0.2 + 0.45 * (f / 150.0).powf(-0.18) * (v / 20.0).powf(-0.2)) * (1.0 + 0.01 * e),
-            );
-        }
-        let x = Matrix::from_rows(&rows);
-        (Standardizer::fit(&x).transform(&x), y)
-    }
-
-    /// The cached, shrinking solver takes the full-matrix solver's steps exactly: the same α,
-    /// the same gradient (so the same dual objective, ρ and predictions) and the same number
-    /// of iterations, bit for bit, whether the cache holds the whole matrix, a few rows, or
-    /// only the two of the working set; and again on a second run.
-    #[test]
-    fn cached_smo_takes_the_full_matrix_solvers_steps_bit_for_bit() {
-        let (z, y) = data(300, 5);
-        let l = z.n_rows;
-        for (kernel, c, epsilon) in [
-            (Kernel::Rbf, 1.0, 0.005),
-            (Kernel::Rbf, 100.0, 0.002),
-            (Kernel::Sigmoid, 1.0, 0.005),
-            (Kernel::Sigmoid, 100.0, 0.001),
-        ] {
-            let p = SvrParams {
-                kernel,
-                c,
-                epsilon,
-                ..Default::default()
-            };
-            let want = crate::svr_smo_dense::solve(&p, &z, &y, 0.5);
-            // shrinking (every l iterations here) must have run for the comparison to cover it
-            assert!(want.iterations > l, "{kernel:?} C={c}: {}", want.iterations);
-            for bytes in [usize::MAX / 2, 8 * l * 7, 0, 0] {
-                let got = solve(&p, &z, &y, 0.5, bytes);
-                assert_eq!(
-                    got.iterations, want.iterations,
-                    "{kernel:?} C={c} cache {bytes}"
-                );
-                for t in 0..2 * l {
-                    assert_eq!(got.alpha[t].to_bits(), want.alpha[t].to_bits(), "α_{t}");
-                    assert_eq!(got.grad[t].to_bits(), want.grad[t].to_bits(), "G_{t}");
-                }
-            }
-            eprintln!(
-                "{kernel:?} C={c} ε={epsilon}: {} iterations",
-                want.iterations
-            );
-        }
-    }
 
     /// The AVX2 scans give the portable scans' bits: the same G_max2, j, next i and
     /// gradients, on random columns of every length modulo 4 (ties included).

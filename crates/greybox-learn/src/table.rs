@@ -104,6 +104,9 @@ fn check_column_names(source: &str, features: &[String], target: &str) -> Result
     Ok(())
 }
 
+/// A dataset from CSV text: the `features` and `target` columns (and the fold ids of
+/// `fold_column`), checked for physical values, at least two rows, a varying target and at
+/// least two folds; duplicated rows become warnings. `source` names the text in errors.
 pub fn read_dataset_from(
     reader: impl std::io::Read,
     source: &str,
@@ -122,35 +125,7 @@ pub fn read_dataset_from(
         .has_headers(true)
         .from_reader(reader);
     let header = Header::new(source, rdr.headers().map_err(|e| csv_error(source, e))?);
-    let fi: Vec<usize> = features
-        .iter()
-        .map(|f| {
-            header.find(f).ok_or_else(|| {
-                Error::input(
-                    SourcePos::file(source).line(1).field(f.clone()),
-                    format!(
-                        "unknown feature '{f}'; the file has: {}",
-                        header.names().join(", ")
-                    ),
-                )
-            })
-        })
-        .collect::<Result<_>>()?;
-    if features.iter().any(|f| f == target) {
-        return Err(Error::invalid(
-            "features",
-            format!("the target '{target}' cannot also be a feature"),
-        ));
-    }
-    let ti = header.find(target).ok_or_else(|| {
-        Error::input(
-            SourcePos::file(source).line(1).field(target),
-            format!(
-                "unknown target '{target}'; the file has: {}",
-                header.names().join(", ")
-            ),
-        )
-    })?;
+    let (fi, ti) = column_indices(&header, source, features, target)?;
     let foldi = fold_column.map(|c| header.require(c)).transpose()?;
     let mut data = Vec::new();
     let mut y = Vec::new();
@@ -180,6 +155,65 @@ pub fn read_dataset_from(
             f.push(parse_u64(&rec[i], source, line, fold_column.unwrap_or_default())? as usize);
         }
     }
+    check_target(&y, source, target)?;
+    if let (Some(f), Some(name)) = (&folds, fold_column) {
+        check_fold_ids(f, source, name)?;
+    }
+    let x = Matrix::new(y.len(), features.len(), data);
+    let warnings = duplicate_warnings(&x, &y, source);
+    Ok(Dataset {
+        source: source.to_string(),
+        features: features.iter().map(|f| Column::new(f)).collect(),
+        target: Column::new(target),
+        x,
+        y,
+        folds,
+        warnings,
+    })
+}
+
+/// The columns of the features and of the target; a target that is also a feature, or a
+/// name the header lacks (listing the header's names), is an error.
+fn column_indices(
+    header: &Header,
+    source: &str,
+    features: &[String],
+    target: &str,
+) -> Result<(Vec<usize>, usize)> {
+    let fi: Vec<usize> = features
+        .iter()
+        .map(|f| {
+            header.find(f).ok_or_else(|| {
+                Error::input(
+                    SourcePos::file(source).line(1).field(f.clone()),
+                    format!(
+                        "unknown feature '{f}'; the file has: {}",
+                        header.names().join(", ")
+                    ),
+                )
+            })
+        })
+        .collect::<Result<_>>()?;
+    if features.iter().any(|f| f == target) {
+        return Err(Error::invalid(
+            "features",
+            format!("the target '{target}' cannot also be a feature"),
+        ));
+    }
+    let ti = header.find(target).ok_or_else(|| {
+        Error::input(
+            SourcePos::file(source).line(1).field(target),
+            format!(
+                "unknown target '{target}'; the file has: {}",
+                header.names().join(", ")
+            ),
+        )
+    })?;
+    Ok((fi, ti))
+}
+
+/// At least two rows, and a target that varies (a constant one leaves nothing to learn).
+fn check_target(y: &[f64], source: &str, target: &str) -> Result<()> {
     let n = y.len();
     if n < 2 {
         return Err(Error::input(
@@ -198,23 +232,30 @@ pub fn read_dataset_from(
             format!("the target is constant ({lo}): there is nothing to learn"),
         ));
     }
-    if let (Some(f), Some(name)) = (&folds, fold_column) {
-        let mut ids = f.clone();
-        ids.sort_unstable();
-        ids.dedup();
-        if ids.len() < 2 {
-            return Err(Error::input(
-                SourcePos::file(source).field(name),
-                format!(
-                    "the fold column has {} distinct value(s) ({}): cross-validation needs at least two folds",
-                    ids.len(),
-                    ids.iter().map(|i| i.to_string()).collect::<Vec<_>>().join(", ")
-                ),
-            ));
-        }
+    Ok(())
+}
+
+/// The fold column `name` holds at least two distinct fold ids.
+fn check_fold_ids(folds: &[usize], source: &str, name: &str) -> Result<()> {
+    let mut ids = folds.to_vec();
+    ids.sort_unstable();
+    ids.dedup();
+    if ids.len() < 2 {
+        return Err(Error::input(
+            SourcePos::file(source).field(name),
+            format!(
+                "the fold column has {} distinct value(s) ({}): cross-validation needs at least two folds",
+                ids.len(),
+                ids.iter().map(|i| i.to_string()).collect::<Vec<_>>().join(", ")
+            ),
+        ));
     }
-    let x = Matrix::new(n, features.len(), data);
-    let dups = duplicate_rows(&x, &y);
+    Ok(())
+}
+
+/// A warning naming the duplicated rows (the first five), if any.
+fn duplicate_warnings(x: &Matrix, y: &[f64], source: &str) -> Vec<String> {
+    let dups = duplicate_rows(x, y);
     let mut warnings = Vec::new();
     if !dups.is_empty() {
         let shown: Vec<String> = dups
@@ -229,15 +270,7 @@ pub fn read_dataset_from(
             if dups.len() > 5 { ", …" } else { "" }
         ));
     }
-    Ok(Dataset {
-        source: source.to_string(),
-        features: features.iter().map(|f| Column::new(f)).collect(),
-        target: Column::new(target),
-        x,
-        y,
-        folds,
-        warnings,
-    })
+    warnings
 }
 
 #[cfg(test)]

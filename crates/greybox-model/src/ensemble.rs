@@ -23,6 +23,13 @@ pub struct ForestParams {
     pub bootstrap: bool,
 }
 
+impl ForestParams {
+    /// The grid-relevant values, e.g. `n_estimators=100`.
+    pub fn label(&self) -> String {
+        format!("n_estimators={}", self.n_estimators)
+    }
+}
+
 impl Default for ForestParams {
     fn default() -> Self {
         ForestParams {
@@ -47,6 +54,16 @@ pub struct BoostParams {
     pub min_child_weight: f64,
     /// Minimum split gain γ.
     pub gamma: f64,
+}
+
+impl BoostParams {
+    /// The grid-relevant values, e.g. `n_estimators=100, max_depth=3, learning_rate=0.1`.
+    pub fn label(&self) -> String {
+        format!(
+            "n_estimators={}, max_depth={}, learning_rate={}",
+            self.n_estimators, self.max_depth, self.learning_rate
+        )
+    }
 }
 
 impl Default for BoostParams {

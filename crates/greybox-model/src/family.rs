@@ -1,79 +1,158 @@
 //! The registry of model families for inference: which families exist, their hyperparameters
 //! (plain serde data) and their fitted models, each predicting single points without
-//! allocating. Training (the `Regressor` seam) lives in `greybox-learn`.
+//! allocating. Training (the `Regressor` seam, the grids) lives in `greybox-learn`.
+//!
+//! # The registry
+//!
+//! Every family is listed once, in [`for_each_family!`]: its variant, its name (command line,
+//! Python, study files, model files), its column title in the report's tables, the field of
+//! its grid in a study's `[fit.grid.*]` and its hyperparameter type. The macro hands that list
+//! to a macro of the caller's, which generates the per-family code from it: here [`Family`]
+//! (with its [`Choice`](greybox_core::choice::Choice) and titles) and [`Hyperparameters`];
+//! in `greybox-learn` the grids (`protocol::Grids`) and training (`model::Train`). No other
+//! code matches on the families one by one.
+//!
+//! Adding a family takes these files (plus a `mod` line in each crate's `lib.rs`):
+//!
+//! 1. `crates/greybox-model/src/family.rs` — one line in [`for_each_family!`] (and, when the
+//!    family brings a new kind of fitted model, a [`FittedModel`] variant with its `Kind`);
+//! 2. `crates/greybox-model/src/<family>.rs` — its hyperparameters (serde data with a
+//!    `label()`) and, if new, its fitted model (a [`Predictor`]);
+//! 3. `crates/greybox-learn/src/<family>.rs` — its `Regressor` (validate, fit) and its grid
+//!    (`GridSearch`: the grid type and the candidates it expands to).
+//!
+//! The test `registry_tests::every_consumer_lists_the_registry` checks that the lists of
+//! families outside Rust code (the `--families` help, the Python docstring, the docs) name
+//! the registry's families, in its order.
 
-use crate::ensemble::{BoostParams, ForestParams};
-use crate::mlp::{MlpModel, MlpParams};
-use crate::svr::{SvrModel, SvrParams};
+use crate::mlp::MlpModel;
+use crate::svr::SvrModel;
 use crate::tree::TreeEnsemble;
 use serde::{Deserialize, Serialize};
 
 pub use crate::predictor::Predictor;
 
-/// The four model families.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Family {
-    RandomForest,
-    Svr,
-    GradientBoosting,
-    Mlp,
+/// The registry of model families (see the [module doc](self)): calls `$then! { … }` with one
+/// entry per family, in the order they are listed to users and fitted by default:
+///
+/// `Variant { name: "…", title: "…", grid: field, params: Type },`
+///
+/// ```
+/// macro_rules! names {
+///     ($($v:ident { name: $n:literal, title: $t:literal, grid: $g:ident, params: $p:ty },)+) => {
+///         [$($n),+]
+///     };
+/// }
+/// let names = greybox_model::for_each_family!(names);
+/// assert_eq!(names, ["random-forest", "svr", "gradient-boosting", "mlp"]);
+/// ```
+#[macro_export]
+macro_rules! for_each_family {
+    ($then:ident) => {
+        $then! {
+            RandomForest {
+                name: "random-forest",
+                title: "RF",
+                grid: random_forest,
+                params: $crate::ensemble::ForestParams
+            },
+            Svr {
+                name: "svr",
+                title: "SV",
+                grid: svr,
+                params: $crate::svr::SvrParams
+            },
+            GradientBoosting {
+                name: "gradient-boosting",
+                title: "XGBoost-style",
+                grid: gradient_boosting,
+                params: $crate::ensemble::BoostParams
+            },
+            Mlp {
+                name: "mlp",
+                title: "FFNN",
+                grid: mlp,
+                params: $crate::mlp::MlpParams
+            },
+        }
+    };
 }
+
+/// [`Family`], its titles and [`Hyperparameters`] from the registry's entries.
+macro_rules! define_families {
+    ($($v:ident { name: $n:literal, title: $t:literal, grid: $g:ident, params: $p:ty },)+) => {
+        /// The model families (the registry: [`for_each_family!`]).
+        #[derive(
+            Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
+        )]
+        pub enum Family {
+            $(
+                #[doc = concat!("`", $n, "` (", $t, ")")]
+                #[serde(rename = $n)]
+                $v,
+            )+
+        }
+
+        greybox_core::choice!(Family, "family", [$($v => $n),+], text);
+
+        impl Family {
+            /// Column title as in the article's tables.
+            pub fn title(self) -> &'static str {
+                match self {
+                    $(Family::$v => $t),+
+                }
+            }
+        }
+
+        /// Hyperparameters of any family (the unit a grid enumerates and a model file stores).
+        #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+        #[serde(tag = "family")]
+        pub enum Hyperparameters {
+            $(
+                #[doc = concat!("`", $n, "`")]
+                #[serde(rename = $n)]
+                $v($p),
+            )+
+            /// A model trained elsewhere and imported (`greybox import`): no greybox training
+            /// parameters, only where it came from.
+            #[serde(rename = "imported")]
+            Imported(ImportedFrom),
+        }
+
+        impl Hyperparameters {
+            /// The family these hyperparameters belong to.
+            pub fn family(&self) -> Family {
+                match self {
+                    $(Hyperparameters::$v(_) => Family::$v,)+
+                    Hyperparameters::Imported(i) => i.as_family,
+                }
+            }
+            /// Short description of the grid-relevant values, e.g. `n_estimators=100`.
+            pub fn label(&self) -> String {
+                match self {
+                    $(Hyperparameters::$v(p) => p.label(),)+
+                    Hyperparameters::Imported(i) => {
+                        format!("imported {} ({})", i.estimator, i.library)
+                    }
+                }
+            }
+        }
+    };
+}
+
+crate::for_each_family!(define_families);
 
 impl Family {
-    pub const ALL: [Family; 4] = [
-        Family::RandomForest,
-        Family::Svr,
-        Family::GradientBoosting,
-        Family::Mlp,
-    ];
+    /// Every family, in the registry's order.
+    pub const ALL: &'static [Family] = <Family as greybox_core::choice::Choice>::ALL;
+    /// The family's name (its [`Choice`](greybox_core::choice::Choice) name).
     pub fn name(self) -> &'static str {
-        match self {
-            Family::RandomForest => "random-forest",
-            Family::Svr => "svr",
-            Family::GradientBoosting => "gradient-boosting",
-            Family::Mlp => "mlp",
-        }
+        greybox_core::choice::Choice::name(self)
     }
-    /// Column title as in the article's tables.
-    pub fn title(self) -> &'static str {
-        match self {
-            Family::RandomForest => "RF",
-            Family::Svr => "SV",
-            Family::GradientBoosting => "XGBoost-style",
-            Family::Mlp => "FFNN",
-        }
-    }
+    /// The family named `s` (surrounding blanks ignored), if any.
     pub fn parse(s: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|f| f.name() == s.trim())
+        <Self as greybox_core::choice::Choice>::parse_choice(s.trim()).ok()
     }
-}
-
-impl greybox_core::choice::Choice for Family {
-    const FIELD: &'static str = "family";
-    const ALL: &'static [Self] = &[
-        Family::RandomForest,
-        Family::Svr,
-        Family::GradientBoosting,
-        Family::Mlp,
-    ];
-    fn name(self) -> &'static str {
-        Family::name(self)
-    }
-}
-greybox_core::choice_traits!(Family, text);
-
-/// Hyperparameters of any family (the unit a grid enumerates and a model file stores).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "family", rename_all = "kebab-case")]
-pub enum Hyperparameters {
-    RandomForest(ForestParams),
-    Svr(SvrParams),
-    GradientBoosting(BoostParams),
-    Mlp(MlpParams),
-    /// A model trained elsewhere and imported (`greybox import`): no greybox training
-    /// parameters, only where it came from.
-    Imported(ImportedFrom),
 }
 
 /// Where an imported model came from.
@@ -100,6 +179,22 @@ pub enum FittedModel {
     TreeEnsemble(TreeEnsemble),
     Svr(SvrModel),
     Mlp(MlpModel),
+}
+
+impl From<TreeEnsemble> for FittedModel {
+    fn from(m: TreeEnsemble) -> Self {
+        FittedModel::TreeEnsemble(m)
+    }
+}
+impl From<SvrModel> for FittedModel {
+    fn from(m: SvrModel) -> Self {
+        FittedModel::Svr(m)
+    }
+}
+impl From<MlpModel> for FittedModel {
+    fn from(m: MlpModel) -> Self {
+        FittedModel::Mlp(m)
+    }
 }
 
 /// The `kind` of a [`FittedModel`].
@@ -182,47 +277,6 @@ impl Predictor for FittedModel {
     }
 }
 
-impl Hyperparameters {
-    pub fn family(&self) -> Family {
-        match self {
-            Hyperparameters::RandomForest(_) => Family::RandomForest,
-            Hyperparameters::Svr(_) => Family::Svr,
-            Hyperparameters::GradientBoosting(_) => Family::GradientBoosting,
-            Hyperparameters::Mlp(_) => Family::Mlp,
-            Hyperparameters::Imported(i) => i.as_family,
-        }
-    }
-    /// Short description of the grid-relevant values, e.g. `n_estimators=100`.
-    pub fn label(&self) -> String {
-        match self {
-            Hyperparameters::RandomForest(p) => format!("n_estimators={}", p.n_estimators),
-            Hyperparameters::Svr(p) => format!(
-                "kernel={}, C={}, epsilon={}",
-                p.kernel.name(),
-                p.c,
-                p.epsilon
-            ),
-            Hyperparameters::GradientBoosting(p) => {
-                format!(
-                    "n_estimators={}, max_depth={}, learning_rate={}",
-                    p.n_estimators, p.max_depth, p.learning_rate
-                )
-            }
-            Hyperparameters::Mlp(p) => format!(
-                "hidden=({}), activation={}, learning_rate={}",
-                p.hidden_layers
-                    .iter()
-                    .map(|h| h.to_string())
-                    .collect::<Vec<_>>()
-                    .join(","),
-                p.activation.name(),
-                p.learning_rate
-            ),
-            Hyperparameters::Imported(i) => format!("imported {} ({})", i.estimator, i.library),
-        }
-    }
-}
-
 #[cfg(test)]
 mod fitted_json_tests {
     use super::*;
@@ -284,5 +338,86 @@ mod fitted_json_tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("invalid type"), "{e}");
+    }
+}
+
+#[cfg(test)]
+mod registry_tests {
+    use super::*;
+    use greybox_core::choice::Choice;
+
+    /// A file of the workspace, relative to its root.
+    fn workspace_file(path: &str) -> String {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        std::fs::read_to_string(root.join(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
+    }
+
+    /// The text between `before` and the next `after` on the line holding `before`.
+    fn between<'a>(text: &'a str, before: &str, after: &str, path: &str) -> &'a str {
+        let start = text
+            .find(before)
+            .unwrap_or_else(|| panic!("{path}: no '{before}'"))
+            + before.len();
+        let len = text[start..]
+            .find(after)
+            .unwrap_or_else(|| panic!("{path}: no '{after}' after '{before}'"));
+        &text[start..start + len]
+    }
+
+    /// The registry's names as a list in prose: "a, b, c or d".
+    fn prose_list() -> String {
+        let names = Family::names();
+        let (last, rest) = names.split_last().unwrap();
+        format!("{} or {last}", rest.join(", "))
+    }
+
+    /// The lists of families outside the registry's Rust code name its families, in order:
+    /// the `--families` help (pipeline's fit settings) and the Python `Model.family`
+    /// docstring; and the extension table of docs/architecture.md names the registry.
+    /// Adding a family without updating them fails here.
+    #[test]
+    fn every_consumer_lists_the_registry() {
+        let path = "crates/greybox-pipeline/src/settings/fit.rs";
+        let help = between(
+            &workspace_file(path),
+            "/// Model families, comma-separated (",
+            ")",
+            path,
+        )
+        .to_string();
+        assert_eq!(help, Family::names().join(", "), "{path}");
+        let path = "crates/greybox-py/python/greybox/__init__.py";
+        let py = workspace_file(path);
+        let doc = between(
+            &py,
+            "def family(self) -> str:\n        \"\"\"",
+            ".\"\"\"",
+            path,
+        );
+        assert_eq!(doc, prose_list(), "{path}");
+        let path = "docs/architecture.md";
+        let row = between(&workspace_file(path), "| a model family |", "\n", path).to_string();
+        assert!(row.contains("`for_each_family!`"), "{path}: {row}");
+    }
+
+    /// Every family's name, title and hyperparameter tag come from the one list.
+    #[test]
+    fn names_titles_and_tags_agree() {
+        assert_eq!(Family::ALL.len(), 4);
+        for &f in Family::ALL {
+            assert_eq!(Family::parse(f.name()), Some(f));
+            assert_eq!(f.name().parse::<Family>().unwrap(), f);
+            assert_eq!(
+                serde_json::to_string(&f).unwrap(),
+                format!("\"{}\"", f.name())
+            );
+            assert!(!f.title().is_empty());
+        }
+        let titles: Vec<_> = Family::ALL.iter().map(|f| f.title()).collect();
+        assert_eq!(titles, ["RF", "SV", "XGBoost-style", "FFNN"]);
+        let hp = Hyperparameters::Svr(crate::svr::SvrParams::default());
+        let json = serde_json::to_value(&hp).unwrap();
+        assert_eq!(json["family"], "svr");
+        assert_eq!(hp.family(), Family::Svr);
     }
 }

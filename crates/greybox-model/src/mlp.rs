@@ -18,13 +18,9 @@ pub enum Activation {
 }
 
 impl Activation {
+    /// The activation's name (its [`Choice`](greybox_core::choice::Choice) name).
     pub fn name(self) -> &'static str {
-        match self {
-            Activation::Relu => "relu",
-            Activation::Tanh => "tanh",
-            Activation::Logistic => "logistic",
-            Activation::Identity => "identity",
-        }
+        greybox_core::choice::Choice::name(self)
     }
     /// The activation of a pre-activation value.
     #[inline]
@@ -38,19 +34,12 @@ impl Activation {
     }
 }
 
-impl greybox_core::choice::Choice for Activation {
-    const FIELD: &'static str = "mlp.activation";
-    const ALL: &'static [Self] = &[
-        Activation::Relu,
-        Activation::Tanh,
-        Activation::Logistic,
-        Activation::Identity,
-    ];
-    fn name(self) -> &'static str {
-        Activation::name(self)
-    }
-}
-greybox_core::choice_traits!(Activation, text);
+greybox_core::choice!(
+    Activation,
+    "mlp.activation",
+    [Relu => "relu", Tanh => "tanh", Logistic => "logistic", Identity => "identity"],
+    text
+);
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -69,6 +58,22 @@ pub struct MlpParams {
     pub validation_fraction: f64,
     pub n_iter_no_change: usize,
     pub tol: f64,
+}
+
+impl MlpParams {
+    /// The grid-relevant values, e.g. `hidden=(64,32), activation=relu, learning_rate=0.01`.
+    pub fn label(&self) -> String {
+        format!(
+            "hidden=({}), activation={}, learning_rate={}",
+            self.hidden_layers
+                .iter()
+                .map(|h| h.to_string())
+                .collect::<Vec<_>>()
+                .join(","),
+            self.activation.name(),
+            self.learning_rate
+        )
+    }
 }
 
 impl Default for MlpParams {

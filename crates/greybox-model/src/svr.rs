@@ -24,24 +24,18 @@ pub enum Kernel {
 }
 
 impl Kernel {
+    /// The kernel's name (its [`Choice`](greybox_core::choice::Choice) name).
     pub fn name(self) -> &'static str {
-        match self {
-            Kernel::Linear => "linear",
-            Kernel::Poly => "poly",
-            Kernel::Rbf => "rbf",
-            Kernel::Sigmoid => "sigmoid",
-        }
+        greybox_core::choice::Choice::name(self)
     }
 }
 
-impl greybox_core::choice::Choice for Kernel {
-    const FIELD: &'static str = "svr.kernel";
-    const ALL: &'static [Self] = &[Kernel::Linear, Kernel::Poly, Kernel::Rbf, Kernel::Sigmoid];
-    fn name(self) -> &'static str {
-        Kernel::name(self)
-    }
-}
-greybox_core::choice_traits!(Kernel, text);
+greybox_core::choice!(
+    Kernel,
+    "svr.kernel",
+    [Linear => "linear", Poly => "poly", Rbf => "rbf", Sigmoid => "sigmoid"],
+    text
+);
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -79,6 +73,18 @@ pub enum SvrSolver {
 impl SvrSolver {
     fn is_auto(&self) -> bool {
         *self == SvrSolver::Auto
+    }
+}
+
+impl SvrParams {
+    /// The grid-relevant values, e.g. `kernel=rbf, C=10, epsilon=0.1`.
+    pub fn label(&self) -> String {
+        format!(
+            "kernel={}, C={}, epsilon={}",
+            self.kernel.name(),
+            self.c,
+            self.epsilon
+        )
     }
 }
 

@@ -22,6 +22,7 @@ pub mod dat;
 pub mod deck;
 pub mod mesh;
 
+use greybox_core::units;
 use greybox_core::{Error, Result};
 use greybox_material::Material;
 use serde::{Deserialize, Serialize};
@@ -135,13 +136,13 @@ impl Pin3dSetup {
 
     /// The mesh in mm.
     pub fn mesh_spec(&self) -> mesh::MeshSpec {
-        let a = self.contact_radius_m() * 1e3;
+        let a = self.contact_radius_m() * units::MM_PER_M;
         mesh::MeshSpec {
-            pin_radius: self.pin_radius_m * 1e3,
+            pin_radius: self.pin_radius_m * units::MM_PER_M,
             contact_radius: a,
             element: a / self.elements_per_radius,
             slide: self.slide_per_radius * a,
-            height: self.disk_height_m * 1e3,
+            height: self.disk_height_m * units::MM_PER_M,
         }
     }
 
@@ -161,7 +162,8 @@ impl Pin3dSetup {
                 .iter()
                 .map(|&e| {
                     (
-                        p.flow_stress(e, self.strain_rate(), self.temperature_k) * 1e-6,
+                        p.flow_stress(e, self.strain_rate(), self.temperature_k)
+                            * units::MPA_PER_PA,
                         e,
                     )
                 })
@@ -169,10 +171,10 @@ impl Pin3dSetup {
             None => Vec::new(),
         };
         deck::DeckSpec {
-            depth: self.depth_m * 1e3,
+            depth: self.depth_m * units::MM_PER_M,
             slide: m.slide,
             mu: self.mu,
-            youngs_modulus: self.material.elastic.youngs_modulus_pa * 1e-6,
+            youngs_modulus: self.material.elastic.youngs_modulus_pa * units::MPA_PER_PA,
             poisson_ratio: self.material.elastic.poisson_ratio,
             flow_curve,
             element: m.element,

@@ -2,15 +2,14 @@
 //! its iterates are compared with: the l × l kernel matrix computed up front and an l × 2l
 //! copy with columns in working order.
 
-use crate::svr_rows::kernel_row;
-use crate::svr_smo::Dual;
-use crate::Matrix;
+use greybox_learn::svr_test_kit::{g_bar_change, kernel_row, Dual};
+use greybox_learn::Matrix;
 use greybox_model::svr::SvrParams;
 
 const TAU: f64 = 1e-12;
 
 /// The dual by the full-matrix solver, in the original variable order.
-pub(crate) fn solve(p: &SvrParams, z: &Matrix, y: &[f64], gamma: f64) -> Dual {
+pub fn solve(p: &SvrParams, z: &Matrix, y: &[f64], gamma: f64) -> Dual {
     let l = z.n_rows;
     let mut kmat = vec![0.0; l * l];
     for (i, row) in kmat.chunks_exact_mut(l.max(1)).enumerate() {
@@ -325,7 +324,7 @@ impl Smo {
         self.set_flags(j);
         let n2 = self.alpha.len();
         for (t, old) in [(i, old_i), (j, old_j)] {
-            if let Some(term) = crate::svr_smo::g_bar_change(old, self.alpha[t], c, self.ys[t]) {
+            if let Some(term) = g_bar_change(old, self.alpha[t], c, self.ys[t]) {
                 let r0 = self.kr[t] * n2;
                 for (g, k) in self.g_bar.iter_mut().zip(&self.kw[r0..r0 + n2]) {
                     *g += term * k;
