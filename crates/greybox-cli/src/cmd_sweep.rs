@@ -2,10 +2,10 @@
 
 use crate::output::emit;
 use anyhow::Result;
+use greybox_report::text::sweep as text;
 use greybox_sweep::calibrate::calibrate;
 use greybox_sweep::launch::{CaseArg, CaseCommand};
 use greybox_sweep::settings::{CalibrateSettings, ExecutorSettings};
-use greybox_report::text::sweep as text;
 use greybox_sweep::{self as sweep, collect::collect, Plan};
 use std::path::PathBuf;
 

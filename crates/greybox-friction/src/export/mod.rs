@@ -515,7 +515,8 @@ pub fn parse_frcwin(text: &str, source: &str) -> Result<Vec<FrcWin>> {
                 "only constant window friction (FricDefType 0) is read",
             ));
         }
-        let mut points = Vec::with_capacity(n);
+        // one line a point: a count the text cannot hold allocates no more than its lines
+        let mut points = Vec::with_capacity(n.min(lines.len().saturating_sub(i)));
         for k in 0..n {
             let line = lines
                 .get(i + 1 + k)
@@ -559,94 +560,40 @@ pub struct FrcFac {
 /// Read the `FRCFAC` blocks (FricDefType 0 and 5) of DEFORM keyword text.
 pub fn parse_frcfac(text: &str, source: &str) -> Result<Vec<FrcFac>> {
     let lines: Vec<&str> = text.lines().collect();
-    let split = |l: &str| -> Vec<String> {
-        l.split(|c: char| c.is_whitespace() || c == ',')
-            .filter(|s| !s.is_empty())
-            .map(String::from)
-            .collect()
-    };
+    let pos = |k: usize| SourcePos::file(source).line(k as u64 + 1);
     let mut out = Vec::new();
     let mut i = 0;
     while i < lines.len() {
-        let f = split(lines[i]);
+        let f = keyword_fields(lines[i]);
         if f.first().is_none_or(|k| !k.eq_ignore_ascii_case("FRCFAC")) {
             i += 1;
             continue;
         }
-        let line_no = i;
-        let pos = |k: usize| SourcePos::file(source).line(k as u64 + 1);
-        let num = |s: &str, k: usize| {
-            s.parse::<f64>()
-                .map_err(|_| Error::input(pos(k), format!("expected a number, found '{s}'")))
-        };
+        let num = |s: &str| keyword_number(s, pos(i));
         if f.len() < 5 {
             return Err(Error::input(
                 pos(i),
                 "FRCFAC needs Object1 Object2 FricType FricDefType ...",
             ));
         }
-        let objects = (num(&f[1], i)? as u32, num(&f[2], i)? as u32);
-        let fric_type = num(&f[3], i)? as u32;
-        let def_type = num(&f[4], i)? as i64;
         let mut block = FrcFac {
-            objects,
-            fric_type,
+            objects: (num(&f[1])? as u32, num(&f[2])? as u32),
+            fric_type: num(&f[3])? as u32,
             constant: None,
             pressures: Vec::new(),
             temperatures: Vec::new(),
             stretches: Vec::new(),
             values: Vec::new(),
         };
-        match def_type {
+        match num(&f[4])? as i64 {
             0 => {
                 let v = f.get(5).ok_or_else(|| {
-                    Error::input(pos(line_no), "constant FRCFAC needs the friction value")
+                    Error::input(pos(i), "constant FRCFAC needs the friction value")
                 })?;
-                block.constant = Some(num(v, i)?);
+                block.constant = Some(num(v)?);
                 i += 1;
             }
-            5 => {
-                if f.len() < 8 {
-                    return Err(Error::input(
-                        pos(i),
-                        "FricDefType 5 needs NPres NTemp NStre",
-                    ));
-                }
-                let (np, nt, ns) = (
-                    num(&f[5], i)? as usize,
-                    num(&f[6], i)? as usize,
-                    num(&f[7], i)? as usize,
-                );
-                // the remaining numbers, in order: pressures, temperatures, stretches, values
-                let need = np + nt + ns + np * nt * ns;
-                let mut vals = Vec::with_capacity(need);
-                let mut k = i + 1;
-                while vals.len() < need {
-                    let l = lines.get(k).ok_or_else(|| {
-                        Error::input(
-                            pos(line_no),
-                            format!("FRCFAC table ends early: {} of {need} numbers", vals.len()),
-                        )
-                    })?;
-                    if !l.trim_start().starts_with('*') {
-                        for t in split(l) {
-                            vals.push(num(&t, k)?);
-                        }
-                    }
-                    k += 1;
-                }
-                if vals.len() != need {
-                    return Err(Error::input(
-                        pos(k - 1),
-                        format!("FRCFAC table has {} numbers, expected {need}", vals.len()),
-                    ));
-                }
-                block.pressures = vals[..np].to_vec();
-                block.temperatures = vals[np..np + nt].to_vec();
-                block.stretches = vals[np + nt..np + nt + ns].to_vec();
-                block.values = vals[np + nt + ns..].to_vec();
-                i = k;
-            }
+            5 => i = read_frcfac_table(&lines, i, &f, &mut block, &pos)?,
             other => {
                 return Err(Error::input(
                     pos(i),
@@ -657,6 +604,80 @@ pub fn parse_frcfac(text: &str, source: &str) -> Result<Vec<FrcFac>> {
         out.push(block);
     }
     Ok(out)
+}
+
+/// The fields of a keyword line, split at white space and commas.
+fn keyword_fields(l: &str) -> Vec<String> {
+    l.split(|c: char| c.is_whitespace() || c == ',')
+        .filter(|s| !s.is_empty())
+        .map(String::from)
+        .collect()
+}
+
+/// A number of a keyword line at `pos`.
+fn keyword_number(s: &str, pos: SourcePos) -> Result<f64> {
+    s.parse::<f64>()
+        .map_err(|_| Error::input(pos, format!("expected a number, found '{s}'")))
+}
+
+/// The p–T–stretch table of a FricDefType 5 `FRCFAC` whose keyword line `f` is line `i`:
+/// NPres NTemp NStre on it, then pressures, temperatures, stretches and values (pressure
+/// fastest) on the lines after it (comment lines skipped). Returns the line after the table.
+fn read_frcfac_table(
+    lines: &[&str],
+    i: usize,
+    f: &[String],
+    block: &mut FrcFac,
+    pos: &dyn Fn(usize) -> SourcePos,
+) -> Result<usize> {
+    if f.len() < 8 {
+        return Err(Error::input(
+            pos(i),
+            "FricDefType 5 needs NPres NTemp NStre",
+        ));
+    }
+    let count = |s: &str| keyword_number(s, pos(i)).map(|x| x as usize);
+    let (np, nt, ns) = (count(&f[5])?, count(&f[6])?, count(&f[7])?);
+    // the remaining numbers, in order: pressures, temperatures, stretches, values; memory is
+    // reserved for what the text after the keyword can hold, not for what it claims
+    let need = np
+        .checked_mul(nt)
+        .and_then(|x| x.checked_mul(ns))
+        .and_then(|x| x.checked_add(np)?.checked_add(nt)?.checked_add(ns))
+        .ok_or_else(|| {
+            Error::input(
+                pos(i),
+                format!("FRCFAC table of {np} x {nt} x {ns} values: more than can be counted"),
+            )
+        })?;
+    let rest: usize = lines[i + 1..].iter().map(|l| l.len() + 1).sum();
+    let mut vals = Vec::with_capacity(need.min(rest / 2 + 1));
+    let mut k = i + 1;
+    while vals.len() < need {
+        let l = lines.get(k).ok_or_else(|| {
+            Error::input(
+                pos(i),
+                format!("FRCFAC table ends early: {} of {need} numbers", vals.len()),
+            )
+        })?;
+        if !l.trim_start().starts_with('*') {
+            for t in keyword_fields(l) {
+                vals.push(keyword_number(&t, pos(k))?);
+            }
+        }
+        k += 1;
+    }
+    if vals.len() != need {
+        return Err(Error::input(
+            pos(k - 1),
+            format!("FRCFAC table has {} numbers, expected {need}", vals.len()),
+        ));
+    }
+    block.pressures = vals[..np].to_vec();
+    block.temperatures = vals[np..np + nt].to_vec();
+    block.stretches = vals[np + nt..np + nt + ns].to_vec();
+    block.values = vals[np + nt + ns..].to_vec();
+    Ok(k)
 }
 
 #[cfg(test)]
@@ -717,6 +738,18 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Counts a hostile deck states (a table of 10¹² values, a window of 10¹⁸ points) are
+    /// refused or read as far as the text goes, with nothing allocated for them.
+    #[test]
+    fn hostile_counts_in_deform_blocks_allocate_nothing_for_them() {
+        let e = parse_frcfac("FRCFAC 2 1 1 5 100000 100000 100 \n1 2 3\n", "d.key").unwrap_err();
+        assert!(e.to_string().contains("ends early"), "{e}");
+        let e = parse_frcfac("FRCFAC 2 1 1 5 1e19 1e19 1e19\n", "d.key").unwrap_err();
+        assert!(e.to_string().contains("d.key"), "{e}");
+        let e = parse_frcwin("FRCWIN 2 1 1 1000000000000000000 1 0 0.3\n1 0 0\n", "w.key");
+        assert!(e.is_err());
     }
 
     #[test]
