@@ -196,18 +196,7 @@ pub fn identify(
     let (out, inspect_dir, side_inputs) = (o.dataset, o.inspect_dir, o.side_inputs);
     let inputs: Vec<(&str, &Path)> = files.iter().map(|f| ("recordings", f.as_path())).collect();
     greybox_core::outputs::check_file_output(out, "out", &inputs)?;
-    let progress =
-        greybox_core::progress::task("read recordings", Some(files.len() as u64), "files");
-    let recs: Vec<Recording> = files
-        .iter()
-        .map(|f| {
-            greybox_core::interrupt::check()?;
-            let r = read_recording(f, &study.recording);
-            progress.inc(1);
-            r
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    progress.finish("done");
+    let recs = read_recordings(files, study)?;
     let steps;
     let (expected, plan) = match expect {
         Expectation::Plan(p) => {
@@ -247,23 +236,55 @@ pub fn identify(
         matching,
     };
     if id.dataset.records.is_empty() {
-        let notes: Vec<String> = id
-            .files
-            .iter()
-            .flat_map(|f| {
-                f.notes
-                    .iter()
-                    .chain(&f.warnings)
-                    .cloned()
-                    .chain(f.coverage.dropped_notes())
-                    .map(move |n| format!("{}: {n}", f.source))
-            })
-            .collect();
         bail!(
             "no plateau was identified in any recording\n  {}",
-            notes.join("\n  ")
+            file_notes(&id.files).join("\n  ")
         );
     }
+    write_dataset(&id, out, &inputs, side_inputs)?;
+    Ok((id.dataset.clone(), id))
+}
+
+/// Every recording read with the study's recording settings, interruptible between files.
+fn read_recordings(files: &[PathBuf], study: &Study) -> Result<Vec<Recording>> {
+    let progress =
+        greybox_core::progress::task("read recordings", Some(files.len() as u64), "files");
+    let recs = files
+        .iter()
+        .map(|f| {
+            greybox_core::interrupt::check()?;
+            let r = read_recording(f, &study.recording);
+            progress.inc(1);
+            r
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    progress.finish("done");
+    Ok(recs)
+}
+
+/// Every file's notes, warnings and dropped sliding time, each after its file's name.
+fn file_notes(files: &[FileReport]) -> Vec<String> {
+    files
+        .iter()
+        .flat_map(|f| {
+            f.notes
+                .iter()
+                .chain(&f.warnings)
+                .cloned()
+                .chain(f.coverage.dropped_notes())
+                .map(move |n| format!("{}: {n}", f.source))
+        })
+        .collect()
+}
+
+/// Writes the dataset to `out`, with its provenance record and, for reciprocating tests,
+/// the cycles file beside it: all staged first, then put in place together.
+fn write_dataset(
+    id: &Identification,
+    out: &Path,
+    inputs: &[(&str, &Path)],
+    side_inputs: &[(&str, &Path)],
+) -> Result<()> {
     // reciprocating tests: the per-cycle evolution beside the dataset, checked before either
     // is written
     let cycles = if crate::identify_cycles::any_reciprocating(&id.files) {
@@ -271,14 +292,14 @@ pub fn identify(
         greybox_core::outputs::check_file_output(
             &path,
             "the cycles file beside the dataset",
-            &inputs,
+            inputs,
         )?;
         Some((path, crate::identify_cycles::cycles_csv(&id.files)?))
     } else {
         None
     };
     greybox_core::interrupt::check()?;
-    let mut all_inputs = inputs.clone();
+    let mut all_inputs = inputs.to_vec();
     all_inputs.extend_from_slice(side_inputs);
     // every file written in full before any is put in place, the provenance record before
     // the dataset: a full disk leaves neither new, never a dataset without its provenance
@@ -290,7 +311,7 @@ pub fn identify(
     }
     staged.push(id.dataset.stage_csv(out)?);
     greybox_core::atomic::commit_together(staged)?;
-    Ok((id.dataset.clone(), id))
+    Ok(())
 }
 
 /// Options of [`identify_campaign`]: the recordings, what they are matched against and

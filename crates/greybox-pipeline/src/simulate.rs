@@ -412,9 +412,31 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
         o.frames.get() > 0,
         &|t| t * v * 1e3,
     )?);
+    let shown = files
+        .iter()
+        .map(|p| staged.shown(p).display().to_string())
+        .collect();
+    let s = cut_summary(case, &r, shown);
+    write_string_atomic(&files[3], &serde_json::to_string_pretty(&s)?)?;
+    let mut inputs: Vec<(&str, &Path)> =
+        case.inputs.iter().map(|(r, p)| (*r, p.as_path())).collect();
+    if let Some(r) = &o.resume {
+        inputs.push(("resume", r.as_path()));
+    }
+    provenance(&inputs)?.write_into(out)?;
+    staged.commit()?;
+    Ok(s)
+}
+
+/// The summary of cut run `r` of `case` (forces per mm of width, chip measures, heat,
+/// speeds), listing `files`.
+fn cut_summary(case: &CutCase, r: &CutRun, files: Vec<String>) -> CutSummary {
+    let setup = &case.setup;
+    let v = setup.cutting_speed_m_s;
+    let tool = &r.sim.tools[0];
     let threads = greybox_sim::threads();
     let f = r.force;
-    let s = CutSummary {
+    CutSummary {
         particles: r.sim.particle_count(),
         steps: r.summary.steps,
         idle_steps: r.summary.idle_steps,
@@ -459,20 +481,8 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
             }
         }),
         speed_up: setup.speed_up(),
-        files: files
-            .iter()
-            .map(|p| staged.shown(p).display().to_string())
-            .collect(),
-    };
-    write_string_atomic(&files[3], &serde_json::to_string_pretty(&s)?)?;
-    let mut inputs: Vec<(&str, &Path)> =
-        case.inputs.iter().map(|(r, p)| (*r, p.as_path())).collect();
-    if let Some(r) = &o.resume {
-        inputs.push(("resume", r.as_path()));
+        files,
     }
-    provenance(&inputs)?.write_into(out)?;
-    staged.commit()?;
-    Ok(s)
 }
 
 /// The part of a cut its forces and profiles are averaged over: from `from_mm` of cut to
