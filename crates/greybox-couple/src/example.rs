@@ -20,10 +20,9 @@ fn contact_prints(n: usize) -> String {
     s
 }
 
-/// The base deck (model, press step, first drag segment) and the segment template.
-pub fn deck(windows: usize, initial_mu: f64) -> (String, String) {
-    let n = windows.max(1);
-    let mut s = String::from("** greybox coupling example: block dragged over a tool split into friction windows\n*HEADING\ngreybox coupling example\n*NODE\n");
+/// The tool (n elements, one per window) and the block above it: nodes, elements and the
+/// node sets NTOOL, NTOP and NBLOCK. Node grids are indexed `[i][j][k]` (x, y, z).
+fn write_mesh(s: &mut String, n: usize) {
     let mut id = 0;
     let mut tool = vec![vec![vec![0; 2]; 2]; n + 1];
     for (k, z) in [-0.2, 0.0].iter().enumerate() {
@@ -90,6 +89,11 @@ pub fn deck(windows: usize, initial_mu: f64) -> (String, String) {
             }
         }
     }
+}
+
+/// The surfaces, one contact pair per window and their surface interactions (with the
+/// initial μ and stick slope).
+fn write_contact(s: &mut String, n: usize, initial_mu: f64) {
     s.push_str("*SURFACE,NAME=SWORK\n");
     for i in 0..n {
         let _ = writeln!(s, "{},S1", 101 + i);
@@ -106,6 +110,14 @@ pub fn deck(windows: usize, initial_mu: f64) -> (String, String) {
     for i in 1..=n {
         let _ = writeln!(s, "*SURFACE INTERACTION,NAME=SI{i}\n*SURFACE BEHAVIOR,PRESSURE-OVERCLOSURE=LINEAR\n1.e6\n*FRICTION\n{initial_mu:?},1.e5");
     }
+}
+
+/// The base deck (model, press step, first drag segment) and the segment template.
+pub fn deck(windows: usize, initial_mu: f64) -> (String, String) {
+    let n = windows.max(1);
+    let mut s = String::from("** greybox coupling example: block dragged over a tool split into friction windows\n*HEADING\ngreybox coupling example\n*NODE\n");
+    write_mesh(&mut s, n);
+    write_contact(&mut s, n, initial_mu);
     let _ = writeln!(
         s,
         "*AMPLITUDE,NAME=DRAG,TIME=TOTAL TIME\n0.,0.,1.,0.,1001.,{:?}",
