@@ -9,7 +9,10 @@ use serde::{Deserialize, Serialize};
 
 /// How to find the channels of a recording (study TOML `[recording]`, `identify --map`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(
+    from = "super::map_keys::ChannelMap",
+    into = "super::map_keys::ChannelMap"
+)]
 pub struct ChannelMap {
     /// Time column/channel; its unit from the header (`time_s`, `Time (ms)`) or `time_unit`.
     /// If there is none, time comes from `sample_rate_hz` or the TDMS `wf_increment` property.
@@ -49,8 +52,8 @@ pub struct ChannelMap {
     /// Roles never to fill automatically (`--map speed=` adds `speed`).
     pub ignore: Vec<String>,
     /// How the file is read (delimiter, decimal comma, header line, sheet, TDMS group,
-    /// column names): the same keys as the map's own in a study's `[recording]`.
-    #[serde(flatten)]
+    /// column names): the same keys as the map's own in a study's `[recording]`
+    /// (see `map_keys`).
     pub reader: ReaderOptions,
 }
 

@@ -17,6 +17,7 @@ mod assign;
 mod channel_map;
 mod convert;
 mod diagnosis;
+mod map_keys;
 mod reader_options;
 mod roles;
 mod types;
@@ -128,6 +129,9 @@ mod tests {
         let e = serde_json::from_str::<ChannelMap>(r#"{"delimiter": "tab", "delimitr": "tab"}"#)
             .unwrap_err()
             .to_string();
-        assert!(e.contains("delimitr"), "{e}");
+        assert!(
+            e.contains("delimitr") && e.contains("expected one of"),
+            "{e}"
+        );
     }
 }
