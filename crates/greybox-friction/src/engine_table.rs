@@ -47,18 +47,7 @@ pub enum StepLines {
     Off,
 }
 
-impl greybox_core::choice::Choice for StepLines {
-    const FIELD: &'static str = "steps";
-    const ALL: &'static [Self] = &[StepLines::Auto, StepLines::On, StepLines::Off];
-    fn name(self) -> &'static str {
-        match self {
-            StepLines::Auto => "auto",
-            StepLines::On => "on",
-            StepLines::Off => "off",
-        }
-    }
-}
-greybox_core::choice_traits!(StepLines);
+greybox_core::choice!(StepLines, "steps", [Auto => "auto", On => "on", Off => "off"]);
 
 /// How an export builds and checks its table.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -242,13 +242,22 @@ pub fn condition_setup(
 }
 
 /// One simulated condition.
+/// What a condition is for in the suite: μ* is calibrated on the calibration conditions,
+/// the held-out ones only test it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    Calibration,
+    HeldOut,
+}
+
+greybox_core::choice!(Role, "role", [Calibration => "calibration", HeldOut => "held-out"]);
+
 #[derive(Debug, Clone, Serialize)]
 pub struct Outcome {
     pub id: String,
     pub material: String,
     pub tool: ToolModel,
-    /// "calibration" or "held-out".
-    pub role: &'static str,
+    pub role: Role,
     pub mu: f64,
     pub cutting_speed_m_per_min: f64,
     pub uncut_chip_thickness_mm: f64,
@@ -277,7 +286,7 @@ pub struct Outcome {
 pub struct ErrorSummary {
     pub material: String,
     pub tool: ToolModel,
-    pub role: &'static str,
+    pub role: Role,
     pub conditions: usize,
     pub mu: f64,
     /// Mean |error| and mean signed error, as fractions.
@@ -481,8 +490,8 @@ fn jobs<'a>(groups: &[(&'a Plan<'a>, ToolModel)], mus: &[f64]) -> Vec<Job<'a>> {
         .iter()
         .zip(mus)
         .flat_map(|(&(plan, tool), &mu)| {
-            let calibration = plan.calibration.iter().map(|&c| (c, "calibration"));
-            let held_out = plan.held_out.iter().map(|&c| (c, "held-out"));
+            let calibration = plan.calibration.iter().map(|&c| (c, Role::Calibration));
+            let held_out = plan.held_out.iter().map(|&c| (c, Role::HeldOut));
             calibration.chain(held_out).map(move |(c, role)| Job {
                 plan,
                 tool,
@@ -501,7 +510,7 @@ fn summaries(groups: &[(&Plan, ToolModel)], mus: &[f64], done: &[Outcome]) -> Ve
     for (&(plan, tool), &mu) in groups.iter().zip(mus) {
         let (of_group, after) = rest.split_at(plan.calibration.len() + plan.held_out.len());
         rest = after;
-        for role in ["calibration", "held-out"] {
+        for role in [Role::Calibration, Role::HeldOut] {
             if let Some(s) = summarise(of_group, plan.runs.label(), tool, role, mu) {
                 summaries.push(s);
             }
@@ -516,7 +525,7 @@ struct Job<'a> {
     tool: ToolModel,
     condition: &'a Condition,
     mu: f64,
-    role: &'static str,
+    role: Role,
 }
 
 /// μ* of each (material, tool model) group (module docs). The calibration conditions of
@@ -532,7 +541,7 @@ fn calibrate(groups: &[(&Plan, ToolModel)]) -> Result<Vec<f64>> {
                     tool,
                     condition: c,
                     mu,
-                    role: "calibration",
+                    role: Role::Calibration,
                 })
             })
         })
@@ -582,7 +591,7 @@ fn simulate(
     c: &Condition,
     tool: ToolModel,
     mu: f64,
-    role: &'static str,
+    role: Role,
 ) -> Result<Outcome> {
     let s = condition_setup(&plan.template, c, plan.runs, tool, mu)?;
     let r = run(&s).with_context(|| format!("condition {} ({} tool)", c.id, tool.name()))?;
@@ -618,7 +627,7 @@ fn summarise(
     done: &[Outcome],
     material: &str,
     tool: ToolModel,
-    role: &'static str,
+    role: Role,
     mu: f64,
 ) -> Option<ErrorSummary> {
     let rows: Vec<&Outcome> = done.iter().filter(|o| o.role == role).collect();
@@ -745,7 +754,7 @@ pub fn markdown(v: &Validation) -> String {
                     100.0 * a,
                     pct(m)
                 )),
-            if e.role == "held-out" {
+            if e.role == Role::HeldOut {
                 if e.meets_goal {
                     "met"
                 } else {
@@ -819,7 +828,7 @@ fn force_plot(v: &Validation) -> String {
                 let (m, s): (Vec<f64>, Vec<f64>) = v
                     .outcomes
                     .iter()
-                    .filter(|o| o.tool == tool && o.role == "held-out" && o.material == *label)
+                    .filter(|o| o.tool == tool && o.role == Role::HeldOut && o.material == *label)
                     .map(f)
                     .unzip();
                 if !m.is_empty() {

@@ -298,7 +298,7 @@ fn rotary_tribometer_export() {
     let roles: Vec<(&str, &str)> = read
         .columns
         .iter()
-        .map(|c| (c.role.as_str(), c.column.as_str()))
+        .map(|c| (c.role.name(), c.column.as_str()))
         .collect();
     assert!(
         roles.contains(&("normal", "DAQ.Fz (N)")) && roles.contains(&("speed", "Velocity (rpm)")),

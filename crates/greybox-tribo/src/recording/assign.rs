@@ -13,7 +13,7 @@ pub(super) fn assign_roles(table: &Table, map: &ChannelMap) -> Result<Vec<(Role,
     let pos = || table.header_pos();
     let mut taken: Vec<(Role, usize, bool)> = Vec::new();
     // explicit mappings first, so that automatic ones never steal their columns
-    for role in Role::ALL {
+    for &role in Role::ALL {
         if let Some(spec) = map.spec(role) {
             let idx = first_match(table, &spec.name).ok_or_else(|| {
                 let has = match column_number(&spec.name) {

@@ -5,7 +5,7 @@ use super::assign::{assign_roles, drop_unitless_optional};
 use super::channel_map::ChannelMap;
 use super::diagnosis::{unresolved, unresolved_error};
 use super::roles::{check_unit, Role};
-use super::types::{MappedColumn, ReadReport, Recording, SpeedTrace};
+use super::types::{FoundBy, MappedColumn, ReadReport, Recording, SpeedTrace};
 use crate::signal::median;
 use crate::table::{Column, Table};
 use greybox_core::units::{ForceUnit, LengthUnit, SpeedUnit, TimeUnit};
@@ -118,7 +118,7 @@ pub(super) fn speed_trace(
         let unit = report
             .columns
             .iter()
-            .find(|c| c.role == "speed")
+            .find(|c| c.role == Role::Speed)
             .and_then(|c| SpeedUnit::parse(&c.unit));
         return Some(match unit {
             Some(u) if u.is_rotational() => SpeedTrace::SpindleRpm(v),
@@ -458,11 +458,15 @@ pub(super) fn convert_channels(
             values.iter_mut().for_each(|v| *v *= k);
         }
         report.columns.push(MappedColumn {
-            role: role.name().to_string(),
+            role: *role,
             column: header.clone(),
             unit: unit_name,
             scale,
-            how: if *mapped { "mapped" } else { "auto" }.to_string(),
+            how: if *mapped {
+                FoundBy::Mapped
+            } else {
+                FoundBy::Auto
+            },
         });
         channels.push((*role, values, header));
     }

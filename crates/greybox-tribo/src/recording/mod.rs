@@ -27,7 +27,7 @@ pub use channel_map::{ChannelMap, DEFAULT_TDMS_GROUP};
 pub use convert::{recording_from_table, COF_DISAGREEMENT_FRACTION, FOOTER_LINES_NOTED};
 pub use reader_options::ReaderOptions;
 pub use roles::{force_unit_from_name, time_unit_from_name, ChannelSpec, Role, ROLE_ALIASES};
-pub use types::{MappedColumn, ReadReport, Recording, SpeedTrace};
+pub use types::{FoundBy, MappedColumn, ReadReport, Recording, SpeedTrace};
 
 #[cfg(test)]
 mod tests {

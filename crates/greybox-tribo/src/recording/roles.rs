@@ -116,35 +116,27 @@ pub enum Role {
     Position,
 }
 
+greybox_core::choice!(Role, "role", [
+    Time => "time",
+    Normal => "normal",
+    Tangential => "tangential",
+    Radial => "radial",
+    Trigger => "trigger",
+    Step => "step",
+    Speed => "speed",
+    Radius => "radius",
+    Cof => "cof",
+    Position => "position",
+]);
+
 impl Role {
-    pub const ALL: [Role; 10] = [
-        Role::Time,
-        Role::Normal,
-        Role::Tangential,
-        Role::Radial,
-        Role::Trigger,
-        Role::Step,
-        Role::Speed,
-        Role::Radius,
-        Role::Cof,
-        Role::Position,
-    ];
+    /// Every role, in the order of the list above.
+    pub const ALL: &'static [Role] = <Role as greybox_core::choice::Choice>::ALL;
     pub fn name(self) -> &'static str {
-        match self {
-            Role::Time => "time",
-            Role::Normal => "normal",
-            Role::Tangential => "tangential",
-            Role::Radial => "radial",
-            Role::Trigger => "trigger",
-            Role::Step => "step",
-            Role::Speed => "speed",
-            Role::Radius => "radius",
-            Role::Cof => "cof",
-            Role::Position => "position",
-        }
+        greybox_core::choice::Choice::name(self)
     }
     pub fn parse(s: &str) -> Option<Role> {
-        Role::ALL.into_iter().find(|r| r.name() == s.trim())
+        Role::ALL.iter().copied().find(|r| r.name() == s.trim())
     }
 }
 

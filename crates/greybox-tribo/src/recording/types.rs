@@ -75,13 +75,23 @@ pub struct ReadReport {
 /// One role's column.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MappedColumn {
-    pub role: String,
+    pub role: super::roles::Role,
     pub column: String,
     pub unit: String,
     pub scale: f64,
-    /// `mapped` (named by the user) or `auto` (found by its usual name).
-    pub how: String,
+    pub how: FoundBy,
 }
+
+/// How a role's column was found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FoundBy {
+    /// Named by the user (`map`).
+    Mapped,
+    /// Found by its usual name.
+    Auto,
+}
+
+greybox_core::choice!(FoundBy, "how", [Mapped => "mapped", Auto => "auto"]);
 
 impl Recording {
     /// A recording of time and the two forces only.
