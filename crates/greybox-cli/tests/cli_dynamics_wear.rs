@@ -7,16 +7,7 @@ use common::greybox;
 
 fn write_csv(path: &Path, fs: f64, f_hz: f64, zeta: f64) {
     let rec = Chain::sdof(2.0, f_hz, zeta).record(fs, 1.2, &[150.0; 4], 0.5e-3, 0.0, 1);
-    let mut s = String::from("time_s,hammer_N,response_m\n");
-    for k in 0..rec.hammer.len() {
-        s.push_str(&format!(
-            "{},{},{}\n",
-            k as f64 / fs,
-            rec.hammer[k],
-            rec.response[k]
-        ));
-    }
-    std::fs::write(path, s).unwrap();
+    greybox_testkit::hammer::write_hammer_csv(path, &rec);
 }
 
 #[test]

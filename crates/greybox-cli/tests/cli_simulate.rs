@@ -73,14 +73,10 @@ fn pin_run_writes_outputs_and_resumes_bit_for_bit() {
 
 /// A dataset with load levels 1000 N (μ_app 0.32) and 1500 N (0.30, 0.31).
 fn small_dataset(dir: &std::path::Path) {
-    let mut csv = String::from("pin,step,normal_force_N,normal_force_measured_N,sliding_velocity_m_per_min,hertz_pressure_MPa,pressure_convention,cof_apparent,cof_apparent_std,n_samples,plateau_start_s,plateau_end_s,cof_trend_per_s,stationary,flags\n");
-    for (k, (f, mu)) in [(1000.0, 0.32), (1500.0, 0.30), (1500.0, 0.31)]
-        .iter()
-        .enumerate()
-    {
-        csv += &format!("1,{k},{f},{f},100,1500,textbook-max,{mu},0.01,1000,1,2,0,true,\n");
-    }
-    std::fs::write(dir.join("ds.csv"), csv).unwrap();
+    greybox_testkit::dataset::write_dataset(
+        &dir.join("ds.csv"),
+        &[(1000.0, 0.32), (1500.0, 0.30), (1500.0, 0.31)],
+    );
 }
 
 #[test]
@@ -132,15 +128,7 @@ fn adhesive_by_simulation_reduces_the_cof() {
 /// coarse mesh (about 1 min a run). Skipped without `ccx` unless GREYBOX_REQUIRE_CCX is set.
 #[test]
 fn adhesive_by_3d_simulation_writes_the_searches_and_force_histories() {
-    if std::process::Command::new("ccx")
-        .arg("-v")
-        .output()
-        .is_err()
-    {
-        assert!(
-            std::env::var("GREYBOX_REQUIRE_CCX").is_err(),
-            "ccx is required but not installed"
-        );
+    if !greybox_testkit::calculix::have_ccx("the 3D adhesive correction") {
         return;
     }
     let d = tempfile::tempdir().unwrap();

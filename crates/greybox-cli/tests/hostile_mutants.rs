@@ -5,6 +5,9 @@
 //! named, under an address-space and a wall-clock limit.
 mod common;
 use common::{coarse_config, greybox_limited, refused_with};
+use greybox_testkit::mesh::{
+    gmsh, unit_square_abaqus, GMSH_ELEMENTS as ELEMENTS, GMSH_NODES as NODES,
+};
 use std::path::Path;
 
 const MEMORY_MIB: u64 = 2048;
@@ -13,19 +16,6 @@ const SECONDS: u64 = 60;
 fn run(args: &[&str], cwd: &Path) -> std::process::Output {
     greybox_limited(args, cwd, MEMORY_MIB, SECONDS)
 }
-
-/// A Gmsh 4.1 file of one quad in a physical surface "COATING", with `nodes` and
-/// `elements` as the sections' bodies.
-fn gmsh(nodes: &str, elements: &str) -> String {
-    format!(
-        "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n2 1 \"COATING\"\n$EndPhysicalNames\n\
-         $Entities\n0 0 1 0\n1 0 0 0 1 1 0 1 1 0\n$EndEntities\n\
-         $Nodes\n{nodes}$EndNodes\n$Elements\n{elements}$EndElements\n"
-    )
-}
-
-const NODES: &str = "1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
-const ELEMENTS: &str = "1 1 1 1\n2 1 3 1\n1 1 2 3 4\n";
 
 #[test]
 fn gmsh_mutants_are_refused_with_their_line() {
@@ -83,11 +73,7 @@ fn gmsh_mutants_are_refused_with_their_line() {
 fn abaqus_mutants_are_refused_with_their_line() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
-    let deck = |elset: &str| {
-        format!(
-            "*NODE\n1, 0, 0\n2, 1, 0\n3, 1, 1\n4, 0, 1\n*ELEMENT, TYPE=CPE4, ELSET=COATING\n1, 1, 2, 3, 4\n{elset}"
-        )
-    };
+    let deck = unit_square_abaqus;
     for (text, needles) in [
         // a GENERATE range of 10¹⁸ elements (was: a vector of exabytes)
         (

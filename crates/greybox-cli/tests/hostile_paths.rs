@@ -209,25 +209,10 @@ fn a_link_planted_at_a_case_directory_is_refused() {
         &run(&["sweep", "run-case", "o", "--index", "0"], d.path()),
         &["cases", "symbolic link"],
     );
-    let files = walk(&elsewhere);
+    let files = greybox_testkit::files::files_under(&elsewhere);
     assert_eq!(std::fs::read_dir(&elsewhere).unwrap().count(), before);
     assert!(
         files.iter().all(|f| f.ends_with("config.toml")),
         "written outside the sweep: {files:?}"
     );
-}
-
-/// Every file under `p` (no links followed).
-fn walk(p: &Path) -> Vec<String> {
-    let mut out = Vec::new();
-    for e in std::fs::read_dir(p).unwrap() {
-        let e = e.unwrap();
-        let t = e.file_type().unwrap();
-        if t.is_dir() {
-            out.extend(walk(&e.path()));
-        } else {
-            out.push(e.path().display().to_string());
-        }
-    }
-    out
 }

@@ -12,12 +12,8 @@ use greybox_pipeline::export::{
 use std::path::Path;
 
 /// A law that depends on pressure (Usui–Childs: the friction stress saturates at m·k).
-const LAW: &str = r#"{"law": "usui-childs", "mu": 0.5, "m": 0.8, "n": 1.0, "k_MPa": 500}"#;
-
 fn setup() -> tempfile::TempDir {
-    let d = tempfile::tempdir().unwrap();
-    std::fs::write(d.path().join("law.json"), LAW).unwrap();
-    d
+    greybox_testkit::law::law_dir(greybox_testkit::law::USUI_CHILDS)
 }
 
 fn read(p: &Path) -> Vec<u8> {

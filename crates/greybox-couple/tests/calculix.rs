@@ -6,19 +6,9 @@ use greybox_couple::calculix::{CalculixConfig, CalculixEngine};
 use greybox_couple::engine::{couple, Engine};
 use greybox_couple::example::write_example;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn ccx() -> Option<PathBuf> {
-    let ok = Command::new("ccx").arg("-v").output().is_ok();
-    if !ok {
-        assert!(
-            std::env::var("GREYBOX_REQUIRE_CCX").is_err(),
-            "ccx (calculix-ccx) is required but not installed"
-        );
-        eprintln!("ccx not installed: skipping the CalculiX coupling test");
-        return None;
-    }
-    Some(PathBuf::from("ccx"))
+    greybox_testkit::calculix::have_ccx("the CalculiX coupling test").then(|| PathBuf::from("ccx"))
 }
 
 fn engine(dir: &Path, ccx: PathBuf) -> CalculixEngine {

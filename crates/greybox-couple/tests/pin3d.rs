@@ -6,18 +6,9 @@
 
 use greybox_couple::pin3d::{find_adhesive_mu, simulate, Pin3dSetup};
 use greybox_material::Material;
-use std::process::Command;
 
 fn have_ccx() -> bool {
-    if Command::new("ccx").arg("-v").output().is_ok() {
-        return true;
-    }
-    assert!(
-        std::env::var("GREYBOX_REQUIRE_CCX").is_err(),
-        "ccx (calculix-ccx) is required but not installed"
-    );
-    eprintln!("ccx not installed: skipping the 3D pin test");
-    false
+    greybox_testkit::calculix::have_ccx("the 3D pin test")
 }
 
 /// Hertz (Johnson, *Contact Mechanics*, 1985, §4.2) for a rigid sphere of radius R on an

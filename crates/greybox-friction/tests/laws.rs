@@ -297,10 +297,11 @@ fn a_shear_cap_in_gpa_is_refused_with_the_number() {
 // the number and the likely unit mistake.
 
 fn law_error(json: &str) -> String {
-    let d = tempfile::tempdir().unwrap();
-    let p = d.path().join("law.json");
-    std::fs::write(&p, json).unwrap();
-    load_law(&p).err().expect("refused").to_string()
+    let d = greybox_testkit::law::law_dir(json);
+    load_law(&d.path().join("law.json"))
+        .err()
+        .expect("refused")
+        .to_string()
 }
 
 #[test]

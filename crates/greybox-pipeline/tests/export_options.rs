@@ -4,13 +4,7 @@
 use greybox_core::choice::Choice;
 use greybox_pipeline::export::{export, Engine, ExportFormat, ExportOptions, ExportOverrides};
 
-const LAW: &str = r#"{"law": "zorev", "mu": 0.4, "k_MPa": 500}"#;
-
-fn law_dir() -> tempfile::TempDir {
-    let d = tempfile::tempdir().unwrap();
-    std::fs::write(d.path().join("law.json"), LAW).unwrap();
-    d
-}
+use greybox_testkit::law::{law_dir, ZOREV};
 
 #[test]
 fn the_documented_defaults_are_the_libraries() {
@@ -81,7 +75,7 @@ fn validation_names_the_option() {
 
 #[test]
 fn the_size_budget_refuses_before_writing_and_a_fitting_table_is_written() {
-    let d = law_dir();
+    let d = law_dir(ZOREV);
     let law = d.path().join("law.json");
     let out = d.path().join("t.inp");
     let o = ExportOptions::new(law.clone(), ExportFormat::Abaqus, out.clone())

@@ -4,25 +4,9 @@
 
 use greybox_core::provenance::Provenance;
 use greybox_report::report::{report, ReportOptions};
-use std::path::{Path, PathBuf};
+use greybox_testkit::files::files_under;
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
-
-/// Every file under `dir`, recursively.
-fn files_under(dir: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    let mut dirs = vec![dir.to_path_buf()];
-    while let Some(d) = dirs.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                dirs.push(p);
-            } else {
-                out.push(p);
-            }
-        }
-    }
-    out
-}
 
 #[test]
 fn demo_keeps_the_cwd_and_its_directory_is_relocatable() {
