@@ -20,8 +20,9 @@ fn repo() -> PathBuf {
 #[test]
 fn every_registered_export_format_writes_a_table_and_every_surface_lists_it() {
     let help = ok(&greybox(&["export", "--help"], &repo()));
-    let python = std::fs::read_to_string(repo().join("crates/greybox-py/python/greybox/__init__.py"))
-        .unwrap();
+    let python =
+        std::fs::read_to_string(repo().join("crates/greybox-py/python/greybox/__init__.py"))
+            .unwrap();
     let docstring = python
         .split("def export_table(")
         .nth(1)
@@ -31,9 +32,18 @@ fn every_registered_export_format_writes_a_table_and_every_surface_lists_it() {
         let name = format.name();
         let t = table_text(&Coulomb { mu: 0.3 }, &TableSpec::new(format))
             .unwrap_or_else(|e| panic!("{name}: {e}"));
-        assert!(!t.text.is_empty() && t.report.max_deviation.is_some(), "{name}");
-        assert!(help.contains(name), "`greybox export --help` does not list {name}");
-        assert!(docstring.contains(name), "export_table's docstring does not list {name}");
+        assert!(
+            !t.text.is_empty() && t.report.max_deviation.is_some(),
+            "{name}"
+        );
+        assert!(
+            help.contains(name),
+            "`greybox export --help` does not list {name}"
+        );
+        assert!(
+            docstring.contains(name),
+            "export_table's docstring does not list {name}"
+        );
     }
 }
 
@@ -76,5 +86,8 @@ fn docs_architecture_names_only_files_that_exist() {
             .any(|c| c.exists())
         })
         .collect();
-    assert!(missing.is_empty(), "docs/architecture.md names files that do not exist: {missing:?}");
+    assert!(
+        missing.is_empty(),
+        "docs/architecture.md names files that do not exist: {missing:?}"
+    );
 }

@@ -586,13 +586,7 @@ fn run(s: &CuttingSetup) -> Result<CutRun> {
     )?)
 }
 
-fn simulate(
-    plan: &Plan,
-    c: &Condition,
-    tool: ToolModel,
-    mu: f64,
-    role: Role,
-) -> Result<Outcome> {
+fn simulate(plan: &Plan, c: &Condition, tool: ToolModel, mu: f64, role: Role) -> Result<Outcome> {
     let s = condition_setup(&plan.template, c, plan.runs, tool, mu)?;
     let r = run(&s).with_context(|| format!("condition {} ({} tool)", c.id, tool.name()))?;
     let rel = |sim: f64, meas: f64| sim / meas - 1.0;
