@@ -332,17 +332,8 @@ fn dynamics(base: &Path, plan: &Plan) -> Result<CharacterizeReport> {
             2e-9,
             load as u64,
         );
-        let mut csv = String::from("time_s,hammer_N,response_m\n");
-        for k in 0..rec.hammer.len() {
-            csv.push_str(&format!(
-                "{},{},{}\n",
-                k as f64 / rec.sample_rate_hz,
-                rec.hammer[k],
-                rec.response[k]
-            ));
-        }
         let p = base.join("hammer").join(format!("hammer_{load:.0}N.csv"));
-        write_string_atomic(&p, &csv)?;
+        write_string_atomic(&p, &rec.to_csv())?;
         recordings.push((p, Some(load)));
     }
     let study_file = base.join("plan").join("study.toml");

@@ -3,18 +3,9 @@
 use greybox_tribo::frf::ImpactRecording;
 use std::path::Path;
 
-/// `rec` as CSV with the columns `time_s,hammer_N,response_m`.
+/// `rec` as CSV with the columns `time_s,hammer_N,response_m` ([`ImpactRecording::to_csv`]).
 pub fn hammer_csv(rec: &ImpactRecording) -> String {
-    let mut s = String::from("time_s,hammer_N,response_m\n");
-    for k in 0..rec.hammer.len() {
-        s.push_str(&format!(
-            "{},{},{}\n",
-            k as f64 / rec.sample_rate_hz,
-            rec.hammer[k],
-            rec.response[k]
-        ));
-    }
-    s
+    rec.to_csv()
 }
 
 /// Write [`hammer_csv`] of `rec` to `path`.

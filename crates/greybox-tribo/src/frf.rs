@@ -69,6 +69,23 @@ pub struct ImpactRecording {
     pub response: Vec<f64>,
 }
 
+impl ImpactRecording {
+    /// The recording as CSV with the columns `time_s,hammer_N,response_m` (one row a sample,
+    /// t = k / f_s): the layout the characterize stage reads with its default channel names.
+    pub fn to_csv(&self) -> String {
+        let mut s = String::from("time_s,hammer_N,response_m\n");
+        for k in 0..self.hammer.len() {
+            s.push_str(&format!(
+                "{},{},{}\n",
+                k as f64 / self.sample_rate_hz,
+                self.hammer[k],
+                self.response[k]
+            ));
+        }
+        s
+    }
+}
+
 /// Why an impact was left out.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Rejected {
