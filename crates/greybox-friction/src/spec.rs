@@ -13,6 +13,7 @@
 use crate::classical::{
     Coulomb, ExponentialVelocity, ShearFactor, ThermalSoftening, UsuiChilds, Zorev,
 };
+use crate::compose::{Scaled, ShearCapped};
 use crate::greybox::{GreyBoxLaw, PowerLaw};
 use crate::learned::LearnedLaw;
 use crate::table_file::{parse_table, read_table, TABLE_SCHEMA};
@@ -68,6 +69,29 @@ pub enum LawSpec {
     },
     /// The power law μ = μ_ref (p/p_ref)^a (v/v_ref)^b fitted to the grey-box inner law.
     PowerFit,
+    /// The power law μ = μ_ref (p/p_ref)^a (v/v_ref)^b with its parameters given; `a = 0` is a
+    /// law of sliding velocity alone, and with `shear_cap_k_MPa` μ ≤ k/p (the pressure-dependent
+    /// form of the article's grey-box composition).
+    Power {
+        mu_ref: f64,
+        #[serde(rename = "p_ref_MPa")]
+        p_ref_mpa: f64,
+        v_ref_m_per_min: f64,
+        #[serde(default)]
+        a: f64,
+        #[serde(default)]
+        b: f64,
+        #[serde(default, rename = "shear_cap_k_MPa")]
+        shear_cap_k_mpa: Option<f64>,
+        /// Floor and ceiling of μ (a power law of speed grows without bound as v → 0).
+        #[serde(default)]
+        clamp: Option<(f64, f64)>,
+    },
+    /// `factor` × the μ of `inner` (one calibrated correction of a measured law).
+    Scaled {
+        factor: f64,
+        inner: Box<LawSpec>,
+    },
     GreyBox {
         inner: Box<LawSpec>,
         outside: Box<LawSpec>,
@@ -127,6 +151,74 @@ fn usui_childs(mu: f64, m: f64, n: f64, k_mpa: f64) -> Result<Box<dyn FrictionLa
         n,
         k_pa: k_mpa * mpa,
     }))
+}
+
+/// The largest power-law exponent accepted: |a|, |b| beyond it make μ change by more than a
+/// factor 10⁵ over one decade of pressure or speed, which no measured law does.
+const MAX_POWER_EXPONENT: f64 = 5.0;
+
+/// The power law from its spec's numbers (p_ref and k in MPa, v_ref in m/min), checked;
+/// without a clamp μ is unbounded (the simulator's sticking bounds τ where μ grows large).
+fn power(
+    mu_ref: f64,
+    p_ref_mpa: f64,
+    v_ref_m_per_min: f64,
+    [a, b]: [f64; 2],
+    shear_cap_k_mpa: Option<f64>,
+    clamp: Option<(f64, f64)>,
+) -> Result<Box<dyn FrictionLaw>> {
+    let mpa = units::PA_PER_MPA;
+    positive("p_ref_MPa", p_ref_mpa)?;
+    positive("v_ref_m_per_min", v_ref_m_per_min)?;
+    physical(&[
+        ("mu_ref", Quantity::Mu, mu_ref),
+        ("p_ref_MPa", Quantity::ContactPressure, p_ref_mpa * mpa),
+        (
+            "v_ref_m_per_min",
+            Quantity::SlidingVelocity,
+            units::m_per_min_to_m_per_s(v_ref_m_per_min),
+        ),
+    ])?;
+    for (name, e) in [("a", a), ("b", b)] {
+        if !(e.abs() <= MAX_POWER_EXPONENT) {
+            return Err(Error::invalid(
+                "law",
+                format!("power law: {name} must lie in [-{MAX_POWER_EXPONENT}, {MAX_POWER_EXPONENT}], got {e}"),
+            ));
+        }
+    }
+    let law = Box::new(PowerLaw {
+        mu_ref,
+        p_ref_pa: p_ref_mpa * mpa,
+        v_ref_m_s: units::m_per_min_to_m_per_s(v_ref_m_per_min),
+        a,
+        b,
+        mu_min: clamp.map_or(0.0, |c| c.0),
+        mu_max: clamp.map_or(f64::INFINITY, |c| c.1),
+    });
+    if let Some((lo, hi)) = clamp {
+        physical(&[
+            ("clamp[0]", Quantity::Mu, lo),
+            ("clamp[1]", Quantity::Mu, hi),
+        ])?;
+        if !(lo <= hi) {
+            return Err(Error::invalid(
+                "law",
+                format!("power law: clamp needs min ≤ max, got [{lo}, {hi}]"),
+            ));
+        }
+    }
+    Ok(match shear_cap_k_mpa {
+        None => law,
+        Some(k) => {
+            positive("shear_cap_k_MPa", k)?;
+            physical(&[("shear_cap_k_MPa", Quantity::ShearFlowStress, k * mpa)])?;
+            Box::new(ShearCapped {
+                k_pa: k * mpa,
+                inner: law,
+            })
+        }
+    })
 }
 
 /// Thermal softening from its spec's numbers (temperatures in K), checked.
@@ -224,6 +316,29 @@ impl LawSpec {
                 )?)
             }
             LawSpec::Table { file } => read_table(&resolve(base, file))?.into_law(),
+            LawSpec::Power {
+                mu_ref,
+                p_ref_mpa,
+                v_ref_m_per_min,
+                a,
+                b,
+                shear_cap_k_mpa,
+                clamp,
+            } => power(
+                *mu_ref,
+                *p_ref_mpa,
+                *v_ref_m_per_min,
+                [*a, *b],
+                *shear_cap_k_mpa,
+                *clamp,
+            )?,
+            LawSpec::Scaled { factor, inner } => {
+                positive("factor", *factor)?;
+                Box::new(Scaled {
+                    factor: *factor,
+                    inner: inner.build(base)?.into(),
+                })
+            }
         })
     }
 }
@@ -240,6 +355,7 @@ impl LawSpec {
                 v.extend(outside.files(base));
                 v
             }
+            LawSpec::Scaled { inner, .. } => inner.files(base),
             _ => Vec::new(),
         }
     }

@@ -269,9 +269,26 @@ pub fn load_material_files(
     Ok(inputs)
 }
 
-/// Pairs a set-up with its law: the law file (relative paths against `base`) or Coulomb `mu`.
+/// Pairs a set-up with its law: the law file or the inline law (relative paths against
+/// `base`), or Coulomb `mu`.
 pub fn cut_case(setup: CuttingSetup, base: &Path) -> Result<CutCase> {
     let mut inputs = Vec::new();
+    if let Some(inline) = &setup.friction.law {
+        let spec: greybox_friction::spec::LawSpec = serde_json::from_value(inline.clone())
+            .map_err(|e| anyhow::anyhow!("[friction.law]: invalid inline law: {e}"))?;
+        inputs.extend(
+            spec.files(base)
+                .into_iter()
+                .map(|f| ("a file friction.law reads", f)),
+        );
+        let law = spec.build(base).context("[friction.law]")?;
+        return Ok(CutCase {
+            law_source: format!("inline law {}", law.name()),
+            law: Arc::from(law),
+            setup,
+            inputs,
+        });
+    }
     let (law, law_source): (Arc<dyn FrictionLaw>, String) = match &setup.friction.law_file {
         Some(f) => {
             let p = base.join(f);

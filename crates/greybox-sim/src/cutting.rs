@@ -218,8 +218,13 @@ pub struct FrictionSetup {
     /// Re-evaluate every window's μ from its time-averaged state every N steps.
     pub update_every_steps: u64,
     /// Law file (`greybox fit` model, law or table file; relative to the set-up file). Without
-    /// one the insert uses the constant `mu`.
+    /// one (or an inline `law`) the insert uses the constant `mu`.
     pub law_file: Option<String>,
+    /// An inline law: the content of a law file as a table (`[friction.law] law = "power"
+    /// mu_ref = 0.5 …`), so that a sweep or a calibration can set its numeric fields
+    /// (`friction.law.b`). At most one of `law` and `law_file`; read by the pipeline, which
+    /// knows the law files.
+    pub law: Option<serde_json::Value>,
     /// Smoothing of the state each window hands to its law, in time and along the tool
     /// (default: none; see [`crate::friction_loop`]).
     pub smoothing: crate::friction_loop::Smoothing,
@@ -231,6 +236,7 @@ impl Default for FrictionSetup {
             window_length_m: 10e-6,
             update_every_steps: 500,
             law_file: None,
+            law: None,
             smoothing: Default::default(),
         }
     }
@@ -356,7 +362,11 @@ impl CuttingSetup {
             )
             .section("friction", |r| {
                 r.positive("window_length_m", self.friction.window_length_m)
-                    .at_least("update_every_steps", self.friction.update_every_steps, 1);
+                    .at_least("update_every_steps", self.friction.update_every_steps, 1)
+                    .relation(
+                        !(self.friction.law.is_some() && self.friction.law_file.is_some()),
+                        "give either law (inline) or law_file, not both",
+                    );
             })
             .relation(
                 !(self.modelled_surface_m() / self.friction.window_length_m > MAX_WINDOWS),

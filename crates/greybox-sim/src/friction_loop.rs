@@ -194,11 +194,7 @@ impl FrictionUpdater {
 }
 
 fn state_of(s: &WindowStats) -> ContactState {
-    ContactState {
-        pressure_pa: s.pressure_pa,
-        sliding_velocity_m_s: s.sliding_velocity_m_s,
-        temperature_k: s.temperature_k,
-    }
+    s.contact_state()
 }
 
 impl Controller for FrictionUpdater {

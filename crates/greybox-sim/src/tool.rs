@@ -112,6 +112,18 @@ pub struct WindowStats {
     pub tool_temperature_k: Option<f64>,
 }
 
+impl WindowStats {
+    /// The contact state a friction law is evaluated at: the pressure where in contact, the
+    /// force-weighted sliding velocity and temperature.
+    pub fn contact_state(&self) -> ContactState {
+        ContactState {
+            pressure_pa: self.pressure_pa,
+            sliding_velocity_m_s: self.sliding_velocity_m_s,
+            temperature_k: self.temperature_k,
+        }
+    }
+}
+
 impl WindowAccumulator {
     /// Adds the sums of another interval.
     pub fn add(&mut self, o: &WindowAccumulator) {

@@ -1,13 +1,16 @@
-//! Calibration across conditions: the Johnson–Cook C (and optionally a scale on the
-//! Coulomb μ) that minimises the mean relative force error over measured conditions, each
-//! evaluation one sweep over the training conditions on the chosen executor. Conditions
-//! held out are simulated once at the result and reported apart.
+//! Calibration across conditions: the numeric set-up fields (by default the Johnson–Cook
+//! C; any field, e.g. a parameter of an inline friction law, `friction.law.b`), and
+//! optionally a scale on the Coulomb μ, that minimise the mean relative force error over
+//! measured conditions, each evaluation one sweep over the training conditions on the chosen
+//! executor. Conditions held out are simulated once at the result and reported apart.
 //!
-//! The search is golden-section on ln C (and ln of the scale, alternating), which needs no
-//! derivative and tolerates the solver's small run-to-run differences between parameter
-//! values; every evaluation's cases are kept, so a repeated value costs nothing.
+//! The search is [`crate::search::coordinate_descent`]: golden-section on one field at a
+//! time (ln C and ln of the scale on a log scale), which needs no derivative and tolerates
+//! the solver's small run-to-run differences between parameter values; every evaluation's
+//! cases are kept, so a repeated value costs nothing.
 
 use super::launch::CaseCommand;
+use super::search::{coordinate_descent, FitField};
 use super::spec::{Axis, FieldValues, SweepFile};
 use super::{Executor, Plan};
 use anyhow::{bail, Context, Result};
@@ -109,8 +112,8 @@ pub struct CalibrateOptions {
     pub executor: Executor,
     /// How a case's process starts (handed in by the program running the calibration).
     pub command: CaseCommand,
-    /// The bracket of C.
-    pub c_range: (f64, f64),
+    /// The fitted set-up fields and their brackets (by default C, [`C_FIELD`]).
+    pub fields: Vec<FitField>,
     /// Evaluations per golden-section search.
     pub iterations: usize,
     pub hold_out: HoldOut,
@@ -135,23 +138,29 @@ pub struct Residual {
 /// The calibration's result (`calibration.json`).
 #[derive(Debug, Clone, Serialize)]
 pub struct Calibration {
-    pub c: f64,
+    /// Every fitted field and its value, in the order given.
+    pub parameters: Vec<(String, f64)>,
+    /// The Johnson–Cook C where it was fitted.
+    pub c: Option<f64>,
     pub friction_scale: Option<f64>,
     /// Mean relative force error over the training conditions at the result.
     pub training_error: f64,
     /// The same over the held-out conditions (None: none held out).
     pub held_out_error: Option<f64>,
-    pub evaluations: Vec<(f64, f64, f64)>,
+    /// Every evaluation: the fitted fields' values, the μ scale (1 without one) and the
+    /// training error.
+    pub evaluations: Vec<(Vec<f64>, f64, f64)>,
     pub residuals: Vec<Residual>,
 }
 
-/// The sweep of `conds` at C = `c` (and μ scaled by `scale`): simulated (F'c, F'f) each.
+/// The sweep of `conds` with the fitted fields at `values` (and μ scaled by `scale`):
+/// simulated (F'c, F'f) each.
 fn evaluate(
     o: &CalibrateOptions,
     base: &SweepFile,
     dir: &Path,
     conds: &[&Condition],
-    c: f64,
+    values: &[f64],
     scale: Option<f64>,
 ) -> Result<Vec<(f64, f64)>> {
     let mut f = base.clone();
@@ -174,7 +183,12 @@ fn evaluate(
                 .collect(),
         }]
     };
-    let mut extra = vec![(C_FIELD.to_string(), toml::Value::Float(c))];
+    let mut extra: Vec<(String, toml::Value)> = o
+        .fields
+        .iter()
+        .zip(values)
+        .map(|(f, &v)| (f.field.clone(), toml::Value::Float(v)))
+        .collect();
     if let Some(s) = scale {
         let mu0 = super::case::read_base(
             &dir.join(&base.sweep.base),
@@ -190,7 +204,12 @@ fn evaluate(
     plan.write(&o.out)?;
     let report = o.executor.run(&plan, &o.out, &o.command)?;
     if let Some(first) = report.failed.first() {
-        bail!("C = {c}: case {} failed: {}", first.index, first.error);
+        bail!(
+            "{}: case {} failed: {}",
+            show_values(&o.fields, values),
+            first.index,
+            first.error
+        );
     }
     plan.cases
         .iter()
@@ -236,39 +255,27 @@ fn error(conds: &[&Condition], sim: &[(f64, f64)], with_feed: bool) -> f64 {
     }
 }
 
-/// Golden-section search of `f` over ln x in `range`; returns the best x seen.
-fn golden(
-    range: (f64, f64),
-    iterations: usize,
-    f: &mut dyn FnMut(f64) -> Result<f64>,
-) -> Result<f64> {
-    let g = (5f64.sqrt() - 1.0) / 2.0;
-    let (mut a, mut b) = (range.0.ln(), range.1.ln());
-    let mut x1 = b - g * (b - a);
-    let mut x2 = a + g * (b - a);
-    let (mut f1, mut f2) = (f(x1.exp())?, f(x2.exp())?);
-    for _ in 2..iterations.max(3) {
-        if f1 <= f2 {
-            b = x2;
-            (x2, f2) = (x1, f1);
-            x1 = b - g * (b - a);
-            f1 = f(x1.exp())?;
-        } else {
-            a = x1;
-            (x1, f1) = (x2, f2);
-            x2 = a + g * (b - a);
-            f2 = f(x2.exp())?;
-        }
-    }
-    Ok(if f1 <= f2 { x1.exp() } else { x2.exp() })
+/// `field = value, …` for messages.
+fn show_values(fields: &[FitField], values: &[f64]) -> String {
+    fields
+        .iter()
+        .zip(values)
+        .map(|(f, v)| format!("{} = {v}", f.field))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
+
+/// The bracket of the μ scale, searched on a log scale.
+const SCALE_RANGE: [f64; 2] = [0.5, 2.0];
 
 /// Runs the calibration and writes `calibration.json` into `o.out`.
 pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
     let (base, dir) = SweepFile::load(&o.sweep_file)?;
-    let (lo, hi) = o.c_range;
-    if !(lo > 0.0 && hi > lo && hi.is_finite()) {
-        bail!("C range: expected 0 < low < high, got {lo} … {hi}");
+    if o.fields.is_empty() && !o.friction_scale {
+        bail!("nothing to calibrate: expected at least one fitted field or the friction scale");
+    }
+    for f in &o.fields {
+        f.check()?;
     }
     let conds = read_measured(&o.measured)?;
     let training: Vec<&Condition> = conds
@@ -286,35 +293,39 @@ pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
     if training.is_empty() {
         bail!("every condition is held out: nothing to calibrate on");
     }
-    let mut evals = Vec::new();
-    let mut scale = o.friction_scale.then_some(1.0);
-    let mut c = 0.0;
-    for round in 0..if o.friction_scale { 2 } else { 1 } {
-        let s_now = scale;
-        c = golden((lo, hi), o.iterations, &mut |c| {
-            let e = error(
-                &training,
-                &evaluate(o, &base, &dir, &training, c, s_now)?,
-                o.friction_scale,
-            );
-            evals.push((c, s_now.unwrap_or(1.0), e));
-            Ok(e)
-        })?;
-        if o.friction_scale {
-            scale = Some(golden((0.5, 2.0), o.iterations, &mut |s| {
-                let e = error(
-                    &training,
-                    &evaluate(o, &base, &dir, &training, c, Some(s))?,
-                    true,
-                );
-                evals.push((c, s, e));
-                Ok(e)
-            })?);
-        }
-        let _ = round;
+    // The search runs over the fields, then the scale (one more coordinate), twice over
+    // when both are fitted, as the fields and the friction move the forces together.
+    let mut search = o.fields.clone();
+    if o.friction_scale {
+        search.push(FitField::new("friction scale", SCALE_RANGE, true));
     }
+    let n = o.fields.len();
+    let split = |x: &[f64]| (x[..n].to_vec(), o.friction_scale.then(|| x[n]));
+    let start: Vec<f64> = search
+        .iter()
+        .map(|f| {
+            if f.log {
+                (f.range[0] * f.range[1]).sqrt()
+            } else {
+                0.5 * (f.range[0] + f.range[1])
+            }
+        })
+        .collect();
+    let mut evals = Vec::new();
+    let sweeps = if o.friction_scale && n > 0 { 2 } else { 1 };
+    let (best, _) = coordinate_descent(&search, &start, sweeps, o.iterations, &mut |x| {
+        let (values, scale) = split(x);
+        let e = error(
+            &training,
+            &evaluate(o, &base, &dir, &training, &values, scale)?,
+            o.friction_scale,
+        );
+        evals.push((values, scale.unwrap_or(1.0), e));
+        Ok(e)
+    })?;
+    let (values, scale) = split(&best);
     let all: Vec<&Condition> = conds.iter().collect();
-    let sim = evaluate(o, &base, &dir, &all, c, scale)?;
+    let sim = evaluate(o, &base, &dir, &all, &values, scale)?;
     let residuals: Vec<Residual> = conds
         .iter()
         .zip(&sim)
@@ -336,8 +347,15 @@ pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
             .map(|c| sim[conds.iter().position(|x| std::ptr::eq(x, *c)).unwrap_or(0)])
             .collect()
     };
+    let parameters: Vec<(String, f64)> = o
+        .fields
+        .iter()
+        .zip(&values)
+        .map(|(f, &v)| (f.field.clone(), v))
+        .collect();
     let result = Calibration {
-        c,
+        c: parameters.iter().find(|p| p.0 == C_FIELD).map(|p| p.1),
+        parameters,
         friction_scale: scale,
         training_error: error(&training, &sim_of(&training), o.friction_scale),
         held_out_error: (!held.is_empty()).then(|| error(&held, &sim_of(&held), o.friction_scale)),

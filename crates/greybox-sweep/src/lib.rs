@@ -25,6 +25,7 @@ pub mod case;
 pub mod collect;
 pub mod launch;
 pub mod local;
+pub mod search;
 pub mod settings;
 pub mod slurm;
 pub mod spec;

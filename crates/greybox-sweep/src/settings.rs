@@ -12,8 +12,9 @@
 //!     "sweep.executor: 'lsf' is not one of local, slurm");
 //! ```
 
-use super::calibrate::{CalibrateOptions, HoldOut};
+use super::calibrate::{CalibrateOptions, HoldOut, C_FIELD};
 use super::launch::CaseCommand;
+use super::search::FitField;
 use super::Executor;
 use anyhow::{bail, Result};
 use serde::{Deserialize, Serialize};
@@ -121,6 +122,11 @@ pub struct CalibrateSettings {
     /// Also scale the base's Coulomb mu.
     #[cfg_attr(feature = "cli", arg(long))]
     pub friction_scale: bool,
+    /// Fit these set-up fields instead of C: `FIELD=LOW:HIGH` (linear) or
+    /// `FIELD=LOW:HIGH:log`, e.g. `friction.law.b=-0.8:0.2` for a parameter of an inline
+    /// friction law; repeat for several.
+    #[cfg_attr(feature = "cli", arg(long = "fit"))]
+    pub fit: Vec<String>,
 }
 
 impl Default for CalibrateSettings {
@@ -135,11 +141,22 @@ impl Default for CalibrateSettings {
             hold_out_every: HoldOutEvery::of(3),
             hold_out: Vec::new(),
             friction_scale: false,
+            fit: Vec::new(),
         }
     }
 }
 
 impl CalibrateSettings {
+    /// The fitted fields: those of `fit`, or C over [c_min, c_max] on a log scale.
+    pub fn fields(&self) -> Result<Vec<FitField>> {
+        if self.fit.is_empty() {
+            let c = FitField::new(C_FIELD, [self.c_min, self.c_max], true);
+            c.check()?;
+            return Ok(vec![c]);
+        }
+        self.fit.iter().map(|s| parse_fit(s)).collect()
+    }
+
     /// The calibration of `sweep_file`'s base, each case's process started by `command`.
     pub fn options(&self, sweep_file: PathBuf, command: CaseCommand) -> Result<CalibrateOptions> {
         Ok(CalibrateOptions {
@@ -148,7 +165,7 @@ impl CalibrateSettings {
             out: self.out.clone(),
             executor: self.executor.executor(false)?,
             command,
-            c_range: (self.c_min, self.c_max),
+            fields: self.fields()?,
             iterations: self.iterations.get(),
             hold_out: if self.hold_out.is_empty() {
                 HoldOut::Every(self.hold_out_every.get())
@@ -157,5 +174,53 @@ impl CalibrateSettings {
             },
             friction_scale: self.friction_scale,
         })
+    }
+}
+
+/// `FIELD=LOW:HIGH[:log]` as a fitted field.
+fn parse_fit(s: &str) -> Result<FitField> {
+    let bad = || {
+        anyhow::anyhow!(
+            "fit '{s}': expected FIELD=LOW:HIGH or FIELD=LOW:HIGH:log, e.g. friction.law.b=-0.8:0.2"
+        )
+    };
+    let (field, range) = s.split_once('=').ok_or_else(bad)?;
+    let parts: Vec<&str> = range.split(':').collect();
+    let log = match parts.get(2) {
+        None => false,
+        Some(&"log") if parts.len() == 3 => true,
+        _ => return Err(bad()),
+    };
+    let num = |t: &str| t.trim().parse::<f64>().map_err(|_| bad());
+    let f = FitField::new(
+        field.trim(),
+        [num(parts[0])?, num(parts.get(1).ok_or_else(bad)?)?],
+        log,
+    );
+    if f.field.is_empty() {
+        return Err(bad());
+    }
+    f.check()?;
+    Ok(f)
+}
+
+#[cfg(test)]
+mod fit_tests {
+    use super::*;
+
+    #[test]
+    fn fit_fields_read_with_their_scale_and_refuse_bad_brackets() {
+        let f = parse_fit("friction.law.b=-0.8:0.2").unwrap();
+        assert_eq!(f, FitField::new("friction.law.b", [-0.8, 0.2], false));
+        assert!(
+            parse_fit("material.plasticity.c=0.001:0.1:log")
+                .unwrap()
+                .log
+        );
+        for bad in ["b", "b=1", "b=1:0", "b=0:1:ln", "=0:1", "c=0:1:log"] {
+            assert!(parse_fit(bad).is_err(), "{bad}");
+        }
+        let s = CalibrateSettings::default();
+        assert_eq!(s.fields().unwrap()[0].field, C_FIELD);
     }
 }

@@ -77,11 +77,19 @@ pub fn collected(c: &Collected) -> String {
     t
 }
 
-/// The calibrated C (and μ scale) with the residual per condition.
+/// The calibrated fields (and μ scale) with the residual per condition.
 pub fn calibration(r: &Calibration) -> String {
-    let mut t = format!("C = {:.5}", r.c);
+    let mut t = r
+        .parameters
+        .iter()
+        .map(|(f, v)| format!("{f} = {v:.5}"))
+        .collect::<Vec<_>>()
+        .join(", ");
     if let Some(s) = r.friction_scale {
-        let _ = write!(t, ", mu scale = {s:.4}");
+        if !t.is_empty() {
+            t += ", ";
+        }
+        let _ = write!(t, "mu scale = {s:.4}");
     }
     let _ = writeln!(
         t,

@@ -54,6 +54,7 @@ pub fn coarse_cut() -> greybox_sim::cutting::CuttingSetup {
             window_length_m: 20e-6,
             update_every_steps: 100,
             law_file: None,
+            law: None,
             smoothing: Default::default(),
         },
         steady: SteadySetup::default(),

@@ -1,0 +1,172 @@
+//! The measured conditions of a suite (a CSV, one row per condition, units in the column
+//! names, every row citing its source) and the cutting set-up of one condition from a
+//! material's template.
+
+use super::{MaterialRuns, ToolModel};
+use anyhow::{bail, Context, Result};
+use greybox_core::csvutil::{csv_error, parse_f64, record_line, Header};
+use greybox_sim::cutting::CuttingSetup;
+use serde::Serialize;
+use std::path::Path;
+
+/// One measured condition (SI inside; the CSV has units in its column names).
+#[derive(Debug, Clone, Serialize)]
+pub struct Condition {
+    pub id: String,
+    pub material: String,
+    pub source: String,
+    pub cutting_speed_m_s: f64,
+    pub uncut_chip_thickness_m: f64,
+    pub rake_deg: f64,
+    pub clearance_deg: f64,
+    pub edge_radius_m: f64,
+    /// Measured forces per width, N/m, and their reported dispersions.
+    pub cutting_force_n_per_m: f64,
+    pub cutting_force_dispersion_n_per_m: Option<f64>,
+    pub feed_force_n_per_m: f64,
+    pub feed_force_dispersion_n_per_m: Option<f64>,
+    /// Chip compression ratio h_c/h, where reported.
+    pub chip_ratio: Option<f64>,
+    /// Tool–chip contact length, m, where reported.
+    pub contact_length_m: Option<f64>,
+}
+
+/// Reads the measured conditions.
+pub fn read_conditions(path: &Path) -> Result<Vec<Condition>> {
+    let src = path.display().to_string();
+    let mut rdr = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_path(path)
+        .map_err(|e| csv_error(&src, e))?;
+    let header = Header::new(&src, rdr.headers().map_err(|e| csv_error(&src, e))?);
+    let need = |n: &str| header.require(n);
+    let cols = [
+        need("id")?,
+        need("material")?,
+        need("source")?,
+        need("cutting_speed_m_per_min")?,
+        need("uncut_chip_thickness_mm")?,
+        need("rake_deg")?,
+        need("clearance_deg")?,
+        need("edge_radius_um")?,
+        need("cutting_force_N_per_mm")?,
+        need("feed_force_N_per_mm")?,
+    ];
+    let opt = |n: &str| header.find(n);
+    let (c_fcd, c_ffd, c_ratio, c_lc) = (
+        opt("cutting_force_dispersion_N_per_mm"),
+        opt("feed_force_dispersion_N_per_mm"),
+        opt("chip_ratio"),
+        opt("contact_length_mm"),
+    );
+    let mut out: Vec<Condition> = Vec::new();
+    for (k, rec) in rdr.records().enumerate() {
+        let rec = rec.map_err(|e| csv_error(&src, e))?;
+        let line = record_line(rec.position(), k as u64 + 2);
+        let num = |c: usize| parse_f64(&rec[c], &src, line, &header.names()[c]);
+        let maybe = |c: Option<usize>| -> Result<Option<f64>> {
+            match c {
+                Some(c) if !rec[c].trim().is_empty() => Ok(Some(num(c)?)),
+                _ => Ok(None),
+            }
+        };
+        let positive = |c: usize, v: f64| -> Result<f64> {
+            if v > 0.0 {
+                Ok(v)
+            } else {
+                bail!(
+                    "{src}: line {line}: column {}: expected a value > 0, got {v}",
+                    header.names()[c]
+                )
+            }
+        };
+        let id = rec[cols[0]].trim().to_string();
+        if id.is_empty() || out.iter().any(|c| c.id == id) {
+            bail!("{src}: line {line}: column id: expected a unique, non-empty id, got '{id}'");
+        }
+        out.push(Condition {
+            id,
+            material: rec[cols[1]].trim().to_string(),
+            source: rec[cols[2]].trim().to_string(),
+            cutting_speed_m_s: positive(cols[3], num(cols[3])?)? / 60.0,
+            uncut_chip_thickness_m: positive(cols[4], num(cols[4])?)? * 1e-3,
+            rake_deg: num(cols[5])?,
+            clearance_deg: num(cols[6])?,
+            edge_radius_m: num(cols[7])? * 1e-6,
+            cutting_force_n_per_m: positive(cols[8], num(cols[8])?)? * 1e3,
+            cutting_force_dispersion_n_per_m: maybe(c_fcd)?.map(|v| v * 1e3),
+            feed_force_n_per_m: positive(cols[9], num(cols[9])?)? * 1e3,
+            feed_force_dispersion_n_per_m: maybe(c_ffd)?.map(|v| v * 1e3),
+            chip_ratio: maybe(c_ratio)?,
+            contact_length_m: maybe(c_lc)?.map(|v| v * 1e-3),
+        });
+    }
+    if out.is_empty() {
+        bail!("{src}: no conditions");
+    }
+    Ok(out)
+}
+
+/// The set-up of condition `c` from `template` for `tool`.
+pub fn condition_setup(
+    template: &CuttingSetup,
+    c: &Condition,
+    runs: &MaterialRuns,
+    tool: ToolModel,
+) -> Result<CuttingSetup> {
+    let mut s = template.clone();
+    s.insert.rake_deg = c.rake_deg;
+    s.insert.clearance_deg = c.clearance_deg;
+    s.insert.edge_radius_m = c.edge_radius_m;
+    s.uncut_chip_thickness_m = c.uncut_chip_thickness_m;
+    let run = runs.run_speed_m_per_min / 60.0;
+    if c.cutting_speed_m_s < run {
+        s.cutting_speed_m_s = run;
+        s.physical_cutting_speed_m_s = Some(c.cutting_speed_m_s);
+    } else {
+        s.cutting_speed_m_s = c.cutting_speed_m_s;
+        s.physical_cutting_speed_m_s = None;
+    }
+    match tool {
+        ToolModel::Adiabatic => {
+            s.tool_thermal = None;
+            s.numerics.friction_heat_share = 1.0;
+        }
+        ToolModel::Thermal => {
+            if s.tool_thermal.is_none() {
+                bail!(
+                    "{}: the set-up template {} has no [tool_thermal] section for the thermal tool",
+                    runs.name,
+                    runs.setup
+                );
+            }
+        }
+    }
+    s.validate()
+        .with_context(|| format!("condition {}", c.id))?;
+    Ok(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_conditions_with_units_and_names_bad_fields() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("c.csv");
+        std::fs::write(&p, "# measured\nid,material,source,cutting_speed_m_per_min,uncut_chip_thickness_mm,rake_deg,clearance_deg,edge_radius_um,cutting_force_N_per_mm,feed_force_N_per_mm,chip_ratio\nA,Ti6Al4V,x,30,0.06,15,2,20,118.2,50.3,1.23\n").unwrap();
+        let c = read_conditions(&p).unwrap();
+        assert_eq!(c.len(), 1);
+        assert!((c[0].cutting_speed_m_s - 0.5).abs() < 1e-12);
+        assert!((c[0].uncut_chip_thickness_m - 6e-5).abs() < 1e-15);
+        assert!((c[0].cutting_force_n_per_m - 118_200.0).abs() < 1e-9);
+        assert_eq!(c[0].chip_ratio, Some(1.23));
+        std::fs::write(&p, "id,material,source,cutting_speed_m_per_min,uncut_chip_thickness_mm,rake_deg,clearance_deg,edge_radius_um,cutting_force_N_per_mm,feed_force_N_per_mm\nA,Ti,x,30,-0.06,15,2,20,118,50\n").unwrap();
+        let e = format!("{:#}", read_conditions(&p).unwrap_err());
+        assert!(
+            e.contains("line 2") && e.contains("uncut_chip_thickness_mm"),
+            "{e}"
+        );
+    }
+}

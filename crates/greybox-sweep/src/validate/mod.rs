@@ -1,0 +1,814 @@
+//! The validation suite: simulated orthogonal cuts against measured ones from published
+//! experiments, with an honest split — the friction models are calibrated on at most a third
+//! of the conditions, and the errors are reported on the rest, held out.
+//!
+//! A suite file (TOML) names the data (a CSV of measured conditions, one row each, units in
+//! the column names, every row citing its source, [`conditions`]) and, per material, a
+//! cutting set-up template whose condition fields (speed, uncut chip thickness, rake,
+//! clearance, edge radius) each row replaces. Two tool models run: the adiabatic tool (all
+//! friction heat into the chip, as in the ETH IWF codes) and the template's thermal tool.
+//!
+//! Each material lists the friction models it is cut with ([`variant`]: a calibrated
+//! Coulomb μ\*, a law file as it is or with a calibrated factor, a law with fitted
+//! parameters); every model runs on the same conditions, and the results name it. The
+//! calibration ([`fit`]) uses the calibration conditions only; then every condition is cut
+//! with the calibrated model, the calibration ones included, so that their errors are
+//! simulated, not interpolated. Each cut also records the local contact quantities along the
+//! rake face ([`cut`]).
+//!
+//! Slow cuts run time-scaled (`run_speed_m_per_min`; see
+//! [`greybox_sim::cutting::CuttingSetup::physical_cutting_speed_m_s`]).
+
+pub mod conditions;
+pub mod cut;
+pub mod fit;
+pub mod report;
+pub mod variant;
+
+pub use conditions::{condition_setup, read_conditions, Condition};
+pub use report::{markdown, write_outputs};
+
+use anyhow::{bail, Result};
+use cut::{run_cut, Cut, LocalQuantities};
+use fit::{best_shape, feed_error, FactorErrors, ShapeFit};
+use greybox_core::FrictionLaw;
+use greybox_sim::cutting::CuttingSetup;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use variant::{FrictionVariant, Model, VariantKind};
+
+/// The suite file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Suite {
+    /// Measured conditions (CSV, relative to the suite file).
+    pub data: String,
+    pub material: Vec<MaterialRuns>,
+}
+
+impl Suite {
+    /// Reads a suite file.
+    pub fn read(path: &Path) -> Result<Suite> {
+        greybox_pipeline::config_toml::read(path, "validation suite")
+    }
+
+    /// The files the suite at `path` reads: its data, its set-up templates and its law
+    /// files with the files they name (relative paths resolved against the suite's
+    /// directory).
+    pub fn input_files(&self, path: &Path) -> Vec<PathBuf> {
+        let base = path.parent().unwrap_or(Path::new("."));
+        let mut files: Vec<PathBuf> = std::iter::once(base.join(&self.data))
+            .chain(self.material.iter().map(|m| base.join(&m.setup)))
+            .collect();
+        for v in self.material.iter().flat_map(|m| &m.friction) {
+            if let Some(f) = v.file_path(base) {
+                // an unreadable law file is named when the variant is built
+                files.extend(
+                    greybox_friction::spec::law_inputs(&f).unwrap_or_else(|_| vec![f.clone()]),
+                );
+            }
+        }
+        files
+    }
+}
+
+/// How one material's conditions are simulated and calibrated.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialRuns {
+    /// The `material` of the data rows this applies to.
+    pub name: String,
+    /// How the results name this entry (default: `name`); several entries may model the
+    /// same material differently (e.g. two flow-stress models).
+    #[serde(default)]
+    pub label: Option<String>,
+    /// Cutting set-up template (TOML, relative to the suite file).
+    pub setup: String,
+    /// Cuts slower than this run time-scaled at this speed, m/min.
+    pub run_speed_m_per_min: f64,
+    /// Ids of the calibration conditions (at most a third of the material's rows).
+    pub calibration: Vec<String>,
+    /// μ range searched, [low, high] (the Coulomb μ\*, and the two cuts per calibration
+    /// condition every fitted law starts from).
+    pub mu_bracket: [f64; 2],
+    /// Steps refining each factor's s\* by cutting the calibration conditions again there
+    /// (default 0: the linear interpolation between the bracket ends alone; [`fit`]).
+    #[serde(default)]
+    pub refine: usize,
+    /// The friction models cut, side by side (default: `coulomb-calibrated` alone).
+    #[serde(default = "default_friction")]
+    pub friction: Vec<FrictionVariant>,
+}
+
+/// The most refinement steps a material may ask for (each cuts every calibration condition
+/// once per friction model and shape).
+pub const MAX_REFINE: usize = 4;
+
+fn default_friction() -> Vec<FrictionVariant> {
+    vec![FrictionVariant::coulomb_calibrated()]
+}
+
+/// The tool models compared.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ToolModel {
+    /// Rigid and adiabatic: all friction heat into the chip, no conduction into the tool.
+    Adiabatic,
+    /// The template's thermal tool (conduction, coating, interface conductance).
+    Thermal,
+}
+
+greybox_core::choice!(ToolModel, "validate.tools", [Adiabatic => "adiabatic", Thermal => "thermal"], text);
+
+impl MaterialRuns {
+    /// The entry's name in the results.
+    pub fn label(&self) -> &str {
+        self.label.as_deref().unwrap_or(&self.name)
+    }
+}
+
+impl ToolModel {
+    pub fn name(self) -> &'static str {
+        match self {
+            ToolModel::Adiabatic => "adiabatic",
+            ToolModel::Thermal => "thermal",
+        }
+    }
+}
+
+/// What a condition is for in the suite: the friction models are calibrated on the
+/// calibration conditions, the held-out ones only test them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    Calibration,
+    HeldOut,
+}
+
+greybox_core::choice!(Role, "role", [Calibration => "calibration", HeldOut => "held-out"]);
+
+/// One simulated condition.
+#[derive(Debug, Clone, Serialize)]
+pub struct Outcome {
+    pub id: String,
+    pub material: String,
+    pub tool: ToolModel,
+    /// The friction model's name.
+    pub friction: String,
+    pub role: Role,
+    /// The constant μ of a Coulomb model (`None`: a law of the contact state).
+    pub mu: Option<f64>,
+    pub cutting_speed_m_per_min: f64,
+    pub uncut_chip_thickness_mm: f64,
+    pub measured_cutting_force_n_per_mm: f64,
+    pub simulated_cutting_force_n_per_mm: f64,
+    pub measured_feed_force_n_per_mm: f64,
+    pub simulated_feed_force_n_per_mm: f64,
+    pub measured_chip_ratio: Option<f64>,
+    pub simulated_chip_ratio: Option<f64>,
+    pub measured_contact_length_mm: Option<f64>,
+    pub simulated_contact_length_mm: Option<f64>,
+    /// Relative errors (simulated − measured)/measured.
+    pub cutting_force_error: f64,
+    pub feed_force_error: f64,
+    pub chip_ratio_error: Option<f64>,
+    /// μ, pressure and sliding velocity along the rake face.
+    pub local: LocalQuantities,
+    /// The hottest particle over the run, °C.
+    pub max_temperature_c: f64,
+    pub steady: bool,
+    /// Cut length simulated, mm (shorter than the template's when the run stopped steady).
+    pub simulated_cut_length_mm: f64,
+    pub wall_s: f64,
+}
+
+/// Mean errors of one material, tool model and friction model over one role.
+#[derive(Debug, Clone, Serialize)]
+pub struct ErrorSummary {
+    pub material: String,
+    pub tool: ToolModel,
+    pub friction: String,
+    pub kind: VariantKind,
+    pub role: Role,
+    pub conditions: usize,
+    /// The calibrated constant μ\* (Coulomb models).
+    pub mu: Option<f64>,
+    /// The fitted parameters (field, value; the factor on μ as `factor`).
+    pub parameters: Vec<(String, f64)>,
+    /// Mean |error| and mean signed error, as fractions.
+    pub cutting_force_mean_abs: f64,
+    pub cutting_force_mean: f64,
+    pub feed_force_mean_abs: f64,
+    pub feed_force_mean: f64,
+    pub chip_ratio_mean_abs: Option<f64>,
+    pub chip_ratio_mean: Option<f64>,
+    /// The mean over the conditions of the contact-length-averaged μ the law applied.
+    pub mean_mu_applied: Option<f64>,
+    /// The goal on held-out conditions: F'c within ±15 %, F'f within ±30 % on average.
+    pub meets_goal: bool,
+    /// What the friction model cost in all (calibration and every condition): cuts run and
+    /// their summed wall time, s.
+    pub cuts: usize,
+    pub cut_seconds: f64,
+}
+
+/// The calibration record of one friction model with a factor: every shape tried, its
+/// factor s\* and its interpolated objective J ([`fit`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct FitRecord {
+    pub material: String,
+    pub tool: ToolModel,
+    pub friction: String,
+    pub fields: Vec<String>,
+    pub shapes: Vec<ShapeFit>,
+}
+
+/// What a suite run gave.
+#[derive(Debug, Clone, Serialize)]
+pub struct Validation {
+    pub outcomes: Vec<Outcome>,
+    pub summaries: Vec<ErrorSummary>,
+    pub fits: Vec<FitRecord>,
+    /// Cut length run per condition (fraction of the template's).
+    pub fraction: f64,
+}
+
+/// Options of a suite run.
+#[derive(Debug, Clone)]
+pub struct ValidateOptions {
+    /// Only these condition ids (calibration ones among them are still used to calibrate);
+    /// empty: all.
+    pub only: Vec<String>,
+    pub tools: Vec<ToolModel>,
+    /// Fraction of each template's cut length.
+    pub fraction: f64,
+}
+
+struct Plan<'a> {
+    runs: &'a MaterialRuns,
+    template: CuttingSetup,
+    calibration: Vec<&'a Condition>,
+    held_out: Vec<&'a Condition>,
+    models: Vec<Model>,
+}
+
+/// Runs the suite.
+pub fn validate(suite_path: &Path, o: &ValidateOptions) -> Result<Validation> {
+    run_suite(&Suite::read(suite_path)?, suite_path, o)
+}
+
+/// The tool models, each once, in the order first named.
+fn distinct_in_order(tools: &[ToolModel]) -> Vec<ToolModel> {
+    let mut once: Vec<ToolModel> = Vec::new();
+    for &t in tools {
+        if !once.contains(&t) {
+            once.push(t);
+        }
+    }
+    once
+}
+
+/// One (material plan, tool model, friction model): a column of the comparison.
+struct Arm<'a> {
+    plan: &'a Plan<'a>,
+    tool: ToolModel,
+    model: &'a Model,
+}
+
+/// An arm's calibration: the kept shape and factor, every shape's fit, and the cost.
+#[derive(Default)]
+struct Calibrated {
+    shape: Vec<f64>,
+    factor: f64,
+    shapes: Vec<ShapeFit>,
+    cuts: usize,
+    cut_seconds: f64,
+}
+
+impl Calibrated {
+    fn count(&mut self, cuts: &[Cut]) {
+        self.cuts += cuts.len();
+        self.cut_seconds += cuts.iter().map(|c| c.wall_s).sum::<f64>();
+    }
+}
+
+/// A cut of a condition with a law; `cuts` of one batch run in parallel.
+struct Job<'a> {
+    plan: &'a Plan<'a>,
+    tool: ToolModel,
+    condition: &'a Condition,
+    law: Arc<dyn FrictionLaw>,
+}
+
+/// Runs every job as one parallel batch (the cores wait for the slowest cut once).
+fn run_batch(jobs: &[Job]) -> Result<Vec<Cut>> {
+    jobs.par_iter()
+        .map(|j| {
+            let s = condition_setup(&j.plan.template, j.condition, j.plan.runs, j.tool)?;
+            run_cut(&s, j.law.clone()).map_err(|e| {
+                e.context(format!(
+                    "condition {} ({} tool, friction {})",
+                    j.condition.id,
+                    j.tool.name(),
+                    j.law.name()
+                ))
+            })
+        })
+        .collect()
+}
+
+/// Runs `suite`, read from `suite_path` (relative paths resolve against its directory):
+/// every friction model calibrated per material and tool model, then every wanted condition
+/// cut with it.
+fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Validation> {
+    check_options(o)?;
+    let base = suite_path.parent().unwrap_or(Path::new("."));
+    let conditions = read_conditions(&base.join(&suite.data))?;
+    check_only(o, &conditions, &suite.data)?;
+    let plans = suite
+        .material
+        .iter()
+        .map(|runs| material_plan(runs, &conditions, suite, suite_path, o))
+        .collect::<Result<Vec<_>>>()?;
+    let tools = distinct_in_order(&o.tools);
+    let groups: Vec<(&Plan, ToolModel)> = plans
+        .iter()
+        .flat_map(|p| tools.iter().map(move |&t| (p, t)))
+        .collect();
+    let arms: Vec<Arm> = groups
+        .iter()
+        .flat_map(|&(plan, tool)| {
+            plan.models
+                .iter()
+                .map(move |model| Arm { plan, tool, model })
+        })
+        .collect();
+    let mut calibrated = calibrate(&arms)?;
+    let (outcomes, summaries) = final_cuts(&arms, &mut calibrated)?;
+    let fits = arms
+        .iter()
+        .zip(&calibrated)
+        .filter(|(a, _)| a.model.factor.is_some())
+        .map(|(a, c)| FitRecord {
+            material: a.plan.runs.label().to_string(),
+            tool: a.tool,
+            friction: a.model.label.clone(),
+            fields: a.model.fields.clone(),
+            shapes: c.shapes.clone(),
+        })
+        .collect();
+    Ok(Validation {
+        outcomes,
+        summaries,
+        fits,
+        fraction: o.fraction,
+    })
+}
+
+/// Every arm with a factor calibrated ([`fit`]): each of its shapes cut on the calibration
+/// conditions at both ends of the factor's bracket, then at each refinement's s\*, every
+/// step of all arms as one parallel batch; the shape of least interpolated J kept with its
+/// s\*. An arm without a factor keeps its law.
+fn calibrate(arms: &[Arm]) -> Result<Vec<Calibrated>> {
+    let mut calibrated: Vec<Calibrated> = arms
+        .iter()
+        .map(|_| Calibrated {
+            factor: 1.0,
+            ..Calibrated::default()
+        })
+        .collect();
+    // every (arm, shape) at the factors of `at`, one batch; the errors per (arm, shape)
+    let mut run_at =
+        |at: &dyn Fn(usize, usize) -> Vec<f64>| -> Result<Vec<Vec<Vec<(f64, Vec<f64>)>>>> {
+            let mut jobs: Vec<Job> = Vec::new();
+            for (i, a) in arms.iter().enumerate() {
+                for (k, shape) in a
+                    .model
+                    .shapes
+                    .iter()
+                    .enumerate()
+                    .filter(|_| a.model.factor.is_some())
+                {
+                    for s in at(i, k) {
+                        for &condition in &a.plan.calibration {
+                            let law = a.model.law(shape, s)?;
+                            jobs.push(Job {
+                                plan: a.plan,
+                                tool: a.tool,
+                                condition,
+                                law,
+                            });
+                        }
+                    }
+                }
+            }
+            let mut cuts = run_batch(&jobs)?.into_iter();
+            let mut out = Vec::new();
+            for (i, a) in arms.iter().enumerate() {
+                let mut of_arm = Vec::new();
+                for k in (0..a.model.shapes.len()).filter(|_| a.model.factor.is_some()) {
+                    let mut of_shape = Vec::new();
+                    for s in at(i, k) {
+                        let these: Vec<Cut> =
+                            cuts.by_ref().take(a.plan.calibration.len()).collect();
+                        let errors = a
+                            .plan
+                            .calibration
+                            .iter()
+                            .zip(&these)
+                            .map(|(c, cut)| feed_error(cut, c.feed_force_n_per_m))
+                            .collect();
+                        calibrated[i].count(&these);
+                        of_shape.push((s, errors));
+                    }
+                    of_arm.push(of_shape);
+                }
+                out.push(of_arm);
+            }
+            Ok(out)
+        };
+    let ends = run_at(&|i, _| arms[i].model.factor.map_or(Vec::new(), |b| b.to_vec()))?;
+    let mut searches: Vec<Vec<FactorErrors>> = arms
+        .iter()
+        .zip(ends)
+        .map(|(a, of_arm)| {
+            of_arm
+                .into_iter()
+                .map(|mut two| {
+                    let hi = two.pop().expect("two ends").1;
+                    let lo = two.pop().expect("two ends").1;
+                    FactorErrors::new(a.model.factor.expect("a factor"), lo, hi)
+                })
+                .collect()
+        })
+        .collect();
+    let steps = arms.iter().map(|a| a.plan.runs.refine).max().unwrap_or(0);
+    for step in 0..steps {
+        let next: Vec<Vec<Vec<f64>>> = arms
+            .iter()
+            .zip(&searches)
+            .map(|(a, of_arm)| {
+                of_arm
+                    .iter()
+                    .map(|f| {
+                        let s = f.zero();
+                        if step < a.plan.runs.refine && !f.has(s) {
+                            vec![s]
+                        } else {
+                            Vec::new()
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        let done = run_at(&|i, k| next[i][k].clone())?;
+        for (of_arm, done) in searches.iter_mut().zip(done) {
+            for (f, points) in of_arm.iter_mut().zip(done) {
+                for (s, errors) in points {
+                    f.add(s, errors);
+                }
+            }
+        }
+    }
+    for ((a, c), of_arm) in arms.iter().zip(calibrated.iter_mut()).zip(&searches) {
+        c.shapes = a
+            .model
+            .shapes
+            .iter()
+            .zip(of_arm)
+            .map(|(shape, f)| {
+                let factor = f.zero();
+                ShapeFit {
+                    values: shape.clone(),
+                    factor,
+                    objective: f.objective(factor),
+                }
+            })
+            .collect();
+        if let Some(best) = best_shape(&c.shapes) {
+            c.shape = best.values.clone();
+            c.factor = best.factor;
+        }
+    }
+    Ok(calibrated)
+}
+
+/// Every wanted condition of every arm cut with its calibrated model, as one batch; the
+/// outcomes in arm order (calibration conditions, then held out) and their summaries.
+fn final_cuts(
+    arms: &[Arm],
+    calibrated: &mut [Calibrated],
+) -> Result<(Vec<Outcome>, Vec<ErrorSummary>)> {
+    let laws: Vec<Arc<dyn FrictionLaw>> = arms
+        .iter()
+        .zip(calibrated.iter())
+        .map(|(a, c)| a.model.law(&c.shape, c.factor))
+        .collect::<Result<_>>()?;
+    let jobs: Vec<Job> = arms
+        .iter()
+        .zip(&laws)
+        .flat_map(|(a, law)| {
+            a.plan
+                .calibration
+                .iter()
+                .chain(&a.plan.held_out)
+                .map(move |&condition| Job {
+                    plan: a.plan,
+                    tool: a.tool,
+                    condition,
+                    law: law.clone(),
+                })
+        })
+        .collect();
+    let mut cuts = run_batch(&jobs)?.into_iter();
+    let mut outcomes = Vec::new();
+    let mut summaries = Vec::new();
+    for (a, c) in arms.iter().zip(calibrated.iter_mut()) {
+        let cal: Vec<Cut> = cuts.by_ref().take(a.plan.calibration.len()).collect();
+        let held: Vec<Cut> = cuts.by_ref().take(a.plan.held_out.len()).collect();
+        c.count(&cal);
+        c.count(&held);
+        let mu = (a.model.kind == VariantKind::CoulombCalibrated).then_some(c.factor);
+        let rows: Vec<Outcome> = a
+            .plan
+            .calibration
+            .iter()
+            .zip(&cal)
+            .map(|(cond, cut)| outcome(a, cond, Role::Calibration, mu, cut))
+            .chain(
+                a.plan
+                    .held_out
+                    .iter()
+                    .zip(&held)
+                    .map(|(cond, cut)| outcome(a, cond, Role::HeldOut, mu, cut)),
+            )
+            .collect();
+        for role in [Role::Calibration, Role::HeldOut] {
+            if let Some(s) = summarise(&rows, a, c, role, mu) {
+                summaries.push(s);
+            }
+        }
+        outcomes.extend(rows);
+    }
+    Ok((outcomes, summaries))
+}
+
+fn outcome(arm: &Arm, c: &Condition, role: Role, mu: Option<f64>, cut: &Cut) -> Outcome {
+    let rel = |sim: f64, meas: f64| sim / meas - 1.0;
+    Outcome {
+        id: c.id.clone(),
+        material: arm.plan.runs.label().to_string(),
+        tool: arm.tool,
+        friction: arm.model.label.clone(),
+        role,
+        mu,
+        cutting_speed_m_per_min: c.cutting_speed_m_s * 60.0,
+        uncut_chip_thickness_mm: c.uncut_chip_thickness_m * 1e3,
+        measured_cutting_force_n_per_mm: c.cutting_force_n_per_m * 1e-3,
+        simulated_cutting_force_n_per_mm: cut.force[0] * 1e-3,
+        measured_feed_force_n_per_mm: c.feed_force_n_per_m * 1e-3,
+        simulated_feed_force_n_per_mm: cut.force[1] * 1e-3,
+        measured_chip_ratio: c.chip_ratio,
+        simulated_chip_ratio: cut.chip_ratio,
+        measured_contact_length_mm: c.contact_length_m.map(|v| v * 1e3),
+        simulated_contact_length_mm: cut.contact_length_mm,
+        cutting_force_error: rel(cut.force[0], c.cutting_force_n_per_m),
+        feed_force_error: rel(cut.force[1], c.feed_force_n_per_m),
+        chip_ratio_error: c.chip_ratio.zip(cut.chip_ratio).map(|(m, s)| rel(s, m)),
+        local: cut.local,
+        max_temperature_c: cut.peak_temperature_c,
+        steady: cut.steady,
+        simulated_cut_length_mm: cut.cut_length_mm,
+        wall_s: cut.wall_s,
+    }
+}
+
+/// The fitted parameters of an arm: its grid fields' values and, but for Coulomb (whose
+/// factor is μ\*), its factor.
+fn parameters(arm: &Arm, cal: &Calibrated) -> Vec<(String, f64)> {
+    let mut p: Vec<(String, f64)> = arm
+        .model
+        .fields
+        .iter()
+        .cloned()
+        .zip(cal.shape.iter().copied())
+        .collect();
+    if arm.model.factor.is_some() && arm.model.kind != VariantKind::CoulombCalibrated {
+        p.push(("factor".to_string(), cal.factor));
+    }
+    p
+}
+
+fn summarise(
+    done: &[Outcome],
+    arm: &Arm,
+    cal: &Calibrated,
+    role: Role,
+    mu: Option<f64>,
+) -> Option<ErrorSummary> {
+    let rows: Vec<&Outcome> = done.iter().filter(|o| o.role == role).collect();
+    if rows.is_empty() {
+        return None;
+    }
+    let n = rows.len() as f64;
+    let mean = |f: &dyn Fn(&Outcome) -> f64| rows.iter().map(|o| f(o)).sum::<f64>() / n;
+    let of_some = |v: Vec<f64>, f: &dyn Fn(f64) -> f64| {
+        (!v.is_empty()).then(|| v.iter().map(|&e| f(e)).sum::<f64>() / v.len() as f64)
+    };
+    let ratios: Vec<f64> = rows.iter().filter_map(|o| o.chip_ratio_error).collect();
+    let mus: Vec<f64> = rows.iter().filter_map(|o| o.local.mean_mu).collect();
+    let fc_abs = mean(&|o| o.cutting_force_error.abs());
+    let ff_abs = mean(&|o| o.feed_force_error.abs());
+    Some(ErrorSummary {
+        material: arm.plan.runs.label().to_string(),
+        tool: arm.tool,
+        friction: arm.model.label.clone(),
+        kind: arm.model.kind,
+        role,
+        conditions: rows.len(),
+        mu,
+        parameters: parameters(arm, cal),
+        cutting_force_mean_abs: fc_abs,
+        cutting_force_mean: mean(&|o| o.cutting_force_error),
+        feed_force_mean_abs: ff_abs,
+        feed_force_mean: mean(&|o| o.feed_force_error),
+        chip_ratio_mean_abs: of_some(ratios.clone(), &|e| e.abs()),
+        chip_ratio_mean: of_some(ratios, &|e| e),
+        mean_mu_applied: of_some(mus, &|m| m),
+        meets_goal: fc_abs <= 0.15 && ff_abs <= 0.30,
+        cuts: cal.cuts,
+        cut_seconds: cal.cut_seconds,
+    })
+}
+
+/// The run's own options: a fraction of the cut length in (0, 1] and at least one tool model.
+fn check_options(o: &ValidateOptions) -> Result<()> {
+    if !(o.fraction > 0.0 && o.fraction <= 1.0) {
+        bail!(
+            "fraction of the cut length (fraction): expected a number in (0, 1], got {}",
+            o.fraction
+        );
+    }
+    if o.tools.is_empty() {
+        bail!("tool models (tools): expected at least one of adiabatic, thermal");
+    }
+    Ok(())
+}
+
+/// Every id of `o.only` is a condition of the data file `data`.
+fn check_only(o: &ValidateOptions, conditions: &[Condition], data: &str) -> Result<()> {
+    if let Some(id) = o
+        .only
+        .iter()
+        .find(|id| !conditions.iter().any(|c| &c.id == *id))
+    {
+        bail!(
+            "only: condition '{id}' is not in {data} (ids: {})",
+            conditions
+                .iter()
+                .map(|c| c.id.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    Ok(())
+}
+
+/// The plan of one material: its checked calibration conditions, its held-out conditions
+/// (those `o.only` wants) and its cutting set-up shortened to `o.fraction`.
+fn material_plan<'a>(
+    runs: &'a MaterialRuns,
+    conditions: &'a [Condition],
+    suite: &Suite,
+    suite_path: &Path,
+    o: &ValidateOptions,
+) -> Result<Plan<'a>> {
+    let rows: Vec<&Condition> = conditions
+        .iter()
+        .filter(|c| c.material == runs.name)
+        .collect();
+    check_material(runs, &rows, suite, suite_path)?;
+    let base = suite_path.parent().unwrap_or(Path::new("."));
+    let mut template =
+        greybox_pipeline::simulate::read_cutting_setup(&base.join(&runs.setup))?.setup;
+    template.cut_length_m *= o.fraction;
+    let models = runs
+        .friction
+        .iter()
+        .map(|v| Model::build(v, runs.label(), runs.mu_bracket, base))
+        .collect::<Result<Vec<_>>>()?;
+    if models.is_empty() {
+        bail!(
+            "{}: material {}: friction = []: expected at least one friction model",
+            suite_path.display(),
+            runs.label()
+        );
+    }
+    let wanted = |c: &&Condition| o.only.is_empty() || o.only.contains(&c.id);
+    let is_cal = |c: &&Condition| runs.calibration.contains(&c.id);
+    Ok(Plan {
+        runs,
+        template,
+        calibration: rows.iter().copied().filter(is_cal).collect(),
+        held_out: rows
+            .iter()
+            .copied()
+            .filter(|c| !is_cal(c) && wanted(c))
+            .collect(),
+        models,
+    })
+}
+
+/// A material's rows exist, its calibration conditions are its own and at most a third of
+/// them, and its μ bracket is ordered.
+fn check_material(
+    runs: &MaterialRuns,
+    rows: &[&Condition],
+    suite: &Suite,
+    suite_path: &Path,
+) -> Result<()> {
+    if rows.is_empty() {
+        bail!(
+            "{}: no conditions of material '{}' in {}",
+            suite_path.display(),
+            runs.name,
+            suite.data
+        );
+    }
+    for id in &runs.calibration {
+        if !rows.iter().any(|c| &c.id == id) {
+            bail!(
+                "{}: calibration condition '{id}' is not a {} row of {}",
+                suite_path.display(),
+                runs.name,
+                suite.data
+            );
+        }
+    }
+    if 3 * runs.calibration.len() > rows.len() || runs.calibration.is_empty() {
+        bail!(
+            "{}: material {}: {} calibration conditions of {}: expected at least one and at most a third",
+            suite_path.display(),
+            runs.name,
+            runs.calibration.len(),
+            rows.len()
+        );
+    }
+    if runs.refine > MAX_REFINE {
+        bail!(
+            "{}: material {}: refine = {}: expected at most {MAX_REFINE} steps",
+            suite_path.display(),
+            runs.name,
+            runs.refine
+        );
+    }
+    let [lo, hi] = runs.mu_bracket;
+    if !(lo >= 0.0 && hi > lo) {
+        bail!(
+            "{}: material {}: mu_bracket must be [low, high] with 0 ≤ low < high",
+            suite_path.display(),
+            runs.name
+        );
+    }
+    Ok(())
+}
+
+/// Runs the suite and writes its outputs into the directory `out`: staged and swapped in
+/// whole once every cut has run, with a provenance record of the suite, its data and
+/// templates. An `out` that already holds files is refused before any cut runs, unless
+/// `force`. Returns the results and the files written (as they are named after the swap).
+pub fn validate_into(
+    suite_path: &Path,
+    o: &ValidateOptions,
+    out: &Path,
+    force: bool,
+) -> Result<(Validation, Vec<PathBuf>)> {
+    let suite = Suite::read(suite_path)?;
+    let files = suite.input_files(suite_path);
+    let mut inputs = vec![("suite", suite_path)];
+    inputs.extend(files.iter().map(|f| ("suite input", f.as_path())));
+    let staged = greybox_pipeline::output::stage_out_dir(out, force, &inputs)?;
+    let v = run_suite(&suite, suite_path, o)?;
+    let files: Vec<PathBuf> = write_outputs(&v, staged.path())?
+        .iter()
+        .map(|p| staged.shown(p))
+        .collect();
+    greybox_pipeline::output::provenance(&inputs)?.write_into(staged.path())?;
+    staged.commit()?;
+    Ok((v, files))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn repeated_tool_models_run_once_in_the_order_named() {
+        use ToolModel::{Adiabatic, Thermal};
+        assert_eq!(
+            distinct_in_order(&[Thermal, Adiabatic, Thermal, Adiabatic]),
+            vec![Thermal, Adiabatic]
+        );
+    }
+}

@@ -1,0 +1,256 @@
+//! The suite's outputs: `results.csv` (one row per cut), `summary.json`, `validation.md`
+//! (the tables: per material, tool and friction model, then per condition) and
+//! `forces.svg`.
+
+use super::{Outcome, Role, ToolModel, Validation};
+use anyhow::Result;
+use std::path::{Path, PathBuf};
+
+/// The columns of `results.csv`, units in the names.
+const COLUMNS: [&str; 28] = [
+    "id",
+    "material",
+    "tool",
+    "friction",
+    "role",
+    "mu",
+    "cutting_speed_m_per_min",
+    "uncut_chip_thickness_mm",
+    "measured_cutting_force_N_per_mm",
+    "simulated_cutting_force_N_per_mm",
+    "cutting_force_error",
+    "measured_feed_force_N_per_mm",
+    "simulated_feed_force_N_per_mm",
+    "feed_force_error",
+    "measured_chip_ratio",
+    "simulated_chip_ratio",
+    "chip_ratio_error",
+    "simulated_contact_length_mm",
+    "mean_mu_applied",
+    "pressure_min_MPa",
+    "pressure_max_MPa",
+    "sliding_velocity_min_m_per_min",
+    "sliding_velocity_max_m_per_min",
+    "peak_temperature_C",
+    "steady",
+    "simulated_cut_length_mm",
+    "wall_s",
+    "measured_contact_length_mm",
+];
+
+fn opt(v: Option<f64>, d: usize) -> String {
+    v.map_or(String::new(), |x| format!("{x:.d$}"))
+}
+
+/// One `results.csv` record of an outcome, in the order of [`COLUMNS`].
+fn record(o: &Outcome) -> Vec<String> {
+    let l = &o.local;
+    let end = |r: Option<[f64; 2]>, k: usize| opt(r.map(|r| r[k]), 1);
+    vec![
+        o.id.clone(),
+        o.material.clone(),
+        o.tool.name().to_string(),
+        o.friction.clone(),
+        o.role.to_string(),
+        opt(o.mu, 4),
+        format!("{}", o.cutting_speed_m_per_min),
+        format!("{:.3}", o.uncut_chip_thickness_mm),
+        format!("{:.2}", o.measured_cutting_force_n_per_mm),
+        format!("{:.2}", o.simulated_cutting_force_n_per_mm),
+        format!("{:.4}", o.cutting_force_error),
+        format!("{:.2}", o.measured_feed_force_n_per_mm),
+        format!("{:.2}", o.simulated_feed_force_n_per_mm),
+        format!("{:.4}", o.feed_force_error),
+        opt(o.measured_chip_ratio, 3),
+        opt(o.simulated_chip_ratio, 3),
+        opt(o.chip_ratio_error, 4),
+        opt(o.simulated_contact_length_mm, 3),
+        opt(l.mean_mu, 4),
+        end(l.pressure_mpa, 0),
+        end(l.pressure_mpa, 1),
+        end(l.sliding_velocity_m_per_min, 0),
+        end(l.sliding_velocity_m_per_min, 1),
+        format!("{:.1}", o.max_temperature_c),
+        o.steady.to_string(),
+        format!("{:.3}", o.simulated_cut_length_mm),
+        format!("{:.1}", o.wall_s),
+        opt(o.measured_contact_length_mm, 3),
+    ]
+}
+
+/// Writes `results.csv`, `summary.json`, `validation.md` (tables) and the plot
+/// `forces.svg` (simulated against measured forces) into the existing directory `out`.
+pub fn write_outputs(v: &Validation, out: &Path) -> Result<Vec<PathBuf>> {
+    use greybox_core::atomic::{write_atomic, write_string_atomic};
+    let results = out.join("results.csv");
+    // names given in a suite file (materials, friction models) are quoted where they hold a
+    // separator, a quote or a line break
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(COLUMNS)?;
+    for o in &v.outcomes {
+        w.write_record(record(o))?;
+    }
+    let bytes = w
+        .into_inner()
+        .map_err(|e| anyhow::anyhow!("results.csv: {e}"))?;
+    write_atomic(&results, |f| f.write_all(&bytes))?;
+    let summary = out.join("summary.json");
+    write_string_atomic(&summary, &serde_json::to_string_pretty(v)?)?;
+    let md = out.join("validation.md");
+    write_string_atomic(&md, &markdown(v))?;
+    let plot = out.join("forces.svg");
+    write_string_atomic(&plot, &force_plot(v))?;
+    Ok(vec![results, summary, md, plot])
+}
+
+/// A table cell of text from a suite file: `|` and line breaks would end the cell or row.
+fn cell(s: &str) -> String {
+    s.replace('|', "\\|").replace(['\n', '\r'], " ")
+}
+
+fn pct(e: f64) -> String {
+    format!("{:+.1} %", 100.0 * e)
+}
+
+/// Tables of the errors (summary per material, tool and friction model, then per
+/// condition).
+pub fn markdown(v: &Validation) -> String {
+    let mut s = String::from("| material | tool | friction | parameters | conditions | F'c mean abs error (mean) | F'f mean abs error (mean) | chip ratio mean abs error (mean) | μ applied (mean) | goal (F'c ±15 %, F'f ±30 %) | cost: cuts, cut time |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for e in &v.summaries {
+        let params = match e.mu {
+            Some(mu) => format!("μ* = {mu:.3}"),
+            None if e.parameters.is_empty() => "as given".to_string(),
+            None => e
+                .parameters
+                .iter()
+                .map(|(f, x)| format!("{} = {x:.4}", cell(f)))
+                .collect::<Vec<_>>()
+                .join(", "),
+        };
+        s += &format!(
+            "| {} | {} | {} | {} | {} {} | {:.1} % ({}) | {:.1} % ({}) | {} | {} | {} | {} cuts, {:.0} s |\n",
+            cell(&e.material),
+            e.tool.name(),
+            cell(&e.friction),
+            params,
+            e.conditions,
+            e.role,
+            100.0 * e.cutting_force_mean_abs,
+            pct(e.cutting_force_mean),
+            100.0 * e.feed_force_mean_abs,
+            pct(e.feed_force_mean),
+            e.chip_ratio_mean_abs
+                .zip(e.chip_ratio_mean)
+                .map_or("—".into(), |(a, m)| format!("{:.1} % ({})", 100.0 * a, pct(m))),
+            opt(e.mean_mu_applied, 3),
+            match (e.role, e.meets_goal) {
+                (Role::HeldOut, true) => "met",
+                (Role::HeldOut, false) => "not met",
+                _ => "(calibration)",
+            },
+            e.cuts,
+            e.cut_seconds
+        );
+    }
+    let steady = v.outcomes.iter().filter(|o| o.steady).count();
+    let length: f64 = v.outcomes.iter().map(|o| o.simulated_cut_length_mm).sum();
+    s += &format!(
+        "\n{steady} of {} cuts reached steady forces; {:.3} mm of cut simulated on average.\n",
+        v.outcomes.len(),
+        length / v.outcomes.len().max(1) as f64
+    );
+    s += "\n| id | material | tool | friction | role | v_c m/min | h mm | F'c meas / sim N/mm | F'f meas / sim N/mm | h_c/h meas / sim | μ applied | p MPa (rake) | v_slide m/min (rake) | l_c mm | T_peak °C |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    let range = |r: Option<[f64; 2]>| r.map_or("—".into(), |[a, b]| format!("{a:.0}–{b:.0}"));
+    for o in &v.outcomes {
+        s += &format!(
+            "| {} | {} | {} | {} | {} | {} | {:.3} | {:.1} / {:.1} ({}) | {:.1} / {:.1} ({}) | {} | {} | {} | {} | {} | {:.0} |\n",
+            o.id,
+            cell(&o.material),
+            o.tool.name(),
+            cell(&o.friction),
+            o.role,
+            o.cutting_speed_m_per_min,
+            o.uncut_chip_thickness_mm,
+            o.measured_cutting_force_n_per_mm,
+            o.simulated_cutting_force_n_per_mm,
+            pct(o.cutting_force_error),
+            o.measured_feed_force_n_per_mm,
+            o.simulated_feed_force_n_per_mm,
+            pct(o.feed_force_error),
+            o.measured_chip_ratio
+                .zip(o.simulated_chip_ratio)
+                .map_or("—".into(), |(m, s)| format!("{m:.2} / {s:.2}")),
+            opt(o.local.mean_mu, 3),
+            range(o.local.pressure_mpa),
+            range(o.local.sliding_velocity_m_per_min),
+            opt(o.simulated_contact_length_mm, 3),
+            o.max_temperature_c
+        );
+    }
+    s
+}
+
+/// Simulated against measured F'c and F'f, held-out conditions, one colour per material
+/// entry, tool model and force.
+fn force_plot(v: &Validation) -> String {
+    let mut labels: Vec<(&str, &str)> = Vec::new();
+    for o in &v.outcomes {
+        let l = (o.material.as_str(), o.friction.as_str());
+        if !labels.contains(&l) {
+            labels.push(l);
+        }
+    }
+    type Pair = fn(&Outcome) -> (f64, f64);
+    let forces: [(&str, Pair); 2] = [
+        ("F'c", |o| {
+            (
+                o.measured_cutting_force_n_per_mm,
+                o.simulated_cutting_force_n_per_mm,
+            )
+        }),
+        ("F'f", |o| {
+            (
+                o.measured_feed_force_n_per_mm,
+                o.simulated_feed_force_n_per_mm,
+            )
+        }),
+    ];
+    let mut data = Vec::new();
+    for &(material, friction) in &labels {
+        for tool in [ToolModel::Adiabatic, ToolModel::Thermal] {
+            for (force, f) in forces {
+                let (m, s): (Vec<f64>, Vec<f64>) = v
+                    .outcomes
+                    .iter()
+                    .filter(|o| {
+                        o.tool == tool
+                            && o.role == Role::HeldOut
+                            && o.material == material
+                            && o.friction == friction
+                    })
+                    .map(f)
+                    .unzip();
+                if !m.is_empty() {
+                    data.push((
+                        format!("{force}, {material}, {} tool, {friction}", tool.name()),
+                        m,
+                        s,
+                    ));
+                }
+            }
+        }
+    }
+    const COLOURS: [&str; 8] = [
+        "#1f77b4", "#aec7e8", "#d62728", "#ff9896", "#2ca02c", "#98df8a", "#9467bd", "#c5b0d5",
+    ];
+    let series: Vec<(&str, &str, &[f64], &[f64])> = data
+        .iter()
+        .zip(COLOURS.iter().cycle())
+        .map(|((l, m, s), c)| (l.as_str(), *c, m.as_slice(), s.as_slice()))
+        .collect();
+    greybox_core::plot::predicted_vs_measured(
+        "held-out conditions: simulated against measured force per width",
+        "(N/mm)",
+        &series,
+    )
+}

@@ -1,0 +1,309 @@
+//! The friction models a suite material is cut with, each run on the same conditions and
+//! reported side by side:
+//!
+//! * `coulomb-calibrated` — one constant μ\* calibrated on the calibration conditions (the
+//!   suite's original model; see the module docs of [`super`]);
+//! * `law` — a law file (any law greybox loads: a grey-box law from a tribometer campaign, a
+//!   model or table file, a classical law) used as it is, or with one factor on its μ
+//!   calibrated (`scale = [low, high]`);
+//! * `calibrated` — a law with few parameters (an inline law spec, e.g. μ(v) as a power law
+//!   of sliding velocity, μ(p, v) with a shear cap): its shape over a grid of its named
+//!   numeric fields and its level as a factor, fitted on the calibration conditions only
+//!   ([`super::fit`]).
+
+use anyhow::{bail, Context, Result};
+use greybox_core::FrictionLaw;
+use greybox_friction::compose::Scaled;
+use greybox_friction::spec::{LawFile, LawSpec};
+use greybox_friction::spec_fields::LawFields;
+use greybox_sim::ConstantMu;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// The kinds of friction model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VariantKind {
+    CoulombCalibrated,
+    Law,
+    Calibrated,
+}
+
+greybox_core::choice!(VariantKind, "friction.kind", [CoulombCalibrated => "coulomb-calibrated", Law => "law", Calibrated => "calibrated"]);
+
+/// The most shapes a calibrated law's grid may have (each costs two cuts per calibration
+/// condition).
+pub const MAX_SHAPES: usize = 64;
+/// The factor's bracket of a calibrated law without `scale`.
+pub const DEFAULT_SCALE: [f64; 2] = [0.5, 2.0];
+
+/// One field of a calibrated law's grid: a dotted path of the law and the values tried.
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct GridField {
+    pub field: String,
+    pub values: Vec<f64>,
+}
+
+/// One `[[material.friction]]` entry of a suite file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrictionVariant {
+    pub kind: VariantKind,
+    /// How the results name it (default: the kind; for a law, its file's name).
+    #[serde(default)]
+    pub name: Option<String>,
+    /// `law`: the law file, relative to the suite file.
+    #[serde(default)]
+    pub file: Option<String>,
+    /// `law`, `calibrated`: the bracket of the calibrated factor on the law's μ (`law`:
+    /// without it the law runs as it is; `calibrated`: default [0.5, 2]).
+    #[serde(default)]
+    pub scale: Option<[f64; 2]>,
+    /// `calibrated`: the law, as a law file's content (relative paths against the suite's
+    /// directory).
+    #[serde(default)]
+    pub law: Option<serde_json::Value>,
+    /// `calibrated`: the grid of the law's numeric fields (dotted paths) whose shapes are
+    /// tried; every combination of their values is one shape.
+    #[serde(default)]
+    pub grid: Vec<GridField>,
+}
+
+impl FrictionVariant {
+    /// Today's model, what a suite material without `friction` runs.
+    pub fn coulomb_calibrated() -> Self {
+        FrictionVariant {
+            kind: VariantKind::CoulombCalibrated,
+            name: None,
+            file: None,
+            scale: None,
+            law: None,
+            grid: Vec::new(),
+        }
+    }
+
+    /// The law file this variant reads, resolved against `base`.
+    pub fn file_path(&self, base: &Path) -> Option<PathBuf> {
+        self.file.as_ref().map(|f| base.join(f))
+    }
+}
+
+/// How a model's law is made from a shape's values and the factor.
+type MakeLaw = Box<dyn Fn(&[f64], f64) -> Result<Arc<dyn FrictionLaw>> + Send + Sync>;
+
+/// A variant ready to run: its label, its shapes and factor bracket, and how its law is
+/// made (see [`super::fit`]).
+pub struct Model {
+    pub label: String,
+    pub kind: VariantKind,
+    /// The grid's fields (none but for a calibrated law).
+    pub fields: Vec<String>,
+    /// The shapes tried, one value per field each (one empty shape without a grid).
+    pub shapes: Vec<Vec<f64>>,
+    /// The bracket of the factor on μ (`None`: the law runs as it is).
+    pub factor: Option<[f64; 2]>,
+    make: MakeLaw,
+}
+
+impl Model {
+    /// The law of `shape` at factor `s` (ignored without a factor).
+    pub fn law(&self, shape: &[f64], s: f64) -> Result<Arc<dyn FrictionLaw>> {
+        (self.make)(shape, s)
+    }
+
+    /// Builds the variant of material `material` (Coulomb μ searched over `mu_bracket`),
+    /// relative paths against `base`.
+    pub fn build(
+        v: &FrictionVariant,
+        material: &str,
+        mu_bracket: [f64; 2],
+        base: &Path,
+    ) -> Result<Model> {
+        let at = |what: &str| format!("material {material}: friction {} ({what})", v.kind);
+        let unused = |name: &str, given: bool| -> Result<()> {
+            if given {
+                bail!("{}: '{name}' does not apply to this kind", at("fields"));
+            }
+            Ok(())
+        };
+        let check_scale = |r: [f64; 2]| -> Result<[f64; 2]> {
+            if !(r[0] > 0.0 && r[1] > r[0] && r[1].is_finite()) {
+                bail!(
+                    "{}: expected [low, high] with 0 < low < high, got {r:?}",
+                    at("scale")
+                );
+            }
+            Ok(r)
+        };
+        let label = v.name.clone().unwrap_or_else(|| v.kind.to_string());
+        let model = |label: String, fields, shapes, factor, make: MakeLaw| Model {
+            label,
+            kind: v.kind,
+            fields,
+            shapes,
+            factor,
+            make,
+        };
+        Ok(match v.kind {
+            VariantKind::CoulombCalibrated => {
+                unused("file", v.file.is_some())?;
+                unused("scale", v.scale.is_some())?;
+                unused("law", v.law.is_some())?;
+                unused("grid", !v.grid.is_empty())?;
+                model(
+                    label,
+                    Vec::new(),
+                    vec![Vec::new()],
+                    Some(mu_bracket),
+                    Box::new(|_: &[f64], s: f64| {
+                        Ok(Arc::new(ConstantMu(s)) as Arc<dyn FrictionLaw>)
+                    }),
+                )
+            }
+            VariantKind::Law => {
+                unused("law", v.law.is_some())?;
+                unused("grid", !v.grid.is_empty())?;
+                let path = v.file_path(base).with_context(|| {
+                    format!("{}: expected a law file (file = \"…\")", at("file"))
+                })?;
+                let law: Arc<dyn FrictionLaw> = LawFile::read(&path)
+                    .and_then(LawFile::build)
+                    .with_context(|| format!("{}: {}", at("file"), path.display()))?
+                    .into();
+                let label = v.name.clone().unwrap_or_else(|| {
+                    let stem = path
+                        .file_stem()
+                        .map_or("law".into(), |s| s.to_string_lossy().into_owned());
+                    if v.scale.is_some() {
+                        format!("{stem} (scaled)")
+                    } else {
+                        stem
+                    }
+                });
+                let factor = v.scale.map(check_scale).transpose()?;
+                model(
+                    label,
+                    Vec::new(),
+                    vec![Vec::new()],
+                    factor,
+                    Box::new(move |_: &[f64], s: f64| {
+                        Ok(match factor {
+                            None => law.clone(),
+                            Some(_) => Arc::new(Scaled {
+                                factor: s,
+                                inner: law.clone(),
+                            }),
+                        })
+                    }),
+                )
+            }
+            VariantKind::Calibrated => {
+                unused("file", v.file.is_some())?;
+                let value = v.law.clone().with_context(|| {
+                    format!(
+                        "{}: expected the law to fit (law = {{ law = \"power\", … }})",
+                        at("law")
+                    )
+                })?;
+                let spec: LawSpec = serde_json::from_value(value).with_context(|| at("law"))?;
+                let fields = LawFields::new(&spec)?;
+                let shapes = grid_shapes(&v.grid).with_context(|| at("grid"))?;
+                for g in &v.grid {
+                    fields.get(&g.field).with_context(|| at("grid"))?;
+                }
+                let names: Vec<String> = v.grid.iter().map(|g| g.field.clone()).collect();
+                let base = base.to_path_buf();
+                let make: MakeLaw = {
+                    let names = names.clone();
+                    Box::new(move |shape: &[f64], s: f64| {
+                        let values: Vec<(String, f64)> =
+                            names.iter().cloned().zip(shape.iter().copied()).collect();
+                        let inner = fields.with(&values)?.build(&base)?;
+                        Ok(Arc::new(Scaled {
+                            factor: s,
+                            inner: inner.into(),
+                        }) as Arc<dyn FrictionLaw>)
+                    })
+                };
+                // every shape must build: a bad grid fails before any cut
+                for shape in &shapes {
+                    make(shape, 1.0).with_context(|| format!("{}: shape {shape:?}", at("grid")))?;
+                }
+                let factor = check_scale(v.scale.unwrap_or(DEFAULT_SCALE))?;
+                model(label, names, shapes, Some(factor), make)
+            }
+        })
+    }
+}
+
+/// Every combination of the grid's values (the first field varying slowest); one empty
+/// shape without a grid.
+fn grid_shapes(grid: &[GridField]) -> Result<Vec<Vec<f64>>> {
+    let mut shapes: Vec<Vec<f64>> = vec![Vec::new()];
+    for g in grid {
+        if g.values.is_empty() || g.values.iter().any(|x| !x.is_finite()) {
+            bail!("field '{}': expected finite values, at least one", g.field);
+        }
+        if shapes.len().saturating_mul(g.values.len()) > MAX_SHAPES {
+            bail!("the grid has more than {MAX_SHAPES} shapes (each costs two cuts per calibration condition)");
+        }
+        shapes = shapes
+            .iter()
+            .flat_map(|s| {
+                g.values.iter().map(move |&x| {
+                    let mut t = s.clone();
+                    t.push(x);
+                    t
+                })
+            })
+            .collect();
+    }
+    Ok(shapes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn variant(toml_text: &str) -> FrictionVariant {
+        toml::from_str(toml_text).unwrap()
+    }
+
+    fn build(v: &FrictionVariant) -> Result<Model> {
+        Model::build(v, "Ti6Al4V", [0.2, 0.8], Path::new("."))
+    }
+
+    #[test]
+    fn a_calibrated_law_tries_every_shape_of_its_grid_times_a_factor() {
+        let v = variant(
+            "kind = \"calibrated\"\nname = \"mu(p,v)\"\nlaw = { law = \"power\", mu_ref = 0.5, p_ref_MPa = 1000.0, v_ref_m_per_min = 10.0 }\ngrid = [{ field = \"a\", values = [-0.2, 0.0] }, { field = \"b\", values = [-0.5, -0.25, 0.0] }]\n",
+        );
+        let m = build(&v).unwrap();
+        assert_eq!(m.shapes.len(), 6);
+        assert_eq!(m.shapes[1], vec![-0.2, -0.25]);
+        assert_eq!(m.factor, Some(DEFAULT_SCALE));
+        // a = 0, b = −0.5, factor 0.8: 0.8 · 0.5 · (40/10)^−0.5 = 0.2 at 40 m/min
+        let law = m.law(&[0.0, -0.5], 0.8).unwrap();
+        let s = greybox_core::ContactState::new(1e9, 40.0 / 60.0);
+        assert!((law.mu(&s) - 0.2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bad_entries_are_named_before_any_cut() {
+        let e = |t: &str| format!("{:#}", build(&variant(t)).err().unwrap());
+        let m = e("kind = \"calibrated\"\nlaw = { law = \"power\", mu_ref = 0.5, p_ref_MPa = 1000.0, v_ref_m_per_min = 10.0 }\ngrid = [{ field = \"c\", values = [0.0] }]\n");
+        assert!(m.contains("'c'") && m.contains("mu_ref"), "{m}");
+        let m = e("kind = \"calibrated\"\nlaw = { law = \"power\", mu_ref = 0.5, p_ref_MPa = 1000.0, v_ref_m_per_min = 10.0 }\ngrid = [{ field = \"b\", values = [9.0] }]\n");
+        assert!(m.contains("shape [9.0]") && m.contains("b must lie"), "{m}");
+        let many: Vec<String> = (0..9).map(|k| format!("{}", -0.05 * k as f64)).collect();
+        let m = e(&format!("kind = \"calibrated\"\nlaw = {{ law = \"power\", mu_ref = 0.5, p_ref_MPa = 1000.0, v_ref_m_per_min = 10.0 }}\ngrid = [{{ field = \"a\", values = [{0}] }}, {{ field = \"b\", values = [{0}] }}]\n", many.join(", ")));
+        assert!(m.contains("more than 64 shapes"), "{m}");
+        let m = e("kind = \"coulomb-calibrated\"\nfile = \"x.json\"\n");
+        assert!(m.contains("'file' does not apply"), "{m}");
+        let m = e("kind = \"law\"\n");
+        assert!(m.contains("expected a law file"), "{m}");
+        let m = e("kind = \"law\"\nfile = \"x.json\"\nscale = [1.0, 0.5]\n");
+        assert!(m.contains("x.json"), "{m}");
+    }
+}
