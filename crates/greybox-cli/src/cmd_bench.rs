@@ -2,14 +2,14 @@
 
 use crate::output::emit;
 use anyhow::Result;
-use greybox_core::choice::{clap_parsers::choice, Choice};
+use greybox_core::choice::clap_parsers::choice;
 use greybox_core::count::Count;
 use greybox_friction::table_file::TableKind;
 use greybox_pipeline::bench;
 use greybox_pipeline::export::{AxisPoints, TableSize, DEFAULT_MAX_TABLE_SIZE};
 use greybox_report::text;
+use greybox_sweep::settings::ValidateSettings;
 use greybox_sweep::validate;
-use greybox_sweep::validate::ToolModel;
 use std::path::PathBuf;
 
 /// Timed repetitions of a benchmark.
@@ -75,26 +75,8 @@ pub enum Bench {
     /// experiments, cited in the data file), one μ per material and tool model calibrated on
     /// at most a third of the conditions, errors reported on the rest (held out).
     Validate {
-        /// Suite file.
-        #[arg(long, default_value = "validation/suite.toml")]
-        suite: PathBuf,
-        /// Output directory (results.csv, summary.json, validation.md, forces.svg).
-        #[arg(long, default_value = "validation-out")]
-        out: PathBuf,
-        /// Only these held-out conditions (comma-separated ids); the calibration ones
-        /// always run.
-        #[arg(long, value_delimiter = ',')]
-        only: Vec<String>,
-        /// Tool models: adiabatic, thermal (default: both).
-        #[arg(long, value_parser = choice::<ToolModel>(), value_delimiter = ',', default_values_t = ToolModel::ALL.to_vec())]
-        tool: Vec<ToolModel>,
-        /// Fraction of each template's cut length (shorter: faster, less steady).
-        #[arg(long, default_value_t = 1.0)]
-        fraction: f64,
-        /// Replace an existing, non-empty output directory (swapped out whole once every
-        /// cut has run).
-        #[arg(long)]
-        force: bool,
+        #[command(flatten)]
+        settings: ValidateSettings,
         #[arg(long)]
         json: bool,
     },
@@ -157,21 +139,8 @@ pub fn run(a: Args) -> Result<()> {
                 .collect::<Result<Vec<_>>>()?;
             emit(json, &rows, |r| text::predict_latency(r))
         }
-        Bench::Validate {
-            suite,
-            out,
-            only,
-            tool,
-            fraction,
-            force,
-            json,
-        } => {
-            let o = validate::ValidateOptions {
-                only,
-                tools: tool,
-                fraction,
-            };
-            let (v, files) = validate::validate_into(&suite, &o, &out, force)?;
+        Bench::Validate { settings, json } => {
+            let (v, files) = settings.run()?;
             emit(json, &v, |v| {
                 let mut t = validate::markdown(v);
                 t += &format!(

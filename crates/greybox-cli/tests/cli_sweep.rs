@@ -354,3 +354,98 @@ fn calibration_recovers_the_johnson_cook_c_the_measured_forces_were_made_with() 
     assert_eq!(held, [false, false, true]);
     assert!(d.path().join("c/calibration.json").is_file());
 }
+
+#[test]
+fn calibration_fits_a_parameter_of_an_inline_friction_law() {
+    // the base cut with an inline law whose μ_ref is fitted (`--fit friction.law.mu_ref`)
+    let d = tempfile::tempdir().unwrap();
+    coarse_config(d.path(), None);
+    let mut cut = std::fs::read_to_string(d.path().join("cut.toml")).unwrap();
+    cut += "\n[friction.law]\nlaw = \"power\"\nmu_ref = 0.3\np_ref_MPa = 1000.0\nv_ref_m_per_min = 150.0\nb = -0.2\nclamp = [0.05, 1.0]\n";
+    std::fs::write(d.path().join("cut.toml"), cut).unwrap();
+    // "measured": the cut with μ_ref = 0.5 at three speeds (the third held out)
+    std::fs::write(
+        d.path().join("truth.toml"),
+        "[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\nfraction = 0.4\n[[axis]]\nfield = \"cutting_speed_m_s\"\nvalues = [2.0, 3.0, 4.0]\n[[axis]]\nfield = \"friction.law.mu_ref\"\nvalues = [0.5]\n",
+    )
+    .unwrap();
+    ok(&greybox(
+        &[
+            "-q",
+            "sweep",
+            "run",
+            "truth.toml",
+            "--out",
+            "t",
+            "--jobs",
+            "2",
+        ],
+        d.path(),
+    ));
+    ok(&greybox(&["sweep", "collect", "t"], d.path()));
+    let csv = std::fs::read_to_string(d.path().join("t/results.csv")).unwrap();
+    let mut rdr = csv::Reader::from_reader(csv.as_bytes());
+    let h = rdr.headers().unwrap().clone();
+    let col = |n: &str| h.iter().position(|x| x == n).unwrap();
+    let mut measured =
+        String::from("cutting_speed_m_s,cutting_force_N_per_mm,feed_force_N_per_mm\n");
+    for r in rdr.records() {
+        let r = r.unwrap();
+        measured += &format!(
+            "{},{},{}\n",
+            &r[col("cutting_speed_m_s")],
+            &r[col("cutting_force_N_per_mm")],
+            &r[col("feed_force_N_per_mm")]
+        );
+    }
+    std::fs::write(d.path().join("measured.csv"), measured).unwrap();
+    std::fs::write(
+        d.path().join("cal.toml"),
+        "[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\nfraction = 0.4\n",
+    )
+    .unwrap();
+    let r: serde_json::Value = serde_json::from_str(&ok(&greybox(
+        &[
+            "-q",
+            "sweep",
+            "calibrate",
+            "cal.toml",
+            "--measured",
+            "measured.csv",
+            "--out",
+            "c",
+            "--fit",
+            "friction.law.mu_ref=0.2:0.8",
+            "--iterations",
+            "8",
+            "--jobs",
+            "2",
+            "--hold-out",
+            "3",
+            "--json",
+        ],
+        d.path(),
+    )))
+    .unwrap();
+    let p = &r["parameters"][0];
+    assert_eq!(p[0], "friction.law.mu_ref", "{r}");
+    let mu = p[1].as_f64().unwrap();
+    assert!((mu / 0.5 - 1.0).abs() < 0.1, "μ_ref = {mu}: {r}");
+    assert!(r["c"].is_null(), "C was not fitted: {r}");
+    // a field the law does not have is refused by name
+    let e = err(&greybox(
+        &[
+            "sweep",
+            "calibrate",
+            "cal.toml",
+            "--measured",
+            "measured.csv",
+            "--out",
+            "c2",
+            "--fit",
+            "friction.law.q=0:1",
+        ],
+        d.path(),
+    ));
+    assert!(e.contains("friction.law") || e.contains("'q'"), "{e}");
+}

@@ -11,7 +11,7 @@ use greybox_pipeline::settings::{
     windows::WindowsSettings,
 };
 use greybox_pipeline::simulate::RunOutput;
-use greybox_sweep::settings::{CalibrateSettings, ExecutorSettings};
+use greybox_sweep::settings::{CalibrateSettings, ExecutorSettings, ValidateSettings};
 use serde::de::DeserializeOwned;
 use std::fmt::Debug;
 
@@ -46,6 +46,7 @@ fn clap_and_serde_fill_in_the_same_defaults() {
     same(flags::<CoupleSettings>(&[]), keys("{}"));
     same(flags::<PlanSettings>(&[]), keys("{}"));
     same(flags::<ExecutorSettings>(&[]), keys("{}"));
+    same(flags::<ValidateSettings>(&[]), keys("{}"));
     same(
         flags::<CalibrateSettings>(&["--measured", "m.csv"]),
         keys(r#"{"measured": "m.csv"}"#),

@@ -153,6 +153,24 @@ fn usui_childs(mu: f64, m: f64, n: f64, k_mpa: f64) -> Result<Box<dyn FrictionLa
     }))
 }
 
+/// The exponential decay with sliding speed from its spec's numbers (v_c in m/min), checked.
+fn exponential_velocity(
+    mu_static: f64,
+    mu_dynamic: f64,
+    v_c_m_per_min: f64,
+) -> Result<Box<dyn FrictionLaw>> {
+    positive("v_c_m_per_min", v_c_m_per_min)?;
+    physical(&[
+        ("mu_static", Quantity::Mu, mu_static),
+        ("mu_dynamic", Quantity::Mu, mu_dynamic),
+    ])?;
+    Ok(Box::new(ExponentialVelocity {
+        mu_static,
+        mu_dynamic,
+        v_c_m_s: units::m_per_min_to_m_per_s(v_c_m_per_min),
+    }))
+}
+
 /// The largest power-law exponent accepted: |a|, |b| beyond it make μ change by more than a
 /// factor 10⁵ over one decade of pressure or speed, which no measured law does.
 const MAX_POWER_EXPONENT: f64 = 5.0;
@@ -270,18 +288,7 @@ impl LawSpec {
                 mu_static,
                 mu_dynamic,
                 v_c_m_per_min,
-            } => {
-                positive("v_c_m_per_min", *v_c_m_per_min)?;
-                physical(&[
-                    ("mu_static", Quantity::Mu, *mu_static),
-                    ("mu_dynamic", Quantity::Mu, *mu_dynamic),
-                ])?;
-                Box::new(ExponentialVelocity {
-                    mu_static: *mu_static,
-                    mu_dynamic: *mu_dynamic,
-                    v_c_m_s: units::m_per_min_to_m_per_s(*v_c_m_per_min),
-                })
-            }
+            } => exponential_velocity(*mu_static, *mu_dynamic, *v_c_m_per_min)?,
             LawSpec::ThermalSoftening { mu0, t0_k, tm_k, q } => {
                 thermal_softening(*mu0, *t0_k, *tm_k, *q)?
             }

@@ -20,6 +20,7 @@ use greybox_pipeline::settings::synth::SynthSettings;
 use greybox_pipeline::settings::windows::WindowsSettings;
 use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, RunOutput};
 use greybox_pipeline::study::Study;
+use greybox_sweep::settings::ValidateSettings;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -42,6 +43,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate_pin, m)?)?;
     m.add_function(wrap_pyfunction!(couple, m)?)?;
     m.add_function(wrap_pyfunction!(report, m)?)?;
+    m.add_function(wrap_pyfunction!(validate, m)?)?;
     Ok(())
 }
 
@@ -261,8 +263,9 @@ fn settings_defaults(stage: &str) -> PyResult<String> {
         "windows" => to_json(&WindowsSettings::default()),
         "flow_curves" => to_json(&FlowCurveSettings::default()),
         "rate_sensitivity" => to_json(&RateSensitivitySettings::default()),
+        "validate" => to_json(&ValidateSettings::default()),
         other => Err(py_err(anyhow::anyhow!(
-            "stage '{other}': expected one of identify, synth, hertz, plan, fit, adhesive, pin, output, couple, law, windows, flow_curves, rate_sensitivity"
+            "stage '{other}': expected one of identify, synth, hertz, plan, fit, adhesive, pin, output, couple, law, windows, flow_curves, rate_sensitivity, validate"
         ))),
     }
 }
@@ -315,4 +318,14 @@ fn report(py: Python<'_>, study_dir: PathBuf, out: Option<PathBuf>) -> PyResult<
     to_json(&run_interruptible(py, || {
         greybox_report::report::report(&o)
     })?)
+}
+
+/// The validation suite, as `greybox bench validate`: JSON {validation, files}. `settings`
+/// is JSON of the library's [`ValidateSettings`] (`suite`, `out`, `only`, `tool`,
+/// `fraction`, `force`).
+#[pyfunction]
+fn validate(py: Python<'_>, settings: &str) -> PyResult<String> {
+    let s: ValidateSettings = from_keywords(settings).map_err(py_err)?;
+    let (v, files) = run_interruptible(py, || s.run())?;
+    to_json(&serde_json::json!({"validation": v, "files": files}))
 }

@@ -39,6 +39,7 @@ STAGES = {
     "windows": gb.windows,
     "flow_curves": gb.fit_flow_curves,
     "rate_sensitivity": gb.fit_rate_sensitivity,
+    "validate": gb.validate,
 }
 # Python names for settings a function takes positionally under another name.
 POSITIONAL = {("hertz", "force_N"): "normal_force_N"}
@@ -197,3 +198,46 @@ def test_windows_with_each_sides_defaults_write_the_same_files(tmp_path):
     assert summary["windows"] and summary["elements"] == 1
     for name in ("windows.json", "windows.csv", "windows_frcwin.key", "windows.vtk"):
         assert (tmp_path / "cli" / name).read_bytes() == (tmp_path / "py" / name).read_bytes(), name
+
+
+STEEL_SETUP = os.path.join(os.path.dirname(__file__), "..", "..", "greybox-sweep", "tests", "data",
+                           "synthetic-steel-setup.toml")
+
+
+def _without_wall_time(path):
+    """results.csv without its wall_s column (the one value that differs run to run)."""
+    rows = [line.split(",") for line in open(path).read().splitlines()]
+    k = rows[0].index("wall_s")
+    return [r[:k] + r[k + 1:] for r in rows]
+
+
+def test_validate_with_each_sides_defaults_gives_the_same_results(tmp_path, monkeypatch):
+    """The suite file is the interface: `greybox bench validate` and `gb.validate`, each with
+    its own default suite (validation/suite.toml) and output directory, cut the same
+    conditions with the same friction models and calibrate them alike."""
+    os.makedirs(tmp_path / "validation")
+    with open(tmp_path / "validation" / "conditions.csv", "w") as f:
+        f.write("id,material,source,cutting_speed_m_per_min,uncut_chip_thickness_mm,rake_deg,"
+                "clearance_deg,edge_radius_um,cutting_force_N_per_mm,feed_force_N_per_mm,chip_ratio\n")
+        for k, (v, ff) in enumerate([(30, 70.0), (90, 60.0), (300, 50.0)]):
+            f.write(f"C{k + 1},AISI 1045,synthetic,{v},0.06,15,7,20,200,{ff},2.0\n")
+    with open(tmp_path / "validation" / "suite.toml", "w") as f:
+        f.write(f"""data = "conditions.csv"
+[[material]]
+name = "AISI 1045"
+setup = "{os.path.abspath(STEEL_SETUP)}"
+run_speed_m_per_min = 300.0
+calibration = ["C2"]
+mu_bracket = [0.2, 0.8]
+friction = [
+  {{ kind = "coulomb-calibrated" }},
+  {{ kind = "calibrated", name = "mu(v)", law = {{ law = "power", mu_ref = 0.4, p_ref_MPa = 1000.0, v_ref_m_per_min = 60.0, clamp = [0.05, 1.0] }}, grid = [{{ field = "b", values = [-0.3, 0.0] }}] }},
+]
+""")
+    cli("bench", "validate", "--tool", "adiabatic", "--fraction", "0.5", cwd=tmp_path)
+    os.rename(tmp_path / "validation-out", tmp_path / "cli-out")
+    monkeypatch.chdir(tmp_path)
+    v = gb.validate(tool=["adiabatic"], fraction=0.5)
+    assert [s["friction"] for s in v["summaries"]] == ["coulomb-calibrated"] * 2 + ["mu(v)"] * 2
+    assert _without_wall_time(tmp_path / "cli-out" / "results.csv") == \
+        _without_wall_time(tmp_path / "validation-out" / "results.csv")

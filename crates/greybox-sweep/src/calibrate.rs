@@ -236,7 +236,7 @@ fn parse_value(s: &str) -> toml::Value {
 }
 
 /// Mean relative error of simulated against measured forces (F'f too where measured and
-/// `with_feed`).
+/// `with_feed`: a scale on μ or a friction field is fitted).
 fn error(conds: &[&Condition], sim: &[(f64, f64)], with_feed: bool) -> f64 {
     let mut sum = 0.0;
     let mut n = 0.0;
@@ -267,6 +267,26 @@ fn show_values(fields: &[FitField], values: &[f64]) -> String {
 
 /// The bracket of the μ scale, searched on a log scale.
 const SCALE_RANGE: [f64; 2] = [0.5, 2.0];
+
+/// Each condition's measured and simulated forces and their relative errors.
+fn residuals(conds: &[Condition], sim: &[(f64, f64)], hold_out: &HoldOut) -> Vec<Residual> {
+    conds
+        .iter()
+        .zip(sim)
+        .enumerate()
+        .map(|(i, (m, s))| Residual {
+            condition: i + 1,
+            held_out: hold_out.held(i),
+            values: m.values.clone(),
+            measured_cutting_force_n_per_mm: m.cutting_force_n_per_mm,
+            simulated_cutting_force_n_per_mm: s.0,
+            cutting_force_error: (s.0 - m.cutting_force_n_per_mm) / m.cutting_force_n_per_mm,
+            measured_feed_force_n_per_mm: m.feed_force_n_per_mm,
+            simulated_feed_force_n_per_mm: s.1,
+            feed_force_error: m.feed_force_n_per_mm.map(|f| (s.1 - f) / f),
+        })
+        .collect()
+}
 
 /// Runs the calibration and writes `calibration.json` into `o.out`.
 pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
@@ -301,24 +321,20 @@ pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
     }
     let n = o.fields.len();
     let split = |x: &[f64]| (x[..n].to_vec(), o.friction_scale.then(|| x[n]));
-    let start: Vec<f64> = search
-        .iter()
-        .map(|f| {
-            if f.log {
-                (f.range[0] * f.range[1]).sqrt()
-            } else {
-                0.5 * (f.range[0] + f.range[1])
-            }
-        })
-        .collect();
+    let start: Vec<f64> = search.iter().map(FitField::middle).collect();
     let mut evals = Vec::new();
     let sweeps = if o.friction_scale && n > 0 { 2 } else { 1 };
+    // friction shows in the feed force: it counts where friction is fitted
+    let with_feed = o.friction_scale
+        || o.fields
+            .iter()
+            .any(|f| f.field.starts_with("friction.") || f.field == "mu");
     let (best, _) = coordinate_descent(&search, &start, sweeps, o.iterations, &mut |x| {
         let (values, scale) = split(x);
         let e = error(
             &training,
             &evaluate(o, &base, &dir, &training, &values, scale)?,
-            o.friction_scale,
+            with_feed,
         );
         evals.push((values, scale.unwrap_or(1.0), e));
         Ok(e)
@@ -326,22 +342,7 @@ pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
     let (values, scale) = split(&best);
     let all: Vec<&Condition> = conds.iter().collect();
     let sim = evaluate(o, &base, &dir, &all, &values, scale)?;
-    let residuals: Vec<Residual> = conds
-        .iter()
-        .zip(&sim)
-        .enumerate()
-        .map(|(i, (m, s))| Residual {
-            condition: i + 1,
-            held_out: o.hold_out.held(i),
-            values: m.values.clone(),
-            measured_cutting_force_n_per_mm: m.cutting_force_n_per_mm,
-            simulated_cutting_force_n_per_mm: s.0,
-            cutting_force_error: (s.0 - m.cutting_force_n_per_mm) / m.cutting_force_n_per_mm,
-            measured_feed_force_n_per_mm: m.feed_force_n_per_mm,
-            simulated_feed_force_n_per_mm: s.1,
-            feed_force_error: m.feed_force_n_per_mm.map(|f| (s.1 - f) / f),
-        })
-        .collect();
+    let residuals = residuals(&conds, &sim, &o.hold_out);
     let sim_of = |set: &[&Condition]| -> Vec<(f64, f64)> {
         set.iter()
             .map(|c| sim[conds.iter().position(|x| std::ptr::eq(x, *c)).unwrap_or(0)])
@@ -357,8 +358,8 @@ pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
         c: parameters.iter().find(|p| p.0 == C_FIELD).map(|p| p.1),
         parameters,
         friction_scale: scale,
-        training_error: error(&training, &sim_of(&training), o.friction_scale),
-        held_out_error: (!held.is_empty()).then(|| error(&held, &sim_of(&held), o.friction_scale)),
+        training_error: error(&training, &sim_of(&training), with_feed),
+        held_out_error: (!held.is_empty()).then(|| error(&held, &sim_of(&held), with_feed)),
         evaluations: evals,
         residuals,
     };

@@ -67,6 +67,11 @@ impl FitField {
         }
     }
 
+    /// The middle of the bracket on the search scale (geometric on a log scale).
+    pub fn middle(&self) -> f64 {
+        self.from_search(0.5 * (self.to_search(self.range[0]) + self.to_search(self.range[1])))
+    }
+
     /// `x` moved into the bracket.
     pub fn clamp(&self, x: f64) -> f64 {
         x.clamp(self.range[0], self.range[1])

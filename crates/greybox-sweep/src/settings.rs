@@ -15,6 +15,7 @@
 use super::calibrate::{CalibrateOptions, HoldOut, C_FIELD};
 use super::launch::CaseCommand;
 use super::search::FitField;
+use super::validate::{ToolModel, ValidateOptions};
 use super::Executor;
 use anyhow::{bail, Result};
 use serde::{Deserialize, Serialize};
@@ -222,5 +223,67 @@ mod fit_tests {
         }
         let s = CalibrateSettings::default();
         assert_eq!(s.fields().unwrap()[0].field, C_FIELD);
+    }
+}
+
+/// The suite `greybox bench validate` runs without `--suite`.
+pub const DEFAULT_SUITE: &str = "validation/suite.toml";
+
+/// A run of the validation suite: the command line's flags and Python's keywords, with
+/// their defaults in one place.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+#[serde(deny_unknown_fields, default)]
+pub struct ValidateSettings {
+    /// Suite file (its materials, their friction models and calibration conditions).
+    #[cfg_attr(feature = "cli", arg(long, default_value = DEFAULT_SUITE))]
+    pub suite: PathBuf,
+    /// Output directory (results.csv, summary.json, validation.md, forces.svg).
+    #[cfg_attr(feature = "cli", arg(long, default_value = "validation-out"))]
+    pub out: PathBuf,
+    /// Only these held-out conditions (comma-separated ids); the calibration ones always
+    /// run.
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
+    pub only: Vec<String>,
+    /// Tool models: adiabatic, thermal (default: both).
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ',',
+        value_parser = greybox_core::choice::clap_parsers::choice::<ToolModel>(),
+        default_values_t = <ToolModel as greybox_core::choice::Choice>::ALL.to_vec()))]
+    pub tool: Vec<ToolModel>,
+    /// Fraction of each template's cut length (shorter: faster, less steady).
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 1.0))]
+    pub fraction: f64,
+    /// Replace an existing, non-empty output directory (swapped out whole once every cut
+    /// has run).
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub force: bool,
+}
+
+impl Default for ValidateSettings {
+    fn default() -> Self {
+        ValidateSettings {
+            suite: DEFAULT_SUITE.into(),
+            out: "validation-out".into(),
+            only: Vec::new(),
+            tool: <ToolModel as greybox_core::choice::Choice>::ALL.to_vec(),
+            fraction: 1.0,
+            force: false,
+        }
+    }
+}
+
+impl ValidateSettings {
+    /// The suite run's options.
+    pub fn options(&self) -> ValidateOptions {
+        ValidateOptions {
+            only: self.only.clone(),
+            tools: self.tool.clone(),
+            fraction: self.fraction,
+        }
+    }
+
+    /// Runs the suite into `out` ([`super::validate::validate_into`]).
+    pub fn run(&self) -> Result<(super::validate::Validation, Vec<PathBuf>)> {
+        super::validate::validate_into(&self.suite, &self.options(), &self.out, self.force)
     }
 }

@@ -84,6 +84,7 @@ __all__ = [
     "fit_flow_curves",
     "fit_rate_sensitivity",
     "simulate_cut",
+    "validate",
     "simulate_pin",
     "couple",
     "report",
@@ -1229,6 +1230,36 @@ def simulate_cut(
     summary["forces"] = read_csv(os.path.join(os.fspath(out), "forces.csv"), as_frame)
     summary["contact_profile"] = read_csv(os.path.join(os.fspath(out), "contact_profile.csv"), as_frame)
     return summary
+
+
+def validate(
+    suite: Optional[PathLike] = None,
+    out: Optional[PathLike] = None,
+    *,
+    only: Optional[Sequence[str]] = None,
+    tool: Optional[Sequence[str]] = None,
+    fraction: Optional[float] = None,
+    force: Optional[bool] = None,
+) -> dict:
+    """The validation suite, as ``greybox bench validate``: the suite file's measured cuts
+    simulated with each of its friction models (a calibrated constant μ, law files, laws with
+    fitted parameters), each calibrated on the calibration conditions only and judged on the
+    held-out ones; ``only`` limits the held-out conditions, ``tool`` the tool models
+    (``"adiabatic"``, ``"thermal"``), ``fraction`` the cut length. Writes ``results.csv``,
+    ``summary.json``, ``validation.md``, ``forces.svg`` into ``out``. Returns the results
+    (``outcomes`` per cut with the local rake-face quantities, ``summaries`` per material,
+    tool and friction model with their cost, ``fits``: every shape tried) and ``files``."""
+    settings = {
+        "suite": _opt_path(suite, "suite"),
+        "out": _opt_path(out, "out"),
+        "only": None if only is None else _strs(only, "only"),
+        "tool": None if tool is None else _strs(tool, "tool"),
+        "fraction": _opt_float(fraction, "fraction"),
+        "force": force,
+    }
+    r = json.loads(_native.validate(_settings(settings)))
+    r["validation"]["files"] = r["files"]
+    return r["validation"]
 
 
 def example(name: str) -> str:

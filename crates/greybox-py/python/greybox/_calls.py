@@ -23,7 +23,7 @@ from . import _native, _progress
 from ._errors import InputError
 
 #: The public functions that take ``progress=``: the ones that may run for minutes.
-LONG = frozenset({"simulate_cut", "simulate_pin", "ploughing_correction", "fit", "identify", "couple", "report", "synth", "fit_rate_sensitivity"})
+LONG = frozenset({"validate", "simulate_cut", "simulate_pin", "ploughing_correction", "fit", "identify", "couple", "report", "synth", "fit_rate_sensitivity"})
 
 #: Arguments that name a law file (a Law or Model object is written to a temporary file).
 LAW_ARGS = frozenset({"law"})

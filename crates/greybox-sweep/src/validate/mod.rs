@@ -366,6 +366,61 @@ fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Va
     })
 }
 
+/// Per arm, shape and factor of `at(arm, shape)`, the calibration conditions' F'f errors:
+/// every arm's cuts as one parallel batch, each counted in its `calibrated`.
+type FactorPoints = Vec<Vec<Vec<(f64, Vec<f64>)>>>;
+
+fn cut_at_factors(
+    arms: &[Arm],
+    calibrated: &mut [Calibrated],
+    at: &dyn Fn(usize, usize) -> Vec<f64>,
+) -> Result<FactorPoints> {
+    let shapes = |a: &Arm| {
+        if a.model.factor.is_some() {
+            a.model.shapes.len()
+        } else {
+            0
+        }
+    };
+    let mut jobs: Vec<Job> = Vec::new();
+    for (i, a) in arms.iter().enumerate() {
+        for k in 0..shapes(a) {
+            for s in at(i, k) {
+                let law = a.model.law(&a.model.shapes[k], s)?;
+                jobs.extend(a.plan.calibration.iter().map(|&condition| Job {
+                    plan: a.plan,
+                    tool: a.tool,
+                    condition,
+                    law: law.clone(),
+                }));
+            }
+        }
+    }
+    let mut cuts = run_batch(&jobs)?.into_iter();
+    let mut out = Vec::new();
+    for (i, a) in arms.iter().enumerate() {
+        let mut of_arm = Vec::new();
+        for k in 0..shapes(a) {
+            let mut of_shape = Vec::new();
+            for s in at(i, k) {
+                let these: Vec<Cut> = cuts.by_ref().take(a.plan.calibration.len()).collect();
+                let errors = a
+                    .plan
+                    .calibration
+                    .iter()
+                    .zip(&these)
+                    .map(|(c, cut)| feed_error(cut, c.feed_force_n_per_m))
+                    .collect();
+                calibrated[i].count(&these);
+                of_shape.push((s, errors));
+            }
+            of_arm.push(of_shape);
+        }
+        out.push(of_arm);
+    }
+    Ok(out)
+}
+
 /// Every arm with a factor calibrated ([`fit`]): each of its shapes cut on the calibration
 /// conditions at both ends of the factor's bracket, then at each refinement's s\*, every
 /// step of all arms as one parallel batch; the shape of least interpolated J kept with its
@@ -378,57 +433,9 @@ fn calibrate(arms: &[Arm]) -> Result<Vec<Calibrated>> {
             ..Calibrated::default()
         })
         .collect();
-    // every (arm, shape) at the factors of `at`, one batch; the errors per (arm, shape)
-    let mut run_at =
-        |at: &dyn Fn(usize, usize) -> Vec<f64>| -> Result<Vec<Vec<Vec<(f64, Vec<f64>)>>>> {
-            let mut jobs: Vec<Job> = Vec::new();
-            for (i, a) in arms.iter().enumerate() {
-                for (k, shape) in a
-                    .model
-                    .shapes
-                    .iter()
-                    .enumerate()
-                    .filter(|_| a.model.factor.is_some())
-                {
-                    for s in at(i, k) {
-                        for &condition in &a.plan.calibration {
-                            let law = a.model.law(shape, s)?;
-                            jobs.push(Job {
-                                plan: a.plan,
-                                tool: a.tool,
-                                condition,
-                                law,
-                            });
-                        }
-                    }
-                }
-            }
-            let mut cuts = run_batch(&jobs)?.into_iter();
-            let mut out = Vec::new();
-            for (i, a) in arms.iter().enumerate() {
-                let mut of_arm = Vec::new();
-                for k in (0..a.model.shapes.len()).filter(|_| a.model.factor.is_some()) {
-                    let mut of_shape = Vec::new();
-                    for s in at(i, k) {
-                        let these: Vec<Cut> =
-                            cuts.by_ref().take(a.plan.calibration.len()).collect();
-                        let errors = a
-                            .plan
-                            .calibration
-                            .iter()
-                            .zip(&these)
-                            .map(|(c, cut)| feed_error(cut, c.feed_force_n_per_m))
-                            .collect();
-                        calibrated[i].count(&these);
-                        of_shape.push((s, errors));
-                    }
-                    of_arm.push(of_shape);
-                }
-                out.push(of_arm);
-            }
-            Ok(out)
-        };
-    let ends = run_at(&|i, _| arms[i].model.factor.map_or(Vec::new(), |b| b.to_vec()))?;
+    let ends = cut_at_factors(arms, &mut calibrated, &|i, _| {
+        arms[i].model.factor.map_or(Vec::new(), |b| b.to_vec())
+    })?;
     let mut searches: Vec<Vec<FactorErrors>> = arms
         .iter()
         .zip(ends)
@@ -462,7 +469,7 @@ fn calibrate(arms: &[Arm]) -> Result<Vec<Calibrated>> {
                     .collect()
             })
             .collect();
-        let done = run_at(&|i, k| next[i][k].clone())?;
+        let done = cut_at_factors(arms, &mut calibrated, &|i, k| next[i][k].clone())?;
         for (of_arm, done) in searches.iter_mut().zip(done) {
             for (f, points) in of_arm.iter_mut().zip(done) {
                 for (s, errors) in points {

@@ -120,120 +120,146 @@ impl Model {
         mu_bracket: [f64; 2],
         base: &Path,
     ) -> Result<Model> {
-        let at = |what: &str| format!("material {material}: friction {} ({what})", v.kind);
-        let unused = |name: &str, given: bool| -> Result<()> {
-            if given {
-                bail!("{}: '{name}' does not apply to this kind", at("fields"));
-            }
-            Ok(())
-        };
-        let check_scale = |r: [f64; 2]| -> Result<[f64; 2]> {
-            if !(r[0] > 0.0 && r[1] > r[0] && r[1].is_finite()) {
-                bail!(
-                    "{}: expected [low, high] with 0 < low < high, got {r:?}",
-                    at("scale")
-                );
-            }
-            Ok(r)
-        };
+        let e = Entry { v, material };
         let label = v.name.clone().unwrap_or_else(|| v.kind.to_string());
-        let model = |label: String, fields, shapes, factor, make: MakeLaw| Model {
+        let (label, fields, shapes, factor, make) = match v.kind {
+            VariantKind::CoulombCalibrated => {
+                e.unused(&[
+                    ("file", v.file.is_some()),
+                    ("scale", v.scale.is_some()),
+                    ("law", v.law.is_some()),
+                    ("grid", !v.grid.is_empty()),
+                ])?;
+                let make: MakeLaw = Box::new(|_: &[f64], s: f64| {
+                    Ok(Arc::new(ConstantMu(s)) as Arc<dyn FrictionLaw>)
+                });
+                (label, Vec::new(), vec![Vec::new()], Some(mu_bracket), make)
+            }
+            VariantKind::Law => {
+                e.unused(&[("law", v.law.is_some()), ("grid", !v.grid.is_empty())])?;
+                let (label, factor, make) = e.law_file(base)?;
+                (label, Vec::new(), vec![Vec::new()], factor, make)
+            }
+            VariantKind::Calibrated => {
+                e.unused(&[("file", v.file.is_some())])?;
+                let (fields, shapes, factor, make) = e.calibrated(base)?;
+                (label, fields, shapes, Some(factor), make)
+            }
+        };
+        Ok(Model {
             label,
             kind: v.kind,
             fields,
             shapes,
             factor,
             make,
-        };
-        Ok(match v.kind {
-            VariantKind::CoulombCalibrated => {
-                unused("file", v.file.is_some())?;
-                unused("scale", v.scale.is_some())?;
-                unused("law", v.law.is_some())?;
-                unused("grid", !v.grid.is_empty())?;
-                model(
-                    label,
-                    Vec::new(),
-                    vec![Vec::new()],
-                    Some(mu_bracket),
-                    Box::new(|_: &[f64], s: f64| {
-                        Ok(Arc::new(ConstantMu(s)) as Arc<dyn FrictionLaw>)
-                    }),
-                )
-            }
-            VariantKind::Law => {
-                unused("law", v.law.is_some())?;
-                unused("grid", !v.grid.is_empty())?;
-                let path = v.file_path(base).with_context(|| {
-                    format!("{}: expected a law file (file = \"…\")", at("file"))
-                })?;
-                let law: Arc<dyn FrictionLaw> = LawFile::read(&path)
-                    .and_then(LawFile::build)
-                    .with_context(|| format!("{}: {}", at("file"), path.display()))?
-                    .into();
-                let label = v.name.clone().unwrap_or_else(|| {
-                    let stem = path
-                        .file_stem()
-                        .map_or("law".into(), |s| s.to_string_lossy().into_owned());
-                    if v.scale.is_some() {
-                        format!("{stem} (scaled)")
-                    } else {
-                        stem
-                    }
-                });
-                let factor = v.scale.map(check_scale).transpose()?;
-                model(
-                    label,
-                    Vec::new(),
-                    vec![Vec::new()],
-                    factor,
-                    Box::new(move |_: &[f64], s: f64| {
-                        Ok(match factor {
-                            None => law.clone(),
-                            Some(_) => Arc::new(Scaled {
-                                factor: s,
-                                inner: law.clone(),
-                            }),
-                        })
-                    }),
-                )
-            }
-            VariantKind::Calibrated => {
-                unused("file", v.file.is_some())?;
-                let value = v.law.clone().with_context(|| {
-                    format!(
-                        "{}: expected the law to fit (law = {{ law = \"power\", … }})",
-                        at("law")
-                    )
-                })?;
-                let spec: LawSpec = serde_json::from_value(value).with_context(|| at("law"))?;
-                let fields = LawFields::new(&spec)?;
-                let shapes = grid_shapes(&v.grid).with_context(|| at("grid"))?;
-                for g in &v.grid {
-                    fields.get(&g.field).with_context(|| at("grid"))?;
-                }
-                let names: Vec<String> = v.grid.iter().map(|g| g.field.clone()).collect();
-                let base = base.to_path_buf();
-                let make: MakeLaw = {
-                    let names = names.clone();
-                    Box::new(move |shape: &[f64], s: f64| {
-                        let values: Vec<(String, f64)> =
-                            names.iter().cloned().zip(shape.iter().copied()).collect();
-                        let inner = fields.with(&values)?.build(&base)?;
-                        Ok(Arc::new(Scaled {
-                            factor: s,
-                            inner: inner.into(),
-                        }) as Arc<dyn FrictionLaw>)
-                    })
-                };
-                // every shape must build: a bad grid fails before any cut
-                for shape in &shapes {
-                    make(shape, 1.0).with_context(|| format!("{}: shape {shape:?}", at("grid")))?;
-                }
-                let factor = check_scale(v.scale.unwrap_or(DEFAULT_SCALE))?;
-                model(label, names, shapes, Some(factor), make)
-            }
         })
+    }
+}
+
+/// A suite entry being built, for its error messages.
+struct Entry<'a> {
+    v: &'a FrictionVariant,
+    material: &'a str,
+}
+
+impl Entry<'_> {
+    fn at(&self, what: &str) -> String {
+        format!(
+            "material {}: friction {} ({what})",
+            self.material, self.v.kind
+        )
+    }
+
+    /// Refuses the fields given that the kind does not take.
+    fn unused(&self, given: &[(&str, bool)]) -> Result<()> {
+        if let Some((name, _)) = given.iter().find(|g| g.1) {
+            bail!(
+                "{}: '{name}' does not apply to this kind",
+                self.at("fields")
+            );
+        }
+        Ok(())
+    }
+
+    fn scale(&self, r: [f64; 2]) -> Result<[f64; 2]> {
+        if !(r[0] > 0.0 && r[1] > r[0] && r[1].is_finite()) {
+            bail!(
+                "{}: expected [low, high] with 0 < low < high, got {r:?}",
+                self.at("scale")
+            );
+        }
+        Ok(r)
+    }
+
+    /// A `law` entry: its label, factor bracket and law.
+    fn law_file(&self, base: &Path) -> Result<(String, Option<[f64; 2]>, MakeLaw)> {
+        let v = self.v;
+        let path = v
+            .file_path(base)
+            .with_context(|| format!("{}: expected a law file (file = \"…\")", self.at("file")))?;
+        let law: Arc<dyn FrictionLaw> = LawFile::read(&path)
+            .and_then(LawFile::build)
+            .with_context(|| format!("{}: {}", self.at("file"), path.display()))?
+            .into();
+        let label = v.name.clone().unwrap_or_else(|| {
+            let stem = path
+                .file_stem()
+                .map_or("law".into(), |s| s.to_string_lossy().into_owned());
+            if v.scale.is_some() {
+                format!("{stem} (scaled)")
+            } else {
+                stem
+            }
+        });
+        let factor = v.scale.map(|r| self.scale(r)).transpose()?;
+        let make: MakeLaw = Box::new(move |_: &[f64], s: f64| {
+            Ok(match factor {
+                None => law.clone(),
+                Some(_) => Arc::new(Scaled {
+                    factor: s,
+                    inner: law.clone(),
+                }),
+            })
+        });
+        Ok((label, factor, make))
+    }
+
+    /// A `calibrated` entry: its grid's fields and shapes, factor bracket and law.
+    fn calibrated(&self, base: &Path) -> Result<(Vec<String>, Vec<Vec<f64>>, [f64; 2], MakeLaw)> {
+        let v = self.v;
+        let value = v.law.clone().with_context(|| {
+            format!(
+                "{}: expected the law to fit (law = {{ law = \"power\", … }})",
+                self.at("law")
+            )
+        })?;
+        let spec: LawSpec = serde_json::from_value(value).with_context(|| self.at("law"))?;
+        let fields = LawFields::new(&spec)?;
+        let shapes = grid_shapes(&v.grid).with_context(|| self.at("grid"))?;
+        for g in &v.grid {
+            fields.get(&g.field).with_context(|| self.at("grid"))?;
+        }
+        let names: Vec<String> = v.grid.iter().map(|g| g.field.clone()).collect();
+        let base = base.to_path_buf();
+        let make: MakeLaw = {
+            let names = names.clone();
+            Box::new(move |shape: &[f64], s: f64| {
+                let values: Vec<(String, f64)> =
+                    names.iter().cloned().zip(shape.iter().copied()).collect();
+                let inner = fields.with(&values)?.build(&base)?;
+                Ok(Arc::new(Scaled {
+                    factor: s,
+                    inner: inner.into(),
+                }) as Arc<dyn FrictionLaw>)
+            })
+        };
+        // every shape must build: a bad grid fails before any cut
+        for shape in &shapes {
+            make(shape, 1.0).with_context(|| format!("{}: shape {shape:?}", self.at("grid")))?;
+        }
+        let factor = self.scale(v.scale.unwrap_or(DEFAULT_SCALE))?;
+        Ok((names, shapes, factor, make))
     }
 }
 
