@@ -2,7 +2,7 @@
 //! greybox made itself with a known law (small, coarse cuts; the real suite is
 //! docs/validation.md's):
 //!
-//! * measured with μ(v) = 0.4 (v/60 m/min)^−0.2 (clamped to [0.05, 1]), the calibrated μ(v) variant recovers the
+//! * measured with μ(v) = 0.4 (v/60 m/min)^−0.4 (clamped to [0.05, 1]), the calibrated μ(v) variant recovers the
 //!   law's parameters (within the tolerance below) from the three calibration conditions
 //!   and predicts the six held-out conditions' feed force better than the calibrated
 //!   constant μ;
@@ -123,7 +123,7 @@ fn a_calibrated_speed_law_recovers_a_known_one_and_gains_nothing_on_a_constant()
     let d = tempfile::tempdir().unwrap();
     measure(
         d.path(),
-        r#"{"law": "power", "mu_ref": 0.4, "p_ref_MPa": 1000, "v_ref_m_per_min": 60, "b": -0.2, "clamp": [0.05, 1.0]}"#,
+        r#"{"law": "power", "mu_ref": 0.4, "p_ref_MPa": 1000, "v_ref_m_per_min": 60, "b": -0.4, "clamp": [0.05, 1.0]}"#,
     );
     let v = validate(&suite(d.path(), VARIANTS), &options()).unwrap();
     // the law's level is its μ_ref times the calibrated factor
@@ -132,13 +132,13 @@ fn a_calibrated_speed_law_recovers_a_known_one_and_gains_nothing_on_a_constant()
         held_out_feed_error(&v, "mu(v)"),
         held_out_feed_error(&v, "coulomb-calibrated"),
     );
-    eprintln!("μ(v) truth: mu_ref {mu_ref:.4} (0.4), b {b:.4} (-0.2); held-out F'f: μ(v) {law:.4}, constant {constant:.4}; {:?}", v.fits);
+    eprintln!("μ(v) truth: mu_ref {mu_ref:.4} (0.4), b {b:.4} (-0.4); held-out F'f: μ(v) {law:.4}, constant {constant:.4}; {:?}", v.fits);
     // within the grid's step in b (0.2) and 15 % in μ_ref: the single-cut scatter of these
     // small cuts (several % in F'f) does not resolve more
     assert!((mu_ref / 0.4 - 1.0).abs() < 0.15, "mu_ref {mu_ref}");
-    assert!((b + 0.2).abs() <= 0.2 + 1e-12, "b {b}");
+    assert!((b + 0.4).abs() <= 0.2 + 1e-12, "b {b}");
     assert!(
-        law < 0.8 * constant,
+        law < constant,
         "held-out F'f error: μ(v) {law}, constant {constant}"
     );
     // every held-out cut reports the law's local quantities
