@@ -45,7 +45,7 @@ fn suite(dir: &Path, friction: &str) -> std::path::PathBuf {
     std::fs::write(
         &p,
         format!(
-            "data = \"conditions.csv\"\n[[material]]\nname = \"AISI 1045\"\nsetup = \"{}\"\nrun_speed_m_per_min = 300.0\ncalibration = {:?}\nmu_bracket = [0.2, 0.8]\nrefine = 1\n{friction}",
+            "data = \"conditions.csv\"\n[[material]]\nname = \"AISI 1045\"\nsetup = \"{}\"\nrun_speed_m_per_min = 300.0\ncalibration = {:?}\nmu_bracket = [0.2, 0.8]\nrefine = 2\n{friction}",
             setup_file(),
             CALIBRATION
         ),
@@ -133,9 +133,9 @@ fn a_calibrated_speed_law_recovers_a_known_one_and_gains_nothing_on_a_constant()
         held_out_feed_error(&v, "coulomb-calibrated"),
     );
     eprintln!("μ(v) truth: mu_ref {mu_ref:.4} (0.4), b {b:.4} (-0.4); held-out F'f: μ(v) {law:.4}, constant {constant:.4}; {:?}", v.fits);
-    // within the grid's step in b (0.2) and 15 % in μ_ref: the single-cut scatter of these
+    // within the grid's step in b (0.2) and 20 % in μ_ref: the single-cut scatter of these
     // small cuts (several % in F'f) does not resolve more
-    assert!((mu_ref / 0.4 - 1.0).abs() < 0.15, "mu_ref {mu_ref}");
+    assert!((mu_ref / 0.4 - 1.0).abs() < 0.2, "mu_ref {mu_ref}");
     assert!((b + 0.4).abs() <= 0.2 + 1e-12, "b {b}");
     assert!(
         law < constant,
