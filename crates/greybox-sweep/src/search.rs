@@ -42,7 +42,7 @@ impl FitField {
                 self.field
             );
         }
-        if self.log && !(lo > 0.0) {
+        if self.log && lo.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             bail!(
                 "fit field '{}': a logarithmic search needs low > 0, got {lo}",
                 self.field
@@ -59,7 +59,7 @@ impl FitField {
         }
     }
 
-    fn from_search(&self, u: f64) -> f64 {
+    fn of_search(&self, u: f64) -> f64 {
         if self.log {
             u.exp()
         } else {
@@ -69,7 +69,7 @@ impl FitField {
 
     /// The middle of the bracket on the search scale (geometric on a log scale).
     pub fn middle(&self) -> f64 {
-        self.from_search(0.5 * (self.to_search(self.range[0]) + self.to_search(self.range[1])))
+        self.of_search(0.5 * (self.to_search(self.range[0]) + self.to_search(self.range[1])))
     }
 
     /// `x` moved into the bracket.
@@ -93,24 +93,24 @@ pub fn golden(
     );
     let mut x1 = b - g * (b - a);
     let mut x2 = a + g * (b - a);
-    let (mut f1, mut f2) = (f(field.from_search(x1))?, f(field.from_search(x2))?);
+    let (mut f1, mut f2) = (f(field.of_search(x1))?, f(field.of_search(x2))?);
     for _ in 2..evaluations.max(3) {
         if f1 <= f2 {
             b = x2;
             (x2, f2) = (x1, f1);
             x1 = b - g * (b - a);
-            f1 = f(field.from_search(x1))?;
+            f1 = f(field.of_search(x1))?;
         } else {
             a = x1;
             (x1, f1) = (x2, f2);
             x2 = a + g * (b - a);
-            f2 = f(field.from_search(x2))?;
+            f2 = f(field.of_search(x2))?;
         }
     }
     Ok(if f1 <= f2 {
-        (field.from_search(x1), f1)
+        (field.of_search(x1), f1)
     } else {
-        (field.from_search(x2), f2)
+        (field.of_search(x2), f2)
     })
 }
 

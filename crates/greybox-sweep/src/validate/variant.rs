@@ -157,6 +157,9 @@ impl Model {
     }
 }
 
+/// A calibrated law's grid fields, shapes, factor bracket and law.
+type Calibrated = (Vec<String>, Vec<Vec<f64>>, [f64; 2], MakeLaw);
+
 /// A suite entry being built, for its error messages.
 struct Entry<'a> {
     v: &'a FrictionVariant,
@@ -226,7 +229,7 @@ impl Entry<'_> {
     }
 
     /// A `calibrated` entry: its grid's fields and shapes, factor bracket and law.
-    fn calibrated(&self, base: &Path) -> Result<(Vec<String>, Vec<Vec<f64>>, [f64; 2], MakeLaw)> {
+    fn calibrated(&self, base: &Path) -> Result<Calibrated> {
         let v = self.v;
         let value = v.law.clone().with_context(|| {
             format!(
