@@ -297,20 +297,7 @@ fn calibration_recovers_the_johnson_cook_c_the_measured_forces_were_made_with() 
         d.path(),
     ));
     ok(&greybox(&["sweep", "collect", "t"], d.path()));
-    let csv = std::fs::read_to_string(d.path().join("t/results.csv")).unwrap();
-    let mut rdr = csv::Reader::from_reader(csv.as_bytes());
-    let h = rdr.headers().unwrap().clone();
-    let col = |n: &str| h.iter().position(|x| x == n).unwrap();
-    let mut measured = String::from("cutting_speed_m_s,cutting_force_N_per_mm\n");
-    for r in rdr.records() {
-        let r = r.unwrap();
-        measured += &format!(
-            "{},{}\n",
-            &r[col("cutting_speed_m_s")],
-            &r[col("cutting_force_N_per_mm")]
-        );
-    }
-    std::fs::write(d.path().join("measured.csv"), measured).unwrap();
+    measured_from(d.path(), &["cutting_speed_m_s", "cutting_force_N_per_mm"]);
     std::fs::write(
         d.path().join("cal.toml"),
         "[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\nfraction = 0.4\n",
@@ -383,22 +370,14 @@ fn calibration_fits_a_parameter_of_an_inline_friction_law() {
         d.path(),
     ));
     ok(&greybox(&["sweep", "collect", "t"], d.path()));
-    let csv = std::fs::read_to_string(d.path().join("t/results.csv")).unwrap();
-    let mut rdr = csv::Reader::from_reader(csv.as_bytes());
-    let h = rdr.headers().unwrap().clone();
-    let col = |n: &str| h.iter().position(|x| x == n).unwrap();
-    let mut measured =
-        String::from("cutting_speed_m_s,cutting_force_N_per_mm,feed_force_N_per_mm\n");
-    for r in rdr.records() {
-        let r = r.unwrap();
-        measured += &format!(
-            "{},{},{}\n",
-            &r[col("cutting_speed_m_s")],
-            &r[col("cutting_force_N_per_mm")],
-            &r[col("feed_force_N_per_mm")]
-        );
-    }
-    std::fs::write(d.path().join("measured.csv"), measured).unwrap();
+    measured_from(
+        d.path(),
+        &[
+            "cutting_speed_m_s",
+            "cutting_force_N_per_mm",
+            "feed_force_N_per_mm",
+        ],
+    );
     std::fs::write(
         d.path().join("cal.toml"),
         "[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\nfraction = 0.4\n",
@@ -448,4 +427,23 @@ fn calibration_fits_a_parameter_of_an_inline_friction_law() {
         d.path(),
     ));
     assert!(e.contains("friction.law") || e.contains("'q'"), "{e}");
+}
+
+/// `measured.csv` from the collected sweep `t/results.csv` of `dir`: the `columns` of every
+/// case (the "measurements" of a calibration test).
+fn measured_from(dir: &std::path::Path, columns: &[&str]) {
+    let csv = std::fs::read_to_string(dir.join("t/results.csv")).unwrap();
+    let mut rdr = csv::Reader::from_reader(csv.as_bytes());
+    let h = rdr.headers().unwrap().clone();
+    let at: Vec<usize> = columns
+        .iter()
+        .map(|n| h.iter().position(|x| x == *n).unwrap())
+        .collect();
+    let mut measured = columns.join(",") + "\n";
+    for r in rdr.records() {
+        let r = r.unwrap();
+        measured += &at.iter().map(|&k| &r[k]).collect::<Vec<_>>().join(",");
+        measured += "\n";
+    }
+    std::fs::write(dir.join("measured.csv"), measured).unwrap();
 }
