@@ -140,7 +140,7 @@ pub fn run(a: Args) -> Result<()> {
             emit(json, &rows, |r| text::predict_latency(r))
         }
         Bench::Validate { settings, json } => {
-            let (v, files) = settings.run()?;
+            let (v, files) = settings.run(&|| Ok(std::env::current_exe()?))?;
             emit(json, &v, |v| {
                 let mut t = validate::markdown(v);
                 t += &format!(

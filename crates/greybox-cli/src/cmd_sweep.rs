@@ -4,7 +4,7 @@ use crate::output::emit;
 use anyhow::Result;
 use greybox_report::text::sweep as text;
 use greybox_sweep::calibrate::calibrate;
-use greybox_sweep::launch::{CaseArg, CaseCommand};
+use greybox_sweep::launch::CaseCommand;
 use greybox_sweep::settings::{CalibrateSettings, ExecutorSettings};
 use greybox_sweep::{self as sweep, collect::collect, Plan};
 use std::path::PathBuf;
@@ -67,17 +67,7 @@ pub struct Args {
 
 /// How a case of a sweep starts: this binary, `greybox --quiet sweep run-case OUT --index N`.
 fn case_command() -> Result<CaseCommand> {
-    Ok(CaseCommand::new(
-        std::env::current_exe()?,
-        [
-            CaseArg::text("--quiet"),
-            CaseArg::text("sweep"),
-            CaseArg::text("run-case"),
-            CaseArg::OutDir,
-            CaseArg::text("--index"),
-            CaseArg::Index,
-        ],
-    ))
+    Ok(CaseCommand::greybox(std::env::current_exe()?))
 }
 
 pub fn run(a: Args) -> Result<()> {

@@ -137,3 +137,80 @@ fn validation_subset_calibrates_on_one_condition_and_reports_the_held_out_ones()
     );
     assert!(d.path().join("out/provenance.json").exists());
 }
+
+/// The suite's results without the wall times (which no two runs share).
+fn without_wall_times(mut v: serde_json::Value) -> serde_json::Value {
+    for o in v["outcomes"].as_array_mut().unwrap() {
+        o.as_object_mut().unwrap().remove("wall_s");
+    }
+    for s in v["summaries"].as_array_mut().unwrap() {
+        s.as_object_mut().unwrap().remove("cut_seconds");
+    }
+    v
+}
+
+#[test]
+fn cuts_run_as_sweep_cases_give_the_results_of_cuts_run_in_this_process() {
+    let d = tempfile::tempdir().unwrap();
+    let v = repo().join("validation");
+    // a law file with a calibrated factor (its law inline in each case, its file by
+    // absolute path) beside the calibrated constant
+    std::fs::write(
+        d.path().join("law.json"),
+        r#"{"law": "power", "mu_ref": 0.5, "p_ref_MPa": 1000.0, "v_ref_m_per_min": 10.0, "b": -0.2, "shear_cap_k_MPa": 500.0}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        d.path().join("suite.toml"),
+        format!(
+            "data = \"{}\"\n[[material]]\nname = \"Ti6Al4V\"\nsetup = \"{}\"\nrun_speed_m_per_min = 600.0\ncalibration = [\"D08\"]\nmu_bracket = [0.2, 0.8]\nfriction = [{{ kind = \"coulomb-calibrated\" }}, {{ kind = \"law\", file = \"law.json\", scale = [0.5, 1.5] }}]\n",
+            v.join("orthogonal-cutting.csv").display(),
+            v.join("ti64-setup.toml").display()
+        ),
+    )
+    .unwrap();
+    let run = |out: &str, extra: &[&str]| {
+        let mut args = vec![
+            "bench",
+            "validate",
+            "--suite",
+            "suite.toml",
+            "--out",
+            out,
+            "--only",
+            "D09",
+            "--tool",
+            "thermal",
+            "--fraction",
+            "0.4",
+            "--json",
+            "-q",
+        ];
+        args.extend_from_slice(extra);
+        let v: serde_json::Value = serde_json::from_str(&ok(&greybox(&args, d.path()))).unwrap();
+        without_wall_times(v)
+    };
+    let here = run("here", &[]);
+    let cases = run("cases", &["--executor", "local", "--jobs", "2"]);
+    assert_eq!(here, cases);
+    assert_eq!(here["outcomes"].as_array().unwrap().len(), 4);
+    // two steps (the bracket ends, the final cuts), each one plan of cases; only their
+    // summaries are kept
+    let cuts = d.path().join("cases/cuts");
+    for (batch, n) in [("batch-01", 4), ("batch-02", 4)] {
+        let plan: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(cuts.join(batch).join("plan.json")).unwrap(),
+        )
+        .unwrap();
+        let listed = plan["cases"].as_array().unwrap();
+        assert_eq!(listed.len(), n, "{batch}");
+        let case = cuts
+            .join(batch)
+            .join("cases")
+            .join(listed[0]["id"].as_str().unwrap());
+        assert!(case.join("done.json").is_file() && !case.join("result").exists());
+        let config = std::fs::read_to_string(case.join("config.toml")).unwrap();
+        assert!(config.contains("[friction.law]"), "{config}");
+    }
+    assert!(!d.path().join("here/cuts").exists());
+}

@@ -366,6 +366,42 @@ impl LawSpec {
             _ => Vec::new(),
         }
     }
+
+    /// The same law with every relative path it names resolved against `base` and made
+    /// absolute: a law that builds the same from any directory (e.g. written inline into a
+    /// set-up that runs elsewhere).
+    pub fn resolved(&self, base: &Path) -> LawSpec {
+        let abs = |p: &Path| {
+            let p = resolve(base, p);
+            std::path::absolute(&p).unwrap_or(p)
+        };
+        let boxed = |l: &LawSpec| Box::new(l.resolved(base));
+        match self {
+            LawSpec::Learned { model, contact } => LawSpec::Learned {
+                model: abs(model),
+                contact: contact.clone(),
+            },
+            LawSpec::Table { file } => LawSpec::Table { file: abs(file) },
+            LawSpec::GreyBox {
+                inner,
+                outside,
+                blend_fraction,
+                shear_cap_k_mpa,
+                clamp,
+            } => LawSpec::GreyBox {
+                inner: boxed(inner),
+                outside: boxed(outside),
+                blend_fraction: *blend_fraction,
+                shear_cap_k_mpa: *shear_cap_k_mpa,
+                clamp: *clamp,
+            },
+            LawSpec::Scaled { factor, inner } => LawSpec::Scaled {
+                factor: *factor,
+                inner: boxed(inner),
+            },
+            other => other.clone(),
+        }
+    }
 }
 
 fn resolve(base: &Path, p: &Path) -> PathBuf {
@@ -455,6 +491,20 @@ impl LawFile {
             );
         }
         files
+    }
+
+    /// The law as a spec that names its files by absolute path: a model file as a learned
+    /// law, a table file as a table law, a law file's spec with its paths resolved.
+    pub fn spec(&self) -> LawSpec {
+        let path = std::path::absolute(&self.path).unwrap_or_else(|_| self.path.clone());
+        match &self.content {
+            LawContent::Model(_) => LawSpec::Learned {
+                model: path,
+                contact: None,
+            },
+            LawContent::Table(_) => LawSpec::Table { file: path },
+            LawContent::Spec(spec) => spec.resolved(&self.base),
+        }
     }
 
     /// Builds the law: a model or table file from the text already read, a law file through

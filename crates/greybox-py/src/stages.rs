@@ -322,10 +322,12 @@ fn report(py: Python<'_>, study_dir: PathBuf, out: Option<PathBuf>) -> PyResult<
 
 /// The validation suite, as `greybox bench validate`: JSON {validation, files}. `settings`
 /// is JSON of the library's [`ValidateSettings`] (`suite`, `out`, `only`, `tool`,
-/// `fraction`, `force`).
+/// `fraction`, `force`, `executor`, `jobs`, `poll_s`); with an executor, the cases run by the
+/// `greybox` program on PATH.
 #[pyfunction]
 fn validate(py: Python<'_>, settings: &str) -> PyResult<String> {
     let s: ValidateSettings = from_keywords(settings).map_err(py_err)?;
-    let (v, files) = run_interruptible(py, || s.run())?;
+    let program = || greybox_sweep::launch::program_on_path("greybox");
+    let (v, files) = run_interruptible(py, || s.run(&program))?;
     to_json(&serde_json::json!({"validation": v, "files": files}))
 }

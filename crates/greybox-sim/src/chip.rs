@@ -13,7 +13,7 @@ use crate::cutting::{CuttingSetup, EdgeLayout, Face};
 use crate::particles::FREE;
 use crate::solver::Solver;
 use crate::tool::{Tool, WindowAccumulator, WindowStats};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Chip thickness from the particle positions, m (`None` before a chip has formed).
 pub fn chip_thickness(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<f64> {
@@ -103,6 +103,51 @@ pub fn contact_length(
         .max_by(f64::total_cmp)
 }
 
+/// Windows in contact for less than this fraction of their length on time average count as
+/// out of contact (for the contact length and the rake-face contact quantities).
+pub const IN_CONTACT: f64 = 0.1;
+
+/// The contact state along the rake face (edge included) over the windows in contact: where
+/// friction laws differ, the μ applied and the pressures and sliding velocities it was
+/// applied at.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct RakeContact {
+    /// The μ the windows applied at the end of the run, averaged over the windows in contact
+    /// (equal lengths: the contact-length average).
+    pub mean_mu: Option<f64>,
+    /// Least and greatest window contact pressure, MPa.
+    pub pressure_mpa: Option<[f64; 2]>,
+    /// Least and greatest window sliding velocity (force-weighted per window), m/min.
+    pub sliding_velocity_m_per_min: Option<[f64; 2]>,
+}
+
+/// The rake-face contact quantities of `profile`: its rake and edge windows in contact for
+/// at least `min_fraction` of their length (all `None` without one).
+pub fn rake_contact(profile: &[ProfilePoint], min_fraction: f64) -> RakeContact {
+    let rake: Vec<(f64, WindowStats)> = profile
+        .iter()
+        .filter(|p| matches!(p.face, Face::Rake | Face::Edge))
+        .filter_map(|p| p.stats.map(|s| (p.mu, s)))
+        .filter(|(_, s)| s.contact_fraction >= min_fraction)
+        .collect();
+    if rake.is_empty() {
+        return RakeContact::default();
+    }
+    let range = |f: &dyn Fn(&WindowStats) -> f64| {
+        let values = rake.iter().map(|(_, s)| f(s));
+        let lo = values.clone().fold(f64::INFINITY, f64::min);
+        let hi = values.fold(f64::NEG_INFINITY, f64::max);
+        Some([lo, hi])
+    };
+    RakeContact {
+        mean_mu: Some(rake.iter().map(|(mu, _)| mu).sum::<f64>() / rake.len() as f64),
+        pressure_mpa: range(&|s| s.pressure_pa / greybox_core::units::PA_PER_MPA),
+        sliding_velocity_m_per_min: range(&|s| {
+            greybox_core::units::m_per_s_to_m_per_min(s.sliding_velocity_m_s)
+        }),
+    }
+}
+
 /// The summary measures of a cut.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct CutMeasures {
@@ -111,6 +156,8 @@ pub struct CutMeasures {
     pub shear_angle_deg: Option<f64>,
     pub contact_length_mm: Option<f64>,
     pub max_temperature_c: f64,
+    /// μ, pressure and sliding velocity along the rake face.
+    pub rake_contact: RakeContact,
 }
 
 /// Chip thickness, compression ratio, shear angle, contact length (from `profile`) and the
@@ -127,9 +174,10 @@ pub fn measure(
         chip_thickness_mm: hc.map(|v| v * 1e3),
         compression_ratio: hc.map(|v| v / h),
         shear_angle_deg: hc.map(|v| shear_angle_deg(h, v, setup.insert.rake_deg)),
-        contact_length_mm: contact_length(profile, setup.friction.window_length_m, 0.1)
+        contact_length_mm: contact_length(profile, setup.friction.window_length_m, IN_CONTACT)
             .map(|v| v * 1e3),
         max_temperature_c: sim.particles.temp.iter().copied().fold(f64::MIN, f64::max) - 273.15,
+        rake_contact: rake_contact(profile, IN_CONTACT),
     }
 }
 
@@ -144,5 +192,48 @@ mod tests {
         // Positive rake raises φ; r = 1 with γ = 0 gives 45°.
         assert!(shear_angle_deg(0.1, 0.25, 10.0) > shear_angle_deg(0.1, 0.25, 0.0));
         assert!((shear_angle_deg(0.1, 0.1, 0.0) - 45.0).abs() < 1e-12);
+    }
+
+    fn window(face: Face, mu: f64, contact: Option<(f64, f64, f64)>) -> ProfilePoint {
+        ProfilePoint {
+            window: 0,
+            face,
+            distance_m: 0.0,
+            mu,
+            stats: contact.map(|(fraction, p_mpa, v_m_s)| WindowStats {
+                pressure_pa: p_mpa * 1e6,
+                normal_stress_pa: p_mpa * 1e6 * fraction,
+                sliding_velocity_m_s: v_m_s,
+                temperature_k: 600.0,
+                shear_stress_pa: mu * p_mpa * 1e6,
+                mu_effective: mu,
+                contact_fraction: fraction,
+                slip_fraction: 1.0,
+                tool_temperature_k: None,
+            }),
+        }
+    }
+
+    #[test]
+    fn rake_contact_averages_the_rake_and_edge_windows_in_contact_only() {
+        let profile = [
+            window(Face::Rake, 0.9, Some((0.05, 100.0, 1.0))), // barely touched: out
+            window(Face::Rake, 0.3, Some((0.5, 800.0, 0.5))),
+            window(Face::Edge, 0.5, Some((1.0, 2000.0, 0.1))),
+            window(Face::Rake, 0.7, None), // never in contact
+            window(Face::Flank, 0.1, Some((1.0, 3000.0, 2.0))), // not the rake face
+        ];
+        let r = rake_contact(&profile, IN_CONTACT);
+        assert!((r.mean_mu.unwrap() - 0.4).abs() < 1e-15);
+        assert_eq!(r.pressure_mpa, Some([800.0, 2000.0]));
+        let v = r.sliding_velocity_m_per_min.unwrap();
+        assert!(
+            (v[0] - 6.0).abs() < 1e-12 && (v[1] - 30.0).abs() < 1e-12,
+            "{v:?}"
+        );
+        assert_eq!(
+            rake_contact(&profile[3..], IN_CONTACT),
+            RakeContact::default()
+        );
     }
 }

@@ -201,8 +201,7 @@ fn evaluate(
         extra.push(("mu".to_string(), toml::Value::Float(mu0 * s)));
     }
     let plan = Plan::expand(&f, dir, &o.sweep_file.display().to_string(), &extra)?;
-    plan.write(&o.out)?;
-    let report = o.executor.run(&plan, &o.out, &o.command)?;
+    let report = super::run_plan(&plan, &o.out, &o.executor, &o.command)?;
     if let Some(first) = report.failed.first() {
         bail!(
             "{}: case {} failed: {}",

@@ -7,11 +7,8 @@
 //! use greybox_sweep::launch::{CaseArg, CaseCommand};
 //! use std::path::Path;
 //! // what the `greybox` binary hands in: `greybox --quiet sweep run-case OUT --index N`
-//! let c = CaseCommand::new(
-//!     "/opt/greybox/bin/greybox",
-//!     [CaseArg::text("--quiet"), CaseArg::text("sweep"), CaseArg::text("run-case"),
-//!      CaseArg::OutDir, CaseArg::text("--index"), CaseArg::Index],
-//! );
+//! let c = CaseCommand::greybox("/opt/greybox/bin/greybox");
+//! assert_eq!(c.args[0], CaseArg::text("--quiet"));
 //! let args = c.args_for(Path::new("/scratch/s1"), "7");
 //! assert_eq!(args, ["--quiet", "sweep", "run-case", "/scratch/s1", "--index", "7"]);
 //! ```
@@ -55,6 +52,22 @@ impl CaseCommand {
         }
     }
 
+    /// How the `greybox` program at `program` runs a case:
+    /// `greybox --quiet sweep run-case OUT --index N`.
+    pub fn greybox(program: impl Into<PathBuf>) -> CaseCommand {
+        CaseCommand::new(
+            program,
+            [
+                CaseArg::text("--quiet"),
+                CaseArg::text("sweep"),
+                CaseArg::text("run-case"),
+                CaseArg::OutDir,
+                CaseArg::text("--index"),
+                CaseArg::Index,
+            ],
+        )
+    }
+
     /// The same command with its program made absolute (a Slurm node starts elsewhere).
     pub fn absolute(&self) -> Result<CaseCommand> {
         Ok(CaseCommand {
@@ -95,4 +108,16 @@ impl CaseCommand {
         }
         Ok(words.join(" "))
     }
+}
+
+/// The program `name` on `PATH` (what a library caller without a `greybox` executable of
+/// its own, e.g. Python, hands in to start cases).
+pub fn program_on_path(name: &str) -> Result<PathBuf> {
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    std::env::split_paths(&path)
+        .map(|d| d.join(name))
+        .find(|p| p.is_file())
+        .with_context(|| {
+            format!("cases run by the '{name}' program, but none is on PATH (install the command line: cargo install --path crates/greybox-cli)")
+        })
 }

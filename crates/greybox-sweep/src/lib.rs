@@ -285,10 +285,20 @@ pub fn run(
     executor: &Executor,
     command: &CaseCommand,
 ) -> Result<RunReport> {
-    let plan = Plan::from_file(sweep_file)?;
+    run_plan(&Plan::from_file(sweep_file)?, out, executor, command)
+}
+
+/// Writes `plan` into `out` and runs its unfinished cases on `executor`, each case's process
+/// started by `command`; for Slurm, the array script is checked before anything is written.
+pub fn run_plan(
+    plan: &Plan,
+    out: &Path,
+    executor: &Executor,
+    command: &CaseCommand,
+) -> Result<RunReport> {
     if let Executor::Slurm { .. } = executor {
-        slurm::check(&plan, out, command)?;
+        slurm::check(plan, out, command)?;
     }
     plan.write(out)?;
-    executor.run(&plan, out, command)
+    executor.run(plan, out, command)
 }

@@ -15,6 +15,7 @@
 use super::calibrate::{CalibrateOptions, HoldOut, C_FIELD};
 use super::launch::CaseCommand;
 use super::search::FitField;
+use super::validate::batch::CutRunner;
 use super::validate::{ToolModel, ValidateOptions};
 use super::Executor;
 use anyhow::{bail, Result};
@@ -257,6 +258,18 @@ pub struct ValidateSettings {
     /// has run).
     #[cfg_attr(feature = "cli", arg(long))]
     pub force: bool,
+    /// Where the cuts run: unset, in this process (every cut of a step in parallel);
+    /// `local`, a process pool (`jobs`); `slurm`, one array job per step (the suite's
+    /// `[slurm]` resources). Cases go under the output directory's `cuts/`.
+    #[cfg_attr(feature = "cli", arg(long,
+        value_parser = greybox_core::choice::clap_parsers::choice::<ExecutorName>()))]
+    pub executor: Option<ExecutorName>,
+    /// Local executor: cuts at once.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = Jobs::of(1)))]
+    pub jobs: Jobs,
+    /// Slurm executor: seconds between squeue polls.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_POLL_S))]
+    pub poll_s: f64,
 }
 
 impl Default for ValidateSettings {
@@ -268,22 +281,42 @@ impl Default for ValidateSettings {
             tool: <ToolModel as greybox_core::choice::Choice>::ALL.to_vec(),
             fraction: 1.0,
             force: false,
+            executor: None,
+            jobs: Jobs::of(1),
+            poll_s: DEFAULT_POLL_S,
         }
     }
 }
 
 impl ValidateSettings {
-    /// The suite run's options.
-    pub fn options(&self) -> ValidateOptions {
-        ValidateOptions {
+    /// The suite run's options; `program` gives the `greybox` program that runs a case
+    /// (asked only when an executor is set).
+    pub fn options(&self, program: &dyn Fn() -> Result<PathBuf>) -> Result<ValidateOptions> {
+        let runner = match self.executor {
+            None => CutRunner::InProcess,
+            Some(executor) => CutRunner::Cases {
+                executor: ExecutorSettings {
+                    executor,
+                    jobs: self.jobs,
+                    poll_s: self.poll_s,
+                }
+                .executor(false)?,
+                command: CaseCommand::greybox(program()?),
+            },
+        };
+        Ok(ValidateOptions {
             only: self.only.clone(),
             tools: self.tool.clone(),
             fraction: self.fraction,
-        }
+            runner,
+        })
     }
 
     /// Runs the suite into `out` ([`super::validate::validate_into`]).
-    pub fn run(&self) -> Result<(super::validate::Validation, Vec<PathBuf>)> {
-        super::validate::validate_into(&self.suite, &self.options(), &self.out, self.force)
+    pub fn run(
+        &self,
+        program: &dyn Fn() -> Result<PathBuf>,
+    ) -> Result<(super::validate::Validation, Vec<PathBuf>)> {
+        super::validate::validate_into(&self.suite, &self.options(program)?, &self.out, self.force)
     }
 }

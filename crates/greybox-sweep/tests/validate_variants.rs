@@ -59,6 +59,7 @@ fn options() -> ValidateOptions {
         only: Vec::new(),
         tools: vec![ToolModel::Adiabatic],
         fraction: 1.0,
+        runner: Default::default(),
     }
 }
 
@@ -70,7 +71,7 @@ fn measure(dir: &Path, truth: &str) {
         dir,
         "[[material.friction]]\nkind = \"law\"\nname = \"truth\"\nfile = \"truth.json\"\n",
     );
-    let v = validate(&p, &options()).unwrap();
+    let v = validate(&p, &options(), None).unwrap();
     let mut rows: Vec<(usize, (f64, f64, f64))> = v
         .outcomes
         .iter()
@@ -125,7 +126,7 @@ fn a_calibrated_speed_law_recovers_a_known_one_and_gains_nothing_on_a_constant()
         d.path(),
         r#"{"law": "power", "mu_ref": 0.4, "p_ref_MPa": 1000, "v_ref_m_per_min": 60, "b": -0.4, "clamp": [0.05, 1.0]}"#,
     );
-    let v = validate(&suite(d.path(), VARIANTS), &options()).unwrap();
+    let v = validate(&suite(d.path(), VARIANTS), &options(), None).unwrap();
     // the law's level is its μ_ref times the calibrated factor
     let (mu_ref, b) = (0.4 * fitted(&v, "factor"), fitted(&v, "b"));
     let (law, constant) = (
@@ -150,7 +151,7 @@ fn a_calibrated_speed_law_recovers_a_known_one_and_gains_nothing_on_a_constant()
     // Measured with a constant μ.
     let d = tempfile::tempdir().unwrap();
     measure(d.path(), r#"{"law": "coulomb", "mu": 0.4}"#);
-    let v = validate(&suite(d.path(), VARIANTS), &options()).unwrap();
+    let v = validate(&suite(d.path(), VARIANTS), &options(), None).unwrap();
     let b = fitted(&v, "b");
     let (law, constant) = (
         held_out_feed_error(&v, "mu(v)"),

@@ -1240,13 +1240,19 @@ def validate(
     tool: Optional[Sequence[str]] = None,
     fraction: Optional[float] = None,
     force: Optional[bool] = None,
+    executor: Optional[str] = None,
+    jobs: Optional[int] = None,
+    poll_s: Optional[float] = None,
 ) -> dict:
     """The validation suite, as ``greybox bench validate``: the suite file's measured cuts
     simulated with each of its friction models (a calibrated constant μ, law files, laws with
     fitted parameters), each calibrated on the calibration conditions only and judged on the
     held-out ones; ``only`` limits the held-out conditions, ``tool`` the tool models
     (``"adiabatic"``, ``"thermal"``), ``fraction`` the cut length. Writes ``results.csv``,
-    ``summary.json``, ``validation.md``, ``forces.svg`` into ``out``. Returns the results
+    ``summary.json``, ``validation.md``, ``forces.svg`` into ``out``. The cuts run in this
+    process unless ``executor`` is ``"local"`` (a pool of ``jobs`` processes) or ``"slurm"``
+    (one array job per step, the suite's ``[slurm]`` resources, polled every ``poll_s``
+    seconds), which start the ``greybox`` program on PATH per cut. Returns the results
     (``outcomes`` per cut with the local rake-face quantities, ``summaries`` per material,
     tool and friction model with their cost, ``fits``: every shape tried) and ``files``."""
     settings = {
@@ -1256,6 +1262,9 @@ def validate(
         "tool": None if tool is None else _strs(tool, "tool"),
         "fraction": _opt_float(fraction, "fraction"),
         "force": force,
+        "executor": _opt_str(executor, "executor"),
+        "jobs": jobs,
+        "poll_s": _opt_float(poll_s, "poll_s"),
     }
     r = json.loads(_native.validate(_settings(settings)))
     r["validation"]["files"] = r["files"]

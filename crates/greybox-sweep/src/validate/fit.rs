@@ -103,9 +103,9 @@ impl FactorErrors {
     }
 }
 
-/// The relative F'f error of a cut against the measured feed force (N/m).
-pub fn feed_error(cut: &Cut, measured_n_per_m: f64) -> f64 {
-    cut.force[1] / measured_n_per_m - 1.0
+/// The relative F'f error of a cut against the measured feed force (N/mm).
+pub fn feed_error(cut: &Cut, measured_n_per_mm: f64) -> f64 {
+    cut.feed_force_n_per_mm / measured_n_per_mm - 1.0
 }
 
 /// One shape of a calibrated law: its fields' values, its s\* and interpolated J.

@@ -19,6 +19,7 @@
 //! Slow cuts run time-scaled (`run_speed_m_per_min`; see
 //! [`greybox_sim::cutting::CuttingSetup::physical_cutting_speed_m_s`]).
 
+pub mod batch;
 pub mod conditions;
 pub mod cut;
 pub mod fit;
@@ -29,15 +30,14 @@ pub use conditions::{condition_setup, read_conditions, Condition};
 pub use report::{markdown, write_outputs};
 
 use anyhow::{bail, Result};
-use cut::{run_cut, Cut, LocalQuantities};
+use batch::{Batches, CutJob, CutRunner};
+use cut::Cut;
 use fit::{best_shape, feed_error, FactorErrors, ShapeFit};
-use greybox_core::FrictionLaw;
+use greybox_sim::chip::RakeContact;
 use greybox_sim::cutting::CuttingSetup;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use variant::{FrictionVariant, Model, VariantKind};
+use variant::{FrictionVariant, Model, ModelLaw, VariantKind};
 
 /// The suite file.
 #[derive(Debug, Clone, Deserialize)]
@@ -46,6 +46,10 @@ pub struct Suite {
     /// Measured conditions (CSV, relative to the suite file).
     pub data: String,
     pub material: Vec<MaterialRuns>,
+    /// Resources of each Slurm array task when the cuts run on Slurm (as a sweep file's
+    /// `[slurm]`; unset ones from each batch's cost estimate).
+    #[serde(default)]
+    pub slurm: crate::spec::SlurmSection,
 }
 
 impl Suite {
@@ -174,7 +178,7 @@ pub struct Outcome {
     pub feed_force_error: f64,
     pub chip_ratio_error: Option<f64>,
     /// μ, pressure and sliding velocity along the rake face.
-    pub local: LocalQuantities,
+    pub local: RakeContact,
     /// The hottest particle over the run, °C.
     pub max_temperature_c: f64,
     pub steady: bool,
@@ -243,6 +247,8 @@ pub struct ValidateOptions {
     pub tools: Vec<ToolModel>,
     /// Fraction of each template's cut length.
     pub fraction: f64,
+    /// Where the cuts run ([`batch`]).
+    pub runner: CutRunner,
 }
 
 struct Plan<'a> {
@@ -253,9 +259,9 @@ struct Plan<'a> {
     models: Vec<Model>,
 }
 
-/// Runs the suite.
-pub fn validate(suite_path: &Path, o: &ValidateOptions) -> Result<Validation> {
-    run_suite(&Suite::read(suite_path)?, suite_path, o)
+/// Runs the suite (its cuts in this process or, with an executor, as cases under `cuts`).
+pub fn validate(suite_path: &Path, o: &ValidateOptions, cuts: Option<&Path>) -> Result<Validation> {
+    run_suite(&Suite::read(suite_path)?, suite_path, o, cuts)
 }
 
 /// The tool models, each once, in the order first named.
@@ -293,35 +299,42 @@ impl Calibrated {
     }
 }
 
-/// A cut of a condition with a law; `cuts` of one batch run in parallel.
+/// A cut of a condition with a friction model's law.
 struct Job<'a> {
-    plan: &'a Plan<'a>,
-    tool: ToolModel,
+    arm: &'a Arm<'a>,
     condition: &'a Condition,
-    law: Arc<dyn FrictionLaw>,
+    law: ModelLaw,
 }
 
-/// Runs every job as one parallel batch (the cores wait for the slowest cut once).
-fn run_batch(jobs: &[Job]) -> Result<Vec<Cut>> {
-    jobs.par_iter()
+/// Runs every job as one batch (in parallel: the cores wait for the slowest cut once).
+fn run_batch(batches: &mut Batches, jobs: &[Job]) -> Result<Vec<Cut>> {
+    let cuts = jobs
+        .iter()
         .map(|j| {
-            let s = condition_setup(&j.plan.template, j.condition, j.plan.runs, j.tool)?;
-            run_cut(&s, j.law.clone()).map_err(|e| {
-                e.context(format!(
-                    "condition {} ({} tool, friction {})",
-                    j.condition.id,
-                    j.tool.name(),
-                    j.law.name()
-                ))
+            let plan = j.arm.plan;
+            Ok(CutJob {
+                setup: condition_setup(&plan.template, j.condition, plan.runs, j.arm.tool)?,
+                law: j.law.clone(),
+                shown: vec![
+                    ("condition".into(), j.condition.id.clone()),
+                    ("tool".into(), j.arm.tool.name().into()),
+                    ("friction".into(), j.arm.model.label.clone()),
+                ],
             })
         })
-        .collect()
+        .collect::<Result<Vec<_>>>()?;
+    batches.run(&cuts)
 }
 
 /// Runs `suite`, read from `suite_path` (relative paths resolve against its directory):
 /// every friction model calibrated per material and tool model, then every wanted condition
 /// cut with it.
-fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Validation> {
+fn run_suite(
+    suite: &Suite,
+    suite_path: &Path,
+    o: &ValidateOptions,
+    cuts: Option<&Path>,
+) -> Result<Validation> {
     check_options(o)?;
     let base = suite_path.parent().unwrap_or(Path::new("."));
     let conditions = read_conditions(&base.join(&suite.data))?;
@@ -344,8 +357,15 @@ fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Va
                 .map(move |model| Arm { plan, tool, model })
         })
         .collect();
-    let mut calibrated = calibrate(&arms)?;
-    let (outcomes, summaries) = final_cuts(&arms, &mut calibrated)?;
+    let mut batches = Batches {
+        runner: &o.runner,
+        dir: cuts.map(Path::to_path_buf),
+        slurm: suite.slurm.clone(),
+        source: suite_path.display().to_string(),
+        count: 0,
+    };
+    let mut calibrated = calibrate(&mut batches, &arms)?;
+    let (outcomes, summaries) = final_cuts(&mut batches, &arms, &mut calibrated)?;
     let fits = arms
         .iter()
         .zip(&calibrated)
@@ -371,6 +391,7 @@ fn run_suite(suite: &Suite, suite_path: &Path, o: &ValidateOptions) -> Result<Va
 type FactorPoints = Vec<Vec<Vec<(f64, Vec<f64>)>>>;
 
 fn cut_at_factors(
+    batches: &mut Batches,
     arms: &[Arm],
     calibrated: &mut [Calibrated],
     at: &dyn Fn(usize, usize) -> Vec<f64>,
@@ -388,15 +409,14 @@ fn cut_at_factors(
             for s in at(i, k) {
                 let law = a.model.law(&a.model.shapes[k], s)?;
                 jobs.extend(a.plan.calibration.iter().map(|&condition| Job {
-                    plan: a.plan,
-                    tool: a.tool,
+                    arm: a,
                     condition,
                     law: law.clone(),
                 }));
             }
         }
     }
-    let mut cuts = run_batch(&jobs)?.into_iter();
+    let mut cuts = run_batch(batches, &jobs)?.into_iter();
     let mut out = Vec::new();
     for (i, a) in arms.iter().enumerate() {
         let mut of_arm = Vec::new();
@@ -409,7 +429,7 @@ fn cut_at_factors(
                     .calibration
                     .iter()
                     .zip(&these)
-                    .map(|(c, cut)| feed_error(cut, c.feed_force_n_per_m))
+                    .map(|(c, cut)| feed_error(cut, c.feed_force_n_per_m * 1e-3))
                     .collect();
                 calibrated[i].count(&these);
                 of_shape.push((s, errors));
@@ -425,7 +445,7 @@ fn cut_at_factors(
 /// conditions at both ends of the factor's bracket, then at each refinement's s\*, every
 /// step of all arms as one parallel batch; the shape of least interpolated J kept with its
 /// s\*. An arm without a factor keeps its law.
-fn calibrate(arms: &[Arm]) -> Result<Vec<Calibrated>> {
+fn calibrate(batches: &mut Batches, arms: &[Arm]) -> Result<Vec<Calibrated>> {
     let mut calibrated: Vec<Calibrated> = arms
         .iter()
         .map(|_| Calibrated {
@@ -433,7 +453,7 @@ fn calibrate(arms: &[Arm]) -> Result<Vec<Calibrated>> {
             ..Calibrated::default()
         })
         .collect();
-    let ends = cut_at_factors(arms, &mut calibrated, &|i, _| {
+    let ends = cut_at_factors(batches, arms, &mut calibrated, &|i, _| {
         arms[i].model.factor.map_or(Vec::new(), |b| b.to_vec())
     })?;
     let mut searches: Vec<Vec<FactorErrors>> = arms
@@ -469,7 +489,7 @@ fn calibrate(arms: &[Arm]) -> Result<Vec<Calibrated>> {
                     .collect()
             })
             .collect();
-        let done = cut_at_factors(arms, &mut calibrated, &|i, k| next[i][k].clone())?;
+        let done = cut_at_factors(batches, arms, &mut calibrated, &|i, k| next[i][k].clone())?;
         for (of_arm, done) in searches.iter_mut().zip(done) {
             for (f, points) in of_arm.iter_mut().zip(done) {
                 for (s, errors) in points {
@@ -504,10 +524,11 @@ fn calibrate(arms: &[Arm]) -> Result<Vec<Calibrated>> {
 /// Every wanted condition of every arm cut with its calibrated model, as one batch; the
 /// outcomes in arm order (calibration conditions, then held out) and their summaries.
 fn final_cuts(
+    batches: &mut Batches,
     arms: &[Arm],
     calibrated: &mut [Calibrated],
 ) -> Result<(Vec<Outcome>, Vec<ErrorSummary>)> {
-    let laws: Vec<Arc<dyn FrictionLaw>> = arms
+    let laws: Vec<ModelLaw> = arms
         .iter()
         .zip(calibrated.iter())
         .map(|(a, c)| a.model.law(&c.shape, c.factor))
@@ -521,14 +542,13 @@ fn final_cuts(
                 .iter()
                 .chain(&a.plan.held_out)
                 .map(move |&condition| Job {
-                    plan: a.plan,
-                    tool: a.tool,
+                    arm: a,
                     condition,
                     law: law.clone(),
                 })
         })
         .collect();
-    let mut cuts = run_batch(&jobs)?.into_iter();
+    let mut cuts = run_batch(batches, &jobs)?.into_iter();
     let mut outcomes = Vec::new();
     let mut summaries = Vec::new();
     for (a, c) in arms.iter().zip(calibrated.iter_mut()) {
@@ -563,6 +583,7 @@ fn final_cuts(
 
 fn outcome(arm: &Arm, c: &Condition, role: Role, mu: Option<f64>, cut: &Cut) -> Outcome {
     let rel = |sim: f64, meas: f64| sim / meas - 1.0;
+    let (fc, ff) = (c.cutting_force_n_per_m * 1e-3, c.feed_force_n_per_m * 1e-3);
     Outcome {
         id: c.id.clone(),
         material: arm.plan.runs.label().to_string(),
@@ -572,16 +593,16 @@ fn outcome(arm: &Arm, c: &Condition, role: Role, mu: Option<f64>, cut: &Cut) -> 
         mu,
         cutting_speed_m_per_min: c.cutting_speed_m_s * 60.0,
         uncut_chip_thickness_mm: c.uncut_chip_thickness_m * 1e3,
-        measured_cutting_force_n_per_mm: c.cutting_force_n_per_m * 1e-3,
-        simulated_cutting_force_n_per_mm: cut.force[0] * 1e-3,
-        measured_feed_force_n_per_mm: c.feed_force_n_per_m * 1e-3,
-        simulated_feed_force_n_per_mm: cut.force[1] * 1e-3,
+        measured_cutting_force_n_per_mm: fc,
+        simulated_cutting_force_n_per_mm: cut.cutting_force_n_per_mm,
+        measured_feed_force_n_per_mm: ff,
+        simulated_feed_force_n_per_mm: cut.feed_force_n_per_mm,
         measured_chip_ratio: c.chip_ratio,
         simulated_chip_ratio: cut.chip_ratio,
         measured_contact_length_mm: c.contact_length_m.map(|v| v * 1e3),
         simulated_contact_length_mm: cut.contact_length_mm,
-        cutting_force_error: rel(cut.force[0], c.cutting_force_n_per_m),
-        feed_force_error: rel(cut.force[1], c.feed_force_n_per_m),
+        cutting_force_error: rel(cut.cutting_force_n_per_mm, fc),
+        feed_force_error: rel(cut.feed_force_n_per_mm, ff),
         chip_ratio_error: c.chip_ratio.zip(cut.chip_ratio).map(|(m, s)| rel(s, m)),
         local: cut.local,
         max_temperature_c: cut.peak_temperature_c,
@@ -796,7 +817,7 @@ pub fn validate_into(
     let mut inputs = vec![("suite", suite_path)];
     inputs.extend(files.iter().map(|f| ("suite input", f.as_path())));
     let staged = greybox_pipeline::output::stage_out_dir(out, force, &inputs)?;
-    let v = run_suite(&suite, suite_path, o)?;
+    let v = run_suite(&suite, suite_path, o, Some(&staged.path().join("cuts")))?;
     let files: Vec<PathBuf> = write_outputs(&v, staged.path())?
         .iter()
         .map(|p| staged.shown(p))

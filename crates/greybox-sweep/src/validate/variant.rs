@@ -13,10 +13,8 @@
 
 use anyhow::{bail, Context, Result};
 use greybox_core::FrictionLaw;
-use greybox_friction::compose::Scaled;
 use greybox_friction::spec::{LawFile, LawSpec};
 use greybox_friction::spec_fields::LawFields;
-use greybox_sim::ConstantMu;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -89,8 +87,17 @@ impl FrictionVariant {
     }
 }
 
-/// How a model's law is made from a shape's values and the factor.
-type MakeLaw = Box<dyn Fn(&[f64], f64) -> Result<Arc<dyn FrictionLaw>> + Send + Sync>;
+/// How a model's law is made from a shape's values and the factor: as a spec that names its
+/// files by absolute path (so that it builds the same in a case that runs elsewhere).
+type MakeLaw = Box<dyn Fn(&[f64], f64) -> Result<LawSpec> + Send + Sync>;
+
+/// A model's law at one shape and factor: its spec (what a sweep case is given) and the law
+/// built from it (what a cut in this process runs).
+#[derive(Clone)]
+pub struct ModelLaw {
+    pub spec: Arc<LawSpec>,
+    pub law: Arc<dyn FrictionLaw>,
+}
 
 /// A variant ready to run: its label, its shapes and factor bracket, and how its law is
 /// made (see [`super::fit`]).
@@ -108,8 +115,14 @@ pub struct Model {
 
 impl Model {
     /// The law of `shape` at factor `s` (ignored without a factor).
-    pub fn law(&self, shape: &[f64], s: f64) -> Result<Arc<dyn FrictionLaw>> {
-        (self.make)(shape, s)
+    pub fn law(&self, shape: &[f64], s: f64) -> Result<ModelLaw> {
+        let spec = (self.make)(shape, s)?;
+        // every path of the spec is absolute: the directory is not used
+        let law = spec.build(Path::new("."))?;
+        Ok(ModelLaw {
+            spec: Arc::new(spec),
+            law: law.into(),
+        })
     }
 
     /// Builds the variant of material `material` (Coulomb μ searched over `mu_bracket`),
@@ -130,9 +143,7 @@ impl Model {
                     ("law", v.law.is_some()),
                     ("grid", !v.grid.is_empty()),
                 ])?;
-                let make: MakeLaw = Box::new(|_: &[f64], s: f64| {
-                    Ok(Arc::new(ConstantMu(s)) as Arc<dyn FrictionLaw>)
-                });
+                let make: MakeLaw = Box::new(|_: &[f64], s: f64| Ok(LawSpec::Coulomb { mu: s }));
                 (label, Vec::new(), vec![Vec::new()], Some(mu_bracket), make)
             }
             VariantKind::Law => {
@@ -201,10 +212,12 @@ impl Entry<'_> {
         let path = v
             .file_path(base)
             .with_context(|| format!("{}: expected a law file (file = \"…\")", self.at("file")))?;
-        let law: Arc<dyn FrictionLaw> = LawFile::read(&path)
-            .and_then(LawFile::build)
-            .with_context(|| format!("{}: {}", self.at("file"), path.display()))?
-            .into();
+        let file = LawFile::read(&path)
+            .with_context(|| format!("{}: {}", self.at("file"), path.display()))?;
+        let law = file.spec();
+        // a law that does not build fails before any cut
+        law.build(Path::new("."))
+            .with_context(|| format!("{}: {}", self.at("file"), path.display()))?;
         let label = v.name.clone().unwrap_or_else(|| {
             let stem = path
                 .file_stem()
@@ -219,10 +232,10 @@ impl Entry<'_> {
         let make: MakeLaw = Box::new(move |_: &[f64], s: f64| {
             Ok(match factor {
                 None => law.clone(),
-                Some(_) => Arc::new(Scaled {
+                Some(_) => LawSpec::Scaled {
                     factor: s,
-                    inner: law.clone(),
-                }),
+                    inner: Box::new(law.clone()),
+                },
             })
         });
         Ok((label, factor, make))
@@ -238,28 +251,28 @@ impl Entry<'_> {
             )
         })?;
         let spec: LawSpec = serde_json::from_value(value).with_context(|| self.at("law"))?;
-        let fields = LawFields::new(&spec)?;
+        let fields = LawFields::new(&spec.resolved(base))?;
         let shapes = grid_shapes(&v.grid).with_context(|| self.at("grid"))?;
         for g in &v.grid {
             fields.get(&g.field).with_context(|| self.at("grid"))?;
         }
         let names: Vec<String> = v.grid.iter().map(|g| g.field.clone()).collect();
-        let base = base.to_path_buf();
         let make: MakeLaw = {
             let names = names.clone();
             Box::new(move |shape: &[f64], s: f64| {
                 let values: Vec<(String, f64)> =
                     names.iter().cloned().zip(shape.iter().copied()).collect();
-                let inner = fields.with(&values)?.build(&base)?;
-                Ok(Arc::new(Scaled {
+                Ok(LawSpec::Scaled {
                     factor: s,
-                    inner: inner.into(),
-                }) as Arc<dyn FrictionLaw>)
+                    inner: Box::new(fields.with(&values)?),
+                })
             })
         };
         // every shape must build: a bad grid fails before any cut
         for shape in &shapes {
-            make(shape, 1.0).with_context(|| format!("{}: shape {shape:?}", self.at("grid")))?;
+            make(shape, 1.0)
+                .and_then(|spec| Ok(spec.build(Path::new("."))?))
+                .with_context(|| format!("{}: shape {shape:?}", self.at("grid")))?;
         }
         let factor = self.scale(v.scale.unwrap_or(DEFAULT_SCALE))?;
         Ok((names, shapes, factor, make))
@@ -313,7 +326,7 @@ mod tests {
         assert_eq!(m.shapes[1], vec![-0.2, -0.25]);
         assert_eq!(m.factor, Some(DEFAULT_SCALE));
         // a = 0, b = −0.5, factor 0.8: 0.8 · 0.5 · (40/10)^−0.5 = 0.2 at 40 m/min
-        let law = m.law(&[0.0, -0.5], 0.8).unwrap();
+        let law = m.law(&[0.0, -0.5], 0.8).unwrap().law;
         let s = greybox_core::ContactState::new(1e9, 40.0 / 60.0);
         assert!((law.mu(&s) - 0.2).abs() < 1e-12);
     }
