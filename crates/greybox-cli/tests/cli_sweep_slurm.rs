@@ -134,5 +134,60 @@ fn a_four_case_sweep_runs_as_a_slurm_array_job_and_collects_every_result() {
         (again["skipped"].as_u64(), again["slurm_job"].as_str()),
         (Some(4), None)
     );
+    suite_on_slurm(d.path(), &run);
     drop(cluster);
+}
+
+/// The validation suite file on the same cluster: each step of the suite one array job
+/// with the suite's `[slurm]` resources, the results those of the cuts run in this process.
+fn suite_on_slurm(dir: &Path, run: &dyn Fn(&[&str]) -> std::process::Output) {
+    let v = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation");
+    std::fs::write(
+        dir.join("suite.toml"),
+        format!(
+            "data = \"{}\"\n[[material]]\nname = \"Ti6Al4V\"\nsetup = \"{}\"\nrun_speed_m_per_min = 600.0\ncalibration = [\"D08\"]\nmu_bracket = [0.2, 0.8]\n[slurm]\ncpus_per_task = 1\nmax_concurrent = 2\n",
+            v.join("orthogonal-cutting.csv").display(),
+            v.join("ti64-setup.toml").display()
+        ),
+    )
+    .unwrap();
+    let suite = |out: &str, extra: &[&str]| {
+        let mut args = vec![
+            "-q",
+            "bench",
+            "validate",
+            "--suite",
+            "suite.toml",
+            "--out",
+            out,
+            "--only",
+            "D09",
+            "--tool",
+            "thermal",
+            "--fraction",
+            "0.3",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let mut v: serde_json::Value = serde_json::from_str(&ok(&run(&args))).unwrap();
+        for o in v["outcomes"].as_array_mut().unwrap() {
+            o.as_object_mut().unwrap().remove("wall_s");
+        }
+        for s in v["summaries"].as_array_mut().unwrap() {
+            s.as_object_mut().unwrap().remove("cut_seconds");
+        }
+        v
+    };
+    let on_slurm = suite("v-slurm", &["--executor", "slurm", "--poll-s", "0.5"]);
+    assert_eq!(on_slurm, suite("v-here", &[]));
+    for batch in ["batch-01", "batch-02"] {
+        let logs = dir.join("v-slurm/cuts").join(batch).join("slurm/logs");
+        let n = std::fs::read_dir(&logs).map_or(0, |d| d.count());
+        assert_eq!(
+            n,
+            2,
+            "{batch}: one log per array task in {}",
+            logs.display()
+        );
+    }
 }
