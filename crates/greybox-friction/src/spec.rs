@@ -379,7 +379,7 @@ impl LawSpec {
         match self {
             LawSpec::Learned { model, contact } => LawSpec::Learned {
                 model: abs(model),
-                contact: contact.clone(),
+                contact: *contact,
             },
             LawSpec::Table { file } => LawSpec::Table { file: abs(file) },
             LawSpec::GreyBox {
@@ -519,5 +519,33 @@ impl LawFile {
             LawContent::Table(text) => Ok(parse_table(&text, &self.path)?.into_law()),
             LawContent::Spec(spec) => spec.build(&self.base),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_resolved_law_names_its_files_by_absolute_path_at_every_depth() {
+        let law: LawSpec = serde_json::from_str(
+            r#"{"law": "scaled", "factor": 0.8, "inner": {"law": "grey-box",
+                "inner": {"law": "learned", "model": "models/svr.json"},
+                "outside": {"law": "table", "file": "/abs/t.json"}}}"#,
+        )
+        .unwrap();
+        let r = law.resolved(Path::new("/campaign"));
+        assert_eq!(
+            r.files(Path::new("/elsewhere")),
+            [
+                PathBuf::from("/campaign/models/svr.json"),
+                PathBuf::from("/abs/t.json")
+            ]
+        );
+        // numbers and the law's shape are kept
+        let LawSpec::Scaled { factor, .. } = r else {
+            panic!("{r:?}")
+        };
+        assert_eq!(factor, 0.8);
     }
 }
