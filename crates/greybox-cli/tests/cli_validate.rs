@@ -213,4 +213,25 @@ fn cuts_run_as_sweep_cases_give_the_results_of_cuts_run_in_this_process() {
         assert!(config.contains("[friction.law]"), "{config}");
     }
     assert!(!d.path().join("here/cuts").exists());
+    // validation.md groups the held-out errors by speed and by thickness, one column per
+    // friction model: here the one held-out condition's own errors
+    let md = std::fs::read_to_string(d.path().join("here/validation.md")).unwrap();
+    assert!(
+        md.contains("held out by v_c m/min") && md.contains("held out by h mm"),
+        "{md}"
+    );
+    for o in here["outcomes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|o| o["role"] == "held-out")
+    {
+        let e = |k: &str| 100.0 * o[k].as_f64().unwrap();
+        let cell = format!(
+            "{:+.1} % / {:+.1} % (1)",
+            e("cutting_force_error"),
+            e("feed_force_error")
+        );
+        assert_eq!(md.matches(&cell).count(), 2, "{cell} in\n{md}");
+    }
 }

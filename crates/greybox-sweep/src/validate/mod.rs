@@ -264,10 +264,10 @@ pub fn validate(suite_path: &Path, o: &ValidateOptions, cuts: Option<&Path>) -> 
     run_suite(&Suite::read(suite_path)?, suite_path, o, cuts)
 }
 
-/// The tool models, each once, in the order first named.
-fn distinct_in_order(tools: &[ToolModel]) -> Vec<ToolModel> {
-    let mut once: Vec<ToolModel> = Vec::new();
-    for &t in tools {
+/// The items, each once, in the order first met.
+fn distinct<T: PartialEq>(items: impl IntoIterator<Item = T>) -> Vec<T> {
+    let mut once: Vec<T> = Vec::new();
+    for t in items {
         if !once.contains(&t) {
             once.push(t);
         }
@@ -344,7 +344,7 @@ fn run_suite(
         .iter()
         .map(|runs| material_plan(runs, &conditions, suite, suite_path, o))
         .collect::<Result<Vec<_>>>()?;
-    let tools = distinct_in_order(&o.tools);
+    let tools = distinct(o.tools.iter().copied());
     let groups: Vec<(&Plan, ToolModel)> = plans
         .iter()
         .flat_map(|p| tools.iter().map(move |&t| (p, t)))
@@ -835,7 +835,7 @@ mod tests {
     fn repeated_tool_models_run_once_in_the_order_named() {
         use ToolModel::{Adiabatic, Thermal};
         assert_eq!(
-            distinct_in_order(&[Thermal, Adiabatic, Thermal, Adiabatic]),
+            distinct([Thermal, Adiabatic, Thermal, Adiabatic]),
             vec![Thermal, Adiabatic]
         );
     }

@@ -2,7 +2,7 @@
 //! (the tables: per material, tool and friction model, then per condition) and
 //! `forces.svg`.
 
-use super::{Outcome, Role, ToolModel, Validation};
+use super::{distinct, Outcome, Role, ToolModel, Validation};
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 
@@ -159,6 +159,7 @@ pub fn markdown(v: &Validation) -> String {
         v.outcomes.len(),
         length / v.outcomes.len().max(1) as f64
     );
+    s += &where_models_differ(v);
     s += "\n| id | material | tool | friction | role | v_c m/min | h mm | F'c meas / sim N/mm | F'f meas / sim N/mm | h_c/h meas / sim | μ applied | p MPa (rake) | v_slide m/min (rake) | l_c mm | T_peak °C |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     let range = |r: Option<[f64; 2]>| r.map_or("—".into(), |[a, b]| format!("{a:.0}–{b:.0}"));
     for o in &v.outcomes {
@@ -192,14 +193,75 @@ pub fn markdown(v: &Validation) -> String {
 
 /// Simulated against measured F'c and F'f, held-out conditions, one colour per material
 /// entry, tool model and force.
-fn force_plot(v: &Validation) -> String {
-    let mut labels: Vec<(&str, &str)> = Vec::new();
-    for o in &v.outcomes {
-        let l = (o.material.as_str(), o.friction.as_str());
-        if !labels.contains(&l) {
-            labels.push(l);
+/// The held-out errors grouped by cutting speed and by uncut chip thickness, per material
+/// and tool model, one column per friction model (mean signed F'c / F'f error of the
+/// group): where the models differ.
+fn where_models_differ(v: &Validation) -> String {
+    let held: Vec<&Outcome> = v
+        .outcomes
+        .iter()
+        .filter(|o| o.role == Role::HeldOut)
+        .collect();
+    let mut s = String::new();
+    for (material, tool) in distinct(held.iter().map(|o| (o.material.as_str(), o.tool))) {
+        let rows: Vec<&Outcome> = held
+            .iter()
+            .copied()
+            .filter(|o| o.material == material && o.tool == tool)
+            .collect();
+        let models = distinct(rows.iter().map(|o| o.friction.as_str()));
+        type Key = fn(&Outcome) -> f64;
+        let keys: [(&str, Key); 2] = [
+            ("v_c m/min", |o| o.cutting_speed_m_per_min),
+            ("h mm", |o| o.uncut_chip_thickness_mm),
+        ];
+        for (name, key) in keys {
+            s += &format!(
+                "\n| {}, {} tool: held out by {name} | {} |\n|---|{}\n",
+                cell(material),
+                tool.name(),
+                models
+                    .iter()
+                    .map(|m| format!("{} F'c / F'f mean error", cell(m)))
+                    .collect::<Vec<_>>()
+                    .join(" | "),
+                "---|".repeat(models.len())
+            );
+            let mut values: Vec<f64> = rows.iter().map(|o| key(o)).collect();
+            values.sort_by(f64::total_cmp);
+            values.dedup();
+            for x in values {
+                let cells: Vec<String> = models
+                    .iter()
+                    .map(|m| {
+                        let of: Vec<&&Outcome> = rows
+                            .iter()
+                            .filter(|o| o.friction == *m && key(o) == x)
+                            .collect();
+                        let n = of.len().max(1) as f64;
+                        let mean =
+                            |f: fn(&Outcome) -> f64| of.iter().map(|o| f(o)).sum::<f64>() / n;
+                        format!(
+                            "{} / {} ({})",
+                            pct(mean(|o| o.cutting_force_error)),
+                            pct(mean(|o| o.feed_force_error)),
+                            of.len()
+                        )
+                    })
+                    .collect();
+                s += &format!("| {x} | {} |\n", cells.join(" | "));
+            }
         }
     }
+    s
+}
+
+fn force_plot(v: &Validation) -> String {
+    let labels = distinct(
+        v.outcomes
+            .iter()
+            .map(|o| (o.material.as_str(), o.friction.as_str())),
+    );
     type Pair = fn(&Outcome) -> (f64, f64);
     let forces: [(&str, Pair); 2] = [
         ("F'c", |o| {
