@@ -63,8 +63,11 @@ fn rust_files(dir: &Path) -> Vec<PathBuf> {
 
 /// Files that write real command lines (a Slurm script with its `#SBATCH` lines and `sbatch`
 /// calls), and lines of others that show a whole command: their flags are the command's own.
-const COMMAND_LINES: [(&str, &str); 3] = [
+const COMMAND_LINES: [(&str, &str); 5] = [
     ("greybox-sweep/src/slurm.rs", ""),
+    // how the `greybox` program runs a sweep case, once for the CLI and Python
+    ("greybox-sweep/src/launch.rs", "--quiet"),
+    ("greybox-sweep/src/launch.rs", "--index"),
     (
         "greybox-report/src/text/demo.rs",
         "cargo build --release -p greybox-ffi",

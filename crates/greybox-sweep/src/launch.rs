@@ -118,6 +118,6 @@ pub fn program_on_path(name: &str) -> Result<PathBuf> {
         .map(|d| d.join(name))
         .find(|p| p.is_file())
         .with_context(|| {
-            format!("cases run by the '{name}' program, but none is on PATH (install the command line: cargo install --path crates/greybox-cli)")
+            format!("cases run by the '{name}' program, but none is on PATH (install greybox's command line, the crate greybox-cli, e.g. with cargo install)")
         })
 }
