@@ -241,3 +241,9 @@ friction = [
     assert [s["friction"] for s in v["summaries"]] == ["coulomb-calibrated"] * 2 + ["mu(v)"] * 2
     assert _without_wall_time(tmp_path / "cli-out" / "results.csv") == \
         _without_wall_time(tmp_path / "validation-out" / "results.csv")
+    # the cuts as sweep cases on a local pool of the greybox program on PATH: the same results
+    monkeypatch.setenv("PATH", os.path.dirname(os.path.abspath(CLI)) + os.pathsep + os.environ["PATH"])
+    gb.validate(tool=["adiabatic"], fraction=0.5, out="pool-out", executor="local", jobs=2)
+    assert _without_wall_time(tmp_path / "pool-out" / "results.csv") == \
+        _without_wall_time(tmp_path / "validation-out" / "results.csv")
+    assert glob.glob(str(tmp_path / "pool-out" / "cuts" / "batch-01" / "cases" / "*" / "done.json"))
