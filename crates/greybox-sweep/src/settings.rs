@@ -293,6 +293,9 @@ impl ValidateSettings {
     /// (asked only when an executor is set).
     pub fn options(&self, program: &dyn Fn() -> Result<PathBuf>) -> Result<ValidateOptions> {
         let runner = match self.executor {
+            None if self.jobs != Jobs::of(1) || self.poll_s != DEFAULT_POLL_S => bail!(
+                "jobs and poll_s set the local and Slurm executors: set executor to local or slurm (the cuts otherwise run in this process)"
+            ),
             None => CutRunner::InProcess,
             Some(executor) => CutRunner::Cases {
                 executor: ExecutorSettings {
@@ -318,5 +321,35 @@ impl ValidateSettings {
         program: &dyn Fn() -> Result<PathBuf>,
     ) -> Result<(super::validate::Validation, Vec<PathBuf>)> {
         super::validate::validate_into(&self.suite, &self.options(program)?, &self.out, self.force)
+    }
+}
+
+#[cfg(test)]
+mod validate_tests {
+    use super::*;
+
+    #[test]
+    fn executor_settings_without_an_executor_are_refused_not_ignored() {
+        let program = || -> Result<PathBuf> { Ok("/opt/greybox".into()) };
+        let here = ValidateSettings::default().options(&program).unwrap();
+        assert!(matches!(here.runner, CutRunner::InProcess));
+        let jobs = ValidateSettings {
+            jobs: Jobs::of(4),
+            ..Default::default()
+        };
+        let e = jobs.options(&program).err().unwrap().to_string();
+        assert!(e.contains("set executor to local or slurm"), "{e}");
+        let pool = ValidateSettings {
+            executor: Some(ExecutorName::Local),
+            ..jobs
+        };
+        let o = pool.options(&program).unwrap();
+        assert!(matches!(
+            o.runner,
+            CutRunner::Cases {
+                executor: Executor::Local { jobs: 4 },
+                ..
+            }
+        ));
     }
 }
