@@ -5,7 +5,7 @@
 //! Skips when Slurm is not installed, unless GREYBOX_REQUIRE_SLURM=1 (set by .ci/run), where
 //! that is a failure.
 mod common;
-use common::{coarse_config, greybox, ok};
+use common::{coarse_config, greybox, ok, ti64_suite, without_wall_times};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -141,16 +141,12 @@ fn a_four_case_sweep_runs_as_a_slurm_array_job_and_collects_every_result() {
 /// The validation suite file on the same cluster: each step of the suite one array job
 /// with the suite's `[slurm]` resources, the results those of the cuts run in this process.
 fn suite_on_slurm(dir: &Path, run: &dyn Fn(&[&str]) -> std::process::Output) {
-    let v = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation");
-    std::fs::write(
-        dir.join("suite.toml"),
-        format!(
-            "data = \"{}\"\n[[material]]\nname = \"Ti6Al4V\"\nsetup = \"{}\"\nrun_speed_m_per_min = 600.0\ncalibration = [\"D08\"]\nmu_bracket = [0.2, 0.8]\n[slurm]\ncpus_per_task = 1\nmax_concurrent = 2\n",
-            v.join("orthogonal-cutting.csv").display(),
-            v.join("ti64-setup.toml").display()
-        ),
-    )
-    .unwrap();
+    ti64_suite(
+        dir,
+        "suite.toml",
+        &["D08"],
+        "[slurm]\ncpus_per_task = 1\nmax_concurrent = 2\n",
+    );
     let suite = |out: &str, extra: &[&str]| {
         let mut args = vec![
             "-q",
@@ -169,14 +165,7 @@ fn suite_on_slurm(dir: &Path, run: &dyn Fn(&[&str]) -> std::process::Output) {
             "--json",
         ];
         args.extend_from_slice(extra);
-        let mut v: serde_json::Value = serde_json::from_str(&ok(&run(&args))).unwrap();
-        for o in v["outcomes"].as_array_mut().unwrap() {
-            o.as_object_mut().unwrap().remove("wall_s");
-        }
-        for s in v["summaries"].as_array_mut().unwrap() {
-            s.as_object_mut().unwrap().remove("cut_seconds");
-        }
-        v
+        without_wall_times(serde_json::from_str(&ok(&run(&args))).unwrap())
     };
     let on_slurm = suite("v-slurm", &["--executor", "slurm", "--poll-s", "0.5"]);
     assert_eq!(on_slurm, suite("v-here", &[]));

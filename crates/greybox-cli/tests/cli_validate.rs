@@ -3,27 +3,13 @@
 //! and brings the calibration condition's feed force to the measurement, the held-out errors
 //! are computed from the simulated and measured forces, and a bad suite is refused.
 mod common;
-use common::{err, greybox, ok};
-use std::path::PathBuf;
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use common::{err, greybox, ok, ti64_suite, without_wall_times};
 
 #[test]
 fn validation_subset_calibrates_on_one_condition_and_reports_the_held_out_ones() {
     let d = tempfile::tempdir().unwrap();
-    let v = repo().join("validation");
     // The bundled data and template; one calibration condition, two held out.
-    std::fs::write(
-        d.path().join("suite.toml"),
-        format!(
-            "data = \"{}\"\n[[material]]\nname = \"Ti6Al4V\"\nsetup = \"{}\"\nrun_speed_m_per_min = 600.0\ncalibration = [\"D08\"]\nmu_bracket = [0.2, 0.8]\n",
-            v.join("orthogonal-cutting.csv").display(),
-            v.join("ti64-setup.toml").display()
-        ),
-    )
-    .unwrap();
+    ti64_suite(d.path(), "suite.toml", &["D08"], "");
     let s = ok(&greybox(
         &[
             "bench",
@@ -86,17 +72,9 @@ fn validation_subset_calibrates_on_one_condition_and_reports_the_held_out_ones()
     assert_eq!(csv.lines().count(), 4);
 
     // More than a third of the material's conditions for calibration is refused.
-    let many: Vec<String> = (1..=7).map(|k| format!("\"D{k:02}\"")).collect();
-    std::fs::write(
-        d.path().join("bad.toml"),
-        format!(
-            "data = \"{}\"\n[[material]]\nname = \"Ti6Al4V\"\nsetup = \"{}\"\nrun_speed_m_per_min = 600.0\ncalibration = [{}]\nmu_bracket = [0.2, 0.8]\n",
-            repo().join("validation/orthogonal-cutting.csv").display(),
-            repo().join("validation/ti64-setup.toml").display(),
-            many.join(", ")
-        ),
-    )
-    .unwrap();
+    let many: Vec<String> = (1..=7).map(|k| format!("D{k:02}")).collect();
+    let many: Vec<&str> = many.iter().map(String::as_str).collect();
+    ti64_suite(d.path(), "bad.toml", &many, "");
     let e = err(&greybox(
         &["bench", "validate", "--suite", "bad.toml", "--out", "o2"],
         d.path(),
@@ -138,21 +116,9 @@ fn validation_subset_calibrates_on_one_condition_and_reports_the_held_out_ones()
     assert!(d.path().join("out/provenance.json").exists());
 }
 
-/// The suite's results without the wall times (which no two runs share).
-fn without_wall_times(mut v: serde_json::Value) -> serde_json::Value {
-    for o in v["outcomes"].as_array_mut().unwrap() {
-        o.as_object_mut().unwrap().remove("wall_s");
-    }
-    for s in v["summaries"].as_array_mut().unwrap() {
-        s.as_object_mut().unwrap().remove("cut_seconds");
-    }
-    v
-}
-
 #[test]
 fn cuts_run_as_sweep_cases_give_the_results_of_cuts_run_in_this_process() {
     let d = tempfile::tempdir().unwrap();
-    let v = repo().join("validation");
     // a law file with a calibrated factor (its law inline in each case, its file by
     // absolute path) beside the calibrated constant
     std::fs::write(
@@ -160,15 +126,12 @@ fn cuts_run_as_sweep_cases_give_the_results_of_cuts_run_in_this_process() {
         r#"{"law": "power", "mu_ref": 0.5, "p_ref_MPa": 1000.0, "v_ref_m_per_min": 10.0, "b": -0.2, "shear_cap_k_MPa": 500.0}"#,
     )
     .unwrap();
-    std::fs::write(
-        d.path().join("suite.toml"),
-        format!(
-            "data = \"{}\"\n[[material]]\nname = \"Ti6Al4V\"\nsetup = \"{}\"\nrun_speed_m_per_min = 600.0\ncalibration = [\"D08\"]\nmu_bracket = [0.2, 0.8]\nfriction = [{{ kind = \"coulomb-calibrated\" }}, {{ kind = \"law\", file = \"law.json\", scale = [0.5, 1.5] }}]\n",
-            v.join("orthogonal-cutting.csv").display(),
-            v.join("ti64-setup.toml").display()
-        ),
-    )
-    .unwrap();
+    ti64_suite(
+        d.path(),
+        "suite.toml",
+        &["D08"],
+        "friction = [{ kind = \"coulomb-calibrated\" }, { kind = \"law\", file = \"law.json\", scale = [0.5, 1.5] }]\n",
+    );
     let run = |out: &str, extra: &[&str]| {
         let mut args = vec![
             "bench",

@@ -320,18 +320,7 @@ mod tests {
 
     /// The case command the `greybox` binary hands in, with `program` as its executable.
     fn cmd(program: &str) -> CaseCommand {
-        use crate::launch::CaseArg;
-        CaseCommand::new(
-            program,
-            [
-                CaseArg::text("--quiet"),
-                CaseArg::text("sweep"),
-                CaseArg::text("run-case"),
-                CaseArg::OutDir,
-                CaseArg::text("--index"),
-                CaseArg::Index,
-            ],
-        )
+        CaseCommand::greybox(program)
     }
 
     fn plan(slurm: SlurmSection, source: &str) -> Plan {

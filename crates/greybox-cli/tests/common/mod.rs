@@ -173,3 +173,31 @@ pub fn listing(dir: &Path) -> Vec<String> {
     v.sort();
     v
 }
+
+/// Writes the suite file `dir/name` on the bundled Ti6Al4V data and J-C template: these
+/// calibration conditions, μ bracket [0.2, 0.8], then the TOML lines `extra`.
+pub fn ti64_suite(dir: &Path, name: &str, calibration: &[&str], extra: &str) {
+    let v = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation");
+    let ids: Vec<String> = calibration.iter().map(|c| format!("\"{c}\"")).collect();
+    std::fs::write(
+        dir.join(name),
+        format!(
+            "data = \"{}\"\n[[material]]\nname = \"Ti6Al4V\"\nsetup = \"{}\"\nrun_speed_m_per_min = 600.0\ncalibration = [{}]\nmu_bracket = [0.2, 0.8]\n{extra}",
+            v.join("orthogonal-cutting.csv").display(),
+            v.join("ti64-setup.toml").display(),
+            ids.join(", ")
+        ),
+    )
+    .unwrap();
+}
+
+/// A suite run's JSON results without the wall times (which no two runs share).
+pub fn without_wall_times(mut v: serde_json::Value) -> serde_json::Value {
+    for o in v["outcomes"].as_array_mut().unwrap() {
+        o.as_object_mut().unwrap().remove("wall_s");
+    }
+    for s in v["summaries"].as_array_mut().unwrap() {
+        s.as_object_mut().unwrap().remove("cut_seconds");
+    }
+    v
+}
