@@ -70,7 +70,7 @@ impl Checkpoint {
 
     pub fn read(path: &Path) -> greybox_core::Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| greybox_core::Error::io(path, e))?;
-        let c: Checkpoint = serde_json::from_str(&text).map_err(|e| {
+        let mut c: Checkpoint = serde_json::from_str(&text).map_err(|e| {
             greybox_core::Error::invalid(
                 format!(
                     "{}, line {}, column {}",
@@ -81,6 +81,7 @@ impl Checkpoint {
                 format!("not a greybox-sim checkpoint: {e}"),
             )
         })?;
+        c.particles.fill_missing_levels();
         if c.format != FORMAT || !c.particles.check_lengths() {
             return Err(greybox_core::Error::invalid(
                 path.display().to_string(),
@@ -112,12 +113,18 @@ impl Checkpoint {
                 .iter()
                 .zip(&sim.tools)
                 .all(|(a, b)| a.window_mu.len() == b.windows.len());
-        if self.setup != setup || !shape_ok || self.particles.len() != sim.particles.len() {
+        // A refined run has split particles since the set-up laid them out.
+        let count_ok = self.particles.len() == sim.particles.len()
+            || sim.refinement.is_some() && self.particles.len() > sim.particles.len();
+        if self.setup != setup || !shape_ok || !count_ok {
             return Err(SimError::Invalid(
                 "the checkpoint belongs to a different set-up (configuration changed since it was written)".into(),
             ));
         }
         sim.particles = self.particles;
+        let n = sim.particles.len();
+        sim.rates.resize(n, Default::default());
+        sim.packed.resize(n, Default::default());
         sim.step = self.step;
         sim.time = self.time_s;
         sim.dt = self.dt_s;
@@ -133,7 +140,7 @@ impl Checkpoint {
                 w.acc = acc;
             }
         }
-        sim.neighbours.build(&sim.particles.x, &sim.particles.y);
+        sim.rebuild_lists();
         sim.check_rest();
         Ok(())
     }
@@ -169,7 +176,7 @@ impl CheckpointWriter for Checkpointer {
     ) -> Result<(), SimError> {
         // Rebuild the neighbour lists here so that a resumed run (which rebuilds on restore)
         // sums in exactly the same order: resume is bit-for-bit.
-        sim.neighbours.build(&sim.particles.x, &sim.particles.y);
+        sim.rebuild_lists();
         let mut c = Checkpoint::of(sim, &self.setup);
         c.observers = states.clone();
         Ok(c.write(&self.path)?)

@@ -3,7 +3,8 @@
 //!
 //! * Chip thickness h_c: the chip particles (free particles whose centres lie between h and
 //!   2h above the original workpiece surface, in front of the rake face) are projected on the
-//!   rake-face normal; h_c = (max − min) + Δx (a particle occupies Δx).
+//!   rake-face normal; h_c = (max − min) + Δx (a particle occupies Δx; with refinement, half
+//!   the spacing of each of the two outermost particles).
 //! * Shear angle from the chip compression ratio r = h/h_c (Merchant's continuity relation):
 //!   tan φ = r cos γ / (1 − r sin γ).
 //! * Contact length: the farthest rake-face window (distance from the edge, outer end) that
@@ -25,20 +26,27 @@ pub fn chip_thickness(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option
     // Rake-face normal pointing into the chip; the rake line passes through the sharp-edge
     // point, the tool's local origin.
     let n = [-g.cos(), g.sin()];
-    let top = -0.5 * dx;
+    let top = -0.5 * setup.surface_spacing();
+    // The extreme projections and the spacings of their particles (refined particles
+    // occupy their own spacing).
     let (mut lo, mut hi, mut count) = (f64::INFINITY, f64::NEG_INFINITY, 0usize);
+    let (mut dx_lo, mut dx_hi) = (dx, dx);
     for i in 0..p.len() {
         if p.group[i] != FREE || p.y[i] < top + h || p.y[i] > top + 2.0 * h {
             continue;
         }
         let d = (p.x[i] - t.position[0]) * n[0] + (p.y[i] - t.position[1]) * n[1];
         if d > -dx && d < 10.0 * h {
-            lo = lo.min(d);
-            hi = hi.max(d);
+            if d < lo {
+                (lo, dx_lo) = (d, p.spacing_of(i));
+            }
+            if d > hi {
+                (hi, dx_hi) = (d, p.spacing_of(i));
+            }
             count += 1;
         }
     }
-    (count >= 3).then_some(hi - lo + dx)
+    (count >= 3).then_some(hi - lo + 0.5 * (dx_lo + dx_hi))
 }
 
 /// Shear angle φ (degrees) from the uncut and cut chip thickness and the rake angle γ.

@@ -38,8 +38,6 @@ pub(crate) struct ContactParams<'a> {
     pub mass_scaling: f64,
     /// Heat conduction on (a thermal tool exchanges heat only then).
     pub thermal_on: bool,
-    /// Contact length per particle (the particle spacing), m.
-    pub spacing: f64,
     /// Physical over simulated speed (`strain_rate_scale`): windows record physical sliding
     /// velocities in time-scaled runs.
     pub velocity_scale: f64,
@@ -114,7 +112,6 @@ fn apply_tool(
     work: &mut ContactWork,
 ) {
     let (dt, heat, f_mass, th) = (c.dt, c.heat_share, c.mass_scaling, c.thermal);
-    let m = p.mass;
     let vt = tool.motion.velocity(c.time);
     let tool_box = tool.shape.bounding_box();
     let mut force = [0.0f64; 2];
@@ -126,6 +123,7 @@ fn apply_tool(
         let Some(sp) = contact_point(tool, tool_box, c.reach, p, i) else {
             continue;
         };
+        let m = p.mass_of(i);
         let pc = stick_slip(c, m, tool, vt, &sp, p, &rates[i], i);
         let n = sp.normal;
         let fx = pc.fn_ * n[0] + pc.ftx;
@@ -143,7 +141,9 @@ fn apply_tool(
         }
         let t_tool = exchange_heat(c, m, cp, slip_power, tool, &sp, p, i, r, work);
         let vslip = pc.tv[0].hypot(pc.tv[1]) * c.velocity_scale;
-        record_in_window(tool, &pc, vslip, p.temp[i], t_tool);
+        // The particle's share of the contact length, in level-0 spacings.
+        let share = p.spacing_of(i) / p.spacing;
+        record_in_window(tool, &pc, share, vslip, p.temp[i], t_tool);
     }
     tool.force = force;
     tool.contacts = contacts;
@@ -263,7 +263,7 @@ fn exchange_heat(
     let t_tool = tt.temp[cell];
     // Conduction across coating and interface, W/m, and the tool's share of the friction
     // heat.
-    let q = tt.conductance(t_tool) * (p.temp[i] - t_tool) * c.spacing;
+    let q = tt.conductance(t_tool) * (p.temp[i] - t_tool) * p.spacing_of(i);
     rate.dtemp -= q / (m / c.mass_scaling * cp);
     let into_tool = (q + (1.0 - c.heat_share) * slip_power.max(0.0)) * c.dt;
     tt.heat_in[cell] += into_tool;
@@ -271,11 +271,13 @@ fn exchange_heat(
     t_tool
 }
 
-/// Adds one particle's contact to its window's sums (`vslip` physical sliding speed, m/s;
+/// Adds one particle's contact to its window's sums (`share` the contact length it stands
+/// for in level-0 spacings, 1 on an unrefined model; `vslip` physical sliding speed, m/s;
 /// `temp_k` the particle's and `tool_temp_k` the tool's temperature, K).
 fn record_in_window(
     tool: &mut Tool,
     pc: &ParticleContact,
+    share: f64,
     vslip: f64,
     temp_k: f64,
     tool_temp_k: f64,
@@ -284,13 +286,13 @@ fn record_in_window(
         return;
     };
     let a = &mut tool.windows[k].acc;
-    a.contacts += 1.0;
+    a.contacts += share;
     a.normal += pc.fn_;
     a.tangential += pc.ftx.hypot(pc.fty);
     a.normal_x_slip += pc.fn_ * vslip;
     a.normal_x_temp += pc.fn_ * temp_k;
     a.normal_x_tool_temp += pc.fn_ * tool_temp_k;
     if pc.slipping {
-        a.slipping += 1.0;
+        a.slipping += share;
     }
 }

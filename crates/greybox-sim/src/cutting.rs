@@ -207,6 +207,78 @@ pub struct CuttingSetup {
     /// sliding velocity. Inertia grows as s² (ρ v² h per width; check it against the force).
     #[serde(default)]
     pub physical_cutting_speed_m_s: Option<f64>,
+    /// Dynamic refinement around the cutting edge (`None`: one spacing everywhere). Unset,
+    /// it is not written out (case ids and files of earlier runs stay).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refinement: Option<CutRefinement>,
+}
+
+/// The refinement regions of a cut, in the frame of the cutting edge (the sharp-edge point,
+/// where rake and flank lines meet), one per level, each inside the one before: a particle
+/// inside k regions is split until it has spacing `spacing_m`/2ᵏ (see [`crate::refine`]).
+/// The regions travel with the tool, so the band they sweep (the chip, the primary shear
+/// zone, the machined surface layer) ends up fine and the rest of the workpiece keeps
+/// `spacing_m`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CutRefinement {
+    /// One region per level, coarsest first (at most 3).
+    pub regions: Vec<CutRegion>,
+    /// How a particle is split (`square`: four children).
+    #[serde(default)]
+    pub pattern: crate::refine::SplitPattern,
+}
+
+/// A refinement region around the cutting edge, m: how far it reaches ahead of the edge (in
+/// the cutting direction), behind it (over the machined surface), below and above it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CutRegion {
+    pub ahead_m: f64,
+    pub behind_m: f64,
+    pub below_m: f64,
+    pub above_m: f64,
+}
+
+impl CutRefinement {
+    /// The solver's refinement (regions in the tool frame; the tool moves in −x).
+    pub fn refinement(&self) -> crate::refine::Refinement {
+        crate::refine::Refinement {
+            tool: 0,
+            regions: self
+                .regions
+                .iter()
+                .map(|r| crate::refine::Region {
+                    x_min: -r.ahead_m,
+                    x_max: r.behind_m,
+                    y_min: -r.below_m,
+                    y_max: r.above_m,
+                })
+                .collect(),
+            pattern: self.pattern,
+        }
+    }
+
+    /// The finest spacing, m, for a level-0 spacing `dx`.
+    pub fn finest_spacing(&self, dx: f64) -> f64 {
+        dx * crate::particles::spacing_factor(self.regions.len().min(3) as u8)
+    }
+
+    /// The particles a workpiece of `length` × `height` (m, level-0 spacing `dx`) can end
+    /// with, at most: the level-0 lattice plus, per level k, three children for each of the
+    /// 4ᵏ⁻¹ level-(k−1) particles per level-0 cell of the band its region can sweep.
+    pub fn particle_estimate(&self, length: f64, height: f64, dx: f64) -> f64 {
+        let base = (length / dx).ceil() * (height / dx).ceil();
+        self.regions
+            .iter()
+            .enumerate()
+            .map(|(k, r)| {
+                let band = length * (r.above_m + r.below_m).min(height);
+                band / (dx * dx) * 3.0 * 4f64.powi(k as i32)
+            })
+            .sum::<f64>()
+            + base
+    }
 }
 
 /// Friction windows along the rake and flank faces and the in-process grey-box loop.
@@ -302,6 +374,7 @@ impl CuttingSetup {
             steady: SteadySetup::default(),
             tool_thermal: None,
             physical_cutting_speed_m_s: None,
+            refinement: None,
         }
     }
 
@@ -318,6 +391,15 @@ impl CuttingSetup {
         g.rake_length_m + g.flank_length_m + std::f64::consts::PI * g.edge_radius_m
     }
 
+    /// Spacing of the particles at the workpiece surface when the tool reaches them, m: the
+    /// finest of a refinement (its regions split the surface ahead of the edge), else
+    /// `spacing_m`. The uncut chip thickness is measured from their centres.
+    pub fn surface_spacing(&self) -> f64 {
+        self.refinement
+            .as_ref()
+            .map_or(self.spacing_m, |r| r.finest_spacing(self.spacing_m))
+    }
+
     /// Workpiece length: the cut plus a margin of 0.2 mm ahead.
     pub fn workpiece_length(&self) -> f64 {
         self.cut_length_m + 0.2e-3
@@ -326,7 +408,13 @@ impl CuttingSetup {
     pub fn validate(&self) -> greybox_core::Result<()> {
         use greybox_core::physics::Quantity;
         let h = self.uncut_chip_thickness_m;
-        let dx = self.spacing_m;
+        // The spacing the chip is cut at: the finest of a refinement.
+        let dx = self.surface_spacing();
+        if let Some(r) = &self.refinement {
+            r.refinement()
+                .validate(1)
+                .map_err(|e| greybox_core::Error::invalid("cutting set-up [refinement]", e))?;
+        }
         greybox_core::rules::Rules::new("cutting set-up")
             .section("insert", |r| {
                 let g = &self.insert;
@@ -343,7 +431,7 @@ impl CuttingSetup {
             )
             .positive("uncut_chip_thickness_m", h)
             .positive("cut_length_m", self.cut_length_m)
-            .positive("spacing_m", dx)
+            .positive("spacing_m", self.spacing_m)
             .positive("workpiece_height_m", self.workpiece_height_m)
             .physics("mu", Quantity::Mu, self.mu)
             .relation(
@@ -399,11 +487,23 @@ impl CuttingSetup {
             )
             .finish()?;
         self.numerics.validate()?;
-        crate::particles::check_workpiece_budget(
-            "cutting set-up",
+        let (length, height, dx0) = (
             self.workpiece_length(),
             self.workpiece_height_m,
-            dx,
+            self.spacing_m,
+        );
+        let count = self
+            .refinement
+            .as_ref()
+            .map_or((length / dx0).ceil() * (height / dx0).ceil(), |r| {
+                r.particle_estimate(length, height, dx0)
+            });
+        crate::particles::check_particle_budget(
+            "cutting set-up",
+            length,
+            height,
+            dx0,
+            count,
             self.numerics.max_particles.map(|c| c.as_u64()),
         )?;
         self.friction.smoothing.validate()?;
@@ -412,7 +512,7 @@ impl CuttingSetup {
             let grid = if t.grid_spacing_m > 0.0 {
                 t.grid_spacing_m
             } else {
-                dx
+                dx0
             };
             ToolThermal::check_grid_budget(
                 &self.insert.shape()?,
@@ -473,7 +573,7 @@ impl CuttingSetup {
         let (lo, _) = shape.bounding_box();
         // Place the lowest point of the tool at depth h below the top particle centres and
         // its leftmost point two spacings right of the workpiece.
-        let top = -0.5 * dx;
+        let top = -0.5 * self.surface_spacing();
         let lowest = shape.closest([0.0, -1.0]).distance; // distance from (0,−1) to the surface
         let y_low = -1.0 + lowest; // local y of the lowest surface point (below the edge)
         let position = [
@@ -541,6 +641,7 @@ impl CuttingSetup {
                 tools: vec![tool],
                 groups,
                 numerics,
+                refinement: self.refinement.as_ref().map(CutRefinement::refinement),
             },
             duration,
         ))

@@ -29,6 +29,7 @@ pub mod particles;
 pub mod pin;
 pub mod plasticity;
 mod rates;
+pub mod refine;
 pub mod solver;
 pub mod steady;
 pub mod tool;

@@ -126,4 +126,6 @@ pub struct Model {
     /// Boundary groups; particle group k ≥ 1 refers to `groups[k − 1]`.
     pub groups: Vec<BoundaryGroup>,
     pub numerics: Numerics,
+    /// Regions, moving with a tool, where particles are split (`None`: one spacing).
+    pub refinement: Option<crate::refine::Refinement>,
 }

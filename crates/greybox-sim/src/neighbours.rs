@@ -1,7 +1,10 @@
 //! Verlet neighbour lists built from a cell list, as symmetric half lists.
 //!
 //! Lists hold every pair closer than 2h + skin; they are rebuilt when any particle has moved
-//! more than skin/2 since the last build, so no pair inside 2h is ever missed.
+//! more than skin/2 since the last build, so no pair inside 2h is ever missed. With
+//! per-particle smoothing lengths (a refined model, [`NeighbourList::build_with_reach`]) a
+//! pair is kept within 2h_ij + skin = h_i + h_j + skin, the cells are sized by the largest
+//! such cut-off.
 //!
 //! Every pair is stored once, with its lower index first (the half list): particle i's
 //! partners j > i are `index[start[i]..start[i+1]]` (compressed rows), and pair `p` is the
@@ -70,10 +73,18 @@ impl NeighbourList {
             .any(|((x, y), (a, b))| (x - a).powi(2) + (y - b).powi(2) > lim)
     }
 
-    /// Rebuilds the lists for positions (x, y).
+    /// Rebuilds the lists for positions (x, y), every pair within the cut-off.
     pub fn build(&mut self, x: &[f64], y: &[f64]) {
+        self.build_with_reach(x, y, None);
+    }
+
+    /// Rebuilds the lists for positions (x, y); with `reach` (per particle, m: the
+    /// smoothing length h_i) a pair is kept only within h_i + h_j + skin, which must not
+    /// exceed the cut-off the list was made with.
+    pub fn build_with_reach(&mut self, x: &[f64], y: &[f64], reach: Option<&[f64]>) {
         let n = x.len();
         let c = self.cutoff;
+        let skin = self.skin;
         let (mut xmin, mut xmax, mut ymin, mut ymax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
         for i in 0..n {
             xmin = xmin.min(x[i]);
@@ -112,7 +123,8 @@ impl NeighbourList {
                     let g = gy * ncx + gx;
                     for &j in &ci[cs[g] as usize..cs[g + 1] as usize] {
                         let ju = j as usize;
-                        if ju > i && (x[i] - x[ju]).powi(2) + (y[i] - y[ju]).powi(2) < c2 {
+                        let cut2 = reach.map_or(c2, |h| (h[i] + h[ju] + skin).powi(2));
+                        if ju > i && (x[i] - x[ju]).powi(2) + (y[i] - y[ju]).powi(2) < cut2 {
                             row.push(j);
                         }
                     }

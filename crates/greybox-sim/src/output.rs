@@ -52,6 +52,9 @@ pub fn write_vtk(
         scalar(w, "temperature_K", &|i| p.temp[i])?;
         scalar(w, "density_kg_per_m3", &|i| p.rho[i] / mass_scaling)?;
         scalar(w, "boundary_group", &|i| p.group[i] as f64)?;
+        if p.is_refined() {
+            scalar(w, "spacing_m", &|i| p.spacing_of(i))?;
+        }
         Ok(())
     })
 }

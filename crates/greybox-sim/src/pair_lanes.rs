@@ -39,6 +39,10 @@ pub(crate) struct Packed {
     pub vol: f64,
     /// 1/ρ.
     pub inv_rho: f64,
+    /// Mass (mass scaling included), kg/m; read only by the refined passes.
+    pub m: f64,
+    /// Smoothing length, m; read only by the refined passes.
+    pub h: f64,
     /// σ/ρ² (total stress, pressure included).
     pub txx: f64,
     pub txy: f64,
@@ -55,14 +59,16 @@ pub(crate) struct Packed {
 /// Constants of the force pass.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct ForceConstants {
-    /// Particle mass (mass scaling included), kg/m.
+    /// Particle mass (mass scaling included), kg/m, of a uniform model (a refined one reads
+    /// [`Packed::m`]).
     pub mass: f64,
     /// Monaghan viscosity coefficients α, β.
     pub alpha: f64,
     pub beta: f64,
     /// Longitudinal wave speed, m/s.
     pub c_long: f64,
-    /// 1/W(Δx) for the artificial-stress factor f = W(r)/W(Δx).
+    /// 1/W(Δx) for the artificial-stress factor f = W(r)/W(Δx) (a refined model: of the
+    /// unit kernel, h = 1 and Δx = 1/smoothing ratio, since f depends on r/h only).
     pub inv_w_dx: f64,
     /// 1 with artificial stress, 0 without.
     pub artificial_stress_on: f64,
@@ -104,11 +110,42 @@ macro_rules! gather {
     }};
 }
 
+/// The pair functions [W, g, g_cond, h_visc] of [`PairTable::at`] for pairs of smoothing
+/// lengths h_a and h_b at squared distances `r2`, from the table of the unit kernel (h = 1):
+/// with h_ij = (h_a + h_b)/2 and q² = r²/h_ij², W = Ŵ(q²)/h², g = ĝ(q²)/h⁴,
+/// g_cond = ĝ_c(q²)/h⁴, h_visc = ĥ(q²)/h (the 2D kernel's scaling). Also returns Ŵ(q²), the
+/// unit kernel's value, for the artificial-stress factor.
+#[inline(always)]
+fn variable_rows(
+    unit: &PairTable,
+    h_a: f64,
+    h_b: &Lanes,
+    r2: &Lanes,
+) -> ([[f64; 4]; LANES], Lanes) {
+    let mut rows = [[0.0; 4]; LANES];
+    let mut w_unit = [0.0; LANES];
+    for l in 0..LANES {
+        let inv_h = 2.0 / (h_a + h_b[l]);
+        let inv_h2 = inv_h * inv_h;
+        let [w, g, gc, hv] = unit.at(r2[l] * inv_h2);
+        let inv_h4 = inv_h2 * inv_h2;
+        rows[l] = [w * inv_h2, g * inv_h4, gc * inv_h4, hv * inv_h];
+        w_unit[l] = w;
+    }
+    (rows, w_unit)
+}
+
 /// Force pass over particle `i`'s own row: sums i's share and writes, per pair, the kernel
 /// values [W, g] to `wg_out` and the partner's share [−f_x, −f_y, −(m/ρ_i) q] to
 /// `to_partner` (both the row's slices). Equations in [`crate::solver`]'s step 3.
+///
+/// `REFINED`: particles have their own masses and smoothing lengths (`table` is then the
+/// unit kernel's, see [`variable_rows`]); the force on i is m_j (…)·∇W_ij and on j
+/// −m_i (…)·∇W_ij, equal and opposite. Otherwise every particle has `k.mass` and `table`
+/// is the model's kernel: the same operations on the same values as the refined form with
+/// one mass, so a uniform model gives the same bits either way.
 #[inline(always)]
-pub(crate) fn force_row(
+pub(crate) fn force_row<const REFINED: bool>(
     i: usize,
     packed: &[Packed],
     partners: &[u32],
@@ -118,7 +155,7 @@ pub(crate) fn force_row(
     to_partner: &mut [[f64; 3]],
 ) -> ForceSums {
     let a = &packed[i];
-    let m = k.mass;
+    let m_a = if REFINED { a.m } else { k.mass };
     let mut sum_ax = [0.0; LANES];
     let mut sum_ay = [0.0; LANES];
     let mut sum_cond = [0.0; LANES];
@@ -152,13 +189,22 @@ pub(crate) fn force_row(
         let dy: Lanes = std::array::from_fn(|l| a.y - y_b[l]);
         let r2: Lanes = std::array::from_fn(|l| dx[l] * dx[l] + dy[l] * dy[l]);
         // Branch-free: pairs in the skin (beyond 2h) get w = g = 0 and add nothing.
-        let rows: [[f64; 4]; LANES] = std::array::from_fn(|l| table.at(r2[l]));
+        let (rows, w_unit, m_b): ([[f64; 4]; LANES], Lanes, Lanes) = if REFINED {
+            let (rows, w_unit) = variable_rows(table, a.h, &gather!(packed, idx, h), &r2);
+            (rows, w_unit, gather!(packed, idx, m))
+        } else {
+            let rows: [[f64; 4]; LANES] = std::array::from_fn(|l| table.at(r2[l]));
+            (rows, std::array::from_fn(|l| rows[l][0]), [k.mass; LANES])
+        };
         let mut fx = [0.0; LANES];
         let mut fy = [0.0; LANES];
+        // The partner's acceleration (before its minus sign).
+        let mut fx_b = [0.0; LANES];
+        let mut fy_b = [0.0; LANES];
         let mut q = [0.0; LANES];
         let mut av = [0.0; LANES];
         for l in 0..LANES {
-            let [w, g, g_cond, h_visc] = rows[l];
+            let [_, g, g_cond, h_visc] = rows[l];
             let gx = g * dx[l];
             let gy = g * dy[l];
             let dvx = a.vx - vx_b[l];
@@ -168,17 +214,20 @@ pub(crate) fn force_row(
             let closing = dvx * dx[l] + dvy * dy[l];
             let mu = h_visc * if closing < 0.0 { closing } else { 0.0 };
             let pi = (k.beta * mu - k.alpha * k.c_long) * mu * (a.inv_rho + inv_rho_b[l]);
-            let f = w * k.inv_w_dx;
+            let f = w_unit[l] * k.inv_w_dx;
             let f2 = f * f;
             let f4 = k.artificial_stress_on * f2 * f2;
             let txx = a.txx + txx_b[l] - pi + f4 * (a.rxx + rxx_b[l]);
             let txy = a.txy + txy_b[l] + f4 * (a.rxy + rxy_b[l]);
             let tyy = a.tyy + tyy_b[l] - pi + f4 * (a.ryy + ryy_b[l]);
-            fx[l] = m * (txx * gx + txy * gy);
-            fy[l] = m * (txy * gx + tyy * gy);
+            let (sx, sy) = (txx * gx + txy * gy, txy * gx + tyy * gy);
+            fx[l] = m_b[l] * sx;
+            fy[l] = m_b[l] * sy;
+            fx_b[l] = m_a * sx;
+            fy_b[l] = m_a * sy;
             q[l] = (a.k + k_b[l]) * (a.temp - temp_b[l]) * g_cond;
             // The pair's whole dissipation (both partners) is booked on i.
-            av[l] = m * m * pi * (dvx * gx + dvy * gy);
+            av[l] = m_a * m_b[l] * pi * (dvx * gx + dvy * gy);
         }
         for l in 0..LANES {
             sum_av[l] += masked(l, n, av[l]);
@@ -188,7 +237,7 @@ pub(crate) fn force_row(
         }
         for l in 0..n {
             wg[l] = [rows[l][0], rows[l][1]];
-            to_j[l] = [-fx[l], -fy[l], -a.vol * q[l]];
+            to_j[l] = [-fx_b[l], -fy_b[l], -a.vol * q[l]];
         }
     }
     ForceSums {
@@ -205,9 +254,10 @@ pub(crate) fn force_row(
 /// values `pair_wg[incoming]`). This light pass stays one pair at a time, in row order:
 /// gathering its six fields into lanes cost more than its ≈ 20 flops per pair saved
 /// (measured: 2.1 s scalar against 3.2 s in lanes of eight over the same steps).
+/// `REFINED`: each partner's own mass ([`Packed::m`]) instead of `m`.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn kinematics_row(
+pub(crate) fn kinematics_row<const REFINED: bool>(
     i: usize,
     packed: &[Packed],
     m: f64,
@@ -221,6 +271,7 @@ pub(crate) fn kinematics_row(
     let mut s = [0.0; 7];
     let mut add = |j: u32, [w, g]: [f64; 2]| {
         let b = &packed[j as usize];
+        let m = if REFINED { b.m } else { m };
         let gx = g * (a.x - b.x);
         let gy = g * (a.y - b.y);
         let dvx = a.vx - b.vx;
@@ -245,8 +296,10 @@ pub(crate) fn kinematics_row(
 
 multiversion! {
     /// Force pass over the rows of particles `first..first + rates.len()`; `wg_out` and
-    /// `force_out` are the per-pair outputs of those rows, starting at pair `pair0`.
+    /// `force_out` are the per-pair outputs of those rows, starting at pair `pair0`;
+    /// `refined`: per-particle masses and smoothing lengths (see [`force_row`]).
     pub(crate) fn force_rows(
+        refined: bool,
         first: usize,
         rates: &mut [Rates],
         packed: &[Packed],
@@ -261,15 +314,13 @@ multiversion! {
             let i = first + k;
             let row = nl.pairs(i);
             let local = row.start - pair0..row.end - pair0;
-            let sums = force_row(
-                i,
-                packed,
-                nl.partners(i),
-                table,
-                constants,
-                &mut wg_out[local.clone()],
-                &mut force_out[local],
-            );
+            let (wg, force) = (&mut wg_out[local.clone()], &mut force_out[local]);
+            let partners = nl.partners(i);
+            let sums = if refined {
+                force_row::<true>(i, packed, partners, table, constants, wg, force)
+            } else {
+                force_row::<false>(i, packed, partners, table, constants, wg, force)
+            };
             out.ax = sums.ax;
             out.ay = sums.ay;
             out.dtemp = sums.cond;
@@ -281,6 +332,7 @@ multiversion! {
 multiversion! {
     /// Kinematics pass over particles `first..first + rates.len()` (see [`kinematics_row`]).
     pub(crate) fn kinematics_rows(
+        refined: bool,
         first: usize,
         rates: &mut [Rates],
         packed: &[Packed],
@@ -290,16 +342,13 @@ multiversion! {
     ) {
         for (k, out) in rates.iter_mut().enumerate() {
             let i = first + k;
-            out.kin = kinematics_row(
-                i,
-                packed,
-                mass,
-                nl.partners(i),
-                &pair_wg[nl.pairs(i)],
-                nl.incoming(i),
-                nl.incoming_first(i),
-                pair_wg,
-            );
+            let (partners, own_wg) = (nl.partners(i), &pair_wg[nl.pairs(i)]);
+            let (incoming, first_of) = (nl.incoming(i), nl.incoming_first(i));
+            out.kin = if refined {
+                kinematics_row::<true>(i, packed, mass, partners, own_wg, incoming, first_of, pair_wg)
+            } else {
+                kinematics_row::<false>(i, packed, mass, partners, own_wg, incoming, first_of, pair_wg)
+            };
         }
     }
 }

@@ -22,12 +22,25 @@ pub fn check_workpiece_budget(
     max: Option<u64>,
 ) -> greybox_core::Result<()> {
     let count = (length / dx).ceil() * (height / dx).ceil();
+    check_particle_budget(what, length, height, dx, count, max)
+}
+
+/// [`check_workpiece_budget`] for a workpiece that ends with `count` particles (a refined
+/// one: its level-0 lattice and the children of its refinement).
+pub fn check_particle_budget(
+    what: &str,
+    length: f64,
+    height: f64,
+    dx: f64,
+    count: f64,
+    max: Option<u64>,
+) -> greybox_core::Result<()> {
     let max = max.unwrap_or(DEFAULT_MAX_PARTICLES);
     if count <= max as f64 {
         return Ok(());
     }
     let found = format!(
-        "spacing_m = {dx:e} lays out a {:.3} mm × {:.3} mm workpiece as {count:.3e} particles, about {} at {} kB per particle",
+        "spacing_m = {dx:e} lays out a {:.3} mm × {:.3} mm workpiece as {count:.3e} particles (its refinement included), about {} at {} kB per particle",
         length * 1e3,
         height * 1e3,
         greybox_core::budget::bytes_text(count * BYTES_PER_PARTICLE as f64),
@@ -74,10 +87,36 @@ pub struct Particles {
     pub temp: Vec<f64>,
     /// Boundary group (0 = free; others index `Model::groups`).
     pub group: Vec<u8>,
-    /// Particle mass per metre of thickness, kg/m (uniform).
+    /// Refinement level: a particle of level l has spacing Δx/2ˡ, mass m/4ˡ and smoothing
+    /// length h/2ˡ (see [`crate::refine`]). Empty in a checkpoint written before refinement
+    /// existed (read as all 0).
+    #[serde(default)]
+    pub level: Vec<u8>,
+    /// Mass of a level-0 particle per metre of thickness, kg/m.
     pub mass: f64,
-    /// Initial spacing Δx, m.
+    /// Initial spacing Δx of the level-0 particles, m.
     pub spacing: f64,
+}
+
+/// Deepest refinement level: a level-3 particle has 1/8 of the base spacing.
+pub const MAX_LEVEL: u8 = 3;
+
+/// 1/2ˡ and 1/4ˡ for l = 0..=[`MAX_LEVEL`]: exact powers of two, so a child's spacing and
+/// mass are the parent's divided exactly and the children's masses add up to the parent's
+/// to the bit.
+const SPACING_FACTOR: [f64; MAX_LEVEL as usize + 1] = [1.0, 0.5, 0.25, 0.125];
+const MASS_FACTOR: [f64; MAX_LEVEL as usize + 1] = [1.0, 0.25, 0.0625, 0.015625];
+
+/// Spacing (or smoothing length) factor 1/2ˡ of level `l`.
+#[inline(always)]
+pub fn spacing_factor(l: u8) -> f64 {
+    SPACING_FACTOR[l as usize]
+}
+
+/// Mass factor 1/4ˡ of level `l`.
+#[inline(always)]
+pub fn mass_factor(l: u8) -> f64 {
+    MASS_FACTOR[l as usize]
 }
 
 impl Particles {
@@ -86,6 +125,32 @@ impl Particles {
     }
     pub fn is_empty(&self) -> bool {
         self.x.is_empty()
+    }
+
+    /// Mass of particle `i` per metre of thickness, kg/m.
+    #[inline(always)]
+    pub fn mass_of(&self, i: usize) -> f64 {
+        self.mass * mass_factor(self.level[i])
+    }
+
+    /// Spacing of particle `i` (the length of surface and the width of chip it stands
+    /// for), m.
+    #[inline(always)]
+    pub fn spacing_of(&self, i: usize) -> f64 {
+        self.spacing * spacing_factor(self.level[i])
+    }
+
+    /// Whether any particle has been refined (the solver then uses per-particle masses and
+    /// smoothing lengths).
+    pub fn is_refined(&self) -> bool {
+        self.level.iter().any(|&l| l > 0)
+    }
+
+    /// Fills the levels of a state written before refinement existed (all level 0).
+    pub fn fill_missing_levels(&mut self) {
+        if self.level.is_empty() {
+            self.level = vec![0; self.len()];
+        }
     }
 
     /// A workpiece of `length` × `height` (m, rounded up to whole spacings) with its top
@@ -141,6 +206,7 @@ impl Particles {
         p.rho = vec![rho0; n];
         p.temp = vec![t0; n];
         p.group = vec![FREE; n];
+        p.level = vec![0; n];
         p
     }
 
@@ -195,5 +261,7 @@ impl Particles {
         .iter()
         .all(|v| v.len() == n)
             && self.group.len() == n
+            && self.level.len() == n
+            && self.level.iter().all(|&l| l <= MAX_LEVEL)
     }
 }

@@ -180,6 +180,7 @@ impl PinSetup {
                 tools: vec![pin],
                 groups,
                 numerics,
+                refinement: None,
             },
             press_time,
             slide_time,

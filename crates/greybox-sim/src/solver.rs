@@ -35,9 +35,10 @@ use crate::kernel::{CubicSpline, PairTable};
 use crate::model::{Model, Numerics};
 use crate::neighbours::NeighbourList;
 use crate::pair_lanes::{self, ForceConstants, Packed};
-use crate::particles::{Particles, FREE};
+use crate::particles::{mass_factor, spacing_factor, Particles, FREE};
 use crate::plasticity;
 use crate::rates::Rates;
+use crate::refine::{self, Refinement};
 use crate::tool::Tool;
 use greybox_material::{FlowStress, Material, Thermal};
 use rayon::prelude::*;
@@ -141,9 +142,17 @@ pub struct Solver {
     pub tools: Vec<Tool>,
     pub groups: Vec<crate::model::BoundaryGroup>,
     pub numerics: Numerics,
+    /// The kernel of the level-0 particles (every particle's in a uniform model).
     pub kernel: CubicSpline,
+    /// The pair table: of `kernel` in a uniform model, of the unit kernel (h = 1) in a refined
+    /// one (see [`crate::pair_lanes::force_row`]).
     table: PairTable,
     pub neighbours: NeighbourList,
+    /// The regions where particles are split (see [`crate::refine`]).
+    pub refinement: Option<Refinement>,
+    /// Whether the pair passes use per-particle masses and smoothing lengths: with a
+    /// refinement, or when the particles were refined (a restored state).
+    pub(crate) refined: bool,
     pub(crate) derived: Derived,
     /// Time step, s.
     pub dt: f64,
@@ -184,6 +193,7 @@ impl Solver {
             tools,
             groups,
             numerics,
+            refinement,
         } = model;
         numerics.validate()?;
         material.validate()?;
@@ -194,6 +204,9 @@ impl Solver {
             return Err(SimError::Invalid(
                 "the model has no particles or inconsistent particle arrays".into(),
             ));
+        }
+        if let Some(r) = &refinement {
+            r.validate(tools.len()).map_err(SimError::Invalid)?;
         }
         if let Some(&g) = particles.group.iter().find(|&&g| g as usize > groups.len()) {
             return Err(SimError::Invalid(format!(
@@ -215,14 +228,29 @@ impl Solver {
         };
         let h = numerics.smoothing_ratio * particles.spacing;
         let kernel = CubicSpline::new(h);
-        let mut neighbours = NeighbourList::new(kernel.radius(), numerics.skin_ratio * h);
-        neighbours.build(&particles.x, &particles.y);
+        let refined = refinement.is_some() || particles.is_refined();
+        // The finest level any particle has or can reach sets the skin and the time step.
+        let finest = refinement
+            .as_ref()
+            .map_or(0, Refinement::finest_level)
+            .max(particles.level.iter().copied().max().unwrap_or(0));
+        let h_min = h * spacing_factor(finest);
+        let neighbours = NeighbourList::new(kernel.radius(), numerics.skin_ratio * h_min);
+        let (table, inv_w_dx) = if refined {
+            let unit = CubicSpline::new(1.0);
+            (
+                PairTable::new(&unit),
+                1.0 / unit.w(1.0 / numerics.smoothing_ratio),
+            )
+        } else {
+            (PairTable::new(&kernel), 1.0 / kernel.w(particles.spacing))
+        };
         let vmax_tool = tools
             .iter()
             .flat_map(|t| t.motion.segments.iter())
             .map(|s| s.velocity[0].hypot(s.velocity[1]))
             .fold(0.0, f64::max);
-        let dt = numerics.cfl * h / (derived.c_long + vmax_tool);
+        let dt = numerics.cfl * h_min / (derived.c_long + vmax_tool);
         let mut tools = tools;
         for t in tools.iter_mut() {
             if let Some(tt) = t.thermal.as_mut() {
@@ -232,15 +260,17 @@ impl Solver {
         let n = particles.len();
         let ngroups = groups.len();
         let mut solver = Solver {
-            inv_w_dx: 1.0 / kernel.w(particles.spacing),
+            inv_w_dx,
             particles,
             material,
             tools,
             groups,
             numerics,
-            table: PairTable::new(&kernel),
+            table,
             kernel,
             neighbours,
+            refinement,
+            refined,
             derived,
             dt,
             time: 0.0,
@@ -256,8 +286,39 @@ impl Solver {
             at_rest: false,
             idle_steps: 0,
         };
+        solver.rebuild_lists();
         solver.check_rest();
         Ok(solver)
+    }
+
+    /// Rebuilds the neighbour lists at the current positions (per-pair cut-offs in a refined
+    /// model).
+    pub(crate) fn rebuild_lists(&mut self) {
+        let p = &self.particles;
+        if self.refined {
+            let h0 = self.kernel.h;
+            let h: Vec<f64> = p.level.iter().map(|&l| h0 * spacing_factor(l)).collect();
+            self.neighbours.build_with_reach(&p.x, &p.y, Some(&h));
+        } else {
+            self.neighbours.build(&p.x, &p.y);
+        }
+    }
+
+    /// Splits the particles inside the refinement regions at the tools' current positions
+    /// (see [`crate::refine`]); returns whether any particle was split (the per-particle
+    /// arrays have then grown and the neighbour lists must be rebuilt).
+    fn refine(&mut self) -> bool {
+        let Some(r) = &self.refinement else {
+            return false;
+        };
+        let origin = self.tools[r.tool].position;
+        if refine::split_in_regions(&mut self.particles, r, origin) == 0 {
+            return false;
+        }
+        let n = self.particles.len();
+        self.rates.resize(n, Rates::default());
+        self.packed.resize(n, Packed::default());
+        true
     }
 
     /// Notes whether the particles are exactly at rest — unstressed, at ρ₀ and one
@@ -300,15 +361,19 @@ impl Solver {
             return Ok(());
         }
         self.at_rest = false;
+        // Splitting (every step, so that the splits depend only on where the tool is and a
+        // resumed run makes the same ones) changes the particles: the lists are rebuilt.
+        let split = self.refine();
         // The displacement test runs inside the previous update; a fresh or restored solver
         // (lists built for other positions) is checked here.
-        if self.rebuild_due
+        if split
+            || self.rebuild_due
             || (self.step == 0 || self.neighbours.reference().0.len() != self.particles.len())
                 && self
                     .neighbours
                     .needs_rebuild(&self.particles.x, &self.particles.y)
         {
-            self.neighbours.build(&self.particles.x, &self.particles.y);
+            self.rebuild_lists();
             self.rebuild_due = false;
         }
         self.pack();
@@ -342,8 +407,9 @@ impl Solver {
         let eps = self.numerics.artificial_stress;
         let th = &self.material.thermal;
         let thermal = self.numerics.thermal;
-        let m = p.mass;
+        let h0 = self.kernel.h;
         self.packed.par_iter_mut().enumerate().for_each(|(i, q)| {
+            let m = p.mass_of(i);
             let rho = p.rho[i];
             let ir2 = 1.0 / (rho * rho);
             let sxx = p.sxx[i] - p.p[i];
@@ -380,6 +446,8 @@ impl Solver {
                 vy: p.vy[i],
                 vol: m / rho,
                 inv_rho: 1.0 / rho,
+                m,
+                h: h0 * spacing_factor(p.level[i]),
                 txx: sxx * ir2,
                 txy: sxy * ir2,
                 tyy: syy * ir2,
@@ -402,6 +470,7 @@ impl Solver {
     /// values are kept for step 6.
     fn gather_forces(&mut self) {
         let table = &self.table;
+        let refined = self.refined;
         let constants = ForceConstants {
             mass: self.particles.mass,
             alpha: self.numerics.av_alpha,
@@ -437,6 +506,7 @@ impl Solver {
                     )
                 };
                 pair_lanes::force_rows(
+                    refined,
                     first,
                     rates,
                     packed,
@@ -519,6 +589,7 @@ impl Solver {
     /// the partner's seven shares per pair and reading them back was slower).
     fn gather_kinematics(&mut self) {
         let m = self.particles.mass;
+        let refined = self.refined;
         let packed = &self.packed;
         let nl = &self.neighbours;
         let pair_wg = &self.pair_wg;
@@ -526,7 +597,15 @@ impl Solver {
             .par_chunks_mut(PAIR_CHUNK)
             .enumerate()
             .for_each(|(ch, rates)| {
-                pair_lanes::kinematics_rows(ch * PAIR_CHUNK, rates, packed, nl, m, pair_wg);
+                pair_lanes::kinematics_rows(
+                    refined,
+                    ch * PAIR_CHUNK,
+                    rates,
+                    packed,
+                    nl,
+                    m,
+                    pair_wg,
+                );
             });
     }
 
@@ -546,7 +625,6 @@ impl Solver {
             mass_scaling: self.numerics.mass_scaling,
             thermal: &self.material.thermal,
             thermal_on: self.numerics.thermal,
-            spacing: self.particles.spacing,
             velocity_scale: self.numerics.strain_rate_scale,
         };
         let w = contact::apply(
@@ -573,8 +651,9 @@ impl Solver {
             let g = p.group[i];
             if g != FREE {
                 let gf = &mut self.group_force[g as usize - 1];
-                gf[0] -= p.mass * self.rates[i].ax;
-                gf[1] -= p.mass * self.rates[i].ay;
+                let m = p.mass_of(i);
+                gf[0] -= m * self.rates[i].ax;
+                gf[1] -= m * self.rates[i].ay;
             }
         }
         let mut w = 0.0;
@@ -619,12 +698,16 @@ impl Solver {
             p.syy.par_chunks_mut(CH),
             p.szz.par_chunks_mut(CH),
             p.eps_p.par_chunks_mut(CH),
-            (p.temp.par_chunks_mut(CH), p.eps_rate.par_chunks_mut(CH)),
+            (
+                p.temp.par_chunks_mut(CH),
+                p.eps_rate.par_chunks_mut(CH),
+                p.level.par_chunks(CH),
+            ),
         )
             .into_par_iter()
             .enumerate()
             .map(
-                |(c, (x, y, vx, vy, rho, pr, sxx, sxy, syy, szz, eps, (temp, erate)))| {
+                |(c, (x, y, vx, vy, rho, pr, sxx, sxy, syy, szz, eps, (temp, erate, level)))| {
                     let chunk = UpdateChunk {
                         x,
                         y,
@@ -639,6 +722,7 @@ impl Solver {
                         eps,
                         temp,
                         erate,
+                        level,
                     };
                     update_chunk(&inputs, c * CH, chunk)
                 },
@@ -703,12 +787,13 @@ impl Solver {
         for i in 0..p.len() {
             let v2 = p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i];
             let rho = p.rho[i];
-            let vol = p.mass / rho;
+            let m = p.mass_of(i);
+            let vol = m / rho;
             let ss =
                 p.sxx[i].powi(2) + p.syy[i].powi(2) + p.szz[i].powi(2) + 2.0 * p.sxy[i].powi(2);
             // Linear EOS: e = c₀² [ln(ρ/ρ₀) + ρ₀/ρ − 1] per mass.
-            let vol_e = p.mass * d.c0_sq * ((rho / d.rho0).ln() + d.rho0 / rho - 1.0);
-            kin += 0.5 * p.mass * v2;
+            let vol_e = m * d.c0_sq * ((rho / d.rho0).ln() + d.rho0 / rho - 1.0);
+            kin += 0.5 * m * v2;
             ela += vol * ss / (4.0 * g) + vol_e;
         }
         let e = &self.energy;
@@ -751,7 +836,7 @@ struct UpdateInputs<'a> {
     f_mass: f64,
     /// Square of the largest allowed speed, m²/s².
     vlim2: f64,
-    /// Particle mass (scaled), kg/m.
+    /// Mass (scaled) of a level-0 particle, kg/m.
     m: f64,
     /// XSPH factor ε.
     eps_x: f64,
@@ -775,6 +860,7 @@ struct UpdateChunk<'a> {
     eps: &'a mut [f64],
     temp: &'a mut [f64],
     erate: &'a mut [f64],
+    level: &'a [u8],
 }
 
 /// Step 7 on one chunk whose first particle is `first`: (plastic work J/m, viscous power
@@ -874,7 +960,7 @@ fn plastic_and_heating(
             ch.erate[k] = ret.d_eps / dt;
             // Plastic work per volume σ_y Δε_p; volume m/ρ.
             let wv = ret.flow_stress * ret.d_eps;
-            work = Some(wv * inp.m / ch.rho[k]);
+            work = Some(wv * (inp.m * mass_factor(ch.level[k])) / ch.rho[k]);
             if inp.thermal {
                 let c = inp.th.specific_heat.eval(ch.temp[k]);
                 t_new += inp.th.taylor_quinney * wv / (ch.rho[k] / inp.f_mass * c);
@@ -980,6 +1066,7 @@ mod tests {
                 mass_scaling: 100.0,
                 ..Numerics::default()
             },
+            refinement: None,
         }
     }
 

@@ -68,7 +68,8 @@ impl Motion {
 pub struct WindowAccumulator {
     /// Number of steps accumulated.
     pub steps: u64,
-    /// Σ particle-steps in contact.
+    /// Σ particle-steps in contact, each particle weighted by its spacing over the level-0
+    /// spacing Δx (1 in an unrefined model), so that contacts · Δx is the contact length.
     pub contacts: f64,
     /// Σ f_N, N/m.
     pub normal: f64,
@@ -78,7 +79,7 @@ pub struct WindowAccumulator {
     pub normal_x_slip: f64,
     /// Σ f_N T, N/m · K.
     pub normal_x_temp: f64,
-    /// Σ particle-steps slipping.
+    /// Σ particle-steps slipping (weighted as `contacts`).
     pub slipping: f64,
     /// Σ f_N T_tool, N/m · K (thermal tools only).
     #[serde(default)]

@@ -92,14 +92,19 @@ fn greybox_loop_sets_each_window_to_the_law_at_its_recorded_state() {
     assert!(rel > 0.01, "forces differ by only {:.2} %", 100.0 * rel);
 }
 
-/// Same set-up, same bytes: twice, and on one and on two threads.
+/// Same set-up, same bytes: twice, and on one and on two threads; with refinement too.
 #[test]
 fn same_setup_same_bytes() {
     let mut setup = coarse_cut();
     setup.cut_length_m = 0.1e-3;
+    same_bytes_on_any_thread_count(&setup);
+    same_bytes_on_any_thread_count(&common::refined(setup));
+}
+
+fn same_bytes_on_any_thread_count(setup: &greybox_sim::cutting::CuttingSetup) {
     let run = || {
         let r = CutRun::execute(
-            &setup,
+            setup,
             Arc::new(VelocityLaw),
             1.0,
             None,
@@ -109,6 +114,7 @@ fn same_setup_same_bytes() {
         (
             r.forces.rows.clone(),
             r.updater.history.iter().map(|u| u.mu).collect::<Vec<_>>(),
+            r.sim.particles.x.clone(),
         )
     };
     // The half-list sums run in one fixed order: the same bytes on any thread count.
@@ -201,10 +207,24 @@ impl greybox_sim::Observer for KillAt {
 /// (resumed runs used to report only the rows after the checkpoint: F'c 213.9 against 202.0).
 #[test]
 fn resume_equals_the_uninterrupted_run() {
-    use greybox_sim::checkpoint::{Checkpoint, Checkpointer};
-    let d = tempfile::tempdir().unwrap();
     let mut setup = coarse_cut();
     setup.cut_length_m = 0.15e-3;
+    resume_equals_uninterrupted(&setup);
+}
+
+/// The same with refinement: the particles split after the checkpoint are split alike, and
+/// a checkpoint holds the split particles.
+#[test]
+fn a_refined_run_resumes_bit_for_bit() {
+    let mut setup = common::refined(coarse_cut());
+    setup.cut_length_m = 0.1e-3;
+    resume_equals_uninterrupted(&setup);
+}
+
+fn resume_equals_uninterrupted(setup: &greybox_sim::cutting::CuttingSetup) {
+    use greybox_sim::checkpoint::{Checkpoint, Checkpointer};
+    let d = tempfile::tempdir().unwrap();
+    let setup = setup.clone();
     let law: Arc<dyn FrictionLaw> = Arc::new(VelocityLaw);
     let id = greybox_sim::cut_run::fingerprint(&setup);
     let every = 150;
@@ -246,6 +266,7 @@ fn resume_equals_the_uninterrupted_run() {
     )
     .unwrap();
     assert_eq!(resumed.sim.step, steps);
+    assert_eq!(resumed.sim.particles.x, clean.sim.particles.x, "particles");
     assert_eq!(resumed.forces.rows, clean.forces.rows, "force history");
     assert_eq!(resumed.steady.blocks, clean.steady.blocks, "steady blocks");
     assert_eq!(

@@ -23,6 +23,7 @@ pub fn block_model(
         tools: vec![],
         groups,
         numerics: Numerics::default(),
+        refinement: None,
     }
 }
 
@@ -60,5 +61,25 @@ pub fn coarse_cut() -> greybox_sim::cutting::CuttingSetup {
         steady: SteadySetup::default(),
         tool_thermal: None,
         physical_cutting_speed_m_s: None,
+        refinement: None,
     }
+}
+
+/// `setup` with one refinement level around the cutting edge (half its spacing): a region
+/// from 0.2 mm ahead of the edge to 20 µm behind it, 40 µm below it and 0.3 mm above it,
+/// which holds the primary shear zone and the chip of the tests' cuts.
+pub fn refined(
+    mut setup: greybox_sim::cutting::CuttingSetup,
+) -> greybox_sim::cutting::CuttingSetup {
+    use greybox_sim::cutting::{CutRefinement, CutRegion};
+    setup.refinement = Some(CutRefinement {
+        regions: vec![CutRegion {
+            ahead_m: 0.2e-3,
+            behind_m: 20e-6,
+            below_m: 40e-6,
+            above_m: 0.3e-3,
+        }],
+        pattern: Default::default(),
+    });
+    setup
 }
