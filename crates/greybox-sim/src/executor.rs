@@ -272,6 +272,7 @@ pub fn run(
     let t0 = std::time::Instant::now();
     let step0 = sim.step;
     let idle0 = sim.idle_steps;
+    let work0 = sim.particle_steps;
     let mut last_good = sim.particles.clone();
     let mut last_good_at = (sim.step, sim.time);
     let mut stopped = false;
@@ -313,8 +314,7 @@ pub fn run(
         time_s: sim.time,
         wall_s: wall,
         idle_steps,
-        particle_steps_per_s: (steps - idle_steps) as f64 * sim.particle_count() as f64
-            / wall.max(1e-12),
+        particle_steps_per_s: (sim.particle_steps - work0) as f64 / wall.max(1e-12),
         stopped_by_observer: stopped,
     })
 }

@@ -182,6 +182,8 @@ pub struct Solver {
     /// Steps that skipped the particle passes because nothing could move (see
     /// [`Solver::step`]).
     pub idle_steps: u64,
+    /// Σ particles over the steps that did the particle passes (a refined run's count grows).
+    pub particle_steps: u64,
 }
 
 impl Solver {
@@ -285,6 +287,7 @@ impl Solver {
             rebuild_due: false,
             at_rest: false,
             idle_steps: 0,
+            particle_steps: 0,
         };
         solver.rebuild_lists();
         solver.check_rest();
@@ -385,6 +388,7 @@ impl Solver {
         self.gather_kinematics();
         self.update()?;
         self.advance_clock();
+        self.particle_steps += self.particles.len() as u64;
         Ok(())
     }
 

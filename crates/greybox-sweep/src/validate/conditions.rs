@@ -115,6 +115,12 @@ pub fn condition_setup(
     tool: ToolModel,
 ) -> Result<CuttingSetup> {
     let mut s = template.clone();
+    if let Some(dx) = runs.spacing_m {
+        s.spacing_m = dx;
+    }
+    if runs.refinement.is_some() {
+        s.refinement.clone_from(&runs.refinement);
+    }
     s.insert.rake_deg = c.rake_deg;
     s.insert.clearance_deg = c.clearance_deg;
     s.insert.edge_radius_m = c.edge_radius_m;

@@ -104,6 +104,14 @@ pub struct MaterialRuns {
     /// The friction models cut, side by side (default: `coulomb-calibrated` alone).
     #[serde(default = "default_friction")]
     pub friction: Vec<FrictionVariant>,
+    /// The template's level-0 particle spacing replaced, m (with `refinement`: coarse away
+    /// from the tool).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spacing_m: Option<f64>,
+    /// The template's `[refinement]` replaced: dynamic refinement around the cutting edge
+    /// (the regions of a cutting set-up, `greybox_sim::cutting::CutRefinement`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refinement: Option<greybox_sim::cutting::CutRefinement>,
 }
 
 /// The most refinement steps a material may ask for (each cuts every calibration condition
