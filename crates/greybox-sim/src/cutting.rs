@@ -504,6 +504,7 @@ impl CuttingSetup {
             height,
             dx0,
             count,
+            self.refinement.is_some(),
             self.numerics.max_particles.map(|c| c.as_u64()),
         )?;
         self.friction.smoothing.validate()?;

@@ -22,17 +22,18 @@ pub fn check_workpiece_budget(
     max: Option<u64>,
 ) -> greybox_core::Result<()> {
     let count = (length / dx).ceil() * (height / dx).ceil();
-    check_particle_budget(what, length, height, dx, count, max)
+    check_particle_budget(what, length, height, dx, count, false, max)
 }
 
-/// [`check_workpiece_budget`] for a workpiece that ends with `count` particles (a refined
-/// one: its level-0 lattice and the children of its refinement).
+/// [`check_workpiece_budget`] for a workpiece that ends with `count` particles; `refined`:
+/// the count is its level-0 lattice and the children of its refinement.
 pub fn check_particle_budget(
     what: &str,
     length: f64,
     height: f64,
     dx: f64,
     count: f64,
+    refined: bool,
     max: Option<u64>,
 ) -> greybox_core::Result<()> {
     let max = max.unwrap_or(DEFAULT_MAX_PARTICLES);
@@ -40,9 +41,10 @@ pub fn check_particle_budget(
         return Ok(());
     }
     let found = format!(
-        "spacing_m = {dx:e} lays out a {:.3} mm × {:.3} mm workpiece as {count:.3e} particles (its refinement included), about {} at {} kB per particle",
+        "spacing_m = {dx:e} lays out a {:.3} mm × {:.3} mm workpiece as {count:.3e} particles{}, about {} at {} kB per particle",
         length * 1e3,
         height * 1e3,
+        if refined { " (its refinement included)" } else { "" },
         greybox_core::budget::bytes_text(count * BYTES_PER_PARTICLE as f64),
         BYTES_PER_PARTICLE / 1024
     );

@@ -387,6 +387,44 @@ fn bad_configurations_name_the_field_and_the_rule() {
         ),
         (|s| s.numerics.cfl = 2.0, "cfl must be in (0, 1], got 2"),
         (
+            |s| {
+                *s = common::refined(s.clone());
+                s.refinement.as_mut().unwrap().regions[0].below_m = f64::NAN;
+            },
+            "[refinement]: refinement region 1 is empty or not finite",
+        ),
+        (
+            |s| {
+                *s = common::refined(s.clone());
+                let r = s.refinement.as_mut().unwrap();
+                r.regions = vec![r.regions[0]; 4];
+            },
+            "refinement needs 1 to 3 regions (one per level), found 4",
+        ),
+        (
+            |s| {
+                *s = common::refined(s.clone());
+                let r = s.refinement.as_mut().unwrap();
+                let mut wider = r.regions[0];
+                wider.ahead_m *= 2.0;
+                r.regions.push(wider);
+            },
+            "refinement region 2 (level 2) must lie inside region 1",
+        ),
+        // the band three levels of refinement would sweep is counted before anything runs:
+        // 10⁵ particles at 20 µm, 6.4·10⁶ with the children
+        (
+            |s| {
+                *s = common::refined(s.clone());
+                s.workpiece_height_m = 2e-3;
+                s.cut_length_m = 0.02;
+                let r = s.refinement.as_mut().unwrap();
+                r.regions[0].below_m = 2e-3;
+                r.regions = vec![r.regions[0]; 3];
+            },
+            "particles (its refinement included)",
+        ),
+        (
             |s| s.numerics.mass_scaling = 0.5,
             "mass_scaling: mass scaling 0.5 is outside the possible range 1..1e8",
         ),
@@ -441,6 +479,7 @@ fn bad_configurations_name_the_field_and_the_rule() {
         assert!(r.is_err(), "case {k}: ran");
     }
     coarse_cut().validate().unwrap();
+    common::refined(coarse_cut()).validate().unwrap();
 }
 
 /// μ = 0.1 + 0.4 · p / 1.5 GPa (capped at 0.6): a law that passes every pressure jump on.

@@ -157,6 +157,54 @@ pub fn condition_setup(
 mod tests {
     use super::*;
 
+    /// A suite entry's `spacing_m` and `refinement` replace the template's; a refinement
+    /// whose finest spacing leaves fewer than 4 particles across the uncut chip is refused
+    /// for the condition it fails.
+    #[test]
+    fn a_suite_entry_chooses_the_refined_variant_of_its_template() {
+        let template = CuttingSetup::iwf_ti64_reference();
+        let runs: MaterialRuns = toml::from_str(
+            r#"
+            name = "Ti6Al4V"
+            setup = "t.toml"
+            run_speed_m_per_min = 600.0
+            calibration = []
+            mu_bracket = [0.2, 0.8]
+            spacing_m = 2.0e-5
+            refinement = { regions = [{ ahead_m = 0.2e-3, behind_m = 0.0, below_m = 0.04e-3, above_m = 0.3e-3 }] }
+            "#,
+        )
+        .unwrap();
+        let mut c = Condition {
+            id: "X".into(),
+            material: "Ti6Al4V".into(),
+            source: "test".into(),
+            cutting_speed_m_s: 10.0,
+            uncut_chip_thickness_m: 60e-6,
+            rake_deg: 15.0,
+            clearance_deg: 2.0,
+            edge_radius_m: 20e-6,
+            cutting_force_n_per_m: 1e5,
+            cutting_force_dispersion_n_per_m: None,
+            feed_force_n_per_m: 5e4,
+            feed_force_dispersion_n_per_m: None,
+            chip_ratio: None,
+            contact_length_m: None,
+        };
+        let s = condition_setup(&template, &c, &runs, ToolModel::Adiabatic).unwrap();
+        assert_eq!(s.spacing_m, 2e-5);
+        assert_eq!(s.surface_spacing(), 1e-5);
+        assert_eq!(s.refinement, runs.refinement);
+        // Unrefined at 20 µm, 30 µm of chip would be 1.5 particles: with the refinement,
+        // 3 fine particles, still too few.
+        c.uncut_chip_thickness_m = 30e-6;
+        let e = condition_setup(&template, &c, &runs, ToolModel::Adiabatic).unwrap_err();
+        assert!(
+            format!("{e:#}").contains("fewer than 4 particle spacings"),
+            "{e:#}"
+        );
+    }
+
     #[test]
     fn reads_conditions_with_units_and_names_bad_fields() {
         let d = tempfile::tempdir().unwrap();
