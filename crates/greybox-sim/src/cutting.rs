@@ -487,6 +487,17 @@ impl CuttingSetup {
             )
             .finish()?;
         self.numerics.validate()?;
+        self.friction.smoothing.validate()?;
+        if let Some(t) = &self.tool_thermal {
+            t.validate()?;
+        }
+        self.check_budgets()?;
+        self.material.validate()
+    }
+
+    /// The particle count (the refinement's children included) and the thermal tool's grid
+    /// against `numerics.max_particles`, before anything is allocated.
+    fn check_budgets(&self) -> greybox_core::Result<()> {
         let (length, height, dx0) = (
             self.workpiece_length(),
             self.workpiece_height_m,
@@ -507,9 +518,7 @@ impl CuttingSetup {
             self.refinement.is_some(),
             self.numerics.max_particles.map(|c| c.as_u64()),
         )?;
-        self.friction.smoothing.validate()?;
         if let Some(t) = &self.tool_thermal {
-            t.validate()?;
             let grid = if t.grid_spacing_m > 0.0 {
                 t.grid_spacing_m
             } else {
@@ -521,7 +530,7 @@ impl CuttingSetup {
                 self.numerics.max_particles.map(|c| c.as_u64()),
             )?;
         }
-        self.material.validate()
+        Ok(())
     }
 
     /// The contact state every window's law is evaluated at before its first update: the

@@ -135,6 +135,27 @@ fn variable_rows(
     (rows, w_unit)
 }
 
+/// The pair functions of one group of lanes (partners `idx` of particle `a` at squared
+/// distances `r2`): [W, g, g_cond, h_visc] per lane, the unit kernel's W (the
+/// artificial-stress factor's) and the partners' masses; see [`force_row`] for `REFINED`.
+#[inline(always)]
+fn pair_rows<const REFINED: bool>(
+    table: &PairTable,
+    k: &ForceConstants,
+    a: &Packed,
+    packed: &[Packed],
+    idx: &[usize; LANES],
+    r2: &Lanes,
+) -> ([[f64; 4]; LANES], Lanes, Lanes) {
+    if REFINED {
+        let (rows, w_unit) = variable_rows(table, a.h, &gather!(packed, idx, h), r2);
+        (rows, w_unit, gather!(packed, idx, m))
+    } else {
+        let rows: [[f64; 4]; LANES] = std::array::from_fn(|l| table.at(r2[l]));
+        (rows, std::array::from_fn(|l| rows[l][0]), [k.mass; LANES])
+    }
+}
+
 /// Force pass over particle `i`'s own row: sums i's share and writes, per pair, the kernel
 /// values [W, g] to `wg_out` and the partner's share [−f_x, −f_y, −(m/ρ_i) q] to
 /// `to_partner` (both the row's slices). Equations in [`crate::solver`]'s step 3.
@@ -189,13 +210,7 @@ pub(crate) fn force_row<const REFINED: bool>(
         let dy: Lanes = std::array::from_fn(|l| a.y - y_b[l]);
         let r2: Lanes = std::array::from_fn(|l| dx[l] * dx[l] + dy[l] * dy[l]);
         // Branch-free: pairs in the skin (beyond 2h) get w = g = 0 and add nothing.
-        let (rows, w_unit, m_b): ([[f64; 4]; LANES], Lanes, Lanes) = if REFINED {
-            let (rows, w_unit) = variable_rows(table, a.h, &gather!(packed, idx, h), &r2);
-            (rows, w_unit, gather!(packed, idx, m))
-        } else {
-            let rows: [[f64; 4]; LANES] = std::array::from_fn(|l| table.at(r2[l]));
-            (rows, std::array::from_fn(|l| rows[l][0]), [k.mass; LANES])
-        };
+        let (rows, w_unit, m_b) = pair_rows::<REFINED>(table, k, a, packed, &idx, &r2);
         let mut fx = [0.0; LANES];
         let mut fy = [0.0; LANES];
         // The partner's acceleration (before its minus sign).

@@ -103,7 +103,7 @@ impl Refinement {
             let finite = [r.x_min, r.x_max, r.y_min, r.y_max]
                 .iter()
                 .all(|v| v.is_finite());
-            if !finite || !(r.x_min < r.x_max && r.y_min < r.y_max) {
+            if !(finite && r.x_min < r.x_max && r.y_min < r.y_max) {
                 return Err(format!(
                     "refinement region {} is empty or not finite: x {:e}..{:e} m, y {:e}..{:e} m",
                     k + 1,

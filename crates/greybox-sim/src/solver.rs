@@ -228,25 +228,11 @@ impl Solver {
             c0_sq: bulk / rho0,
             c_long: (material.elastic.p_wave_modulus() / rho0).sqrt(),
         };
-        let h = numerics.smoothing_ratio * particles.spacing;
-        let kernel = CubicSpline::new(h);
+        let kernel = CubicSpline::new(numerics.smoothing_ratio * particles.spacing);
         let refined = refinement.is_some() || particles.is_refined();
-        // The finest level any particle has or can reach sets the skin and the time step.
-        let finest = refinement
-            .as_ref()
-            .map_or(0, Refinement::finest_level)
-            .max(particles.level.iter().copied().max().unwrap_or(0));
-        let h_min = h * spacing_factor(finest);
+        let h_min = kernel.h * spacing_factor(finest_level(&particles, refinement.as_ref()));
         let neighbours = NeighbourList::new(kernel.radius(), numerics.skin_ratio * h_min);
-        let (table, inv_w_dx) = if refined {
-            let unit = CubicSpline::new(1.0);
-            (
-                PairTable::new(&unit),
-                1.0 / unit.w(1.0 / numerics.smoothing_ratio),
-            )
-        } else {
-            (PairTable::new(&kernel), 1.0 / kernel.w(particles.spacing))
-        };
+        let (table, inv_w_dx) = pair_table(&kernel, refined, &numerics, particles.spacing);
         let vmax_tool = tools
             .iter()
             .flat_map(|t| t.motion.segments.iter())
@@ -818,6 +804,32 @@ impl Solver {
     /// Particle-steps per second helper: particle count.
     pub fn particle_count(&self) -> usize {
         self.particles.len()
+    }
+}
+
+/// The finest level any particle has or can reach: it sets the skin and the time step.
+fn finest_level(particles: &Particles, refinement: Option<&Refinement>) -> u8 {
+    refinement
+        .map_or(0, Refinement::finest_level)
+        .max(particles.level.iter().copied().max().unwrap_or(0))
+}
+
+/// The pair table and 1/W(Δx) of the artificial-stress factor: of `kernel` (spacing Δx =
+/// `spacing`) in a uniform model, of the unit kernel (h = 1, Δx = 1/smoothing ratio) in a
+/// `refined` one, whose pairs scale it by their own h_ij (see
+/// [`crate::pair_lanes::force_row`]).
+fn pair_table(
+    kernel: &CubicSpline,
+    refined: bool,
+    numerics: &Numerics,
+    spacing: f64,
+) -> (PairTable, f64) {
+    if refined {
+        let unit = CubicSpline::new(1.0);
+        let inv_w_dx = 1.0 / unit.w(1.0 / numerics.smoothing_ratio);
+        (PairTable::new(&unit), inv_w_dx)
+    } else {
+        (PairTable::new(kernel), 1.0 / kernel.w(spacing))
     }
 }
 
