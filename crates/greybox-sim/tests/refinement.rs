@@ -160,3 +160,18 @@ fn a_refined_cut_matches_the_uniform_fine_cut() {
     let chip = |m: &greybox_sim::chip::CutMeasures| m.chip_thickness_mm.expect("a chip");
     assert!((chip(m_r) / chip(m_f) - 1.0).abs() < 0.02);
 }
+
+/// The bundled refined examples and suite regions read and validate as set-ups (the
+/// refined IWF example once lacked its `[numerics]` table).
+#[test]
+fn the_refined_example_is_a_valid_set_up() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/iwf-ti64-refined-cut.toml"
+    );
+    let text = std::fs::read_to_string(path).unwrap();
+    let s: greybox_sim::cutting::CuttingSetup = toml::from_str(&text).unwrap();
+    s.validate().unwrap();
+    let r = s.refinement.as_ref().expect("a [refinement] table");
+    assert_eq!(r.finest_spacing(s.spacing_m), 5e-6);
+}
