@@ -12,6 +12,7 @@ use anyhow::{Context, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::plot::{escape, fmt, nice_ticks, ColourMap};
 use greybox_sim::output::tool_outline;
+use greybox_sim::particles::spacing_factor;
 use greybox_sim::{Control, Observer, SimError, Solver};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -29,8 +30,12 @@ pub struct ChipFrame {
     pub temperature_k: Vec<f32>,
     /// Equivalent plastic strain.
     pub plastic_strain: Vec<f32>,
-    /// Initial particle spacing, m.
+    /// Initial particle spacing, m (of the level-0 particles).
     pub spacing_m: f64,
+    /// Refinement level of each particle (spacing `spacing_m`/2ˡ); empty when none was
+    /// refined.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub level: Vec<u8>,
     /// Each tool's outline, m.
     pub tools: Vec<Vec<[f64; 2]>>,
 }
@@ -47,6 +52,11 @@ impl ChipFrame {
             temperature_k: f(&p.temp),
             plastic_strain: f(&p.eps_p),
             spacing_m: p.spacing,
+            level: if p.is_refined() {
+                p.level.clone()
+            } else {
+                Vec::new()
+            },
             tools: sim.tools.iter().map(|t| tool_outline(t, 720)).collect(),
         }
     }
@@ -188,10 +198,15 @@ impl Layout {
 fn raster(f: &ChipFrame, field: ChipField, view: &View, l: &Layout, range: (f64, f64)) -> Vec<u8> {
     let (w, h) = (l.w as i64, l.h as i64);
     let mut px = vec![0u8; (w * h * 4) as usize];
-    // radius 0.75 Δx: discs on the initial lattice overlap and leave no gaps (> Δx/√2)
-    let r = (0.75 * f.spacing_m * l.scale).max(0.75);
-    let r2 = r * r;
+    // radius 0.75 Δx: discs on the initial lattice overlap and leave no gaps (> Δx/√2); a
+    // refined particle's Δx is its own
+    let radius = |i: usize| {
+        let dx = f.spacing_m * f.level.get(i).map_or(1.0, |&l| spacing_factor(l));
+        (0.75 * dx * l.scale).max(0.75)
+    };
     for i in 0..f.x.len() {
+        let r = radius(i);
+        let r2 = r * r;
         let (x, y) = (f.x[i] as f64, f.y[i] as f64);
         if !(x.is_finite() && y.is_finite()) {
             continue;
@@ -474,6 +489,7 @@ mod tests {
             temperature_k: t,
             plastic_strain: e,
             spacing_m: 1e-5,
+            level: Vec::new(),
             tools: vec![vec![[1.2e-4, 0.0], [1.5e-4, 0.0], [1.5e-4, 1e-4]]],
         }
     }
