@@ -60,6 +60,31 @@ pub fn check_particle_budget(
     ))
 }
 
+/// Number of per-particle arrays of reals in [`Particles`].
+pub const REAL_FIELDS: usize = 13;
+
+/// The per-particle arrays of reals of `$p`, each borrowed with `$borrow` (`&` or `&mut`):
+/// the one list of them.
+macro_rules! real_fields {
+    ($p:expr, $($borrow:tt)+) => {
+        [
+            $($borrow)+ $p.x,
+            $($borrow)+ $p.y,
+            $($borrow)+ $p.vx,
+            $($borrow)+ $p.vy,
+            $($borrow)+ $p.rho,
+            $($borrow)+ $p.p,
+            $($borrow)+ $p.sxx,
+            $($borrow)+ $p.sxy,
+            $($borrow)+ $p.syy,
+            $($borrow)+ $p.szz,
+            $($borrow)+ $p.eps_p,
+            $($borrow)+ $p.eps_rate,
+            $($borrow)+ $p.temp,
+        ]
+    };
+}
+
 /// Boundary group index of free particles.
 pub const FREE: u8 = 0;
 
@@ -146,6 +171,17 @@ impl Particles {
     /// smoothing lengths).
     pub fn is_refined(&self) -> bool {
         self.level.iter().any(|&l| l > 0)
+    }
+
+    /// Every per-particle array of reals: what a check or a copy of a whole particle walks
+    /// (`group` and `level` are the other two per-particle arrays).
+    pub fn real_fields(&self) -> [&Vec<f64>; REAL_FIELDS] {
+        real_fields!(self, &)
+    }
+
+    /// [`Particles::real_fields`], writable.
+    pub fn real_fields_mut(&mut self) -> [&mut Vec<f64>; REAL_FIELDS] {
+        real_fields!(self, &mut)
     }
 
     /// Fills the levels of a state written before refinement existed (all level 0).
@@ -246,22 +282,7 @@ impl Particles {
     /// Checks that every array has the particle count (after reading a checkpoint).
     pub fn check_lengths(&self) -> bool {
         let n = self.len();
-        [
-            &self.y,
-            &self.vx,
-            &self.vy,
-            &self.rho,
-            &self.p,
-            &self.sxx,
-            &self.sxy,
-            &self.syy,
-            &self.szz,
-            &self.eps_p,
-            &self.eps_rate,
-            &self.temp,
-        ]
-        .iter()
-        .all(|v| v.len() == n)
+        self.real_fields().iter().all(|v| v.len() == n)
             && self.group.len() == n
             && self.level.len() == n
             && self.level.iter().all(|&l| l <= MAX_LEVEL)

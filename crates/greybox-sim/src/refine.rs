@@ -177,21 +177,7 @@ pub fn split(p: &mut Particles, i: usize, pattern: SplitPattern) {
 
 /// Appends a copy of particle `i` (every field).
 fn copy_particle(p: &mut Particles, i: usize) {
-    for v in [
-        &mut p.x,
-        &mut p.y,
-        &mut p.vx,
-        &mut p.vy,
-        &mut p.rho,
-        &mut p.p,
-        &mut p.sxx,
-        &mut p.sxy,
-        &mut p.syy,
-        &mut p.szz,
-        &mut p.eps_p,
-        &mut p.eps_rate,
-        &mut p.temp,
-    ] {
+    for v in p.real_fields_mut() {
         v.push(v[i]);
     }
     p.group.push(p.group[i]);
