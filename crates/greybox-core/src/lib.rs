@@ -19,6 +19,7 @@
 //! * [`boundary`] — exact boundaries of monotone floating-point predicates (split thresholds).
 //! * [`roots`] — bracketing root finding for expensive functions.
 //! * [`linalg`] — small least-squares helpers.
+//! * [`stats`] — the mean of a correlated series with its batch-means confidence interval.
 //! * [`shell`] — quoting of every value a generated shell script receives.
 //! * [`escape`] — free text escaped (or refused) for the format it lands in: deck comments,
 //!   CSV fields, shell words, XML/SVG/HTML; names checked to be words.
@@ -53,6 +54,7 @@ pub mod provenance;
 pub mod roots;
 pub mod rules;
 pub mod shell;
+pub mod stats;
 pub mod units;
 
 pub use contact::ContactState;
