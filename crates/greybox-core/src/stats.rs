@@ -99,13 +99,22 @@ pub fn integrated_autocorrelation_time(x: &[f64]) -> f64 {
     tau.max(1.0)
 }
 
+/// A period found in a series.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Period {
+    /// In samples (fractional).
+    pub samples: f64,
+    /// The autocorrelation at it.
+    pub correlation: f64,
+}
+
 /// The fundamental period of `x` in samples (fractional: the autocorrelation peak refined
 /// by a parabola through it and its neighbours), or `None`: the first local maximum of the
 /// autocorrelation, at a lag of at most `max_lag` (capped at a third of the length, so that
 /// the period is seen three times), that reaches `min_correlation` after the
 /// autocorrelation has fallen to half of it (a slowly decaying correlation is no period).
 /// The first such peak is the fundamental: its multiples peak too, higher or lower.
-pub fn period(x: &[f64], max_lag: usize, min_correlation: f64) -> Option<f64> {
+pub fn period(x: &[f64], max_lag: usize, min_correlation: f64) -> Option<Period> {
     let max_lag = max_lag.min(x.len() / 3);
     if max_lag < 3 {
         return None;
@@ -123,27 +132,25 @@ pub fn period(x: &[f64], max_lag: usize, min_correlation: f64) -> Option<f64> {
             } else {
                 0.0
             };
-            return Some(k as f64 + shift);
+            return Some(Period {
+                samples: k as f64 + shift,
+                correlation: b,
+            });
         }
     }
     None
 }
 
-/// The means of `x` over consecutive whole stretches of `unit` samples (fractional: sample
-/// k belongs to stretch ⌊(k + ½ − s)/unit⌋), the stretches ending with the record and the
-/// partial one at its start left out. `unit` ≤ 1: the samples themselves.
-pub fn unit_means(x: &[f64], unit: f64) -> Vec<f64> {
-    if !(unit > 1.0) {
-        return x.to_vec();
-    }
-    let n = x.len();
-    let units = (n as f64 / unit).floor() as usize;
-    let start = n as f64 - units as f64 * unit;
-    let mut sums = vec![(0.0, 0usize); units];
-    for (k, v) in x.iter().enumerate() {
-        let pos = (k as f64 + 0.5 - start) / unit;
-        if pos >= 0.0 {
-            let j = (pos.floor() as usize).min(units.saturating_sub(1));
+/// The means of a sampled series over `count` consecutive whole stretches of `unit` (a
+/// period, or one sampling interval) that end at `to`: the samples `(time, value)` with time
+/// in (to − count·unit, to], each in stretch ⌊(time − from)/unit⌋ (its last instant belongs
+/// to the stretch it ends). Stretches that hold no sample are left out.
+pub fn unit_means(samples: &[(f64, f64)], to: f64, unit: f64, count: usize) -> Vec<f64> {
+    let from = to - count as f64 * unit;
+    let mut sums = vec![(0.0, 0usize); count];
+    for &(t, v) in samples {
+        if t > from && t <= to {
+            let j = (((t - from) / unit).ceil() as usize).clamp(1, count) - 1;
             sums[j].0 += v;
             sums[j].1 += 1;
         }
@@ -269,7 +276,7 @@ mod tests {
     #[test]
     fn the_period_of_a_sawtooth_is_found_and_a_staircase_has_none() {
         let saw: Vec<f64> = (0..600).map(|k| (k as f64 / 17.3).fract()).collect();
-        let p = period(&saw, 200, 0.3).expect("a period");
+        let p = period(&saw, 200, 0.3).expect("a period").samples;
         assert!((p - 17.3).abs() < 0.5, "{p}");
         let stairs: Vec<f64> = (0..600).map(|k| (k / 100) as f64).collect();
         assert_eq!(period(&stairs, 200, 0.3), None);
@@ -286,12 +293,17 @@ mod tests {
         assert!((80..=140).contains(&d), "{d}");
     }
 
+    /// Samples k = 0..n at times k + 1 (each the end of its sampling interval).
+    fn timed(x: &[f64]) -> Vec<(f64, f64)> {
+        x.iter().enumerate().map(|(k, v)| ((k + 1) as f64, *v)).collect()
+    }
+
     #[test]
     fn unit_means_average_whole_periods_ending_with_the_record() {
         let x: Vec<f64> = (0..10).map(|k| k as f64).collect();
-        // units of 3 samples: the first sample is left out
-        assert_eq!(unit_means(&x, 3.0), vec![2.0, 5.0, 8.0]);
-        assert_eq!(unit_means(&x, 1.0), x);
+        // three units of 3 samples ending at t = 10: the first sample is left out
+        assert_eq!(unit_means(&timed(&x), 10.0, 3.0, 3), vec![2.0, 5.0, 8.0]);
+        assert_eq!(unit_means(&timed(&x), 10.0, 1.0, 10), x);
     }
 
     /// AR(1) noise of unit variance.
@@ -340,8 +352,9 @@ mod tests {
                 let (mut covered, mut formed) = (0usize, 0usize);
                 for _ in 0..300 {
                     let x = record(kind, n, &mut rng);
-                    let unit = period(&x, n / 3, 0.3).unwrap_or(1.0);
-                    let ci = batch_means(&unit_means(&x, unit), LEVEL);
+                    let unit = period(&x, n / 3, 0.3).map_or(1.0, |p| p.samples);
+                    let count = (n as f64 / unit).floor() as usize;
+                    let ci = batch_means(&unit_means(&timed(&x), n as f64, unit, count), LEVEL);
                     if ci.half_width.is_some() {
                         formed += 1;
                         covered += ci.covers(0.0) as usize;

@@ -343,17 +343,34 @@ pub struct CutSummary {
     pub law: String,
     pub windows: usize,
     pub window_updates: usize,
-    /// Whether the steady-force criterion was met, and the cut length where the steady part starts.
+    /// Whether a steady stretch was found, and the cut length where it starts.
     pub steady: bool,
     pub steady_from_mm: Option<f64>,
-    /// The run ended when the forces became steady (before the configured cut length).
-    pub stopped_when_steady: bool,
-    /// The criterion: block length, blocks, relative tolerance, minimum cut length, and
-    /// whether the run stops once it is met.
+    /// Whether the force intervals met the targets (`steady_criterion`), and the cut length
+    /// where they first did.
+    pub sure: bool,
+    pub sure_at_mm: Option<f64>,
+    /// The run ended because it was sure (before its length limit, `cut_length_m`).
+    pub stopped_when_sure: bool,
+    /// The run asked to stop when sure but reached its length limit first: its intervals
+    /// are wider than the targets.
+    pub limit_reached: bool,
+    /// The targets (relative half-widths of F'c's and F'f's 95 % intervals), the minimum
+    /// cut length, and whether the run stops once they are met.
     pub steady_criterion: greybox_sim::cutting::SteadySetup,
-    /// Mean cutting and feed force, N/mm: over the steady blocks, or the last half of the run.
+    /// Mean cutting and feed force, N/mm: over the steady stretch (whole periods), or the
+    /// last half of a run too short to have one.
     pub cutting_force_n_per_mm: f64,
     pub feed_force_n_per_mm: f64,
+    /// Half-widths of their 95 % intervals, N/mm (`None`: no steady stretch, or too short a
+    /// one to say; `steady_state.rests_on` tells).
+    pub cutting_force_ci95_n_per_mm: Option<f64>,
+    pub feed_force_ci95_n_per_mm: Option<f64>,
+    /// Half-width of the chip compression ratio's 95 % interval.
+    pub compression_ratio_ci95: Option<f64>,
+    /// Every steady quantity with its interval and what it rests on (`None`: no steady
+    /// stretch).
+    pub steady_state: Option<greybox_sim::steady_report::SteadyReport>,
     /// Feed over cutting force.
     pub force_ratio: f64,
     /// Specific cutting force F'c / h, N/mm².
@@ -414,7 +431,7 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
     }
     let averaged = AveragedPart {
         from_mm: r.averaged_from_s * v * 1e3,
-        steady: r.steady.steady_since_s.is_some(),
+        steady: r.steady_state.is_some(),
     };
     files.extend(write_cut_plots(
         out,
@@ -453,6 +470,10 @@ fn cut_summary(case: &CutCase, r: &CutRun, files: Vec<String>) -> CutSummary {
     let tool = &r.sim.tools[0];
     let threads = greybox_sim::threads();
     let f = r.force;
+    let steady = r
+        .steady_state
+        .as_ref()
+        .map(|s| greybox_sim::steady_report::SteadyReport::of(s, v, setup.uncut_chip_thickness_m));
     CutSummary {
         particles: r.sim.particle_count(),
         steps: r.summary.steps,
@@ -468,14 +489,24 @@ fn cut_summary(case: &CutCase, r: &CutRun, files: Vec<String>) -> CutSummary {
         law: format!("{} ({})", case.law.name(), case.law_source),
         windows: tool.windows.len(),
         window_updates: r.updater.history.len(),
-        steady: r.steady.steady_since_s.is_some(),
-        steady_from_mm: r.steady.steady_since_s.map(|t| t * v * 1e3),
-        stopped_when_steady: r.summary.stopped_by_observer
-            && setup.steady.stop_when_steady
-            && r.steady.steady_since_s.is_some(),
+        steady: r.steady_state.is_some(),
+        steady_from_mm: r.steady_state.as_ref().map(|s| s.window.from_s * v * 1e3),
+        sure: r.sure_at_s.is_some(),
+        sure_at_mm: r.sure_at_s.map(|t| t * v * 1e3),
+        stopped_when_sure: r.summary.stopped_by_observer
+            && setup.steady.stop_when_sure
+            && r.sure_at_s.is_some(),
+        limit_reached: setup.steady.stop_when_sure && r.sure_at_s.is_none(),
         steady_criterion: setup.steady.clone(),
         cutting_force_n_per_mm: f[0] * 1e-3,
         feed_force_n_per_mm: f[1] * 1e-3,
+        cutting_force_ci95_n_per_mm: steady.as_ref().and_then(|s| s.cutting_force_n_per_mm.ci95),
+        feed_force_ci95_n_per_mm: steady.as_ref().and_then(|s| s.feed_force_n_per_mm.ci95),
+        compression_ratio_ci95: steady
+            .as_ref()
+            .and_then(|s| s.compression_ratio.as_ref())
+            .and_then(|q| q.ci95),
+        steady_state: steady,
         force_ratio: if f[0] != 0.0 { f[1] / f[0] } else { 0.0 },
         specific_cutting_force_n_per_mm2: f[0] * 1e-3 / (setup.uncut_chip_thickness_m * 1e3),
         averaged_from_mm: r.averaged_from_s * v * 1e3,

@@ -168,22 +168,30 @@ pub struct CutMeasures {
     pub rake_contact: RakeContact,
 }
 
-/// Chip thickness, compression ratio, shear angle, contact length (from `profile`) and the
-/// maximum particle temperature.
+/// Chip thickness, compression ratio, shear angle, contact length and the maximum particle
+/// temperature: the chip thickness and contact length are the steady state's means where
+/// the cut has one, else the chip at the end and the contact length of `profile`.
 pub fn measure(
     sim: &Solver,
     setup: &CuttingSetup,
     tool: usize,
     profile: &[ProfilePoint],
+    steady: Option<&crate::steady::SteadyState>,
 ) -> CutMeasures {
     let h = setup.uncut_chip_thickness_m;
-    let hc = chip_thickness(sim, setup, tool);
+    let hc = steady
+        .and_then(|s| s.chip_thickness)
+        .map(|m| m.mean)
+        .or_else(|| chip_thickness(sim, setup, tool));
+    let contact = steady
+        .and_then(|s| s.contact_length)
+        .map(|m| m.mean)
+        .or_else(|| contact_length(profile, setup.friction.window_length_m, IN_CONTACT));
     CutMeasures {
         chip_thickness_mm: hc.map(|v| v * 1e3),
         compression_ratio: hc.map(|v| v / h),
         shear_angle_deg: hc.map(|v| shear_angle_deg(h, v, setup.insert.rake_deg)),
-        contact_length_mm: contact_length(profile, setup.friction.window_length_m, IN_CONTACT)
-            .map(|v| v * 1e3),
+        contact_length_mm: contact.map(|v| v * 1e3),
         max_temperature_c: sim.particles.temp.iter().copied().fold(f64::MIN, f64::max) - 273.15,
         rake_contact: rake_contact(profile, IN_CONTACT),
     }

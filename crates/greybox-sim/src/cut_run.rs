@@ -1,5 +1,6 @@
-//! Runs an orthogonal cut with the grey-box loop and steady-force detection, and derives its
-//! results: steady forces, the time-averaged contact profile and the chip measures.
+//! Runs an orthogonal cut with the grey-box loop until its steady state is sure (or to its
+//! length limit), and derives its results: the steady state with every quantity's interval
+//! ([`crate::steady`]), the time-averaged contact profile and the chip measures.
 
 use crate::checkpoint::Checkpoint;
 use crate::chip::{contact_profile, measure, CutMeasures, ProfilePoint};
@@ -8,7 +9,8 @@ use crate::executor::{restored_state, run, Hooks, RunSummary};
 use crate::friction_loop::FrictionUpdater;
 use crate::output::{ForceHistory, PeakTemperature};
 use crate::solver::{SimError, Solver};
-use crate::steady::SteadyForce;
+use crate::cut_series::{cut_series, ChipSampler};
+use crate::steady::{RunUntilSure, SteadyState, SteadyWindow};
 use greybox_core::physics::Quantity;
 use greybox_core::FrictionLaw;
 use std::sync::Arc;
@@ -19,11 +21,18 @@ pub struct CutRun {
     pub summary: RunSummary,
     pub forces: ForceHistory,
     pub updater: FrictionUpdater,
-    pub steady: SteadyForce,
+    /// The steady stretch and every steady quantity with its interval (`None`: the cut was
+    /// too short to find one; its forces are then the mean over its last half).
+    pub steady_state: Option<SteadyState>,
+    /// When the force intervals met the set-up's targets, s (`None`: never; with
+    /// `stop_when_sure` the cut then ran to its length limit).
+    pub sure_at_s: Option<f64>,
+    /// The chip sampled as the cut went.
+    pub chip: ChipSampler,
     /// The hottest particle over the run (sampled as often as the force history).
     pub peak_temperature: PeakTemperature,
     pub layout: EdgeLayout,
-    /// Start of the averaging period (steady start, or half the run), s.
+    /// Start of the averaging period (the steady stretch's, or half the run), s.
     pub averaged_from_s: f64,
     /// Mean tool force over the averaging period (cutting, feed), N/m.
     pub force: [f64; 2],
@@ -32,9 +41,9 @@ pub struct CutRun {
 }
 
 impl CutRun {
-    /// Runs `fraction` of the set-up's cut length (or until the force is steady when the
-    /// set-up asks for it) with `law` in every friction window; the `extra` seams (outputs,
-    /// checkpoints) run after the built-in ones of their kind.
+    /// Runs `fraction` of the set-up's cut length (or until its force intervals meet their
+    /// targets when the set-up asks for it) with `law` in every friction window; the `extra`
+    /// seams (outputs, checkpoints) run after the built-in ones of their kind.
     pub fn execute(
         setup: &CuttingSetup,
         law: Arc<dyn FrictionLaw>,
@@ -55,43 +64,41 @@ impl CutRun {
         let states = Checkpoint::resume_into(resume, &mut sim, &fingerprint(setup))?;
         check_steps_ahead(&sim, end, states.is_some(), fraction, fresh_dt)?;
         let v = setup.cutting_speed_m_s;
-        let mut forces = ForceHistory::new(0, ((end / sim.dt) / 500.0).ceil().max(1.0) as u64);
-        let mut peak_temperature = PeakTemperature::new(forces.every);
+        let bin_steps = ((end / sim.dt) / FORCE_BINS).ceil().max(1.0) as u64;
+        let mut peak_temperature = PeakTemperature::new(((end / sim.dt) / 500.0).ceil().max(1.0) as u64);
         let mut updater = FrictionUpdater::new(0, setup.friction.update_every_steps);
         updater.smoothing = setup.friction.smoothing;
-        let st = &setup.steady;
-        let mut steady = SteadyForce::new(
-            0,
-            st.block_length_m / v,
-            st.blocks.get(),
-            st.tolerance,
-            st.stop_when_steady,
-        )
-        .not_before(st.min_cut_length_m / v);
+        let mut steady = RunUntilSure::new(0, bin_steps, &setup.steady, v, FORCE_BINS as usize / 100);
+        let mut chip = ChipSampler::new(setup, 0, bin_steps);
         if let Some(states) = &states {
             // the histories so far: the outputs and averages cover the whole run
-            forces = restored_state(states, "forces")?;
             updater = restored_state(states, "friction_updates")?;
             updater.resumed = true;
             steady = restored_state(states, "steady")?;
-            steady.resumed = true;
+            chip = restored_state::<ChipSampler>(states, "chip_samples")?.resumed(setup);
             peak_temperature = restored_state(states, "peak_temperature")?;
         }
         let hooks = Hooks::new()
             .control(&mut updater)
-            .observe(&mut forces)
             .observe(&mut steady)
+            .observe(&mut chip)
             .observe(&mut peak_temperature)
             .then(extra);
         let summary = run(&mut sim, end, "cut", hooks)?;
         let t_end = sim.time;
-        let averaged_from_s = steady.steady_since_s.unwrap_or(0.5 * t_end);
-        let force = steady
-            .steady_mean()
+        let forces = steady.forces;
+        let window = SteadyWindow::of(&forces, steady.min_time_s);
+        let averaged_from_s = window.map_or(0.5 * t_end, |w| w.from_s);
+        let tool = &sim.tools[0];
+        let series = cut_series(&chip, &updater, tool, &layout, sim.particles.spacing, setup.friction.window_length_m);
+        let steady_state = window.map(|w| SteadyState::of(w, &forces, &series));
+        let force = steady_state
+            .as_ref()
+            .map(|s| [s.cutting_force.mean, s.feed_force.mean])
             .or_else(|| forces.mean_force(averaged_from_s, t_end))
             .unwrap_or([0.0, 0.0]);
         if !summary.stopped_by_observer {
-            // a run that reached its end (one an observer stopped, killed or steady, has its
+            // a run that reached its end (one an observer stopped, killed or sure, has its
             // own account)
             check_cutting_force(force[0], t_end * v)?;
         }
@@ -101,13 +108,15 @@ impl CutRun {
             &updater.sums_since(averaged_from_s),
             sim.particles.spacing,
         );
-        let measures = measure(&sim, setup, 0, &profile);
+        let measures = measure(&sim, setup, 0, &profile, steady_state.as_ref());
         Ok(CutRun {
             sim,
             summary,
             forces,
             updater,
-            steady,
+            steady_state,
+            sure_at_s: steady.sure_at_s,
+            chip,
             peak_temperature,
             layout,
             averaged_from_s,
@@ -117,6 +126,10 @@ impl CutRun {
         })
     }
 }
+
+/// Force bins over a cut's full length (the force history's rows and the chip's samples;
+/// the steady state's intervals are re-formed every hundredth of them).
+pub const FORCE_BINS: f64 = 2000.0;
 
 /// A cut's mean cutting force (N/m) over `cut_m` of cut: exactly 0 means the tool never
 /// engaged the workpiece (a speed or mass scaling that leaves the chip behind, a cut shorter

@@ -192,7 +192,8 @@ pub struct CuttingSetup {
     /// Friction windows and the grey-box loop.
     #[serde(default)]
     pub friction: FrictionSetup,
-    /// Steady-force detection.
+    /// The steady state's warm-up, its interval targets and whether the cut stops once
+    /// they are met ([`crate::steady`]).
     #[serde(default)]
     pub steady: SteadySetup,
     /// Heat conduction in the tool and thermal contact (`None`: a rigid, adiabatic tool, as
@@ -314,35 +315,29 @@ impl Default for FrictionSetup {
     }
 }
 
-/// Force blocks of the steady criterion.
-pub type SteadyBlocks = greybox_core::count::Count<2, 10_000>;
-
-/// When the cutting force counts as steady: over the last `blocks` blocks of `block_length_m`
-/// of cut, the block means lie within `tolerance` (relative) of their common mean and their
-/// fitted trend changes by less than that (see [`crate::steady`]), and at least
-/// `min_cut_length_m` has been cut. The steady force is the mean over those blocks (and the
-/// blocks after them when the run goes on).
+/// When a cut is sure of its steady state (see [`crate::steady`]): its forces are averaged
+/// over whole periods after the warm-up, from `min_cut_length_m` on, with 95 % intervals
+/// from batch means; with `stop_when_sure` the cut ends once F'c's and F'f's relative
+/// half-widths are at most their targets, otherwise (and at the latest) at `cut_length_m`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SteadySetup {
-    /// Stop the run once the force is steady (otherwise run the whole `cut_length_m`).
-    pub stop_when_steady: bool,
-    pub block_length_m: f64,
-    /// Blocks that must agree (a bounded count: a set-up beyond it is refused when read).
-    pub blocks: SteadyBlocks,
-    pub tolerance: f64,
-    /// No steady state is declared before this much has been cut, m (the chip must have
-    /// formed; 0: the `blocks` blocks alone).
+    /// End the cut once both targets are met (`cut_length_m` is then the length limit).
+    pub stop_when_sure: bool,
+    /// Target relative half-width of the 95 % interval of the cutting force F'c.
+    pub cutting_force_rel_ci95: f64,
+    /// Target relative half-width of the 95 % interval of the feed force F'f.
+    pub feed_force_rel_ci95: f64,
+    /// No steady state before this much has been cut, m (the chip must have formed).
     pub min_cut_length_m: f64,
 }
 
 impl Default for SteadySetup {
     fn default() -> Self {
         SteadySetup {
-            stop_when_steady: false,
-            block_length_m: 0.05e-3,
-            blocks: SteadyBlocks::of(4),
-            tolerance: 0.03,
+            stop_when_sure: false,
+            cutting_force_rel_ci95: 0.015,
+            feed_force_rel_ci95: 0.03,
             min_cut_length_m: 0.0,
         }
     }
@@ -465,8 +460,8 @@ impl CuttingSetup {
                 ),
             )
             .section("steady", |r| {
-                r.positive("block_length_m", self.steady.block_length_m)
-                    .above_up_to("tolerance", self.steady.tolerance, 0.0, 1.0)
+                r.above_up_to("cutting_force_rel_ci95", self.steady.cutting_force_rel_ci95, 0.0, 1.0)
+                    .above_up_to("feed_force_rel_ci95", self.steady.feed_force_rel_ci95, 0.0, 1.0)
                     .non_negative("min_cut_length_m", self.steady.min_cut_length_m);
             })
             .relation(

@@ -15,6 +15,7 @@ pub mod chip;
 pub(crate) mod contact;
 pub mod cpu;
 pub mod cut_run;
+pub mod cut_series;
 pub mod cutting;
 pub(crate) mod disjoint;
 pub mod executor;
@@ -30,8 +31,10 @@ pub mod pin;
 pub mod plasticity;
 mod rates;
 pub mod refine;
+pub mod serration;
 pub mod solver;
 pub mod steady;
+pub mod steady_report;
 pub mod tool;
 pub mod tool_thermal;
 

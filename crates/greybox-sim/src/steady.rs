@@ -1,221 +1,323 @@
-//! Steady-force detection: the tool force is averaged over consecutive blocks of simulated
-//! time; the force counts as steady once, over the last `blocks` blocks, (a) every block mean
-//! lies within a relative `tolerance` of their common mean and (b) the least-squares trend
-//! changes the force by less than the tolerance across those blocks (a slow rise of a few
-//! per cent per block passes (a) but not (b)). Both components are checked, the tolerance
-//! taken relative to the larger one, so that a small feed force does not stall the test on
-//! its noise.
+//! The steady state of a cut, every steady quantity with its confidence interval, and the rule
+//! that runs a cut until it is sure.
+//!
+//! A cut's forces do not settle to a number: a serrated chip makes them periodic, contacts
+//! entering and leaving the windows make them jitter, and the flank's contact with the
+//! machined surface comes and goes. So a steady quantity is a mean over a long stretch, and
+//! how sure it is depends on how long the stretch is against the signal's own correlation
+//! ([`greybox_core::stats`]). Per cut:
+//!
+//! 1. **Force bins.** The tool force is averaged over bins of equal length (the force
+//!    history's rows, each an exact mean over its steps).
+//! 2. **Warm-up.** From the set-up's `min_cut_length_m` on (the chip must have formed), the
+//!    start where the forces' marginal standard error is least (MSER-5,
+//!    [`greybox_core::stats::mser_truncation`]; the later of F'c's and F'f's).
+//! 3. **Period.** The fundamental period of the force signal (of F'c or F'f, whichever
+//!    repeats more clearly; [`greybox_core::stats::period`]), the segmentation of a serrated
+//!    chip; the averaged stretch is then a whole number of periods ending with the run, so
+//!    that the mean holds no partial segment. Without one, the unit is one force bin.
+//! 4. **Intervals.** Every quantity — F'c, F'f, the chip thickness, the contact length, the
+//!    peak and mean rake-face temperature, the segment pitch and degree of segmentation —
+//!    is averaged per unit over the same stretch, and its 95 % interval is formed from batch
+//!    means that respect its autocorrelation ([`greybox_core::stats::batch_means`]). Each
+//!    interval says what it rests on (units, batches); one that would rest on fewer than
+//!    four batches is not given: the cut is too short to say how sure it is.
+//!
+//! **Run until sure** ([`RunUntilSure`]): with `stop_when_sure`, the force intervals are
+//! re-formed as the cut goes (every hundredth of its length), and the cut stops once F'c's
+//! and F'f's relative half-widths are at most the set-up's targets; otherwise it runs to its
+//! `cut_length_m`, the length limit, and says that it hit it. (The sequential check is the
+//! relative-precision procedure of Law & Kelton, §9.4.1, on batch means.)
 
+use crate::cutting::SteadySetup;
 use crate::executor::{Control, Observer};
+use crate::output::ForceHistory;
+use crate::serration::Serration;
 use crate::solver::{SimError, Solver};
+use greybox_core::stats::{batch_means, mser_truncation, period, unit_means, MeanInterval, LEVEL};
+use serde::{Deserialize, Serialize};
 
-/// Mean tool force over one block, N/m.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ForceBlock {
-    pub t_start_s: f64,
-    pub t_end_s: f64,
-    pub force: [f64; 2],
+/// The least correlation at which a force signal counts as periodic.
+pub const PERIOD_MIN_CORRELATION: f64 = 0.3;
+/// Force bins per MSER batch (MSER-5).
+const MSER_BATCH: usize = 5;
+/// Fewest force bins a steady stretch is looked for in.
+const MIN_BINS: usize = 16;
+
+/// The averaged stretch of a cut: whole units (periods, or force bins) ending with the run.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SteadyWindow {
+    /// Start and end of the stretch, s.
+    pub from_s: f64,
+    pub to_s: f64,
+    /// One unit, s: the force signal's period, or one force bin.
+    pub unit_s: f64,
+    /// Units in the stretch.
+    pub units: usize,
+    /// The period found in the force signal (chip segmentation), s.
+    pub period_s: Option<f64>,
 }
 
-#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
-pub struct SteadyForce {
-    pub tool: usize,
-    pub block_s: f64,
-    pub blocks_needed: usize,
-    pub tolerance: f64,
-    /// Stop the run when steady.
-    pub stop: bool,
-    pub blocks: Vec<ForceBlock>,
-    /// Start time of the first steady block, once steady.
-    pub steady_since_s: Option<f64>,
-    /// No steady state before this simulated time, s (the set-up's minimum cut length).
-    #[serde(default)]
-    pub min_time_s: f64,
-    sum: [f64; 2],
-    n: u64,
-    t_start: f64,
-    /// Restored from a checkpoint: the block in progress started before this run.
-    #[serde(skip)]
-    pub resumed: bool,
+/// A sampled series: (time s, value).
+pub type Samples = Vec<(f64, f64)>;
+
+impl SteadyWindow {
+    /// The stretch of `forces` to average: from `min_time_s` and past the warm-up, whole
+    /// periods (or bins) ending with the last bin. `None` before [`MIN_BINS`] bins.
+    pub fn of(forces: &ForceHistory, min_time_s: f64) -> Option<SteadyWindow> {
+        let rows = &forces.rows;
+        let i0 = rows.partition_point(|r| r[0] < min_time_s * (1.0 - 1e-12));
+        if rows.len() < i0 + MIN_BINS {
+            return None;
+        }
+        let column = |c: usize, from: usize| -> Vec<f64> { rows[from..].iter().map(|r| r[c]).collect() };
+        let warm_up = mser_truncation(&column(3, i0), MSER_BATCH)
+            .max(mser_truncation(&column(4, i0), MSER_BATCH));
+        let start = i0 + warm_up;
+        let bin_s = bin_length(rows)?;
+        let n = rows.len() - start;
+        let found = [3, 4]
+            .into_iter()
+            .filter_map(|c| period(&column(c, start), n / 3, PERIOD_MIN_CORRELATION))
+            .max_by(|a, b| a.correlation.total_cmp(&b.correlation));
+        let unit_s = found.map_or(bin_s, |p| p.samples * bin_s);
+        let to_s = rows[rows.len() - 1][0];
+        let span = to_s - (rows[start][0] - bin_s);
+        let units = (span / unit_s * (1.0 + 1e-9)).floor() as usize;
+        (units > 0).then(|| SteadyWindow {
+            from_s: to_s - units as f64 * unit_s,
+            to_s,
+            unit_s,
+            units,
+            period_s: found.map(|p| p.samples * bin_s),
+        })
+    }
+
+    /// The mean of `samples` over the stretch with its 95 % interval (`None`: no sample in it).
+    pub fn mean(&self, samples: &[(f64, f64)]) -> Option<MeanInterval> {
+        let u = unit_means(samples, self.to_s, self.unit_s, self.units);
+        (!u.is_empty()).then(|| batch_means(&u, LEVEL))
+    }
+
+    /// F'c and F'f (N/m) over the stretch with their intervals (the stretch is made of
+    /// force bins, so it holds some).
+    pub fn forces(&self, forces: &ForceHistory) -> [MeanInterval; 2] {
+        [3, 4].map(|c| {
+            let series: Samples = forces.rows.iter().map(|r| (r[0], r[c])).collect();
+            batch_means(&unit_means(&series, self.to_s, self.unit_s, self.units), LEVEL)
+        })
+    }
 }
 
-impl SteadyForce {
-    pub fn new(tool: usize, block_s: f64, blocks: usize, tolerance: f64, stop: bool) -> Self {
-        SteadyForce {
-            tool,
-            block_s,
-            blocks_needed: blocks.max(2),
-            tolerance,
-            stop,
-            blocks: Vec::new(),
-            steady_since_s: None,
-            min_time_s: 0.0,
-            sum: [0.0; 2],
-            n: 0,
-            t_start: 0.0,
-            resumed: false,
-        }
-    }
+/// The length of one force bin, s (the rows' common spacing in time).
+fn bin_length(rows: &[[f64; 6]]) -> Option<f64> {
+    let n = rows.len();
+    (n >= 2).then(|| (rows[n - 1][0] - rows[0][0]) / (n - 1) as f64)
+}
 
-    /// No steady state before `t` s.
-    pub fn not_before(mut self, t: f64) -> Self {
-        self.min_time_s = t;
-        self
-    }
+/// A cut's steady state: the stretch averaged and every steady quantity with its interval.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SteadyState {
+    pub window: SteadyWindow,
+    /// Cutting and feed force per width, N/m.
+    pub cutting_force: MeanInterval,
+    pub feed_force: MeanInterval,
+    /// Chip thickness, m ([`crate::chip::chip_thickness`]).
+    pub chip_thickness: Option<MeanInterval>,
+    /// Tool–chip contact length on the rake side, m.
+    pub contact_length: Option<MeanInterval>,
+    /// Hottest and contact-force-weighted mean window temperature along the rake face in
+    /// contact, K.
+    pub rake_peak_temperature: Option<MeanInterval>,
+    pub rake_mean_temperature: Option<MeanInterval>,
+    /// Segment pitch along the chip, m, and degree of segmentation (instants with a serrated
+    /// chip only; `serrated_share` of the instants sampled in the stretch had one).
+    pub segment_pitch: Option<MeanInterval>,
+    pub segmentation_degree: Option<MeanInterval>,
+    pub serrated_share: f64,
+}
 
-    /// Closes the block in progress at time `now`, s; true when the force became steady
-    /// with it (the last `blocks_needed` blocks agree and `now` is past `min_time_s`).
-    fn close_block(&mut self, now: f64) -> bool {
-        let n = self.n.max(1) as f64;
-        self.blocks.push(ForceBlock {
-            t_start_s: self.t_start,
-            t_end_s: now,
-            force: [self.sum[0] / n, self.sum[1] / n],
-        });
-        self.sum = [0.0; 2];
-        self.n = 0;
-        self.t_start = now;
-        let long_enough = now >= self.min_time_s * (1.0 - 1e-9);
-        if self.steady_since_s.is_some() || !long_enough || !self.last_blocks_steady() {
-            return false;
-        }
-        self.steady_since_s = Some(self.blocks[self.blocks.len() - self.blocks_needed].t_start_s);
-        true
-    }
+/// The sampled series a cut's steady state is formed from, besides its forces.
+#[derive(Debug, Clone, Default)]
+pub struct CutSeries {
+    pub chip_thickness: Samples,
+    pub contact_length: Samples,
+    pub rake_peak_temperature: Samples,
+    pub rake_mean_temperature: Samples,
+    /// Serration per chip sample (`None`: no two segments at that instant).
+    pub serration: Vec<(f64, Option<Serration>)>,
+}
 
-    /// Whether the last `blocks_needed` blocks agree within the tolerance.
-    fn last_blocks_steady(&self) -> bool {
-        let k = self.blocks_needed;
-        if self.blocks.len() < k {
-            return false;
-        }
-        let tail = &self.blocks[self.blocks.len() - k..];
-        let mean = |c: usize| tail.iter().map(|b| b.force[c]).sum::<f64>() / k as f64;
-        let m = [mean(0), mean(1)];
-        let scale = m[0].abs().max(m[1].abs());
-        // Least-squares trend over the tail: a slow drift passes the scatter test block by
-        // block, so the fitted change across the tail must stay within the tolerance too.
-        let ic = 0.5 * (k - 1) as f64;
-        let sxx: f64 = (0..k).map(|i| (i as f64 - ic).powi(2)).sum();
-        let change = |c: usize| {
-            let sxy: f64 = tail
-                .iter()
-                .enumerate()
-                .map(|(i, b)| (i as f64 - ic) * (b.force[c] - m[c]))
-                .sum();
-            (sxy / sxx * (k - 1) as f64).abs()
+impl SteadyState {
+    /// Every steady quantity of a cut over `window`.
+    pub fn of(window: SteadyWindow, forces: &ForceHistory, series: &CutSeries) -> SteadyState {
+        let [cutting_force, feed_force] = window.forces(forces);
+        let inside: Vec<&(f64, Option<Serration>)> = series
+            .serration
+            .iter()
+            .filter(|(t, _)| *t > window.from_s && *t <= window.to_s)
+            .collect();
+        let serrated: Vec<(f64, Serration)> = inside.iter().filter_map(|(t, s)| s.map(|s| (*t, s))).collect();
+        let serrated_share = if inside.is_empty() {
+            0.0
+        } else {
+            serrated.len() as f64 / inside.len() as f64
         };
-        let tol = self.tolerance * scale;
-        scale > 0.0
-            && (0..2).all(|c| change(c) <= tol)
-            && tail
-                .iter()
-                .all(|b| (0..2).all(|c| (b.force[c] - m[c]).abs() <= tol))
+        // a chip serrated at most instants of the stretch has a pitch and a degree
+        let of_serration = |f: &dyn Fn(&Serration) -> f64| {
+            (serrated_share >= 0.5)
+                .then(|| window.mean(&serrated.iter().map(|(t, s)| (*t, f(s))).collect::<Vec<_>>()))
+                .flatten()
+        };
+        SteadyState {
+            window,
+            cutting_force,
+            feed_force,
+            chip_thickness: window.mean(&series.chip_thickness),
+            contact_length: window.mean(&series.contact_length),
+            rake_peak_temperature: window.mean(&series.rake_peak_temperature),
+            rake_mean_temperature: window.mean(&series.rake_mean_temperature),
+            segment_pitch: of_serration(&|s| s.pitch_m),
+            segmentation_degree: of_serration(&|s| s.degree),
+            serrated_share,
+        }
     }
 
-    /// Mean force over the steady blocks (from `steady_since_s` on), N/m.
-    pub fn steady_mean(&self) -> Option<[f64; 2]> {
-        let t0 = self.steady_since_s?;
-        let b: Vec<&ForceBlock> = self.blocks.iter().filter(|b| b.t_start_s >= t0).collect();
-        let n = b.len() as f64;
-        Some([
-            b.iter().map(|b| b.force[0]).sum::<f64>() / n,
-            b.iter().map(|b| b.force[1]).sum::<f64>() / n,
-        ])
+    /// Whether the force intervals meet the set-up's targets.
+    pub fn sure(&self, st: &SteadySetup) -> bool {
+        forces_sure(&[self.cutting_force, self.feed_force], st)
     }
 }
 
-impl Observer for SteadyForce {
-    fn start(&mut self, sim: &Solver) -> Result<(), SimError> {
-        if !self.resumed {
-            self.t_start = sim.time;
+/// Whether F'c's and F'f's relative half-widths are at most the targets of `st`.
+fn forces_sure(f: &[MeanInterval; 2], st: &SteadySetup) -> bool {
+    let within = |m: &MeanInterval, target: f64| m.relative().is_some_and(|r| r <= target);
+    within(&f[0], st.cutting_force_rel_ci95) && within(&f[1], st.feed_force_rel_ci95)
+}
+
+/// The tool-force history of a cut, and the stop once its force intervals meet their
+/// targets (module docs).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RunUntilSure {
+    pub forces: ForceHistory,
+    pub setup: SteadySetup,
+    /// No steady state before this simulated time, s (the set-up's minimum cut length).
+    pub min_time_s: f64,
+    /// The intervals are re-formed every this many force bins.
+    pub check_every_bins: usize,
+    /// When the targets were met, s (once met).
+    pub sure_at_s: Option<f64>,
+    checked_bins: usize,
+}
+
+impl RunUntilSure {
+    /// Force bins of `bin_steps` steps of tool `tool`, checked every `check_every_bins` bins.
+    pub fn new(tool: usize, bin_steps: u64, setup: &SteadySetup, speed_m_s: f64, check_every_bins: usize) -> Self {
+        RunUntilSure {
+            forces: ForceHistory::new(tool, bin_steps),
+            setup: setup.clone(),
+            min_time_s: setup.min_cut_length_m / speed_m_s,
+            check_every_bins: check_every_bins.max(1),
+            sure_at_s: None,
+            checked_bins: 0,
         }
-        Ok(())
+    }
+
+    /// Whether the force intervals over the stretch so far meet the targets.
+    fn sure_now(&self) -> bool {
+        SteadyWindow::of(&self.forces, self.min_time_s).is_some_and(|w| forces_sure(&w.forces(&self.forces), &self.setup))
+    }
+}
+
+impl Observer for RunUntilSure {
+    fn start(&mut self, sim: &Solver) -> Result<(), SimError> {
+        self.forces.start(sim)
     }
     fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
         Some(("steady", serde_json::to_value(self).ok()?))
     }
     fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
-        let f = sim.tools.get(self.tool).map_or([0.0; 2], |t| t.force);
-        self.sum[0] += f[0];
-        self.sum[1] += f[1];
-        self.n += 1;
-        let block_done = sim.time - self.t_start >= self.block_s * (1.0 - 1e-9);
-        if block_done && self.close_block(sim.time) && self.stop {
-            return Ok(Control::Stop);
+        self.forces.after_step(sim)?;
+        let bins = self.forces.rows.len();
+        if bins < self.checked_bins + self.check_every_bins || sim.time < self.min_time_s {
+            return Ok(Control::Continue);
         }
-        Ok(Control::Continue)
+        self.checked_bins = bins;
+        if self.sure_at_s.is_none() && self.sure_now() {
+            self.sure_at_s = Some(sim.time);
+        }
+        Ok(if self.sure_at_s.is_some() && self.setup.stop_when_sure {
+            Control::Stop
+        } else {
+            Control::Continue
+        })
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
 
-    fn detector(forces: &[[f64; 2]]) -> SteadyForce {
-        let mut d = SteadyForce::new(0, 1.0, 3, 0.03, true);
-        for (k, f) in forces.iter().enumerate() {
-            d.blocks.push(ForceBlock {
-                t_start_s: k as f64,
-                t_end_s: k as f64 + 1.0,
-                force: *f,
-            });
-            if d.steady_since_s.is_none() && d.last_blocks_steady() {
-                d.steady_since_s = Some(d.blocks[d.blocks.len() - 3].t_start_s);
+    /// A force history of `n` bins of 1 s (a period that is no whole number of bins, so that
+    /// the sampled sawtooth averages to zero): a ramp over the first 40 bins to a level, then a
+    /// sawtooth of `period` bins and amplitude `a` (a serrated chip) plus uniform noise of
+    /// half-width `noise` (correlated over three bins), both components at `level`.
+    fn history(n: usize, level: [f64; 2], period: f64, a: f64, noise: f64, seed: u64) -> ForceHistory {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let phase: f64 = rng.gen_range(0.0..1.0);
+        let mut h = ForceHistory::new(0, 1);
+        let mut e = [0.0; 2];
+        for k in 0..n {
+            let ramp = (k as f64 / 40.0).min(1.0);
+            let saw = a * ((k as f64 / period + phase).fract() - 0.5);
+            for c in 0..2 {
+                e[c] = 0.6 * e[c] + rng.gen_range(-noise..noise);
             }
+            let t = (k + 1) as f64;
+            h.rows.push([t, 0.0, 0.0, ramp * (level[0] + saw + e[0]), ramp * (level[1] + 0.5 * saw + e[1]), 0.0]);
         }
-        d
+        h
     }
 
     #[test]
-    fn rising_force_is_not_steady_until_it_levels_off() {
-        let d = detector(&[
-            [50.0, 10.0],
-            [150.0, 40.0],
-            [250.0, 60.0],
-            [290.0, 70.0],
-            [300.0, 72.0],
-            [296.0, 71.0],
-            [302.0, 73.0],
-        ]);
-        // Blocks 3–5 (290, 300, 296) are the first three within 3 % of their mean.
-        assert_eq!(d.steady_since_s, Some(3.0));
-        let m = d.steady_mean().unwrap();
-        assert!((m[0] - 297.0).abs() < 1e-9 && (m[1] - 71.5).abs() < 1e-9);
-        // Still rising by 5 % per block: never steady.
-        let d = detector(&[[100.0, 0.0], [105.0, 0.0], [110.25, 0.0], [115.8, 0.0]]);
-        assert_eq!(d.steady_since_s, None);
-        // Rising by 2 % per block: each block within 3 % of the mean, but a 4 % trend.
-        let d = detector(&[[100.0, 0.0], [102.0, 0.0], [104.0, 0.0], [106.0, 0.0]]);
-        assert_eq!(d.steady_since_s, None);
-        assert_eq!(d.steady_mean(), None);
-    }
-
-    /// Blocks of constant force 100 N/m, one per second, closed through the observer's path.
-    fn closed_blocks(min_time_s: f64, count: usize) -> (SteadyForce, Option<usize>) {
-        let mut d = SteadyForce::new(0, 1.0, 3, 0.03, true).not_before(min_time_s);
-        let mut first = None;
-        for k in 0..count {
-            d.sum = [100.0, 20.0];
-            d.n = 1;
-            if d.close_block(k as f64 + 1.0) && first.is_none() {
-                first = Some(k + 1);
-            }
-        }
-        (d, first)
+    fn the_window_skips_the_ramp_and_holds_whole_periods() {
+        let h = history(600, [100.0, 40.0], 17.3, 20.0, 2.0, 1);
+        let w = SteadyWindow::of(&h, 10.0).expect("a window");
+        assert!(w.from_s >= 35.0, "{w:?}");
+        let p = w.period_s.expect("the sawtooth's period");
+        assert!((p - 17.3).abs() < 0.5, "{p}");
+        assert!((w.to_s - w.from_s - w.units as f64 * w.unit_s).abs() < 1e-9);
+        let [fc, ff] = w.forces(&h);
+        assert!(fc.covers(100.0) && ff.covers(40.0), "{fc:?} {ff:?}");
+        assert!(fc.batches >= 4);
     }
 
     #[test]
-    fn no_steady_state_before_the_minimum_cut_length() {
-        // Without a minimum: steady when the third block closes (t = 3 s).
-        let (d, first) = closed_blocks(0.0, 8);
-        assert_eq!((first, d.steady_since_s), (Some(3), Some(0.0)));
-        // A minimum of 5.5 s: the first block closing after it (t = 6 s), averaged over the
-        // three blocks before.
-        let (d, first) = closed_blocks(5.5, 8);
-        assert_eq!((first, d.steady_since_s), (Some(6), Some(3.0)));
-        assert_eq!(d.steady_mean(), Some([100.0, 20.0]));
-        // Never, when the run is shorter.
-        assert_eq!(closed_blocks(9.0, 8).1, None);
+    fn the_force_intervals_cover_the_known_mean_at_their_level() {
+        let (mut covered, mut formed) = (0usize, 0usize);
+        for seed in 0..300 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let period = rng.gen_range(8.0..30.0);
+            let h = history(500, [100.0, 40.0], period, 15.0, 4.0, seed);
+            let Some(w) = SteadyWindow::of(&h, 10.0) else { continue };
+            for (m, truth) in w.forces(&h).iter().zip([100.0, 40.0]) {
+                if m.half_width.is_some() {
+                    formed += 1;
+                    covered += m.covers(truth) as usize;
+                }
+            }
+        }
+        let share = covered as f64 / formed as f64;
+        assert!(formed >= 550, "{formed}");
+        assert!((0.90..=0.99).contains(&share), "coverage {share:.3} of {formed}");
+    }
+
+    #[test]
+    fn no_window_before_the_minimum_cut_length_or_from_a_few_bins() {
+        let h = history(100, [100.0, 40.0], 10.0, 5.0, 1.0, 2);
+        assert!(SteadyWindow::of(&h, 90.0).is_none());
+        assert!(SteadyWindow::of(&h, 10.0).is_some());
     }
 }

@@ -203,7 +203,7 @@ impl greybox_sim::Observer for KillAt {
 }
 
 /// A run killed after a checkpoint and resumed from it gives the uninterrupted run's force
-/// history, steady blocks, window updates, μ history, averages and profile, bit for bit
+/// history, chip samples, steady state, window updates, μ history, averages and profile, bit for bit
 /// (resumed runs used to report only the rows after the checkpoint: F'c 213.9 against 202.0).
 #[test]
 fn resume_equals_the_uninterrupted_run() {
@@ -268,7 +268,12 @@ fn resume_equals_uninterrupted(setup: &greybox_sim::cutting::CuttingSetup) {
     assert_eq!(resumed.sim.step, steps);
     assert_eq!(resumed.sim.particles.x, clean.sim.particles.x, "particles");
     assert_eq!(resumed.forces.rows, clean.forces.rows, "force history");
-    assert_eq!(resumed.steady.blocks, clean.steady.blocks, "steady blocks");
+    assert_eq!(resumed.chip.samples, clean.chip.samples, "chip samples");
+    assert_eq!(
+        resumed.steady_state, clean.steady_state,
+        "steady state and its intervals"
+    );
+    assert_eq!(resumed.sure_at_s, clean.sure_at_s);
     assert_eq!(
         resumed.updater.history, clean.updater.history,
         "window updates / μ history"
@@ -378,12 +383,12 @@ fn bad_configurations_name_the_field_and_the_rule() {
             "friction.update_every_steps must be ≥ 1",
         ),
         (
-            |s| s.steady.block_length_m = -1.0,
-            "steady.block_length_m must be > 0",
+            |s| s.steady.cutting_force_rel_ci95 = -1.0,
+            "steady.cutting_force_rel_ci95 must be in (0, 1]",
         ),
         (
-            |s| s.steady.tolerance = 0.0,
-            "steady.tolerance must be in (0, 1]",
+            |s| s.steady.feed_force_rel_ci95 = 0.0,
+            "steady.feed_force_rel_ci95 must be in (0, 1]",
         ),
         (|s| s.numerics.cfl = 2.0, "cfl must be in (0, 1], got 2"),
         (
@@ -584,17 +589,17 @@ fn smoothed_windows_give_a_steadier_mu_profile() {
 }
 
 /// A count in a set-up file is a bounded type: refused when the file is read, with the range
-/// (`steady.blocks` of 1 or 10¹⁸ never reaches a run).
+/// (`numerics.max_particles` of 0 or 10¹⁸ never reaches a run).
 #[test]
 fn counts_in_a_set_up_are_refused_when_read() {
-    for (blocks, want) in [
-        ("1", "1 is below the least allowed 2"),
-        ("1000000000000000000", "above the cap of 10000"),
+    for (count, want) in [
+        ("0", "0 is below the least allowed 1"),
+        ("1000000000000000000", "above the cap of 1000000000"),
     ] {
-        let e = toml::from_str::<greybox_sim::cutting::SteadySetup>(&format!("blocks = {blocks}"))
+        let e = toml::from_str::<greybox_sim::model::Numerics>(&format!("max_particles = {count}"))
             .unwrap_err()
             .to_string();
-        assert!(e.contains(want) && e.contains("blocks"), "{e}");
+        assert!(e.contains(want) && e.contains("max_particles"), "{e}");
     }
 }
 

@@ -193,7 +193,7 @@ fn evaluate(
         let mu0 = super::case::read_base(
             &dir.join(&base.sweep.base),
             base.sweep.kind,
-            base.sweep.stop_when_steady,
+            base.sweep.stop_when_sure,
         )?
         .get("mu")
         .and_then(toml::Value::as_float)

@@ -86,13 +86,13 @@ pub fn absolute_file(path: &str, value: &toml::Value, base: &Path) -> toml::Valu
 }
 
 /// The base configuration as a TOML value, its relative file paths made absolute; cuts
-/// stop when steady where the sweep says so (`[sweep] stop_when_steady`).
-pub fn read_base(path: &Path, kind: CaseKind, stop_when_steady: bool) -> Result<toml::Value> {
+/// stop once sure where the sweep says so (`[sweep] stop_when_sure`).
+pub fn read_base(path: &Path, kind: CaseKind, stop_when_sure: bool) -> Result<toml::Value> {
     let mut v: toml::Value = greybox_pipeline::config_toml::read(path, "base configuration")?;
     let dir = path.parent().unwrap_or(Path::new(""));
     if kind == CaseKind::Cutting {
-        let stop = toml::Value::Boolean(stop_when_steady);
-        apply(&mut v, "steady.stop_when_steady", &stop)?;
+        let stop = toml::Value::Boolean(stop_when_sure);
+        apply(&mut v, "steady.stop_when_sure", &stop)?;
         if let Some(f) = v.get("friction").and_then(|f| f.get("law_file")).cloned() {
             let abs = absolute_file("friction.law_file", &f, dir);
             apply(&mut v, "friction.law_file", &abs)?;
@@ -297,18 +297,18 @@ pub fn tail(path: &Path, n: usize) -> String {
 mod tests {
     use super::*;
     #[test]
-    fn cuts_of_a_sweep_stop_when_steady_unless_the_sweep_says_not() {
+    fn cuts_of_a_sweep_stop_when_sure_unless_the_sweep_says_not() {
         let d = tempfile::tempdir().unwrap();
         let base = d.path().join("base.toml");
-        std::fs::write(&base, "mu = 0.3\n[steady]\nstop_when_steady = false\n").unwrap();
+        std::fs::write(&base, "mu = 0.3\n[steady]\nstop_when_sure = false\n").unwrap();
         let stop = |flag| {
-            read_base(&base, CaseKind::Cutting, flag).unwrap()["steady"]["stop_when_steady"]
+            read_base(&base, CaseKind::Cutting, flag).unwrap()["steady"]["stop_when_sure"]
                 .as_bool()
         };
         assert_eq!((stop(true), stop(false)), (Some(true), Some(false)));
         // a pin's set-up has no [steady] criterion to set
         assert!(
-            read_base(&base, CaseKind::Pin, true).unwrap()["steady"]["stop_when_steady"]
+            read_base(&base, CaseKind::Pin, true).unwrap()["steady"]["stop_when_sure"]
                 .as_bool()
                 .is_some_and(|b| !b)
         );

@@ -12,10 +12,14 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-/// Result columns of a cut: (CSV column with its unit, key in the cut's summary).
-const CUT_COLUMNS: [(&str, &str); 15] = [
+/// Result columns of a cut: (CSV column with its unit, key in the cut's summary); a
+/// `_ci95` column is the half-width of the 95 % interval of the one before it (empty: the
+/// cut could not say).
+const CUT_COLUMNS: [(&str, &str); 20] = [
     ("cutting_force_N_per_mm", "cutting_force_n_per_mm"),
+    ("cutting_force_ci95_N_per_mm", "cutting_force_ci95_n_per_mm"),
     ("feed_force_N_per_mm", "feed_force_n_per_mm"),
+    ("feed_force_ci95_N_per_mm", "feed_force_ci95_n_per_mm"),
     ("force_ratio", "force_ratio"),
     (
         "specific_cutting_force_N_per_mm2",
@@ -23,12 +27,15 @@ const CUT_COLUMNS: [(&str, &str); 15] = [
     ),
     ("chip_thickness_mm", "chip_thickness_mm"),
     ("compression_ratio", "compression_ratio"),
+    ("compression_ratio_ci95", "compression_ratio_ci95"),
     ("shear_angle_deg", "shear_angle_deg"),
     ("contact_length_mm", "contact_length_mm"),
     ("max_temperature_C", "max_temperature_c"),
     ("peak_temperature_C", "peak_temperature_c"),
     ("steady", "steady"),
     ("steady_from_mm", "steady_from_mm"),
+    ("sure", "sure"),
+    ("limit_reached", "limit_reached"),
     ("simulated_cut_length_mm", "simulated_cut_length_mm"),
     ("particles", "particles"),
     ("solver_wall_s", "wall_s"),

@@ -76,7 +76,7 @@ impl Plan {
         let base = case::read_base(
             &dir.join(&f.sweep.base),
             f.sweep.kind,
-            f.sweep.stop_when_steady,
+            f.sweep.stop_when_sure,
         )
         .with_context(|| format!("{source}: [sweep] base"))?;
         let axes = f.expand_axes().with_context(|| source.to_string())?;

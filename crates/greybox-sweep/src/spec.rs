@@ -6,7 +6,7 @@
 //! base = "aisi1045-cut.toml"        # relative to this file
 //! fraction = 1.0                    # of the base's cut length (cutting)
 //! max_cases = 10000                 # refuse axes that multiply to more cases
-//! stop_when_steady = true           # cutting: end a cut once its forces are steady
+//! stop_when_sure = true             # cutting: end a cut once its forces are sure
 //!
 //! [[axis]]                          # a list of values
 //! field = "cutting_speed_m_s"
@@ -62,10 +62,10 @@ pub struct SweepSection {
     /// axes' lengths before any case is built, so a mistyped range cannot fill memory.
     #[serde(default = "default_max_cases")]
     pub max_cases: MaxCases,
-    /// Cutting: end each cut once its forces are steady by the base's `[steady]` criterion
+    /// Cutting: end each cut once its force intervals meet the base's `[steady]` targets
     /// (default); `false` runs every cut to its full length.
     #[serde(default = "yes")]
-    pub stop_when_steady: bool,
+    pub stop_when_sure: bool,
 }
 
 fn no_frames() -> greybox_pipeline::simulate::Frames {

@@ -80,8 +80,8 @@ pub fn coarse_config(dir: &Path, law_file: Option<&str>) {
             "window_length_m = 2.0e-5".to_string()
         } else if line.starts_with("update_every_steps") {
             "update_every_steps = 200".to_string()
-        } else if line.starts_with("stop_when_steady") {
-            "stop_when_steady = false".to_string()
+        } else if line.starts_with("stop_when_sure") {
+            "stop_when_sure = false".to_string()
         } else if line.starts_with("# law_file") {
             law_file.map_or(String::new(), |f| format!("law_file = \"{f}\""))
         } else {

@@ -37,11 +37,29 @@ fn summary_table(v: &Value) -> Table {
             .map(|x| x.to_string())
             .unwrap_or_else(|| "n/a".into())
     };
+    // a value with the half-width of its 95 % interval, where the cut gives one
+    let pm = |k: &str, ci: &str, digits: usize| match v.get(ci).and_then(Value::as_f64) {
+        Some(h) => format!("{} ± {}", f(k, digits), num(h, 2)),
+        None => f(k, digits),
+    };
     let mut t = Table::new("Summary", &["quantity", "value"]);
+    let rests_on = v
+        .pointer("/steady_state/rests_on")
+        .and_then(Value::as_str)
+        .unwrap_or("");
     let steady = match v.get("steady").and_then(Value::as_bool) {
-        Some(true) => format!("yes, from {} mm of cut", f("steady_from_mm", 3)),
-        Some(false) => format!("no; averaged from {} mm of cut", f("averaged_from_mm", 3)),
+        Some(true) => format!("from {} mm of cut: {rests_on}", f("steady_from_mm", 3)),
+        Some(false) => format!("no steady stretch; averaged from {} mm of cut", f("averaged_from_mm", 3)),
         None => "n/a".into(),
+    };
+    let sure = match (
+        v.get("sure").and_then(Value::as_bool),
+        v.get("limit_reached").and_then(Value::as_bool),
+    ) {
+        (Some(true), _) => format!("yes, at {} mm of cut", f("sure_at_mm", 3)),
+        (Some(false), Some(true)) => "no: the cut reached its length limit first".into(),
+        (Some(false), _) => "no".into(),
+        _ => "n/a".into(),
     };
     let rows: Vec<(&str, String)> = vec![
         (
@@ -51,15 +69,24 @@ fn summary_table(v: &Value) -> Table {
                 .unwrap_or("n/a")
                 .to_string(),
         ),
-        ("cutting force F'c (N/mm)", f("cutting_force_n_per_mm", 4)),
-        ("feed force F'f (N/mm)", f("feed_force_n_per_mm", 4)),
+        (
+            "cutting force F'c (N/mm, 95 % interval)",
+            pm("cutting_force_n_per_mm", "cutting_force_ci95_n_per_mm", 4),
+        ),
+        (
+            "feed force F'f (N/mm, 95 % interval)",
+            pm("feed_force_n_per_mm", "feed_force_ci95_n_per_mm", 4),
+        ),
         ("F'f / F'c", f("force_ratio", 3)),
         (
             "specific cutting force k_c (N/mm²)",
             f("specific_cutting_force_n_per_mm2", 4),
         ),
         ("chip thickness (mm)", f("chip_thickness_mm", 3)),
-        ("chip compression ratio", f("compression_ratio", 3)),
+        (
+            "chip compression ratio (95 % interval)",
+            pm("compression_ratio", "compression_ratio_ci95", 3),
+        ),
         ("shear angle (°)", f("shear_angle_deg", 3)),
         ("contact length (mm)", f("contact_length_mm", 3)),
         (
@@ -71,7 +98,8 @@ fn summary_table(v: &Value) -> Table {
             f("peak_temperature_c", 4),
         ),
         ("melting temperature (°C)", f("melt_temperature_c", 4)),
-        ("steady", steady),
+        ("steady stretch", steady),
+        ("intervals within the targets", sure),
         ("simulated cut length (mm)", f("simulated_cut_length_mm", 3)),
         ("particles", int("particles")),
         ("steps", int("steps")),

@@ -46,11 +46,11 @@ fn full_run_scale(steps: u64, idle_steps: u64, fraction: f64) -> f64 {
 /// The SPH benchmark: speed per core and the full run's time.
 pub fn sph_bench(config: &Path, fraction: f64, case: &CutCase, s: &CutSummary) -> String {
     let mut text = String::new();
-    // A run that stopped at a steady force is complete; otherwise extrapolate the fraction.
-    let (full, how) = match s.steady_from_mm {
-        Some(mm) if case.setup.steady.stop_when_steady => (
+    // A run that stopped once sure is complete; otherwise extrapolate the fraction.
+    let (full, how) = match s.sure_at_mm {
+        Some(mm) if case.setup.steady.stop_when_sure => (
             s.wall_s,
-            format!(", stopped at a steady force that set in at {mm:.3} mm"),
+            format!(", stopped once its force intervals met their targets at {mm:.3} mm"),
         ),
         _ if fraction < 1.0 => (
             s.wall_s * full_run_scale(s.steps, s.idle_steps, fraction),

@@ -17,18 +17,31 @@ pub fn cut(s: &CutSummary) -> String {
         s.law, s.windows, s.window_updates
     );
     let c = &s.steady_criterion;
-    let when = match s.steady_from_mm {
-        Some(mm) if s.stopped_when_steady => format!(
-            "steady from {mm:.3} mm of cut (blocks within ±{:.0} %), run stopped there",
-            100.0 * c.tolerance
+    let pm = |ci: Option<f64>| ci.map_or(String::new(), |h| format!(" ± {h:.1}"));
+    let when = match (&s.steady_state, s.sure_at_mm) {
+        (Some(st), Some(at)) if s.stopped_when_sure => format!(
+            "steady from {:.3} mm of cut, sure at {at:.3} mm (F'c ±{:.1} %, F'f ±{:.1} % reached), run stopped there; {}",
+            st.from_mm,
+            100.0 * c.cutting_force_rel_ci95,
+            100.0 * c.feed_force_rel_ci95,
+            st.rests_on
         ),
-        Some(mm) => format!("steady from {mm:.3} mm of cut"),
-        None => format!("not steady; mean from {:.3} mm of cut", s.averaged_from_mm),
+        (Some(st), _) => format!("steady from {:.3} mm of cut; {}", st.from_mm, st.rests_on),
+        (None, _) => format!("no steady stretch; mean from {:.3} mm of cut", s.averaged_from_mm),
     };
     let _ = writeln!(text,
-        "  cutting force {:.1} N/mm, feed force {:.1} N/mm (F_f/F_c = {:.3}, k_c = {:.0} N/mm²), {when}",
-        s.cutting_force_n_per_mm, s.feed_force_n_per_mm, s.force_ratio, s.specific_cutting_force_n_per_mm2
+        "  cutting force {:.1}{} N/mm, feed force {:.1}{} N/mm (95 % intervals; F_f/F_c = {:.3}, k_c = {:.0} N/mm²), {when}",
+        s.cutting_force_n_per_mm, pm(s.cutting_force_ci95_n_per_mm), s.feed_force_n_per_mm, pm(s.feed_force_ci95_n_per_mm), s.force_ratio, s.specific_cutting_force_n_per_mm2
     );
+    if s.limit_reached {
+        let _ = writeln!(text,
+            "  note: the cut reached its length limit ({:.3} mm) before its intervals met the targets (F'c ±{:.1} %, F'f ±{:.1} %): raise cut_length_m to be as sure",
+            s.simulated_cut_length_mm, 100.0 * c.cutting_force_rel_ci95, 100.0 * c.feed_force_rel_ci95
+        );
+    }
+    if let Some(st) = &s.steady_state {
+        let _ = writeln!(text, "  {}", steady_line(st));
+    }
     let opt = |v: Option<f64>, unit: &str| v.map_or("n/a".to_string(), |v| format!("{v:.3}{unit}"));
     let m = &s.measures;
     let _ = writeln!(text,
@@ -46,6 +59,29 @@ pub fn cut(s: &CutSummary) -> String {
         );
     }
     text
+}
+
+/// The steady quantities besides the forces, each with its 95 % interval.
+fn steady_line(st: &greybox_sim::steady_report::SteadyReport) -> String {
+    use greybox_sim::steady_report::SteadyQuantity;
+    let q = |name: &str, v: &Option<SteadyQuantity>, unit: &str, digits: usize| {
+        v.as_ref().map(|q| {
+            let ci = q.ci95.map_or(" (no interval)".to_string(), |h| format!(" ± {h:.digits$}"));
+            format!("{name} {:.digits$}{ci}{unit}", q.mean)
+        })
+    };
+    let parts: Vec<String> = [
+        q("chip ratio", &st.compression_ratio, "", 3),
+        q("contact length", &st.contact_length_mm, " mm", 3),
+        q("rake peak T", &st.rake_peak_temperature_c, " °C", 0),
+        q("rake mean T", &st.rake_mean_temperature_c, " °C", 0),
+        q("segment pitch", &st.segment_pitch_mm, " mm", 4),
+        q("degree of segmentation", &st.segmentation_degree, "", 3),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    format!("steady: {}", parts.join(", "))
 }
 
 /// A pin run: force ratio, deformation share, forces, speed.

@@ -12,21 +12,29 @@ use greybox_core::FrictionLaw;
 use greybox_sim::chip::RakeContact;
 use greybox_sim::cut_run::CutRun;
 use greybox_sim::cutting::CuttingSetup;
+use greybox_sim::steady_report::SteadyReport;
 use serde::Deserialize;
 use std::sync::Arc;
 
 /// What the suite keeps of one cut.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 pub struct Cut {
-    /// Mean cutting and feed force per width over the averaging period, N/mm.
+    /// Mean cutting and feed force per width over the steady stretch, N/mm.
     pub cutting_force_n_per_mm: f64,
     pub feed_force_n_per_mm: f64,
+    /// Half-widths of their 95 % intervals, N/mm (`None`: the cut could not say).
+    pub cutting_force_ci95_n_per_mm: Option<f64>,
+    pub feed_force_ci95_n_per_mm: Option<f64>,
     #[serde(rename = "compression_ratio")]
     pub chip_ratio: Option<f64>,
+    #[serde(rename = "compression_ratio_ci95")]
+    pub chip_ratio_ci95: Option<f64>,
     pub contact_length_mm: Option<f64>,
     /// The hottest particle over the run, °C.
     pub peak_temperature_c: f64,
+    /// A steady stretch was found, and its force intervals met the set-up's targets.
     pub steady: bool,
+    pub sure: bool,
     #[serde(rename = "simulated_cut_length_mm")]
     pub cut_length_mm: f64,
     pub wall_s: f64,
@@ -38,13 +46,23 @@ impl Cut {
     /// The cut of run `r` of `setup` (the expressions of the pipeline's cut summary, so that
     /// a cut run here and one read back from a case agree to the bit).
     fn of_run(setup: &CuttingSetup, r: &CutRun) -> Cut {
+        let steady = r.steady_state.as_ref().map(|s| {
+            SteadyReport::of(s, setup.cutting_speed_m_s, setup.uncut_chip_thickness_m)
+        });
         Cut {
             cutting_force_n_per_mm: r.force[0] * 1e-3,
             feed_force_n_per_mm: r.force[1] * 1e-3,
+            cutting_force_ci95_n_per_mm: steady.as_ref().and_then(|s| s.cutting_force_n_per_mm.ci95),
+            feed_force_ci95_n_per_mm: steady.as_ref().and_then(|s| s.feed_force_n_per_mm.ci95),
             chip_ratio: r.measures.compression_ratio,
+            chip_ratio_ci95: steady
+                .as_ref()
+                .and_then(|s| s.compression_ratio.as_ref())
+                .and_then(|q| q.ci95),
             contact_length_mm: r.measures.contact_length_mm,
             peak_temperature_c: r.peak_temperature.peak_k - 273.15,
-            steady: r.steady.steady_since_s.is_some(),
+            steady: r.steady_state.is_some(),
+            sure: r.sure_at_s.is_some(),
             cut_length_mm: r.sim.time * setup.cutting_speed_m_s * 1e3,
             wall_s: r.summary.wall_s,
             local: r.measures.rake_contact,

@@ -1,0 +1,112 @@
+//! The series a cut's steady state is formed from besides its forces
+//! ([`crate::steady::CutSeries`]): the chip sampled as the cut goes ([`ChipSampler`]: its
+//! thickness and serration), and the rake-face contact of every interval of the grey-box loop
+//! ([`contact_series`]: contact length, peak and mean temperature).
+
+use crate::chip::{chip_thickness, contact_length, contact_profile, IN_CONTACT};
+use crate::cutting::{CuttingSetup, EdgeLayout, Face};
+use crate::executor::{Control, Observer};
+use crate::friction_loop::FrictionUpdater;
+use crate::serration::{serration, Serration};
+use crate::solver::{SimError, Solver};
+use crate::steady::{CutSeries, Samples};
+use crate::tool::Tool;
+use serde::{Deserialize, Serialize};
+
+/// One instant of the chip: its thickness (m) and serration.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ChipSample {
+    pub time_s: f64,
+    pub thickness_m: Option<f64>,
+    pub serration: Option<Serration>,
+}
+
+/// Samples the chip of tool `tool` every `every` steps.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ChipSampler {
+    pub tool: usize,
+    pub every: u64,
+    pub samples: Vec<ChipSample>,
+    #[serde(skip)]
+    setup: Option<Box<CuttingSetup>>,
+}
+
+impl ChipSampler {
+    pub fn new(setup: &CuttingSetup, tool: usize, every: u64) -> Self {
+        ChipSampler {
+            tool,
+            every: every.max(1),
+            samples: Vec::new(),
+            setup: Some(Box::new(setup.clone())),
+        }
+    }
+
+    /// The sampler of a resumed run: its samples so far, the set-up given again.
+    pub fn resumed(mut self, setup: &CuttingSetup) -> Self {
+        self.setup = Some(Box::new(setup.clone()));
+        self
+    }
+}
+
+impl Observer for ChipSampler {
+    fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
+        Some(("chip_samples", serde_json::to_value(self).ok()?))
+    }
+    fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
+        if !sim.step.is_multiple_of(self.every) {
+            return Ok(Control::Continue);
+        }
+        let Some(setup) = self.setup.as_deref() else {
+            return Ok(Control::Continue);
+        };
+        self.samples.push(ChipSample {
+            time_s: sim.time,
+            thickness_m: chip_thickness(sim, setup, self.tool),
+            serration: serration(sim, setup, self.tool),
+        });
+        Ok(Control::Continue)
+    }
+}
+
+/// Per interval of the grey-box loop (at its end time): the contact length on the rake side
+/// (m), and the hottest and the normal-force-weighted mean temperature (K) of the rake and
+/// edge windows in contact for at least [`IN_CONTACT`] of their length.
+pub fn contact_series(updater: &FrictionUpdater, tool: &Tool, layout: &EdgeLayout, spacing: f64, window_length: f64) -> [Samples; 3] {
+    let mut out: [Samples; 3] = Default::default();
+    for iv in &updater.intervals {
+        let profile = contact_profile(tool, layout, &iv.windows, spacing);
+        let t = iv.t_end_s;
+        if let Some(l) = contact_length(&profile, window_length, IN_CONTACT) {
+            out[0].push((t, l));
+        }
+        let rake: Vec<(f64, f64)> = profile
+            .iter()
+            .filter(|p| matches!(p.face, Face::Rake | Face::Edge))
+            .filter_map(|p| p.stats)
+            .filter(|s| s.contact_fraction >= IN_CONTACT)
+            .map(|s| (s.temperature_k, s.normal_stress_pa))
+            .collect();
+        let weight: f64 = rake.iter().map(|r| r.1).sum();
+        if !rake.is_empty() && weight > 0.0 {
+            out[1].push((t, rake.iter().map(|r| r.0).fold(f64::MIN, f64::max)));
+            out[2].push((t, rake.iter().map(|r| r.0 * r.1).sum::<f64>() / weight));
+        }
+    }
+    out
+}
+
+/// The series of a cut: the chip samples and the loop's contact intervals.
+pub fn cut_series(chip: &ChipSampler, updater: &FrictionUpdater, tool: &Tool, layout: &EdgeLayout, spacing: f64, window_length: f64) -> CutSeries {
+    let [contact_length, rake_peak_temperature, rake_mean_temperature] = contact_series(updater, tool, layout, spacing, window_length);
+    CutSeries {
+        chip_thickness: chip
+            .samples
+            .iter()
+            .filter_map(|s| s.thickness_m.map(|h| (s.time_s, h)))
+            .collect(),
+        contact_length,
+        rake_peak_temperature,
+        rake_mean_temperature,
+        serration: chip.samples.iter().map(|s| (s.time_s, s.serration)).collect(),
+    }
+}
