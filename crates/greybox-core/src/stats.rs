@@ -216,6 +216,12 @@ impl MeanInterval {
             .map(|h| h / self.mean.abs())
     }
 
+    /// The standard error of the mean, s_b/√b (`None` without an interval).
+    pub fn standard_error(&self) -> Option<f64> {
+        let dof = self.batches.saturating_sub(1) as f64;
+        self.half_width.map(|h| h / t_factor(self.level, dof))
+    }
+
     /// Whether `value` lies inside the interval (false without one).
     pub fn covers(&self, value: f64) -> bool {
         self.half_width

@@ -6,11 +6,13 @@ use greybox_core::stats::MeanInterval;
 use serde::{Deserialize, Serialize};
 
 /// One steady quantity: mean, half-width of its 95 % interval (`None`: too few batches to
-/// say), and what it rests on.
+/// say), its standard error, and what it rests on.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SteadyQuantity {
     pub mean: f64,
     pub ci95: Option<f64>,
+    /// Standard error of the mean, s_b/√b (the interval is t(0.975; b − 1) of it).
+    pub se: Option<f64>,
     /// The half-width relative to the mean.
     pub rel_ci95: Option<f64>,
     /// Batches of whole units the interval rests on, and the units averaged.
@@ -24,6 +26,7 @@ impl SteadyQuantity {
         SteadyQuantity {
             mean: m.mean * scale + offset,
             ci95: m.half_width.map(|h| h * scale.abs()),
+            se: m.standard_error().map(|e| e * scale.abs()),
             rel_ci95: m.relative(),
             batches: m.batches,
             units: m.units,

@@ -17,7 +17,13 @@ fn example(name: &str) -> CuttingSetup {
     toml::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap()
 }
 
+/// Cuts `setup` until F'c is known within ±3 % and F'f within ±6 % (the comparisons below
+/// allow 15–30 %), or to its length.
 fn cut(setup: &CuttingSetup) -> CutRun {
+    let mut setup = setup.clone();
+    setup.steady.cutting_force_rel_ci95 = 0.03;
+    setup.steady.feed_force_rel_ci95 = 0.06;
+    let setup = &setup;
     let r = CutRun::execute(
         setup,
         Arc::new(ConstantMu(setup.mu)),
@@ -137,6 +143,12 @@ fn nist_condition_against_extended_oxley() {
         m.contact_length_mm.unwrap_or(f64::NAN),
         m.shear_angle_deg.unwrap_or(f64::NAN)
     );
+    // the ratio's interval from the forces' (their relative half-widths added in
+    // quadrature): its distance from Oxley's 0.62 is judged with it
+    let st = r.steady_state.as_ref().expect("steady");
+    let rel = |m: &greybox_core::stats::MeanInterval| m.relative().unwrap_or(0.0);
+    let ratio_ci = ff / fc * rel(&st.cutting_force).hypot(rel(&st.feed_force));
+    println!("F_f/F_c = {:.3} ± {ratio_ci:.3}", ff / fc);
     assert!((fc / 358.0 - 1.0).abs() <= 0.3);
-    assert!((ff / fc - 0.62).abs() <= 0.15);
+    assert!((ff / fc - 0.62).abs() <= 0.15 + ratio_ci);
 }

@@ -22,13 +22,12 @@ pub struct Cut {
     /// Mean cutting and feed force per width over the steady stretch, N/mm.
     pub cutting_force_n_per_mm: f64,
     pub feed_force_n_per_mm: f64,
-    /// Half-widths of their 95 % intervals, N/mm (`None`: the cut could not say).
-    pub cutting_force_ci95_n_per_mm: Option<f64>,
-    pub feed_force_ci95_n_per_mm: Option<f64>,
     #[serde(rename = "compression_ratio")]
     pub chip_ratio: Option<f64>,
-    #[serde(rename = "compression_ratio_ci95")]
-    pub chip_ratio_ci95: Option<f64>,
+    /// Every steady quantity with its interval and standard error (`None`: the cut found no
+    /// steady stretch).
+    #[serde(rename = "steady_state")]
+    pub steady_report: Option<SteadyReport>,
     pub contact_length_mm: Option<f64>,
     /// The hottest particle over the run, °C.
     pub peak_temperature_c: f64,
@@ -52,13 +51,8 @@ impl Cut {
         Cut {
             cutting_force_n_per_mm: r.force[0] * 1e-3,
             feed_force_n_per_mm: r.force[1] * 1e-3,
-            cutting_force_ci95_n_per_mm: steady.as_ref().and_then(|s| s.cutting_force_n_per_mm.ci95),
-            feed_force_ci95_n_per_mm: steady.as_ref().and_then(|s| s.feed_force_n_per_mm.ci95),
             chip_ratio: r.measures.compression_ratio,
-            chip_ratio_ci95: steady
-                .as_ref()
-                .and_then(|s| s.compression_ratio.as_ref())
-                .and_then(|q| q.ci95),
+            steady_report: steady,
             contact_length_mm: r.measures.contact_length_mm,
             peak_temperature_c: r.peak_temperature.peak_k - 273.15,
             steady: r.steady_state.is_some(),
@@ -67,6 +61,32 @@ impl Cut {
             wall_s: r.summary.wall_s,
             local: r.measures.rake_contact,
         }
+    }
+
+    /// The standard errors of F'c, F'f (N/mm) and the chip ratio (`None`: the cut could not
+    /// say how sure it is).
+    pub fn standard_errors(&self) -> [Option<f64>; 3] {
+        let s = self.steady_report.as_ref();
+        [
+            s.and_then(|s| s.cutting_force_n_per_mm.se),
+            s.and_then(|s| s.feed_force_n_per_mm.se),
+            s.and_then(|s| s.compression_ratio.as_ref()).and_then(|q| q.se),
+        ]
+    }
+
+    /// The half-widths of the 95 % intervals of F'c, F'f (N/mm) and the chip ratio.
+    pub fn intervals(&self) -> [Option<f64>; 3] {
+        let s = self.steady_report.as_ref();
+        [
+            s.and_then(|s| s.cutting_force_n_per_mm.ci95),
+            s.and_then(|s| s.feed_force_n_per_mm.ci95),
+            s.and_then(|s| s.compression_ratio.as_ref()).and_then(|q| q.ci95),
+        ]
+    }
+
+    /// The steady stretch averaged, mm of cut, and where it started.
+    pub fn steady_length_mm(&self) -> Option<(f64, f64)> {
+        self.steady_report.as_ref().map(|s| (s.to_mm - s.from_mm, s.from_mm))
     }
 
     /// The cut a sweep case ran, from its summary (`greybox simulate`'s `summary.json`

@@ -20,30 +20,75 @@
 //!
 //! Each step is one parallel batch of every model's cuts; the fitted fields are resolved
 //! to their grid's spacing.
+//!
+//! **How sure the calibration is.** Every calibration cut's F'f carries its standard error
+//! (the batch means of its steady state, [`greybox_sim::steady`]). The calibration is
+//! repeated on [`DRAWS`] parametric-bootstrap replicates (Efron & Tibshirani 1993, §6.5):
+//! each error drawn from a normal around it with its cut's standard error, the cuts
+//! independent of each other, a fixed seed. The 2.5 and 97.5 % quantiles of the replicates'
+//! s\* are each shape's factor interval, and the share of replicates in which a shape has
+//! the least J says whether the shape kept is decided by the cuts or by their scatter.
 
 use super::cut::Cut;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, StandardNormal};
 use serde::Serialize;
+
+/// Parametric-bootstrap replicates of a calibration.
+pub const DRAWS: usize = 2000;
+/// Their seed (the same calibration gives the same intervals).
+const SEED: u64 = 0x6772_6579_626f_78;
+
+/// The F'f errors of the calibration conditions at one factor, with their standard errors
+/// (`None`: the cut could not say how sure it is).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ErrorsAt {
+    pub errors: Vec<f64>,
+    pub se: Vec<Option<f64>>,
+}
 
 /// The errors of the calibration conditions at the factors cut so far (the bracket ends and
 /// any refinements), piecewise linear in the factor between them.
 #[derive(Debug, Clone)]
 pub struct FactorErrors {
-    /// (factor, each condition's F'f error), sorted by factor.
-    points: Vec<(f64, Vec<f64>)>,
+    /// (factor, the errors there), sorted by factor.
+    points: Vec<(f64, ErrorsAt)>,
 }
 
 impl FactorErrors {
     /// The errors at the bracket ends.
-    pub fn new([lo, hi]: [f64; 2], at_lo: Vec<f64>, at_hi: Vec<f64>) -> Self {
+    pub fn new([lo, hi]: [f64; 2], at_lo: ErrorsAt, at_hi: ErrorsAt) -> Self {
         FactorErrors {
             points: vec![(lo, at_lo), (hi, at_hi)],
         }
     }
 
     /// Adds the errors at factor `s`.
-    pub fn add(&mut self, s: f64, errors: Vec<f64>) {
+    pub fn add(&mut self, s: f64, errors: ErrorsAt) {
         let k = self.points.partition_point(|p| p.0 < s);
         self.points.insert(k, (s, errors));
+    }
+
+    /// One replicate: every error drawn from a normal around it with its standard error
+    /// (`None` when one is unknown).
+    fn replicate(&self, rng: &mut ChaCha8Rng) -> Option<FactorErrors> {
+        let mut points = Vec::with_capacity(self.points.len());
+        for (s, at) in &self.points {
+            let mut errors = Vec::with_capacity(at.errors.len());
+            for (e, se) in at.errors.iter().zip(&at.se) {
+                let z: f64 = StandardNormal.sample(rng);
+                errors.push(e + (*se)? * z);
+            }
+            points.push((
+                *s,
+                ErrorsAt {
+                    errors,
+                    se: at.se.clone(),
+                },
+            ));
+        }
+        Some(FactorErrors { points })
     }
 
     fn mean(errors: &[f64]) -> f64 {
@@ -57,7 +102,7 @@ impl FactorErrors {
         let means: Vec<(f64, f64)> = self
             .points
             .iter()
-            .map(|(s, e)| (*s, Self::mean(e)))
+            .map(|(s, e)| (*s, Self::mean(&e.errors)))
             .collect();
         for w in means.windows(2) {
             let ((s0, m0), (s1, m1)) = (w[0], w[1]);
@@ -88,6 +133,7 @@ impl FactorErrors {
             .unwrap_or(self.points.len() - 2);
         let ((s0, e0), (s1, e1)) = (&self.points[k], &self.points[k + 1]);
         let t = if s1 > s0 { (s - s0) / (s1 - s0) } else { 0.0 };
+        let (e0, e1) = (&e0.errors, &e1.errors);
         e0.iter()
             .zip(e1)
             .map(|(a, b)| (a + t * (b - a)).powi(2))
@@ -108,12 +154,68 @@ pub fn feed_error(cut: &Cut, measured_n_per_mm: f64) -> f64 {
     cut.feed_force_n_per_mm / measured_n_per_mm - 1.0
 }
 
-/// One shape of a calibrated law: its fields' values, its s\* and interpolated J.
+/// One shape of a calibrated law: its fields' values, its s\* and interpolated J, and how
+/// sure they are.
 #[derive(Debug, Clone, Serialize)]
 pub struct ShapeFit {
     pub values: Vec<f64>,
     pub factor: f64,
     pub objective: f64,
+    /// The 95 % interval of s\* from the bootstrap replicates (`None`: a calibration cut
+    /// could not say how sure it is).
+    pub factor_ci95: Option<[f64; 2]>,
+    /// The share of replicates in which this shape has the least J.
+    pub kept_share: Option<f64>,
+}
+
+/// Every shape fitted at its s\*, with the bootstrap's intervals and kept shares
+/// (module docs).
+pub fn fit_shapes(shapes: &[Vec<f64>], searches: &[FactorErrors]) -> Vec<ShapeFit> {
+    let mut fits: Vec<ShapeFit> = shapes
+        .iter()
+        .zip(searches)
+        .map(|(values, f)| {
+            let factor = f.zero();
+            ShapeFit {
+                values: values.clone(),
+                factor,
+                objective: f.objective(factor),
+                factor_ci95: None,
+                kept_share: None,
+            }
+        })
+        .collect();
+    let mut rng = ChaCha8Rng::seed_from_u64(SEED);
+    let mut factors: Vec<Vec<f64>> = vec![Vec::with_capacity(DRAWS); searches.len()];
+    let mut kept = vec![0usize; searches.len()];
+    for _ in 0..DRAWS {
+        let Some(replicates) = searches
+            .iter()
+            .map(|f| f.replicate(&mut rng))
+            .collect::<Option<Vec<_>>>()
+        else {
+            return fits;
+        };
+        let zeros: Vec<f64> = replicates.iter().map(FactorErrors::zero).collect();
+        let best = replicates
+            .iter()
+            .zip(&zeros)
+            .map(|(f, z)| f.objective(*z))
+            .enumerate()
+            .reduce(|a, b| if b.1 < a.1 { b } else { a })
+            .map_or(0, |b| b.0);
+        kept[best] += 1;
+        for (k, z) in zeros.into_iter().enumerate() {
+            factors[k].push(z);
+        }
+    }
+    for ((fit, mut f), n) in fits.iter_mut().zip(factors).zip(kept) {
+        f.sort_by(f64::total_cmp);
+        let q = |p: f64| f[((f.len() - 1) as f64 * p).round() as usize];
+        fit.factor_ci95 = Some([q(0.025), q(0.975)]);
+        fit.kept_share = Some(n as f64 / DRAWS as f64);
+    }
+    fits
 }
 
 /// The shape of least J (the first of equal ones).
@@ -127,8 +229,15 @@ pub fn best_shape(shapes: &[ShapeFit]) -> Option<&ShapeFit> {
 mod tests {
     use super::*;
 
+    fn at(e: &[f64], se: f64) -> ErrorsAt {
+        ErrorsAt {
+            errors: e.to_vec(),
+            se: vec![Some(se); e.len()],
+        }
+    }
+
     fn two(lo: [f64; 2], hi: [f64; 2]) -> FactorErrors {
-        FactorErrors::new([0.2, 0.8], lo.to_vec(), hi.to_vec())
+        FactorErrors::new([0.2, 0.8], at(&lo, 0.0), at(&hi, 0.0))
     }
 
     #[test]
@@ -149,7 +258,7 @@ mod tests {
     fn a_refinement_makes_the_errors_piecewise_linear_through_it() {
         // convex: mean −0.2 at 0.2, −0.1 at 0.4 (refined), +0.4 at 0.8
         let mut f = two([-0.3, -0.1], [0.5, 0.3]);
-        f.add(0.4, vec![-0.15, -0.05]);
+        f.add(0.4, at(&[-0.15, -0.05], 0.0));
         assert!(f.has(0.4) && !f.has(0.5));
         // zero between 0.4 and 0.8: 0.4 + 0.4 · 0.1/0.5 = 0.48
         assert!((f.zero() - 0.48).abs() < 1e-12);
@@ -159,11 +268,42 @@ mod tests {
     }
 
     #[test]
+    fn the_factor_interval_follows_the_scatter_of_the_cuts() {
+        // mean error m0 = −0.2 at 0.2 and m1 = +0.4 at 0.8 (s* = 0.4); each error ±0.03 (one
+        // σ), two conditions: each mean ±0.03/√2. s* = (s0 m1 − s1 m0)/(m1 − m0), so
+        // ∂s*/∂m0 = −m1 Δs/Δm² = −2/3, ∂s*/∂m1 = m0 Δs/Δm² = −1/3, σ(s*) = 0.0158 and the
+        // 95 % interval ≈ 0.4 ± 0.031 (delta method)
+        let f = FactorErrors::new([0.2, 0.8], at(&[-0.3, -0.1], 0.03), at(&[0.5, 0.3], 0.03));
+        let fits = fit_shapes(&[vec![]], &[f]);
+        let [lo, hi] = fits[0].factor_ci95.expect("an interval");
+        assert!((fits[0].factor - 0.4).abs() < 1e-12);
+        assert!((lo - 0.369).abs() < 0.006 && (hi - 0.431).abs() < 0.006, "{lo} {hi}");
+        assert_eq!(fits[0].kept_share, Some(1.0));
+        // without standard errors: no interval
+        let g = two([-0.3, -0.1], [0.5, 0.3]);
+        let mut unknown = g.clone();
+        unknown.points[0].1.se[0] = None;
+        assert_eq!(fit_shapes(&[vec![]], &[unknown])[0].factor_ci95, None);
+        // two shapes whose J differ by less than the scatter share the replicates
+        let near = FactorErrors::new([0.2, 0.8], at(&[-0.31, -0.1], 0.05), at(&[0.5, 0.31], 0.05));
+        let fits = fit_shapes(&[vec![0.0], vec![1.0]], &[f_again(), near]);
+        let shares: Vec<f64> = fits.iter().map(|f| f.kept_share.unwrap()).collect();
+        assert!(shares.iter().all(|s| *s > 0.2), "{shares:?}");
+        assert!((shares.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+    }
+
+    fn f_again() -> FactorErrors {
+        FactorErrors::new([0.2, 0.8], at(&[-0.3, -0.1], 0.05), at(&[0.5, 0.3], 0.05))
+    }
+
+    #[test]
     fn the_best_shape_has_the_least_objective() {
         let s = |o: f64| ShapeFit {
             values: vec![o],
             factor: 1.0,
             objective: o,
+            factor_ci95: None,
+            kept_share: None,
         };
         let shapes = [s(0.3), s(0.1), s(0.1), s(0.2)];
         assert_eq!(best_shape(&shapes).unwrap().values, vec![0.1]);

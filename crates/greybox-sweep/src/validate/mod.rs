@@ -20,6 +20,7 @@
 //! [`greybox_sim::cutting::CuttingSetup::physical_cutting_speed_m_s`]).
 
 pub mod batch;
+pub mod compare;
 pub mod conditions;
 pub mod cut;
 pub mod fit;
@@ -32,7 +33,7 @@ pub use report::{markdown, write_outputs};
 use anyhow::{bail, Result};
 use batch::{Batches, CutJob, CutRunner};
 use cut::Cut;
-use fit::{best_shape, feed_error, FactorErrors, ShapeFit};
+use fit::{best_shape, feed_error, fit_shapes, ErrorsAt, FactorErrors, ShapeFit};
 use greybox_sim::chip::RakeContact;
 use greybox_sim::cutting::CuttingSetup;
 use serde::{Deserialize, Serialize};
@@ -185,6 +186,16 @@ pub struct Outcome {
     pub cutting_force_error: f64,
     pub feed_force_error: f64,
     pub chip_ratio_error: Option<f64>,
+    /// Half-widths of the 95 % intervals of the simulated F'c, F'f (N/mm) and chip ratio.
+    pub simulated_ci95: [Option<f64>; 3],
+    /// Standard errors of the three errors from the cut's own scatter (its steady state's
+    /// batch means over the measured value; `None`: the cut could not say).
+    pub error_se: [Option<f64>; 3],
+    /// The steady stretch the cut averaged, mm (`None`: none was found), and where it began.
+    pub steady_length_mm: Option<f64>,
+    pub steady_from_mm: Option<f64>,
+    /// The cut's force intervals met the template's targets.
+    pub sure: bool,
     /// μ, pressure and sliding velocity along the rake face.
     pub local: RakeContact,
     /// The hottest particle over the run, °C.
@@ -215,6 +226,14 @@ pub struct ErrorSummary {
     pub feed_force_mean: f64,
     pub chip_ratio_mean_abs: Option<f64>,
     pub chip_ratio_mean: Option<f64>,
+    /// Half-widths of the 95 % intervals of the three mean |error|s from the cuts' own
+    /// scatter (`None`: a cut could not say); μ\*'s uncertainty is in `factor_ci95`.
+    pub cutting_force_mean_abs_ci95: Option<f64>,
+    pub feed_force_mean_abs_ci95: Option<f64>,
+    pub chip_ratio_mean_abs_ci95: Option<f64>,
+    /// The calibrated factor's 95 % interval (μ\* for Coulomb) from the calibration cuts'
+    /// scatter ([`fit`]).
+    pub factor_ci95: Option<[f64; 2]>,
     /// The mean over the conditions of the contact-length-averaged μ the law applied.
     pub mean_mu_applied: Option<f64>,
     /// The goal on held-out conditions: F'c within ±15 %, F'f within ±30 % on average.
@@ -241,6 +260,9 @@ pub struct FitRecord {
 pub struct Validation {
     pub outcomes: Vec<Outcome>,
     pub summaries: Vec<ErrorSummary>,
+    /// Every friction model against the material's first one, paired on the held-out
+    /// conditions ([`compare`]).
+    pub comparisons: Vec<compare::Comparison>,
     pub fits: Vec<FitRecord>,
     /// Cut length run per condition (fraction of the template's).
     pub fraction: f64,
@@ -295,6 +317,8 @@ struct Arm<'a> {
 struct Calibrated {
     shape: Vec<f64>,
     factor: f64,
+    /// The factor's 95 % interval from the calibration cuts' scatter ([`fit`]).
+    factor_ci95: Option<[f64; 2]>,
     shapes: Vec<ShapeFit>,
     cuts: usize,
     cut_seconds: f64,
@@ -387,6 +411,7 @@ fn run_suite(
         })
         .collect();
     Ok(Validation {
+        comparisons: compare::compare(&outcomes),
         outcomes,
         summaries,
         fits,
@@ -396,7 +421,7 @@ fn run_suite(
 
 /// Per arm, shape and factor of `at(arm, shape)`, the calibration conditions' F'f errors:
 /// every arm's cuts as one parallel batch, each counted in its `calibrated`.
-type FactorPoints = Vec<Vec<Vec<(f64, Vec<f64>)>>>;
+type FactorPoints = Vec<Vec<Vec<(f64, ErrorsAt)>>>;
 
 fn cut_at_factors(
     batches: &mut Batches,
@@ -432,13 +457,18 @@ fn cut_at_factors(
             let mut of_shape = Vec::new();
             for s in at(i, k) {
                 let these: Vec<Cut> = cuts.by_ref().take(a.plan.calibration.len()).collect();
-                let errors = a
-                    .plan
-                    .calibration
-                    .iter()
-                    .zip(&these)
-                    .map(|(c, cut)| feed_error(cut, c.feed_force_n_per_m * 1e-3))
-                    .collect();
+                let measured = a.plan.calibration.iter().map(|c| c.feed_force_n_per_m * 1e-3);
+                let errors = ErrorsAt {
+                    errors: measured
+                        .clone()
+                        .zip(&these)
+                        .map(|(m, cut)| feed_error(cut, m))
+                        .collect(),
+                    se: measured
+                        .zip(&these)
+                        .map(|(m, cut)| cut.standard_errors()[1].map(|e| e / m))
+                        .collect(),
+                };
                 calibrated[i].count(&these);
                 of_shape.push((s, errors));
             }
@@ -507,23 +537,14 @@ fn calibrate(batches: &mut Batches, arms: &[Arm]) -> Result<Vec<Calibrated>> {
         }
     }
     for ((a, c), of_arm) in arms.iter().zip(calibrated.iter_mut()).zip(&searches) {
-        c.shapes = a
-            .model
-            .shapes
-            .iter()
-            .zip(of_arm)
-            .map(|(shape, f)| {
-                let factor = f.zero();
-                ShapeFit {
-                    values: shape.clone(),
-                    factor,
-                    objective: f.objective(factor),
-                }
-            })
-            .collect();
+        if of_arm.is_empty() {
+            continue;
+        }
+        c.shapes = fit_shapes(&a.model.shapes, of_arm);
         if let Some(best) = best_shape(&c.shapes) {
             c.shape = best.values.clone();
             c.factor = best.factor;
+            c.factor_ci95 = best.factor_ci95;
         }
     }
     Ok(calibrated)
@@ -612,6 +633,18 @@ fn outcome(arm: &Arm, c: &Condition, role: Role, mu: Option<f64>, cut: &Cut) -> 
         cutting_force_error: rel(cut.cutting_force_n_per_mm, fc),
         feed_force_error: rel(cut.feed_force_n_per_mm, ff),
         chip_ratio_error: c.chip_ratio.zip(cut.chip_ratio).map(|(m, s)| rel(s, m)),
+        simulated_ci95: cut.intervals(),
+        error_se: {
+            let [sc, sf, sr] = cut.standard_errors();
+            [
+                sc.map(|e| e / fc),
+                sf.map(|e| e / ff),
+                sr.zip(c.chip_ratio).map(|(e, m)| e / m),
+            ]
+        },
+        steady_length_mm: cut.steady_length_mm().map(|l| l.0),
+        steady_from_mm: cut.steady_length_mm().map(|l| l.1),
+        sure: cut.sure,
         local: cut.local,
         max_temperature_c: cut.peak_temperature_c,
         steady: cut.steady,
@@ -656,6 +689,12 @@ fn summarise(
     let mus: Vec<f64> = rows.iter().filter_map(|o| o.local.mean_mu).collect();
     let fc_abs = mean(&|o| o.cutting_force_error.abs());
     let ff_abs = mean(&|o| o.feed_force_error.abs());
+    // the mean of n errors, each with its cut's standard error: 1.96 √(Σ se²)/n
+    let ci = |k: usize, of: &dyn Fn(&Outcome) -> bool| {
+        let se: Option<Vec<f64>> = rows.iter().filter(|o| of(o)).map(|o| o.error_se[k]).collect();
+        se.filter(|v| !v.is_empty())
+            .map(|v| 1.96 * v.iter().map(|e| e * e).sum::<f64>().sqrt() / v.len() as f64)
+    };
     Some(ErrorSummary {
         material: arm.plan.runs.label().to_string(),
         tool: arm.tool,
@@ -671,6 +710,10 @@ fn summarise(
         feed_force_mean: mean(&|o| o.feed_force_error),
         chip_ratio_mean_abs: of_some(ratios.clone(), &|e| e.abs()),
         chip_ratio_mean: of_some(ratios, &|e| e),
+        cutting_force_mean_abs_ci95: ci(0, &|_| true),
+        feed_force_mean_abs_ci95: ci(1, &|_| true),
+        chip_ratio_mean_abs_ci95: ci(2, &|o| o.chip_ratio_error.is_some()),
+        factor_ci95: cal.factor_ci95,
         mean_mu_applied: of_some(mus, &|m| m),
         meets_goal: fc_abs <= 0.15 && ff_abs <= 0.30,
         cuts: cal.cuts,

@@ -7,7 +7,7 @@ use anyhow::Result;
 use std::path::{Path, PathBuf};
 
 /// The columns of `results.csv`, units in the names.
-const COLUMNS: [&str; 28] = [
+const COLUMNS: [&str; 34] = [
     "id",
     "material",
     "tool",
@@ -18,12 +18,15 @@ const COLUMNS: [&str; 28] = [
     "uncut_chip_thickness_mm",
     "measured_cutting_force_N_per_mm",
     "simulated_cutting_force_N_per_mm",
+    "simulated_cutting_force_ci95_N_per_mm",
     "cutting_force_error",
     "measured_feed_force_N_per_mm",
     "simulated_feed_force_N_per_mm",
+    "simulated_feed_force_ci95_N_per_mm",
     "feed_force_error",
     "measured_chip_ratio",
     "simulated_chip_ratio",
+    "simulated_chip_ratio_ci95",
     "chip_ratio_error",
     "simulated_contact_length_mm",
     "mean_mu_applied",
@@ -33,6 +36,9 @@ const COLUMNS: [&str; 28] = [
     "sliding_velocity_max_m_per_min",
     "peak_temperature_C",
     "steady",
+    "steady_from_mm",
+    "steady_length_mm",
+    "sure",
     "simulated_cut_length_mm",
     "wall_s",
     "measured_contact_length_mm",
@@ -57,12 +63,15 @@ fn record(o: &Outcome) -> Vec<String> {
         format!("{:.3}", o.uncut_chip_thickness_mm),
         format!("{:.2}", o.measured_cutting_force_n_per_mm),
         format!("{:.2}", o.simulated_cutting_force_n_per_mm),
+        opt(o.simulated_ci95[0], 2),
         format!("{:.4}", o.cutting_force_error),
         format!("{:.2}", o.measured_feed_force_n_per_mm),
         format!("{:.2}", o.simulated_feed_force_n_per_mm),
+        opt(o.simulated_ci95[1], 2),
         format!("{:.4}", o.feed_force_error),
         opt(o.measured_chip_ratio, 3),
         opt(o.simulated_chip_ratio, 3),
+        opt(o.simulated_ci95[2], 3),
         opt(o.chip_ratio_error, 4),
         opt(o.simulated_contact_length_mm, 3),
         opt(l.mean_mu, 4),
@@ -72,6 +81,9 @@ fn record(o: &Outcome) -> Vec<String> {
         end(l.sliding_velocity_m_per_min, 1),
         format!("{:.1}", o.max_temperature_c),
         o.steady.to_string(),
+        opt(o.steady_from_mm, 3),
+        opt(o.steady_length_mm, 3),
+        o.sure.to_string(),
         format!("{:.3}", o.simulated_cut_length_mm),
         format!("{:.1}", o.wall_s),
         opt(o.measured_contact_length_mm, 3),
@@ -115,20 +127,27 @@ fn pct(e: f64) -> String {
 /// Tables of the errors (summary per material, tool and friction model, then per
 /// condition).
 pub fn markdown(v: &Validation) -> String {
-    let mut s = String::from("| material | tool | friction | parameters | conditions | F'c mean abs error (mean) | F'f mean abs error (mean) | chip ratio mean abs error (mean) | μ applied (mean) | goal (F'c ±15 %, F'f ±30 %) | cost: cuts, cut time |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+    let mut s = String::from("Intervals are 95 %: of a mean |error|, from the cuts' own scatter; of a fitted factor (μ\\* for Coulomb), from the calibration cuts' scatter.\n\n| material | tool | friction | parameters | conditions | F'c mean abs error (mean) | F'f mean abs error (mean) | chip ratio mean abs error (mean) | μ applied (mean) | goal (F'c ±15 %, F'f ±30 %) | cost: cuts, cut time |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
     for e in &v.summaries {
+        let range = e
+            .factor_ci95
+            .map_or(String::new(), |[a, b]| format!(" [{a:.3}, {b:.3}]"));
         let params = match e.mu {
-            Some(mu) => format!("μ* = {mu:.3}"),
+            Some(mu) => format!("μ* = {mu:.3}{range}"),
             None if e.parameters.is_empty() => "as given".to_string(),
             None => e
                 .parameters
                 .iter()
-                .map(|(f, x)| format!("{} = {x:.4}", cell(f)))
+                .map(|(f, x)| match f.as_str() {
+                    "factor" => format!("factor = {x:.4}{range}"),
+                    _ => format!("{} = {x:.4}", cell(f)),
+                })
                 .collect::<Vec<_>>()
                 .join(", "),
         };
+        let pm = |ci: Option<f64>| ci.map_or(String::new(), |h| format!(" ± {:.1}", 100.0 * h));
         s += &format!(
-            "| {} | {} | {} | {} | {} {} | {:.1} % ({}) | {:.1} % ({}) | {} | {} | {} | {} cuts, {:.0} s |\n",
+            "| {} | {} | {} | {} | {} {} | {:.1}{} % ({}) | {:.1}{} % ({}) | {} | {} | {} | {} cuts, {:.0} s |\n",
             cell(&e.material),
             e.tool.name(),
             cell(&e.friction),
@@ -136,12 +155,14 @@ pub fn markdown(v: &Validation) -> String {
             e.conditions,
             e.role,
             100.0 * e.cutting_force_mean_abs,
+            pm(e.cutting_force_mean_abs_ci95),
             pct(e.cutting_force_mean),
             100.0 * e.feed_force_mean_abs,
+            pm(e.feed_force_mean_abs_ci95),
             pct(e.feed_force_mean),
             e.chip_ratio_mean_abs
                 .zip(e.chip_ratio_mean)
-                .map_or("—".into(), |(a, m)| format!("{:.1} % ({})", 100.0 * a, pct(m))),
+                .map_or("—".into(), |(a, m)| format!("{:.1}{} % ({})", 100.0 * a, pm(e.chip_ratio_mean_abs_ci95), pct(m))),
             opt(e.mean_mu_applied, 3),
             match (e.role, e.meets_goal) {
                 (Role::HeldOut, true) => "met",
@@ -153,18 +174,27 @@ pub fn markdown(v: &Validation) -> String {
         );
     }
     let steady = v.outcomes.iter().filter(|o| o.steady).count();
+    let sure = v.outcomes.iter().filter(|o| o.sure).count();
     let length: f64 = v.outcomes.iter().map(|o| o.simulated_cut_length_mm).sum();
     s += &format!(
-        "\n{steady} of {} cuts reached steady forces; {:.3} mm of cut simulated on average.\n",
+        "\n{steady} of {} cuts found a steady stretch and {sure} met their interval targets; {:.3} mm of cut simulated on average.",
         v.outcomes.len(),
         length / v.outcomes.len().max(1) as f64
     );
+    if let Some(l) = super::compare::feed_resolution_length_mm(&v.outcomes) {
+        s += &format!(
+            " Two cuts of one condition would tell F'f values {:.0} % apart at about {l:.1} mm of cut each (the median cut's F'f scatter).",
+            100.0 * super::compare::RESOLVE
+        );
+    }
+    s += "\n";
+    s += &comparisons(v);
     s += &where_models_differ(v);
     s += "\n| id | material | tool | friction | role | v_c m/min | h mm | F'c meas / sim N/mm | F'f meas / sim N/mm | h_c/h meas / sim | μ applied | p MPa (rake) | v_slide m/min (rake) | l_c mm | T_peak °C |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     let range = |r: Option<[f64; 2]>| r.map_or("—".into(), |[a, b]| format!("{a:.0}–{b:.0}"));
     for o in &v.outcomes {
         s += &format!(
-            "| {} | {} | {} | {} | {} | {} | {:.3} | {:.1} / {:.1} ({}) | {:.1} / {:.1} ({}) | {} | {} | {} | {} | {} | {:.0} |\n",
+            "| {} | {} | {} | {} | {} | {} | {:.3} | {:.1} / {:.1}{} ({}) | {:.1} / {:.1}{} ({}) | {} | {} | {} | {} | {} | {:.0} |\n",
             o.id,
             cell(&o.material),
             o.tool.name(),
@@ -174,19 +204,56 @@ pub fn markdown(v: &Validation) -> String {
             o.uncut_chip_thickness_mm,
             o.measured_cutting_force_n_per_mm,
             o.simulated_cutting_force_n_per_mm,
+            plus_minus(o.simulated_ci95[0], 1),
             pct(o.cutting_force_error),
             o.measured_feed_force_n_per_mm,
             o.simulated_feed_force_n_per_mm,
+            plus_minus(o.simulated_ci95[1], 1),
             pct(o.feed_force_error),
             o.measured_chip_ratio
                 .zip(o.simulated_chip_ratio)
-                .map_or("—".into(), |(m, s)| format!("{m:.2} / {s:.2}")),
+                .map_or("—".into(), |(m, s)| format!("{m:.2} / {s:.2}{}", plus_minus(o.simulated_ci95[2], 2))),
             opt(o.local.mean_mu, 3),
             range(o.local.pressure_mpa),
             range(o.local.sliding_velocity_m_per_min),
             opt(o.simulated_contact_length_mm, 3),
             o.max_temperature_c
         );
+    }
+    s
+}
+
+/// " ± h" with `d` decimals, or nothing without an interval.
+fn plus_minus(ci: Option<f64>, d: usize) -> String {
+    ci.map_or(String::new(), |h| format!(" ± {h:.d$}"))
+}
+
+/// The friction models against the baseline, paired on the held-out conditions
+/// ([`super::compare`]).
+fn comparisons(v: &Validation) -> String {
+    if v.comparisons.is_empty() {
+        return String::new();
+    }
+    let mut s = String::from("\nFriction models against the first one, paired on the held-out conditions: the mean of |error| − |baseline's error| (negative: closer to the measurements) with its 95 % interval from the cuts' scatter, the paired interval across the conditions, the conditions where the model is closer, and the cut length at which the scatter's interval would be ±3 points.\n\n| material | tool | friction | against | measure | difference | across conditions | closer in | verdict | cut length for ±3 points |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    for c in &v.comparisons {
+        let rows = [("F'c", Some(&c.cutting_force)), ("F'f", Some(&c.feed_force)), ("chip ratio", c.chip_ratio.as_ref())];
+        for (name, d) in rows {
+            let Some(d) = d else { continue };
+            s += &format!(
+                "| {} | {} | {} | {} | {name} | {:+.1}{} points | {} | {} of {} | {} | {} |\n",
+                cell(&c.material),
+                c.tool.name(),
+                cell(&c.friction),
+                cell(&c.baseline),
+                100.0 * d.mean,
+                d.ci95.map_or(String::new(), |h| format!(" ± {:.1}", 100.0 * h)),
+                d.across_conditions_ci95.map_or("—".into(), |h| format!("± {:.1}", 100.0 * h)),
+                d.conditions_better,
+                d.conditions,
+                d.verdict,
+                d.length_to_resolve_mm.map_or("—".into(), |l| format!("{l:.1} mm")),
+            );
+        }
     }
     s
 }

@@ -1,0 +1,205 @@
+//! Friction models compared on the same conditions: the paired differences of their held-out
+//! errors, with intervals that say whether the difference is the models' or the cuts'
+//! scatter, and how long the cuts would have to be to tell.
+//!
+//! For each material and tool model, every friction model is set against the first one the
+//! suite lists (the baseline, usually `coulomb-calibrated`), on the held-out conditions both
+//! were cut at. Per measure (F'c, F'f, chip ratio) and condition i the difference is
+//! d_i = |e_model,i| − |e_base,i| (negative: the model is closer to the measurement), and
+//!
+//! * its mean d̄ over the n conditions, with the 95 % interval of the cuts' own scatter,
+//!   d̄ ± 1.96 √(Σ (se_model,i² + se_base,i²)) / n, each se a cut's standard error from the
+//!   batch means of its steady state ([`greybox_sim::steady`]; d|e| = sign(e) de, so |e|
+//!   has e's standard error where the error is clear of zero). This is the **resolution**:
+//!   a difference inside it cannot be told from the cuts' scatter;
+//! * the paired t-interval across the conditions, d̄ ± t(0.975; n − 1) s_d/√n: whether the
+//!   difference holds from condition to condition (it includes the scatter);
+//! * the cut length at which the resolution would be ±[`RESOLVE`]: the interval narrows as
+//!   1/√L with the steady stretch L, so L' = L̄ (Y/0.03)² plus the warm-up.
+
+use super::{distinct, Outcome, Role, ToolModel};
+use greybox_core::stats::t_factor;
+use serde::Serialize;
+
+/// The difference a suite should be able to tell apart: 3 % of the measured value.
+pub const RESOLVE: f64 = 0.03;
+
+/// One measure's paired difference between a friction model and the baseline (fractions of
+/// the measured values).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PairedDifference {
+    /// Mean over the conditions of |e_model| − |e_baseline| (negative: the model is closer).
+    pub mean: f64,
+    /// Half-width of its 95 % interval from the cuts' own scatter (`None`: a cut could not
+    /// say how sure it is).
+    pub ci95: Option<f64>,
+    /// Half-width of the paired t-interval across the conditions (`None`: one condition).
+    pub across_conditions_ci95: Option<f64>,
+    /// Conditions where the model's |error| is the smaller.
+    pub conditions_better: usize,
+    pub conditions: usize,
+    /// What the numbers allow one to say.
+    pub verdict: String,
+    /// The cut length (mm, warm-up included) at which the scatter's interval would be
+    /// ±[`RESOLVE`].
+    pub length_to_resolve_mm: Option<f64>,
+}
+
+/// A friction model against the baseline on one material and tool model.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Comparison {
+    pub material: String,
+    pub tool: ToolModel,
+    pub friction: String,
+    pub baseline: String,
+    pub cutting_force: PairedDifference,
+    pub feed_force: PairedDifference,
+    pub chip_ratio: Option<PairedDifference>,
+}
+
+/// Every friction model against its material's and tool model's first one.
+pub fn compare(outcomes: &[Outcome]) -> Vec<Comparison> {
+    let held: Vec<&Outcome> = outcomes.iter().filter(|o| o.role == Role::HeldOut).collect();
+    let mut out = Vec::new();
+    for (material, tool) in distinct(held.iter().map(|o| (o.material.as_str(), o.tool))) {
+        let rows: Vec<&Outcome> = held
+            .iter()
+            .copied()
+            .filter(|o| o.material == material && o.tool == tool)
+            .collect();
+        let models = distinct(rows.iter().map(|o| o.friction.as_str()));
+        let Some((base, others)) = models.split_first() else {
+            continue;
+        };
+        for model in others {
+            let pairs: Vec<(&Outcome, &Outcome)> = rows
+                .iter()
+                .filter(|o| o.friction == *model)
+                .filter_map(|m| {
+                    rows.iter()
+                        .find(|b| b.friction == *base && b.id == m.id)
+                        .map(|b| (*m, *b))
+                })
+                .collect();
+            if pairs.is_empty() {
+                continue;
+            }
+            let ratios: Vec<(&Outcome, &Outcome)> = pairs
+                .iter()
+                .copied()
+                .filter(|(m, b)| m.chip_ratio_error.is_some() && b.chip_ratio_error.is_some())
+                .collect();
+            out.push(Comparison {
+                material: material.to_string(),
+                tool,
+                friction: model.to_string(),
+                baseline: base.to_string(),
+                cutting_force: paired(&pairs, 0),
+                feed_force: paired(&pairs, 1),
+                chip_ratio: (!ratios.is_empty()).then(|| paired(&ratios, 2)),
+            });
+        }
+    }
+    out
+}
+
+/// The error of measure `k` (0 F'c, 1 F'f, 2 chip ratio) of an outcome.
+fn error(o: &Outcome, k: usize) -> f64 {
+    match k {
+        0 => o.cutting_force_error,
+        1 => o.feed_force_error,
+        _ => o.chip_ratio_error.unwrap_or(f64::NAN),
+    }
+}
+
+/// The paired difference of measure `k` over `pairs` (model, baseline).
+fn paired(pairs: &[(&Outcome, &Outcome)], k: usize) -> PairedDifference {
+    let n = pairs.len();
+    let d: Vec<f64> = pairs
+        .iter()
+        .map(|(m, b)| error(m, k).abs() - error(b, k).abs())
+        .collect();
+    let mean = d.iter().sum::<f64>() / n as f64;
+    let var: Option<f64> = pairs
+        .iter()
+        .map(|(m, b)| Some(m.error_se[k]?.powi(2) + b.error_se[k]?.powi(2)))
+        .sum();
+    let ci95 = var.map(|v| 1.96 * v.sqrt() / n as f64);
+    let across = (n >= 2).then(|| {
+        let sd = (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt();
+        t_factor(0.95, (n - 1) as f64) * sd / (n as f64).sqrt()
+    });
+    let lengths: Vec<(f64, f64)> = pairs
+        .iter()
+        .flat_map(|(m, b)| [m, b])
+        .filter_map(|o| o.steady_length_mm.zip(o.steady_from_mm))
+        .collect();
+    let length_to_resolve_mm = ci95.filter(|_| !lengths.is_empty()).map(|y| {
+        let l = lengths.len() as f64;
+        let (steady, warm_up) = (
+            lengths.iter().map(|x| x.0).sum::<f64>() / l,
+            lengths.iter().map(|x| x.1).sum::<f64>() / l,
+        );
+        warm_up + steady * (y / RESOLVE).powi(2)
+    });
+    PairedDifference {
+        mean,
+        ci95,
+        across_conditions_ci95: across,
+        conditions_better: d.iter().filter(|x| **x < 0.0).count(),
+        conditions: n,
+        verdict: verdict(mean, ci95),
+        length_to_resolve_mm,
+    }
+}
+
+/// "better by 2.1 ± 1.0 points", "worse by …", or "no difference can be seen at this
+/// resolution (±4.2 points)".
+fn verdict(mean: f64, ci95: Option<f64>) -> String {
+    let pts = |x: f64| 100.0 * x;
+    match ci95 {
+        None => "cannot tell: a cut could not say how sure it is".to_string(),
+        Some(y) if mean.abs() > y => format!(
+            "{} by {:.1} ± {:.1} points",
+            if mean < 0.0 { "better" } else { "worse" },
+            pts(mean.abs()),
+            pts(y)
+        ),
+        Some(y) => format!(
+            "no difference can be seen at this resolution ({:+.1} ± {:.1} points)",
+            pts(mean),
+            pts(y)
+        ),
+    }
+}
+
+/// The cut length (mm, warm-up included) at which two cuts of one condition would tell F'f
+/// values `RESOLVE` apart, from the median over `outcomes` of their F'f standard errors at
+/// their steady lengths: 1.96 √2 se √(L/L') = RESOLVE. `None` without a cut that says.
+pub fn feed_resolution_length_mm(outcomes: &[Outcome]) -> Option<f64> {
+    let mut needed: Vec<f64> = outcomes
+        .iter()
+        .filter_map(|o| {
+            let (se, l, from) = (o.error_se[1]?, o.steady_length_mm?, o.steady_from_mm?);
+            Some(from + l * (1.96 * std::f64::consts::SQRT_2 * se / RESOLVE).powi(2))
+        })
+        .collect();
+    if needed.is_empty() {
+        return None;
+    }
+    needed.sort_by(f64::total_cmp);
+    Some(needed[needed.len() / 2])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_difference_inside_the_scatter_is_not_called() {
+        assert!(verdict(-0.02, Some(0.05)).starts_with("no difference can be seen"));
+        assert_eq!(verdict(-0.06, Some(0.02)), "better by 6.0 ± 2.0 points");
+        assert_eq!(verdict(0.06, Some(0.02)), "worse by 6.0 ± 2.0 points");
+        assert!(verdict(0.06, None).starts_with("cannot tell"));
+    }
+}
