@@ -1,0 +1,88 @@
+//! A cut's steady state with its intervals, on real (coarse) cuts: two cuts whose μ differs by
+//! 0.001 — the same cut within its scatter — give intervals that overlap; a cut that asks to
+//! stop when sure stops once its targets are met, and runs to its limit (saying so) when
+//! they cannot be.
+
+mod common;
+
+use greybox_core::stats::MeanInterval;
+use greybox_sim::cut_run::CutRun;
+use greybox_sim::ConstantMu;
+use std::sync::Arc;
+
+fn cut(setup: &greybox_sim::cutting::CuttingSetup) -> CutRun {
+    CutRun::execute(
+        setup,
+        Arc::new(ConstantMu(setup.mu)),
+        1.0,
+        None,
+        &mut greybox_sim::Hooks::new(),
+    )
+    .unwrap()
+}
+
+fn overlap(a: &MeanInterval, b: &MeanInterval) -> bool {
+    let (ha, hb) = (a.half_width.unwrap(), b.half_width.unwrap());
+    (a.mean - b.mean).abs() <= ha + hb
+}
+
+#[test]
+fn cuts_at_mu_0_001_apart_have_overlapping_intervals() {
+    let mut setup = common::coarse_cut();
+    setup.cut_length_m = 0.8e-3;
+    setup.steady.min_cut_length_m = 0.15e-3;
+    let a = cut(&setup);
+    setup.mu += 0.001;
+    let b = cut(&setup);
+    let (sa, sb) = (a.steady_state.unwrap(), b.steady_state.unwrap());
+    for (name, qa, qb) in [
+        ("F'c", sa.cutting_force, sb.cutting_force),
+        ("F'f", sa.feed_force, sb.feed_force),
+    ] {
+        println!(
+            "{name}: {:.1} ± {:.1} and {:.1} ± {:.1} N/mm ({} and {} batches)",
+            qa.mean * 1e-3,
+            qa.half_width.unwrap_or(f64::NAN) * 1e-3,
+            qb.mean * 1e-3,
+            qb.half_width.unwrap_or(f64::NAN) * 1e-3,
+            qa.batches,
+            qb.batches
+        );
+        assert!(qa.batches >= 4 && qb.batches >= 4, "{name}: no interval");
+        assert!(overlap(&qa, &qb), "{name}: {qa:?} {qb:?}");
+        // the two cuts are one cut within its scatter: neither interval is degenerate
+        assert!(qa.relative().unwrap() > 1e-4 && qa.relative().unwrap() < 0.5);
+    }
+    let (ha, hb) = (sa.chip_thickness.unwrap(), sb.chip_thickness.unwrap());
+    if ha.half_width.is_some() && hb.half_width.is_some() {
+        assert!(overlap(&ha, &hb), "chip thickness: {ha:?} {hb:?}");
+    }
+    // the stretch averaged holds whole units ending with the run
+    let w = sa.window;
+    assert!((w.to_s - w.from_s - w.units as f64 * w.unit_s).abs() < 1e-12 * w.to_s.max(1.0));
+    assert!(w.from_s * setup.cutting_speed_m_s >= setup.steady.min_cut_length_m * (1.0 - 1e-9));
+}
+
+#[test]
+fn a_cut_stops_once_sure_and_says_when_it_could_not_be() {
+    let mut setup = common::coarse_cut();
+    setup.cut_length_m = 0.8e-3;
+    setup.steady.min_cut_length_m = 0.15e-3;
+    setup.steady.stop_when_sure = true;
+    setup.steady.cutting_force_rel_ci95 = 0.05;
+    setup.steady.feed_force_rel_ci95 = 0.10;
+    let sure = cut(&setup);
+    let at = sure.sure_at_s.expect("loose targets are met");
+    let v = setup.cutting_speed_m_s;
+    println!("sure at {:.3} mm of {:.3}", at * v * 1e3, setup.cut_length_m * 1e3);
+    assert!(at * v < 0.95 * setup.cut_length_m, "stopped at {:.3} mm", at * v * 1e3);
+    assert!(sure.summary.stopped_by_observer);
+    let st = sure.steady_state.as_ref().unwrap();
+    assert!(st.sure(&setup.steady), "the intervals at the stop meet the targets");
+    // targets no cut of this length can meet: it runs to its limit, not sure
+    setup.steady.cutting_force_rel_ci95 = 1e-4;
+    let limit = cut(&setup);
+    assert_eq!(limit.sure_at_s, None);
+    assert!(!limit.summary.stopped_by_observer);
+    assert!(limit.sim.time * v >= 0.999 * setup.cut_length_m);
+}
