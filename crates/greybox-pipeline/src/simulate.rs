@@ -355,6 +355,9 @@ pub struct CutSummary {
     /// The run asked to stop when sure but reached its length limit first: its intervals
     /// are wider than the targets.
     pub limit_reached: bool,
+    /// The steady stretch spans fewer contact renewals than `steady_criterion` asks: its
+    /// intervals may understate the scatter (docs/cutting.md).
+    pub short_stretch: bool,
     /// The targets (relative half-widths of F'c's and F'f's 95 % intervals), the minimum
     /// cut length, and whether the run stops once they are met.
     pub steady_criterion: greybox_sim::cutting::SteadySetup,
@@ -497,6 +500,10 @@ fn cut_summary(case: &CutCase, r: &CutRun, files: Vec<String>) -> CutSummary {
             && setup.steady.stop_when_sure
             && r.sure_at_s.is_some(),
         limit_reached: setup.steady.stop_when_sure && r.sure_at_s.is_none(),
+        short_stretch: r
+            .steady_state
+            .as_ref()
+            .is_none_or(|s| s.short(&setup.steady)),
         steady_criterion: setup.steady.clone(),
         cutting_force_n_per_mm: f[0] * 1e-3,
         feed_force_n_per_mm: f[1] * 1e-3,

@@ -10,7 +10,7 @@ use crate::friction_loop::FrictionUpdater;
 use crate::output::{ForceHistory, PeakTemperature};
 use crate::solver::{SimError, Solver};
 use crate::cut_series::{cut_series, ChipSampler};
-use crate::steady::{RunUntilSure, SteadyState, SteadyWindow};
+use crate::steady::{RunUntilSure, SteadyState};
 use greybox_core::physics::Quantity;
 use greybox_core::FrictionLaw;
 use std::sync::Arc;
@@ -68,30 +68,28 @@ impl CutRun {
         let mut peak_temperature = PeakTemperature::new(((end / sim.dt) / 500.0).ceil().max(1.0) as u64);
         let mut updater = FrictionUpdater::new(0, setup.friction.update_every_steps);
         updater.smoothing = setup.friction.smoothing;
-        let mut steady = RunUntilSure::new(0, bin_steps, &setup.steady, v, FORCE_BINS as usize / 100);
-        let mut chip = ChipSampler::new(setup, 0, bin_steps);
+        let mut steady = RunUntilSure::new(0, bin_steps, setup, FORCE_BINS as usize / 100);
         if let Some(states) = &states {
             // the histories so far: the outputs and averages cover the whole run
             updater = restored_state(states, "friction_updates")?;
             updater.resumed = true;
-            steady = restored_state(states, "steady")?;
-            chip = restored_state::<ChipSampler>(states, "chip_samples")?.resumed(setup);
+            steady = restored_state::<RunUntilSure>(states, "steady")?.resumed(setup);
             peak_temperature = restored_state(states, "peak_temperature")?;
         }
         let hooks = Hooks::new()
             .control(&mut updater)
             .observe(&mut steady)
-            .observe(&mut chip)
             .observe(&mut peak_temperature)
             .then(extra);
         let summary = run(&mut sim, end, "cut", hooks)?;
         let t_end = sim.time;
-        let forces = steady.forces;
-        let window = SteadyWindow::of(&forces, steady.min_time_s);
+        let window = steady.window();
+        let renewal = window.and_then(|w| steady.renewal_m(&w));
+        let (forces, chip) = (steady.forces, steady.chip);
         let averaged_from_s = window.map_or(0.5 * t_end, |w| w.from_s);
         let tool = &sim.tools[0];
         let series = cut_series(&chip, &updater, tool, &layout, sim.particles.spacing, setup.friction.window_length_m);
-        let steady_state = window.map(|w| SteadyState::of(w, &forces, &series));
+        let steady_state = window.map(|w| SteadyState::of(w, &forces, &series, renewal, v));
         let force = steady_state
             .as_ref()
             .map(|s| [s.cutting_force.mean, s.feed_force.mean])

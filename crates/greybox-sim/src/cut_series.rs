@@ -7,18 +7,20 @@ use crate::chip::{chip_thickness, contact_length, contact_profile, IN_CONTACT};
 use crate::cutting::{CuttingSetup, EdgeLayout, Face};
 use crate::executor::{Control, Observer};
 use crate::friction_loop::FrictionUpdater;
-use crate::serration::{serration, Serration};
+use crate::serration::{chip_shape, Serration};
 use crate::solver::{SimError, Solver};
 use crate::steady::{CutSeries, Samples};
 use crate::tool::Tool;
 use serde::{Deserialize, Serialize};
 
-/// One instant of the chip: its thickness (m) and serration.
+/// One instant of the chip: its thickness (m), serration and contact length with the rake
+/// face (m, [`crate::serration::ChipShape::contact_length_m`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ChipSample {
     pub time_s: f64,
     pub thickness_m: Option<f64>,
     pub serration: Option<Serration>,
+    pub contact_length_m: Option<f64>,
 }
 
 /// Samples the chip of tool `tool` every `every` steps.
@@ -46,12 +48,21 @@ impl ChipSampler {
         self.setup = Some(Box::new(setup.clone()));
         self
     }
+
+    /// The cut length over which the chip renews its contact with the rake face, m: a chip
+    /// element flows at v h/h_c over the contact length l_c, in l_c h_c/h of cut (the means
+    /// of the samples in (from_s, to_s]; `None` without a chip in contact).
+    pub fn contact_renewal_m(&self, from_s: f64, to_s: f64) -> Option<f64> {
+        let h = self.setup.as_deref()?.uncut_chip_thickness_m;
+        let inside = || self.samples.iter().filter(|s| s.time_s > from_s && s.time_s <= to_s);
+        let mean = |v: Vec<f64>| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
+        let l = mean(inside().filter_map(|s| s.contact_length_m).collect())?;
+        let hc = mean(inside().filter_map(|s| s.thickness_m).collect())?;
+        Some(l * hc / h)
+    }
 }
 
 impl Observer for ChipSampler {
-    fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
-        Some(("chip_samples", serde_json::to_value(self).ok()?))
-    }
     fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
         if !sim.step.is_multiple_of(self.every) {
             return Ok(Control::Continue);
@@ -59,10 +70,12 @@ impl Observer for ChipSampler {
         let Some(setup) = self.setup.as_deref() else {
             return Ok(Control::Continue);
         };
+        let shape = chip_shape(sim, setup, self.tool);
         self.samples.push(ChipSample {
             time_s: sim.time,
             thickness_m: chip_thickness(sim, setup, self.tool),
-            serration: serration(sim, setup, self.tool),
+            serration: shape.as_ref().and_then(|s| s.serration()),
+            contact_length_m: shape.and_then(|s| s.contact_length_m),
         });
         Ok(Control::Continue)
     }

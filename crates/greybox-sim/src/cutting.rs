@@ -330,6 +330,10 @@ pub struct SteadySetup {
     pub feed_force_rel_ci95: f64,
     /// No steady state before this much has been cut, m (the chip must have formed).
     pub min_cut_length_m: f64,
+    /// Contact renewals (l_c h_c/h of cut each, [`crate::steady`]) the steady stretch must
+    /// span before its intervals count: a shorter one cannot see the contact's slowest
+    /// fluctuations and is marked short; a cut is never sure on one.
+    pub min_contact_renewals: f64,
 }
 
 impl Default for SteadySetup {
@@ -339,6 +343,7 @@ impl Default for SteadySetup {
             cutting_force_rel_ci95: 0.015,
             feed_force_rel_ci95: 0.03,
             min_cut_length_m: 0.0,
+            min_contact_renewals: 3.0,
         }
     }
 }
@@ -462,7 +467,8 @@ impl CuttingSetup {
             .section("steady", |r| {
                 r.above_up_to("cutting_force_rel_ci95", self.steady.cutting_force_rel_ci95, 0.0, 1.0)
                     .above_up_to("feed_force_rel_ci95", self.steady.feed_force_rel_ci95, 0.0, 1.0)
-                    .non_negative("min_cut_length_m", self.steady.min_cut_length_m);
+                    .non_negative("min_cut_length_m", self.steady.min_cut_length_m)
+                    .within("min_contact_renewals", self.steady.min_contact_renewals, 0.0, 1e3);
             })
             .relation(
                 !(self.workpiece_height_m <= h + 4.0 * dx),

@@ -35,9 +35,22 @@ pub struct Serration {
     pub peaks: usize,
 }
 
-/// The chip's thickness profile along the rake face: (distance along the rake face from the
-/// edge, m; thickness, m) per bin holding at least three particles, and the bin width, m.
-pub fn thickness_profile(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<(Vec<(f64, f64)>, f64)> {
+/// The chip's shape at one instant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChipShape {
+    /// (distance along the rake face from the edge point, m; thickness, m) per bin holding at
+    /// least three particles.
+    pub profile: Vec<(f64, f64)>,
+    /// The finest particle spacing in the chip, m.
+    pub fine: f64,
+    /// The farthest chip particle along the rake face within one spacing of it, m: the
+    /// tool–chip contact length as the chip's particles show it.
+    pub contact_length_m: Option<f64>,
+}
+
+/// The chip's thickness profile along the rake face and its contact with it (`None`: no
+/// chip yet).
+pub fn chip_shape(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<ChipShape> {
     let t = sim.tools.get(tool)?;
     let p = &sim.particles;
     let h = setup.uncut_chip_thickness_m;
@@ -47,14 +60,20 @@ pub fn thickness_profile(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Opt
     let up = [g.sin(), g.cos()];
     let top = -0.5 * setup.surface_spacing();
     let mut chip: Vec<(f64, f64, f64)> = Vec::new();
+    let mut contact: Option<f64> = None;
     for i in 0..p.len() {
-        if p.group[i] != FREE || p.y[i] < top + h {
+        if p.group[i] != FREE || p.y[i] < top {
             continue;
         }
         let (dx, dy) = (p.x[i] - t.position[0], p.y[i] - t.position[1]);
         let d = dx * n[0] + dy * n[1];
-        if d > -p.spacing && d < 10.0 * h {
-            chip.push((dx * up[0] + dy * up[1], d, p.spacing_of(i)));
+        let s = dx * up[0] + dy * up[1];
+        let own = p.spacing_of(i);
+        if d > -own && d < own && s > 0.0 {
+            contact = Some(contact.map_or(s, |c: f64| c.max(s)));
+        }
+        if p.y[i] >= top + h && d > -p.spacing && d < 10.0 * h {
+            chip.push((s, d, own));
         }
     }
     let fine = chip.iter().map(|c| c.2).fold(f64::INFINITY, f64::min);
@@ -87,7 +106,11 @@ pub fn thickness_profile(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Opt
         .filter(|(_, b)| b.0 >= 3)
         .map(|(k, b)| (s0 + (k as f64 + 0.5) * width, b.3 - b.1 + 0.5 * (b.2 + b.4)))
         .collect();
-    Some((profile, fine))
+    Some(ChipShape {
+        profile,
+        fine,
+        contact_length_m: contact,
+    })
 }
 
 /// The serration of a thickness `profile` (distance, thickness; in order along the chip)
@@ -109,10 +132,11 @@ pub fn serration_of(profile: &[(f64, f64)], resolution: f64) -> Option<Serration
     })
 }
 
-/// The chip's serration now (`None`: no chip yet, or no two segments).
-pub fn serration(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<Serration> {
-    let (profile, fine) = thickness_profile(sim, setup, tool)?;
-    serration_of(&profile, fine)
+impl ChipShape {
+    /// The chip's serration (`None`: no two segments).
+    pub fn serration(&self) -> Option<Serration> {
+        serration_of(&self.profile, self.fine)
+    }
 }
 
 /// The peaks of `profile` that stand more than `resolution` above the valleys on both sides,

@@ -23,13 +23,25 @@
 //!    interval says what it rests on (units, batches); one that would rest on fewer than
 //!    four batches is not given: the cut is too short to say how sure it is.
 //!
+//! **How long is long enough.** No interval can see a fluctuation slower than the stretch it
+//! is formed from. A cut's slowest ones are those of the tool–chip contact: a chip element
+//! crosses the contact length l_c at the chip's speed v h/h_c, so the contact renews itself
+//! once every l_c h_c/h of cut, and the contact length, the flank contact and with them F'f
+//! wander on that scale. On the Ti6Al4V template (l_c h_c/h ≈ 0.17 mm) intervals formed from
+//! stretches of 0.05–0.3 mm covered the long-run mean in 16–80 % of the sub-records, from
+//! 0.5 mm on in 86–100 % (docs/validation.md). So every steady state states how many contact
+//! renewals its stretch spans, an interval from fewer than `min_contact_renewals` (default 3)
+//! is marked short, and a cut is never sure on one.
+//!
 //! **Run until sure** ([`RunUntilSure`]): with `stop_when_sure`, the force intervals are
-//! re-formed as the cut goes (every hundredth of its length), and the cut stops once F'c's
-//! and F'f's relative half-widths are at most the set-up's targets; otherwise it runs to its
-//! `cut_length_m`, the length limit, and says that it hit it. (The sequential check is the
-//! relative-precision procedure of Law & Kelton, §9.4.1, on batch means.)
+//! re-formed as the cut goes (every hundredth of its length), and the cut stops once the
+//! stretch spans `min_contact_renewals` renewals and F'c's and F'f's relative half-widths are
+//! at most the set-up's targets; otherwise it runs to its `cut_length_m`, the length limit,
+//! and says that it hit it. (The sequential check is the relative-precision procedure of Law
+//! & Kelton, §9.4.1, on batch means, with a minimum length from the physics of the cut.)
 
-use crate::cutting::SteadySetup;
+use crate::cut_series::ChipSampler;
+use crate::cutting::{CuttingSetup, SteadySetup};
 use crate::executor::{Control, Observer};
 use crate::output::ForceHistory;
 use crate::serration::Serration;
@@ -135,6 +147,10 @@ pub struct SteadyState {
     pub segment_pitch: Option<MeanInterval>,
     pub segmentation_degree: Option<MeanInterval>,
     pub serrated_share: f64,
+    /// The cut length over which the chip renews its contact with the rake face, m
+    /// ([`ChipSampler::contact_renewal_m`]), and the renewals the stretch spans.
+    pub contact_renewal_m: Option<f64>,
+    pub renewals: Option<f64>,
 }
 
 /// The sampled series a cut's steady state is formed from, besides its forces.
@@ -149,8 +165,15 @@ pub struct CutSeries {
 }
 
 impl SteadyState {
-    /// Every steady quantity of a cut over `window`.
-    pub fn of(window: SteadyWindow, forces: &ForceHistory, series: &CutSeries) -> SteadyState {
+    /// Every steady quantity of a cut over `window`; `renewal_m`: the contact renewal length
+    /// over it, `speed_m_s` the cutting speed.
+    pub fn of(
+        window: SteadyWindow,
+        forces: &ForceHistory,
+        series: &CutSeries,
+        renewal_m: Option<f64>,
+        speed_m_s: f64,
+    ) -> SteadyState {
         let [cutting_force, feed_force] = window.forces(forces);
         let inside: Vec<&(f64, Option<Serration>)> = series
             .serration
@@ -180,26 +203,49 @@ impl SteadyState {
             segment_pitch: of_serration(&|s| s.pitch_m),
             segmentation_degree: of_serration(&|s| s.degree),
             serrated_share,
+            contact_renewal_m: renewal_m,
+            renewals: renewals(&window, renewal_m, speed_m_s),
         }
     }
 
-    /// Whether the force intervals meet the set-up's targets.
+    /// Whether the stretch is long enough and the force intervals meet the set-up's targets.
     pub fn sure(&self, st: &SteadySetup) -> bool {
-        forces_sure(&[self.cutting_force, self.feed_force], st)
+        forces_sure(&[self.cutting_force, self.feed_force], self.renewals, st)
+    }
+
+    /// The stretch spans fewer contact renewals than `st` asks (its intervals may understate
+    /// the scatter).
+    pub fn short(&self, st: &SteadySetup) -> bool {
+        !long_enough(self.renewals, st)
     }
 }
 
-/// Whether F'c's and F'f's relative half-widths are at most the targets of `st`.
-fn forces_sure(f: &[MeanInterval; 2], st: &SteadySetup) -> bool {
-    let within = |m: &MeanInterval, target: f64| m.relative().is_some_and(|r| r <= target);
-    within(&f[0], st.cutting_force_rel_ci95) && within(&f[1], st.feed_force_rel_ci95)
+/// The contact renewals the stretch of `w` spans (`None` without a renewal length).
+fn renewals(w: &SteadyWindow, renewal_m: Option<f64>, speed_m_s: f64) -> Option<f64> {
+    renewal_m
+        .filter(|l| *l > 0.0)
+        .map(|l| (w.to_s - w.from_s) * speed_m_s / l)
 }
 
-/// The tool-force history of a cut, and the stop once its force intervals meet their
-/// targets (module docs).
+fn long_enough(renewals: Option<f64>, st: &SteadySetup) -> bool {
+    renewals.is_some_and(|r| r >= st.min_contact_renewals)
+}
+
+/// Whether the stretch spans enough renewals and F'c's and F'f's relative half-widths are at
+/// most the targets of `st`.
+fn forces_sure(f: &[MeanInterval; 2], renewals: Option<f64>, st: &SteadySetup) -> bool {
+    let within = |m: &MeanInterval, target: f64| m.relative().is_some_and(|r| r <= target);
+    long_enough(renewals, st)
+        && within(&f[0], st.cutting_force_rel_ci95)
+        && within(&f[1], st.feed_force_rel_ci95)
+}
+
+/// The tool-force history and the chip's samples of a cut, and the stop once its force
+/// intervals meet their targets (module docs).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct RunUntilSure {
     pub forces: ForceHistory,
+    pub chip: ChipSampler,
     pub setup: SteadySetup,
     /// No steady state before this simulated time, s (the set-up's minimum cut length).
     pub min_time_s: f64,
@@ -207,25 +253,49 @@ pub struct RunUntilSure {
     pub check_every_bins: usize,
     /// When the targets were met, s (once met).
     pub sure_at_s: Option<f64>,
+    pub speed_m_s: f64,
     checked_bins: usize,
 }
 
 impl RunUntilSure {
-    /// Force bins of `bin_steps` steps of tool `tool`, checked every `check_every_bins` bins.
-    pub fn new(tool: usize, bin_steps: u64, setup: &SteadySetup, speed_m_s: f64, check_every_bins: usize) -> Self {
+    /// Force bins and chip samples every `bin_steps` steps of tool `tool` of the cut `cut`,
+    /// checked every `check_every_bins` bins.
+    pub fn new(tool: usize, bin_steps: u64, cut: &CuttingSetup, check_every_bins: usize) -> Self {
+        let setup = &cut.steady;
         RunUntilSure {
             forces: ForceHistory::new(tool, bin_steps),
+            chip: ChipSampler::new(cut, tool, bin_steps),
+            speed_m_s: cut.cutting_speed_m_s,
             setup: setup.clone(),
-            min_time_s: setup.min_cut_length_m / speed_m_s,
+            min_time_s: setup.min_cut_length_m / cut.cutting_speed_m_s,
             check_every_bins: check_every_bins.max(1),
             sure_at_s: None,
             checked_bins: 0,
         }
     }
 
-    /// Whether the force intervals over the stretch so far meet the targets.
+    /// The observer of a resumed run (its histories so far; the set-up given again).
+    pub fn resumed(mut self, cut: &CuttingSetup) -> Self {
+        self.chip = self.chip.resumed(cut);
+        self
+    }
+
+    /// The steady stretch of the cut so far.
+    pub fn window(&self) -> Option<SteadyWindow> {
+        SteadyWindow::of(&self.forces, self.min_time_s)
+    }
+
+    /// The contact renewal length over `w`, m.
+    pub fn renewal_m(&self, w: &SteadyWindow) -> Option<f64> {
+        self.chip.contact_renewal_m(w.from_s, w.to_s)
+    }
+
+    /// Whether the stretch so far is long enough and its force intervals meet the targets.
     fn sure_now(&self) -> bool {
-        SteadyWindow::of(&self.forces, self.min_time_s).is_some_and(|w| forces_sure(&w.forces(&self.forces), &self.setup))
+        self.window().is_some_and(|w| {
+            let r = renewals(&w, self.renewal_m(&w), self.speed_m_s);
+            forces_sure(&w.forces(&self.forces), r, &self.setup)
+        })
     }
 }
 
@@ -238,6 +308,7 @@ impl Observer for RunUntilSure {
     }
     fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
         self.forces.after_step(sim)?;
+        self.chip.after_step(sim)?;
         let bins = self.forces.rows.len();
         if bins < self.checked_bins + self.check_every_bins || sim.time < self.min_time_s {
             return Ok(Control::Continue);

@@ -58,6 +58,10 @@ pub struct SteadyReport {
     pub segment_pitch_mm: Option<SteadyQuantity>,
     pub segmentation_degree: Option<SteadyQuantity>,
     pub serrated_share: f64,
+    /// The cut length over which the chip renews its contact with the rake face, mm, and
+    /// the renewals the stretch spans ([`crate::steady`]).
+    pub contact_renewal_mm: Option<f64>,
+    pub renewals: Option<f64>,
 }
 
 impl SteadyReport {
@@ -72,7 +76,7 @@ impl SteadyReport {
             to_mm: mm(w.to_s),
             period_mm: w.period_s.map(mm),
             periods: w.period_s.map(|_| w.units),
-            rests_on: rests_on(w, &s.cutting_force, mm(w.unit_s)),
+            rests_on: rests_on(w, &s.cutting_force, mm(w.unit_s), s.renewals),
             cutting_force_n_per_mm: SteadyQuantity::of(&s.cutting_force, 1e-3, 0.0),
             feed_force_n_per_mm: SteadyQuantity::of(&s.feed_force, 1e-3, 0.0),
             chip_thickness_mm: q(&s.chip_thickness, 1e3, 0.0),
@@ -83,17 +87,20 @@ impl SteadyReport {
             segment_pitch_mm: q(&s.segment_pitch, 1e3, 0.0),
             segmentation_degree: q(&s.segmentation_degree, 1.0, 0.0),
             serrated_share: s.serrated_share,
+            contact_renewal_mm: s.contact_renewal_m.map(|l| l * 1e3),
+            renewals: s.renewals,
         }
     }
 }
 
 /// "12 periods of 0.071 mm (the force signal's), 6 batches of 2 for F'c" or "540 force bins
 /// of 0.004 mm (no period in the forces), 10 batches of 54 for F'c".
-fn rests_on(w: &SteadyWindow, fc: &MeanInterval, unit_mm: f64) -> String {
+fn rests_on(w: &SteadyWindow, fc: &MeanInterval, unit_mm: f64, renewals: Option<f64>) -> String {
+    let span = renewals.map_or(String::new(), |r| format!(", {r:.1} contact renewals"));
     let units = match w.period_s {
         Some(_) => format!("{} periods of {unit_mm:.4} mm (the force signal's)", w.units),
         None => format!("{} force bins of {unit_mm:.4} mm (no period in the forces)", w.units),
-    };
+    } + &span;
     match fc.half_width {
         Some(_) => format!("{units}, {} batches of {} for F'c", fc.batches, fc.units_per_batch),
         None => format!(

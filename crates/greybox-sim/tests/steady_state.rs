@@ -71,15 +71,31 @@ fn a_cut_stops_once_sure_and_says_when_it_could_not_be() {
     setup.steady.stop_when_sure = true;
     setup.steady.cutting_force_rel_ci95 = 0.05;
     setup.steady.feed_force_rel_ci95 = 0.10;
+    setup.steady.min_contact_renewals = 0.5;
     let sure = cut(&setup);
     let at = sure.sure_at_s.expect("loose targets are met");
     let v = setup.cutting_speed_m_s;
-    println!("sure at {:.3} mm of {:.3}", at * v * 1e3, setup.cut_length_m * 1e3);
+    let st = sure.steady_state.as_ref().unwrap();
+    println!(
+        "sure at {:.3} mm of {:.3}, contact renewal {:.3} mm, {:.2} renewals",
+        at * v * 1e3,
+        setup.cut_length_m * 1e3,
+        st.contact_renewal_m.unwrap() * 1e3,
+        st.renewals.unwrap()
+    );
     assert!(at * v < 0.95 * setup.cut_length_m, "stopped at {:.3} mm", at * v * 1e3);
     assert!(sure.summary.stopped_by_observer);
-    let st = sure.steady_state.as_ref().unwrap();
-    assert!(st.sure(&setup.steady), "the intervals at the stop meet the targets");
-    // targets no cut of this length can meet: it runs to its limit, not sure
+    assert!(st.sure(&setup.steady), "the stretch at the stop meets the targets");
+    // the contact renewal: the contact length times the chip ratio, a fraction of a mm here
+    let renewal = st.contact_renewal_m.unwrap();
+    assert!(renewal > setup.uncut_chip_thickness_m && renewal < 2e-3, "{renewal}");
+    // the same targets but a stretch of 100 renewals asked: never sure, run to the limit
+    setup.steady.min_contact_renewals = 100.0;
+    let short = cut(&setup);
+    assert_eq!(short.sure_at_s, None);
+    assert!(short.steady_state.as_ref().unwrap().short(&setup.steady));
+    // targets no cut of this length can meet: the same
+    setup.steady.min_contact_renewals = 0.5;
     setup.steady.cutting_force_rel_ci95 = 1e-4;
     let limit = cut(&setup);
     assert_eq!(limit.sure_at_s, None);

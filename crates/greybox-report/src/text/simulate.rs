@@ -33,6 +33,12 @@ pub fn cut(s: &CutSummary) -> String {
         "  cutting force {:.1}{} N/mm, feed force {:.1}{} N/mm (95 % intervals; F_f/F_c = {:.3}, k_c = {:.0} N/mm²), {when}",
         s.cutting_force_n_per_mm, pm(s.cutting_force_ci95_n_per_mm), s.feed_force_n_per_mm, pm(s.feed_force_ci95_n_per_mm), s.force_ratio, s.specific_cutting_force_n_per_mm2
     );
+    if s.short_stretch && s.steady {
+        let _ = writeln!(text,
+            "  note: the steady stretch spans fewer than {} renewals of the tool–chip contact: its intervals may understate the scatter (a longer cut_length_m)",
+            c.min_contact_renewals
+        );
+    }
     if s.limit_reached {
         let _ = writeln!(text,
             "  note: the cut reached its length limit ({:.3} mm) before its intervals met the targets (F'c ±{:.1} %, F'f ±{:.1} %): raise cut_length_m to be as sure",

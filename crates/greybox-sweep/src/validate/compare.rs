@@ -142,13 +142,25 @@ fn paired(pairs: &[(&Outcome, &Outcome)], k: usize) -> PairedDifference {
         );
         warm_up + steady * (y / RESOLVE).powi(2)
     });
+    let short = pairs
+        .iter()
+        .flat_map(|(m, b)| [m, b])
+        .filter(|o| o.short_stretch)
+        .count();
+    let mut verdict = verdict(mean, ci95);
+    if short > 0 && ci95.is_some() {
+        verdict += &format!(
+            " ({short} of {} cuts averaged fewer contact renewals than asked: the scatter may be larger)",
+            2 * n
+        );
+    }
     PairedDifference {
         mean,
         ci95,
         across_conditions_ci95: across,
         conditions_better: d.iter().filter(|x| **x < 0.0).count(),
         conditions: n,
-        verdict: verdict(mean, ci95),
+        verdict,
         length_to_resolve_mm,
     }
 }

@@ -34,6 +34,9 @@ pub struct Cut {
     /// A steady stretch was found, and its force intervals met the set-up's targets.
     pub steady: bool,
     pub sure: bool,
+    /// The steady stretch spans fewer contact renewals than the set-up asks (its intervals
+    /// may understate the scatter).
+    pub short_stretch: bool,
     #[serde(rename = "simulated_cut_length_mm")]
     pub cut_length_mm: f64,
     pub wall_s: f64,
@@ -57,6 +60,10 @@ impl Cut {
             peak_temperature_c: r.peak_temperature.peak_k - 273.15,
             steady: r.steady_state.is_some(),
             sure: r.sure_at_s.is_some(),
+            short_stretch: r
+                .steady_state
+                .as_ref()
+                .is_none_or(|s| s.short(&setup.steady)),
             cut_length_mm: r.sim.time * setup.cutting_speed_m_s * 1e3,
             wall_s: r.summary.wall_s,
             local: r.measures.rake_contact,

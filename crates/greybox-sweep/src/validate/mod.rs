@@ -196,6 +196,8 @@ pub struct Outcome {
     pub steady_from_mm: Option<f64>,
     /// The cut's force intervals met the template's targets.
     pub sure: bool,
+    /// Its steady stretch spans fewer contact renewals than the template asks.
+    pub short_stretch: bool,
     /// μ, pressure and sliding velocity along the rake face.
     pub local: RakeContact,
     /// The hottest particle over the run, °C.
@@ -645,6 +647,7 @@ fn outcome(arm: &Arm, c: &Condition, role: Role, mu: Option<f64>, cut: &Cut) -> 
         steady_length_mm: cut.steady_length_mm().map(|l| l.0),
         steady_from_mm: cut.steady_length_mm().map(|l| l.1),
         sure: cut.sure,
+        short_stretch: cut.short_stretch,
         local: cut.local,
         max_temperature_c: cut.peak_temperature_c,
         steady: cut.steady,

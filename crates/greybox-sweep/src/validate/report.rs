@@ -7,7 +7,7 @@ use anyhow::Result;
 use std::path::{Path, PathBuf};
 
 /// The columns of `results.csv`, units in the names.
-const COLUMNS: [&str; 34] = [
+const COLUMNS: [&str; 35] = [
     "id",
     "material",
     "tool",
@@ -39,6 +39,7 @@ const COLUMNS: [&str; 34] = [
     "steady_from_mm",
     "steady_length_mm",
     "sure",
+    "short_stretch",
     "simulated_cut_length_mm",
     "wall_s",
     "measured_contact_length_mm",
@@ -84,6 +85,7 @@ fn record(o: &Outcome) -> Vec<String> {
         opt(o.steady_from_mm, 3),
         opt(o.steady_length_mm, 3),
         o.sure.to_string(),
+        o.short_stretch.to_string(),
         format!("{:.3}", o.simulated_cut_length_mm),
         format!("{:.1}", o.wall_s),
         opt(o.measured_contact_length_mm, 3),
