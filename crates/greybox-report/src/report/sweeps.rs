@@ -7,14 +7,18 @@ use super::{shown, svg_figure, Ctx};
 use anyhow::{Context, Result};
 use std::path::Path;
 
-/// The results shown per case, when the table has them.
-const SHOWN: [&str; 7] = [
+/// The results shown per case, when the table has them (a `_ci95` column: the half-width of
+/// the 95 % interval of the one before it).
+const SHOWN: [&str; 10] = [
     "cutting_force_N_per_mm",
+    "cutting_force_ci95_N_per_mm",
     "feed_force_N_per_mm",
+    "feed_force_ci95_N_per_mm",
     "force_ratio",
     "contact_length_mm",
     "max_temperature_C",
     "steady",
+    "sure",
     "case_wall_s",
 ];
 
