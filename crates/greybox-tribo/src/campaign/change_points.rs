@@ -1,7 +1,7 @@
 //! Change points of μ inside a sliding run: a least-squares split into a known number of steps, a
 //! penalised split without one, the plan's timing, and the uncertainty of each boundary.
 
-use super::prepare::{Prepared, Span};
+use super::prepare::{Cut, Prepared, Span};
 use crate::expected::ExpectedStep;
 use crate::identify::IdentifyConfig;
 use crate::signal::{mad_sigma, median};
@@ -214,7 +214,7 @@ pub(super) fn split_run(
     let durations: Option<Vec<f64>> = steps.and_then(|s| s.iter().map(|e| e.duration_s).collect());
     if let Some(d) = durations.filter(|d| d.len() > 1) {
         let bounds = timed_bounds(&all_blocks, &d, block_s);
-        return Ok(spans_at(run, &bounds, b, &[], 0.0));
+        return Ok(spans_at(run, &bounds, b, &[], 0.0, Cut::PlanTiming));
     }
     // the spindle's run-up and run-down and the run-in at the ends of a run are no steps
     let (ta, tb) = trim_transients(&all_blocks);
@@ -244,17 +244,19 @@ pub(super) fn split_run(
     // error of a mean over one second: SE(T) = run_sem / √T
     let resid = split_residuals(blocks, &bounds);
     let run_sem = mean_standard_error(&resid) * (resid.len() as f64 * block_s).sqrt();
-    Ok(spans_at(run, &bounds, b, &unc, run_sem))
+    let cut = if bounds.is_empty() { Cut::Run } else { Cut::LevelChange };
+    Ok(spans_at(run, &bounds, b, &unc, run_sem, cut))
 }
 
-/// The spans of `run` cut at block `bounds` (`b` samples a block), with each boundary's
-/// uncertainty (s, none: sharp) and the run's disturbance.
+/// The spans of `run` cut at block `bounds` (`b` samples a block) by `cut`, with each
+/// boundary's uncertainty (s, none: sharp) and the run's disturbance.
 pub(super) fn spans_at(
     run: Span,
     bounds: &[usize],
     b: usize,
     unc: &[f64],
     run_sem: f64,
+    cut: Cut,
 ) -> Vec<Span> {
     let mut edges = vec![run.i];
     edges.extend(bounds.iter().map(|c| (run.i + c * b).min(run.j)));
@@ -264,7 +266,7 @@ pub(super) fn spans_at(
         .enumerate()
         .filter(|(_, w)| w[1] > w[0])
         .map(|(s, w)| {
-            let mut span = Span::new(w[0], w[1], None);
+            let mut span = Span::new(w[0], w[1], None).by(cut);
             span.run_sem = run_sem;
             span.unc = (
                 s.checked_sub(1)

@@ -8,7 +8,7 @@ use crate::identify_config::SteadyRule;
 use crate::recording::SpeedTrace;
 use crate::signal::{median, moving_average, quantum};
 use crate::steady::{
-    final_stationary, mean_standard_error, plateau_stats, rule_span, steady_span, step_signals,
+    final_stationary, plateau_stats, rule_span, steady_span, step_signals,
     windows, StepSignals,
 };
 use greybox_core::dataset::flags;
@@ -122,52 +122,49 @@ pub(super) fn measure(
     rep.cof_std = Some(st.std);
     rep.n_samples = st.n_samples;
     rep.flags = st.flags.clone();
-    if p.no_baseline {
-        rep.flags.push(flags::NO_BASELINE.to_string());
-    }
-    if boundary_matters(span, &sig, (pa, pb), p.fs, cfg) {
-        rep.flags.push(flags::UNCERTAIN_BOUNDARY.to_string());
-    }
-    let used: Vec<f64> = (pa..pb)
-        .filter(|k| sig.good[*k])
-        .map(|k| sig.mu[k])
-        .collect();
     // the window's own serial correlation, or the run's disturbance over the window's length
     // (a window on the crest of a slow run-out looks flat on its own)
-    let sem =
-        mean_standard_error(&used).max(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt());
-    rep.cof_sem = Some(sem);
-    if 2.0 * sem > cfg.mean_uncertainty_tolerance {
-        rep.flags.push(flags::UNCERTAIN_MEAN.to_string());
+    let iv = st
+        .interval
+        .with_sem_floor(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt());
+    let shift = boundary_shift(span, &sig, (pa, pb), p.fs);
+    if shift.is_some_and(|d| !(d <= 0.5 * cfg.mean_uncertainty_tolerance)) {
+        rep.flags.push(flags::UNCERTAIN_BOUNDARY.to_string());
     }
+    let mut st = st;
+    st.ci95 = iv.half_width_95 + shift.map_or(0.0, |d| d.min(st.std.max(iv.half_width_95)));
+    rep.cof_sem = Some(iv.sem);
+    rep.cof_ci95 = Some(st.ci95);
+    rep.cof_n_eff = Some(iv.n_eff);
+    rep.masked_samples = st.spikes;
     rep.stats = Some(st);
     rep
 }
 
-/// Whether a segment's uncertain boundaries matter for its μ: they reach into the steady
-/// window `[pa, pb)` (segment-relative samples), and μ over the window without the reach
-/// differs from μ over the whole window by more than half `mean_uncertainty_tolerance` (or
-/// nothing is left).
-pub(super) fn boundary_matters(
+/// How far μ over the steady window `[pa, pb)` (segment-relative samples) moves when its ends
+/// move in by the segment's boundary uncertainties (`None`: they do not reach into the
+/// window). Where nothing of the window is left, the window's spread of μ (as much as μ could
+/// move at all) — bounded in [`measure`] by the larger of the samples' standard deviation and
+/// the interval.
+pub(super) fn boundary_shift(
     span: Span,
     sig: &StepSignals,
     (pa, pb): (usize, usize),
     fs: f64,
-    cfg: &IdentifyConfig,
-) -> bool {
+) -> Option<f64> {
     let len = span.j - span.i;
     let a = pa.max((span.unc.0 * fs).ceil() as usize);
     let b = pb.min(len.saturating_sub((span.unc.1 * fs).ceil() as usize));
     if (a, b) == (pa, pb) {
-        return false;
+        return None;
     }
     let mean = |a: usize, b: usize| {
         let v: Vec<f64> = (a..b).filter(|k| sig.good[*k]).map(|k| sig.mu[k]).collect();
         (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
     };
     match (mean(pa, pb), (a < b).then(|| mean(a, b)).flatten()) {
-        (Some(all), Some(inner)) => (all - inner).abs() > 0.5 * cfg.mean_uncertainty_tolerance,
-        _ => true,
+        (Some(all), Some(inner)) => Some((all - inner).abs()),
+        _ => Some(f64::INFINITY),
     }
 }
 

@@ -5,8 +5,8 @@
 //! 1. **Loaded samples**: block medians (10 ms) of F_N above the unloaded level plus
 //!    `loaded_fraction` of the loaded range.
 //! 2. **Baseline**: the unloaded windows at the start and end (where present) give a linear
-//!    offset per channel; with one window the offset is constant; with none the rows carry
-//!    the flag `no-baseline`.
+//!    offset per channel; with one window the offset is constant; with none the file's
+//!    warnings say so.
 //! 3. **Sign**: a tangential channel whose loaded median is negative is flipped (reported).
 //! 4. **Segments**, from the best evidence available: a step column (runs of one step
 //!    number), a speed channel (runs of constant speed above rest), or the signals

@@ -21,7 +21,6 @@ pub(super) struct Prepared<'a> {
     pub(super) period_s: Option<f64>,
     /// Time above the loaded threshold, s.
     pub(super) loaded_s: f64,
-    pub(super) no_baseline: bool,
     pub(super) report: FileReport,
 }
 
@@ -38,6 +37,33 @@ impl Prepared<'_> {
     }
 }
 
+/// What cut a segment's boundaries (the segment report's `boundaries`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Cut {
+    /// The recording's step column or blocks.
+    StepColumn,
+    /// A speed channel's runs of one level.
+    Speed,
+    /// The plan's step durations laid over a sliding run.
+    PlanTiming,
+    /// μ's level changes inside a sliding run (least squares or penalised).
+    LevelChange,
+    /// A whole loaded-and-sliding run.
+    Run,
+}
+
+impl Cut {
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            Cut::StepColumn => "step column",
+            Cut::Speed => "speed channel",
+            Cut::PlanTiming => "plan timing",
+            Cut::LevelChange => "level change of μ",
+            Cut::Run => "sliding run",
+        }
+    }
+}
+
 /// Sample ranges of a segment, `[i, j)`, with its step label and the uncertainty of its
 /// start and end boundaries, s (0 where the boundary is sharp).
 #[derive(Debug, Clone, Copy)]
@@ -48,6 +74,8 @@ pub(super) struct Span {
     pub(super) unc: (f64, f64),
     /// The run's standard error of a one-second mean of μ, √s (0: from the segment alone).
     pub(super) run_sem: f64,
+    /// What cut the boundaries.
+    pub(super) cut: Cut,
 }
 
 impl Span {
@@ -58,7 +86,13 @@ impl Span {
             label,
             unc: (0.0, 0.0),
             run_sem: 0.0,
+            cut: Cut::Run,
         }
+    }
+
+    /// The span with its boundaries cut by `cut`.
+    pub(super) fn by(self, cut: Cut) -> Self {
+        Span { cut, ..self }
     }
 }
 
@@ -76,10 +110,15 @@ impl SegmentReport {
             spindle_rpm: None,
             sliding_velocity_m_per_min: None,
             step_label: span.label,
+            boundaries: span.cut.name(),
             cof: None,
             cof_std: None,
             cof_sem: None,
+            cof_ci95: None,
+            cof_n_eff: None,
             n_samples: 0,
+            masked_samples: 0,
+            label_evidence: None,
             flags: Vec::new(),
             matched: None,
             problem: None,
@@ -133,10 +172,11 @@ pub(super) fn prepare<'a>(
     let slide = crate::sliding::sliding(rec.speed.as_ref(), &fn_c, &ft_c, &blocks, cfg);
     notes.extend(sliding_notes(&slide, cfg));
     let sliding_s = slide.mask.iter().filter(|m| **m).count() as f64 / fs;
-    let no_baseline = baseline == "none";
-    if no_baseline {
-        notes.push(
-            "no unloaded window: offsets cannot be removed (rows flagged no-baseline)".to_string(),
+    let mut warnings = read_warnings(rec);
+    if baseline == "none" {
+        // a file-wide fact, not a row's: one warning in every run's summary
+        warnings.push(
+            "no unloaded window at the start or end: the force channels' offsets cannot be removed; μ includes any offset of the tangential channel divided by the load".to_string(),
         );
     }
     Ok(Prepared {
@@ -147,11 +187,10 @@ pub(super) fn prepare<'a>(
         sliding: slide.mask,
         period_s: slide.period_s,
         loaded_s: load.loaded.iter().filter(|l| **l).count() as f64 / fs,
-        no_baseline,
         report: FileReport {
             source: rec.source.clone(),
             read: rec.provenance.clone(),
-            warnings: read_warnings(rec),
+            warnings,
             sample_rate_hz: fs,
             samples: n,
             duration_s: span,

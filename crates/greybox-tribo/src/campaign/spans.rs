@@ -1,7 +1,7 @@
 //! Segments from a step column or a speed channel (runs of one step number or one speed level), and
 //! the loaded-and-sliding runs the signal segmenter splits.
 
-use super::prepare::{Prepared, Span};
+use super::prepare::{Cut, Prepared, Span};
 use crate::expected::ExpectedStep;
 use crate::identify::IdentifyConfig;
 use crate::signal::{block_medians, mad_sigma, median, runs};
@@ -14,7 +14,7 @@ pub(super) fn spans_from_steps(p: &Prepared, steps: &[f64]) -> Vec<Span> {
         if k == steps.len() || steps[k] != steps[s] {
             let slide: Vec<usize> = (s..k).filter(|i| p.sliding[*i]).collect();
             if let (Some(&a), Some(&b)) = (slide.first(), slide.last()) {
-                out.push(Span::new(a, b + 1, Some(steps[s])));
+                out.push(Span::new(a, b + 1, Some(steps[s])).by(Cut::StepColumn));
             }
             s = k;
         }
@@ -177,7 +177,7 @@ pub(super) fn spans_from_speed(
         let (i, j) = (start * b, (end * b).min(n));
         // only the loaded part of the run
         for (a, e) in runs(&p.sliding[i..j]) {
-            out.push(Span::new(i + a, i + e, None));
+            out.push(Span::new(i + a, i + e, None).by(Cut::Speed));
         }
     }
     out
