@@ -106,7 +106,10 @@ fn standard_error(x: &[f64], mean: f64) -> (f64, f64) {
     // long-run variance of one block mean (at least its white-noise share), per sample
     let lrv = (2.0 * sum - g0).max(g0) * m as f64;
     let tau = (lrv / var_sample).max(1.0);
-    ((tau * var_sample / n as f64).sqrt(), (n as f64 / tau).clamp(1.0, n as f64))
+    (
+        (tau * var_sample / n as f64).sqrt(),
+        (n as f64 / tau).clamp(1.0, n as f64),
+    )
 }
 
 /// The 97.5 % quantile of Student's t with `dof` degrees of freedom (at least 1): exact
@@ -145,7 +148,11 @@ mod tests {
             (30.0, 2.0423),
             (1000.0, 1.9623),
         ] {
-            assert!((t_975(nu) - t).abs() < 2e-3, "t({nu}) = {} vs {t}", t_975(nu));
+            assert!(
+                (t_975(nu) - t).abs() < 2e-3,
+                "t({nu}) = {} vs {t}",
+                t_975(nu)
+            );
         }
     }
 

@@ -1,15 +1,14 @@
 //! Measuring a segment: its steady window, μ statistics and speed, whether its uncertain boundaries
 //! matter, and the notes on run-in and drift.
 
-use super::prepare::{Prepared, Span};
+use super::prepare::{Cut, Prepared, Span};
 use super::report::{FileReport, SegmentReport};
 use crate::identify::IdentifyConfig;
 use crate::identify_config::SteadyRule;
 use crate::recording::SpeedTrace;
 use crate::signal::{median, moving_average, quantum};
 use crate::steady::{
-    final_stationary, plateau_stats, rule_span, steady_span, step_signals,
-    windows, StepSignals,
+    final_stationary, plateau_stats, rule_span, steady_span, step_signals, windows, StepSignals,
 };
 use greybox_core::dataset::flags;
 use greybox_core::units;
@@ -133,12 +132,49 @@ pub(super) fn measure(
     }
     let mut st = st;
     st.ci95 = iv.half_width_95 + shift.map_or(0.0, |d| d.min(st.std.max(iv.half_width_95)));
+    if matches!(span.cut, Cut::LevelChange | Cut::PlanTiming) {
+        check_one_level(&mut rep, &sig, p, cfg);
+    }
     rep.cof_sem = Some(iv.sem);
     rep.cof_ci95 = Some(st.ci95);
     rep.cof_n_eff = Some(iv.n_eff);
     rep.masked_samples = st.spikes;
     rep.stats = Some(st);
     rep
+}
+
+/// The segment's check against its own signal ([`super::self_check::two_levels`] over
+/// μ's block means, blocks of [`Prepared::step_block`]): two levels inside it flag the row
+/// `label-contradicted`, with a line saying where.
+fn check_one_level(rep: &mut SegmentReport, sig: &StepSignals, p: &Prepared, cfg: &IdentifyConfig) {
+    let b = p.step_block();
+    let blocks: Vec<f64> = sig
+        .mu
+        .chunks(b)
+        .zip(sig.good.chunks(b))
+        .filter_map(|(m, g)| {
+            let v: Vec<f64> = m
+                .iter()
+                .zip(g)
+                .filter(|(_, g)| **g)
+                .map(|(m, _)| *m)
+                .collect();
+            (!v.is_empty()).then(|| median(&v))
+        })
+        .collect();
+    // the ramp into the step and a settling at its ends are transitions, not a second level
+    let (ta, tb) = super::change_points::trim_transients(&blocks);
+    let block_s = b as f64 / p.fs;
+    if let Some((at, a, b_level)) =
+        super::self_check::two_levels(&blocks[ta..tb], block_s, cfg.mean_uncertainty_tolerance)
+    {
+        let at = at + ta as f64 * block_s;
+        rep.flags.push(flags::LABEL_CONTRADICTED.to_string());
+        rep.contradiction = Some(format!(
+            "μ holds two levels: {a:.4} until {:.3} s, then {b_level:.4} (a step boundary the cut missed?)",
+            rep.start_s + at
+        ));
+    }
 }
 
 /// How far μ over the steady window `[pa, pb)` (segment-relative samples) moves when its ends

@@ -24,7 +24,7 @@
 //! (baseline, sign, sliding mask), [`spans`] (step column, speed channel, sliding runs),
 //! [`change_points`] (μ's level changes inside a run), [`reciprocating_segments`],
 //! [`measure`] (steady window and statistics), [`segment`] (all of the above per file),
-//! [`velocity`], then [`matching`] with the plan ([`numbering`] without one, [`plan_timed`]
+//! [`self_check`] (one level per step), [`velocity`], then [`matching`] with the plan ([`numbering`] without one, [`plan_timed`]
 //! for the NC-program path) and the plausibility [`checks`]; the reports are in [`report`].
 
 mod change_points;
@@ -37,6 +37,7 @@ mod prepare;
 mod reciprocating_segments;
 mod report;
 mod segment;
+mod self_check;
 mod spans;
 mod velocity;
 

@@ -57,6 +57,7 @@ pub(super) fn plan_timed(recs: &[Recording], plan: &Plan, c: &Campaign) -> Resul
                 drift_per_hour: Some(r.cof_trend_per_s * 3600.0),
                 drift_per_km: None,
                 boundary_uncertainty_s: None,
+                contradiction: None,
                 reciprocating: None,
                 stats: None,
             })

@@ -126,6 +126,7 @@ impl SegmentReport {
             drift_per_hour: None,
             drift_per_km: None,
             boundary_uncertainty_s: None,
+            contradiction: None,
             reciprocating: None,
             stats: None,
         }

@@ -5,9 +5,9 @@ use super::prepare::{Cut, Prepared, Span};
 use super::report::SegmentReport;
 use crate::identify::IdentifyConfig;
 use crate::reciprocating::Reciprocating;
-use crate::uncertainty::MeanInterval;
 use crate::recording::{Recording, SpeedTrace};
 use crate::signal::median;
+use crate::uncertainty::MeanInterval;
 use greybox_core::dataset::flags;
 use greybox_core::units;
 
@@ -33,7 +33,11 @@ pub(super) fn reciprocating_segments(p: &mut Prepared, why: &str, cfg: &Identify
     for (k, &(i, j, label)) in parts.iter().enumerate() {
         let mut rep = SegmentReport::bare(
             p,
-            Span::new(i, j, label).by(if label.is_some() { Cut::StepColumn } else { Cut::Run }),
+            Span::new(i, j, label).by(if label.is_some() {
+                Cut::StepColumn
+            } else {
+                Cut::Run
+            }),
             k + 1,
         );
         match &p.rec.speed {
@@ -62,11 +66,7 @@ pub(super) fn reciprocating_segments(p: &mut Prepared, why: &str, cfg: &Identify
 
 /// Fill a segment from a reciprocating result: the row's μ is the steady cycles' mean μ,
 /// its spread the cycles' spread, its standard error that over the cycles.
-pub(super) fn reciprocating_stats(
-    rep: &mut SegmentReport,
-    r: Reciprocating,
-    cfg: &IdentifyConfig,
-) {
+pub(super) fn reciprocating_stats(rep: &mut SegmentReport, r: Reciprocating, cfg: &IdentifyConfig) {
     let n_cycles = r.steady_cycles.1 - r.steady_cycles.0;
     let duration = r.end_s - r.start_s;
     let trend = (r.trend_per_s * duration).abs() > cfg.trend_tolerance;

@@ -64,6 +64,10 @@ pub struct SegmentReport {
     pub drift_per_hour: Option<f64>,
     /// Slope of μ over the steady part per sliding distance, 1/km (when the speed is known).
     pub drift_per_km: Option<f64>,
+    /// What the segment's own signal says against its cut (`label-contradicted`): two
+    /// levels of μ inside it, with where they change.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contradiction: Option<String>,
     /// Uncertainty of the segment's boundaries where one is weakly determined, s (the larger
     /// of the two; rows then carry `uncertain-boundary`).
     pub boundary_uncertainty_s: Option<f64>,
@@ -233,10 +237,11 @@ pub(super) fn segment_record(
         planned_n,
         velocity_m_s,
         flags: s.flags.clone(),
-        label_evidence: s
-            .label_evidence
-            .as_deref()
-            .and_then(|e| greybox_core::dataset::label_evidence::ALL.into_iter().find(|x| *x == e)),
+        label_evidence: s.label_evidence.as_deref().and_then(|e| {
+            greybox_core::dataset::label_evidence::ALL
+                .into_iter()
+                .find(|x| *x == e)
+        }),
     };
     s.stats.as_ref().expect("measured").record(c.contact, place)
 }
