@@ -122,6 +122,76 @@ pub fn block_medians(x: &[f64], b: usize) -> Vec<f64> {
     x.chunks(b).map(median).collect()
 }
 
+/// Two levels of a signal that switches between them (a normal force loaded and unloaded).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TwoLevels {
+    /// Median of the lower class.
+    pub low: f64,
+    /// Median of the upper class.
+    pub high: f64,
+    /// The split between the classes.
+    pub split: f64,
+    /// Robust spread (MAD σ) of each class about its median: noise and slow drift.
+    pub low_sigma: f64,
+    pub high_sigma: f64,
+    /// Share of the values in the lower class.
+    pub low_share: f64,
+}
+
+/// The two levels of `x` by Otsu's criterion (Otsu 1979, "A threshold selection method from
+/// gray-level histograms"): the split maximising the between-class variance, searched over
+/// 256 thresholds between the 0.5 % and 99.5 % quantiles, with the values clipped to that
+/// range first so that a few far outliers (a load cell's negative blips at lift-off, a spike)
+/// neither form a class nor drag one. `None` for fewer than 4 values or a constant signal.
+pub fn two_levels(x: &[f64]) -> Option<TwoLevels> {
+    if x.len() < 4 {
+        return None;
+    }
+    let mut v: Vec<f64> = x.iter().copied().filter(|v| v.is_finite()).collect();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n < 4 {
+        return None;
+    }
+    let q = |p: f64| v[((n - 1) as f64 * p).round() as usize];
+    let (lo, hi) = (q(0.005), q(0.995));
+    if !(hi > lo) {
+        return None;
+    }
+    let c: Vec<f64> = v.iter().map(|x| x.clamp(lo, hi)).collect();
+    let mut prefix = Vec::with_capacity(n + 1);
+    prefix.push(0.0);
+    for x in &c {
+        prefix.push(prefix.last().copied().unwrap_or(0.0) + x);
+    }
+    let total = prefix[n];
+    let mut best = (f64::NEG_INFINITY, lo);
+    for g in 1..256 {
+        let t = lo + (hi - lo) * g as f64 / 256.0;
+        let k = c.partition_point(|x| *x <= t);
+        if k == 0 || k == n {
+            continue;
+        }
+        let (w0, w1) = (k as f64 / n as f64, (n - k) as f64 / n as f64);
+        let (m0, m1) = (prefix[k] / k as f64, (total - prefix[k]) / (n - k) as f64);
+        let between = w0 * w1 * (m1 - m0).powi(2);
+        if between > best.0 {
+            best = (between, t);
+        }
+    }
+    let split = best.1;
+    let k = v.partition_point(|x| *x <= split).clamp(1, n - 1);
+    let (low, high) = (median(&v[..k]), median(&v[k..]));
+    Some(TwoLevels {
+        low,
+        high,
+        split,
+        low_sigma: mad_sigma(&v[..k], low),
+        high_sigma: mad_sigma(&v[k..], high),
+        low_share: k as f64 / n as f64,
+    })
+}
+
 /// Contiguous runs of `true`: `[start, end)`.
 pub fn runs(mask: &[bool]) -> Vec<(usize, usize)> {
     let mut out = Vec::new();

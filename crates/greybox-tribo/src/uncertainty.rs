@@ -68,6 +68,23 @@ impl MeanInterval {
     }
 }
 
+impl MeanInterval {
+    /// The interval with an independent error `se` common to every sample (an offset
+    /// removed from the whole window) added in quadrature; the degrees of freedom stay the
+    /// window's.
+    pub fn with_common_error(self, se: f64) -> MeanInterval {
+        if !(se > 0.0) {
+            return self;
+        }
+        let sem = self.sem.hypot(se);
+        MeanInterval {
+            sem,
+            half_width_95: t_975(self.n_eff - 1.0) * sem,
+            ..self
+        }
+    }
+}
+
 /// Standard error of the mean of `x` under serial correlation (see the module
 /// documentation); infinite for fewer than 4 samples.
 pub fn mean_standard_error(x: &[f64]) -> f64 {

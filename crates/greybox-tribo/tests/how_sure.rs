@@ -8,7 +8,7 @@ use greybox_core::units;
 use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
 use greybox_tribo::hertz::PinContact;
 use greybox_tribo::identify::IdentifyConfig;
-use greybox_tribo::recording::Recording;
+use greybox_tribo::recording::{Recording, SpeedTrace};
 use support::sure::{self, Step, Trace};
 
 fn recording(t: &Trace) -> Recording {
@@ -156,4 +156,68 @@ fn a_staircase_with_durations_identifies_within_its_interval() {
     eprintln!("worst error {worst:.4}");
     assert!(worst < 0.004, "worst error {worst}");
     coverage("staircase with durations", hits, n);
+}
+
+/// A recording of one constant test: its trace with a stated constant speed (1 m/s).
+fn constant_test(t: &Trace) -> Recording {
+    let mut rec = recording(t);
+    rec.speed = Some(SpeedTrace::SlidingMPerS(vec![1.0; t.time_s.len()]));
+    rec
+}
+
+/// One row per test, its 95 % interval checked against the truth over `seeds`.
+fn one_row_coverage(
+    what: &str,
+    seeds: u64,
+    gen: impl Fn(u64) -> (Recording, f64),
+    check: impl Fn(u64, &Identification),
+) {
+    let cfg = IdentifyConfig::default();
+    let mut hits = 0;
+    for seed in 0..seeds {
+        let (rec, mu) = gen(seed);
+        let id = identify(std::slice::from_ref(&rec), None, &cfg);
+        check(seed, &id);
+        assert_eq!(
+            id.dataset.records.len(),
+            1,
+            "{what} seed {seed}: {:#?}",
+            id.files[0]
+        );
+        let r = &id.dataset.records[0];
+        let ci = r.cof_apparent_ci95.unwrap();
+        if (r.cof_apparent - mu).abs() <= ci {
+            hits += 1;
+        } else {
+            eprintln!(
+                "{what} seed {seed}: μ {:.4} ± {ci:.4} truth {mu:.4} {:?}",
+                r.cof_apparent, r.flags
+            );
+        }
+    }
+    coverage(what, hits, seeds as usize);
+}
+
+/// Rule 1: loaded and unloaded are the two levels of F_N found from the signal. A rig that
+/// pulls off at lift-off (F_N dips below zero for a few samples, down to 1.5× the load) with
+/// drifting offsets keeps both its unloaded windows (15 s and 20 s): the baseline is taken
+/// from the start and the end, and μ's interval covers the truth.
+#[test]
+fn a_pull_off_at_lift_off_keeps_the_unloaded_windows() {
+    one_row_coverage(
+        "pull-off at lift-off",
+        120,
+        |seed| {
+            let (t, mu) = sure::pull_off(seed);
+            (constant_test(&t), mu)
+        },
+        |seed, id| {
+            assert_eq!(
+                id.files[0].baseline, "start and end",
+                "seed {seed}: {:#?}",
+                id.files[0].notes
+            );
+            assert!(!id.files[0].normal_sign_flipped, "seed {seed}");
+        },
+    );
 }

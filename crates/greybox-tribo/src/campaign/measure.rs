@@ -123,9 +123,14 @@ pub(super) fn measure(
     rep.flags = st.flags.clone();
     // the window's own serial correlation, or the run's disturbance over the window's length
     // (a window on the crest of a slow run-out looks flat on its own)
+    // and the baseline: the removed offsets' errors move every sample's μ alike,
+    // δμ = (δF_t − μ δF_N) / F_N
+    let (se_n, se_t) = p.offset_se_at(0.5 * (st.start_s + st.end_s));
+    let se_base = se_t.hypot(st.mean * se_n) / st.normal_force_n.abs().max(1e-12);
     let iv = st
         .interval
-        .with_sem_floor(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt());
+        .with_sem_floor(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt())
+        .with_common_error(se_base);
     let shift = boundary_shift(span, &sig, (pa, pb), p.fs);
     if shift.is_some_and(|d| !(d <= 0.5 * cfg.mean_uncertainty_tolerance)) {
         rep.flags.push(flags::UNCERTAIN_BOUNDARY.to_string());
