@@ -42,13 +42,32 @@ pub fn running_median(x: &[f64], h: usize) -> Vec<f64> {
     out
 }
 
-/// Hampel outlier mask: `true` where |x − running median| > k · σ, with σ the robust spread
-/// of the residuals over the whole slice (Pearson 2002, "Outliers in process modeling").
+/// Hampel outlier mask: `true` where |x − running median| > k · σ (Pearson 2002, "Outliers
+/// in process modeling"), with σ the **local** robust spread of the residuals: their MAD over
+/// the block of [`hampel_block`]`(h)` samples around each sample (a trace whose noise grows
+/// along the test keeps its noisy part; one spread for the whole file would mask it as
+/// spikes), at least the channel's quantisation step (a quantised trace whose residuals are
+/// mostly 0 would otherwise lose every sample off the median).
 pub fn hampel_outliers(x: &[f64], h: usize, k: f64) -> Vec<bool> {
     let rm = running_median(x, h);
     let resid: Vec<f64> = x.iter().zip(&rm).map(|(a, b)| a - b).collect();
-    let sigma = mad_sigma(&resid, 0.0).max(1e-12);
-    resid.iter().map(|r| r.abs() > k * sigma).collect()
+    let floor = quantum(x).max(1e-12);
+    let l = hampel_block(h);
+    let sigmas: Vec<f64> = resid
+        .chunks(l)
+        .map(|c| mad_sigma(c, 0.0).max(floor))
+        .collect();
+    resid
+        .iter()
+        .enumerate()
+        .map(|(i, r)| r.abs() > k * sigmas[i / l])
+        .collect()
+}
+
+/// Samples per block of the Hampel filter's local noise estimate at half window `h`: 20
+/// windows, at least 200 samples (enough for a MAD, short against a change of noise level).
+pub fn hampel_block(h: usize) -> usize {
+    (20 * (2 * h + 1)).max(200)
 }
 
 /// Centered moving average over `w` samples (shrinking at the edges).

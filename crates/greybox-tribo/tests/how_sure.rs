@@ -8,7 +8,8 @@ use greybox_core::units;
 use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
 use greybox_tribo::hertz::PinContact;
 use greybox_tribo::identify::IdentifyConfig;
-use greybox_tribo::recording::{Recording, SpeedTrace};
+use greybox_tribo::readers::read_recording;
+use greybox_tribo::recording::{ChannelMap, Recording, SpeedTrace};
 use support::sure::{self, Step, Trace};
 
 fn recording(t: &Trace) -> Recording {
@@ -219,5 +220,72 @@ fn a_pull_off_at_lift_off_keeps_the_unloaded_windows() {
             );
             assert!(!id.files[0].normal_sign_flipped, "seed {seed}");
         },
+    );
+}
+
+/// A rig's COF trace written as its export (`Time [s],Load [N],COF`) and read back, with a
+/// stated constant speed.
+fn cof_recording(dir: &std::path::Path, t: &Trace) -> Recording {
+    use std::fmt::Write as _;
+    let mut text = String::from("Time [s],Load [N],COF\n");
+    let cof = t.cof.as_ref().expect("a COF trace");
+    for k in 0..t.time_s.len() {
+        let _ = writeln!(text, "{:.5},{:.5},{}", t.time_s[k], t.normal_n[k], cof[k]);
+    }
+    let path = dir.join(&t.name);
+    std::fs::write(&path, text).unwrap();
+    let map = ChannelMap {
+        constant_sliding_m_s: Some(0.5),
+        ..Default::default()
+    };
+    read_recording(&path, &map).unwrap()
+}
+
+/// Rule 2: spikes are found against the local noise. A valid COF trace with heavy-tailed
+/// noise (Student's t, 2–4 degrees of freedom) whose level grows 1–4× along the test,
+/// quantised to 3 or 4 decimals, loses few samples as spikes (the masked share is in the
+/// coverage line, never counted as steady), and μ's interval covers the truth.
+#[test]
+fn heavy_tailed_noise_is_not_taken_for_spikes() {
+    let dir = tempfile::tempdir().unwrap();
+    one_row_coverage(
+        "heavy-tailed COF trace",
+        100,
+        |seed| {
+            let (t, mu) = sure::cof_trace(seed);
+            (cof_recording(dir.path(), &t), mu)
+        },
+        |seed, id| {
+            let c = &id.files[0].coverage;
+            let share = c.masked_s / (c.steady_s + c.masked_s).max(1e-9);
+            assert!(
+                share < 0.05,
+                "seed {seed}: {:.1} % masked: {}",
+                100.0 * share,
+                c.line()
+            );
+            assert!(
+                c.masked_s == 0.0 || c.line().contains(" · masked "),
+                "{}",
+                c.line()
+            );
+        },
+    );
+}
+
+/// Rule 5: one steady-state rule everywhere, which on a wandering μ (an Ornstein–Uhlenbeck
+/// wander of 5–20 s correlation time about its level, 10–20 min at 10 Hz) reports the mean
+/// with an interval that counts the wander as correlated noise: never a refusal, and the
+/// interval covers the level μ wanders about.
+#[test]
+fn a_wandering_mu_is_reported_with_a_wider_interval() {
+    one_row_coverage(
+        "wandering μ",
+        120,
+        |seed| {
+            let (t, mu) = sure::wandering(seed);
+            (constant_test(&t), mu)
+        },
+        |_, _| {},
     );
 }

@@ -204,6 +204,7 @@ pub(super) fn update_coverage(f: &mut FileReport, cfg: &IdentifyConfig, flag: bo
                 end_s: s.end_s,
                 steady_s: b - a,
                 run_in_s: s.run_in_s.unwrap_or(0.0),
+                masked_s: s.masked_samples as f64 / f.sample_rate_hz,
             }),
             (None, None) => {}
         }

@@ -307,9 +307,9 @@ pub fn pull_off(seed: u64) -> (Trace, f64) {
     (tr, mu)
 }
 
-/// See the module docs: a COF column at 50–200 Hz over 60–120 s at a constant load, its
-/// noise heavy-tailed (the seed's law, or Student's t with 2–4 degrees of freedom) with a
-/// scale that changes 1×–4× along the test, the rig's μ quantised to 3 or 4 decimals, a
+/// See the module docs: a COF column (μ 0.2–0.6) at 50–200 Hz over 60–120 s at a constant
+/// load, its noise heavy-tailed (Student's t with 2–4 degrees of freedom, scale 0.004–0.01)
+/// with a scale that grows 1×–3× along the test, the rig's μ quantised to 3 or 4 decimals, a
 /// 5 s unloaded window at each end. Returns the trace and μ.
 pub fn cof_trace(seed: u64) -> (Trace, f64) {
     let mut rng = stream_rng(seed, 60);
@@ -317,13 +317,13 @@ pub fn cof_trace(seed: u64) -> (Trace, f64) {
     let dof = rng.gen_range(2.0..4.0);
     let heavy = StudentT::new(dof).unwrap();
     let load = rng.gen_range(2.0..20.0);
-    let mu = rng.gen_range(0.1..0.6);
+    let mu = rng.gen_range(0.2..0.6);
     let dur = rng.gen_range(60.0..120.0);
     let (t_on, t_off) = (5.0, 5.0 + dur);
     let t_end = t_off + 5.0;
-    let scale0 = rng.gen_range(0.004..0.015);
+    let scale0 = rng.gen_range(0.004..0.01);
     let change_at = rng.gen_range(0.2..0.8) * dur + t_on;
-    let factor = rng.gen_range(1.0..4.0);
+    let factor = rng.gen_range(1.0..3.0);
     let decimals = if rng.gen_bool(0.5) { 1e3 } else { 1e4 };
     let mut tr = Trace {
         name: format!("cof_{seed}.csv"),
