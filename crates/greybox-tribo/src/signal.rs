@@ -232,11 +232,12 @@ pub fn runs(mask: &[bool]) -> Vec<(usize, usize)> {
 }
 
 /// The dominant period of `x` in samples, from its autocorrelation (Wiener–Khinchin, via a
-/// real FFT zero-padded to twice the length): the first lag in `[2, max_lag]` where the
+/// real FFT zero-padded to twice the length): among the lags in `[2, max_lag]` where the
 /// autocorrelation of `x` about its slow trend (a moving average over `2 max_lag + 1`
 /// samples, so that level steps do not count as periodic content) peaks above
 /// `min_correlation` after having fallen below half that peak (a real oscillation, not the
-/// slow decay of a smooth signal). `max_lag` is capped at a third of the length, so that a
+/// slow decay of a smooth signal), the strongest, or the shortest that divides it nearly as
+/// strongly (its fundamental), and around which `x` repeats in place. `max_lag` is capped at a third of the length, so that a
 /// period found is seen at least three times; `None` when no lag qualifies.
 ///
 /// Used to find a rig's revolution or stroke period in a friction trace (once-per-revolution
@@ -250,19 +251,33 @@ pub fn dominant_period(x: &[f64], max_lag: usize, min_correlation: f64) -> Optio
     let trend = moving_average(x, 2 * max_lag + 1);
     let hp: Vec<f64> = x.iter().zip(&trend).map(|(v, t)| v - t).collect();
     let acf = autocorrelation(&hp, max_lag)?;
+    // every qualifying peak: a local maximum above min_correlation after a fall below half
+    // its height, around which x repeats in place
+    let mut peaks = Vec::new();
     let mut lowest = f64::INFINITY;
     for lag in 2..max_lag {
         lowest = lowest.min(acf[lag - 1]);
         let peak = acf[lag] >= acf[lag - 1] && acf[lag] >= acf[lag + 1];
-        if peak
-            && acf[lag] >= min_correlation
-            && lowest <= 0.5 * acf[lag]
-            && repeats_in_place(x, lag)
-        {
-            return Some(lag);
+        if peak && acf[lag] >= min_correlation && lowest <= 0.5 * acf[lag] {
+            peaks.push(lag);
         }
     }
-    None
+    // the fundamental: the strongest peak, or the shortest lag that divides it (within a
+    // lag) with at least 80 % of its correlation (a true period correlates at its multiples
+    // alike); a side peak of a revolution's harmonics (0.3 s on a disc
+    // turning every 0.76 s) neither divides the revolution nor correlates as well
+    let &best = peaks.iter().max_by(|a, b| acf[**a].total_cmp(&acf[**b]))?;
+    peaks
+        .iter()
+        .copied()
+        .filter(|&l| {
+            let k = (best as f64 / l as f64).round();
+            l == best
+                || (k >= 2.0
+                    && (k * l as f64 - best as f64).abs() <= 1.0 + 0.02 * best as f64
+                    && acf[l] >= 0.8 * acf[best])
+        })
+        .find(|&l| repeats_in_place(x, l))
 }
 
 /// Whether `x` one `lag` later is, on average, where it was: the mean of x[k + lag] − x[k]
@@ -311,6 +326,23 @@ pub fn autocorrelation(x: &[f64], max_lag: usize) -> Option<Vec<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A revolution of 76 samples with a once-per-turn dip and a strong third harmonic (three
+    /// bumps a turn): the first correlation peak is at a third of the turn, the revolution
+    /// is the period.
+    #[test]
+    fn the_period_is_the_revolution_not_a_side_peak() {
+        let x: Vec<f64> = (0..3000)
+            .map(|k| {
+                let turn = (k % 76) as f64 / 76.0;
+                let dip = if turn < 0.08 { -1.0 } else { 0.0 };
+                let vib = 0.8 * (std::f64::consts::TAU * 3.0 * k as f64 / 76.0).sin();
+                dip + vib + 0.05 * ((k * 7919 % 97) as f64 / 48.0 - 1.0)
+            })
+            .collect();
+        assert_eq!(dominant_period(&x, 200, 0.3), Some(76));
+    }
+
     /// A half-window far past the data (a spike window of 10⁹ s in a study) is the whole
     /// slice: the same medians, without a buffer of 2·10¹² samples.
     #[test]

@@ -4,7 +4,10 @@
 use super::checks::{check_levels, check_physics};
 use super::numbering::number_without_plan;
 use super::prepare::Cut;
-use super::report::{segment_record, update_coverage, Campaign, FileReport, MatchReport};
+use super::report::{
+    flag_low_coverage_after_matching, segment_record, update_coverage, Campaign, FileReport,
+    MatchReport,
+};
 use crate::align::{Assigned, Candidate};
 use crate::expected::ExpectedStep;
 use crate::identify_config::Segmentation;
@@ -167,6 +170,7 @@ pub(super) fn match_to_plan(
     for f in files.iter_mut() {
         update_coverage(f, c.cfg, false);
     }
+    flag_low_coverage_after_matching(files, &mut records, c.cfg);
     records.sort_by_key(|r| (r.pin, r.step));
     Ok((FrictionDataset { records }, report))
 }

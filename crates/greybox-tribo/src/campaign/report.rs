@@ -223,6 +223,36 @@ pub(super) fn update_coverage(f: &mut FileReport, cfg: &IdentifyConfig, flag: bo
     }
 }
 
+/// After matching, a file whose matched rows rest on less than `min_steady_share` of its
+/// sliding time (segments left unmatched are dropped time now) flags those rows
+/// `low-coverage`, in its segments and in `records`, where they are not flagged yet.
+pub(super) fn flag_low_coverage_after_matching(
+    files: &mut [FileReport],
+    records: &mut [FrictionRecord],
+    cfg: &IdentifyConfig,
+) {
+    for f in files.iter_mut() {
+        if f.coverage.steady_share() >= cfg.min_steady_share {
+            continue;
+        }
+        for s in f.segments.iter_mut() {
+            let Some((pin, step)) = s.matched else {
+                continue;
+            };
+            if s.flags.iter().any(|x| x == flags::LOW_COVERAGE) {
+                continue;
+            }
+            s.flags.push(flags::LOW_COVERAGE.to_string());
+            for r in records
+                .iter_mut()
+                .filter(|r| r.pin == pin && r.step == step)
+            {
+                r.flags.push(flags::LOW_COVERAGE.to_string());
+            }
+        }
+    }
+}
+
 /// A dataset row from a measured segment (see [`crate::steady::PlateauStats::record`]), its
 /// label's evidence taken from the segment's report.
 pub(super) fn segment_record(
