@@ -274,13 +274,13 @@ impl<'a> Loading<'a> {
                 format!("the normal force never departs from zero (1st and 99th percentiles {lo:.3} and {hi:.3} N): check the channel mapping"),
             )
         };
-        let levels = crate::signal::two_levels(&bn).ok_or_else(none)?;
+        let levels = levels_of(&bn).ok_or_else(none)?;
         // the loaded level is the one farther from zero; below zero: compression read negative
         let normal_flipped = levels.low.abs() > levels.high.abs() && levels.low < 0.0;
         let (normal, bn, levels) = if normal_flipped {
             let flipped: Vec<f64> = rec.normal_n.iter().map(|v| -v).collect();
             let bn: Vec<f64> = bn.iter().map(|v| -v).collect();
-            let levels = crate::signal::two_levels(&bn).ok_or_else(none)?;
+            let levels = levels_of(&bn).ok_or_else(none)?;
             (std::borrow::Cow::Owned(flipped), bn, levels)
         } else {
             (std::borrow::Cow::Borrowed(&rec.normal_n[..]), bn, levels)
@@ -309,6 +309,22 @@ impl<'a> Loading<'a> {
             loaded,
         })
     }
+}
+
+/// The two levels of the normal force's block medians ([`crate::signal::two_levels`]), or
+/// one level for a constant force (a rig that logs its set load): no unloaded level.
+fn levels_of(bn: &[f64]) -> Option<crate::signal::TwoLevels> {
+    crate::signal::two_levels(bn).or_else(|| {
+        let m = median(bn);
+        (m != 0.0 && m.is_finite()).then_some(crate::signal::TwoLevels {
+            low: m.min(0.0),
+            high: m.max(0.0),
+            split: 0.5 * m,
+            low_sigma: 0.0,
+            high_sigma: 0.0,
+            low_share: if m < 0.0 { 1.0 } else { 0.0 },
+        })
+    })
 }
 
 /// Runs of either state shorter than `min` blocks flipped to their surroundings': first
