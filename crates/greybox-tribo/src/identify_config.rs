@@ -211,7 +211,7 @@ pub struct IdentifyConfig {
     pub segmentation: Segmentation,
     /// A sample is loaded above the unloaded level plus this share of the loaded range (0.04).
     pub loaded_fraction: f64,
-    /// Without a measured speed channel, a loaded block slides when its μ, averaged over the
+    /// Without a measured speed channel, a loaded block slides when its μ, smoothed (running median) over the
     /// rig's period and `sliding_smoothing_s`, exceeds this share of that smoothed μ's 75th
     /// percentile over the loaded blocks (0.25; see [`crate::sliding`]).
     pub sliding_fraction: f64,

@@ -443,7 +443,7 @@ fn sliding_notes(slide: &crate::sliding::Sliding, cfg: &IdentifyConfig) -> Vec<S
     let mut notes = Vec::new();
     if let Some(thr) = slide.mu_threshold {
         notes.push(format!(
-            "sliding where μ, averaged over {:.3} s, exceeds {thr:.4} (no measured speed channel)",
+            "sliding where μ, its running median over {:.3} s, exceeds {thr:.4} (no measured speed channel)",
             cfg.sliding_smoothing_s.max(slide.period_s.unwrap_or(0.0))
         ));
     }
