@@ -572,6 +572,35 @@ mod tests {
         assert_eq!(back.records[0].normal_force_n, 751.6);
     }
 
+    /// The interval and the label's evidence survive a round trip; a file without them (an
+    /// earlier version's) reads them as absent, and a bad value is named by line and field.
+    #[test]
+    fn interval_and_evidence_are_optional_and_checked() {
+        let mut buf = Vec::new();
+        sample().write_csv_to(&mut buf, false).unwrap();
+        let text = String::from_utf8(buf).unwrap();
+        let back = FrictionDataset::read_csv_from(text.as_bytes(), "t.csv").unwrap();
+        assert_eq!(back.records[0].cof_apparent_ci95, Some(0.002));
+        assert_eq!(
+            back.records[0].label_evidence.as_deref(),
+            Some("measured-speed")
+        );
+        let old = "pin,step,normal_force_N,sliding_velocity_m_per_min,hertz_pressure_MPa,pressure_convention,cof_apparent,cof_apparent_std,n_samples,plateau_start_s,plateau_end_s,cof_trend_per_s,stationary,flags\n1,1,150,20,914,article-eq7,0.4,0.01,400,2.1,2.5,0.0,true,\n";
+        let d = FrictionDataset::read_csv_from(old.as_bytes(), "old.csv").unwrap();
+        assert_eq!(d.records[0].cof_apparent_ci95, None);
+        assert_eq!(d.records[0].label_evidence, None);
+        let e = err_of(&text.replace("measured-speed", "guesswork"));
+        assert!(
+            e.contains("line 2") && e.contains("label_evidence") && e.contains("guesswork"),
+            "{e}"
+        );
+        let e = err_of(&text.replace(",0.002,", ",-0.002,"));
+        assert!(
+            e.contains("cof_apparent_ci95") && e.contains("never negative"),
+            "{e}"
+        );
+    }
+
     fn err_of(text: &str) -> String {
         FrictionDataset::read_csv_from(text.as_bytes(), "t.csv")
             .unwrap_err()

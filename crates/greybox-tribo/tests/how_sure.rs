@@ -229,8 +229,8 @@ fn cof_recording(dir: &std::path::Path, t: &Trace) -> Recording {
     use std::fmt::Write as _;
     let mut text = String::from("Time [s],Load [N],COF\n");
     let cof = t.cof.as_ref().expect("a COF trace");
-    for k in 0..t.time_s.len() {
-        let _ = writeln!(text, "{:.5},{:.5},{}", t.time_s[k], t.normal_n[k], cof[k]);
+    for ((t, f), m) in t.time_s.iter().zip(&t.normal_n).zip(cof) {
+        let _ = writeln!(text, "{t:.5},{f:.5},{m}");
     }
     let path = dir.join(&t.name);
     std::fs::write(&path, text).unwrap();

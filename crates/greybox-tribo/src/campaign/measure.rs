@@ -121,31 +121,44 @@ pub(super) fn measure(
     rep.cof_std = Some(st.std);
     rep.n_samples = st.n_samples;
     rep.flags = st.flags.clone();
-    // the window's own serial correlation, or the run's disturbance over the window's length
-    // (a window on the crest of a slow run-out looks flat on its own)
-    // and the baseline: the removed offsets' errors move every sample's μ alike,
-    // δμ = (δF_t − μ δF_N) / F_N
+    let mut st = st;
+    interval(&mut rep, &mut st, (span, &sig, (pa, pb)), p, cfg);
+    if matches!(span.cut, Cut::LevelChange | Cut::PlanTiming) {
+        check_one_level(&mut rep, &sig, p, cfg);
+    }
+    rep.masked_samples = st.spikes;
+    rep.stats = Some(st);
+    rep
+}
+
+/// μ's 95 % interval of a measured segment (window `[pa, pb)` of `span`), into `rep` and
+/// `st.ci95`: the window's own serial correlation, or the run's disturbance over the
+/// window's length where larger (a window on the crest of a slow run-out looks flat on its
+/// own); the baseline's error, which moves every sample's μ alike,
+/// δμ = (δF_t − μ·δF_N)/F_N; and μ's change when the window's ends move in by the
+/// boundaries' uncertainty (flag `uncertain-boundary` when that exceeds half
+/// `mean_uncertainty_tolerance`).
+fn interval(
+    rep: &mut SegmentReport,
+    st: &mut crate::steady::PlateauStats,
+    (span, sig, window): (Span, &StepSignals, (usize, usize)),
+    p: &Prepared,
+    cfg: &IdentifyConfig,
+) {
     let (se_n, se_t) = p.offset_se_at(0.5 * (st.start_s + st.end_s));
     let se_base = se_t.hypot(st.mean * se_n) / st.normal_force_n.abs().max(1e-12);
     let iv = st
         .interval
         .with_sem_floor(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt())
         .with_common_error(se_base);
-    let shift = boundary_shift(span, &sig, (pa, pb), p.fs);
+    let shift = boundary_shift(span, sig, window, p.fs);
     if shift.is_some_and(|d| !(d <= 0.5 * cfg.mean_uncertainty_tolerance)) {
         rep.flags.push(flags::UNCERTAIN_BOUNDARY.to_string());
     }
-    let mut st = st;
     st.ci95 = iv.half_width_95 + shift.map_or(0.0, |d| d.min(st.std.max(iv.half_width_95)));
-    if matches!(span.cut, Cut::LevelChange | Cut::PlanTiming) {
-        check_one_level(&mut rep, &sig, p, cfg);
-    }
     rep.cof_sem = Some(iv.sem);
     rep.cof_ci95 = Some(st.ci95);
     rep.cof_n_eff = Some(iv.n_eff);
-    rep.masked_samples = st.spikes;
-    rep.stats = Some(st);
-    rep
 }
 
 /// The segment's check against its own signal ([`super::self_check::two_levels`] over
