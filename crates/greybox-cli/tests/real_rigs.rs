@@ -50,7 +50,16 @@ fn identify(file: &str, extra: &[&str]) -> Option<Vec<f64>> {
     ];
     args.extend_from_slice(extra);
     ok(&greybox(&args, d.path()));
-    Some(csv_column(&d.path().join("data.csv"), "cof_apparent"))
+    let data = d.path().join("data.csv");
+    // every value says how sure it is: a finite, non-negative 95 % half-width per row
+    let ci = csv_column(&data, "cof_apparent_ci95");
+    let mu = csv_column(&data, "cof_apparent");
+    assert_eq!(ci.len(), mu.len(), "{file}: an interval per row");
+    for (m, h) in mu.iter().zip(&ci) {
+        assert!(h.is_finite() && *h >= 0.0, "{file}: μ {m} ± {h}");
+        eprintln!("{file}: μ {m:.4} ± {h:.4}");
+    }
+    Some(mu)
 }
 
 fn check(file: &str, extra: &[&str], tol: f64) {

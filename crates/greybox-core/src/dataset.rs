@@ -3,9 +3,13 @@
 //! Columns (units in the names): `pin`, `step`, `normal_force_N` (measured: the mean over
 //! the steady part), `normal_force_planned_N` (empty without a plan), `sliding_velocity_m_per_min`, `hertz_pressure_MPa`
 //! (of the measured force),
-//! `pressure_convention`, `cof_apparent`, `cof_apparent_std`, `n_samples`,
-//! `plateau_start_s`, `plateau_end_s`, `cof_trend_per_s`, `stationary`, `flags`
-//! and, once the ploughing correction has run, `cof_adhesive`.
+//! `pressure_convention`, `cof_apparent`, `cof_apparent_std`, `cof_apparent_ci95` (half-width
+//! of μ's 95 % confidence interval), `n_samples`, `plateau_start_s`, `plateau_end_s`,
+//! `cof_trend_per_s`, `stationary`, `flags`, `label_evidence` (what placed the row on its
+//! step, [`label_evidence`]) and, once the ploughing correction has run, `cof_adhesive`.
+//!
+//! `cof_apparent_ci95` and `label_evidence` are optional when reading (files written before
+//! they existed), empty fields reading as absent.
 //!
 //! Files written before the measured load became `normal_force_N` (they have
 //! `normal_force_measured_N` beside a planned `normal_force_N`) are still read, with the
@@ -52,27 +56,25 @@ impl PressureConvention {
     }
 }
 
-/// Quality flags raised while identifying one plateau.
+/// Quality flags raised while identifying one plateau. A flag is raised only where it changes
+/// what a user should do with the row (docs/recordings.md, "Flags"): how sure μ is, is the
+/// `cof_apparent_ci95` column, not a flag.
 pub mod flags {
-    /// μ drifts within the plateau more than the tolerance.
+    /// μ drifts within the plateau more than the tolerance (and four standard errors): the
+    /// value depends on the window; the interval is widened by the drift.
     pub const TREND: &str = "trend";
     /// Stick-slip: low-frequency oscillation of μ above the threshold.
     pub const STICK_SLIP: &str = "stick-slip";
     /// The end of the spindle ramp could not be confirmed from the signal.
     pub const RAMP_UNCONFIRMED: &str = "ramp-unconfirmed";
-    /// Spikes were removed before averaging.
+    /// The masked spikes matter: μ with them differs from μ without them by more than the
+    /// interval's half-width (the value depends on the spike filter).
     pub const SPIKES_REMOVED: &str = "spikes-removed";
-    /// No unloaded window in the recording: force offsets could not be removed.
-    pub const NO_BASELINE: &str = "no-baseline";
     /// A segment boundary touching this row is weakly determined (the change across it is
     /// comparable to the noise, or the segments contradict the plan's regular timing) AND
     /// its uncertainty reaches into the steady window, moving μ by more than half the
     /// mean-uncertainty tolerance; the identification report gives it in seconds.
     pub const UNCERTAIN_BOUNDARY: &str = "uncertain-boundary";
-    /// The steady window is short against a slow disturbance (e.g. spindle run-out below two
-    /// turns per window): twice the mean's standard error under serial correlation exceeds
-    /// the tolerance, so μ may be off by more than it.
-    pub const UNCERTAIN_MEAN: &str = "uncertain-mean";
     /// A linear reciprocating test (ASTM G133): μ is the mean over the steady cycles of the
     /// forward and backward strokes' mid-stroke μ (sign taken by direction).
     pub const RECIPROCATING: &str = "reciprocating";
@@ -80,6 +82,43 @@ pub mod flags {
     /// (`min_steady_share`): most of the recording was run-in, transitions or dropped, as
     /// its coverage line says.
     pub const LOW_COVERAGE: &str = "low-coverage";
+    /// The row's plan step rests on the order of the segments alone, where something else
+    /// could have happened (an unplanned piece at a file's start, a ramp cut as a step, two
+    /// steps merged): neither a step column, a measured speed, a distinct load nor the plan's
+    /// timing confirms it.
+    pub const LABEL_BY_ORDER: &str = "label-by-order";
+    /// The alignment with the plan had another solution within `ambiguity_margin` of the one
+    /// taken that puts this segment elsewhere: the evidence cannot decide between them.
+    pub const AMBIGUOUS_ALIGNMENT: &str = "ambiguous-alignment";
+    /// The signal contradicts the row's step: μ inside the segment holds two levels (a step
+    /// change the segmentation did not cut), so its steady window may belong to a neighbour.
+    pub const LABEL_CONTRADICTED: &str = "label-contradicted";
+}
+
+/// What placed a dataset row on its plan step (the `label_evidence` column), strongest first.
+pub mod label_evidence {
+    /// The recording's own step column or blocks.
+    pub const STEP_COLUMN: &str = "step-column";
+    /// The plan's timing: a trigger edge and the plan's step times, or the plan's step
+    /// durations cutting a sliding run.
+    pub const PLAN_TIMING: &str = "plan-timing";
+    /// A measured speed channel matched the planned speed.
+    pub const MEASURED_SPEED: &str = "measured-speed";
+    /// The measured load matched the planned load, and no other step of the pin has it.
+    pub const MEASURED_LOAD: &str = "measured-load";
+    /// The segment's duration matched the planned duration (no speed measured, loads alike).
+    pub const DURATION: &str = "duration";
+    /// The order of the segments alone.
+    pub const ORDER: &str = "order";
+    /// Every value, for readers.
+    pub const ALL: [&str; 6] = [
+        STEP_COLUMN,
+        PLAN_TIMING,
+        MEASURED_SPEED,
+        MEASURED_LOAD,
+        DURATION,
+        ORDER,
+    ];
 }
 
 /// One identified friction coefficient (SI units).
@@ -100,6 +139,11 @@ pub struct FrictionRecord {
     pub cof_apparent: f64,
     /// Sample standard deviation of F_t/F_N over the plateau.
     pub cof_apparent_std: f64,
+    /// Half-width of the 95 % confidence interval of `cof_apparent`: the steady window's
+    /// standard error under serial correlation times Student's t at its effective sample
+    /// size, widened by μ's change when the window's ends move by their boundary's
+    /// uncertainty (None: a file written before intervals were reported).
+    pub cof_apparent_ci95: Option<f64>,
     pub n_samples: u64,
     /// Plateau used, seconds after the recording trigger.
     pub plateau_start_s: f64,
@@ -108,6 +152,9 @@ pub struct FrictionRecord {
     pub cof_trend_per_s: f64,
     pub stationary: bool,
     pub flags: Vec<String>,
+    /// What placed the row on its plan step ([`label_evidence`]; None: a file written before
+    /// labels stated their evidence).
+    pub label_evidence: Option<String>,
     /// Adhesive COF after the ploughing correction, if computed.
     pub cof_adhesive: Option<f64>,
 }
@@ -118,7 +165,7 @@ pub struct FrictionDataset {
     pub records: Vec<FrictionRecord>,
 }
 
-const COLUMNS: [&str; 16] = [
+const COLUMNS: [&str; 18] = [
     "pin",
     "step",
     "normal_force_N",
@@ -128,15 +175,24 @@ const COLUMNS: [&str; 16] = [
     "pressure_convention",
     "cof_apparent",
     "cof_apparent_std",
+    "cof_apparent_ci95",
     "n_samples",
     "plateau_start_s",
     "plateau_end_s",
     "cof_trend_per_s",
     "stationary",
     "flags",
+    "label_evidence",
     "cof_adhesive",
 ];
-const OPTIONAL: [&str; 2] = ["normal_force_planned_N", "cof_adhesive"];
+/// Columns a file may lack: the plan's load (no plan), the interval and the label's evidence
+/// (files written before they were reported), the adhesive μ (no ploughing correction yet).
+const OPTIONAL: [&str; 4] = [
+    "normal_force_planned_N",
+    "cof_apparent_ci95",
+    "label_evidence",
+    "cof_adhesive",
+];
 /// The measured-load column of files written before `normal_force_N` became the measured load.
 const LEGACY_MEASURED: &str = "normal_force_measured_N";
 
@@ -170,6 +226,7 @@ impl FrictionDataset {
                 ("hertz_pressure_MPa", r.hertz_pressure_pa),
                 ("cof_apparent", r.cof_apparent),
                 ("cof_apparent_std", r.cof_apparent_std),
+                ("cof_apparent_ci95", r.cof_apparent_ci95.unwrap_or(0.0)),
                 ("plateau_start_s", r.plateau_start_s),
                 ("plateau_end_s", r.plateau_end_s),
                 ("cof_trend_per_s", r.cof_trend_per_s),
@@ -198,7 +255,7 @@ impl FrictionDataset {
         for r in &self.records {
             write!(
                 w,
-                "{},{},{},{},{},{},{},{},{},{},{:.4},{:.4},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{:.4},{:.4},{},{},{},{}",
                 r.pin,
                 r.step,
                 r.normal_force_n,
@@ -209,12 +266,14 @@ impl FrictionDataset {
                 r.pressure_convention.name(),
                 r.cof_apparent,
                 r.cof_apparent_std,
+                r.cof_apparent_ci95.map_or(String::new(), |c| c.to_string()),
                 r.n_samples,
                 r.plateau_start_s,
                 r.plateau_end_s,
                 r.cof_trend_per_s,
                 r.stationary,
                 r.flags.join(";"),
+                r.label_evidence.as_deref().unwrap_or_default(),
             )?;
             if with_adhesive {
                 write!(w, ",{}", r.cof_adhesive.unwrap_or(f64::NAN))?;
@@ -326,6 +385,14 @@ impl Row<'_> {
         Ok(v)
     }
 
+    /// The text of optional column `i`, `None` where the file lacks the column or the
+    /// field is empty.
+    fn optional(&self, i: usize) -> Option<&str> {
+        let i = self.cols.idx[i]?;
+        let t = self.rec.get(i)?.trim();
+        (!t.is_empty()).then_some(t)
+    }
+
     /// The row as a record (fields checked in the order of the file's columns' meaning).
     fn record(&self) -> Result<FrictionRecord> {
         let convention = PressureConvention::parse(self.text(6)).ok_or_else(|| {
@@ -337,29 +404,55 @@ impl Row<'_> {
                 ),
             )
         })?;
-        let stationary = match self.text(13).trim() {
+        let stationary = match self.text(14).trim() {
             "true" => true,
             "false" => false,
             other => {
                 return Err(Error::input(
-                    self.pos(13),
+                    self.pos(14),
                     format!("expected true or false, found '{other}'"),
                 ))
             }
         };
         let flags = self
-            .text(14)
+            .text(15)
             .split(';')
             .map(str::trim)
             .filter(|s| !s.is_empty())
             .map(String::from)
             .collect();
-        let cof_adhesive = match self.cols.idx[15] {
+        let cof_apparent_ci95 = match self.optional(9) {
+            Some(t) => {
+                let v = parse_f64(t, self.source, self.line, COLUMNS[9])?;
+                if v < 0.0 {
+                    return Err(Error::input(
+                        self.pos(9),
+                        format!("a confidence interval's half-width is never negative, found {v}"),
+                    ));
+                }
+                Some(v)
+            }
+            None => None,
+        };
+        let label_evidence = match self.optional(16) {
+            Some(t) if label_evidence::ALL.contains(&t) => Some(t.to_string()),
+            Some(t) => {
+                return Err(Error::input(
+                    self.pos(16),
+                    format!(
+                        "unknown label evidence '{t}'; expected one of {}",
+                        label_evidence::ALL.join(", ")
+                    ),
+                ))
+            }
+            None => None,
+        };
+        let cof_adhesive = match self.cols.idx[17] {
             Some(i) => Some(parse_f64(
                 &self.rec[i],
                 self.source,
                 self.line,
-                COLUMNS[15],
+                COLUMNS[17],
             )?),
             None => None,
         };
@@ -374,12 +467,14 @@ impl Row<'_> {
             pressure_convention: convention,
             cof_apparent: self.f(7)?,
             cof_apparent_std: self.f(8)?,
-            n_samples: self.u(9)?,
-            plateau_start_s: self.f(10)?,
-            plateau_end_s: self.f(11)?,
-            cof_trend_per_s: self.f(12)?,
+            cof_apparent_ci95,
+            n_samples: self.u(10)?,
+            plateau_start_s: self.f(11)?,
+            plateau_end_s: self.f(12)?,
+            cof_trend_per_s: self.f(13)?,
             stationary,
             flags,
+            label_evidence,
             cof_adhesive,
         })
     }
@@ -427,12 +522,14 @@ mod tests {
                 pressure_convention: PressureConvention::ArticleEq7,
                 cof_apparent: 0.41,
                 cof_apparent_std: 0.01,
+                cof_apparent_ci95: Some(0.002),
                 n_samples: 450,
                 plateau_start_s: 2.1,
                 plateau_end_s: 2.55,
                 cof_trend_per_s: 0.001,
                 stationary: true,
                 flags: vec!["spikes-removed".into()],
+                label_evidence: Some(label_evidence::MEASURED_SPEED.into()),
                 cof_adhesive: None,
             }],
         }
@@ -475,6 +572,35 @@ mod tests {
         assert_eq!(back.records[0].normal_force_n, 751.6);
     }
 
+    /// The interval and the label's evidence survive a round trip; a file without them (an
+    /// earlier version's) reads them as absent, and a bad value is named by line and field.
+    #[test]
+    fn interval_and_evidence_are_optional_and_checked() {
+        let mut buf = Vec::new();
+        sample().write_csv_to(&mut buf, false).unwrap();
+        let text = String::from_utf8(buf).unwrap();
+        let back = FrictionDataset::read_csv_from(text.as_bytes(), "t.csv").unwrap();
+        assert_eq!(back.records[0].cof_apparent_ci95, Some(0.002));
+        assert_eq!(
+            back.records[0].label_evidence.as_deref(),
+            Some("measured-speed")
+        );
+        let old = "pin,step,normal_force_N,sliding_velocity_m_per_min,hertz_pressure_MPa,pressure_convention,cof_apparent,cof_apparent_std,n_samples,plateau_start_s,plateau_end_s,cof_trend_per_s,stationary,flags\n1,1,150,20,914,article-eq7,0.4,0.01,400,2.1,2.5,0.0,true,\n";
+        let d = FrictionDataset::read_csv_from(old.as_bytes(), "old.csv").unwrap();
+        assert_eq!(d.records[0].cof_apparent_ci95, None);
+        assert_eq!(d.records[0].label_evidence, None);
+        let e = err_of(&text.replace("measured-speed", "guesswork"));
+        assert!(
+            e.contains("line 2") && e.contains("label_evidence") && e.contains("guesswork"),
+            "{e}"
+        );
+        let e = err_of(&text.replace(",0.002,", ",-0.002,"));
+        assert!(
+            e.contains("cof_apparent_ci95") && e.contains("never negative"),
+            "{e}"
+        );
+    }
+
     fn err_of(text: &str) -> String {
         FrictionDataset::read_csv_from(text.as_bytes(), "t.csv")
             .unwrap_err()
@@ -502,7 +628,7 @@ mod tests {
         assert!(e.contains("unknown pressure convention"), "{e}");
         let e = err_of(&format!("{good}1,2\n"));
         assert!(
-            e.contains("line 3") && e.contains("expected 15 fields"),
+            e.contains("line 3") && e.contains("expected 17 fields"),
             "{e}"
         );
     }

@@ -43,6 +43,10 @@ pub(crate) struct Candidate {
     pub first_in_file: bool,
     /// μ was still running in or drifting over the segment.
     pub running_in: bool,
+    /// The segment's boundaries come from the recording's step column or blocks.
+    pub step_column: bool,
+    /// The segment's boundaries come from the plan's step durations.
+    pub plan_timed: bool,
 }
 
 /// What each segment became.
@@ -136,15 +140,15 @@ enum Move {
     Start,
 }
 
-/// Align `segs` (in their order) with `steps`; `free_ends`: steps before the first and after
-/// the last pairing cost nothing (placing one file against the whole plan). Returns the
-/// total cost and, per segment, what it became (step indices into `steps`).
-fn align_sequence(
+/// The forward table of the alignment of `segs` with `steps`: `cost[i·(m+1) + j]` the least
+/// cost of aligning the first i segments with the first j steps, and the move that reached
+/// each cell; `free_ends`: steps before the first pairing cost nothing.
+fn forward(
     segs: &[Candidate],
     steps: &[ExpectedStep],
     costs: &Costs,
     free_ends: bool,
-) -> (f64, Vec<Assigned>) {
+) -> (Vec<f64>, Vec<Move>) {
     let (n, m) = (segs.len(), steps.len());
     let w = m + 1;
     let mut cost = vec![f64::INFINITY; (n + 1) * w];
@@ -186,6 +190,51 @@ fn align_sequence(
             back[i * w + j] = best.1;
         }
     }
+    (cost, back)
+}
+
+/// The backward table: `cost[i·(m+1) + j]` the least cost of aligning the segments from i on
+/// with the steps from j on (every step consumed), by the same moves as [`forward`].
+fn backward(segs: &[Candidate], steps: &[ExpectedStep], costs: &Costs) -> Vec<f64> {
+    let (n, m) = (segs.len(), steps.len());
+    let w = m + 1;
+    let mut cost = vec![f64::INFINITY; (n + 1) * w];
+    for j in (0..=m).rev() {
+        cost[n * w + j] = (m - j) as f64 * costs.missing();
+    }
+    for i in (0..n).rev() {
+        let s = &segs[i];
+        for j in (0..=m).rev() {
+            let mut best = cost[(i + 1) * w + j] + costs.extra(s);
+            if j < m {
+                best = best.min(cost[i * w + j + 1] + costs.missing());
+                if let Some(c) = costs.pair(s, &steps[j], None) {
+                    best = best.min(cost[(i + 1) * w + j + 1] + c);
+                }
+            }
+            if j + 1 < m {
+                if let Some(c) = costs.merged(s, &steps[j], &steps[j + 1]) {
+                    best = best.min(cost[(i + 1) * w + j + 2] + c);
+                }
+            }
+            cost[i * w + j] = best;
+        }
+    }
+    cost
+}
+
+/// Align `segs` (in their order) with `steps`; `free_ends`: steps before the first and after
+/// the last pairing cost nothing (placing one file against the whole plan). Returns the
+/// total cost and, per segment, what it became (step indices into `steps`).
+fn align_sequence(
+    segs: &[Candidate],
+    steps: &[ExpectedStep],
+    costs: &Costs,
+    free_ends: bool,
+) -> (f64, Vec<Assigned>) {
+    let (n, m) = (segs.len(), steps.len());
+    let w = m + 1;
+    let (cost, back) = forward(segs, steps, costs, free_ends);
     // the end: all steps consumed, or (free ends) wherever the last pairing left off
     let mut j = m;
     if free_ends {
@@ -224,10 +273,100 @@ fn align_sequence(
     (total, out)
 }
 
+/// Per segment of a full alignment (`assigned`, every step consumed), whether another
+/// alignment costing less than `margin` more than the best places it elsewhere (another step
+/// for its row, or no step): the least total cost of each other outcome of segment i is
+/// forward(i, j) + the move's cost + backward(after the move), over every j.
+fn ambiguous(
+    segs: &[Candidate],
+    steps: &[ExpectedStep],
+    costs: &Costs,
+    assigned: &[Assigned],
+    margin: f64,
+) -> Vec<bool> {
+    let (n, m) = (segs.len(), steps.len());
+    let w = m + 1;
+    let (fwd, _) = forward(segs, steps, costs, false);
+    let bwd = backward(segs, steps, costs);
+    let best = fwd[n * w + m];
+    let row_of = |a: Assigned| match a {
+        Assigned::Step(e) | Assigned::Merged { later: e, .. } => Some(e),
+        Assigned::Extra => None,
+    };
+    (0..n)
+        .map(|i| {
+            let s = &segs[i];
+            let own = row_of(assigned[i]);
+            let mut alt = f64::INFINITY;
+            for j in 0..=m {
+                let f = fwd[i * w + j];
+                if !f.is_finite() {
+                    continue;
+                }
+                if own.is_some() {
+                    alt = alt.min(f + costs.extra(s) + bwd[(i + 1) * w + j]);
+                }
+                if j < m && own != Some(j) {
+                    if let Some(c) = costs.pair(s, &steps[j], None) {
+                        alt = alt.min(f + c + bwd[(i + 1) * w + j + 1]);
+                    }
+                }
+                if j + 1 < m && own != Some(j + 1) {
+                    if let Some(c) = costs.merged(s, &steps[j], &steps[j + 1]) {
+                        alt = alt.min(f + c + bwd[(i + 1) * w + j + 2]);
+                    }
+                }
+            }
+            alt - best < margin
+        })
+        .collect()
+}
+
+/// What a pairing of segment `s` with step `steps[e]` rests on
+/// ([`greybox_core::dataset::label_evidence`]), strongest first: the recording's step
+/// column, the plan's timing, a measured speed, a load no other planned step has, a duration
+/// no other planned step at that load fits, else the order alone.
+pub(crate) fn evidence(
+    s: &Candidate,
+    e: usize,
+    steps: &[ExpectedStep],
+    cfg: &IdentifyConfig,
+) -> &'static str {
+    use greybox_core::dataset::label_evidence as ev;
+    let costs = Costs { cfg };
+    let others = || steps.iter().enumerate().filter(move |(k, _)| *k != e);
+    let load_only = Candidate {
+        velocity_m_s: None,
+        ..*s
+    };
+    let no_duration = |x: &ExpectedStep| ExpectedStep {
+        duration_s: None,
+        ..x.clone()
+    };
+    if s.step_column {
+        ev::STEP_COLUMN
+    } else if s.plan_timed {
+        ev::PLAN_TIMING
+    } else if s.velocity_m_s.is_some() {
+        ev::MEASURED_SPEED
+    } else if others().all(|(_, x)| costs.pair(&load_only, &no_duration(x), None).is_none()) {
+        ev::MEASURED_LOAD
+    } else if steps[e].duration_s.is_some()
+        && others().all(|(_, x)| costs.pair(&load_only, x, None).is_none())
+    {
+        ev::DURATION
+    } else {
+        ev::ORDER
+    }
+}
+
 /// The alignment of a campaign's segments with its plan.
 pub(crate) struct Alignment {
     /// Per segment (in the order given).
     pub assigned: Vec<Assigned>,
+    /// Per segment: another alignment within `ambiguity_margin` of the best places it
+    /// elsewhere.
+    pub ambiguous: Vec<bool>,
     /// Files, as indices, in the order they were aligned (plan order).
     pub file_order: Vec<usize>,
 }
@@ -276,13 +415,17 @@ pub(crate) fn align(
     }
     let sorted: Vec<Candidate> = order.iter().map(|i| segs[*i]).collect();
     let (_, a) = align_sequence(&sorted, steps, &costs, false);
+    let near = ambiguous(&sorted, steps, &costs, &a, cfg.ambiguity_margin);
     let mut assigned = vec![Assigned::Extra; segs.len()];
+    let mut ambiguous_seg = vec![false; segs.len()];
     for (k, i) in order.iter().enumerate() {
         assigned[*i] = a[k];
+        ambiguous_seg[*i] = near[k];
     }
     pair_reordered(segs, steps, &costs, &mut assigned);
     Ok(Alignment {
         assigned,
+        ambiguous: ambiguous_seg,
         file_order,
     })
 }
@@ -349,6 +492,8 @@ mod tests {
             duration_s: d,
             first_in_file: first,
             running_in: false,
+            step_column: false,
+            plan_timed: false,
         }
     }
 

@@ -1,7 +1,8 @@
 //! Every sample accounted for: how a file's sliding time was used.
 //!
 //! The sliding time of a file (loaded and sliding, [`crate::sliding`]) is divided into
-//! * **steady**: the steady windows that gave rows;
+//! * **steady**: the steady windows that gave rows, less
+//! * **masked**: their samples masked as spikes (Hampel), which no row averages;
 //! * **run-in**: from a row's segment start to the end of its run-in (`auto` rule);
 //! * **dropped**: segments that gave no row, each with its reason (no steady part, shorter
 //!   than `min_segment_s`, no planned step matched, merged into the next step);
@@ -27,6 +28,8 @@ pub struct Dropped {
 pub struct Coverage {
     pub sliding_s: f64,
     pub steady_s: f64,
+    /// Samples inside the steady windows masked as spikes, s (not in `steady_s`).
+    pub masked_s: f64,
     pub run_in_s: f64,
     pub transitions_s: f64,
     pub dropped_s: f64,
@@ -40,25 +43,29 @@ pub(crate) struct SegmentTime {
     pub end_s: f64,
     pub steady_s: f64,
     pub run_in_s: f64,
+    /// Of the steady window, the time masked as spikes, s.
+    pub masked_s: f64,
 }
 
 impl Coverage {
     /// The coverage of `sliding_s` seconds of sliding by the segments that gave rows and
     /// those dropped (with their reasons).
     pub(crate) fn of(sliding_s: f64, rows: &[SegmentTime], dropped: Vec<Dropped>) -> Coverage {
-        let steady_s: f64 = rows.iter().map(|r| r.steady_s).sum();
+        let masked_s: f64 = rows.iter().map(|r| r.masked_s.min(r.steady_s)).sum();
+        let steady_s: f64 = rows.iter().map(|r| r.steady_s).sum::<f64>() - masked_s;
         let run_in_s: f64 = rows
             .iter()
             .map(|r| r.run_in_s.clamp(0.0, r.end_s - r.start_s))
             .sum();
         let dropped_s: f64 = dropped.iter().map(|d| d.seconds).sum();
         // the segments may hold a few non-sliding samples: the whole is at least their sum
-        let sliding_s = sliding_s.max(steady_s + run_in_s + dropped_s);
+        let sliding_s = sliding_s.max(steady_s + masked_s + run_in_s + dropped_s);
         Coverage {
             sliding_s,
             steady_s,
+            masked_s,
             run_in_s,
-            transitions_s: (sliding_s - steady_s - run_in_s - dropped_s).max(0.0),
+            transitions_s: (sliding_s - steady_s - masked_s - run_in_s - dropped_s).max(0.0),
             dropped_s,
             dropped,
         }
@@ -73,7 +80,8 @@ impl Coverage {
         }
     }
 
-    /// `steady 62 % · run-in 8 % · transitions 27 % · dropped 3 % of 1200.0 s sliding`.
+    /// `steady 62 % · run-in 8 % · transitions 27 % · dropped 3 % of 1200.0 s sliding`, with
+    /// `masked 1 %` after the steady share where spikes were masked.
     pub fn line(&self) -> String {
         let pct = |x: f64| {
             if self.sliding_s > 0.0 {
@@ -82,8 +90,13 @@ impl Coverage {
                 0.0
             }
         };
+        let masked = if self.masked_s > 0.0 {
+            format!(" · masked {:.0} %", pct(self.masked_s))
+        } else {
+            String::new()
+        };
         format!(
-            "steady {:.0} % · run-in {:.0} % · transitions {:.0} % · dropped {:.0} % of {:.1} s sliding",
+            "steady {:.0} %{masked} · run-in {:.0} % · transitions {:.0} % · dropped {:.0} % of {:.1} s sliding",
             pct(self.steady_s),
             pct(self.run_in_s),
             pct(self.transitions_s),
@@ -112,6 +125,7 @@ mod tests {
             end_s: 100.0,
             steady_s: 60.0,
             run_in_s: 20.0,
+            masked_s: 0.0,
         }];
         let dropped = vec![Dropped {
             what: "segment 2".into(),

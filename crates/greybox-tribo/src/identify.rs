@@ -480,6 +480,7 @@ fn measure_plateaus(
                 planned_n: Some(s.normal_force_n),
                 velocity_m_s: s.sliding_velocity_m_s,
                 flags,
+                label_evidence: Some(greybox_core::dataset::label_evidence::PLAN_TIMING),
             },
         )?);
     }

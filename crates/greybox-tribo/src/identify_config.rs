@@ -211,7 +211,7 @@ pub struct IdentifyConfig {
     pub segmentation: Segmentation,
     /// A sample is loaded above the unloaded level plus this share of the loaded range (0.04).
     pub loaded_fraction: f64,
-    /// Without a measured speed channel, a loaded block slides when its μ, averaged over the
+    /// Without a measured speed channel, a loaded block slides when its μ, smoothed (running median) over the
     /// rig's period and `sliding_smoothing_s`, exceeds this share of that smoothed μ's 75th
     /// percentile over the loaded blocks (0.25; see [`crate::sliding`]).
     pub sliding_fraction: f64,
@@ -253,9 +253,13 @@ pub struct IdentifyConfig {
     /// Which part of a segment gives its steady value (`auto`: after run-in, see
     /// [`SteadyRule`]).
     pub steady: SteadyRule,
-    /// A row whose μ has a 95 % half-width (twice the standard error of the mean under
-    /// serial correlation) above this is flagged `uncertain-mean` (0.003).
+    /// How far μ may move when a weakly determined boundary's uncertainty is cut from the
+    /// steady window before the row is flagged `uncertain-boundary`: half of this (0.003).
     pub mean_uncertainty_tolerance: f64,
+    /// Plan alignment: another alignment within this cost of the best one (in units of a
+    /// pairing at the edge of every tolerance) that places a segment elsewhere makes its row
+    /// `ambiguous-alignment` (0.2; see [`crate::align`]).
+    pub ambiguity_margin: f64,
     /// How the rig ran its tests (`None`: from the rig profile and the signal; see
     /// [`crate::reciprocating`]). `reciprocating` identifies strokes instead of plateaus.
     pub mode: Option<TestMode>,
@@ -294,6 +298,7 @@ impl Default for IdentifyConfig {
             min_steady_share: 0.25,
             steady: SteadyRule::Auto,
             mean_uncertainty_tolerance: 0.003,
+            ambiguity_margin: 0.2,
             mode: None,
         }
     }

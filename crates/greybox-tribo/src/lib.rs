@@ -36,4 +36,5 @@ pub mod steady;
 pub mod synth;
 pub mod synth_recip;
 pub mod tdms;
+pub mod uncertainty;
 pub mod wear;

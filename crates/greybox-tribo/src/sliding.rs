@@ -6,7 +6,7 @@
 //!   is above rest ([`speed_rest_level`]: `speed_rest_fraction` of the channel's largest
 //!   block speed, or five times its block-to-block noise if that is more).
 //! * **Without one**, the friction coefficient μ = F_t/F_N of the loaded blocks (10 ms block
-//!   medians) is first averaged over the rig's own period — the revolution of a disc or the
+//!   medians) is first smoothed (a running median) over the rig's own period — the revolution of a disc or the
 //!   stroke of a reciprocating rig, found as the dominant lag of μ's autocorrelation
 //!   ([`crate::signal::dominant_period`], up to `max_period_s`) — and over at least
 //!   `sliding_smoothing_s`. Averaging over exactly one period removes once-per-revolution
@@ -22,7 +22,7 @@
 
 use crate::identify::IdentifyConfig;
 use crate::recording::SpeedTrace;
-use crate::signal::{dominant_period, median, moving_average};
+use crate::signal::{dominant_period, median};
 use serde::Serialize;
 
 /// What decided which loaded samples slide.
@@ -174,12 +174,14 @@ fn friction_period(mu: &[f64], blocks: &Blocks, cfg: &IdentifyConfig) -> Option<
     dominant_period(&loaded, max_lag, cfg.period_min_correlation)
 }
 
-/// Centred moving average of `x` over `w` blocks within each loaded run (unloaded blocks
-/// neither contribute nor receive a value: they stay 0).
+/// Centred running median of `x` over `w` blocks within each loaded run (unloaded blocks
+/// neither contribute nor receive a value: they stay 0). A median, not a mean: one sample of
+/// a heavy-tailed noise (or a spike) far below zero must not make a sliding stretch look
+/// stopped, and a once-per-revolution dip shorter than half the period is outvoted.
 fn smooth_loaded(x: &[f64], loaded: &[bool], w: usize) -> Vec<f64> {
     let mut out = vec![0.0; x.len()];
     for (a, e) in crate::signal::runs(loaded) {
-        let s = moving_average(&x[a..e], w);
+        let s = crate::signal::running_median(&x[a..e], w / 2);
         out[a..e].copy_from_slice(&s);
     }
     out

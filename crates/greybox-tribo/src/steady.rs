@@ -8,6 +8,7 @@ use crate::identify_config::{IdentifyConfig, SteadyRule};
 use crate::signal::{
     hampel_outliers, linear_fit, mad_sigma, mean_std, median, moving_average, running_median,
 };
+use crate::uncertainty::MeanInterval;
 use greybox_core::dataset::flags;
 
 /// The friction signal of one window of samples `[i, j)`.
@@ -245,39 +246,7 @@ pub fn rule_span(
     Ok(Some((a, n)))
 }
 
-/// Standard error of the mean of `x` under serial correlation: the variance of the mean is
-/// σ²·τ/n with the integrated autocorrelation time τ = 1 + 2 Σ ρ_k summed while ρ_k stays
-/// positive (Geyer 1992, "Practical Markov chain Monte Carlo", initial positive sequence),
-/// over means of blocks of n/256 samples (so long windows stay cheap). A periodic disturbance
-/// slower than the window (spindle run-out at low speed) leaves a large τ and so a large
-/// error, where white noise leaves τ ≈ 1.
-pub fn mean_standard_error(x: &[f64]) -> f64 {
-    let n = x.len();
-    if n < 4 {
-        return f64::INFINITY;
-    }
-    let m = (n / 256).max(1);
-    let y: Vec<f64> = x
-        .chunks(m)
-        .map(|c| c.iter().sum::<f64>() / c.len() as f64)
-        .collect();
-    let nb = y.len();
-    let mean = y.iter().sum::<f64>() / nb as f64;
-    let r: Vec<f64> = y.iter().map(|v| v - mean).collect();
-    let c0 = r.iter().map(|v| v * v).sum::<f64>();
-    if c0 <= 0.0 {
-        return 0.0;
-    }
-    let mut tau = 1.0;
-    for lag in 1..nb / 2 {
-        let rho = r.iter().zip(&r[lag..]).map(|(a, b)| a * b).sum::<f64>() / c0;
-        if rho <= 0.0 {
-            break;
-        }
-        tau += 2.0 * rho;
-    }
-    (c0 / nb as f64 * tau / nb as f64).sqrt()
-}
+pub use crate::uncertainty::mean_standard_error;
 
 /// Statistics of one plateau.
 #[derive(Debug, Clone, PartialEq)]
@@ -292,7 +261,14 @@ pub struct PlateauStats {
     pub stationary: bool,
     /// `trend`, `stick-slip`, `spikes-removed` as found.
     pub flags: Vec<String>,
+    /// Samples of the window masked as spikes.
     pub spikes: usize,
+    /// μ's mean over the window with its uncertainty under serial correlation
+    /// ([`crate::uncertainty::MeanInterval`]).
+    pub interval: MeanInterval,
+    /// Half-width of μ's 95 % interval, as reported: the window's own
+    /// (`interval.half_width_95`), widened where the window's boundaries are uncertain.
+    pub ci95: f64,
     /// Mean measured normal force over the samples used, N.
     pub normal_force_n: f64,
 }
@@ -305,6 +281,8 @@ pub struct PlateauPlace {
     pub planned_n: Option<f64>,
     pub velocity_m_s: f64,
     pub flags: Vec<String>,
+    /// What placed the row on its step ([`greybox_core::dataset::label_evidence`]).
+    pub label_evidence: Option<&'static str>,
 }
 
 impl PlateauStats {
@@ -325,22 +303,27 @@ impl PlateauStats {
             pressure_convention: contact.convention,
             cof_apparent: self.mean,
             cof_apparent_std: self.std,
+            cof_apparent_ci95: Some(self.ci95),
             n_samples: self.n_samples as u64,
             plateau_start_s: self.start_s,
             plateau_end_s: self.end_s,
             cof_trend_per_s: self.trend_per_s,
             stationary: self.stationary,
             flags: at.flags,
+            label_evidence: at.label_evidence.map(String::from),
             cof_adhesive: None,
         })
     }
 }
 
 /// Statistics over the window-relative samples `[pi, pj)` of `sig`: mean and standard
-/// deviation of F_t/F_N over the unmasked samples, linear trend (flag `trend` when the
-/// change over the plateau exceeds the tolerance and four standard errors), peak-to-peak of
-/// the smoothed, detrended μ (flag `stick-slip`). `None` when fewer than
-/// `min_plateau_samples` unmasked samples remain.
+/// deviation of F_t/F_N over the unmasked samples, the mean's 95 % interval under serial
+/// correlation ([`MeanInterval`]; a drift inflates it, as slow correlated content), linear
+/// trend (flag `trend` when the change over the plateau exceeds the tolerance and four
+/// standard errors), peak-to-peak of the smoothed, detrended μ (flag `stick-slip`), and
+/// whether the masked spikes matter (flag `spikes-removed` when μ with them differs by more
+/// than the interval's half-width). `None` when fewer than `min_plateau_samples` unmasked
+/// samples remain.
 pub fn plateau_stats(
     time: &[f64],
     fn_c: &[f64],
@@ -360,10 +343,11 @@ pub fn plateau_stats(
     }
     let spikes = (pi..pj).filter(|k| !sig.good[*k]).count();
     let mut fl = Vec::new();
-    if spikes > 0 {
+    let vals: Vec<f64> = idx.iter().map(|k| sig.mu[*k]).collect();
+    let interval = MeanInterval::of(&vals)?;
+    if spikes > 0 && spikes_matter(&sig.mu[pi..pj], interval) {
         fl.push(flags::SPIKES_REMOVED.to_string());
     }
-    let vals: Vec<f64> = idx.iter().map(|k| sig.mu[*k]).collect();
     let times: Vec<f64> = idx.iter().map(|k| time[i + k] - t_ref).collect();
     let (mean, std) = mean_std(&vals);
     let (_, slope, se) = linear_fit(&times, &vals);
@@ -403,6 +387,17 @@ pub fn plateau_stats(
         stationary: !trend && !stick,
         flags: fl,
         spikes,
+        interval,
+        ci95: interval.half_width_95,
         normal_force_n: f_meas,
     })
+}
+
+/// Whether masking changed μ by more than its interval: the mean of every finite sample of
+/// the window `all` against the interval's mean (a spike that would move μ is worth a look;
+/// a few masked blips that do not are noise the filter handled).
+fn spikes_matter(all: &[f64], interval: MeanInterval) -> bool {
+    let finite: Vec<f64> = all.iter().copied().filter(|v| v.is_finite()).collect();
+    let with = finite.iter().sum::<f64>() / finite.len().max(1) as f64;
+    !((with - interval.mean).abs() <= interval.half_width_95)
 }

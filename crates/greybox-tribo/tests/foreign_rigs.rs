@@ -156,11 +156,17 @@ fn lathe_rig_with_a_plan_and_no_speed_channel() {
         .files
         .iter()
         .all(|f| f.tangential_sign_flipped && f.baseline == "none"));
+    // no unloaded window: a warning of each file (a file-wide fact), not a flag of each row
     assert!(id
-        .dataset
-        .records
+        .files
         .iter()
-        .all(|r| r.flags.iter().any(|f| f == "no-baseline")));
+        .all(|f| f.warnings.iter().any(|w| w.contains("no unloaded window"))));
+    // nothing but the order places a step among a pin's steps at one load: every row says so
+    assert!(id.dataset.records.iter().all(|r| {
+        r.label_evidence.as_deref() == Some("order")
+            && r.flags.iter().any(|f| f == "label-by-order")
+    }));
+    assert_eq!(id.matching.labels_by_order, id.dataset.records.len());
     check_against_plan(&id, &truth, 0.003);
 }
 

@@ -100,8 +100,10 @@ pub fn all_rows_table(ds: &FrictionDataset) -> String {
         "v [m/min]",
         "p_H [MPa]",
         "COF",
+        "±95%",
         "std",
         "n",
+        "label",
         "flags",
     ]);
     for r in &ds.records {
@@ -112,8 +114,11 @@ pub fn all_rows_table(ds: &FrictionDataset) -> String {
             format!("{:.1}", units::m_per_s_to_m_per_min(r.sliding_velocity_m_s)),
             format!("{:.1}", r.hertz_pressure_pa / units::PA_PER_MPA),
             format!("{:.4}", r.cof_apparent),
+            r.cof_apparent_ci95
+                .map_or("-".into(), |c| format!("{c:.4}")),
             format!("{:.4}", r.cof_apparent_std),
             r.n_samples.to_string(),
+            r.label_evidence.clone().unwrap_or_else(|| "-".into()),
             r.flags.join(";"),
         ]);
     }
@@ -200,8 +205,9 @@ fn found_line(f: &FileReport) -> String {
     s
 }
 
-/// A file's segments, one row each: times, load, speed, steady window, run-in, drift, μ,
-/// flags and the planned step it matched.
+/// A file's segments, one row each: times, load, speed, steady window, run-in, drift, μ with
+/// its 95 % half-width, flags and the planned step it matched with the label's evidence;
+/// below the table, what a segment's own signal says against its cut.
 fn segments_table(f: &FileReport) -> String {
     let mut t = Table::new(&[
         "seg",
@@ -213,7 +219,7 @@ fn segments_table(f: &FileReport) -> String {
         "steady [s]",
         "run-in [s]",
         "drift [1/h]",
-        "COF",
+        "COF ±95%",
         "flags",
         "plan",
     ]);
@@ -232,17 +238,33 @@ fn segments_table(f: &FileReport) -> String {
             },
             g.run_in_s.map_or("-".into(), |r| format!("{r:.1}")),
             g.drift_per_hour.map_or("-".into(), |d| format!("{d:+.4}")),
-            g.cof.map_or("-".into(), |c| format!("{c:.4}")),
+            match (g.cof, g.cof_ci95) {
+                (Some(c), Some(h)) => format!("{c:.4} ±{h:.4}"),
+                (Some(c), None) => format!("{c:.4}"),
+                _ => "-".into(),
+            },
             match (&g.problem, g.boundary_uncertainty_s) {
                 (Some(p), _) => p.clone(),
                 (None, Some(u)) => format!("{} (boundary ±{u:.3} s)", g.flags.join(";")),
                 (None, None) => g.flags.join(";"),
             },
-            g.matched
-                .map_or("-".into(), |(p, k)| format!("pin {p} step {k}")),
+            g.matched.map_or("-".into(), |(p, k)| {
+                format!(
+                    "pin {p} step {k}{}",
+                    g.label_evidence
+                        .as_deref()
+                        .map_or(String::new(), |e| format!(" ({e})"))
+                )
+            }),
         ]);
     }
-    t.render()
+    let mut s = t.render();
+    for g in &f.segments {
+        if let Some(c) = &g.contradiction {
+            let _ = writeln!(s, "   segment {}: {c}", g.index);
+        }
+    }
+    s
 }
 
 /// How segments were matched to the plan, with what is missing, extra or reordered.
@@ -258,6 +280,16 @@ pub fn matching_text(m: &MatchReport) -> String {
         for item in list {
             let _ = writeln!(s, "   {what}: {item}");
         }
+    }
+    if m.labels_by_order > 0 {
+        let _ = writeln!(
+            s,
+            "   label-by-order: {} row(s) placed on their step by the order of the segments alone (no step column, measured speed, distinct load or plan timing confirms them)",
+            m.labels_by_order
+        );
+    }
+    for item in &m.ambiguous {
+        let _ = writeln!(s, "   ambiguous: {item}");
     }
     s
 }

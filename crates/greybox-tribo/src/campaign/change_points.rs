@@ -1,7 +1,7 @@
 //! Change points of μ inside a sliding run: a least-squares split into a known number of steps, a
 //! penalised split without one, the plan's timing, and the uncertainty of each boundary.
 
-use super::prepare::{Prepared, Span};
+use super::prepare::{Cut, Prepared, Span};
 use crate::expected::ExpectedStep;
 use crate::identify::IdentifyConfig;
 use crate::signal::{mad_sigma, median};
@@ -45,6 +45,26 @@ pub(super) fn split_residuals(x: &[f64], bounds: &[usize]) -> Vec<f64> {
     for w in edges.windows(2) {
         let piece = &x[w[0]..w[1]];
         let m = piece.iter().sum::<f64>() / piece.len().max(1) as f64;
+        resid.extend(piece.iter().map(|v| v - m));
+    }
+    resid
+}
+
+/// Residuals of `x` about the medians of its pieces split at `bounds`, over each piece's
+/// middle half only: the disturbance inside the steps, without the ramps and settling at
+/// their ends (which are transitions, not noise).
+pub(super) fn inner_residuals(x: &[f64], bounds: &[usize]) -> Vec<f64> {
+    let mut edges = vec![0];
+    edges.extend_from_slice(bounds);
+    edges.push(x.len());
+    let mut resid = Vec::with_capacity(x.len() / 2);
+    for w in edges.windows(2) {
+        let (a, b) = (w[0] + (w[1] - w[0]) / 4, w[1] - (w[1] - w[0]) / 4);
+        if b <= a {
+            continue;
+        }
+        let piece = &x[a..b];
+        let m = median(piece);
         resid.extend(piece.iter().map(|v| v - m));
     }
     resid
@@ -213,8 +233,9 @@ pub(super) fn split_run(
     let block_s = b as f64 / p.fs;
     let durations: Option<Vec<f64>> = steps.and_then(|s| s.iter().map(|e| e.duration_s).collect());
     if let Some(d) = durations.filter(|d| d.len() > 1) {
-        let bounds = timed_bounds(&all_blocks, &d, block_s);
-        return Ok(spans_at(run, &bounds, b, &[], 0.0));
+        let (bounds, unc_blocks) = timed_bounds(&all_blocks, &d, block_s);
+        let unc = vec![unc_blocks as f64 * block_s; bounds.len()];
+        return Ok(spans_at(run, &bounds, b, &unc, 0.0, Cut::PlanTiming));
     }
     // the spindle's run-up and run-down and the run-in at the ends of a run are no steps
     let (ta, tb) = trim_transients(&all_blocks);
@@ -242,19 +263,25 @@ pub(super) fn split_run(
     let unc = weak_boundaries(blocks, &bounds, k.is_some(), block_s);
     // the run's disturbance (noise and slow periodic parts such as run-out) as the standard
     // error of a mean over one second: SE(T) = run_sem / √T
-    let resid = split_residuals(blocks, &bounds);
+    let resid = inner_residuals(blocks, &bounds);
     let run_sem = mean_standard_error(&resid) * (resid.len() as f64 * block_s).sqrt();
-    Ok(spans_at(run, &bounds, b, &unc, run_sem))
+    let cut = if bounds.is_empty() {
+        Cut::Run
+    } else {
+        Cut::LevelChange
+    };
+    Ok(spans_at(run, &bounds, b, &unc, run_sem, cut))
 }
 
-/// The spans of `run` cut at block `bounds` (`b` samples a block), with each boundary's
-/// uncertainty (s, none: sharp) and the run's disturbance.
+/// The spans of `run` cut at block `bounds` (`b` samples a block) by `cut`, with each
+/// boundary's uncertainty (s, none: sharp) and the run's disturbance.
 pub(super) fn spans_at(
     run: Span,
     bounds: &[usize],
     b: usize,
     unc: &[f64],
     run_sem: f64,
+    cut: Cut,
 ) -> Vec<Span> {
     let mut edges = vec![run.i];
     edges.extend(bounds.iter().map(|c| (run.i + c * b).min(run.j)));
@@ -264,7 +291,7 @@ pub(super) fn spans_at(
         .enumerate()
         .filter(|(_, w)| w[1] > w[0])
         .map(|(s, w)| {
-            let mut span = Span::new(w[0], w[1], None);
+            let mut span = Span::new(w[0], w[1], None).by(cut);
             span.run_sem = run_sem;
             span.unc = (
                 s.checked_sub(1)
@@ -280,11 +307,17 @@ pub(super) fn spans_at(
 
 /// Step boundaries (in blocks of `block_s` s) from the plan's step durations: the planned
 /// boundaries shifted by the offset, within the difference between the run's length and the
-/// plan's, that best fits μ as a constant per piece (least squares over prefix sums). A run
+/// plan's, that best fits μ as a constant per planned step (least squares over prefix sums;
+/// the surplus outside the planned steps is not counted, being unplanned). A run
 /// longer than planned (an unplanned run-in before the first step, a late stop) gets the
 /// surplus as a piece of its own, which the alignment then leaves unmatched, instead of
 /// shifting every step's label.
-pub(super) fn timed_bounds(blocks: &[f64], durations: &[f64], block_s: f64) -> Vec<usize> {
+///
+/// With the boundaries, their uncertainty in blocks: the farthest offset whose cost lies
+/// within χ²₁(95 %) noise variances of the best (the likelihood-ratio set of the one shared
+/// offset, as [`boundary_uncertainty`] does per boundary; the noise variance inflated for
+/// the residuals' lag-1 correlation), at least one block (the blocks' own granularity).
+pub(super) fn timed_bounds(blocks: &[f64], durations: &[f64], block_s: f64) -> (Vec<usize>, usize) {
     let n = blocks.len();
     let planned: Vec<f64> = std::iter::once(0.0)
         .chain(durations.iter().scan(0.0, |t, d| {
@@ -306,17 +339,33 @@ pub(super) fn timed_bounds(blocks: &[f64], durations: &[f64], block_s: f64) -> V
         e.dedup();
         e
     };
-    let cost = |bounds: &[usize]| {
-        let edges: Vec<usize> = std::iter::once(0)
-            .chain(bounds.iter().copied())
-            .chain(std::iter::once(n))
+    // the planned steps' cost only: the surplus before and after them (the same number of
+    // blocks whatever the offset) is unplanned material, free to hold anything (a run-in's
+    // first, largest deviations would otherwise pull the plan onto it)
+    let planned_cost = |off: i64| {
+        let edges: Vec<usize> = planned
+            .iter()
+            .map(|c| (c + off as f64).round().clamp(0.0, n as f64) as usize)
             .collect();
         edges.windows(2).map(|w| sums.cost(w[0], w[1])).sum::<f64>()
     };
     let best = (lo..=hi)
-        .min_by(|a, b| cost(&at(*a)).total_cmp(&cost(&at(*b))))
+        .min_by(|a, b| planned_cost(*a).total_cmp(&planned_cost(*b)))
         .unwrap_or(0);
-    at(best)
+    let bounds = at(best);
+    let resid = split_residuals(blocks, &bounds);
+    let ss: f64 = resid.iter().map(|r| r * r).sum();
+    let var = ss / n.saturating_sub(bounds.len() + 1).max(1) as f64;
+    let rho =
+        (resid.windows(2).map(|w| w[0] * w[1]).sum::<f64>() / ss.max(1e-300)).clamp(0.0, 0.95);
+    let threshold = planned_cost(best) + CHI2_1_95 * var * (1.0 + rho) / (1.0 - rho);
+    let unc = (lo..=hi)
+        .filter(|o| planned_cost(*o) <= threshold)
+        .map(|o| o.abs_diff(best) as usize)
+        .max()
+        .unwrap_or(0)
+        .max(1);
+    (bounds, unc)
 }
 
 /// The uncertainty, s, of each inner boundary of a run split at `bounds` (blocks of

@@ -3,7 +3,11 @@
 
 use super::checks::{check_levels, check_physics};
 use super::numbering::number_without_plan;
-use super::report::{segment_record, update_coverage, Campaign, FileReport, MatchReport};
+use super::prepare::Cut;
+use super::report::{
+    flag_low_coverage_after_matching, segment_record, update_coverage, Campaign, FileReport,
+    MatchReport,
+};
 use crate::align::{Assigned, Candidate};
 use crate::expected::ExpectedStep;
 use crate::identify_config::Segmentation;
@@ -132,6 +136,14 @@ pub(super) fn match_to_plan(
         };
         matched[ei] = true;
         let e = &expected[ei];
+        label_with_evidence(
+            &mut files[f].segments[k],
+            &candidates[si],
+            ei,
+            aligned.ambiguous[si],
+            (expected, c),
+            &mut report,
+        );
         if let Some(prev) = last_ei.filter(|p| ei < *p) {
             report.reordered.push(format!(
                 "{} recorded after {}",
@@ -158,8 +170,39 @@ pub(super) fn match_to_plan(
     for f in files.iter_mut() {
         update_coverage(f, c.cfg, false);
     }
+    flag_low_coverage_after_matching(files, &mut records, c.cfg);
     records.sort_by_key(|r| (r.pin, r.step));
     Ok((FrictionDataset { records }, report))
+}
+
+/// State what placed segment `s` (the alignment's `cand`) on planned step `ei`: its
+/// evidence ([`crate::align::evidence`]), the flag `label-by-order` where that is the order
+/// alone (another planned step would have fitted the segment as well), `ambiguous-alignment`
+/// where another alignment nearly as good places it elsewhere; both counted in the report.
+fn label_with_evidence(
+    s: &mut super::report::SegmentReport,
+    cand: &Candidate,
+    ei: usize,
+    ambiguous: bool,
+    (expected, c): (&[ExpectedStep], &Campaign),
+    report: &mut MatchReport,
+) {
+    let ev = crate::align::evidence(cand, ei, expected, c.cfg);
+    s.label_evidence = Some(ev.to_string());
+    if ev == greybox_core::dataset::label_evidence::ORDER {
+        s.flags.push(flags::LABEL_BY_ORDER.to_string());
+        report.labels_by_order += 1;
+    }
+    if ambiguous {
+        s.flags.push(flags::AMBIGUOUS_ALIGNMENT.to_string());
+        report.ambiguous.push(format!(
+            "segment {} ({:.3}–{:.3} s) as {}: another alignment nearly as good places it elsewhere",
+            s.index,
+            s.start_s,
+            s.end_s,
+            describe_step(&expected[ei])
+        ));
+    }
 }
 
 /// The alignment's view of each measured segment (`segs`: file and segment indices).
@@ -180,6 +223,8 @@ fn candidates(files: &[FileReport], segs: &[(usize, usize)]) -> Vec<Candidate> {
                 first_in_file: si == 0 || segs[si - 1].0 != f,
                 running_in: s.run_in_s.is_some_and(|r| r > 0.0)
                     || s.flags.iter().any(|x| x == flags::TREND),
+                step_column: s.boundaries == Cut::StepColumn.name(),
+                plan_timed: s.boundaries == Cut::PlanTiming.name(),
             }
         })
         .collect()

@@ -1,15 +1,14 @@
 //! Measuring a segment: its steady window, μ statistics and speed, whether its uncertain boundaries
 //! matter, and the notes on run-in and drift.
 
-use super::prepare::{Prepared, Span};
+use super::prepare::{Cut, Prepared, Span};
 use super::report::{FileReport, SegmentReport};
 use crate::identify::IdentifyConfig;
 use crate::identify_config::SteadyRule;
 use crate::recording::SpeedTrace;
 use crate::signal::{median, moving_average, quantum};
 use crate::steady::{
-    final_stationary, mean_standard_error, plateau_stats, rule_span, steady_span, step_signals,
-    windows, StepSignals,
+    final_stationary, plateau_stats, rule_span, steady_span, step_signals, windows, StepSignals,
 };
 use greybox_core::dataset::flags;
 use greybox_core::units;
@@ -122,52 +121,104 @@ pub(super) fn measure(
     rep.cof_std = Some(st.std);
     rep.n_samples = st.n_samples;
     rep.flags = st.flags.clone();
-    if p.no_baseline {
-        rep.flags.push(flags::NO_BASELINE.to_string());
+    let mut st = st;
+    interval(&mut rep, &mut st, (span, &sig, (pa, pb)), p, cfg);
+    if matches!(span.cut, Cut::LevelChange | Cut::PlanTiming) {
+        check_one_level(&mut rep, &sig, p, cfg);
     }
-    if boundary_matters(span, &sig, (pa, pb), p.fs, cfg) {
-        rep.flags.push(flags::UNCERTAIN_BOUNDARY.to_string());
-    }
-    let used: Vec<f64> = (pa..pb)
-        .filter(|k| sig.good[*k])
-        .map(|k| sig.mu[k])
-        .collect();
-    // the window's own serial correlation, or the run's disturbance over the window's length
-    // (a window on the crest of a slow run-out looks flat on its own)
-    let sem =
-        mean_standard_error(&used).max(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt());
-    rep.cof_sem = Some(sem);
-    if 2.0 * sem > cfg.mean_uncertainty_tolerance {
-        rep.flags.push(flags::UNCERTAIN_MEAN.to_string());
-    }
+    rep.masked_samples = st.spikes;
     rep.stats = Some(st);
     rep
 }
 
-/// Whether a segment's uncertain boundaries matter for its μ: they reach into the steady
-/// window `[pa, pb)` (segment-relative samples), and μ over the window without the reach
-/// differs from μ over the whole window by more than half `mean_uncertainty_tolerance` (or
-/// nothing is left).
-pub(super) fn boundary_matters(
+/// μ's 95 % interval of a measured segment (window `[pa, pb)` of `span`), into `rep` and
+/// `st.ci95`: the window's own serial correlation, or the run's disturbance over the
+/// window's length where larger (a window on the crest of a slow run-out looks flat on its
+/// own); the baseline's error, which moves every sample's μ alike,
+/// δμ = (δF_t − μ·δF_N)/F_N; and μ's change when the window's ends move in by the
+/// boundaries' uncertainty (flag `uncertain-boundary` when that exceeds half
+/// `mean_uncertainty_tolerance`).
+fn interval(
+    rep: &mut SegmentReport,
+    st: &mut crate::steady::PlateauStats,
+    (span, sig, window): (Span, &StepSignals, (usize, usize)),
+    p: &Prepared,
+    cfg: &IdentifyConfig,
+) {
+    let (se_n, se_t) = p.offset_se_at(0.5 * (st.start_s + st.end_s));
+    let se_base = se_t.hypot(st.mean * se_n) / st.normal_force_n.abs().max(1e-12);
+    let iv = st
+        .interval
+        .with_sem_floor(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt())
+        .with_common_error(se_base);
+    let shift = boundary_shift(span, sig, window, p.fs);
+    if shift.is_some_and(|d| !(d <= 0.5 * cfg.mean_uncertainty_tolerance)) {
+        rep.flags.push(flags::UNCERTAIN_BOUNDARY.to_string());
+    }
+    st.ci95 = iv.half_width_95 + shift.map_or(0.0, |d| d.min(st.std.max(iv.half_width_95)));
+    rep.cof_sem = Some(iv.sem);
+    rep.cof_ci95 = Some(st.ci95);
+    rep.cof_n_eff = Some(iv.n_eff);
+}
+
+/// The segment's check against its own signal ([`super::self_check::two_levels`] over
+/// μ's block means, blocks of [`Prepared::step_block`]): two levels inside it flag the row
+/// `label-contradicted`, with a line saying where.
+fn check_one_level(rep: &mut SegmentReport, sig: &StepSignals, p: &Prepared, cfg: &IdentifyConfig) {
+    let b = p.step_block();
+    let blocks: Vec<f64> = sig
+        .mu
+        .chunks(b)
+        .zip(sig.good.chunks(b))
+        .filter_map(|(m, g)| {
+            let v: Vec<f64> = m
+                .iter()
+                .zip(g)
+                .filter(|(_, g)| **g)
+                .map(|(m, _)| *m)
+                .collect();
+            (!v.is_empty()).then(|| median(&v))
+        })
+        .collect();
+    // the ramp into the step and a settling at its ends are transitions, not a second level
+    let (ta, tb) = super::change_points::trim_transients(&blocks);
+    let block_s = b as f64 / p.fs;
+    if let Some((at, a, b_level)) =
+        super::self_check::two_levels(&blocks[ta..tb], block_s, cfg.mean_uncertainty_tolerance)
+    {
+        let at = at + ta as f64 * block_s;
+        rep.flags.push(flags::LABEL_CONTRADICTED.to_string());
+        rep.contradiction = Some(format!(
+            "μ holds two levels: {a:.4} until {:.3} s, then {b_level:.4} (a step boundary the cut missed?)",
+            rep.start_s + at
+        ));
+    }
+}
+
+/// How far μ over the steady window `[pa, pb)` (segment-relative samples) moves when its ends
+/// move in by the segment's boundary uncertainties (`None`: they do not reach into the
+/// window). Where nothing of the window is left, the window's spread of μ (as much as μ could
+/// move at all) — bounded in [`measure`] by the larger of the samples' standard deviation and
+/// the interval.
+pub(super) fn boundary_shift(
     span: Span,
     sig: &StepSignals,
     (pa, pb): (usize, usize),
     fs: f64,
-    cfg: &IdentifyConfig,
-) -> bool {
+) -> Option<f64> {
     let len = span.j - span.i;
     let a = pa.max((span.unc.0 * fs).ceil() as usize);
     let b = pb.min(len.saturating_sub((span.unc.1 * fs).ceil() as usize));
     if (a, b) == (pa, pb) {
-        return false;
+        return None;
     }
     let mean = |a: usize, b: usize| {
         let v: Vec<f64> = (a..b).filter(|k| sig.good[*k]).map(|k| sig.mu[k]).collect();
         (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
     };
     match (mean(pa, pb), (a < b).then(|| mean(a, b)).flatten()) {
-        (Some(all), Some(inner)) => (all - inner).abs() > 0.5 * cfg.mean_uncertainty_tolerance,
-        _ => true,
+        (Some(all), Some(inner)) => Some((all - inner).abs()),
+        _ => Some(f64::INFINITY),
     }
 }
 

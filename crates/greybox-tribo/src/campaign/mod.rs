@@ -5,8 +5,8 @@
 //! 1. **Loaded samples**: block medians (10 ms) of F_N above the unloaded level plus
 //!    `loaded_fraction` of the loaded range.
 //! 2. **Baseline**: the unloaded windows at the start and end (where present) give a linear
-//!    offset per channel; with one window the offset is constant; with none the rows carry
-//!    the flag `no-baseline`.
+//!    offset per channel; with one window the offset is constant; with none the file's
+//!    warnings say so.
 //! 3. **Sign**: a tangential channel whose loaded median is negative is flipped (reported).
 //! 4. **Segments**, from the best evidence available: a step column (runs of one step
 //!    number), a speed channel (runs of constant speed above rest), or the signals
@@ -24,7 +24,7 @@
 //! (baseline, sign, sliding mask), [`spans`] (step column, speed channel, sliding runs),
 //! [`change_points`] (μ's level changes inside a run), [`reciprocating_segments`],
 //! [`measure`] (steady window and statistics), [`segment`] (all of the above per file),
-//! [`velocity`], then [`matching`] with the plan ([`numbering`] without one, [`plan_timed`]
+//! [`self_check`] (one level per step), [`velocity`], then [`matching`] with the plan ([`numbering`] without one, [`plan_timed`]
 //! for the NC-program path) and the plausibility [`checks`]; the reports are in [`report`].
 
 mod change_points;
@@ -37,6 +37,7 @@ mod prepare;
 mod reciprocating_segments;
 mod report;
 mod segment;
+mod self_check;
 mod spans;
 mod velocity;
 

@@ -2,7 +2,7 @@
 
 use super::checks::MAX_SLIDING_VELOCITY_M_S;
 use super::report::{segment_record, Campaign, FileReport, MatchReport, SegmentReport};
-use greybox_core::dataset::FrictionDataset;
+use greybox_core::dataset::{label_evidence, FrictionDataset};
 use greybox_core::units;
 use greybox_core::{Error, Result, SourcePos};
 
@@ -78,7 +78,18 @@ pub(super) fn number_without_plan(
         for (pf, note) in kept {
             files[pf].warnings.push(note);
         }
-        files[f].segments[k].matched = Some((pin, step));
+        let s = &mut files[f].segments[k];
+        s.matched = Some((pin, step));
+        // without a plan a step is its place in the recording: numbered by its step column
+        // or blocks, else by order (nothing to be placed on wrongly: no flag)
+        s.label_evidence = Some(
+            if s.boundaries == super::prepare::Cut::StepColumn.name() {
+                label_evidence::STEP_COLUMN
+            } else {
+                label_evidence::ORDER
+            }
+            .to_string(),
+        );
         let s = &files[f].segments[k];
         records.push(segment_record(
             c,

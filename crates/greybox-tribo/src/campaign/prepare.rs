@@ -21,11 +21,32 @@ pub(super) struct Prepared<'a> {
     pub(super) period_s: Option<f64>,
     /// Time above the loaded threshold, s.
     pub(super) loaded_s: f64,
-    pub(super) no_baseline: bool,
+    /// Standard errors of the removed offsets of the normal and the tangential force, N
+    /// ([`Baseline::offset_se`]): an error common to every sample of a window, which its
+    /// own statistics cannot see.
+    pub(super) baseline_se: ((f64, f64), (f64, f64)),
+    /// Mid times of the start and end windows, s (where both are; see [`Baseline::mids`]).
+    pub(super) baseline_mid_s: Option<(f64, f64)>,
     pub(super) report: FileReport,
 }
 
 impl Prepared<'_> {
+    /// Standard errors of the normal and tangential offsets removed at time `t`, N: a line
+    /// through the two windows' medians has (1 − λ)²·σ²_start + λ²·σ²_end at λ = the
+    /// fraction of the way from the start window to the end window; one window's error
+    /// where there is one.
+    pub(super) fn offset_se_at(&self, t: f64) -> (f64, f64) {
+        let ((na, ne), (ta, te)) = self.baseline_se;
+        match self.baseline_mid_s {
+            Some((a, e)) if e > a => {
+                let l = ((t - a) / (e - a)).clamp(0.0, 1.0);
+                let at = |s0: f64, s1: f64| ((1.0 - l) * s0).hypot(l * s1);
+                (at(na, ne), at(ta, te))
+            }
+            _ => (na.max(ne), ta.max(te)),
+        }
+    }
+
     /// Shortest step, s: `min_segment_s`, or three of the rig's periods if longer.
     pub(super) fn min_step_s(&self, cfg: &IdentifyConfig) -> f64 {
         cfg.min_segment_s.max(3.0 * self.period_s.unwrap_or(0.0))
@@ -35,6 +56,33 @@ impl Prepared<'_> {
     /// block then averages whole revolutions).
     pub(super) fn step_block(&self) -> usize {
         ((0.05f64.max(self.period_s.unwrap_or(0.0)) * self.fs).round() as usize).max(1)
+    }
+}
+
+/// What cut a segment's boundaries (the segment report's `boundaries`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Cut {
+    /// The recording's step column or blocks.
+    StepColumn,
+    /// A speed channel's runs of one level.
+    Speed,
+    /// The plan's step durations laid over a sliding run.
+    PlanTiming,
+    /// μ's level changes inside a sliding run (least squares or penalised).
+    LevelChange,
+    /// A whole loaded-and-sliding run.
+    Run,
+}
+
+impl Cut {
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            Cut::StepColumn => "step column",
+            Cut::Speed => "speed channel",
+            Cut::PlanTiming => "plan timing",
+            Cut::LevelChange => "level change of μ",
+            Cut::Run => "sliding run",
+        }
     }
 }
 
@@ -48,6 +96,8 @@ pub(super) struct Span {
     pub(super) unc: (f64, f64),
     /// The run's standard error of a one-second mean of μ, √s (0: from the segment alone).
     pub(super) run_sem: f64,
+    /// What cut the boundaries.
+    pub(super) cut: Cut,
 }
 
 impl Span {
@@ -58,7 +108,13 @@ impl Span {
             label,
             unc: (0.0, 0.0),
             run_sem: 0.0,
+            cut: Cut::Run,
         }
+    }
+
+    /// The span with its boundaries cut by `cut`.
+    pub(super) fn by(self, cut: Cut) -> Self {
+        Span { cut, ..self }
     }
 }
 
@@ -76,10 +132,15 @@ impl SegmentReport {
             spindle_rpm: None,
             sliding_velocity_m_per_min: None,
             step_label: span.label,
+            boundaries: span.cut.name(),
             cof: None,
             cof_std: None,
             cof_sem: None,
+            cof_ci95: None,
+            cof_n_eff: None,
             n_samples: 0,
+            masked_samples: 0,
+            label_evidence: None,
             flags: Vec::new(),
             matched: None,
             problem: None,
@@ -87,6 +148,7 @@ impl SegmentReport {
             drift_per_hour: None,
             drift_per_km: None,
             boundary_uncertainty_s: None,
+            contradiction: None,
             reciprocating: None,
             stats: None,
         }
@@ -113,6 +175,11 @@ pub(super) fn prepare<'a>(
     let fn_c = remove_line(&rec.time_s, &load.normal, (off_n, slope_n, t_n));
     let mut ft_c = remove_line(&rec.time_s, &rec.tangential_n, (off_t, slope_t, t_t));
     let baseline = base.name();
+    let baseline_se = (
+        base.offset_se(&load.normal),
+        base.offset_se(&rec.tangential_n),
+    );
+    let baseline_mid_s = base.mids();
     let span = rec.duration_s();
     let mut notes = Vec::new();
     // a reciprocating test's friction force changes sign by design: kept as recorded
@@ -133,10 +200,11 @@ pub(super) fn prepare<'a>(
     let slide = crate::sliding::sliding(rec.speed.as_ref(), &fn_c, &ft_c, &blocks, cfg);
     notes.extend(sliding_notes(&slide, cfg));
     let sliding_s = slide.mask.iter().filter(|m| **m).count() as f64 / fs;
-    let no_baseline = baseline == "none";
-    if no_baseline {
-        notes.push(
-            "no unloaded window: offsets cannot be removed (rows flagged no-baseline)".to_string(),
+    let mut warnings = read_warnings(rec);
+    if baseline == "none" {
+        // a file-wide fact, not a row's: one warning in every run's summary
+        warnings.push(
+            "no unloaded window at the start or end: the force channels' offsets cannot be removed; μ includes any offset of the tangential channel divided by the load".to_string(),
         );
     }
     Ok(Prepared {
@@ -147,11 +215,12 @@ pub(super) fn prepare<'a>(
         sliding: slide.mask,
         period_s: slide.period_s,
         loaded_s: load.loaded.iter().filter(|l| **l).count() as f64 / fs,
-        no_baseline,
+        baseline_se,
+        baseline_mid_s,
         report: FileReport {
             source: rec.source.clone(),
             read: rec.provenance.clone(),
-            warnings: read_warnings(rec),
+            warnings,
             sample_rate_hz: fs,
             samples: n,
             duration_s: span,
@@ -179,7 +248,7 @@ pub(super) fn prepare<'a>(
 /// Which samples are loaded (step 1): the block medians (`b` samples) of the normal force
 /// above the unloaded level plus `loaded_fraction` of the loaded range.
 struct Loading<'a> {
-    /// The normal force, made positive ([`normal_positive`]).
+    /// The normal force, made positive (flipped where the loaded level is negative).
     normal: std::borrow::Cow<'a, [f64]>,
     normal_flipped: bool,
     loaded_blocks: Vec<bool>,
@@ -188,23 +257,50 @@ struct Loading<'a> {
 }
 
 impl<'a> Loading<'a> {
+    /// Loaded blocks from the two levels of the normal force's block medians
+    /// ([`crate::signal::two_levels`]): the loaded level is the one farther from zero (a
+    /// load cell reading compression as negative has it below: the channel is flipped); a
+    /// block is loaded above the unloaded level plus the larger of `loaded_fraction` of the
+    /// gap between the levels and five robust spreads of the unloaded level (its noise and
+    /// drifting offset). Without an unloaded level (the lower one not below 20 % of the
+    /// loaded, or under 1 % of the blocks) zero is the unloaded level.
     fn of(rec: &'a Recording, cfg: &IdentifyConfig, b: usize) -> Result<Self> {
         let n = rec.len();
-        // a load cell that reads compression as a negative force: the normal force is flipped
-        let (normal, bn, normal_flipped) =
-            normal_positive(&rec.normal_n, block_medians(&rec.normal_n, b));
-        let hi = quantile(&bn, 0.99);
-        let lo = quantile(&bn, 0.01);
-        if !(hi > 0.0) {
-            return Err(Error::input(
+        let bn = block_medians(&rec.normal_n, b);
+        let (lo, hi) = (quantile(&bn, 0.01), quantile(&bn, 0.99));
+        let none = || {
+            Error::input(
                 SourcePos::file(&rec.source).field("normal"),
                 format!("the normal force never departs from zero (1st and 99th percentiles {lo:.3} and {hi:.3} N): check the channel mapping"),
-            ));
+            )
+        };
+        let levels = levels_of(&bn).ok_or_else(none)?;
+        // the loaded level is the one farther from zero; below zero: compression read negative
+        let normal_flipped = levels.low.abs() > levels.high.abs() && levels.low < 0.0;
+        let (normal, bn, levels) = if normal_flipped {
+            let flipped: Vec<f64> = rec.normal_n.iter().map(|v| -v).collect();
+            let bn: Vec<f64> = bn.iter().map(|v| -v).collect();
+            let levels = levels_of(&bn).ok_or_else(none)?;
+            (std::borrow::Cow::Owned(flipped), bn, levels)
+        } else {
+            (std::borrow::Cow::Borrowed(&rec.normal_n[..]), bn, levels)
+        };
+        if !(levels.high > 0.0) {
+            return Err(none());
         }
-        // an unloaded level exists only if the low end is far below the loaded range
-        let unloaded_level = if lo < 0.2 * hi { lo } else { 0.0 };
-        let thr = unloaded_level + cfg.loaded_fraction * (hi - unloaded_level);
-        let loaded_blocks: Vec<bool> = bn.iter().map(|v| *v > thr).collect();
+        let has_unloaded = levels.low < 0.2 * levels.high && levels.low_share >= 0.01;
+        let (unloaded, spread) = if has_unloaded {
+            (levels.low, levels.low_sigma)
+        } else {
+            (0.0, 0.0)
+        };
+        let thr = unloaded + (cfg.loaded_fraction * (levels.high - unloaded)).max(5.0 * spread);
+        let mut loaded_blocks: Vec<bool> = bn.iter().map(|v| *v > thr).collect();
+        // a blip (a noise spike while unloaded, a dip to or below zero while loaded) is no
+        // change of state: runs shorter than 50 ms (and 5 blocks) take their neighbours' state
+        let fs = rec.sample_rate_hz();
+        let min_blocks = ((0.05 * fs / b as f64).ceil() as usize).max(5);
+        drop_short_runs(&mut loaded_blocks, min_blocks);
         let loaded: Vec<bool> = (0..n).map(|k| loaded_blocks[k / b]).collect();
         Ok(Loading {
             normal,
@@ -212,6 +308,36 @@ impl<'a> Loading<'a> {
             loaded_blocks,
             loaded,
         })
+    }
+}
+
+/// The two levels of the normal force's block medians ([`crate::signal::two_levels`]), or
+/// one level for a constant force (a rig that logs its set load): no unloaded level.
+fn levels_of(bn: &[f64]) -> Option<crate::signal::TwoLevels> {
+    crate::signal::two_levels(bn).or_else(|| {
+        let m = median(bn);
+        (m != 0.0 && m.is_finite()).then_some(crate::signal::TwoLevels {
+            low: m.min(0.0),
+            high: m.max(0.0),
+            split: 0.5 * m,
+            low_sigma: 0.0,
+            high_sigma: 0.0,
+            low_share: if m < 0.0 { 1.0 } else { 0.0 },
+        })
+    })
+}
+
+/// Runs of either state shorter than `min` blocks flipped to their surroundings': first
+/// the short loaded runs (noise spikes), then the short unloaded gaps (dips inside a load).
+fn drop_short_runs(mask: &mut [bool], min: usize) {
+    for state in [true, false] {
+        let flipped: Vec<bool> = mask.iter().map(|m| *m == state).collect();
+        for (a, e) in runs(&flipped) {
+            // a run at the recording's very start or end is kept: it has one neighbour only
+            if e - a < min && a > 0 && e < mask.len() {
+                mask[a..e].iter_mut().for_each(|m| *m = !state);
+            }
+        }
     }
 }
 
@@ -256,6 +382,27 @@ impl<'r> Baseline<'r> {
         }
     }
 
+    /// Standard errors of a channel's window medians at the start and the end, N: √(π/2)
+    /// times the robust (MAD) standard deviation over the square root of the window's
+    /// effective sample size under serial correlation ([`crate::uncertainty::MeanInterval`];
+    /// the median's error, robust to heavy tails); 0 for a window that is not there.
+    fn offset_se(&self, x: &[f64]) -> (f64, f64) {
+        let se = |w: (usize, usize)| {
+            let v = &x[w.0..w.1];
+            crate::uncertainty::MeanInterval::of(v).map_or(0.0, |m| {
+                (std::f64::consts::PI / 2.0).sqrt() * crate::signal::mad_sigma(v, median(v))
+                    / m.n_eff.sqrt()
+            })
+        };
+        (self.start.map_or(0.0, se), self.end.map_or(0.0, se))
+    }
+
+    /// Mid times of the start and end windows, s, when both are there.
+    fn mids(&self) -> Option<(f64, f64)> {
+        let mid = |w: (usize, usize)| 0.5 * (self.rec.time_s[w.0] + self.rec.time_s[w.1 - 1]);
+        Some((mid(self.start?), mid(self.end?)))
+    }
+
     /// `start and end`, `start only`, `end only` or `none` (for the file's report).
     fn name(&self) -> &'static str {
         match (self.start, self.end) {
@@ -296,7 +443,7 @@ fn sliding_notes(slide: &crate::sliding::Sliding, cfg: &IdentifyConfig) -> Vec<S
     let mut notes = Vec::new();
     if let Some(thr) = slide.mu_threshold {
         notes.push(format!(
-            "sliding where μ, averaged over {:.3} s, exceeds {thr:.4} (no measured speed channel)",
+            "sliding where μ, its running median over {:.3} s, exceeds {thr:.4} (no measured speed channel)",
             cfg.sliding_smoothing_s.max(slide.period_s.unwrap_or(0.0))
         ));
     }
@@ -306,21 +453,4 @@ fn sliding_notes(slide: &crate::sliding::Sliding, cfg: &IdentifyConfig) -> Vec<S
         ));
     }
     notes
-}
-
-/// The normal force with a positive load, and its block medians `bn`: both flipped (and
-/// `true`) when the recording's loaded level is negative, i.e. the 1st percentile of the
-/// block medians lies further below zero than their 99th lies above.
-pub(super) fn normal_positive(
-    normal: &[f64],
-    mut bn: Vec<f64>,
-) -> (std::borrow::Cow<'_, [f64]>, Vec<f64>, bool) {
-    let (lo, hi) = (quantile(&bn, 0.01), quantile(&bn, 0.99));
-    if lo < 0.0 && -lo > hi.max(0.0) {
-        bn.iter_mut().for_each(|v| *v = -*v);
-        let flipped = normal.iter().map(|v| -v).collect();
-        (std::borrow::Cow::Owned(flipped), bn, true)
-    } else {
-        (std::borrow::Cow::Borrowed(normal), bn, false)
-    }
 }

@@ -1,12 +1,13 @@
 //! A reciprocating test's segments (ASTM G133): one per test or load/speed step, μ averaged over
 //! the steady cycles.
 
-use super::prepare::{Prepared, Span};
+use super::prepare::{Cut, Prepared, Span};
 use super::report::SegmentReport;
 use crate::identify::IdentifyConfig;
 use crate::reciprocating::Reciprocating;
 use crate::recording::{Recording, SpeedTrace};
 use crate::signal::median;
+use crate::uncertainty::MeanInterval;
 use greybox_core::dataset::flags;
 use greybox_core::units;
 
@@ -30,7 +31,15 @@ pub(super) fn reciprocating_segments(p: &mut Prepared, why: &str, cfg: &Identify
     let parts = crate::reciprocating::parts(&s, cfg);
     let mut segs = Vec::with_capacity(parts.len());
     for (k, &(i, j, label)) in parts.iter().enumerate() {
-        let mut rep = SegmentReport::bare(p, Span::new(i, j, label), k + 1);
+        let mut rep = SegmentReport::bare(
+            p,
+            Span::new(i, j, label).by(if label.is_some() {
+                Cut::StepColumn
+            } else {
+                Cut::Run
+            }),
+            k + 1,
+        );
         match &p.rec.speed {
             Some(SpeedTrace::SpindleRpm(v)) => rep.spindle_rpm = Some(median(&v[i..j])),
             Some(SpeedTrace::SlidingMPerS(v)) => {
@@ -40,7 +49,7 @@ pub(super) fn reciprocating_segments(p: &mut Prepared, why: &str, cfg: &Identify
             None => {}
         }
         match crate::reciprocating::analyse(&s, i, j, cfg) {
-            Ok(r) => reciprocating_stats(&mut rep, r, p, cfg),
+            Ok(r) => reciprocating_stats(&mut rep, r, cfg),
             Err(m) => rep.problem = Some(m),
         }
         segs.push(rep);
@@ -57,12 +66,7 @@ pub(super) fn reciprocating_segments(p: &mut Prepared, why: &str, cfg: &Identify
 
 /// Fill a segment from a reciprocating result: the row's μ is the steady cycles' mean μ,
 /// its spread the cycles' spread, its standard error that over the cycles.
-pub(super) fn reciprocating_stats(
-    rep: &mut SegmentReport,
-    r: Reciprocating,
-    p: &Prepared,
-    cfg: &IdentifyConfig,
-) {
+pub(super) fn reciprocating_stats(rep: &mut SegmentReport, r: Reciprocating, cfg: &IdentifyConfig) {
     let n_cycles = r.steady_cycles.1 - r.steady_cycles.0;
     let duration = r.end_s - r.start_s;
     let trend = (r.trend_per_s * duration).abs() > cfg.trend_tolerance;
@@ -70,13 +74,18 @@ pub(super) fn reciprocating_stats(
     if trend {
         fl.push(flags::TREND.to_string());
     }
-    if p.no_baseline {
-        fl.push(flags::NO_BASELINE.to_string());
-    }
-    let sem = r.mu_std / (n_cycles.max(1) as f64).sqrt();
-    if 2.0 * sem > cfg.mean_uncertainty_tolerance {
-        fl.push(flags::UNCERTAIN_MEAN.to_string());
-    }
+    // the cycles' mean μ, one value a cycle, through the one interval estimator
+    let mus: Vec<f64> = r.cycles[r.steady_cycles.0..r.steady_cycles.1]
+        .iter()
+        .map(|c| c.mu_mean)
+        .collect();
+    let interval = MeanInterval::of(&mus).unwrap_or(MeanInterval {
+        mean: r.mu_mean,
+        sem: r.mu_std,
+        n_eff: n_cycles.max(1) as f64,
+        // one cycle: its two directions' difference is all that says how sure it is
+        half_width_95: 0.5 * (r.mu_forward - r.mu_backward).abs(),
+    });
     if let Some(v) = r.velocity_m_s {
         rep.sliding_velocity_m_per_min = Some(units::m_per_s_to_m_per_min(v));
         rep.spindle_rpm = None;
@@ -89,7 +98,9 @@ pub(super) fn reciprocating_stats(
     rep.normal_force_n = r.normal_n;
     rep.cof = Some(r.mu_mean);
     rep.cof_std = Some(r.mu_std);
-    rep.cof_sem = Some(sem);
+    rep.cof_sem = Some(interval.sem);
+    rep.cof_ci95 = Some(interval.half_width_95);
+    rep.cof_n_eff = Some(interval.n_eff);
     rep.n_samples = r.samples;
     rep.drift_per_hour = Some(r.trend_per_s * 3600.0);
     rep.flags = fl.clone();
@@ -103,6 +114,8 @@ pub(super) fn reciprocating_stats(
         stationary: !trend,
         flags: fl,
         spikes: 0,
+        interval,
+        ci95: interval.half_width_95,
         normal_force_n: r.normal_n,
     });
     rep.reciprocating = Some(r);

@@ -30,12 +30,28 @@ pub struct SegmentReport {
     pub sliding_velocity_m_per_min: Option<f64>,
     /// Step-column value, if the segment comes from one.
     pub step_label: Option<f64>,
+    /// What cut the segment's boundaries: `step column`, `speed channel`, `plan timing`,
+    /// `level change of μ` or `sliding run`.
+    pub boundaries: &'static str,
     pub cof: Option<f64>,
     pub cof_std: Option<f64>,
     /// Standard error of μ's mean under serial correlation
-    /// ([`crate::steady::mean_standard_error`]).
+    /// ([`crate::uncertainty::MeanInterval`]).
     pub cof_sem: Option<f64>,
+    /// Half-width of μ's 95 % confidence interval: Student's t at the effective sample size
+    /// times `cof_sem`, plus μ's change when the window's ends move by their boundary's
+    /// uncertainty (the dataset's `cof_apparent_ci95`).
+    pub cof_ci95: Option<f64>,
+    /// Effective number of independent samples behind μ (samples / integrated
+    /// autocorrelation time).
+    pub cof_n_eff: Option<f64>,
     pub n_samples: usize,
+    /// Samples of the steady window masked as spikes (Hampel), not averaged.
+    pub masked_samples: usize,
+    /// What placed the segment on its plan step (`step-column`, `plan-timing`,
+    /// `measured-speed`, `measured-load`, `duration`, `order`; see
+    /// [`greybox_core::dataset::label_evidence`]); `None` before matching or when unmatched.
+    pub label_evidence: Option<String>,
     pub flags: Vec<String>,
     /// Plan pin and step it was matched to.
     pub matched: Option<(u32, u32)>,
@@ -48,6 +64,10 @@ pub struct SegmentReport {
     pub drift_per_hour: Option<f64>,
     /// Slope of μ over the steady part per sliding distance, 1/km (when the speed is known).
     pub drift_per_km: Option<f64>,
+    /// What the segment's own signal says against its cut (`label-contradicted`): two
+    /// levels of μ inside it, with where they change.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contradiction: Option<String>,
     /// Uncertainty of the segment's boundaries where one is weakly determined, s (the larger
     /// of the two; rows then carry `uncertain-boundary`).
     pub boundary_uncertainty_s: Option<f64>,
@@ -124,6 +144,11 @@ pub struct MatchReport {
     /// later step's).
     pub merged: Vec<String>,
     pub reordered: Vec<String>,
+    /// Rows whose step rests on the order of the segments alone (flag `label-by-order`).
+    pub labels_by_order: usize,
+    /// Segments another alignment nearly as good places elsewhere (flag
+    /// `ambiguous-alignment`), one line each.
+    pub ambiguous: Vec<String>,
 }
 
 /// The result of identifying a set of recordings.
@@ -179,6 +204,7 @@ pub(super) fn update_coverage(f: &mut FileReport, cfg: &IdentifyConfig, flag: bo
                 end_s: s.end_s,
                 steady_s: b - a,
                 run_in_s: s.run_in_s.unwrap_or(0.0),
+                masked_s: s.masked_samples as f64 / f.sample_rate_hz,
             }),
             (None, None) => {}
         }
@@ -197,7 +223,38 @@ pub(super) fn update_coverage(f: &mut FileReport, cfg: &IdentifyConfig, flag: bo
     }
 }
 
-/// A dataset row from a measured segment (see [`crate::steady::PlateauStats::record`]).
+/// After matching, a file whose matched rows rest on less than `min_steady_share` of its
+/// sliding time (segments left unmatched are dropped time now) flags those rows
+/// `low-coverage`, in its segments and in `records`, where they are not flagged yet.
+pub(super) fn flag_low_coverage_after_matching(
+    files: &mut [FileReport],
+    records: &mut [FrictionRecord],
+    cfg: &IdentifyConfig,
+) {
+    for f in files.iter_mut() {
+        if f.coverage.steady_share() >= cfg.min_steady_share {
+            continue;
+        }
+        for s in f.segments.iter_mut() {
+            let Some((pin, step)) = s.matched else {
+                continue;
+            };
+            if s.flags.iter().any(|x| x == flags::LOW_COVERAGE) {
+                continue;
+            }
+            s.flags.push(flags::LOW_COVERAGE.to_string());
+            for r in records
+                .iter_mut()
+                .filter(|r| r.pin == pin && r.step == step)
+            {
+                r.flags.push(flags::LOW_COVERAGE.to_string());
+            }
+        }
+    }
+}
+
+/// A dataset row from a measured segment (see [`crate::steady::PlateauStats::record`]), its
+/// label's evidence taken from the segment's report.
 pub(super) fn segment_record(
     c: &Campaign,
     (pin, step): (u32, u32),
@@ -211,6 +268,11 @@ pub(super) fn segment_record(
         planned_n,
         velocity_m_s,
         flags: s.flags.clone(),
+        label_evidence: s.label_evidence.as_deref().and_then(|e| {
+            greybox_core::dataset::label_evidence::ALL
+                .into_iter()
+                .find(|x| *x == e)
+        }),
     };
     s.stats.as_ref().expect("measured").record(c.contact, place)
 }

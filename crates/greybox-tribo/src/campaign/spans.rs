@@ -1,7 +1,7 @@
 //! Segments from a step column or a speed channel (runs of one step number or one speed level), and
 //! the loaded-and-sliding runs the signal segmenter splits.
 
-use super::prepare::{Prepared, Span};
+use super::prepare::{Cut, Prepared, Span};
 use crate::expected::ExpectedStep;
 use crate::identify::IdentifyConfig;
 use crate::signal::{block_medians, mad_sigma, median, runs};
@@ -14,7 +14,7 @@ pub(super) fn spans_from_steps(p: &Prepared, steps: &[f64]) -> Vec<Span> {
         if k == steps.len() || steps[k] != steps[s] {
             let slide: Vec<usize> = (s..k).filter(|i| p.sliding[*i]).collect();
             if let (Some(&a), Some(&b)) = (slide.first(), slide.last()) {
-                out.push(Span::new(a, b + 1, Some(steps[s])));
+                out.push(Span::new(a, b + 1, Some(steps[s])).by(Cut::StepColumn));
             }
             s = k;
         }
@@ -175,9 +175,23 @@ pub(super) fn spans_from_speed(
     let mut out = Vec::new();
     for (start, end, _) in levels {
         let (i, j) = (start * b, (end * b).min(n));
-        // only the loaded part of the run
-        for (a, e) in runs(&p.sliding[i..j]) {
-            out.push(Span::new(i + a, i + e, None));
+        // only the loaded part of the run, gaps shorter than a stop closed
+        for (a, e) in closed_runs(p, &p.sliding[i..j]) {
+            out.push(Span::new(i + a, i + e, None).by(Cut::Speed));
+        }
+    }
+    out
+}
+
+/// Runs of `mask` with gaps under 50 ms (or two of the rig's periods) closed: a dip of the
+/// sliding evidence that short is noise, not a stop.
+fn closed_runs(p: &Prepared, mask: &[bool]) -> Vec<(usize, usize)> {
+    let gap = (0.05f64.max(2.0 * p.period_s.unwrap_or(0.0)) * p.fs) as usize;
+    let mut out: Vec<(usize, usize)> = Vec::new();
+    for (a, e) in runs(mask) {
+        match out.last_mut() {
+            Some(last) if a - last.1 <= gap => last.1 = e,
+            _ => out.push((a, e)),
         }
     }
     out
@@ -185,15 +199,10 @@ pub(super) fn spans_from_speed(
 
 /// Loaded-and-sliding runs (gaps under 50 ms, or two of the rig's periods, closed).
 pub(super) fn sliding_runs(p: &Prepared) -> Vec<Span> {
-    let gap = (0.05f64.max(2.0 * p.period_s.unwrap_or(0.0)) * p.fs) as usize;
-    let mut out: Vec<Span> = Vec::new();
-    for (a, e) in runs(&p.sliding) {
-        match out.last_mut() {
-            Some(last) if a - last.j <= gap => last.j = e,
-            _ => out.push(Span::new(a, e, None)),
-        }
-    }
-    out
+    closed_runs(p, &p.sliding)
+        .into_iter()
+        .map(|(a, e)| Span::new(a, e, None))
+        .collect()
 }
 
 #[cfg(test)]

@@ -31,6 +31,7 @@
 
 pub mod exports;
 pub mod rig2;
+pub mod sure;
 pub mod unseen;
 
 use rand::SeedableRng;
