@@ -6,20 +6,8 @@
 mod common;
 
 use greybox_core::stats::MeanInterval;
-use greybox_sim::cut_run::CutRun;
-use greybox_sim::ConstantMu;
-use std::sync::Arc;
 
-fn cut(setup: &greybox_sim::cutting::CuttingSetup) -> CutRun {
-    CutRun::execute(
-        setup,
-        Arc::new(ConstantMu(setup.mu)),
-        1.0,
-        None,
-        &mut greybox_sim::Hooks::new(),
-    )
-    .unwrap()
-}
+use common::cut_with_its_mu as cut;
 
 fn overlap(a: &MeanInterval, b: &MeanInterval) -> bool {
     let (ha, hb) = (a.half_width.unwrap(), b.half_width.unwrap());

@@ -4,8 +4,6 @@ use greybox_material::Material;
 use greybox_sim::cut_run::CutRun;
 use greybox_sim::cutting::CuttingSetup;
 use greybox_sim::tool_thermal::ToolThermalSetup;
-use greybox_sim::ConstantMu;
-use std::sync::Arc;
 
 mod common;
 use common::coarse_cut;
@@ -19,16 +17,7 @@ fn coarse_ti_cut(thermal_tool: bool) -> CuttingSetup {
     s
 }
 
-fn run(setup: &CuttingSetup) -> CutRun {
-    CutRun::execute(
-        setup,
-        Arc::new(ConstantMu(setup.mu)),
-        1.0,
-        None,
-        &mut greybox_sim::Hooks::new(),
-    )
-    .unwrap()
-}
+use common::cut_with_its_mu as run;
 
 /// Heat balance: the workpiece's heat content gained plus the tool's plus what left the
 /// tool through its held boundaries equals the heat sources, β W_plastic + W_friction

@@ -83,3 +83,16 @@ pub fn refined(
     });
     setup
 }
+
+/// Runs `setup` whole with its constant μ on the whole tool, no extra seams.
+#[allow(dead_code)] // not every test binary cuts
+pub fn cut_with_its_mu(setup: &greybox_sim::cutting::CuttingSetup) -> greybox_sim::cut_run::CutRun {
+    greybox_sim::cut_run::CutRun::execute(
+        setup,
+        std::sync::Arc::new(greybox_sim::ConstantMu(setup.mu)),
+        1.0,
+        None,
+        &mut greybox_sim::Hooks::new(),
+    )
+    .unwrap()
+}

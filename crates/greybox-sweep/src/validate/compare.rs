@@ -17,7 +17,7 @@
 //! * the cut length at which the resolution would be ±[`RESOLVE`]: the interval narrows as
 //!   1/√L with the steady stretch L, so L' = L̄ (Y/0.03)² plus the warm-up.
 
-use super::{distinct, Outcome, Role, ToolModel};
+use super::{held_out_groups, Outcome, ToolModel};
 use greybox_core::stats::t_factor;
 use serde::Serialize;
 
@@ -59,15 +59,8 @@ pub struct Comparison {
 
 /// Every friction model against its material's and tool model's first one.
 pub fn compare(outcomes: &[Outcome]) -> Vec<Comparison> {
-    let held: Vec<&Outcome> = outcomes.iter().filter(|o| o.role == Role::HeldOut).collect();
     let mut out = Vec::new();
-    for (material, tool) in distinct(held.iter().map(|o| (o.material.as_str(), o.tool))) {
-        let rows: Vec<&Outcome> = held
-            .iter()
-            .copied()
-            .filter(|o| o.material == material && o.tool == tool)
-            .collect();
-        let models = distinct(rows.iter().map(|o| o.friction.as_str()));
+    for (material, tool, rows, models) in held_out_groups(outcomes) {
         let Some((base, others)) = models.split_first() else {
             continue;
         };

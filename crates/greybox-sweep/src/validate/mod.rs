@@ -296,6 +296,24 @@ pub fn validate(suite_path: &Path, o: &ValidateOptions, cuts: Option<&Path>) -> 
     run_suite(&Suite::read(suite_path)?, suite_path, o, cuts)
 }
 
+/// The held-out outcomes grouped by material entry and tool model (in the order first met),
+/// each group with its friction models in order: the rows friction models are compared on.
+pub(crate) fn held_out_groups(outcomes: &[Outcome]) -> Vec<(&str, ToolModel, Vec<&Outcome>, Vec<&str>)> {
+    let held: Vec<&Outcome> = outcomes.iter().filter(|o| o.role == Role::HeldOut).collect();
+    distinct(held.iter().map(|o| (o.material.as_str(), o.tool)))
+        .into_iter()
+        .map(|(material, tool)| {
+            let rows: Vec<&Outcome> = held
+                .iter()
+                .copied()
+                .filter(|o| o.material == material && o.tool == tool)
+                .collect();
+            let models = distinct(rows.iter().map(|o| o.friction.as_str()));
+            (material, tool, rows, models)
+        })
+        .collect()
+}
+
 /// The items, each once, in the order first met.
 fn distinct<T: PartialEq>(items: impl IntoIterator<Item = T>) -> Vec<T> {
     let mut once: Vec<T> = Vec::new();

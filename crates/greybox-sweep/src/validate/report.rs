@@ -266,19 +266,8 @@ fn comparisons(v: &Validation) -> String {
 /// and tool model, one column per friction model (mean signed F'c / F'f error of the
 /// group): where the models differ.
 fn where_models_differ(v: &Validation) -> String {
-    let held: Vec<&Outcome> = v
-        .outcomes
-        .iter()
-        .filter(|o| o.role == Role::HeldOut)
-        .collect();
     let mut s = String::new();
-    for (material, tool) in distinct(held.iter().map(|o| (o.material.as_str(), o.tool))) {
-        let rows: Vec<&Outcome> = held
-            .iter()
-            .copied()
-            .filter(|o| o.material == material && o.tool == tool)
-            .collect();
-        let models = distinct(rows.iter().map(|o| o.friction.as_str()));
+    for (material, tool, rows, models) in super::held_out_groups(&v.outcomes) {
         type Key = fn(&Outcome) -> f64;
         let keys: [(&str, Key); 2] = [
             ("v_c m/min", |o| o.cutting_speed_m_per_min),
