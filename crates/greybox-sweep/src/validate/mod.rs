@@ -105,6 +105,10 @@ pub struct MaterialRuns {
     /// The friction models cut, side by side (default: `coulomb-calibrated` alone).
     #[serde(default = "default_friction")]
     pub friction: Vec<FrictionVariant>,
+    /// The template's cut length replaced, m (with `stop_when_sure` in the template: the
+    /// length limit); the run's `fraction` applies to it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cut_length_m: Option<f64>,
     /// The template's level-0 particle spacing replaced, m (with `refinement`: coarse away
     /// from the tool).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -792,6 +796,16 @@ fn material_plan<'a>(
     let base = suite_path.parent().unwrap_or(Path::new("."));
     let mut template =
         greybox_pipeline::simulate::read_cutting_setup(&base.join(&runs.setup))?.setup;
+    if let Some(l) = runs.cut_length_m {
+        if !(l > 0.0 && l.is_finite()) {
+            bail!(
+                "{}: material {}: cut_length_m = {l}: expected a positive length, m",
+                suite_path.display(),
+                runs.label()
+            );
+        }
+        template.cut_length_m = l;
+    }
     template.cut_length_m *= o.fraction;
     let models = runs
         .friction
@@ -902,6 +916,29 @@ pub fn validate_into(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A suite entry's `cut_length_m` replaces the template's before the run's fraction;
+    /// a length that is not positive is refused, naming the entry.
+    #[test]
+    fn a_suite_entry_replaces_the_cut_length() {
+        let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation");
+        let suite_path = repo.join("suite-friction-sure.toml");
+        let mut suite = Suite::read(&suite_path).unwrap();
+        let conditions = read_conditions(&repo.join(&suite.data)).unwrap();
+        let o = ValidateOptions {
+            only: Vec::new(),
+            tools: vec![ToolModel::Thermal],
+            fraction: 0.5,
+            runner: CutRunner::InProcess,
+        };
+        let plan = material_plan(&suite.material[0], &conditions, &suite, &suite_path, &o).unwrap();
+        assert!((plan.template.cut_length_m - 0.6e-3).abs() < 1e-15);
+        suite.material[0].cut_length_m = Some(-1.0);
+        let e = material_plan(&suite.material[0], &conditions, &suite, &suite_path, &o)
+            .err()
+            .unwrap();
+        assert!(format!("{e:#}").contains("cut_length_m = -1"), "{e:#}");
+    }
 
     #[test]
     fn repeated_tool_models_run_once_in_the_order_named() {
