@@ -139,9 +139,12 @@ impl ChipShape {
     }
 }
 
+/// Points of a thickness profile: (distance along the chip, thickness), m.
+type Points = Vec<(f64, f64)>;
+
 /// The peaks of `profile` that stand more than `resolution` above the valleys on both sides,
 /// and the valleys between neighbouring peaks (a zigzag with hysteresis `resolution`).
-fn turning_points(profile: &[(f64, f64)], resolution: f64) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+fn turning_points(profile: &[(f64, f64)], resolution: f64) -> (Points, Points) {
     let mut extremes: Vec<((f64, f64), bool)> = Vec::new(); // (point, is a peak)
     let Some(&first) = profile.first() else {
         return (Vec::new(), Vec::new());
@@ -181,8 +184,8 @@ fn turning_points(profile: &[(f64, f64)], resolution: f64) -> (Vec<(f64, f64)>, 
         return (Vec::new(), Vec::new());
     };
     let inner = &extremes[a..=b];
-    let peaks: Vec<(f64, f64)> = inner.iter().filter(|e| e.1).map(|e| e.0).collect();
-    let valleys: Vec<(f64, f64)> = inner.iter().filter(|e| !e.1).map(|e| e.0).collect();
+    let peaks: Points = inner.iter().filter(|e| e.1).map(|e| e.0).collect();
+    let valleys: Points = inner.iter().filter(|e| !e.1).map(|e| e.0).collect();
     (peaks, valleys)
 }
 
@@ -216,7 +219,12 @@ mod tests {
     #[test]
     fn a_ripple_below_the_resolution_is_no_serration() {
         let flat: Vec<(f64, f64)> = (0..80)
-            .map(|k| (5e-6 * k as f64, 100e-6 + if k % 3 == 0 { 3e-6 } else { 0.0 }))
+            .map(|k| {
+                (
+                    5e-6 * k as f64,
+                    100e-6 + if k % 3 == 0 { 3e-6 } else { 0.0 },
+                )
+            })
             .collect();
         assert_eq!(serration_of(&flat, 5e-6), None);
     }

@@ -302,8 +302,7 @@ mod tests {
         let base = d.path().join("base.toml");
         std::fs::write(&base, "mu = 0.3\n[steady]\nstop_when_sure = false\n").unwrap();
         let stop = |flag| {
-            read_base(&base, CaseKind::Cutting, flag).unwrap()["steady"]["stop_when_sure"]
-                .as_bool()
+            read_base(&base, CaseKind::Cutting, flag).unwrap()["steady"]["stop_when_sure"].as_bool()
         };
         assert_eq!((stop(true), stop(false)), (Some(true), Some(false)));
         // a pin's set-up has no [steady] criterion to set

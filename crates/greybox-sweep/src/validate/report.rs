@@ -238,7 +238,11 @@ fn comparisons(v: &Validation) -> String {
     }
     let mut s = String::from("\nFriction models against the first one, paired on the held-out conditions: the mean of |error| − |baseline's error| (negative: closer to the measurements) with its 95 % interval from the cuts' scatter, the paired interval across the conditions, the conditions where the model is closer, and the cut length at which the scatter's interval would be ±3 points.\n\n| material | tool | friction | against | measure | difference | across conditions | closer in | verdict | cut length for ±3 points |\n|---|---|---|---|---|---|---|---|---|---|\n");
     for c in &v.comparisons {
-        let rows = [("F'c", Some(&c.cutting_force)), ("F'f", Some(&c.feed_force)), ("chip ratio", c.chip_ratio.as_ref())];
+        let rows = [
+            ("F'c", Some(&c.cutting_force)),
+            ("F'f", Some(&c.feed_force)),
+            ("chip ratio", c.chip_ratio.as_ref()),
+        ];
         for (name, d) in rows {
             let Some(d) = d else { continue };
             s += &format!(
@@ -248,12 +252,15 @@ fn comparisons(v: &Validation) -> String {
                 cell(&c.friction),
                 cell(&c.baseline),
                 100.0 * d.mean,
-                d.ci95.map_or(String::new(), |h| format!(" ± {:.1}", 100.0 * h)),
-                d.across_conditions_ci95.map_or("—".into(), |h| format!("± {:.1}", 100.0 * h)),
+                d.ci95
+                    .map_or(String::new(), |h| format!(" ± {:.1}", 100.0 * h)),
+                d.across_conditions_ci95
+                    .map_or("—".into(), |h| format!("± {:.1}", 100.0 * h)),
                 d.conditions_better,
                 d.conditions,
                 d.verdict,
-                d.length_to_resolve_mm.map_or("—".into(), |l| format!("{l:.1} mm")),
+                d.length_to_resolve_mm
+                    .map_or("—".into(), |l| format!("{l:.1} mm")),
             );
         }
     }
