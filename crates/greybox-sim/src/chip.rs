@@ -169,24 +169,20 @@ pub struct CutMeasures {
 }
 
 /// Chip thickness, compression ratio, shear angle, contact length and the maximum particle
-/// temperature: the chip thickness and contact length are the steady state's means where
-/// the cut has one, else the chip at the end and the contact length of `profile`.
+/// temperature: the chip thickness and contact length are `steady`'s (the steady state's
+/// means, m) where the cut has them, else the chip at the end and the contact length of
+/// `profile`.
 pub fn measure(
     sim: &Solver,
     setup: &CuttingSetup,
     tool: usize,
     profile: &[ProfilePoint],
-    steady: Option<&crate::steady::SteadyState>,
+    steady: [Option<f64>; 2],
 ) -> CutMeasures {
     let h = setup.uncut_chip_thickness_m;
-    let hc = steady
-        .and_then(|s| s.chip_thickness)
-        .map(|m| m.mean)
-        .or_else(|| chip_thickness(sim, setup, tool));
-    let contact = steady
-        .and_then(|s| s.contact_length)
-        .map(|m| m.mean)
-        .or_else(|| contact_length(profile, setup.friction.window_length_m, IN_CONTACT));
+    let hc = steady[0].or_else(|| chip_thickness(sim, setup, tool));
+    let contact =
+        steady[1].or_else(|| contact_length(profile, setup.friction.window_length_m, IN_CONTACT));
     CutMeasures {
         chip_thickness_mm: hc.map(|v| v * 1e3),
         compression_ratio: hc.map(|v| v / h),

@@ -114,7 +114,10 @@ impl CutRun {
             &updater.sums_since(averaged_from_s),
             sim.particles.spacing,
         );
-        let measures = measure(&sim, setup, 0, &profile, steady_state.as_ref());
+        let means = steady_state.as_ref().map_or([None; 2], |s| {
+            [s.chip_thickness, s.contact_length].map(|m| m.map(|m| m.mean))
+        });
+        let measures = measure(&sim, setup, 0, &profile, means);
         Ok(CutRun {
             sim,
             summary,

@@ -1,5 +1,4 @@
-//! The series a cut's steady state is formed from besides its forces
-//! ([`crate::steady::CutSeries`]): the chip sampled as the cut goes ([`ChipSampler`]: its
+//! The series a cut's steady state is formed from besides its forces ([`CutSeries`]): the chip sampled as the cut goes ([`ChipSampler`]: its
 //! thickness and serration), and the rake-face contact of every interval of the grey-box loop
 //! ([`contact_series`]: contact length, peak and mean temperature).
 
@@ -9,9 +8,22 @@ use crate::executor::{Control, Observer};
 use crate::friction_loop::FrictionUpdater;
 use crate::serration::{chip_shape, Serration};
 use crate::solver::{SimError, Solver};
-use crate::steady::{CutSeries, Samples};
 use crate::tool::Tool;
 use serde::{Deserialize, Serialize};
+
+/// A sampled series: (time s, value).
+pub type Samples = Vec<(f64, f64)>;
+
+/// The sampled series a cut's steady state is formed from, besides its forces.
+#[derive(Debug, Clone, Default)]
+pub struct CutSeries {
+    pub chip_thickness: Samples,
+    pub contact_length: Samples,
+    pub rake_peak_temperature: Samples,
+    pub rake_mean_temperature: Samples,
+    /// Serration per chip sample (`None`: no two segments at that instant).
+    pub serration: Vec<(f64, Option<Serration>)>,
+}
 
 /// One instant of the chip: its thickness (m), serration and contact length with the rake
 /// face (m, [`crate::serration::ChipShape::contact_length_m`]).

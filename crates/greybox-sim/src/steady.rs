@@ -40,7 +40,7 @@
 //! and says that it hit it. (The sequential check is the relative-precision procedure of Law
 //! & Kelton, §9.4.1, on batch means, with a minimum length from the physics of the cut.)
 
-use crate::cut_series::ChipSampler;
+use crate::cut_series::{ChipSampler, CutSeries, Samples};
 use crate::cutting::{CuttingSetup, SteadySetup};
 use crate::executor::{Control, Observer};
 use crate::output::ForceHistory;
@@ -69,9 +69,6 @@ pub struct SteadyWindow {
     /// The period found in the force signal (chip segmentation), s.
     pub period_s: Option<f64>,
 }
-
-/// A sampled series: (time s, value).
-pub type Samples = Vec<(f64, f64)>;
 
 impl SteadyWindow {
     /// The stretch of `forces` to average: from `min_time_s` and past the warm-up, whole
@@ -155,17 +152,6 @@ pub struct SteadyState {
     /// ([`ChipSampler::contact_renewal_m`]), and the renewals the stretch spans.
     pub contact_renewal_m: Option<f64>,
     pub renewals: Option<f64>,
-}
-
-/// The sampled series a cut's steady state is formed from, besides its forces.
-#[derive(Debug, Clone, Default)]
-pub struct CutSeries {
-    pub chip_thickness: Samples,
-    pub contact_length: Samples,
-    pub rake_peak_temperature: Samples,
-    pub rake_mean_temperature: Samples,
-    /// Serration per chip sample (`None`: no two segments at that instant).
-    pub serration: Vec<(f64, Option<Serration>)>,
 }
 
 impl SteadyState {
