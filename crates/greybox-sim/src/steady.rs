@@ -18,7 +18,9 @@
 //!    that the mean holds no partial segment. Without one, the unit is one force bin.
 //! 4. **Intervals.** Every quantity — F'c, F'f, the chip thickness, the contact length, the
 //!    peak and mean rake-face temperature, the segment pitch and degree of segmentation —
-//!    is averaged per unit over the same stretch, and its 95 % interval is formed from batch
+//!    is averaged per unit over the same stretch (less its own warm-up: a quantity that
+//!    settles later than the forces, a chip still rising into its measuring band, drops the
+//!    whole units before its MSER start), and its 95 % interval is formed from batch
 //!    means that respect its autocorrelation ([`greybox_core::stats::batch_means`]). Each
 //!    interval says what it rests on (units, batches); one that would rest on fewer than
 //!    four batches is not given: the cut is too short to say how sure it is.
@@ -105,8 +107,31 @@ impl SteadyWindow {
 
     /// The mean of `samples` over the stretch with its 95 % interval (`None`: no sample in it).
     pub fn mean(&self, samples: &[(f64, f64)]) -> Option<MeanInterval> {
-        let u = unit_means(samples, self.to_s, self.unit_s, self.units);
+        let units = self.units - self.own_warm_up_units(samples);
+        let u = unit_means(samples, self.to_s, self.unit_s, units);
         (!u.is_empty()).then(|| batch_means(&u, LEVEL))
+    }
+
+    /// Whole units at the start of the stretch that `samples` spend still settling, past the
+    /// forces' warm-up: a quantity that settles later than the forces (a chip still rising
+    /// into its measuring band, a tool still heating) drops its own warm-up, found by MSER
+    /// on its samples inside the stretch (at most half of them,
+    /// [`greybox_core::stats::mser_truncation`]); at least one unit is kept.
+    fn own_warm_up_units(&self, samples: &[(f64, f64)]) -> usize {
+        let from = self.to_s - self.units as f64 * self.unit_s;
+        let inside: Vec<(f64, f64)> = samples
+            .iter()
+            .copied()
+            .filter(|&(t, _)| t > from && t <= self.to_s)
+            .collect();
+        let values: Vec<f64> = inside.iter().map(|s| s.1).collect();
+        let d = mser_truncation(&values, 1);
+        if d == 0 {
+            return 0;
+        }
+        let settled_from = inside[d - 1].0;
+        let dropped = ((settled_from - from) / self.unit_s * (1.0 - 1e-9)).floor() as usize;
+        dropped.min(self.units - 1)
     }
 
     /// F'c and F'f (N/m) over the stretch with their intervals (the stretch is made of

@@ -151,14 +151,19 @@ fn a_refined_cut_matches_the_uniform_fine_cut() {
         r.sim.dt, f.sim.dt,
         "the time step follows the finest spacing"
     );
-    // The chip and the contact: within one window (20 µm) of the fine cut's contact length
-    // and 2 % of its chip thickness (this AISI 1045 cut's chip is already resolved at 20 µm:
-    // coarse 0.1810, refined 0.1810, fine 0.1816 mm).
+    // The contact: within one window (20 µm) of the fine cut's steady contact length. The
+    // chip: this 0.3 mm cut ends while its chip is still rising (its steady means, 0.164 and
+    // 0.168 mm, rest on a growing chip), so the chips are compared as they stand at the end,
+    // within 2 % (this AISI 1045 chip is already resolved at 20 µm: coarse 0.1810, refined
+    // 0.1810, fine 0.1816 mm).
     let (m_r, m_f) = (&r.measures, &f.measures);
     let contact = |m: &greybox_sim::chip::CutMeasures| m.contact_length_mm.expect("contact");
     assert!((contact(m_r) - contact(m_f)).abs() <= 0.02 + 1e-9);
-    let chip = |m: &greybox_sim::chip::CutMeasures| m.chip_thickness_mm.expect("a chip");
-    assert!((chip(m_r) / chip(m_f) - 1.0).abs() < 0.02);
+    let chip = |x: &CutRun, s: &greybox_sim::cutting::CuttingSetup| {
+        greybox_sim::chip::chip_thickness(&x.sim, s, 0).expect("a chip")
+    };
+    let ratio = chip(&r, &refined(coarse_cut())) / chip(&f, &fine);
+    assert!((ratio - 1.0).abs() < 0.02, "chip refined/fine {ratio}");
 }
 
 /// The bundled refined examples and suite regions read and validate as set-ups (the

@@ -10,14 +10,15 @@
 //! * its mean d̄ over the n conditions, with the 95 % interval of the cuts' own scatter,
 //!   d̄ ± 1.96 √(Σ (se_model,i² + se_base,i²)) / n, each se a cut's standard error from the
 //!   batch means of its steady state ([`greybox_sim::steady`]; d|e| = sign(e) de, so |e|
-//!   has e's standard error where the error is clear of zero). This is the **resolution**:
-//!   a difference inside it cannot be told from the cuts' scatter;
+//!   has e's standard error where the error is clear of zero; a cut that could not say is
+//!   given the median of the others', and the verdict counts them). This is the
+//!   **resolution**: a difference inside it cannot be told from the cuts' scatter;
 //! * the paired t-interval across the conditions, d̄ ± t(0.975; n − 1) s_d/√n: whether the
 //!   difference holds from condition to condition (it includes the scatter);
 //! * the cut length at which the resolution would be ±[`RESOLVE`]: the interval narrows as
 //!   1/√L with the steady stretch L, so L' = L̄ (Y/0.03)² plus the warm-up.
 
-use super::{held_out_groups, Outcome, ToolModel};
+use super::{held_out_groups, imputed_errors, Outcome, ToolModel};
 use greybox_core::stats::t_factor;
 use serde::Serialize;
 
@@ -113,11 +114,14 @@ fn paired(pairs: &[(&Outcome, &Outcome)], k: usize) -> PairedDifference {
         .map(|(m, b)| error(m, k).abs() - error(b, k).abs())
         .collect();
     let mean = d.iter().sum::<f64>() / n as f64;
-    let var: Option<f64> = pairs
+    let se: Vec<Option<f64>> = pairs
         .iter()
-        .map(|(m, b)| Some(m.error_se[k]?.powi(2) + b.error_se[k]?.powi(2)))
-        .sum();
-    let ci95 = var.map(|v| 1.96 * v.sqrt() / n as f64);
+        .flat_map(|(m, b)| [m.error_se[k], b.error_se[k]])
+        .collect();
+    let imputed = imputed_errors(&se);
+    let ci95 = imputed
+        .as_ref()
+        .map(|(v, _)| 1.96 * v.iter().map(|e| e * e).sum::<f64>().sqrt() / n as f64);
     let across = (n >= 2).then(|| {
         let sd = (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt();
         t_factor(0.95, (n - 1) as f64) * sd / (n as f64).sqrt()
@@ -144,6 +148,12 @@ fn paired(pairs: &[(&Outcome, &Outcome)], k: usize) -> PairedDifference {
     if short > 0 && ci95.is_some() {
         verdict += &format!(
             " ({short} of {} cuts averaged fewer contact renewals than asked: the scatter may be larger)",
+            2 * n
+        );
+    }
+    if let Some((_, missing)) = imputed.filter(|(_, m)| *m > 0) {
+        verdict += &format!(
+            " ({missing} of {} cuts could not say how sure they are: their scatter taken as the median of the others')",
             2 * n
         );
     }

@@ -27,7 +27,9 @@
 //! each error drawn from a normal around it with its cut's standard error, the cuts
 //! independent of each other, a fixed seed. The 2.5 and 97.5 % quantiles of the replicates'
 //! s\* are each shape's factor interval, and the share of replicates in which a shape has
-//! the least J says whether the shape kept is decided by the cuts or by their scatter.
+//! the least J says whether the shape kept is decided by the cuts or by their scatter. A cut
+//! that could not say how sure it is gets the median standard error of the other cuts at its
+//! factor (counted in the fit's `imputed_errors`).
 
 use super::cut::Cut;
 use rand::SeedableRng;
@@ -70,15 +72,25 @@ impl FactorErrors {
         self.points.insert(k, (s, errors));
     }
 
+    /// Calibration cuts that could not say how sure they are (given the median standard
+    /// error of the other cuts at their factor, [`super::imputed_errors`]).
+    fn imputed(&self) -> usize {
+        self.points
+            .iter()
+            .map(|(_, at)| at.se.iter().filter(|e| e.is_none()).count())
+            .sum()
+    }
+
     /// One replicate: every error drawn from a normal around it with its standard error
-    /// (`None` when one is unknown).
+    /// (`None` when no cut at some factor could say how sure it is).
     fn replicate(&self, rng: &mut ChaCha8Rng) -> Option<FactorErrors> {
         let mut points = Vec::with_capacity(self.points.len());
         for (s, at) in &self.points {
+            let (se, _) = super::imputed_errors(&at.se)?;
             let mut errors = Vec::with_capacity(at.errors.len());
-            for (e, se) in at.errors.iter().zip(&at.se) {
+            for (e, se) in at.errors.iter().zip(se) {
                 let z: f64 = StandardNormal.sample(rng);
-                errors.push(e + (*se)? * z);
+                errors.push(e + se * z);
             }
             points.push((
                 *s,
@@ -166,6 +178,9 @@ pub struct ShapeFit {
     pub factor_ci95: Option<[f64; 2]>,
     /// The share of replicates in which this shape has the least J.
     pub kept_share: Option<f64>,
+    /// Calibration cuts of this shape that could not say how sure they are (their scatter
+    /// taken as the median of the others' at the same factor).
+    pub imputed_errors: usize,
 }
 
 /// Every shape fitted at its s\*, with the bootstrap's intervals and kept shares
@@ -182,6 +197,7 @@ pub fn fit_shapes(shapes: &[Vec<f64>], searches: &[FactorErrors]) -> Vec<ShapeFi
                 objective: f.objective(factor),
                 factor_ci95: None,
                 kept_share: None,
+                imputed_errors: f.imputed(),
             }
         })
         .collect();
@@ -282,11 +298,15 @@ mod tests {
             "{lo} {hi}"
         );
         assert_eq!(fits[0].kept_share, Some(1.0));
-        // without standard errors: no interval
-        let g = two([-0.3, -0.1], [0.5, 0.3]);
-        let mut unknown = g.clone();
-        unknown.points[0].1.se[0] = None;
-        assert_eq!(fit_shapes(&[vec![]], &[unknown])[0].factor_ci95, None);
+        // a cut without a standard error takes the median of the others' at its factor;
+        // no cut at a factor with one: no interval
+        let g = FactorErrors::new([0.2, 0.8], at(&[-0.3, -0.1], 0.03), at(&[0.5, 0.3], 0.03));
+        let mut one = g.clone();
+        one.points[0].1.se[0] = None;
+        let fit = &fit_shapes(&[vec![]], &[one.clone()])[0];
+        assert_eq!((fit.factor_ci95, fit.imputed_errors), (fits[0].factor_ci95, 1));
+        one.points[0].1.se[1] = None;
+        assert_eq!(fit_shapes(&[vec![]], &[one])[0].factor_ci95, None);
         // two shapes whose J differ by less than the scatter share the replicates
         let near = FactorErrors::new([0.2, 0.8], at(&[-0.31, -0.1], 0.05), at(&[0.5, 0.31], 0.05));
         let fits = fit_shapes(&[vec![0.0], vec![1.0]], &[f_again(), near]);
@@ -307,6 +327,7 @@ mod tests {
             objective: o,
             factor_ci95: None,
             kept_share: None,
+            imputed_errors: 0,
         };
         let shapes = [s(0.3), s(0.1), s(0.1), s(0.2)];
         assert_eq!(best_shape(&shapes).unwrap().values, vec![0.1]);

@@ -240,6 +240,9 @@ pub struct ErrorSummary {
     /// The calibrated factor's 95 % interval (μ\* for Coulomb) from the calibration cuts'
     /// scatter ([`fit`]).
     pub factor_ci95: Option<[f64; 2]>,
+    /// Cuts (F'c, F'f, chip ratio) that could not say how sure they are: their standard error
+    /// is the median of the others' in the intervals above ([`imputed_errors`]).
+    pub imputed_errors: [usize; 3],
     /// The mean over the conditions of the contact-length-averaged μ the law applied.
     pub mean_mu_applied: Option<f64>,
     /// The goal on held-out conditions: F'c within ±15 %, F'f within ±30 % on average.
@@ -321,6 +324,25 @@ pub(crate) fn held_out_groups(
             (material, tool, rows, models)
         })
         .collect()
+}
+
+/// The standard errors of a group of cuts, a cut that could not say how sure it is given the
+/// median of the others' (the one rule wherever the suite combines cuts' scatter): the
+/// errors and how many were imputed; `None` when no cut of the group could say.
+pub(crate) fn imputed_errors(se: &[Option<f64>]) -> Option<(Vec<f64>, usize)> {
+    let mut known: Vec<f64> = se.iter().flatten().copied().collect();
+    if known.is_empty() {
+        return None;
+    }
+    known.sort_by(f64::total_cmp);
+    let n = known.len();
+    let median = if n % 2 == 1 {
+        known[n / 2]
+    } else {
+        0.5 * (known[n / 2 - 1] + known[n / 2])
+    };
+    let missing = se.iter().filter(|e| e.is_none()).count();
+    Some((se.iter().map(|e| e.unwrap_or(median)).collect(), missing))
 }
 
 /// The items, each once, in the order first met.
@@ -725,13 +747,19 @@ fn summarise(
     let ff_abs = mean(&|o| o.feed_force_error.abs());
     // the mean of n errors, each with its cut's standard error: 1.96 √(Σ se²)/n
     let ci = |k: usize, of: &dyn Fn(&Outcome) -> bool| {
-        let se: Option<Vec<f64>> = rows
+        let se: Vec<Option<f64>> = rows
             .iter()
             .filter(|o| of(o))
             .map(|o| o.error_se[k])
             .collect();
-        se.filter(|v| !v.is_empty())
-            .map(|v| 1.96 * v.iter().map(|e| e * e).sum::<f64>().sqrt() / v.len() as f64)
+        imputed_errors(&se)
+            .map(|(v, _)| 1.96 * v.iter().map(|e| e * e).sum::<f64>().sqrt() / v.len() as f64)
+    };
+    let imputed = |k: usize| {
+        rows.iter()
+            .filter(|o| k < 2 || o.chip_ratio_error.is_some())
+            .filter(|o| o.error_se[k].is_none())
+            .count()
     };
     Some(ErrorSummary {
         material: arm.plan.runs.label().to_string(),
@@ -752,6 +780,7 @@ fn summarise(
         feed_force_mean_abs_ci95: ci(1, &|_| true),
         chip_ratio_mean_abs_ci95: ci(2, &|o| o.chip_ratio_error.is_some()),
         factor_ci95: cal.factor_ci95,
+        imputed_errors: [imputed(0), imputed(1), imputed(2)],
         mean_mu_applied: of_some(mus, &|m| m),
         meets_goal: fc_abs <= 0.15 && ff_abs <= 0.30,
         cuts: cal.cuts,

@@ -149,13 +149,14 @@ pub fn markdown(v: &Validation) -> String {
         };
         let pm = |ci: Option<f64>| ci.map_or(String::new(), |h| format!(" ± {:.1}", 100.0 * h));
         s += &format!(
-            "| {} | {} | {} | {} | {} {} | {:.1}{} % ({}) | {:.1}{} % ({}) | {} | {} | {} | {} cuts, {:.0} s |\n",
+            "| {} | {} | {} | {} | {} {}{} | {:.1}{} % ({}) | {:.1}{} % ({}) | {} | {} | {} | {} cuts, {:.0} s |\n",
             cell(&e.material),
             e.tool.name(),
             cell(&e.friction),
             params,
             e.conditions,
             e.role,
+            imputed_note(e.imputed_errors),
             100.0 * e.cutting_force_mean_abs,
             pm(e.cutting_force_mean_abs_ci95),
             pct(e.cutting_force_mean),
@@ -223,6 +224,22 @@ pub fn markdown(v: &Validation) -> String {
         );
     }
     s
+}
+
+/// " (F'f of 2 cuts imputed)": the cuts whose scatter the intervals took as the median of the
+/// others' (F'c, F'f, chip ratio), or nothing.
+fn imputed_note(n: [usize; 3]) -> String {
+    let parts: Vec<String> = ["F'c", "F'f", "chip ratio"]
+        .iter()
+        .zip(n)
+        .filter(|(_, k)| *k > 0)
+        .map(|(name, k)| format!("{name} of {k}"))
+        .collect();
+    if parts.is_empty() {
+        String::new()
+    } else {
+        format!(" (scatter imputed: {})", parts.join(", "))
+    }
 }
 
 /// " ± h" with `d` decimals, or nothing without an interval.
