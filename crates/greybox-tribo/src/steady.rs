@@ -8,7 +8,7 @@ use crate::identify_config::{IdentifyConfig, SteadyRule};
 use crate::signal::{
     hampel_outliers, linear_fit, mad_sigma, mean_std, median, moving_average, running_median,
 };
-use crate::uncertainty::MeanInterval;
+use crate::uncertainty::WindowMean;
 use greybox_core::dataset::flags;
 
 /// The friction signal of one window of samples `[i, j)`.
@@ -264,8 +264,8 @@ pub struct PlateauStats {
     /// Samples of the window masked as spikes.
     pub spikes: usize,
     /// μ's mean over the window with its uncertainty under serial correlation
-    /// ([`crate::uncertainty::MeanInterval`]).
-    pub interval: MeanInterval,
+    /// ([`crate::uncertainty::WindowMean`]).
+    pub interval: WindowMean,
     /// Half-width of μ's 95 % interval, as reported: the window's own
     /// (`interval.half_width_95`), widened where the window's boundaries are uncertain.
     pub ci95: f64,
@@ -318,7 +318,7 @@ impl PlateauStats {
 
 /// Statistics over the window-relative samples `[pi, pj)` of `sig`: mean and standard
 /// deviation of F_t/F_N over the unmasked samples, the mean's 95 % interval under serial
-/// correlation ([`MeanInterval`]; a drift inflates it, as slow correlated content), linear
+/// correlation ([`WindowMean`]; a drift inflates it, as slow correlated content), linear
 /// trend (flag `trend` when the change over the plateau exceeds the tolerance and four
 /// standard errors), peak-to-peak of the smoothed, detrended μ (flag `stick-slip`), and
 /// whether the masked spikes matter (flag `spikes-removed` when μ with them differs by more
@@ -344,7 +344,7 @@ pub fn plateau_stats(
     let spikes = (pi..pj).filter(|k| !sig.good[*k]).count();
     let mut fl = Vec::new();
     let vals: Vec<f64> = idx.iter().map(|k| sig.mu[*k]).collect();
-    let interval = MeanInterval::of(&vals)?;
+    let interval = WindowMean::of(&vals)?;
     if spikes > 0 && spikes_matter(&sig.mu[pi..pj], interval) {
         fl.push(flags::SPIKES_REMOVED.to_string());
     }
@@ -396,7 +396,7 @@ pub fn plateau_stats(
 /// Whether masking changed μ by more than its interval: the mean of every finite sample of
 /// the window `all` against the interval's mean (a spike that would move μ is worth a look;
 /// a few masked blips that do not are noise the filter handled).
-fn spikes_matter(all: &[f64], interval: MeanInterval) -> bool {
+fn spikes_matter(all: &[f64], interval: WindowMean) -> bool {
     let finite: Vec<f64> = all.iter().copied().filter(|v| v.is_finite()).collect();
     let with = finite.iter().sum::<f64>() / finite.len().max(1) as f64;
     !((with - interval.mean).abs() <= interval.half_width_95)

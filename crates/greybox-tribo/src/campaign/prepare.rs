@@ -384,12 +384,12 @@ impl<'r> Baseline<'r> {
 
     /// Standard errors of a channel's window medians at the start and the end, N: √(π/2)
     /// times the robust (MAD) standard deviation over the square root of the window's
-    /// effective sample size under serial correlation ([`crate::uncertainty::MeanInterval`];
+    /// effective sample size under serial correlation ([`crate::uncertainty::WindowMean`];
     /// the median's error, robust to heavy tails); 0 for a window that is not there.
     fn offset_se(&self, x: &[f64]) -> (f64, f64) {
         let se = |w: (usize, usize)| {
             let v = &x[w.0..w.1];
-            crate::uncertainty::MeanInterval::of(v).map_or(0.0, |m| {
+            crate::uncertainty::WindowMean::of(v).map_or(0.0, |m| {
                 (std::f64::consts::PI / 2.0).sqrt() * crate::signal::mad_sigma(v, median(v))
                     / m.n_eff.sqrt()
             })

@@ -7,7 +7,7 @@ use crate::identify::IdentifyConfig;
 use crate::reciprocating::Reciprocating;
 use crate::recording::{Recording, SpeedTrace};
 use crate::signal::median;
-use crate::uncertainty::MeanInterval;
+use crate::uncertainty::WindowMean;
 use greybox_core::dataset::flags;
 use greybox_core::units;
 
@@ -79,7 +79,7 @@ pub(super) fn reciprocating_stats(rep: &mut SegmentReport, r: Reciprocating, cfg
         .iter()
         .map(|c| c.mu_mean)
         .collect();
-    let interval = MeanInterval::of(&mus).unwrap_or(MeanInterval {
+    let interval = WindowMean::of(&mus).unwrap_or(WindowMean {
         mean: r.mu_mean,
         sem: r.mu_std,
         n_eff: n_cycles.max(1) as f64,

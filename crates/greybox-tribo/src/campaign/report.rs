@@ -36,7 +36,7 @@ pub struct SegmentReport {
     pub cof: Option<f64>,
     pub cof_std: Option<f64>,
     /// Standard error of μ's mean under serial correlation
-    /// ([`crate::uncertainty::MeanInterval`]).
+    /// ([`crate::uncertainty::WindowMean`]).
     pub cof_sem: Option<f64>,
     /// Half-width of μ's 95 % confidence interval: Student's t at the effective sample size
     /// times `cof_sem`, plus μ's change when the window's ends move by their boundary's
