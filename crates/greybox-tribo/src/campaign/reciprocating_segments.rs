@@ -93,6 +93,7 @@ pub(super) fn reciprocating_stats(rep: &mut SegmentReport, r: Reciprocating, cfg
     if r.run_in_cycles.is_some() {
         rep.run_in_s = Some(r.start_s - rep.start_s);
     }
+    rep.unsettled = r.unsettled.clone();
     rep.steady_start_s = Some(r.start_s);
     rep.steady_end_s = Some(r.end_s);
     rep.normal_force_n = r.normal_n;
@@ -117,6 +118,7 @@ pub(super) fn reciprocating_stats(rep: &mut SegmentReport, r: Reciprocating, cfg
         interval,
         ci95: interval.half_width_95,
         normal_force_n: r.normal_n,
+        parts: None,
     });
     rep.reciprocating = Some(r);
 }
