@@ -149,7 +149,8 @@ pub(super) fn measure(
 /// `st.ci95`: the window's own serial correlation, or the run's disturbance over the
 /// window's length where larger (a window on the crest of a slow run-out looks flat on its
 /// own); the baseline's error, which moves every sample's μ alike,
-/// δμ = (δF_t − μ·δF_N)/F_N; and μ's change when the window's ends move in by the
+/// δμ = (δF_t − μ·δF_N)/F_N; μ's change when the window's first half is left out, where it is
+/// significant ([`settling_shift`]); and μ's change when the window's ends move in by the
 /// boundaries' uncertainty (flag `uncertain-boundary` when that exceeds half
 /// `mean_uncertainty_tolerance`).
 fn interval(
@@ -171,7 +172,8 @@ fn interval(
     if shift.is_some_and(|d| !(d <= 0.5 * cfg.mean_uncertainty_tolerance)) {
         rep.flags.push(flags::UNCERTAIN_BOUNDARY.to_string());
     }
-    let widening = shift.map_or(0.0, |d| d.min(st.std.max(iv.half_width_95)));
+    let widening = shift.map_or(0.0, |d| d.min(st.std.max(iv.half_width_95)))
+        + settling_shift(sig, window_idx, iv.sem);
     st.ci95 = iv.half_width_95 + widening;
     let (se_n_at, (ta, te, lambda)) = p.offset_parts_at(mid);
     st.parts = Some(crate::steady::IntervalParts {
@@ -183,6 +185,24 @@ fn interval(
     rep.cof_sem = Some(iv.sem);
     rep.cof_ci95 = Some(st.ci95);
     rep.cof_n_eff = Some(iv.n_eff);
+}
+
+/// How far μ over the window `[pa, pb)` moves when its first half is left out, where that
+/// exceeds the window's standard error `sem` (0 otherwise): a run-in's tail still inside
+/// the noise band, or a slow drift, biases a long window's mean by more than its own
+/// statistics see; the interval is widened by it, as by an uncertain boundary.
+fn settling_shift(sig: &StepSignals, (pa, pb): (usize, usize), sem: f64) -> f64 {
+    let mean = |a: usize, b: usize| {
+        let v: Vec<f64> = (a..b.min(sig.mu.len()))
+            .filter(|k| sig.good[*k])
+            .map(|k| sig.mu[k])
+            .collect();
+        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+    };
+    match (mean(pa, pb), mean((pa + pb) / 2, pb)) {
+        (Some(all), Some(late)) if (all - late).abs() > sem => (all - late).abs(),
+        _ => 0.0,
+    }
 }
 
 /// The segment's check against its own signal ([`super::self_check::two_levels`] over
