@@ -225,7 +225,8 @@ pub fn identify(
             show(&files_found, dir);
         }
     }
-    let (dataset, matching) = match_segments(&mut files_found, &campaign)?;
+    let (dataset, matching) = match_segments(&mut files_found, &campaign)
+        .map_err(|e| anyhow::anyhow!("{e}\n  {}", refusal_lines(&files_found).join("\n  ")))?;
     if let Some(dir) = inspect_dir {
         // again, now that each segment knows its planned step (or that it has none)
         write_inspect_plots(&recs, &files_found, dir)?;
@@ -238,7 +239,7 @@ pub fn identify(
     if id.dataset.records.is_empty() {
         bail!(
             "no plateau was identified in any recording\n  {}",
-            file_notes(&id.files).join("\n  ")
+            refusal_lines(&id.files).join("\n  ")
         );
     }
     write_dataset(&id, out, &inputs, side_inputs)?;
@@ -262,15 +263,16 @@ fn read_recordings(files: &[PathBuf], study: &Study) -> Result<Vec<Recording>> {
     Ok(recs)
 }
 
-/// Every file's notes, warnings and dropped sliding time, each after its file's name.
-fn file_notes(files: &[FileReport]) -> Vec<String> {
+/// What a refusal lists, each line after its file's name: the coverage line (as `--inspect`
+/// prints it), every segment — those with a steady window too — with its fate, the notes,
+/// warnings and dropped sliding time.
+fn refusal_lines(files: &[FileReport]) -> Vec<String> {
     files
         .iter()
         .flat_map(|f| {
-            f.notes
-                .iter()
-                .chain(&f.warnings)
-                .cloned()
+            std::iter::once(format!("coverage: {}", f.coverage.line()))
+                .chain(f.segment_lines())
+                .chain(f.notes.iter().chain(&f.warnings).cloned())
                 .chain(f.coverage.dropped_notes())
                 .map(move |n| format!("{}: {n}", f.source))
         })

@@ -3,6 +3,8 @@
 //! The sliding time of a file (loaded and sliding, [`crate::sliding`]) is divided into
 //! * **steady**: the steady windows that gave rows, less
 //! * **masked**: their samples masked as spikes (Hampel), which no row averages;
+//! * **unsettled**: the windows of rows whose μ never settles (the mean after the warm-up,
+//!   with its trend: [`crate::steady::steady_stretch`]) — a row, but no steady state;
 //! * **run-in**: from a row's segment start to the end of its run-in (`auto` rule);
 //! * **dropped**: segments that gave no row, each with its reason (no steady part, shorter
 //!   than `min_segment_s`, no planned step matched, merged into the next step);
@@ -30,6 +32,8 @@ pub struct Coverage {
     pub steady_s: f64,
     /// Samples inside the steady windows masked as spikes, s (not in `steady_s`).
     pub masked_s: f64,
+    /// Windows of rows whose μ never settles, s (not in `steady_s`).
+    pub unsettled_s: f64,
     pub run_in_s: f64,
     pub transitions_s: f64,
     pub dropped_s: f64,
@@ -45,6 +49,8 @@ pub(crate) struct SegmentTime {
     pub run_in_s: f64,
     /// Of the steady window, the time masked as spikes, s.
     pub masked_s: f64,
+    /// μ never settles in the window: it counts as unsettled, not steady.
+    pub unsettled: bool,
 }
 
 impl Coverage {
@@ -52,20 +58,27 @@ impl Coverage {
     /// those dropped (with their reasons).
     pub(crate) fn of(sliding_s: f64, rows: &[SegmentTime], dropped: Vec<Dropped>) -> Coverage {
         let masked_s: f64 = rows.iter().map(|r| r.masked_s.min(r.steady_s)).sum();
-        let steady_s: f64 = rows.iter().map(|r| r.steady_s).sum::<f64>() - masked_s;
+        let unsettled_s: f64 = rows
+            .iter()
+            .filter(|r| r.unsettled)
+            .map(|r| r.steady_s - r.masked_s.min(r.steady_s))
+            .sum();
+        let steady_s: f64 = rows.iter().map(|r| r.steady_s).sum::<f64>() - masked_s - unsettled_s;
         let run_in_s: f64 = rows
             .iter()
             .map(|r| r.run_in_s.clamp(0.0, r.end_s - r.start_s))
             .sum();
         let dropped_s: f64 = dropped.iter().map(|d| d.seconds).sum();
         // the segments may hold a few non-sliding samples: the whole is at least their sum
-        let sliding_s = sliding_s.max(steady_s + masked_s + run_in_s + dropped_s);
+        let used = steady_s + masked_s + unsettled_s + run_in_s + dropped_s;
+        let sliding_s = sliding_s.max(used);
         Coverage {
             sliding_s,
             steady_s,
             masked_s,
+            unsettled_s,
             run_in_s,
-            transitions_s: (sliding_s - steady_s - masked_s - run_in_s - dropped_s).max(0.0),
+            transitions_s: (sliding_s - used).max(0.0),
             dropped_s,
             dropped,
         }
@@ -81,7 +94,8 @@ impl Coverage {
     }
 
     /// `steady 62 % · run-in 8 % · transitions 27 % · dropped 3 % of 1200.0 s sliding`, with
-    /// `masked 1 %` after the steady share where spikes were masked.
+    /// `masked 1 %` after the steady share where spikes were masked and `unsettled 5 %` where
+    /// a row's μ never settled.
     pub fn line(&self) -> String {
         let pct = |x: f64| {
             if self.sliding_s > 0.0 {
@@ -90,11 +104,14 @@ impl Coverage {
                 0.0
             }
         };
-        let masked = if self.masked_s > 0.0 {
-            format!(" · masked {:.0} %", pct(self.masked_s))
-        } else {
-            String::new()
+        let part = |x: f64, what: &str| {
+            if x > 0.0 {
+                format!(" · {what} {:.0} %", pct(x))
+            } else {
+                String::new()
+            }
         };
+        let masked = part(self.masked_s, "masked") + &part(self.unsettled_s, "unsettled");
         format!(
             "steady {:.0} %{masked} · run-in {:.0} % · transitions {:.0} % · dropped {:.0} % of {:.1} s sliding",
             pct(self.steady_s),
@@ -126,6 +143,7 @@ mod tests {
             steady_s: 60.0,
             run_in_s: 20.0,
             masked_s: 0.0,
+            unsettled: false,
         }];
         let dropped = vec![Dropped {
             what: "segment 2".into(),

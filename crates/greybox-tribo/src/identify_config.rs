@@ -201,7 +201,8 @@ pub struct IdentifyConfig {
     pub spike_half_window_s: f64,
     /// A μ change over the plateau above this (and significant) is a trend (0.01).
     pub trend_tolerance: f64,
-    /// Peak-to-peak of smoothed, detrended μ above this is stick-slip (0.03).
+    /// Smallest median drop of μ at the slips of a saw-tooth flagged stick-slip (0.01; see
+    /// [`crate::steady::stick_slip`]).
     pub stick_slip_threshold: f64,
     /// Largest NC-to-spindle latency accepted, s (0.5).
     pub max_latency_s: f64,
@@ -211,11 +212,13 @@ pub struct IdentifyConfig {
     pub segmentation: Segmentation,
     /// A sample is loaded above the unloaded level plus this share of the loaded range (0.04).
     pub loaded_fraction: f64,
-    /// Without a measured speed channel, a loaded block slides when its μ, smoothed (running median) over the
-    /// rig's period and `sliding_smoothing_s`, exceeds this share of that smoothed μ's 75th
-    /// percentile over the loaded blocks (0.25; see [`crate::sliding`]).
-    pub sliding_fraction: f64,
-    /// ... and exceeds this μ in any case (0.005, the low end of plausible friction).
+    /// Without a measured speed channel, a loaded block slides when its friction force |F_t|,
+    /// smoothed (running median) over the rig's period and `sliding_smoothing_s`, exceeds this
+    /// many local standard deviations of the smoothed force's noise (5; see
+    /// [`crate::sliding`]) ...
+    pub sliding_rest_sigmas: f64,
+    /// ... and this μ times F_N in any case (0.001: below the 0.002–0.005 of an elastohydrodynamic
+    /// contact at the fast end of a Stribeck sweep, above the μ of a noiseless contact at rest).
     pub sliding_min_mu: f64,
     /// Shortest averaging of μ before the sliding test, s (0.1; the rig's period if longer).
     pub sliding_smoothing_s: f64,
@@ -276,13 +279,13 @@ impl Default for IdentifyConfig {
             spike_threshold_sigma: 6.0,
             spike_half_window_s: 0.01,
             trend_tolerance: 0.01,
-            stick_slip_threshold: 0.03,
+            stick_slip_threshold: 0.01,
             max_latency_s: 0.5,
             min_plateau_samples: 50,
             segmentation: Segmentation::Auto,
             loaded_fraction: 0.04,
-            sliding_fraction: 0.25,
-            sliding_min_mu: 0.005,
+            sliding_rest_sigmas: 5.0,
+            sliding_min_mu: 0.001,
             sliding_smoothing_s: 0.1,
             speed_rest_fraction: 0.001,
             max_period_s: 10.0,

@@ -28,7 +28,7 @@
 use crate::identify_config::{IdentifyConfig, SteadyRule, TestMode};
 use crate::recording::{Recording, SpeedTrace};
 use crate::signal::{linear_fit, mad_sigma, mean_std, median, moving_average};
-use crate::steady::{final_stationary, rule_span};
+use crate::steady::{rule_span, steady_stretch, Settling};
 use serde::Serialize;
 
 /// Where the strokes came from.
@@ -167,6 +167,10 @@ pub struct Reciprocating {
     pub samples: usize,
     /// The friction channel carries a magnitude only (never negative): μ = |F_t|/F_N.
     pub unsigned: bool,
+    /// Why the steady cycles are not a settled steady state, where they are not (too few
+    /// cycles to tell, or a μ that never settles; see [`crate::steady::steady_stretch`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unsettled: Option<String>,
 }
 
 /// `q`-quantile (nearest rank) of `x`; NaN when empty.
@@ -481,27 +485,25 @@ pub fn cycles(strokes: &[Stroke]) -> Vec<Cycle> {
     out
 }
 
-/// Steady cycles `[a, b)` under `rule` and the run-in (cycles) found under `auto`. An error
-/// says why a user's rule cannot be honoured ([`rule_span`]) or that there is no cycle.
+/// Steady cycles `[a, b)` under `rule` and the run-in (cycles) found under `auto`, by the one
+/// steady-state rule ([`steady_stretch`]: below 16 cycles all of them, a μ that never settles
+/// after its warm-up), with how μ settled. An error says why a user's rule cannot be
+/// honoured ([`rule_span`]) or that there is no cycle.
 pub fn steady_cycles(
     cycles: &[Cycle],
     rule: SteadyRule,
-) -> Result<(usize, usize, Option<usize>), String> {
+) -> Result<(usize, usize, Option<usize>, Settling), String> {
     let n = cycles.len();
     if n == 0 {
         return Err("no complete cycle".into());
     }
     let t: Vec<f64> = cycles.iter().map(|c| c.time_s).collect();
     if let Some((a, b)) = rule_span(rule, &t, 1, "cycles")? {
-        return Ok((a, b, None));
-    }
-    if n < 16 {
-        return Ok((0, n, Some(0)));
+        return Ok((a, b, None, Settling::Settled));
     }
     let mu: Vec<f64> = cycles.iter().map(|c| c.mu_mean).collect();
-    let fin = final_stationary(&mu, &t, 3, 0.002)
-        .ok_or_else(|| "μ never settles over the cycles".to_string())?;
-    Ok((fin.a, fin.b, Some(fin.run_in_end)))
+    let (fin, settling) = steady_stretch(&mu, &t, 3, 0.002);
+    Ok((fin.a, fin.b, Some(fin.run_in_end), settling))
 }
 
 /// Identify a reciprocating test over samples `[i0, j0)`: strokes, cycles, steady cycles and
@@ -521,7 +523,7 @@ pub fn analyse(
             source.describe()
         ));
     }
-    let (a, b, run_in) =
+    let (a, b, run_in, settling) =
         steady_cycles(&cy, cfg.steady).map_err(|m| format!("reciprocating: {m}"))?;
     let used = &cy[a..b];
     let mean = |f: &dyn Fn(&Cycle) -> f64| used.iter().map(f).sum::<f64>() / used.len() as f64;
@@ -558,6 +560,7 @@ pub fn analyse(
         end_s: used[used.len() - 1].end_s,
         samples: used.iter().map(|c| c.samples).sum(),
         unsigned,
+        unsettled: settling.reason(cy.len(), "cycles"),
         cycles: cy,
     })
 }

@@ -1,19 +1,36 @@
-//! Where a loaded recording slides, from the signals' physics rather than fixed fractions of
-//! the raw friction signal.
+//! Where a loaded recording slides, and in which direction, from the signals' physics rather
+//! than fixed fractions of the raw friction signal. Sliding is decided from the magnitudes
+//! |F_t| and |μ|, never from the sign of μ: a reverse pass slides as much as a forward one.
 //!
 //! * **With a measured speed channel** (one that varies: a constant stated with
 //!   `constant_sliding_m_s` is no evidence of motion), a loaded block slides while its speed
 //!   is above rest ([`speed_rest_level`]: `speed_rest_fraction` of the channel's largest
 //!   block speed, or five times its block-to-block noise if that is more).
-//! * **Without one**, the friction coefficient μ = F_t/F_N of the loaded blocks (10 ms block
-//!   medians) is first smoothed (a running median) over the rig's own period — the revolution of a disc or the
-//!   stroke of a reciprocating rig, found as the dominant lag of μ's autocorrelation
-//!   ([`crate::signal::dominant_period`], up to `max_period_s`) — and over at least
-//!   `sliding_smoothing_s`. Averaging over exactly one period removes once-per-revolution
-//!   dips and run-out however deep they are, and the smoothing removes white noise, so that a
-//!   low-friction step (μ 0.04 beside 0.12) is not cut into pieces by its own noise. A loaded
-//!   block then slides while the smoothed μ exceeds the larger of `sliding_fraction` × the
-//!   smoothed μ's 75th percentile over the loaded blocks and `sliding_min_mu`.
+//! * **Without one**, from the friction force F_t (10 ms block medians of the loaded blocks,
+//!   signed), smoothed by a running median over the rig's own period — the revolution of a
+//!   disc or the stroke of a reciprocating rig, found as the dominant lag of μ's
+//!   autocorrelation ([`crate::signal::dominant_period`], up to `max_period_s`) — and over at
+//!   least `sliding_smoothing_s`. Averaging over exactly one period removes once-per-revolution
+//!   dips and run-out however deep they are, and the median removes noise and spikes. A slide
+//!   starts where the smoothed |F_t| stands out of the noise a loaded contact at rest would
+//!   show — more than `sliding_rest_sigmas` local standard deviations of the smoothed force
+//!   ([`local_noise`]: from its changes over one smoothing window, per stretch of a few
+//!   seconds, robust to the level changes between steps), and at least `sliding_min_mu` ×
+//!   F_N — and lasts while it stays above [`HOLD_FRACTION`] of that threshold (a hysteresis:
+//!   a noisy low-friction step is not cut by its own noise; a stop falls to rest). The same
+//!   test over [`LONG_SCALE`] smoothing windows (at least a second), against that smoothing's
+//!   own smaller noise, starts and holds a slide too weak to stand out in one window (μ 0.004
+//!   under a noisy load cell); a stop shorter than half of it is then bridged, and the
+//!   level-change split finds it.
+//!   The test is on the force, not on μ = F_t/F_N, so that the noise of a load ramp's small
+//!   F_N does not pass for sliding; no share of a "typical" μ enters, so a Stribeck sweep
+//!   whose μ falls from 0.12 to 0.004 slides on every one of its steps.
+//! * **Direction**: the sign of the smoothed friction force where it stands out of the same
+//!   rest threshold — the friction force opposes the motion, so its sign is the direction of
+//!   sliding; where it does not (passing through zero at a reversal), the direction before.
+//!   A change of sign is a **reverse pass** ([`Sliding::direction`]; the campaign measures
+//!   each pass on its own), however short: a reciprocating rig's strokes are passes too short
+//!   for a step, never one slide of mixed sign.
 //!
 //! The period found also sets the shortest step the segmentation accepts (three periods, or
 //! `min_segment_s` if longer) and the block length of the change-point search, so that every
@@ -52,8 +69,12 @@ pub(crate) struct Sliding {
     pub evidence: SlidingEvidence,
     /// The rig's period found in μ, s (revolution or stroke), if any.
     pub period_s: Option<f64>,
-    /// The μ threshold used (friction evidence only).
-    pub mu_threshold: Option<f64>,
+    /// The rest threshold on |F_t| (its median over the loaded blocks), N (friction
+    /// evidence only).
+    pub rest_threshold_n: Option<f64>,
+    /// Per sample: the direction of sliding as recorded (+1: F_t positive, −1: negative), 0
+    /// where the sample does not slide.
+    pub direction: Vec<i8>,
 }
 
 /// Block layout of a recording: `b` samples per block, `loaded` per block.
@@ -85,7 +106,7 @@ pub(crate) fn speed_rest_level(vb: &[f64], cfg: &IdentifyConfig) -> f64 {
     (cfg.speed_rest_fraction * vmax).max(5.0 * noise)
 }
 
-/// Which loaded samples slide (see the module documentation).
+/// Which loaded samples slide, and in which direction (see the module documentation).
 pub(crate) fn sliding(
     speed: Option<&SpeedTrace>,
     fn_c: &[f64],
@@ -94,62 +115,171 @@ pub(crate) fn sliding(
     cfg: &IdentifyConfig,
 ) -> Sliding {
     let n = fn_c.len();
-    let per_sample = |per_block: &[bool]| (0..n).map(|k| per_block[k / blocks.b]).collect();
     let mu = block_mu(fn_c, ft_c, blocks);
     let period = friction_period(&mu, blocks, cfg);
     let period_s = period.map(|p| p as f64 * blocks.b as f64 / blocks.fs);
-    if let Some(v) = measured_speed(speed) {
-        let vb: Vec<f64> = v
-            .chunks(blocks.b)
-            .map(|c| median(&c.iter().map(|x| x.abs()).collect::<Vec<_>>()))
-            .collect();
-        let rest = speed_rest_level(&vb, cfg);
-        let mask: Vec<bool> = (0..vb.len())
-            .map(|k| blocks.loaded[k] && vb[k] > rest)
-            .collect();
-        return Sliding {
-            mask: per_sample(&mask),
-            evidence: SlidingEvidence::SpeedChannel,
-            period_s,
-            mu_threshold: None,
-        };
-    }
     let smoothing = ((cfg.sliding_smoothing_s * blocks.fs / blocks.b as f64).ceil() as usize)
         .max(period.unwrap_or(1))
         .max(1);
-    let smooth = smooth_loaded(&mu, blocks.loaded, smoothing);
-    let loaded_mu: Vec<f64> = (0..mu.len())
-        .filter(|k| blocks.loaded[*k])
-        .map(|k| smooth[k])
+    let loaded = blocks.loaded;
+    let fb: Vec<f64> = fn_c.chunks(blocks.b).map(median).collect();
+    let ftb: Vec<f64> = ft_c
+        .chunks(blocks.b)
+        .enumerate()
+        .map(|(k, c)| if loaded[k] { median(c) } else { 0.0 })
         .collect();
-    let typical = quantile(&loaded_mu, 0.75);
-    let thr = (cfg.sliding_fraction * typical).max(cfg.sliding_min_mu);
-    let mut mask: Vec<bool> = (0..mu.len())
-        .map(|k| blocks.loaded[k] && smooth[k] > thr)
+    // the smoothed friction force, signed, and the rest threshold on its magnitude: the
+    // level a loaded contact at rest does not leave (its local noise), and at least
+    // `sliding_min_mu` of the load
+    let signed = smooth_loaded(&ftb, loaded, smoothing);
+    let noise = local_noise(&signed, loaded, smoothing);
+    let thr: Vec<f64> = (0..fb.len())
+        .map(|k| (cfg.sliding_rest_sigmas * noise[k]).max(cfg.sliding_min_mu * fb[k].abs()))
         .collect();
-    sharpen_ends(&mut mask, &mu, thr);
+    let stands_out = |k: usize| loaded[k] && signed[k].abs() > thr[k];
+    let (mask, evidence) = match measured_speed(speed) {
+        Some(v) => {
+            let vb: Vec<f64> = v
+                .chunks(blocks.b)
+                .map(|c| median(&c.iter().map(|x| x.abs()).collect::<Vec<_>>()))
+                .collect();
+            let rest = speed_rest_level(&vb, cfg);
+            let mask: Vec<bool> = (0..vb.len()).map(|k| loaded[k] && vb[k] > rest).collect();
+            (mask, SlidingEvidence::SpeedChannel)
+        }
+        None => {
+            // hysteresis: a slide starts where the force stands out of the rest threshold and
+            // lasts while it stays above a fifth of it (a noisy low-friction step whose force
+            // is a few thresholds is not cut by a dip of its noise; a stop falls to rest)
+            // over ten smoothing windows (at least a second), a slide too weak to stand out in
+            // one (μ 0.004 under a noisy load cell) stands out of its own, smaller noise
+            let long_w = LONG_SCALE * smoothing;
+            let long = smooth_loaded(&ftb, loaded, long_w);
+            let long_noise = local_noise(&long, loaded, long_w);
+            let long_out = |k: usize| {
+                loaded[k]
+                    && long[k].abs()
+                        > (cfg.sliding_rest_sigmas * long_noise[k])
+                            .max(cfg.sliding_min_mu * fb[k].abs())
+            };
+            let high: Vec<bool> = (0..fb.len())
+                .map(|k| stands_out(k) || long_out(k))
+                .collect();
+            let low: Vec<bool> = (0..fb.len())
+                .map(|k| (loaded[k] && signed[k].abs() > HOLD_FRACTION * thr[k]) || long_out(k))
+                .collect();
+            let mut mask = hysteresis(&high, &low);
+            let own: Vec<bool> = (0..fb.len()).map(|k| ftb[k].abs() > thr[k]).collect();
+            sharpen_ends(&mut mask, &own);
+            (mask, SlidingEvidence::Friction)
+        }
+    };
+    let decided: Vec<i8> = (0..fb.len())
+        .map(|k| match (stands_out(k), signed[k] < 0.0) {
+            (false, _) => 0,
+            (true, true) => -1,
+            (true, false) => 1,
+        })
+        .collect();
+    let dir = block_directions(&mask, &decided);
+    let loaded_thr: Vec<f64> = (0..fb.len())
+        .filter(|k| loaded[*k])
+        .map(|k| thr[k])
+        .collect();
     Sliding {
-        mask: per_sample(&mask),
-        evidence: SlidingEvidence::Friction,
+        mask: (0..n).map(|k| mask[k / blocks.b]).collect(),
+        evidence,
         period_s,
-        mu_threshold: Some(thr),
+        rest_threshold_n: (evidence == SlidingEvidence::Friction && !loaded_thr.is_empty())
+            .then(|| median(&loaded_thr)),
+        direction: (0..n).map(|k| dir[k / blocks.b]).collect(),
     }
 }
 
-/// The smoothing blurs a sharp start or stop by half its window: each sliding run's ends
-/// are moved in to the first and last block whose own μ exceeds the threshold (dips inside
-/// the run stay averaged over).
-fn sharpen_ends(mask: &mut [bool], mu: &[f64], thr: f64) {
+/// A slide lasts while the smoothed friction force stays above this share of the rest
+/// threshold (Schmitt trigger: it starts only above the threshold itself).
+pub const HOLD_FRACTION: f64 = 0.4;
+
+/// The second, longer smoothing of the friction force, in smoothing windows.
+pub const LONG_SCALE: usize = 10;
+
+/// Runs of `low` that hold at least one `high` (a hysteresis of two thresholds).
+fn hysteresis(high: &[bool], low: &[bool]) -> Vec<bool> {
+    let mut out = vec![false; low.len()];
+    for (a, e) in crate::signal::runs(low) {
+        if high[a..e].iter().any(|h| *h) {
+            out[a..e].iter_mut().for_each(|m| *m = true);
+        }
+    }
+    out
+}
+
+/// The local standard deviation of a smoothed series `x` (running medians over `w` blocks)
+/// per block: over chunks of max(20 w, 200) blocks, the robust (MAD) spread of its changes
+/// over `w` blocks — two windows that share no block — over √2, between loaded blocks. A step
+/// change of the level is an outlier among those changes and leaves σ alone; a slow wander
+/// adds to it only what it moves in one window; a chunk at rest has the rest noise, a chunk
+/// sliding at a high load its friction noise (one σ for a file of 10 N and 1000 N steps would
+/// take the light step for a rest). A chunk with fewer than 8 changes takes the file's.
+pub(crate) fn local_noise(x: &[f64], loaded: &[bool], w: usize) -> Vec<f64> {
+    let diffs = |a: usize, b: usize| -> Vec<f64> {
+        (a.max(w)..b)
+            .filter(|k| loaded[*k] && loaded[k - w])
+            .map(|k| x[k] - x[k - w])
+            .collect()
+    };
+    let sigma = |d: &[f64]| crate::signal::mad_sigma(d, 0.0) / std::f64::consts::SQRT_2;
+    let all = diffs(0, x.len());
+    let global = if all.len() >= 8 { sigma(&all) } else { 0.0 };
+    let l = (20 * w).max(200);
+    let mut out = Vec::with_capacity(x.len());
+    for a in (0..x.len()).step_by(l) {
+        let b = (a + l).min(x.len());
+        let d = diffs(a, b);
+        let s = if d.len() >= 8 { sigma(&d) } else { global };
+        out.extend(std::iter::repeat_n(s, b - a));
+    }
+    out
+}
+
+/// Per block: +1 or −1 where `mask` slides, 0 elsewhere: the sign `decided` where the
+/// smoothed friction force stands out of its rest threshold; a sliding block where it does
+/// not (the force passing through zero at a reversal) takes the sign of the decided block
+/// before it (after it, at the start). A running median over at least 0.1 s cannot leave
+/// the noise on a few samples, so every decided run is a pass of its own, however short (a
+/// reciprocating rig's stroke).
+fn block_directions(mask: &[bool], decided: &[i8]) -> Vec<i8> {
+    let first = (0..mask.len())
+        .find(|k| mask[*k] && decided[*k] != 0)
+        .map_or(1, |k| decided[k]);
+    let mut current = first;
+    (0..mask.len())
+        .map(|k| {
+            if !mask[k] {
+                return 0;
+            }
+            if decided[k] != 0 {
+                current = decided[k];
+            }
+            current
+        })
+        .collect()
+}
+
+/// The smoothing blurs a sharp start or stop: each sliding run's ends are moved in to the
+/// first and last block that stands out on its `own` (dips inside the run stay averaged
+/// over).
+fn sharpen_ends(mask: &mut [bool], own: &[bool]) {
     for (a, e) in crate::signal::runs(mask) {
-        let first = (a..e).find(|k| mu[*k] > thr).unwrap_or(e);
-        let last = (a..e).rev().find(|k| mu[*k] > thr).map_or(a, |k| k + 1);
+        let first = (a..e).find(|k| own[*k]).unwrap_or(e);
+        let last = (a..e).rev().find(|k| own[*k]).map_or(a, |k| k + 1);
         for k in (a..first).chain(last.max(first)..e) {
             mask[k] = false;
         }
     }
 }
 
-/// μ per block (block medians of F_t over those of F_N), 0 where unloaded.
+/// Signed μ per block (block medians of F_t over those of F_N), 0 where unloaded.
 fn block_mu(fn_c: &[f64], ft_c: &[f64], blocks: &Blocks) -> Vec<f64> {
     fn_c.chunks(blocks.b)
         .zip(ft_c.chunks(blocks.b))
@@ -231,10 +361,11 @@ mod tests {
             .map(|k| if k % 130 < 5 { 6.0 } else { 30.0 })
             .collect();
         let s = sliding_of(&ft_c);
-        // one slide; only the dip the recording starts in lies before its first block
+        // one slide: a dip to a fifth of μ still stands far out of the noise, even the one
+        // the recording starts in
         assert_eq!(
             crate::signal::runs(&s.mask),
-            vec![(5, n)],
+            vec![(0, n)],
             "dips cut the slide"
         );
         let p = s.period_s.expect("the revolution is found");

@@ -8,7 +8,7 @@ use crate::identify_config::{IdentifyConfig, SteadyRule};
 use crate::signal::{
     hampel_outliers, linear_fit, mad_sigma, mean_std, median, moving_average, running_median,
 };
-use crate::uncertainty::MeanInterval;
+use crate::uncertainty::WindowMean;
 use greybox_core::dataset::flags;
 
 /// The friction signal of one window of samples `[i, j)`.
@@ -145,9 +145,11 @@ pub struct FinalStretch {
 /// s, following ASTM G99-17 §3.2/§9 and G133-05 §9 practice: the steady-state value comes
 /// after the run-in, from the end of the test.
 ///
-/// μ's running level is a centred moving average over max(`w_smooth`, n/50) samples. The
-/// band is five robust standard deviations of the level's residuals about a line over the
-/// last quarter (at least `floor`). The steady part is the longest final stretch (searched on
+/// μ's running level is a centred moving average over w = max(`w_smooth`, n/50) samples. The
+/// band is five standard deviations of that level's own noise over the last quarter
+/// ([`level_noise`]: from its changes over one window, so that a slow excursion — a run-in's
+/// tail, a swing of μ between two steps — is measured against the noise, not counted in it;
+/// at least `floor`). The steady part is the longest final stretch (searched on
 /// a grid of [`SUFFIX_GRID`] starts, at least n/4 samples long) whose level stays within the
 /// band of a line fitted to that stretch (excursions shorter than the running window, stick-slip
 /// bursts, aside), a line changing by at most [`MAX_DRIFT_FRACTION`]
@@ -162,10 +164,7 @@ pub fn final_stationary(x: &[f64], t: &[f64], w_smooth: usize, floor: f64) -> Op
     }
     let w = w_smooth.max(n / 50).max(3);
     let level = moving_average(x, w);
-    let q = (3 * n) / 4;
-    let (c0, c1, _) = linear_fit(&t[q..], &level[q..]);
-    let resid: Vec<f64> = (q..n).map(|k| level[k] - c0 - c1 * t[k]).collect();
-    let band = (5.0 * mad_sigma(&resid, 0.0)).max(floor);
+    let band = (5.0 * level_noise(&level[(3 * n) / 4..], w)).max(floor);
     let min_len = (n / 4).max(8);
     let on_a_line = |a: usize| {
         let (c0, c1, _) = linear_fit(&t[a..], &level[a..]);
@@ -191,6 +190,85 @@ pub fn final_stationary(x: &[f64], t: &[f64], w_smooth: usize, floor: f64) -> Op
         b: n,
         run_in_end: start,
     })
+}
+
+/// How a steady stretch was found ([`steady_stretch`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Settling {
+    /// μ settled: its final stationary stretch ([`final_stationary`]).
+    Settled,
+    /// μ never settles: no final stretch lies on a line within its band. The stretch is the
+    /// record after its warm-up (MSER-5), its mean reported with its trend.
+    NeverSettles,
+    /// Fewer than 16 values: too few to tell a run-in from the steady state; all are taken.
+    TooShort,
+}
+
+impl Settling {
+    /// Why the stretch is not a settled steady state (`None` when it is), for the reports.
+    pub fn reason(self, n: usize, what: &str) -> Option<String> {
+        match self {
+            Settling::Settled => None,
+            Settling::NeverSettles => Some(format!(
+                "μ never settles (no final stretch of its {n} {what} lies on a line within its band): the mean after the warm-up (MSER-5), with its trend, and an interval that counts the wander"
+            )),
+            Settling::TooShort => Some(format!(
+                "only {n} {what}, too few to tell a run-in from the steady state (16 needed): all of them averaged"
+            )),
+        }
+    }
+}
+
+/// The steady stretch of a series `x` at times `t` — the one steady-state rule of greybox's
+/// friction identification, for a continuous test's samples and a reciprocating test's
+/// cycles alike: the final stationary stretch where μ settles ([`final_stationary`]);
+/// where it never settles, the record after the warm-up that MSER-5 truncates
+/// ([`greybox_core::stats::mser_truncation`], White 1997 — the rule greybox-sim applies to a
+/// simulated cut), never a refusal; below 16 values, all of them, said so.
+pub fn steady_stretch(
+    x: &[f64],
+    t: &[f64],
+    w_smooth: usize,
+    floor: f64,
+) -> (FinalStretch, Settling) {
+    let n = x.len();
+    if n < 16 {
+        let all = FinalStretch {
+            a: 0,
+            b: n,
+            run_in_end: 0,
+        };
+        return (all, Settling::TooShort);
+    }
+    match final_stationary(x, t, w_smooth, floor) {
+        Some(f) => (f, Settling::Settled),
+        None => {
+            let d = greybox_core::stats::mser_truncation(x, 5);
+            let f = FinalStretch {
+                a: d,
+                b: n,
+                run_in_end: d,
+            };
+            (f, Settling::NeverSettles)
+        }
+    }
+}
+
+/// The standard deviation of a running level `level` (a moving average over `w` samples):
+/// the robust (MAD) spread of its changes over `w` samples — two windows that share no
+/// sample — about their median (a steady drift's constant change), over √2. Where the
+/// stretch is shorter than two windows, the robust spread of its residuals about a line.
+pub fn level_noise(level: &[f64], w: usize) -> f64 {
+    if level.len() < 2 * w + 8 {
+        let t: Vec<f64> = (0..level.len()).map(|k| k as f64).collect();
+        let (c0, c1, _) = linear_fit(&t, level);
+        let resid: Vec<f64> = (0..level.len())
+            .map(|k| level[k] - c0 - c1 * t[k])
+            .collect();
+        return mad_sigma(&resid, 0.0);
+    }
+    let d: Vec<f64> = (w..level.len()).map(|k| level[k] - level[k - w]).collect();
+    mad_sigma(&d, median(&d)) / std::f64::consts::SQRT_2
 }
 
 /// The most μ may drift across a steady stretch, as a fraction of its level: a slow drift
@@ -264,13 +342,33 @@ pub struct PlateauStats {
     /// Samples of the window masked as spikes.
     pub spikes: usize,
     /// μ's mean over the window with its uncertainty under serial correlation
-    /// ([`crate::uncertainty::MeanInterval`]).
-    pub interval: MeanInterval,
+    /// ([`crate::uncertainty::WindowMean`]).
+    pub interval: WindowMean,
     /// Half-width of μ's 95 % interval, as reported: the window's own
     /// (`interval.half_width_95`), widened where the window's boundaries are uncertain.
     pub ci95: f64,
     /// Mean measured normal force over the samples used, N.
     pub normal_force_n: f64,
+    /// What `ci95` is made of, where another window's interval may share a part (the two
+    /// passes of a bidirectional test); `None` where it was not built from them.
+    pub parts: Option<IntervalParts>,
+}
+
+/// The parts of a window's 95 % interval of μ (see the campaign's `measure`): the window's
+/// own statistics, the baseline's errors, and the widening for uncertain boundaries.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IntervalParts {
+    /// The window's mean with its standard error under serial correlation (with the run's
+    /// disturbance as a floor).
+    pub window: WindowMean,
+    /// The normal channel's baseline error in μ, μ·se(F_N offset)/F_N.
+    pub normal_offset: f64,
+    /// The friction channel's baseline errors at the start and end windows, in μ
+    /// (se/F_N each), and where this window lies between them (λ from 0 at the start window
+    /// to 1 at the end window; `None`: one window, a constant offset).
+    pub tangential_offset: (f64, f64, Option<f64>),
+    /// μ's change when the window's ends move by their boundaries' uncertainty.
+    pub shift: f64,
 }
 
 /// Where a plateau sits in the campaign: pin and step, the plan's load if any, the sliding
@@ -318,9 +416,10 @@ impl PlateauStats {
 
 /// Statistics over the window-relative samples `[pi, pj)` of `sig`: mean and standard
 /// deviation of F_t/F_N over the unmasked samples, the mean's 95 % interval under serial
-/// correlation ([`MeanInterval`]; a drift inflates it, as slow correlated content), linear
+/// correlation ([`WindowMean`]; a drift inflates it, as slow correlated content), linear
 /// trend (flag `trend` when the change over the plateau exceeds the tolerance and four
-/// standard errors), peak-to-peak of the smoothed, detrended μ (flag `stick-slip`), and
+/// standard errors), a saw-tooth of slow rises and sudden drops ([`stick_slip`], flag
+/// `stick-slip`), and
 /// whether the masked spikes matter (flag `spikes-removed` when μ with them differs by more
 /// than the interval's half-width). `None` when fewer than `min_plateau_samples` unmasked
 /// samples remain.
@@ -344,7 +443,7 @@ pub fn plateau_stats(
     let spikes = (pi..pj).filter(|k| !sig.good[*k]).count();
     let mut fl = Vec::new();
     let vals: Vec<f64> = idx.iter().map(|k| sig.mu[*k]).collect();
-    let interval = MeanInterval::of(&vals)?;
+    let interval = WindowMean::of(&vals)?;
     if spikes > 0 && spikes_matter(&sig.mu[pi..pj], interval) {
         fl.push(flags::SPIKES_REMOVED.to_string());
     }
@@ -353,23 +452,7 @@ pub fn plateau_stats(
     let (_, slope, se) = linear_fit(&times, &vals);
     let duration = times[times.len() - 1] - times[0];
     let trend = (slope * duration).abs() > cfg.trend_tolerance && slope.abs() > 4.0 * se;
-    let sm_p: Vec<f64> = sig.smooth[pi..pj].to_vec();
-    let t_p: Vec<f64> = (pi..pj).map(|k| time[i + k] - t_ref).collect();
-    let (ia, ib, _) = linear_fit(&t_p, &sm_p);
-    let detr: Vec<f64> = sm_p
-        .iter()
-        .zip(&t_p)
-        .map(|(v, t)| v - ia - ib * t)
-        .collect();
-    let h = sig.w_smooth / 2;
-    let inner = if detr.len() > 2 * h + 2 {
-        &detr[h..detr.len() - h]
-    } else {
-        &detr[..]
-    };
-    let p2p = inner.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-        - inner.iter().cloned().fold(f64::INFINITY, f64::min);
-    let stick = p2p > cfg.stick_slip_threshold;
+    let stick = stick_slip(&vals, cfg.stick_slip_threshold);
     if trend {
         fl.push(flags::TREND.to_string());
     }
@@ -390,14 +473,54 @@ pub fn plateau_stats(
         interval,
         ci95: interval.half_width_95,
         normal_force_n: f_meas,
+        parts: None,
     })
 }
 
 /// Whether masking changed μ by more than its interval: the mean of every finite sample of
 /// the window `all` against the interval's mean (a spike that would move μ is worth a look;
 /// a few masked blips that do not are noise the filter handled).
-fn spikes_matter(all: &[f64], interval: MeanInterval) -> bool {
+fn spikes_matter(all: &[f64], interval: WindowMean) -> bool {
     let finite: Vec<f64> = all.iter().copied().filter(|v| v.is_finite()).collect();
     let with = finite.iter().sum::<f64>() / finite.len().max(1) as f64;
     !((with - interval.mean).abs() <= interval.half_width_95)
+}
+
+/// Whether μ over a window (`x`, its unmasked samples in order) holds stick-slip: a
+/// saw-tooth of slow rises (the contact sticks and the spring loads) and sudden drops (it
+/// slips), told from noise and from a slow wander by the drops alone, relative to the local
+/// noise. For each lag L ∈ {1, 2, 4, 8} samples (a slip spread over up to L samples), the
+/// increments d_k = x_{k+L} − x_k have a robust spread σ_L (MAD about their median, at least
+/// the quantisation step); a **slip** is a cluster of d_k < −6σ_L, a **sudden rise** a
+/// cluster of d_k > +6σ_L. Stick-slip: at some lag, at least three slips, more than three
+/// times as many slips as sudden rises (noise, heavy-tailed or not, jumps both ways; spikes
+/// rise and fall), and a median drop of at least `min_drop` (a smaller saw-tooth moves the
+/// mean by less than half of that). A wander, however large, is slow: its increments over a
+/// few samples stay inside the noise.
+pub fn stick_slip(x: &[f64], min_drop: f64) -> bool {
+    const K: f64 = 6.0;
+    let q = crate::signal::quantum(x);
+    [1usize, 2, 4, 8].into_iter().any(|lag| {
+        if x.len() < 8 * lag {
+            return false;
+        }
+        let d: Vec<f64> = x.windows(lag + 1).map(|w| w[lag] - w[0]).collect();
+        let sigma = mad_sigma(&d, median(&d)).max(q);
+        let events = |sel: &dyn Fn(f64) -> bool| -> Vec<f64> {
+            let mut out: Vec<(usize, f64)> = Vec::new();
+            for (k, v) in d.iter().enumerate().filter(|(_, v)| sel(**v)) {
+                match out.last_mut() {
+                    Some(e) if k <= e.0 + lag => {
+                        e.0 = k;
+                        e.1 = if v.abs() > e.1.abs() { *v } else { e.1 };
+                    }
+                    _ => out.push((k, *v)),
+                }
+            }
+            out.into_iter().map(|e| e.1.abs()).collect()
+        };
+        let slips = events(&|v| v < -K * sigma);
+        let rises = events(&|v| v > K * sigma);
+        slips.len() >= 3 && slips.len() > 3 * rises.len() && median(&slips) >= min_drop
+    })
 }

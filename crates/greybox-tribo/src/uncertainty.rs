@@ -3,21 +3,29 @@
 //! a split run's residual disturbance).
 //!
 //! The variance of the mean of n correlated samples is σ²·τ/n, with the **integrated
-//! autocorrelation time** τ = 1 + 2 Σ_{k≥1} ρ_k. τ is estimated by Geyer's *initial monotone
-//! sequence* (Geyer 1992, "Practical Markov chain Monte Carlo", Statist. Sci. 7, §3.3): the
-//! sums of adjacent autocovariances Γ_m = γ_{2m} + γ_{2m+1} are summed while they stay
-//! positive, each capped by the one before (a stationary series' Γ_m decrease), so
-//! σ²τ = −γ_0 + 2 Σ_m Γ_m. To stay cheap on long windows the series is first reduced to the
-//! means of at most [`MAX_BLOCKS`] consecutive blocks (a block mean keeps the long-run
-//! variance). The **effective sample size** is n_eff = n/τ, and the 95 % interval of the mean
-//! is mean ± t₀.₉₇₅(n_eff − 1)·SE with Student's t (few effective samples: a wider interval).
+//! autocorrelation time** τ = 1 + 2 Σ_{k≥1} ρ_k. To stay cheap on long windows the series is
+//! first reduced to the means of at most [`MAX_BLOCKS`] consecutive blocks of m samples (a
+//! block mean keeps the long-run variance); the blocks' own τ_b comes from
+//! [`greybox_core::stats::integrated_autocorrelation_time`] (Geyer's *initial monotone
+//! sequence*, Geyer 1992, Statist. Sci. 7, §3.3), so the long-run variance per sample is
+//! m·γ_0·τ_b with γ_0 the variance of the block means, and τ = m·γ_0·τ_b/σ². The **effective
+//! sample size** is n_eff = n/τ, and the 95 % interval of the mean is
+//! mean ± t₀.₉₇₅(n_eff − 1)·SE with Student's t ([`greybox_core::stats::t_factor`]; few
+//! effective samples: a wider interval). This is the same estimator greybox-core's batch means
+//! rest on; [`WindowMean`] is a window's mean with the effective sample size, where
+//! [`greybox_core::stats::MeanInterval`] is a batch-means interval.
+
+use greybox_core::stats::{integrated_autocorrelation_time, t_factor};
 
 /// Blocks the series is reduced to before the autocovariances are summed.
 pub const MAX_BLOCKS: usize = 256;
 
-/// A mean with its uncertainty.
+/// The confidence level of [`WindowMean::half_width_95`].
+const LEVEL_95: f64 = 0.95;
+
+/// The mean of a window of correlated samples with its uncertainty.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MeanInterval {
+pub struct WindowMean {
     pub mean: f64,
     /// Standard error of the mean under serial correlation.
     pub sem: f64,
@@ -27,11 +35,11 @@ pub struct MeanInterval {
     pub half_width_95: f64,
 }
 
-impl MeanInterval {
+impl WindowMean {
     /// The interval of the mean of `x` (see the module documentation): 2 or 3 samples say
     /// nothing about their own correlation and are taken as independent; `None` for fewer
     /// than 2.
-    pub fn of(x: &[f64]) -> Option<MeanInterval> {
+    pub fn of(x: &[f64]) -> Option<WindowMean> {
         let n = x.len();
         if n < 2 {
             return None;
@@ -43,43 +51,43 @@ impl MeanInterval {
         } else {
             standard_error(x, mean)
         };
-        Some(MeanInterval {
+        Some(WindowMean {
             mean,
             sem,
             n_eff,
-            half_width_95: t_975(n_eff - 1.0) * sem,
+            half_width_95: t95(n_eff - 1.0) * sem,
         })
     }
 
     /// The interval with its standard error raised to at least `floor` (a disturbance seen
     /// over a longer stretch than the window itself), the effective sample size lowered in
     /// proportion.
-    pub fn with_sem_floor(self, floor: f64) -> MeanInterval {
+    pub fn with_sem_floor(self, floor: f64) -> WindowMean {
         if !(floor > self.sem) {
             return self;
         }
         let n_eff = (self.n_eff * (self.sem / floor).powi(2)).max(1.0);
-        MeanInterval {
+        WindowMean {
             sem: floor,
             n_eff,
-            half_width_95: t_975(n_eff - 1.0) * floor,
+            half_width_95: t95(n_eff - 1.0) * floor,
             ..self
         }
     }
 }
 
-impl MeanInterval {
+impl WindowMean {
     /// The interval with an independent error `se` common to every sample (an offset
     /// removed from the whole window) added in quadrature; the degrees of freedom stay the
     /// window's.
-    pub fn with_common_error(self, se: f64) -> MeanInterval {
+    pub fn with_common_error(self, se: f64) -> WindowMean {
         if !(se > 0.0) {
             return self;
         }
         let sem = self.sem.hypot(se);
-        MeanInterval {
+        WindowMean {
             sem,
-            half_width_95: t_975(self.n_eff - 1.0) * sem,
+            half_width_95: t95(self.n_eff - 1.0) * sem,
             ..self
         }
     }
@@ -88,40 +96,26 @@ impl MeanInterval {
 /// Standard error of the mean of `x` under serial correlation (see the module
 /// documentation); infinite for fewer than 4 samples.
 pub fn mean_standard_error(x: &[f64]) -> f64 {
-    MeanInterval::of(x).map_or(f64::INFINITY, |m| m.sem)
+    WindowMean::of(x).map_or(f64::INFINITY, |m| m.sem)
 }
 
 /// (standard error, effective sample size) of the mean `mean` of `x`.
 fn standard_error(x: &[f64], mean: f64) -> (f64, f64) {
     let n = x.len();
     let m = (n / MAX_BLOCKS).max(1);
-    // block means about the mean (a remainder shorter than a block is left out of the sums)
+    // block means (a remainder shorter than a block is left out)
     let b: Vec<f64> = x
         .chunks_exact(m)
-        .map(|c| c.iter().sum::<f64>() / m as f64 - mean)
+        .map(|c| c.iter().sum::<f64>() / m as f64)
         .collect();
-    let nb = b.len();
-    let gamma = |lag: usize| b.iter().zip(&b[lag..]).map(|(u, v)| u * v).sum::<f64>() / nb as f64;
-    let g0 = gamma(0);
+    let b_mean = b.iter().sum::<f64>() / b.len() as f64;
+    let g0 = b.iter().map(|v| (v - b_mean).powi(2)).sum::<f64>() / b.len() as f64;
     let var_sample = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n as f64;
     if !(g0 > 0.0) || !(var_sample > 0.0) {
         return (0.0, n as f64);
     }
-    // Geyer's initial monotone sequence over the block means
-    let mut sum = 0.0;
-    let mut prev = f64::INFINITY;
-    let mut k = 0;
-    while 2 * k + 1 < nb {
-        let pair = (gamma(2 * k) + gamma(2 * k + 1)).min(prev);
-        if !(pair > 0.0) {
-            break;
-        }
-        sum += pair;
-        prev = pair;
-        k += 1;
-    }
     // long-run variance of one block mean (at least its white-noise share), per sample
-    let lrv = (2.0 * sum - g0).max(g0) * m as f64;
+    let lrv = g0 * integrated_autocorrelation_time(&b) * m as f64;
     let tau = (lrv / var_sample).max(1.0);
     (
         (tau * var_sample / n as f64).sqrt(),
@@ -129,24 +123,9 @@ fn standard_error(x: &[f64], mean: f64) -> (f64, f64) {
     )
 }
 
-/// The 97.5 % quantile of Student's t with `dof` degrees of freedom (at least 1): exact
-/// values up to 4, then the Cornish–Fisher expansion about the normal quantile (Abramowitz &
-/// Stegun 26.7.5), within 2·10⁻⁴ of the exact value from 4 degrees on.
-pub fn t_975(dof: f64) -> f64 {
-    const EXACT: [f64; 4] = [12.706_204, 4.302_653, 3.182_446, 2.776_445];
-    let nu = dof.max(1.0);
-    if nu < 4.0 {
-        // linear between the tabulated integers
-        let k = nu.floor() as usize;
-        let f = nu - k as f64;
-        return EXACT[k - 1] * (1.0 - f) + EXACT[k] * f;
-    }
-    let z: f64 = 1.959_963_985;
-    let (z3, z5, z7, z9) = (z.powi(3), z.powi(5), z.powi(7), z.powi(9));
-    z + (z3 + z) / (4.0 * nu)
-        + (5.0 * z5 + 16.0 * z3 + 3.0 * z) / (96.0 * nu * nu)
-        + (3.0 * z7 + 19.0 * z5 + 17.0 * z3 - 15.0 * z) / (384.0 * nu.powi(3))
-        + (79.0 * z9 + 776.0 * z7 + 1482.0 * z5 - 1920.0 * z3 - 945.0 * z) / (92160.0 * nu.powi(4))
+/// The 97.5 % quantile of Student's t with `dof` degrees of freedom (at least 1).
+fn t95(dof: f64) -> f64 {
+    t_factor(LEVEL_95, dof)
 }
 
 #[cfg(test)]
@@ -154,24 +133,6 @@ mod tests {
     use super::*;
     use rand::SeedableRng;
     use rand_distr::{Distribution, StandardNormal};
-
-    #[test]
-    fn student_quantiles() {
-        for (nu, t) in [
-            (1.0, 12.7062),
-            (4.0, 2.7764),
-            (5.0, 2.5706),
-            (10.0, 2.2281),
-            (30.0, 2.0423),
-            (1000.0, 1.9623),
-        ] {
-            assert!(
-                (t_975(nu) - t).abs() < 2e-3,
-                "t({nu}) = {} vs {t}",
-                t_975(nu)
-            );
-        }
-    }
 
     /// White noise: τ ≈ 1; AR(1) with φ = 0.9: τ = (1 + φ)/(1 − φ) = 19; and the 95 %
     /// interval covers the true mean 0 in 90–99 % of 400 series of each.
@@ -189,7 +150,7 @@ mod tests {
                     v = phi * v + e;
                     x.push(v);
                 }
-                let m = MeanInterval::of(&x).unwrap();
+                let m = WindowMean::of(&x).unwrap();
                 taus.push(4000.0 / m.n_eff);
                 if m.mean.abs() <= m.half_width_95 {
                     covered += 1;

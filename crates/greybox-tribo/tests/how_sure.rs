@@ -289,3 +289,62 @@ fn a_wandering_mu_is_reported_with_a_wider_interval() {
         |_, _| {},
     );
 }
+
+/// Rule 3: sliding is decided from |F_t| and |μ|, never from the sign of μ. A bidirectional
+/// test (a forward pass, then a reverse pass after a stop or reversing at once; no position
+/// channel, no `--test-mode`; the friction channel's sign, offset and drift drawn) is
+/// recognised from the signal: both passes slide, are measured on their own and reported
+/// (forward and reverse means with their intervals), the row's μ is their mean, and the
+/// reverse pass is counted in the coverage line. Each pass's interval and the row's cover
+/// their truths at the stated level over many seeds.
+#[test]
+fn a_bidirectional_test_is_recognised_and_both_passes_are_measured() {
+    let (seeds, mut row_hits, mut pass_hits) = (120u64, 0, 0);
+    for seed in 0..seeds {
+        let (t, (mu_f, mu_b)) = sure::bidirectional(seed);
+        let cfg = IdentifyConfig::default();
+        let id = identify(std::slice::from_ref(&constant_test(&t)), None, &cfg);
+        let f = &id.files[0];
+        assert_eq!(id.dataset.records.len(), 1, "seed {seed}: {f:#?}");
+        let seg = f.segments.iter().find(|s| s.cof.is_some()).unwrap();
+        let passes = seg
+            .passes
+            .as_ref()
+            .unwrap_or_else(|| panic!("seed {seed}: no passes: {:#?}", f.notes));
+        assert_eq!(seg.direction, Some("both"), "seed {seed}");
+        assert!(
+            f.notes.iter().any(|n| n.starts_with("bidirectional test")),
+            "seed {seed}: {:?}",
+            f.notes
+        );
+        // both passes are sliding time, and most of it is steady
+        let both = t.time_s.last().unwrap() - 7.0;
+        let c = &f.coverage;
+        assert!(
+            c.sliding_s > 0.85 * both && c.steady_s + c.masked_s > 0.75 * c.sliding_s,
+            "seed {seed}: {} (passes {both:.1} s)",
+            c.line()
+        );
+        let r = &id.dataset.records[0];
+        let ci = r.cof_apparent_ci95.unwrap();
+        let truth = 0.5 * (mu_f + mu_b);
+        assert!((r.cof_apparent - 0.5 * (passes.forward.cof + passes.backward.cof)).abs() < 1e-12);
+        row_hits += ((r.cof_apparent - truth).abs() <= ci) as usize;
+        for (p, m) in [(&passes.forward, mu_f), (&passes.backward, mu_b)] {
+            if (p.cof - m).abs() <= p.cof_ci95 {
+                pass_hits += 1;
+            } else {
+                eprintln!(
+                    "seed {seed}: pass μ {:.4} ± {:.4} truth {m:.4}",
+                    p.cof, p.cof_ci95
+                );
+            }
+        }
+    }
+    coverage(
+        "bidirectional row (mean of both passes)",
+        row_hits,
+        seeds as usize,
+    );
+    coverage("bidirectional passes", pass_hits, 2 * seeds as usize);
+}

@@ -95,7 +95,7 @@ fn coverage_line(id: &Identification, file: usize, min_steady: f64) -> String {
         "{line}"
     );
     // masked spikes are their own share (not steady)
-    let sum = c.steady_s + c.masked_s + c.run_in_s + c.transitions_s + c.dropped_s;
+    let sum = c.steady_s + c.masked_s + c.unsettled_s + c.run_in_s + c.transitions_s + c.dropped_s;
     assert!(
         (sum - c.sliding_s).abs() < 1e-6 * c.sliding_s.max(1.0),
         "{c:?}"

@@ -6,9 +6,10 @@ use super::report::{FileReport, SegmentReport};
 use crate::identify::IdentifyConfig;
 use crate::identify_config::SteadyRule;
 use crate::recording::SpeedTrace;
-use crate::signal::{median, moving_average, quantum};
+use crate::signal::{median, moving_average, quantum, running_median};
 use crate::steady::{
-    final_stationary, plateau_stats, rule_span, steady_span, step_signals, windows, StepSignals,
+    plateau_stats, rule_span, steady_span, steady_stretch, step_signals, windows, Settling,
+    StepSignals,
 };
 use greybox_core::dataset::flags;
 use greybox_core::units;
@@ -18,27 +19,33 @@ use greybox_core::units;
 /// Under `auto`: F_N and the speed must be within their bands ([`steady_span`], which drops
 /// load and speed ramps), and μ must be in its final stationary stretch
 /// ([`final_stationary`]); the settle time and end margin are then dropped. Under
-/// `last:P%` / `from:Ts` the window is the user's, as given.
+/// `last:P%` / `from:Ts` the window is the user's, as given. With the window, how μ settled
+/// in it ([`steady_stretch`]: a μ that never settles gives its mean after the warm-up, with
+/// its trend, and says so).
 pub(super) fn steady_window(
     sig: &StepSignals,
     others: &[(&[f64], f64)],
     t_rel: &[f64],
     cfg: &IdentifyConfig,
     fs: f64,
-) -> std::result::Result<(usize, usize, Option<usize>), String> {
+) -> std::result::Result<(usize, usize, Option<usize>, Settling), String> {
     if let Some((a, b)) = rule_span(cfg.steady, t_rel, cfg.min_plateau_samples, "samples")? {
-        return Ok((a, b, None));
+        return Ok((a, b, None, Settling::Settled));
     }
-    let never =
-        || "no steady part: μ, F_N or the speed never settle inside the segment".to_string();
-    let (a0, b0) = steady_span(others, sig.w_smooth).ok_or_else(never)?;
-    let fin = final_stationary(&sig.smooth[a0..b0], &t_rel[a0..b0], sig.w_smooth, 0.002)
-        .ok_or_else(never)?;
+    let (a0, b0) = steady_span(others, sig.w_smooth).ok_or_else(|| {
+        "no steady part: F_N or the speed never holds its level inside the segment".to_string()
+    })?;
+    let (fin, settling) = steady_stretch(&sig.smooth[a0..b0], &t_rel[a0..b0], sig.w_smooth, 0.002);
     let (a, b) = (a0 + fin.a, a0 + fin.b);
     let settle = (cfg.settle_time_s * fs).round() as usize;
     let margin = (cfg.end_margin_s * fs).round() as usize;
     let run_in = (fin.run_in_end > 0).then_some(a0 + fin.run_in_end);
-    Ok(((a + settle).min(b), b.saturating_sub(margin).max(a), run_in))
+    Ok((
+        (a + settle).min(b),
+        b.saturating_sub(margin).max(a),
+        run_in,
+        settling,
+    ))
 }
 
 /// Identify one segment: steady part, statistics, speed.
@@ -70,8 +77,10 @@ pub(super) fn measure(
             return rep;
         }
     };
-    let (_, w) = windows(cfg, p.fs);
-    let fn_s = moving_average(&p.fn_c[i..j], w);
+    let (h_spike, w) = windows(cfg, p.fs);
+    // the load's level through a running median first: a heavy-tailed spike of the load cell
+    // is no change of the load
+    let fn_s = moving_average(&running_median(&p.fn_c[i..j], h_spike), w);
     let speed: Option<Vec<f64>> = rec
         .speed
         .as_ref()
@@ -86,7 +95,7 @@ pub(super) fn measure(
         others.push((v, 0.01 * median(v).abs() + 1.5 * lsb + 1e-9));
     }
     let t_rel: Vec<f64> = rec.time_s[i..j].iter().map(|t| t - rec.time_s[i]).collect();
-    let (pa, pb, run_in) = match steady_window(&sig, &others, &t_rel, cfg, p.fs) {
+    let (pa, pb, run_in, settling) = match steady_window(&sig, &others, &t_rel, cfg, p.fs) {
         Ok(w) => w,
         Err(m) => {
             rep.problem = Some(m);
@@ -122,6 +131,11 @@ pub(super) fn measure(
     rep.n_samples = st.n_samples;
     rep.flags = st.flags.clone();
     let mut st = st;
+    rep.unsettled = settling.reason(pb - pa, "samples");
+    if settling == Settling::NeverSettles {
+        st.stationary = false;
+        rep.never_settles = true;
+    }
     interval(&mut rep, &mut st, (span, &sig, (pa, pb)), p, cfg);
     if matches!(span.cut, Cut::LevelChange | Cut::PlanTiming) {
         check_one_level(&mut rep, &sig, p, cfg);
@@ -135,30 +149,60 @@ pub(super) fn measure(
 /// `st.ci95`: the window's own serial correlation, or the run's disturbance over the
 /// window's length where larger (a window on the crest of a slow run-out looks flat on its
 /// own); the baseline's error, which moves every sample's μ alike,
-/// δμ = (δF_t − μ·δF_N)/F_N; and μ's change when the window's ends move in by the
+/// δμ = (δF_t − μ·δF_N)/F_N; μ's change when the window's first half is left out, where it is
+/// significant ([`settling_shift`]); and μ's change when the window's ends move in by the
 /// boundaries' uncertainty (flag `uncertain-boundary` when that exceeds half
 /// `mean_uncertainty_tolerance`).
 fn interval(
     rep: &mut SegmentReport,
     st: &mut crate::steady::PlateauStats,
-    (span, sig, window): (Span, &StepSignals, (usize, usize)),
+    (span, sig, window_idx): (Span, &StepSignals, (usize, usize)),
     p: &Prepared,
     cfg: &IdentifyConfig,
 ) {
-    let (se_n, se_t) = p.offset_se_at(0.5 * (st.start_s + st.end_s));
-    let se_base = se_t.hypot(st.mean * se_n) / st.normal_force_n.abs().max(1e-12);
-    let iv = st
+    let mid = 0.5 * (st.start_s + st.end_s);
+    let (se_n, se_t) = p.offset_se_at(mid);
+    let f_n = st.normal_force_n.abs().max(1e-12);
+    let se_base = se_t.hypot(st.mean * se_n) / f_n;
+    let window = st
         .interval
-        .with_sem_floor(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt())
-        .with_common_error(se_base);
-    let shift = boundary_shift(span, sig, window, p.fs);
+        .with_sem_floor(span.run_sem / (st.end_s - st.start_s).max(1e-9).sqrt());
+    let iv = window.with_common_error(se_base);
+    let shift = boundary_shift(span, sig, window_idx, p.fs);
     if shift.is_some_and(|d| !(d <= 0.5 * cfg.mean_uncertainty_tolerance)) {
         rep.flags.push(flags::UNCERTAIN_BOUNDARY.to_string());
     }
-    st.ci95 = iv.half_width_95 + shift.map_or(0.0, |d| d.min(st.std.max(iv.half_width_95)));
+    let widening = shift.map_or(0.0, |d| d.min(st.std.max(iv.half_width_95)))
+        + settling_shift(sig, window_idx, iv.sem);
+    st.ci95 = iv.half_width_95 + widening;
+    let (se_n_at, (ta, te, lambda)) = p.offset_parts_at(mid);
+    st.parts = Some(crate::steady::IntervalParts {
+        window,
+        normal_offset: st.mean.abs() * se_n_at / f_n,
+        tangential_offset: (ta / f_n, te / f_n, lambda),
+        shift: widening,
+    });
     rep.cof_sem = Some(iv.sem);
     rep.cof_ci95 = Some(st.ci95);
     rep.cof_n_eff = Some(iv.n_eff);
+}
+
+/// How far μ over the window `[pa, pb)` moves when its first half is left out, where that
+/// exceeds the window's standard error `sem` (0 otherwise): a run-in's tail still inside
+/// the noise band, or a slow drift, biases a long window's mean by more than its own
+/// statistics see; the interval is widened by it, as by an uncertain boundary.
+fn settling_shift(sig: &StepSignals, (pa, pb): (usize, usize), sem: f64) -> f64 {
+    let mean = |a: usize, b: usize| {
+        let v: Vec<f64> = (a..b.min(sig.mu.len()))
+            .filter(|k| sig.good[*k])
+            .map(|k| sig.mu[k])
+            .collect();
+        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+    };
+    match (mean(pa, pb), mean((pa + pb) / 2, pb)) {
+        (Some(all), Some(late)) if (all - late).abs() > sem => (all - late).abs(),
+        _ => 0.0,
+    }
 }
 
 /// The segment's check against its own signal ([`super::self_check::two_levels`] over
@@ -249,6 +293,9 @@ pub(super) fn steady_notes(files: &mut [FileReport]) {
                     "μ drifts {:+.4} /h{km} over the steady part",
                     s.drift_per_hour.unwrap_or(0.0)
                 ));
+            }
+            if let Some(u) = &s.unsettled {
+                parts.push(u.clone());
             }
             if let Some(u) = s.boundary_uncertainty_s {
                 parts.push(format!("uncertain boundary (±{u:.3} s)"));

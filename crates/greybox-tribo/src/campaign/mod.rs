@@ -32,6 +32,7 @@ mod checks;
 mod matching;
 mod measure;
 mod numbering;
+mod passes;
 mod plan_timed;
 mod prepare;
 mod reciprocating_segments;
@@ -45,6 +46,7 @@ pub use crate::expected::{expected_from_plan, read_expected_steps, ExpectedStep}
 pub use crate::identify_config::Segmentation;
 pub use checks::{check_levels, check_physics, IMPLAUSIBLE_LEVEL_FACTOR, MAX_SLIDING_VELOCITY_M_S};
 pub use matching::match_segments;
+pub use passes::{PassMean, PassPair};
 pub use report::{Campaign, FileReport, Identification, MatchReport, SegmentReport};
 pub use segment::{segment_recordings, GAP_SPLIT_INTERVALS};
 

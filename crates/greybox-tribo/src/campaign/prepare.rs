@@ -1,6 +1,7 @@
 //! Per-file preparation: loaded samples, baseline offsets, sign of the forces and the sliding mask
 //! (steps 1–3 of the campaign), and the sample [`Span`]s the segmenters cut.
 
+use super::passes::Passes;
 use super::report::{read_warnings, FileReport, SegmentReport};
 use crate::coverage::Coverage;
 use crate::identify::IdentifyConfig;
@@ -27,6 +28,8 @@ pub(super) struct Prepared<'a> {
     pub(super) baseline_se: ((f64, f64), (f64, f64)),
     /// Mid times of the start and end windows, s (where both are; see [`Baseline::mids`]).
     pub(super) baseline_mid_s: Option<(f64, f64)>,
+    /// Where the sliding direction reverses ([`Passes`]); empty for a test in one direction.
+    pub(super) passes: Passes,
     pub(super) report: FileReport,
 }
 
@@ -45,6 +48,19 @@ impl Prepared<'_> {
             }
             _ => (na.max(ne), ta.max(te)),
         }
+    }
+
+    /// The baseline's standard errors as they enter a window at time `t`: of the normal
+    /// offset there, N, and of the tangential windows' medians at the start and the end, N,
+    /// with the fraction λ of the way from the start window to the end window (`None`: one
+    /// window or none, a constant offset).
+    pub(super) fn offset_parts_at(&self, t: f64) -> (f64, (f64, f64, Option<f64>)) {
+        let (_, (ta, te)) = self.baseline_se;
+        let lambda = self
+            .baseline_mid_s
+            .filter(|(a, e)| e > a)
+            .map(|(a, e)| ((t - a) / (e - a)).clamp(0.0, 1.0));
+        (self.offset_se_at(t).0, (ta, te, lambda))
     }
 
     /// Shortest step, s: `min_segment_s`, or three of the rig's periods if longer.
@@ -98,6 +114,8 @@ pub(super) struct Span {
     pub(super) run_sem: f64,
     /// What cut the boundaries.
     pub(super) cut: Cut,
+    /// The pass it lies in (0-based; odd: a reverse pass, see [`super::passes`]).
+    pub(super) pass: u32,
 }
 
 impl Span {
@@ -109,6 +127,7 @@ impl Span {
             unc: (0.0, 0.0),
             run_sem: 0.0,
             cut: Cut::Run,
+            pass: 0,
         }
     }
 
@@ -145,10 +164,14 @@ impl SegmentReport {
             matched: None,
             problem: None,
             run_in_s: None,
+            unsettled: None,
+            never_settles: false,
             drift_per_hour: None,
             drift_per_km: None,
             boundary_uncertainty_s: None,
             contradiction: None,
+            direction: p.passes.direction_name(span.pass),
+            passes: None,
             reciprocating: None,
             stats: None,
         }
@@ -182,23 +205,29 @@ pub(super) fn prepare<'a>(
     let baseline_mid_s = base.mids();
     let span = rec.duration_s();
     let mut notes = Vec::new();
-    // a reciprocating test's friction force changes sign by design: kept as recorded
-    let flipped = !signed && flip_tangential(&load.loaded, &fn_c, &mut ft_c);
-    if flipped {
-        notes.push(
-            "the tangential force is negative while loaded: its sign was flipped".to_string(),
-        );
-    }
-    if load.normal_flipped {
-        notes.push("the normal force is negative while loaded (compression read as a negative force): its sign was flipped".to_string());
-    }
     let blocks = crate::sliding::Blocks {
         b,
         loaded: &load.loaded_blocks,
         fs,
     };
     let slide = crate::sliding::sliding(rec.speed.as_ref(), &fn_c, &ft_c, &blocks, cfg);
+    // a reciprocating test's friction force changes sign by design: kept as recorded
+    let passes = if signed {
+        Passes::default()
+    } else {
+        Passes::of(&slide.direction)
+    };
+    let flipped = !signed && passes.orient(&slide.direction, &mut ft_c);
+    if flipped {
+        notes.push(
+            "the friction force of the first sliding pass is negative as recorded: its sign was flipped".to_string(),
+        );
+    }
+    if load.normal_flipped {
+        notes.push("the normal force is negative while loaded (compression read as a negative force): its sign was flipped".to_string());
+    }
     notes.extend(sliding_notes(&slide, cfg));
+    notes.extend(passes.note(&rec.time_s));
     let sliding_s = slide.mask.iter().filter(|m| **m).count() as f64 / fs;
     let mut warnings = read_warnings(rec);
     if baseline == "none" {
@@ -217,6 +246,7 @@ pub(super) fn prepare<'a>(
         loaded_s: load.loaded.iter().filter(|l| **l).count() as f64 / fs,
         baseline_se,
         baseline_mid_s,
+        passes,
         report: FileReport {
             source: rec.source.clone(),
             read: rec.provenance.clone(),
@@ -384,12 +414,12 @@ impl<'r> Baseline<'r> {
 
     /// Standard errors of a channel's window medians at the start and the end, N: √(π/2)
     /// times the robust (MAD) standard deviation over the square root of the window's
-    /// effective sample size under serial correlation ([`crate::uncertainty::MeanInterval`];
+    /// effective sample size under serial correlation ([`crate::uncertainty::WindowMean`];
     /// the median's error, robust to heavy tails); 0 for a window that is not there.
     fn offset_se(&self, x: &[f64]) -> (f64, f64) {
         let se = |w: (usize, usize)| {
             let v = &x[w.0..w.1];
-            crate::uncertainty::MeanInterval::of(v).map_or(0.0, |m| {
+            crate::uncertainty::WindowMean::of(v).map_or(0.0, |m| {
                 (std::f64::consts::PI / 2.0).sqrt() * crate::signal::mad_sigma(v, median(v))
                     / m.n_eff.sqrt()
             })
@@ -423,27 +453,13 @@ fn remove_line(time_s: &[f64], x: &[f64], (off, slope, t0): (f64, f64, f64)) -> 
         .collect()
 }
 
-/// Flip the tangential force `ft` in place when its μ over the loaded samples has a negative
-/// median (step 3); whether it was flipped.
-fn flip_tangential(loaded: &[bool], fn_c: &[f64], ft: &mut [f64]) -> bool {
-    let mu_loaded: Vec<f64> = (0..loaded.len())
-        .filter(|k| loaded[*k])
-        .map(|k| ft[k] / fn_c[k])
-        .collect();
-    let flip = median(&mu_loaded) < 0.0;
-    if flip {
-        ft.iter_mut().for_each(|v| *v = -*v);
-    }
-    flip
-}
-
 /// The notes on how sliding was told apart: μ's threshold (no speed channel) and the rig's
 /// period, when found.
 fn sliding_notes(slide: &crate::sliding::Sliding, cfg: &IdentifyConfig) -> Vec<String> {
     let mut notes = Vec::new();
-    if let Some(thr) = slide.mu_threshold {
+    if let Some(thr) = slide.rest_threshold_n {
         notes.push(format!(
-            "sliding where μ, its running median over {:.3} s, exceeds {thr:.4} (no measured speed channel)",
+            "sliding where |F_t|, its running median over {:.3} s, stands out of its noise at rest ({thr:.4} N, the median threshold; no measured speed channel)",
             cfg.sliding_smoothing_s.max(slide.period_s.unwrap_or(0.0))
         ));
     }

@@ -7,7 +7,7 @@ use crate::identify::IdentifyConfig;
 use crate::reciprocating::Reciprocating;
 use crate::recording::{Recording, SpeedTrace};
 use crate::signal::median;
-use crate::uncertainty::MeanInterval;
+use crate::uncertainty::WindowMean;
 use greybox_core::dataset::flags;
 use greybox_core::units;
 
@@ -79,7 +79,7 @@ pub(super) fn reciprocating_stats(rep: &mut SegmentReport, r: Reciprocating, cfg
         .iter()
         .map(|c| c.mu_mean)
         .collect();
-    let interval = MeanInterval::of(&mus).unwrap_or(MeanInterval {
+    let interval = WindowMean::of(&mus).unwrap_or(WindowMean {
         mean: r.mu_mean,
         sem: r.mu_std,
         n_eff: n_cycles.max(1) as f64,
@@ -93,6 +93,7 @@ pub(super) fn reciprocating_stats(rep: &mut SegmentReport, r: Reciprocating, cfg
     if r.run_in_cycles.is_some() {
         rep.run_in_s = Some(r.start_s - rep.start_s);
     }
+    rep.unsettled = r.unsettled.clone();
     rep.steady_start_s = Some(r.start_s);
     rep.steady_end_s = Some(r.end_s);
     rep.normal_force_n = r.normal_n;
@@ -117,6 +118,7 @@ pub(super) fn reciprocating_stats(rep: &mut SegmentReport, r: Reciprocating, cfg
         interval,
         ci95: interval.half_width_95,
         normal_force_n: r.normal_n,
+        parts: None,
     });
     rep.reciprocating = Some(r);
 }

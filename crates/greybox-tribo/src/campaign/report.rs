@@ -36,7 +36,7 @@ pub struct SegmentReport {
     pub cof: Option<f64>,
     pub cof_std: Option<f64>,
     /// Standard error of μ's mean under serial correlation
-    /// ([`crate::uncertainty::MeanInterval`]).
+    /// ([`crate::uncertainty::WindowMean`]).
     pub cof_sem: Option<f64>,
     /// Half-width of μ's 95 % confidence interval: Student's t at the effective sample size
     /// times `cof_sem`, plus μ's change when the window's ends move by their boundary's
@@ -60,6 +60,14 @@ pub struct SegmentReport {
     /// Run-in before the steady part, s from the segment start: the time until μ's running
     /// level enters, and stays in, the final stretch's band (ASTM G99-17 §9; `auto` rule only).
     pub run_in_s: Option<f64>,
+    /// Why the steady window is not a settled steady state, where it is not: μ never settles
+    /// (the mean after the warm-up, with its trend), or too few cycles to tell (see
+    /// [`crate::steady::steady_stretch`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unsettled: Option<String>,
+    /// μ never settles in the window: the coverage counts it as unsettled, not steady.
+    #[serde(skip)]
+    pub(super) never_settles: bool,
     /// Slope of μ over the steady part, 1/h (a slow drift is reported, not cut away).
     pub drift_per_hour: Option<f64>,
     /// Slope of μ over the steady part per sliding distance, 1/km (when the speed is known).
@@ -71,6 +79,14 @@ pub struct SegmentReport {
     /// Uncertainty of the segment's boundaries where one is weakly determined, s (the larger
     /// of the two; rows then carry `uncertain-boundary`).
     pub boundary_uncertainty_s: Option<f64>,
+    /// The direction of a test whose sliding reverses (`forward`: the first pass's, `reverse`,
+    /// or `both`: a forward and a reverse pass, μ their mean; see [`super::passes`]); absent
+    /// for a test in one direction.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub direction: Option<&'static str>,
+    /// Both directions' means and intervals of a `both` segment.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub passes: Option<super::passes::PassPair>,
     /// A reciprocating test's strokes, cycles and μ per direction (ASTM G133; see
     /// [`crate::reciprocating`]); the row's μ is their mean over the steady cycles.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -121,6 +137,36 @@ pub struct FileReport {
     /// Sliding spans left out before measuring (shorter than a step may be).
     #[serde(skip)]
     pub(super) too_short: Vec<Dropped>,
+}
+
+impl FileReport {
+    /// Every segment, one line each: its span, its steady window and μ with its 95 %
+    /// interval, and the planned step it was matched to or why it gave no row. A refusal
+    /// lists them all beside the coverage line, so that it says what `--inspect` shows.
+    pub fn segment_lines(&self) -> Vec<String> {
+        self.segments
+            .iter()
+            .map(|s| {
+                let steady = match (s.steady_start_s.zip(s.steady_end_s), s.cof) {
+                    (Some((a, b)), Some(m)) => format!(
+                        "steady {a:.3}–{b:.3} s, μ {m:.4} ± {:.4}",
+                        s.cof_ci95.unwrap_or(f64::NAN)
+                    ),
+                    _ => "no steady window".to_string(),
+                };
+                let fate = match (&s.problem, s.matched) {
+                    (Some(p), _) => format!("no row: {p}"),
+                    (None, Some((pin, step))) => format!("pin {pin} step {step}"),
+                    (None, None) if s.cof.is_some() => "no row: matched to no planned step".into(),
+                    (None, None) => "no row".into(),
+                };
+                format!(
+                    "segment {} {:.3}–{:.3} s: {steady}; {fate}",
+                    s.index, s.start_s, s.end_s
+                )
+            })
+            .collect()
+    }
 }
 
 /// The reader's summary lines of a recording ([`ReadReport::warnings`]).
@@ -202,8 +248,12 @@ pub(super) fn update_coverage(f: &mut FileReport, cfg: &IdentifyConfig, flag: bo
             (None, Some((a, b))) => rows.push(SegmentTime {
                 start_s: s.start_s,
                 end_s: s.end_s,
-                steady_s: b - a,
+                steady_s: s.passes.as_ref().map_or(b - a, |p| {
+                    (p.forward.steady_end_s - p.forward.steady_start_s)
+                        + (p.backward.steady_end_s - p.backward.steady_start_s)
+                }),
                 run_in_s: s.run_in_s.unwrap_or(0.0),
+                unsettled: s.never_settles,
                 masked_s: s.masked_samples as f64 / f.sample_rate_hz,
             }),
             (None, None) => {}
@@ -225,7 +275,8 @@ pub(super) fn update_coverage(f: &mut FileReport, cfg: &IdentifyConfig, flag: bo
 
 /// After matching, a file whose matched rows rest on less than `min_steady_share` of its
 /// sliding time (segments left unmatched are dropped time now) flags those rows
-/// `low-coverage`, in its segments and in `records`, where they are not flagged yet.
+/// `low-coverage`, in its segments and in `records`, where they are not flagged yet, and its
+/// notes say so (as before matching).
 pub(super) fn flag_low_coverage_after_matching(
     files: &mut [FileReport],
     records: &mut [FrictionRecord],
@@ -235,6 +286,8 @@ pub(super) fn flag_low_coverage_after_matching(
         if f.coverage.steady_share() >= cfg.min_steady_share {
             continue;
         }
+        let flagged_before = f.notes.iter().any(|n| n.starts_with("low coverage"));
+        let mut flagged = 0;
         for s in f.segments.iter_mut() {
             let Some((pin, step)) = s.matched else {
                 continue;
@@ -243,12 +296,21 @@ pub(super) fn flag_low_coverage_after_matching(
                 continue;
             }
             s.flags.push(flags::LOW_COVERAGE.to_string());
+            flagged += 1;
             for r in records
                 .iter_mut()
                 .filter(|r| r.pin == pin && r.step == step)
             {
                 r.flags.push(flags::LOW_COVERAGE.to_string());
             }
+        }
+        if flagged > 0 && !flagged_before {
+            f.notes.push(format!(
+                "low coverage: the matched rows rest on {:.0} % of the sliding time (min_steady_share {:.0} %); {}",
+                100.0 * f.coverage.steady_share(),
+                100.0 * cfg.min_steady_share,
+                f.coverage.line()
+            ));
         }
     }
 }

@@ -3,6 +3,7 @@
 
 use super::change_points::split_run;
 use super::measure::{measure, steady_notes};
+use super::passes::{pair_passes, trim_ends};
 use super::plan_timed::plan_timed;
 use super::prepare::{prepare, Prepared, Span};
 use super::reciprocating_segments::{reciprocating_reason, reciprocating_segments};
@@ -140,19 +141,41 @@ fn file_spans(
             )),
             _ => {
                 spans.push(Vec::new());
-                signal_runs.extend(sliding_runs(p).into_iter().map(|s| (f, s)));
+                // a reversal ends a run: each pass is split on its own
+                let runs = p.passes.split(&sliding_runs(p));
+                signal_runs.extend(runs.into_iter().map(|s| (f, s)));
             }
         }
     }
     // signal runs: split into the plan's steps when the run count says which pin each is
     if !signal_runs.is_empty() {
-        let per_run = plan_steps_per_run(c.expected, signal_runs.len());
+        // pieces shorter than any step (noise over a load ramp) hold no planned step and do
+        // not count as runs: they are dropped, with their reason, when measured
+        let long: Vec<bool> = signal_runs
+            .iter()
+            .map(|(f, s)| {
+                let p = &prepared[*f];
+                (s.j - s.i) as f64 / p.fs >= p.min_step_s(cfg)
+            })
+            .collect();
+        let mut long_steps =
+            plan_steps_per_run(c.expected, long.iter().filter(|l| **l).count()).into_iter();
+        let per_run: Vec<Option<&[ExpectedStep]>> = long
+            .iter()
+            .map(|l| {
+                if *l {
+                    long_steps.next().flatten()
+                } else {
+                    None
+                }
+            })
+            .collect();
         if c.expected.is_some() && per_run.iter().all(Option::is_none) {
             let pins = c.expected.map_or(0, |e| pin_groups(e).len());
             for p in prepared.iter_mut() {
                 p.report.notes.push(format!(
                     "{} loaded sliding runs in all files, the plan has {pins} pins and {} steps: runs split by the signal alone, then aligned with the plan",
-                    signal_runs.len(),
+                    long.iter().filter(|l| **l).count(),
                     c.expected.map_or(0, <[ExpectedStep]>::len)
                 ));
             }
@@ -170,7 +193,13 @@ fn file_spans(
 /// test mode is contradicted.
 fn measure_file(p: &mut Prepared, spans: &[Span], cfg: &IdentifyConfig) {
     let min_len = (cfg.min_segment_s * p.fs) as usize;
-    let s = split_at_gaps(p, spans);
+    let at_gaps = split_at_gaps(p, spans);
+    let s: Vec<Span> = p
+        .passes
+        .split(&at_gaps)
+        .into_iter()
+        .map(|sp| trim_ends(p, sp))
+        .collect();
     let (kept, short): (Vec<Span>, Vec<Span>) = s.iter().partition(|s| s.j - s.i >= min_len.max(4));
     p.report.too_short = too_short(p, &short, cfg);
     let segs: Vec<SegmentReport> = kept
@@ -178,7 +207,8 @@ fn measure_file(p: &mut Prepared, spans: &[Span], cfg: &IdentifyConfig) {
         .enumerate()
         .map(|(k, sp)| measure(p, *sp, k + 1, cfg))
         .collect();
-    p.report.segments = segs;
+    let pass_of: Vec<u32> = kept.iter().map(|s| s.pass).collect();
+    p.report.segments = pair_passes(segs, &pass_of, cfg, &mut p.report.notes);
     if p.report.segments.is_empty() {
         let hint = no_segment_hint(p);
         p.report.notes.push(format!("no segment found: {hint}"));
@@ -320,7 +350,7 @@ pub(super) fn no_segment_hint(p: &Prepared) -> String {
             "the speed channel never holds a constant speed above rest while loaded".into()
         }
         _ if sliding_s == 0.0 => format!(
-            "the normal force is above its loaded threshold for {loaded_s:.1} s, but μ never exceeds the sliding threshold there (sliding_fraction × the 75th percentile, at least sliding_min_mu; sliding evidence: {}); a step column (`map` step=NAME) or a speed channel (`map` speed=NAME:UNIT) would segment it",
+            "the normal force is above its loaded threshold for {loaded_s:.1} s, but |μ| never stands out of its noise there (sliding_rest_sigmas × the smoothed μ's noise, at least sliding_min_mu; sliding evidence: {}); a step column (`map` step=NAME) or a speed channel (`map` speed=NAME:UNIT) would segment it",
             p.report.sliding
         ),
         _ => format!(

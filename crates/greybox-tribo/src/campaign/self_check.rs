@@ -6,7 +6,7 @@
 
 use super::change_points::split_into;
 use crate::signal::{linear_fit, mean_std};
-use crate::uncertainty::MeanInterval;
+use crate::uncertainty::WindowMean;
 
 /// The test statistic's threshold: the two levels must differ by this many standard errors
 /// of their difference (each level's error under serial correlation).
@@ -26,7 +26,7 @@ pub(super) fn two_levels(x: &[f64], block_s: f64, floor: f64) -> Option<(f64, f6
         return None;
     }
     let c = *split_into(x, 2, n / 4)?.first()?;
-    let (a, b) = (MeanInterval::of(&x[..c])?, MeanInterval::of(&x[c..])?);
+    let (a, b) = (WindowMean::of(&x[..c])?, WindowMean::of(&x[c..])?);
     let diff = (a.mean - b.mean).abs();
     let se = a.sem.hypot(b.sem);
     let t: Vec<f64> = (0..c).map(|k| k as f64).collect();

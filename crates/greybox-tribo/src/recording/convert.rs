@@ -6,6 +6,7 @@ use super::channel_map::ChannelMap;
 use super::diagnosis::{unresolved, unresolved_error};
 use super::roles::{check_unit, Role};
 use super::types::{FoundBy, MappedColumn, ReadReport, Recording, SpeedTrace};
+use super::unitless::{assume_friction_unit, settle_assumed, unused_columns};
 use crate::signal::median;
 use crate::table::{Column, Table};
 use greybox_core::units::{ForceUnit, LengthUnit, SpeedUnit, TimeUnit};
@@ -17,6 +18,9 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
     let mut notes = std::mem::take(&mut table.notes);
     let mut roles = assign_roles(&table, map)?;
     drop_unitless_optional(&table, map, &mut roles, &mut notes);
+    let (map, assumed) = assume_friction_unit(&table, map, &roles);
+    let map = &map;
+    let mut unused = unused_columns(&table, &roles);
     let problems = unresolved(&table, map, &roles);
     if !problems.is_empty() {
         return Err(unresolved_error(&table, &problems));
@@ -51,9 +55,18 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
         (None, None) => unreachable!("checked by `unresolved`"),
     };
     let cof = take(Role::Cof).map(|c| c.1);
-    let tangential = take(Role::Tangential).map(|c| c.1);
+    let tangential = match (take(Role::Tangential).map(|c| c.1), &assumed) {
+        (Some(ft), Some(a)) => {
+            let kept = settle_assumed(&normal, ft, cof.as_deref(), a, &mut report);
+            if kept.is_none() {
+                unused.insert(0, format!("'{}' (its unit unknown)", a.column));
+            }
+            kept
+        }
+        (ft, _) => ft,
+    };
     let (normal, tangential) =
-        forces_by_convention(normal, tangential, cof.as_deref(), &mut report);
+        forces_by_convention(normal, tangential, cof.as_deref(), &unused, &mut report);
     let step = take(Role::Step)
         .map(|c| c.1)
         .or_else(|| block_steps(&table, n, &mut report));
@@ -169,11 +182,13 @@ pub(super) fn block_steps(table: &Table, n: usize, report: &mut ReadReport) -> O
 /// points away from the contact, as UMT rigs write `Fz`) is flipped (the friction force's
 /// sign is the identification's business: flipped per file there, or taken per stroke in a
 /// reciprocating test). Without a friction
-/// force, F_t = μ·F_N from the rig's own μ; with both, their disagreement is reported.
+/// force, F_t = μ·F_N from the rig's own μ (the note names the `unused` numeric columns a
+/// friction force could have been); with both, their disagreement is reported.
 pub(super) fn forces_by_convention(
     mut normal: Vec<f64>,
     tangential: Option<Vec<f64>>,
     cof: Option<&[f64]>,
+    unused: &[String],
     report: &mut ReadReport,
 ) -> (Vec<f64>, Vec<f64>) {
     if median(&normal) < 0.0 {
@@ -184,10 +199,17 @@ pub(super) fn forces_by_convention(
     }
     let Some(ft) = tangential else {
         let mu = cof.expect("checked by `unresolved`");
-        report.notes.push(
-            "no friction-force column: F_t = μ·F_N from the rig's own friction coefficient (cof)"
-                .into(),
-        );
+        let which = if unused.is_empty() {
+            "the file has no other numeric column".to_string()
+        } else {
+            format!(
+                "unused numeric columns: {} (map one with `map` tangential=NAME:UNIT)",
+                unused.join(", ")
+            )
+        };
+        report.notes.push(format!(
+            "no column is used as the friction force ({which}): F_t = μ·F_N from the rig's own friction coefficient (cof)"
+        ));
         return (
             normal.clone(),
             mu.iter().zip(&normal).map(|(m, f)| m * f).collect(),

@@ -10,8 +10,9 @@
 //! The pieces: [`types`] (the recording and the reader's report), [`roles`] (what a column
 //! can be, and its usual names), [`channel_map`] (the user's mapping) with
 //! [`reader_options`] (how a file is read: delimiter, decimal comma, header line, sheet,
-//! TDMS group, column names), [`assign`] (columns given roles), [`convert`] (the table
-//! in SI units) and [`diagnosis`] (why a role found no column).
+//! TDMS group, column names), [`assign`] (columns given roles), [`unitless`] (a friction
+//! force without a unit), [`convert`] (the table in SI units) and [`diagnosis`] (why a role
+//! found no column).
 
 mod assign;
 mod channel_map;
@@ -21,6 +22,7 @@ mod map_keys;
 mod reader_options;
 mod roles;
 mod types;
+mod unitless;
 
 pub use assign::{column_number, looks_like_cof};
 pub use channel_map::{ChannelMap, DEFAULT_TDMS_GROUP};

@@ -31,6 +31,8 @@
 
 pub mod exports;
 pub mod rig2;
+pub mod settle;
+pub mod stribeck;
 pub mod sure;
 pub mod unseen;
 

@@ -97,14 +97,14 @@ impl NoiseStream {
 }
 
 /// A sampling clock: rate, drift and dropped samples drawn from the seed.
-struct Clock {
-    fs: f64,
-    drift: f64,
+pub struct Clock {
+    pub fs: f64,
+    pub drift: f64,
     drop_every: usize,
 }
 
 impl Clock {
-    fn draw(rng: &mut ChaCha8Rng, rates: &[f64]) -> Clock {
+    pub fn draw(rng: &mut ChaCha8Rng, rates: &[f64]) -> Clock {
         Clock {
             fs: rates[rng.gen_range(0..rates.len())],
             drift: rng.gen_range(-1e-3..1e-3),
@@ -113,7 +113,7 @@ impl Clock {
     }
 
     /// Sample times up to `t_end`, s: k/fs stretched by the drift, an occasional sample lost.
-    fn times(&self, t_end: f64) -> Vec<f64> {
+    pub fn times(&self, t_end: f64) -> Vec<f64> {
         let n = (t_end * self.fs) as usize;
         (0..n)
             .filter(|k| k % self.drop_every != self.drop_every - 1)
@@ -123,7 +123,7 @@ impl Clock {
 }
 
 /// Ramp from 0 to 1 over x ∈ [0, 1]: linear or cosine.
-fn ramp(x: f64, cosine: bool) -> f64 {
+pub fn ramp(x: f64, cosine: bool) -> f64 {
     let x = x.clamp(0.0, 1.0);
     if cosine {
         0.5 - 0.5 * (std::f64::consts::PI * x).cos()
@@ -351,9 +351,12 @@ pub fn cof_trace(seed: u64) -> (Trace, f64) {
     (tr, mu)
 }
 
-/// See the module docs: 100–500 Hz; a forward pass of 8–12 s at μ_f, a stop of 0.5–1 s, a
-/// reverse pass of 7–11 s at μ_b (the friction force negative), each entered over a 0.2–0.5 s
-/// ramp; unloaded windows of 3 s at each end. Returns the trace and (μ_f, μ_b).
+/// See the module docs: 100–500 Hz; a forward pass of 8–12 s at μ_f, then a reverse pass of
+/// 7–11 s at μ_b (the friction force of the other sign), either after a stop of 0.3–1 s or
+/// reversing at once (the force passing through zero over the 0.2–0.5 s ramp); each pass
+/// entered over that ramp; the friction channel's sign as recorded drawn (the first pass
+/// positive or negative), its offset and drift drawn; unloaded windows of 3 s at each end.
+/// Returns the trace and (μ_f, μ_b).
 pub fn bidirectional(seed: u64) -> (Trace, (f64, f64)) {
     let mut rng = stream_rng(seed, 61);
     let clock = Clock::draw(&mut rng, &[100.0, 200.0, 500.0]);
@@ -361,12 +364,18 @@ pub fn bidirectional(seed: u64) -> (Trace, (f64, f64)) {
     let load = rng.gen_range(5.0..100.0);
     let mu_f = rng.gen_range(0.1..0.6);
     let mu_b = mu_f * rng.gen_range(0.8..1.2);
-    let (fwd, stop, back) = (
-        rng.gen_range(8.0..12.0),
-        rng.gen_range(0.5..1.0),
-        rng.gen_range(7.0..11.0),
-    );
+    let stop = if rng.gen_bool(0.5) {
+        rng.gen_range(0.3..1.0)
+    } else {
+        0.0
+    };
+    let (fwd, back) = (rng.gen_range(8.0..12.0), rng.gen_range(7.0..11.0));
     let r = rng.gen_range(0.2..0.5);
+    let sign = if rng.gen_bool(0.5) { 1.0 } else { -1.0 };
+    let (o_t, d_t) = (
+        rng.gen_range(-0.05..0.05) * load,
+        rng.gen_range(-0.01..0.01) * load,
+    );
     let t_on = 3.0;
     let t_f = t_on + 0.5;
     let t_b = t_f + fwd + stop;
@@ -381,7 +390,11 @@ pub fn bidirectional(seed: u64) -> (Trace, (f64, f64)) {
     for tc in clock.times(t_end) {
         let t = tc / (1.0 + clock.drift);
         let f = load * ramp((t - t_on) / 0.3, true) * (1.0 - ramp((t - t_off - 0.2) / 0.3, true));
-        let m = if (t_f..t_f + fwd).contains(&t) {
+        let m = if stop == 0.0 && (t_b - r..t_b + r).contains(&t) {
+            // reversing at once: from +μ_f through zero to −μ_b
+            let x = ramp((t - (t_b - r)) / (2.0 * r), true);
+            mu_f * (1.0 - x) - mu_b * x
+        } else if (t_f..t_f + fwd).contains(&t) {
             mu_f * ramp((t - t_f) / r, true)
         } else if (t_b..t_off).contains(&t) {
             -mu_b * ramp((t - t_b) / r, true)
@@ -391,7 +404,7 @@ pub fn bidirectional(seed: u64) -> (Trace, (f64, f64)) {
         tr.time_s.push(tc);
         tr.normal_n.push(f + 0.005 * load * noise.next(&mut rng));
         tr.tangential_n
-            .push(m * f + sigma * load * noise.next(&mut rng));
+            .push(sign * (m * f + sigma * load * noise.next(&mut rng)) + o_t + d_t * t / t_end);
     }
     (tr, (mu_f, mu_b))
 }
