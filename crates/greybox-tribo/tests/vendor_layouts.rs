@@ -216,3 +216,69 @@ fn a_named_profile_and_an_unknown_one() {
         "{e}"
     );
 }
+
+/// A friction-force column without a unit (issue 58): read in the normal force's unit where
+/// the rig's μ confirms it; named unused (with the mapping that would use it) where the rig's
+/// μ contradicts it; read with a warning where there is no μ to check it against. Never the
+/// note that the file has no friction-force column.
+#[test]
+fn a_friction_force_column_without_a_unit() {
+    // F_N in N, F_t in N (unitless header), μ = F_t/F_N
+    let file = |ft_scale: f64, with_cof: bool| {
+        let mut s = String::from(if with_cof {
+            "Time (s),Normal Force (N),Friction Force,COF\n"
+        } else {
+            "Time (s),Normal Force (N),Friction Force\n"
+        });
+        for k in 0..60 {
+            let fn_ = 20.0 + 0.1 * (k % 3) as f64;
+            let mu = 0.4 + 0.002 * (k % 4) as f64;
+            s.push_str(&format!(
+                "{},{fn_},{}",
+                k as f64 * 0.05,
+                mu * fn_ * ft_scale
+            ));
+            if with_cof {
+                s.push_str(&format!(",{mu}"));
+            }
+            s.push('\n');
+        }
+        s
+    };
+    let read = |text: &str| {
+        let (_d, p) = write("unitless.csv", text);
+        let r = read_recording(&p, &ChannelMap::default()).unwrap();
+        let prov = r.provenance.clone().unwrap();
+        (r, prov.notes.join("\n"), prov.warnings.join("\n"))
+    };
+    // confirmed by the rig's μ: the column is the friction force
+    let (r, notes, _) = read(&file(1.0, true));
+    assert!((r.tangential_n[5] / r.normal_n[5] - 0.402).abs() < 1e-9);
+    assert!(
+        notes.contains("'Friction Force'") && notes.contains("confirms"),
+        "{notes}"
+    );
+    assert!(
+        !notes.contains("no column is used as the friction force"),
+        "{notes}"
+    );
+    // a column in another unit (×1000, mN): contradicted, named, F_t = μ·F_N
+    let (r, notes, warnings) = read(&file(1000.0, true));
+    assert!((r.tangential_n[5] / r.normal_n[5] - 0.402).abs() < 1e-9);
+    assert!(
+        warnings.contains("'Friction Force'")
+            && warnings.contains("tangential=Friction Force:UNIT"),
+        "{warnings}"
+    );
+    assert!(
+        notes.contains("'Friction Force' (its unit unknown)"),
+        "{notes}"
+    );
+    // no μ to check against: used, with a warning naming the assumed unit
+    let (r, _, warnings) = read(&file(1.0, false));
+    assert!((r.tangential_n[5] / r.normal_n[5] - 0.402).abs() < 1e-9);
+    assert!(
+        warnings.contains("states no unit") && warnings.contains("'Normal Force (N)'"),
+        "{warnings}"
+    );
+}

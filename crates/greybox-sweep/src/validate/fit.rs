@@ -304,7 +304,10 @@ mod tests {
         let mut one = g.clone();
         one.points[0].1.se[0] = None;
         let fit = &fit_shapes(&[vec![]], &[one.clone()])[0];
-        assert_eq!((fit.factor_ci95, fit.imputed_errors), (fits[0].factor_ci95, 1));
+        assert_eq!(
+            (fit.factor_ci95, fit.imputed_errors),
+            (fits[0].factor_ci95, 1)
+        );
         one.points[0].1.se[1] = None;
         assert_eq!(fit_shapes(&[vec![]], &[one])[0].factor_ci95, None);
         // two shapes whose J differ by less than the scatter share the replicates
