@@ -63,6 +63,9 @@ struct BudgetArgs {
     /// Largest recording file (text, spreadsheet, TDMS) read, MiB.
     #[arg(long = "max-recording-mib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_recording_bytes >> 20)]
     max_recording_mib: u64,
+    /// Largest data, model or state file read (training data, track widths, points, models, laws, decks, sweep plans, checkpoints), MiB.
+    #[arg(long = "max-data-mib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_data_bytes >> 20)]
+    max_data_mib: u64,
 }
 
 impl BudgetArgs {
@@ -74,6 +77,7 @@ impl BudgetArgs {
             max_uncompressed_bytes: self.max_uncompressed_mib.saturating_mul(1 << 20),
             max_line_bytes: self.max_line_kib.saturating_mul(1 << 10),
             max_recording_bytes: self.max_recording_mib.saturating_mul(1 << 20),
+            max_data_bytes: self.max_data_mib.saturating_mul(1 << 20),
         });
     }
 }

@@ -262,3 +262,60 @@ fn the_flag_check_finds_a_flag_in_code_only() {
     assert_eq!(flag_in("a -- b --- c"), None);
     assert_eq!(flag_in("x=--max-input-mib."), Some("--max-input-mib"));
 }
+
+/// How a file is opened for reading other than through `greybox_core::input` (issue 62,
+/// mechanism 1): each of these follows a FIFO into a wait for a writer, or reads `/dev/zero`
+/// until memory runs out.
+const RAW_OPENS: [&str; 6] = [
+    "File::open(",
+    "fs::read_to_string(",
+    "fs::read(",
+    "from_path(",
+    ".read(true)",
+    "Mmap::map(",
+];
+
+/// Where a raw open is the point: the one safe open itself, and a map of a file it opened.
+const SAFE_OPEN_ITSELF: [&str; 2] = [
+    "greybox-core/src/input.rs",
+    "greybox-tribo/src/text_table/assemble.rs",
+];
+
+/// Every library crate (and the CLI, and the Python extension) reads its inputs through the
+/// one safe open: a source that opens a file another way is named with its line.
+#[test]
+fn every_input_is_opened_through_the_one_safe_open() {
+    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(crates)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.join("src").is_dir() && !p.ends_with("greybox-testkit"))
+        .collect();
+    dirs.sort();
+    assert!(dirs.len() >= 10, "the crates were not found");
+    let mut found = Vec::new();
+    for dir in &dirs {
+        for f in rust_files(&dir.join("src")) {
+            let rel = f
+                .strip_prefix(crates)
+                .unwrap()
+                .to_string_lossy()
+                .replace('\\', "/");
+            if SAFE_OPEN_ITSELF.contains(&rel.as_str()) || rel.contains("/bench") {
+                continue;
+            }
+            let text = without_test_mods(&std::fs::read_to_string(&f).unwrap());
+            for (n, line) in text.lines().enumerate() {
+                let code = line.split("//").next().unwrap_or("");
+                if let Some(raw) = RAW_OPENS.iter().find(|r| code.contains(**r)) {
+                    found.push(format!("{rel}:{}: {raw}", n + 1));
+                }
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "files opened for reading outside greybox_core::input (use input::open / read_text / data_csv):\n{}",
+        found.join("\n")
+    );
+}

@@ -23,6 +23,8 @@
 //! * [`shell`] — quoting of every value a generated shell script receives.
 //! * [`escape`] — free text escaped (or refused) for the format it lands in: deck comments,
 //!   CSV fields, shell words, XML/SVG/HTML; names checked to be words.
+//! * [`input`] — the one safe open of every input file (regular files only, a size cap, no
+//!   hang on a FIFO, a missing file "not found").
 //! * [`budget`] — the named caps of readers and walkers (bytes, cells, array lengths, lines).
 //! * [`choice`] — option enums with one spelling on the command line, in Python and in files.
 //! * [`count`] — counts as bounded types: the cap part of the type, checked where the number enters.
@@ -41,6 +43,7 @@ pub mod csvutil;
 pub mod dataset;
 pub mod error;
 pub mod escape;
+pub mod input;
 pub mod interrupt;
 pub mod json_head;
 pub mod law;

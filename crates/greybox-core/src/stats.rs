@@ -301,7 +301,10 @@ mod tests {
 
     /// Samples k = 0..n at times k + 1 (each the end of its sampling interval).
     fn timed(x: &[f64]) -> Vec<(f64, f64)> {
-        x.iter().enumerate().map(|(k, v)| ((k + 1) as f64, *v)).collect()
+        x.iter()
+            .enumerate()
+            .map(|(k, v)| ((k + 1) as f64, *v))
+            .collect()
     }
 
     #[test]
@@ -329,7 +332,9 @@ mod tests {
     fn record(kind: usize, n: usize, rng: &mut ChaCha8Rng) -> Vec<f64> {
         match kind {
             // white noise
-            0 => (0..n).map(|_| rng.sample::<f64, _>(StandardNormal)).collect(),
+            0 => (0..n)
+                .map(|_| rng.sample::<f64, _>(StandardNormal))
+                .collect(),
             // strongly correlated noise
             1 => ar1(n, 0.9, rng),
             // a serrated chip's sawtooth of random period and phase on correlated noise
@@ -367,7 +372,10 @@ mod tests {
                     }
                 }
                 let share = covered as f64 / formed as f64;
-                assert!(formed >= 250, "kind {kind}, n {n}: {formed} intervals formed");
+                assert!(
+                    formed >= 250,
+                    "kind {kind}, n {n}: {formed} intervals formed"
+                );
                 assert!(
                     (0.90..=0.99).contains(&share),
                     "kind {kind}, n {n}: coverage {share:.3} of {formed}"

@@ -101,8 +101,7 @@ impl AdhesiveOptions {
 pub fn track_widths(a: &AdhesiveOptions) -> Result<Vec<TrackWidth>> {
     let mut w = a.track_widths.clone();
     if let Some(p) = &a.track_widths_csv {
-        let mut rdr =
-            csv::Reader::from_path(p).with_context(|| format!("cannot read {}", p.display()))?;
+        let mut rdr = greybox_core::input::data_csv(p, "track widths", &csv::ReaderBuilder::new())?;
         for (k, r) in rdr.deserialize::<TrackWidth>().enumerate() {
             w.push(r.with_context(|| {
                 format!(

@@ -4,12 +4,12 @@
 
 use crate::checkpoint::Checkpoint;
 use crate::chip::{contact_profile, measure, CutMeasures, ProfilePoint};
+use crate::cut_series::{cut_series, ChipSampler};
 use crate::cutting::{CuttingSetup, EdgeLayout};
 use crate::executor::{restored_state, run, Hooks, RunSummary};
 use crate::friction_loop::FrictionUpdater;
 use crate::output::{ForceHistory, PeakTemperature};
 use crate::solver::{SimError, Solver};
-use crate::cut_series::{cut_series, ChipSampler};
 use crate::steady::{RunUntilSure, SteadyState};
 use greybox_core::physics::Quantity;
 use greybox_core::FrictionLaw;
@@ -65,7 +65,8 @@ impl CutRun {
         check_steps_ahead(&sim, end, states.is_some(), fraction, fresh_dt)?;
         let v = setup.cutting_speed_m_s;
         let bin_steps = ((end / sim.dt) / FORCE_BINS).ceil().max(1.0) as u64;
-        let mut peak_temperature = PeakTemperature::new(((end / sim.dt) / 500.0).ceil().max(1.0) as u64);
+        let mut peak_temperature =
+            PeakTemperature::new(((end / sim.dt) / 500.0).ceil().max(1.0) as u64);
         let mut updater = FrictionUpdater::new(0, setup.friction.update_every_steps);
         updater.smoothing = setup.friction.smoothing;
         let mut steady = RunUntilSure::new(0, bin_steps, setup, FORCE_BINS as usize / 100);
@@ -88,7 +89,14 @@ impl CutRun {
         let (forces, chip) = (steady.forces, steady.chip);
         let averaged_from_s = window.map_or(0.5 * t_end, |w| w.from_s);
         let tool = &sim.tools[0];
-        let series = cut_series(&chip, &updater, tool, &layout, sim.particles.spacing, setup.friction.window_length_m);
+        let series = cut_series(
+            &chip,
+            &updater,
+            tool,
+            &layout,
+            sim.particles.spacing,
+            setup.friction.window_length_m,
+        );
         let steady_state = window.map(|w| SteadyState::of(w, &forces, &series, renewal, v));
         let force = steady_state
             .as_ref()

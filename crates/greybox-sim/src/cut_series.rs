@@ -54,7 +54,11 @@ impl ChipSampler {
     /// of the samples in (from_s, to_s]; `None` without a chip in contact).
     pub fn contact_renewal_m(&self, from_s: f64, to_s: f64) -> Option<f64> {
         let h = self.setup.as_deref()?.uncut_chip_thickness_m;
-        let inside = || self.samples.iter().filter(|s| s.time_s > from_s && s.time_s <= to_s);
+        let inside = || {
+            self.samples
+                .iter()
+                .filter(|s| s.time_s > from_s && s.time_s <= to_s)
+        };
         let mean = |v: Vec<f64>| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
         let l = mean(inside().filter_map(|s| s.contact_length_m).collect())?;
         let hc = mean(inside().filter_map(|s| s.thickness_m).collect())?;
@@ -84,7 +88,13 @@ impl Observer for ChipSampler {
 /// Per interval of the grey-box loop (at its end time): the contact length on the rake side
 /// (m), and the hottest and the normal-force-weighted mean temperature (K) of the rake and
 /// edge windows in contact for at least [`IN_CONTACT`] of their length.
-pub fn contact_series(updater: &FrictionUpdater, tool: &Tool, layout: &EdgeLayout, spacing: f64, window_length: f64) -> [Samples; 3] {
+pub fn contact_series(
+    updater: &FrictionUpdater,
+    tool: &Tool,
+    layout: &EdgeLayout,
+    spacing: f64,
+    window_length: f64,
+) -> [Samples; 3] {
     let mut out: [Samples; 3] = Default::default();
     for iv in &updater.intervals {
         let profile = contact_profile(tool, layout, &iv.windows, spacing);
@@ -109,8 +119,16 @@ pub fn contact_series(updater: &FrictionUpdater, tool: &Tool, layout: &EdgeLayou
 }
 
 /// The series of a cut: the chip samples and the loop's contact intervals.
-pub fn cut_series(chip: &ChipSampler, updater: &FrictionUpdater, tool: &Tool, layout: &EdgeLayout, spacing: f64, window_length: f64) -> CutSeries {
-    let [contact_length, rake_peak_temperature, rake_mean_temperature] = contact_series(updater, tool, layout, spacing, window_length);
+pub fn cut_series(
+    chip: &ChipSampler,
+    updater: &FrictionUpdater,
+    tool: &Tool,
+    layout: &EdgeLayout,
+    spacing: f64,
+    window_length: f64,
+) -> CutSeries {
+    let [contact_length, rake_peak_temperature, rake_mean_temperature] =
+        contact_series(updater, tool, layout, spacing, window_length);
     CutSeries {
         chip_thickness: chip
             .samples
@@ -120,6 +138,10 @@ pub fn cut_series(chip: &ChipSampler, updater: &FrictionUpdater, tool: &Tool, la
         contact_length,
         rake_peak_temperature,
         rake_mean_temperature,
-        serration: chip.samples.iter().map(|s| (s.time_s, s.serration)).collect(),
+        serration: chip
+            .samples
+            .iter()
+            .map(|s| (s.time_s, s.serration))
+            .collect(),
     }
 }

@@ -216,7 +216,12 @@ mod tests {
     #[test]
     fn a_ripple_below_the_resolution_is_no_serration() {
         let flat: Vec<(f64, f64)> = (0..80)
-            .map(|k| (5e-6 * k as f64, 100e-6 + if k % 3 == 0 { 3e-6 } else { 0.0 }))
+            .map(|k| {
+                (
+                    5e-6 * k as f64,
+                    100e-6 + if k % 3 == 0 { 3e-6 } else { 0.0 },
+                )
+            })
             .collect();
         assert_eq!(serration_of(&flat, 5e-6), None);
     }

@@ -82,7 +82,8 @@ impl SteadyWindow {
         if rows.len() < i0 + MIN_BINS {
             return None;
         }
-        let column = |c: usize, from: usize| -> Vec<f64> { rows[from..].iter().map(|r| r[c]).collect() };
+        let column =
+            |c: usize, from: usize| -> Vec<f64> { rows[from..].iter().map(|r| r[c]).collect() };
         let warm_up = mser_truncation(&column(3, i0), MSER_BATCH)
             .max(mser_truncation(&column(4, i0), MSER_BATCH));
         let start = i0 + warm_up;
@@ -116,7 +117,10 @@ impl SteadyWindow {
     pub fn forces(&self, forces: &ForceHistory) -> [MeanInterval; 2] {
         [3, 4].map(|c| {
             let series: Samples = forces.rows.iter().map(|r| (r[0], r[c])).collect();
-            batch_means(&unit_means(&series, self.to_s, self.unit_s, self.units), LEVEL)
+            batch_means(
+                &unit_means(&series, self.to_s, self.unit_s, self.units),
+                LEVEL,
+            )
         })
     }
 }
@@ -180,7 +184,10 @@ impl SteadyState {
             .iter()
             .filter(|(t, _)| *t > window.from_s && *t <= window.to_s)
             .collect();
-        let serrated: Vec<(f64, Serration)> = inside.iter().filter_map(|(t, s)| s.map(|s| (*t, s))).collect();
+        let serrated: Vec<(f64, Serration)> = inside
+            .iter()
+            .filter_map(|(t, s)| s.map(|s| (*t, s)))
+            .collect();
         let serrated_share = if inside.is_empty() {
             0.0
         } else {
@@ -335,7 +342,14 @@ mod tests {
     /// the sampled sawtooth averages to zero): a ramp over the first 40 bins to a level, then a
     /// sawtooth of `period` bins and amplitude `a` (a serrated chip) plus uniform noise of
     /// half-width `noise` (correlated over three bins), both components at `level`.
-    fn history(n: usize, level: [f64; 2], period: f64, a: f64, noise: f64, seed: u64) -> ForceHistory {
+    fn history(
+        n: usize,
+        level: [f64; 2],
+        period: f64,
+        a: f64,
+        noise: f64,
+        seed: u64,
+    ) -> ForceHistory {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let phase: f64 = rng.gen_range(0.0..1.0);
         let mut h = ForceHistory::new(0, 1);
@@ -347,7 +361,14 @@ mod tests {
                 e[c] = 0.6 * e[c] + rng.gen_range(-noise..noise);
             }
             let t = (k + 1) as f64;
-            h.rows.push([t, 0.0, 0.0, ramp * (level[0] + saw + e[0]), ramp * (level[1] + 0.5 * saw + e[1]), 0.0]);
+            h.rows.push([
+                t,
+                0.0,
+                0.0,
+                ramp * (level[0] + saw + e[0]),
+                ramp * (level[1] + 0.5 * saw + e[1]),
+                0.0,
+            ]);
         }
         h
     }
@@ -372,7 +393,9 @@ mod tests {
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             let period = rng.gen_range(8.0..30.0);
             let h = history(500, [100.0, 40.0], period, 15.0, 4.0, seed);
-            let Some(w) = SteadyWindow::of(&h, 10.0) else { continue };
+            let Some(w) = SteadyWindow::of(&h, 10.0) else {
+                continue;
+            };
             for (m, truth) in w.forces(&h).iter().zip([100.0, 40.0]) {
                 if m.half_width.is_some() {
                     formed += 1;
@@ -382,7 +405,10 @@ mod tests {
         }
         let share = covered as f64 / formed as f64;
         assert!(formed >= 550, "{formed}");
-        assert!((0.90..=0.99).contains(&share), "coverage {share:.3} of {formed}");
+        assert!(
+            (0.90..=0.99).contains(&share),
+            "coverage {share:.3} of {formed}"
+        );
     }
 
     #[test]

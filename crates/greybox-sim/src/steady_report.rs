@@ -69,7 +69,9 @@ impl SteadyReport {
     pub fn of(s: &SteadyState, speed_m_s: f64, h_m: f64) -> Self {
         let mm = |t: f64| t * speed_m_s * 1e3;
         let w: &SteadyWindow = &s.window;
-        let q = |m: &Option<MeanInterval>, scale: f64, offset: f64| m.as_ref().map(|m| SteadyQuantity::of(m, scale, offset));
+        let q = |m: &Option<MeanInterval>, scale: f64, offset: f64| {
+            m.as_ref().map(|m| SteadyQuantity::of(m, scale, offset))
+        };
         let kelvin = -273.15;
         SteadyReport {
             from_mm: mm(w.from_s),
@@ -98,8 +100,14 @@ impl SteadyReport {
 fn rests_on(w: &SteadyWindow, fc: &MeanInterval, unit_mm: f64, renewals: Option<f64>) -> String {
     let span = renewals.map_or(String::new(), |r| format!(", {r:.1} contact renewals"));
     let units = match w.period_s {
-        Some(_) => format!("{} periods of {unit_mm:.4} mm (the force signal's)", w.units),
-        None => format!("{} force bins of {unit_mm:.4} mm (no period in the forces)", w.units),
+        Some(_) => format!(
+            "{} periods of {unit_mm:.4} mm (the force signal's)",
+            w.units
+        ),
+        None => format!(
+            "{} force bins of {unit_mm:.4} mm (no period in the forces)",
+            w.units
+        ),
     } + &span;
     match fc.half_width {
         Some(_) => format!("{units}, {} batches of {} for F'c", fc.batches, fc.units_per_batch),

@@ -71,12 +71,22 @@ fn a_cut_stops_once_sure_and_says_when_it_could_not_be() {
         st.contact_renewal_m.unwrap() * 1e3,
         st.renewals.unwrap()
     );
-    assert!(at * v < 0.95 * setup.cut_length_m, "stopped at {:.3} mm", at * v * 1e3);
+    assert!(
+        at * v < 0.95 * setup.cut_length_m,
+        "stopped at {:.3} mm",
+        at * v * 1e3
+    );
     assert!(sure.summary.stopped_by_observer);
-    assert!(st.sure(&setup.steady), "the stretch at the stop meets the targets");
+    assert!(
+        st.sure(&setup.steady),
+        "the stretch at the stop meets the targets"
+    );
     // the contact renewal: the contact length times the chip ratio, a fraction of a mm here
     let renewal = st.contact_renewal_m.unwrap();
-    assert!(renewal > setup.uncut_chip_thickness_m && renewal < 2e-3, "{renewal}");
+    assert!(
+        renewal > setup.uncut_chip_thickness_m && renewal < 2e-3,
+        "{renewal}"
+    );
     // the same targets but a stretch of 100 renewals asked: never sure, run to the limit
     setup.steady.min_contact_renewals = 100.0;
     let short = cut(&setup);

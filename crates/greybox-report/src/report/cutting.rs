@@ -49,7 +49,10 @@ fn summary_table(v: &Value) -> Table {
         .unwrap_or("");
     let steady = match v.get("steady").and_then(Value::as_bool) {
         Some(true) => format!("from {} mm of cut: {rests_on}", f("steady_from_mm", 3)),
-        Some(false) => format!("no steady stretch; averaged from {} mm of cut", f("averaged_from_mm", 3)),
+        Some(false) => format!(
+            "no steady stretch; averaged from {} mm of cut",
+            f("averaged_from_mm", 3)
+        ),
         None => "n/a".into(),
     };
     let sure = match (

@@ -72,7 +72,9 @@ fn steady_line(st: &greybox_sim::steady_report::SteadyReport) -> String {
     use greybox_sim::steady_report::SteadyQuantity;
     let q = |name: &str, v: &Option<SteadyQuantity>, unit: &str, digits: usize| {
         v.as_ref().map(|q| {
-            let ci = q.ci95.map_or(" (no interval)".to_string(), |h| format!(" ± {h:.digits$}"));
+            let ci = q
+                .ci95
+                .map_or(" (no interval)".to_string(), |h| format!(" ± {h:.digits$}"));
             format!("{name} {:.digits$}{ci}{unit}", q.mean)
         })
     };

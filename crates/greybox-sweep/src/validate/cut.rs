@@ -48,9 +48,10 @@ impl Cut {
     /// The cut of run `r` of `setup` (the expressions of the pipeline's cut summary, so that
     /// a cut run here and one read back from a case agree to the bit).
     fn of_run(setup: &CuttingSetup, r: &CutRun) -> Cut {
-        let steady = r.steady_state.as_ref().map(|s| {
-            SteadyReport::of(s, setup.cutting_speed_m_s, setup.uncut_chip_thickness_m)
-        });
+        let steady = r
+            .steady_state
+            .as_ref()
+            .map(|s| SteadyReport::of(s, setup.cutting_speed_m_s, setup.uncut_chip_thickness_m));
         Cut {
             cutting_force_n_per_mm: r.force[0] * 1e-3,
             feed_force_n_per_mm: r.force[1] * 1e-3,
@@ -77,7 +78,8 @@ impl Cut {
         [
             s.and_then(|s| s.cutting_force_n_per_mm.se),
             s.and_then(|s| s.feed_force_n_per_mm.se),
-            s.and_then(|s| s.compression_ratio.as_ref()).and_then(|q| q.se),
+            s.and_then(|s| s.compression_ratio.as_ref())
+                .and_then(|q| q.se),
         ]
     }
 
@@ -87,13 +89,16 @@ impl Cut {
         [
             s.and_then(|s| s.cutting_force_n_per_mm.ci95),
             s.and_then(|s| s.feed_force_n_per_mm.ci95),
-            s.and_then(|s| s.compression_ratio.as_ref()).and_then(|q| q.ci95),
+            s.and_then(|s| s.compression_ratio.as_ref())
+                .and_then(|q| q.ci95),
         ]
     }
 
     /// The steady stretch averaged, mm of cut, and where it started.
     pub fn steady_length_mm(&self) -> Option<(f64, f64)> {
-        self.steady_report.as_ref().map(|s| (s.to_mm - s.from_mm, s.from_mm))
+        self.steady_report
+            .as_ref()
+            .map(|s| (s.to_mm - s.from_mm, s.from_mm))
     }
 
     /// The cut a sweep case ran, from its summary (`greybox simulate`'s `summary.json`

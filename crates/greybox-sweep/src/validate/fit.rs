@@ -277,7 +277,10 @@ mod tests {
         let fits = fit_shapes(&[vec![]], &[f]);
         let [lo, hi] = fits[0].factor_ci95.expect("an interval");
         assert!((fits[0].factor - 0.4).abs() < 1e-12);
-        assert!((lo - 0.369).abs() < 0.006 && (hi - 0.431).abs() < 0.006, "{lo} {hi}");
+        assert!(
+            (lo - 0.369).abs() < 0.006 && (hi - 0.431).abs() < 0.006,
+            "{lo} {hi}"
+        );
         assert_eq!(fits[0].kept_share, Some(1.0));
         // without standard errors: no interval
         let g = two([-0.3, -0.1], [0.5, 0.3]);

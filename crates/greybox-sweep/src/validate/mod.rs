@@ -302,8 +302,13 @@ pub fn validate(suite_path: &Path, o: &ValidateOptions, cuts: Option<&Path>) -> 
 
 /// The held-out outcomes grouped by material entry and tool model (in the order first met),
 /// each group with its friction models in order: the rows friction models are compared on.
-pub(crate) fn held_out_groups(outcomes: &[Outcome]) -> Vec<(&str, ToolModel, Vec<&Outcome>, Vec<&str>)> {
-    let held: Vec<&Outcome> = outcomes.iter().filter(|o| o.role == Role::HeldOut).collect();
+pub(crate) fn held_out_groups(
+    outcomes: &[Outcome],
+) -> Vec<(&str, ToolModel, Vec<&Outcome>, Vec<&str>)> {
+    let held: Vec<&Outcome> = outcomes
+        .iter()
+        .filter(|o| o.role == Role::HeldOut)
+        .collect();
     distinct(held.iter().map(|o| (o.material.as_str(), o.tool)))
         .into_iter()
         .map(|(material, tool)| {
@@ -481,7 +486,11 @@ fn cut_at_factors(
             let mut of_shape = Vec::new();
             for s in at(i, k) {
                 let these: Vec<Cut> = cuts.by_ref().take(a.plan.calibration.len()).collect();
-                let measured = a.plan.calibration.iter().map(|c| c.feed_force_n_per_m * 1e-3);
+                let measured = a
+                    .plan
+                    .calibration
+                    .iter()
+                    .map(|c| c.feed_force_n_per_m * 1e-3);
                 let errors = ErrorsAt {
                     errors: measured
                         .clone()
@@ -716,7 +725,11 @@ fn summarise(
     let ff_abs = mean(&|o| o.feed_force_error.abs());
     // the mean of n errors, each with its cut's standard error: 1.96 √(Σ se²)/n
     let ci = |k: usize, of: &dyn Fn(&Outcome) -> bool| {
-        let se: Option<Vec<f64>> = rows.iter().filter(|o| of(o)).map(|o| o.error_se[k]).collect();
+        let se: Option<Vec<f64>> = rows
+            .iter()
+            .filter(|o| of(o))
+            .map(|o| o.error_se[k])
+            .collect();
         se.filter(|v| !v.is_empty())
             .map(|v| 1.96 * v.iter().map(|e| e * e).sum::<f64>().sqrt() / v.len() as f64)
     };

@@ -100,9 +100,9 @@ pub fn write_outputs(v: &Validation, out: &Path) -> Result<Vec<PathBuf>> {
     // names given in a suite file (materials, friction models) are quoted where they hold a
     // separator, a quote or a line break
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(COLUMNS)?;
+    w.write_record(greybox_core::escape::csv_cells(COLUMNS))?;
     for o in &v.outcomes {
-        w.write_record(record(o))?;
+        w.write_record(greybox_core::escape::csv_cells(record(o)))?;
     }
     let bytes = w
         .into_inner()
@@ -117,9 +117,10 @@ pub fn write_outputs(v: &Validation, out: &Path) -> Result<Vec<PathBuf>> {
     Ok(vec![results, summary, md, plot])
 }
 
-/// A table cell of text from a suite file: `|` and line breaks would end the cell or row.
+/// A table cell of text from a suite file: markup, `|` and line breaks escaped
+/// ([`greybox_core::escape::markdown_text`]).
 fn cell(s: &str) -> String {
-    s.replace('|', "\\|").replace(['\n', '\r'], " ")
+    greybox_core::escape::markdown_text(s)
 }
 
 fn pct(e: f64) -> String {
@@ -197,7 +198,7 @@ pub fn markdown(v: &Validation) -> String {
     for o in &v.outcomes {
         s += &format!(
             "| {} | {} | {} | {} | {} | {} | {:.3} | {:.1} / {:.1}{} ({}) | {:.1} / {:.1}{} ({}) | {} | {} | {} | {} | {} | {:.0} |\n",
-            o.id,
+            cell(&o.id),
             cell(&o.material),
             o.tool.name(),
             cell(&o.friction),
@@ -238,7 +239,11 @@ fn comparisons(v: &Validation) -> String {
     }
     let mut s = String::from("\nFriction models against the first one, paired on the held-out conditions: the mean of |error| − |baseline's error| (negative: closer to the measurements) with its 95 % interval from the cuts' scatter, the paired interval across the conditions, the conditions where the model is closer, and the cut length at which the scatter's interval would be ±3 points.\n\n| material | tool | friction | against | measure | difference | across conditions | closer in | verdict | cut length for ±3 points |\n|---|---|---|---|---|---|---|---|---|---|\n");
     for c in &v.comparisons {
-        let rows = [("F'c", Some(&c.cutting_force)), ("F'f", Some(&c.feed_force)), ("chip ratio", c.chip_ratio.as_ref())];
+        let rows = [
+            ("F'c", Some(&c.cutting_force)),
+            ("F'f", Some(&c.feed_force)),
+            ("chip ratio", c.chip_ratio.as_ref()),
+        ];
         for (name, d) in rows {
             let Some(d) = d else { continue };
             s += &format!(
@@ -248,12 +253,15 @@ fn comparisons(v: &Validation) -> String {
                 cell(&c.friction),
                 cell(&c.baseline),
                 100.0 * d.mean,
-                d.ci95.map_or(String::new(), |h| format!(" ± {:.1}", 100.0 * h)),
-                d.across_conditions_ci95.map_or("—".into(), |h| format!("± {:.1}", 100.0 * h)),
+                d.ci95
+                    .map_or(String::new(), |h| format!(" ± {:.1}", 100.0 * h)),
+                d.across_conditions_ci95
+                    .map_or("—".into(), |h| format!("± {:.1}", 100.0 * h)),
                 d.conditions_better,
                 d.conditions,
                 d.verdict,
-                d.length_to_resolve_mm.map_or("—".into(), |l| format!("{l:.1} mm")),
+                d.length_to_resolve_mm
+                    .map_or("—".into(), |l| format!("{l:.1} mm")),
             );
         }
     }
