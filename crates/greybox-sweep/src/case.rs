@@ -367,6 +367,74 @@ pub fn tail(path: &Path, n: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn case(id: &str, config: &str) -> Case {
+        Case {
+            index: 0,
+            id: id.into(),
+            values: vec![],
+            config: config.into(),
+            cost: Cost {
+                particles: 1,
+                steps: 1,
+                particle_steps: 1.0,
+            },
+        }
+    }
+
+    fn done_of(case: &Case, config: &str) -> String {
+        serde_json::to_string(&Done {
+            id: case.id.clone(),
+            config_sha256: Some(config_sha256(config)),
+            wall_s: 1.0,
+            peak_memory_mb: None,
+            summary: serde_json::json!({"cutting_force_n_per_mm": 200.0}),
+        })
+        .unwrap()
+    }
+
+    /// Issue 62: a done marker counts only for the case and the configuration that made it.
+    #[test]
+    fn a_done_marker_is_bound_to_its_case_and_its_configuration() {
+        let d = tempfile::tempdir().unwrap();
+        let a = case("aaaaaaaaaaaa", "mu = 0.3\n");
+        let dir = CaseDir::of(d.path(), &a.id);
+        dir.prepare(&a).unwrap();
+        assert!(dir.read_done(&a).unwrap().is_none());
+        assert_eq!(dir.status(&a), Status::Pending);
+        std::fs::write(dir.done(), done_of(&a, &a.config)).unwrap();
+        assert!(dir.read_done(&a).unwrap().is_some());
+        assert_eq!(dir.status(&a), Status::Done);
+        // another case's marker copied here: refused by id, the case runs again
+        let b = case("bbbbbbbbbbbb", "mu = 0.3\n");
+        std::fs::write(dir.done(), done_of(&b, &a.config)).unwrap();
+        let e = format!("{:#}", dir.read_done(&a).unwrap_err());
+        assert!(
+            e.contains("the marker of case bbbbbbbbbbbb") && e.contains("done.json"),
+            "{e}"
+        );
+        assert_eq!(dir.status(&a), Status::Pending);
+        // made from another configuration (config.toml edited before the run)
+        std::fs::write(dir.done(), done_of(&a, "mu = 0.5\n")).unwrap();
+        let e = format!("{:#}", dir.read_done(&a).unwrap_err());
+        assert!(e.contains("another configuration"), "{e}");
+        assert_eq!(dir.status(&a), Status::Pending);
+        // an edited config.toml is put back by the plan and refused by a run meanwhile
+        std::fs::write(dir.config(), "mu = 0.5\n").unwrap();
+        let e = format!("{:#}", dir.checked_config(&a).unwrap_err());
+        assert!(e.contains("differs from the plan's configuration"), "{e}");
+        dir.prepare(&a).unwrap();
+        dir.checked_config(&a).unwrap();
+        // a marker that is a FIFO is never opened
+        std::fs::remove_file(dir.done()).unwrap();
+        let st = std::process::Command::new("mkfifo")
+            .arg(dir.done())
+            .status()
+            .unwrap();
+        assert!(st.success());
+        let e = format!("{:#}", dir.read_done(&a).unwrap_err());
+        assert!(e.contains("FIFO"), "{e}");
+    }
     #[test]
     fn cuts_of_a_sweep_stop_when_sure_unless_the_sweep_says_not() {
         let d = tempfile::tempdir().unwrap();

@@ -316,3 +316,48 @@ pub fn run_plan(
     plan.write(out)?;
     executor.run(plan, out, command)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A planned sweep of the bundled cut over two rake angles, written to `d/o`; its
+    /// `plan.json` as JSON.
+    fn planned(d: &Path) -> serde_json::Value {
+        std::fs::write(
+            d.join("cut.toml"),
+            include_str!("../../../examples/aisi1045-cut.toml"),
+        )
+        .unwrap();
+        std::fs::write(
+            d.join("s.toml"),
+            "[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\n[[axis]]\nfield = \"insert.rake_deg\"\nvalues = [0.0, 6.0]\n",
+        )
+        .unwrap();
+        let plan = Plan::from_file(&d.join("s.toml")).unwrap();
+        plan.write(&d.join("o")).unwrap();
+        serde_json::to_value(&plan).unwrap()
+    }
+
+    /// Issue 62: `plan.json` is read like any input: one id per case, each case at its place.
+    #[test]
+    fn a_plan_with_a_repeated_id_or_a_moved_case_is_refused() {
+        let d = tempfile::tempdir().unwrap();
+        let v = planned(d.path());
+        let out = d.path().join("o");
+        assert_eq!(Plan::read(&out).unwrap().cases.len(), 2);
+        let mut dup = v.clone();
+        dup["cases"][1]["id"] = dup["cases"][0]["id"].clone();
+        std::fs::write(out.join(PLAN_FILE), dup.to_string()).unwrap();
+        let e = format!("{:#}", Plan::read(&out).unwrap_err());
+        assert!(
+            e.contains("cases[1].id") && e.contains("repeats cases[0].id"),
+            "{e}"
+        );
+        let mut moved = v.clone();
+        moved["cases"][1]["index"] = serde_json::json!(4294967297u64);
+        std::fs::write(out.join(PLAN_FILE), moved.to_string()).unwrap();
+        let e = format!("{:#}", Plan::read(&out).unwrap_err());
+        assert!(e.contains("cases[1].index is 4294967297"), "{e}");
+    }
+}
