@@ -336,3 +336,31 @@ fn the_open_check_finds_a_raw_open_in_code_only() {
         vec!["x.rs:2: fs::read_to_string("]
     );
 }
+
+/// Every record a library crate writes with the `csv` crate goes through
+/// `greybox_core::escape::csv_cells` (issue 62, mechanism 5: a text cell a spreadsheet would
+/// run as a formula gets a leading `'`); writers of CSV text use `csv_field`.
+#[test]
+fn every_csv_record_neutralises_formulas() {
+    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let mut found = Vec::new();
+    for dir in std::fs::read_dir(crates).unwrap().map(|e| e.unwrap().path()) {
+        if !dir.join("src").is_dir() {
+            continue;
+        }
+        for f in rust_files(&dir.join("src")) {
+            let text = without_test_mods(&std::fs::read_to_string(&f).unwrap());
+            for (n, line) in text.lines().enumerate() {
+                let code = line.split("//").next().unwrap_or("");
+                if code.contains(".write_record(") && !code.contains("csv_cells(") {
+                    found.push(format!("{}:{}", f.display(), n + 1));
+                }
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "CSV records written without escape::csv_cells:\n{}",
+        found.join("\n")
+    );
+}
