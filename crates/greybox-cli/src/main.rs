@@ -144,6 +144,8 @@ fn main() {
         count_help::state_count_ranges(export_help::state_export_defaults(Cli::command()));
     let matches = command.clone().get_matches();
     flags::Flags::of(&command, &matches).install();
+    // values outside their usual range, said once each, with the settings shown as flags
+    greybox_core::notes::install(|text| eprintln!("warning: {}", flags::shown(text)));
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     greybox_report::progress_display::Mode::choose(cli.quiet).install();
     cli.budget.install();

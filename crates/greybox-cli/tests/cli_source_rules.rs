@@ -344,7 +344,10 @@ fn the_open_check_finds_a_raw_open_in_code_only() {
 fn every_csv_record_neutralises_formulas() {
     let crates = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
     let mut found = Vec::new();
-    for dir in std::fs::read_dir(crates).unwrap().map(|e| e.unwrap().path()) {
+    for dir in std::fs::read_dir(crates)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+    {
         if !dir.join("src").is_dir() {
             continue;
         }

@@ -172,7 +172,7 @@ fn valid_inputs(d: &Path) {
         &d.join("ds.csv"),
         &[(100.0, 0.32), (200.0, 0.30), (300.0, 0.31)],
     );
-    std::fs::write(d.join("booster.json"), BOOSTER).unwrap();
+    std::fs::write(d.join("booster.json"), common::BOOSTER).unwrap();
     ok(&greybox(
         &[
             "import",
@@ -202,16 +202,6 @@ fn valid_inputs(d: &Path) {
     )
     .unwrap();
 }
-
-/// One stump on the pressure (XGBoost's JSON schema).
-const BOOSTER: &str = r#"{"version": [3, 2, 0], "learner": {
-  "objective": {"name": "reg:squarederror"},
-  "feature_names": ["hertz_pressure_MPa", "sliding_velocity_m_per_min"],
-  "learner_model_param": {"base_score": "[3.3E-1]", "num_feature": "2", "num_class": "0", "num_target": "1"},
-  "gradient_booster": {"name": "gbtree", "model": {"trees": [{
-    "left_children": [1, -1, -1], "right_children": [2, -1, -1], "split_indices": [0, 0, 0],
-    "split_conditions": [1000.5, 0.0123, -0.0456], "split_type": [0, 0, 0], "default_left": [0, 0, 0],
-    "tree_param": {"num_nodes": "3", "size_leaf_vector": "1"}}]}}}}"#;
 
 /// The hostile kinds, each made at `path`, with what the refusal must say.
 #[derive(Clone, Copy, Debug)]

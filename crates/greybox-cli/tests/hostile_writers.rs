@@ -343,5 +343,8 @@ values = [-6.0]
         }
     }
     assert_eq!(names, 4, "{text}");
-    assert!(text.contains(",-6"), "a negative number stays a number:\n{text}");
+    assert!(
+        text.contains(",-6"),
+        "a negative number stays a number:\n{text}"
+    );
 }

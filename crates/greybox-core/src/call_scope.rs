@@ -50,6 +50,8 @@ pub struct CallScope {
     pub sink: Option<Arc<dyn Sink>>,
     /// The command recorded in provenance, program (or function) name first.
     pub command: Option<Vec<String>>,
+    /// Where the call's notes go ([`crate::notes`]): values outside their usual range.
+    pub notes: Option<crate::notes::Notes>,
 }
 
 thread_local! {

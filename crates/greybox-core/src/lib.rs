@@ -15,6 +15,7 @@
 //! * [`progress`] — progress of long work, shown by whatever display the process installed.
 //! * [`interrupt`] — cooperative cancellation: long loops stop at their next step on request.
 //! * [`physics`] — the plausible ranges of every physical quantity and the likely unit mistake.
+//! * [`notes`] — what a run must say without failing: values outside their usual range.
 //! * [`rules`] — field-by-field configuration checks whose errors name the field and the rule.
 //! * [`boundary`] — exact boundaries of monotone floating-point predicates (split thresholds).
 //! * [`roots`] — bracketing root finding for expensive functions.
@@ -48,6 +49,7 @@ pub mod interrupt;
 pub mod json_head;
 pub mod law;
 pub mod linalg;
+pub mod notes;
 pub mod outputs;
 pub mod physics;
 pub mod plot;

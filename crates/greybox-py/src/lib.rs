@@ -132,12 +132,14 @@ fn run_call<T: Send>(
     });
     let queue = Arc::new(ProgressQueue::default());
     let stop = StopToken::new();
+    let notes = greybox_core::notes::Notes::default();
     let scope = CallScope {
         stop: Some(stop.clone()),
         sink: callback
             .is_some()
             .then(|| queue.clone() as Arc<dyn greybox_core::progress::Sink>),
         command,
+        notes: Some(notes.clone()),
     };
     let handover = |py: Python<'_>| match &callback {
         Some(cb) => queue.drain(py, cb),
@@ -183,6 +185,7 @@ fn run_call<T: Send>(
         (result, stopped_by)
     });
     let last = handover(py);
+    warn_notes(py, &notes)?;
     match (result, stopped_by) {
         (_, Some(e)) => Err(e),
         (r, None) => {
@@ -191,6 +194,23 @@ fn run_call<T: Send>(
             Ok(v)
         }
     }
+}
+
+/// The call's notes ([`greybox_core::notes`]: values outside their usual range) as
+/// `greybox.UnusualValueWarning`s (an error only if a warnings filter makes them one).
+fn warn_notes(py: Python<'_>, notes: &greybox_core::notes::Notes) -> PyResult<()> {
+    let notes = std::mem::take(&mut *lock(notes));
+    if notes.is_empty() {
+        return Ok(());
+    }
+    let class = py
+        .import("greybox._errors")?
+        .getattr("UnusualValueWarning")?;
+    for n in notes {
+        let text = std::ffi::CString::new(n.replace('\0', "\\0")).unwrap_or_default();
+        PyErr::warn(py, &class, &text, 1)?;
+    }
+    Ok(())
 }
 
 /// The worker pool of one call: its threads carry the call's scope.

@@ -737,13 +737,14 @@ mod tests {
             velocity_m_s: vec![1.0, 2.0],
             temperature_k: None,
         };
-        let law = Zorev { mu: 0.3, k_pa: 500e6 };
+        let law = Zorev {
+            mu: 0.3,
+            k_pa: 500e6,
+        };
         let u = Units::of(crate::grid::UnitSystem::MpaMmS, crate::grid::TempUnit::C);
         assert!(lsdyna(&law, &grid, u, 1000).is_ok());
         for bad in [0, u32::MAX, i32::MAX as u32 - 1] {
-            let e = lsdyna(&law, &grid, u, bad)
-                .unwrap_err()
-                .to_string();
+            let e = lsdyna(&law, &grid, u, bad).unwrap_err().to_string();
             assert!(
                 e.contains("export.lsdyna_table_id") && e.contains("1..=2147483647"),
                 "{e}"

@@ -40,7 +40,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _calls, _native
-from ._errors import GreyboxError, InputError, MissingFileError, SettingsError
+from ._errors import GreyboxError, InputError, MissingFileError, SettingsError, UnusualValueWarning
 from ._sklearn import export_sklearn, export_sklearn_json
 from ._tables import read_csv, table
 
@@ -57,6 +57,7 @@ __all__ = [
     "InputError",
     "SettingsError",
     "MissingFileError",
+    "UnusualValueWarning",
     "DomainWarning",
     "Model",
     "Law",
