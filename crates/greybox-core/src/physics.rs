@@ -749,7 +749,7 @@ mod tests {
     /// makes typing them.
     #[test]
     fn densities_moduli_radii_and_track_widths_name_their_units() {
-        let t = flagged(Quantity::Density, 7.85);
+        let t = refused(Quantity::Density, 7.85);
         assert!(t.contains("g/cm³ read as kg/m³ (×1000 → 7850)"), "{t}");
         let t = refused(Quantity::YoungsModulus, 2.1e14);
         assert!(
