@@ -61,6 +61,32 @@ fn rust_files(dir: &Path) -> Vec<PathBuf> {
     out
 }
 
+/// Every `.rs` file under the `src` of each crate `keep` accepts (by its directory name),
+/// as (path from `crates/`, text), in a stable order.
+fn crate_sources(keep: impl Fn(&str) -> bool) -> Vec<(String, String)> {
+    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(crates)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.join("src").is_dir())
+        .filter(|p| keep(&p.file_name().unwrap().to_string_lossy()))
+        .collect();
+    dirs.sort();
+    assert!(dirs.len() >= 10, "the crates were not found");
+    let mut out = Vec::new();
+    for dir in &dirs {
+        for f in rust_files(&dir.join("src")) {
+            let rel = f
+                .strip_prefix(crates)
+                .unwrap()
+                .to_string_lossy()
+                .replace('\\', "/");
+            out.push((rel, std::fs::read_to_string(&f).unwrap()));
+        }
+    }
+    out
+}
+
 /// Files that write real command lines (a Slurm script with its `#SBATCH` lines and `sbatch`
 /// calls), and lines of others that show a whole command: their flags are the command's own.
 const COMMAND_LINES: [(&str, &str); 5] = [
@@ -215,30 +241,14 @@ fn flags_in_source(rel: &str, source: &str, allowed: &[&str]) -> Vec<String> {
 /// error. The CLI shows the fields as its flags when it prints a message.
 #[test]
 fn no_library_crate_names_a_command_line_flag() {
-    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
-    let mut dirs: Vec<PathBuf> = std::fs::read_dir(crates)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.join("src").is_dir() && !p.ends_with("greybox-cli"))
-        .collect();
-    dirs.sort();
-    assert!(dirs.len() >= 10, "the library crates were not found");
     let mut found = Vec::new();
-    for dir in &dirs {
-        for f in rust_files(&dir.join("src")) {
-            let rel = f
-                .strip_prefix(crates)
-                .unwrap()
-                .to_string_lossy()
-                .replace('\\', "/");
-            let allowed: Vec<&str> = COMMAND_LINES
-                .iter()
-                .filter(|(file, _)| *file == rel)
-                .map(|(_, needle)| *needle)
-                .collect();
-            let text = std::fs::read_to_string(&f).unwrap();
-            found.extend(flags_in_source(&rel, &text, &allowed));
-        }
+    for (rel, text) in crate_sources(|name| name != "greybox-cli") {
+        let allowed: Vec<&str> = COMMAND_LINES
+            .iter()
+            .filter(|(file, _)| *file == rel)
+            .map(|(_, needle)| *needle)
+            .collect();
+        found.extend(flags_in_source(&rel, &text, &allowed));
     }
     assert!(
         found.is_empty(),
@@ -285,26 +295,10 @@ const SAFE_OPEN_ITSELF: [&str; 2] = [
 /// one safe open: a source that opens a file another way is named with its line.
 #[test]
 fn every_input_is_opened_through_the_one_safe_open() {
-    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
-    let mut dirs: Vec<PathBuf> = std::fs::read_dir(crates)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.join("src").is_dir() && !p.ends_with("greybox-testkit"))
-        .collect();
-    dirs.sort();
-    assert!(dirs.len() >= 10, "the crates were not found");
     let mut found = Vec::new();
-    for dir in &dirs {
-        for f in rust_files(&dir.join("src")) {
-            let rel = f
-                .strip_prefix(crates)
-                .unwrap()
-                .to_string_lossy()
-                .replace('\\', "/");
-            if SAFE_OPEN_ITSELF.contains(&rel.as_str()) {
-                continue;
-            }
-            found.extend(raw_opens(&rel, &std::fs::read_to_string(&f).unwrap()));
+    for (rel, text) in crate_sources(|name| name != "greybox-testkit") {
+        if !SAFE_OPEN_ITSELF.contains(&rel.as_str()) {
+            found.extend(raw_opens(&rel, &text));
         }
     }
     assert!(
@@ -342,22 +336,12 @@ fn the_open_check_finds_a_raw_open_in_code_only() {
 /// run as a formula gets a leading `'`); writers of CSV text use `csv_field`.
 #[test]
 fn every_csv_record_neutralises_formulas() {
-    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
     let mut found = Vec::new();
-    for dir in std::fs::read_dir(crates)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-    {
-        if !dir.join("src").is_dir() {
-            continue;
-        }
-        for f in rust_files(&dir.join("src")) {
-            let text = without_test_mods(&std::fs::read_to_string(&f).unwrap());
-            for (n, line) in text.lines().enumerate() {
-                let code = line.split("//").next().unwrap_or("");
-                if code.contains(".write_record(") && !code.contains("csv_cells(") {
-                    found.push(format!("{}:{}", f.display(), n + 1));
-                }
+    for (rel, text) in crate_sources(|_| true) {
+        for (n, line) in without_test_mods(&text).lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            if code.contains(".write_record(") && !code.contains("csv_cells(") {
+                found.push(format!("{rel}:{}", n + 1));
             }
         }
     }

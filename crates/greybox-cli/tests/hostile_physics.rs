@@ -162,18 +162,7 @@ fn set_ups_and_track_widths_are_checked() {
         ),
         &["track width 1", "8e-7 m", "mm given where µm is asked"],
     );
-    std::fs::write(d.join("booster.json"), common::BOOSTER).unwrap();
-    common::ok(&run(
-        &[
-            "import",
-            "booster.json",
-            "--domain",
-            "150:2000,20:250",
-            "--out",
-            "m.json",
-        ],
-        d,
-    ));
+    common::imported_model(d);
     // a blend fraction of 5 in a law file (the `law` command's flag refuses it already)
     std::fs::write(
         d.join("gb.json"),

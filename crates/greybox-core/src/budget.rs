@@ -7,8 +7,6 @@
 //! [`Cap::option`]), a library user with [`set`]. Caps that belong to one configuration live
 //! in it: a sweep's `[sweep] max_cases`, a set-up's `numerics.max_particles`.
 
-use crate::Result;
-use std::path::Path;
 use std::sync::RwLock;
 
 /// The process-wide caps of the readers. As JSON (Python's `greybox.set_budget`), every
@@ -161,104 +159,9 @@ pub fn bytes_text(b: f64) -> String {
     }
 }
 
-/// Reads a configuration file whole through the one safe open ([`crate::input`]): a regular
-/// file of at most [`Budget::max_input_bytes`]. `what` names the file's role in messages
-/// ("sweep file", "base configuration").
-pub fn read_config_bytes(path: &Path, what: &str) -> Result<Vec<u8>> {
-    crate::input::read_bytes(path, what, Cap::InputBytes)
-}
-
-/// Opens a recording for reading (text, spreadsheet, TDMS) through the one safe open
-/// ([`crate::input`]): a regular file of at most [`Budget::max_recording_bytes`]. Returns the
-/// open file and its length; a reader reads at most that length.
-pub fn open_recording(path: &Path) -> Result<(std::fs::File, u64)> {
-    Ok(crate::input::open(path, "recording", Cap::RecordingBytes)?.into_parts())
-}
-
-/// A recording's bytes, whole: [`open_recording`]'s checks, then at most the length it found.
-pub fn read_recording_bytes(path: &Path) -> Result<Vec<u8>> {
-    crate::input::read_bytes(path, "recording", Cap::RecordingBytes)
-}
-
-/// Reads a model, law or table file whole through the one safe open: a regular file (`/dev/zero`
-/// or a FIFO named as a model would never end or never start) of at most
-/// [`Budget::max_data_bytes`].
-pub fn read_regular_text(path: &Path, what: &str) -> Result<String> {
-    crate::input::read_data_text(path, what)
-}
-
-/// [`read_config_bytes`] as UTF-8 text.
-pub fn read_config(path: &Path, what: &str) -> Result<String> {
-    crate::input::read_text(path, what, Cap::InputBytes)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn only_regular_files_within_the_cap_are_read() {
-        let d = tempfile::tempdir().unwrap();
-        let p = d.path().join("c.toml");
-        std::fs::write(&p, "a = 1\n").unwrap();
-        assert_eq!(read_config(&p, "set-up").unwrap(), "a = 1\n");
-        let e = read_config(Path::new("/dev/zero"), "base configuration")
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.contains("/dev/zero") && e.contains("character device") && e.contains("regular"),
-            "{e}"
-        );
-        let e = read_config(d.path(), "set-up").unwrap_err().to_string();
-        assert!(e.contains("directory"), "{e}");
-        let big = d.path().join("big.toml");
-        let f = std::fs::File::create(&big).unwrap();
-        f.set_len(DEFAULT.max_input_bytes + 1).unwrap();
-        let e = read_config(&big, "sweep file").unwrap_err().to_string();
-        assert!(
-            e.contains("big.toml")
-                && e.contains("max_input_bytes")
-                && e.contains("`max_input_mib`"),
-            "{e}"
-        );
-    }
-
-    #[test]
-    fn recordings_are_regular_files_under_the_cap() {
-        let d = tempfile::tempdir().unwrap();
-        let p = d.path().join("r.csv");
-        std::fs::write(&p, "t,Fn\n0,1\n").unwrap();
-        assert_eq!(read_recording_bytes(&p).unwrap(), b"t,Fn\n0,1\n");
-        #[cfg(unix)]
-        {
-            let link = d.path().join("zero.csv");
-            std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
-            let e = open_recording(&link).unwrap_err().to_string();
-            assert!(
-                e.contains("zero.csv") && e.contains("character device") && e.contains("regular"),
-                "{e}"
-            );
-        }
-        #[cfg(target_os = "linux")]
-        {
-            let fifo = d.path().join("fifo.csv");
-            let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
-            // SAFETY: a valid NUL-terminated path
-            assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
-            let e = open_recording(&fifo).unwrap_err().to_string();
-            assert!(e.contains("FIFO") && e.contains("fifo.csv"), "{e}");
-        }
-        let big = d.path().join("big.csv");
-        let f = std::fs::File::create(&big).unwrap();
-        f.set_len(DEFAULT.max_recording_bytes + 1).unwrap();
-        let e = open_recording(&big).unwrap_err().to_string();
-        assert!(
-            e.contains("big.csv")
-                && e.contains("max_recording_bytes")
-                && e.contains("`max_recording_mib`"),
-            "{e}"
-        );
-    }
 
     #[test]
     fn caps_name_themselves_and_their_option() {

@@ -10,11 +10,9 @@
 //! [`CallScope::notes`]: crate::call_scope::CallScope::notes
 
 use crate::call_scope::CallScope;
+pub use crate::call_scope::Notes;
 use std::collections::HashSet;
-use std::sync::{Arc, Mutex, RwLock};
-
-/// One call's notes, in the order they were made.
-pub type Notes = Arc<Mutex<Vec<String>>>;
+use std::sync::{Mutex, RwLock};
 
 static HOOK: RwLock<Option<fn(&str)>> = RwLock::new(None);
 static SAID: Mutex<Option<HashSet<String>>> = Mutex::new(None);

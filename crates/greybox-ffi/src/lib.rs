@@ -164,23 +164,16 @@ pub unsafe extern "C" fn greybox_law_mu(
 ) -> i32 {
     // SAFETY: forwarded caller contract (every array holds `n` values).
     unsafe {
-        greybox_law_eval(
+        greybox_law_mu_grad(
             law,
             n,
             pressure_pa,
-            n,
             velocity_m_s,
-            n,
             temperature_k,
-            n,
             mu,
-            n,
             std::ptr::null_mut(),
-            0,
             std::ptr::null_mut(),
-            0,
             std::ptr::null_mut(),
-            0,
         )
     }
 }
@@ -331,50 +324,56 @@ pub unsafe extern "C" fn greybox_law_eval(
             return fail(GREYBOX_ERR_INPUT, msg);
         }
         // SAFETY: as above.
-        let (mut gp, mut gv, mut gt) = unsafe {
-            (
+        let grads = unsafe {
+            [
                 slice_mut(dmu_dp, n),
                 slice_mut(dmu_dv, n),
                 slice_mut(dmu_dt, n),
-            )
+            ]
         };
-        let with_grad = gp.is_some() || gv.is_some() || gt.is_some();
-        for i in 0..n {
-            let s = state(p, v, t, i);
-            let (mu_i, g) = if with_grad {
-                let (mu_i, g) = mu_and_gradient(l.law.as_ref(), &s);
-                (mu_i, Some(g))
-            } else {
-                (l.law.mu(&s), None)
-            };
-            if let Err(msg) = check_mu(i, &s, mu_i, g) {
-                for out in [
-                    Some(&mut *m),
-                    gp.as_deref_mut(),
-                    gv.as_deref_mut(),
-                    gt.as_deref_mut(),
-                ]
-                .into_iter()
-                .flatten()
-                {
-                    out.fill(f64::NAN);
-                }
-                return fail(GREYBOX_ERR_MU, msg);
+        match evaluate(l.law.as_ref(), p, v, t, m, grads) {
+            Ok(()) => GREYBOX_OK,
+            Err(msg) => fail(GREYBOX_ERR_MU, msg),
+        }
+    })
+}
+
+/// μ (and the derivatives wanted) at every state, each checked ([`check_mu`]) before it is
+/// written; on a refused one every output is set to NaN and the error returned.
+fn evaluate(
+    law: &dyn FrictionLaw,
+    p: &[f64],
+    v: &[f64],
+    t: Option<&[f64]>,
+    m: &mut [f64],
+    mut grads: [Option<&mut [f64]>; 3],
+) -> Result<(), String> {
+    let with_grad = grads.iter().any(Option::is_some);
+    for i in 0..m.len() {
+        let s = state(p, v, t, i);
+        let (mu_i, g) = if with_grad {
+            let (mu_i, g) = mu_and_gradient(law, &s);
+            (mu_i, Some(g))
+        } else {
+            (law.mu(&s), None)
+        };
+        if let Err(msg) = check_mu(i, &s, mu_i, g) {
+            m.fill(f64::NAN);
+            for out in grads.iter_mut().flatten() {
+                out.fill(f64::NAN);
             }
-            m[i] = mu_i;
-            if let Some(g) = g {
-                for (out, x) in [gp.as_deref_mut(), gv.as_deref_mut(), gt.as_deref_mut()]
-                    .into_iter()
-                    .zip(g)
-                {
-                    if let Some(out) = out {
-                        out[i] = x;
-                    }
+            return Err(msg);
+        }
+        m[i] = mu_i;
+        if let Some(g) = g {
+            for (out, x) in grads.iter_mut().zip(g) {
+                if let Some(out) = out {
+                    out[i] = x;
                 }
             }
         }
-        GREYBOX_OK
-    })
+    }
+    Ok(())
 }
 
 /// Copy the calling thread's last error message into `buf` (NUL-terminated, truncated to
