@@ -57,6 +57,7 @@ mod tests {
         "max_uncompressed_mib",
         "max_line_kib",
         "max_recording_mib",
+        "max_data_mib",
         "max_file_bytes",
         "max_svg_bytes",
         "max_header_bytes",

@@ -63,6 +63,9 @@ struct BudgetArgs {
     /// Largest recording file (text, spreadsheet, TDMS) read, MiB.
     #[arg(long = "max-recording-mib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_recording_bytes >> 20)]
     max_recording_mib: u64,
+    /// Largest data, model or state file read (training data, track widths, points, models, laws, decks, sweep plans, checkpoints), MiB.
+    #[arg(long = "max-data-mib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_data_bytes >> 20)]
+    max_data_mib: u64,
 }
 
 impl BudgetArgs {
@@ -74,6 +77,7 @@ impl BudgetArgs {
             max_uncompressed_bytes: self.max_uncompressed_mib.saturating_mul(1 << 20),
             max_line_bytes: self.max_line_kib.saturating_mul(1 << 10),
             max_recording_bytes: self.max_recording_mib.saturating_mul(1 << 20),
+            max_data_bytes: self.max_data_mib.saturating_mul(1 << 20),
         });
     }
 }
@@ -140,6 +144,8 @@ fn main() {
         count_help::state_count_ranges(export_help::state_export_defaults(Cli::command()));
     let matches = command.clone().get_matches();
     flags::Flags::of(&command, &matches).install();
+    // values outside their usual range, said once each, with the settings shown as flags
+    greybox_core::notes::install(|text| eprintln!("warning: {}", flags::shown(text)));
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     greybox_report::progress_display::Mode::choose(cli.quiet).install();
     cli.budget.install();

@@ -61,6 +61,32 @@ fn rust_files(dir: &Path) -> Vec<PathBuf> {
     out
 }
 
+/// Every `.rs` file under the `src` of each crate `keep` accepts (by its directory name),
+/// as (path from `crates/`, text), in a stable order.
+fn crate_sources(keep: impl Fn(&str) -> bool) -> Vec<(String, String)> {
+    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(crates)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.join("src").is_dir())
+        .filter(|p| keep(&p.file_name().unwrap().to_string_lossy()))
+        .collect();
+    dirs.sort();
+    assert!(dirs.len() >= 10, "the crates were not found");
+    let mut out = Vec::new();
+    for dir in &dirs {
+        for f in rust_files(&dir.join("src")) {
+            let rel = f
+                .strip_prefix(crates)
+                .unwrap()
+                .to_string_lossy()
+                .replace('\\', "/");
+            out.push((rel, std::fs::read_to_string(&f).unwrap()));
+        }
+    }
+    out
+}
+
 /// Files that write real command lines (a Slurm script with its `#SBATCH` lines and `sbatch`
 /// calls), and lines of others that show a whole command: their flags are the command's own.
 const COMMAND_LINES: [(&str, &str); 5] = [
@@ -215,30 +241,14 @@ fn flags_in_source(rel: &str, source: &str, allowed: &[&str]) -> Vec<String> {
 /// error. The CLI shows the fields as its flags when it prints a message.
 #[test]
 fn no_library_crate_names_a_command_line_flag() {
-    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
-    let mut dirs: Vec<PathBuf> = std::fs::read_dir(crates)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.join("src").is_dir() && !p.ends_with("greybox-cli"))
-        .collect();
-    dirs.sort();
-    assert!(dirs.len() >= 10, "the library crates were not found");
     let mut found = Vec::new();
-    for dir in &dirs {
-        for f in rust_files(&dir.join("src")) {
-            let rel = f
-                .strip_prefix(crates)
-                .unwrap()
-                .to_string_lossy()
-                .replace('\\', "/");
-            let allowed: Vec<&str> = COMMAND_LINES
-                .iter()
-                .filter(|(file, _)| *file == rel)
-                .map(|(_, needle)| *needle)
-                .collect();
-            let text = std::fs::read_to_string(&f).unwrap();
-            found.extend(flags_in_source(&rel, &text, &allowed));
-        }
+    for (rel, text) in crate_sources(|name| name != "greybox-cli") {
+        let allowed: Vec<&str> = COMMAND_LINES
+            .iter()
+            .filter(|(file, _)| *file == rel)
+            .map(|(_, needle)| *needle)
+            .collect();
+        found.extend(flags_in_source(&rel, &text, &allowed));
     }
     assert!(
         found.is_empty(),
@@ -261,4 +271,83 @@ fn the_flag_check_finds_a_flag_in_code_only() {
     );
     assert_eq!(flag_in("a -- b --- c"), None);
     assert_eq!(flag_in("x=--max-input-mib."), Some("--max-input-mib"));
+}
+
+/// How a file is opened for reading other than through `greybox_core::input` (issue 62,
+/// mechanism 1): each of these follows a FIFO into a wait for a writer, or reads `/dev/zero`
+/// until memory runs out.
+const RAW_OPENS: [&str; 6] = [
+    "File::open(",
+    "fs::read_to_string(",
+    "fs::read(",
+    "from_path(",
+    ".read(true)",
+    "Mmap::map(",
+];
+
+/// Where a raw open is the point: the one safe open itself, and a map of a file it opened.
+const SAFE_OPEN_ITSELF: [&str; 2] = [
+    "greybox-core/src/input.rs",
+    "greybox-tribo/src/text_table/assemble.rs",
+];
+
+/// Every library crate (and the CLI, and the Python extension) reads its inputs through the
+/// one safe open: a source that opens a file another way is named with its line.
+#[test]
+fn every_input_is_opened_through_the_one_safe_open() {
+    let mut found = Vec::new();
+    for (rel, text) in crate_sources(|name| name != "greybox-testkit") {
+        if !SAFE_OPEN_ITSELF.contains(&rel.as_str()) {
+            found.extend(raw_opens(&rel, &text));
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "files opened for reading outside greybox_core::input (use input::open / read_text / data_csv):\n{}",
+        found.join("\n")
+    );
+}
+
+/// The raw opens in the code of `source` (test modules and comments left out), as
+/// `file:line: pattern`.
+fn raw_opens(rel: &str, source: &str) -> Vec<String> {
+    let text = without_test_mods(source);
+    let mut found = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let code = line.split("//").next().unwrap_or("");
+        if let Some(raw) = RAW_OPENS.iter().find(|r| code.contains(**r)) {
+            found.push(format!("{rel}:{}: {raw}", n + 1));
+        }
+    }
+    found
+}
+
+#[test]
+fn the_open_check_finds_a_raw_open_in_code_only() {
+    let source = "fn a(p: &Path) {\n    let t = std::fs::read_to_string(p);\n    // csv::Reader::from_path(p) in a comment\n}\n#[cfg(test)]\nmod tests {\n    fn b() { std::fs::File::open(\"x\"); }\n}\n";
+    assert_eq!(
+        raw_opens("x.rs", source),
+        vec!["x.rs:2: fs::read_to_string("]
+    );
+}
+
+/// Every record a library crate writes with the `csv` crate goes through
+/// `greybox_core::escape::csv_cells` (issue 62, mechanism 5: a text cell a spreadsheet would
+/// run as a formula gets a leading `'`); writers of CSV text use `csv_field`.
+#[test]
+fn every_csv_record_neutralises_formulas() {
+    let mut found = Vec::new();
+    for (rel, text) in crate_sources(|_| true) {
+        for (n, line) in without_test_mods(&text).lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            if code.contains(".write_record(") && !code.contains("csv_cells(") {
+                found.push(format!("{rel}:{}", n + 1));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "CSV records written without escape::csv_cells:\n{}",
+        found.join("\n")
+    );
 }

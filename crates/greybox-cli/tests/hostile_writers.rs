@@ -305,3 +305,46 @@ fn a_billion_laughs_svg_is_left_out_of_the_report() {
     let html = std::fs::read_to_string(s.join("report.html")).unwrap();
     assert!(!html.contains("<use"), "the figure was left out");
 }
+
+/// Issue 62: text cells that a spreadsheet would run as a formula (`=`, `+`, `-`, `@`),
+/// from axis values of a sweep file, land in `results.csv` as text (a leading `'`); numbers,
+/// negative ones included, stay numbers.
+#[test]
+fn spreadsheet_formulas_in_names_stay_text_in_csv_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    common::coarse_config(d, None);
+    std::fs::write(
+        d.join("sweep.toml"),
+        r#"[sweep]
+kind = "cutting"
+base = "cut.toml"
+fraction = 0.4
+[[axis]]
+field = "material.name"
+values = ["=HYPERLINK(\"http://x\",\"y\")", "+1+1", "@SUM(A1)", "-2+3"]
+[[axis]]
+field = "insert.rake_deg"
+values = [-6.0]
+"#,
+    )
+    .unwrap();
+    ok(&run(&["sweep", "plan", "sweep.toml", "--out", "o"], d));
+    ok(&run(&["sweep", "collect", "o"], d));
+    let text = std::fs::read_to_string(d.join("o/results.csv")).unwrap();
+    let mut names = 0;
+    for record in csv::Reader::from_reader(text.as_bytes()).records() {
+        for cell in record.unwrap().iter() {
+            assert!(
+                !greybox_core::escape::is_formula(cell),
+                "a formula cell {cell:?} in:\n{text}"
+            );
+            names += usize::from(cell.starts_with('\''));
+        }
+    }
+    assert_eq!(names, 4, "{text}");
+    assert!(
+        text.contains(",-6"),
+        "a negative number stays a number:\n{text}"
+    );
+}

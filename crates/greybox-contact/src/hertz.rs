@@ -49,6 +49,14 @@ impl Elastic {
                 ),
             ));
         }
+        if self.youngs_modulus_pa.is_finite() {
+            greybox_core::physics::admit(
+                greybox_core::physics::Quantity::YoungsModulus,
+                self.youngs_modulus_pa,
+                "youngs_modulus",
+            )
+            .map_err(|e| Error::invalid(name, e))?;
+        }
         if !(self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5) {
             return Err(Error::invalid(
                 name,
@@ -220,6 +228,12 @@ impl PinContact {
     /// Validate (also used after deserializing).
     pub fn validate(&self) -> Result<()> {
         positive("pin_tip_radius_mm", self.pin_tip_radius_mm, "mm")?;
+        greybox_core::physics::admit(
+            greybox_core::physics::Quantity::ContactRadius,
+            self.radius_m(),
+            "pin_tip_radius_mm (as m)",
+        )
+        .map_err(|e| Error::invalid("contact", e))?;
         self.effective_modulus_pa().map(|_| ())
     }
 }

@@ -7,13 +7,12 @@
 //! [`Cap::option`]), a library user with [`set`]. Caps that belong to one configuration live
 //! in it: a sweep's `[sweep] max_cases`, a set-up's `numerics.max_particles`.
 
-use crate::{Error, Result, SourcePos};
-use std::io::Read;
-use std::path::Path;
 use std::sync::RwLock;
 
-/// The process-wide caps of the readers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The process-wide caps of the readers. As JSON (Python's `greybox.set_budget`), every
+/// field by its name; a key that is no field is refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct Budget {
     /// Largest configuration file read whole (cutting / pin set-up TOML, sweep file, a sweep's
     /// base configuration), bytes. Default 16 MiB (the bundled set-ups are 3 kB).
@@ -36,6 +35,10 @@ pub struct Budget {
     /// a recording above it is refused with the cap named before any of it is read, never
     /// read until memory runs out.
     pub max_recording_bytes: u64,
+    /// Largest data, model or state file read (training and calibration data, track widths,
+    /// prediction points, wear tests, material curves, validation data, model, law and table
+    /// files, FE decks, sweep plans, checkpoints), bytes. Default 2 GiB.
+    pub max_data_bytes: u64,
 }
 
 /// The default caps.
@@ -46,6 +49,7 @@ pub const DEFAULT: Budget = Budget {
     max_uncompressed_bytes: 512 << 20,
     max_line_bytes: 1 << 20,
     max_recording_bytes: 2 << 30,
+    max_data_bytes: 2 << 30,
 };
 
 impl Default for Budget {
@@ -75,6 +79,7 @@ pub enum Cap {
     UncompressedBytes,
     LineBytes,
     RecordingBytes,
+    DataBytes,
 }
 
 impl Cap {
@@ -87,6 +92,7 @@ impl Cap {
             Cap::UncompressedBytes => "max_uncompressed_bytes",
             Cap::LineBytes => "max_line_bytes",
             Cap::RecordingBytes => "max_recording_bytes",
+            Cap::DataBytes => "max_data_bytes",
         }
     }
     /// The setting that raises it, named as a field (`` `max_input_mib` ``): the command line
@@ -99,6 +105,7 @@ impl Cap {
             Cap::UncompressedBytes => "`max_uncompressed_mib`",
             Cap::LineBytes => "`max_line_kib`",
             Cap::RecordingBytes => "`max_recording_mib`",
+            Cap::DataBytes => "`max_data_mib`",
         }
     }
     /// The cap's value now.
@@ -111,6 +118,7 @@ impl Cap {
             Cap::UncompressedBytes => b.max_uncompressed_bytes,
             Cap::LineBytes => b.max_line_bytes,
             Cap::RecordingBytes => b.max_recording_bytes,
+            Cap::DataBytes => b.max_data_bytes,
         }
     }
     /// `Ok` when `value` is within the cap, else the message: `found` (what was found, e.g.
@@ -151,199 +159,9 @@ pub fn bytes_text(b: f64) -> String {
     }
 }
 
-/// Reads a configuration file whole: only a regular file (a device such as `/dev/zero`, a
-/// FIFO or a directory is refused with the path named, before it is opened: opening a FIFO
-/// would wait for a writer) of at most [`Budget::max_input_bytes`]. `what` names the file's
-/// role in messages ("sweep file", "base configuration").
-pub fn read_config_bytes(path: &Path, what: &str) -> Result<Vec<u8>> {
-    let pos = || SourcePos::path(path);
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-    if !meta.is_file() {
-        return Err(Error::input(
-            pos(),
-            format!(
-                "the {what} is {}, not a regular file: only regular files are read as configurations",
-                crate::atomic::describe_kind(&meta)
-            ),
-        ));
-    }
-    let cap = Cap::InputBytes;
-    let too_big = |n: u64| {
-        cap.check(n, || format!("the {what} is {} bytes", n))
-            .map_err(|m| Error::input(pos(), m))
-    };
-    too_big(meta.len())?;
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    file.take(cap.limit().saturating_add(1))
-        .read_to_end(&mut bytes)
-        .map_err(|e| Error::io(path, e))?;
-    // the file may have grown since its size was read
-    too_big(bytes.len() as u64)?;
-    Ok(bytes)
-}
-
-/// Opens a recording for reading: the one way every recording reader (text, spreadsheet,
-/// TDMS) opens its file. Only a regular file after links are followed (a link to `/dev/zero`,
-/// a FIFO, a device or a directory is refused with the path and its kind named; a FIFO is
-/// never opened for reading, which would wait for a writer) of at most
-/// [`Budget::max_recording_bytes`] (refused with the cap and its option named before any
-/// byte is read). Returns the open file and its length; a reader reads at most that length
-/// ([`read_recording_bytes`]), so a file that grows while it is read cannot take more.
-pub fn open_recording(path: &Path) -> Result<(std::fs::File, u64)> {
-    let pos = || SourcePos::path(path);
-    let not_regular = |meta: &std::fs::Metadata| {
-        Error::input(
-            pos(),
-            format!(
-                "the recording is {}, not a regular file: only regular files are read as recordings",
-                crate::atomic::describe_kind(meta)
-            ),
-        )
-    };
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-    if !meta.is_file() {
-        return Err(not_regular(&meta));
-    }
-    let mut opts = std::fs::OpenOptions::new();
-    opts.read(true);
-    // the path may have been replaced by a FIFO since the check: never wait for a writer
-    #[cfg(target_os = "linux")]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        opts.custom_flags(libc::O_NONBLOCK);
-    }
-    let file = opts.open(path).map_err(|e| Error::io(path, e))?;
-    let meta = file.metadata().map_err(|e| Error::io(path, e))?;
-    if !meta.is_file() {
-        return Err(not_regular(&meta));
-    }
-    let len = meta.len();
-    Cap::RecordingBytes
-        .check(len, || {
-            format!("the recording is {} ({len} bytes)", bytes_text(len as f64))
-        })
-        .map_err(|m| Error::input(pos(), m))?;
-    Ok((file, len))
-}
-
-/// A recording's bytes, whole: [`open_recording`]'s checks, then at most the length it found
-/// (a buffer of that size is asked for without aborting: memory that cannot be had is an
-/// error naming the file and the size).
-pub fn read_recording_bytes(path: &Path) -> Result<Vec<u8>> {
-    let (file, len) = open_recording(path)?;
-    let size = usize::try_from(len).unwrap_or(usize::MAX);
-    let mut bytes = Vec::new();
-    bytes.try_reserve_exact(size).map_err(|_| {
-        Error::input(
-            SourcePos::path(path),
-            format!(
-                "the recording is {} and that much memory is not available to read it",
-                bytes_text(len as f64)
-            ),
-        )
-    })?;
-    file.take(len)
-        .read_to_end(&mut bytes)
-        .map_err(|e| Error::io(path, e))?;
-    Ok(bytes)
-}
-
-/// Reads a model, law or table file whole: only a regular file (`/dev/zero` or a FIFO named as
-/// a model would never end or never start), with no size cap beyond the file's own size (a
-/// forest of many trees is legitimately large, and the C ABI inside an FE engine has no flag
-/// to raise one).
-pub fn read_regular_text(path: &Path, what: &str) -> Result<String> {
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-    if !meta.is_file() {
-        return Err(Error::input(
-            SourcePos::path(path),
-            format!(
-                "the {what} is {}, not a regular file",
-                crate::atomic::describe_kind(&meta)
-            ),
-        ));
-    }
-    std::fs::read_to_string(path).map_err(|e| Error::io(path, e))
-}
-
-/// [`read_config_bytes`] as UTF-8 text.
-pub fn read_config(path: &Path, what: &str) -> Result<String> {
-    String::from_utf8(read_config_bytes(path, what)?).map_err(|e| {
-        Error::input(
-            SourcePos::path(path).byte(e.utf8_error().valid_up_to() as u64),
-            format!("the {what} is not UTF-8 text"),
-        )
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn only_regular_files_within_the_cap_are_read() {
-        let d = tempfile::tempdir().unwrap();
-        let p = d.path().join("c.toml");
-        std::fs::write(&p, "a = 1\n").unwrap();
-        assert_eq!(read_config(&p, "set-up").unwrap(), "a = 1\n");
-        let e = read_config(Path::new("/dev/zero"), "base configuration")
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.contains("/dev/zero") && e.contains("character device") && e.contains("regular"),
-            "{e}"
-        );
-        let e = read_config(d.path(), "set-up").unwrap_err().to_string();
-        assert!(e.contains("directory"), "{e}");
-        let big = d.path().join("big.toml");
-        let f = std::fs::File::create(&big).unwrap();
-        f.set_len(DEFAULT.max_input_bytes + 1).unwrap();
-        let e = read_config(&big, "sweep file").unwrap_err().to_string();
-        assert!(
-            e.contains("big.toml")
-                && e.contains("max_input_bytes")
-                && e.contains("`max_input_mib`"),
-            "{e}"
-        );
-    }
-
-    #[test]
-    fn recordings_are_regular_files_under_the_cap() {
-        let d = tempfile::tempdir().unwrap();
-        let p = d.path().join("r.csv");
-        std::fs::write(&p, "t,Fn\n0,1\n").unwrap();
-        assert_eq!(read_recording_bytes(&p).unwrap(), b"t,Fn\n0,1\n");
-        #[cfg(unix)]
-        {
-            let link = d.path().join("zero.csv");
-            std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
-            let e = open_recording(&link).unwrap_err().to_string();
-            assert!(
-                e.contains("zero.csv") && e.contains("character device") && e.contains("regular"),
-                "{e}"
-            );
-        }
-        #[cfg(target_os = "linux")]
-        {
-            let fifo = d.path().join("fifo.csv");
-            let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
-            // SAFETY: a valid NUL-terminated path
-            assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
-            let e = open_recording(&fifo).unwrap_err().to_string();
-            assert!(e.contains("FIFO") && e.contains("fifo.csv"), "{e}");
-        }
-        let big = d.path().join("big.csv");
-        let f = std::fs::File::create(&big).unwrap();
-        f.set_len(DEFAULT.max_recording_bytes + 1).unwrap();
-        let e = open_recording(&big).unwrap_err().to_string();
-        assert!(
-            e.contains("big.csv")
-                && e.contains("max_recording_bytes")
-                && e.contains("`max_recording_mib`"),
-            "{e}"
-        );
-    }
 
     #[test]
     fn caps_name_themselves_and_their_option() {

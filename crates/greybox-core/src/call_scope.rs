@@ -50,7 +50,13 @@ pub struct CallScope {
     pub sink: Option<Arc<dyn Sink>>,
     /// The command recorded in provenance, program (or function) name first.
     pub command: Option<Vec<String>>,
+    /// Where the call's notes go (values outside their usual range, said by the notes
+    /// module), in the order they were made.
+    pub notes: Option<Notes>,
 }
+
+/// One call's notes (see [`CallScope::notes`]).
+pub type Notes = Arc<std::sync::Mutex<Vec<String>>>;
 
 thread_local! {
     static CURRENT: RefCell<Option<CallScope>> = const { RefCell::new(None) };

@@ -19,10 +19,8 @@ impl Header {
     /// The header row of the CSV file at `path` (only the first record is read).
     pub fn read(path: &std::path::Path) -> Result<Self> {
         let source = path.display().to_string();
-        let mut rdr = csv::ReaderBuilder::new()
-            .has_headers(true)
-            .from_path(path)
-            .map_err(|e| csv_error(&source, e))?;
+        let mut rdr =
+            crate::input::data_csv(path, "table", csv::ReaderBuilder::new().has_headers(true))?;
         let record = rdr.headers().map_err(|e| csv_error(&source, e))?;
         Ok(Header::new(&source, record))
     }

@@ -285,7 +285,7 @@ impl FrictionDataset {
 
     /// Read a dataset CSV strictly: every required column, finite numbers, positive forces.
     pub fn read_csv(path: &Path) -> Result<Self> {
-        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let file = crate::input::open(path, "friction dataset", crate::budget::Cap::DataBytes)?;
         Self::read_csv_from(file, &path.display().to_string())
     }
 

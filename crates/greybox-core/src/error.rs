@@ -67,8 +67,9 @@ pub enum Error {
     #[error("invalid {what}: {message}")]
     Invalid { what: String, message: String },
     /// An I/O failure on a named path. The I/O error is part of the message, not a separate
-    /// cause, so that a report of the whole chain (`{:#}`) names it once.
-    #[error("{}: {error}", path.display())]
+    /// cause, so that a report of the whole chain (`{:#}`) names it once; a missing file says
+    /// "not found" first.
+    #[error("{}: {}{error}", path.display(), if error.kind() == std::io::ErrorKind::NotFound { "not found: " } else { "" })]
     Io {
         path: PathBuf,
         error: std::io::Error,

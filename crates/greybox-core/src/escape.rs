@@ -8,7 +8,8 @@
 //! | --- | --- | --- |
 //! | a name read from a file or the command line | [`check_name`] | a word, not a line: no control characters, at most [`MAX_NAME_CHARS`] characters |
 //! | an Abaqus / CalculiX `.inp` comment, an LS-DYNA `.k` comment, a DEFORM keyword-file comment | [`deck_comment`] | one line: control characters and line separators written as `\n`, `\u{…}` |
-//! | a CSV field (header or cell) | [`csv_field`], [`csv_quoted`] | one line, then RFC 4180 §2.6–2.7 quoting |
+//! | a CSV field (header or cell) | [`csv_field`], [`csv_quoted`]; [`csv_cell`] for writers using the `csv` crate | no formula (a text cell starting with `=`, `+`, `-`, `@` gets a leading `'`), one line, then RFC 4180 §2.6–2.7 quoting |
+//! | a markdown table cell or text | [`markdown_text`] | `\|`, `\\`, `` ` ``, `*`, `[`, `]`, `<`, `>`, `&` backslash-escaped; one line |
 //! | a shell word (`sh -c`, generated scripts) | [`shell_quote`] (also `shell::quote`) | POSIX single quotes, `'` as `'\''` |
 //! | XML / SVG / HTML text and attribute values | [`xml_text`] | the five predefined entities of XML 1.0 §4.6 |
 //!
@@ -84,6 +85,20 @@ pub fn one_line(text: &str) -> String {
     s
 }
 
+/// The most characters of a value a message quotes ([`excerpt`]).
+pub const MAX_EXCERPT_CHARS: usize = 80;
+
+/// `text` as a message quotes it: on one line ([`one_line`]) and, beyond
+/// [`MAX_EXCERPT_CHARS`] characters, its beginning with the length ("abc… (52428800 bytes)"):
+/// a 50 MB key of a file is named, never echoed whole.
+pub fn excerpt(text: &str) -> String {
+    if text.chars().count() <= MAX_EXCERPT_CHARS {
+        return one_line(text);
+    }
+    let head: String = text.chars().take(MAX_EXCERPT_CHARS - 20).collect();
+    format!("{}… ({} bytes)", one_line(&head), text.len())
+}
+
 /// `text` for the body of an FE-engine deck comment (Abaqus/CalculiX `** …`, LS-DYNA `$ …`,
 /// DEFORM `* …`): [`one_line`], so the comment cannot end early and nothing after it can
 /// start a keyword (see the module's notes on each format's comment rule).
@@ -91,13 +106,43 @@ pub fn deck_comment(text: &str) -> String {
     one_line(text)
 }
 
+/// Whether a spreadsheet would run `text` as a formula when it opens a CSV file: a text
+/// cell starting with `=`, `+`, `-`, `@`, a tab or a carriage return (OWASP, "CSV
+/// Injection"). A number (`-0.5`, `+3`, `-inf`) is not a formula: it stays a number.
+pub fn is_formula(text: &str) -> bool {
+    text.starts_with(['=', '+', '-', '@', '\t', '\r']) && text.trim().parse::<f64>().is_err()
+}
+
+/// A CSV text cell a spreadsheet will show as text: a cell that [`is_formula`] gets a
+/// leading `'` (Excel, LibreOffice and Google Sheets show the rest as text and do not
+/// evaluate it); every other cell, numbers included, unchanged. The one helper of every CSV
+/// writer for cells it did not compute itself (names, ids, labels, axis values); writers
+/// that use the `csv` crate call it on each such cell, the others through [`csv_field`].
+pub fn csv_cell(text: &str) -> std::borrow::Cow<'_, str> {
+    if is_formula(text) {
+        std::borrow::Cow::Owned(format!("'{text}"))
+    } else {
+        std::borrow::Cow::Borrowed(text)
+    }
+}
+
+/// The cells of one record for a `csv::Writer`, each through [`csv_cell`] (the `csv` crate
+/// quotes; this neutralises formulas): `w.write_record(csv_cells(row))`.
+pub fn csv_cells<S: AsRef<str>>(cells: impl IntoIterator<Item = S>) -> Vec<String> {
+    cells
+        .into_iter()
+        .map(|c| csv_cell(c.as_ref()).into_owned())
+        .collect()
+}
+
 /// `text` as one CSV field on one line: [`one_line`] first (a record never spans lines, so
 /// line-oriented readers and `grep` see one record per line), then RFC 4180 §2.6–2.7
 /// quoting — as it is when it holds no comma or double quote, else enclosed in double quotes
 /// with each `"` doubled. A CSV reader returns exactly `text` when `text` has no control
-/// characters (names never have: [`check_name`]).
+/// characters (names never have: [`check_name`]) and is no formula ([`csv_cell`]: a cell
+/// starting with `=`, `+`, `-` or `@` gets a leading `'`).
 pub fn csv_field(text: &str) -> String {
-    let t = one_line(text);
+    let t = one_line(&csv_cell(text));
     if t.contains([',', '"']) {
         csv_quoted(&t)
     } else {
@@ -106,9 +151,9 @@ pub fn csv_field(text: &str) -> String {
 }
 
 /// [`csv_field`], always enclosed in double quotes (for columns of free text that are quoted
-/// in every row).
+/// in every row); a formula neutralised as by [`csv_cell`].
 pub fn csv_quoted(text: &str) -> String {
-    let t = one_line(text);
+    let t = one_line(&csv_cell(text));
     let mut s = String::with_capacity(t.len() + 2);
     s.push('"');
     for c in t.chars() {
@@ -118,6 +163,28 @@ pub fn csv_quoted(text: &str) -> String {
         s.push(c);
     }
     s.push('"');
+    s
+}
+
+/// `text` as markdown text (a table cell, a list item) that renders as the text itself: on
+/// one line ([`one_line`]: a newline would end the table row), with every character that ends
+/// a cell or starts markup backslash-escaped (CommonMark 0.31 §2.4: any ASCII punctuation may
+/// be escaped) — `|`, `\`, `` ` `` (code), `*` (emphasis), `[`, `]` (links, images), `<`,
+/// `>` (HTML, autolinks), `&` (entities). `_` is left: inside a word (`max_depth`) it is no
+/// emphasis, and a terminal shows the same text. Plain words and numbers come out unchanged.
+pub fn markdown_text(text: &str) -> String {
+    const MARKUP: &[char] = &['\\', '`', '*', '[', ']', '<', '>', '|', '&'];
+    let t = one_line(text);
+    if !t.contains(MARKUP) {
+        return t;
+    }
+    let mut s = String::with_capacity(t.len() + 8);
+    for c in t.chars() {
+        if MARKUP.contains(&c) {
+            s.push('\\');
+        }
+        s.push(c);
+    }
     s
 }
 
@@ -272,5 +339,59 @@ mod tests {
         assert_eq!(shell_quote("w;touch PWNED;x").unwrap(), "'w;touch PWNED;x'");
         assert_eq!(shell_quote("it's").unwrap(), "'it'\\''s'");
         assert!(shell_quote("a\0b").is_err());
+    }
+
+    #[test]
+    fn formulas_become_text_and_numbers_stay_numbers() {
+        for f in [
+            "=1+1",
+            "+SUM(A1)",
+            "-2+3",
+            "@SUM(1)",
+            "=cmd|' /C calc'!A0",
+            "\t=1",
+        ] {
+            assert!(is_formula(f), "{f}");
+            assert_eq!(csv_cell(f), format!("'{f}"));
+            assert!(
+                csv_field(f).starts_with("'") || csv_field(f).starts_with("\"'"),
+                "{f}"
+            );
+        }
+        for n in ["-0.5", "+3", "-1e-9", "150", "-inf", "rake", "", "a=b"] {
+            assert!(!is_formula(n), "{n}");
+            assert_eq!(csv_cell(n), n);
+        }
+        assert_eq!(csv_quoted("=1,2"), "\"'=1,2\"");
+    }
+
+    #[test]
+    fn markdown_markup_and_cell_ends_are_escaped() {
+        assert_eq!(
+            markdown_text("AISI 1045, 150 m/min"),
+            "AISI 1045, 150 m/min"
+        );
+        assert_eq!(markdown_text("a|b"), "a\\|b");
+        assert_eq!(
+            markdown_text("<img src=x onerror=alert(1)> **bold** [l](javascript:x)"),
+            "\\<img src=x onerror=alert(1)\\> \\*\\*bold\\*\\* \\[l\\](javascript:x)"
+        );
+        assert_eq!(markdown_text("row\n| x |"), r"row\\n\| x \|");
+        for h in hostile() {
+            let m = markdown_text(&h);
+            assert!(
+                !m.contains('\n') && !m.replace("\\<", "").contains('<'),
+                "{}",
+                excerpt(&m)
+            );
+        }
+    }
+
+    #[test]
+    fn an_excerpt_names_a_long_value_never_echoes_it() {
+        let long = "k".repeat(50 << 20);
+        let e = excerpt(&long);
+        assert!(e.len() < 200 && e.contains("52428800 bytes"), "{e}");
+        assert_eq!(excerpt("short\nkey"), "short\\nkey");
     }
 }

@@ -15,6 +15,7 @@
 //! * [`progress`] — progress of long work, shown by whatever display the process installed.
 //! * [`interrupt`] — cooperative cancellation: long loops stop at their next step on request.
 //! * [`physics`] — the plausible ranges of every physical quantity and the likely unit mistake.
+//! * [`notes`] — what a run must say without failing: values outside their usual range.
 //! * [`rules`] — field-by-field configuration checks whose errors name the field and the rule.
 //! * [`boundary`] — exact boundaries of monotone floating-point predicates (split thresholds).
 //! * [`roots`] — bracketing root finding for expensive functions.
@@ -23,6 +24,8 @@
 //! * [`shell`] — quoting of every value a generated shell script receives.
 //! * [`escape`] — free text escaped (or refused) for the format it lands in: deck comments,
 //!   CSV fields, shell words, XML/SVG/HTML; names checked to be words.
+//! * [`input`] — the one safe open of every input file (regular files only, a size cap, no
+//!   hang on a FIFO, a missing file "not found").
 //! * [`budget`] — the named caps of readers and walkers (bytes, cells, array lengths, lines).
 //! * [`choice`] — option enums with one spelling on the command line, in Python and in files.
 //! * [`count`] — counts as bounded types: the cap part of the type, checked where the number enters.
@@ -41,10 +44,12 @@ pub mod csvutil;
 pub mod dataset;
 pub mod error;
 pub mod escape;
+pub mod input;
 pub mod interrupt;
 pub mod json_head;
 pub mod law;
 pub mod linalg;
+pub mod notes;
 pub mod outputs;
 pub mod physics;
 pub mod plot;

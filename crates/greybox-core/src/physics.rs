@@ -47,6 +47,14 @@ pub enum Quantity {
     MassScaling,
     /// Cutting (or feed) force per unit width of cut, N/m.
     ForcePerWidth,
+    /// Density of a solid, kg/m³.
+    Density,
+    /// Young's modulus of a solid, Pa.
+    YoungsModulus,
+    /// Radius of curvature of a contact body (a pin's tip), m.
+    ContactRadius,
+    /// Width of a wear track, m.
+    TrackWidth,
 }
 
 /// How a unit mistake changed the number: the intended value is `value / factor`
@@ -122,6 +130,13 @@ const STRESS_MISTAKES: &[Mistake] = &[
 const TEMPERATURE_MISTAKES: &[Mistake] =
     &[Mistake::Offset(273.15, "a temperature in °C read as K")];
 const SHARE_MISTAKES: &[Mistake] = &[Mistake::Scale(100.0, "a share in % read as a fraction")];
+const SMALL_LENGTH_MISTAKES: &[Mistake] = &[
+    Mistake::Scale(
+        1000.0,
+        "a length in µm given where mm is asked (or mm where m)",
+    ),
+    Mistake::Scale(1e-3, "a length in mm given where µm is asked"),
+];
 
 /// The table: one row per [`Quantity`], in its declaration order.
 pub const TABLE: &[Spec] = &[
@@ -253,6 +268,50 @@ pub const TABLE: &[Spec] = &[
             Mistake::Scale(1e-3, "a force per width in N/m read as N/mm"),
         ],
         why: "orthogonal cuts give 1 N/mm (soft metal, thin chip) to 10 kN/mm",
+    },
+    Spec {
+        quantity: Quantity::Density,
+        name: "density",
+        unit: "kg/m³",
+        hard: (10.0, 30_000.0),
+        usual: (500.0, 25_000.0),
+        mistakes: &[
+            Mistake::Scale(1e-3, "a density in g/cm³ read as kg/m³"),
+            Mistake::Scale(1e3, "a density in g/m³ read as kg/m³"),
+        ],
+        why: "foams and polymers from a few hundred kg/m³, tungsten carbide 15 600, osmium 22 600",
+    },
+    Spec {
+        quantity: Quantity::YoungsModulus,
+        name: "Young's modulus",
+        unit: "Pa",
+        hard: (1e5, 2e12),
+        usual: (1e8, 1.2e12),
+        mistakes: &[
+            Mistake::Scale(1e-9, "a modulus in GPa read as Pa"),
+            Mistake::Scale(1e-6, "a modulus in MPa read as Pa"),
+            Mistake::Scale(1e9, "a modulus in Pa given where GPa is asked"),
+            Mistake::Scale(1e3, "a modulus in MPa given where GPa is asked"),
+        ],
+        why: "polymers from 0.1 GPa, steels 210 GPa, tungsten carbide 650 GPa, diamond 1 050-1 200 GPa",
+    },
+    Spec {
+        quantity: Quantity::ContactRadius,
+        name: "contact radius",
+        unit: "m",
+        hard: (1e-7, 100.0),
+        usual: (1e-4, 1.0),
+        mistakes: LENGTH_MISTAKES,
+        why: "pin tips and balls of tribometers are 0.1-50 mm in radius; a flat has no finite one",
+    },
+    Spec {
+        quantity: Quantity::TrackWidth,
+        name: "track width",
+        unit: "m",
+        hard: (1e-7, 0.1),
+        usual: (1e-5, 0.02),
+        mistakes: SMALL_LENGTH_MISTAKES,
+        why: "wear tracks of pin-on-disc tests are tens of µm to a few mm wide",
     },
 ];
 
@@ -430,6 +489,17 @@ pub fn check(q: Quantity, value: f64, what: &str) -> std::result::Result<Option<
     Ok(None)
 }
 
+/// [`check`] where a physical quantity enters a stage's settings: outside the hard range the
+/// error, outside the usual range the flag said ([`crate::notes::note`]: a warning on the
+/// command line, a `UnusualValueWarning` in Python) and the value accepted. The one call of
+/// every settings validation ([`crate::rules::Rules::physics`] calls it too).
+pub fn admit(q: Quantity, value: f64, what: &str) -> std::result::Result<(), String> {
+    if let Some(flag) = check(q, value, what)? {
+        crate::notes::note(flag.text);
+    }
+    Ok(())
+}
+
 /// The table as Markdown (quantity, unit, hard, usual, unit mistakes), for docs and `--help`.
 pub fn markdown_table() -> String {
     let mut t = String::from("| quantity | unit | hard (refused outside) | usual (flagged outside) | likely unit mistakes |\n|---|---|---|---|---|\n");
@@ -489,6 +559,10 @@ mod tests {
             CuttingSpeed,
             MassScaling,
             ForcePerWidth,
+            Density,
+            YoungsModulus,
+            ContactRadius,
+            TrackWidth,
         ];
         assert_eq!(TABLE.len(), all.len());
         for q in all {
@@ -669,5 +743,30 @@ mod tests {
         assert!(flagged(Quantity::MassScaling, 1e5).contains("usual range 1..10000"));
         let t = flagged(Quantity::ForcePerWidth, 200.0);
         assert!(t.contains("N/m read as N/mm") || t.contains("N/mm"), "{t}");
+    }
+
+    /// Issue 62: the quantities of material and contact set-ups, with the slips a person
+    /// makes typing them.
+    #[test]
+    fn densities_moduli_radii_and_track_widths_name_their_units() {
+        let t = refused(Quantity::Density, 7.85);
+        assert!(t.contains("g/cm³ read as kg/m³ (×1000 → 7850)"), "{t}");
+        let t = refused(Quantity::YoungsModulus, 2.1e14);
+        assert!(
+            t.contains("MPa given where GPa is asked (÷1000 → 2.1e11)"),
+            "{t}"
+        );
+        assert!(refused(Quantity::YoungsModulus, 650e18).contains("Young's modulus"));
+        let t = flagged(Quantity::ContactRadius, 17e-6);
+        assert!(
+            t.contains("a length in m read as mm (×1000 → 0.017)"),
+            "{t}"
+        );
+        assert!(refused(Quantity::ContactRadius, 1e305).contains("contact radius"));
+        let t = flagged(Quantity::TrackWidth, 0.8e-6);
+        assert!(
+            t.contains("mm given where µm is asked (×1000 → 0.0008)"),
+            "{t}"
+        );
     }
 }

@@ -71,7 +71,7 @@ pub fn sha256_json<T: Serialize + ?Sized>(value: &T) -> serde_json::Result<Strin
 
 /// Hex SHA-256 of a file, streamed.
 pub fn sha256_file(path: &Path) -> Result<(String, u64)> {
-    let mut f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut f = crate::input::open_regular(path, "input")?;
     let mut h = Sha256::new();
     let mut buf = vec![0u8; 1 << 20];
     let mut total = 0u64;
@@ -184,7 +184,7 @@ impl Provenance {
 
     /// Read a record.
     pub fn read(p: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(p).map_err(|e| Error::io(p, e))?;
+        let text = crate::input::read_text(p, "provenance record", crate::budget::Cap::InputBytes)?;
         serde_json::from_str(&text)
             .map_err(|e| Error::input(crate::SourcePos::path(p), e.to_string()))
     }

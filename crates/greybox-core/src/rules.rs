@@ -91,10 +91,10 @@ impl Rules {
     }
     /// In the possible range of a physical quantity ([`crate::physics`], SI): the refusal
     /// names the field, the number, the ranges and the likely unit mistake. Outside the
-    /// usual range it is not broken (the caller that reports flags checks with
-    /// [`crate::physics::check`] itself).
+    /// usual range it is not broken but said ([`crate::notes::note`]: "warning: …" on the
+    /// command line, a `UnusualValueWarning` in Python) with the same details.
     pub fn physics(&mut self, field: &str, q: crate::physics::Quantity, v: f64) -> &mut Self {
-        if let Err(e) = crate::physics::check(q, v, &format!("{}{field}", self.prefix)) {
+        if let Err(e) = crate::physics::admit(q, v, &format!("{}{field}", self.prefix)) {
             self.broken.push(e);
         }
         self

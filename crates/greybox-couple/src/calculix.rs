@@ -200,9 +200,9 @@ fn check_outputs(text: &str, src: &str, windows: &[String], slave: &str) -> Resu
 impl CalculixEngine {
     /// Read and check the deck and the segment template before anything runs.
     pub fn new(cfg: CalculixConfig) -> Result<Self> {
-        let read = |p: &Path| std::fs::read_to_string(p).map_err(|e| Error::io(p, e));
-        let deck = read(&cfg.deck)?;
-        let template = read(&cfg.segment_template)?;
+        let deck = greybox_core::input::read_data_text(&cfg.deck, "CalculiX deck")?;
+        let template =
+            greybox_core::input::read_data_text(&cfg.segment_template, "segment template")?;
         let dsrc = cfg.deck.display().to_string();
         let tsrc = cfg.segment_template.display().to_string();
         let ContactPairs {
@@ -354,7 +354,7 @@ pub fn parse_dat(
 }
 
 fn log_tail(path: &Path) -> String {
-    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let text = greybox_core::input::read_data_text(path, "CalculiX log").unwrap_or_default();
     let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
     lines[lines.len().saturating_sub(15)..].join("\n")
 }
@@ -423,7 +423,7 @@ impl Engine for CalculixEngine {
             ));
         }
         let dat = dir.join("job.dat");
-        let dtext = std::fs::read_to_string(&dat).map_err(|e| Error::io(&dat, e))?;
+        let dtext = greybox_core::input::read_data_text(&dat, "CalculiX results")?;
         let (forces, slip) = parse_dat(
             &dtext,
             &dat.display().to_string(),

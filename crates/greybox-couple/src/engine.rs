@@ -266,7 +266,7 @@ impl Engine for CommandEngine {
         }
         let path = dir.join("states.csv");
         let src = path.display().to_string();
-        let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+        let text = greybox_core::input::read_data_text(&path, "engine's window states")?;
         let mut rows: std::collections::HashMap<String, WindowState> =
             std::collections::HashMap::new();
         for (k, line) in text.lines().enumerate().skip(1) {

@@ -47,7 +47,7 @@ impl Mesh {
 
 /// Read a mesh, choosing the reader by extension (`.msh` or `.inp`).
 pub fn read_mesh(path: &Path) -> Result<Mesh> {
-    let text = greybox_core::budget::read_regular_text(path, "mesh")?;
+    let text = greybox_core::input::read_regular_text(path, "mesh")?;
     let src = path.display().to_string();
     match path
         .extension()

@@ -157,6 +157,40 @@ fn c_program_gets_the_same_mu_bit_for_bit() {
     }
 }
 
+/// A power law of sliding velocity without a clamp: μ = 0.5 (v / 1 m/s)^-1 is 0.5 at 1 m/s,
+/// 500 at 1 mm/s and ∞ at rest — sound where it is loaded, broken between.
+fn broken_law(dir: &Path) -> PathBuf {
+    let p = dir.join("broken.json");
+    std::fs::write(
+        &p,
+        r#"{"law": "power", "mu_ref": 0.5, "p_ref_MPa": 1000, "v_ref_m_per_min": 60, "a": 0, "b": -1}"#,
+    )
+    .unwrap();
+    p
+}
+
+/// Issue 62: each array with its length (a short one refused before anything is read or
+/// written) and the law's μ checked against the physics table (GREYBOX_ERR_MU, outputs NaN).
+#[test]
+fn c_arrays_are_checked_against_their_lengths_and_mu_against_the_physics_table() {
+    let lib = build_library();
+    let dir = tempfile::tempdir().unwrap();
+    let exe = dir.path().join("test_checks");
+    gcc(&lib, "tests/c/test_checks.c", &exe);
+    let law = &law_files(dir.path())[0];
+    let out = Command::new(&exe)
+        .arg(law)
+        .arg(broken_law(dir.path()))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("checks-failed 0"),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 #[test]
 fn eight_c_threads_at_once() {
     let lib = build_library();
@@ -228,6 +262,16 @@ fn fortran_program_gets_the_same_mu() {
         );
     }
     assert!(stdout.contains("error pressure[0]"), "{stdout}");
+    assert!(
+        stdout.contains("length velocity_m_s holds 2 values"),
+        "{stdout}"
+    );
+    let checked: Vec<f64> = stdout
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("checked "))
+        .map(|s| s.trim().parse().unwrap())
+        .collect();
+    assert_eq!(checked, mus, "greybox_mu gives greybox_law_mu's values");
 }
 
 /// The example user routines (Abaqus FRIC_COEF and VFRICTION, DEFORM USRBCC) compile with

@@ -38,7 +38,12 @@ impl GreyBoxLaw {
     ) -> Result<Self> {
         use greybox_core::physics::Quantity;
         let mut rules = greybox_core::rules::Rules::new("grey-box law");
-        rules.positive("blend_fraction", blend_fraction);
+        // a fraction of the domain's width: 5 (a percentage typed) would blend far outside
+        rules.positive("blend_fraction", blend_fraction).physics(
+            "blend_fraction",
+            Quantity::Share,
+            blend_fraction,
+        );
         if let Some(k) = shear_cap_k_pa {
             // a cap ≤ 0 made every window slide at the clamp's lower bound (μ = 0.05 everywhere);
             // so did a cap in GPa typed where MPa is meant (0.6 or 1 for 600 MPa)

@@ -461,7 +461,7 @@ impl LawFile {
     /// Reads the file at `path` and tells a model file, a table file and a law file apart by
     /// their schema (a model or table file is not parsed here: it can be hundreds of MB).
     pub fn read(path: &Path) -> Result<Self> {
-        let text = greybox_core::budget::read_regular_text(path, "law file")?;
+        let text = greybox_core::input::read_regular_text(path, "law file")?;
         let at_line = |e: &serde_json::Error| SourcePos::path(path).line(e.line() as u64);
         let head = greybox_core::json_head::read(&text)
             .map_err(|e| Error::input(at_line(&e), format!("not JSON: {e}")))?;

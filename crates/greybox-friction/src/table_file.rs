@@ -90,7 +90,7 @@ impl AnyTable {
 
 /// Read a table file of any version and kind.
 pub fn read_table(path: &Path) -> Result<AnyTable> {
-    let text = greybox_core::budget::read_regular_text(path, "table file")?;
+    let text = greybox_core::input::read_regular_text(path, "table file")?;
     parse_table(&text, path)
 }
 

@@ -94,10 +94,13 @@ pub type Rows = (Vec<Vec<f64>>, Option<Vec<f64>>);
 /// The named feature columns of every row (and the target's, when asked).
 pub fn rows(path: &Path, names: &[String], target: Option<&str>) -> Result<Rows> {
     let source = path.display().to_string();
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_path(path)
-        .map_err(|e| csv_error(&source, e))?;
+    let what = if target.is_some() {
+        "training data"
+    } else {
+        "feature table"
+    };
+    let mut reader =
+        greybox_core::input::data_csv(path, what, csv::ReaderBuilder::new().trim(csv::Trim::All))?;
     let header = Header::new(
         &source,
         reader.headers().map_err(|e| csv_error(&source, e))?,

@@ -145,7 +145,8 @@ fn detect(bytes: &[u8]) -> &'static str {
 /// Read a model file of another library: an XGBoost booster (`.json` or `.ubj`) or a
 /// scikit-learn export (`greybox-sklearn` JSON).
 pub fn read_model(path: &Path) -> Result<Imported> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes =
+        greybox_core::input::read_bytes(path, "model file", greybox_core::budget::Cap::DataBytes)?;
     let source = path.display().to_string();
     let hash = sha256_bytes(&bytes);
     let name = path

@@ -356,18 +356,28 @@ fn model_file(
 pub fn markdown(report: &FitReport) -> String {
     let fams = &report.families;
     let mut s = String::new();
+    // names and paths from the user's files, escaped where they land in markdown
+    let md = greybox_core::escape::markdown_text;
     s.push_str(&format!(
-        "Dataset `{}`: {} rows, features {}, target `{}`.\n\n",
-        report.source,
+        "Dataset {}: {} rows, features {}, target {}.\n\n",
+        md(&report.source),
         report.n_rows,
-        report.features.join(", "),
-        report.target
+        report
+            .features
+            .iter()
+            .map(|f| md(f))
+            .collect::<Vec<_>>()
+            .join(", "),
+        md(&report.target)
     ));
     s.push_str("**Selected hyperparameters** (k-fold CV MSE):\n\n");
     table_head(&mut s, fams, "family");
     s.push_str("| selected |");
     for f in fams {
-        s.push_str(&format!(" {} |", f.selected_label));
+        s.push_str(&format!(
+            " {} |",
+            greybox_core::escape::markdown_text(&f.selected_label)
+        ));
     }
     s.push_str("\n| CV MSE |");
     for f in fams {
@@ -450,7 +460,10 @@ fn importance_and_interval(s: &mut String, report: &FitReport) {
     s.push_str("\n**Permutation importance** (Table 8: R² drop, mean ± std over repeats):\n\n");
     table_head(s, fams, "feature");
     for (j, name) in report.features.iter().enumerate() {
-        s.push_str(&format!("| {name} |"));
+        s.push_str(&format!(
+            "| {} |",
+            greybox_core::escape::markdown_text(name)
+        ));
         for f in fams {
             let i = &f.importance[j];
             s.push_str(&format!(" {:.4} ± {:.4} |", i.mean, i.std));

@@ -83,7 +83,8 @@ pub fn read_dataset(
     target: &str,
     fold_column: Option<&str>,
 ) -> Result<Dataset> {
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let file =
+        greybox_core::input::open(path, "training data", greybox_core::budget::Cap::DataBytes)?;
     read_dataset_from(
         file,
         &path.display().to_string(),

@@ -50,7 +50,8 @@ pub fn read_flow_curves(path: &Path) -> Result<Vec<FlowPoint>> {
 /// `temperature_K`), one row per point, any number of curves.
 pub fn read_flow_points(path: &Path) -> Result<Vec<FlowPoint>> {
     let src = path.display().to_string();
-    let mut rdr = csv::Reader::from_path(path).map_err(|e| csv_error(&src, e))?;
+    let mut rdr =
+        greybox_core::input::data_csv(path, "flow-curve data", &csv::ReaderBuilder::new())?;
     let header = Header::new(&src, rdr.headers().map_err(|e| csv_error(&src, e))?);
     let (is, ip, ir) = (
         header.require("strain")?,

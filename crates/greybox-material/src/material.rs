@@ -161,8 +161,18 @@ impl Material {
         let e = &self.elastic;
         greybox_core::rules::Rules::new(format!("material '{}'", self.name))
             .positive("density_kg_m3", self.density_kg_m3)
+            .physics(
+                "density_kg_m3",
+                greybox_core::physics::Quantity::Density,
+                self.density_kg_m3,
+            )
             .section("elastic", |r| {
                 r.positive("youngs_modulus_pa", e.youngs_modulus_pa)
+                    .physics(
+                        "youngs_modulus_pa",
+                        greybox_core::physics::Quantity::YoungsModulus,
+                        e.youngs_modulus_pa,
+                    )
                     .between("poisson_ratio", e.poisson_ratio, -1.0, 0.5);
             })
             .section("thermal", |r| {

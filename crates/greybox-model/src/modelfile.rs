@@ -205,7 +205,7 @@ impl ModelFile {
 
     /// Load and verify schema, version and hash.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = greybox_core::budget::read_regular_text(path, "model file")?;
+        let text = greybox_core::input::read_regular_text(path, "model file")?;
         Self::parse(&text, &path.display().to_string())
     }
 

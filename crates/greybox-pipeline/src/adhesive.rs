@@ -101,8 +101,7 @@ impl AdhesiveOptions {
 pub fn track_widths(a: &AdhesiveOptions) -> Result<Vec<TrackWidth>> {
     let mut w = a.track_widths.clone();
     if let Some(p) = &a.track_widths_csv {
-        let mut rdr =
-            csv::Reader::from_path(p).with_context(|| format!("cannot read {}", p.display()))?;
+        let mut rdr = greybox_core::input::data_csv(p, "track widths", &csv::ReaderBuilder::new())?;
         for (k, r) in rdr.deserialize::<TrackWidth>().enumerate() {
             w.push(r.with_context(|| {
                 format!(
@@ -115,6 +114,24 @@ pub fn track_widths(a: &AdhesiveOptions) -> Result<Vec<TrackWidth>> {
     }
     if w.is_empty() {
         w = article_table3();
+    }
+    // each width and load against the physics table: a width of 0.8 µm (mm typed as µm)
+    // is said, one of 1e300 refused
+    for (k, t) in w.iter().enumerate() {
+        use greybox_core::physics::{admit, Quantity};
+        admit(
+            Quantity::TrackWidth,
+            greybox_core::units::um_to_m(t.width_um),
+            &format!("adhesive track width {} (track_width_um, as m)", k + 1),
+        )
+        .and_then(|()| {
+            admit(
+                Quantity::NormalForce,
+                t.normal_force_n,
+                &format!("adhesive track width {} (normal_force_N)", k + 1),
+            )
+        })
+        .map_err(anyhow::Error::msg)?;
     }
     Ok(w)
 }

@@ -132,8 +132,12 @@ pub fn read_channels(path: &Path, a: &ImpactChannels) -> Result<ImpactRecording>
             anyhow::bail!("{src}: impact recordings are read from CSV or TDMS files")
         }
         Some(RecordingFormat::Csv) => {
-            let mut rdr =
-                csv::Reader::from_path(path).with_context(|| format!("cannot read {src}"))?;
+            let mut rdr = greybox_core::input::csv_reader(
+                path,
+                "impact recording",
+                greybox_core::budget::Cap::RecordingBytes,
+                &csv::ReaderBuilder::new(),
+            )?;
             let header = rdr.headers()?.clone();
             let col = |name: &str| header.iter().position(|h| h.trim() == name);
             let hi = col(&a.hammer).with_context(|| format!("{src}: no column '{}'", a.hammer))?;

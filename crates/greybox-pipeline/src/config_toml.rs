@@ -16,7 +16,7 @@ pub fn read<T: DeserializeOwned>(path: &Path, what: &str) -> Result<T> {
 
 /// The text of a configuration file: a regular file within the input budget.
 pub fn read_text(path: &Path, what: &str) -> Result<String> {
-    Ok(greybox_core::budget::read_config(path, what)?)
+    Ok(greybox_core::input::read_config(path, what)?)
 }
 
 /// Parses configuration text from `source` (a file name for messages) into `T`.

@@ -106,8 +106,8 @@ pub struct TruthComparison {
 
 /// Compare identified COFs to a ground truth CSV written by `greybox synth`.
 pub fn compare_with_truth(ds: &FrictionDataset, truth_csv: &Path) -> Result<TruthComparison> {
-    let mut rdr = csv::Reader::from_path(truth_csv)
-        .with_context(|| format!("cannot read {}", truth_csv.display()))?;
+    let mut rdr =
+        greybox_core::input::data_csv(truth_csv, "ground truth", &csv::ReaderBuilder::new())?;
     let header = rdr.headers()?.clone();
     let col = |name: &str| {
         header

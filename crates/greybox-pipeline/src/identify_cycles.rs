@@ -30,7 +30,7 @@ pub fn any_reciprocating(files: &[FileReport]) -> bool {
 /// of the steady cycles averaged (`steady`, 1 or 0).
 pub fn cycles_csv(files: &[FileReport]) -> Result<String> {
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record([
+    w.write_record(greybox_core::escape::csv_cells([
         "file",
         "cycle",
         "time_s",
@@ -40,7 +40,7 @@ pub fn cycles_csv(files: &[FileReport]) -> Result<String> {
         "pin",
         "step",
         "steady",
-    ])?;
+    ]))?;
     for f in files {
         for s in &f.segments {
             let Some(r) = &s.reciprocating else { continue };
@@ -49,7 +49,7 @@ pub fn cycles_csv(files: &[FileReport]) -> Result<String> {
             });
             for (k, c) in r.cycles.iter().enumerate() {
                 let steady = (r.steady_cycles.0..r.steady_cycles.1).contains(&k);
-                w.write_record([
+                w.write_record(greybox_core::escape::csv_cells([
                     f.source.clone(),
                     c.index.to_string(),
                     format!("{:.6}", c.time_s),
@@ -59,7 +59,7 @@ pub fn cycles_csv(files: &[FileReport]) -> Result<String> {
                     pin.clone(),
                     step.clone(),
                     u8::from(steady).to_string(),
-                ])?;
+                ]))?;
             }
         }
     }

@@ -43,7 +43,7 @@ pub fn predict_points(
 /// Feature rows of a CSV (strict, by column name).
 pub fn read_points(path: &Path, names: &[String]) -> Result<Vec<Vec<f64>>> {
     let mut rdr =
-        csv::Reader::from_path(path).with_context(|| format!("cannot read {}", path.display()))?;
+        greybox_core::input::data_csv(path, "prediction points", &csv::ReaderBuilder::new())?;
     let header = rdr.headers()?.clone();
     let idx: Vec<usize> = names
         .iter()

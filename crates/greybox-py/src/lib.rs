@@ -16,6 +16,7 @@ mod stages;
 use greybox_core::call_scope::{CallScope, StopToken};
 use pyo3::prelude::*;
 use std::cell::RefCell;
+use std::path::PathBuf;
 use std::sync::{Arc, Condvar, Mutex};
 
 pub(crate) use errors::py_err;
@@ -131,12 +132,14 @@ fn run_call<T: Send>(
     });
     let queue = Arc::new(ProgressQueue::default());
     let stop = StopToken::new();
+    let notes = greybox_core::notes::Notes::default();
     let scope = CallScope {
         stop: Some(stop.clone()),
         sink: callback
             .is_some()
             .then(|| queue.clone() as Arc<dyn greybox_core::progress::Sink>),
         command,
+        notes: Some(notes.clone()),
     };
     let handover = |py: Python<'_>| match &callback {
         Some(cb) => queue.drain(py, cb),
@@ -182,6 +185,7 @@ fn run_call<T: Send>(
         (result, stopped_by)
     });
     let last = handover(py);
+    warn_notes(py, &notes)?;
     match (result, stopped_by) {
         (_, Some(e)) => Err(e),
         (r, None) => {
@@ -190,6 +194,23 @@ fn run_call<T: Send>(
             Ok(v)
         }
     }
+}
+
+/// The call's notes ([`greybox_core::notes`]: values outside their usual range) as
+/// `greybox.UnusualValueWarning`s (an error only if a warnings filter makes them one).
+fn warn_notes(py: Python<'_>, notes: &greybox_core::notes::Notes) -> PyResult<()> {
+    let notes = std::mem::take(&mut *lock(notes));
+    if notes.is_empty() {
+        return Ok(());
+    }
+    let class = py
+        .import("greybox._errors")?
+        .getattr("UnusualValueWarning")?;
+    for n in notes {
+        let text = std::ffi::CString::new(n.replace('\0', "\\0")).unwrap_or_default();
+        PyErr::warn(py, &class, &text, 1)?;
+    }
+    Ok(())
 }
 
 /// The worker pool of one call: its threads carry the call's scope.
@@ -264,6 +285,55 @@ fn example(name: &str) -> PyResult<&'static str> {
         })
 }
 
+/// The bytes of the input file `what` ("law file", "table") at `path`, through greybox's one
+/// safe open ([`greybox_core::input`]): a regular file under `max_data_bytes`; a FIFO,
+/// device or directory is refused and a missing file is `FileNotFoundError`.
+#[pyfunction]
+fn read_input(py: Python<'_>, path: PathBuf, what: String) -> PyResult<Py<pyo3::types::PyBytes>> {
+    let bytes = run_sequential(py, move || {
+        Ok(greybox_core::input::read_bytes(
+            &path,
+            &what,
+            greybox_core::budget::Cap::DataBytes,
+        )?)
+    })?;
+    Ok(pyo3::types::PyBytes::new(py, &bytes).unbind())
+}
+
+/// Sets the readers' caps ([`greybox_core::budget::Budget`]) named in `json` (`{"max_data_bytes":
+/// …}`; the others kept) for the rest of the process; returns the caps before, as JSON. A
+/// key that is no cap is refused with the known ones.
+#[pyfunction]
+fn swap_budget(json: &str) -> PyResult<String> {
+    let before = greybox_core::budget::current();
+    let mut value = serde_json::to_value(before).map_err(py_err)?;
+    let given: serde_json::Map<String, serde_json::Value> =
+        serde_json::from_str(json).map_err(py_err)?;
+    let known = value.as_object_mut().expect("Budget is a JSON object");
+    for (k, v) in given {
+        if !known.contains_key(&k) {
+            let names: Vec<&String> = known.keys().collect();
+            return Err(py_err(greybox_pipeline::settings::SettingError(format!(
+                "budget key {}: not a cap (the caps: {})",
+                greybox_core::escape::excerpt(&k),
+                names
+                    .iter()
+                    .map(|s| s.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))));
+        }
+        known.insert(k, v);
+    }
+    let after: greybox_core::budget::Budget = serde_json::from_value(value).map_err(|e| {
+        py_err(greybox_pipeline::settings::SettingError(format!(
+            "budget: {e} (a cap is a whole number ≥ 0)"
+        )))
+    })?;
+    greybox_core::budget::set(after);
+    to_json(&before)
+}
+
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // the solver's SIMD path capped by `GREYBOX_SIMD` (the library reads no environment)
@@ -283,5 +353,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     stages::register(m)?;
     import::register(m)?;
     m.add_function(wrap_pyfunction!(example, m)?)?;
+    m.add_function(wrap_pyfunction!(read_input, m)?)?;
+    m.add_function(wrap_pyfunction!(swap_budget, m)?)?;
     Ok(())
 }

@@ -69,7 +69,7 @@ impl Checkpoint {
     }
 
     pub fn read(path: &Path) -> greybox_core::Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| greybox_core::Error::io(path, e))?;
+        let text = greybox_core::input::read_data_text(path, "checkpoint")?;
         let mut c: Checkpoint = serde_json::from_str(&text).map_err(|e| {
             greybox_core::Error::invalid(
                 format!(
@@ -88,7 +88,76 @@ impl Checkpoint {
                 format!("expected format '{FORMAT}' with consistent particle arrays"),
             ));
         }
+        c.check().map_err(|m| {
+            greybox_core::Error::invalid(
+                format!("checkpoint {}", path.display()),
+                format!("{m}: the file is damaged or was edited; resume from another checkpoint or run again"),
+            )
+        })?;
         Ok(c)
+    }
+
+    /// Every number of the state checked like any input (a checkpoint is a file anybody
+    /// could have written): the step within what a run may take, time and time step finite
+    /// and positive, every particle value and tool position finite, every window's μ inside
+    /// the physics table's possible range. The error names the field and the value.
+    pub fn check(&self) -> Result<(), String> {
+        use greybox_core::physics::{self, Quantity};
+        let max_step = crate::model::StepCap::MAX;
+        if self.step > max_step {
+            return Err(format!(
+                "step {} is beyond any run (numerics.max_steps is at most {max_step})",
+                self.step
+            ));
+        }
+        if !(self.time_s.is_finite() && self.time_s >= 0.0) {
+            return Err(format!(
+                "time_s = {}: expected a finite time ≥ 0 s",
+                self.time_s
+            ));
+        }
+        if !(self.dt_s.is_finite() && self.dt_s > 0.0) {
+            return Err(format!(
+                "dt_s = {}: expected a finite time step > 0 s",
+                self.dt_s
+            ));
+        }
+        let p = &self.particles;
+        for (name, v) in [("particles.mass", p.mass), ("particles.spacing", p.spacing)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{name} = {v}: expected a finite value > 0"));
+            }
+        }
+        for (name, values) in crate::particles::REAL_FIELD_NAMES
+            .iter()
+            .zip(p.real_fields())
+        {
+            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                return Err(format!(
+                    "particles.{name}[{i}] = {}: expected a finite number",
+                    values[i]
+                ));
+            }
+        }
+        for (k, t) in self.tools.iter().enumerate() {
+            if t.position.iter().any(|x| !x.is_finite()) {
+                return Err(format!(
+                    "tools[{k}].position = {:?}: expected finite coordinates",
+                    t.position
+                ));
+            }
+            if t.window_mu.len() != t.window_acc.len() {
+                return Err(format!(
+                    "tools[{k}]: {} window μ but {} window accumulators",
+                    t.window_mu.len(),
+                    t.window_acc.len()
+                ));
+            }
+            for (j, &mu) in t.window_mu.iter().enumerate() {
+                physics::check(Quantity::Mu, mu, &format!("tools[{k}].window_mu[{j}]"))?;
+            }
+        }
+        Ok(())
     }
 
     /// Restore `resume` (if any) into `sim` and hand back the observers' saved histories.
@@ -120,6 +189,20 @@ impl Checkpoint {
             return Err(SimError::Invalid(
                 "the checkpoint belongs to a different set-up (configuration changed since it was written)".into(),
             ));
+        }
+        // the set-up's boundary groups (1..=groups; 0 is free): an index past them would
+        // book a force into a group that does not exist
+        let groups = sim.groups.len();
+        if let Some((i, g)) = self
+            .particles
+            .group
+            .iter()
+            .enumerate()
+            .find(|(_, &g)| g as usize > groups)
+        {
+            return Err(SimError::Invalid(format!(
+                "the checkpoint's particles.group[{i}] = {g}, but the set-up has {groups} boundary group(s) (0 = free): the file is damaged or was edited"
+            )));
         }
         sim.particles = self.particles;
         let n = sim.particles.len();

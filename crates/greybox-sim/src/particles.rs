@@ -63,6 +63,11 @@ pub fn check_particle_budget(
 /// Number of per-particle arrays of reals in [`Particles`].
 pub const REAL_FIELDS: usize = 13;
 
+/// The names of the per-particle arrays of reals, in the order of `real_fields!`.
+pub const REAL_FIELD_NAMES: [&str; REAL_FIELDS] = [
+    "x", "y", "vx", "vy", "rho", "p", "sxx", "sxy", "syy", "szz", "eps_p", "eps_rate", "temp",
+];
+
 /// The per-particle arrays of reals of `$p`, each borrowed with `$borrow` (`&` or `&mut`):
 /// the one list of them.
 macro_rules! real_fields {

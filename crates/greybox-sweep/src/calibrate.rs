@@ -37,7 +37,8 @@ pub struct Condition {
 /// `cutting_force_N_per_mm` and optionally `feed_force_N_per_mm`.
 pub fn read_measured(path: &Path) -> Result<Vec<Condition>> {
     let src = path.display().to_string();
-    let mut rdr = csv::Reader::from_path(path).with_context(|| format!("cannot read {src}"))?;
+    let mut rdr =
+        greybox_core::input::data_csv(path, "measured conditions", &csv::ReaderBuilder::new())?;
     let header: Vec<String> = rdr
         .headers()?
         .iter()
@@ -213,8 +214,10 @@ fn evaluate(
     plan.cases
         .iter()
         .map(|case| {
-            let p = super::case::CaseDir::of(&o.out, &case.id).done();
-            let d: super::case::Done = serde_json::from_str(&std::fs::read_to_string(&p)?)?;
+            let dir = super::case::CaseDir::of(&o.out, &case.id);
+            let d = dir
+                .read_done(case)?
+                .with_context(|| format!("{}: missing", dir.done().display()))?;
             let g = |k: &str| {
                 d.summary
                     .get(k)

@@ -114,7 +114,11 @@ fn case_id(kind: CaseKind, fraction: f64, frames: Frames, canonical: &serde_json
 }
 
 fn hash_file(path: &Path) -> Result<String> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let bytes = greybox_core::input::read_bytes(
+        path,
+        "file named by the configuration",
+        greybox_core::budget::Cap::DataBytes,
+    )?;
     Ok(format!(
         "sha256:{}",
         greybox_core::provenance::sha256_bytes(&bytes)
@@ -241,18 +245,51 @@ impl CaseDir {
     }
     /// The error `failed.json` records, if the case failed.
     pub fn failure(&self) -> Option<String> {
-        let text = std::fs::read_to_string(self.failed()).ok()?;
+        let text = read_state(&self.failed(), "case failure marker").ok()?;
         let v: serde_json::Value = serde_json::from_str(&text).ok()?;
         v["error"].as_str().map(str::to_string)
     }
-    pub fn status(&self) -> Status {
-        if self.done().is_file() {
+    /// Where `case` stands: done only when its `done.json` is this case's, made from the
+    /// configuration the plan holds ([`CaseDir::read_done`]); a marker that is not (copied
+    /// from another case, left from an edited `config.toml`) leaves the case to be run again.
+    pub fn status(&self, case: &Case) -> Status {
+        if matches!(self.read_done(case), Ok(Some(_))) {
             Status::Done
         } else if self.failed().is_file() {
             Status::Failed
         } else {
             Status::Pending
         }
+    }
+    /// The case's `done.json`, checked to be `case`'s own: `None` when there is none; an error
+    /// naming the file when it is not a done marker, belongs to another case (its `id`), or
+    /// was made from another configuration than the plan's (its `config_sha256`, the SHA-256
+    /// of the `config.toml` the run read).
+    pub fn read_done(&self, case: &Case) -> Result<Option<Done>> {
+        let p = self.done();
+        if !p.exists() && std::fs::symlink_metadata(&p).is_err() {
+            return Ok(None);
+        }
+        let text = read_state(&p, "case done marker")?;
+        let done: Done = serde_json::from_str(&text)
+            .with_context(|| format!("{}: not a done marker", p.display()))?;
+        if done.id != case.id {
+            bail!(
+                "{}: the marker of case {}, not of case {} (copied from another case?): delete it to run this case",
+                p.display(),
+                greybox_core::escape::excerpt(&done.id),
+                case.id
+            );
+        }
+        let planned = config_sha256(&case.config);
+        if done.config_sha256.as_deref() != Some(planned.as_str()) {
+            bail!(
+                "{}: made from another configuration than the plan's for case {} (config.toml edited after the run, or a marker from before markers were bound to their configuration): run the sweep again to re-run this case",
+                p.display(),
+                case.id
+            );
+        }
+        Ok(Some(done))
     }
     /// Creates the directory (and `cases/`) if missing, refusing a link planted at either:
     /// it could lead the case's files outside the sweep.
@@ -264,20 +301,54 @@ impl CaseDir {
         output_subdir(&output_subdir(sweep, "cases")?, &id.to_string_lossy())?;
         Ok(())
     }
-    /// Creates the directory and writes `config.toml` (if it is not there already).
+    /// Creates the directory and writes `config.toml` (if it is not there already, or holds
+    /// anything but the case's configuration: the case id stands for the planned
+    /// configuration, and a `done.json` made from an edited one no longer counts).
     pub fn prepare(&self, case: &Case) -> Result<()> {
         self.ensure()?;
-        if !self.config().is_file() {
+        let current = read_state(&self.config(), "case configuration").ok();
+        if current.as_deref() != Some(case.config.as_str()) {
             write_string_atomic(&self.config(), &case.config)?;
         }
         Ok(())
     }
+    /// The case's `config.toml`, refused unless it is the plan's configuration for `case`
+    /// (what a run reads: a result is the one its case id claims).
+    pub fn checked_config(&self, case: &Case) -> Result<()> {
+        let text = read_state(&self.config(), "case configuration")?;
+        if text != case.config {
+            bail!(
+                "{}: differs from the plan's configuration for case {} (edited after the sweep was planned?): the case id stands for the planned configuration; change the sweep file and plan again",
+                self.config().display(),
+                case.id
+            );
+        }
+        Ok(())
+    }
+}
+
+/// A sweep's state file (plan, case markers, a case's configuration) read through the one
+/// safe open: a regular file under `max_data_bytes`, as UTF-8 text.
+pub fn read_state(path: &Path, what: &str) -> Result<String> {
+    Ok(greybox_core::input::read_data_text(path, what)?)
+}
+
+/// The SHA-256 of a case's configuration text, as `done.json` records it.
+pub fn config_sha256(config: &str) -> String {
+    format!(
+        "sha256:{}",
+        greybox_core::provenance::sha256_bytes(config.as_bytes())
+    )
 }
 
 /// What `done.json` holds.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Done {
     pub id: String,
+    /// The SHA-256 of the `config.toml` the run read ([`config_sha256`]): binds the marker to
+    /// its configuration. Markers without it (from before) count as not done.
+    #[serde(default)]
+    pub config_sha256: Option<String>,
     pub wall_s: f64,
     /// Peak resident memory of the process that ran the case, MB.
     #[serde(default)]
@@ -288,7 +359,7 @@ pub struct Done {
 
 /// The last `n` lines of a text file (empty if unreadable).
 pub fn tail(path: &Path, n: usize) -> String {
-    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let text = read_state(path, "case log").unwrap_or_default();
     let lines: Vec<&str> = text.lines().collect();
     lines[lines.len().saturating_sub(n)..].join("\n")
 }
@@ -296,6 +367,74 @@ pub fn tail(path: &Path, n: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn case(id: &str, config: &str) -> Case {
+        Case {
+            index: 0,
+            id: id.into(),
+            values: vec![],
+            config: config.into(),
+            cost: Cost {
+                particles: 1,
+                steps: 1,
+                particle_steps: 1.0,
+            },
+        }
+    }
+
+    fn done_of(case: &Case, config: &str) -> String {
+        serde_json::to_string(&Done {
+            id: case.id.clone(),
+            config_sha256: Some(config_sha256(config)),
+            wall_s: 1.0,
+            peak_memory_mb: None,
+            summary: serde_json::json!({"cutting_force_n_per_mm": 200.0}),
+        })
+        .unwrap()
+    }
+
+    /// Issue 62: a done marker counts only for the case and the configuration that made it.
+    #[test]
+    fn a_done_marker_is_bound_to_its_case_and_its_configuration() {
+        let d = tempfile::tempdir().unwrap();
+        let a = case("aaaaaaaaaaaa", "mu = 0.3\n");
+        let dir = CaseDir::of(d.path(), &a.id);
+        dir.prepare(&a).unwrap();
+        assert!(dir.read_done(&a).unwrap().is_none());
+        assert_eq!(dir.status(&a), Status::Pending);
+        std::fs::write(dir.done(), done_of(&a, &a.config)).unwrap();
+        assert!(dir.read_done(&a).unwrap().is_some());
+        assert_eq!(dir.status(&a), Status::Done);
+        // another case's marker copied here: refused by id, the case runs again
+        let b = case("bbbbbbbbbbbb", "mu = 0.3\n");
+        std::fs::write(dir.done(), done_of(&b, &a.config)).unwrap();
+        let e = format!("{:#}", dir.read_done(&a).unwrap_err());
+        assert!(
+            e.contains("the marker of case bbbbbbbbbbbb") && e.contains("done.json"),
+            "{e}"
+        );
+        assert_eq!(dir.status(&a), Status::Pending);
+        // made from another configuration (config.toml edited before the run)
+        std::fs::write(dir.done(), done_of(&a, "mu = 0.5\n")).unwrap();
+        let e = format!("{:#}", dir.read_done(&a).unwrap_err());
+        assert!(e.contains("another configuration"), "{e}");
+        assert_eq!(dir.status(&a), Status::Pending);
+        // an edited config.toml is put back by the plan and refused by a run meanwhile
+        std::fs::write(dir.config(), "mu = 0.5\n").unwrap();
+        let e = format!("{:#}", dir.checked_config(&a).unwrap_err());
+        assert!(e.contains("differs from the plan's configuration"), "{e}");
+        dir.prepare(&a).unwrap();
+        dir.checked_config(&a).unwrap();
+        // a marker that is a FIFO is never opened
+        std::fs::remove_file(dir.done()).unwrap();
+        let st = std::process::Command::new("mkfifo")
+            .arg(dir.done())
+            .status()
+            .unwrap();
+        assert!(st.success());
+        let e = format!("{:#}", dir.read_done(&a).unwrap_err());
+        assert!(e.contains("FIFO"), "{e}");
+    }
     #[test]
     fn cuts_of_a_sweep_stop_when_sure_unless_the_sweep_says_not() {
         let d = tempfile::tempdir().unwrap();

@@ -4,7 +4,7 @@
 use super::case::{CaseDir, Done, Status};
 use super::spec::CaseKind;
 use super::Plan;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::outputs::{output_subdir, path_component};
 use greybox_core::plot::{lines, Line};
@@ -97,16 +97,7 @@ pub fn collect(out: &Path) -> Result<Collected> {
     let dones: Vec<Option<Done>> = plan
         .cases
         .iter()
-        .map(|c| {
-            let p = CaseDir::of(out, &c.id).done();
-            std::fs::read_to_string(&p)
-                .ok()
-                .map(|t| {
-                    serde_json::from_str(&t)
-                        .with_context(|| format!("{}: not a done marker", p.display()))
-                })
-                .transpose()
-        })
+        .map(|c| CaseDir::of(out, &c.id).read_done(c))
         .collect::<Result<_>>()?;
     let cols = columns(&plan, &dones);
     let mut w = csv::Writer::from_writer(Vec::new());
@@ -115,11 +106,15 @@ pub fn collect(out: &Path) -> Result<Collected> {
     header.extend(cols.iter().map(|c| c.0.clone()));
     header.push("case_wall_s".into());
     header.push("case_peak_memory_MB".into());
-    w.write_record(&header)?;
+    w.write_record(greybox_core::escape::csv_cells(&header))?;
     let mut missing = Vec::new();
     let mut table: Vec<BTreeMap<String, String>> = Vec::new();
     for (c, d) in plan.cases.iter().zip(&dones) {
-        let status = CaseDir::of(out, &c.id).status();
+        let status = if d.is_some() {
+            Status::Done
+        } else {
+            CaseDir::of(out, &c.id).status(c)
+        };
         let mut row = vec![
             c.index.to_string(),
             c.id.clone(),
@@ -143,7 +138,7 @@ pub fn collect(out: &Path) -> Result<Collected> {
                 .map(|m| format!("{m:.1}"))
                 .unwrap_or_default(),
         );
-        w.write_record(&row)?;
+        w.write_record(greybox_core::escape::csv_cells(&row))?;
         if d.is_none() {
             missing.push((c.index, c.id.clone(), status));
         } else {

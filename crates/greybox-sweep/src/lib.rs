@@ -130,17 +130,29 @@ impl Plan {
     /// Reads the `plan.json` of a sweep's output directory.
     pub fn read(out: &Path) -> Result<Plan> {
         let p = out.join(PLAN_FILE);
-        let text = std::fs::read_to_string(&p).with_context(|| {
-            format!(
-                "cannot read {} (run greybox sweep plan or run first)",
-                p.display()
-            )
-        })?;
+        let text = case::read_state(&p, "sweep plan")
+            .context("plan the sweep first (greybox sweep plan, or sweep run)")?;
         let plan: Plan = serde_json::from_str(&text)
             .with_context(|| format!("{}: not a sweep plan", p.display()))?;
-        // every id becomes a directory under cases/, every field part of a plot's file name
+        // every id becomes a directory under cases/, every field part of a plot's file name;
+        // one id, one case, one place in the plan
+        let mut seen = std::collections::HashMap::new();
         for (i, c) in plan.cases.iter().enumerate() {
             path_component(&c.id, &p, &format!("cases[{i}].id"))?;
+            if let Some(j) = seen.insert(c.id.as_str(), i) {
+                bail!(
+                    "{}: cases[{i}].id {} repeats cases[{j}].id: two cases would share one directory and one result (plan the sweep again)",
+                    p.display(),
+                    c.id
+                );
+            }
+            if c.index != i {
+                bail!(
+                    "{}: cases[{i}].index is {}, not its place {i} in the plan (plan the sweep again)",
+                    p.display(),
+                    c.index
+                );
+            }
         }
         for (i, f) in plan.fields.iter().enumerate() {
             path_component(f, &p, &format!("fields[{i}]"))?;
@@ -152,7 +164,7 @@ impl Plan {
     pub fn statuses(&self, out: &Path) -> Vec<Status> {
         self.cases
             .iter()
-            .map(|c| CaseDir::of(out, &c.id).status())
+            .map(|c| CaseDir::of(out, &c.id).status(c))
             .collect()
     }
 }
@@ -170,16 +182,18 @@ pub fn run_case(out: &Path, index: usize) -> Result<Status> {
         )
     })?;
     let dir = CaseDir::of(out, &case.id);
-    if dir.status() == Status::Done {
+    if dir.status(case) == Status::Done {
         return Ok(Status::Done);
     }
     dir.ensure()?;
+    dir.checked_config(case)?;
     let _ = std::fs::remove_file(dir.failed());
     let t0 = std::time::Instant::now();
     match run_config(&plan, &dir) {
         Ok(summary) => {
             let done = Done {
                 id: case.id.clone(),
+                config_sha256: Some(case::config_sha256(&case.config)),
                 wall_s: t0.elapsed().as_secs_f64(),
                 peak_memory_mb: greybox_core::provenance::peak_memory_mb(),
                 summary,
@@ -251,7 +265,7 @@ pub struct FailedCase {
 pub fn failures(plan: &Plan, out: &Path, log: &dyn Fn(&Case) -> PathBuf) -> Vec<FailedCase> {
     plan.cases
         .iter()
-        .filter(|c| CaseDir::of(out, &c.id).status() == Status::Failed)
+        .filter(|c| CaseDir::of(out, &c.id).status(c) == Status::Failed)
         .map(|c| {
             let error = CaseDir::of(out, &c.id).failure().unwrap_or_default();
             FailedCase {
@@ -301,4 +315,49 @@ pub fn run_plan(
     }
     plan.write(out)?;
     executor.run(plan, out, command)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A planned sweep of the bundled cut over two rake angles, written to `d/o`; its
+    /// `plan.json` as JSON.
+    fn planned(d: &Path) -> serde_json::Value {
+        std::fs::write(
+            d.join("cut.toml"),
+            include_str!("../../../examples/aisi1045-cut.toml"),
+        )
+        .unwrap();
+        std::fs::write(
+            d.join("s.toml"),
+            "[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\n[[axis]]\nfield = \"insert.rake_deg\"\nvalues = [0.0, 6.0]\n",
+        )
+        .unwrap();
+        let plan = Plan::from_file(&d.join("s.toml")).unwrap();
+        plan.write(&d.join("o")).unwrap();
+        serde_json::to_value(&plan).unwrap()
+    }
+
+    /// Issue 62: `plan.json` is read like any input: one id per case, each case at its place.
+    #[test]
+    fn a_plan_with_a_repeated_id_or_a_moved_case_is_refused() {
+        let d = tempfile::tempdir().unwrap();
+        let v = planned(d.path());
+        let out = d.path().join("o");
+        assert_eq!(Plan::read(&out).unwrap().cases.len(), 2);
+        let mut dup = v.clone();
+        dup["cases"][1]["id"] = dup["cases"][0]["id"].clone();
+        std::fs::write(out.join(PLAN_FILE), dup.to_string()).unwrap();
+        let e = format!("{:#}", Plan::read(&out).unwrap_err());
+        assert!(
+            e.contains("cases[1].id") && e.contains("repeats cases[0].id"),
+            "{e}"
+        );
+        let mut moved = v.clone();
+        moved["cases"][1]["index"] = serde_json::json!(4294967297u64);
+        std::fs::write(out.join(PLAN_FILE), moved.to_string()).unwrap();
+        let e = format!("{:#}", Plan::read(&out).unwrap_err());
+        assert!(e.contains("cases[1].index is 4294967297"), "{e}");
+    }
 }

@@ -55,7 +55,7 @@ pub fn run(plan: &Plan, out: &Path, jobs: usize, command: &CaseCommand) -> Resul
             match child.try_wait()? {
                 Some(_) => {
                     let c = &plan.cases[i];
-                    if CaseDir::of(out, &c.id).status() == Status::Done {
+                    if CaseDir::of(out, &c.id).status(c) == Status::Done {
                         done += 1;
                     } else {
                         failed += 1;

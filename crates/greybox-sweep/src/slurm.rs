@@ -242,7 +242,7 @@ pub fn run(
         .count();
     report.failed = indices
         .iter()
-        .filter(|&&i| CaseDir::of(&out, &plan.cases[i].id).status() != Status::Done)
+        .filter(|&&i| CaseDir::of(&out, &plan.cases[i].id).status(&plan.cases[i]) != Status::Done)
         .map(|&i| {
             let c = &plan.cases[i];
             let dir = CaseDir::of(&out, &c.id);
@@ -276,7 +276,9 @@ fn follow(plan: &Plan, out: &Path, job: &str, indices: &[usize], poll_s: f64) ->
         .unwrap_or_default();
         let finished = indices
             .iter()
-            .filter(|&&i| CaseDir::of(out, &plan.cases[i].id).status() != Status::Pending)
+            .filter(|&&i| {
+                CaseDir::of(out, &plan.cases[i].id).status(&plan.cases[i]) != Status::Pending
+            })
             .count();
         let queued = queue.lines().filter(|l| !l.trim().is_empty()).count();
         progress.set_with(finished as u64, || {

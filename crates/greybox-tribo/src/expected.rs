@@ -40,10 +40,11 @@ pub fn expected_from_plan(plan: &Plan) -> Vec<ExpectedStep> {
 /// and a sliding run without a speed channel is cut at the plan's timing).
 pub fn read_expected_steps(path: &std::path::Path) -> Result<Vec<ExpectedStep>> {
     let source = path.display().to_string();
-    let mut rdr = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_path(path)
-        .map_err(|e| csv_error(&source, e))?;
+    let mut rdr = greybox_core::input::data_csv(
+        path,
+        "expected-steps table",
+        csv::ReaderBuilder::new().trim(csv::Trim::All),
+    )?;
     let header = Header::new(&source, rdr.headers().map_err(|e| csv_error(&source, e))?);
     let (ip, inf, iv) = (
         header.require("pin")?,

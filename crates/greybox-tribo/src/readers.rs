@@ -139,7 +139,7 @@ impl RecordingFormat {
             return Ok(by_name.unwrap_or(RecordingFormat::Csv));
         }
         let mut head = Vec::with_capacity(1024);
-        let (file, _) = greybox_core::budget::open_recording(path)?;
+        let (file, _) = greybox_core::input::open_recording(path)?;
         file.take(1024)
             .read_to_end(&mut head)
             .map_err(|e| Error::io(path, e))?;

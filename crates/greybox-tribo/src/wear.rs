@@ -70,7 +70,7 @@ impl HeightMap {
 /// Read an XYZ CSV (`x_mm,y_mm,z_um`, any order of rows, a regular grid; `NaN` or an empty z
 /// field is a hole).
 pub fn read_height_map(path: &Path) -> Result<HeightMap> {
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let file = greybox_core::input::open(path, "height map", greybox_core::budget::Cap::DataBytes)?;
     read_height_map_from(file, &path.display().to_string())
 }
 
@@ -467,7 +467,7 @@ impl WearTest {
 /// Read wear tests from a CSV with the [`WearTest`] columns.
 pub fn read_wear_tests(path: &Path) -> Result<Vec<WearTest>> {
     let src = path.display().to_string();
-    let mut rdr = csv::Reader::from_path(path).map_err(|e| csv_error(&src, e))?;
+    let mut rdr = greybox_core::input::data_csv(path, "wear tests", &csv::ReaderBuilder::new())?;
     let mut out = Vec::new();
     for (k, r) in rdr.deserialize::<WearTest>().enumerate() {
         let t = r.map_err(|e| Error::input(SourcePos::file(&src).line(k as u64 + 2), format!("expected pin,normal_force_N,velocity_m_per_min,duration_s,k_1e-7_mm3_per_Nm,mean_depth_um: {e}")))?;

@@ -16,7 +16,7 @@ const CONFIRM_ROWS: usize = 3;
 
 /// Read one sheet (`sheet`: a name; default the first sheet that holds a table).
 pub fn read_spreadsheet(path: &std::path::Path, sheet: Option<&str>) -> Result<Table> {
-    let bytes = greybox_core::budget::read_recording_bytes(path)?;
+    let bytes = greybox_core::input::read_recording_bytes(path)?;
     parse_spreadsheet(&bytes, &path.display().to_string(), sheet)
 }
 

@@ -201,3 +201,28 @@ pub fn without_wall_times(mut v: serde_json::Value) -> serde_json::Value {
     }
     v
 }
+
+/// One stump on the pressure (XGBoost's JSON schema).
+pub const BOOSTER: &str = r#"{"version": [3, 2, 0], "learner": {
+  "objective": {"name": "reg:squarederror"},
+  "feature_names": ["hertz_pressure_MPa", "sliding_velocity_m_per_min"],
+  "learner_model_param": {"base_score": "[3.3E-1]", "num_feature": "2", "num_class": "0", "num_target": "1"},
+  "gradient_booster": {"name": "gbtree", "model": {"trees": [{
+    "left_children": [1, -1, -1], "right_children": [2, -1, -1], "split_indices": [0, 0, 0],
+    "split_conditions": [1000.5, 0.0123, -0.0456], "split_type": [0, 0, 0], "default_left": [0, 0, 0],
+    "tree_param": {"num_nodes": "3", "size_leaf_vector": "1"}}]}}}}"#;
+
+/// [`BOOSTER`] written to `d/booster.json` and imported (pressure 150..2000 MPa, speed
+/// 20..250 m/min) as the greybox model `d/m.json`.
+pub fn imported_model(d: &Path) {
+    std::fs::write(d.join("booster.json"), BOOSTER).unwrap();
+    let args = [
+        "import",
+        "booster.json",
+        "--domain",
+        "150:2000,20:250",
+        "--out",
+        "m.json",
+    ];
+    ok(&greybox(&args, d));
+}

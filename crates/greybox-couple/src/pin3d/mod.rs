@@ -272,7 +272,8 @@ pub fn simulate(setup: &Pin3dSetup, dir: &Path) -> Result<Pin3dResult> {
     let log_path = dir.join("pin.log");
     greybox_core::atomic::write_string_atomic(&log_path, &log)?;
     let dat_path = dir.join("pin.dat");
-    let text = std::fs::read_to_string(&dat_path).unwrap_or_default();
+    let text =
+        greybox_core::input::read_data_text(&dat_path, "CalculiX results").unwrap_or_default();
     let incs = dat::parse(&text, &dat_path.display().to_string())?;
     let end = if spec.slide > 0.0 { 2.0 } else { 1.0 };
     let reached = incs.last().map_or(0.0, |i| i.time);

@@ -23,5 +23,14 @@ program test_fortran
   p(1) = -1.0d0
   if (greybox_law_mu(law, 1_c_size_t, p, v, t, mu) /= GREYBOX_ERR_INPUT) stop 1
   print '(A,A)', 'error ', trim(greybox_error_message())
+  ! the checked wrappers pass each array's size: a short one is refused, not read past
+  p(1) = 1.0d9
+  if (greybox_mu(law, p, v(1:2), t, mu) /= GREYBOX_ERR_LENGTH) stop 1
+  print '(A,A)', 'length ', trim(greybox_error_message())
+  if (greybox_mu_grad(law, p, v, t, mu, dp, dv, dt(1:1)) /= GREYBOX_ERR_LENGTH) stop 1
+  if (greybox_mu(law, p, v, t, mu) /= GREYBOX_OK) stop 1
+  do i = 1, 3
+    write (*, '(A,ES26.17E3)') 'checked ', mu(i)
+  end do
   call greybox_law_free(law)
 end program

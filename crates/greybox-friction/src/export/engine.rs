@@ -21,6 +21,7 @@ use super::{Grid, StepLines, TempUnit, Units};
 use crate::grid::UnitSystem;
 use crate::table_file::TableKind;
 use greybox_core::count::Count;
+use greybox_core::physics::Quantity;
 use greybox_core::units::{m_per_min_to_m_per_s, mpa_to_pa};
 use greybox_core::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -263,9 +264,27 @@ impl Engine {
                 "export.deform_reference_velocity_m_per_s",
                 format!("{v} is not a positive speed"),
             )),
+            // the physical quantities against the physics table (TAUMAX 0.6 MPa: GPa typed)
+            Engine::Abaqus {
+                taumax_pa: Some(t), ..
+            } => physical("export.taumax_Pa", Quantity::ShearFlowStress, *t),
+            Engine::Deform {
+                reference_velocity_m_s: v,
+                ..
+            } => physical(
+                "export.deform_reference_velocity_m_per_s",
+                Quantity::SlidingVelocity,
+                *v,
+            ),
             _ => Ok(()),
         }
     }
+}
+
+/// `value` of the option `what` against the physics table ([`greybox_core::physics::admit`]):
+/// refused outside the possible range, said outside the usual one.
+fn physical(what: &str, q: Quantity, value: f64) -> Result<()> {
+    greybox_core::physics::admit(q, value, what).map_err(|m| invalid(what, m))
 }
 
 /// A refused export option, named.
@@ -338,6 +357,33 @@ impl TableSpec {
                 "export.tolerance",
                 format!("{} is not a positive number", self.tolerance),
             ));
+        }
+        // the grid's extremes physical states: 500-2500 GPa or 333-500 m/s are unit slips
+        let g = &self.grid;
+        let none = Vec::new();
+        let axes = [
+            (
+                "export.pressure_Pa",
+                Quantity::ContactPressure,
+                &g.pressure_pa,
+            ),
+            (
+                "export.velocity_m_per_s",
+                Quantity::SlidingVelocity,
+                &g.velocity_m_s,
+            ),
+            (
+                "export.temperature_K",
+                Quantity::Temperature,
+                g.temperature_k.as_ref().unwrap_or(&none),
+            ),
+        ];
+        for (what, q, values) in axes {
+            let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            for v in [lo, hi].into_iter().filter(|_| !values.is_empty()) {
+                physical(what, q, v)?;
+            }
         }
         self.engine.validate()
     }

@@ -377,6 +377,27 @@ pub fn lsdyna(law: &dyn FrictionLaw, grid: &Grid, u: Units, table_id: u32) -> Re
     Ok(lsdyna_checked(law, grid, u, table_id, &o)?.text)
 }
 
+/// The largest id LS-DYNA reads: its keyword files hold ids in 10-character integer fields
+/// read as 32-bit signed integers.
+pub const LSDYNA_MAX_ID: u64 = i32::MAX as u64;
+
+/// The last id of an LS-DYNA table `table_id` with one curve per speed (`table_id + curves`),
+/// checked: ids start at 1 (0 means "none" in a keyword card) and the last must fit
+/// [`LSDYNA_MAX_ID`] — never wrapped around.
+pub fn lsdyna_ids(table_id: u32, curves: usize) -> Result<u64> {
+    let last = u64::from(table_id) + curves as u64;
+    if table_id == 0 || last > LSDYNA_MAX_ID {
+        return Err(Error::invalid(
+            "export.lsdyna_table_id",
+            format!(
+                "{table_id}: the table and its {curves} curves take the ids {table_id}..={last}, but LS-DYNA ids are 1..={LSDYNA_MAX_ID} (0 is \"none\"); choose a table id from 1 to {}",
+                LSDYNA_MAX_ID.saturating_sub(curves as u64)
+            ),
+        ));
+    }
+    Ok(last)
+}
+
 /// [`lsdyna`] with step lines and deviation check as `o` says. LS-DYNA interpolates each
 /// curve linearly in pressure and between the curves linearly in velocity.
 pub fn lsdyna_checked(
@@ -394,6 +415,7 @@ pub fn lsdyna_checked(
         ));
     }
     let table = EngineTable::build(law, grid, (u.speed, u.pressure, u.temperature), o.steps)?;
+    lsdyna_ids(table_id, table.speed.written.len())?;
     let mut out = Exported::new(law, table, o);
     let mut s = String::new();
     let _ = writeln!(
@@ -424,7 +446,8 @@ pub fn lsdyna_checked(
             s,
             "$     LCID      SIDR       SFA       SFO      OFFA      OFFO"
         );
-        let _ = writeln!(s, "{:>10}", table_id + 1 + iv as u32);
+        // ids table_id + 1 ..= table_id + curves, checked by `lsdyna_ids`
+        let _ = writeln!(s, "{:>10}", u64::from(table_id) + 1 + iv as u64);
         for (ip, &p) in t.pressure.written.iter().enumerate() {
             let _ = writeln!(s, "{:>20}{:>20}", num(p), num(t.at(iv, ip, 0)));
         }
@@ -705,6 +728,31 @@ mod tests {
         "cof\u{2028}*INCLUDE\u{85}*END",
         "$(touch PWNED) <script>alert(1)</script> \"'",
     ];
+
+    /// Issue 62: LS-DYNA ids never wrap and never start at 0.
+    #[test]
+    fn lsdyna_ids_are_bounded() {
+        let grid = Grid {
+            pressure_pa: vec![100e6, 200e6],
+            velocity_m_s: vec![1.0, 2.0],
+            temperature_k: None,
+        };
+        let law = Zorev {
+            mu: 0.3,
+            k_pa: 500e6,
+        };
+        let u = Units::of(crate::grid::UnitSystem::MpaMmS, crate::grid::TempUnit::C);
+        assert!(lsdyna(&law, &grid, u, 1000).is_ok());
+        for bad in [0, u32::MAX, i32::MAX as u32 - 1] {
+            let e = lsdyna(&law, &grid, u, bad).unwrap_err().to_string();
+            assert!(
+                e.contains("export.lsdyna_table_id") && e.contains("1..=2147483647"),
+                "{e}"
+            );
+        }
+        let last = lsdyna(&law, &grid, u, i32::MAX as u32 - 2).unwrap();
+        assert!(last.contains("2147483647"), "{last}");
+    }
 
     /// Every deck line is the writer's: the comment with the name is one line, and the
     /// keyword lines are exactly those of a plain name.

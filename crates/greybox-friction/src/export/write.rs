@@ -147,7 +147,7 @@ fn read_deform_windows(path: Option<&std::path::Path>) -> Result<Vec<DeformWindo
     let Some(p) = path else {
         return Ok(Vec::new());
     };
-    let text = greybox_core::budget::read_config(p, "DEFORM windows file")?;
+    let text = greybox_core::input::read_config(p, "DEFORM windows file")?;
     serde_json::from_str(&text).map_err(|e| {
         invalid(
             "export.deform_windows",

@@ -90,6 +90,17 @@ impl Default for HertzSettings {
 impl HertzSettings {
     /// The calculation's options.
     pub fn options(&self) -> Result<HertzOptions> {
+        use greybox_core::physics::{admit, Quantity};
+        admit(
+            Quantity::ContactRadius,
+            greybox_core::units::mm_to_m(self.radius_mm),
+            "hertz.radius_mm (as m)",
+        )
+        .map_err(anyhow::Error::msg)?;
+        for (k, &f) in self.force_N.iter().enumerate() {
+            admit(Quantity::NormalForce, f, &format!("hertz.force_N[{k}]"))
+                .map_err(anyhow::Error::msg)?;
+        }
         let geometry = match (self.geometry, self.length_mm) {
             (HertzShape::Sphere, _) => Geometry::Sphere,
             (HertzShape::Cylinder, Some(length_mm)) => Geometry::Cylinder { length_mm },

@@ -40,7 +40,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _calls, _native
-from ._errors import GreyboxError, InputError, MissingFileError, SettingsError
+from ._errors import GreyboxError, InputError, MissingFileError, SettingsError, UnusualValueWarning
 from ._sklearn import export_sklearn, export_sklearn_json
 from ._tables import read_csv, table
 
@@ -57,6 +57,7 @@ __all__ = [
     "InputError",
     "SettingsError",
     "MissingFileError",
+    "UnusualValueWarning",
     "DomainWarning",
     "Model",
     "Law",
@@ -89,6 +90,8 @@ __all__ = [
     "couple",
     "report",
     "example",
+    "budget",
+    "set_budget",
 ]
 
 
@@ -104,9 +107,10 @@ def _asarray(x: Any, name: str) -> np.ndarray:
 def _path(p: Any, name: str) -> str:
     """A path argument as a string; anything else is an InputError naming the argument."""
     try:
-        return os.fspath(p)
+        # a path given as bytes (or whose __fspath__ gives bytes) decoded as the OS does
+        return os.fsdecode(os.fspath(p))
     except TypeError as e:
-        raise InputError(f"{name}: expected a path (str or os.PathLike), got {type(p).__name__}") from e
+        raise InputError(f"{name}: expected a path (str, bytes or os.PathLike), got {type(p).__name__}") from e
 
 
 def _opt_path(p: Any, name: str) -> Optional[str]:
@@ -479,8 +483,7 @@ def load_law(path: PathLike) -> Law:
     base = os.path.dirname(p)
     files = {}
     for f in _native.law_files(p):
-        with open(f, "rb") as fh:
-            files[os.path.relpath(f, base)] = fh.read()
+        files[os.path.relpath(f, base)] = _native.read_input(f, "law's file")
     return Law(_native.Law.load(p), (os.path.basename(p), files))
 
 
@@ -1276,6 +1279,20 @@ def example(name: str) -> str:
     orthogonal cut, AISI 1045 at 150 m/min — a set-up for :func:`simulate_cut`) or
     ``"demo-study.toml"`` (the example study the stages use by default)."""
     return _native.example(name)
+
+
+def budget() -> dict:
+    """The readers' caps in force, by the library's names, in bytes, cells or elements
+    (``max_input_bytes``, ``max_recording_bytes``, ``max_data_bytes``, …; the command line's
+    ``--max-*`` global options)."""
+    return json.loads(_native.swap_budget("{}"))
+
+
+def set_budget(**caps: int) -> dict:
+    """Sets the readers' caps named (``set_budget(max_data_bytes=8 << 30)``; the others kept)
+    for the rest of the process, as the command line's ``--max-*`` options do; returns the
+    caps before. A name that is no cap is a SettingsError listing the caps."""
+    return json.loads(_native.swap_budget(json.dumps(caps)))
 
 
 def report(study_dir: PathLike, out: Optional[PathLike] = None) -> dict:

@@ -22,3 +22,10 @@ class SettingsError(InputError):
 
 class MissingFileError(InputError, FileNotFoundError):
     """A file or directory the call needs is not there."""
+
+
+class UnusualValueWarning(UserWarning):
+    """A value outside its usual range that greybox accepted (the physics table's flags:
+    a density of 7.85 kg/m³, μ = 1.5, 20 K): the message names the setting, the number, the
+    ranges and the likely unit mistake. The command line prints the same text as
+    ``warning: …``."""

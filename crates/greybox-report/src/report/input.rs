@@ -3,9 +3,9 @@
 //! forever), every read stops at a cap, and a header is read as at most one bounded line.
 
 use anyhow::{bail, Context, Result};
-use std::fs::{File, Metadata};
+use std::fs::Metadata;
 use std::io::Read;
-use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
+use std::os::unix::fs::FileTypeExt;
 use std::path::Path;
 
 /// A cap, with the option field that holds (and raises) it.
@@ -64,19 +64,10 @@ pub fn regular_within(p: &Path, cap: Cap) -> Result<u64> {
     Ok(m.len())
 }
 
-/// Opens a regular file without blocking (a FIFO swapped in after the check would block a
-/// plain open) and checks again what was opened.
-fn open_regular(p: &Path) -> Result<File> {
-    let f = std::fs::OpenOptions::new()
-        .read(true)
-        .custom_flags(libc::O_NONBLOCK)
-        .open(p)
-        .context("cannot open the file")?;
-    let m = f.metadata().context("cannot read the file")?;
-    if !m.is_file() {
-        bail!("{}, not a regular file", kind(&m));
-    }
-    Ok(f)
+/// Opens a regular file through greybox's one safe open (without blocking on a FIFO swapped
+/// in after the check; what was opened checked again); reads stop at its length then.
+fn open_regular(p: &Path) -> Result<greybox_core::input::Input> {
+    Ok(greybox_core::input::open_regular(p, "study file")?)
 }
 
 /// The whole of `p`, at most `cap` bytes (a file that grows past the cap while read is

@@ -155,7 +155,7 @@ impl Batches<'_> {
         let cuts = plan
             .cases
             .iter()
-            .map(|c| read_cut(&CaseDir::of(out, &c.id)))
+            .map(|c| read_cut(&CaseDir::of(out, &c.id), c))
             .collect::<Result<Vec<_>>>()?;
         Ok(case_of_job.into_iter().map(|k| cuts[k].clone()).collect())
     }
@@ -171,12 +171,11 @@ fn show(values: &[(String, String)]) -> String {
 
 /// The cut a finished case ran, from its `done.json`; its `result/` (the run's profiles and
 /// plots, which the suite does not report) is removed.
-fn read_cut(dir: &CaseDir) -> Result<Cut> {
+fn read_cut(dir: &CaseDir, case: &Case) -> Result<Cut> {
     let path = dir.done();
-    let text = std::fs::read_to_string(&path)
-        .with_context(|| format!("cannot read {}", path.display()))?;
-    let done: Done = serde_json::from_str(&text)
-        .with_context(|| format!("{}: not a finished case", path.display()))?;
+    let done: Done = dir
+        .read_done(case)?
+        .with_context(|| format!("{}: missing: the case did not finish", path.display()))?;
     let cut = Cut::from_summary(&done.summary, &path.display().to_string())?;
     let _ = std::fs::remove_dir_all(dir.result());
     Ok(cut)

@@ -34,10 +34,11 @@ pub struct Condition {
 /// Reads the measured conditions.
 pub fn read_conditions(path: &Path) -> Result<Vec<Condition>> {
     let src = path.display().to_string();
-    let mut rdr = csv::ReaderBuilder::new()
-        .comment(Some(b'#'))
-        .from_path(path)
-        .map_err(|e| csv_error(&src, e))?;
+    let mut rdr = greybox_core::input::data_csv(
+        path,
+        "validation conditions",
+        csv::ReaderBuilder::new().comment(Some(b'#')),
+    )?;
     let header = Header::new(&src, rdr.headers().map_err(|e| csv_error(&src, e))?);
     let need = |n: &str| header.require(n);
     let cols = [

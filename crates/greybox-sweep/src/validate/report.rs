@@ -100,9 +100,9 @@ pub fn write_outputs(v: &Validation, out: &Path) -> Result<Vec<PathBuf>> {
     // names given in a suite file (materials, friction models) are quoted where they hold a
     // separator, a quote or a line break
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(COLUMNS)?;
+    w.write_record(greybox_core::escape::csv_cells(COLUMNS))?;
     for o in &v.outcomes {
-        w.write_record(record(o))?;
+        w.write_record(greybox_core::escape::csv_cells(record(o)))?;
     }
     let bytes = w
         .into_inner()
@@ -117,9 +117,10 @@ pub fn write_outputs(v: &Validation, out: &Path) -> Result<Vec<PathBuf>> {
     Ok(vec![results, summary, md, plot])
 }
 
-/// A table cell of text from a suite file: `|` and line breaks would end the cell or row.
+/// A table cell of text from a suite file: markup, `|` and line breaks escaped
+/// ([`greybox_core::escape::markdown_text`]).
 fn cell(s: &str) -> String {
-    s.replace('|', "\\|").replace(['\n', '\r'], " ")
+    greybox_core::escape::markdown_text(s)
 }
 
 fn pct(e: f64) -> String {
@@ -198,7 +199,7 @@ pub fn markdown(v: &Validation) -> String {
     for o in &v.outcomes {
         s += &format!(
             "| {} | {} | {} | {} | {} | {} | {:.3} | {:.1} / {:.1}{} ({}) | {:.1} / {:.1}{} ({}) | {} | {} | {} | {} | {} | {:.0} |\n",
-            o.id,
+            cell(&o.id),
             cell(&o.material),
             o.tool.name(),
             cell(&o.friction),

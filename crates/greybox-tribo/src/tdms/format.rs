@@ -135,7 +135,7 @@ impl TdmsFile {
 
     pub(super) fn read_tuned(path: &Path, tuning: &Tuning) -> Result<Self> {
         let source = path.display().to_string();
-        let (file, len) = greybox_core::budget::open_recording(path)?;
+        let (file, len) = greybox_core::input::open_recording(path)?;
         #[cfg(any(unix, windows))]
         if len >= tuning.whole_read_max as u64 {
             if let Ok(len) = usize::try_from(len) {
@@ -148,7 +148,7 @@ impl TdmsFile {
             }
         }
         drop(file);
-        let bytes = greybox_core::budget::read_recording_bytes(path)?;
+        let bytes = greybox_core::input::read_recording_bytes(path)?;
         parse_source(&Source::Mem(&bytes), &source, tuning)
     }
 

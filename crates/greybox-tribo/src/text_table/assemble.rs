@@ -15,13 +15,13 @@ use rayon::prelude::*;
 /// Read a text table from a file.
 ///
 /// Only a regular file of at most the budget `max_recording_bytes` is read
-/// ([`greybox_core::budget::open_recording`]: a FIFO, a device or a link to one is refused by
+/// ([`greybox_core::input::open_recording`]: a FIFO, a device or a link to one is refused by
 /// name). It is memory-mapped (no copy of a file of hundreds of MB into a buffer); the file
 /// must not be truncated while it is read, as with any reader that maps files. On a file
 /// system without mmap it is read into memory.
 pub fn read_text_table(path: &std::path::Path, opts: &TextOptions) -> Result<Table> {
     let source = path.display().to_string();
-    let (file, len) = greybox_core::budget::open_recording(path)?;
+    let (file, len) = greybox_core::input::open_recording(path)?;
     if len > 0 {
         // SAFETY: the map is read-only and lives only for this call. Like every reader that
         // maps files (ripgrep, polars), this relies on no other process truncating or
@@ -32,7 +32,7 @@ pub fn read_text_table(path: &std::path::Path, opts: &TextOptions) -> Result<Tab
     }
     drop(file);
     parse_text_table(
-        &greybox_core::budget::read_recording_bytes(path)?,
+        &greybox_core::input::read_recording_bytes(path)?,
         &source,
         opts,
     )
