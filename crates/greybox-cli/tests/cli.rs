@@ -333,7 +333,10 @@ fn hertz_reference_vectors() {
     let v: serde_json::Value = serde_json::from_str(&s).unwrap();
     assert!((v[0]["contact_half_width_mm"].as_f64().unwrap() - 1.010).abs() < 0.0006);
     let e = err(&greybox(&["hertz", "--force-N=-5"], d.path()));
-    assert!(e.contains("normal force") && e.contains("positive"), "{e}");
+    assert!(
+        e.contains("--force-N") && e.contains("normal force -5 N") && e.contains("possible range"),
+        "{e}"
+    );
 }
 
 #[test]

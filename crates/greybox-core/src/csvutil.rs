@@ -100,6 +100,21 @@ pub fn parse_u64(text: &str, source: &str, line: u64, column: &str) -> Result<u6
     })
 }
 
+/// Parse a non-negative integer that fits a `u32` (a pin or step number), naming file, line and
+/// column on failure — never wrapped (pin 4 294 967 297 is not pin 1).
+pub fn parse_u32(text: &str, source: &str, line: u64, column: &str) -> Result<u32> {
+    let v = parse_u64(text, source, line, column)?;
+    u32::try_from(v).map_err(|_| {
+        Error::input(
+            SourcePos::file(source).line(line).field(column),
+            format!(
+                "{v} is larger than the largest number a {column} can have ({})",
+                u32::MAX
+            ),
+        )
+    })
+}
+
 /// Line number (1-based) of a csv record, falling back to a counter.
 pub fn record_line(pos: Option<&csv::Position>, fallback: u64) -> u64 {
     pos.map(|p| p.line()).unwrap_or(fallback)

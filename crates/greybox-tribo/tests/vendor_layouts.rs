@@ -282,3 +282,64 @@ fn a_friction_force_column_without_a_unit() {
         "{warnings}"
     );
 }
+
+/// A load no tribometer applies (1e308 N, a channel in the wrong unit or an overflow) is
+/// refused where it is read, naming the channel, the sample and the possible range — never
+/// a later statistic's message ("zero or negative inside a loaded segment").
+#[test]
+fn an_impossible_force_is_refused_where_it_is_read() {
+    let mut s = String::from("Time (s),Fn (N),Ft (N)\n");
+    for k in 0..40 {
+        let fn_ = if k == 17 {
+            "1e308".to_string()
+        } else {
+            "20".into()
+        };
+        s.push_str(&format!("{},{fn_},{}\n", k as f64 * 0.1, 6.0));
+    }
+    let (_d, p) = write("huge.csv", &s);
+    let e = read_recording(&p, &ChannelMap::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("huge.csv")
+            && e.contains("normal")
+            && e.contains("sample 17")
+            && e.contains("possible range"),
+        "{e}"
+    );
+    assert!(!e.contains("zero or negative"), "{e}");
+}
+
+/// `sample_rate_hz` beside a time column: the column is the time, and the report says so —
+/// a note where they agree, a warning naming both where they do not (never silently one).
+#[test]
+fn a_sample_rate_beside_a_time_column_is_said() {
+    let mut s = String::from("Time (s),Fn (N),Ft (N)\n");
+    for k in 0..40 {
+        s.push_str(&format!("{},20,6\n", k as f64 * 0.01));
+    }
+    let (_d, p) = write("rate.csv", &s);
+    let read = |hz: f64| {
+        let map = ChannelMap {
+            sample_rate_hz: Some(hz),
+            ..ChannelMap::default()
+        };
+        let r = read_recording(&p, &map).unwrap();
+        assert!((r.time_s[1] - 0.01).abs() < 1e-12);
+        let prov = r.provenance.unwrap();
+        (prov.notes.join("\n"), prov.warnings.join("\n"))
+    };
+    let (notes, warnings) = read(100.0);
+    assert!(
+        notes.contains("100 Hz was given") && !warnings.contains("Hz was given"),
+        "{notes}"
+    );
+    let (_, warnings) = read(1000.0);
+    assert!(
+        warnings.contains("1000 Hz was given")
+            && warnings.contains("'Time (s)'")
+            && warnings.contains("disagree"),
+        "{warnings}"
+    );
+}

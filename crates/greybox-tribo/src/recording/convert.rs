@@ -71,33 +71,19 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
         .map(|c| c.1)
         .or_else(|| block_steps(&table, n, &mut report));
     let time_s = match take(Role::Time) {
-        Some((_, t, header)) => continuous_time(
-            t,
-            step.as_deref(),
-            &source,
-            &header,
-            table.header_line,
-            &mut report,
-        )?,
-        None => {
-            let dt = map
-                .sample_rate_hz
-                .map(|f| 1.0 / f)
-                .or(table.sample_interval_s)
-                .filter(|d| d.is_finite() && *d > 0.0)
-                .ok_or_else(|| {
-                    Error::input(
-                        SourcePos::file(&source),
-                        "no time column (none mapped, none with a usual name) and no sample rate: give `sample_rate_hz` or map the time column with `map` time=NAME:UNIT",
-                    )
-                })?;
-            let t0 = table.start_time_s.unwrap_or(0.0);
-            report.notes.push(format!(
-                "no time column: time from the sample rate {:.6} Hz",
-                1.0 / dt
-            ));
-            (0..n).into_par_iter().map(|i| t0 + i as f64 * dt).collect()
+        Some((_, t, header)) => {
+            let t = continuous_time(
+                t,
+                step.as_deref(),
+                &source,
+                &header,
+                table.header_line,
+                &mut report,
+            )?;
+            say_rate_beside_time(&t, &header, map.sample_rate_hz, &mut report);
+            t
         }
+        None => time_from_rate(&table, map, n, &mut report)?,
     };
     let speed = speed_trace(take(Role::Speed).map(|c| c.1), map, n, &mut report);
     let rec = Recording {
@@ -116,6 +102,52 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
     };
     rec.validate()?;
     Ok(rec)
+}
+
+/// A sample rate given beside a time column: the column is the time, and the report says so —
+/// a note where the two agree within 1 %, a warning naming both where they do not.
+fn say_rate_beside_time(t: &[f64], header: &str, rate_hz: Option<f64>, report: &mut ReadReport) {
+    let Some(given) = rate_hz else { return };
+    let steps: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    let column_hz = 1.0 / median(&steps);
+    let line = format!(
+        "a sample rate of {given} Hz was given, but the file has a time column '{header}' (median rate {column_hz:.6} Hz): the time column is used"
+    );
+    if (column_hz / given - 1.0).abs() <= 0.01 {
+        report.notes.push(line);
+    } else {
+        report.warnings.push(format!(
+            "{line}; the two disagree: check the time column's unit (state it with `map` time={header}:UNIT) or drop `sample_rate_hz`"
+        ));
+    }
+}
+
+/// Time without a time column: from the map's sample rate, else the table's own sampling
+/// interval (a TDMS waveform's), from the table's start time; an error naming the file
+/// without either.
+fn time_from_rate(
+    table: &Table,
+    map: &ChannelMap,
+    n: usize,
+    report: &mut ReadReport,
+) -> Result<Vec<f64>> {
+    let dt = map
+        .sample_rate_hz
+        .map(|f| 1.0 / f)
+        .or(table.sample_interval_s)
+        .filter(|d| d.is_finite() && *d > 0.0)
+        .ok_or_else(|| {
+            Error::input(
+                SourcePos::file(&table.source),
+                "no time column (none mapped, none with a usual name) and no sample rate: give `sample_rate_hz` or map the time column with `map` time=NAME:UNIT",
+            )
+        })?;
+    let t0 = table.start_time_s.unwrap_or(0.0);
+    report.notes.push(format!(
+        "no time column: time from the sample rate {:.6} Hz",
+        1.0 / dt
+    ));
+    Ok((0..n).into_par_iter().map(|i| t0 + i as f64 * dt).collect())
 }
 
 /// The speed channel as recorded (rpm where its unit turns, else m/s), else the stated

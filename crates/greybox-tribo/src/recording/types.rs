@@ -1,5 +1,6 @@
 //! A recording in SI units, its speed trace, and the reader's report of how it was read.
 
+use greybox_core::physics::Quantity;
 use greybox_core::{Error, Result, SourcePos};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -170,6 +171,28 @@ impl Recording {
                         format!("sample {i} is not finite ({})", ch[i]),
                     ));
                 }
+            }
+        }
+        // A force no tribometer can apply (a channel in the wrong unit, an overflowed
+        // value): refused at its largest sample against the physics table's possible range,
+        // before any statistic of the file can turn it into another message.
+        for (name, q, ch) in [
+            ("normal", Quantity::NormalForce, &self.normal_n),
+            ("tangential", Quantity::TangentialForce, &self.tangential_n),
+        ] {
+            let (i, largest) = ch.iter().enumerate().fold((0, 0.0f64), |m, (k, v)| {
+                if v.abs() > m.1 {
+                    (k, v.abs())
+                } else {
+                    m
+                }
+            });
+            if !q.hard().contains(&largest) {
+                let what = format!("sample {i}");
+                let text = greybox_core::physics::check(q, largest, &what)
+                    .err()
+                    .unwrap_or_default();
+                return Err(Error::input(pos().field(name), text));
             }
         }
         if let Some(i) = first_non_increasing(&self.time_s) {

@@ -80,8 +80,13 @@ pub fn table_from_tdms(mut file: TdmsFile, group: Option<&str>) -> Result<Table>
             continue;
         }
         if interval.is_none() {
-            interval = obj.property("wf_increment").and_then(PropValue::as_f64);
+            // 0: a channel that is no waveform (some writers set it so)
+            interval = obj
+                .property("wf_increment")
+                .and_then(PropValue::as_f64)
+                .filter(|dt| *dt != 0.0);
             start = obj.property("wf_start_offset").and_then(PropValue::as_f64);
+            check_waveform_timing(&file.source, &path, interval, start)?;
         }
         let unit = obj
             .property("unit_string")
@@ -115,4 +120,84 @@ pub fn table_from_tdms(mut file: TdmsFile, group: Option<&str>) -> Result<Table>
         start_time_s: start,
         ..Default::default()
     })
+}
+
+/// The shortest and longest sample interval a recording can have, s: a 1 GHz digitiser and
+/// one sample an hour.
+const WF_INCREMENT_S: std::ops::RangeInclusive<f64> = 1e-9..=3600.0;
+/// The latest a waveform may start, s after its time origin (about 30 years).
+const WF_START_MAX_S: f64 = 1e9;
+
+/// A waveform's timing properties, where present: `wf_increment` a sample interval of
+/// [`WF_INCREMENT_S`], `wf_start_offset` finite within ±[`WF_START_MAX_S`] — an interval of
+/// 1e300 s would put the steps at 10³⁰⁵ s, one of 1e-300 s make every rate look infinite;
+/// both are refused naming the property and the channel.
+fn check_waveform_timing(
+    source: &str,
+    channel: &str,
+    interval: Option<f64>,
+    start: Option<f64>,
+) -> Result<()> {
+    let bad = |property: &str, text: String| {
+        Err(Error::input(
+            SourcePos::file(source).field(format!("{channel} {property}")),
+            text,
+        ))
+    };
+    if let Some(dt) = interval.filter(|dt| !WF_INCREMENT_S.contains(dt)) {
+        return bad(
+            "wf_increment",
+            format!(
+                "the waveform's sample interval is {dt:e} s, outside {:e}..{:e} s (a 1 GHz digitiser to one sample an hour): give the time another way (`sample_rate_hz`, or a time channel)",
+                WF_INCREMENT_S.start(),
+                WF_INCREMENT_S.end()
+            ),
+        );
+    }
+    if let Some(t0) = start.filter(|t0| !(t0.abs() <= WF_START_MAX_S)) {
+        return bad(
+            "wf_start_offset",
+            format!(
+                "the waveform starts at {t0:e} s, beyond ±{WF_START_MAX_S:e} s of its time origin"
+            ),
+        );
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::write::{write_tdms, WriteChannel};
+    use super::*;
+
+    fn table(dt: f64, t0: f64) -> Result<Table> {
+        let data: Vec<f64> = (0..50).map(|k| 10.0 + k as f64 * 0.01).collect();
+        let chans = [WriteChannel {
+            name: "Fn",
+            unit: "N",
+            data: &data,
+        }];
+        let mut bytes = Vec::new();
+        write_tdms(&mut bytes, "Tribometer", &chans, dt, t0, 20).unwrap();
+        table_from_tdms(TdmsFile::parse(&bytes, "w.tdms").unwrap(), None)
+    }
+
+    #[test]
+    fn waveform_timing_out_of_any_rigs_range_is_refused_naming_the_property() {
+        assert_eq!(table(1e-3, 0.0).unwrap().sample_interval_s, Some(1e-3));
+        assert_eq!(
+            table(0.0, 0.0).unwrap().sample_interval_s,
+            None,
+            "0: no waveform"
+        );
+        for dt in [1e300, 1e-300, -1e-3] {
+            let e = table(dt, 0.0).unwrap_err().to_string();
+            assert!(
+                e.contains("w.tdms") && e.contains("wf_increment") && e.contains("sample interval"),
+                "{dt}: {e}"
+            );
+        }
+        let e = table(1e-3, 1e300).unwrap_err().to_string();
+        assert!(e.contains("wf_start_offset"), "{e}");
+    }
 }
