@@ -116,29 +116,6 @@ unsafe fn slice_mut<'a>(p: *mut f64, n: usize) -> Option<&'a mut [f64]> {
     (!p.is_null()).then(|| unsafe { std::slice::from_raw_parts_mut(p, n) })
 }
 
-fn check_inputs(p: &[f64], v: &[f64], t: Option<&[f64]>) -> Result<(), String> {
-    for i in 0..p.len() {
-        if !p[i].is_finite() || p[i] < 0.0 {
-            return Err(format!(
-                "pressure[{i}] = {} Pa: must be finite and ≥ 0",
-                p[i]
-            ));
-        }
-        if !v[i].is_finite() {
-            return Err(format!("velocity[{i}] = {} m/s: must be finite", v[i]));
-        }
-        if let Some(t) = t {
-            if !t[i].is_finite() || t[i] <= 0.0 {
-                return Err(format!(
-                    "temperature[{i}] = {} K: must be finite and > 0",
-                    t[i]
-                ));
-            }
-        }
-    }
-    Ok(())
-}
-
 #[inline]
 fn state(p: &[f64], v: &[f64], t: Option<&[f64]>, i: usize) -> ContactState {
     ContactState {
@@ -320,7 +297,7 @@ pub unsafe extern "C" fn greybox_law_eval(
         let (Some(p), Some(v), Some(m)) = (p, v, m) else {
             return fail(GREYBOX_ERR_NULL, "null pressure, velocity or mu array");
         };
-        if let Err(msg) = check_inputs(p, v, t) {
+        if let Err(msg) = greybox_core::contact::check_states(p, v, t) {
             return fail(GREYBOX_ERR_INPUT, msg);
         }
         // SAFETY: as above.

@@ -365,6 +365,27 @@ fn r2(y: &[f64], pred: &[f64]) -> f64 {
     1.0 - ss_res / ss_tot
 }
 
+/// A target named in per cent (`cof_pct`, `COF (%)`, `mu_percent`): a friction law gives μ
+/// as a fraction, and greybox cannot tell from the name whether the model predicts 38.5 or
+/// 0.385, so it refuses rather than exporting either without a word.
+fn check_target_is_a_fraction(target: &str) -> Result<()> {
+    let t = target.to_ascii_lowercase();
+    let percent = t.contains('%')
+        || t.contains("percent")
+        || t.split(|c: char| !c.is_ascii_alphanumeric())
+            .any(|w| w == "pct");
+    if percent {
+        return Err(Error::input(
+            SourcePos::file("import").field("target"),
+            format!(
+                "the target '{}' is stated in per cent, but a friction law takes μ as a fraction: name the target as the fraction the model predicts (e.g. cof_adhesive), or train the model on μ rather than μ × 100",
+                greybox_core::escape::excerpt(target)
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// The stated names, or the source's; their number must match the model's inputs, and
 /// stated names must match recorded ones when both exist.
 fn feature_names(imported: &Imported, opts: &ImportOptions) -> Result<Vec<String>> {
@@ -373,6 +394,7 @@ fn feature_names(imported: &Imported, opts: &ImportOptions) -> Result<Vec<String
     for (field, name) in std::iter::once(("target", &opts.target)).chain(given) {
         greybox_core::escape::check_name(SourcePos::file("import").field(field), name)?;
     }
+    check_target_is_a_fraction(&opts.target)?;
     let names = match (&opts.features, &imported.feature_names) {
         (Some(given), Some(recorded)) if given != recorded => {
             return Err(Error::invalid(
@@ -406,6 +428,17 @@ fn feature_names(imported: &Imported, opts: &ImportOptions) -> Result<Vec<String
 mod tests {
     use super::*;
     use greybox_core::dataset::PressureConvention;
+
+    #[test]
+    fn a_target_in_per_cent_is_refused() {
+        for t in ["cof_pct", "COF (%)", "mu_percent", "Friction_Percent"] {
+            let e = check_target_is_a_fraction(t).unwrap_err().to_string();
+            assert!(e.contains("target") && e.contains("per cent"), "{t}: {e}");
+        }
+        for t in ["cof_adhesive", "mu", "cof_apparent", "script"] {
+            assert!(check_target_is_a_fraction(t).is_ok(), "{t}");
+        }
+    }
 
     fn eq7() -> PinContact {
         PinContact {

@@ -49,6 +49,7 @@ fn states(p: &[f64], v: &[f64], t: Option<&[f64]>) -> anyhow::Result<Vec<Contact
             t.map(|t| format!(", {}", t.len())).unwrap_or_default()
         );
     }
+    greybox_core::contact::check_states(p, v, t).map_err(|e| anyhow::anyhow!(e))?;
     (0..p.len())
         .map(|i| {
             let s = ContactState {

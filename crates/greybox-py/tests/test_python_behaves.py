@@ -156,6 +156,22 @@ def test_models_and_laws_pickle_bit_for_bit(model, tmp_path):
     assert np.array_equal(pickle.loads(pickle.dumps(law)).mu(p, v).mu, law.mu(p, v).mu)
 
 
+def test_a_law_refuses_states_no_contact_has(model, tmp_path):
+    """Negative pressure, 0 K or a NaN speed: an error naming the array and the index, on the
+    law and on the model (the C ABI's own check, greybox_core::contact::check_states)."""
+    m = model[0]
+    m.save(tmp_path / "m.json")
+    law = gb.load_law(tmp_path / "m.json")
+    for call, text in [
+        (lambda: law.mu([1e9, -1e9], [1.0, 1.0]), "pressure[1] = -1000000000 Pa"),
+        (lambda: law.mu([1e9], [1.0], temperature_K=[0.0]), "temperature[0] = 0 K"),
+        (lambda: law.mu([1e9], [float("nan")]), "velocity[0]"),
+        (lambda: m.mu([-1.0], [1.0]), "pressure[0] = -1 Pa"),
+    ]:
+        with pytest.raises(gb.GreyboxError, match=text.replace("[", r"\[").replace("]", r"\]")):
+            call()
+
+
 SNIPPET = """
 import numpy as np
 import numpy.typing as npt

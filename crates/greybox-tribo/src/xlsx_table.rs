@@ -105,10 +105,57 @@ pub fn parse_spreadsheet(bytes: &[u8], source: &str, sheet: Option<&str>) -> Res
         let rows: Vec<&[Data]> = range.rows().collect();
         match table_from_rows(&rows, first_row, source, name) {
             Ok(t) => return Ok(t),
-            Err(e) => last_err = Some(e),
+            Err(e) => {
+                let values_start = range.start().unwrap_or((0, 0));
+                let formulas = uncomputed_formulas(&mut wb, name, (&rows, values_start), source);
+                last_err = Some(formulas.unwrap_or(e))
+            }
         }
     }
     Err(last_err.unwrap_or_else(|| Error::input(pos(), "the workbook has no sheets")))
+}
+
+/// Where a sheet gave no table: the error for formulas stored without computed values (a
+/// workbook written by a program that does not calculate, a script's `openpyxl` output),
+/// which read as empty cells — naming how many, the first one and what to do. `None` when
+/// the sheet has no such formula.
+fn uncomputed_formulas<RS: std::io::Read + std::io::Seek>(
+    wb: &mut calamine::Sheets<RS>,
+    sheet: &str,
+    (rows, values_start): (&[&[Data]], (u32, u32)),
+    source: &str,
+) -> Option<Error> {
+    let formulas =
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| wb.worksheet_formula(sheet)))
+            .ok()?
+            .ok()?;
+    let start = formulas.start().unwrap_or((0, 0));
+    // the value range starts where its first stored cell is, the formula range where its own is
+    let value_at = |r: u32, c: u32| {
+        let (Some(i), Some(j)) = (r.checked_sub(values_start.0), c.checked_sub(values_start.1))
+        else {
+            return false;
+        };
+        rows.get(i as usize)
+            .and_then(|row| row.get(j as usize))
+            .is_some_and(|d| !matches!(d, Data::Empty))
+    };
+    let mut uncomputed = formulas
+        .cells()
+        .filter(|(_, _, f)| !f.is_empty())
+        .map(|(r, c, f)| (start.0 + r as u32, start.1 + c as u32, f))
+        .filter(|&(r, c, _)| !value_at(r, c));
+    let (r, c, first) = uncomputed.next()?;
+    let n = 1 + uncomputed.count();
+    Some(Error::input(
+        SourcePos::file(source).field(sheet),
+        format!(
+            "{n} formula cell(s) hold no computed value (the first at row {}, column {}: ={}): the workbook was saved by a program that does not calculate its formulas; open and save it in a spreadsheet program so the values are stored, or export the sheet as CSV",
+            r + 1,
+            c + 1,
+            greybox_core::escape::excerpt(first)
+        ),
+    ))
 }
 
 fn row_empty(r: &[Data]) -> bool {
@@ -429,6 +476,49 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A minimal workbook whose data cells are formulas with no stored value (as a script's
+    /// writer leaves them), written part by part (ECMA-376 SpreadsheetML).
+    fn uncalculated_workbook() -> Vec<u8> {
+        use std::io::Write as _;
+        let mut rows = String::from(
+            r#"<row r="1"><c r="A1" t="inlineStr"><is><t>Time (s)</t></is></c><c r="B1" t="inlineStr"><is><t>Fn (N)</t></is></c></row>"#,
+        );
+        for k in 2..8 {
+            rows += &format!(
+                r#"<row r="{k}"><c r="A{k}"><f>(ROW()-2)*0.1</f></c><c r="B{k}"><f>10+ROW()</f></c></row>"#
+            );
+        }
+        let parts = [
+            ("[Content_Types].xml", r#"<?xml version="1.0" encoding="UTF-8"?><Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types"><Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/><Default Extension="xml" ContentType="application/xml"/><Override PartName="/xl/workbook.xml" ContentType="application/vnd.openxmlformats-officedocument.spreadsheetml.sheet.main+xml"/><Override PartName="/xl/worksheets/sheet1.xml" ContentType="application/vnd.openxmlformats-officedocument.spreadsheetml.worksheet+xml"/></Types>"#.to_string()),
+            ("_rels/.rels", r#"<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships"><Relationship Id="rId1" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/officeDocument" Target="xl/workbook.xml"/></Relationships>"#.to_string()),
+            ("xl/workbook.xml", r#"<?xml version="1.0" encoding="UTF-8"?><workbook xmlns="http://schemas.openxmlformats.org/spreadsheetml/2006/main" xmlns:r="http://schemas.openxmlformats.org/officeDocument/2006/relationships"><sheets><sheet name="Sheet1" sheetId="1" r:id="rId1"/></sheets></workbook>"#.to_string()),
+            ("xl/_rels/workbook.xml.rels", r#"<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships"><Relationship Id="rId1" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/worksheet" Target="worksheets/sheet1.xml"/></Relationships>"#.to_string()),
+            ("xl/worksheets/sheet1.xml", format!(r#"<?xml version="1.0" encoding="UTF-8"?><worksheet xmlns="http://schemas.openxmlformats.org/spreadsheetml/2006/main"><sheetData>{rows}</sheetData></worksheet>"#)),
+        ];
+        let mut z = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+        let opts = zip::write::SimpleFileOptions::default();
+        for (name, text) in parts {
+            z.start_file(name, opts).unwrap();
+            z.write_all(text.as_bytes()).unwrap();
+        }
+        z.finish().unwrap().into_inner()
+    }
+
+    #[test]
+    fn formulas_without_computed_values_are_named() {
+        let e = parse_spreadsheet(&uncalculated_workbook(), "calc.xlsx", None)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("calc.xlsx")
+                && e.contains("12 formula cell(s)")
+                && e.contains("row 2, column 1")
+                && e.contains("(ROW()-2)*0.1")
+                && e.contains("CSV"),
+            "{e}"
+        );
+    }
 
     fn s(t: &str) -> Data {
         Data::String(t.to_string())

@@ -332,7 +332,9 @@ fn where_models_differ(v: &Validation) -> String {
                         )
                     })
                     .collect();
-                s += &format!("| {x} | {} |\n", cells.join(" | "));
+                // a value computed in m and turned into mm (0.060000000000000005) as written
+                let shown = (x * 1e9).round() / 1e9;
+                s += &format!("| {shown} | {} |\n", cells.join(" | "));
             }
         }
     }
