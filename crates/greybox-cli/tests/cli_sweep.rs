@@ -217,10 +217,10 @@ fn a_failing_case_is_reported_with_its_log_and_retried_on_the_next_run() {
     sweep_file(d.path(), "");
     let p = plan(d.path(), "o");
     let first = ids(&p)[0].clone();
-    // a case config damaged after planning: its run fails
-    let cfg = d.path().join("o/cases").join(&first).join("config.toml");
-    let good = std::fs::read_to_string(&cfg).unwrap();
-    std::fs::write(&cfg, "not = [valid").unwrap();
+    // a case whose result directory cannot be written (a file stands where it goes): its run
+    // fails (an edited config.toml no longer can: the run puts the planned one back)
+    let blocker = d.path().join("o/cases").join(&first).join("result");
+    std::fs::write(&blocker, "in the way").unwrap();
     let out = greybox(
         &[
             "-q",
@@ -238,7 +238,7 @@ fn a_failing_case_is_reported_with_its_log_and_retried_on_the_next_run() {
     assert!(e.contains("1 case(s) failed"), "{e}");
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains(&format!("case 0 ({first}) failed")) && text.contains("config.toml"),
+        text.contains(&format!("case 0 ({first}) failed")) && text.contains("result"),
         "{text}"
     );
     assert!(d
@@ -255,7 +255,7 @@ fn a_failing_case_is_reported_with_its_log_and_retried_on_the_next_run() {
     assert_eq!(c["done"], 3);
     assert_eq!(c["missing"][0][0], 0);
     // repaired, the next run reruns only the failed case
-    std::fs::write(&cfg, good).unwrap();
+    std::fs::remove_file(&blocker).unwrap();
     let r: serde_json::Value = serde_json::from_str(&ok(&greybox(
         &["-q", "sweep", "run", "sweep.toml", "--out", "o", "--json"],
         d.path(),

@@ -169,6 +169,7 @@ fn a_case_id_that_leaves_the_sweep_is_refused() {
     let victim = d.path().join("victim");
     std::fs::create_dir(&victim).unwrap();
     std::fs::write(victim.join("config.toml"), "mu = 0.3\n").unwrap();
+    let own_id = plan["cases"][0]["id"].clone();
     for (k, bad) in ["../../victim", "/tmp", "a/b", "..", ""].iter().enumerate() {
         plan["cases"][0]["id"] = serde_json::json!(bad);
         std::fs::write(&plan_path, serde_json::to_string_pretty(&plan).unwrap()).unwrap();
@@ -185,7 +186,7 @@ fn a_case_id_that_leaves_the_sweep_is_refused() {
         );
     }
     // a field that would name a plot file outside plots/
-    plan["cases"][0]["id"] = plan["cases"][1]["id"].clone();
+    plan["cases"][0]["id"] = own_id;
     plan["fields"][0] = serde_json::json!("../../x");
     std::fs::write(&plan_path, serde_json::to_string_pretty(&plan).unwrap()).unwrap();
     refused_with(

@@ -151,6 +151,8 @@ pub struct StagedDir {
     guard: Option<CleanupGuard>,
     /// A resumable run's staging directory (`<target>.partial`) outlives an interruption.
     resumable: bool,
+    /// The lock that keeps a second run off the same output while this one writes it.
+    _lock: OutputLock,
 }
 
 /// An existing `target` must be a directory, and empty unless `existing` allows replacing it.
@@ -280,10 +282,12 @@ pub fn output_subdir(parent: &Path, name: &str) -> Result<PathBuf> {
 impl StagedDir {
     /// Start writing the directory `target` (`flag` names it in errors).
     pub fn begin(target: &Path, flag: &str, existing: Existing) -> Result<Self> {
+        let target = &lexical(target);
         refuse_enclosing_dir(target, flag)?;
         check_replaceable_dir(target, flag, existing)?;
         let (parent, name) = split(target)?;
         std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
+        let lock = OutputLock::take(&parent, &name, target)?;
         remove_stale_staging(&parent, &name);
         let mut b = tempfile::Builder::new();
         // the owner's process id in the name: a later run removes the staging directories
@@ -305,6 +309,7 @@ impl StagedDir {
             staging,
             guard: Some(guard),
             resumable: false,
+            _lock: lock,
         })
     }
 
@@ -314,8 +319,11 @@ impl StagedDir {
     /// when there is none, start one there from a checkpoint taken elsewhere); otherwise start
     /// afresh, refusing a left-over partial run unless `existing` is [`Existing::Replace`].
     pub fn resumable(target: &Path, flag: &str, existing: Existing, resume: bool) -> Result<Self> {
+        let target = &lexical(target);
         refuse_enclosing_dir(target, flag)?;
         let (parent, name) = split(target)?;
+        std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
+        let lock = OutputLock::take(&parent, &name, target)?;
         let staging = parent.join(format!("{name}.partial"));
         let there = staging.is_dir();
         if there && !resume {
@@ -337,6 +345,7 @@ impl StagedDir {
             staging,
             guard: None,
             resumable: true,
+            _lock: lock,
         })
     }
 
@@ -388,6 +397,54 @@ impl Drop for StagedDir {
             // nothing to resume: no clutter
             let _ = std::fs::remove_dir(&self.staging);
         }
+    }
+}
+
+/// `path` with its `.` components dropped (`proj/.` is `proj`): the directory a user means,
+/// which can be renamed into place (a path ending in `.` cannot).
+fn lexical(path: &Path) -> PathBuf {
+    let p: PathBuf = path.components().collect();
+    if p.as_os_str().is_empty() {
+        PathBuf::from(".")
+    } else {
+        p
+    }
+}
+
+/// An exclusive lock on one output path for the life of a run: `.NAME.greybox-lock` beside it,
+/// locked with `flock` (released by the system when the process ends, however it ends, so a
+/// killed run never blocks the next) and removed when the run is done. A second run that
+/// would write the same output while the first does is refused, instead of the two leaving a
+/// mix of both.
+#[derive(Debug)]
+struct OutputLock {
+    path: PathBuf,
+    _file: std::fs::File,
+}
+
+impl OutputLock {
+    fn take(parent: &Path, name: &str, target: &Path) -> Result<OutputLock> {
+        let path = parent.join(format!(".{name}.greybox-lock"));
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&path)
+            .map_err(|e| Error::io(&path, e))?;
+        match file.try_lock() {
+            Ok(()) => Ok(OutputLock { path, _file: file }),
+            Err(std::fs::TryLockError::WouldBlock) => Err(Error::input(
+                SourcePos::path(target),
+                "another greybox run is writing this output now: wait for it to finish, or give another output directory",
+            )),
+            Err(std::fs::TryLockError::Error(e)) => Err(Error::io(&path, e)),
+        }
+    }
+}
+
+impl Drop for OutputLock {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.path);
     }
 }
 
@@ -495,6 +552,40 @@ fn exchange(a: &Path, b: &Path) -> std::io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two runs on one output: the second is refused while the first writes, and runs once the
+    /// first is done; `proj/.` is the directory `proj`; no lock file or staging is left.
+    #[test]
+    fn one_run_at_a_time_per_output_and_a_dotted_path_is_its_directory() {
+        let d = tempfile::tempdir().unwrap();
+        let out = d.path().join("proj");
+        let first = StagedDir::begin(&out, "out", Existing::Refuse).unwrap();
+        let e = StagedDir::begin(&out, "out", Existing::Refuse)
+            .err()
+            .expect("a second run refused")
+            .to_string();
+        assert!(
+            e.contains("proj") && e.contains("another greybox run"),
+            "{e}"
+        );
+        let e = StagedDir::resumable(&out, "out", Existing::Refuse, false)
+            .err()
+            .expect("a resumable run refused too")
+            .to_string();
+        assert!(e.contains("another greybox run"), "{e}");
+        std::fs::write(first.path().join("a.txt"), "1").unwrap();
+        first.commit().unwrap();
+        let dotted = d.path().join("proj").join(".");
+        let second = StagedDir::begin(&dotted, "out", Existing::Replace).unwrap();
+        std::fs::write(second.path().join("b.txt"), "2").unwrap();
+        assert_eq!(second.commit().unwrap(), out);
+        assert_eq!(std::fs::read_to_string(out.join("b.txt")).unwrap(), "2");
+        let left: Vec<String> = std::fs::read_dir(d.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(left, ["proj"]);
+    }
 
     #[test]
     fn output_equal_to_an_input_is_refused_also_through_a_hard_link() {
