@@ -420,6 +420,8 @@ fn lexical(path: &Path) -> PathBuf {
 struct OutputLock {
     path: PathBuf,
     _file: std::fs::File,
+    /// Removes the lock file when the run is interrupted (SIGINT, SIGTERM) too.
+    _cleanup: CleanupGuard,
 }
 
 impl OutputLock {
@@ -432,7 +434,11 @@ impl OutputLock {
             .open(&path)
             .map_err(|e| Error::io(&path, e))?;
         match file.try_lock() {
-            Ok(()) => Ok(OutputLock { path, _file: file }),
+            Ok(()) => Ok(OutputLock {
+                _cleanup: cleanup::register(&path, false),
+                path,
+                _file: file,
+            }),
             Err(std::fs::TryLockError::WouldBlock) => Err(Error::input(
                 SourcePos::path(target),
                 "another greybox run is writing this output now: wait for it to finish, or give another output directory",
