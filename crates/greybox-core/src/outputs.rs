@@ -567,16 +567,14 @@ mod tests {
         let out = d.path().join("proj");
         let first = StagedDir::begin(&out, "out", Existing::Refuse).unwrap();
         let e = StagedDir::begin(&out, "out", Existing::Refuse)
-            .err()
-            .expect("a second run refused")
+            .expect_err("a second run refused")
             .to_string();
         assert!(
             e.contains("proj") && e.contains("another greybox run"),
             "{e}"
         );
         let e = StagedDir::resumable(&out, "out", Existing::Refuse, false)
-            .err()
-            .expect("a resumable run refused too")
+            .expect_err("a resumable run refused too")
             .to_string();
         assert!(e.contains("another greybox run"), "{e}");
         std::fs::write(first.path().join("a.txt"), "1").unwrap();

@@ -66,7 +66,11 @@ impl Passes {
 
     /// `forward` or `reverse` for pass `q` (`None` for a test in one direction).
     pub(super) fn direction_name(&self, q: u32) -> Option<&'static str> {
-        (!self.reversals.is_empty()).then_some(if q % 2 == 0 { "forward" } else { "reverse" })
+        (!self.reversals.is_empty()).then_some(if q.is_multiple_of(2) {
+            "forward"
+        } else {
+            "reverse"
+        })
     }
 
     /// Orient the friction force `ft` so that it is positive in every pass: each pass, from
@@ -231,7 +235,7 @@ pub(super) fn pair_passes(
     let mut it = segs.into_iter().enumerate().peekable();
     while let Some((k, s)) = it.next() {
         let pairs_with_next = |(k2, n): &(usize, SegmentReport)| {
-            pass_of[k] % 2 == 0
+            pass_of[k].is_multiple_of(2)
                 && pass_of[*k2] == pass_of[k] + 1
                 && alone(k)
                 && alone(*k2)

@@ -18,14 +18,13 @@ use rand::Rng;
 use rand_distr::{Distribution, StandardNormal};
 
 /// The trace of a constant test of `dur` s at `load` N from μ(t) (t from the start of
-/// sliding), with force noise σ_μ·load of law `law`; unloaded 5 s at each end.
+/// sliding), with force noise σ_μ·load of law `law` (`(σ_μ, law)`); unloaded 5 s at each end.
 fn constant_test(
     name: String,
     clock: &Clock,
     load: f64,
     dur: f64,
-    sigma_mu: f64,
-    law: Noise,
+    (sigma_mu, law): (f64, Noise),
     rng: &mut rand_chacha::ChaCha8Rng,
     mut mu: impl FnMut(f64, &mut rand_chacha::ChaCha8Rng) -> f64,
 ) -> Trace {
@@ -72,8 +71,7 @@ pub fn run_in(seed: u64) -> (Trace, f64, f64) {
         &clock,
         load,
         dur,
-        sigma,
-        law,
+        (sigma, law),
         &mut rng,
         |t, _| mu_inf * (1.0 + amp * (-t / tau).exp()),
     );
@@ -100,8 +98,7 @@ pub fn drifting(seed: u64) -> (Trace, impl Fn(f64) -> f64) {
         &clock,
         load,
         dur,
-        sigma,
-        law,
+        (sigma, law),
         &mut rng,
         |t, rng| {
             let phi = (-(t - last).max(0.0) / tau).exp();
@@ -133,8 +130,7 @@ pub fn stick_slip(seed: u64, with: bool) -> (Trace, f64) {
         &clock,
         load,
         dur,
-        sigma,
-        law,
+        (sigma, law),
         &mut rng,
         |t, _| {
             if with {
