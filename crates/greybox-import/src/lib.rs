@@ -261,6 +261,7 @@ pub fn import_file(path: &Path, opts: &ImportOptions) -> Result<ModelFile> {
 
 /// The greybox model file of an imported model: names with units, domain, interval, hash.
 pub fn model_file(imported: Imported, opts: &ImportOptions) -> Result<ModelFile> {
+    check_options(opts)?;
     let names = feature_names(&imported, opts)?;
     let domain = data::domain(&opts.domain, &names)?;
     let force_to_pressure = force_to_pressure(opts.contact.as_ref(), domain.force_to_pressure)?;
@@ -306,12 +307,6 @@ pub fn model_file(imported: Imported, opts: &ImportOptions) -> Result<ModelFile>
             }
         };
         let pred: Vec<f64> = x.iter().map(|r| file.model.predict_one(r)).collect();
-        if !(opts.coverage > 0.0 && opts.coverage < 1.0) {
-            return Err(Error::invalid(
-                "import",
-                format!("coverage {} is not in (0, 1)", opts.coverage),
-            ));
-        }
         file.prediction_interval = PredictionInterval {
             coverage: opts.coverage,
             half_width: conformal_half_width(&y, &pred, opts.coverage),
@@ -365,6 +360,20 @@ fn r2(y: &[f64], pred: &[f64]) -> f64 {
     1.0 - ss_res / ss_tot
 }
 
+/// The options that hold whatever the model: the target is a fraction, and the coverage lies in
+/// (0, 1) whether or not calibration data come with it (a coverage of 5 is a mistake even
+/// where it is not used yet).
+fn check_options(opts: &ImportOptions) -> Result<()> {
+    check_target_is_a_fraction(&opts.target)?;
+    if !(opts.coverage > 0.0 && opts.coverage < 1.0) {
+        return Err(Error::invalid(
+            "import",
+            format!("coverage {} is not in (0, 1)", opts.coverage),
+        ));
+    }
+    Ok(())
+}
+
 /// A target named in per cent (`cof_pct`, `COF (%)`, `mu_percent`): a friction law gives μ
 /// as a fraction, and greybox cannot tell from the name whether the model predicts 38.5 or
 /// 0.385, so it refuses rather than exporting either without a word.
@@ -394,7 +403,7 @@ fn feature_names(imported: &Imported, opts: &ImportOptions) -> Result<Vec<String
     for (field, name) in std::iter::once(("target", &opts.target)).chain(given) {
         greybox_core::escape::check_name(SourcePos::file("import").field(field), name)?;
     }
-    check_target_is_a_fraction(&opts.target)?;
+
     let names = match (&opts.features, &imported.feature_names) {
         (Some(given), Some(recorded)) if given != recorded => {
             return Err(Error::invalid(
@@ -428,6 +437,19 @@ fn feature_names(imported: &Imported, opts: &ImportOptions) -> Result<Vec<String
 mod tests {
     use super::*;
     use greybox_core::dataset::PressureConvention;
+
+    #[test]
+    fn a_coverage_outside_0_1_is_refused_without_calibration_data_too() {
+        let with = |c: f64| ImportOptions {
+            coverage: c,
+            ..ImportOptions::new(Domain::Stated(Vec::new()))
+        };
+        for c in [0.0, 1.0, 5.0, -0.5, f64::NAN] {
+            let e = check_options(&with(c)).unwrap_err().to_string();
+            assert!(e.contains("coverage") && e.contains("(0, 1)"), "{c}: {e}");
+        }
+        assert!(check_options(&with(DEFAULT_COVERAGE)).is_ok());
+    }
 
     #[test]
     fn a_target_in_per_cent_is_refused() {
