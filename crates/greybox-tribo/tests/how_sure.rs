@@ -2,71 +2,15 @@
 //! its stated level, and every label states its evidence, over many seeds of virtual rigs
 //! (tests/support/sure.rs) whose every free choice is drawn from the seed.
 
+mod glue;
 mod support;
 
-use greybox_core::units;
-use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
-use greybox_tribo::hertz::PinContact;
+use glue::{coverage, identify, plan_of, recording};
+use greybox_tribo::campaign::Identification;
 use greybox_tribo::identify::IdentifyConfig;
 use greybox_tribo::readers::read_recording;
 use greybox_tribo::recording::{ChannelMap, Recording, SpeedTrace};
-use support::sure::{self, Step, Trace};
-
-fn recording(t: &Trace) -> Recording {
-    Recording::new(
-        &t.name,
-        t.time_s.clone(),
-        t.normal_n.clone(),
-        t.tangential_n.clone(),
-    )
-}
-
-fn plan_of(truth: &[Step], with_durations: bool) -> Vec<ExpectedStep> {
-    truth
-        .iter()
-        .map(|t| ExpectedStep {
-            pin: t.pin,
-            step: t.step,
-            normal_force_n: t.normal_force_n,
-            sliding_velocity_m_s: units::m_per_min_to_m_per_s(t.velocity_m_per_min),
-            duration_s: with_durations.then_some(t.duration_s),
-        })
-        .collect()
-}
-
-fn identify(
-    recs: &[Recording],
-    expected: Option<&[ExpectedStep]>,
-    cfg: &IdentifyConfig,
-) -> Identification {
-    let contact = PinContact::default();
-    identify_recordings(
-        recs,
-        &Campaign {
-            expected,
-            plan: None,
-            contact: &contact,
-            cfg,
-            track_radius_mm: &[],
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Share of `hits` over `n`, and a check that it lies in 90–99 %.
-fn coverage(what: &str, hits: usize, n: usize) -> f64 {
-    let share = hits as f64 / n as f64;
-    eprintln!(
-        "{what}: the 95 % interval covers the truth in {hits} of {n} ({:.1} %)",
-        100.0 * share
-    );
-    assert!(n >= 40, "{what}: only {n} intervals");
-    assert!(
-        (0.90..=0.99).contains(&share),
-        "{what}: coverage {share:.3} outside 90–99 %"
-    );
-    share
-}
+use support::sure::{self, Trace};
 
 /// Issue 58's failing case: a continuous velocity staircase per pin, no speed channel, a plan
 /// of loads and velocities without durations, and before the first step nothing, a run-in or

@@ -3,11 +3,11 @@
 //! interval, never a refusal, and is counted as unsettled; a reciprocating test with fewer
 //! than 16 cycles says that it cannot tell; stick-slip is a saw-tooth, never a wander.
 
+mod glue;
 mod support;
 
 use greybox_core::dataset::flags;
-use greybox_tribo::campaign::{identify_recordings, Campaign, Identification};
-use greybox_tribo::hertz::PinContact;
+use greybox_tribo::campaign::Identification;
 use greybox_tribo::identify::IdentifyConfig;
 use greybox_tribo::recording::{Recording, SpeedTrace};
 use support::settle;
@@ -15,42 +15,17 @@ use support::sure::Trace;
 
 /// A constant test with a stated speed of 1 m/s.
 fn recording(t: &Trace) -> Recording {
-    let mut r = Recording::new(
-        &t.name,
-        t.time_s.clone(),
-        t.normal_n.clone(),
-        t.tangential_n.clone(),
-    );
+    let mut r = glue::recording(t);
     r.speed = Some(SpeedTrace::SlidingMPerS(vec![1.0; t.time_s.len()]));
     r
 }
 
 fn identify(recs: &[Recording], cfg: &IdentifyConfig) -> Identification {
-    let contact = PinContact::default();
-    identify_recordings(
-        recs,
-        &Campaign {
-            expected: None,
-            plan: None,
-            contact: &contact,
-            cfg,
-            track_radius_mm: &[],
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"))
+    glue::identify(recs, None, cfg)
 }
 
 fn coverage(what: &str, hits: usize, n: usize) {
-    let share = hits as f64 / n as f64;
-    eprintln!(
-        "{what}: the 95 % interval covers the truth in {hits} of {n} ({:.1} %)",
-        100.0 * share
-    );
-    assert!(n >= 40, "{what}: only {n} intervals");
-    assert!(
-        (0.90..=0.99).contains(&share),
-        "{what}: coverage {share:.3} outside 90–99 %"
-    );
+    glue::coverage(what, hits, n);
 }
 
 /// A test whose μ starts 20–100 % above (or 20–50 % below) its final level and settles over

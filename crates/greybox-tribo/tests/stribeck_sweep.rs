@@ -5,52 +5,22 @@
 //! gives step durations, rest on order alone (and say so) when it does not, and rows resting
 //! on a sliver of the sliding time say so.
 
+mod glue;
 mod support;
 
+use glue::{plan_of, recording};
 use greybox_core::dataset::flags;
-use greybox_core::units;
-use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
-use greybox_tribo::hertz::PinContact;
+use greybox_tribo::campaign::{ExpectedStep, Identification};
 use greybox_tribo::identify::IdentifyConfig;
 use greybox_tribo::recording::Recording;
 use support::stribeck::{sweep, Shape};
-use support::sure::{Step, Trace};
-
-fn recording(t: &Trace) -> Recording {
-    Recording::new(
-        &t.name,
-        t.time_s.clone(),
-        t.normal_n.clone(),
-        t.tangential_n.clone(),
-    )
-}
-
-fn plan_of(truth: &[Step], with_durations: bool) -> Vec<ExpectedStep> {
-    truth
-        .iter()
-        .map(|t| ExpectedStep {
-            pin: t.pin,
-            step: t.step,
-            normal_force_n: t.normal_force_n,
-            sliding_velocity_m_s: units::m_per_min_to_m_per_s(t.velocity_m_per_min),
-            duration_s: with_durations.then_some(t.duration_s),
-        })
-        .collect()
-}
 
 fn identify(rec: &Recording, plan: &[ExpectedStep]) -> Identification {
-    let (contact, cfg) = (PinContact::default(), IdentifyConfig::default());
-    identify_recordings(
+    glue::identify(
         std::slice::from_ref(rec),
-        &Campaign {
-            expected: Some(plan),
-            plan: None,
-            contact: &contact,
-            cfg: &cfg,
-            track_radius_mm: &[],
-        },
+        Some(plan),
+        &IdentifyConfig::default(),
     )
-    .unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn has(flags: &[String], f: &str) -> bool {

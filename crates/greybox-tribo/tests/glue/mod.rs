@@ -1,0 +1,70 @@
+//! What the issue-58 tests share to run greybox on the generated traces of `support` (which
+//! itself never uses greybox_tribo): a trace as a recording, the plan of its truth, one
+//! identification call, and the coverage check of a 95 % interval over seeds.
+#![allow(dead_code)]
+
+use crate::support::sure::{Step, Trace};
+use greybox_core::units;
+use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
+use greybox_tribo::hertz::PinContact;
+use greybox_tribo::identify::IdentifyConfig;
+use greybox_tribo::recording::Recording;
+
+/// A generated trace as a recording (time, normal and friction force; no speed channel).
+pub fn recording(t: &Trace) -> Recording {
+    Recording::new(
+        &t.name,
+        t.time_s.clone(),
+        t.normal_n.clone(),
+        t.tangential_n.clone(),
+    )
+}
+
+/// The plan of a generated truth: its steps in run order, with or without their durations.
+pub fn plan_of(truth: &[Step], with_durations: bool) -> Vec<ExpectedStep> {
+    truth
+        .iter()
+        .map(|t| ExpectedStep {
+            pin: t.pin,
+            step: t.step,
+            normal_force_n: t.normal_force_n,
+            sliding_velocity_m_s: units::m_per_min_to_m_per_s(t.velocity_m_per_min),
+            duration_s: with_durations.then_some(t.duration_s),
+        })
+        .collect()
+}
+
+/// Identification of `recs` with the default contact, against `expected` where given.
+pub fn identify(
+    recs: &[Recording],
+    expected: Option<&[ExpectedStep]>,
+    cfg: &IdentifyConfig,
+) -> Identification {
+    let contact = PinContact::default();
+    identify_recordings(
+        recs,
+        &Campaign {
+            expected,
+            plan: None,
+            contact: &contact,
+            cfg,
+            track_radius_mm: &[],
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Share of `hits` over `n` (at least 40 intervals), and a check that it lies in 90–99 %.
+pub fn coverage(what: &str, hits: usize, n: usize) -> f64 {
+    let share = hits as f64 / n as f64;
+    eprintln!(
+        "{what}: the 95 % interval covers the truth in {hits} of {n} ({:.1} %)",
+        100.0 * share
+    );
+    assert!(n >= 40, "{what}: only {n} intervals");
+    assert!(
+        (0.90..=0.99).contains(&share),
+        "{what}: coverage {share:.3} outside 90–99 %"
+    );
+    share
+}
