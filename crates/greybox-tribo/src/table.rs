@@ -52,6 +52,10 @@ pub struct Table {
     pub headerless: bool,
     /// Lines above the header (instrument metadata), as text.
     pub preamble: Vec<String>,
+    /// Other lines above the data that could be the header (as many names as columns, mostly
+    /// text): (1-based line, names). When the header taken names no channel, the error
+    /// suggests the one of these that does (`header_line` N). Empty for TDMS and forced headers.
+    pub header_alternatives: Vec<(u64, Vec<String>)>,
     /// Non-data lines after the data: (1-based line, text). Reported, not an error.
     pub footer: Vec<(u64, String)>,
     /// Waveform sample interval from the file's own metadata (TDMS `wf_increment`), s.

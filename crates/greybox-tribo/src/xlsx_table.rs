@@ -465,6 +465,7 @@ fn table_from_rows(rows: &[&[Data]], first_row: u64, source: &str, sheet: &str) 
         header_line: row_no(header),
         headerless: false,
         preamble,
+        header_alternatives: Vec::new(),
         footer,
         sample_interval_s: None,
         start_time_s: None,

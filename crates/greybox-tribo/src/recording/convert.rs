@@ -23,7 +23,7 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
     let mut unused = unused_columns(&table, &roles);
     let problems = unresolved(&table, map, &roles);
     if !problems.is_empty() {
-        return Err(unresolved_error(&table, &problems));
+        return Err(unresolved_error(&table, map, &problems));
     }
     let source = table.source.clone();
     let mut report = ReadReport {
@@ -223,7 +223,7 @@ pub(super) fn forces_by_convention(
     unused: &[String],
     report: &mut ReadReport,
 ) -> (Vec<f64>, Vec<f64>) {
-    if median(&normal) < 0.0 {
+    if mostly_negative(&normal) {
         normal.iter_mut().for_each(|v| *v = -*v);
         report
             .notes
@@ -255,6 +255,14 @@ pub(super) fn forces_by_convention(
         report.notes.push(note);
     }
     (normal, ft)
+}
+
+/// Whether more than half the samples are negative: a normal force recorded on a load-cell
+/// axis pointing away from the contact. One counting pass (the median's sign, without
+/// copying and partially sorting a channel of millions of samples).
+fn mostly_negative(values: &[f64]) -> bool {
+    let negative: usize = values.iter().map(|v| usize::from(*v < 0.0)).sum();
+    2 * negative > values.len()
 }
 
 /// A rig's own μ further than this fraction of itself from F_t/F_N (median over the loaded

@@ -1,7 +1,7 @@
 //! Why a role found no column: what was looked for, what the file holds, and the flag that would
 //! map it.
 
-use super::assign::{is_force, looks_like_cof};
+use super::assign::{assign_roles, is_force, looks_like_cof};
 use super::channel_map::ChannelMap;
 use super::convert::example_unit;
 use super::roles::Role;
@@ -140,8 +140,38 @@ pub(super) fn unresolved(
     out
 }
 
-/// One error for everything unresolved, with each role's candidates and the flags to pass.
-pub(super) fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error {
+/// A line above the data that names channels the header taken leaves unresolved (a garbled
+/// preamble or separator line sat between the header and the data): the sentence that
+/// points to the one that leaves the fewest roles unresolved with `header_line` N; empty when
+/// none does better than the header taken, or the user chose the header.
+fn naming_line(table: &Table, map: &ChannelMap, unresolved_now: usize) -> String {
+    if map.reader.header_line.is_some() {
+        return String::new();
+    }
+    let left_unresolved = |names: &[String]| {
+        let mut t = table.clone();
+        t.name_columns(names).ok()?;
+        let roles = assign_roles(&t, map).ok()?;
+        Some(unresolved(&t, map, &roles).len())
+    };
+    table
+        .header_alternatives
+        .iter()
+        .filter_map(|(line, names)| Some((left_unresolved(names)?, line, names)))
+        .filter(|(left, _, _)| *left < unresolved_now)
+        .min_by_key(|(left, _, _)| *left)
+        .map_or(String::new(), |(_, line, names)| {
+            format!(
+                "line {line} names the columns ({}), not line {} that was taken as the header: if line {line} is the header, give `header_line` {line}. As read, ",
+                names.join(", "),
+                table.header_line
+            )
+        })
+}
+
+/// One error for everything unresolved, with each role's candidates and the flags to pass,
+/// and the line that names the columns when it is not the one taken as the header.
+pub(super) fn unresolved_error(table: &Table, map: &ChannelMap, problems: &[Unresolved]) -> Error {
     let lines: Vec<String> = problems
         .iter()
         .map(|u| {
@@ -167,7 +197,8 @@ pub(super) fn unresolved_error(table: &Table, problems: &[Unresolved]) -> Error 
     Error::input(
         SourcePos::file(&table.source).line(table.header_line),
         format!(
-            "{} channel(s) unresolved (the header has: {}):\n{}\npass them together: {} (or name the rig with `rig` NAME; `rig` list lists the profiles)",
+            "{}{} channel(s) unresolved (the header has: {}):\n{}\npass them together: {} (or name the rig with `rig` NAME; `rig` list lists the profiles)",
+            naming_line(table, map, problems.len()),
             problems.len(),
             table.header_list(),
             lines.join("\n"),

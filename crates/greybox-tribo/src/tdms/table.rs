@@ -115,6 +115,7 @@ pub fn table_from_tdms(mut file: TdmsFile, group: Option<&str>) -> Result<Table>
         header_line: 0,
         headerless: false,
         preamble: Vec::new(),
+        header_alternatives: Vec::new(),
         footer: Vec::new(),
         sample_interval_s: interval,
         start_time_s: start,

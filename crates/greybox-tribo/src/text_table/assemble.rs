@@ -7,7 +7,9 @@ use super::header::{
     check_head_line_lengths, check_units_row, head_lines, header_at, resolve_header, Header, Layout,
 };
 use super::options::{Delimiter, TextOptions};
-use super::sniff::{choose_layout, header_names, mostly_text, shape, units_row, Candidate};
+use super::sniff::{
+    choose_layout, header_names, mostly_text, other_header_lines, shape, units_row, Candidate,
+};
 use crate::table::{unit_token, Column, ColumnData, Table};
 use greybox_core::{Error, Result, SourcePos};
 use rayon::prelude::*;
@@ -130,6 +132,7 @@ pub(super) fn parse_in_chunks(
         // computed from it (header + 1 + row) stay right
         header_line: line.unwrap_or(head[c.data].number - 1),
         headerless: line.is_none(),
+        header_alternatives: other_header_lines(&head, &c),
         preamble,
         footer: regions.footer,
         sample_interval_s: None,
@@ -381,7 +384,15 @@ pub(super) fn region_error(
                 clip(&names.join(", "))
             )
         };
-        (o.line, format!("a new block of the table starts here, but {what}; every block must have the same columns"))
+        let suggestion = if names == key.names {
+            String::new()
+        } else {
+            format!(
+                " (if line {} is the header and the lines above it are the file's preamble, give `header_line` {})",
+                o.line, o.line
+            )
+        };
+        (o.line, format!("a new block of the table starts here, but {what}; every block must have the same columns{suggestion}"))
     } else if let Some(k) = last.wrong {
         let msg = format!(
             "malformed row: expected {} fields, found {k} ({}-delimited, {})",

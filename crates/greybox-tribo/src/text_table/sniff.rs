@@ -1,7 +1,7 @@
 //! Dialect sniffing and header detection: the delimiter and decimal comma that give the longest run
 //! of numeric rows, the header line above it, or none (a headerless log).
 
-use super::fields::{is_blank, parse_number, split_fields, split_header, trim, Line};
+use super::fields::{clip, is_blank, parse_number, split_fields, split_header, trim, Line};
 use super::options::{Delimiter, TextOptions, CONFIRM_ROWS, SNIFF_LINES};
 use crate::table::is_unit_token;
 use greybox_core::{Error, Result, SourcePos};
@@ -175,6 +175,28 @@ pub(super) fn find_header(
     (header_ok(last).then_some(last), None)
 }
 
+/// The other lines above the data that could name its columns: not numeric, mostly text, as
+/// many names as the data has fields, neither the header taken nor its units row. When the
+/// header taken (the last such line above the data) names no channel, one of these may (a
+/// garbled or separator line between the header and the data): (1-based line, names).
+pub(super) fn other_header_lines(lines: &[Line], c: &Candidate) -> Vec<(u64, Vec<String>)> {
+    let mut spans = Vec::new();
+    lines[..c.data]
+        .iter()
+        .enumerate()
+        .filter(|&(i, l)| {
+            Some(i) != c.header
+                && Some(i) != c.units
+                && !is_blank(l.text)
+                && numeric_row(l.text, c.delimiter, c.decimal_comma, &mut spans).is_none()
+                && mostly_text(l.text, c.delimiter, c.decimal_comma)
+                && !units_row(l.text, c.delimiter)
+        })
+        .map(|(_, l)| (l.number, header_names(l.text, c.delimiter)))
+        .filter(|(_, names)| names.len() == c.fields)
+        .collect()
+}
+
 /// Find header and data start for one delimiter among the first lines.
 pub(super) fn sniff(
     lines: &[Line],
@@ -268,10 +290,19 @@ pub(super) fn choose_layout(lines: &[Line], opts: &TextOptions, source: &str) ->
         )
     })?;
     if c.header.is_none() && !headerless(lines, &c) {
+        let candidate = other_header_lines(lines, &c).pop().map_or(
+            "N for the header's line".to_string(),
+            |(line, names)| {
+                format!(
+                    "{line} if line {line} ({}) is the header",
+                    clip(&names.join(", "))
+                )
+            },
+        );
         return Err(Error::input(
             SourcePos::file(source).line(lines[c.data].number),
             format!(
-                "found {}-delimited numeric data from line {} in {} columns, but the lines above it are not a header that names them (nor comments above a file of numbers only); give `header_line` N for the header's line",
+                "found {}-delimited numeric data from line {} in {} columns, but the lines above it are not a header that names them (nor comments above a file of numbers only); give `header_line` {candidate}",
                 c.delimiter.name(),
                 lines[c.data].number,
                 c.fields
