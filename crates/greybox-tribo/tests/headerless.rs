@@ -323,3 +323,31 @@ fn quoted_headers_and_values_with_the_delimiter() {
     assert_eq!(rec.normal_n, [10.5; 3]);
     assert_eq!(rec.tangential_n, [1.5, 1.25, 1.0]);
 }
+
+/// A rig that logs only its μ, one number per line, with or without a header: read with the
+/// sample rate and the dead weight stated, F_t = μ·F_N; without them, the error names both.
+#[test]
+fn a_one_column_cof_log_reads_with_its_rate_and_load() {
+    let dir = tempfile::tempdir().unwrap();
+    let mu = [0.31, 0.32, 0.30, 0.33];
+    for (name, head) in [("cof.csv", "COF\r\n"), ("mu.txt", "")] {
+        let text: String =
+            head.to_string() + &mu.iter().map(|m| format!("{m}\r\n")).collect::<String>();
+        let p = write(&dir, name, text.as_bytes());
+        let map = ChannelMap {
+            sample_rate_hz: Some(50.0),
+            constant_normal_n: Some(10.0),
+            ..map_of(if head.is_empty() { &["cof=#1"] } else { &[] })
+        };
+        let rec = read_recording(&p, &map).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(rec.normal_n, [10.0; 4], "{name}");
+        let ft: Vec<f64> = mu.iter().map(|m| m * 10.0).collect();
+        assert_eq!(rec.tangential_n, ft, "{name}");
+        assert_eq!(rec.time_s, [0.0, 0.02, 0.04, 0.06], "{name}");
+        let e = read_recording(&p, &map_of(&[])).unwrap_err().to_string();
+        assert!(
+            e.contains("sample_rate_hz") && e.contains("constant_normal_force_N"),
+            "{name}: {e}"
+        );
+    }
+}

@@ -154,7 +154,10 @@ pub(super) struct Layout<'a> {
 impl Layout<'_> {
     /// The layout in words, for reports: "semicolon-delimited, decimal comma, header on line 3, …".
     pub(super) fn describe(&self) -> String {
-        let mut layout = format!("{}-delimited", self.c.delimiter.name());
+        let mut layout = match self.c.fields {
+            1 => "one column".to_string(),
+            _ => format!("{}-delimited", self.c.delimiter.name()),
+        };
         for (on, what) in [
             (self.c.decimal_comma, "decimal comma"),
             (self.trailing, "trailing delimiter"),

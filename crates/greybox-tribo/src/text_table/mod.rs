@@ -179,6 +179,25 @@ mod tests {
         assert!(e.contains("line 3") && e.contains("no header line"), "{e}");
     }
 
+    /// A log of one column (only the rig's μ, one number per line) is a table of one column,
+    /// with or without a header and CRLF; numbers in a preamble above a table of several
+    /// columns never become a one-column table.
+    #[test]
+    fn one_column_logs() {
+        let t = parse("COF\r\n0.31\r\n0.32\r\n\r\n0.30\r\n").unwrap();
+        assert_eq!(t.columns.len(), 1);
+        assert_eq!(t.columns[0].name, "COF");
+        assert_eq!(col(&t, 0), &[0.31, 0.32, 0.30]);
+        assert!(t.layout.starts_with("one column"), "{}", t.layout);
+        let t = parse("0.31\n0.32\n").unwrap();
+        assert!(t.headerless && t.columns.len() == 1, "{}", t.layout);
+        let t = parse("Serial\n12345\n67890\nTime,Fz,Fx\n0,1,2\n1,1,2\n2,1,2\n").unwrap();
+        assert_eq!(t.columns.len(), 3, "{}", t.layout);
+        assert_eq!(t.header_line, 4);
+        // a single number below a header of several names is no one-column table
+        assert!(parse("Time,Fz\n1\n2\n3\n").is_err());
+    }
+
     /// A forced header line is taken even where sniffing would choose another layout, and a
     /// forced line that is no header is an error naming it, never ignored.
     #[test]

@@ -137,6 +137,43 @@ pub(super) fn confirmed_run(
     (core >= 2 && (k >= 2 || (k == 1 && ended))).then_some((core, raw))
 }
 
+/// A log of one column (a rig that writes only its μ, one number per line): from line `i` to
+/// the last line looked at, every non-blank line is one number, at least two of them. Taken
+/// only when no run of several fields exists, so numbers in a preamble (a serial number, a
+/// setting per line) never hide the table below them: (1, raw).
+pub(super) fn single_column_run(
+    lines: &[Line],
+    numeric: &[Option<Shape>],
+    i: usize,
+) -> Option<(usize, usize)> {
+    numeric[i].filter(|s| s.core == 1)?;
+    let mut raw = usize::MAX;
+    let mut rows = 0;
+    for (j, l) in lines.iter().enumerate().skip(i) {
+        if is_blank(l.text) {
+            continue;
+        }
+        let s = numeric[j].filter(|s| s.core == 1)?;
+        raw = raw.min(s.raw);
+        rows += 1;
+    }
+    (rows >= 2).then_some((1, raw))
+}
+
+/// A line that a comma, semicolon or tab splits into several names (a header of several
+/// columns; spaces do not count, `Friction coefficient` is one name).
+fn names_several(text: &[u8]) -> bool {
+    [Delimiter::Comma, Delimiter::Semicolon, Delimiter::Tab]
+        .into_iter()
+        .any(|d| {
+            header_names(text, d)
+                .iter()
+                .filter(|n| !n.is_empty())
+                .count()
+                > 1
+        })
+}
+
 /// Header (and units row) above the data line `data`: the last non-blank line above it, or
 /// the one above that when that last line is a units row. A header is not numeric, mostly
 /// text, and names between `core` and `raw` columns (any number when forced).
@@ -210,9 +247,17 @@ pub(super) fn sniff(
         .map(|l| numeric_row(l.text, d, dc, &mut spans))
         .collect();
     let start = forced_header.map_or(0, |h| h + 1);
-    let data = (start..lines.len()).find(|&i| confirmed_run(lines, &numeric, i).is_some())?;
-    let (core, raw) = confirmed_run(lines, &numeric, data)?;
+    let (data, (core, raw)) = (start..lines.len())
+        .find_map(|i| Some((i, confirmed_run(lines, &numeric, i)?)))
+        .or_else(|| {
+            (start..lines.len()).find_map(|i| Some((i, single_column_run(lines, &numeric, i)?)))
+        })?;
     let (header, units) = find_header(lines, &numeric, data, (d, dc), forced_header, (core, raw));
+    if core == 1 && header.is_some_and(|h| names_several(lines[h].text)) && forced_header.is_none()
+    {
+        // a header of several names over one number per line is no one-column log
+        return None;
+    }
     let fields = header
         .map(|h| header_names(lines[h].text, d).len())
         .filter(|n| (core..=raw).contains(n))
