@@ -311,6 +311,46 @@ fn an_impossible_force_is_refused_where_it_is_read() {
     assert!(!e.contains("zero or negative"), "{e}");
 }
 
+/// A speed channel labelled m/s that holds mm/s (100) or rpm (191) is said where it is read,
+/// with the slip, whatever labels the rows later (a plan's speeds or the channel's); one beyond
+/// any rig (500 m/s) is refused naming the channel and the sample. Speeds a rig runs at pass
+/// without a word.
+#[test]
+fn a_speed_channel_in_another_unit_is_said_where_it_is_read() {
+    let file = |top: f64| {
+        let mut s = String::from("Time (s),Fn (N),Ft (N),Speed (m/s)\n");
+        for k in 0..40 {
+            let v = if k < 5 {
+                0.0
+            } else {
+                top * (1.0 - 0.001 * k as f64)
+            };
+            s.push_str(&format!("{},20,6,{v}\n", k as f64 * 0.1));
+        }
+        write("speed.csv", &s)
+    };
+    for (top, slip) in [(100.0, "mm/s read as m/s"), (191.0, "rpm read as m/s")] {
+        let (_d, p) = file(top);
+        let r = read_recording(&p, &ChannelMap::default()).unwrap();
+        let warnings = r.provenance.unwrap().warnings.join("\n");
+        assert!(
+            warnings.contains(slip) && warnings.contains("sample 5"),
+            "{top}: {warnings}"
+        );
+    }
+    let (_d, p) = file(500.0);
+    let e = read_recording(&p, &ChannelMap::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("speed.csv") && e.contains("speed") && e.contains("possible range"),
+        "{e}"
+    );
+    let (_d, p) = file(2.5);
+    let r = read_recording(&p, &ChannelMap::default()).unwrap();
+    assert!(r.provenance.unwrap().warnings.is_empty());
+}
+
 /// `sample_rate_hz` beside a time column: the column is the time, and the report says so —
 /// a note where they agree, a warning naming both where they do not (never silently one).
 #[test]

@@ -9,6 +9,7 @@ use super::types::{FoundBy, MappedColumn, ReadReport, Recording, SpeedTrace};
 use super::unitless::{assume_friction_unit, settle_assumed, unused_columns};
 use crate::signal::median;
 use crate::table::{Column, Table};
+use greybox_core::physics::Quantity;
 use greybox_core::units::{ForceUnit, LengthUnit, SpeedUnit, TimeUnit};
 use greybox_core::{Error, Result, SourcePos};
 use rayon::prelude::*;
@@ -85,7 +86,12 @@ pub fn recording_from_table(mut table: Table, map: &ChannelMap) -> Result<Record
         }
         None => time_from_rate(&table, map, n, &mut report)?,
     };
-    let speed = speed_trace(take(Role::Speed).map(|c| c.1), map, n, &mut report);
+    let recorded_speed = take(Role::Speed).map(|c| c.1);
+    let speed_was_recorded = recorded_speed.is_some();
+    let speed = speed_trace(recorded_speed, map, n, &mut report);
+    if let (Some(SpeedTrace::SlidingMPerS(v)), true) = (&speed, speed_was_recorded) {
+        check_sliding_speed(v, &source, &mut report)?;
+    }
     let rec = Recording {
         source: source.clone(),
         time_s,
@@ -180,6 +186,29 @@ pub(super) fn speed_trace(
         "no speed column: the stated constant sliding velocity {v} m/s at every sample"
     ));
     Some(SpeedTrace::SlidingMPerS(vec![v; n]))
+}
+
+/// A sliding-speed channel against the physics table where it is read, with or without a
+/// plan (a plan's speeds label the rows, the channel still aligns and checks them): a largest
+/// sample beyond any rig (200 m/s) is refused, one beyond the usual range (20 m/s) is a
+/// warning of the read report with the likely unit slip (mm/s or rpm labelled m/s), naming
+/// the sample. Samples are finite here (the table's reader refused the others).
+fn check_sliding_speed(v: &[f64], source: &str, report: &mut ReadReport) -> Result<()> {
+    let largest = super::types::largest_magnitude(v);
+    if largest <= *Quantity::SlidingVelocity.usual().end() {
+        return Ok(());
+    }
+    let i = v.iter().position(|x| x.abs() == largest).unwrap_or(0);
+    let what = format!("the speed channel's sample {i}");
+    match greybox_core::physics::check(Quantity::SlidingVelocity, largest, &what) {
+        Ok(flag) => {
+            if let Some(flag) = flag {
+                report.warnings.push(flag.text);
+            }
+            Ok(())
+        }
+        Err(text) => Err(Error::input(SourcePos::file(source).field("speed"), text)),
+    }
 }
 
 /// A file of blocks (each with its own settings and header, as UMT and PCS exports write one

@@ -94,6 +94,14 @@ pub enum FoundBy {
 
 greybox_core::choice!(FoundBy, "how", [Mapped => "mapped", Auto => "auto"]);
 
+/// The largest |value| of a channel whose samples are known finite: a parallel branch-free
+/// screen (the sample itself is looked for only when a message needs it).
+pub(crate) fn largest_magnitude(ch: &[f64]) -> f64 {
+    ch.par_chunks(1 << 14)
+        .map(|b| b.iter().fold(0.0f64, |m, v| m.max(v.abs())))
+        .reduce(|| 0.0, f64::max)
+}
+
 impl Recording {
     /// A recording of time and the two forces only.
     pub fn new(source: &str, time_s: Vec<f64>, normal_n: Vec<f64>, tangential_n: Vec<f64>) -> Self {
@@ -180,12 +188,7 @@ impl Recording {
             ("normal", Quantity::NormalForce, &self.normal_n),
             ("tangential", Quantity::TangentialForce, &self.tangential_n),
         ] {
-            // a parallel branch-free screen (the samples are already known finite); the
-            // sample is looked for only when the file is refused
-            let largest = ch
-                .par_chunks(1 << 14)
-                .map(|b| b.iter().fold(0.0f64, |m, v| m.max(v.abs())))
-                .reduce(|| 0.0, f64::max);
+            let largest = largest_magnitude(ch);
             if !q.hard().contains(&largest) {
                 let i = ch.iter().position(|v| v.abs() == largest).unwrap_or(0);
                 let what = format!("sample {i}");
