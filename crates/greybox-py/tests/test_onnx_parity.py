@@ -64,6 +64,9 @@ def test_converted_sklearn_models_agree_with_onnxruntime(name, data, queries, tm
     path = tmp_path / "m.onnx"
     path.write_bytes(onx)
     model = gb.from_onnx(path, features=FEATURES, X_train=X)
+    if name in ("random-forest", "gradient-boosting"):
+        # an average of trees is a forest, a sum of trees is boosting
+        assert model.family == name
     ref = run_ort(onx, P)
     ours = model.predict(P).value
     # The runtime computes in float32: its error grows with the magnitude of the terms it

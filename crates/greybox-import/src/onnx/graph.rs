@@ -11,6 +11,21 @@ pub struct Constant {
     pub values: Vec<f64>,
 }
 
+/// The most values a constant tensor of an imported model may hold (2²⁴: an MLP of a few
+/// thousand weights or a scaler holds far fewer; a shape beyond this is a damaged file, refused
+/// before its values are allocated).
+pub const MAX_TENSOR_VALUES: usize = 1 << 24;
+
+/// A tensor's dimensions: each at least 0 (a negative one is a damaged file, never read as 0).
+fn tensor_dims(name: &str, dims: &[i64]) -> Result<Vec<usize>, String> {
+    dims.iter()
+        .map(|d| {
+            usize::try_from(*d)
+                .map_err(|_| format!("tensor '{name}' has a negative dimension {d} in {dims:?}"))
+        })
+        .collect()
+}
+
 /// The values of a tensor as f64 (float, double, int32, int64; inline or raw little-endian).
 pub fn tensor_values(t: &TensorProto) -> Result<Constant, String> {
     let name = t.name.clone().unwrap_or_default();
@@ -19,8 +34,29 @@ pub fn tensor_values(t: &TensorProto) -> Result<Constant, String> {
             "tensor '{name}' is stored in an external file (not supported)"
         ));
     }
-    let dims: Vec<usize> = t.dims.iter().map(|d| (*d).max(0) as usize).collect();
+    let dims = tensor_dims(&name, &t.dims)?;
+    let n = dims
+        .iter()
+        .try_fold(1usize, |a, d| a.checked_mul(*d))
+        .filter(|n| *n <= MAX_TENSOR_VALUES)
+        .ok_or_else(|| {
+            format!(
+                "tensor '{name}' has shape {dims:?}: more than {MAX_TENSOR_VALUES} values, beyond any friction model (a damaged or foreign file)"
+            )
+        })?;
     let raw = t.raw_data.as_deref().unwrap_or(&[]);
+    // the stated shape against the bytes held, before anything is allocated
+    let width = match t.data_type.unwrap_or(0) {
+        data_type::FLOAT | data_type::INT32 => 4,
+        _ => 8,
+    };
+    if !raw.is_empty() && raw.len() != n * width {
+        return Err(format!(
+            "tensor '{name}': {} bytes of raw data for shape {dims:?} ({} values of {width} bytes)",
+            raw.len(),
+            n
+        ));
+    }
     let values: Vec<f64> = match t.data_type.unwrap_or(0) {
         data_type::FLOAT if !raw.is_empty() => raw
             .chunks_exact(4)
@@ -44,7 +80,6 @@ pub fn tensor_values(t: &TensorProto) -> Result<Constant, String> {
             ))
         }
     };
-    let n: usize = dims.iter().product();
     if values.len() != n {
         return Err(format!(
             "tensor '{name}': {} values for shape {dims:?}",
@@ -207,4 +242,42 @@ pub fn input_type(g: &GraphProto) -> Option<i32> {
         .and_then(|i| i.r#type.as_ref())
         .and_then(|t| t.tensor_type.as_ref())
         .and_then(|t| t.elem_type)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tensor(dims: &[i64], raw: Vec<u8>) -> TensorProto {
+        TensorProto {
+            dims: dims.to_vec(),
+            data_type: Some(data_type::FLOAT),
+            name: Some("W".into()),
+            raw_data: Some(raw),
+            ..Default::default()
+        }
+    }
+
+    /// Shapes that overflow, exceed the bound or go negative, and raw data of another length
+    /// than the shape states, are refused before anything is allocated for their values.
+    #[test]
+    fn tensor_shapes_are_bounded_before_allocation() {
+        let e = tensor_values(&tensor(&[1 << 40, 1 << 40], vec![0; 8])).unwrap_err();
+        assert!(e.contains("tensor 'W'") && e.contains("more than"), "{e}");
+        let e = tensor_values(&tensor(&[75_000_000], vec![0; 16])).unwrap_err();
+        assert!(e.contains("more than 16777216 values"), "{e}");
+        let e = tensor_values(&tensor(&[2, -3], vec![0; 8])).unwrap_err();
+        assert!(e.contains("negative dimension -3"), "{e}");
+        let e = tensor_values(&tensor(&[4], vec![0; 8])).unwrap_err();
+        assert!(e.contains("8 bytes of raw data for shape [4]"), "{e}");
+        let ok = tensor_values(&tensor(
+            &[2],
+            [1.5f32, -2.0]
+                .iter()
+                .flat_map(|v| v.to_le_bytes())
+                .collect(),
+        ))
+        .unwrap();
+        assert_eq!(ok.values, [1.5, -2.0]);
+    }
 }

@@ -14,7 +14,7 @@ use super::Elementwise;
 use crate::trees::{boundary, ArrayTree};
 use greybox_model::family::{Family, FittedModel};
 use greybox_model::tree::TreeEnsemble;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 /// The node arrays of the operator.
 struct Nodes {
@@ -88,17 +88,25 @@ fn preprocess(pre: &[Elementwise], f: usize, x: f64) -> f64 {
     })
 }
 
-/// One tree's arrays in greybox's left/right convention with exact raw-input boundaries.
+/// The node indices of each tree, trees in increasing id, nodes in file order: one pass over
+/// the node arrays (a graph of many trees imports in time linear in its size).
+fn nodes_by_tree(nodes: &Nodes) -> BTreeMap<i64, Vec<usize>> {
+    let mut by_tree: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
+    for (k, t) in nodes.tree.iter().enumerate() {
+        by_tree.entry(*t).or_default().push(k);
+    }
+    by_tree
+}
+
+/// One tree's arrays in greybox's left/right convention with exact raw-input boundaries;
+/// `idx` are the tree's node indices.
 fn tree(
     nodes: &Nodes,
-    t: i64,
+    (t, idx): (i64, &[usize]),
     pre: &[Elementwise],
     float_input: bool,
     n_features: usize,
 ) -> Result<Vec<greybox_model::tree::Node>, String> {
-    let idx: Vec<usize> = (0..nodes.tree.len())
-        .filter(|&k| nodes.tree[k] == t)
-        .collect();
     let pos: HashMap<i64, usize> = idx
         .iter()
         .enumerate()
@@ -109,7 +117,7 @@ fn tree(
     }
     let (mut left, mut right, mut feature, mut threshold, mut value) =
         (vec![], vec![], vec![], vec![], vec![]);
-    for &k in &idx {
+    for &k in idx {
         let child = |id: i64| {
             pos.get(&id).map(|p| *p as i64).ok_or_else(|| {
                 format!("tree {t}: node {} points to missing node {id}", nodes.id[k])
@@ -174,13 +182,12 @@ pub fn convert(
     let nodes = read(&a)?;
     let n_features = nodes.feature.iter().copied().max().unwrap_or(0).max(0) as usize + 1;
     Elementwise::check_covers(pre, n_features)?;
-    let mut trees = nodes.tree.clone();
-    trees.sort_unstable();
-    trees.dedup();
+    let trees = nodes_by_tree(&nodes);
     let base = a.floats("base_values")?.first().copied().unwrap_or(0.0);
-    let scale = match a.string("aggregate_function", "SUM").as_str() {
-        "SUM" => 1.0,
-        "AVERAGE" => 1.0 / trees.len() as f64,
+    // a sum of trees is boosting; an average of trees is a forest
+    let (scale, family) = match a.string("aggregate_function", "SUM").as_str() {
+        "SUM" => (1.0, Family::GradientBoosting),
+        "AVERAGE" => (1.0 / trees.len() as f64, Family::RandomForest),
         other => {
             return Err(format!(
                 "TreeEnsembleRegressor aggregate_function {other} is not supported"
@@ -189,12 +196,8 @@ pub fn convert(
     };
     let float_input = pre.iter().any(|e| matches!(e, Elementwise::ToF32));
     let mut ens = TreeEnsemble::new(n_features, base, scale);
-    for t in trees {
-        ens.push_tree(tree(&nodes, t, pre, float_input, n_features)?, 0);
+    for (t, idx) in &trees {
+        ens.push_tree(tree(&nodes, (*t, idx), pre, float_input, n_features)?, 0);
     }
-    Ok((
-        FittedModel::TreeEnsemble(ens),
-        Family::GradientBoosting,
-        n_features,
-    ))
+    Ok((FittedModel::TreeEnsemble(ens), family, n_features))
 }
