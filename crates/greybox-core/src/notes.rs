@@ -47,6 +47,22 @@ pub fn note(text: impl Into<String>) {
     }
 }
 
+/// Run `f` in a call of its own and return what it said, in order (a library caller that
+/// shows notes its own way; tests).
+pub fn collected<R>(f: impl FnOnce() -> R) -> (R, Vec<String>) {
+    let notes = Notes::default();
+    let scope = CallScope {
+        notes: Some(notes.clone()),
+        ..Default::default()
+    };
+    let r = {
+        let _in = scope.enter();
+        f()
+    };
+    let said = std::mem::take(&mut *notes.lock().unwrap_or_else(|e| e.into_inner()));
+    (r, said)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

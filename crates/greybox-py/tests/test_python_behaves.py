@@ -9,6 +9,7 @@ import subprocess
 import sys
 import threading
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -170,6 +171,24 @@ def test_a_law_refuses_states_no_contact_has(model, tmp_path):
     ]:
         with pytest.raises(gb.GreyboxError, match=text.replace("[", r"\[").replace("]", r"\]")):
             call()
+
+
+def test_an_export_grid_outside_the_models_domain_is_said(model, tmp_path):
+    """The Pa/MPa slip SI arguments invite: a grid of MPa numbers given as Pa is possible
+    physics, but lies entirely outside the model's domain: a warning naming the factor, and
+    the report's `domain` field counts the points; a grid inside says nothing."""
+    m = model[0]
+    d = m.law().domain
+    assert d is not None
+    p = [d["pressure_pa"]["min"], d["pressure_pa"]["max"]]
+    v = [d["sliding_velocity_m_s"]["min"], d["sliding_velocity_m_s"]["max"]]
+    with pytest.warns(gb.UnusualValueWarning, match="multiplied by 1000000"):
+        r = gb.export_table(m, "csv", tmp_path / "slip.csv", pressure_Pa=[x / 1e6 for x in p], velocity_m_per_s=v)
+    assert r["domain"]["points_outside"] == r["domain"]["grid_points"] > 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        r = gb.export_table(m, "csv", tmp_path / "in.csv", pressure_Pa=p, velocity_m_per_s=v)
+    assert r["domain"]["points_outside"] == 0
 
 
 SNIPPET = """

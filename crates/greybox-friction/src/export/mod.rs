@@ -42,6 +42,7 @@
 //! # Ok::<(), greybox_core::Error>(())
 //! ```
 
+pub mod domain;
 pub mod engine;
 pub mod write;
 

@@ -41,6 +41,9 @@ pub struct ExportReport {
     pub bytes: usize,
     /// What the user should know (a table too big for an engine to read quickly).
     pub warnings: Vec<String>,
+    /// The grid against the law's validity domain (`None`: the law has none, a classical
+    /// law); points outside it are the law's extrapolation, and said as a note.
+    pub domain: Option<super::domain::GridAgainstDomain>,
 }
 
 /// A table as text with its report (`line`, `bytes` and `warnings` left for the caller,
@@ -74,6 +77,8 @@ pub fn table_text(law: &dyn FrictionLaw, spec: &TableSpec) -> Result<TableText> 
         written.report.shape.iter().product(),
         spec.max_table_size.get(),
     )?;
+    let mut written = written;
+    written.report.domain = super::domain::check_grid(law, &spec.grid);
     Ok(written)
 }
 
@@ -180,6 +185,7 @@ fn engine_report(e: Exported) -> TableText {
         check_points: e.deviation.map_or(0, |d| d.points),
         shape,
         exact_steps: e.table.exact_steps,
+        domain: None,
     };
     TableText {
         text: e.text,
@@ -278,6 +284,7 @@ fn surrogate_table(
         check_points: check_points.unwrap_or(0),
         shape,
         exact_steps: t.kind() == TableKind::Exact,
+        domain: None,
     };
     Ok(TableText {
         text: t.to_json()?,
