@@ -254,7 +254,7 @@ fn settings_defaults(stage: &str) -> PyResult<String> {
         "synth" => to_json(&SynthSettings::default()),
         "hertz" => to_json(&HertzSettings::default()),
         "plan" => to_json(&PlanSettings::default()),
-        "fit" => to_json(&FitSettings::default()),
+        "fit" => to_json(&FitSettings::shown_defaults()),
         "adhesive" => to_json(&AdhesiveSettings::default()),
         "pin" => to_json(&PinSettings::default()),
         "output" => to_json(&RunOutput::default()),

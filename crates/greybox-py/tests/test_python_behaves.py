@@ -13,6 +13,7 @@ import warnings
 
 import numpy as np
 import pytest
+from sklearn.linear_model import LinearRegression
 
 import greybox as gb
 
@@ -114,6 +115,12 @@ def _bad_calls(tmp_path, model):
         (lambda: m.save(None), "path"),
         (lambda: m.law().mu(p, {"a": 1}), "velocity_m_per_s"),
         (lambda: gb.Model.from_json(12), "text"),
+        (lambda: gb.grey_box_law("m.json", "l.json", blend_fraction=float("nan")), "blend_fraction"),
+        (lambda: gb.grey_box_law("m.json", "l.json", mu_max=float("inf")), "mu_max"),
+        (lambda: gb.from_sklearn(LinearRegression(), features=["pressure_Pa", "velocity_m_per_s"]), "estimator"),
+        (lambda: gb.from_sklearn("a regressor", features=["pressure_Pa", "velocity_m_per_s"]), "estimator"),
+        (lambda: gb.from_xgboost(object(), features=["pressure_Pa", "velocity_m_per_s"]), "booster"),
+        (lambda: gb.from_onnx(12, features=["pressure_Pa", "velocity_m_per_s"]), "model"),
     ]
 
 
@@ -226,3 +233,10 @@ def test_numpy_arrays_type_check_with_mypy(tmp_path):
     # and the hints are read (a wrong argument type is caught, not passed as Any)
     r = mypy(tmp_path, SNIPPET + "m.mu(p, v, margin='wide')\n")
     assert r.returncode == 1 and 'Argument "margin"' in r.stdout, r.stdout + r.stderr
+
+
+def test_fits_docstring_states_the_librarys_numeric_defaults():
+    """The numbers `fit`'s docstring gives for its `None` defaults are the library's."""
+    d = gb.settings_defaults("fit")
+    for key in ("folds", "inner_folds", "seed", "bootstrap", "importance_repeats"):
+        assert f"{key} {d[key]}" in gb.fit.__doc__, (key, d[key])

@@ -138,6 +138,22 @@ fn counts<const MIN: u64, const MAX: u64>(
 }
 
 impl FitSettings {
+    /// The settings with the protocol's values where `None` stands for them (the article's:
+    /// 5 × 5 folds, seed 42, 1000 bootstrap resamples, 30 importance repeats, every family),
+    /// as Python's `settings_defaults("fit")` shows them; a study's `[fit]` overrides them.
+    pub fn shown_defaults() -> Self {
+        let c = FitConfig::default();
+        FitSettings {
+            families: Some(c.families.iter().map(|f| f.name().to_string()).collect()),
+            folds: Some(c.folds),
+            inner_folds: Some(c.inner_folds),
+            seed: Some(c.seed),
+            bootstrap: Some(c.bootstrap_resamples),
+            importance_repeats: Some(c.importance_repeats),
+            ..Default::default()
+        }
+    }
+
     /// Apply the overrides to a protocol configuration.
     pub fn apply(&self, c: &mut FitConfig) -> Result<()> {
         fn set<T: Clone>(dst: &mut T, src: &Option<T>) {

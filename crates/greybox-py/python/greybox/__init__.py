@@ -48,6 +48,11 @@ __version__: str = _native.__version__
 
 PathLike = Union[str, "os.PathLike[str]"]
 
+#: ``progress=`` of a long call: ``None`` (silent), ``True`` (log and bars) or a callable
+#: ``progress(stage, done, total)`` (see :mod:`greybox._progress`; the wrapper of
+#: :mod:`greybox._calls` takes it, the function's body never sees it).
+Progress = Union[None, bool, Callable[[str, int, Optional[int]], Any]]
+
 #: Numbers in an array: a NumPy array, a list, a tuple, a scalar (anything ``numpy.asarray``
 #: turns into float64 numbers).
 ArrayLike = npt.ArrayLike
@@ -180,6 +185,7 @@ _PUBLIC_NAMES = {
 }
 
 _F = TypeVar("_F", bound=Callable[..., Any])
+_T = TypeVar("_T")
 
 
 def _public_name(native: str, params: Sequence[str]) -> str:
@@ -530,6 +536,7 @@ def synth(
     seed: Optional[int] = None,
     disturbance_scale: Optional[float] = None,
     force: bool = False,
+    progress: Progress = None,
     **plan: Any,
 ) -> dict:
     """The virtual tribometer, as ``greybox synth``: a study's campaign (default: the
@@ -558,7 +565,7 @@ def read_recording(
     d = _native.read_recording(
         _path(path, "path"),
         _opt_path(study, "study"),
-        None if channels is None else json.dumps(channels),
+        None if channels is None else _dumps(channels),
     )
     how = json.loads(d.pop("how_read"))
     return table(d, as_frame), how
@@ -592,6 +599,7 @@ def identify(
     sheet: Optional[str] = None,
     tdms_group: Optional[str] = None,
     convention: Optional[str] = None,
+    progress: Progress = None,
     **plan: Any,
 ) -> tuple:
     """Identify apparent friction coefficients per plateau from recordings of any supported
@@ -639,10 +647,33 @@ def _json_value(x: Any) -> Any:
     raise GreyboxError(f"settings: {type(x).__name__} {x!r} is not a number, text, path or list")
 
 
+def _non_finite(x: Any, where: str) -> Optional[str]:
+    """Where the first NaN or infinity inside ``x`` (numbers, lists, dicts, arrays) is."""
+    if isinstance(x, (float, np.floating)) and not np.isfinite(x):
+        return f"{where}: {x}"
+    if isinstance(x, np.ndarray) and x.dtype.kind == "f":
+        bad = np.flatnonzero(~np.isfinite(x))
+        return f"{where}[{bad[0]}]: {x.flat[bad[0]]}" if bad.size else None
+    if isinstance(x, dict):
+        return next((w for k, v in x.items() if (w := _non_finite(v, k if not where else f"{where}.{k}"))), None)
+    if isinstance(x, (list, tuple)):
+        return next((w for i, v in enumerate(x) if (w := _non_finite(v, f"{where}[{i}]"))), None)
+    return None
+
+
+def _dumps(values: Any) -> str:
+    """JSON for the library: a NaN or infinity (which JSON cannot hold) is an
+    :class:`InputError` naming the argument and the element, never "not JSON"."""
+    bad = _non_finite(values, "")
+    if bad is not None:
+        raise InputError(f"{bad} is not a finite number (NaN and infinity are not values greybox can use)")
+    return json.dumps(values, default=_json_value, allow_nan=False)
+
+
 def _settings(values: dict) -> str:
     """Keyword arguments as the library's settings JSON; ``None`` keeps the library's default.
     The library checks every value and names the key of a wrong one."""
-    return json.dumps({k: v for k, v in values.items() if v is not None}, default=_json_value)
+    return _dumps({k: v for k, v in values.items() if v is not None})
 
 
 def ploughing_correction(
@@ -666,6 +697,7 @@ def ploughing_correction(
     sim3d_slide_per_radius: Optional[float] = None,
     sim3d_increments: Optional[int] = None,
     ccx: Optional[PathLike] = None,
+    progress: Progress = None,
 ) -> tuple:
     """The ploughing correction (adhesive μ) of a dataset into ``out``; returns (dataset
     table with ``cof_adhesive``, correction dict). ``method`` is ``"analytic"`` (Bowden–Tabor
@@ -722,6 +754,7 @@ def simulate_pin(
     vtk_every: int = 0,
     checkpoint_every: int = 0,
     resume: Optional[PathLike] = None,
+    progress: Progress = None,
 ) -> dict:
     """Press a rigid pin into a Johnson–Cook workpiece and slide it (plane strain), as
     ``greybox simulate pin``: give ``depth_um`` or a measured ``track_width_um``; the other
@@ -765,6 +798,7 @@ def couple(
     tol: Optional[float] = None,
     units: Optional[str] = None,
     segment_s: Optional[float] = None,
+    progress: Progress = None,
 ) -> dict:
     """The restart loop with an external FE engine, as ``greybox couple``: ``engine``
     ``"calculix"`` (``deck``, ``segment``, ``ccx``, the deck's ``units`` ``"MPa-mm-s"``,
@@ -815,6 +849,7 @@ def fit(
     mlp_learning_rate: Optional[Sequence[float]] = None,
     mlp_max_epochs: Optional[int] = None,
     force: bool = False,
+    progress: Progress = None,
 ) -> dict:
     """The article's learning protocol (grid search, nested cross-validation, bootstrap CIs,
     permutation importance, conformal intervals) on a dataset, as ``greybox fit`` with the
@@ -823,7 +858,10 @@ def fit(
     ``cof_apparent``; ``features`` to normal force and sliding velocity. ``study`` is a
     study TOML whose ``[fit]`` section the other settings override; ``fold_column`` an
     integer column of fold ids (grouped CV); grids by the flags' names (``mlp_hidden=["64x32",
-    "32x16"]``, ``svr_kernel=["rbf"]``). Returns {"report", "outputs", "warnings"}."""
+    "32x16"]``, ``svr_kernel=["rbf"]``). A setting left at ``None`` takes the library's
+    default, which ``settings_defaults("fit")`` lists: folds 5, inner_folds 5, seed 42,
+    bootstrap 1000, importance_repeats 30 (the article's protocol), every family.
+    Returns {"report", "outputs", "warnings"}."""
     return json.loads(_native.fit_models(_settings({
         "data": data, "out": out, "target": target, "features": features, "study": study,
         "families": families, "folds": folds, "inner_folds": inner_folds,
@@ -845,7 +883,7 @@ def _contact(contact: Any) -> tuple:
     if isinstance(contact, (str, os.PathLike)):
         return None, os.fspath(contact)
     if isinstance(contact, dict):
-        return json.dumps(contact), None
+        return _dumps(contact), None
     raise InputError(f"contact: expected a dict of the study's [contact] keys or a study TOML path, got {type(contact).__name__}")
 
 
@@ -947,7 +985,21 @@ def from_sklearn(
     ``_degC``; force ``_N``, ``_kN``); others are refused. Tree
     predictions agree with scikit-learn to rounding of the sum (splits bit-exact, including
     its float32 input cast); SVR and MLP to rounding."""
-    return _import(export_sklearn_json(estimator), True, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
+    exported = _foreign("estimator", "a fitted scikit-learn regressor or pipeline", lambda: export_sklearn_json(estimator))
+    return _import(exported, True, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
+
+
+def _foreign(name: str, expected: str, call: Callable[[], _T]) -> _T:
+    """``call`` on an object of another library: its own errors (an unfitted estimator, an
+    object of the wrong kind: ``AttributeError``, ``TypeError``, ``ValueError``, XGBoost's
+    and scikit-learn's own) become an :class:`InputError` naming the argument and what it
+    should be."""
+    try:
+        return call()
+    except GreyboxError:
+        raise
+    except (AttributeError, TypeError, ValueError, RuntimeError) as e:
+        raise InputError(f"{name}: expected {expected}; {type(e).__name__}: {e}") from e
 
 
 def from_xgboost(
@@ -967,13 +1019,14 @@ def from_xgboost(
     bit (float32 splits and float32 sums reproduced). Other arguments as in
     :func:`from_sklearn`."""
     if isinstance(booster, (str, os.PathLike)):
-        return _import(os.fspath(booster), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
-    b = booster.get_booster() if hasattr(booster, "get_booster") else booster
+        return _import(_path(booster, "booster"), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
+    expected = "a fitted xgboost.Booster or XGBRegressor, or a path to a saved booster"
+    b = _foreign("booster", expected, lambda: booster.get_booster() if hasattr(booster, "get_booster") else booster)
     if features is None and getattr(b, "feature_names", None):
         features = list(b.feature_names)
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "booster.ubj")
-        b.save_model(path)
+        _foreign("booster", expected, lambda: b.save_model(path))
         return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
 
 
@@ -1044,8 +1097,9 @@ def from_onnx(
     float32 rounding (the runtime computes in float32). ONNX graphs carry no usable feature
     names: state ``features`` with units. Other arguments as in :func:`from_sklearn`."""
     if isinstance(model, (str, os.PathLike)):
-        return _import(os.fspath(model), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
-    data = model if isinstance(model, (bytes, bytearray)) else model.SerializeToString()
+        return _import(_path(model, "model"), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
+    data = model if isinstance(model, (bytes, bytearray)) else _foreign(
+        "model", "a path, the bytes of an ONNX file or an onnx.ModelProto", lambda: model.SerializeToString())
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "model.onnx")
         with open(path, "wb") as f:
@@ -1100,7 +1154,10 @@ def export_table(
     (``table_kind`` overrides). A table of more than ``max_table_size`` values is refused.
     Returns the export report: ``line`` (one-line description), ``max_deviation`` from the
     law on ``check_points`` states inside the grid, ``shape``, ``exact_steps``, ``bytes``,
-    ``warnings`` (also issued as Python warnings)."""
+    ``warnings`` (also issued as Python warnings), ``domain`` (for a law with a validity
+    domain: the domain, ``grid_points`` and ``points_outside``, whose values are the law's
+    extrapolation; any outside is also an :class:`UnusualValueWarning`, with the unit factor
+    when the whole grid misses the domain — MPa numbers given as Pa)."""
     options: dict = {
         "units": _opt_str(units, "units"),
         "temperature_unit": _opt_str(temperature_unit, "temperature_unit"),
@@ -1121,7 +1178,7 @@ def export_table(
             options[name] = [float(x) for x in _f64(values, name)]
     options = {k: v for k, v in options.items() if v is not None}
     with tempfile.TemporaryDirectory() as d:
-        report = json.loads(_native.export_table(_law_path(law, d), format, _path(out, "out"), json.dumps(options)))
+        report = json.loads(_native.export_table(_law_path(law, d), format, _path(out, "out"), _dumps(options)))
     for w in report.get("warnings", []):
         warnings.warn(w, stacklevel=3)
     return report
@@ -1180,6 +1237,7 @@ def fit_rate_sensitivity(
     tolerance_N_per_mm: Optional[float] = None,
     max_runs: Optional[int] = None,
     out: Optional[PathLike] = None,
+    progress: Progress = None,
 ) -> dict:
     """Johnson–Cook C such that the simulated steady cutting force of the set-up ``config``
     matches ``measured_force_N_per_mm``, as ``greybox material fit-c`` with the same settings
@@ -1212,6 +1270,8 @@ def simulate_cut(
     force: bool = False,
     as_frame: Optional[bool] = None,
     frames: int = 0,
+    *,
+    progress: Progress = None,
 ) -> dict:
     """Run greybox's 2D SPH orthogonal-cutting simulation of a set-up TOML into ``out``,
     with the set-up's friction or ``law`` (a law/model/table path or a Model). Returns the
@@ -1246,6 +1306,7 @@ def validate(
     executor: Optional[str] = None,
     jobs: Optional[int] = None,
     poll_s: Optional[float] = None,
+    progress: Progress = None,
 ) -> dict:
     """The validation suite, as ``greybox bench validate``: the suite file's measured cuts
     simulated with each of its friction models (a calibrated constant μ, law files, laws with
@@ -1292,10 +1353,10 @@ def set_budget(**caps: int) -> dict:
     """Sets the readers' caps named (``set_budget(max_data_bytes=8 << 30)``; the others kept)
     for the rest of the process, as the command line's ``--max-*`` options do; returns the
     caps before. A name that is no cap is a SettingsError listing the caps."""
-    return json.loads(_native.swap_budget(json.dumps(caps)))
+    return json.loads(_native.swap_budget(_dumps(caps)))
 
 
-def report(study_dir: PathLike, out: Optional[PathLike] = None) -> dict:
+def report(study_dir: PathLike, out: Optional[PathLike] = None, *, progress: Progress = None) -> dict:
     """Write one self-contained HTML page for a study directory (default
     ``study_dir/report.html``): campaign, friction data, models, cuts with pictures of the
     chip, rig dynamics and wear, provenance; each section when its files are there. Returns

@@ -22,8 +22,6 @@ import numpy as np
 from . import _native, _progress
 from ._errors import InputError
 
-#: The public functions that take ``progress=``: the ones that may run for minutes.
-LONG = frozenset({"validate", "simulate_cut", "simulate_pin", "ploughing_correction", "fit", "identify", "couple", "report", "synth", "fit_rate_sensitivity"})
 
 #: Arguments that name a law file (a Law or Model object is written to a temporary file).
 LAW_ARGS = frozenset({"law"})
@@ -76,14 +74,9 @@ def library_default(stage: str, key: str) -> Any:
 def public(f: Callable) -> Callable:
     """Wrap the public function ``f`` (see the module's doc)."""
     sig = inspect.signature(f)
-    long = f.__name__ in LONG
-    if long:
-        params = list(sig.parameters.values())
-        at = len(params) - (params[-1].kind is inspect.Parameter.VAR_KEYWORD if params else 0)
-        params.insert(at, inspect.Parameter("progress", inspect.Parameter.KEYWORD_ONLY, default=None))
-        public_sig = sig.replace(parameters=params)
-    else:
-        public_sig = sig
+    # the long calls (those that may run for minutes) declare a keyword-only `progress`
+    # (typed, so that type checkers see it); the wrapper takes it, the body never sees it
+    long = "progress" in sig.parameters
 
     @functools.wraps(f)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
@@ -93,6 +86,7 @@ def public(f: Callable) -> Callable:
         except TypeError as e:
             raise InputError(f"{f.__name__}: {e}") from None
         bound.apply_defaults()
+        bound.arguments.pop("progress", None)  # the call's reporting, not one of its settings
         cmd = command(f.__name__, bound)
         with contextlib.ExitStack() as stack:
             callback = stack.enter_context(_progress.reporter(progress, f.__name__))
@@ -103,5 +97,4 @@ def public(f: Callable) -> Callable:
             finally:
                 _native.swap_call(*previous)
 
-    wrapper.__signature__ = public_sig  # type: ignore[attr-defined]
     return wrapper
