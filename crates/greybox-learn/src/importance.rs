@@ -20,7 +20,8 @@ pub struct Importance {
 
 /// Permutation importance of every feature. The permutations are drawn from one seeded
 /// stream in a fixed order (feature by feature, repeat by repeat) and the repeats are then
-/// scored in parallel, so the result does not depend on the thread count.
+/// scored in parallel, so the result does not depend on the thread count. No repeats: none
+/// (the importance skipped).
 pub fn permutation_importance(
     model: &dyn Predictor,
     x: &Matrix,
@@ -29,6 +30,9 @@ pub fn permutation_importance(
     repeats: usize,
     seed: u64,
 ) -> Vec<Importance> {
+    if repeats == 0 {
+        return Vec::new(); // skipped (`importance_repeats` 0): no mean over no repeats
+    }
     let base = r2(y, &model.predict(x));
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     (0..x.n_cols)

@@ -42,12 +42,34 @@ pub fn percentile(sorted: &[f64], q: f64) -> f64 {
     sorted[lo] + (sorted[hi] - sorted[lo]) * (pos - lo as f64)
 }
 
-/// A value with a 95 % confidence interval.
+/// A value with its 95 % confidence interval.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct WithCi {
     pub value: f64,
-    pub ci_low: f64,
-    pub ci_high: f64,
+    /// The interval's ends; `None` (JSON `null`) when no bootstrap resamples were asked
+    /// (`bootstrap` 0): the value stands without an interval, and says so when written.
+    pub ci_low: Option<f64>,
+    pub ci_high: Option<f64>,
+}
+
+impl WithCi {
+    /// `value [low, high]`, each number written by `num`; `value (no interval: bootstrap 0)`
+    /// without one.
+    pub fn display(&self, num: impl Fn(f64) -> String) -> String {
+        match (self.ci_low, self.ci_high) {
+            (Some(lo), Some(hi)) => format!("{} [{}, {}]", num(self.value), num(lo), num(hi)),
+            _ => format!("{} (no interval: bootstrap 0)", num(self.value)),
+        }
+    }
+
+    /// The value and its interval times `k` (a share as per cent).
+    pub fn scaled(&self, k: f64) -> WithCi {
+        WithCi {
+            value: k * self.value,
+            ci_low: self.ci_low.map(|v| k * v),
+            ci_high: self.ci_high.map(|v| k * v),
+        }
+    }
 }
 
 /// Metrics of a set of predictions.
@@ -61,7 +83,8 @@ pub struct Metrics {
     pub n: usize,
 }
 
-/// Percentile-bootstrap 95 % CI of `metric` over (y, ŷ) pairs, `resamples` resamples.
+/// Percentile-bootstrap 95 % CI of `metric` over (y, ŷ) pairs, `resamples` resamples (none
+/// when 0: the value alone).
 pub fn bootstrap_ci(
     y: &[f64],
     p: &[f64],
@@ -84,10 +107,11 @@ pub fn bootstrap_ci(
         })
         .collect();
     stats.sort_by(f64::total_cmp);
+    let bounded = resamples > 0;
     WithCi {
         value: metric(y, p),
-        ci_low: percentile(&stats, 2.5),
-        ci_high: percentile(&stats, 97.5),
+        ci_low: bounded.then(|| percentile(&stats, 2.5)),
+        ci_high: bounded.then(|| percentile(&stats, 97.5)),
     }
 }
 
@@ -132,7 +156,7 @@ mod tests {
         let y = vec![0.0; n];
         let ci = bootstrap_ci(&y, &e, mae, 1000, 42);
         let truth = (2.0 / std::f64::consts::PI).sqrt();
-        assert!(ci.ci_low < truth && truth < ci.ci_high, "{ci:?}");
+        assert!(ci.ci_low.unwrap() < truth && truth < ci.ci_high.unwrap(), "{ci:?}");
         let sd_abs = (1.0 - 2.0 / std::f64::consts::PI).sqrt();
         let width = 2.0 * 1.96 * sd_abs / (n as f64).sqrt();
         let got = ci.ci_high - ci.ci_low;

@@ -77,9 +77,11 @@ impl Grids {
 /// dataset greybox is meant for.
 pub type Folds = Count<2, 10_000>;
 /// Bootstrap resamples of the 95 % CIs (1000 in the article); each costs a pass over the rows.
-pub type Resamples = Count<1, 100_000>;
+/// 0 skips them: the metrics stand without intervals, and say so.
+pub type Resamples = Count<0, 100_000>;
 /// Permutation-importance repeats (30 in the article); each holds a permuted column in memory.
-pub type Repeats = Count<1, 10_000>;
+/// 0 skips the importance: the report says it was skipped.
+pub type Repeats = Count<0, 10_000>;
 
 /// Protocol settings (study TOML `[fit]`). The counts are bounded types ([`Folds`],
 /// [`Resamples`], [`Repeats`]): a study file or Python's JSON beyond a cap is refused when
@@ -427,17 +429,12 @@ fn metric_rows(
             match pick(f) {
                 Some(m) => {
                     let v = get(&m);
-                    if name == "MSE" {
-                        s.push_str(&format!(
-                            " {:.2e} [{:.2e}, {:.2e}] |",
-                            v.value, v.ci_low, v.ci_high
-                        ));
+                    let cell = if name == "MSE" {
+                        v.display(|x| format!("{x:.2e}"))
                     } else {
-                        s.push_str(&format!(
-                            " {:.4} [{:.4}, {:.4}] |",
-                            v.value, v.ci_low, v.ci_high
-                        ));
-                    }
+                        v.display(|x| format!("{x:.4}"))
+                    };
+                    s.push_str(&format!(" {cell} |"));
                 }
                 None => s.push_str(" – |"),
             }
@@ -458,6 +455,17 @@ fn metric_rows(
 fn importance_and_interval(s: &mut String, report: &FitReport) {
     let fams = &report.families;
     s.push_str("\n**Permutation importance** (Table 8: R² drop, mean ± std over repeats):\n\n");
+    if fams.iter().any(|f| f.importance.is_empty()) {
+        s.push_str("skipped (`importance_repeats` 0)\n");
+    } else {
+        importance_rows(s, report);
+    }
+    interval_rows(s, report);
+}
+
+/// The importance table's rows, one per feature.
+fn importance_rows(s: &mut String, report: &FitReport) {
+    let fams = &report.families;
     table_head(s, fams, "feature");
     for (j, name) in report.features.iter().enumerate() {
         s.push_str(&format!(
@@ -470,6 +478,11 @@ fn importance_and_interval(s: &mut String, report: &FitReport) {
         }
         s.push('\n');
     }
+}
+
+/// The prediction-interval table.
+fn interval_rows(s: &mut String, report: &FitReport) {
+    let fams = &report.families;
     s.push_str("\n**Prediction interval** (CV-conformal):\n\n");
     table_head(s, fams, "interval");
     s.push_str("| ± half-width |");

@@ -170,3 +170,26 @@ fn too_few_rows_for_the_folds() {
     let e = run_protocol(&d, &small_config()).unwrap_err().to_string();
     assert!(e.contains("8 rows are too few for 5-fold"), "{e}");
 }
+
+/// `bootstrap` 0 and `importance_repeats` 0 skip what they count (a quick look): the metrics
+/// stand without intervals (`null`, never a NaN), the importance is empty, and the report
+/// says both instead of printing numbers that rest on nothing.
+#[test]
+fn zero_resamples_and_repeats_skip_them_and_say_so() {
+    let d = data(60, 4);
+    let mut cfg = small_config();
+    cfg.families = vec![Family::Svr];
+    cfg.skip_nested = true;
+    cfg.bootstrap_resamples = greybox_learn::protocol::Resamples::of(0);
+    cfg.importance_repeats = greybox_learn::protocol::Repeats::of(0);
+    let (report, _) = run_protocol(&d, &cfg).unwrap();
+    let f = &report.families[0];
+    assert!(f.importance.is_empty());
+    let mae = f.training.mae;
+    assert!(mae.value.is_finite() && mae.ci_low.is_none() && mae.ci_high.is_none());
+    let json = serde_json::to_string(&report).unwrap();
+    assert!(json.contains(r#""ci_low":null"#) && !json.contains("NaN"), "{json}");
+    let md = greybox_learn::protocol::markdown(&report);
+    assert!(md.contains("(no interval: bootstrap 0)"), "{md}");
+    assert!(md.contains("skipped (`importance_repeats` 0)"), "{md}");
+}

@@ -150,6 +150,21 @@ pub struct OnnxModel {
     pub operators: String,
 }
 
+/// A tree ensemble whose graph is named after a forest (skl2onnx names the graph
+/// `ONNX(RandomForestRegressor)` and writes the forest as a sum of trees with its weights
+/// divided by their number, so the sum alone cannot tell it from boosting): a random forest.
+/// An `AVERAGE` ensemble is one already ([`tree_ensemble::convert`]).
+fn forest_by_name(family: Family, graph: Option<&str>) -> Family {
+    let named_forest = graph.is_some_and(|n| {
+        let n = n.to_ascii_lowercase();
+        n.contains("randomforest") || n.contains("extratrees") || n.contains("random_forest")
+    });
+    match family {
+        Family::GradientBoosting if named_forest => Family::RandomForest,
+        f => f,
+    }
+}
+
 /// Convert an ONNX model's bytes.
 pub fn convert(bytes: &[u8]) -> Result<OnnxModel, String> {
     let m = proto::ModelProto::decode(bytes).map_err(|e| format!("not an ONNX model: {e}"))?;
@@ -202,6 +217,7 @@ pub fn convert(bytes: &[u8]) -> Result<OnnxModel, String> {
     .trim()
     .to_string();
     let (model, family, n_features) = assemble(stages)?;
+    let family = forest_by_name(family, g.name.as_deref());
     Ok(OnnxModel {
         model,
         family,

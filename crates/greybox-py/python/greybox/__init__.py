@@ -3,8 +3,8 @@
 The Python face of the greybox Rust toolkit. The article's pipeline, end to end::
 
     import greybox as gb
-    summary = gb.identify(["recordings/"], "dataset.csv")          # any rig's recordings
-    corr = gb.ploughing_correction("dataset.csv", "adhesive.csv")  # adhesive μ
+    dataset, summary = gb.identify(["recordings/"], "dataset.csv")  # any rig's recordings
+    adhesive, corr = gb.ploughing_correction("dataset.csv", "adhesive.csv")  # adhesive μ
     report = gb.fit("adhesive.csv", "fit/")                         # RF, SVR, boosting, MLP
     model = gb.load_model("fit/models/svr.json")
     mu = model.mu(pressure_Pa=[1.2e9], velocity_m_per_s=[2.0])      # with intervals

@@ -47,12 +47,7 @@ pub fn section(dir: &Path, found: &Found, w: &mut Ctx) -> Option<Section> {
 
 /// `value [low, high]`.
 fn with_ci(m: &WithCi, digits: usize) -> String {
-    format!(
-        "{} [{}, {}]",
-        num(m.value, digits),
-        num(m.ci_low, digits),
-        num(m.ci_high, digits)
-    )
+    m.display(|x| num(x, digits))
 }
 
 /// A fit report's blocks: what was fitted, the training, held-out and importance tables,
@@ -139,12 +134,7 @@ fn held_out_table(r: &FitReport) -> Table {
             f.family.name().to_string(),
             with_ci(&h.metrics.r2, 4),
             with_ci(&h.metrics.mae, 3),
-            format!(
-                "{} [{}, {}]",
-                num(100.0 * h.metrics.mape.value, 3),
-                num(100.0 * h.metrics.mape.ci_low, 3),
-                num(100.0 * h.metrics.mape.ci_high, 3)
-            ),
+            with_ci(&h.metrics.mape.scaled(100.0), 3),
             format!("{} … {}", num(lo, 3), num(hi, 3)),
             format!(
                 "{} ({} %)",
