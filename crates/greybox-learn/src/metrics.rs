@@ -156,7 +156,10 @@ mod tests {
         let y = vec![0.0; n];
         let ci = bootstrap_ci(&y, &e, mae, 1000, 42);
         let truth = (2.0 / std::f64::consts::PI).sqrt();
-        assert!(ci.ci_low.unwrap() < truth && truth < ci.ci_high.unwrap(), "{ci:?}");
+        assert!(
+            ci.ci_low.unwrap() < truth && truth < ci.ci_high.unwrap(),
+            "{ci:?}"
+        );
         let sd_abs = (1.0 - 2.0 / std::f64::consts::PI).sqrt();
         let width = 2.0 * 1.96 * sd_abs / (n as f64).sqrt();
         let got = ci.ci_high - ci.ci_low;

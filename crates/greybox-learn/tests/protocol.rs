@@ -188,7 +188,10 @@ fn zero_resamples_and_repeats_skip_them_and_say_so() {
     let mae = f.training.mae;
     assert!(mae.value.is_finite() && mae.ci_low.is_none() && mae.ci_high.is_none());
     let json = serde_json::to_string(&report).unwrap();
-    assert!(json.contains(r#""ci_low":null"#) && !json.contains("NaN"), "{json}");
+    assert!(
+        json.contains(r#""ci_low":null"#) && !json.contains("NaN"),
+        "{json}"
+    );
     let md = greybox_learn::protocol::markdown(&report);
     assert!(md.contains("(no interval: bootstrap 0)"), "{md}");
     assert!(md.contains("skipped (`importance_repeats` 0)"), "{md}");

@@ -87,15 +87,16 @@ fn study_contact_table(path: &Path) -> Result<serde_json::Map<String, serde_json
     }
 }
 
-/// Import `source` into the model file `out` (written atomically, provenance beside it);
-/// `contact_study` is the study TOML that stated the contact, recorded among the inputs.
-pub fn import(
-    source: &Path,
-    opts: &ImportOptions,
-    contact_study: Option<&Path>,
-    out: &Path,
-) -> Result<ModelFile> {
-    let mut inputs = vec![("model", source)];
+/// The files an import reads, by role: the model file (`None` when it came as text, a
+/// scikit-learn export from Python), the training and calibration data, and the study TOML
+/// that stated the contact.
+pub fn import_inputs<'a>(
+    source: Option<&'a Path>,
+    opts: &'a ImportOptions,
+    contact_study: Option<&'a Path>,
+) -> Vec<(&'static str, &'a Path)> {
+    let mut inputs: Vec<(&'static str, &'a Path)> =
+        source.map(|s| ("model", s)).into_iter().collect();
     if let Domain::Data(p) = &opts.domain {
         inputs.push(("training data", p.as_path()));
     }
@@ -105,12 +106,33 @@ pub fn import(
     if let Some(p) = contact_study {
         inputs.push(("contact", p));
     }
+    inputs
+}
+
+/// `model` with the provenance of the import that made it (greybox's version, the command
+/// or host call, `inputs` hashed), sealed again: the same record from the command line and
+/// from Python.
+pub fn with_import_provenance(mut model: ModelFile, inputs: &[(&str, &Path)]) -> Result<ModelFile> {
+    model.provenance = Some(provenance(inputs)?);
+    Ok(model.seal()?)
+}
+
+/// Import `source` into the model file `out` (written atomically, provenance beside it);
+/// `contact_study` is the study TOML that stated the contact, recorded among the inputs.
+pub fn import(
+    source: &Path,
+    opts: &ImportOptions,
+    contact_study: Option<&Path>,
+    out: &Path,
+) -> Result<ModelFile> {
+    let inputs = import_inputs(Some(source), opts, contact_study);
     check_file_output(out, "out", &inputs)?;
-    let mut model = greybox_import::import_file(source, opts)?;
-    let record = provenance(&inputs)?;
-    model.provenance = Some(record.clone());
-    let model = model.seal()?;
+    let model = with_import_provenance(greybox_import::import_file(source, opts)?, &inputs)?;
     model.save(out)?;
-    record.write_beside(out)?;
+    model
+        .provenance
+        .as_ref()
+        .expect("set above")
+        .write_beside(out)?;
     Ok(model)
 }

@@ -8,7 +8,7 @@ use greybox_core::dataset::PressureConvention;
 use greybox_core::units::mpa_to_pa;
 use greybox_import::{Calibration, Domain, ImportOptions};
 use greybox_model::modelfile::{FeatureRange, ForcePressure};
-use greybox_pipeline::import::{ContactSpec, CONTACT_KEYS};
+use greybox_pipeline::import::{import_inputs, with_import_provenance, ContactSpec, CONTACT_KEYS};
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use std::path::PathBuf;
@@ -86,7 +86,7 @@ fn import_model(
     training_data: Option<PathBuf>,
     training_contact: Option<(Vec<String>, Vec<f64>, Vec<f64>)>,
 ) -> PyResult<Model> {
-    let contact = contact(contact_json, contact_study)?;
+    let contact = contact(contact_json, contact_study.clone())?;
     let domain = match (domain, &x_train, training_data) {
         (Some(d), None, None) => Domain::Stated(
             d.into_iter()
@@ -123,14 +123,19 @@ fn import_model(
     };
     let source = source.to_string();
     let file = run_interruptible(py, || -> anyhow::Result<_> {
-        let imported = if is_json {
-            let v: serde_json::Value = serde_json::from_str(&source)
-                .map_err(|e| greybox_core::Error::invalid("scikit-learn export", e.to_string()))?;
-            greybox_import::from_json(v, "scikit-learn export")?
-        } else {
-            greybox_import::read_model(&PathBuf::from(&source))?
+        let source_path = (!is_json).then(|| PathBuf::from(&source));
+        let imported = match &source_path {
+            Some(path) => greybox_import::read_model(path)?,
+            None => {
+                let v: serde_json::Value = serde_json::from_str(&source).map_err(|e| {
+                    greybox_core::Error::invalid("scikit-learn export", e.to_string())
+                })?;
+                greybox_import::from_json(v, "scikit-learn export")?
+            }
         };
-        Ok(greybox_import::model_file(imported, &opts)?)
+        // the same provenance as `greybox import` records (the call and its inputs)
+        let inputs = import_inputs(source_path.as_deref(), &opts, contact_study.as_deref());
+        with_import_provenance(greybox_import::model_file(imported, &opts)?, &inputs)
     })?;
     Ok(Model { file })
 }

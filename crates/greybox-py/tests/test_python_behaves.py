@@ -2,6 +2,7 @@
 is a GreyboxError naming it, NumPy arrays type-check where arrays are taken, and models and
 laws pickle."""
 
+import json
 import os
 import pickle
 import signal
@@ -240,3 +241,22 @@ def test_fits_docstring_states_the_librarys_numeric_defaults():
     d = gb.settings_defaults("fit")
     for key in ("folds", "inner_folds", "seed", "bootstrap", "importance_repeats"):
         assert f"{key} {d[key]}" in gb.fit.__doc__, (key, d[key])
+
+
+def test_a_model_imported_in_python_records_its_provenance(tmp_path):
+    """As `greybox import` does: the model file names the call that made it and greybox's
+    version, and the file it read (hashed)."""
+    rng = np.random.default_rng(5)
+    X = np.column_stack([rng.uniform(2e8, 2e9, 40), rng.uniform(0.5, 4.0, 40)])
+    y = 0.4 - 0.05 * X[:, 1]
+    feats = ["pressure_Pa", "velocity_m_per_s"]
+    m = gb.from_sklearn(LinearRegression().fit(X, y), features=feats, X_train=X)
+    prov = json.loads(m.to_json())["provenance"]
+    assert prov["command"][0] == "greybox.from_sklearn", prov
+    assert prov["version"] == gb.__version__, prov
+    path = tmp_path / "m.json"
+    m.save(path)
+    imported = gb.import_model(path, X_train=X)
+    prov = json.loads(imported.to_json())["provenance"]
+    assert prov["command"][0] == "greybox.import_model"
+    assert [i["role"] for i in prov["inputs"]] == ["model"], prov

@@ -236,6 +236,8 @@ def test_count_and_index_columns_stay_integer(tmp_path):
     cut = gb.simulate_cut(small_cut(tmp_path), tmp_path / "cut", as_frame=False)
     for name, col in cut["forces"].items():
         assert col.dtype == (np.int64 if name == "step" else np.float64), name
+    # the friction windows of the contact profile are numbered
+    assert cut["contact_profile"]["window"].dtype == np.int64
 
 
 # 9. the CLI for the differential tests

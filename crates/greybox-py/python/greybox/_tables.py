@@ -32,11 +32,12 @@ def table(columns: dict, as_frame: Optional[bool] = None) -> Any:
     return columns
 
 
-#: Columns that hold counts or indices (``pin``, ``step``, ``n``, ``n_samples``,
-#: ``segment_count``, ``frame_index`` …): integers, as int64 when every value is one. Other
-#: numeric columns stay float64 even where their values happen to be whole (the library
-#: writes 150.0 N as ``150``), so a column's type does not depend on its data.
-_INTEGER = re.compile(r"^(pin|step|n|segment|cycle|case|fold|frame|index|n_\w+|\w+_(count|index))$")
+#: Columns that hold counts, indices or flags (``pin``, ``step``, ``n``, ``n_samples``,
+#: ``window``, ``segment_count``, ``frame_index``, a tool node's ``held`` …): integers, as int64
+#: when every value is one. Other numeric columns stay float64 even where their values happen
+#: to be whole (the library writes 150.0 N as ``150``; ``contact_particles`` is a mean over
+#: the steps of a row), so a column's type does not depend on its data.
+_INTEGER = re.compile(r"^(pin|step|n|segment|cycle|case|fold|frame|index|window|held|n_\w+|\w+_(count|index))$")
 
 
 def _column(name: str, values: list) -> Any:
