@@ -264,8 +264,9 @@ fn settings_defaults(stage: &str) -> PyResult<String> {
         "flow_curves" => to_json(&FlowCurveSettings::default()),
         "rate_sensitivity" => to_json(&RateSensitivitySettings::default()),
         "validate" => to_json(&ValidateSettings::default()),
+        "report" => to_json(&greybox_report::report::ReportOptions::default()),
         other => Err(py_err(anyhow::anyhow!(
-            "stage '{other}': expected one of identify, synth, hertz, plan, fit, adhesive, pin, output, couple, law, windows, flow_curves, rate_sensitivity, validate"
+            "stage '{other}': expected one of identify, synth, hertz, plan, fit, adhesive, pin, output, couple, law, windows, flow_curves, rate_sensitivity, validate, report"
         ))),
     }
 }
@@ -280,18 +281,19 @@ fn export_defaults(format: &str) -> PyResult<String> {
 
 /// Run the orthogonal-cutting simulation of a set-up TOML into `out` (optionally with the
 /// friction law file `law` instead of the set-up's): JSON summary; forces.csv and
-/// contact_profile.csv are in `out`.
+/// contact_profile.csv are in the output directory. `output` is JSON of the library's
+/// [`RunOutput`] (`out`, `force`, `vtk_every`, `checkpoint_every`, `resume`, `frames`), as
+/// for the pin.
 #[pyfunction]
-#[pyo3(signature = (setup, out, law = None, fraction = 1.0, force = false, frames = 0))]
+#[pyo3(signature = (setup, output, law = None, fraction = 1.0))]
 fn simulate_cut(
     py: Python<'_>,
     setup: PathBuf,
-    out: PathBuf,
+    output: &str,
     law: Option<PathBuf>,
     fraction: f64,
-    force: bool,
-    frames: usize,
 ) -> PyResult<String> {
+    let o: RunOutput = from_keywords(output).map_err(py_err)?;
     let summary = run_interruptible(py, || -> anyhow::Result<_> {
         let mut case = read_cutting_setup(&setup)?;
         if let Some(l) = law {
@@ -299,22 +301,19 @@ fn simulate_cut(
             case.law_source = l.display().to_string();
             case.inputs.push(("law", l));
         }
-        let mut o = RunOutput::to(out);
-        o.force = force;
-        o.frames = greybox_pipeline::simulate::Frames::of_usize(frames, "frames")
-            .map_err(anyhow::Error::msg)?;
         run_cut(&case, fraction, &o)
     });
     to_json(&summary?)
 }
 
 /// Write the study directory's self-contained report page (default `study_dir/report.html`):
-/// JSON summary (path, bytes, sections, figures, warnings).
+/// JSON summary (path, bytes, sections, figures, warnings). `settings` is JSON of the
+/// library's [`greybox_report::report::ReportOptions`] (`study_dir`, `out` and the caps:
+/// `max_file_bytes`, `max_svg_bytes`, `max_header_bytes`, `max_entries`, `max_depth`,
+/// `max_page_bytes`), the command line's flags by their field names.
 #[pyfunction]
-#[pyo3(signature = (study_dir, out = None))]
-fn report(py: Python<'_>, study_dir: PathBuf, out: Option<PathBuf>) -> PyResult<String> {
-    let mut o = greybox_report::report::ReportOptions::new(study_dir);
-    o.out = out;
+fn report(py: Python<'_>, settings: &str) -> PyResult<String> {
+    let o: greybox_report::report::ReportOptions = from_keywords(settings).map_err(py_err)?;
     to_json(&run_interruptible(py, || {
         greybox_report::report::report(&o)
     })?)

@@ -14,7 +14,7 @@ import warnings
 
 import numpy as np
 import pytest
-from sklearn.linear_model import LinearRegression
+from sklearn.ensemble import RandomForestRegressor
 
 import greybox as gb
 
@@ -118,7 +118,7 @@ def _bad_calls(tmp_path, model):
         (lambda: gb.Model.from_json(12), "text"),
         (lambda: gb.grey_box_law("m.json", "l.json", blend_fraction=float("nan")), "blend_fraction"),
         (lambda: gb.grey_box_law("m.json", "l.json", mu_max=float("inf")), "mu_max"),
-        (lambda: gb.from_sklearn(LinearRegression(), features=["pressure_Pa", "velocity_m_per_s"]), "estimator"),
+        (lambda: gb.from_sklearn(RandomForestRegressor(), features=["pressure_Pa", "velocity_m_per_s"]), "estimator"),
         (lambda: gb.from_sklearn("a regressor", features=["pressure_Pa", "velocity_m_per_s"]), "estimator"),
         (lambda: gb.from_xgboost(object(), features=["pressure_Pa", "velocity_m_per_s"]), "booster"),
         (lambda: gb.from_onnx(12, features=["pressure_Pa", "velocity_m_per_s"]), "model"),
@@ -250,13 +250,14 @@ def test_a_model_imported_in_python_records_its_provenance(tmp_path):
     X = np.column_stack([rng.uniform(2e8, 2e9, 40), rng.uniform(0.5, 4.0, 40)])
     y = 0.4 - 0.05 * X[:, 1]
     feats = ["pressure_Pa", "velocity_m_per_s"]
-    m = gb.from_sklearn(LinearRegression().fit(X, y), features=feats, X_train=X)
+    est = RandomForestRegressor(n_estimators=3, random_state=0).fit(X, y)
+    m = gb.from_sklearn(est, features=feats, X_train=X)
     prov = json.loads(m.to_json())["provenance"]
     assert prov["command"][0] == "greybox.from_sklearn", prov
     assert prov["version"] == gb.__version__, prov
-    path = tmp_path / "m.json"
-    m.save(path)
-    imported = gb.import_model(path, X_train=X)
+    path = tmp_path / "rf.sklearn.json"
+    path.write_text(gb.export_sklearn_json(est))
+    imported = gb.import_model(path, features=feats, X_train=X)
     prov = json.loads(imported.to_json())["provenance"]
     assert prov["command"][0] == "greybox.import_model"
     assert [i["role"] for i in prov["inputs"]] == ["model"], prov

@@ -9,11 +9,12 @@ import json
 import logging
 import os
 import pickle
+import subprocess
 import threading
 
 import numpy as np
 import pytest
-from conftest import REPO, find_cli
+from conftest import GREYBOX_CLI, REPO, find_cli
 
 import greybox as gb
 
@@ -252,3 +253,37 @@ def test_the_cli_is_the_checkouts_build_else_the_one_on_path(tmp_path, monkeypat
     monkeypatch.setenv("PATH", f"{tmp_path}{os.pathsep}{os.environ.get('PATH', '')}")
     built = os.path.join(REPO, "target", "release", "greybox")
     assert find_cli() == (built if os.access(built, os.X_OK) else str(fake))
+
+
+# 10. the run-output settings of the command line, from Python
+
+
+def test_a_cut_takes_the_command_lines_output_settings(tmp_path):
+    """VTK every N steps, checkpoints and resume are the cut's settings in Python as on the
+    command line (one run-output settings type): the same VTK files as `--vtk-every`, no
+    partial directory left by a completed run with checkpoints, a missing checkpoint named."""
+    if GREYBOX_CLI is None:
+        pytest.skip("no greybox binary to compare with")
+    setup = small_cut(tmp_path)
+    gb.simulate_cut(setup, tmp_path / "py", vtk_every=40, checkpoint_every=50, as_frame=False)
+    subprocess.run([GREYBOX_CLI, "-q", "simulate", "cutting", "--config", str(setup), "--out",
+                    str(tmp_path / "cli"), "--vtk-every", "40"], check=True)
+    py_vtk = sorted(os.listdir(tmp_path / "py" / "vtk"))
+    assert len(py_vtk) > 2 and py_vtk == sorted(os.listdir(tmp_path / "cli" / "vtk"))
+    assert not os.path.exists(tmp_path / "py.partial")
+    with pytest.raises(gb.GreyboxError, match="checkpoint"):
+        gb.simulate_cut(setup, tmp_path / "again", resume=tmp_path / "none.partial" / "checkpoint.json")
+
+
+def test_the_report_takes_its_caps(tmp_path):
+    """The report's caps are keyword arguments (the command line's flags) that reach the
+    search."""
+    (tmp_path / "study").mkdir()
+    (tmp_path / "study" / "a").mkdir()
+    (tmp_path / "study" / "a" / "dataset.csv").write_text("pin,step,normal_force_N,cof_apparent\n1,1,10,0.3\n")
+    r = gb.report(tmp_path / "study")
+    assert r["bytes"] > 0
+    # the dataset lies one level down: with max_depth 0 the search never reaches it
+    with pytest.raises(gb.GreyboxError, match="no greybox outputs found"):
+        gb.report(tmp_path / "study", out=tmp_path / "shallow.html", max_depth=0)
+    assert gb.settings_defaults("report")["max_entries"] == 100_000

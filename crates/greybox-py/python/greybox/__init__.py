@@ -754,6 +754,7 @@ def simulate_pin(
     vtk_every: int = 0,
     checkpoint_every: int = 0,
     resume: Optional[PathLike] = None,
+    frames: int = 0,
     progress: Progress = None,
 ) -> dict:
     """Press a rigid pin into a Johnson–Cook workpiece and slide it (plane strain), as
@@ -774,14 +775,22 @@ def simulate_pin(
         "mass_scaling": _opt_float(mass_scaling, "mass_scaling"),
         "max_particles": _count(max_particles, "max_particles"),
     }
-    output = {
+    output = _run_output(out, force, vtk_every, checkpoint_every, resume, frames)
+    return json.loads(_native.simulate_pin(_settings(settings), output))
+
+
+def _run_output(out: Any, force: Any, vtk_every: Any, checkpoint_every: Any, resume: Any, frames: Any) -> str:
+    """Where and how a simulation writes, as the library's run-output settings JSON (the
+    same settings as the command line's ``--out``, ``--force``, ``--vtk-every``,
+    ``--checkpoint-every``, ``--resume``, ``--frames``)."""
+    return _settings({
         "out": _path(out, "out"),
         "force": bool(force),
         "vtk_every": _count(vtk_every, "vtk_every"),
         "checkpoint_every": _count(checkpoint_every, "checkpoint_every"),
         "resume": _opt_path(resume, "resume"),
-    }
-    return json.loads(_native.simulate_pin(_settings(settings), _settings(output)))
+        "frames": _count(frames, "frames"),
+    })
 
 
 def couple(
@@ -1271,6 +1280,9 @@ def simulate_cut(
     as_frame: Optional[bool] = None,
     frames: int = 0,
     *,
+    vtk_every: int = 0,
+    checkpoint_every: int = 0,
+    resume: Optional[PathLike] = None,
     progress: Progress = None,
 ) -> dict:
     """Run greybox's 2D SPH orthogonal-cutting simulation of a set-up TOML into ``out``,
@@ -1278,16 +1290,19 @@ def simulate_cut(
     summary dict plus ``forces`` (force history) and ``contact_profile`` (along the rake
     face) tables. The chip's last state is drawn (``chip_temperature.svg``,
     ``chip_plastic_strain.svg``); ``frames`` > 0 also draws that many instants
-    (``frames/chip_NNN.svg``)."""
+    (``frames/chip_NNN.svg``). As ``greybox simulate cutting``: ``vtk_every`` writes VTK
+    particle files every N steps (0: first and last), ``checkpoint_every`` a checkpoint every
+    N steps (the run works in ``out.partial`` until complete), ``resume`` continues an
+    interrupted run from its checkpoint (``out.partial/checkpoint.json``) with the outputs of
+    an uninterrupted one."""
+    output = _run_output(out, force, vtk_every, checkpoint_every, resume, frames)
     with tempfile.TemporaryDirectory() as d:
         summary = json.loads(
             _native.simulate_cut(
                 _path(setup, "setup"),
-                _path(out, "out"),
+                output,
                 None if law is None else _law_path(law, d),
                 fraction,
-                force,
-                _count(frames, "frames"),
             )
         )
     summary["forces"] = read_csv(os.path.join(os.fspath(out), "forces.csv"), as_frame)
@@ -1356,15 +1371,36 @@ def set_budget(**caps: int) -> dict:
     return json.loads(_native.swap_budget(_dumps(caps)))
 
 
-def report(study_dir: PathLike, out: Optional[PathLike] = None, *, progress: Progress = None) -> dict:
+def report(
+    study_dir: PathLike,
+    out: Optional[PathLike] = None,
+    *,
+    max_file_bytes: Optional[int] = None,
+    max_svg_bytes: Optional[int] = None,
+    max_header_bytes: Optional[int] = None,
+    max_entries: Optional[int] = None,
+    max_depth: Optional[int] = None,
+    max_page_bytes: Optional[int] = None,
+    progress: Progress = None,
+) -> dict:
     """Write one self-contained HTML page for a study directory (default
     ``study_dir/report.html``): campaign, friction data, models, cuts with pictures of the
     chip, rig dynamics and wear, provenance; each section when its files are there. Returns
     the summary: ``path``, ``bytes``, ``sections``, ``figures``, ``warnings`` (files found
-    but unreadable)."""
-    return json.loads(
-        _native.report(_path(study_dir, "study_dir"), _opt_path(out, "out"))
-    )
+    but unreadable). The caps of a directory nobody vouches for are ``greybox report``'s
+    (``settings_defaults("report")``): the largest file read whole (64 MiB), SVG turned into
+    a figure (8 MiB), bytes read to find a CSV header (64 KiB), directory entries looked at
+    (100 000), depth searched (6) and page written (64 MiB); a cap reached is a warning
+    naming it."""
+    return json.loads(_native.report(_settings({
+        "study_dir": _path(study_dir, "study_dir"), "out": _opt_path(out, "out"),
+        "max_file_bytes": _count(max_file_bytes, "max_file_bytes"),
+        "max_svg_bytes": _count(max_svg_bytes, "max_svg_bytes"),
+        "max_header_bytes": _count(max_header_bytes, "max_header_bytes"),
+        "max_entries": _count(max_entries, "max_entries"),
+        "max_depth": _count(max_depth, "max_depth"),
+        "max_page_bytes": _count(max_page_bytes, "max_page_bytes"),
+    })))
 
 
 # Every public function and method reports a wrong argument as an InputError naming it; the

@@ -29,7 +29,8 @@ use std::path::{Path, PathBuf};
 /// What to report on, where to write it, and the budgets that bound the work on a study
 /// directory nobody vouches for (each cap has a CLI flag of the same name, e.g.
 /// `--max-file-bytes`; a cap reached is a warning naming it, or an error for the page).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields, default)]
 pub struct ReportOptions {
     /// The study directory (searched recursively; each directory once, however many links
     /// lead to it).
