@@ -332,3 +332,40 @@ fn predict_warns_how_many_points_lie_outside() {
         "{w}"
     );
 }
+
+/// A stated training domain no contact can have (5·10⁸ MPa: Pa numbers given as MPa) is
+/// refused naming the feature, the end and the slip; an unusual one (a normal force of
+/// 200 kN) is imported with a warning line; the physics table, as for every other input.
+#[test]
+fn an_impossible_training_domain_is_refused_with_its_slip() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("booster.json"), BOOSTER).unwrap();
+    let import = |domain: &str| {
+        greybox(
+            &[
+                "import",
+                "booster.json",
+                "--features",
+                "normal_force_N,sliding_velocity_m_per_min",
+                "--domain",
+                domain,
+                "--out",
+                "m.json",
+            ],
+            d,
+        )
+    };
+    let e = err(&import("150:5e14,20:250"));
+    assert!(
+        e.contains("normal_force_N") && e.contains("max") && e.contains("possible range"),
+        "{e}"
+    );
+    let out = import("150:2e5,20:250");
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("warning:") && stderr.contains("normal_force_N"),
+        "{stderr}"
+    );
+}

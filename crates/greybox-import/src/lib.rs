@@ -284,6 +284,7 @@ pub fn model_file(imported: Imported, opts: &ImportOptions) -> Result<ModelFile>
     file.check_structure("imported model")?;
     greybox_model::column::check_law_features(&file.features)
         .map_err(|m| Error::invalid("imported model", m))?;
+    check_domain_physics(&file)?;
     if let Some(calibration) = &opts.calibration {
         let (x, y) = match calibration {
             Calibration::File(path) => {
@@ -315,6 +316,31 @@ pub fn model_file(imported: Imported, opts: &ImportOptions) -> Result<ModelFile>
         file.held_out_r2 = Some(r2(&y, &pred));
     }
     file.seal()
+}
+
+/// The training domain against the physics table, feature by feature in SI: an end no
+/// contact can have (a domain of 5·10⁸ MPa) is refused naming the feature and the likely unit
+/// slip; one outside the usual range is said as a note. Stated domains and ones read from
+/// data alike.
+fn check_domain_physics(file: &ModelFile) -> Result<()> {
+    use greybox_model::column::FeatureQuantity;
+    for (c, r) in file.features.iter().zip(&file.training_domain) {
+        let Ok(q) = FeatureQuantity::of_column(c) else {
+            continue; // refused with its reason by check_law_features
+        };
+        for (end, v) in [("min", r.min), ("max", r.max)] {
+            let what = format!(
+                "the training domain's {end} of '{}' ({v} {})",
+                c.name, c.unit
+            );
+            match greybox_core::physics::check(q.physics(), q.to_si(v), &what) {
+                Ok(None) => {}
+                Ok(Some(flag)) => greybox_core::notes::note(flag.text),
+                Err(e) => return Err(Error::invalid("import domain", e)),
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The force-to-pressure map to record: the stated contact's (c = its pressure at 1 N), which

@@ -87,6 +87,28 @@ impl FeatureQuantity {
         })
     }
 
+    /// A feature value in SI (Pa, m/s, K, N).
+    pub fn to_si(self, value: f64) -> f64 {
+        match self {
+            FeatureQuantity::Pressure { pa_per_unit } => value * pa_per_unit,
+            FeatureQuantity::Velocity { m_s_per_unit } => value * m_s_per_unit,
+            FeatureQuantity::Temperature { offset_k } => value + offset_k,
+            FeatureQuantity::NormalForce { n_per_unit } => value * n_per_unit,
+        }
+    }
+
+    /// The physics table's quantity ([`greybox_core::physics`]) a feature's SI values are
+    /// checked against.
+    pub fn physics(self) -> greybox_core::physics::Quantity {
+        use greybox_core::physics::Quantity;
+        match self {
+            FeatureQuantity::Pressure { .. } => Quantity::ContactPressure,
+            FeatureQuantity::Velocity { .. } => Quantity::SlidingVelocity,
+            FeatureQuantity::Temperature { .. } => Quantity::Temperature,
+            FeatureQuantity::NormalForce { .. } => Quantity::NormalForce,
+        }
+    }
+
     /// The quantity of a feature column, or an error naming the feature, its unit and the
     /// suffixes greybox maps to pressure, velocity, temperature and force.
     pub fn of_column(c: &Column) -> std::result::Result<Self, String> {

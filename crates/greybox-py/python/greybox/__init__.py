@@ -644,7 +644,7 @@ def _json_value(x: Any) -> Any:
         return x.tolist()
     if isinstance(x, np.generic):
         return x.item()
-    raise GreyboxError(f"settings: {type(x).__name__} {x!r} is not a number, text, path or list")
+    raise InputError(f"settings: {type(x).__name__} {x!r} is not a number, text, path or list")
 
 
 def _non_finite(x: Any, where: str) -> Optional[str]:
@@ -915,10 +915,10 @@ def _by_name(x: Any, features: Optional[Sequence[str]], name: str) -> Any:
     if cols is None:
         return _f64_2d(x, name)
     if features is None:
-        raise GreyboxError(f"{name}: a table's columns are taken by name: give features=[…] in the model's input order (its columns: {', '.join(cols)})")
+        raise InputError(f"{name}: a table's columns are taken by name: give features=[…] in the model's input order (its columns: {', '.join(cols)})")
     missing = [f for f in features if f not in cols]
     if missing:
-        raise GreyboxError(f"{name}: no column {', '.join(missing)} (its columns: {', '.join(cols)})")
+        raise InputError(f"{name}: no column {', '.join(missing)} (its columns: {', '.join(cols)})")
     return _f64_2d(np.column_stack([np.asarray(x[f], dtype=float) for f in features]), name)
 
 
