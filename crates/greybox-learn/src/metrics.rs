@@ -162,7 +162,7 @@ mod tests {
         );
         let sd_abs = (1.0 - 2.0 / std::f64::consts::PI).sqrt();
         let width = 2.0 * 1.96 * sd_abs / (n as f64).sqrt();
-        let got = ci.ci_high - ci.ci_low;
+        let got = ci.ci_high.unwrap() - ci.ci_low.unwrap();
         assert!((got / width - 1.0).abs() < 0.15, "width {got} vs {width}");
     }
 }

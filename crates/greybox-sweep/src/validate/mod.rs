@@ -877,7 +877,8 @@ fn material_plan<'a>(
 }
 
 /// A material's rows exist, its calibration conditions are its own and at most a third of
-/// them, and its μ bracket is ordered.
+/// them, its μ bracket is ordered and its run speed is a cutting speed (the physics table:
+/// impossible refused, unusual said).
 fn check_material(
     runs: &MaterialRuns,
     rows: &[&Condition],
@@ -926,6 +927,19 @@ fn check_material(
             suite_path.display(),
             runs.name
         );
+    }
+    // the run speed is a cutting speed: the physics table, as for a set-up's
+    let what = format!("material {}: run_speed_m_per_min", runs.name);
+    match greybox_core::physics::check(
+        greybox_core::physics::Quantity::CuttingSpeed,
+        runs.run_speed_m_per_min / 60.0,
+        &what,
+    ) {
+        Ok(None) => {}
+        Ok(Some(flag)) => {
+            greybox_core::notes::note(format!("{}: {}", suite_path.display(), flag.text))
+        }
+        Err(e) => bail!("{}: {e}", suite_path.display()),
     }
     Ok(())
 }
@@ -980,6 +994,45 @@ mod tests {
             .err()
             .unwrap();
         assert!(format!("{e:#}").contains("cut_length_m = -1"), "{e:#}");
+    }
+
+    /// A run speed no cut can have is refused naming the entry; an unusual one (0.01 m/min,
+    /// a speed in m/s typed as m/min?) is said as a note; the shipped 600 m/min says nothing.
+    #[test]
+    fn a_suite_entrys_run_speed_is_checked_against_the_physics_table() {
+        let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation");
+        let suite_path = repo.join("suite-friction-sure.toml");
+        let mut suite = Suite::read(&suite_path).unwrap();
+        let conditions = read_conditions(&repo.join(&suite.data)).unwrap();
+        let o = ValidateOptions {
+            only: Vec::new(),
+            tools: vec![ToolModel::Thermal],
+            fraction: 0.5,
+            runner: CutRunner::InProcess,
+        };
+        let plan = |suite: &Suite| {
+            greybox_core::notes::collected(|| {
+                material_plan(&suite.material[0], &conditions, suite, &suite_path, &o).map(|_| ())
+            })
+        };
+        let (r, notes) = plan(&suite);
+        assert!(r.is_ok() && notes.is_empty(), "{notes:?}");
+        suite.material[0].run_speed_m_per_min = 0.01;
+        let (r, notes) = plan(&suite);
+        assert!(r.is_ok());
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.contains("run_speed_m_per_min") && n.contains("usual range")),
+            "{notes:?}"
+        );
+        suite.material[0].run_speed_m_per_min = 1e7;
+        let (r, _) = plan(&suite);
+        let e = format!("{:#}", r.unwrap_err());
+        assert!(
+            e.contains("run_speed_m_per_min") && e.contains("possible range"),
+            "{e}"
+        );
     }
 
     #[test]
