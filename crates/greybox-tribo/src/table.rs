@@ -116,6 +116,37 @@ impl Column {
 }
 
 impl Table {
+    /// A copy holding at most the first `rows` values of each column, and no preamble,
+    /// footer or blocks: enough for trying other column names on a table whose data may be
+    /// hundreds of MB (messages that ask "would these names resolve the channels?").
+    pub fn head(&self, rows: usize) -> Table {
+        let columns = self
+            .columns
+            .iter()
+            .map(|c| Column {
+                header: c.header.clone(),
+                name: c.name.clone(),
+                unit: c.unit.clone(),
+                data: match &c.data {
+                    ColumnData::Numbers(v) => ColumnData::Numbers(v[..v.len().min(rows)].to_vec()),
+                    other => other.clone(),
+                },
+            })
+            .collect();
+        Table {
+            source: self.source.clone(),
+            columns,
+            rows: self.rows.min(rows),
+            layout: self.layout.clone(),
+            header_line: self.header_line,
+            headerless: self.headerless,
+            sample_interval_s: self.sample_interval_s,
+            start_time_s: self.start_time_s,
+            positions: self.positions.clone(),
+            ..Default::default()
+        }
+    }
+
     /// Column `k` for messages: its 1-based position in the file and, when other columns share
     /// its header, which of them it is, e.g. `column 14, the first of 2 with that name`.
     pub fn column_label(&self, k: usize) -> String {
@@ -369,6 +400,29 @@ pub fn column_matches(column: &Column, wanted: &str) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A head keeps names, units, positions and the first values, and nothing past them.
+    #[test]
+    fn a_head_keeps_the_first_rows_only() {
+        let t = Table {
+            source: "big.csv".into(),
+            columns: vec![
+                Column::numbers("t (s)", (0..5000).map(f64::from).collect()),
+                Column::numbers("Fz (N)", vec![1.0; 5000]),
+            ],
+            rows: 5000,
+            positions: vec![1, 3],
+            preamble: vec!["rig".into()],
+            ..Default::default()
+        };
+        let h = t.head(10);
+        assert_eq!((h.rows, h.columns.len()), (10, 2));
+        assert_eq!(h.columns[0].unit.as_deref(), Some("s"));
+        assert_eq!(h.columns[1].data, ColumnData::Numbers(vec![1.0; 10]));
+        assert_eq!(h.positions, [1, 3]);
+        assert!(h.preamble.is_empty());
+        assert_eq!(t.head(10_000).rows, 5000);
+    }
 
     #[test]
     fn unit_spellings() {

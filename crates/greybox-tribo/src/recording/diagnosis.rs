@@ -148,8 +148,11 @@ fn naming_line(table: &Table, map: &ChannelMap, unresolved_now: usize) -> String
     if map.reader.header_line.is_some() {
         return String::new();
     }
+    // the roles are found from names, units and the first values: a head of the table
+    // suffices, whatever its size
+    let head = table.head(1000);
     let left_unresolved = |names: &[String]| {
-        let mut t = table.clone();
+        let mut t = head.clone();
         t.name_columns(names).ok()?;
         let roles = assign_roles(&t, map).ok()?;
         Some(unresolved(&t, map, &roles).len())
