@@ -973,13 +973,12 @@ pub fn validate_into(
 mod tests {
     use super::*;
 
-    /// A suite entry's `cut_length_m` replaces the template's before the run's fraction;
-    /// a length that is not positive is refused, naming the entry.
-    #[test]
-    fn a_suite_entry_replaces_the_cut_length() {
+    /// The shipped friction-sure suite, its conditions and options for planning it (thermal
+    /// tool, half the cut length, in process).
+    fn friction_sure_suite() -> (PathBuf, Suite, Vec<Condition>, ValidateOptions) {
         let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation");
         let suite_path = repo.join("suite-friction-sure.toml");
-        let mut suite = Suite::read(&suite_path).unwrap();
+        let suite = Suite::read(&suite_path).unwrap();
         let conditions = read_conditions(&repo.join(&suite.data)).unwrap();
         let o = ValidateOptions {
             only: Vec::new(),
@@ -987,6 +986,14 @@ mod tests {
             fraction: 0.5,
             runner: CutRunner::InProcess,
         };
+        (suite_path, suite, conditions, o)
+    }
+
+    /// A suite entry's `cut_length_m` replaces the template's before the run's fraction;
+    /// a length that is not positive is refused, naming the entry.
+    #[test]
+    fn a_suite_entry_replaces_the_cut_length() {
+        let (suite_path, mut suite, conditions, o) = friction_sure_suite();
         let plan = material_plan(&suite.material[0], &conditions, &suite, &suite_path, &o).unwrap();
         assert!((plan.template.cut_length_m - 0.6e-3).abs() < 1e-15);
         suite.material[0].cut_length_m = Some(-1.0);
@@ -1000,16 +1007,7 @@ mod tests {
     /// a speed in m/s typed as m/min?) is said as a note; the shipped 600 m/min says nothing.
     #[test]
     fn a_suite_entrys_run_speed_is_checked_against_the_physics_table() {
-        let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation");
-        let suite_path = repo.join("suite-friction-sure.toml");
-        let mut suite = Suite::read(&suite_path).unwrap();
-        let conditions = read_conditions(&repo.join(&suite.data)).unwrap();
-        let o = ValidateOptions {
-            only: Vec::new(),
-            tools: vec![ToolModel::Thermal],
-            fraction: 0.5,
-            runner: CutRunner::InProcess,
-        };
+        let (suite_path, mut suite, conditions, o) = friction_sure_suite();
         let plan = |suite: &Suite| {
             greybox_core::notes::collected(|| {
                 material_plan(&suite.material[0], &conditions, suite, &suite_path, &o).map(|_| ())
