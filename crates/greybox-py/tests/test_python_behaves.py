@@ -261,3 +261,17 @@ def test_a_model_imported_in_python_records_its_provenance(tmp_path):
     prov = json.loads(imported.to_json())["provenance"]
     assert prov["command"][0] == "greybox.import_model"
     assert [i["role"] for i in prov["inputs"]] == ["model"], prov
+
+
+def test_a_model_object_is_named_as_such_in_provenance(model, tmp_path):
+    """A Model passed where a model or law file goes is written to a temporary file for the
+    call; the provenance names it as the Python object it was, with its content hash."""
+    m = model[0]
+    d = m.law().domain
+    assert d is not None
+    p = [d["pressure_pa"]["min"], d["pressure_pa"]["max"]]
+    v = [d["sliding_velocity_m_s"]["min"], d["sliding_velocity_m_s"]["max"]]
+    gb.export_table(m, "csv", tmp_path / "t.csv", pressure_Pa=p, velocity_m_per_s=v)
+    prov = json.loads((tmp_path / "t.csv.provenance.json").read_text())
+    law = [i for i in prov["inputs"] if i["role"] == "law"]
+    assert len(law) == 1 and f"python-object-greybox.Model-{m.family}-{m.content_hash[:12]}" in law[0]["path"], prov

@@ -356,8 +356,11 @@ class Model:
         self._m.save(_path(path, "path"))
 
     def _write_into(self, folder: str) -> str:
-        """The model file written into ``folder`` (for a call taking a model or law file)."""
-        path = os.path.join(folder, "model.json")
+        """The model file written into ``folder`` (for a call taking a model or law file),
+        named after the object, so that a provenance record that lists it says what it was
+        (a ``greybox.Model`` passed in Python, its content hash) rather than a bare temporary
+        file."""
+        path = os.path.join(folder, f"python-object-greybox.Model-{self.family}-{self.content_hash[:12]}.json")
         self.save(path)
         return path
 
