@@ -2,11 +2,11 @@
 //! independently of `synth` (tests/support/rig2.rs) and four export layouts of other
 //! tribometers (tests/support/exports.rs), identified against their ground truth.
 
+mod glue;
 mod support;
 
 use greybox_core::units;
-use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
-use greybox_tribo::hertz::PinContact;
+use greybox_tribo::campaign::{ExpectedStep, Identification};
 use greybox_tribo::identify::IdentifyConfig;
 use greybox_tribo::readers::read_recording;
 use greybox_tribo::recording::{ChannelMap, Recording};
@@ -30,37 +30,12 @@ fn files_of(truth: &[TruthStep]) -> Vec<PathBuf> {
     v
 }
 
-fn expected_of(truth: &[TruthStep]) -> Vec<ExpectedStep> {
-    truth
-        .iter()
-        .map(|t| ExpectedStep {
-            pin: t.pin,
-            step: t.step,
-            normal_force_n: t.normal_force_n,
-            sliding_velocity_m_s: units::m_per_min_to_m_per_s(t.velocity_m_per_min),
-            duration_s: None,
-        })
-        .collect()
-}
-
 fn identify(
     recs: &[Recording],
     expected: Option<&[ExpectedStep]>,
     radii: &[f64],
 ) -> Identification {
-    let contact = PinContact::default();
-    let cfg = IdentifyConfig::default();
-    identify_recordings(
-        recs,
-        &Campaign {
-            expected,
-            plan: None,
-            contact: &contact,
-            cfg: &cfg,
-            track_radius_mm: radii,
-        },
-    )
-    .unwrap()
+    glue::identify_on(recs, expected, &IdentifyConfig::default(), radii)
 }
 
 /// With a plan, rows carry the plan's pin and step: compare one to one.
@@ -149,7 +124,7 @@ fn lathe_rig_with_a_plan_and_no_speed_channel() {
     map.apply_override("speed=").unwrap();
     let recs = read_all(&files_of(&truth), &map);
     assert!(recs.iter().all(|r| r.speed.is_none()));
-    let expected = expected_of(&truth);
+    let expected = glue::plan_of(&truth, false);
     let id = identify(&recs, Some(&expected), &[]);
     assert!(id.files.iter().all(|f| f.segmentation == "signals"));
     assert!(id
@@ -188,7 +163,7 @@ fn lathe_rig_matched_by_speed_reports_a_reordered_pin() {
     // a factorial plan lists every pin ascending; the rig ran pin 2 descending
     let (_dir, truth) = lathe_rig();
     let recs = read_all(&files_of(&truth), &ChannelMap::default());
-    let mut expected = expected_of(&truth);
+    let mut expected = glue::plan_of(&truth, false);
     for pin in 1..=3 {
         let mut v: Vec<&mut ExpectedStep> = expected.iter_mut().filter(|e| e.pin == pin).collect();
         let mut speeds: Vec<f64> = v.iter().map(|e| e.sliding_velocity_m_s).collect();
@@ -226,7 +201,7 @@ fn lathe_rig_matched_by_speed_reports_a_reordered_pin() {
 fn a_missing_step_is_reported_by_name() {
     let (_dir, truth) = lathe_rig();
     let recs = read_all(&files_of(&truth), &ChannelMap::default());
-    let mut expected = expected_of(&truth);
+    let mut expected = glue::plan_of(&truth, false);
     expected.push(ExpectedStep {
         pin: 3,
         step: 7,
@@ -253,7 +228,7 @@ fn swapped_files_are_placed_by_their_loads() {
     let mut map = ChannelMap::default();
     map.apply_override("speed=").unwrap();
     let recs = read_all(&files, &map);
-    let expected = expected_of(&truth);
+    let expected = glue::plan_of(&truth, false);
     let id = identify(&recs, Some(&expected), &[]);
     check_against_plan(&id, &truth, 0.003);
     assert!(

@@ -4,28 +4,16 @@
 //! missing and an extra step, and a rig with no speed channel whose nine steps per pin only
 //! the plan's timing places. Every test also checks the file's coverage line.
 
+mod glue;
 mod support;
 
-use greybox_core::units;
+use glue::plan_of;
 use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
 use greybox_tribo::hertz::PinContact;
 use greybox_tribo::identify::IdentifyConfig;
 use greybox_tribo::readers::read_recording;
 use greybox_tribo::recording::{ChannelMap, Recording};
 use support::unseen::{self, Truth};
-
-fn plan_of(truth: &[Truth], with_durations: bool) -> Vec<ExpectedStep> {
-    truth
-        .iter()
-        .map(|t| ExpectedStep {
-            pin: t.pin,
-            step: t.step,
-            normal_force_n: t.normal_force_n,
-            sliding_velocity_m_s: units::m_per_min_to_m_per_s(t.velocity_m_per_min),
-            duration_s: with_durations.then_some(t.duration_s),
-        })
-        .collect()
-}
 
 /// The recordings of the truth's files, once each, in order, read with default settings.
 fn read_each_file(truth: &[Truth]) -> Vec<Recording> {
@@ -38,19 +26,7 @@ fn read_each_file(truth: &[Truth]) -> Vec<Recording> {
 }
 
 fn identify(recs: &[Recording], expected: Option<&[ExpectedStep]>) -> Identification {
-    let contact = PinContact::default();
-    let cfg = IdentifyConfig::default();
-    identify_recordings(
-        recs,
-        &Campaign {
-            expected,
-            plan: None,
-            contact: &contact,
-            cfg: &cfg,
-            track_radius_mm: &[],
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"))
+    glue::identify(recs, expected, &IdentifyConfig::default())
 }
 
 /// Every truth step has a row within `tol`, or is named as missing.

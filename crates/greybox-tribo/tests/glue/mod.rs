@@ -3,7 +3,8 @@
 //! identification call, and the coverage check of a 95 % interval over seeds.
 #![allow(dead_code)]
 
-use crate::support::sure::{Step, Trace};
+use crate::support::sure::Trace;
+use crate::support::PlannedStep;
 use greybox_core::units;
 use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
 use greybox_tribo::hertz::PinContact;
@@ -20,16 +21,20 @@ pub fn recording(t: &Trace) -> Recording {
     )
 }
 
-/// The plan of a generated truth: its steps in run order, with or without their durations.
-pub fn plan_of(truth: &[Step], with_durations: bool) -> Vec<ExpectedStep> {
+/// The plan of a generated truth (any generator's): its steps in run order, with or without
+/// their durations.
+pub fn plan_of<T: PlannedStep>(truth: &[T], with_durations: bool) -> Vec<ExpectedStep> {
     truth
         .iter()
-        .map(|t| ExpectedStep {
-            pin: t.pin,
-            step: t.step,
-            normal_force_n: t.normal_force_n,
-            sliding_velocity_m_s: units::m_per_min_to_m_per_s(t.velocity_m_per_min),
-            duration_s: with_durations.then_some(t.duration_s),
+        .map(|t| {
+            let (pin, step, normal_force_n, velocity_m_per_min, duration_s) = t.planned();
+            ExpectedStep {
+                pin,
+                step,
+                normal_force_n,
+                sliding_velocity_m_s: units::m_per_min_to_m_per_s(velocity_m_per_min),
+                duration_s: duration_s.filter(|_| with_durations),
+            }
         })
         .collect()
 }
@@ -40,6 +45,16 @@ pub fn identify(
     expected: Option<&[ExpectedStep]>,
     cfg: &IdentifyConfig,
 ) -> Identification {
+    identify_on(recs, expected, cfg, &[])
+}
+
+/// [`identify`] on tracks of the given radii, mm (one per pin, or one for all).
+pub fn identify_on(
+    recs: &[Recording],
+    expected: Option<&[ExpectedStep]>,
+    cfg: &IdentifyConfig,
+    radii: &[f64],
+) -> Identification {
     let contact = PinContact::default();
     identify_recordings(
         recs,
@@ -48,7 +63,7 @@ pub fn identify(
             plan: None,
             contact: &contact,
             cfg,
-            track_radius_mm: &[],
+            track_radius_mm: radii,
         },
     )
     .unwrap_or_else(|e| panic!("{e}"))

@@ -36,6 +36,38 @@ pub mod stribeck;
 pub mod sure;
 pub mod unseen;
 
+/// A planned step of any generator's truth, as a plan states it: (pin, step, normal load N,
+/// sliding velocity m/min, planned duration s where the generator plans one). One view of
+/// the generators' truth types, so that the tests turn each into greybox's plan one way.
+pub trait PlannedStep {
+    fn planned(&self) -> (u32, u32, f64, f64, Option<f64>);
+}
+
+impl PlannedStep for TruthStep {
+    fn planned(&self) -> (u32, u32, f64, f64, Option<f64>) {
+        (
+            self.pin,
+            self.step,
+            self.normal_force_n,
+            self.velocity_m_per_min,
+            None,
+        )
+    }
+}
+
+/// The generators whose truth plans a duration per step.
+macro_rules! planned_with_duration {
+    ($($t:ty),+) => {$(
+        impl PlannedStep for $t {
+            fn planned(&self) -> (u32, u32, f64, f64, Option<f64>) {
+                let d = Some(self.duration_s);
+                (self.pin, self.step, self.normal_force_n, self.velocity_m_per_min, d)
+            }
+        }
+    )+};
+}
+planned_with_duration!(sure::Step, unseen::Truth);
+
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::PathBuf;
