@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """Lines of code of the workspace's library and binary sources, tests left out.
 
-Usage: code_size.py [--max-file N] [--max-share CRATE=PERCENT ...]
+Usage: code_size.py [--max-file N] [--max-crate-share PERCENT] [--max-share CRATE=PERCENT ...]
 
 A line of code is a line that is neither blank nor only a comment (`//`, `///`, `//!`), in
 `crates/*/src/**/*.rs`, before the file's `#[cfg(test)]` module (test modules run to the end of
 their file here) and outside `src/**/tests/` folders. Prints each crate's share of the whole and
 the largest files. Exits 1 when a file has more than `--max-file` lines of code or a crate's
-share is above its `--max-share`, so CI keeps rooms from growing back.
+share is above `--max-crate-share` (every crate) or its own `--max-share`, so CI keeps rooms
+from growing back.
 """
 import argparse
 import collections
@@ -29,6 +30,7 @@ def lines_of_code(path):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--max-file", type=int)
+    ap.add_argument("--max-crate-share", type=float)
     ap.add_argument("--max-share", action="append", default=[])
     ap.add_argument("--top", type=int, default=12)
     args = ap.parse_args()
@@ -52,6 +54,13 @@ def main():
         for path, n in files.items():
             if n > args.max_file:
                 print(f"{path}: {n} lines of code, more than {args.max_file}: split it along its seams")
+                failed = True
+    if args.max_crate_share is not None:
+        for crate, n in crates.items():
+            share = 100 * n / total
+            if share > args.max_crate_share:
+                print(f"{crate}: {share:.1f} % of the code, more than {args.max_crate_share:g} %: "
+                      "split it along its purposes")
                 failed = True
     for rule in args.max_share:
         crate, percent = rule.split("=")

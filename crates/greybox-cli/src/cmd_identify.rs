@@ -35,7 +35,7 @@ pub struct Args {
 
 /// `--rig list`: every profile with its test mode and the export it was written against.
 fn print_rigs() {
-    for p in greybox_tribo::profiles::PROFILES {
+    for p in greybox_recording::profiles::PROFILES {
         println!(
             "{:<12} {} [{}]\n             written against: {}",
             p.name,

@@ -115,19 +115,19 @@ fn characterize_reads_tdms() {
     let fs = 20_000.0;
     let rec = Chain::sdof(2.0, 250.0, 0.02).record(fs, 1.2, &[150.0; 3], 0.5e-3, 0.0, 2);
     let chans = [
-        greybox_tribo::tdms::WriteChannel {
+        greybox_recording::tdms::WriteChannel {
             name: "hammer_N",
             unit: "N",
             data: &rec.hammer,
         },
-        greybox_tribo::tdms::WriteChannel {
+        greybox_recording::tdms::WriteChannel {
             name: "accel",
             unit: "m",
             data: &rec.response,
         },
     ];
     let mut buf = Vec::new();
-    greybox_tribo::tdms::write_tdms(&mut buf, "Hammer", &chans, 1.0 / fs, 0.0, 10_000).unwrap();
+    greybox_recording::tdms::write_tdms(&mut buf, "Hammer", &chans, 1.0 / fs, 0.0, 10_000).unwrap();
     std::fs::write(d.path().join("h.tdms"), buf).unwrap();
     let out = greybox(
         &[

@@ -3,7 +3,7 @@
 //! transients, noise) written as text by the test, with and without a position column, and
 //! as a UMT-like export of half-stroke blocks.
 
-use greybox_tribo::recording::Recording;
+use greybox_recording::Recording;
 use greybox_tribo::synth_recip::{reciprocating_recording, umt_export_text, RecipSpec};
 use std::fmt::Write as _;
 use std::path::Path;

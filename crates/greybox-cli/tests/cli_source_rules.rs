@@ -288,7 +288,7 @@ const RAW_OPENS: [&str; 6] = [
 /// Where a raw open is the point: the one safe open itself, and a map of a file it opened.
 const SAFE_OPEN_ITSELF: [&str; 2] = [
     "greybox-core/src/input.rs",
-    "greybox-tribo/src/text_table/assemble.rs",
+    "greybox-recording/src/text_table/assemble.rs",
 ];
 
 /// Every library crate (and the CLI, and the Python extension) reads its inputs through the

@@ -48,6 +48,23 @@ pub fn t_factor(level: f64, dof: f64) -> f64 {
     }
 }
 
+/// Median of a slice (copies; NaN-free input expected). Empty → NaN.
+pub fn median(values: &[f64]) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    let mut v = values.to_vec();
+    let mid = v.len() / 2;
+    let (_, m, _) = v.select_nth_unstable_by(mid, f64::total_cmp);
+    let m = *m;
+    if v.len() % 2 == 1 {
+        m
+    } else {
+        let lower = v[..mid].iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        0.5 * (lower + m)
+    }
+}
+
 /// Arithmetic mean (NaN when empty).
 pub fn mean(x: &[f64]) -> f64 {
     x.iter().sum::<f64>() / x.len() as f64

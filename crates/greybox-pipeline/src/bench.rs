@@ -4,9 +4,9 @@
 use crate::simulate::{read_cutting_setup, run_cut, CutCase, CutSummary, RunOutput};
 use crate::study::{Study, DEMO_STUDY};
 use anyhow::{bail, Result};
-use greybox_tribo::csv_recording::{read_csv_recording, write_csv_recording};
-use greybox_tribo::recording::{ChannelMap, Recording};
-use greybox_tribo::tdms::{read_tdms_recording, write_tdms_recording};
+use greybox_recording::csv_recording::{read_csv_recording, write_csv_recording};
+use greybox_recording::tdms::{read_tdms_recording, write_tdms_recording};
+use greybox_recording::{ChannelMap, Recording};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -91,7 +91,7 @@ pub fn ingest(size_mb: f64, repeats: usize, dir: Option<PathBuf>) -> Result<Vec<
                 let r = match name {
                     "csv" => read_csv_recording(path, &map)?,
                     "tdms" => read_tdms_recording(path, &map)?,
-                    _ => greybox_tribo::readers::read_recording(path, &map)?,
+                    _ => greybox_recording::readers::read_recording(path, &map)?,
                 };
                 Ok(r.len())
             },

@@ -5,12 +5,12 @@ use crate::output::{provenance, stage_out_dir};
 use anyhow::{bail, Context, Result};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::plot::{lines, Line};
+use greybox_recording::readers::RecordingFormat;
+use greybox_recording::tdms::{PropValue, TdmsFile};
 use greybox_tribo::frf::{
     estimate, excitation_check, ExcitationCheck, Frf, ImpactConfig, ImpactRecording, Resonance,
 };
 use greybox_tribo::plan::Plan;
-use greybox_tribo::readers::RecordingFormat;
-use greybox_tribo::tdms::{PropValue, TdmsFile};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 

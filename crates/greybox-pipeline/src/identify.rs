@@ -5,13 +5,13 @@ use crate::output::provenance;
 use crate::study::Study;
 use anyhow::{bail, Context, Result};
 use greybox_core::dataset::FrictionDataset;
+use greybox_recording::readers::{read_recording, RecordingFormat};
+use greybox_recording::Recording;
 use greybox_tribo::campaign::{
     expected_from_plan, match_segments, segment_recordings, Campaign, ExpectedStep, FileReport,
     Identification,
 };
 use greybox_tribo::plan::Plan;
-use greybox_tribo::readers::{read_recording, RecordingFormat};
-use greybox_tribo::recording::Recording;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -375,7 +375,7 @@ pub struct IdentifyResult {
 /// ```
 /// use greybox_pipeline::identify::{identify_campaign, IdentifyOptions};
 /// use greybox_pipeline::{synth::synth, Study};
-/// use greybox_tribo::readers::RecordingFormat;
+/// use greybox_recording::readers::RecordingFormat;
 /// let dir = tempfile::tempdir().unwrap();
 /// let mut study = Study::parse(greybox_pipeline::study::DEMO_STUDY, "demo").unwrap();
 /// study.plan.normal_force_count = greybox_tribo::plan::PinCount::of(2);

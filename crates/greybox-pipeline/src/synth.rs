@@ -3,11 +3,11 @@
 use crate::output::{provenance, stage_out_dir};
 use crate::study::Study;
 use anyhow::{Context, Result};
-use greybox_tribo::csv_recording::write_csv_recording;
+use greybox_recording::csv_recording::write_csv_recording;
+use greybox_recording::readers::RecordingFormat;
+use greybox_recording::tdms::write_tdms_recording;
 use greybox_tribo::plan::Plan;
-use greybox_tribo::readers::RecordingFormat;
 use greybox_tribo::synth::write_ground_truth;
-use greybox_tribo::tdms::write_tdms_recording;
 use serde::Serialize;
 use std::path::Path;
 
@@ -68,7 +68,7 @@ pub fn synthesize(
                         .reader
                         .tdms_group
                         .as_deref()
-                        .unwrap_or(greybox_tribo::recording::DEFAULT_TDMS_GROUP),
+                        .unwrap_or(greybox_recording::DEFAULT_TDMS_GROUP),
                 )?,
                 RecordingFormat::Spreadsheet => {
                     anyhow::bail!("synth writes CSV or TDMS recordings, not spreadsheets")

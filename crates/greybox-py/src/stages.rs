@@ -86,7 +86,7 @@ fn read_recording<'py>(
             Some(c) => serde_json::from_str(c).map_err(|e| anyhow::anyhow!("channels: {e}"))?,
             None => Study::load_or_default(study.as_deref())?.recording,
         };
-        Ok(greybox_tribo::readers::read_recording(&path, &map)?)
+        Ok(greybox_recording::readers::read_recording(&path, &map)?)
     })?;
     let d = pyo3::types::PyDict::new(py);
     d.set_item("time_s", rec.time_s.into_pyarray(py))?;
@@ -105,10 +105,10 @@ fn read_recording<'py>(
         }
     }
     match rec.speed {
-        Some(greybox_tribo::recording::SpeedTrace::SpindleRpm(v)) => {
+        Some(greybox_recording::SpeedTrace::SpindleRpm(v)) => {
             d.set_item("spindle_speed_rpm", v.into_pyarray(py))?
         }
-        Some(greybox_tribo::recording::SpeedTrace::SlidingMPerS(v)) => {
+        Some(greybox_recording::SpeedTrace::SlidingMPerS(v)) => {
             d.set_item("sliding_velocity_m_per_s", v.into_pyarray(py))?
         }
         None => {}

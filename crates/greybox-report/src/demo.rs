@@ -34,10 +34,10 @@ use greybox_pipeline::plan::{summarize, write_plan, PlanSummary};
 use greybox_pipeline::simulate::{cut_case, run_cut, CutSummary, RunOutput};
 use greybox_pipeline::study::{Study, DEMO_STUDY};
 use greybox_pipeline::synth::{synthesize, SynthSummary};
+use greybox_recording::readers::RecordingFormat;
 use greybox_tribo::campaign::FileReport;
 use greybox_tribo::frf::ImpactConfig;
 use greybox_tribo::plan::Plan;
-use greybox_tribo::readers::RecordingFormat;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 

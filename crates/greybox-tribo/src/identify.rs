@@ -19,13 +19,14 @@
 //! 6. **Statistics**: mean and standard deviation of F_t/F_N, sample count, linear trend
 //!    (flag `trend`), and the peak-to-peak of the smoothed, detrended μ (flag `stick-slip`).
 
-use crate::hertz::PinContact;
 use crate::plan::Plan;
-use crate::recording::Recording;
-use crate::signal::{median, running_median};
+use crate::signal::running_median;
 use crate::steady::{level_band, plateau_stats, step_signals};
+use greybox_contact::hertz::PinContact;
 use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
+use greybox_core::stats::median;
 use greybox_core::{Error, Result, SourcePos};
+use greybox_recording::Recording;
 use serde::Serialize;
 
 pub use crate::identify_config::{Alignment, IdentifyConfig};

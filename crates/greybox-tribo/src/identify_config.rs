@@ -3,6 +3,7 @@
 //! import it without importing each other.
 
 use greybox_core::choice::Choice;
+use greybox_recording::TestMode;
 use serde::{Deserialize, Serialize};
 
 /// Which evidence cuts a recording into steps.
@@ -40,40 +41,6 @@ impl Segmentation {
     /// The segmentation's name (`auto`, `plan-timing`, …), as its [`Choice`] spells it.
     pub fn name(self) -> &'static str {
         Choice::name(self)
-    }
-}
-
-greybox_core::choice!(
-    TestMode,
-    "test_mode",
-    [
-        Continuous => "continuous",
-        Stepped => "stepped",
-        Reciprocating => "reciprocating",
-    ],
-    text
-);
-
-/// How a rig runs its tests.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum TestMode {
-    /// Rotating pin-on-disc: one load and speed for the whole test.
-    Continuous,
-    /// Several loads or speeds one after another (step column or blocks).
-    Stepped,
-    /// Linear reciprocating (ASTM G133): the friction force changes sign with the stroke.
-    Reciprocating,
-}
-
-impl TestMode {
-    /// The mode's name (`continuous`, `stepped`, `reciprocating`), as its [`Choice`] spells it.
-    pub fn name(self) -> &'static str {
-        Choice::name(self)
-    }
-    /// The mode called `s` (`continuous`, `stepped`, `reciprocating`).
-    pub fn parse(s: &str) -> Option<TestMode> {
-        Self::parse_choice(s.trim()).ok()
     }
 }
 

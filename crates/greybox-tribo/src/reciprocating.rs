@@ -25,10 +25,12 @@
 //!    `from:Ts` = cycles starting T s or more after the first). μ per direction and averaged
 //!    over those cycles is the test's result.
 
-use crate::identify_config::{IdentifyConfig, SteadyRule, TestMode};
-use crate::recording::{Recording, SpeedTrace};
-use crate::signal::{linear_fit, mad_sigma, mean_std, median, moving_average};
+use crate::identify_config::{IdentifyConfig, SteadyRule};
+use crate::signal::{linear_fit, mad_sigma, mean_std, moving_average};
 use crate::steady::{rule_span, steady_stretch, Settling};
+use greybox_core::stats::median;
+use greybox_recording::TestMode;
+use greybox_recording::{Recording, SpeedTrace};
 use serde::Serialize;
 
 /// Where the strokes came from.

@@ -1,21 +1,6 @@
 //! Small robust signal-processing helpers used by plateau detection.
 
-/// Median of a slice (copies; NaN-free input expected). Empty → NaN.
-pub fn median(values: &[f64]) -> f64 {
-    if values.is_empty() {
-        return f64::NAN;
-    }
-    let mut v = values.to_vec();
-    let mid = v.len() / 2;
-    let (_, m, _) = v.select_nth_unstable_by(mid, f64::total_cmp);
-    let m = *m;
-    if v.len() % 2 == 1 {
-        m
-    } else {
-        let lower = v[..mid].iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        0.5 * (lower + m)
-    }
-}
+use greybox_core::stats::median;
 
 /// Robust standard deviation: 1.4826 × median |x − center| (consistent for Gaussian noise).
 pub fn mad_sigma(values: &[f64], center: f64) -> f64 {

@@ -38,8 +38,9 @@
 //! [`crate::identify::IdentifyConfig`] (docs/recordings.md, "Sliding and steps").
 
 use crate::identify::IdentifyConfig;
-use crate::recording::SpeedTrace;
-use crate::signal::{dominant_period, median};
+use crate::signal::dominant_period;
+use greybox_core::stats::median;
+use greybox_recording::SpeedTrace;
 use serde::Serialize;
 
 /// What decided which loaded samples slide.

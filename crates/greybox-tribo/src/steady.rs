@@ -5,11 +5,13 @@
 //! ([`crate::campaign`]).
 
 use crate::identify_config::{IdentifyConfig, SteadyRule};
+
 use crate::signal::{
-    hampel_outliers, linear_fit, mad_sigma, mean_std, median, moving_average, running_median,
+    hampel_outliers, linear_fit, mad_sigma, mean_std, moving_average, running_median,
 };
 use crate::uncertainty::WindowMean;
 use greybox_core::dataset::flags;
+use greybox_core::stats::median;
 
 /// The friction signal of one window of samples `[i, j)`.
 pub struct StepSignals {

@@ -19,8 +19,8 @@
 //! All randomness comes from ChaCha8 streams seeded by `seed` and the pin number: same
 //! seed, same bytes.
 
-use crate::hertz::PinContact;
 use crate::plan::Plan;
+use greybox_contact::hertz::PinContact;
 use greybox_core::dataset::PressureConvention;
 use greybox_core::rules::Compact;
 use greybox_core::{units, ContactState, Error, FrictionLaw, Result};
@@ -294,7 +294,7 @@ impl SynthConfig {
         plan: &Plan,
         contact: &PinContact,
         pin: u32,
-    ) -> Result<crate::recording::Recording> {
+    ) -> Result<greybox_recording::Recording> {
         self.validate()?;
         let sched = plan
             .pins
@@ -416,20 +416,20 @@ fn spindle_commands(steps: &[crate::plan::PlanStep], stop_s: f64, latency: f64) 
 }
 
 /// A pin's recording with room for `n` samples of each channel (force, radial, trigger).
-fn empty_recording(pin: u32, n: usize) -> crate::recording::Recording {
-    crate::recording::Recording {
+fn empty_recording(pin: u32, n: usize) -> greybox_recording::Recording {
+    greybox_recording::Recording {
         source: format!("synth pin {pin}"),
         time_s: Vec::with_capacity(n),
         normal_n: Vec::with_capacity(n),
         tangential_n: Vec::with_capacity(n),
         radial_n: Some(Vec::with_capacity(n)),
         trigger_v: Some(Vec::with_capacity(n)),
-        ..crate::recording::Recording::new("", Vec::new(), Vec::new(), Vec::new())
+        ..greybox_recording::Recording::new("", Vec::new(), Vec::new(), Vec::new())
     }
 }
 
 /// Refuse a simulated recording whose forces are not all numbers, naming the first sample.
-fn check_finite(rec: &crate::recording::Recording, pin: u32) -> Result<()> {
+fn check_finite(rec: &greybox_recording::Recording, pin: u32) -> Result<()> {
     let channels = [
         ("normal force", &rec.normal_n),
         ("tangential force", &rec.tangential_n),
@@ -534,7 +534,7 @@ impl SynthConfig {
     /// of random sign and 50–100 % of the spike amplitude.
     fn add_spikes(
         &self,
-        rec: &mut crate::recording::Recording,
+        rec: &mut greybox_recording::Recording,
         rng: &mut ChaCha8Rng,
         duration_s: f64,
     ) -> Result<()> {

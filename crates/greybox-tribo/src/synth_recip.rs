@@ -7,7 +7,7 @@
 //! Gaussian noise on both forces. The test is loaded after `rest_s` of unloaded recording and
 //! unloaded again for `rest_s` at the end (so the baseline can be taken).
 
-use crate::recording::Recording;
+use greybox_recording::Recording;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};

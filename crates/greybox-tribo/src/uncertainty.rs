@@ -156,7 +156,7 @@ mod tests {
                     covered += 1;
                 }
             }
-            let med = crate::signal::median(&taus);
+            let med = greybox_core::stats::median(&taus);
             assert!((med / tau - 1.0).abs() < 0.25, "φ {phi}: τ {med} vs {tau}");
             let share = covered as f64 / 400.0;
             assert!((0.90..=0.99).contains(&share), "φ {phi}: coverage {share}");

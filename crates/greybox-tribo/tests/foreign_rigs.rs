@@ -6,10 +6,10 @@ mod glue;
 mod support;
 
 use greybox_core::units;
+use greybox_recording::readers::read_recording;
+use greybox_recording::{ChannelMap, Recording};
 use greybox_tribo::campaign::{ExpectedStep, Identification};
 use greybox_tribo::identify::IdentifyConfig;
-use greybox_tribo::readers::read_recording;
-use greybox_tribo::recording::{ChannelMap, Recording};
 use std::path::PathBuf;
 use support::TruthStep;
 

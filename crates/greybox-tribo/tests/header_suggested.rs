@@ -5,8 +5,8 @@
 //! that names the columns as `header_line` N, and with that setting the same file reads with
 //! every channel taken from a column of that line.
 
-use greybox_tribo::readers::read_recording;
-use greybox_tribo::recording::ChannelMap;
+use greybox_recording::readers::read_recording;
+use greybox_recording::ChannelMap;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

@@ -3,8 +3,8 @@
 //! how to map. Every file is written here from known values and read back through
 //! `read_recording`; expected values are the ones written, in SI.
 
-use greybox_tribo::readers::{read_recording, read_table, RecordingFormat};
-use greybox_tribo::recording::{ChannelMap, ReaderOptions};
+use greybox_recording::readers::{read_recording, read_table, RecordingFormat};
+use greybox_recording::{ChannelMap, ReaderOptions};
 use std::path::PathBuf;
 
 /// Rows of (time s, normal N, friction N) written to every log.

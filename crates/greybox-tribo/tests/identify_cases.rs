@@ -1,6 +1,6 @@
 //! Identification beyond the default path: no trigger, stick-slip, and bad recordings.
 
-use greybox_tribo::hertz::PinContact;
+use greybox_contact::hertz::PinContact;
 use greybox_tribo::identify::{identify_pin, Alignment, IdentifyConfig};
 use greybox_tribo::plan::{Plan, PlanSpec};
 use greybox_tribo::synth::{StickSlip, SynthConfig};

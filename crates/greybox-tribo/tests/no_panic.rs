@@ -1,11 +1,11 @@
 //! Readers never panic: thousands of seeded mutations (byte flips, truncations, insertions)
 //! of valid files go through every reader of external data; each must return Ok or Err.
 
-use greybox_tribo::csv_recording::read_csv_recording_from;
+use greybox_recording::csv_recording::read_csv_recording_from;
+use greybox_recording::tdms::{recording_from_tdms, TdmsFile};
+use greybox_recording::ChannelMap;
 use greybox_tribo::gcode::parse_program;
 use greybox_tribo::plan::PlanSpec;
-use greybox_tribo::recording::ChannelMap;
-use greybox_tribo::tdms::{recording_from_tdms, TdmsFile};
 use greybox_tribo::wear::read_height_map_from;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -52,7 +52,7 @@ fn mutate(base: &[u8], rng: &mut ChaCha8Rng) -> Vec<u8> {
     b
 }
 
-fn small_recording() -> greybox_tribo::recording::Recording {
+fn small_recording() -> greybox_recording::Recording {
     // one pin, two velocity steps
     let plan = PlanSpec {
         track_radius_mm: Some(100.0),
@@ -65,7 +65,7 @@ fn small_recording() -> greybox_tribo::recording::Recording {
     .build()
     .unwrap();
     greybox_tribo::synth::SynthConfig::default()
-        .simulate_pin(&plan, &greybox_tribo::hertz::PinContact::default(), 1)
+        .simulate_pin(&plan, &greybox_contact::hertz::PinContact::default(), 1)
         .unwrap()
 }
 
@@ -74,19 +74,19 @@ fn tdms_reader_survives_mutations() {
     // a small multi-segment file, so that mutations hit lead-ins and metadata often
     let data: Vec<f64> = (0..50).map(|i| i as f64).collect();
     let chans = [
-        greybox_tribo::tdms::WriteChannel {
+        greybox_recording::tdms::WriteChannel {
             name: "normal_force_N",
             unit: "N",
             data: &data,
         },
-        greybox_tribo::tdms::WriteChannel {
+        greybox_recording::tdms::WriteChannel {
             name: "tangential_force_N",
             unit: "N",
             data: &data,
         },
     ];
     let mut base = Vec::new();
-    greybox_tribo::tdms::write_tdms(&mut base, "Tribometer", &chans, 1e-3, 0.0, 20).unwrap();
+    greybox_recording::tdms::write_tdms(&mut base, "Tribometer", &chans, 1e-3, 0.0, 20).unwrap();
     let map = ChannelMap {
         radial: None,
         trigger: None,
@@ -106,7 +106,7 @@ fn tdms_reader_survives_mutations() {
 fn csv_readers_survive_mutations() {
     let rec = small_recording();
     let mut buf = Vec::new();
-    greybox_tribo::csv_recording::write_csv_recording_to(&mut buf, &rec).unwrap();
+    greybox_recording::csv_recording::write_csv_recording_to(&mut buf, &rec).unwrap();
     let base = &buf[..buf.len().min(3000)];
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     for _ in 0..3000 {
@@ -163,10 +163,10 @@ mod support;
 /// identification behind them return Ok or an error that names the file.
 #[test]
 fn foreign_layout_readers_survive_mutations() {
+    use greybox_recording::recording_from_table;
+    use greybox_recording::text_table::parse_text_table;
+    use greybox_recording::xlsx_table::parse_spreadsheet;
     use greybox_tribo::campaign::{identify_recordings, Campaign};
-    use greybox_tribo::recording::recording_from_table;
-    use greybox_tribo::text_table::parse_text_table;
-    use greybox_tribo::xlsx_table::parse_spreadsheet;
     let dir = tempfile::tempdir().unwrap();
     let rotary = support::exports::write_rotary_export(&dir.path().join("a"), 1);
     let campaign = support::exports::write_semicolon_campaign(&dir.path().join("b"), 1);
@@ -183,7 +183,7 @@ fn foreign_layout_readers_survive_mutations() {
         head_tail(&campaign[0].file),
         head_tail(&tab[0].file),
     ];
-    let contact = greybox_tribo::hertz::PinContact::default();
+    let contact = greybox_contact::hertz::PinContact::default();
     let cfg = greybox_tribo::identify::IdentifyConfig::default();
     let campaign_inputs = Campaign {
         expected: None,

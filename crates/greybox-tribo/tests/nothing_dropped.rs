@@ -1,11 +1,11 @@
 //! Nothing read is dropped, split or contradicted without a line in the summary, and every
 //! recording reader opens its file the same guarded way (issue 46 items 2, 5 and 6).
 
+use greybox_contact::hertz::PinContact;
+use greybox_recording::readers::read_recording;
+use greybox_recording::{ChannelMap, Recording, SpeedTrace};
 use greybox_tribo::campaign::{identify_recordings, Campaign, Identification};
-use greybox_tribo::hertz::PinContact;
 use greybox_tribo::identify_config::IdentifyConfig;
-use greybox_tribo::readers::read_recording;
-use greybox_tribo::recording::{ChannelMap, Recording, SpeedTrace};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -251,8 +251,8 @@ fn an_xlsx_time_column_of_dates_is_read_as_seconds() {
 /// the named mode is contradicted (runs, strokes), instead of a bare "no plateau".
 #[test]
 fn a_forced_test_mode_the_signals_contradict_is_named() {
+    use greybox_recording::TestMode;
     use greybox_tribo::campaign::segment_recordings;
-    use greybox_tribo::identify_config::TestMode;
     use greybox_tribo::synth_recip::{reciprocating_recording, RecipSpec};
     let (rec, _) = reciprocating_recording(&RecipSpec::default());
     let contact = PinContact::default();

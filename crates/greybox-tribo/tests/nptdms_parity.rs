@@ -5,9 +5,9 @@
 //! variable `GREYBOX_PYTHON` names a Python with npTDMS installed (`.ci/run` sets it up), the
 //! fixtures are also regenerated fresh and the reverse check runs.
 
-use greybox_tribo::csv_recording::{read_csv_recording, write_csv_recording};
-use greybox_tribo::recording::{ChannelMap, ReaderOptions, Recording};
-use greybox_tribo::tdms::{read_tdms_recording, write_tdms_recording, TdmsFile};
+use greybox_recording::csv_recording::{read_csv_recording, write_csv_recording};
+use greybox_recording::tdms::{read_tdms_recording, write_tdms_recording, TdmsFile};
+use greybox_recording::{ChannelMap, ReaderOptions, Recording};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -114,10 +114,10 @@ fn nptdms_reads_greybox_tdms() {
     .build()
     .unwrap();
     let rec = greybox_tribo::synth::SynthConfig::default()
-        .simulate_pin(&plan, &greybox_tribo::hertz::PinContact::default(), 1)
+        .simulate_pin(&plan, &greybox_contact::hertz::PinContact::default(), 1)
         .unwrap();
     assert!(
-        rec.len() > 2 * greybox_tribo::tdms::DEFAULT_SEGMENT_SAMPLES / 2,
+        rec.len() > 2 * greybox_recording::tdms::DEFAULT_SEGMENT_SAMPLES / 2,
         "several segments"
     );
     let dir = tempfile::tempdir().unwrap();

@@ -3,6 +3,7 @@
 //! against the truth, cycles counted exactly.
 
 use greybox_tribo::identify_config::{IdentifyConfig, SteadyRule};
+
 use greybox_tribo::reciprocating::{analyse, detect, parts, Signals, StrokeSource};
 use greybox_tribo::synth_recip::{reciprocating_recording, RecipSpec};
 
@@ -113,8 +114,8 @@ fn a_one_way_test_is_not_reciprocating() {
 /// sliding velocity from the position, the per-cycle evolution kept in the segment.
 #[test]
 fn campaign_identification_gives_one_row_per_test() {
+    use greybox_contact::hertz::PinContact;
     use greybox_tribo::campaign::{identify_recordings, Campaign};
-    use greybox_tribo::hertz::PinContact;
     let (rec, _) = reciprocating_recording(&RecipSpec::default());
     let cfg = IdentifyConfig::default();
     let contact = PinContact::default();
@@ -152,11 +153,11 @@ fn campaign_identification_gives_one_row_per_test() {
 /// blocks become the strokes, μ per direction within 0.003.
 #[test]
 fn umt_export_of_half_stroke_blocks() {
+    use greybox_contact::hertz::PinContact;
+    use greybox_recording::readers::read_recording;
+    use greybox_recording::ChannelMap;
+    use greybox_recording::TestMode;
     use greybox_tribo::campaign::{identify_recordings, Campaign};
-    use greybox_tribo::hertz::PinContact;
-    use greybox_tribo::identify_config::TestMode;
-    use greybox_tribo::readers::read_recording;
-    use greybox_tribo::recording::ChannelMap;
     use greybox_tribo::synth_recip::umt_export_text;
     let spec = RecipSpec {
         sample_rate_hz: 500.0,
@@ -218,8 +219,8 @@ fn umt_export_of_half_stroke_blocks() {
 /// each): one row per step, each with its own cycles.
 #[test]
 fn load_steps_give_one_row_each() {
+    use greybox_contact::hertz::PinContact;
     use greybox_tribo::campaign::{identify_recordings, Campaign};
-    use greybox_tribo::hertz::PinContact;
     let (mut rec, _) = reciprocating_recording(&RecipSpec {
         cycles: 40,
         rest_s: 0.2,

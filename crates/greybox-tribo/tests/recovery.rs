@@ -1,6 +1,6 @@
 //! `identify` recovers `synth`'s ground truth over the article's full plan (210 plateaus).
 
-use greybox_tribo::hertz::PinContact;
+use greybox_contact::hertz::PinContact;
 use greybox_tribo::identify::{identify_campaign, IdentifyConfig};
 use greybox_tribo::plan::PlanSpec;
 use greybox_tribo::synth::SynthConfig;

@@ -2,11 +2,11 @@
 //! μ"): swapped pin files, a tangential channel in kN read as N, and the planned load standing
 //! in for the measured one.
 
+use greybox_contact::hertz::PinContact;
+use greybox_recording::Recording;
 use greybox_tribo::campaign::{expected_from_plan, identify_recordings, Campaign};
-use greybox_tribo::hertz::PinContact;
 use greybox_tribo::identify::IdentifyConfig;
 use greybox_tribo::plan::{Plan, PlanSpec};
-use greybox_tribo::recording::Recording;
 use greybox_tribo::synth::SynthConfig;
 
 fn plan() -> Plan {
@@ -120,8 +120,8 @@ fn the_dataset_load_is_the_measured_one_with_the_plan_beside_it() {
 /// `--map tangential=normal_force_N` used to give μ ≡ 1.
 #[test]
 fn one_column_for_two_roles_is_refused() {
-    use greybox_tribo::readers::read_recording;
-    use greybox_tribo::recording::{ChannelMap, ChannelSpec};
+    use greybox_recording::readers::read_recording;
+    use greybox_recording::{ChannelMap, ChannelSpec};
     let d = tempfile::tempdir().unwrap();
     let p = d.path().join("pin01.csv");
     std::fs::write(

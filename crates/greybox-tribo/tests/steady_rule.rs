@@ -7,9 +7,9 @@ mod glue;
 mod support;
 
 use greybox_core::dataset::flags;
+use greybox_recording::{Recording, SpeedTrace};
 use greybox_tribo::campaign::Identification;
 use greybox_tribo::identify::IdentifyConfig;
-use greybox_tribo::recording::{Recording, SpeedTrace};
 use support::settle;
 use support::sure::Trace;
 

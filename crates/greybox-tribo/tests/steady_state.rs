@@ -2,10 +2,11 @@
 //! recordings whose truth is known: run-in then drift, a jittering or quantised speed
 //! channel, and the user's `--steady` rules.
 
+use greybox_contact::hertz::PinContact;
 use greybox_tribo::campaign::{identify_recordings, Campaign, Identification};
-use greybox_tribo::hertz::PinContact;
 use greybox_tribo::identify_config::{IdentifyConfig, SteadyRule};
-use greybox_tribo::recording::{Recording, SpeedTrace};
+
+use greybox_recording::{Recording, SpeedTrace};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};

@@ -2,9 +2,9 @@
 //! manifest.toml in tests/data/real-rigs): each file is read by the reader and checked against what this test finds in the
 //! file's bytes on its own (line splitting, header names, data lines, first and last values).
 
-use greybox_tribo::readers::RecordingFormat;
-use greybox_tribo::table::Table;
-use greybox_tribo::text_table::{read_text_table, TextOptions};
+use greybox_recording::readers::RecordingFormat;
+use greybox_recording::table::Table;
+use greybox_recording::text_table::{read_text_table, TextOptions};
 
 #[path = "../../../tests/support/real_rigs.rs"]
 mod real_rigs;

@@ -8,11 +8,11 @@ mod glue;
 mod support;
 
 use glue::plan_of;
+use greybox_contact::hertz::PinContact;
+use greybox_recording::readers::read_recording;
+use greybox_recording::{ChannelMap, Recording};
 use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
-use greybox_tribo::hertz::PinContact;
 use greybox_tribo::identify::IdentifyConfig;
-use greybox_tribo::readers::read_recording;
-use greybox_tribo::recording::{ChannelMap, Recording};
 use support::unseen::{self, Truth};
 
 /// The recordings of the truth's files, once each, in order, read with default settings.
@@ -220,9 +220,7 @@ fn a_normal_force_recorded_negative_is_flipped_and_reported() {
     }
     // through the library: identification flips it
     let mut rec = Recording::new("negative", time.clone(), fz.clone(), fx.clone());
-    rec.speed = Some(greybox_tribo::recording::SpeedTrace::SlidingMPerS(
-        v.clone(),
-    ));
+    rec.speed = Some(greybox_recording::SpeedTrace::SlidingMPerS(v.clone()));
     let id = identify(&[rec], None);
     assert!(id.files[0].normal_sign_flipped);
     assert!(

@@ -2,8 +2,8 @@
 //! files of blocks with time restarting, a file with only the rig's μ, both μ and forces, one
 //! error for everything unresolved, and rig profiles detected from a file's signature.
 
-use greybox_tribo::readers::read_recording;
-use greybox_tribo::recording::ChannelMap;
+use greybox_recording::readers::read_recording;
+use greybox_recording::ChannelMap;
 
 const G_N: f64 = 9.806_65;
 

@@ -10,7 +10,7 @@
 use anyhow::Result;
 use greybox::learn::model::Family;
 use greybox::pipeline::{adhesive, fit, identify, law, simulate, study::DEMO_STUDY, synth, Study};
-use greybox::tribo::readers::RecordingFormat;
+use greybox::recording::readers::RecordingFormat;
 use std::path::{Path, PathBuf};
 
 fn main() -> Result<()> {

@@ -11,7 +11,7 @@
 //! use greybox::pipeline::{adhesive, fit, identify, law, simulate, synth, Study};
 //! # fn main() -> anyhow::Result<()> {
 //! let study = Study::parse(greybox::pipeline::study::DEMO_STUDY, "demo study")?;
-//! let rig = greybox::tribo::readers::RecordingFormat::Csv;
+//! let rig = greybox::recording::readers::RecordingFormat::Csv;
 //! synth::synth(&study, &[rig], "recordings".as_ref(), false, &[])?; // or your rig's files
 //! let id = identify::IdentifyOptions::new(vec!["recordings".into()], "dataset.csv")
 //!     .with_plan(study.plan.build()?);
@@ -37,7 +37,8 @@
 //! | `greybox-sweep` | [`sweep`] | many cuts: sweeps (local pool, Slurm), calibration, the validation suite |
 //! | `greybox-core` | [`core`] | SI units, `ContactState`, the `FrictionLaw` seam, safe outputs, provenance |
 //! | `greybox-contact` | [`contact`] | Hertzian pin-on-disk contact |
-//! | `greybox-tribo` | [`tribo`] | plans, recordings from any rig, identification, ploughing, dynamics, wear |
+//! | `greybox-recording` | [`recording`] | recordings from any rig: text, xlsx and TDMS readers, rig profiles, column roles |
+//! | `greybox-tribo` | [`tribo`] | plans, identification of μ from recordings, the virtual rig, ploughing, dynamics, wear |
 //! | `greybox-model` | [`model`] | inference: model files, predictors, domain checks |
 //! | `greybox-learn` | [`learn`] | training: the four families, the article's protocol |
 //! | `greybox-import` | [`import`] | models trained elsewhere: XGBoost, scikit-learn, ONNX |
@@ -55,6 +56,7 @@ pub use greybox_learn as learn;
 pub use greybox_material as material;
 pub use greybox_model as model;
 pub use greybox_pipeline as pipeline;
+pub use greybox_recording as recording;
 pub use greybox_report as report;
 pub use greybox_sim as sim;
 pub use greybox_sweep as sweep;

@@ -32,11 +32,12 @@ use crate::settings::plan::PlanSettings;
 use crate::study::Study;
 use anyhow::{bail, Context, Result};
 use greybox_core::dataset::PressureConvention;
+use greybox_recording::readers::RecordingFormat;
+use greybox_recording::TestMode;
 use greybox_tribo::campaign::read_expected_steps;
 use greybox_tribo::campaign::Segmentation;
 use greybox_tribo::identify::Alignment;
-use greybox_tribo::identify_config::{SteadyRule, TestMode};
-use greybox_tribo::readers::RecordingFormat;
+use greybox_tribo::identify_config::SteadyRule;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -264,7 +265,7 @@ impl IdentifySettings {
         )?;
         let rate = positive(self.sample_rate_hz, "sample_rate_hz")?;
         if let Some(r) = &self.rig {
-            greybox_tribo::profiles::by_name(r).context("identify.rig")?;
+            greybox_recording::profiles::by_name(r).context("identify.rig")?;
         }
         let rec = &mut study.recording;
         for m in &self.map {

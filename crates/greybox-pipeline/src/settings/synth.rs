@@ -18,7 +18,7 @@ use crate::settings::plan::PlanSettings;
 use crate::study::Study;
 use crate::synth::SynthSummary;
 use anyhow::{bail, Result};
-use greybox_tribo::readers::RecordingFormat;
+use greybox_recording::readers::RecordingFormat;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 

@@ -10,10 +10,10 @@
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
-use crate::export::ObjectPair;
 use anyhow::{bail, Result};
 use greybox_couple::mesh::Mesh;
 use greybox_couple::windows::{Window, WindowOptions};
+use greybox_friction::export::engine::ObjectPair;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 

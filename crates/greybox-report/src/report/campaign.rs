@@ -8,7 +8,7 @@ use anyhow::{Context, Result};
 use greybox_core::dataset::FrictionDataset;
 use greybox_core::plot::{lines, Line};
 use greybox_core::provenance::Provenance;
-use greybox_tribo::recording::ChannelMap;
+use greybox_recording::ChannelMap;
 use std::path::{Path, PathBuf};
 
 /// At most this many recordings are drawn (one figure each).
@@ -262,7 +262,7 @@ fn recording_figure(
     pin: Option<u32>,
     map: &ChannelMap,
 ) -> Result<Block> {
-    let r = greybox_tribo::readers::read_recording(f, map)?;
+    let r = greybox_recording::readers::read_recording(f, map)?;
     let (tn, fnorm) = envelope(&r.time_s, &r.normal_n, TRACE_POINTS);
     let (tt, ftan) = envelope(&r.time_s, &r.tangential_n, TRACE_POINTS);
     let bands: Vec<(f64, f64, &str)> = ds

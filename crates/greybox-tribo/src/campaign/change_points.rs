@@ -1,11 +1,13 @@
 //! Change points of μ inside a sliding run: a least-squares split into a known number of steps, a
 //! penalised split without one, the plan's timing, and the uncertainty of each boundary.
 
-use super::prepare::{Cut, Prepared, Span};
+use super::prepare::Prepared;
+use super::span::{Cut, Span};
 use crate::expected::ExpectedStep;
 use crate::identify::IdentifyConfig;
-use crate::signal::{mad_sigma, median};
+use crate::signal::mad_sigma;
 use crate::steady::mean_standard_error;
+use greybox_core::stats::median;
 use greybox_core::{Error, Result, SourcePos};
 
 /// Prefix sums of a series and its squares: the least-squares cost of a constant piece in O(1).

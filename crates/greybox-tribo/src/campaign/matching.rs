@@ -3,11 +3,11 @@
 
 use super::checks::{check_levels, check_physics};
 use super::numbering::number_without_plan;
-use super::prepare::Cut;
 use super::report::{
     flag_low_coverage_after_matching, segment_record, update_coverage, Campaign, FileReport,
     MatchReport,
 };
+use super::span::Cut;
 use crate::align::{Assigned, Candidate};
 use crate::expected::ExpectedStep;
 use crate::identify_config::Segmentation;

@@ -1,18 +1,20 @@
 //! Measuring a segment: its steady window, μ statistics and speed, whether its uncertain boundaries
 //! matter, and the notes on run-in and drift.
 
-use super::prepare::{Cut, Prepared, Span};
+use super::prepare::Prepared;
 use super::report::{FileReport, SegmentReport};
+use super::span::{Cut, Span};
 use crate::identify::IdentifyConfig;
 use crate::identify_config::SteadyRule;
-use crate::recording::SpeedTrace;
-use crate::signal::{median, moving_average, quantum, running_median};
+use crate::signal::{moving_average, quantum, running_median};
 use crate::steady::{
     plateau_stats, rule_span, steady_span, steady_stretch, step_signals, windows, Settling,
     StepSignals,
 };
 use greybox_core::dataset::flags;
+use greybox_core::stats::median;
 use greybox_core::units;
+use greybox_recording::SpeedTrace;
 
 /// The steady part of a segment, window-relative `[a, b)`, and the run-in end (`auto` only).
 ///

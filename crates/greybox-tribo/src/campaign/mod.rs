@@ -37,8 +37,10 @@ mod plan_timed;
 mod prepare;
 mod reciprocating_segments;
 mod report;
+mod reversals;
 mod segment;
 mod self_check;
+mod span;
 mod spans;
 mod velocity;
 
@@ -46,12 +48,13 @@ pub use crate::expected::{expected_from_plan, read_expected_steps, ExpectedStep}
 pub use crate::identify_config::Segmentation;
 pub use checks::{check_levels, check_physics, IMPLAUSIBLE_LEVEL_FACTOR, MAX_SLIDING_VELOCITY_M_S};
 pub use matching::match_segments;
-pub use passes::{PassMean, PassPair};
-pub use report::{Campaign, FileReport, Identification, MatchReport, SegmentReport};
+pub use report::{
+    Campaign, FileReport, Identification, MatchReport, PassMean, PassPair, SegmentReport,
+};
 pub use segment::{segment_recordings, GAP_SPLIT_INTERVALS};
 
-use crate::recording::Recording;
 use greybox_core::Result;
+use greybox_recording::Recording;
 
 /// Identify recordings (any layout: a file per step, per pin or for the whole campaign):
 /// [`segment_recordings`], then [`match_segments`].

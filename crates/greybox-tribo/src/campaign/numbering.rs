@@ -83,7 +83,7 @@ pub(super) fn number_without_plan(
         // without a plan a step is its place in the recording: numbered by its step column
         // or blocks, else by order (nothing to be placed on wrongly: no flag)
         s.label_evidence = Some(
-            if s.boundaries == super::prepare::Cut::StepColumn.name() {
+            if s.boundaries == super::span::Cut::StepColumn.name() {
                 label_evidence::STEP_COLUMN
             } else {
                 label_evidence::ORDER

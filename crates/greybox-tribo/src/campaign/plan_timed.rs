@@ -6,9 +6,9 @@ use crate::coverage::Coverage;
 use crate::identify::identify_pin;
 use crate::identify_config::Segmentation;
 use crate::plan::Plan;
-use crate::recording::Recording;
 use greybox_core::units;
 use greybox_core::{Error, Result};
+use greybox_recording::Recording;
 
 /// The greybox NC-program path: one recording per pin, the plan's timing from the trigger.
 pub(super) fn plan_timed(recs: &[Recording], plan: &Plan, c: &Campaign) -> Result<Vec<FileReport>> {

@@ -1,15 +1,16 @@
 //! A reciprocating test's segments (ASTM G133): one per test or load/speed step, μ averaged over
 //! the steady cycles.
 
-use super::prepare::{Cut, Prepared, Span};
+use super::prepare::Prepared;
 use super::report::SegmentReport;
+use super::span::{Cut, Span};
 use crate::identify::IdentifyConfig;
 use crate::reciprocating::Reciprocating;
-use crate::recording::{Recording, SpeedTrace};
-use crate::signal::median;
 use crate::uncertainty::WindowMean;
 use greybox_core::dataset::flags;
+use greybox_core::stats::median;
 use greybox_core::units;
+use greybox_recording::{Recording, SpeedTrace};
 
 /// Why a recording is identified as a reciprocating test, or `None` (see
 /// [`crate::reciprocating::detect`]): the mode named in `[identify] mode` / `--test-mode`,

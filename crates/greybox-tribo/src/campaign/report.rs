@@ -3,13 +3,14 @@
 
 use crate::coverage::{Coverage, Dropped, SegmentTime};
 use crate::expected::ExpectedStep;
-use crate::hertz::PinContact;
 use crate::identify::IdentifyConfig;
 use crate::plan::Plan;
 use crate::reciprocating::Reciprocating;
-use crate::recording::{ReadReport, Recording};
+use crate::steady::PlateauStats;
+use greybox_contact::hertz::PinContact;
 use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
 use greybox_core::Result;
+use greybox_recording::{ReadReport, Recording};
 use serde::Serialize;
 
 /// What was found in one segment of a recording.
@@ -86,7 +87,7 @@ pub struct SegmentReport {
     pub direction: Option<&'static str>,
     /// Both directions' means and intervals of a `both` segment.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub passes: Option<super::passes::PassPair>,
+    pub passes: Option<PassPair>,
     /// A reciprocating test's strokes, cycles and μ per direction (ASTM G133; see
     /// [`crate::reciprocating`]); the row's μ is their mean over the steady cycles.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -337,4 +338,47 @@ pub(super) fn segment_record(
         }),
     };
     s.stats.as_ref().expect("measured").record(c.contact, place)
+}
+
+/// One direction's mean over its own steady window.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PassMean {
+    /// The pass's bounds and steady window on the recording's clock, s.
+    pub start_s: f64,
+    pub end_s: f64,
+    pub steady_start_s: f64,
+    pub steady_end_s: f64,
+    /// μ as a magnitude, with its 95 % half-width and standard error.
+    pub cof: f64,
+    pub cof_ci95: f64,
+    pub cof_sem: f64,
+    pub n_samples: usize,
+    pub normal_force_n: f64,
+}
+
+/// A test in both directions: the forward and the reverse pass's means (the row's μ is their
+/// mean; see [`super::passes`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PassPair {
+    pub forward: PassMean,
+    pub backward: PassMean,
+    /// μ_forward − μ_backward and its 95 % half-width, √(h_f² + h_b²).
+    pub difference: f64,
+    pub difference_ci95: f64,
+}
+
+impl PassMean {
+    pub(super) fn of(s: &SegmentReport, st: &PlateauStats) -> PassMean {
+        PassMean {
+            start_s: s.start_s,
+            end_s: s.end_s,
+            steady_start_s: s.steady_start_s.unwrap_or(s.start_s),
+            steady_end_s: s.steady_end_s.unwrap_or(s.end_s),
+            cof: st.mean,
+            cof_ci95: st.ci95,
+            cof_sem: st.interval.sem,
+            n_samples: st.n_samples,
+            normal_force_n: st.normal_force_n,
+        }
+    }
 }

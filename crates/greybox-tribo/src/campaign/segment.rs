@@ -5,19 +5,20 @@ use super::change_points::split_run;
 use super::measure::{measure, steady_notes};
 use super::passes::{pair_passes, trim_ends};
 use super::plan_timed::plan_timed;
-use super::prepare::{prepare, Prepared, Span};
+use super::prepare::{prepare, Prepared};
 use super::reciprocating_segments::{reciprocating_reason, reciprocating_segments};
 use super::report::{update_coverage, Campaign, FileReport, SegmentReport};
+use super::span::Span;
 use super::spans::{sliding_runs, spans_from_speed, spans_from_steps};
 use super::velocity::resolve_velocities;
 use crate::coverage::Dropped;
 use crate::expected::ExpectedStep;
 use crate::identify::IdentifyConfig;
 use crate::identify_config::Segmentation;
-use crate::identify_config::TestMode;
 use crate::plan::Plan;
-use crate::recording::Recording;
 use greybox_core::{Error, Result, SourcePos};
+use greybox_recording::Recording;
+use greybox_recording::TestMode;
 
 /// Which segmentation a file gets under `Auto`.
 pub(super) fn resolve(method: Segmentation, rec: &Recording, plan: Option<&Plan>) -> Segmentation {

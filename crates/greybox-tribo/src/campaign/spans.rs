@@ -1,10 +1,12 @@
 //! Segments from a step column or a speed channel (runs of one step number or one speed level), and
 //! the loaded-and-sliding runs the signal segmenter splits.
 
-use super::prepare::{Cut, Prepared, Span};
+use super::prepare::Prepared;
+use super::span::{Cut, Span};
 use crate::expected::ExpectedStep;
 use crate::identify::IdentifyConfig;
-use crate::signal::{block_medians, mad_sigma, median, runs};
+use crate::signal::{block_medians, mad_sigma, runs};
+use greybox_core::stats::median;
 
 /// Runs of one step number, restricted to their loaded-and-sliding part.
 pub(super) fn spans_from_steps(p: &Prepared, steps: &[f64]) -> Vec<Span> {

@@ -5,11 +5,11 @@
 
 use crate::support::sure::Trace;
 use crate::support::PlannedStep;
+use greybox_contact::hertz::PinContact;
 use greybox_core::units;
+use greybox_recording::Recording;
 use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
-use greybox_tribo::hertz::PinContact;
 use greybox_tribo::identify::IdentifyConfig;
-use greybox_tribo::recording::Recording;
 
 /// A generated trace as a recording (time, normal and friction force; no speed channel).
 pub fn recording(t: &Trace) -> Recording {

@@ -4,13 +4,13 @@
 use super::assign::{assign_roles, drop_unitless_optional};
 use super::channel_map::ChannelMap;
 use super::diagnosis::{unresolved, unresolved_error};
-use super::roles::{check_unit, Role};
+use super::roles::{check_unit, example_unit, same_unit, unit_factor, Role};
 use super::types::{FoundBy, MappedColumn, ReadReport, Recording, SpeedTrace};
-use super::unitless::{assume_friction_unit, settle_assumed, unused_columns};
-use crate::signal::median;
+use super::unitless::{assume_friction_unit, cof_disagreement, settle_assumed, unused_columns};
 use crate::table::{Column, Table};
 use greybox_core::physics::Quantity;
-use greybox_core::units::{ForceUnit, LengthUnit, SpeedUnit, TimeUnit};
+use greybox_core::stats::median;
+use greybox_core::units::SpeedUnit;
 use greybox_core::{Error, Result, SourcePos};
 use rayon::prelude::*;
 
@@ -294,11 +294,6 @@ fn mostly_negative(values: &[f64]) -> bool {
     2 * negative > values.len()
 }
 
-/// A rig's own μ further than this fraction of itself from F_t/F_N (median over the loaded
-/// samples) is a line of the summary: the forces' units, a channel or the rig's own
-/// computation are wrong, and only one of them was used.
-pub const COF_DISAGREEMENT_FRACTION: f64 = 0.1;
-
 /// Footer lines beyond this many are a line of the summary: a footer is an `End of data` or
 /// a few summary lines, not hundreds of lines left unread.
 pub const FOOTER_LINES_NOTED: usize = 5;
@@ -330,100 +325,6 @@ pub(super) fn footer_warning(footer: &[(u64, String)]) -> Option<String> {
             String::new()
         }
     ))
-}
-
-/// How far the rig's own μ lies from F_t/F_N (both taken as magnitudes, loaded samples only),
-/// and whether that is more than [`COF_DISAGREEMENT_FRACTION`] of the rig's μ.
-pub(super) fn cof_disagreement(normal: &[f64], ft: &[f64], mu: &[f64]) -> (String, bool) {
-    let f_ref = median(normal).abs();
-    let diffs: Vec<f64> = normal
-        .iter()
-        .zip(ft)
-        .zip(mu)
-        .filter(|((f, _), m)| f.abs() > 0.2 * f_ref && m.is_finite())
-        .map(|((f, t), m)| (t / f).abs() - m.abs())
-        .collect();
-    if diffs.is_empty() {
-        return (
-            "the rig's own μ (cof) could not be compared with F_t/F_N: no loaded samples".into(),
-            false,
-        );
-    }
-    let med = median(&diffs);
-    let worst = diffs.iter().fold(0.0f64, |w, d| w.max(d.abs()));
-    let own: Vec<f64> = mu
-        .iter()
-        .filter(|m| m.is_finite())
-        .map(|m| m.abs())
-        .collect();
-    let own = median(&own);
-    let far = med.abs() > COF_DISAGREEMENT_FRACTION * own;
-    let share = if own > 0.0 {
-        format!(
-            " ({:.0} % of the rig's μ {own:.4})",
-            100.0 * med.abs() / own
-        )
-    } else {
-        String::new()
-    };
-    (
-        format!(
-            "μ from the forces; the rig's own μ (cof) differs from F_t/F_N by {med:+.4} (median){share} and at most {worst:.4} over {} loaded samples",
-            diffs.len()
-        ),
-        far,
-    )
-}
-
-pub(super) fn example_unit(role: Role) -> &'static str {
-    match role {
-        Role::Time => "s",
-        Role::Speed => "rpm",
-        Role::Radius | Role::Position => "mm",
-        Role::Trigger => "V",
-        _ => "N",
-    }
-}
-
-/// Factor from a unit to SI (forces N, time s, radius m) or the speed base (rpm or m/s).
-pub(super) fn unit_factor(role: Role, unit: &str) -> f64 {
-    match role {
-        Role::Normal | Role::Tangential | Role::Radial => {
-            ForceUnit::parse_lenient(unit).map_or(1.0, ForceUnit::to_newton)
-        }
-        Role::Time => TimeUnit::parse(unit).map_or(1.0, TimeUnit::to_second),
-        Role::Speed => SpeedUnit::parse(unit).map_or(1.0, SpeedUnit::to_base),
-        Role::Radius | Role::Position => LengthUnit::parse(unit).map_or(1.0, LengthUnit::to_metre),
-        Role::Cof => cof_factor(unit).unwrap_or(1.0),
-        Role::Trigger | Role::Step => 1.0,
-    }
-}
-
-/// Factor from a friction-coefficient column's unit to a plain ratio: none, `-`, `1`, `()`
-/// (as Rtec writes `DAQ.COF ()`) or `%`.
-pub(super) fn cof_factor(unit: &str) -> Option<f64> {
-    match unit.trim() {
-        "" | "-" | "1" | "()" | "[]" | "[-]" | "(-)" | "N/N" => Some(1.0),
-        "%" => Some(0.01),
-        _ => None,
-    }
-}
-
-pub(super) fn same_unit(role: Role, a: &str, b: &str) -> bool {
-    if a.trim() == b.trim() {
-        return true;
-    }
-    match role {
-        Role::Speed => match (SpeedUnit::parse(a), SpeedUnit::parse(b)) {
-            (Some(x), Some(y)) => x == y,
-            _ => false,
-        },
-        _ => {
-            check_unit(role, a).is_ok()
-                && check_unit(role, b).is_ok()
-                && unit_factor(role, a) == unit_factor(role, b)
-        }
-    }
 }
 
 /// Times in s, made continuous where the rig restarts its clock at every step (a time that

@@ -11,11 +11,11 @@
 //! [`RigProfile::verified_against`] and `tests/data/real-rigs/SOURCES.md`); a profile only
 //! fills roles the user did not map, and only with columns the file has.
 
-use crate::recording::{ChannelMap, ChannelSpec, Role};
 use crate::table::{column_matches, ColumnData, Table};
+use crate::{ChannelMap, ChannelSpec, Role};
 use greybox_core::{Error, Result, SourcePos};
 
-pub use crate::identify_config::TestMode;
+use crate::TestMode;
 
 /// One role's column in a profile: names tried in order (the first numeric column present
 /// is taken) and the unit when the file does not print one (`""`: the file's own).

@@ -5,7 +5,6 @@ use super::format::{
     TdmsFile, TdmsObject, LEAD_IN, NO_RAW_DATA, SAME_AS_PREVIOUS, TOC_BIG_ENDIAN, TOC_DAQMX,
     TOC_INTERLEAVED, TOC_META_DATA, TOC_NEW_OBJ_LIST, TOC_RAW_DATA, T_BOOL, T_STRING, T_TIMESTAMP,
 };
-use super::raw_data::upsert;
 use super::source::{Cursor, Source, Tuning, Window};
 use greybox_core::{Error, Result, SourcePos};
 use std::collections::HashMap;
@@ -474,4 +473,11 @@ pub(super) fn type_size(dtype: u32) -> Option<usize> {
         T_TIMESTAMP => 16,
         _ => return None,
     })
+}
+
+pub(super) fn upsert(active: &mut Vec<(usize, RawIndex)>, obj: usize, idx: RawIndex) {
+    match active.iter_mut().find(|(o, _)| *o == obj) {
+        Some(slot) => slot.1 = idx,
+        None => active.push((obj, idx)),
+    }
 }

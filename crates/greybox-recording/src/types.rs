@@ -1,9 +1,10 @@
 //! A recording in SI units, its speed trace, and the reader's report of how it was read.
 
+use greybox_core::choice::Choice;
 use greybox_core::physics::Quantity;
 use greybox_core::{Error, Result, SourcePos};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One pin's raw recording, SI units (s, N, V).
 #[derive(Debug, Clone, PartialEq)]
@@ -67,10 +68,10 @@ pub struct ReadReport {
     pub notes: Vec<String>,
     /// What was read but not used, or contradicts what was used (a long footer, a rig's own μ
     /// far from F_t/F_N): lines of the identification's summary, not only of `--inspect`
-    /// (carried into [`crate::campaign::FileReport::warnings`]).
+    /// (carried into `greybox_tribo::campaign::FileReport::warnings`).
     pub warnings: Vec<String>,
     /// How the rig profile says the rig runs its tests (`None`: no profile).
-    pub test_mode: Option<crate::identify_config::TestMode>,
+    pub test_mode: Option<TestMode>,
 }
 
 /// One role's column.
@@ -244,4 +245,38 @@ pub(super) fn first_non_increasing(t: &[f64]) -> Option<usize> {
                 .position(|w| !(w[1] > w[0]))
                 .map(|i| k * BLOCK + i)
         })
+}
+
+greybox_core::choice!(
+    TestMode,
+    "test_mode",
+    [
+        Continuous => "continuous",
+        Stepped => "stepped",
+        Reciprocating => "reciprocating",
+    ],
+    text
+);
+
+/// How a rig runs its tests.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TestMode {
+    /// Rotating pin-on-disc: one load and speed for the whole test.
+    Continuous,
+    /// Several loads or speeds one after another (step column or blocks).
+    Stepped,
+    /// Linear reciprocating (ASTM G133): the friction force changes sign with the stroke.
+    Reciprocating,
+}
+
+impl TestMode {
+    /// The mode's name (`continuous`, `stepped`, `reciprocating`), as its [`Choice`] spells it.
+    pub fn name(self) -> &'static str {
+        Choice::name(self)
+    }
+    /// The mode called `s` (`continuous`, `stepped`, `reciprocating`).
+    pub fn parse(s: &str) -> Option<TestMode> {
+        Self::parse_choice(s.trim()).ok()
+    }
 }

@@ -23,8 +23,8 @@
 //! A test below (`a_reader_added_to_the_registry_reads_through_the_same_path`) walks through
 //! a toy reader built the same way.
 
-use crate::recording::{recording_from_table, ChannelMap, ReaderOptions, Recording};
 use crate::table::Table;
+use crate::{recording_from_table, ChannelMap, ReaderOptions, Recording};
 use greybox_core::{Error, Result, SourcePos};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -199,8 +199,8 @@ pub fn read_table(path: &std::path::Path, map: &ChannelMap) -> Result<Table> {
 /// becomes a [`Table`] from your own parser and goes through [`recording_with_profile`].
 ///
 /// ```
-/// use greybox_tribo::readers::read_recording;
-/// use greybox_tribo::recording::ChannelMap;
+/// use greybox_recording::readers::read_recording;
+/// use greybox_recording::ChannelMap;
 /// let dir = tempfile::tempdir()?;
 /// let file = dir.path().join("run.csv");
 /// std::fs::write(&file, "Time [s],Fn [kgf],Ff [kgf]\n0.0,10,2\n0.1,10,2.5\n0.2,10,3\n")?;

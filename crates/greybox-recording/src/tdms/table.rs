@@ -1,8 +1,8 @@
 //! A TDMS file as a [`Table`](crate::table::Table) of one group's channels, and as a recording.
 
 use super::format::{channel_path, group_path, PropValue, TdmsFile, T_STRING};
-use crate::recording::{ChannelMap, Recording, DEFAULT_TDMS_GROUP};
 use crate::table::{split_unit, Column, ColumnData, Table};
+use crate::{ChannelMap, Recording, DEFAULT_TDMS_GROUP};
 use greybox_core::{Error, Result, SourcePos};
 use std::path::Path;
 
@@ -14,7 +14,7 @@ pub fn read_tdms_recording(path: &Path, map: &ChannelMap) -> Result<Recording> {
 
 /// Build a recording from a parsed TDMS file.
 pub fn recording_from_tdms(file: TdmsFile, map: &ChannelMap) -> Result<Recording> {
-    crate::recording::recording_from_table(
+    crate::recording_from_table(
         table_from_tdms(file, map.reader.tdms_group.as_deref())?,
         map,
     )

@@ -1,6 +1,12 @@
-//! Raw tribometer recordings and how a file's columns map onto roles.
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too
+//! greybox-recording: a tribometer's raw force recordings, read from any rig's files.
 //!
-//! A reader gives a [`Table`](crate::table::Table) (named columns with their units); a
+//! The readers: [`text_table`] (CSV and other delimited text, headerless logs, vendor
+//! preambles), [`xlsx_table`] (spreadsheets), [`tdms`] (NI TDMS, read and written) and
+//! [`csv_recording`] (greybox's own CSV recordings), each giving a [`Table`](table::Table);
+//! [`readers`] picks one by the file's content, and [`profiles`] are rigs' known layouts.
+//!
+//! A reader's [`Table`](crate::table::Table) (named columns with their units) becomes a [`Recording`]: a
 //! [`ChannelMap`] says which
 //! column plays which role — time, normal and tangential force, and where the rig records
 //! them, radial force, trigger, step number, spindle or sliding speed, track radius — and
@@ -24,12 +30,23 @@ mod roles;
 mod types;
 mod unitless;
 
+mod bulk;
+pub mod csv_recording;
+pub mod decimal;
+pub mod profiles;
+pub mod readers;
+pub mod table;
+pub mod tdms;
+pub mod text_table;
+pub mod xlsx_table;
+
 pub use assign::{column_number, looks_like_cof};
 pub use channel_map::{ChannelMap, DEFAULT_TDMS_GROUP};
-pub use convert::{recording_from_table, COF_DISAGREEMENT_FRACTION, FOOTER_LINES_NOTED};
+pub use convert::{recording_from_table, FOOTER_LINES_NOTED};
 pub use reader_options::ReaderOptions;
 pub use roles::{force_unit_from_name, time_unit_from_name, ChannelSpec, Role, ROLE_ALIASES};
-pub use types::{FoundBy, MappedColumn, ReadReport, Recording, SpeedTrace};
+pub use types::{FoundBy, MappedColumn, ReadReport, Recording, SpeedTrace, TestMode};
+pub use unitless::COF_DISAGREEMENT_FRACTION;
 
 #[cfg(test)]
 mod tests {

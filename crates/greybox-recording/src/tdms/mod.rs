@@ -25,6 +25,7 @@
 
 mod format;
 mod raw_data;
+mod read;
 mod segments;
 mod source;
 mod table;
@@ -38,7 +39,7 @@ pub use write::{write_tdms, write_tdms_recording, WriteChannel, DEFAULT_SEGMENT_
 mod reader_tests {
     //! The reader against files with known contents, and the buffer and file paths (at
     //! every size threshold) against each other, on valid and on mutated files.
-    use super::{format::*, segments::*, source::*, write::*};
+    use super::{format::*, read::parse_source, segments::*, source::*, write::*};
     use greybox_core::Result;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
@@ -478,7 +479,7 @@ mod reader_tests {
 #[cfg(test)]
 mod tests {
     use super::{format::*, table::*, write::*};
-    use crate::recording::{ChannelMap, Recording};
+    use crate::{ChannelMap, Recording};
 
     fn sample_recording(n: usize) -> Recording {
         Recording {
@@ -537,7 +538,7 @@ mod tests {
         let buf = to_bytes(&sample_recording(5), 10);
         let file = TdmsFile::parse(&buf, "m.tdms").unwrap();
         let map = ChannelMap {
-            normal: Some(crate::recording::ChannelSpec::named("Fz")),
+            normal: Some(crate::ChannelSpec::named("Fz")),
             ..Default::default()
         };
         let e = recording_from_tdms(file.clone(), &map)
@@ -548,7 +549,7 @@ mod tests {
             "{e}"
         );
         let map = ChannelMap {
-            reader: crate::recording::ReaderOptions {
+            reader: crate::ReaderOptions {
                 tdms_group: Some("Other".into()),
                 ..Default::default()
             },

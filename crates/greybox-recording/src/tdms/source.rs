@@ -1,8 +1,7 @@
 //! The bytes of a TDMS file: a memory map or a buffer, windows read from a file, and a cursor over
 //! a segment's metadata.
 
-use super::format::{PropValue, TdmsFile, T_BOOL, T_STRING, T_TIMESTAMP};
-use super::segments::scan;
+use super::format::{PropValue, T_BOOL, T_STRING, T_TIMESTAMP};
 use greybox_core::{Error, Result, SourcePos};
 use std::path::Path;
 
@@ -141,12 +140,6 @@ pub(super) fn read_exact_at(
         }
     }
     Ok(())
-}
-
-pub(super) fn parse_source(src: &Source, source: &str, tuning: &Tuning) -> Result<TdmsFile> {
-    let (mut file, plan) = scan(src, source, tuning)?;
-    plan.fill(src, source, &mut file.objects, tuning)?;
-    Ok(file)
 }
 
 /// Reads metadata from `bytes`, which hold the file's bytes from offset `base` on; `pos`

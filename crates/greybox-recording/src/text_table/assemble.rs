@@ -4,7 +4,8 @@
 use super::chunks::{chunk_bounds, parse_chunks, Chunk, OtherLine};
 use super::fields::{clip, decode, is_blank, Line};
 use super::header::{
-    check_head_line_lengths, check_units_row, head_lines, header_at, resolve_header, Header, Layout,
+    check_head_line_lengths, check_units_row, head_lines, header_at, resolve_header, Header,
+    HeaderKey, Layout,
 };
 use super::options::{Delimiter, TextOptions};
 use super::sniff::{
@@ -251,12 +252,6 @@ pub(super) fn mark_duplicates(
             columns[k].name
         ));
     }
-}
-
-/// The first block's header names and units row, which every later block repeats.
-pub(super) struct HeaderKey {
-    pub(super) names: Vec<String>,
-    pub(super) units: Option<Vec<String>>,
 }
 
 /// The non-data lines sorted out: the footer and the blocks after the first.

@@ -3,7 +3,7 @@
 //! files.
 
 use super::format::{TdmsObject, T_BOOL, T_TIMESTAMP};
-use super::segments::{columns, type_size, Col, Plan, RawIndex, Run};
+use super::segments::{columns, type_size, Col, Plan, Run};
 use super::source::{Source, Tuning, Window};
 use greybox_core::{Error, Result, SourcePos};
 use rayon::prelude::*;
@@ -366,12 +366,5 @@ pub(super) fn conv<const N: usize>(
                 *d = f(*a);
             }
         }
-    }
-}
-
-pub(super) fn upsert(active: &mut Vec<(usize, RawIndex)>, obj: usize, idx: RawIndex) {
-    match active.iter_mut().find(|(o, _)| *o == obj) {
-        Some(slot) => slot.1 = idx,
-        None => active.push((obj, idx)),
     }
 }

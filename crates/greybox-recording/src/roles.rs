@@ -1,7 +1,6 @@
 //! The roles a column can play, their usual names, and a role's column with its unit and scale
 //! ([`ChannelSpec`]).
 
-use super::convert::cof_factor;
 use greybox_core::units::{ForceUnit, LengthUnit, SpeedUnit, TimeUnit};
 use greybox_core::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -288,4 +287,55 @@ pub(super) fn check_unit(role: Role, unit: &str) -> std::result::Result<(), Stri
         }
         Role::Trigger | Role::Step => unreachable!("no unit check"),
     })
+}
+
+pub(super) fn example_unit(role: Role) -> &'static str {
+    match role {
+        Role::Time => "s",
+        Role::Speed => "rpm",
+        Role::Radius | Role::Position => "mm",
+        Role::Trigger => "V",
+        _ => "N",
+    }
+}
+
+/// Factor from a unit to SI (forces N, time s, radius m) or the speed base (rpm or m/s).
+pub(super) fn unit_factor(role: Role, unit: &str) -> f64 {
+    match role {
+        Role::Normal | Role::Tangential | Role::Radial => {
+            ForceUnit::parse_lenient(unit).map_or(1.0, ForceUnit::to_newton)
+        }
+        Role::Time => TimeUnit::parse(unit).map_or(1.0, TimeUnit::to_second),
+        Role::Speed => SpeedUnit::parse(unit).map_or(1.0, SpeedUnit::to_base),
+        Role::Radius | Role::Position => LengthUnit::parse(unit).map_or(1.0, LengthUnit::to_metre),
+        Role::Cof => cof_factor(unit).unwrap_or(1.0),
+        Role::Trigger | Role::Step => 1.0,
+    }
+}
+
+/// Factor from a friction-coefficient column's unit to a plain ratio: none, `-`, `1`, `()`
+/// (as Rtec writes `DAQ.COF ()`) or `%`.
+pub(super) fn cof_factor(unit: &str) -> Option<f64> {
+    match unit.trim() {
+        "" | "-" | "1" | "()" | "[]" | "[-]" | "(-)" | "N/N" => Some(1.0),
+        "%" => Some(0.01),
+        _ => None,
+    }
+}
+
+pub(super) fn same_unit(role: Role, a: &str, b: &str) -> bool {
+    if a.trim() == b.trim() {
+        return true;
+    }
+    match role {
+        Role::Speed => match (SpeedUnit::parse(a), SpeedUnit::parse(b)) {
+            (Some(x), Some(y)) => x == y,
+            _ => false,
+        },
+        _ => {
+            check_unit(role, a).is_ok()
+                && check_unit(role, b).is_ok()
+                && unit_factor(role, a) == unit_factor(role, b)
+        }
+    }
 }

@@ -1,6 +1,7 @@
 //! Which column plays which role: the user's mapping ([`ChannelMap`], study TOML `[recording]`,
 //! `identify --map`).
 
+use super::map_keys;
 use super::reader_options::ReaderOptions;
 use super::roles::{check_unit, ChannelSpec, Role};
 use greybox_core::units::TimeUnit;
@@ -172,6 +173,89 @@ impl ChannelMap {
             Role::Radius => self.radius = spec,
             Role::Cof => self.cof = spec,
             Role::Position => self.position = spec,
+        }
+    }
+}
+
+/// `` `map` ROLE=NAME:UNIT ``, the mapping quoted for a shell where the name needs it (the
+/// command line shows the setting as its flag).
+pub(super) fn map_flag(role: Role, name: &str, unit: &str) -> String {
+    let arg = if unit.is_empty() {
+        format!("{}={name}", role.name())
+    } else {
+        format!("{}={name}:{unit}", role.name())
+    };
+    let word = greybox_core::shell::word(&arg).unwrap_or_else(|_| arg.escape_debug().to_string());
+    format!("`map` {word}")
+}
+
+// The study file's flat keys, both ways.
+impl Default for map_keys::ChannelMap {
+    fn default() -> Self {
+        ChannelMap::default().into()
+    }
+}
+
+impl From<map_keys::ChannelMap> for ChannelMap {
+    fn from(k: map_keys::ChannelMap) -> Self {
+        ChannelMap {
+            time: k.time,
+            time_unit: k.time_unit,
+            sample_rate_hz: k.sample_rate_hz,
+            normal: k.normal,
+            tangential: k.tangential,
+            radial: k.radial,
+            trigger: k.trigger,
+            step: k.step,
+            speed: k.speed,
+            radius: k.radius,
+            cof: k.cof,
+            position: k.position,
+            constant_normal_n: k.constant_normal_n,
+            constant_sliding_m_s: k.constant_sliding_m_s,
+            rig: k.rig,
+            track_radius_mm: k.track_radius_mm,
+            auto: k.auto,
+            ignore: k.ignore,
+            reader: ReaderOptions {
+                tdms_group: k.tdms_group,
+                header_line: k.header_line,
+                delimiter: k.delimiter,
+                decimal_comma: k.decimal_comma,
+                sheet: k.sheet,
+                columns: k.columns,
+            },
+        }
+    }
+}
+
+impl From<ChannelMap> for map_keys::ChannelMap {
+    fn from(m: ChannelMap) -> Self {
+        map_keys::ChannelMap {
+            time: m.time,
+            time_unit: m.time_unit,
+            sample_rate_hz: m.sample_rate_hz,
+            normal: m.normal,
+            tangential: m.tangential,
+            radial: m.radial,
+            trigger: m.trigger,
+            step: m.step,
+            speed: m.speed,
+            radius: m.radius,
+            cof: m.cof,
+            position: m.position,
+            constant_normal_n: m.constant_normal_n,
+            constant_sliding_m_s: m.constant_sliding_m_s,
+            rig: m.rig,
+            track_radius_mm: m.track_radius_mm,
+            auto: m.auto,
+            ignore: m.ignore,
+            tdms_group: m.reader.tdms_group,
+            header_line: m.reader.header_line,
+            delimiter: m.reader.delimiter,
+            decimal_comma: m.reader.decimal_comma,
+            sheet: m.reader.sheet,
+            columns: m.reader.columns,
         }
     }
 }

@@ -10,13 +10,14 @@
 //! confirms the unit; a disagreement leaves the column unused (named, with both values) and
 //! F_t = μ·F_N from the rig's μ. Without the rig's μ the assumed unit is a warning of the
 //! summary, with the mapping that states another; the campaign's μ range check
-//! ([`crate::campaign::check_levels`]) then catches a unit off by a factor of 1000.
+//! (`greybox_tribo::campaign::check_levels`) then catches a unit off by a factor of 1000.
 
 use super::assign::looks_like_cof;
 use super::channel_map::ChannelMap;
 use super::roles::{check_unit, ChannelSpec, Role};
 use super::types::ReadReport;
 use crate::table::{ColumnData, Table};
+use greybox_core::stats::median;
 
 /// A friction-force column whose unit was taken from the normal force's.
 #[derive(Debug, Clone)]
@@ -87,7 +88,7 @@ pub(super) fn settle_assumed(
         ));
         return Some(ft);
     };
-    let (line, far) = super::convert::cof_disagreement(normal, &ft, mu);
+    let (line, far) = cof_disagreement(normal, &ft, mu);
     if far {
         report.warnings.push(format!(
             "column '{column}' (the friction force) states no unit, and read in {unit} (the normal force's) its F_t/F_N disagrees with the rig's own μ: not used, F_t = μ·F_N from the rig's μ ({line}); state its unit with `map` 'tangential={column}:UNIT' to use it"
@@ -114,4 +115,52 @@ pub(super) fn unused_columns(table: &Table, roles: &[(Role, usize, bool)]) -> Ve
         })
         .map(|(_, c)| format!("'{}'", c.header))
         .collect()
+}
+
+/// A rig's own μ further than this fraction of itself from F_t/F_N (median over the loaded
+/// samples) is a line of the summary: the forces' units, a channel or the rig's own
+/// computation are wrong, and only one of them was used.
+pub const COF_DISAGREEMENT_FRACTION: f64 = 0.1;
+
+/// How far the rig's own μ lies from F_t/F_N (both taken as magnitudes, loaded samples only),
+/// and whether that is more than [`COF_DISAGREEMENT_FRACTION`] of the rig's μ.
+pub(super) fn cof_disagreement(normal: &[f64], ft: &[f64], mu: &[f64]) -> (String, bool) {
+    let f_ref = median(normal).abs();
+    let diffs: Vec<f64> = normal
+        .iter()
+        .zip(ft)
+        .zip(mu)
+        .filter(|((f, _), m)| f.abs() > 0.2 * f_ref && m.is_finite())
+        .map(|((f, t), m)| (t / f).abs() - m.abs())
+        .collect();
+    if diffs.is_empty() {
+        return (
+            "the rig's own μ (cof) could not be compared with F_t/F_N: no loaded samples".into(),
+            false,
+        );
+    }
+    let med = median(&diffs);
+    let worst = diffs.iter().fold(0.0f64, |w, d| w.max(d.abs()));
+    let own: Vec<f64> = mu
+        .iter()
+        .filter(|m| m.is_finite())
+        .map(|m| m.abs())
+        .collect();
+    let own = median(&own);
+    let far = med.abs() > COF_DISAGREEMENT_FRACTION * own;
+    let share = if own > 0.0 {
+        format!(
+            " ({:.0} % of the rig's μ {own:.4})",
+            100.0 * med.abs() / own
+        )
+    } else {
+        String::new()
+    };
+    (
+        format!(
+            "μ from the forces; the rig's own μ (cof) differs from F_t/F_N by {med:+.4} (median){share} and at most {worst:.4} over {} loaded samples",
+            diffs.len()
+        ),
+        far,
+    )
 }

@@ -2,7 +2,7 @@
 //!
 //! Every recording reader (delimited text in [`crate::text_table`], spreadsheets in
 //! [`crate::xlsx_table`], TDMS in [`crate::tdms`]) produces a [`Table`]: named columns with the
-//! unit their header states, and where they came from. [`crate::recording::ChannelMap`] then
+//! unit their header states, and where they came from. [`crate::ChannelMap`] then
 //! gives the columns roles (time, normal force, …) and converts them to SI.
 
 use greybox_core::units::{ForceUnit, LengthUnit, SpeedUnit, TimeUnit};

@@ -1,10 +1,6 @@
 //! The TDMS model: table-of-contents flags, data type codes, property values, objects and the file,
 //! with the paths that name groups and channels.
 
-use super::source::{parse_source, Source, Tuning};
-use greybox_core::Result;
-use std::path::Path;
-
 pub(super) const TOC_META_DATA: u32 = 1 << 1;
 
 pub(super) const TOC_NEW_OBJ_LIST: u32 = 1 << 2;
@@ -123,37 +119,5 @@ impl TdmsFile {
             .filter_map(|o| o.path.strip_prefix(&prefix))
             .map(|c| c.trim_matches('\'').replace("''", "'"))
             .collect()
-    }
-
-    /// Read a TDMS file. Files of a megabyte or more are not loaded whole: after a first
-    /// pass over the segments' lead-ins and metadata, every channel gets its exact number of
-    /// values allocated once and its raw data is read straight into place (little-endian
-    /// doubles without any conversion), large files on all cores.
-    pub fn read(path: &Path) -> Result<Self> {
-        Self::read_tuned(path, &Tuning::DEFAULT)
-    }
-
-    pub(super) fn read_tuned(path: &Path, tuning: &Tuning) -> Result<Self> {
-        let source = path.display().to_string();
-        let (file, len) = greybox_core::input::open_recording(path)?;
-        #[cfg(any(unix, windows))]
-        if len >= tuning.whole_read_max as u64 {
-            if let Ok(len) = usize::try_from(len) {
-                let src = Source::File {
-                    file: &file,
-                    path,
-                    len,
-                };
-                return parse_source(&src, &source, tuning);
-            }
-        }
-        drop(file);
-        let bytes = greybox_core::input::read_recording_bytes(path)?;
-        parse_source(&Source::Mem(&bytes), &source, tuning)
-    }
-
-    /// Parse a TDMS byte buffer. `source` names the file in errors.
-    pub fn parse(bytes: &[u8], source: &str) -> Result<Self> {
-        parse_source(&Source::Mem(bytes), source, &Tuning::DEFAULT)
     }
 }

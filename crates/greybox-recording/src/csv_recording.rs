@@ -2,8 +2,8 @@
 //! greybox's own (`time_s` plus force and trigger columns, units in the column names).
 
 use crate::readers::recording_with_profile as recording_from_table;
-use crate::recording::{ChannelMap, Recording};
 use crate::text_table::parse_text_table;
+use crate::{ChannelMap, Recording};
 use greybox_core::atomic::write_atomic;
 use greybox_core::{Error, Result, SourcePos};
 use std::io::{Read, Write};

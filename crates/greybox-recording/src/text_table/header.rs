@@ -1,12 +1,17 @@
 //! The header and units rows of a sniffed table: column names (or `#1`, `#2`, … without a header),
 //! units, the lines above the data checked, and the layout in words.
 
-use super::assemble::HeaderKey;
 use super::fields::{strip_cr, Line};
 use super::options::SNIFF_LINES;
 use super::sniff::{header_names, Candidate};
 use crate::table::unit_token;
 use greybox_core::{Error, Result, SourcePos};
+
+/// The first block's header names and units row, which every later block repeats.
+pub(super) struct HeaderKey {
+    pub(super) names: Vec<String>,
+    pub(super) units: Option<Vec<String>>,
+}
 
 /// Refuses a head line (one of the first [`SNIFF_LINES`]) longer than the budget
 /// `max_line_bytes`, looking no further than the cap for each line end: a file of gigabytes

@@ -2,9 +2,8 @@
 //! map it.
 
 use super::assign::{assign_roles, is_force, looks_like_cof};
-use super::channel_map::ChannelMap;
-use super::convert::example_unit;
-use super::roles::Role;
+use super::channel_map::{map_flag, ChannelMap};
+use super::roles::{example_unit, Role};
 use crate::table::{Column, ColumnData, Table};
 use greybox_core::{Error, SourcePos};
 
@@ -15,34 +14,6 @@ pub(super) struct Unresolved {
     why: String,
     flag: String,
     or: Option<String>,
-}
-
-/// `` `map` ROLE=NAME:UNIT ``, the mapping quoted for a shell where the name needs it (the
-/// command line shows the setting as its flag).
-pub(super) fn map_flag(role: Role, name: &str, unit: &str) -> String {
-    let arg = if unit.is_empty() {
-        format!("{}={name}", role.name())
-    } else {
-        format!("{}={name}:{unit}", role.name())
-    };
-    let word = greybox_core::shell::word(&arg).unwrap_or_else(|_| arg.escape_debug().to_string());
-    format!("`map` {word}")
-}
-
-/// The file's column positions for messages: `#1 to #3`, or `#1, #2, #5` where columns
-/// without values were left out.
-pub(super) fn positions_list(table: &Table) -> String {
-    let p: Vec<usize> = (0..table.columns.len())
-        .map(|k| table.position(k))
-        .collect();
-    match (p.first(), p.last()) {
-        (Some(a), Some(b)) if b - a + 1 == p.len() && p.len() > 2 => format!("#{a} to #{b}"),
-        _ => p
-            .iter()
-            .map(|k| format!("#{k}"))
-            .collect::<Vec<_>>()
-            .join(", "),
-    }
 }
 
 /// Every role the file and the map leave unresolved, all at once: missing forces (a friction

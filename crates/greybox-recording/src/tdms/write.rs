@@ -4,7 +4,7 @@ use super::format::{
     channel_path, group_path, NO_RAW_DATA, TOC_META_DATA, TOC_NEW_OBJ_LIST, TOC_RAW_DATA, T_F64,
     T_STRING,
 };
-use crate::recording::Recording;
+use crate::Recording;
 use greybox_core::atomic::write_atomic;
 use greybox_core::Result;
 use std::io::Write;

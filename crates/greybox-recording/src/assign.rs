@@ -1,10 +1,9 @@
 //! Roles assigned to a table's columns: the explicit mapping first, then the usual names, with the
 //! optional roles a unitless column cannot fill dropped.
 
+use super::channel_map::map_flag;
 use super::channel_map::ChannelMap;
-use super::convert::example_unit;
-use super::diagnosis::{map_flag, positions_list};
-use super::roles::{Role, ROLE_ALIASES};
+use super::roles::{example_unit, Role, ROLE_ALIASES};
 use crate::table::{column_matches, Column, Table};
 use greybox_core::{Error, Result};
 
@@ -158,4 +157,20 @@ pub(super) fn drop_unitless_optional(
         }
         true
     });
+}
+
+/// The file's column positions for messages: `#1 to #3`, or `#1, #2, #5` where columns
+/// without values were left out.
+pub(super) fn positions_list(table: &Table) -> String {
+    let p: Vec<usize> = (0..table.columns.len())
+        .map(|k| table.position(k))
+        .collect();
+    match (p.first(), p.last()) {
+        (Some(a), Some(b)) if b - a + 1 == p.len() && p.len() > 2 => format!("#{a} to #{b}"),
+        _ => p
+            .iter()
+            .map(|k| format!("#{k}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+    }
 }
