@@ -5,7 +5,8 @@
 use crate::output::emit;
 use anyhow::Result;
 use greybox_core::choice::clap_parsers::choice;
-use greybox_pipeline::export::{export, ExportFormat, ExportOptions, ExportOverrides};
+use greybox_friction::export::engine::ExportFormat;
+use greybox_pipeline::export::{export, ExportOptions, ExportOverrides};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]

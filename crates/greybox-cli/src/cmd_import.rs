@@ -4,9 +4,10 @@ use crate::output::print_json;
 use anyhow::{bail, Context, Result};
 use greybox_core::choice::clap_parsers::choice;
 use greybox_core::dataset::PressureConvention;
+use greybox_import::{Calibration, Domain, ImportOptions};
 use greybox_model::column::FeatureQuantity;
 use greybox_model::modelfile::FeatureRange;
-use greybox_pipeline::import::{import, Calibration, ContactSpec, Domain, ImportOptions};
+use greybox_pipeline::import::{import, ContactSpec};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -20,7 +21,7 @@ pub struct Args {
     #[arg(long, value_delimiter = ',')]
     pub features: Vec<String>,
     /// Target name.
-    #[arg(long, default_value = greybox_pipeline::import::DEFAULT_TARGET)]
+    #[arg(long, default_value = greybox_import::DEFAULT_TARGET)]
     pub target: String,
     /// Training data (CSV with the feature columns): the training domain is taken from it.
     #[arg(long, conflicts_with = "domain")]
@@ -34,7 +35,7 @@ pub struct Args {
     #[arg(long)]
     pub calibration: Option<PathBuf>,
     /// Nominal coverage of the prediction interval.
-    #[arg(long, default_value_t = greybox_pipeline::import::DEFAULT_COVERAGE)]
+    #[arg(long, default_value_t = greybox_import::DEFAULT_COVERAGE)]
     pub coverage: f64,
     #[command(flatten)]
     pub contact: ContactArgs,

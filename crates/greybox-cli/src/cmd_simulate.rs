@@ -2,9 +2,9 @@
 
 use crate::output::print_json;
 use anyhow::Result;
+use greybox_pipeline::settings::cut::CutSettings;
 use greybox_pipeline::settings::pin::PinSettings;
-use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, RunOutput};
-use std::path::PathBuf;
+use greybox_pipeline::simulate::{run_pin, RunOutput};
 
 #[derive(clap::Subcommand, Debug)]
 pub enum Simulate {
@@ -32,12 +32,8 @@ pub struct PinArgs {
 
 #[derive(clap::Args, Debug)]
 pub struct CutArgs {
-    /// Set-up TOML (a serialised CuttingSetup).
-    #[arg(long)]
-    pub config: PathBuf,
-    /// Simulate this fraction of the configured cut length.
-    #[arg(long, default_value_t = 1.0)]
-    pub fraction: f64,
+    #[command(flatten)]
+    pub settings: CutSettings,
     #[command(flatten)]
     pub output: RunOutput,
     #[arg(long)]
@@ -56,8 +52,7 @@ pub fn run(a: Args) -> Result<()> {
             (greybox_report::text::pin(&setup, &r, speed), p.output.out)
         }
         Simulate::Cutting(c) => {
-            let case = read_cutting_setup(&c.config)?;
-            let s = run_cut(&case, c.fraction, &c.output)?;
+            let s = c.settings.run(&c.output)?;
             if c.json {
                 return print_json(&s);
             }

@@ -48,7 +48,7 @@ mod tests {
             help("units")
         );
         assert!(help("deform_reference_velocity_m_per_s").contains("[default: 150 for deform]"));
-        let tolerance = greybox_pipeline::export::DEFAULT_TOLERANCE;
+        let tolerance = greybox_friction::export::engine::DEFAULT_TOLERANCE;
         assert!(
             help("tolerance").contains(&format!("{tolerance}")),
             "{}",

@@ -42,30 +42,53 @@ struct Cli {
 }
 
 /// The caps of the readers (greybox_core::budget): inputs beyond them are refused with the
-/// cap named, before the memory or time they would take is spent.
+/// cap named, before the memory or time they would take is spent. Every command takes them;
+/// they are listed once, in `greybox --help` ([`budget_help`]), not in each command's help.
 #[derive(clap::Args)]
 struct BudgetArgs {
     /// Largest configuration file (set-up TOML, sweep file, base configuration) read, MiB.
-    #[arg(long = "max-input-mib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_input_bytes >> 20)]
+    #[arg(long = "max-input-mib", global = true, hide = true, default_value_t = greybox_core::budget::DEFAULT.max_input_bytes >> 20)]
     max_input_mib: u64,
     /// Most elements of a UBJSON typed array of null/true/false (which take no bytes each).
-    #[arg(long = "max-array-len", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_array_len)]
+    #[arg(long = "max-array-len", global = true, hide = true, default_value_t = greybox_core::budget::DEFAULT.max_array_len)]
     max_array_len: u64,
     /// Most cells of one spreadsheet sheet (declared, held in memory, shared strings).
-    #[arg(long = "max-sheet-cells", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_sheet_cells)]
+    #[arg(long = "max-sheet-cells", global = true, hide = true, default_value_t = greybox_core::budget::DEFAULT.max_sheet_cells)]
     max_sheet_cells: u64,
     /// Most bytes a spreadsheet archive expands to, MiB.
-    #[arg(long = "max-uncompressed-mib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_uncompressed_bytes >> 20)]
+    #[arg(long = "max-uncompressed-mib", global = true, hide = true, default_value_t = greybox_core::budget::DEFAULT.max_uncompressed_bytes >> 20)]
     max_uncompressed_mib: u64,
     /// Longest line in the head of a text recording, KiB.
-    #[arg(long = "max-line-kib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_line_bytes >> 10)]
+    #[arg(long = "max-line-kib", global = true, hide = true, default_value_t = greybox_core::budget::DEFAULT.max_line_bytes >> 10)]
     max_line_kib: u64,
     /// Largest recording file (text, spreadsheet, TDMS) read, MiB.
-    #[arg(long = "max-recording-mib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_recording_bytes >> 20)]
+    #[arg(long = "max-recording-mib", global = true, hide = true, default_value_t = greybox_core::budget::DEFAULT.max_recording_bytes >> 20)]
     max_recording_mib: u64,
     /// Largest data, model or state file read (training data, track widths, points, models, laws, decks, sweep plans, checkpoints), MiB.
-    #[arg(long = "max-data-mib", global = true, help_heading = "Global options", default_value_t = greybox_core::budget::DEFAULT.max_data_bytes >> 20)]
+    #[arg(long = "max-data-mib", global = true, hide = true, default_value_t = greybox_core::budget::DEFAULT.max_data_bytes >> 20)]
     max_data_mib: u64,
+}
+
+/// The caps as one section of `greybox --help`: each flag, its default and what it bounds.
+fn budget_help() -> String {
+    use clap::Args;
+    let caps = BudgetArgs::augment_args(clap::Command::new("budget"));
+    let mut out = String::from(
+        "Input budgets (every command; an input beyond a cap is refused, naming it):\n",
+    );
+    for a in caps.get_arguments() {
+        let default = a
+            .get_default_values()
+            .first()
+            .map(|v| v.to_string_lossy().into_owned());
+        out.push_str(&format!(
+            "  --{} <{}>\n          {}\n",
+            a.get_long().unwrap_or_default(),
+            default.unwrap_or_default(),
+            a.get_help().map(|h| h.to_string()).unwrap_or_default()
+        ));
+    }
+    out
 }
 
 impl BudgetArgs {
@@ -141,7 +164,8 @@ fn main() {
     }
     greybox_pipeline::output::remove_temporaries_on_interrupt();
     let command =
-        count_help::state_count_ranges(export_help::state_export_defaults(Cli::command()));
+        count_help::state_count_ranges(export_help::state_export_defaults(Cli::command()))
+            .after_help(budget_help());
     let matches = command.clone().get_matches();
     flags::Flags::of(&command, &matches).install();
     // values outside their usual range, said once each, with the settings shown as flags
@@ -173,7 +197,7 @@ fn main() {
         Command::Bench(a) => cmd_bench::run(a),
     };
     if let Err(e) = result {
-        eprintln!("error: {}", flags::shown(&format!("{e:#}")));
+        eprintln!("error: {}", flags::shown_error(&e));
         std::process::exit(1);
     }
 }

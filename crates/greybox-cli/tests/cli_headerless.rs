@@ -81,7 +81,7 @@ fn rig_list_needs_no_recordings() {
     assert!(e.contains("--recordings"), "{e}");
     let e = err(&greybox(&["identify", "--rig", "rtec"], d.path()));
     assert!(
-        e.contains("--recordings: give at least one recording"),
+        e.contains("(--recordings): give at least one recording"),
         "{e}"
     );
 }

@@ -155,7 +155,7 @@ fn computed_counts_are_refused_with_the_setting_that_makes_them() {
     refused_with(
         &r,
         &[
-            "sim3d_slide_per_radius",
+            "--sim3d-slide-per-radius",
             "grid lines along the slide",
             "above the cap",
         ],

@@ -39,7 +39,7 @@ fn hertz_radii_moduli_and_loads_are_checked() {
     );
     warned(
         &run(&["hertz", "--force-N", "5e-324"], d),
-        &["--force-N[0]", "normal force 5e-324 N"],
+        &["--force-N (value 1)", "normal force 5e-324 N"],
     );
 }
 

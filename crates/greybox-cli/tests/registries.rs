@@ -174,7 +174,8 @@ impl Source {
             return true;
         }
         let mut texts = vec![std::fs::read_to_string(&file).unwrap_or_default()];
-        if folder.is_dir() && file.ends_with("mod.rs") || file.ends_with("lib.rs") {
+        let root = ["mod.rs", "lib.rs", "main.rs"];
+        if folder.is_dir() && root.iter().any(|r| file.ends_with(r)) {
             for e in walk(&folder) {
                 texts.push(std::fs::read_to_string(e).unwrap_or_default());
             }

@@ -5,10 +5,10 @@
 use clap::Parser;
 use greybox_pipeline::export::ExportOverrides;
 use greybox_pipeline::settings::{
-    adhesive::AdhesiveSettings, couple::CoupleSettings, fit::FitSettings, hertz::HertzSettings,
-    identify::IdentifySettings, law::GreyBoxSettings, material::FlowCurveSettings,
-    material::RateSensitivitySettings, pin::PinSettings, plan::PlanSettings, synth::SynthSettings,
-    windows::WindowsSettings,
+    adhesive::AdhesiveSettings, couple::CoupleSettings, cut::CutSettings, fit::FitSettings,
+    hertz::HertzSettings, identify::IdentifySettings, law::GreyBoxSettings,
+    material::FlowCurveSettings, material::RateSensitivitySettings, pin::PinSettings,
+    plan::PlanSettings, synth::SynthSettings, windows::WindowsSettings,
 };
 use greybox_pipeline::simulate::RunOutput;
 use greybox_sweep::settings::{CalibrateSettings, ExecutorSettings, ValidateSettings};
@@ -43,6 +43,10 @@ fn clap_and_serde_fill_in_the_same_defaults() {
         keys(r#"{"data": "d.csv"}"#),
     );
     same(flags::<PinSettings>(&[]), keys("{}"));
+    same(
+        flags::<CutSettings>(&["--config", "c.toml"]),
+        keys(r#"{"config": "c.toml"}"#),
+    );
     same(flags::<CoupleSettings>(&[]), keys("{}"));
     same(flags::<PlanSettings>(&[]), keys("{}"));
     same(flags::<ExecutorSettings>(&[]), keys("{}"));

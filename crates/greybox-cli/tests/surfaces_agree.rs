@@ -6,9 +6,8 @@ mod common;
 
 use common::{err, greybox, ok};
 use greybox_core::choice::Choice;
-use greybox_pipeline::export::{
-    export, AxisValues, ExportFormat, ExportOptions, ExportOverrides, ObjectPair,
-};
+use greybox_friction::export::engine::{ExportFormat, ObjectPair};
+use greybox_pipeline::export::{export, AxisValues, ExportOptions, ExportOverrides};
 use std::path::Path;
 
 /// A law that depends on pressure (Usui–Childs: the friction stress saturates at m·k).

@@ -83,6 +83,17 @@ pub enum Cap {
 }
 
 impl Cap {
+    /// Every cap.
+    pub const ALL: [Cap; 7] = [
+        Cap::InputBytes,
+        Cap::ArrayLen,
+        Cap::SheetCells,
+        Cap::UncompressedBytes,
+        Cap::LineBytes,
+        Cap::RecordingBytes,
+        Cap::DataBytes,
+    ];
+
     /// The cap's name (the field of [`Budget`]).
     pub fn name(self) -> &'static str {
         match self {

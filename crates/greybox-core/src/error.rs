@@ -74,6 +74,10 @@ pub enum Error {
         path: PathBuf,
         error: std::io::Error,
     },
+    /// A setting refused, named by its typed path ([`crate::setting`]), so that each surface
+    /// words it its own way.
+    #[error("{0}")]
+    Setting(Box<crate::setting::SettingError>),
     /// The call was stopped on request ([`crate::interrupt`]).
     #[error("interrupted")]
     Interrupted,
@@ -98,6 +102,10 @@ impl Error {
             message: message.into(),
         }
     }
+    /// The setting `path` refused for `message`.
+    pub fn setting(path: crate::setting::SettingPath, message: impl Into<String>) -> Self {
+        Error::Setting(Box::new(crate::setting::SettingError::new(path, message)))
+    }
     pub fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
         Error::Io {
             path: path.into(),
@@ -107,3 +115,21 @@ impl Error {
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl From<crate::setting::SettingError> for Error {
+    fn from(e: crate::setting::SettingError) -> Self {
+        Error::Setting(Box::new(e))
+    }
+}
+
+/// The [`crate::setting::SettingError`] an error is or wraps (a library [`Error::Setting`]), if any:
+/// for a surface that words settings its own way.
+pub fn as_setting<'a>(
+    e: &'a (dyn std::error::Error + 'static),
+) -> Option<&'a crate::setting::SettingError> {
+    e.downcast_ref::<crate::setting::SettingError>()
+        .or_else(|| match e.downcast_ref::<Error>() {
+            Some(Error::Setting(s)) => Some(s),
+            _ => None,
+        })
+}

@@ -58,6 +58,7 @@ pub mod progress_sink;
 pub mod provenance;
 pub mod roots;
 pub mod rules;
+pub mod setting;
 pub mod shell;
 pub mod stats;
 pub mod units;

@@ -14,6 +14,7 @@
 //! with a direction (μ and forces of a reciprocating test) are checked by their magnitude:
 //! the caller passes `abs()`.
 
+use crate::setting::{SettingError, SettingPath};
 use crate::units::Compact;
 
 /// Every physical quantity greybox takes or produces.
@@ -498,6 +499,24 @@ pub fn admit(q: Quantity, value: f64, what: &str) -> std::result::Result<(), Str
         crate::notes::note(flag.text);
     }
     Ok(())
+}
+
+/// [`admit`] for a setting: outside the hard range a [`SettingError`] of `path` (each surface
+/// names the setting its own way), outside the usual range the note, naming the setting in
+/// backticks.
+pub fn admit_setting(q: Quantity, value: f64, path: &SettingPath) -> Result<(), SettingError> {
+    let what = format!("`{path}`");
+    match check(q, value, &what) {
+        Err(m) => {
+            let why = m.strip_prefix(&format!("{what}: ")).unwrap_or(&m);
+            Err(SettingError::new(path.clone(), why))
+        }
+        Ok(Some(flag)) => {
+            crate::notes::note(flag.text);
+            Ok(())
+        }
+        Ok(None) => Ok(()),
+    }
 }
 
 /// The table as Markdown (quantity, unit, hard, usual, unit mistakes), for docs and `--help`.

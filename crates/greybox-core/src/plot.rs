@@ -2,6 +2,7 @@
 //! measured scatter, a μ surface as a heat map over two features, and line plots (linear or
 //! logarithmic y, with shaded x bands) for spectra.
 
+use crate::escape::xml_text as escape;
 use std::fmt::Write as _;
 
 const W: f64 = 640.0;
@@ -260,9 +261,6 @@ pub fn heatmap(h: &Heatmap) -> String {
     svg.push_str("</svg>\n");
     svg
 }
-
-/// Text made safe for XML/HTML content and attribute values: [`crate::escape::xml_text`].
-pub use crate::escape::xml_text as escape;
 
 /// A perceptually uniform colour map whose lightness rises monotonically, so that a
 /// figure printed in greyscale still reads (Smith & van der Walt's viridis and inferno,

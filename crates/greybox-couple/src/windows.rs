@@ -14,7 +14,7 @@
 use crate::mesh::Mesh;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::{Error, Result, SourcePos};
-pub use greybox_friction::export::{frcwin_block, parse_frcwin, FrcWin};
+use greybox_friction::export::frcwin_block;
 use serde::{Deserialize, Serialize};
 use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;

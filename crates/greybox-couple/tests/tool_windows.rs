@@ -3,9 +3,8 @@
 //! and Gmsh files by the test, with element node orders scrambled.
 
 use greybox_couple::mesh::{parse_abaqus, parse_gmsh, read_mesh};
-use greybox_couple::windows::{
-    build_windows, frcwin_text, parse_frcwin, signed_area, Window, WindowOptions,
-};
+use greybox_couple::windows::{build_windows, frcwin_text, signed_area, Window, WindowOptions};
+use greybox_friction::export::parse_frcwin;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::fmt::Write as _;

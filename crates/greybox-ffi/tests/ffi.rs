@@ -66,8 +66,8 @@ fn parse_hex_float(s: &str) -> f64 {
 /// A law file: a small learned model inside a grey-box law, plus a classical law.
 fn law_files(dir: &Path) -> Vec<PathBuf> {
     let model = common::small_model(
-        greybox_learn::model::Family::Mlp,
-        greybox_learn::mlp::Activation::Tanh,
+        greybox_model::Family::Mlp,
+        greybox_model::mlp::Activation::Tanh,
     );
     model.save(&dir.join("mlp.json")).unwrap();
     std::fs::write(
@@ -319,8 +319,8 @@ fn example_user_routines_compile() {
 /// naming the field (it used to panic inside the host solver, or hang on the cycle).
 #[test]
 fn a_corrupted_model_is_an_error_code_not_a_panic_or_a_hang() {
-    use greybox_learn::mlp::Activation;
-    use greybox_learn::model::{Family, FittedModel};
+    use greybox_model::mlp::Activation;
+    use greybox_model::{Family, FittedModel};
     let mut m = common::small_model(Family::GradientBoosting, Activation::Relu);
     let FittedModel::TreeEnsemble(t) = &mut m.model else {
         unreachable!()
@@ -328,7 +328,7 @@ fn a_corrupted_model_is_an_error_code_not_a_panic_or_a_hang() {
     let k = t
         .nodes
         .iter()
-        .position(|n| n.feature != greybox_learn::tree::LEAF)
+        .position(|n| n.feature != greybox_model::tree::LEAF)
         .unwrap();
     t.nodes[k].left = k as u32; // points at itself
     let m = m.seal().unwrap();

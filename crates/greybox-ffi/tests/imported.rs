@@ -3,7 +3,7 @@
 //! float32 arithmetic on the features the law maps from SI.
 
 use greybox_import::{from_json, model_file, Domain, ImportOptions};
-use greybox_learn::modelfile::FeatureRange;
+use greybox_model::modelfile::FeatureRange;
 use std::ffi::CString;
 
 /// One stump on the pressure feature (MPa) at 1200.5f32, base 0.3f32.

@@ -29,11 +29,11 @@ fn batch_evaluation_does_not_allocate() {
     let dir = tempfile::tempdir().unwrap();
     // a smooth learned model inside a grey-box law
     for family in [
-        greybox_learn::model::Family::Mlp,
-        greybox_learn::model::Family::GradientBoosting,
-        greybox_learn::model::Family::Svr,
+        greybox_model::Family::Mlp,
+        greybox_model::Family::GradientBoosting,
+        greybox_model::Family::Svr,
     ] {
-        let model = common::small_model(family, greybox_learn::mlp::Activation::Relu);
+        let model = common::small_model(family, greybox_model::mlp::Activation::Relu);
         model.save(&dir.path().join("m.json")).unwrap();
         std::fs::write(dir.path().join("law.json"), r#"{"law": "grey-box", "inner": {"law": "learned", "model": "m.json"}, "outside": {"law": "power-fit"}, "shear_cap_k_MPa": 600, "clamp": [0.05, 1.0]}"#).unwrap();
         // and the model's surrogate table (exact for the trees, adaptive otherwise)
@@ -50,7 +50,7 @@ fn batch_evaluation_does_not_allocate() {
 }
 
 /// Load `file` through the C ABI and count allocations across batch calls.
-fn evaluate_without_allocating(file: &std::path::Path, family: greybox_learn::model::Family) {
+fn evaluate_without_allocating(file: &std::path::Path, family: greybox_model::Family) {
     {
         let path = std::ffi::CString::new(file.to_str().unwrap()).unwrap();
         let mut law = std::ptr::null_mut();

@@ -4,7 +4,7 @@
 //! curves until the max deviation on a dense check set is within a tolerance (aiming for
 //! [`AIM`] × the tolerance there, so that unseen states stay within it).
 //!
-//! The refinement is [`crate::refine`]; this module holds the table and its lookup.
+//! The refinement is [`crate::adaptive_refine`]; this module holds the table and its lookup.
 
 use crate::lines::Lines;
 use crate::table_schema::TableKind;

@@ -21,11 +21,12 @@
 //! each pair into one abscissa (a vertical step), which is still exact away from the step.
 
 use crate::exact_table::deviation;
-use crate::grid::{Grid, PressureUnit, SpeedUnit, TempUnit};
+use crate::grid::Grid;
 use crate::lines::multilinear;
 use greybox_core::boundary::last_true;
 use greybox_core::physics::Quantity;
 use greybox_core::rules::Compact;
+use greybox_core::units::{PressureUnit, TemperatureUnit, VelocityUnit};
 use greybox_core::{Breaks, ContactState, Error, FrictionLaw, Result};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -71,9 +72,9 @@ impl Default for TableOptions {
 /// The unit of an engine axis and its map to SI.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum AxisUnit {
-    Speed(SpeedUnit),
+    Speed(VelocityUnit),
     Pressure(PressureUnit),
-    Temperature(TempUnit),
+    Temperature(TemperatureUnit),
 }
 
 impl AxisUnit {
@@ -174,7 +175,7 @@ impl EngineTable {
     pub fn build(
         law: &dyn FrictionLaw,
         grid: &Grid,
-        units: (SpeedUnit, PressureUnit, TempUnit),
+        units: (VelocityUnit, PressureUnit, TemperatureUnit),
         steps: StepLines,
     ) -> Result<Self> {
         grid.validate()?;

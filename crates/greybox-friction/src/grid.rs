@@ -40,23 +40,19 @@ impl Grid {
     }
 }
 
-/// The units of a table's columns: the conversions are `greybox_core::units`' (under the
-/// names this crate has always used).
-pub use greybox_core::units::{
-    PressureUnit, TemperatureUnit as TempUnit, VelocityUnit as SpeedUnit,
-};
+use greybox_core::units::{PressureUnit, TemperatureUnit, VelocityUnit};
 
 /// The units of an engine table's columns.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Units {
     pub pressure: PressureUnit,
-    pub speed: SpeedUnit,
-    pub temperature: TempUnit,
+    pub speed: VelocityUnit,
+    pub temperature: TemperatureUnit,
 }
 
 impl Units {
     /// The pressure and speed units of a consistent unit system, with a temperature unit.
-    pub fn of(system: UnitSystem, temperature: TempUnit) -> Self {
+    pub fn of(system: UnitSystem, temperature: TemperatureUnit) -> Self {
         let (pressure, speed) = system.pressure_and_speed();
         Units {
             pressure,
@@ -88,11 +84,11 @@ greybox_core::choice!(
 
 impl UnitSystem {
     /// The table's pressure and slip-rate units in this system.
-    pub fn pressure_and_speed(self) -> (PressureUnit, SpeedUnit) {
+    pub fn pressure_and_speed(self) -> (PressureUnit, VelocityUnit) {
         match self {
-            UnitSystem::MpaMmS => (PressureUnit::MPa, SpeedUnit::MmPerS),
-            UnitSystem::PaMS => (PressureUnit::Pa, SpeedUnit::MPerS),
-            UnitSystem::MpaMmMs => (PressureUnit::MPa, SpeedUnit::MmPerMs),
+            UnitSystem::MpaMmS => (PressureUnit::MPa, VelocityUnit::MmPerS),
+            UnitSystem::PaMS => (PressureUnit::Pa, VelocityUnit::MPerS),
+            UnitSystem::MpaMmMs => (PressureUnit::MPa, VelocityUnit::MmPerMs),
         }
     }
     /// Pa per stress unit of a deck in this system (MPa: 10⁶).

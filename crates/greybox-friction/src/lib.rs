@@ -23,6 +23,7 @@
 //! * [`gradient`] — ∂μ/∂p, ∂μ/∂v, ∂μ/∂T for implicit solvers.
 
 pub mod adaptive;
+pub mod adaptive_refine;
 pub mod classical;
 pub mod compose;
 pub mod engine_table;
@@ -33,12 +34,9 @@ pub mod greybox;
 pub mod grid;
 pub mod learned;
 pub mod lines;
-pub mod refine;
 pub mod spec;
 pub mod spec_fields;
 pub mod surrogate;
 pub mod table;
 pub mod table_file;
 pub mod table_schema;
-
-pub use greybox_core::{ContactState, FrictionLaw};

@@ -3,8 +3,8 @@
 //! uniform grid of [`TabulatedLaw`]; and its deviation on states the build never saw.
 
 use crate::adaptive::AdaptiveTable;
+use crate::adaptive_refine::RefineOptions;
 use crate::exact_table::{deviation, ExactTable};
-use crate::refine::RefineOptions;
 use crate::table::{Axis, TabulatedLaw};
 use crate::table_file::{AnyTable, TableKind};
 use greybox_core::law::{Range, ValidityDomain};

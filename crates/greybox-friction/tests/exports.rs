@@ -6,21 +6,22 @@
 
 mod common;
 use common::{model, state};
+use greybox_core::units::{PressureUnit, TemperatureUnit, VelocityUnit};
 use greybox_core::{ContactState, FrictionLaw};
 use greybox_friction::export::{
     abaqus_checked, csv_checked, deform_checked, lsdyna_checked, parse_abaqus_friction,
-    parse_frcfac, Grid, PressureUnit, SpeedUnit, StepLines, TableOptions, TempUnit, Units,
+    parse_frcfac, Grid, StepLines, TableOptions, Units,
 };
 use greybox_friction::learned::LearnedLaw;
-use greybox_learn::model::Family;
+use greybox_model::Family;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 fn units() -> Units {
     Units {
         pressure: PressureUnit::MPa,
-        speed: SpeedUnit::MmPerS,
-        temperature: TempUnit::C,
+        speed: VelocityUnit::MmPerS,
+        temperature: TemperatureUnit::C,
     }
 }
 
@@ -96,7 +97,7 @@ fn tree_exports_are_exact_with_step_lines() {
         for &p in ps.iter().skip(k % 7).step_by(7) {
             let at_curves: Vec<f64> = curves.iter().map(|(x, y)| pwl(x, y, p)).collect();
             let table = pwl(&speeds, &at_curves, v);
-            let s = ContactState::new(PressureUnit::MPa.to_pa(p), SpeedUnit::MmPerS.to_m_s(v));
+            let s = ContactState::new(PressureUnit::MPa.to_pa(p), VelocityUnit::MmPerS.to_m_s(v));
             worst = worst.max((table - law.mu(&s)).abs());
         }
     }
@@ -110,7 +111,7 @@ fn tree_exports_are_exact_with_step_lines() {
     for r in rows.iter().step_by(13) {
         let s = ContactState::new(
             PressureUnit::MPa.to_pa(r[2]),
-            SpeedUnit::MmPerS.to_m_s(r[1]),
+            VelocityUnit::MmPerS.to_m_s(r[1]),
         );
         assert_eq!(r[0], law.mu(&s));
     }
@@ -231,7 +232,7 @@ fn every_format_reports_its_deviation() {
         let s = state([
             PressureUnit::MPa.to_pa(b.pressures[ip]),
             2.5,
-            TempUnit::C.to_k(b.temperatures[it]),
+            TemperatureUnit::C.to_k(b.temperatures[it]),
         ]);
         assert_eq!(mu, tree3.mu(&s));
     }

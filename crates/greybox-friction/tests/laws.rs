@@ -1,25 +1,24 @@
 //! Learned, grey-box and tabulated laws on a model fitted here; Abaqus round trip; law files.
 
 use greybox_contact::PinContact;
+use greybox_core::units::{PressureUnit, TemperatureUnit, VelocityUnit};
 use greybox_core::{ContactState, FrictionLaw};
-use greybox_friction::export::{
-    abaqus, parse_abaqus_friction, Grid, PressureUnit, SpeedUnit, TempUnit, Units,
-};
+use greybox_friction::export::{abaqus, parse_abaqus_friction, Grid, Units};
 use greybox_friction::greybox::{GreyBoxLaw, PowerLaw};
 use greybox_friction::learned::LearnedLaw;
 use greybox_friction::spec::load_law;
 use greybox_friction::table::{Axis, TabulatedLaw};
-use greybox_learn::model::Family;
 use greybox_learn::protocol::{run_protocol, FitConfig};
 use greybox_learn::table::read_dataset_from;
+use greybox_model::Family;
 
 /// A smooth SVR (rbf) model of μ(hertz_pressure_MPa, sliding_velocity_m_per_min).
-fn fitted_model(family: Family) -> greybox_learn::modelfile::ModelFile {
+fn fitted_model(family: Family) -> greybox_model::modelfile::ModelFile {
     fitted_model_scaled(family, 1.0)
 }
 
 /// [`fitted_model`] trained on `scale` × μ (100: a target in %).
-fn fitted_model_scaled(family: Family, scale: f64) -> greybox_learn::modelfile::ModelFile {
+fn fitted_model_scaled(family: Family, scale: f64) -> greybox_model::modelfile::ModelFile {
     let mut csv = String::from("hertz_pressure_MPa,sliding_velocity_m_per_min,mu\n");
     for i in 0..12 {
         for j in 0..12 {
@@ -43,7 +42,7 @@ fn fitted_model_scaled(family: Family, scale: f64) -> greybox_learn::modelfile::
         importance_repeats: greybox_learn::protocol::Repeats::of(1),
         ..Default::default()
     };
-    cfg.grid.svr.kernel = vec![greybox_learn::svr::Kernel::Rbf];
+    cfg.grid.svr.kernel = vec![greybox_model::svr::Kernel::Rbf];
     cfg.grid.svr.c = vec![10.0];
     cfg.grid.svr.epsilon = vec![0.001];
     cfg.grid.gradient_boosting.n_estimators = vec![100];
@@ -63,7 +62,7 @@ fn learned_law_maps_units_and_domain() {
     let x = [1500.0, 100.0];
     assert_eq!(
         law.mu(&st(1500.0, 100.0)),
-        greybox_learn::Predictor::predict_one(&m.model, &x)
+        greybox_model::Predictor::predict_one(&m.model, &x)
     );
     let d = law.domain().unwrap();
     assert!((d.pressure_pa.min - 900e6).abs() < 1.0 && (d.pressure_pa.max - 2220e6).abs() < 1.0);
@@ -134,8 +133,8 @@ fn abaqus_table_round_trip() {
     };
     let u = Units {
         pressure: PressureUnit::MPa,
-        speed: SpeedUnit::MmPerS,
-        temperature: TempUnit::C,
+        speed: VelocityUnit::MmPerS,
+        temperature: TemperatureUnit::C,
     };
     let text = abaqus(&law, &grid, u, Some(450e6)).unwrap();
     assert!(text.contains("*FRICTION, TAUMAX=450.0") && text.contains("Abaqus has no unit system"));
@@ -219,9 +218,9 @@ fn a_law_file_read_once_names_its_inputs_and_builds_the_law() {
 #[test]
 fn force_feature_models_need_their_datasets_contact() {
     use greybox_core::dataset::PressureConvention;
-    use greybox_learn::modelfile::ForcePressure;
+    use greybox_model::modelfile::ForcePressure;
     let mut m = fitted_model(Family::GradientBoosting);
-    m.features[0] = greybox_learn::table::Column::new("normal_force_N");
+    m.features[0] = greybox_model::column::Column::new("normal_force_N");
     let e = LearnedLaw::new(m.clone(), None).unwrap_err().to_string();
     assert!(
         e.contains("does not record") && e.contains("contact"),
@@ -389,8 +388,8 @@ fn engine_tables_bound_mu() {
     };
     let u = Units {
         pressure: PressureUnit::MPa,
-        speed: SpeedUnit::MmPerS,
-        temperature: TempUnit::C,
+        speed: VelocityUnit::MmPerS,
+        temperature: TemperatureUnit::C,
     };
     let o = TableOptions::default();
     // a law object built without its law file (no parameter check): the table refuses it

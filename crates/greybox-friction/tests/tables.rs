@@ -9,15 +9,15 @@ use common::{eq7, model, state};
 use greybox_core::law::Range;
 use greybox_core::{ContactState, FrictionLaw};
 use greybox_friction::adaptive::AdaptiveTable;
+use greybox_friction::adaptive_refine::RefineOptions;
 use greybox_friction::exact_table::{ExactTable, DEFAULT_MAX_CELLS};
 use greybox_friction::greybox::{GreyBoxLaw, PowerLaw};
 use greybox_friction::learned::LearnedLaw;
-use greybox_friction::refine::RefineOptions;
 use greybox_friction::spec::load_law;
 use greybox_friction::table_file::{read_table, AnyTable, TableKind};
-use greybox_learn::model::Family;
 use greybox_model::family::FittedModel;
 use greybox_model::tree::LEAF;
+use greybox_model::Family;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -262,7 +262,7 @@ fn adaptive_tables_put_two_lines_at_every_declared_jump() {
     o.max_nodes = 2000;
     let e = AdaptiveTable::refine(&law, &o).unwrap_err().to_string();
     assert!(
-        e.contains("cap of 2000 nodes") && e.contains("export.tolerance"),
+        e.contains("cap of 2000 nodes") && e.contains("`tolerance`"),
         "{e}"
     );
 }

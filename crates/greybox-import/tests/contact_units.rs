@@ -5,8 +5,8 @@
 
 use greybox_contact::PinContact;
 use greybox_core::dataset::PressureConvention;
+use greybox_core::FrictionLaw;
 use greybox_friction::learned::LearnedLaw;
-use greybox_friction::FrictionLaw;
 use greybox_import::{from_json, model_file, Domain, ImportOptions};
 use greybox_model::modelfile::{FeatureRange, ModelFile};
 

@@ -5,15 +5,16 @@
 //! estimated intercept for `reg:squarederror`). Defaults follow XGBoost where the grid does
 //! not set a value (λ = 1, min_child_weight = 1, γ = 0).
 
-use crate::model::{GridSearch, Regressor};
-use crate::tree::{grow_with_leaves, GrowParams, TreeEnsemble};
-use crate::Matrix;
+use crate::regressor::{GridSearch, Regressor};
+use crate::tree::{grow_with_leaves, GrowParams};
 use greybox_core::{Error, Result};
+use greybox_model::tree::TreeEnsemble;
+use greybox_model::Matrix;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
-pub use greybox_model::ensemble::BoostParams;
+use greybox_model::ensemble::BoostParams;
 use greybox_model::ensemble::{BoostDepth, Trees};
 
 /// XGBoost's smallest accepted loss change (kRtEps).

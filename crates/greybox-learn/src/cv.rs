@@ -3,10 +3,10 @@
 //! results are identical whatever the number of threads.
 
 use crate::metrics::{mse, r2};
-use crate::model::Train;
-use crate::model::{Hyperparameters, Predictor};
-use crate::Matrix;
+use crate::regressor::Train;
 use greybox_core::{Error, Result};
+use greybox_model::Matrix;
+use greybox_model::{Hyperparameters, Predictor};
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

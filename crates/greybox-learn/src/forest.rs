@@ -2,16 +2,17 @@
 //! CART trees grown to purity on bootstrap samples, averaged. Defaults follow
 //! scikit-learn's `RandomForestRegressor` (all features per split, min_samples_leaf = 1).
 
-use crate::model::{GridSearch, Regressor};
-use crate::tree::{grow, GrowParams, TreeEnsemble};
-use crate::Matrix;
+use crate::regressor::{GridSearch, Regressor};
+use crate::tree::{grow, GrowParams};
 use greybox_core::{Error, Result};
+use greybox_model::tree::TreeEnsemble;
+use greybox_model::Matrix;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-pub use greybox_model::ensemble::ForestParams;
+use greybox_model::ensemble::ForestParams;
 use greybox_model::ensemble::Trees;
 
 impl Regressor for ForestParams {
@@ -48,7 +49,7 @@ impl Regressor for ForestParams {
             max_features: self.max_features,
             leaf_scale: 1.0,
         };
-        let trees: Vec<(Vec<crate::tree::Node>, u32)> = (0..self.n_estimators)
+        let trees: Vec<(Vec<greybox_model::tree::Node>, u32)> = (0..self.n_estimators)
             .into_par_iter()
             .map(|t| {
                 let mut rng = ChaCha8Rng::seed_from_u64(

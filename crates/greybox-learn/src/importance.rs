@@ -3,8 +3,8 @@
 //! permutations; reported as mean ± population standard deviation. Score: R².
 
 use crate::metrics::r2;
-use crate::model::Predictor;
-use crate::Matrix;
+use greybox_model::Matrix;
+use greybox_model::Predictor;
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

@@ -13,8 +13,6 @@
 //!   [`interval`] (CV-conformal prediction intervals), [`protocol`] (the article's study).
 //! * [`modelfile`] — versioned, hashed JSON model files; [`plot`] — SVG plots.
 
-/// Inference types, from `greybox-model` (kept here under their old paths).
-pub use greybox_model::{interval, matrix, modelfile, structure};
 pub mod boost;
 pub mod cv;
 mod fast_math;
@@ -22,8 +20,8 @@ pub mod forest;
 pub mod importance;
 pub mod metrics;
 pub mod mlp;
-pub mod model;
 pub mod protocol;
+pub mod regressor;
 pub mod svr;
 pub mod svr_lowrank;
 mod svr_rows;
@@ -37,7 +35,3 @@ pub mod svr_test_kit {
 }
 pub mod table;
 pub mod tree;
-
-pub use greybox_core::plot;
-pub use matrix::Matrix;
-pub use model::{FittedModel, Hyperparameters, Predictor};

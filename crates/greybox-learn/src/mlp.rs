@@ -6,12 +6,12 @@
 //! epochs without an R² gain of `tol`, and the best weights are kept. Inputs and the target
 //! are standardised inside the model.
 
-use crate::matrix::{standardize_target, Standardizer};
-use crate::model::{GridSearch, Regressor};
-use crate::Matrix;
+use crate::regressor::{GridSearch, Regressor};
 use greybox_core::{Error, Result};
-pub use greybox_model::mlp::{Activation, MlpModel, MlpParams, MAX_WIDTH};
+use greybox_model::matrix::{standardize_target, Standardizer};
+use greybox_model::mlp::{Activation, MlpModel, MlpParams, MAX_WIDTH};
 use greybox_model::mlp::{Epochs, LayerWidth, MAX_LAYERS};
+use greybox_model::Matrix;
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -12,14 +12,14 @@
 
 use crate::cv::{check_folds, grid_search, kfold_ids, nested_cv, CvResult, OuterFold};
 use crate::importance::{permutation_importance, Importance};
-use crate::interval::{conformal_half_width, IntervalMethod, PredictionInterval};
 use crate::metrics::{metrics_with_ci, Metrics};
-use crate::model::{Family, Hyperparameters, Predictor};
-use crate::model::{GridSearch, Train};
-use crate::modelfile::{FeatureRange, ModelFile, SCHEMA, SCHEMA_VERSION};
+use crate::regressor::{GridSearch, Train};
 use crate::table::Dataset;
 use greybox_core::count::Count;
 use greybox_core::{Error, Result};
+use greybox_model::interval::{conformal_half_width, IntervalMethod, PredictionInterval};
+use greybox_model::modelfile::{FeatureRange, ModelFile, SCHEMA, SCHEMA_VERSION};
+use greybox_model::{Family, Hyperparameters, Predictor};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -273,7 +273,7 @@ fn run_family(
 struct Searched {
     results: Vec<CvResult>,
     best: usize,
-    model: crate::model::FittedModel,
+    model: greybox_model::FittedModel,
 }
 
 /// Steps 1–2: grid search by k-fold CV, then the selected configuration fitted on all rows.
@@ -328,7 +328,7 @@ fn held_out(
 fn model_file(
     data: &Dataset,
     report: &FamilyReport,
-    model: crate::model::FittedModel,
+    model: greybox_model::FittedModel,
 ) -> Result<ModelFile> {
     ModelFile {
         schema: SCHEMA.into(),

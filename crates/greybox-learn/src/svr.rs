@@ -11,13 +11,11 @@
 //! and polynomial kernels are solved exactly in their small feature space
 //! ([`crate::svr_lowrank`]).
 
-use crate::matrix::Standardizer;
-use crate::model::{GridSearch, Regressor};
-use crate::Matrix;
+use crate::regressor::{GridSearch, Regressor};
 use greybox_core::{Error, Result};
-pub use greybox_model::svr::{
-    dot, kernel_value, Kernel, SvrModel, SvrParams, SvrSolver, MAX_FEATURES,
-};
+use greybox_model::matrix::Standardizer;
+use greybox_model::svr::{Kernel, SvrModel, SvrParams, SvrSolver};
+use greybox_model::Matrix;
 use serde::{Deserialize, Serialize};
 
 /// Memory for the kernel rows SMO keeps between iterations (each row K(r, ·) takes 8 l bytes;

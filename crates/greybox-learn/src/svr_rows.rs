@@ -11,8 +11,8 @@
 //! for bit whatever the kernel's arithmetic.
 
 use crate::fast_math::{exp_nonpositive_in_place, tanh_in_place};
-use crate::Matrix;
 use greybox_model::svr::{dot, kernel_value, Kernel, SvrParams};
+use greybox_model::Matrix;
 
 /// Row r of the kernel matrix of the standardised rows `z` into `row` (length z.n_rows).
 pub fn kernel_row(p: &SvrParams, gamma: f64, z: &Matrix, r: usize, row: &mut [f64]) {

@@ -9,8 +9,8 @@
 //! against the full-matrix reference, `tests/common/old_svr.rs`).
 
 use crate::svr_rows::{kernel_diagonal, kernel_row};
-use crate::Matrix;
 use greybox_model::svr::SvrParams;
+use greybox_model::Matrix;
 
 const TAU: f64 = 1e-12;
 

@@ -1,12 +1,12 @@
 //! Strict numeric tables read from CSV: chosen feature columns and a target column.
 
-use crate::Matrix;
 use greybox_core::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header};
 use greybox_core::{Error, Result, SourcePos};
+use greybox_model::Matrix;
 
 use std::path::Path;
 
-pub use greybox_model::column::{unit_of, Column};
+use greybox_model::column::{unit_of, Column};
 
 /// Features, target and optional fold ids read from a CSV.
 #[derive(Debug, Clone, PartialEq)]

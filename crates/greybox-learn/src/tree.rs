@@ -16,8 +16,8 @@
 //! carry the feature value and the row's g and h, so the split scan reads memory in order;
 //! only the partition after a split looks a row up (one byte per row).
 
-use crate::Matrix;
-pub use greybox_model::tree::{walk, Node, TreeEnsemble, LEAF};
+use greybox_model::tree::{Node, LEAF};
+use greybox_model::Matrix;
 use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
 
@@ -295,6 +295,7 @@ impl Builder<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use greybox_model::tree::walk;
     use rand::{Rng, SeedableRng};
 
     /// The rows a leaf reports are exactly the rows whose walk ends in it: every training

@@ -1,14 +1,15 @@
 //! Each model family learns a smooth friction-like surface; protocol pieces behave.
 
-use greybox_learn::boost::BoostParams;
-use greybox_learn::forest::ForestParams;
 use greybox_learn::importance::permutation_importance;
 use greybox_learn::metrics::r2;
-use greybox_learn::mlp::{Activation, MlpParams};
-use greybox_learn::model::Train;
-use greybox_learn::model::{Hyperparameters, Predictor, Regressor};
-use greybox_learn::svr::{Kernel, SvrParams};
-use greybox_learn::Matrix;
+use greybox_learn::regressor::Regressor;
+use greybox_learn::regressor::Train;
+use greybox_model::ensemble::BoostParams;
+use greybox_model::ensemble::ForestParams;
+use greybox_model::mlp::{Activation, MlpParams};
+use greybox_model::svr::{Kernel, SvrParams};
+use greybox_model::Matrix;
+use greybox_model::{Hyperparameters, Predictor};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -194,7 +195,7 @@ fn svr_fits_more_rows_than_a_kernel_matrix_would_hold() {
         m.coef.len()
     );
     let n = 100_000;
-    let x = greybox_learn::Matrix::new(n, 2, (0..2 * n).map(|i| (i % 977) as f64).collect());
+    let x = greybox_model::Matrix::new(n, 2, (0..2 * n).map(|i| (i % 977) as f64).collect());
     let y: Vec<f64> = (0..n).map(|r| 0.3 - 1e-4 * x.row(r)[0]).collect();
     let m = SvrParams {
         kernel: Kernel::Linear,
@@ -290,12 +291,12 @@ fn decision_grids_equal_their_tree_ensembles_bit_for_bit() {
 /// ½ βᵀKβ + ε‖β‖₁ − yᵀβ of a fitted SVR (on its own standardised rows) — the ε-SVR dual
 /// objective both solvers minimise.
 fn svr_dual_objective(
-    m: &greybox_learn::svr::SvrModel,
+    m: &greybox_model::svr::SvrModel,
     z_rows: &Matrix,
     y: &[f64],
     epsilon: f64,
 ) -> f64 {
-    use greybox_learn::svr::kernel_value;
+    use greybox_model::svr::kernel_value;
     // β per training row: match support vectors to rows
     let mut beta = vec![0.0; z_rows.n_rows];
     for (k, c) in m.coef.iter().enumerate() {
@@ -330,8 +331,8 @@ fn svr_dual_objective(
 
 #[test]
 fn interior_point_svr_reaches_the_dual_optimum_smo_approaches() {
-    use greybox_learn::svr::SvrSolver;
     use greybox_model::matrix::Standardizer;
+    use greybox_model::svr::SvrSolver;
     let (x, y) = data(200, 0.01, 11, false);
     let z = Standardizer::fit(&x).transform(&x);
     for kernel in [Kernel::Linear, Kernel::Poly] {

@@ -4,13 +4,15 @@
 //! file and a field, or give a model whose predictions are finite; it must never panic and
 //! never hang (a tree cycle used to make evaluation loop forever).
 
-use greybox_learn::interval::{IntervalMethod, PredictionInterval};
-use greybox_learn::model::{FittedModel, Hyperparameters, Regressor};
-use greybox_learn::modelfile::{DomainPolicy, FeatureRange, ModelFile, SCHEMA, SCHEMA_VERSION};
-use greybox_learn::table::Column;
-use greybox_learn::{
-    boost::BoostParams, forest::ForestParams, mlp::MlpParams, svr::SvrParams, Matrix,
-};
+use greybox_learn::regressor::Regressor;
+use greybox_model::column::Column;
+use greybox_model::ensemble::{BoostParams, ForestParams};
+use greybox_model::interval::{IntervalMethod, PredictionInterval};
+use greybox_model::mlp::MlpParams;
+use greybox_model::modelfile::{DomainPolicy, FeatureRange, ModelFile, SCHEMA, SCHEMA_VERSION};
+use greybox_model::svr::SvrParams;
+use greybox_model::Matrix;
+use greybox_model::{FittedModel, Hyperparameters};
 use rand::{Rng, SeedableRng};
 use serde_json::Value;
 
@@ -215,7 +217,7 @@ fn tree_cycle_and_out_of_range_child_are_refused() {
         let k = t
             .nodes
             .iter()
-            .position(|n| n.feature != greybox_learn::tree::LEAF)
+            .position(|n| n.feature != greybox_model::tree::LEAF)
             .unwrap();
         t.nodes[k].left = left;
         let text = serde_json::to_string(&m.seal().unwrap()).unwrap();

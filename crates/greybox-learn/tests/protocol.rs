@@ -1,10 +1,10 @@
 //! The protocol end to end on a small dataset: determinism across thread counts, model files,
 //! prediction intervals, bad input.
 
-use greybox_learn::model::Family;
-use greybox_learn::modelfile::{DomainPolicy, ModelFile};
 use greybox_learn::protocol::{run_protocol, FitConfig};
 use greybox_learn::table::read_dataset_from;
+use greybox_model::modelfile::{DomainPolicy, ModelFile};
+use greybox_model::Family;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -33,13 +33,13 @@ fn small_config() -> FitConfig {
     };
     c.grid.random_forest.n_estimators = vec![10, 30];
     c.grid.svr.c = vec![1.0, 10.0];
-    c.grid.svr.kernel = vec![greybox_learn::svr::Kernel::Rbf];
+    c.grid.svr.kernel = vec![greybox_model::svr::Kernel::Rbf];
     c.grid.svr.epsilon = vec![0.01];
     c.grid.gradient_boosting.n_estimators = vec![50];
     c.grid.gradient_boosting.max_depth = vec![3];
     c.grid.gradient_boosting.learning_rate = vec![0.1];
     c.grid.mlp.hidden_layers = vec![vec![16, 8]];
-    c.grid.mlp.activation = vec![greybox_learn::mlp::Activation::Relu];
+    c.grid.mlp.activation = vec![greybox_model::mlp::Activation::Relu];
     c.grid.mlp.learning_rate = vec![0.01];
     c
 }

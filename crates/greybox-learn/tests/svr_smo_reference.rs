@@ -4,10 +4,10 @@
 mod common;
 
 use common::old_svr;
-use greybox_learn::svr::{Kernel, SvrParams};
 use greybox_learn::svr_test_kit;
-use greybox_learn::Matrix;
 use greybox_model::matrix::Standardizer;
+use greybox_model::svr::{Kernel, SvrParams};
+use greybox_model::Matrix;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

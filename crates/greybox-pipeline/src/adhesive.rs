@@ -5,7 +5,7 @@ pub use crate::adhesive_3d::Simulation3dOptions;
 use crate::adhesive_loads::loads_to_simulate;
 pub use crate::adhesive_loads::{LoadStride, SimLoads, SimRuns};
 use crate::output::provenance;
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use greybox_core::dataset::FrictionDataset;
 use greybox_core::outputs::check_file_output;
 use greybox_sim::pin::{inverse_over_loads, PinSetup, ShareLaw};
@@ -206,10 +206,8 @@ fn correct_by_simulation(
     let measured = track_widths(a)?;
     let law = WidthLaw::fit(&measured)?;
     if !(sim.tolerance > 0.0 && sim.tolerance.is_finite()) {
-        bail!(
-            "adhesive.sim_tolerance: expected a positive number, got {}",
-            sim.tolerance
-        );
+        let why = format!("expected a positive number, got {}", sim.tolerance);
+        return Err(greybox_core::setting::refused("adhesive", "sim_tolerance", why).into());
     }
     let loads = loads_to_simulate(ds, r, &law, sim.loads, LoadStride::of(1))?;
     let simulated: Vec<f64> = loads.iter().map(|l| l.0).collect();

@@ -77,21 +77,14 @@ type Outcome = std::result::Result<(f64, Pin3dInverse), String>;
 
 /// The numeric options, the mesh they make included: checked before any input is read.
 pub fn validate(sim: &Simulation3dOptions) -> Result<()> {
-    if !(sim.tolerance > 0.0 && sim.tolerance.is_finite()) {
-        bail!(
-            "adhesive.sim_tolerance: expected a positive number, got {}",
-            sim.tolerance
-        );
-    }
     for (v, field) in [
-        (
-            sim.elements_per_radius,
-            "adhesive.sim3d_elements_per_radius",
-        ),
-        (sim.slide_per_radius, "adhesive.sim3d_slide_per_radius"),
+        (sim.tolerance, "sim_tolerance"),
+        (sim.elements_per_radius, "sim3d_elements_per_radius"),
+        (sim.slide_per_radius, "sim3d_slide_per_radius"),
     ] {
         if !(v.is_finite() && v > 0.0) {
-            bail!("{field}: expected a positive number, got {v}");
+            let why = format!("expected a positive number, got {v}");
+            return Err(greybox_core::setting::refused("adhesive", field, why).into());
         }
     }
     // the mesh's size follows from the two ratios alone (not from the load's depth)
@@ -99,7 +92,11 @@ pub fn validate(sim: &Simulation3dOptions) -> Result<()> {
     probe.elements_per_radius = sim.elements_per_radius;
     probe.slide_per_radius = sim.slide_per_radius;
     if let Err(e) = probe.mesh_spec().check_size() {
-        bail!("adhesive.sim3d_elements_per_radius / sim3d_slide_per_radius: {e}");
+        let both = ["sim3d_elements_per_radius", "sim3d_slide_per_radius"]
+            .map(|f| greybox_core::setting::SettingPath::new("adhesive", f));
+        return Err(
+            greybox_core::setting::SettingError::between(both.to_vec(), e.to_string()).into(),
+        );
     }
     Ok(())
 }

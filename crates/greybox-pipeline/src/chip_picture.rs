@@ -10,10 +10,11 @@
 
 use anyhow::{Context, Result};
 use greybox_core::atomic::write_string_atomic;
-use greybox_core::plot::{escape, fmt, nice_ticks, ColourMap};
+use greybox_core::escape::xml_text as escape;
+use greybox_core::plot::{fmt, nice_ticks, ColourMap};
 use greybox_sim::output::tool_outline;
 use greybox_sim::particles::spacing_factor;
-use greybox_sim::{Control, Observer, SimError, Solver};
+use greybox_sim::{Control, Observer, SavedState, SimError, Solver};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -380,9 +381,6 @@ pub struct FrameRecorder {
 }
 
 impl FrameRecorder {
-    /// The key of its state in checkpoints.
-    pub const STATE_KEY: &'static str = "chip_frames";
-
     pub fn new(end_s: f64, count: usize) -> Self {
         FrameRecorder {
             end_s,
@@ -413,10 +411,12 @@ impl Observer for FrameRecorder {
         Ok(())
     }
     fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
-        serde_json::to_value(self)
-            .ok()
-            .map(|v| (Self::STATE_KEY, v))
+        self.saved()
     }
+}
+
+impl SavedState for FrameRecorder {
+    const KEY: &'static str = "chip_frames";
 }
 
 /// Writes the last state as `chip_temperature.svg` and `chip_plastic_strain.svg` in `out`

@@ -1,7 +1,7 @@
 //! The restart loop with an external FE engine (CalculiX, or a user command): per-window μ
 //! from the law, re-evaluated from the engine's contact states until it settles.
 
-use anyhow::{bail, Result};
+use anyhow::Result;
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::plot::{lines, Line};
 use greybox_couple::calculix::{CalculixConfig, CalculixEngine};
@@ -71,7 +71,8 @@ pub fn couple(o: &CoupleOptions) -> Result<CouplingResult> {
         })?),
         EngineOptions::Command { command, windows } => {
             if windows.is_empty() {
-                bail!("couple.engine: a user command needs the friction windows (windows)");
+                let why = "a user command needs the friction windows";
+                return Err(greybox_core::setting::refused("couple", "windows", why).into());
             }
             for w in windows {
                 let pos = greybox_core::SourcePos::file("couple").field("windows");

@@ -5,10 +5,10 @@
 use crate::output::{provenance, stage_out_dir};
 use anyhow::{bail, Result};
 use greybox_core::atomic::write_string_atomic;
-use greybox_learn::modelfile::{ForcePressure, ModelFile};
-use greybox_learn::plot;
+use greybox_core::plot;
 use greybox_learn::protocol::{markdown, run_protocol, FitConfig, FitReport};
 use greybox_learn::table::read_dataset;
+use greybox_model::modelfile::{ForcePressure, ModelFile};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -182,7 +182,7 @@ fn write_outputs(
                 let mut row = medians.clone();
                 row[0] = u;
                 row[1] = v;
-                greybox_learn::Predictor::predict_one(&m.model, &row)
+                greybox_model::Predictor::predict_one(&m.model, &row)
             };
             let pts: Vec<(f64, f64)> = (0..data.x.n_rows)
                 .map(|i| (data.x.get(i, 0), data.x.get(i, 1)))

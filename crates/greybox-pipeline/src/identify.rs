@@ -399,7 +399,8 @@ pub fn identify_campaign(
         .iter()
         .find(|r| !(r.is_finite() && **r > 0.0))
     {
-        bail!("identify.track_radii_mm: every radius must be positive, got {r}");
+        let why = format!("every radius must be positive, got {r}");
+        return Err(greybox_core::setting::refused("identify", "track_radii_mm", why).into());
     }
     let side_inputs: Vec<(&str, &Path)> = o
         .side_inputs

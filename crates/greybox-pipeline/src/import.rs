@@ -6,9 +6,7 @@ use crate::output::provenance;
 use anyhow::{bail, Context, Result};
 use greybox_contact::PinContact;
 use greybox_core::outputs::check_file_output;
-pub use greybox_import::{
-    Calibration, Domain, ImportOptions, Imported, DEFAULT_COVERAGE, DEFAULT_TARGET,
-};
+use greybox_import::{Calibration, Domain, ImportOptions};
 use greybox_model::modelfile::ModelFile;
 use std::path::{Path, PathBuf};
 

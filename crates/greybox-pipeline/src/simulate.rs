@@ -18,7 +18,7 @@ use greybox_sim::output::{
 use greybox_sim::pin::{fingerprint, simulate_from, PinResult, PinSetup};
 use greybox_sim::tool::WindowStats;
 use greybox_sim::ConstantMu;
-use greybox_sim::{Hooks, Solver};
+use greybox_sim::{Hooks, SavedState, Solver};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -406,7 +406,7 @@ pub fn run_cut(case: &CutCase, fraction: f64, o: &RunOutput) -> Result<CutSummar
     let mut obs = Observers::new(o, staged.path(), &id);
     let mut frames = match resume
         .as_ref()
-        .and_then(|c| c.observers.get(FrameRecorder::STATE_KEY))
+        .and_then(|c| c.observers.get(<FrameRecorder as SavedState>::KEY))
     {
         Some(v) => serde_json::from_value(v.clone()).context("the checkpoint's chip frames")?,
         None => FrameRecorder::new(setup.duration_s() * fraction, o.frames.get().max(1)),

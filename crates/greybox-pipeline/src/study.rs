@@ -4,7 +4,7 @@ use anyhow::{Context, Result};
 use greybox_contact::PinContact;
 use greybox_learn::protocol::FitConfig;
 use greybox_recording::ChannelMap;
-use greybox_tribo::identify::IdentifyConfig;
+use greybox_tribo::config::IdentifyConfig;
 use greybox_tribo::plan::PlanSpec;
 use greybox_tribo::synth::SynthConfig;
 use serde::{Deserialize, Serialize};

@@ -2,7 +2,8 @@
 //! validation that names the option, and the table-size budget, tested without the CLI.
 
 use greybox_core::choice::Choice;
-use greybox_pipeline::export::{export, Engine, ExportFormat, ExportOptions, ExportOverrides};
+use greybox_friction::export::engine::{Engine, ExportFormat};
+use greybox_pipeline::export::{export, ExportOptions, ExportOverrides};
 
 use greybox_testkit::law::{law_dir, ZOREV};
 
@@ -80,7 +81,7 @@ fn the_size_budget_refuses_before_writing_and_a_fitting_table_is_written() {
     let out = d.path().join("t.inp");
     let o = ExportOptions::new(law.clone(), ExportFormat::Abaqus, out.clone())
         .overridden(&ExportOverrides {
-            max_table_size: Some(greybox_pipeline::export::TableSize::of(629)),
+            max_table_size: Some(greybox_friction::export::engine::TableSize::of(629)),
             ..Default::default()
         })
         .unwrap();
@@ -91,7 +92,7 @@ fn the_size_budget_refuses_before_writing_and_a_fitting_table_is_written() {
     );
     assert!(!out.exists());
     let mut o = o;
-    o.table.max_table_size = greybox_pipeline::export::TableSize::of(630);
+    o.table.max_table_size = greybox_friction::export::engine::TableSize::of(630);
     let r = export(&o).unwrap();
     assert_eq!(r.shape.iter().product::<usize>(), 630);
     assert_eq!(r.bytes as u64, std::fs::metadata(&out).unwrap().len());

@@ -5,15 +5,16 @@
 
 use greybox_core::dataset::PressureConvention;
 use greybox_core::units::{M_PER_MM, PA_PER_GPA, PA_PER_MPA};
-use greybox_friction::ContactState;
-use greybox_learn::model::Family;
+use greybox_core::ContactState;
+use greybox_friction::export::engine::ExportFormat;
 use greybox_learn::protocol::{FitConfig, Repeats, Resamples};
 use greybox_model::modelfile::{DomainPolicy, ModelFile};
+use greybox_model::Family;
 use greybox_pipeline::adhesive::{adhesive, AdhesiveOptions};
 use greybox_pipeline::characterize::{
     characterize, CharacterizeOptions, Harmonics, ImpactChannels,
 };
-use greybox_pipeline::export::{export, ExportFormat, ExportOptions};
+use greybox_pipeline::export::{export, ExportOptions};
 use greybox_pipeline::fit::{fit, FitOptions, FitResult};
 use greybox_pipeline::hertz::{hertz, Geometry, HertzOptions};
 use greybox_pipeline::identify::{identify_campaign, IdentifyOptions};
@@ -196,7 +197,7 @@ fn fitted() -> &'static (tempfile::TempDir, FitResult) {
             importance_repeats: Repeats::of(1),
             ..FitConfig::default()
         };
-        config.grid.svr.kernel = vec![greybox_learn::svr::Kernel::Rbf];
+        config.grid.svr.kernel = vec![greybox_model::svr::Kernel::Rbf];
         config.grid.svr.c = vec![10.0];
         config.grid.svr.epsilon = vec![0.001];
         let mut o = FitOptions::article(data, "cof_apparent", d.path().join("fit"));

@@ -25,9 +25,7 @@ fn kind(e: &anyhow::Error) -> &'static str {
             _ => {}
         }
         // a setting refused by its stage's settings type, or settings JSON that is not JSON
-        if cause
-            .downcast_ref::<greybox_pipeline::settings::SettingError>()
-            .is_some()
+        if greybox_core::error::as_setting(cause).is_some()
             || cause.downcast_ref::<serde_json::Error>().is_some()
         {
             return "SettingsError";
@@ -36,11 +34,33 @@ fn kind(e: &anyhow::Error) -> &'static str {
     "InputError"
 }
 
-/// A greybox error as a Python exception of its kind, with the command line's message
-/// (causes joined).
+/// A setting as Python names it: the keyword argument of the call (`track_radii_mm`,
+/// `track_radii_mm[1]` for an element), a reader's cap as `set_budget`'s keyword.
+fn keyword(p: &greybox_core::setting::SettingPath) -> String {
+    match p.stage.as_str() {
+        "budget" => format!("greybox.set_budget({}=…)", p.field),
+        _ => format!("{}{}", p.field, p.index_suffix()),
+    }
+}
+
+/// A message's backticked cap options as Python sets them: `` `max_data_mib` `` (the command
+/// line's option, in MiB) is `greybox.set_budget(max_data_bytes=…)`.
+fn python_words(text: &str) -> String {
+    let mut out = text.to_string();
+    for cap in greybox_core::budget::Cap::ALL {
+        out = out.replace(
+            cap.option(),
+            &format!("greybox.set_budget({}=…)", cap.name()),
+        );
+    }
+    out
+}
+
+/// A greybox error as a Python exception of its kind, with its causes joined and each
+/// setting named as Python names it ([`keyword`]).
 pub(crate) fn py_err(e: impl Into<anyhow::Error>) -> PyErr {
     let e = e.into();
-    let message = format!("{e:#}");
+    let message = greybox_pipeline::settings::render_error(&e, &keyword, &python_words);
     match kind(&e) {
         "KeyboardInterrupt" => pyo3::exceptions::PyKeyboardInterrupt::new_err(message),
         class => Python::attach(|py| {

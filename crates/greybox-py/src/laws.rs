@@ -3,8 +3,8 @@
 use crate::{py_err, run_sequential, to_json};
 use greybox_core::law::{Range, ValidityDomain};
 use greybox_core::ContactState;
+use greybox_core::FrictionLaw;
 use greybox_friction::learned::LearnedLaw;
-use greybox_friction::FrictionLaw;
 use greybox_model::modelfile::{DomainPolicy, ModelFile};
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;

@@ -14,6 +14,7 @@ mod laws;
 mod stages;
 
 use greybox_core::call_scope::{CallScope, StopToken};
+use greybox_core::setting::{SettingError, SettingPath};
 use pyo3::prelude::*;
 use std::cell::RefCell;
 use std::path::PathBuf;
@@ -313,22 +314,25 @@ fn swap_budget(json: &str) -> PyResult<String> {
     for (k, v) in given {
         if !known.contains_key(&k) {
             let names: Vec<&String> = known.keys().collect();
-            return Err(py_err(greybox_pipeline::settings::SettingError(format!(
-                "budget key {}: not a cap (the caps: {})",
-                greybox_core::escape::excerpt(&k),
-                names
-                    .iter()
-                    .map(|s| s.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ))));
+            return Err(py_err(SettingError::new(
+                SettingPath::new("budget", greybox_core::escape::excerpt(&k)),
+                format!(
+                    "not a cap (the caps: {})",
+                    names
+                        .iter()
+                        .map(|s| s.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            )));
         }
         known.insert(k, v);
     }
     let after: greybox_core::budget::Budget = serde_json::from_value(value).map_err(|e| {
-        py_err(greybox_pipeline::settings::SettingError(format!(
-            "budget: {e} (a cap is a whole number ≥ 0)"
-        )))
+        py_err(SettingError::between(
+            Vec::new(),
+            format!("budget: {e} (a cap is a whole number ≥ 0)"),
+        ))
     })?;
     greybox_core::budget::set(after);
     to_json(&before)

@@ -3,12 +3,14 @@
 //! the GIL while it works.
 
 use crate::{py_err, run_interruptible, to_json};
+use greybox_friction::export::engine::ExportFormat;
 use greybox_pipeline::adhesive::adhesive;
-use greybox_pipeline::export::{export, ExportFormat, ExportOptions, ExportOverrides};
+use greybox_pipeline::export::{export, ExportOptions, ExportOverrides};
 use greybox_pipeline::fit::fit;
 use greybox_pipeline::identify::identify_campaign;
 use greybox_pipeline::settings::adhesive::AdhesiveSettings;
 use greybox_pipeline::settings::couple::CoupleSettings;
+use greybox_pipeline::settings::cut::CutSettings;
 use greybox_pipeline::settings::fit::FitSettings;
 use greybox_pipeline::settings::from_keywords;
 use greybox_pipeline::settings::hertz::HertzSettings;
@@ -18,12 +20,11 @@ use greybox_pipeline::settings::material::{FlowCurveSettings, RateSensitivitySet
 use greybox_pipeline::settings::pin::PinSettings;
 use greybox_pipeline::settings::synth::SynthSettings;
 use greybox_pipeline::settings::windows::WindowsSettings;
-use greybox_pipeline::simulate::{read_cutting_setup, run_cut, run_pin, RunOutput};
+use greybox_pipeline::simulate::{run_pin, RunOutput};
 use greybox_pipeline::study::Study;
 use greybox_sweep::settings::ValidateSettings;
 use pyo3::prelude::*;
 use std::path::PathBuf;
-use std::sync::Arc;
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(hertz_rows, m)?)?;
@@ -279,31 +280,16 @@ fn export_defaults(format: &str) -> PyResult<String> {
     to_json(&ExportOverrides::defaults_of(format))
 }
 
-/// Run the orthogonal-cutting simulation of a set-up TOML into `out` (optionally with the
-/// friction law file `law` instead of the set-up's): JSON summary; forces.csv and
-/// contact_profile.csv are in the output directory. `output` is JSON of the library's
-/// [`RunOutput`] (`out`, `force`, `vtk_every`, `checkpoint_every`, `resume`, `frames`), as
-/// for the pin.
+/// Run the orthogonal-cutting simulation: `settings` is JSON of the library's
+/// [`CutSettings`] (`config`, `law`, `fraction`, as `greybox simulate cutting`), `output` of
+/// its [`RunOutput`] (`out`, `force`, `vtk_every`, `checkpoint_every`, `resume`, `frames`),
+/// as for the pin. JSON summary; forces.csv and contact_profile.csv are in the output
+/// directory.
 #[pyfunction]
-#[pyo3(signature = (setup, output, law = None, fraction = 1.0))]
-fn simulate_cut(
-    py: Python<'_>,
-    setup: PathBuf,
-    output: &str,
-    law: Option<PathBuf>,
-    fraction: f64,
-) -> PyResult<String> {
+fn simulate_cut(py: Python<'_>, settings: &str, output: &str) -> PyResult<String> {
+    let s: CutSettings = from_keywords(settings).map_err(py_err)?;
     let o: RunOutput = from_keywords(output).map_err(py_err)?;
-    let summary = run_interruptible(py, || -> anyhow::Result<_> {
-        let mut case = read_cutting_setup(&setup)?;
-        if let Some(l) = law {
-            case.law = Arc::from(greybox_friction::spec::load_law(&l)?);
-            case.law_source = l.display().to_string();
-            case.inputs.push(("law", l));
-        }
-        run_cut(&case, fraction, &o)
-    });
-    to_json(&summary?)
+    to_json(&run_interruptible(py, || s.run(&o))?)
 }
 
 /// Write the study directory's self-contained report page (default `study_dir/report.html`):

@@ -144,7 +144,7 @@ def test_export_tables_hold_the_models_values(fitted, tmp_path):
     np.testing.assert_allclose(t[mu_col], ref, rtol=1e-9, atol=1e-12)
     gb.export_table(d / "fit" / "models" / "svr.json", "abaqus", tmp_path / "friction.inp", p, v)
     assert "*FRICTION" in (tmp_path / "friction.inp").read_text().upper()
-    with pytest.raises(gb.GreyboxError, match="export.format: 'ansys' is not one of abaqus"):
+    with pytest.raises(gb.GreyboxError, match="format: 'ansys' is not one of abaqus"):
         gb.export_table(m, "ansys", tmp_path / "x", p, v)
 
 

@@ -68,11 +68,11 @@ def test_overrides_from_python_match_the_cli_flags(law, tmp_path):
 
 
 def test_an_option_of_another_engine_or_a_mixed_unit_set_is_refused(law, tmp_path):
-    with pytest.raises(gb.GreyboxError, match="export.lsdyna_table_id"):
+    with pytest.raises(gb.GreyboxError, match=r"^lsdyna_table_id: not an option of the abaqus export"):
         gb.export_table(law, "abaqus", tmp_path / "a.inp", lsdyna_table_id=3)
     with pytest.raises(gb.GreyboxError, match="MPa-mm-s"):
         gb.export_table(law, "abaqus", tmp_path / "a.inp", units="MPa-m-s")
-    with pytest.raises(gb.GreyboxError, match="export.max_table_size"):
+    with pytest.raises(gb.GreyboxError, match=r"max_table_size: the table would have"):
         gb.export_table(law, "csv", tmp_path / "a.csv", max_table_size=10)
     assert not any(tmp_path.glob("a.*"))
 
@@ -149,7 +149,7 @@ def test_an_adhesive_correction_is_the_same_from_python_and_the_cli(tmp_path):
     cli("adhesive", "--data", "ds.csv", "--out", "cli2.csv", cwd=tmp_path)
     gb.ploughing_correction(tmp_path / "ds.csv", tmp_path / "py2.csv")
     assert (tmp_path / "cli2.csv").read_bytes() == (tmp_path / "py2.csv").read_bytes()
-    with pytest.raises(gb.GreyboxError, match="adhesive.method"):
+    with pytest.raises(gb.GreyboxError, match=r"^method: 'inverse' is not one of"):
         gb.ploughing_correction(tmp_path / "ds.csv", tmp_path / "x.csv", method="inverse")
     with pytest.raises(gb.GreyboxError, match="sim_loads"):
         gb.ploughing_correction(tmp_path / "ds.csv", tmp_path / "x.csv", sim_loads=2.5)
@@ -172,7 +172,7 @@ def test_a_pin_slide_is_the_same_from_python_and_the_cli(tmp_path):
 
 
 def test_couple_settings_are_checked_by_the_library_with_its_names(tmp_path):
-    with pytest.raises(gb.GreyboxError, match="couple.deck"):
+    with pytest.raises(gb.GreyboxError, match=r"^deck: the CalculiX deck is required for engine calculix"):
         gb.couple(tmp_path / "law.json")
     with pytest.raises(gb.GreyboxError, match="units"):
         gb.couple(tmp_path / "law.json", engine="command", command="true", units="MPa-m-s")

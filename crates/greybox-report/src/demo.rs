@@ -10,18 +10,18 @@ use greybox_core::dataset::FrictionDataset;
 use greybox_core::provenance::Provenance;
 use greybox_core::units::{m_per_min_to_m_per_s, mpa_to_pa};
 use greybox_couple::engine::CouplingResult;
+use greybox_friction::export::engine::{
+    equidistant, Engine, ExportFormat, DEFAULT_TEMPERATURE_UNIT, DEFAULT_UNITS,
+};
 use greybox_friction::export::Grid;
-use greybox_learn::model::Family;
-use greybox_learn::modelfile::ModelFile;
+use greybox_model::modelfile::ModelFile;
+use greybox_model::Family;
 use greybox_pipeline::adhesive::{adhesive, AdhesiveOptions};
 use greybox_pipeline::characterize::{
     characterize, CharacterizeOptions, CharacterizeReport, ImpactChannels,
 };
 use greybox_pipeline::couple::{couple, CoupleOptions, EngineOptions};
-use greybox_pipeline::export::{
-    equidistant, export, Engine, ExportFormat, ExportOptions, DEFAULT_TEMPERATURE_UNIT,
-    DEFAULT_UNITS,
-};
+use greybox_pipeline::export::{export, ExportOptions};
 use greybox_pipeline::fit::{fit, write_report, FitOptions, FitOutputs, FitResult};
 use greybox_pipeline::identify::{
     compare_with_truth, identify_campaign, Expectation, IdentifyOptions, IdentifyResult,

@@ -206,8 +206,7 @@ impl Checkpoint {
         }
         sim.particles = self.particles;
         let n = sim.particles.len();
-        sim.rates.resize(n, Default::default());
-        sim.packed.resize(n, Default::default());
+        sim.scratch.for_particles(n);
         sim.step = self.step;
         sim.time = self.time_s;
         sim.dt = self.dt_s;

@@ -72,10 +72,10 @@ impl CutRun {
         let mut steady = RunUntilSure::new(0, bin_steps, setup, FORCE_BINS as usize / 100);
         if let Some(states) = &states {
             // the histories so far: the outputs and averages cover the whole run
-            updater = restored_state(states, "friction_updates")?;
+            updater = restored_state::<FrictionUpdater>(states)?;
             updater.resumed = true;
-            steady = restored_state::<RunUntilSure>(states, "steady")?.resumed(setup);
-            peak_temperature = restored_state(states, "peak_temperature")?;
+            steady = restored_state::<RunUntilSure>(states)?.resumed(setup);
+            peak_temperature = restored_state::<PeakTemperature>(states)?;
         }
         let hooks = Hooks::new()
             .control(&mut updater)

@@ -218,12 +218,23 @@ impl<'a> Hooks<'a> {
 /// Observers' saved states by key (see [`Observer::save_state`], [`Controller::save_state`]).
 pub type ObserverStates = std::collections::BTreeMap<String, serde_json::Value>;
 
-/// An observer's state saved under `key`, for a resumed run; an error when the checkpoint
-/// does not hold it.
-pub fn restored_state<T: serde::de::DeserializeOwned>(
-    states: &ObserverStates,
-    key: &str,
-) -> Result<T, SimError> {
+/// A state carried through a checkpoint, for a resumed run: an observer's or controller's
+/// history and running sums, under its one key (the type names it once, for writing and for
+/// reading back).
+pub trait SavedState: serde::Serialize + serde::de::DeserializeOwned {
+    /// The key in the checkpoint's [`ObserverStates`].
+    const KEY: &'static str;
+
+    /// What `save_state` returns: this state under its key.
+    fn saved(&self) -> Option<(&'static str, serde_json::Value)> {
+        Some((Self::KEY, serde_json::to_value(self).ok()?))
+    }
+}
+
+/// The state of type `T` a checkpoint holds under `T::KEY`; an error when the checkpoint does
+/// not hold it or it does not read back.
+pub fn restored_state<T: SavedState>(states: &ObserverStates) -> Result<T, SimError> {
+    let key = T::KEY;
     let v = states.get(key).ok_or_else(|| {
         SimError::Invalid(format!(
             "the checkpoint holds no '{key}' history (written by an older greybox?): a resumed run could not reproduce the uninterrupted one; start afresh"

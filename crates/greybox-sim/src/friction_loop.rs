@@ -208,7 +208,7 @@ impl Controller for FrictionUpdater {
         Ok(())
     }
     fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
-        Some(("friction_updates", serde_json::to_value(self).ok()?))
+        crate::executor::SavedState::saved(self)
     }
     fn after_step(&mut self, sim: &mut Solver) -> Result<Control, SimError> {
         if sim.step.is_multiple_of(self.every) {
@@ -222,4 +222,8 @@ impl Controller for FrictionUpdater {
         }
         Ok(())
     }
+}
+
+impl crate::executor::SavedState for FrictionUpdater {
+    const KEY: &'static str = "friction_updates";
 }

@@ -40,7 +40,7 @@ pub mod tool_thermal;
 
 pub use executor::{
     restored_state, run, CheckpointWriter, Control, Controller, Hooks, Observer, ObserverStates,
-    RunSummary,
+    RunSummary, SavedState,
 };
 pub use geometry::RoundedPolygon;
 pub use model::{BoundaryGroup, Model, Numerics};

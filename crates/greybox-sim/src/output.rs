@@ -165,7 +165,7 @@ impl ForceHistory {
 
 impl Observer for ForceHistory {
     fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
-        Some(("forces", serde_json::to_value(self).ok()?))
+        crate::executor::SavedState::saved(self)
     }
     fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
         let t = &sim.tools[self.tool];
@@ -217,7 +217,7 @@ impl PeakTemperature {
 
 impl Observer for PeakTemperature {
     fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
-        Some(("peak_temperature", serde_json::to_value(self).ok()?))
+        crate::executor::SavedState::saved(self)
     }
     fn start(&mut self, sim: &Solver) -> Result<(), SimError> {
         self.sample(sim);
@@ -424,4 +424,12 @@ pub fn write_mu_history_csv(
         }
         Ok(())
     })
+}
+
+impl crate::executor::SavedState for ForceHistory {
+    const KEY: &'static str = "forces";
+}
+
+impl crate::executor::SavedState for PeakTemperature {
+    const KEY: &'static str = "peak_temperature";
 }

@@ -347,7 +347,7 @@ pub fn simulate_from(
     let every = ((press + slide) / sim.dt / 400.0).ceil().max(1.0) as u64;
     let mut hist = ForceHistory::new(0, every);
     if let Some(states) = &states {
-        hist = crate::executor::restored_state(states, "forces")?;
+        hist = crate::executor::restored_state::<ForceHistory>(states)?;
     }
     let hooks = Hooks::new().observe(&mut hist).then(extra);
     let summary: RunSummary = run(&mut sim, press + slide, "pin", hooks)?;

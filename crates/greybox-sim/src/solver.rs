@@ -135,7 +135,37 @@ pub(crate) struct Derived {
     pub c_long: f64,
 }
 
-/// The solver state.
+/// What one step computes and the next overwrites: the per-particle and per-pair working
+/// buffers of the passes, kept between steps only so that they are allocated once. None of
+/// it is the run's state (a checkpoint saves none of it; [`Scratch::for_particles`] sizes it
+/// afresh for a restored state).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Scratch {
+    /// Per particle: the rates of steps 3–6 (accelerations, strain rates, heating).
+    pub(crate) rates: Vec<Rates>,
+    /// Per particle: the packed record the pair passes read (step 2).
+    pub(crate) packed: Vec<Packed>,
+    /// Per pair of the half list: W (1/m²) and (1/r) dW/dr (1/m⁴) at the current positions
+    /// (computed by the force pass, reused by the kinematics pass).
+    pub(crate) pair_wg: Vec<[f64; 2]>,
+    /// Per pair: the second partner's share of the force pass — acceleration x, y (m/s²) and
+    /// the conduction term ρ c dT/dt (W/m³) — gathered through the reverse lists.
+    pub(crate) pair_force: Vec<[f64; 3]>,
+    /// Per update chunk: (plastic work, viscous power, first bad particle, largest squared
+    /// displacement since the last neighbour build).
+    pub(crate) chunk_sums: Vec<(f64, f64, usize, f64)>,
+}
+
+impl Scratch {
+    /// The per-particle buffers sized for `n` particles (the per-pair ones grow as needed).
+    pub(crate) fn for_particles(&mut self, n: usize) {
+        self.rates.resize(n, Rates::default());
+        self.packed.resize(n, Packed::default());
+    }
+}
+
+/// The solver: the run's state (particles, tools, boundary groups, time, step, energy book,
+/// neighbour lists) and, apart from it, the step's working buffers ([`Scratch`]).
 pub struct Solver {
     pub particles: Particles,
     pub material: Material,
@@ -161,17 +191,8 @@ pub struct Solver {
     pub energy: EnergyBook,
     /// Reaction force of each boundary group on the body (force the boundary applies), N/m.
     pub group_force: Vec<[f64; 2]>,
-    pub(crate) rates: Vec<Rates>,
-    pub(crate) packed: Vec<Packed>,
-    /// Per pair of the half list: W (1/m²) and (1/r) dW/dr (1/m⁴) at the current positions
-    /// (computed by the force pass, reused by the kinematics pass).
-    pair_wg: Vec<[f64; 2]>,
-    /// Per pair: the second partner's share of the force pass — acceleration x, y (m/s²) and
-    /// the conduction term ρ c dT/dt (W/m³) — gathered through the reverse lists.
-    pair_force: Vec<[f64; 3]>,
-    /// Per update chunk: (plastic work, viscous power, first bad particle, largest squared
-    /// displacement since the last neighbour build).
-    chunk_sums: Vec<(f64, f64, usize, f64)>,
+    /// The step's working buffers (see [`Scratch`]): no part of the run's state.
+    pub(crate) scratch: Scratch,
     /// Set by the update when a particle moved more than half the skin.
     rebuild_due: bool,
     /// Reciprocal of W(Δx) for the artificial-stress factor f = W(r)/W(Δx).
@@ -265,11 +286,11 @@ impl Solver {
             step: 0,
             energy: EnergyBook::default(),
             group_force: vec![[0.0; 2]; ngroups],
-            rates: vec![Rates::default(); n],
-            packed: vec![Packed::default(); n],
-            pair_wg: Vec::new(),
-            pair_force: Vec::new(),
-            chunk_sums: Vec::new(),
+            scratch: Scratch {
+                rates: vec![Rates::default(); n],
+                packed: vec![Packed::default(); n],
+                ..Scratch::default()
+            },
             rebuild_due: false,
             at_rest: false,
             idle_steps: 0,
@@ -305,8 +326,7 @@ impl Solver {
             return false;
         }
         let n = self.particles.len();
-        self.rates.resize(n, Rates::default());
-        self.packed.resize(n, Packed::default());
+        self.scratch.for_particles(n);
         true
     }
 
@@ -398,60 +418,64 @@ impl Solver {
         let th = &self.material.thermal;
         let thermal = self.numerics.thermal;
         let h0 = self.kernel.h;
-        self.packed.par_iter_mut().enumerate().for_each(|(i, q)| {
-            let m = p.mass_of(i);
-            let rho = p.rho[i];
-            let ir2 = 1.0 / (rho * rho);
-            let sxx = p.sxx[i] - p.p[i];
-            let syy = p.syy[i] - p.p[i];
-            let sxy = p.sxy[i];
-            // Gray–Monaghan artificial stress: principal tensile stresses σ' > 0 get R' = −ε σ'/ρ².
-            let (mut rxx, mut rxy, mut ryy) = (0.0, 0.0, 0.0);
-            if eps > 0.0 {
-                let c = 0.5 * (sxx + syy);
-                let d = 0.5 * (sxx - syy);
-                // sqrt, not hypot: stresses are far from overflow and hypot is slow.
-                let r = (d * d + sxy * sxy).sqrt();
-                let (s1, s2) = (c + r, c - r);
-                if s1 > 0.0 {
-                    let r1 = -eps * s1 * ir2;
-                    let r2 = if s2 > 0.0 { -eps * s2 * ir2 } else { 0.0 };
-                    // Principal direction: cos 2θ = d/r, sin 2θ = sxy/r.
-                    let (c2, s2t) = if r > 0.0 {
-                        (d / r, sxy / r)
-                    } else {
-                        (1.0, 0.0)
-                    };
-                    let cc = 0.5 * (1.0 + c2);
-                    let ss = 0.5 * (1.0 - c2);
-                    rxx = r1 * cc + r2 * ss;
-                    ryy = r1 * ss + r2 * cc;
-                    rxy = (r1 - r2) * 0.5 * s2t;
+        self.scratch
+            .packed
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, q)| {
+                let m = p.mass_of(i);
+                let rho = p.rho[i];
+                let ir2 = 1.0 / (rho * rho);
+                let sxx = p.sxx[i] - p.p[i];
+                let syy = p.syy[i] - p.p[i];
+                let sxy = p.sxy[i];
+                // Gray–Monaghan artificial stress: principal tensile stresses σ' > 0 get R' = −ε σ'/ρ².
+                let (mut rxx, mut rxy, mut ryy) = (0.0, 0.0, 0.0);
+                if eps > 0.0 {
+                    let c = 0.5 * (sxx + syy);
+                    let d = 0.5 * (sxx - syy);
+                    // sqrt, not hypot: stresses are far from overflow and hypot is slow.
+                    let r = (d * d + sxy * sxy).sqrt();
+                    let (s1, s2) = (c + r, c - r);
+                    if s1 > 0.0 {
+                        let r1 = -eps * s1 * ir2;
+                        let r2 = if s2 > 0.0 { -eps * s2 * ir2 } else { 0.0 };
+                        // Principal direction: cos 2θ = d/r, sin 2θ = sxy/r.
+                        let (c2, s2t) = if r > 0.0 {
+                            (d / r, sxy / r)
+                        } else {
+                            (1.0, 0.0)
+                        };
+                        let cc = 0.5 * (1.0 + c2);
+                        let ss = 0.5 * (1.0 - c2);
+                        rxx = r1 * cc + r2 * ss;
+                        ryy = r1 * ss + r2 * cc;
+                        rxy = (r1 - r2) * 0.5 * s2t;
+                    }
                 }
-            }
-            *q = Packed {
-                x: p.x[i],
-                y: p.y[i],
-                vx: p.vx[i],
-                vy: p.vy[i],
-                vol: m / rho,
-                inv_rho: 1.0 / rho,
-                m,
-                h: h0 * spacing_factor(p.level[i]),
-                txx: sxx * ir2,
-                txy: sxy * ir2,
-                tyy: syy * ir2,
-                rxx,
-                rxy,
-                ryy,
-                temp: p.temp[i],
-                k: if thermal {
-                    th.conductivity.eval(p.temp[i])
-                } else {
-                    0.0
-                },
-            };
-        });
+                *q = Packed {
+                    x: p.x[i],
+                    y: p.y[i],
+                    vx: p.vx[i],
+                    vy: p.vy[i],
+                    vol: m / rho,
+                    inv_rho: 1.0 / rho,
+                    m,
+                    h: h0 * spacing_factor(p.level[i]),
+                    txx: sxx * ir2,
+                    txy: sxy * ir2,
+                    tyy: syy * ir2,
+                    rxx,
+                    rxy,
+                    ryy,
+                    temp: p.temp[i],
+                    k: if thermal {
+                        th.conductivity.eval(p.temp[i])
+                    } else {
+                        0.0
+                    },
+                };
+            });
     }
 
     /// Step 3a: forces and conduction over the half list. Each pair's terms are computed
@@ -474,14 +498,15 @@ impl Solver {
             },
         };
         // Conduction needs no branch: k = 0 when thermal is off (see `pack`).
-        let packed = &self.packed;
+        let packed = &self.scratch.packed;
         let nl = &self.neighbours;
         let npairs = nl.pair_count();
-        self.pair_wg.resize(npairs, [0.0; 2]);
-        self.pair_force.resize(npairs, [0.0; 3]);
-        let pair_wg = DisjointMut::new(&mut self.pair_wg);
-        let pair_force = DisjointMut::new(&mut self.pair_force);
-        self.rates
+        self.scratch.pair_wg.resize(npairs, [0.0; 2]);
+        self.scratch.pair_force.resize(npairs, [0.0; 3]);
+        let pair_wg = DisjointMut::new(&mut self.scratch.pair_wg);
+        let pair_force = DisjointMut::new(&mut self.scratch.pair_force);
+        self.scratch
+            .rates
             .par_chunks_mut(PAIR_CHUNK)
             .enumerate()
             .for_each(|(ch, rates)| {
@@ -520,8 +545,9 @@ impl Solver {
         let rho = &self.particles.rho;
         let temp = &self.particles.temp;
         let nl = &self.neighbours;
-        let shares = &self.pair_force;
-        self.rates
+        let shares = &self.scratch.pair_force;
+        self.scratch
+            .rates
             .par_iter_mut()
             .with_min_len(PAIR_CHUNK)
             .enumerate()
@@ -547,11 +573,11 @@ impl Solver {
     fn kick(&mut self) {
         let dt = self.dt;
         let groups = &self.groups;
-        let rates = &self.rates;
+        let rates = &self.scratch.rates;
         let p = &mut self.particles;
         p.vx.par_iter_mut()
             .zip(p.vy.par_iter_mut())
-            .zip(self.packed.par_iter_mut())
+            .zip(self.scratch.packed.par_iter_mut())
             .enumerate()
             .for_each(|(i, ((vx, vy), q))| {
                 let mut nvx = *vx + dt * rates[i].ax;
@@ -580,10 +606,11 @@ impl Solver {
     fn gather_kinematics(&mut self) {
         let m = self.particles.mass;
         let refined = self.refined;
-        let packed = &self.packed;
+        let packed = &self.scratch.packed;
         let nl = &self.neighbours;
-        let pair_wg = &self.pair_wg;
-        self.rates
+        let pair_wg = &self.scratch.pair_wg;
+        self.scratch
+            .rates
             .par_chunks_mut(PAIR_CHUNK)
             .enumerate()
             .for_each(|(ch, rates)| {
@@ -620,7 +647,7 @@ impl Solver {
         let w = contact::apply(
             &params,
             &mut self.particles,
-            &mut self.rates,
+            &mut self.scratch.rates,
             &mut self.tools,
         );
         self.energy.friction_work += w.friction;
@@ -642,8 +669,8 @@ impl Solver {
             if g != FREE {
                 let gf = &mut self.group_force[g as usize - 1];
                 let m = p.mass_of(i);
-                gf[0] -= m * self.rates[i].ax;
-                gf[1] -= m * self.rates[i].ay;
+                gf[0] -= m * self.scratch.rates[i].ax;
+                gf[1] -= m * self.scratch.rates[i].ay;
             }
         }
         let mut w = 0.0;
@@ -669,7 +696,7 @@ impl Solver {
             vlim2: (self.numerics.max_speed_ratio * d.c_long).powi(2),
             m: self.particles.mass,
             eps_x: self.numerics.xsph,
-            rates: &self.rates,
+            rates: &self.scratch.rates,
             x0,
             y0,
         };
@@ -719,7 +746,7 @@ impl Solver {
             )
             // Per-chunk sums in chunk order (an indexed collect), summed serially below:
             // the energy book is the same bytes on every run, whatever the thread schedule.
-            .collect_into_vec(&mut self.chunk_sums);
+            .collect_into_vec(&mut self.scratch.chunk_sums);
         self.book_update(moved_lim2)
     }
 
@@ -727,7 +754,7 @@ impl Solver {
     /// moved too far, the first unstable particle reported.
     fn book_update(&mut self, moved_lim2: f64) -> Result<(), SimError> {
         let (mut plastic, mut viscous, mut bad) = (0.0, 0.0, usize::MAX);
-        for &(wp, av, b, moved2) in &self.chunk_sums {
+        for &(wp, av, b, moved2) in &self.scratch.chunk_sums {
             plastic += wp;
             viscous += av;
             bad = bad.min(b);

@@ -322,7 +322,7 @@ impl Observer for RunUntilSure {
         self.forces.start(sim)
     }
     fn save_state(&self) -> Option<(&'static str, serde_json::Value)> {
-        Some(("steady", serde_json::to_value(self).ok()?))
+        crate::executor::SavedState::saved(self)
     }
     fn after_step(&mut self, sim: &Solver) -> Result<Control, SimError> {
         self.forces.after_step(sim)?;
@@ -341,6 +341,10 @@ impl Observer for RunUntilSure {
             Control::Continue
         })
     }
+}
+
+impl crate::executor::SavedState for RunUntilSure {
+    const KEY: &'static str = "steady";
 }
 
 #[cfg(test)]

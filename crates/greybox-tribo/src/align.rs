@@ -29,8 +29,8 @@
 //! first), and reported as reordered. A count mismatch alone is never an error: unmatched
 //! steps and extra segments are reported by name.
 
+use crate::config::IdentifyConfig;
 use crate::expected::ExpectedStep;
-use crate::identify::IdentifyConfig;
 
 /// A segment as the alignment sees it.
 #[derive(Debug, Clone, Copy)]

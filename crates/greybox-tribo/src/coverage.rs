@@ -4,7 +4,7 @@
 //! * **steady**: the steady windows that gave rows, less
 //! * **masked**: their samples masked as spikes (Hampel), which no row averages;
 //! * **unsettled**: the windows of rows whose μ never settles (the mean after the warm-up,
-//!   with its trend: [`crate::steady::steady_stretch`]) — a row, but no steady state;
+//!   with its trend: [`crate::steady_window::steady_stretch`]) — a row, but no steady state;
 //! * **run-in**: from a row's segment start to the end of its run-in (`auto` rule);
 //! * **dropped**: segments that gave no row, each with its reason (no steady part, shorter
 //!   than `min_segment_s`, no planned step matched, merged into the next step);

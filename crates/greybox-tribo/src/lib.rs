@@ -7,8 +7,8 @@
 //! * [`plan`] — full-factorial plans with nominal timing; [`gcode`] — NC programs per pin;
 //!   [`expected`] — what a plan says each step should show.
 //! * [`campaign`] — a campaign's recordings segmented into steps, matched to the plan,
-//!   measured; [`identify`] with [`identify_config`] — the plan-timed path and the settings
-//!   both share; [`align`] — plan timing against a recording; [`steady`] — the steady
+//!   measured; [`plan_timing`] — μ per step of a pin by the plan's timing; [`config`] — the settings
+//!   both paths share; [`align`] — plan timing against a recording; [`steady_window`] — the steady
 //!   stretch of a step; [`sliding`] — sliding speed and distance; [`coverage`] — what each
 //!   step could give; [`uncertainty`] — intervals of μ; [`reciprocating`] — strokes of a
 //!   linear reciprocating test; [`signal`] — robust signal helpers.
@@ -19,19 +19,19 @@
 
 pub mod align;
 pub mod campaign;
+pub mod config;
 pub mod coverage;
 pub mod expected;
 pub mod frf;
 pub mod frf_synth;
 pub mod gcode;
-pub mod identify;
-pub mod identify_config;
 pub mod plan;
+pub mod plan_timing;
 pub mod ploughing;
 pub mod reciprocating;
 pub mod signal;
 pub mod sliding;
-pub mod steady;
+pub mod steady_window;
 pub mod synth;
 pub mod synth_recip;
 pub mod uncertainty;

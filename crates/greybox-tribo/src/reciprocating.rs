@@ -20,14 +20,14 @@
 //! 4. **Cycles** = a forward and a backward stroke following each other; per cycle μ forward,
 //!    μ backward and their mean.
 //! 5. **Steady cycles**: the final stationary stretch of the per-cycle mean μ after the
-//!    run-in ([`crate::steady::final_stationary`], G133 §9 practice; all cycles below 16), or
+//!    run-in ([`crate::steady_window::final_stationary`], G133 §9 practice; all cycles below 16), or
 //!    the user's [`SteadyRule`] applied to cycles (`last:50%` = the last half of the cycles,
 //!    `from:Ts` = cycles starting T s or more after the first). μ per direction and averaged
 //!    over those cycles is the test's result.
 
-use crate::identify_config::{IdentifyConfig, SteadyRule};
+use crate::config::{IdentifyConfig, SteadyRule};
 use crate::signal::{linear_fit, mad_sigma, mean_std, moving_average};
-use crate::steady::{rule_span, steady_stretch, Settling};
+use crate::steady_window::{rule_span, steady_stretch, Settling};
 use greybox_core::stats::median;
 use greybox_recording::TestMode;
 use greybox_recording::{Recording, SpeedTrace};
@@ -170,7 +170,7 @@ pub struct Reciprocating {
     /// The friction channel carries a magnitude only (never negative): μ = |F_t|/F_N.
     pub unsigned: bool,
     /// Why the steady cycles are not a settled steady state, where they are not (too few
-    /// cycles to tell, or a μ that never settles; see [`crate::steady::steady_stretch`]).
+    /// cycles to tell, or a μ that never settles; see [`crate::steady_window::steady_stretch`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unsettled: Option<String>,
 }

@@ -35,9 +35,9 @@
 //! The period found also sets the shortest step the segmentation accepts (three periods, or
 //! `min_segment_s` if longer) and the block length of the change-point search, so that every
 //! block averages whole revolutions. All thresholds are settings of
-//! [`crate::identify::IdentifyConfig`] (docs/recordings.md, "Sliding and steps").
+//! [`crate::config::IdentifyConfig`] (docs/recordings.md, "Sliding and steps").
 
-use crate::identify::IdentifyConfig;
+use crate::config::IdentifyConfig;
 use crate::signal::dominant_period;
 use greybox_core::stats::median;
 use greybox_recording::SpeedTrace;

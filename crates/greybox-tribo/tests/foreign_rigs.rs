@@ -9,7 +9,7 @@ use greybox_core::units;
 use greybox_recording::readers::read_recording;
 use greybox_recording::{ChannelMap, Recording};
 use greybox_tribo::campaign::{ExpectedStep, Identification};
-use greybox_tribo::identify::IdentifyConfig;
+use greybox_tribo::config::IdentifyConfig;
 use std::path::PathBuf;
 use support::TruthStep;
 

@@ -9,7 +9,7 @@ use glue::{coverage, identify, plan_of, recording};
 use greybox_recording::readers::read_recording;
 use greybox_recording::{ChannelMap, Recording, SpeedTrace};
 use greybox_tribo::campaign::Identification;
-use greybox_tribo::identify::IdentifyConfig;
+use greybox_tribo::config::IdentifyConfig;
 use support::sure::{self, Trace};
 
 /// Issue 58's failing case: a continuous velocity staircase per pin, no speed channel, a plan

@@ -1,8 +1,8 @@
 //! Identification beyond the default path: no trigger, stick-slip, and bad recordings.
 
 use greybox_contact::hertz::PinContact;
-use greybox_tribo::identify::{identify_pin, Alignment, IdentifyConfig};
 use greybox_tribo::plan::{Plan, PlanSpec};
+use greybox_tribo::plan_timing::{identify_pin, IdentifyConfig, TimeZero};
 use greybox_tribo::synth::{StickSlip, SynthConfig};
 
 fn small_plan() -> Plan {
@@ -43,7 +43,7 @@ fn truth_error(cfg: &SynthConfig, id: &IdentifyConfig, strip_trigger: bool) -> f
 #[test]
 fn first_plateau_alignment_without_trigger() {
     let id = IdentifyConfig {
-        align: Alignment::FirstPlateau,
+        align: TimeZero::FirstPlateau,
         ..Default::default()
     };
     let worst = truth_error(&SynthConfig::default(), &id, true);

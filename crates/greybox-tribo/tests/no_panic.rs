@@ -184,7 +184,7 @@ fn foreign_layout_readers_survive_mutations() {
         head_tail(&tab[0].file),
     ];
     let contact = greybox_contact::hertz::PinContact::default();
-    let cfg = greybox_tribo::identify::IdentifyConfig::default();
+    let cfg = greybox_tribo::config::IdentifyConfig::default();
     let campaign_inputs = Campaign {
         expected: None,
         plan: None,

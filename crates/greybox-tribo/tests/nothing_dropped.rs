@@ -5,7 +5,7 @@ use greybox_contact::hertz::PinContact;
 use greybox_recording::readers::read_recording;
 use greybox_recording::{ChannelMap, Recording, SpeedTrace};
 use greybox_tribo::campaign::{identify_recordings, Campaign, Identification};
-use greybox_tribo::identify_config::IdentifyConfig;
+use greybox_tribo::config::IdentifyConfig;
 use std::fmt::Write as _;
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 //! position, from the friction force's sign and from half-stroke blocks; μ per direction
 //! against the truth, cycles counted exactly.
 
-use greybox_tribo::identify_config::{IdentifyConfig, SteadyRule};
+use greybox_tribo::config::{IdentifyConfig, SteadyRule};
 
 use greybox_tribo::reciprocating::{analyse, detect, parts, Signals, StrokeSource};
 use greybox_tribo::synth_recip::{reciprocating_recording, RecipSpec};

@@ -1,8 +1,8 @@
 //! `identify` recovers `synth`'s ground truth over the article's full plan (210 plateaus).
 
 use greybox_contact::hertz::PinContact;
-use greybox_tribo::identify::{identify_campaign, IdentifyConfig};
 use greybox_tribo::plan::PlanSpec;
+use greybox_tribo::plan_timing::{identify_pins, IdentifyConfig};
 use greybox_tribo::synth::SynthConfig;
 
 fn max_error(cfg: &SynthConfig) -> (f64, usize) {
@@ -17,7 +17,7 @@ fn max_error(cfg: &SynthConfig) -> (f64, usize) {
         .map(|p| cfg.simulate_pin(&plan, &contact, p).unwrap())
         .collect();
     let truth = cfg.ground_truth(&plan, &contact).unwrap();
-    let (ds, _) = identify_campaign(&plan, &recs, &contact, &IdentifyConfig::default()).unwrap();
+    let (ds, _) = identify_pins(&plan, &recs, &contact, &IdentifyConfig::default()).unwrap();
     assert_eq!(ds.records.len(), 210);
     let mut worst = 0.0f64;
     for (r, t) in ds.records.iter().zip(&truth) {

@@ -5,7 +5,7 @@
 use greybox_contact::hertz::PinContact;
 use greybox_recording::Recording;
 use greybox_tribo::campaign::{expected_from_plan, identify_recordings, Campaign};
-use greybox_tribo::identify::IdentifyConfig;
+use greybox_tribo::config::IdentifyConfig;
 use greybox_tribo::plan::{Plan, PlanSpec};
 use greybox_tribo::synth::SynthConfig;
 

@@ -9,7 +9,7 @@ mod support;
 use greybox_core::dataset::flags;
 use greybox_recording::{Recording, SpeedTrace};
 use greybox_tribo::campaign::Identification;
-use greybox_tribo::identify::IdentifyConfig;
+use greybox_tribo::config::IdentifyConfig;
 use support::settle;
 use support::sure::Trace;
 

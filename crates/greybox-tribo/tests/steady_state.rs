@@ -4,7 +4,7 @@
 
 use greybox_contact::hertz::PinContact;
 use greybox_tribo::campaign::{identify_recordings, Campaign, Identification};
-use greybox_tribo::identify_config::{IdentifyConfig, SteadyRule};
+use greybox_tribo::config::{IdentifyConfig, SteadyRule};
 
 use greybox_recording::{Recording, SpeedTrace};
 use rand::{Rng, SeedableRng};

@@ -12,7 +12,7 @@ use glue::{plan_of, recording};
 use greybox_core::dataset::flags;
 use greybox_recording::Recording;
 use greybox_tribo::campaign::{ExpectedStep, Identification};
-use greybox_tribo::identify::IdentifyConfig;
+use greybox_tribo::config::IdentifyConfig;
 use support::stribeck::{sweep, Shape};
 
 fn identify(rec: &Recording, plan: &[ExpectedStep]) -> Identification {

@@ -12,7 +12,7 @@ use greybox_contact::hertz::PinContact;
 use greybox_recording::readers::read_recording;
 use greybox_recording::{ChannelMap, Recording};
 use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
-use greybox_tribo::identify::IdentifyConfig;
+use greybox_tribo::config::IdentifyConfig;
 use support::unseen::{self, Truth};
 
 /// The recordings of the truth's files, once each, in order, read with default settings.

@@ -8,7 +8,7 @@
 //! recordings (CSV/TXT, XLSX, TDMS; `study.recording` maps their columns).
 
 use anyhow::Result;
-use greybox::learn::model::Family;
+use greybox::model::Family;
 use greybox::pipeline::{adhesive, fit, identify, law, simulate, study::DEMO_STUDY, synth, Study};
 use greybox::recording::readers::RecordingFormat;
 use std::path::{Path, PathBuf};

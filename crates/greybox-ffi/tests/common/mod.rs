@@ -1,9 +1,9 @@
 //! A small learned model shared by the FFI tests.
 
-use greybox_learn::mlp::Activation;
-use greybox_learn::model::Family;
-use greybox_learn::modelfile::ModelFile;
 use greybox_learn::protocol::{run_protocol, FitConfig};
+use greybox_model::mlp::Activation;
+use greybox_model::modelfile::ModelFile;
+use greybox_model::Family;
 
 /// A model of a smooth μ(hertz_pressure_MPa, sliding_velocity_m_per_min) on a 10 × 10 grid,
 /// fitted with one small configuration of `family` (`activation` for the MLP).
@@ -38,7 +38,7 @@ pub fn small_model(family: Family, activation: Activation) -> ModelFile {
     cfg.grid.gradient_boosting.n_estimators = vec![50];
     cfg.grid.gradient_boosting.max_depth = vec![3];
     cfg.grid.gradient_boosting.learning_rate = vec![0.1];
-    cfg.grid.svr.kernel = vec![greybox_learn::svr::Kernel::Rbf];
+    cfg.grid.svr.kernel = vec![greybox_model::svr::Kernel::Rbf];
     cfg.grid.svr.c = vec![10.0];
     cfg.grid.svr.epsilon = vec![0.01];
     run_protocol(&data, &cfg).unwrap().1.remove(0)

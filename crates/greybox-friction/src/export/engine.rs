@@ -17,11 +17,13 @@
 //! assert!(matches!(Engine::defaults(ExportFormat::Csv), Engine::Csv));
 //! ```
 
-use super::{Grid, StepLines, TempUnit, Units};
+use super::{Grid, StepLines, Units};
 use crate::grid::UnitSystem;
 use crate::table_file::TableKind;
 use greybox_core::count::Count;
 use greybox_core::physics::Quantity;
+use greybox_core::setting::{SettingError, SettingPath};
+use greybox_core::units::TemperatureUnit;
 use greybox_core::units::{m_per_min_to_m_per_s, mpa_to_pa};
 use greybox_core::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -89,7 +91,7 @@ pub fn default_velocities_m_s() -> Vec<f64> {
 /// of metal-cutting models).
 pub const DEFAULT_UNITS: UnitSystem = UnitSystem::MpaMmS;
 /// The default temperature unit of the tables.
-pub const DEFAULT_TEMPERATURE_UNIT: TempUnit = TempUnit::C;
+pub const DEFAULT_TEMPERATURE_UNIT: TemperatureUnit = TemperatureUnit::C;
 /// The default sliding velocity of DEFORM's FRCFAC p–T table, m/s (150 m/min, mid-range of
 /// the article's cutting speeds).
 pub const DEFAULT_DEFORM_REFERENCE_VELOCITY_M_S: f64 = 2.5;
@@ -156,7 +158,7 @@ pub const DEFAULT_MAX_TABLE_SIZE: TableSize =
 pub enum Engine {
     Abaqus {
         units: UnitSystem,
-        temperature_unit: TempUnit,
+        temperature_unit: TemperatureUnit,
         /// TAUMAX, the limiting shear stress, Pa.
         taumax_pa: Option<f64>,
     },
@@ -170,7 +172,7 @@ pub enum Engine {
     },
     Lsdyna {
         units: UnitSystem,
-        temperature_unit: TempUnit,
+        temperature_unit: TemperatureUnit,
         /// Table id (curves take the following ids).
         table_id: u32,
     },
@@ -254,25 +256,25 @@ impl Engine {
             Engine::Abaqus {
                 taumax_pa: Some(t), ..
             } if !(*t > 0.0 && t.is_finite()) => Err(invalid(
-                "export.taumax_Pa",
+                "taumax_Pa",
                 format!("{t} is not a positive stress"),
             )),
             Engine::Deform {
                 reference_velocity_m_s: v,
                 ..
             } if !(*v > 0.0 && v.is_finite()) => Err(invalid(
-                "export.deform_reference_velocity_m_per_s",
+                "deform_reference_velocity_m_per_s",
                 format!("{v} is not a positive speed"),
             )),
             // the physical quantities against the physics table (TAUMAX 0.6 MPa: GPa typed)
             Engine::Abaqus {
                 taumax_pa: Some(t), ..
-            } => physical("export.taumax_Pa", Quantity::ShearFlowStress, *t),
+            } => physical("taumax_Pa", Quantity::ShearFlowStress, *t),
             Engine::Deform {
                 reference_velocity_m_s: v,
                 ..
             } => physical(
-                "export.deform_reference_velocity_m_per_s",
+                "deform_reference_velocity_m_per_s",
                 Quantity::SlidingVelocity,
                 *v,
             ),
@@ -283,16 +285,22 @@ impl Engine {
 
 /// `value` of the option `what` against the physics table ([`greybox_core::physics::admit`]):
 /// refused outside the possible range, said outside the usual one.
-fn physical(what: &str, q: Quantity, value: f64) -> Result<()> {
-    greybox_core::physics::admit(q, value, what).map_err(|m| invalid(what, m))
+fn physical(field: &str, q: Quantity, value: f64) -> Result<()> {
+    Ok(greybox_core::physics::admit_setting(
+        q,
+        value,
+        &option(field),
+    )?)
 }
 
-/// A refused export option, named.
-pub(crate) fn invalid(what: &str, message: String) -> Error {
-    Error::Invalid {
-        what: what.to_string(),
-        message,
-    }
+/// The export option `field` as a setting.
+fn option(field: &str) -> SettingPath {
+    SettingPath::new("export", field)
+}
+
+/// A refused export option (`field` of the export's settings), named.
+pub(crate) fn invalid(field: &str, message: String) -> Error {
+    Error::setting(option(field), message)
 }
 
 /// What a table is, apart from the law it tabulates and the file it goes to: the engine
@@ -347,14 +355,12 @@ impl TableSpec {
     /// Check every option; errors name the option (`export.tolerance`).
     pub fn validate(&self) -> Result<()> {
         self.grid.validate().map_err(|e| {
-            invalid(
-                "export.pressure_Pa, export.velocity_m_per_s or export.temperature_K",
-                e.to_string(),
-            )
+            let axes = ["pressure_Pa", "velocity_m_per_s", "temperature_K"];
+            SettingError::between(axes.map(option).to_vec(), e.to_string())
         })?;
         if !(self.tolerance > 0.0 && self.tolerance.is_finite()) {
             return Err(invalid(
-                "export.tolerance",
+                "tolerance",
                 format!("{} is not a positive number", self.tolerance),
             ));
         }
@@ -362,18 +368,14 @@ impl TableSpec {
         let g = &self.grid;
         let none = Vec::new();
         let axes = [
+            ("pressure_Pa", Quantity::ContactPressure, &g.pressure_pa),
             (
-                "export.pressure_Pa",
-                Quantity::ContactPressure,
-                &g.pressure_pa,
-            ),
-            (
-                "export.velocity_m_per_s",
+                "velocity_m_per_s",
                 Quantity::SlidingVelocity,
                 &g.velocity_m_s,
             ),
             (
-                "export.temperature_K",
+                "temperature_K",
                 Quantity::Temperature,
                 g.temperature_k.as_ref().unwrap_or(&none),
             ),

@@ -27,14 +27,15 @@
 //!
 //! ```
 //! use greybox_friction::classical::Coulomb;
-//! use greybox_friction::export::{abaqus_checked, Grid, TableOptions, TempUnit, Units};
+//! use greybox_core::units::TemperatureUnit;
+//! use greybox_friction::export::{abaqus_checked, Grid, TableOptions, Units};
 //! use greybox_friction::grid::UnitSystem;
 //! let grid = Grid {
 //!     pressure_pa: vec![500e6, 1000e6],
 //!     velocity_m_s: vec![1.0, 2.0],
 //!     temperature_k: None,
 //! };
-//! let units = Units::of(UnitSystem::MpaMmS, TempUnit::C);
+//! let units = Units::of(UnitSystem::MpaMmS, TemperatureUnit::C);
 //! let e = abaqus_checked(&Coulomb { mu: 0.3 }, &grid, units, None, &TableOptions::default())?;
 //! assert!(e.text.contains("*FRICTION"));
 //! assert!(e.text.contains(" 0.3, 1000.0, 500.0")); // μ, slip rate (mm/s), pressure (MPa)
@@ -48,8 +49,9 @@ pub mod write;
 
 use crate::engine_table::mu_checked;
 pub use crate::engine_table::{Deviation, EngineTable, StepLines, TableOptions};
-pub use crate::grid::{Grid, PressureUnit, SpeedUnit, TempUnit, Units};
+pub use crate::grid::{Grid, Units};
 use greybox_core::escape::deck_comment;
+use greybox_core::units::{PressureUnit, TemperatureUnit, VelocityUnit};
 use greybox_core::{ContactState, Error, FrictionLaw, Result, SourcePos};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -275,13 +277,13 @@ pub fn deform_checked(
         velocity_m_s: vec![reference_velocity_m_s],
         ..grid.clone()
     };
-    let units = (SpeedUnit::MPerS, PressureUnit::MPa, TempUnit::C);
+    let units = (VelocityUnit::MPerS, PressureUnit::MPa, TemperatureUnit::C);
     let table = EngineTable::build(law, &at_reference, units, o.steps)?;
     let mut out = Exported::new(law, table, o);
     let t = &out.table;
     let temps: Vec<f64> = match &t.temperature {
         Some(a) => a.written.clone(),
-        None => vec![TempUnit::C.from_k(ContactState::ROOM_TEMPERATURE_K)],
+        None => vec![TemperatureUnit::C.from_k(ContactState::ROOM_TEMPERATURE_K)],
     };
     let (o1, o2) = objects;
     let mut s = String::new();
@@ -470,7 +472,7 @@ pub fn csv(law: &dyn FrictionLaw, grid: &Grid) -> Result<String> {
 /// [`csv`] with step lines and deviation check as `o` says (the check assumes a reader that
 /// interpolates linearly, as the engines do).
 pub fn csv_checked(law: &dyn FrictionLaw, grid: &Grid, o: &TableOptions) -> Result<Exported> {
-    let units = (SpeedUnit::MPerMin, PressureUnit::MPa, TempUnit::K);
+    let units = (VelocityUnit::MPerMin, PressureUnit::MPa, TemperatureUnit::K);
     let table = EngineTable::build(law, grid, units, o.steps)?;
     let mut out = Exported::new(law, table, o);
     let mut s = String::from("pressure_MPa,sliding_velocity_m_per_min,temperature_K,mu\n");
@@ -742,7 +744,7 @@ mod tests {
             mu: 0.3,
             k_pa: 500e6,
         };
-        let u = Units::of(crate::grid::UnitSystem::MpaMmS, crate::grid::TempUnit::C);
+        let u = Units::of(crate::grid::UnitSystem::MpaMmS, TemperatureUnit::C);
         assert!(lsdyna(&law, &grid, u, 1000).is_ok());
         for bad in [0, u32::MAX, i32::MAX as u32 - 1] {
             let e = lsdyna(&law, &grid, u, bad).unwrap_err().to_string();
@@ -764,7 +766,7 @@ mod tests {
             velocity_m_s: vec![1.0, 2.0],
             temperature_k: None,
         };
-        let u = Units::of(crate::grid::UnitSystem::MpaMmS, crate::grid::TempUnit::C);
+        let u = Units::of(crate::grid::UnitSystem::MpaMmS, TemperatureUnit::C);
         let decks = |name: &str| -> [(String, &str); 3] {
             let law = Named(name.to_string());
             [

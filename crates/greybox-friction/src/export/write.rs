@@ -94,9 +94,9 @@ fn grid_points(grid: &Grid) -> usize {
 fn check_table_size(values: usize, max: usize) -> Result<()> {
     if values > max {
         return Err(invalid(
-            "export.max_table_size",
+            "max_table_size",
             format!(
-                "the table would have {values} values (about {:.0} MB as text), more than the limit of {max}; coarsen the grid, loosen export.tolerance or raise export.max_table_size",
+                "the table would have {values} values (about {:.0} MB as text), more than the limit of {max}; coarsen the grid, loosen `tolerance` or raise `max_table_size`",
                 values as f64 * 30.0 / 1e6
             ),
         ));
@@ -155,7 +155,7 @@ fn read_deform_windows(path: Option<&std::path::Path>) -> Result<Vec<DeformWindo
     let text = greybox_core::input::read_config(p, "DEFORM windows file")?;
     serde_json::from_str(&text).map_err(|e| {
         invalid(
-            "export.deform_windows",
+            "deform_windows",
             format!("{}: expected a JSON list of windows: {e}", p.display()),
         )
     })
@@ -224,7 +224,7 @@ fn adaptive_grid(law: &dyn FrictionLaw, spec: &TableSpec) -> Result<Grid> {
     let so = surrogate_options(spec, Some(TableKind::Adaptive));
     if g.pressure_pa.len() < 2 || g.velocity_m_s.len() < 2 {
         return Err(invalid(
-            "export.adaptive_grid",
+            "adaptive_grid",
             "needs a range of pressures and of velocities (at least two of each)".into(),
         ));
     }
@@ -249,10 +249,10 @@ fn surrogate_table(
     so.check_points = spec.check_points.get();
     if so.kind.unwrap_or_else(|| surrogate::auto_kind(law)) == TableKind::Uniform {
         so.uniform_points = [
-            uniform_axis(&grid.pressure_pa, "export.pressure_Pa")?,
-            uniform_axis(&grid.velocity_m_s, "export.velocity_m_per_s")?,
+            uniform_axis(&grid.pressure_pa, "pressure_Pa")?,
+            uniform_axis(&grid.velocity_m_s, "velocity_m_per_s")?,
             match grid.temperature_k.as_deref() {
-                Some(t) => uniform_axis(t, "export.temperature_K")?,
+                Some(t) => uniform_axis(t, "temperature_K")?,
                 None => 1,
             },
         ];

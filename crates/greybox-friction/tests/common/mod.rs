@@ -4,10 +4,10 @@
 use greybox_contact::PinContact;
 use greybox_core::dataset::PressureConvention;
 use greybox_core::ContactState;
-use greybox_learn::model::Family;
-use greybox_learn::modelfile::{ForcePressure, ModelFile};
 use greybox_learn::protocol::{run_protocol, FitConfig};
 use greybox_learn::table::read_dataset_from;
+use greybox_model::modelfile::{ForcePressure, ModelFile};
+use greybox_model::Family;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -54,11 +54,11 @@ pub fn model(family: Family, features: &[&str]) -> ModelFile {
     cfg.grid.gradient_boosting.n_estimators = vec![60];
     cfg.grid.gradient_boosting.max_depth = vec![3];
     cfg.grid.gradient_boosting.learning_rate = vec![0.1];
-    cfg.grid.svr.kernel = vec![greybox_learn::svr::Kernel::Rbf];
+    cfg.grid.svr.kernel = vec![greybox_model::svr::Kernel::Rbf];
     cfg.grid.svr.c = vec![10.0];
     cfg.grid.svr.epsilon = vec![0.01];
     cfg.grid.mlp.hidden_layers = vec![vec![16, 8]];
-    cfg.grid.mlp.activation = vec![greybox_learn::mlp::Activation::Tanh];
+    cfg.grid.mlp.activation = vec![greybox_model::mlp::Activation::Tanh];
     cfg.grid.mlp.learning_rate = vec![0.01];
     let mut m = run_protocol(&data, &cfg).unwrap().1.remove(0);
     if features.contains(&"normal_force_N") {

@@ -3,8 +3,8 @@
 //! copy with columns in working order.
 
 use greybox_learn::svr_test_kit::{g_bar_change, kernel_row, Dual};
-use greybox_learn::Matrix;
 use greybox_model::svr::SvrParams;
+use greybox_model::Matrix;
 
 const TAU: f64 = 1e-12;
 

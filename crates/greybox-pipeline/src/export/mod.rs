@@ -16,7 +16,8 @@ use greybox_core::outputs::check_file_output;
 use greybox_friction::export::write::{table_text, TableText};
 use greybox_friction::spec::LawFile;
 
-pub use greybox_friction::export::write::ExportReport;
+use greybox_friction::export::engine::{equidistant, AxisPoints, ExportFormat};
+use greybox_friction::export::write::ExportReport;
 
 /// Values from `MIN:MAX:N` (equidistant, both ends included) or a comma list; `what`
 /// names the field in errors.
@@ -88,7 +89,7 @@ pub fn export(a: &ExportOptions) -> Result<ExportReport> {
             text.len() as f64 / 1e6,
             report.shape.iter().product::<usize>(),
             if a.table.adaptive_grid || a.format() == ExportFormat::Table {
-                " or loosen export.tolerance"
+                " or loosen `tolerance`"
             } else {
                 ""
             }

@@ -19,15 +19,13 @@
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
-use anyhow::{bail, Result};
+use anyhow::Result;
 use greybox_core::choice::Choice;
-pub use greybox_friction::export::engine::{
-    default_pressures_pa, default_velocities_m_s, equidistant, AxisPoints, CheckPoints, Engine,
-    ExportFormat, ObjectPair, TableSize, TableSpec, DEFAULT_CHECK_POINTS, DEFAULT_DEFORM_OBJECTS,
-    DEFAULT_DEFORM_REFERENCE_VELOCITY_M_S, DEFAULT_LSDYNA_TABLE_ID, DEFAULT_MAX_TABLE_SIZE,
-    DEFAULT_TEMPERATURE_UNIT, DEFAULT_TOLERANCE, DEFAULT_UNITS,
+use greybox_core::units::TemperatureUnit;
+use greybox_friction::export::engine::{
+    CheckPoints, Engine, ExportFormat, ObjectPair, TableSize, TableSpec,
 };
-use greybox_friction::export::{Grid, StepLines, TempUnit};
+use greybox_friction::export::{Grid, StepLines};
 use greybox_friction::grid::UnitSystem;
 use greybox_friction::table_file::TableKind;
 use serde::{Deserialize, Serialize};
@@ -112,8 +110,8 @@ pub struct ExportOverrides {
     pub units: Option<UnitSystem>,
     /// Abaqus/LS-DYNA temperature unit.
     #[cfg_attr(feature = "cli", arg(long,
-        value_parser = greybox_core::choice::clap_parsers::choice::<TempUnit>()))]
-    pub temperature_unit: Option<TempUnit>,
+        value_parser = greybox_core::choice::clap_parsers::choice::<TemperatureUnit>()))]
+    pub temperature_unit: Option<TemperatureUnit>,
     /// Abaqus TAUMAX (limiting shear stress), MPa.
     #[cfg_attr(feature = "cli", arg(long = "taumax-MPa", value_name = "MPA",
         value_parser = greybox_core::units::clap_parsers::mpa_as_pa))]
@@ -201,7 +199,7 @@ pub mod edge {
             serde_json::Value::Array(items) if items.len() > 2 => {
                 let v: Vec<f64> = items.iter().filter_map(|x| x.as_f64()).collect();
                 let (a, b, n) = (v[0], v[v.len() - 1], v.len());
-                let even = super::equidistant(a, b, n)
+                let even = greybox_friction::export::engine::equidistant(a, b, n)
                     .iter()
                     .zip(&v)
                     .all(|(x, y)| (x - y).abs() <= 1e-9 * y.abs().max(1e-300));
@@ -377,10 +375,10 @@ impl ExportOverrides {
             Engine::Csv => {}
         }
         match self.foreign_option(format) {
-            Some(name) => bail!(
-                "export.{name}: not an option of the {} export",
-                format.name()
-            ),
+            Some(name) => {
+                let why = format!("not an option of the {} export", format.name());
+                Err(greybox_core::setting::refused("export", name, why).into())
+            }
             None => Ok(()),
         }
     }

@@ -18,7 +18,8 @@ use crate::adhesive::{
     AdhesiveMethod, AdhesiveOptions, LoadStride, SimLoads, SimRuns, Simulation3dOptions,
     SimulationOptions, ARTICLE_PIN_RADIUS_MM,
 };
-use anyhow::{Context, Result};
+use anyhow::Result;
+use greybox_core::setting::{SettingError, SettingPath};
 use greybox_couple::pin3d;
 use greybox_couple::pin3d::Increments;
 use greybox_tribo::ploughing::TrackWidth;
@@ -146,13 +147,16 @@ impl Default for AdhesiveSettings {
 
 /// `FORCE_N:WIDTH_um` as a track width.
 fn track_width(text: &str) -> Result<TrackWidth> {
-    let field = format!("adhesive.track_width '{text}'");
+    let refused = |why: String| {
+        SettingError::new(SettingPath::new("adhesive", "track_width"), why)
+            .value(format!("'{text}'"))
+    };
     let (f, w) = text
         .split_once(':')
-        .with_context(|| format!("{field}: expected FORCE_N:WIDTH_um"))?;
+        .ok_or_else(|| anyhow::Error::from(refused("expected FORCE_N:WIDTH_um".into())))?;
     let number = |s: &str| match s.trim().parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
-        _ => Err(anyhow::anyhow!("{field}: '{s}' is not a number")),
+        _ => Err(refused(format!("'{s}' is not a number"))),
     };
     Ok(TrackWidth {
         normal_force_n: number(f)?,
@@ -164,10 +168,8 @@ impl AdhesiveSettings {
     /// The stage's options.
     pub fn options(&self) -> Result<AdhesiveOptions> {
         if !(self.pin_radius_mm.is_finite() && self.pin_radius_mm > 0.0) {
-            anyhow::bail!(
-                "adhesive.pin_radius_mm: expected a positive radius, mm, got {}",
-                self.pin_radius_mm
-            );
+            let why = format!("expected a positive radius, mm, got {}", self.pin_radius_mm);
+            return Err(greybox_core::setting::refused("adhesive", "pin_radius_mm", why).into());
         }
         Ok(AdhesiveOptions {
             data: self.data.clone(),

@@ -13,7 +13,8 @@
 //! ```
 
 use crate::couple::{CoupleOptions, EngineOptions};
-use anyhow::{bail, Context, Result};
+use anyhow::Result;
+use greybox_core::setting::refused;
 use greybox_friction::grid::UnitSystem;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -106,22 +107,26 @@ impl Default for CoupleSettings {
 
 /// `value`, or an error naming the setting the engine needs.
 fn needed<T: Clone>(value: &Option<T>, field: &str, what: &str, engine: &str) -> Result<T> {
-    value
-        .clone()
-        .with_context(|| format!("couple.{field}: {what} is required for engine {engine}"))
+    value.clone().ok_or_else(|| -> anyhow::Error {
+        refused(
+            "couple",
+            field,
+            format!("{what} is required for engine {engine}"),
+        )
+        .into()
+    })
 }
 
 impl CoupleSettings {
     /// The loop's options.
     pub fn options(&self) -> Result<CoupleOptions> {
         if !(self.tol.is_finite() && self.tol > 0.0) {
-            bail!("couple.tol: expected a positive number, got {}", self.tol);
+            let why = format!("expected a positive number, got {}", self.tol);
+            return Err(refused("couple", "tol", why).into());
         }
         if !(self.segment_s.is_finite() && self.segment_s > 0.0) {
-            bail!(
-                "couple.segment_s: expected a positive duration, s, got {}",
-                self.segment_s
-            );
+            let why = format!("expected a positive duration, s, got {}", self.segment_s);
+            return Err(refused("couple", "segment_s", why).into());
         }
         let engine = match self.engine {
             EngineName::Calculix => EngineOptions::Calculix {
@@ -139,10 +144,9 @@ impl CoupleSettings {
         };
         Ok(CoupleOptions {
             engine,
-            law: self
-                .law
-                .clone()
-                .context("couple.law: a friction law is required")?,
+            law: self.law.clone().ok_or_else(|| {
+                anyhow::Error::from(refused("couple", "law", "a friction law is required"))
+            })?,
             work: self.work.clone(),
             max_cycles: self.max_cycles.get(),
             tol: self.tol,

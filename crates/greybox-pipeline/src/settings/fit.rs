@@ -16,8 +16,9 @@
 
 use crate::fit::{default_target, FitOptions, DEFAULT_FEATURES};
 use crate::study::Study;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use greybox_core::choice::Choice;
+use greybox_core::setting::refused;
 use greybox_learn::protocol::{FitConfig, Folds, Repeats, Resamples};
 use greybox_model::ensemble::{BoostDepth, Trees};
 use greybox_model::family::Family;
@@ -116,7 +117,10 @@ pub struct FitSettings {
 fn choices<T: Choice>(values: &[String], field: &str) -> Result<Vec<T>> {
     values
         .iter()
-        .map(|v| T::parse_choice(v).map_err(|e| anyhow::anyhow!("fit.{field}: {e}")))
+        .map(|v| {
+            T::parse_choice(v)
+                .map_err(|e| anyhow::Error::from(refused("fit", field, e.to_string())))
+        })
         .collect()
 }
 
@@ -125,8 +129,9 @@ fn hidden_layers(spec: &str) -> Result<Vec<usize>> {
     spec.split('x')
         .map(|n| n.parse::<LayerWidth>().map(LayerWidth::get))
         .collect::<Result<Vec<_>, _>>()
-        .with_context(|| {
-            format!("fit.mlp_hidden: '{spec}' is not layer sizes joined by x, e.g. 64x32")
+        .map_err(|e| {
+            let why = format!("'{spec}' is not layer sizes joined by x, e.g. 64x32 ({e})");
+            anyhow::Error::from(refused("fit", "mlp_hidden", why))
         })
 }
 

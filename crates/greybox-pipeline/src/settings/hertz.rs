@@ -10,8 +10,9 @@
 //! ```
 
 use crate::hertz::{hertz, Geometry, HertzOptions, HertzRow};
-use anyhow::{bail, Result};
+use anyhow::Result;
 use greybox_core::dataset::PressureConvention;
+use greybox_core::setting::refused;
 use serde::{Deserialize, Serialize};
 
 /// Radius of the article's pin, mm.
@@ -90,22 +91,25 @@ impl Default for HertzSettings {
 impl HertzSettings {
     /// The calculation's options.
     pub fn options(&self) -> Result<HertzOptions> {
-        use greybox_core::physics::{admit, Quantity};
-        admit(
+        use greybox_core::physics::{admit_setting, Quantity};
+        use greybox_core::setting::SettingPath;
+        admit_setting(
             Quantity::ContactRadius,
             greybox_core::units::mm_to_m(self.radius_mm),
-            "hertz.radius_mm (as m)",
-        )
-        .map_err(anyhow::Error::msg)?;
+            &SettingPath::new("hertz", "radius_mm"),
+        )?;
         for (k, &f) in self.force_N.iter().enumerate() {
-            admit(Quantity::NormalForce, f, &format!("hertz.force_N[{k}]"))
-                .map_err(anyhow::Error::msg)?;
+            admit_setting(
+                Quantity::NormalForce,
+                f,
+                &SettingPath::new("hertz", "force_N").at(k),
+            )?;
         }
         let geometry = match (self.geometry, self.length_mm) {
             (HertzShape::Sphere, _) => Geometry::Sphere,
             (HertzShape::Cylinder, Some(length_mm)) => Geometry::Cylinder { length_mm },
             (HertzShape::Cylinder, None) => {
-                bail!("hertz.length_mm: a cylinder needs its length")
+                return Err(refused("hertz", "length_mm", "a cylinder needs its length").into())
             }
         };
         Ok(HertzOptions {
@@ -122,7 +126,7 @@ impl HertzSettings {
     /// The effective modulus E*, Pa, and the contact at each force.
     pub fn run(&self) -> Result<(f64, Vec<HertzRow>)> {
         if self.force_N.is_empty() {
-            bail!("hertz.force_N: give at least one normal force");
+            return Err(refused("hertz", "force_N", "give at least one normal force").into());
         }
         hertz(&self.options()?, &self.force_N)
     }

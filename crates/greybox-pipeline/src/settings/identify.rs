@@ -30,14 +30,16 @@
 use crate::identify::{Expectation, IdentifyOptions};
 use crate::settings::plan::PlanSettings;
 use crate::study::Study;
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use greybox_core::dataset::PressureConvention;
+use greybox_core::setting::refused;
+use greybox_core::setting::{SettingError, SettingPath};
 use greybox_recording::readers::RecordingFormat;
 use greybox_recording::TestMode;
 use greybox_tribo::campaign::read_expected_steps;
 use greybox_tribo::campaign::Segmentation;
-use greybox_tribo::identify::Alignment;
-use greybox_tribo::identify_config::SteadyRule;
+use greybox_tribo::config::SteadyRule;
+use greybox_tribo::config::TimeZero;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -140,8 +142,8 @@ pub struct IdentifySettings {
     pub test_mode: Option<TestModeSetting>,
     /// How to align the plan with each recording (sets plan-timing segmentation).
     #[cfg_attr(feature = "cli", arg(long,
-        value_parser = greybox_core::choice::clap_parsers::choice::<Alignment>()))]
-    pub align: Option<Alignment>,
+        value_parser = greybox_core::choice::clap_parsers::choice::<TimeZero>()))]
+    pub align: Option<TimeZero>,
     /// Which part of each segment gives its steady value: `auto` (the final stationary
     /// stretch after run-in, ASTM G99/G133 practice; drift reported as a trend), `last:P%`
     /// (the last P % of the segment's sliding time) or `from:Ts` (from T seconds after the
@@ -230,9 +232,12 @@ impl Default for IdentifySettings {
 /// A positive, finite number, or an error naming the setting.
 fn positive(v: Option<f64>, field: &str) -> Result<Option<f64>> {
     match v {
-        Some(x) if !(x.is_finite() && x > 0.0) => {
-            bail!("identify.{field}: must be a positive number, got {x}")
-        }
+        Some(x) if !(x.is_finite() && x > 0.0) => Err(refused(
+            "identify",
+            field,
+            format!("must be a positive number, got {x}"),
+        )
+        .into()),
         v => Ok(v),
     }
 }
@@ -249,7 +254,8 @@ impl IdentifySettings {
     /// runs.
     pub fn prepare(&self) -> Result<(Study, IdentifyOptions)> {
         if self.recordings.is_empty() {
-            bail!("identify.recordings: give at least one recording file or directory");
+            let why = "give at least one recording file or directory";
+            return Err(refused("identify", "recordings", why).into());
         }
         let study = self.study()?;
         let options = self.options(&study)?;
@@ -265,11 +271,14 @@ impl IdentifySettings {
         )?;
         let rate = positive(self.sample_rate_hz, "sample_rate_hz")?;
         if let Some(r) = &self.rig {
-            greybox_recording::profiles::by_name(r).context("identify.rig")?;
+            greybox_recording::profiles::by_name(r)
+                .map_err(|e| anyhow::Error::from(refused("identify", "rig", e.to_string())))?;
         }
         let rec = &mut study.recording;
-        for m in &self.map {
-            rec.apply_override(m).context("identify.map")?;
+        for (k, m) in self.map.iter().enumerate() {
+            rec.apply_override(m).map_err(|e| {
+                SettingError::new(SettingPath::new("identify", "map").at(k), e.to_string())
+            })?;
         }
         rec.rig = self.rig.clone().or(rec.rig.take());
         rec.constant_normal_n = force.or(rec.constant_normal_n);

@@ -18,9 +18,11 @@
 
 use crate::law::{grey_box_law, write_law, GreyBoxOptions};
 use crate::study::Study;
-use anyhow::{bail, Result};
+use anyhow::Result;
 use greybox_core::outputs::check_file_output;
 use greybox_core::physics::{self, Quantity};
+use greybox_core::setting::refused;
+use greybox_core::setting::{SettingError, SettingPath};
 use greybox_core::units::mpa_to_pa;
 use greybox_friction::spec::LawSpec;
 use serde::{Deserialize, Serialize};
@@ -91,27 +93,29 @@ impl GreyBoxSettings {
     /// The law these settings describe (not yet checked against its model).
     pub fn law(&self) -> Result<LawSpec> {
         if self.model.as_os_str().is_empty() {
-            bail!("law.model: give the fitted model file");
+            return Err(refused("law", "model", "give the fitted model file").into());
         }
         if !(self.blend_fraction.is_finite() && (0.0..=0.5).contains(&self.blend_fraction)) {
-            bail!(
-                "law.blend_fraction: expected a fraction in 0..=0.5, got {}",
+            let why = format!(
+                "expected a fraction in 0..=0.5, got {}",
                 self.blend_fraction
             );
+            return Err(refused("law", "blend_fraction", why).into());
         }
         let clamp = (!self.no_clamp).then_some((self.mu_min, self.mu_max));
         if let Some((lo, hi)) = clamp {
             if !(lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo < hi) {
-                bail!("law.mu_min, law.mu_max: expected 0 ≤ mu_min < mu_max, got {lo} and {hi}");
+                let both = ["mu_min", "mu_max"].map(|f| SettingPath::new("law", f));
+                let why = format!("expected 0 ≤ mu_min < mu_max, got {lo} and {hi}");
+                return Err(SettingError::between(both.to_vec(), why).into());
             }
         }
         if let Some(k) = self.shear_cap_k_MPa {
-            physics::check(
+            physics::admit_setting(
                 Quantity::ShearFlowStress,
                 mpa_to_pa(k),
-                "law.shear_cap_k_MPa",
-            )
-            .map_err(anyhow::Error::msg)?;
+                &SettingPath::new("law", "shear_cap_k_MPa"),
+            )?;
         }
         let contact = match &self.study {
             Some(p) => Some(Study::load(p)?.contact),

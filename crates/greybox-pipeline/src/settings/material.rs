@@ -13,7 +13,9 @@
 //! ```
 
 use crate::material::{CalibrationRuns, RateSensitivityOptions};
-use anyhow::{bail, Result};
+use anyhow::Result;
+use greybox_core::setting::refused;
+use greybox_core::setting::{SettingError, SettingPath};
 use greybox_core::units::{celsius_to_kelvin, per_mm_to_per_m};
 use greybox_material::fit::FitOptions;
 use serde::{Deserialize, Serialize};
@@ -91,7 +93,7 @@ impl FlowCurveSettings {
     /// Fit the flow curves (and write the fit to `out`, when given).
     pub fn run(&self) -> Result<greybox_material::fit::JcFit> {
         if self.curves.as_os_str().is_empty() {
-            bail!("material.curves: give the flow-curve CSV");
+            return Err(refused("material", "curves", "give the flow-curve CSV").into());
         }
         crate::material::fit_flow_curves(&self.curves, &self.options(), self.out.as_deref())
     }
@@ -145,13 +147,12 @@ impl RateSensitivitySettings {
     /// The search's options (SI).
     pub fn options(&self) -> Result<RateSensitivityOptions> {
         if self.config.as_os_str().is_empty() {
-            bail!("material.config: give the cutting set-up TOML");
+            return Err(refused("material", "config", "give the cutting set-up TOML").into());
         }
         if !(self.measured_force_N_per_mm.is_finite() && self.measured_force_N_per_mm > 0.0) {
-            bail!(
-                "material.measured_force_N_per_mm: give the measured cutting force per width, a positive number (got {})",
-                self.measured_force_N_per_mm
-            );
+            let why = "give the measured cutting force per width, a positive number";
+            let e = SettingError::new(SettingPath::new("material", "measured_force_N_per_mm"), why);
+            return Err(e.value(self.measured_force_N_per_mm).into());
         }
         Ok(RateSensitivityOptions {
             config: self.config.clone(),

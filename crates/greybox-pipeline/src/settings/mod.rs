@@ -10,6 +10,7 @@
 
 pub mod adhesive;
 pub mod couple;
+pub mod cut;
 pub mod fit;
 pub mod hertz;
 pub mod identify;
@@ -20,7 +21,8 @@ pub mod plan;
 pub mod synth;
 pub mod windows;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
+use greybox_core::setting::{SettingError, SettingPath};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
@@ -31,35 +33,38 @@ use serde::Serialize;
 /// use greybox_pipeline::settings::{from_json, fit::FitSettings, identify::IdentifySettings};
 /// let e = from_json::<FitSettings>("fit", r#"{"data": "d.csv", "bootstrap": 1000000000}"#)
 ///     .unwrap_err();
-/// assert!(format!("{e:#}").starts_with("fit settings: bootstrap: 1000000000 is above the cap"));
+/// assert!(format!("{e:#}").starts_with("fit.bootstrap: 1000000000 is above the cap"));
 /// // a key of no field, also where a type gathers another's fields (identify's plan)
 /// let e = from_json::<IdentifySettings>("identify", r#"{"normal_force_cout": 3}"#).unwrap_err();
-/// assert!(format!("{e:#}").contains("unknown key `normal_force_cout`"));
+/// assert!(format!("{e:#}").contains("identify.normal_force_cout: unknown key"));
 /// ```
 pub fn from_json<T: DeserializeOwned + Serialize>(stage: &str, text: &str) -> Result<T> {
-    parse_keys(text).with_context(|| format!("{stage} settings"))
+    parse_keys(stage, text)
 }
 
 /// Settings from the keyword arguments of a call (Python's, as JSON): as [`from_json`],
 /// the error starting with the key (`radius_mm: invalid type: …`), since the call names the
 /// stage.
 pub fn from_keywords<T: DeserializeOwned + Serialize>(text: &str) -> Result<T> {
-    parse_keys(text)
+    parse_keys("", text)
 }
 
-/// A settings value or key refused: the key and why (`bootstrap: 1000000000 is above the
-/// cap …`, `unknown key `x` (known: …)`). Its own type, so that a surface can tell a refused
-/// setting from a failed run (Python raises `SettingsError`).
-#[derive(Debug)]
-pub struct SettingError(pub String);
-
-impl std::fmt::Display for SettingError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
+/// An error and its causes joined as `{:#}` joins them (`outer: inner: …`), each
+/// [`SettingError`] worded by `name` (a surface's name of a setting: a flag, a keyword
+/// argument) and every other cause's text passed through `text`.
+pub fn render_error(
+    e: &anyhow::Error,
+    name: &dyn Fn(&SettingPath) -> String,
+    text: &dyn Fn(&str) -> String,
+) -> String {
+    e.chain()
+        .map(|cause| match greybox_core::error::as_setting(cause) {
+            Some(s) => s.render(name),
+            None => text(&cause.to_string()),
+        })
+        .collect::<Vec<_>>()
+        .join(": ")
 }
-
-impl std::error::Error for SettingError {}
 
 /// The key of `given` whose value alone gives the error `text` (every settings type defaults
 /// its other fields).
@@ -73,10 +78,19 @@ fn blame<T: DeserializeOwned>(given: &serde_json::Value, text: &str) -> Option<S
     })
 }
 
-fn parse_keys<T: DeserializeOwned + Serialize>(text: &str) -> Result<T> {
-    let refused = |m: String| anyhow::Error::new(SettingError(m));
+/// Settings of `stage` (`""`: unnamed) from JSON; a refusal is a [`SettingError`] naming the
+/// key (and element) at fault.
+fn parse_keys<T: DeserializeOwned + Serialize>(stage: &str, text: &str) -> Result<T> {
+    let whole = |m: String| {
+        let m = if stage.is_empty() {
+            m
+        } else {
+            format!("{stage} settings: {m}")
+        };
+        anyhow::Error::new(SettingError::between(Vec::new(), m))
+    };
     let given: serde_json::Value =
-        serde_json::from_str(text).map_err(|e| refused(format!("not JSON: {e}")))?;
+        serde_json::from_str(text).map_err(|e| whole(format!("not JSON: {e}")))?;
     let value: T = serde_path_to_error::deserialize(&given).map_err(|e| {
         let path = e.path().to_string();
         let text = e.into_inner().to_string();
@@ -85,16 +99,19 @@ fn parse_keys<T: DeserializeOwned + Serialize>(text: &str) -> Result<T> {
             "." | "" => blame::<T>(&given, &text).unwrap_or_default(),
             _ => path,
         };
-        // a value type that names its field already (`segment: 'x' is not one of …`)
-        let named = path
-            .rsplit('.')
-            .next()
-            .is_some_and(|last| text.starts_with(&format!("{last}:")));
-        match path.as_str() {
-            "" => refused(text),
-            _ if named => refused(text),
-            _ => refused(format!("{path}: {text}")),
+        if path.is_empty() {
+            return whole(text);
         }
+        let at = SettingPath::parse(stage, &path);
+        // a value type that names its field already (`segment: 'x' is not one of …`,
+        // `adhesive.method: …`): named once, by the path
+        let text = match text.split_once(": ") {
+            Some((name, rest)) if name == at.field || name.ends_with(&format!(".{}", at.field)) => {
+                rest.to_string()
+            }
+            _ => text,
+        };
+        anyhow::Error::new(SettingError::new(at, text))
     })?;
     // Every field serializes under its key, so a key the value does not write back is one
     // no field took (`deny_unknown_fields` cannot see through a flattened field).
@@ -103,9 +120,9 @@ fn parse_keys<T: DeserializeOwned + Serialize>(text: &str) -> Result<T> {
         if let Some(unknown) = given.keys().find(|k| !known.contains_key(*k)) {
             let mut names: Vec<&str> = known.keys().map(String::as_str).collect();
             names.sort_unstable();
-            return Err(refused(format!(
-                "unknown key `{unknown}` (known: {})",
-                names.join(", ")
+            return Err(anyhow::Error::new(SettingError::new(
+                SettingPath::new(stage, unknown.as_str()),
+                format!("unknown key (known: {})", names.join(", ")),
             )));
         }
     }

@@ -14,7 +14,8 @@
 
 use crate::adhesive::ARTICLE_PIN_RADIUS_MM;
 use crate::simulate::Indentation;
-use anyhow::{bail, Result};
+use anyhow::Result;
+use greybox_core::setting::{SettingError, SettingPath};
 use greybox_core::units::{m_per_min_to_m_per_s, mm_to_m, um_to_m};
 use greybox_sim::pin::PinSetup;
 use serde::{Deserialize, Serialize};
@@ -94,7 +95,11 @@ impl PinSettings {
         let depth = match (self.depth_um, self.track_width_um) {
             (Some(d), None) => Indentation::Depth(um_to_m(d)),
             (None, Some(w)) => Indentation::TrackWidth(um_to_m(w)),
-            _ => bail!("pin.depth_um, pin.track_width_um: give exactly one of them"),
+            _ => {
+                let one_of = ["depth_um", "track_width_um"].map(|f| SettingPath::new("pin", f));
+                let e = SettingError::between(one_of.to_vec(), "give exactly one of them");
+                return Err(e.into());
+            }
         }
         .depth_m(r)?;
         let mut s = PinSetup::article(depth, self.mu, um_to_m(self.spacing_um));

@@ -17,7 +17,8 @@
 use crate::settings::plan::PlanSettings;
 use crate::study::Study;
 use crate::synth::SynthSummary;
-use anyhow::{bail, Result};
+use anyhow::Result;
+use greybox_core::setting::refused;
 use greybox_recording::readers::RecordingFormat;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -96,7 +97,8 @@ impl SynthSettings {
         }
         if let Some(k) = self.disturbance_scale {
             if !(k.is_finite() && k >= 0.0) {
-                bail!("synth.disturbance_scale: must be a finite number ≥ 0, got {k}");
+                let why = format!("must be a finite number ≥ 0, got {k}");
+                return Err(refused("synth", "disturbance_scale", why).into());
             }
             study.synth.disturbance_scale = k;
         }

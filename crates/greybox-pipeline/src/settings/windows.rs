@@ -10,7 +10,8 @@
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
-use anyhow::{bail, Result};
+use anyhow::Result;
+use greybox_core::setting::refused;
 use greybox_couple::mesh::Mesh;
 use greybox_couple::windows::{Window, WindowOptions};
 use greybox_friction::export::engine::ObjectPair;
@@ -84,10 +85,13 @@ impl WindowsSettings {
     /// Build the windows and write them into `out`.
     pub fn run(&self) -> Result<(Mesh, Vec<Window>)> {
         if self.mesh.as_os_str().is_empty() {
-            bail!("windows.mesh: give the tool mesh (.msh or .inp)");
+            return Err(refused("windows", "mesh", "give the tool mesh (.msh or .inp)").into());
         }
-        greybox_core::physics::check(greybox_core::physics::Quantity::Mu, self.mu, "windows.mu")
-            .map_err(anyhow::Error::msg)?;
+        greybox_core::physics::admit_setting(
+            greybox_core::physics::Quantity::Mu,
+            self.mu,
+            &greybox_core::setting::SettingPath::new("windows", "mu"),
+        )?;
         crate::windows::windows(
             &self.mesh,
             &self.coating_set,

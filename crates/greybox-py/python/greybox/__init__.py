@@ -1302,10 +1302,14 @@ def simulate_cut(
     with tempfile.TemporaryDirectory() as d:
         summary = json.loads(
             _native.simulate_cut(
-                _path(setup, "setup"),
+                _dumps(
+                    {
+                        "config": _path(setup, "setup"),
+                        "law": None if law is None else _law_path(law, d),
+                        "fraction": fraction,
+                    }
+                ),
                 output,
-                None if law is None else _law_path(law, d),
-                fraction,
             )
         )
     summary["forces"] = read_csv(os.path.join(os.fspath(out), "forces.csv"), as_frame)

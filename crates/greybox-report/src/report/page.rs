@@ -2,7 +2,7 @@
 //! self-contained HTML5 document (inline CSS, inline SVG, a few lines of inline script for
 //! the frame slider; nothing fetched from anywhere).
 
-use greybox_core::plot::escape;
+use greybox_core::escape::xml_text as escape;
 use std::fmt::Write as _;
 
 /// One part of a section.

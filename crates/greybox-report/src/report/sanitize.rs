@@ -16,7 +16,7 @@
 //! "billion laughs": 1 kB, 10⁹ instances) or that refer in a cycle is refused ([`fan_out`]).
 
 use anyhow::{bail, Context, Result};
-use greybox_core::plot::escape;
+use greybox_core::escape::xml_text as escape;
 use quick_xml::escape::resolve_xml_entity;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::{Reader, XmlVersion};

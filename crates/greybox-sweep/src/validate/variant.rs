@@ -43,47 +43,77 @@ pub struct GridField {
     pub values: Vec<f64>,
 }
 
-/// One `[[material.friction]]` entry of a suite file.
+/// One `[[material.friction]]` entry of a suite file: its `kind` and the fields that kind
+/// takes (a field another kind takes is an unknown field here, named by the reader).
 #[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct FrictionVariant {
-    pub kind: VariantKind,
-    /// How the results name it (default: the kind; for a law, its file's name).
-    #[serde(default)]
-    pub name: Option<String>,
-    /// `law`: the law file, relative to the suite file.
-    #[serde(default)]
-    pub file: Option<String>,
-    /// `law`, `calibrated`: the bracket of the calibrated factor on the law's μ (`law`:
-    /// without it the law runs as it is; `calibrated`: default [0.5, 2]).
-    #[serde(default)]
-    pub scale: Option<[f64; 2]>,
-    /// `calibrated`: the law, as a law file's content (relative paths against the suite's
-    /// directory).
-    #[serde(default)]
-    pub law: Option<serde_json::Value>,
-    /// `calibrated`: the grid of the law's numeric fields (dotted paths) whose shapes are
-    /// tried; every combination of their values is one shape.
-    #[serde(default)]
-    pub grid: Vec<GridField>,
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum FrictionVariant {
+    /// One constant μ\* calibrated over the material's `mu_bracket`.
+    CoulombCalibrated {
+        /// How the results name it (default: the kind).
+        #[serde(default)]
+        name: Option<String>,
+    },
+    /// A law file used as it is, or with one factor on its μ calibrated.
+    Law {
+        /// Default: the file's name (`… (scaled)` with `scale`).
+        #[serde(default)]
+        name: Option<String>,
+        /// The law file, relative to the suite file.
+        file: String,
+        /// The bracket of the calibrated factor on the law's μ (without it the law runs as
+        /// it is).
+        #[serde(default)]
+        scale: Option<[f64; 2]>,
+    },
+    /// A law with few parameters: its shape over a grid of its numeric fields and its level
+    /// as a factor.
+    Calibrated {
+        /// Default: the kind.
+        #[serde(default)]
+        name: Option<String>,
+        /// The law, as a law file's content (relative paths against the suite's directory).
+        law: serde_json::Value,
+        /// The grid of the law's numeric fields (dotted paths) whose shapes are tried; every
+        /// combination of their values is one shape.
+        #[serde(default)]
+        grid: Vec<GridField>,
+        /// The bracket of the factor on μ (default [`DEFAULT_SCALE`]).
+        #[serde(default)]
+        scale: Option<[f64; 2]>,
+    },
 }
 
 impl FrictionVariant {
     /// Today's model, what a suite material without `friction` runs.
     pub fn coulomb_calibrated() -> Self {
-        FrictionVariant {
-            kind: VariantKind::CoulombCalibrated,
-            name: None,
-            file: None,
-            scale: None,
-            law: None,
-            grid: Vec::new(),
+        FrictionVariant::CoulombCalibrated { name: None }
+    }
+
+    /// The variant's kind.
+    pub fn kind(&self) -> VariantKind {
+        match self {
+            FrictionVariant::CoulombCalibrated { .. } => VariantKind::CoulombCalibrated,
+            FrictionVariant::Law { .. } => VariantKind::Law,
+            FrictionVariant::Calibrated { .. } => VariantKind::Calibrated,
+        }
+    }
+
+    /// The name the results give it, where the suite states one.
+    pub fn name(&self) -> Option<&str> {
+        match self {
+            FrictionVariant::CoulombCalibrated { name }
+            | FrictionVariant::Law { name, .. }
+            | FrictionVariant::Calibrated { name, .. } => name.as_deref(),
         }
     }
 
     /// The law file this variant reads, resolved against `base`.
     pub fn file_path(&self, base: &Path) -> Option<PathBuf> {
-        self.file.as_ref().map(|f| base.join(f))
+        match self {
+            FrictionVariant::Law { file, .. } => Some(base.join(file)),
+            _ => None,
+        }
     }
 }
 
@@ -134,32 +164,28 @@ impl Model {
         base: &Path,
     ) -> Result<Model> {
         let e = Entry { v, material };
-        let label = v.name.clone().unwrap_or_else(|| v.kind.to_string());
-        let (label, fields, shapes, factor, make) = match v.kind {
-            VariantKind::CoulombCalibrated => {
-                e.unused(&[
-                    ("file", v.file.is_some()),
-                    ("scale", v.scale.is_some()),
-                    ("law", v.law.is_some()),
-                    ("grid", !v.grid.is_empty()),
-                ])?;
+        let label = v
+            .name()
+            .map_or_else(|| v.kind().to_string(), str::to_string);
+        let (label, fields, shapes, factor, make) = match v {
+            FrictionVariant::CoulombCalibrated { .. } => {
                 let make: MakeLaw = Box::new(|_: &[f64], s: f64| Ok(LawSpec::Coulomb { mu: s }));
                 (label, Vec::new(), vec![Vec::new()], Some(mu_bracket), make)
             }
-            VariantKind::Law => {
-                e.unused(&[("law", v.law.is_some()), ("grid", !v.grid.is_empty())])?;
-                let (label, factor, make) = e.law_file(base)?;
+            FrictionVariant::Law { file, scale, .. } => {
+                let (label, factor, make) = e.law_file(&base.join(file), *scale)?;
                 (label, Vec::new(), vec![Vec::new()], factor, make)
             }
-            VariantKind::Calibrated => {
-                e.unused(&[("file", v.file.is_some())])?;
-                let (fields, shapes, factor, make) = e.calibrated(base)?;
+            FrictionVariant::Calibrated {
+                law, grid, scale, ..
+            } => {
+                let (fields, shapes, factor, make) = e.calibrated(law, grid, *scale, base)?;
                 (label, fields, shapes, Some(factor), make)
             }
         };
         Ok(Model {
             label,
-            kind: v.kind,
+            kind: v.kind(),
             fields,
             shapes,
             factor,
@@ -181,19 +207,9 @@ impl Entry<'_> {
     fn at(&self, what: &str) -> String {
         format!(
             "material {}: friction {} ({what})",
-            self.material, self.v.kind
+            self.material,
+            self.v.kind()
         )
-    }
-
-    /// Refuses the fields given that the kind does not take.
-    fn unused(&self, given: &[(&str, bool)]) -> Result<()> {
-        if let Some((name, _)) = given.iter().find(|g| g.1) {
-            bail!(
-                "{}: '{name}' does not apply to this kind",
-                self.at("fields")
-            );
-        }
-        Ok(())
     }
 
     fn scale(&self, r: [f64; 2]) -> Result<[f64; 2]> {
@@ -206,29 +222,29 @@ impl Entry<'_> {
         Ok(r)
     }
 
-    /// A `law` entry: its label, factor bracket and law.
-    fn law_file(&self, base: &Path) -> Result<(String, Option<[f64; 2]>, MakeLaw)> {
-        let v = self.v;
-        let path = v
-            .file_path(base)
-            .with_context(|| format!("{}: expected a law file (file = \"…\")", self.at("file")))?;
-        let file = LawFile::read(&path)
+    /// A `law` entry (its file at `path`): its label, factor bracket and law.
+    fn law_file(
+        &self,
+        path: &Path,
+        scale: Option<[f64; 2]>,
+    ) -> Result<(String, Option<[f64; 2]>, MakeLaw)> {
+        let file = LawFile::read(path)
             .with_context(|| format!("{}: {}", self.at("file"), path.display()))?;
         let law = file.spec();
         // a law that does not build fails before any cut
         law.build(Path::new("."))
             .with_context(|| format!("{}: {}", self.at("file"), path.display()))?;
-        let label = v.name.clone().unwrap_or_else(|| {
+        let label = self.v.name().map(str::to_string).unwrap_or_else(|| {
             let stem = path
                 .file_stem()
                 .map_or("law".into(), |s| s.to_string_lossy().into_owned());
-            if v.scale.is_some() {
+            if scale.is_some() {
                 format!("{stem} (scaled)")
             } else {
                 stem
             }
         });
-        let factor = v.scale.map(|r| self.scale(r)).transpose()?;
+        let factor = scale.map(|r| self.scale(r)).transpose()?;
         let make: MakeLaw = Box::new(move |_: &[f64], s: f64| {
             Ok(match factor {
                 None => law.clone(),
@@ -242,21 +258,21 @@ impl Entry<'_> {
     }
 
     /// A `calibrated` entry: its grid's fields and shapes, factor bracket and law.
-    fn calibrated(&self, base: &Path) -> Result<Calibrated> {
-        let v = self.v;
-        let value = v.law.clone().with_context(|| {
-            format!(
-                "{}: expected the law to fit (law = {{ law = \"power\", … }})",
-                self.at("law")
-            )
-        })?;
+    fn calibrated(
+        &self,
+        law: &serde_json::Value,
+        grid: &[GridField],
+        scale: Option<[f64; 2]>,
+        base: &Path,
+    ) -> Result<Calibrated> {
+        let value = law.clone();
         let spec: LawSpec = serde_json::from_value(value).with_context(|| self.at("law"))?;
         let fields = LawFields::new(&spec.resolved(base))?;
-        let shapes = grid_shapes(&v.grid).with_context(|| self.at("grid"))?;
-        for g in &v.grid {
+        let shapes = grid_shapes(grid).with_context(|| self.at("grid"))?;
+        for g in grid {
             fields.get(&g.field).with_context(|| self.at("grid"))?;
         }
-        let names: Vec<String> = v.grid.iter().map(|g| g.field.clone()).collect();
+        let names: Vec<String> = grid.iter().map(|g| g.field.clone()).collect();
         let make: MakeLaw = {
             let names = names.clone();
             Box::new(move |shape: &[f64], s: f64| {
@@ -274,7 +290,7 @@ impl Entry<'_> {
                 .and_then(|spec| Ok(spec.build(Path::new("."))?))
                 .with_context(|| format!("{}: shape {shape:?}", self.at("grid")))?;
         }
-        let factor = self.scale(v.scale.unwrap_or(DEFAULT_SCALE))?;
+        let factor = self.scale(scale.unwrap_or(DEFAULT_SCALE))?;
         Ok((names, shapes, factor, make))
     }
 }
@@ -341,10 +357,18 @@ mod tests {
         let many: Vec<String> = (0..9).map(|k| format!("{}", -0.05 * k as f64)).collect();
         let m = e(&format!("kind = \"calibrated\"\nlaw = {{ law = \"power\", mu_ref = 0.5, p_ref_MPa = 1000.0, v_ref_m_per_min = 10.0 }}\ngrid = [{{ field = \"a\", values = [{0}] }}, {{ field = \"b\", values = [{0}] }}]\n", many.join(", ")));
         assert!(m.contains("more than 64 shapes"), "{m}");
-        let m = e("kind = \"coulomb-calibrated\"\nfile = \"x.json\"\n");
-        assert!(m.contains("'file' does not apply"), "{m}");
-        let m = e("kind = \"law\"\n");
-        assert!(m.contains("expected a law file"), "{m}");
+        // what a kind does not take, or lacks, is the reader's error, naming the field
+        let read = |t: &str| {
+            toml::from_str::<FrictionVariant>(t)
+                .unwrap_err()
+                .to_string()
+        };
+        let m = read("kind = \"coulomb-calibrated\"\nfile = \"x.json\"\n");
+        assert!(m.contains("unknown field `file`"), "{m}");
+        let m = read("kind = \"law\"\n");
+        assert!(m.contains("missing field `file`"), "{m}");
+        let m = read("kind = \"calibrated\"\nfile = \"x.json\"\n");
+        assert!(m.contains("unknown field `file`"), "{m}");
         let m = e("kind = \"law\"\nfile = \"x.json\"\nscale = [1.0, 0.5]\n");
         assert!(m.contains("x.json"), "{m}");
     }

@@ -3,10 +3,10 @@
 
 use super::prepare::Prepared;
 use super::span::{Cut, Span};
+use crate::config::IdentifyConfig;
 use crate::expected::ExpectedStep;
-use crate::identify::IdentifyConfig;
 use crate::signal::mad_sigma;
-use crate::steady::mean_standard_error;
+use crate::uncertainty::mean_standard_error;
 use greybox_core::stats::median;
 use greybox_core::{Error, Result, SourcePos};
 

@@ -9,8 +9,8 @@ use super::report::{
 };
 use super::span::Cut;
 use crate::align::{Assigned, Candidate};
+use crate::config::Segmentation;
 use crate::expected::ExpectedStep;
-use crate::identify_config::Segmentation;
 use crate::sliding::SlidingEvidence;
 use greybox_core::dataset::{flags, FrictionDataset};
 use greybox_core::units;

@@ -4,10 +4,10 @@
 use super::prepare::Prepared;
 use super::report::{FileReport, SegmentReport};
 use super::span::{Cut, Span};
-use crate::identify::IdentifyConfig;
-use crate::identify_config::SteadyRule;
+use crate::config::IdentifyConfig;
+use crate::config::SteadyRule;
 use crate::signal::{moving_average, quantum, running_median};
-use crate::steady::{
+use crate::steady_window::{
     plateau_stats, rule_span, steady_span, steady_stretch, step_signals, windows, Settling,
     StepSignals,
 };
@@ -157,7 +157,7 @@ pub(super) fn measure(
 /// `mean_uncertainty_tolerance`).
 fn interval(
     rep: &mut SegmentReport,
-    st: &mut crate::steady::PlateauStats,
+    st: &mut crate::steady_window::PlateauStats,
     (span, sig, window_idx): (Span, &StepSignals, (usize, usize)),
     p: &Prepared,
     cfg: &IdentifyConfig,
@@ -178,7 +178,7 @@ fn interval(
         + settling_shift(sig, window_idx, iv.sem);
     st.ci95 = iv.half_width_95 + widening;
     let (se_n_at, (ta, te, lambda)) = p.offset_parts_at(mid);
-    st.parts = Some(crate::steady::IntervalParts {
+    st.parts = Some(crate::steady_window::IntervalParts {
         window,
         normal_offset: st.mean.abs() * se_n_at / f_n,
         tangential_offset: (ta / f_n, te / f_n, lambda),

@@ -44,8 +44,8 @@ mod span;
 mod spans;
 mod velocity;
 
+pub use crate::config::Segmentation;
 pub use crate::expected::{expected_from_plan, read_expected_steps, ExpectedStep};
-pub use crate::identify_config::Segmentation;
 pub use checks::{check_levels, check_physics, IMPLAUSIBLE_LEVEL_FACTOR, MAX_SLIDING_VELOCITY_M_S};
 pub use matching::match_segments;
 pub use report::{

@@ -26,15 +26,15 @@
 use super::prepare::Prepared;
 use super::report::{PassMean, PassPair, SegmentReport};
 use super::span::Span;
-use crate::identify::IdentifyConfig;
-use crate::steady::PlateauStats;
+use crate::config::IdentifyConfig;
+use crate::steady_window::PlateauStats;
 use crate::uncertainty::WindowMean;
 
 /// `span` without the transition at its end — the friction force falling at a stop or into a
 /// reversal, which a segment's steady window cannot find on its own, as it searches its final
 /// stationary stretch from the end — and, at a reversal, without the rise out of it at its
 /// start: the blocks (of [`Prepared::step_block`]) of μ's block medians outside the band of
-/// the span's middle half ([`crate::steady::level_band`]: five robust standard deviations of
+/// the span's middle half ([`crate::steady_window::level_band`]: five robust standard deviations of
 /// the blocks themselves, so that correlated noise widens it), from the end inwards (and
 /// from the start outwards). Each end loses at most a fifth of the span (a slow drift is
 /// reported as a trend, not cut).
@@ -47,7 +47,7 @@ pub(super) fn trim_ends(p: &Prepared, span: Span) -> Span {
     if n < 8 {
         return span;
     }
-    let (level, band) = crate::steady::level_band(&blocks[n / 4..(3 * n) / 4], 0.0);
+    let (level, band) = crate::steady_window::level_band(&blocks[n / 4..(3 * n) / 4], 0.0);
     let out = |k: usize| (blocks[k] - level).abs() > band;
     // from the end (at most a fifth), and at a reversal from the start, while outside
     let tb = (n - n / 5..n)

@@ -2,10 +2,10 @@
 //! trigger.
 
 use super::report::{read_warnings, update_coverage, Campaign, FileReport, SegmentReport};
+use crate::config::Segmentation;
 use crate::coverage::Coverage;
-use crate::identify::identify_pin;
-use crate::identify_config::Segmentation;
 use crate::plan::Plan;
+use crate::plan_timing::identify_pin;
 use greybox_core::units;
 use greybox_core::{Error, Result};
 use greybox_recording::Recording;

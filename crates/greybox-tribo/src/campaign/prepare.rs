@@ -4,8 +4,8 @@
 use super::report::{read_warnings, FileReport, SegmentReport};
 use super::reversals::Passes;
 use super::span::Span;
+use crate::config::IdentifyConfig;
 use crate::coverage::Coverage;
-use crate::identify::IdentifyConfig;
 use crate::signal::{block_medians, runs};
 use crate::sliding::quantile;
 use greybox_core::stats::median;

@@ -4,7 +4,7 @@
 use super::prepare::Prepared;
 use super::report::SegmentReport;
 use super::span::{Cut, Span};
-use crate::identify::IdentifyConfig;
+use crate::config::IdentifyConfig;
 use crate::reciprocating::Reciprocating;
 use crate::uncertainty::WindowMean;
 use greybox_core::dataset::flags;
@@ -106,7 +106,7 @@ pub(super) fn reciprocating_stats(rep: &mut SegmentReport, r: Reciprocating, cfg
     rep.n_samples = r.samples;
     rep.drift_per_hour = Some(r.trend_per_s * 3600.0);
     rep.flags = fl.clone();
-    rep.stats = Some(crate::steady::PlateauStats {
+    rep.stats = Some(crate::steady_window::PlateauStats {
         mean: r.mu_mean,
         std: r.mu_std,
         n_samples: r.samples,

@@ -1,12 +1,12 @@
 //! Reports of an identification: per segment, per file, of the plan matching; the campaign's
 //! inputs; a file's coverage from its segments; a segment's dataset row.
 
+use crate::config::IdentifyConfig;
 use crate::coverage::{Coverage, Dropped, SegmentTime};
 use crate::expected::ExpectedStep;
-use crate::identify::IdentifyConfig;
 use crate::plan::Plan;
 use crate::reciprocating::Reciprocating;
-use crate::steady::PlateauStats;
+use crate::steady_window::PlateauStats;
 use greybox_contact::hertz::PinContact;
 use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
 use greybox_core::Result;
@@ -63,7 +63,7 @@ pub struct SegmentReport {
     pub run_in_s: Option<f64>,
     /// Why the steady window is not a settled steady state, where it is not: μ never settles
     /// (the mean after the warm-up, with its trend), or too few cycles to tell (see
-    /// [`crate::steady::steady_stretch`]).
+    /// [`crate::steady_window::steady_stretch`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unsettled: Option<String>,
     /// μ never settles in the window: the coverage counts it as unsettled, not steady.
@@ -93,7 +93,7 @@ pub struct SegmentReport {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reciprocating: Option<Reciprocating>,
     #[serde(skip)]
-    pub(super) stats: Option<crate::steady::PlateauStats>,
+    pub(super) stats: Option<crate::steady_window::PlateauStats>,
 }
 
 /// What was found in one file.
@@ -316,7 +316,7 @@ pub(super) fn flag_low_coverage_after_matching(
     }
 }
 
-/// A dataset row from a measured segment (see [`crate::steady::PlateauStats::record`]), its
+/// A dataset row from a measured segment (see [`crate::steady_window::PlateauStats::record`]), its
 /// label's evidence taken from the segment's report.
 pub(super) fn segment_record(
     c: &Campaign,
@@ -325,7 +325,7 @@ pub(super) fn segment_record(
     velocity_m_s: f64,
     s: &SegmentReport,
 ) -> Result<FrictionRecord> {
-    let place = crate::steady::PlateauPlace {
+    let place = crate::steady_window::PlateauPlace {
         pin,
         step,
         planned_n,

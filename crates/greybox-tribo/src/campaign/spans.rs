@@ -3,8 +3,8 @@
 
 use super::prepare::Prepared;
 use super::span::{Cut, Span};
+use crate::config::IdentifyConfig;
 use crate::expected::ExpectedStep;
-use crate::identify::IdentifyConfig;
 use crate::signal::{block_medians, mad_sigma, runs};
 use greybox_core::stats::median;
 

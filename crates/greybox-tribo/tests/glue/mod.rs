@@ -9,7 +9,7 @@ use greybox_contact::hertz::PinContact;
 use greybox_core::units;
 use greybox_recording::Recording;
 use greybox_tribo::campaign::{identify_recordings, Campaign, ExpectedStep, Identification};
-use greybox_tribo::identify::IdentifyConfig;
+use greybox_tribo::config::IdentifyConfig;
 
 /// A generated trace as a recording (time, normal and friction force; no speed channel).
 pub fn recording(t: &Trace) -> Recording {

@@ -53,7 +53,7 @@ impl Segmentation {
 /// (μ per hour and per km) rather than shortening the window.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum SteadyRule {
-    /// The final stationary stretch after run-in (see [`crate::steady::final_stationary`]).
+    /// The final stationary stretch after run-in (see [`crate::steady_window::final_stationary`]).
     #[default]
     Auto,
     /// The last share (0 < p ≤ 1) of the segment's sliding time (`last:50%`).
@@ -134,7 +134,7 @@ impl<'de> Deserialize<'de> for SteadyRule {
 /// How the plan's time zero is found in a recording.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Alignment {
+pub enum TimeZero {
     /// Rising edge of the trigger channel.
     #[default]
     Trigger,
@@ -143,7 +143,7 @@ pub enum Alignment {
 }
 
 greybox_core::choice!(
-    Alignment,
+    TimeZero,
     "align",
     [Trigger => "trigger", FirstPlateau => "first-plateau"],
     text
@@ -153,7 +153,7 @@ greybox_core::choice!(
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct IdentifyConfig {
-    pub align: Alignment,
+    pub align: TimeZero,
     /// Trigger threshold, V (default: midway between the channel's extremes).
     pub trigger_threshold_v: Option<f64>,
     /// Time dropped after the end of the spindle ramp, s (0.05).
@@ -169,7 +169,7 @@ pub struct IdentifyConfig {
     /// A μ change over the plateau above this (and significant) is a trend (0.01).
     pub trend_tolerance: f64,
     /// Smallest median drop of μ at the slips of a saw-tooth flagged stick-slip (0.01; see
-    /// [`crate::steady::stick_slip`]).
+    /// [`crate::steady_window::stick_slip`]).
     pub stick_slip_threshold: f64,
     /// Largest NC-to-spindle latency accepted, s (0.5).
     pub max_latency_s: f64,
@@ -238,7 +238,7 @@ pub struct IdentifyConfig {
 impl Default for IdentifyConfig {
     fn default() -> Self {
         IdentifyConfig {
-            align: Alignment::Trigger,
+            align: TimeZero::Trigger,
             trigger_threshold_v: None,
             settle_time_s: 0.05,
             end_margin_s: 0.01,

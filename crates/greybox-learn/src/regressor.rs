@@ -1,18 +1,18 @@
 //! The regressor seam: a family's hyperparameters validate once and `fit` returns an
 //! immutable fitted model (which predicts through [`Predictor`]). The registry of families,
-//! their hyperparameters and fitted models is `greybox-model`'s, re-exported here.
+//! their hyperparameters and fitted models is `greybox-model`'s.
 
-use crate::Matrix;
 use greybox_core::Result;
-pub use greybox_model::family::{Family, FittedModel, Hyperparameters, Predictor};
+use greybox_model::family::{FittedModel, Hyperparameters, Predictor};
+use greybox_model::Matrix;
 
 /// A model family's hyperparameters: the seam for a new family. `validate` once, then `fit`
 /// returns an immutable [`Predictor`]. A baseline family (the mean of the targets):
 ///
 /// ```
 /// use greybox_core::Result;
-/// use greybox_learn::model::{Predictor, Regressor};
-/// use greybox_learn::Matrix;
+/// use greybox_learn::regressor::{Predictor, Regressor};
+/// use greybox_model::Matrix;
 /// struct MeanFamily;
 /// struct Mean(f64);
 /// impl Predictor for Mean {

@@ -305,7 +305,7 @@ fn refine_error(
     Error::invalid(
         "adaptive table",
         format!(
-            "{why}: {} × {} × {} nodes after {round} rounds, max deviation still {:.3e}{at} (tolerance {tolerance:.1e}); raise the size cap (export.max_table_size) or the tolerance (export.tolerance), or tabulate a smaller box",
+            "{why}: {} × {} × {} nodes after {round} rounds, max deviation still {:.3e}{at} (tolerance {tolerance:.1e}); raise the size cap (`max_table_size`) or the tolerance (`tolerance`), or tabulate a smaller box",
             shape[0], shape[1], shape[2], worst.0
         ),
     )

@@ -21,7 +21,7 @@
 
 use crate::plan::Plan;
 use crate::signal::running_median;
-use crate::steady::{level_band, plateau_stats, step_signals};
+use crate::steady_window::{level_band, plateau_stats, step_signals};
 use greybox_contact::hertz::PinContact;
 use greybox_core::dataset::{flags, FrictionDataset, FrictionRecord};
 use greybox_core::stats::median;
@@ -29,7 +29,7 @@ use greybox_core::{Error, Result, SourcePos};
 use greybox_recording::Recording;
 use serde::Serialize;
 
-pub use crate::identify_config::{Alignment, IdentifyConfig};
+pub use crate::config::{IdentifyConfig, TimeZero};
 
 /// What was found about a pin's recording besides the plateaus.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -240,8 +240,8 @@ fn align(c: &PinContext) -> Result<(f64, Option<f64>)> {
     let z = c.plan.spec.zero_time_s;
     let f_nom = c.sched.normal_force_n;
     Ok(match c.cfg.align {
-        Alignment::Trigger => (trigger_edge(rec, c.cfg)?, None),
-        Alignment::FirstPlateau => {
+        TimeZero::Trigger => (trigger_edge(rec, c.cfg)?, None),
+        TimeZero::FirstPlateau => {
             // unloaded baseline = first zero window of the recording
             let t_first = rec.time_s[0];
             let base_n =
@@ -475,7 +475,7 @@ fn measure_plateaus(
         let flags = std::mem::take(&mut st.flags);
         out.push(st.record(
             contact,
-            crate::steady::PlateauPlace {
+            crate::steady_window::PlateauPlace {
                 pin,
                 step: s.step,
                 planned_n: Some(s.normal_force_n),
@@ -489,7 +489,7 @@ fn measure_plateaus(
 }
 
 /// Identify a whole campaign: `recordings[k]` is pin k + 1.
-pub fn identify_campaign(
+pub fn identify_pins(
     plan: &Plan,
     recordings: &[Recording],
     contact: &PinContact,

@@ -1,10 +1,10 @@
 //! What one step's samples give: spike masking, the smoothed friction signal, the steady
 //! window found from the signal, and the plateau's statistics and quality flags.
 //!
-//! Shared by the plan-timed path ([`crate::identify`]) and the plan-free segmentation
+//! Shared by the plan-timed path ([`crate::plan_timing`]) and the plan-free segmentation
 //! ([`crate::campaign`]).
 
-use crate::identify_config::{IdentifyConfig, SteadyRule};
+use crate::config::{IdentifyConfig, SteadyRule};
 
 use crate::signal::{
     hampel_outliers, linear_fit, mad_sigma, mean_std, moving_average, running_median,
