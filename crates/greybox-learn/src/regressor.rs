@@ -11,7 +11,8 @@ use greybox_model::Matrix;
 ///
 /// ```
 /// use greybox_core::Result;
-/// use greybox_learn::regressor::{Predictor, Regressor};
+/// use greybox_learn::regressor::Regressor;
+/// use greybox_model::Predictor;
 /// use greybox_model::Matrix;
 /// struct MeanFamily;
 /// struct Mean(f64);

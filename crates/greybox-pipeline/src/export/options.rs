@@ -8,7 +8,8 @@
 //! demo and library users through the builder methods.
 //!
 //! ```
-//! use greybox_pipeline::export::{ExportFormat, ExportOptions, ExportOverrides, ObjectPair};
+//! use greybox_friction::export::engine::{ExportFormat, ObjectPair};
+//! use greybox_pipeline::export::{ExportOptions, ExportOverrides};
 //! let o = ExportOptions::new("law.json".into(), ExportFormat::Lsdyna, "law.k".into());
 //! assert_eq!(o.table.engine.lsdyna_table_id(), Some(1000));
 //! let o = o.overridden(&ExportOverrides { lsdyna_table_id: Some(7), ..Default::default() })?;
