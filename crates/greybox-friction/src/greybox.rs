@@ -13,6 +13,11 @@ use greybox_core::linalg::solve3;
 use greybox_core::{units, Breaks, ContactState, Error, FrictionLaw, Result};
 use serde::{Deserialize, Serialize};
 
+/// The blend band's width as a share of each feature's range (b = 0.1 · (hi − lo)).
+pub const DEFAULT_BLEND_FRACTION: f64 = 0.1;
+/// The widest band: half the range (wider, the two sides' bands would overlap).
+pub const MAX_BLEND_FRACTION: f64 = 0.5;
+
 pub struct GreyBoxLaw {
     pub inner: Box<dyn FrictionLaw>,
     pub outside: Box<dyn FrictionLaw>,
@@ -39,11 +44,9 @@ impl GreyBoxLaw {
         use greybox_core::physics::Quantity;
         let mut rules = greybox_core::rules::Rules::new("grey-box law");
         // a fraction of the domain's width: 5 (a percentage typed) would blend far outside
-        rules.positive("blend_fraction", blend_fraction).physics(
-            "blend_fraction",
-            Quantity::Share,
-            blend_fraction,
-        );
+        rules
+            .above_up_to("blend_fraction", blend_fraction, 0.0, MAX_BLEND_FRACTION)
+            .physics("blend_fraction", Quantity::Share, blend_fraction);
         if let Some(k) = shear_cap_k_pa {
             // a cap ≤ 0 made every window slide at the clamp's lower bound (μ = 0.05 everywhere);
             // so did a cap in GPa typed where MPa is meant (0.6 or 1 for 600 MPa)

@@ -39,7 +39,7 @@ impl Default for GreyBoxOptions {
     /// A 10 % blend, no shear cap, μ within 0.05–1.0.
     fn default() -> Self {
         GreyBoxOptions {
-            blend_fraction: 0.1,
+            blend_fraction: greybox_friction::greybox::DEFAULT_BLEND_FRACTION,
             shear_cap_k_mpa: None,
             clamp: Some((0.05, 1.0)),
         }

@@ -24,14 +24,13 @@ use greybox_core::physics::{self, Quantity};
 use greybox_core::setting::refused;
 use greybox_core::setting::{SettingError, SettingPath};
 use greybox_core::units::mpa_to_pa;
+use greybox_friction::greybox::{DEFAULT_BLEND_FRACTION, MAX_BLEND_FRACTION};
 use greybox_friction::spec::LawSpec;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// The law file written when no `out` is given.
 pub const DEFAULT_LAW_FILE: &str = "law.json";
-/// The blend's width, as a fraction of each feature's training range.
-pub const DEFAULT_BLEND_FRACTION: f64 = 0.1;
 /// The lower end of the μ clamp.
 pub const DEFAULT_MU_MIN: f64 = 0.05;
 /// The upper end of the μ clamp.
@@ -51,7 +50,7 @@ pub struct GreyBoxSettings {
     #[cfg_attr(feature = "cli", arg(long, default_value = DEFAULT_LAW_FILE))]
     pub out: PathBuf,
     /// Width of the blend between the model and the power law outside its domain, as a
-    /// fraction of each feature's training range.
+    /// fraction of each feature's training range, in (0, 0.5].
     #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_BLEND_FRACTION))]
     pub blend_fraction: f64,
     /// Lower end of the μ clamp.
@@ -95,9 +94,9 @@ impl GreyBoxSettings {
         if self.model.as_os_str().is_empty() {
             return Err(refused("law", "model", "give the fitted model file").into());
         }
-        if !(self.blend_fraction.is_finite() && (0.0..=0.5).contains(&self.blend_fraction)) {
+        if !(self.blend_fraction > 0.0 && self.blend_fraction <= MAX_BLEND_FRACTION) {
             let why = format!(
-                "expected a fraction in 0..=0.5, got {}",
+                "expected a fraction in (0, {MAX_BLEND_FRACTION}], got {}",
                 self.blend_fraction
             );
             return Err(refused("law", "blend_fraction", why).into());
