@@ -145,3 +145,15 @@ impl std::error::Error for SettingError {}
 pub fn refused(stage: &str, field: &str, message: impl Into<String>) -> SettingError {
     SettingError::new(SettingPath::new(stage, field), message)
 }
+
+/// `Ok` where `value` is a positive, finite number; else the setting `stage.field` refused.
+pub fn positive(stage: &str, field: &str, value: f64) -> Result<(), SettingError> {
+    match value.is_finite() && value > 0.0 {
+        true => Ok(()),
+        false => Err(refused(
+            stage,
+            field,
+            format!("expected a positive number, got {value}"),
+        )),
+    }
+}

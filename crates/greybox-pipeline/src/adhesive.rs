@@ -205,10 +205,7 @@ fn correct_by_simulation(
     let r = a.pin_radius_mm * 1e-3;
     let measured = track_widths(a)?;
     let law = WidthLaw::fit(&measured)?;
-    if !(sim.tolerance > 0.0 && sim.tolerance.is_finite()) {
-        let why = format!("expected a positive number, got {}", sim.tolerance);
-        return Err(greybox_core::setting::refused("adhesive", "sim_tolerance", why).into());
-    }
+    greybox_core::setting::positive("adhesive", "sim_tolerance", sim.tolerance)?;
     let loads = loads_to_simulate(ds, r, &law, sim.loads, LoadStride::of(1))?;
     let simulated: Vec<f64> = loads.iter().map(|l| l.0).collect();
     let mut base = PinSetup::article(loads[0].1, loads[0].2, sim.spacing_um * 1e-6);

@@ -82,10 +82,7 @@ pub fn validate(sim: &Simulation3dOptions) -> Result<()> {
         (sim.elements_per_radius, "sim3d_elements_per_radius"),
         (sim.slide_per_radius, "sim3d_slide_per_radius"),
     ] {
-        if !(v.is_finite() && v > 0.0) {
-            let why = format!("expected a positive number, got {v}");
-            return Err(greybox_core::setting::refused("adhesive", field, why).into());
-        }
+        greybox_core::setting::positive("adhesive", field, v)?;
     }
     // the mesh's size follows from the two ratios alone (not from the load's depth)
     let mut probe = Pin3dSetup::article(0.1e-3, 0.0);

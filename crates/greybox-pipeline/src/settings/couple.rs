@@ -120,10 +120,7 @@ fn needed<T: Clone>(value: &Option<T>, field: &str, what: &str, engine: &str) ->
 impl CoupleSettings {
     /// The loop's options.
     pub fn options(&self) -> Result<CoupleOptions> {
-        if !(self.tol.is_finite() && self.tol > 0.0) {
-            let why = format!("expected a positive number, got {}", self.tol);
-            return Err(refused("couple", "tol", why).into());
-        }
+        greybox_core::setting::positive("couple", "tol", self.tol)?;
         if !(self.segment_s.is_finite() && self.segment_s > 0.0) {
             let why = format!("expected a positive duration, s, got {}", self.segment_s);
             return Err(refused("couple", "segment_s", why).into());

@@ -229,17 +229,12 @@ impl Default for IdentifySettings {
     }
 }
 
-/// A positive, finite number, or an error naming the setting.
+/// A positive, finite number (where given), or an error naming the setting.
 fn positive(v: Option<f64>, field: &str) -> Result<Option<f64>> {
-    match v {
-        Some(x) if !(x.is_finite() && x > 0.0) => Err(refused(
-            "identify",
-            field,
-            format!("must be a positive number, got {x}"),
-        )
-        .into()),
-        v => Ok(v),
+    if let Some(x) = v {
+        greybox_core::setting::positive("identify", field, x)?;
     }
+    Ok(v)
 }
 
 impl IdentifySettings {
