@@ -25,6 +25,10 @@ use std::path::Path;
 pub struct Args {
     #[command(flatten)]
     pub settings: IdentifySettings,
+    /// Print the rig profiles greybox knows (name, program, test mode, the real export each
+    /// was written against) and exit; needs no recordings.
+    #[arg(long, exclusive = true)]
+    pub list_rigs: bool,
     /// Print every plateau, not only the per-pin summary.
     #[arg(long)]
     pub all: bool,
@@ -33,7 +37,7 @@ pub struct Args {
     pub json: bool,
 }
 
-/// `--rig list`: every profile with its test mode and the export it was written against.
+/// `--list-rigs`: every profile with its test mode and the export it was written against.
 fn print_rigs() {
     for p in greybox_recording::profiles::PROFILES {
         println!(
@@ -47,7 +51,7 @@ fn print_rigs() {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    if args.settings.rig.as_deref() == Some("list") {
+    if args.list_rigs {
         print_rigs();
         return Ok(());
     }

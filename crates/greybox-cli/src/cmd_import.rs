@@ -1,13 +1,12 @@
 //! `greybox import`: a model trained elsewhere as a greybox model file.
 
 use crate::output::print_json;
-use anyhow::{bail, Context, Result};
+use anyhow::Result;
 use greybox_core::choice::clap_parsers::choice;
 use greybox_core::dataset::PressureConvention;
-use greybox_import::{Calibration, Domain, ImportOptions};
 use greybox_model::column::FeatureQuantity;
-use greybox_model::modelfile::FeatureRange;
 use greybox_pipeline::import::{import, ContactSpec};
+use greybox_pipeline::settings::import::{ImportRows, ImportSettings};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -16,27 +15,8 @@ pub struct Args {
     /// (.onnx), or a scikit-learn model exported by greybox's Python package
     /// (greybox.export_sklearn).
     pub model: PathBuf,
-    /// Feature names with unit suffixes in the model's input order, comma-separated
-    /// (e.g. normal_force_N,sliding_velocity_m_per_min); default: the names the model records.
-    #[arg(long, value_delimiter = ',')]
-    pub features: Vec<String>,
-    /// Target name.
-    #[arg(long, default_value = greybox_import::DEFAULT_TARGET)]
-    pub target: String,
-    /// Training data (CSV with the feature columns): the training domain is taken from it.
-    #[arg(long, conflicts_with = "domain")]
-    pub training_data: Option<PathBuf>,
-    /// The training domain per feature, MIN:MAX comma-separated in feature order
-    /// (e.g. 150:2000,20:250).
-    #[arg(long, allow_hyphen_values = true)]
-    pub domain: Option<String>,
-    /// Rows the model was not trained on (CSV with features and target): a split-conformal
-    /// prediction interval and a held-out R².
-    #[arg(long)]
-    pub calibration: Option<PathBuf>,
-    /// Nominal coverage of the prediction interval.
-    #[arg(long, default_value_t = greybox_import::DEFAULT_COVERAGE)]
-    pub coverage: f64,
+    #[command(flatten)]
+    pub settings: ImportSettings,
     #[command(flatten)]
     pub contact: ContactArgs,
     /// The greybox model file to write.
@@ -104,40 +84,12 @@ impl ContactArgs {
     }
 }
 
-fn parse_domain(text: &str) -> Result<Vec<FeatureRange>> {
-    text.split(',')
-        .map(|r| {
-            let (a, b) = r
-                .split_once(':')
-                .with_context(|| format!("--domain '{r}': expected MIN:MAX"))?;
-            let num = |s: &str| {
-                s.trim()
-                    .parse::<f64>()
-                    .with_context(|| format!("--domain '{r}': '{s}' is not a number"))
-            };
-            let (min, max) = (num(a)?, num(b)?);
-            if !(min.is_finite() && max.is_finite() && min <= max) {
-                bail!("--domain '{r}': {min}..{max} is not a range");
-            }
-            Ok(FeatureRange { min, max })
-        })
-        .collect()
-}
-
 pub fn run(a: Args) -> Result<()> {
-    let domain = match (&a.training_data, &a.domain) {
-        (Some(p), None) => Domain::Data(p.clone()),
-        (None, Some(d)) => Domain::Stated(parse_domain(d)?),
-        _ => bail!("state the training domain: --training-data FILE.csv or --domain MIN:MAX,…"),
+    let settings = ImportSettings {
+        contact: a.contact.spec(),
+        ..a.settings
     };
-    let opts = ImportOptions {
-        features: (!a.features.is_empty()).then(|| a.features.clone()),
-        target: a.target.clone(),
-        domain,
-        calibration: a.calibration.clone().map(Calibration::File),
-        coverage: a.coverage,
-        contact: a.contact.spec().resolve()?,
-    };
+    let opts = settings.options(ImportRows::default())?;
     let m = import(&a.model, &opts, a.contact.contact.as_deref(), &a.out)?;
     if a.json {
         return print_json(&m.hyperparameters);

@@ -2,17 +2,10 @@
 
 use crate::output::print_json;
 use anyhow::{bail, Context, Result};
-use greybox_model::modelfile::{DomainPolicy, ModelFile};
+use greybox_model::modelfile::ModelFile;
 use greybox_pipeline::predict::{predict_points, read_points};
+use greybox_pipeline::settings::predict::DomainCheck;
 use std::path::PathBuf;
-
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Outside {
-    /// Predict and warn.
-    Warn,
-    /// Refuse with an error.
-    Refuse,
-}
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -25,18 +18,15 @@ pub struct Args {
     /// CSV with the model's feature columns (by name).
     #[arg(long)]
     pub csv: Option<PathBuf>,
-    /// Points outside the training domain: warn or refuse.
-    #[arg(long, value_enum, default_value_t = Outside::Warn)]
-    pub outside: Outside,
-    /// Tolerated distance outside the training domain, as a fraction of each feature's range.
-    #[arg(long, default_value_t = 0.05)]
-    pub margin: f64,
+    #[command(flatten)]
+    pub check: DomainCheck,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
 }
 
 pub fn run(a: Args) -> Result<()> {
+    let check = a.check.checked()?;
     let m = ModelFile::load(&a.model)?;
     let names: Vec<String> = m.features.iter().map(|f| f.name.clone()).collect();
     let mut points: Vec<Vec<f64>> = Vec::new();
@@ -64,12 +54,8 @@ pub fn run(a: Args) -> Result<()> {
     if points.is_empty() {
         bail!("give points with --at or --csv");
     }
-    let policy = match a.outside {
-        Outside::Warn => DomainPolicy::Warn,
-        Outside::Refuse => DomainPolicy::Refuse,
-    };
-    let rows = predict_points(&m, points, policy, a.margin)?;
-    if let Some(o) = m.outside_domain(rows.iter().map(|r| r.features.as_slice()), a.margin) {
+    let rows = predict_points(&m, points, check.outside, check.margin)?;
+    if let Some(o) = m.outside_domain(rows.iter().map(|r| r.features.as_slice()), check.margin) {
         eprintln!("warning: {}", crate::flags::shown(&o.to_string()));
     }
     if a.json {

@@ -42,8 +42,11 @@ mod tests {
     /// Integer options that are not counts: identifiers, seeds and codes (any value is
     /// meaningful and nothing is sized by it), indices into a list (checked against the
     /// list: a sweep's case, a calibration's conditions), and the caps of the readers and walkers
-    /// (`greybox_core::budget`, `report --max-*`), which a user raises on purpose.
+    /// (`greybox_core::budget`, `report --max-*`), which a user raises on purpose; and an
+    /// MLP's layer specs (`--mlp-hidden 64x32`), each width a bounded `LayerWidth` count
+    /// (`settings::fit::tests::a_layer_width_beyond_its_cap_is_refused`).
     const NOT_COUNTS: &[&str] = &[
+        "mlp_hidden",
         "seed",
         "lsdyna_table_id",
         "deform_objects",

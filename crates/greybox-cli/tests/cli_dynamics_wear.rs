@@ -217,7 +217,31 @@ fn article_wear_tests_the_other_way() {
         ],
         d.path(),
     );
+    let e = String::from_utf8_lossy(&out.stderr);
     assert!(
-        !out.status.success() && String::from_utf8_lossy(&out.stderr).contains("exactly one of")
+        !out.status.success()
+            && e.contains("--volume-mm3")
+            && e.contains("--scar-diameter-mm")
+            && e.contains("exactly one way to the wear volume"),
+        "{e}"
+    );
+    // every number is checked where it is read, named as its flag
+    let out = greybox(
+        &[
+            "wear",
+            "--force-N=-100",
+            "--velocity-m-per-min",
+            "50",
+            "--duration-s",
+            "10",
+            "--volume-mm3",
+            "0.1",
+        ],
+        d.path(),
+    );
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        e.contains("--force-N") && e.contains("expected a positive number"),
+        "{e}"
     );
 }

@@ -1,5 +1,5 @@
 //! `greybox identify` on a log without a header line, its columns mapped by number
-//! (`--map normal=#3:N`) or named with `--columns`, and `--rig list` without recordings.
+//! (`--map normal=#3:N`) or named with `--columns`, and `--list-rigs` without recordings.
 //! The log is written here at a known μ, so the identified μ is known.
 
 use std::fmt::Write as _;
@@ -71,7 +71,7 @@ fn headerless_log_by_column_number_and_by_columns() {
 #[test]
 fn rig_list_needs_no_recordings() {
     let d = tempfile::tempdir().unwrap();
-    let out = ok(&greybox(&["identify", "--rig", "list"], d.path()));
+    let out = ok(&greybox(&["identify", "--list-rigs"], d.path()));
     assert!(
         out.contains("phoenix-te") && out.contains("pod-dwf"),
         "{out}"
@@ -80,8 +80,14 @@ fn rig_list_needs_no_recordings() {
     let e = err(&greybox(&["identify", "--out", "x.csv"], d.path()));
     assert!(e.contains("--recordings"), "{e}");
     let e = err(&greybox(&["identify", "--rig", "rtec"], d.path()));
+    assert!(e.contains("--recordings"), "{e}");
+    // `list` is no rig: the names are checked where the flag is read, and listed
+    let e = err(&greybox(
+        &["identify", "--rig", "list", "--recordings", "x.csv"],
+        d.path(),
+    ));
     assert!(
-        e.contains("(--recordings): give at least one recording"),
+        e.contains("'list'") && e.contains("phoenix-te") && e.contains("auto"),
         "{e}"
     );
 }

@@ -284,7 +284,8 @@ fn fit_bad_inputs() {
         p,
     ));
     assert!(
-        e.contains("--families: family: 'svm' is not one of random-forest"),
+        e.contains("invalid value 'svm' for '--families")
+            && e.contains("[possible values: random-forest, svr, gradient-boosting, mlp]"),
         "{e}"
     );
     let e = err(&greybox(&["fit", "--data", "data.csv", "--folds", "40"], p));

@@ -30,8 +30,11 @@ fn every_registered_export_format_writes_a_table_and_every_surface_lists_it() {
         .expect("export_table has a docstring");
     for &format in ExportFormat::ALL {
         let name = format.name();
-        let t = table_text(&Coulomb { mu: 0.3 }, &TableSpec::new(format))
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let t = table_text(
+            &Coulomb { mu: 0.3 },
+            &TableSpec::new(format).validated().unwrap(),
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(
             !t.text.is_empty() && t.report.max_deviation.is_some(),
             "{name}"

@@ -10,6 +10,10 @@ use greybox_pipeline::settings::{
     material::FlowCurveSettings, material::RateSensitivitySettings, pin::PinSettings,
     plan::PlanSettings, synth::SynthSettings, windows::WindowsSettings,
 };
+use greybox_pipeline::settings::{
+    characterize::CharacterizeSettings, import::ImportSettings, predict::DomainCheck,
+    wear::WearSettings,
+};
 use greybox_pipeline::simulate::RunOutput;
 use greybox_sweep::settings::{CalibrateSettings, ExecutorSettings, ValidateSettings};
 use serde::de::DeserializeOwned;
@@ -74,6 +78,13 @@ fn clap_and_serde_fill_in_the_same_defaults() {
         keys(r#"{"model": "m.json"}"#),
     );
     same(flags::<ExportOverrides>(&[]), keys("{}"));
+    same(flags::<DomainCheck>(&[]), keys("{}"));
+    same(flags::<ImportSettings>(&[]), keys("{}"));
+    same(flags::<WearSettings>(&[]), keys("{}"));
+    same(
+        flags::<CharacterizeSettings>(&["--recording", "h.csv@500"]),
+        keys(r#"{"recordings": ["h.csv@500"]}"#),
+    );
     same(
         flags::<WindowsSettings>(&["--mesh", "t.msh"]),
         keys(r#"{"mesh": "t.msh"}"#),

@@ -160,6 +160,10 @@ pub fn article_eq7_pressure(force_n: f64, radius_m: f64, e_star_pa: f64) -> Resu
     Ok((3.0 * force_n * e_star_pa * e_star_pa / (2.0 * radius_m * radius_m)).cbrt() / PI)
 }
 
+/// The article's pin tip radius, mm (a 17 mm carbide pin; digest §3): the default of every
+/// setting that states a pin's radius.
+pub const ARTICLE_PIN_TIP_RADIUS_MM: f64 = 17.0;
+
 /// Pin-on-disk contact: pin tip sphere on the flat disk, with the pressure convention to report.
 /// Field names carry their units (this is read from study TOML files).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -181,7 +185,7 @@ impl Default for PinContact {
     /// The article's pin and disk (digest §3), textbook maximum pressure.
     fn default() -> Self {
         PinContact {
-            pin_tip_radius_mm: 17.0,
+            pin_tip_radius_mm: ARTICLE_PIN_TIP_RADIUS_MM,
             disk_youngs_modulus_gpa: 210.0,
             disk_poisson_ratio: 0.3,
             pin_youngs_modulus_gpa: 650.0,

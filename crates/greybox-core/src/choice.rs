@@ -95,6 +95,77 @@ macro_rules! choice_traits {
     };
 }
 
+/// serde of an optional list of a [`Choice`]'s values by their names, for settings
+/// (`#[serde(with = "greybox_core::choice::names")]` on an `Option<Vec<T>>`): a name not among
+/// them is refused as `'x' is not one of a, b, c`, the settings' path naming the field.
+///
+/// ```
+/// # #[derive(Clone, Copy, Debug, PartialEq)]
+/// # enum Side { Rake, Flank }
+/// # greybox_core::choice!(Side, "side", [Rake => "rake", Flank => "flank"]);
+/// #[derive(serde::Deserialize, serde::Serialize)]
+/// struct S {
+///     #[serde(with = "greybox_core::choice::names", default)]
+///     sides: Option<Vec<Side>>,
+/// }
+/// let s: S = serde_json::from_str(r#"{"sides": ["flank", "rake"]}"#).unwrap();
+/// assert_eq!(s.sides, Some(vec![Side::Flank, Side::Rake]));
+/// let e = serde_json::from_str::<S>(r#"{"sides": ["chip"]}"#).err().unwrap().to_string();
+/// assert!(e.starts_with("'chip' is not one of rake, flank"), "{e}");
+/// ```
+pub mod names {
+    use super::{name::unknown, Choice};
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    /// The values' names (`None` as null).
+    pub fn serialize<S: Serializer, T: Choice>(
+        values: &Option<Vec<T>>,
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        values
+            .as_ref()
+            .map(|v| v.iter().map(|c| c.name()).collect::<Vec<_>>())
+            .serialize(s)
+    }
+
+    /// The values named (null: `None`), the first unknown name refused.
+    pub fn deserialize<'de, D: Deserializer<'de>, T: Choice>(
+        d: D,
+    ) -> Result<Option<Vec<T>>, D::Error> {
+        let Some(given) = Option::<Vec<String>>::deserialize(d)? else {
+            return Ok(None);
+        };
+        given
+            .iter()
+            .map(|s| T::parse_choice(s).map_err(unknown))
+            .collect::<Result<Vec<T>, D::Error>>()
+            .map(Some)
+    }
+}
+
+/// serde of one [`Choice`] value by its name, for settings whose type derives its serde
+/// otherwise (`#[serde(with = "greybox_core::choice::name")]`): an unknown name is refused
+/// as `'x' is not one of a, b, c`, as in [`names`].
+pub mod name {
+    use super::{Choice, UnknownChoice};
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    /// The value's name.
+    pub fn serialize<S: Serializer, T: Choice>(value: &T, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(value.name())
+    }
+
+    /// The value named.
+    pub fn deserialize<'de, D: Deserializer<'de>, T: Choice>(d: D) -> Result<T, D::Error> {
+        T::parse_choice(&String::deserialize(d)?).map_err(unknown)
+    }
+
+    /// An unknown name as a serde error, without the field (the settings' path names it).
+    pub(super) fn unknown<E: serde::de::Error>(e: UnknownChoice) -> E {
+        E::custom(format!("'{}' is not one of {}", e.given, e.expected))
+    }
+}
+
 /// clap parsers of [`Choice`]s, so the command line accepts and lists exactly the names
 /// Python and the study and sweep files accept (feature `clap`).
 #[cfg(feature = "clap")]

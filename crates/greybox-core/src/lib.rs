@@ -61,6 +61,7 @@ pub mod rules;
 pub mod setting;
 pub mod shell;
 pub mod stats;
+pub mod text_serde;
 pub mod units;
 
 pub use contact::ContactState;

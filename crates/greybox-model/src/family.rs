@@ -372,20 +372,24 @@ mod registry_tests {
     }
 
     /// The lists of families outside the registry's Rust code name its families, in order:
-    /// the `--families` help (pipeline's fit settings) and the Python `Model.family`
+    /// the `--families` flag takes the registry's parser (its help and errors list
+    /// [`Family::names`]; `cli/tests/cli_learn.rs` sees them) and the Python `Model.family`
     /// docstring; and the extension table of docs/architecture.md names the registry.
     /// Adding a family without updating them fails here.
     #[test]
     fn every_consumer_lists_the_registry() {
         let path = "crates/greybox-pipeline/src/settings/fit.rs";
-        let help = between(
+        let flag = between(
             &workspace_file(path),
-            "/// Model families, comma-separated (",
-            ")",
+            "/// Model families,",
+            "pub families",
             path,
         )
         .to_string();
-        assert_eq!(help, Family::names().join(", "), "{path}");
+        assert!(
+            flag.contains("value_parser = choice::<Family>()"),
+            "{path}: {flag}"
+        );
         let path = "crates/greybox-py/python/greybox/__init__.py";
         let py = workspace_file(path);
         let doc = between(

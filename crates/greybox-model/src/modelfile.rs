@@ -105,6 +105,8 @@ pub enum DomainPolicy {
     Refuse,
 }
 
+greybox_core::choice!(DomainPolicy, "outside", [Warn => "warn", Refuse => "refuse"], text);
+
 /// One prediction with its interval and domain status.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Prediction {

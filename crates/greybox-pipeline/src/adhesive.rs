@@ -6,12 +6,13 @@ use crate::adhesive_loads::loads_to_simulate;
 pub use crate::adhesive_loads::{LoadStride, SimLoads, SimRuns};
 use crate::output::provenance;
 use anyhow::{Context, Result};
+use greybox_contact::hertz::ARTICLE_PIN_TIP_RADIUS_MM;
+use greybox_contact::ploughing::{
+    article_table3, correct_analytic, correct_with, Correction, TrackWidth, WidthLaw,
+};
 use greybox_core::dataset::FrictionDataset;
 use greybox_core::outputs::check_file_output;
 use greybox_sim::pin::{inverse_over_loads, PinSetup, ShareLaw};
-use greybox_tribo::ploughing::{
-    article_table3, correct_analytic, correct_with, Correction, TrackWidth, WidthLaw,
-};
 use std::path::{Path, PathBuf};
 
 /// How the ploughing share is found.
@@ -62,9 +63,6 @@ impl Default for SimulationOptions {
     }
 }
 
-/// The article's pin tip radius, mm.
-pub const ARTICLE_PIN_RADIUS_MM: f64 = 17.0;
-
 /// Options of [`adhesive`].
 #[derive(Debug, Clone)]
 pub struct AdhesiveOptions {
@@ -89,7 +87,7 @@ impl AdhesiveOptions {
         AdhesiveOptions {
             data,
             method: AdhesiveMethod::Analytic,
-            pin_radius_mm: ARTICLE_PIN_RADIUS_MM,
+            pin_radius_mm: ARTICLE_PIN_TIP_RADIUS_MM,
             track_widths: Vec::new(),
             track_widths_csv: None,
             out,

@@ -18,11 +18,11 @@
 use crate::adhesive_loads::loads_to_simulate;
 use crate::adhesive_loads::{LoadStride, SimLoads, SimRuns};
 use anyhow::{bail, Result};
+use greybox_contact::ploughing::{bowden_tabor_mu, correct_with, Correction, TrackWidth, WidthLaw};
 use greybox_core::atomic::write_string_atomic;
 use greybox_core::dataset::FrictionDataset;
 use greybox_couple::pin3d::{find_adhesive_mu, Increments, Pin3dInverse, Pin3dSetup};
 use greybox_sim::pin::ShareLaw;
-use greybox_tribo::ploughing::{bowden_tabor_mu, correct_with, Correction, TrackWidth, WidthLaw};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::{Path, PathBuf};

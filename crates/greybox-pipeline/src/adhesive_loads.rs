@@ -1,8 +1,8 @@
 //! The load levels of a friction dataset and the loads an inverse ploughing route simulates.
 
 use anyhow::Result;
+use greybox_contact::ploughing::{track_depth, WidthLaw};
 use greybox_core::dataset::FrictionDataset;
-use greybox_tribo::ploughing::{track_depth, WidthLaw};
 
 /// Loads simulated by an inverse route: each is a search of several pin runs.
 pub type SimLoads = greybox_core::count::Count<1, 1_000>;

@@ -29,37 +29,35 @@ pub struct ImpactChannels {
     pub tdms_group: String,
 }
 
+/// The hammer force channel's name when none is given.
+pub const DEFAULT_HAMMER_CHANNEL: &str = "hammer_N";
+/// The response channel's name when none is given.
+pub const DEFAULT_RESPONSE_CHANNEL: &str = "response";
+/// The CSV time column's name when none is given.
+pub const DEFAULT_TIME_COLUMN: &str = "time_s";
+/// The TDMS group of the channels when none is given.
+pub const DEFAULT_TDMS_GROUP: &str = "Hammer";
+/// The output directory when none is given.
+pub const DEFAULT_CHARACTERIZE_DIR: &str = "characterize-out";
+/// Harmonics of the spindle frequency checked when none are given.
+pub const DEFAULT_HARMONICS: u64 = 3;
+
 impl Default for ImpactChannels {
     fn default() -> Self {
         ImpactChannels {
-            hammer: "hammer_N".into(),
-            response: "response".into(),
-            time: "time_s".into(),
+            hammer: DEFAULT_HAMMER_CHANNEL.into(),
+            response: DEFAULT_RESPONSE_CHANNEL.into(),
+            time: DEFAULT_TIME_COLUMN.into(),
             sample_rate_hz: None,
-            tdms_group: "Hammer".into(),
+            tdms_group: DEFAULT_TDMS_GROUP.into(),
         }
     }
 }
 
-/// A recording named as `PATH[@LOAD_N]`: the path and the normal load, N, if given.
-pub fn recording_with_load(spec: &str) -> Result<(PathBuf, Option<f64>)> {
-    match spec.rsplit_once('@') {
-        Some((p, load)) => {
-            Ok((
-                PathBuf::from(p),
-                Some(load.parse().with_context(|| {
-                    format!("recordings: '{spec}': '{load}' is not a load in N")
-                })?),
-            ))
-        }
-        None => Ok((PathBuf::from(spec), None)),
-    }
-}
-
-/// Options of [`characterize`].
 /// Harmonics of the spindle frequency checked against the rig's resonances.
 pub type Harmonics = greybox_core::count::Count<1, 100>;
 
+/// Options of [`characterize`].
 #[derive(Debug, Clone)]
 pub struct CharacterizeOptions {
     /// Hammer recordings (CSV or TDMS) with their normal load, N. Recordings with the same

@@ -35,6 +35,47 @@ pub struct ContactSpec {
     pub fields: serde_json::Map<String, serde_json::Value>,
 }
 
+/// A contact in settings JSON: a study TOML's path (`"study.toml"`), or an object of
+/// `[contact]` keys, where a `study` key names the study whose table the others override.
+impl serde::Serialize for ContactSpec {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        let mut all = self.fields.clone();
+        if let Some(p) = &self.study {
+            all.insert("study".into(), p.display().to_string().into());
+        }
+        all.serialize(s)
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for ContactSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde::de::Error as _;
+        match serde_json::Value::deserialize(d)? {
+            serde_json::Value::Null => Ok(ContactSpec::default()),
+            serde_json::Value::String(path) => Ok(ContactSpec {
+                study: Some(path.into()),
+                fields: serde_json::Map::new(),
+            }),
+            serde_json::Value::Object(mut fields) => {
+                let study = match fields.remove("study") {
+                    None | Some(serde_json::Value::Null) => None,
+                    Some(serde_json::Value::String(p)) => Some(PathBuf::from(p)),
+                    Some(other) => {
+                        return Err(D::Error::custom(format!(
+                            "study: expected a study TOML's path, got {other}"
+                        )))
+                    }
+                };
+                Ok(ContactSpec { study, fields })
+            }
+            other => Err(D::Error::custom(format!(
+                "expected a study TOML's path or an object of the [contact] keys ({}), got {other}",
+                CONTACT_KEYS.join(", ")
+            ))),
+        }
+    }
+}
+
 impl ContactSpec {
     /// Whether anything states a contact.
     pub fn is_stated(&self) -> bool {

@@ -207,7 +207,7 @@ impl Indentation {
     pub fn depth_m(self, pin_radius_m: f64) -> Result<f64> {
         Ok(match self {
             Indentation::Depth(d) => d,
-            Indentation::TrackWidth(w) => greybox_tribo::ploughing::track_depth(pin_radius_m, w)?,
+            Indentation::TrackWidth(w) => greybox_contact::ploughing::track_depth(pin_radius_m, w)?,
         })
     }
 }

@@ -1,8 +1,8 @@
 //! Archard specific wear rates from measured volumes, height maps of the worn pin, or the
 //! scar geometry; and the article's wear tests (V = k F s and k back from V).
 
-use anyhow::{bail, Result};
-use greybox_tribo::wear::{
+use anyhow::Result;
+use greybox_contact::wear::{
     analyze_height_map, archard_dimensionless, archard_k, cap_volume_from_scar, read_height_map,
     read_wear_tests, Reference, WearScar, WearTest,
 };
@@ -118,19 +118,5 @@ pub fn wear_test_row(w: &WearTest) -> Result<WearTestRow> {
         implied_volume_mm3: v,
         k_back_1e_7: archard_k(v, w.normal_force_n, w.distance_m())? * 1e7,
         k_article_1e_7: w.k_1e7,
-    })
-}
-
-/// Refuse an input that gives no or several ways to the volume.
-pub fn one_volume(
-    volume_mm3: Option<f64>,
-    height_map: Option<(PathBuf, Reference)>,
-    scar_diameter_mm: Option<f64>,
-) -> Result<WearVolume> {
-    Ok(match (volume_mm3, height_map, scar_diameter_mm) {
-        (Some(v), None, None) => WearVolume::Measured(v),
-        (None, Some((path, reference)), None) => WearVolume::HeightMap { path, reference },
-        (None, None, Some(d)) => WearVolume::ScarDiameter(d),
-        _ => bail!("give exactly one of volume_mm3, height_map, scar_diameter_mm"),
     })
 }

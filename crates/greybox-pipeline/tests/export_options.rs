@@ -10,7 +10,7 @@ use greybox_testkit::law::{law_dir, ZOREV};
 #[test]
 fn the_documented_defaults_are_the_libraries() {
     let o = |f| ExportOptions::new("l".into(), f, "o".into());
-    match o(ExportFormat::Deform).table.engine {
+    match o(ExportFormat::Deform).table.into_inner().engine {
         Engine::Deform {
             reference_velocity_m_s,
             objects,
@@ -28,7 +28,7 @@ fn the_documented_defaults_are_the_libraries() {
     );
     let u = o(ExportFormat::Abaqus).table.engine.units().unwrap();
     assert_eq!((u.pressure.name(), u.speed.name()), ("MPa", "mm/s"));
-    let g = o(ExportFormat::Csv).table.grid;
+    let g = o(ExportFormat::Csv).table.into_inner().grid;
     assert_eq!((g.pressure_pa[0], g.pressure_pa[20]), (500e6, 2500e6));
     assert_eq!(
         (g.velocity_m_s[0] * 60.0, g.velocity_m_s[29] * 60.0),
@@ -91,8 +91,12 @@ fn the_size_budget_refuses_before_writing_and_a_fitting_table_is_written() {
         "{e}"
     );
     assert!(!out.exists());
-    let mut o = o;
-    o.table.max_table_size = greybox_friction::export::engine::TableSize::of(630);
+    let o = o
+        .changed(|t| {
+            t.max_table_size = greybox_friction::export::engine::TableSize::of(630);
+            Ok(())
+        })
+        .unwrap();
     let r = export(&o).unwrap();
     assert_eq!(r.shape.iter().product::<usize>(), 630);
     assert_eq!(r.bytes as u64, std::fs::metadata(&out).unwrap().len());

@@ -3,6 +3,7 @@
 //! hand, a property that must hold, or the virtual rig's ground truth. (The command line's
 //! tests, crates/greybox-cli/tests, run the same stages through the binary.)
 
+use greybox_contact::ploughing::TrackWidth;
 use greybox_core::dataset::PressureConvention;
 use greybox_core::units::{M_PER_MM, PA_PER_GPA, PA_PER_MPA};
 use greybox_core::ContactState;
@@ -33,7 +34,6 @@ use greybox_testkit::dataset::{write_dataset, write_rows, Row};
 use greybox_testkit::law::{law_dir, ZOREV};
 use greybox_testkit::mesh::unit_square_abaqus;
 use greybox_tribo::plan::{PinCount, VelocityCount};
-use greybox_tribo::ploughing::TrackWidth;
 use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -294,7 +294,8 @@ fn export_writes_zorevs_law_on_the_asked_grid() {
                 .to_vec(),
             velocity_m_s: vec![1.0, 2.0],
             temperature_k: None,
-        });
+        })
+        .unwrap();
     let r = export(&o).unwrap();
     assert_eq!(r.shape.iter().product::<usize>(), 8);
     assert_eq!(r.bytes as u64, std::fs::metadata(&out).unwrap().len());

@@ -6,6 +6,8 @@ use greybox_core::ContactState;
 use greybox_core::FrictionLaw;
 use greybox_friction::learned::LearnedLaw;
 use greybox_model::modelfile::{DomainPolicy, ModelFile};
+use greybox_pipeline::settings::from_keywords;
+use greybox_pipeline::settings::predict::DomainCheck;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use std::path::PathBuf;
@@ -29,14 +31,12 @@ type Arrays<'py> = (
     Option<String>,
 );
 
-fn policy(outside: &str) -> PyResult<DomainPolicy> {
-    match outside {
-        "warn" => Ok(DomainPolicy::Warn),
-        "refuse" => Ok(DomainPolicy::Refuse),
-        o => Err(py_err(anyhow::anyhow!(
-            "outside = '{o}': expected 'warn' or 'refuse'"
-        ))),
-    }
+/// The domain check of a call: JSON of the library's [`DomainCheck`] (`outside`, `margin`;
+/// a key not given takes the library's default), checked.
+fn domain_check(check: &str) -> PyResult<DomainCheck> {
+    from_keywords::<DomainCheck>(check)
+        .and_then(DomainCheck::checked)
+        .map_err(py_err)
 }
 
 /// The contact states of equally long pressure, velocity (and temperature) arrays.
@@ -122,13 +122,13 @@ impl Model {
         &self,
         py: Python<'py>,
         rows: Vec<Vec<f64>>,
-        policy: DomainPolicy,
-        margin: f64,
+        check: DomainCheck,
     ) -> PyResult<Arrays<'py>> {
+        let DomainCheck { outside, margin } = check;
         let out = run_sequential(py, || {
             Ok(rows
                 .iter()
-                .map(|x| self.file.predict(x, policy, margin))
+                .map(|x| self.file.predict(x, outside, margin))
                 .collect::<greybox_core::Result<Vec<_>>>()?)
         })?;
         let warning = self
@@ -230,14 +230,15 @@ impl Model {
 
     /// Predictions for an (n, n_features) array in the model's feature units: value, low,
     /// high, in_domain.
-    #[pyo3(signature = (x, outside = "warn", margin = 0.05))]
+    /// `check` is JSON of the library's [`DomainCheck`] (`outside`, `margin`).
+    #[pyo3(signature = (x, check = "{}"))]
     fn predict<'py>(
         &self,
         py: Python<'py>,
         x: PyReadonlyArray2<'py, f64>,
-        outside: &str,
-        margin: f64,
+        check: &str,
     ) -> PyResult<Arrays<'py>> {
+        let check = domain_check(check)?;
         let a = x.as_array();
         let n = self.file.features.len();
         if a.ncols() != n {
@@ -248,21 +249,22 @@ impl Model {
             )));
         }
         let rows: Vec<Vec<f64>> = a.rows().into_iter().map(|r| r.to_vec()).collect();
-        self.predict_rows(py, rows, policy(outside)?, margin)
+        self.predict_rows(py, rows, check)
     }
 
     /// μ at contact states in SI (Pa, m/s, K), through the model's feature units (a normal
     /// force feature through the training contact's Hertz map): value, low, high, in_domain.
-    #[pyo3(signature = (pressure_pa, velocity_m_s, temperature_k = None, outside = "warn", margin = 0.05))]
+    /// `check` as in `predict`.
+    #[pyo3(signature = (pressure_pa, velocity_m_s, temperature_k = None, check = "{}"))]
     fn mu<'py>(
         &self,
         py: Python<'py>,
         pressure_pa: PyReadonlyArray1<'py, f64>,
         velocity_m_s: PyReadonlyArray1<'py, f64>,
         temperature_k: Option<PyReadonlyArray1<'py, f64>>,
-        outside: &str,
-        margin: f64,
+        check: &str,
     ) -> PyResult<Arrays<'py>> {
+        let check = domain_check(check)?;
         let law = LearnedLaw::new(self.file.clone(), None).map_err(py_err)?;
         let t = temperature_k.as_ref().map(|t| t.as_slice()).transpose()?;
         let s = states(pressure_pa.as_slice()?, velocity_m_s.as_slice()?, t).map_err(py_err)?;
@@ -270,7 +272,7 @@ impl Model {
             .iter()
             .map(|s| law.inputs.iter().map(|i| i.value(s)).collect())
             .collect();
-        self.predict_rows(py, rows, policy(outside)?, margin)
+        self.predict_rows(py, rows, check)
     }
 
     fn __repr__(&self) -> String {
@@ -320,16 +322,19 @@ impl Law {
 
     /// μ at contact states in SI (Pa, m/s, K), whether each lies in the validity domain, and
     /// the warning for those outside (`outside="refuse"`: an error instead).
-    #[pyo3(signature = (pressure_pa, velocity_m_s, temperature_k = None, outside = "warn"))]
+    #[pyo3(signature = (pressure_pa, velocity_m_s, temperature_k = None, outside = None))]
     fn mu<'py>(
         &self,
         py: Python<'py>,
         pressure_pa: PyReadonlyArray1<'py, f64>,
         velocity_m_s: PyReadonlyArray1<'py, f64>,
         temperature_k: Option<PyReadonlyArray1<'py, f64>>,
-        outside: &str,
+        outside: Option<&str>,
     ) -> PyResult<LawArrays<'py>> {
-        let policy = policy(outside)?;
+        let policy = match outside {
+            Some(o) => o.parse::<DomainPolicy>().map_err(py_err)?,
+            None => DomainCheck::default().outside,
+        };
         let t = temperature_k.as_ref().map(|t| t.as_slice()).transpose()?;
         let s = states(pressure_pa.as_slice()?, velocity_m_s.as_slice()?, t).map_err(py_err)?;
         let (mu, inside) = run_sequential(py, || {

@@ -30,6 +30,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(hertz_rows, m)?)?;
     m.add_function(wrap_pyfunction!(synth, m)?)?;
     m.add_function(wrap_pyfunction!(read_recording, m)?)?;
+    m.add_function(wrap_pyfunction!(rig_profiles, m)?)?;
     m.add_function(wrap_pyfunction!(identify, m)?)?;
     m.add_function(wrap_pyfunction!(ploughing_correction, m)?)?;
     m.add_function(wrap_pyfunction!(fit_models, m)?)?;
@@ -245,30 +246,38 @@ fn fit_rate_sensitivity(py: Python<'_>, settings: &str) -> PyResult<String> {
     })?)
 }
 
+/// The rig profiles greybox knows, as `greybox identify --list-rigs` prints them: JSON
+/// [{name, vendor, mode, verified_against}].
+#[pyfunction]
+fn rig_profiles() -> PyResult<String> {
+    let rows: Vec<_> = greybox_recording::profiles::PROFILES
+        .iter()
+        .map(|p| {
+            serde_json::json!({
+                "name": p.name,
+                "vendor": p.vendor,
+                "mode": p.mode.name(),
+                "verified_against": p.verified_against,
+            })
+        })
+        .collect();
+    to_json(&rows)
+}
+
 /// The library's settings of `stage` with their defaults, as JSON (every key the stage's
 /// function takes: the fields of its settings type, the command line's flags by name).
 #[pyfunction]
 fn settings_defaults(stage: &str) -> PyResult<String> {
-    use greybox_pipeline::settings::plan::PlanSettings;
     match stage {
-        "identify" => to_json(&IdentifySettings::default()),
-        "synth" => to_json(&SynthSettings::default()),
-        "hertz" => to_json(&HertzSettings::default()),
-        "plan" => to_json(&PlanSettings::default()),
-        "fit" => to_json(&FitSettings::shown_defaults()),
-        "adhesive" => to_json(&AdhesiveSettings::default()),
-        "pin" => to_json(&PinSettings::default()),
         "output" => to_json(&RunOutput::default()),
-        "couple" => to_json(&CoupleSettings::default()),
-        "law" => to_json(&GreyBoxSettings::default()),
-        "windows" => to_json(&WindowsSettings::default()),
-        "flow_curves" => to_json(&FlowCurveSettings::default()),
-        "rate_sensitivity" => to_json(&RateSensitivitySettings::default()),
         "validate" => to_json(&ValidateSettings::default()),
         "report" => to_json(&greybox_report::report::ReportOptions::default()),
-        other => Err(py_err(anyhow::anyhow!(
-            "stage '{other}': expected one of identify, synth, hertz, plan, fit, adhesive, pin, output, couple, law, windows, flow_curves, rate_sensitivity, validate, report"
-        ))),
+        other => match greybox_pipeline::settings::stage_settings(other) {
+            Ok(s) => to_json(&(s.defaults)()),
+            Err(e) => Err(py_err(
+                e.context("expected also output, validate or report"),
+            )),
+        },
     }
 }
 

@@ -40,9 +40,12 @@ STAGES = {
     "flow_curves": gb.fit_flow_curves,
     "rate_sensitivity": gb.fit_rate_sensitivity,
     "validate": gb.validate,
+    "cut": gb.simulate_cut,
+    "predict": gb.Model.predict,
+    "import": gb.import_model,
 }
 # Python names for settings a function takes positionally under another name.
-POSITIONAL = {("hertz", "force_N"): "normal_force_N"}
+POSITIONAL = {("hertz", "force_N"): "normal_force_N", ("cut", "config"): "setup"}
 
 
 @pytest.mark.parametrize("stage", sorted(STAGES))
@@ -53,6 +56,34 @@ def test_every_setting_of_a_stage_is_a_python_keyword(stage):
     missing = [k for k in gb.settings_defaults(stage)
                if POSITIONAL.get((stage, k), k) not in params and k not in plan]
     assert not missing, f"gb.{STAGES[stage].__name__} lacks settings {missing}"
+
+
+@pytest.mark.parametrize("stage", sorted(STAGES))
+def test_a_python_default_is_the_librarys(stage):
+    """A keyword that states its default in the signature states the library's (None: the
+    library's, whatever it is): Python cannot drift from the command line's defaults."""
+    params = inspect.signature(STAGES[stage]).parameters
+    defaults = gb.settings_defaults(stage)
+    drift = {}
+    for key, library in defaults.items():
+        p = params.get(POSITIONAL.get((stage, key), key))
+        if p is None or p.default in (None, inspect.Parameter.empty):
+            continue
+        if p.default != library:
+            drift[key] = (p.default, library)
+    assert not drift, f"gb.{STAGES[stage].__name__}: Python default != library default: {drift}"
+
+
+def test_rig_profiles_are_the_ones_the_cli_lists(tmp_path):
+    """`gb.rig_profiles()` and `greybox identify --list-rigs` list the same profiles, in
+    order, and every name is accepted as `rig=` (`auto` too); another name is refused."""
+    names = [p["name"] for p in gb.rig_profiles()]
+    listed = [line.split()[0] for line in cli("identify", "--list-rigs", cwd=tmp_path).stdout.splitlines()
+              if line and not line[0].isspace()]
+    assert names == listed and len(names) >= 5, (names, listed)
+    assert all(p["mode"] in ("continuous", "stepped", "reciprocating") for p in gb.rig_profiles())
+    with pytest.raises(gb.GreyboxError, match="rig"):
+        gb.identify([tmp_path], tmp_path / "d.csv", rig="list")
 
 
 def _rig_files(real_rigs):

@@ -31,7 +31,7 @@ pub struct ProfileColumn {
 pub struct RigProfile {
     /// `--rig` name.
     pub name: &'static str,
-    /// Rig and program, for messages and `identify --rig list`.
+    /// Rig and program, for messages and `identify --list-rigs`.
     pub vendor: &'static str,
     /// What every export of this program carries (all of them, case-insensitive): text in
     /// its preamble or header, or with a `col:` prefix a whole column name.
@@ -133,6 +133,11 @@ pub fn by_name(name: &str) -> Result<&'static RigProfile> {
                 ),
             )
         })
+}
+
+/// What `rig` may be set to: `auto` (detected) or a profile's name.
+pub fn choices() -> Vec<&'static str> {
+    std::iter::once("auto").chain(names()).collect()
 }
 
 /// Names of all profiles.

@@ -47,12 +47,12 @@ pub struct DemoSummary {
     pub plan: PlanSummary,
     pub synth: SynthSummary,
     pub identify: IdentifySummary,
-    pub correction: greybox_tribo::ploughing::Correction,
+    pub correction: greybox_contact::ploughing::Correction,
     pub fit: greybox_learn::protocol::FitReport,
     pub fit_outputs: FitOutputs,
     pub law: String,
     pub dynamics: CharacterizeReport,
-    pub wear_tests: Vec<greybox_tribo::wear::WearTest>,
+    pub wear_tests: Vec<greybox_contact::wear::WearTest>,
     pub coupling: Option<greybox_couple::engine::CouplingResult>,
     pub material: greybox_material::fit::JcFit,
     pub cutting: CutSummary,
@@ -119,7 +119,7 @@ pub fn run(out_dir: &Path, force: bool) -> Result<Demo> {
     // wear: the article's five pin tests (digest §4), k → V = k F s → k
     let wear_path = PathBuf::from("wear-tests.csv");
     write_string_atomic(&base.join(&wear_path), WEAR_TESTS)?;
-    let wear_tests = greybox_tribo::wear::read_wear_tests(&base.join(&wear_path))?;
+    let wear_tests = greybox_contact::wear::read_wear_tests(&base.join(&wear_path))?;
     let (couple_dir, coupling) = coupling(base)?;
     let (curves, material) = material(base)?;
     let (cut_dir, cutting) = cut(base)?;
@@ -244,7 +244,7 @@ fn foreign_rig(base: &Path) -> Result<ForeignRig> {
 
 /// From the dataset to the grey-box law and its exports.
 struct GreyBox {
-    correction: greybox_tribo::ploughing::Correction,
+    correction: greybox_contact::ploughing::Correction,
     dataset_adhesive: PathBuf,
     fitted: FitResult,
     family: Family,
@@ -294,12 +294,12 @@ fn grey_box(base: &Path, study: &Study, dataset_csv: &Path) -> Result<GreyBox> {
                     .map(m_per_min_to_m_per_s)
                     .collect(),
                 temperature_k: None,
-            })
+            })?
             .with_engine(Engine::Abaqus {
                 units: DEFAULT_UNITS,
                 temperature_unit: DEFAULT_TEMPERATURE_UNIT,
                 taumax_pa: Some(mpa_to_pa(DEMO_SHEAR_CAP_MPA)),
-            }),
+            })?,
     )?
     .line
     // the line names the table relative to the demo's root, as the summary does

@@ -14,8 +14,9 @@
 //!   linear reciprocating test; [`signal`] — robust signal helpers.
 //! * [`synth`], [`synth_recip`] — a virtual tribometer writing recordings from a known law;
 //!   [`frf`], [`frf_synth`] — the rig's dynamics from impact-hammer tests.
-//! * [`ploughing`] — the ploughing share of apparent friction; [`wear`] — wear tests and
-//!   height maps.
+//!
+//! The ploughing share of apparent friction and wear (Archard rates, height maps) are
+//! contact mechanics: `greybox_contact::{ploughing, wear}`.
 
 pub mod align;
 pub mod campaign;
@@ -27,7 +28,6 @@ pub mod frf_synth;
 pub mod gcode;
 pub mod plan;
 pub mod plan_timing;
-pub mod ploughing;
 pub mod reciprocating;
 pub mod signal;
 pub mod sliding;
@@ -35,4 +35,3 @@ pub mod steady_window;
 pub mod synth;
 pub mod synth_recip;
 pub mod uncertainty;
-pub mod wear;

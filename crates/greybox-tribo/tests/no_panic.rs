@@ -1,12 +1,12 @@
 //! Readers never panic: thousands of seeded mutations (byte flips, truncations, insertions)
 //! of valid files go through every reader of external data; each must return Ok or Err.
 
+use greybox_contact::wear::read_height_map_from;
 use greybox_recording::csv_recording::read_csv_recording_from;
 use greybox_recording::tdms::{recording_from_tdms, TdmsFile};
 use greybox_recording::ChannelMap;
 use greybox_tribo::gcode::parse_program;
 use greybox_tribo::plan::PlanSpec;
-use greybox_tribo::wear::read_height_map_from;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -127,8 +127,10 @@ fn csv_readers_survive_mutations() {
     for _ in 0..2000 {
         let m = mutate(map.as_bytes(), &mut rng);
         if let Ok(h) = read_height_map_from(m.as_slice(), "m.csv") {
-            let _ =
-                greybox_tribo::wear::analyze_height_map(&h, greybox_tribo::wear::Reference::Plane);
+            let _ = greybox_contact::wear::analyze_height_map(
+                &h,
+                greybox_contact::wear::Reference::Plane,
+            );
         }
     }
     let ds = "pin,step,normal_force_N,normal_force_measured_N,sliding_velocity_m_per_min,hertz_pressure_MPa,pressure_convention,cof_apparent,cof_apparent_std,n_samples,plateau_start_s,plateau_end_s,cof_trend_per_s,stationary,flags\n1,1,150,150,20,914,article-eq7,0.4,0.01,400,2.1,2.5,0.0,true,\n";

@@ -219,9 +219,9 @@ pub struct Pin3dResult {
 }
 
 /// Bowden–Tabor sphere ploughing with contact radius `a` on a sphere of radius `r` (same
-/// units): `greybox_tribo::ploughing::bowden_tabor_mu` with the track width 2a.
+/// units): `greybox_contact::ploughing::bowden_tabor_mu` with the track width 2a.
 pub fn bowden_tabor_sphere(r: f64, a: f64) -> f64 {
-    greybox_tribo::ploughing::bowden_tabor_mu(r, 2.0 * a.min(r)).unwrap_or(f64::NAN)
+    greybox_contact::ploughing::bowden_tabor_mu(r, 2.0 * a.min(r)).unwrap_or(f64::NAN)
 }
 
 /// What CalculiX said about its failure: its first error with the lines after it, else the

@@ -303,6 +303,33 @@ pub(crate) fn invalid(field: &str, message: String) -> Error {
     Error::setting(option(field), message)
 }
 
+/// A [`TableSpec`] whose every option was checked ([`TableSpec::validated`]): what a table
+/// is written from, so that a run checks its options once, where they are stated. Its
+/// options are read through `Deref`; a changed spec is checked again
+/// (`into_inner`, change, `validated`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ValidTableSpec(TableSpec);
+
+impl std::ops::Deref for ValidTableSpec {
+    type Target = TableSpec;
+    fn deref(&self) -> &TableSpec {
+        &self.0
+    }
+}
+
+impl ValidTableSpec {
+    /// A table of `format` with every option at its default (valid for every format: the
+    /// test `every_format_defaults_are_valid` checks it).
+    pub fn defaults(format: ExportFormat) -> Self {
+        ValidTableSpec(TableSpec::new(format))
+    }
+
+    /// The spec, to change and check again.
+    pub fn into_inner(self) -> TableSpec {
+        self.0
+    }
+}
+
 /// What a table is, apart from the law it tabulates and the file it goes to: the engine
 /// with its options, the grid and the check.
 #[derive(Debug, Clone, PartialEq)]
@@ -352,8 +379,14 @@ impl TableSpec {
         self.engine.format()
     }
 
+    /// The spec, every option checked once; errors name the option (`export.tolerance`).
+    pub fn validated(self) -> Result<ValidTableSpec> {
+        self.validate()?;
+        Ok(ValidTableSpec(self))
+    }
+
     /// Check every option; errors name the option (`export.tolerance`).
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         self.grid.validate().map_err(|e| {
             let axes = ["pressure_Pa", "velocity_m_per_s", "temperature_K"];
             SettingError::between(axes.map(option).to_vec(), e.to_string())
@@ -388,5 +421,25 @@ impl TableSpec {
             }
         }
         self.engine.validate()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use greybox_core::choice::Choice;
+
+    /// [`ValidTableSpec::defaults`] holds what it says: every format's defaults pass the check.
+    #[test]
+    fn every_format_defaults_are_valid() {
+        for &format in ExportFormat::ALL {
+            let checked = TableSpec::new(format).validated().unwrap();
+            assert_eq!(
+                checked,
+                ValidTableSpec::defaults(format),
+                "{}",
+                format.name()
+            );
+        }
     }
 }

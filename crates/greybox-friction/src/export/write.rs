@@ -6,14 +6,15 @@
 //! use greybox_friction::classical::Coulomb;
 //! use greybox_friction::export::engine::{ExportFormat, TableSpec};
 //! use greybox_friction::export::write::table_text;
-//! let written = table_text(&Coulomb { mu: 0.3 }, &TableSpec::new(ExportFormat::Csv))?;
+//! let spec = TableSpec::new(ExportFormat::Csv).validated()?;
+//! let written = table_text(&Coulomb { mu: 0.3 }, &spec)?;
 //! assert!(written.text.starts_with("pressure_MPa,sliding_velocity_m_per_min"));
 //! assert_eq!(written.report.shape, [30, 21, 1]); // velocities, pressures, temperatures
 //! assert_eq!(written.report.max_deviation, Some(0.0));
 //! # Ok::<(), greybox_core::Error>(())
 //! ```
 
-use super::engine::{invalid, Engine, TableSpec};
+use super::engine::{invalid, Engine, TableSpec, ValidTableSpec};
 use super::{DeformWindow, Deviation, Exported, Grid, TableOptions};
 use crate::surrogate::{self, SurrogateOptions};
 use crate::table::Axis;
@@ -55,10 +56,10 @@ pub struct TableText {
     pub note: String,
 }
 
-/// The table `spec` asks for, of `law`, as text: validated, refused above
-/// `spec.max_table_size` values with the size it would have.
-pub fn table_text(law: &dyn FrictionLaw, spec: &TableSpec) -> Result<TableText> {
-    spec.validate()?;
+/// The table `spec` asks for, of `law`, as text, refused above `spec.max_table_size`
+/// values with the size it would have.
+pub fn table_text(law: &dyn FrictionLaw, spec: &ValidTableSpec) -> Result<TableText> {
+    let spec: &TableSpec = spec;
     let written = match &spec.engine {
         Engine::Table { kind } => surrogate_table(law, spec, *kind)?,
         engine => {

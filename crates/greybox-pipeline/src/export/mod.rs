@@ -55,7 +55,6 @@ pub fn parse_values(text: &str, what: &str) -> Result<Vec<f64>> {
 
 /// Export; returns what was written and its deviation from the law.
 pub fn export(a: &ExportOptions) -> Result<ExportReport> {
-    a.validate()?;
     // Read once: the outputs are checked against the law's inputs before the law (possibly
     // a model file of hundreds of MB) is built from the text read here.
     let law_file = LawFile::read(&a.law)?;

@@ -24,7 +24,7 @@ use anyhow::Result;
 use greybox_core::choice::Choice;
 use greybox_core::units::TemperatureUnit;
 use greybox_friction::export::engine::{
-    CheckPoints, Engine, ExportFormat, ObjectPair, TableSize, TableSpec,
+    CheckPoints, Engine, ExportFormat, ObjectPair, TableSize, TableSpec, ValidTableSpec,
 };
 use greybox_friction::export::{Grid, StepLines};
 use greybox_friction::grid::UnitSystem;
@@ -33,7 +33,9 @@ use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
 /// Options of [`export`](super::export()): the law, the file, and the table
-/// ([`TableSpec`]: engine, grid, check; its defaults are the friction crate's registry's).
+/// ([`TableSpec`]: engine, grid, check; its defaults are the friction crate's registry's),
+/// checked once where it is stated: by [`ExportOptions::new`] (the defaults), the builder
+/// methods and [`ExportOptions::overridden`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct ExportOptions {
     /// Law file, model file or table.
@@ -41,7 +43,7 @@ pub struct ExportOptions {
     /// Output file.
     pub out: PathBuf,
     /// The engine with its options, the grid and the check.
-    pub table: TableSpec,
+    pub table: ValidTableSpec,
 }
 
 impl ExportOptions {
@@ -50,7 +52,7 @@ impl ExportOptions {
         ExportOptions {
             law,
             out,
-            table: TableSpec::new(format),
+            table: ValidTableSpec::defaults(format),
         }
     }
 
@@ -58,30 +60,38 @@ impl ExportOptions {
         self.table.format()
     }
 
-    /// With this grid (SI).
-    pub fn with_grid(mut self, grid: Grid) -> Self {
-        self.table.grid = grid;
-        self
+    /// With this grid (SI), checked.
+    pub fn with_grid(self, grid: Grid) -> Result<Self> {
+        self.changed(|t| {
+            t.grid = grid;
+            Ok(())
+        })
     }
 
-    /// With this engine (and its options).
-    pub fn with_engine(mut self, engine: Engine) -> Self {
-        self.table.engine = engine;
-        self
+    /// With this engine (and its options), checked.
+    pub fn with_engine(self, engine: Engine) -> Result<Self> {
+        self.changed(|t| {
+            t.engine = engine;
+            Ok(())
+        })
     }
 
-    /// These options with the fields `o` sets replaced, then validated. An option of
-    /// another engine than this export's is an error naming it.
-    pub fn overridden(mut self, o: &ExportOverrides) -> Result<Self> {
-        o.apply_common(&mut self.table);
-        o.apply_engine(&mut self.table.engine)?;
-        self.validate()?;
+    /// These options with the fields `o` sets replaced, checked. An option of another
+    /// engine than this export's is an error naming it.
+    pub fn overridden(self, o: &ExportOverrides) -> Result<Self> {
+        self.changed(|t| {
+            o.apply_common(t);
+            o.apply_engine(&mut t.engine)
+        })
+    }
+
+    /// The table changed by `change`, then checked (errors name the option,
+    /// `export.tolerance`).
+    pub fn changed(mut self, change: impl FnOnce(&mut TableSpec) -> Result<()>) -> Result<Self> {
+        let mut table = self.table.into_inner();
+        change(&mut table)?;
+        self.table = table.validated()?;
         Ok(self)
-    }
-
-    /// Check every option; errors name the option (`export.tolerance`).
-    pub fn validate(&self) -> Result<()> {
-        Ok(self.table.validate()?)
     }
 }
 

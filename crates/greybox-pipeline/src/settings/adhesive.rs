@@ -16,13 +16,14 @@
 
 use crate::adhesive::{
     AdhesiveMethod, AdhesiveOptions, LoadStride, SimLoads, SimRuns, Simulation3dOptions,
-    SimulationOptions, ARTICLE_PIN_RADIUS_MM,
+    SimulationOptions,
 };
 use anyhow::Result;
+use greybox_contact::hertz::ARTICLE_PIN_TIP_RADIUS_MM;
+use greybox_contact::ploughing::TrackWidth;
 use greybox_core::setting::{SettingError, SettingPath};
 use greybox_couple::pin3d;
 use greybox_couple::pin3d::Increments;
-use greybox_tribo::ploughing::TrackWidth;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -60,7 +61,7 @@ pub struct AdhesiveSettings {
         value_parser = greybox_core::choice::clap_parsers::choice::<Method>()))]
     pub method: Method,
     /// Pin tip radius, mm.
-    #[cfg_attr(feature = "cli", arg(long = "pin-radius-mm", default_value_t = ARTICLE_PIN_RADIUS_MM))]
+    #[cfg_attr(feature = "cli", arg(long = "pin-radius-mm", default_value_t = ARTICLE_PIN_TIP_RADIUS_MM))]
     pub pin_radius_mm: f64,
     /// Measured track width as FORCE_N:WIDTH_um (repeatable); default: the article's Table 3.
     #[cfg_attr(feature = "cli", arg(long = "track-width"))]
@@ -125,7 +126,7 @@ impl Default for AdhesiveSettings {
         AdhesiveSettings {
             data: PathBuf::new(),
             method: Method::Analytic,
-            pin_radius_mm: ARTICLE_PIN_RADIUS_MM,
+            pin_radius_mm: ARTICLE_PIN_TIP_RADIUS_MM,
             track_width: Vec::new(),
             track_widths_csv: None,
             out: DEFAULT_OUT.into(),

@@ -42,6 +42,15 @@ fn default_fraction() -> f64 {
 }
 
 impl CutSettings {
+    /// The settings with their defaults, the set-up (required) as an empty path.
+    pub fn shown_defaults() -> Self {
+        CutSettings {
+            config: PathBuf::new(),
+            law: None,
+            fraction: DEFAULT_FRACTION,
+        }
+    }
+
     /// The cut these settings describe: the set-up read (its law relative to it), the law
     /// given here in its place.
     pub fn case(&self) -> Result<CutCase> {

@@ -7,18 +7,23 @@
 //! let s: FitSettings = greybox_pipeline::settings::from_json("fit",
 //!     r#"{"folds": 3, "svr_kernel": ["rbf"], "mlp_hidden": ["8x4"]}"#)?;
 //! let mut c = FitConfig::default();
-//! s.apply(&mut c)?;
+//! s.apply(&mut c);
 //! assert_eq!((c.folds.get(), c.grid.mlp.hidden_layers.clone()), (3, vec![vec![8, 4]]));
-//! let bad = FitSettings { mlp_hidden: Some(vec!["8y4".into()]), ..Default::default() };
-//! assert!(bad.apply(&mut c).unwrap_err().to_string().starts_with("fit.mlp_hidden"));
+//! // a choice is typed where it is read: a kernel or a layer spec refused by name
+//! let bad = greybox_pipeline::settings::from_json::<FitSettings>("fit",
+//!     r#"{"svr_kernel": ["rbf", "gauss"]}"#).unwrap_err();
+//! assert!(format!("{bad:#}").starts_with("fit.svr_kernel: 'gauss' is not one of linear"));
+//! let bad = greybox_pipeline::settings::from_json::<FitSettings>("fit",
+//!     r#"{"mlp_hidden": ["8y4"]}"#).unwrap_err();
+//! assert!(format!("{bad:#}").starts_with("fit.mlp_hidden[0]: '8y4' is not layer sizes"));
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
 use crate::fit::{default_target, FitOptions, DEFAULT_FEATURES};
 use crate::study::Study;
 use anyhow::Result;
-use greybox_core::choice::Choice;
-use greybox_core::setting::refused;
+#[cfg(feature = "cli")]
+use greybox_core::choice::clap_parsers::choice;
 use greybox_learn::protocol::{FitConfig, Folds, Repeats, Resamples};
 use greybox_model::ensemble::{BoostDepth, Trees};
 use greybox_model::family::Family;
@@ -47,9 +52,10 @@ pub struct FitSettings {
     /// Study TOML with a [fit] section (grids, folds, seeds); the settings below override it.
     #[cfg_attr(feature = "cli", arg(long))]
     pub study: Option<PathBuf>,
-    /// Model families, comma-separated (random-forest, svr, gradient-boosting, mlp).
-    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
-    pub families: Option<Vec<String>>,
+    /// Model families, comma-separated.
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ',', value_parser = choice::<Family>()))]
+    #[serde(with = "greybox_core::choice::names")]
+    pub families: Option<Vec<Family>>,
     /// Folds of the grid search and of the outer nested-CV loop.
     #[cfg_attr(feature = "cli", arg(long))]
     pub folds: Option<Folds>,
@@ -77,9 +83,10 @@ pub struct FitSettings {
     /// SVR grid: C values.
     #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
     pub svr_c: Option<Vec<f64>>,
-    /// SVR grid: kernels (linear, poly, rbf, sigmoid).
-    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
-    pub svr_kernel: Option<Vec<String>>,
+    /// SVR grid: kernels.
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ',', value_parser = choice::<Kernel>()))]
+    #[serde(with = "greybox_core::choice::names")]
+    pub svr_kernel: Option<Vec<Kernel>>,
     /// SVR grid: epsilon values.
     #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
     pub svr_epsilon: Option<Vec<f64>>,
@@ -94,10 +101,11 @@ pub struct FitSettings {
     pub gb_learning_rate: Option<Vec<f64>>,
     /// MLP grid: hidden layers, e.g. 64x32,32x16.
     #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
-    pub mlp_hidden: Option<Vec<String>>,
-    /// MLP grid: activations (relu, tanh, logistic, identity).
-    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
-    pub mlp_activation: Option<Vec<String>>,
+    pub mlp_hidden: Option<Vec<HiddenLayers>>,
+    /// MLP grid: activations.
+    #[cfg_attr(feature = "cli", arg(long, value_delimiter = ',', value_parser = choice::<Activation>()))]
+    #[serde(with = "greybox_core::choice::names")]
+    pub mlp_activation: Option<Vec<Activation>>,
     /// MLP grid: Adam learning rates.
     #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
     pub mlp_learning_rate: Option<Vec<f64>>,
@@ -113,27 +121,29 @@ pub struct FitSettings {
     pub force: bool,
 }
 
-/// Each name of `values` as a [`Choice`], the error naming `fit.<field>`.
-fn choices<T: Choice>(values: &[String], field: &str) -> Result<Vec<T>> {
-    values
-        .iter()
-        .map(|v| {
-            T::parse_choice(v)
-                .map_err(|e| anyhow::Error::from(refused("fit", field, e.to_string())))
-        })
-        .collect()
+/// An MLP's hidden layer sizes, written `64x32` (each a [`LayerWidth`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct HiddenLayers(pub Vec<usize>);
+
+impl std::str::FromStr for HiddenLayers {
+    type Err = String;
+    fn from_str(spec: &str) -> Result<Self, String> {
+        spec.split('x')
+            .map(|n| n.parse::<LayerWidth>().map(LayerWidth::get))
+            .collect::<Result<Vec<_>, _>>()
+            .map(HiddenLayers)
+            .map_err(|e| format!("'{spec}' is not layer sizes joined by x, e.g. 64x32 ({e})"))
+    }
 }
 
-/// `64x32` as layer sizes, each a [`LayerWidth`].
-fn hidden_layers(spec: &str) -> Result<Vec<usize>> {
-    spec.split('x')
-        .map(|n| n.parse::<LayerWidth>().map(LayerWidth::get))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| {
-            let why = format!("'{spec}' is not layer sizes joined by x, e.g. 64x32 ({e})");
-            anyhow::Error::from(refused("fit", "mlp_hidden", why))
-        })
+impl std::fmt::Display for HiddenLayers {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let sizes: Vec<String> = self.0.iter().map(usize::to_string).collect();
+        f.write_str(&sizes.join("x"))
+    }
 }
+
+greybox_core::text_serde!(HiddenLayers);
 
 /// Grid values as plain lengths.
 fn counts<const MIN: u64, const MAX: u64>(
@@ -149,7 +159,7 @@ impl FitSettings {
     pub fn shown_defaults() -> Self {
         let c = FitConfig::default();
         FitSettings {
-            families: Some(c.families.iter().map(|f| f.name().to_string()).collect()),
+            families: Some(c.families.clone()),
             folds: Some(c.folds),
             inner_folds: Some(c.inner_folds),
             seed: Some(c.seed),
@@ -160,15 +170,13 @@ impl FitSettings {
     }
 
     /// Apply the overrides to a protocol configuration.
-    pub fn apply(&self, c: &mut FitConfig) -> Result<()> {
+    pub fn apply(&self, c: &mut FitConfig) {
         fn set<T: Clone>(dst: &mut T, src: &Option<T>) {
             if let Some(v) = src {
                 *dst = v.clone();
             }
         }
-        if let Some(f) = &self.families {
-            c.families = choices::<Family>(f, "families")?;
-        }
+        set(&mut c.families, &self.families);
         set(&mut c.folds, &self.folds);
         set(&mut c.inner_folds, &self.inner_folds);
         set(&mut c.seed, &self.seed);
@@ -182,9 +190,7 @@ impl FitSettings {
         );
         set(&mut g.svr.c, &self.svr_c);
         set(&mut g.svr.epsilon, &self.svr_epsilon);
-        if let Some(k) = &self.svr_kernel {
-            g.svr.kernel = choices::<Kernel>(k, "svr_kernel")?;
-        }
+        set(&mut g.svr.kernel, &self.svr_kernel);
         set(
             &mut g.gradient_boosting.n_estimators,
             &counts(&self.gb_n_estimators),
@@ -198,17 +204,14 @@ impl FitSettings {
             &self.gb_learning_rate,
         );
         if let Some(h) = &self.mlp_hidden {
-            g.mlp.hidden_layers = h.iter().map(|s| hidden_layers(s)).collect::<Result<_>>()?;
+            g.mlp.hidden_layers = h.iter().map(|l| l.0.clone()).collect();
         }
-        if let Some(a) = &self.mlp_activation {
-            g.mlp.activation = choices::<Activation>(a, "mlp_activation")?;
-        }
+        set(&mut g.mlp.activation, &self.mlp_activation);
         set(&mut g.mlp.learning_rate, &self.mlp_learning_rate);
         set(
             &mut g.mlp.base.max_epochs,
             &self.mlp_max_epochs.map(Epochs::get),
         );
-        Ok(())
     }
 
     /// The fit's options: the study's `[fit]` section (or the article's protocol) with these
@@ -218,7 +221,7 @@ impl FitSettings {
             Some(p) => Study::load(p)?.fit,
             None => FitConfig::default(),
         };
-        self.apply(&mut config)?;
+        self.apply(&mut config);
         Ok(FitOptions {
             data: self.data.clone(),
             target: match &self.target {
@@ -235,5 +238,28 @@ impl FitSettings {
             out: self.out.clone().unwrap_or_else(|| DEFAULT_FIT_DIR.into()),
             force: self.force,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every width of a layer spec is a bounded count: a hostile width is refused where the
+    /// spec is read, not sized into a network.
+    #[test]
+    fn a_layer_width_beyond_its_cap_is_refused() {
+        for spec in ["64x1000000000", "0", "64x-1", "x", ""] {
+            let e = spec.parse::<HiddenLayers>().unwrap_err();
+            assert!(
+                e.contains(&format!("'{spec}' is not layer sizes")),
+                "{spec}: {e}"
+            );
+        }
+        assert_eq!(
+            "64x32".parse::<HiddenLayers>().unwrap(),
+            HiddenLayers(vec![64, 32])
+        );
+        assert_eq!(HiddenLayers(vec![8, 4]).to_string(), "8x4");
     }
 }

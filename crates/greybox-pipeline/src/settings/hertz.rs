@@ -16,7 +16,7 @@ use greybox_core::setting::refused;
 use serde::{Deserialize, Serialize};
 
 /// Radius of the article's pin, mm.
-pub const DEFAULT_RADIUS_MM: f64 = 17.0;
+pub const DEFAULT_RADIUS_MM: f64 = greybox_contact::hertz::ARTICLE_PIN_TIP_RADIUS_MM;
 /// Young's modulus of the disk (steel), GPa.
 pub const DEFAULT_E1_GPA: f64 = 210.0;
 /// Young's modulus of the pin (WC-Co), GPa.

@@ -92,8 +92,7 @@ pub struct IdentifySettings {
     /// Recording files (CSV/TXT, XLSX/XLS/ODS, TDMS) or directories: a file per step, per
     /// pin or for the whole campaign. A directory gives its pinNN files when the plan's pins
     /// are all there, else every recording file in natural order.
-    /// Required, except by `identify --rig list`.
-    #[cfg_attr(feature = "cli", arg(long, num_args = 1.., required_unless_present = "rig"))]
+    #[cfg_attr(feature = "cli", arg(long, num_args = 1..))]
     pub recordings: Vec<PathBuf>,
     /// Which files to pick from a directory: csv, tdms or spreadsheet (default: every
     /// supported format).
@@ -171,10 +170,9 @@ pub struct IdentifySettings {
     /// `#1`, `#2`, … (`normal=#2:N` maps by number), or to rename a file's columns.
     #[cfg_attr(feature = "cli", arg(long, value_delimiter = ','))]
     pub columns: Vec<String>,
-    /// Rig profile of the files (phoenix-te, pcs-mtm, bruker-umt, rtec, pod-dwf;
-    /// `identify --rig list` prints them); default: detected from each file's preamble and
-    /// header when exactly one profile matches.
-    #[cfg_attr(feature = "cli", arg(long))]
+    /// Rig profile of the files (`identify --list-rigs` prints them); default (`auto`):
+    /// detected from each file's preamble and header when exactly one profile matches.
+    #[cfg_attr(feature = "cli", arg(long, value_parser = clap::builder::PossibleValuesParser::new(greybox_recording::profiles::choices())))]
     pub rig: Option<String>,
     /// Normal load, N, for rigs that do not record it (dead-weight pin-on-disc rigs).
     #[cfg_attr(feature = "cli", arg(long = "constant-normal-force-N"))]

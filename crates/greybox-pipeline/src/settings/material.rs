@@ -108,9 +108,12 @@ pub struct RateSensitivitySettings {
     /// Cutting set-up TOML (its material's C is replaced in each run).
     #[cfg_attr(feature = "cli", arg(long))]
     pub config: PathBuf,
-    /// Measured cutting force per unit width, N/mm.
-    #[cfg_attr(feature = "cli", arg(long = "measured-force-n-per-mm"))]
-    pub measured_force_N_per_mm: f64,
+    /// Measured cutting force per unit width, N/mm (required).
+    #[cfg_attr(
+        feature = "cli",
+        arg(long = "measured-force-n-per-mm", required = true)
+    )]
+    pub measured_force_N_per_mm: Option<f64>,
     /// Lower end of the C searched.
     #[cfg_attr(feature = "cli", arg(long = "c-min", default_value_t = DEFAULT_C_MIN))]
     pub c_min: f64,
@@ -133,7 +136,7 @@ impl Default for RateSensitivitySettings {
     fn default() -> Self {
         RateSensitivitySettings {
             config: PathBuf::new(),
-            measured_force_N_per_mm: f64::NAN,
+            measured_force_N_per_mm: None,
             c_min: DEFAULT_C_MIN,
             c_max: DEFAULT_C_MAX,
             tolerance_N_per_mm: DEFAULT_FORCE_TOLERANCE_N_PER_MM,
@@ -149,14 +152,16 @@ impl RateSensitivitySettings {
         if self.config.as_os_str().is_empty() {
             return Err(refused("material", "config", "give the cutting set-up TOML").into());
         }
-        if !(self.measured_force_N_per_mm.is_finite() && self.measured_force_N_per_mm > 0.0) {
-            let why = "give the measured cutting force per width, a positive number";
-            let e = SettingError::new(SettingPath::new("material", "measured_force_N_per_mm"), why);
-            return Err(e.value(self.measured_force_N_per_mm).into());
-        }
+        let at = SettingPath::new("material", "measured_force_N_per_mm");
+        let why = "give the measured cutting force per width, a positive number";
+        let force = match self.measured_force_N_per_mm {
+            Some(f) if f.is_finite() && f > 0.0 => f,
+            Some(f) => return Err(SettingError::new(at, why).value(f).into()),
+            None => return Err(SettingError::new(at, why).into()),
+        };
         Ok(RateSensitivityOptions {
             config: self.config.clone(),
-            measured_force_n_per_m: per_mm_to_per_m(self.measured_force_N_per_mm),
+            measured_force_n_per_m: per_mm_to_per_m(force),
             c_range: (self.c_min, self.c_max),
             tolerance_n_per_m: per_mm_to_per_m(self.tolerance_N_per_mm),
             max_runs: self.max_runs,

@@ -9,22 +9,103 @@
 //! [`crate::export::ExportOverrides`], because its defaults depend on the engine.
 
 pub mod adhesive;
+pub mod characterize;
 pub mod couple;
 pub mod cut;
 pub mod fit;
 pub mod hertz;
 pub mod identify;
+pub mod import;
 pub mod law;
 pub mod material;
 pub mod pin;
 pub mod plan;
+pub mod predict;
 pub mod synth;
+pub mod wear;
 pub mod windows;
 
 use anyhow::Result;
 use greybox_core::setting::{SettingError, SettingPath};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
+
+/// A stage with one settings type: the name its errors and Python's `settings_defaults`
+/// use (the CLI subcommand's, where it has one), and its settings with their defaults. A
+/// new stage's settings type is added here once (a test checks that each entry's defaults
+/// parse back as its type).
+#[derive(Debug)]
+pub struct StageSettings {
+    /// The stage's name (`fit`, `cut`, …).
+    pub name: &'static str,
+    /// Its settings with their defaults, as JSON (a required path as `""`).
+    pub defaults: fn() -> serde_json::Value,
+    /// Parse settings JSON as the stage's type ([`from_json`]), for checks.
+    pub parse: fn(&str) -> Result<()>,
+}
+
+/// The entry of `T`, whose defaults are `defaults()`.
+const fn stage<T: DeserializeOwned + Serialize>(
+    name: &'static str,
+    defaults: fn() -> serde_json::Value,
+) -> StageSettings {
+    StageSettings {
+        name,
+        defaults,
+        parse: parse_as::<T>,
+    }
+}
+
+/// Whether `text` is settings JSON of `T`.
+fn parse_as<T: DeserializeOwned>(text: &str) -> Result<()> {
+    serde_json::from_str::<T>(text)?;
+    Ok(())
+}
+
+/// `T::default()` as JSON.
+fn defaults_of<T: Default + Serialize>() -> serde_json::Value {
+    serde_json::to_value(T::default()).expect("settings serialize")
+}
+
+/// Every stage with one settings type (Python's `settings_defaults` adds the run output,
+/// the validation suite and the report, whose types live elsewhere).
+pub const STAGES: &[StageSettings] = &[
+    stage::<identify::IdentifySettings>("identify", defaults_of::<identify::IdentifySettings>),
+    stage::<synth::SynthSettings>("synth", defaults_of::<synth::SynthSettings>),
+    stage::<hertz::HertzSettings>("hertz", defaults_of::<hertz::HertzSettings>),
+    stage::<plan::PlanSettings>("plan", defaults_of::<plan::PlanSettings>),
+    stage::<fit::FitSettings>("fit", || {
+        serde_json::to_value(fit::FitSettings::shown_defaults()).expect("settings serialize")
+    }),
+    stage::<adhesive::AdhesiveSettings>("adhesive", defaults_of::<adhesive::AdhesiveSettings>),
+    stage::<pin::PinSettings>("pin", defaults_of::<pin::PinSettings>),
+    stage::<couple::CoupleSettings>("couple", defaults_of::<couple::CoupleSettings>),
+    stage::<law::GreyBoxSettings>("law", defaults_of::<law::GreyBoxSettings>),
+    stage::<windows::WindowsSettings>("windows", defaults_of::<windows::WindowsSettings>),
+    stage::<material::FlowCurveSettings>("flow_curves", defaults_of::<material::FlowCurveSettings>),
+    stage::<material::RateSensitivitySettings>(
+        "rate_sensitivity",
+        defaults_of::<material::RateSensitivitySettings>,
+    ),
+    stage::<cut::CutSettings>("cut", || {
+        serde_json::to_value(cut::CutSettings::shown_defaults()).expect("settings serialize")
+    }),
+    stage::<predict::DomainCheck>("predict", defaults_of::<predict::DomainCheck>),
+    stage::<import::ImportSettings>("import", defaults_of::<import::ImportSettings>),
+    stage::<characterize::CharacterizeSettings>(
+        "characterize",
+        defaults_of::<characterize::CharacterizeSettings>,
+    ),
+    stage::<wear::WearSettings>("wear", defaults_of::<wear::WearSettings>),
+];
+
+/// The registry's entry of `name`, or an error listing the stages.
+pub fn stage_settings(name: &str) -> Result<&'static StageSettings> {
+    STAGES.iter().find(|s| s.name == name).ok_or_else(|| {
+        let names: Vec<&str> = STAGES.iter().map(|s| s.name).collect();
+        anyhow::anyhow!("stage '{name}': expected one of {}", names.join(", "))
+    })
+}
 
 /// Settings of stage `stage` from JSON (an unknown or mistyped key is an error naming it;
 /// a value refused by its type, such as a count beyond its cap, names its key too):
@@ -132,6 +213,19 @@ fn parse_keys<T: DeserializeOwned + Serialize>(stage: &str, text: &str) -> Resul
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Each stage's defaults are settings of its type (the registry cannot pair a name with
+    /// another stage's defaults), and the names are unique.
+    #[test]
+    fn every_stage_defaults_parse_back_as_its_settings() {
+        for s in STAGES {
+            let text = (s.defaults)().to_string();
+            (s.parse)(&text).unwrap_or_else(|e| panic!("{}: {e:#}: {text}", s.name));
+            assert_eq!(stage_settings(s.name).unwrap().name, s.name);
+        }
+        let e = stage_settings("fitt").unwrap_err().to_string();
+        assert!(e.contains("expected one of identify, synth"), "{e}");
+    }
 
     /// A value refused inside a flattened field (identify's plan) still names its key.
     #[test]

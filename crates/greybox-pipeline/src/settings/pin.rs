@@ -12,9 +12,9 @@
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
-use crate::adhesive::ARTICLE_PIN_RADIUS_MM;
 use crate::simulate::Indentation;
 use anyhow::Result;
+use greybox_contact::hertz::ARTICLE_PIN_TIP_RADIUS_MM;
 use greybox_core::setting::{SettingError, SettingPath};
 use greybox_core::units::{m_per_min_to_m_per_s, mm_to_m, um_to_m};
 use greybox_sim::pin::PinSetup;
@@ -41,7 +41,7 @@ pub struct PinSettings {
     #[cfg_attr(feature = "cli", arg(long = "track-width-um"))]
     pub track_width_um: Option<f64>,
     /// Pin tip radius, mm.
-    #[cfg_attr(feature = "cli", arg(long = "pin-radius-mm", default_value_t = ARTICLE_PIN_RADIUS_MM))]
+    #[cfg_attr(feature = "cli", arg(long = "pin-radius-mm", default_value_t = ARTICLE_PIN_TIP_RADIUS_MM))]
     pub pin_radius_mm: f64,
     /// Coulomb μ on the pin.
     #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_MU))]
@@ -75,7 +75,7 @@ impl Default for PinSettings {
         PinSettings {
             depth_um: None,
             track_width_um: None,
-            pin_radius_mm: ARTICLE_PIN_RADIUS_MM,
+            pin_radius_mm: ARTICLE_PIN_TIP_RADIUS_MM,
             mu: DEFAULT_MU,
             spacing_um: DEFAULT_SPACING_UM,
             slide_mm: DEFAULT_SLIDE_MM,

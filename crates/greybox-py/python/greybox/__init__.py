@@ -71,6 +71,7 @@ __all__ = [
     "hertz",
     "synth",
     "read_recording",
+    "rig_profiles",
     "identify",
     "read_dataset",
     "ploughing_correction",
@@ -264,6 +265,11 @@ class LawValues(NamedTuple):
     in_domain: np.ndarray
 
 
+def _domain_check(outside: Optional[str], margin: Optional[float]) -> str:
+    """``outside`` and ``margin`` as the library's domain check (``None``: its default)."""
+    return _settings({"outside": _opt_str(outside, "outside"), "margin": _opt_float(margin, "margin")})
+
+
 class Model:
     """A greybox model file: features with units, training domain, prediction interval.
 
@@ -316,12 +322,14 @@ class Model:
     def content_hash(self) -> str:
         return self._m.content_hash
 
-    def predict(self, X: ArrayLike, outside: str = "warn", margin: float = 0.05) -> Prediction:
+    def predict(self, X: ArrayLike, outside: Optional[str] = None, margin: Optional[float] = None) -> Prediction:
         """Predictions at rows of ``X`` (n × features, in the features' units).
 
         ``outside="refuse"`` raises for points beyond the training domain widened by
-        ``margin`` × each feature's range; ``"warn"`` predicts, flags them in ``in_domain``
-        and warns (:class:`DomainWarning`) how many lie outside, on which features.
+        ``margin`` × each feature's range; ``"warn"`` (the default) predicts, flags them in
+        ``in_domain`` and warns (:class:`DomainWarning`) how many lie outside, on which
+        features. ``None`` takes the library's default, as ``greybox predict`` does
+        (``settings_defaults("predict")``: warn, margin 0.05).
         A DataFrame is reordered to the model's feature names.
         """
         if hasattr(X, "columns"):
@@ -329,15 +337,15 @@ class Model:
             if missing:
                 raise InputError(f"X lacks the model's feature columns {missing}")
             X = X[self.features].to_numpy()  # type: ignore[index]
-        return Prediction(*_warn_outside(self._m.predict(_f64_2d(X, "X"), outside, margin)))
+        return Prediction(*_warn_outside(self._m.predict(_f64_2d(X, "X"), _domain_check(outside, margin))))
 
     def mu(
         self,
         pressure_Pa: ArrayLike,
         velocity_m_per_s: ArrayLike,
         temperature_K: Optional[ArrayLike] = None,
-        outside: str = "warn",
-        margin: float = 0.05,
+        outside: Optional[str] = None,
+        margin: Optional[float] = None,
     ) -> Prediction:
         """μ at contact states in SI, mapped to the model's feature units (a normal-force
         feature through the training contact's Hertz relation), with intervals and the
@@ -345,7 +353,7 @@ class Model:
         as in NumPy (a scalar pressure with an array of velocities, a grid from a column and
         a row); each array returned has the broadcast shape."""
         shape, (p, v, t) = _broadcast(pressure_Pa=pressure_Pa, velocity_m_per_s=velocity_m_per_s, temperature_K=temperature_K)
-        return Prediction(*(a.reshape(shape) for a in _warn_outside(self._m.mu(p, v, t, outside, margin))))
+        return Prediction(*(a.reshape(shape) for a in _warn_outside(self._m.mu(p, v, t, _domain_check(outside, margin)))))
 
     def law(self) -> "Law":
         """This model as a friction law."""
@@ -421,14 +429,14 @@ class Law:
         pressure_Pa: ArrayLike,
         velocity_m_per_s: ArrayLike,
         temperature_K: Optional[ArrayLike] = None,
-        outside: str = "warn",
+        outside: Optional[str] = None,
     ) -> LawValues:
         """μ at contact states in SI (Pa, m/s, K). States outside the law's validity domain
-        are flagged in ``in_domain``; ``outside="warn"`` also warns (:class:`DomainWarning`),
+        are flagged in ``in_domain``; ``outside="warn"`` (the default) also warns (:class:`DomainWarning`),
         ``"refuse"`` raises. The states broadcast as in NumPy; each array returned has the
         broadcast shape."""
         shape, (p, v, t) = _broadcast(pressure_Pa=pressure_Pa, velocity_m_per_s=velocity_m_per_s, temperature_K=temperature_K)
-        return LawValues(*(a.reshape(shape) for a in _warn_outside(self._l.mu(p, v, t, outside))))
+        return LawValues(*(a.reshape(shape) for a in _warn_outside(self._l.mu(p, v, t, _opt_str(outside, "outside")))))
 
     def __repr__(self) -> str:
         return repr(self._l)
@@ -552,6 +560,14 @@ def synth(
         "out": out, "study": study, "format": format, "seed": seed,
         "disturbance_scale": disturbance_scale, "force": force or None, **plan,
     })))
+
+
+def rig_profiles() -> list:
+    """The rig profiles ``rig=`` names (as ``greybox identify --list-rigs`` prints them): one
+    dict per profile with ``name``, ``vendor`` (rig and export program), ``mode``
+    (continuous, stepped or reciprocating) and ``verified_against`` (the real public export it was
+    written against)."""
+    return json.loads(_native.rig_profiles())
 
 
 def read_recording(
@@ -888,14 +904,12 @@ def fit(
     })))
 
 
-def _contact(contact: Any) -> tuple:
-    """``contact=`` as (JSON of the [contact] keys, study path): a dict, or a study TOML."""
-    if contact is None:
-        return None, None
+def _contact(contact: Any) -> Any:
+    """``contact=`` as settings JSON: a dict of the study's [contact] keys, or a study TOML."""
+    if contact is None or isinstance(contact, dict):
+        return contact
     if isinstance(contact, (str, os.PathLike)):
-        return None, os.fspath(contact)
-    if isinstance(contact, dict):
-        return _dumps(contact), None
+        return _path(contact, "contact")
     raise InputError(f"contact: expected a dict of the study's [contact] keys or a study TOML path, got {type(contact).__name__}")
 
 
@@ -935,24 +949,27 @@ def _training_contact(x: Any) -> Optional[tuple]:
     return [str(c) for c in conv], np.asarray(p, dtype=float).tolist(), np.asarray(f, dtype=float).tolist()
 
 
-def _import(source: str, is_json: bool, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data=None) -> Model:
-    contact_json, contact_study = _contact(contact)
+def _import(source: str, is_json: bool, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data=None, calibration=None) -> Model:
+    if (X_cal is None) != (y_cal is None):
+        raise InputError("X_cal, y_cal: calibration rows need both X_cal and y_cal")
     if features is None and X_train is not None and _columns_of(X_train) is not None and is_json:
         features = json.loads(source).get("feature_names")
+    settings = _settings({
+        "features": None if features is None else _strs(features, "features"),
+        "target": _opt_str(target, "target"),
+        "domain": None if domain is None else [[float(a), float(b)] for a, b in domain],
+        "coverage": _opt_float(coverage, "coverage"),
+        "contact": _contact(contact),
+        "training_data": _opt_path(training_data, "training_data"),
+        "calibration": _opt_path(calibration, "calibration"),
+    })
     return Model(
         _native.import_model(
             source,
-            None if features is None else _strs(features, "features"),
-            target,
-            None if domain is None else [(float(a), float(b)) for a, b in domain],
-            None if X_train is None else _by_name(X_train, features, "X_train"),
-            None if X_cal is None else _by_name(X_cal, features, "X_cal"),
-            None if y_cal is None else _f64(y_cal, "y_cal"),
-            coverage,
             is_json,
-            contact_json,
-            contact_study,
-            _opt_path(training_data, "training_data"),
+            settings,
+            None if X_train is None else _by_name(X_train, features, "X_train"),
+            None if X_cal is None else (_by_name(X_cal, features, "X_cal"), _f64(y_cal, "y_cal")),
             None if X_train is None else _training_contact(X_train),
         )
     )
@@ -969,6 +986,7 @@ def from_sklearn(
     coverage: Optional[float] = None,
     contact: Any = None,
     training_data: Optional[PathLike] = None,
+    calibration: Optional[PathLike] = None,
 ) -> Model:
     """A fitted scikit-learn regressor as a greybox model: RandomForestRegressor,
     ExtraTreesRegressor, GradientBoostingRegressor, SVR (linear, poly, rbf, sigmoid) or
@@ -979,7 +997,8 @@ def from_sklearn(
     was not trained on (``X_cal``, ``y_cal``) give a split-conformal interval. A DataFrame
     (or a dict table) is read by column name in the order of ``features``, never by
     position; ``training_data`` is the training CSV instead (as ``greybox import
-    --training-data``). Training data that is a greybox friction dataset (the CSV, or its
+    --training-data``); ``calibration`` a CSV of such rows with their target (as ``greybox
+    import --calibration``). Training data that is a greybox friction dataset (the CSV, or its
     table from :func:`read_dataset`) also gives the model its contact, as on the command
     line. A feature set that cannot be a friction law μ(p, v[, T]) — no velocity, two
     force or pressure features — is refused here, naming what is missing.
@@ -998,7 +1017,7 @@ def from_sklearn(
     predictions agree with scikit-learn to rounding of the sum (splits bit-exact, including
     its float32 input cast); SVR and MLP to rounding."""
     exported = _foreign("estimator", "a fitted scikit-learn regressor or pipeline", lambda: export_sklearn_json(estimator))
-    return _import(exported, True, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
+    return _import(exported, True, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data, calibration)
 
 
 def _foreign(name: str, expected: str, call: Callable[[], _T]) -> _T:
@@ -1025,13 +1044,14 @@ def from_xgboost(
     coverage: Optional[float] = None,
     contact: Any = None,
     training_data: Optional[PathLike] = None,
+    calibration: Optional[PathLike] = None,
 ) -> Model:
     """An XGBoost model (a ``Booster``, an ``XGBRegressor`` or a path to a booster saved as
     JSON or UBJSON) as a greybox model whose predictions equal ``Booster.predict`` bit for
     bit (float32 splits and float32 sums reproduced). Other arguments as in
     :func:`from_sklearn`."""
     if isinstance(booster, (str, os.PathLike)):
-        return _import(_path(booster, "booster"), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
+        return _import(_path(booster, "booster"), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data, calibration)
     expected = "a fitted xgboost.Booster or XGBRegressor, or a path to a saved booster"
     b = _foreign("booster", expected, lambda: booster.get_booster() if hasattr(booster, "get_booster") else booster)
     if features is None and getattr(b, "feature_names", None):
@@ -1039,7 +1059,7 @@ def from_xgboost(
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "booster.ubj")
         _foreign("booster", expected, lambda: b.save_model(path))
-        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
+        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data, calibration)
 
 
 def grey_box_law(
@@ -1082,11 +1102,12 @@ def import_model(
     coverage: Optional[float] = None,
     contact: Any = None,
     training_data: Optional[PathLike] = None,
+    calibration: Optional[PathLike] = None,
 ) -> Model:
     """A model file of another library, as ``greybox import`` reads it: an XGBoost booster
     (JSON/UBJSON), an ONNX model, or a scikit-learn export written from
     :func:`export_sklearn`. Other arguments as in :func:`from_sklearn`."""
-    return _import(_path(path, "path"), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
+    return _import(_path(path, "path"), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data, calibration)
 
 
 def from_onnx(
@@ -1100,6 +1121,7 @@ def from_onnx(
     coverage: Optional[float] = None,
     contact: Any = None,
     training_data: Optional[PathLike] = None,
+    calibration: Optional[PathLike] = None,
 ) -> Model:
     """An ONNX model (a path, the file's bytes, or an ``onnx.ModelProto``) converted into a
     greybox model — tree ensembles (``TreeEnsembleRegressor``), SVMs (``SVMRegressor``),
@@ -1109,14 +1131,14 @@ def from_onnx(
     float32 rounding (the runtime computes in float32). ONNX graphs carry no usable feature
     names: state ``features`` with units. Other arguments as in :func:`from_sklearn`."""
     if isinstance(model, (str, os.PathLike)):
-        return _import(_path(model, "model"), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
+        return _import(_path(model, "model"), False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data, calibration)
     data = model if isinstance(model, (bytes, bytearray)) else _foreign(
         "model", "a path, the bytes of an ONNX file or an onnx.ModelProto", lambda: model.SerializeToString())
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "model.onnx")
         with open(path, "wb") as f:
             f.write(data)
-        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data)
+        return _import(path, False, features, target, domain, X_train, X_cal, y_cal, coverage, contact, training_data, calibration)
 
 
 def _law_path(law: Any, tmp: str) -> str:
@@ -1262,9 +1284,12 @@ def fit_rate_sensitivity(
 
 
 def settings_defaults(stage: str) -> dict:
-    """The library's settings of ``stage`` (identify, synth, hertz, plan, fit, adhesive,
-    pin, output, couple, law, windows, flow_curves, rate_sensitivity) with their defaults: the keyword arguments of its function,
-    which are the command line's flags by the library's field names."""
+    """The library's settings of ``stage`` with their defaults: the keyword arguments of its
+    function, which are the command line's flags by the library's field names. Stages:
+    identify, synth, hertz, plan, fit, adhesive, pin, couple, law, windows, flow_curves,
+    rate_sensitivity, cut (:func:`simulate_cut`), predict (:meth:`Model.predict`), import
+    (:func:`import_model` and the other imports), and output (a run's output directory),
+    validate, report."""
     return json.loads(_native.settings_defaults(stage))
 
 

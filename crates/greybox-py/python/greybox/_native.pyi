@@ -46,14 +46,15 @@ class Model:
     def held_out_r2(self) -> Optional[float]: ...
     @property
     def content_hash(self) -> str: ...
-    def predict(self, x: npt.NDArray[np.float64], outside: str = "warn", margin: float = 0.05) -> _Arrays: ...
+    def predict(self, x: npt.NDArray[np.float64], check: str = "{}") -> _Arrays:
+        """``check``: JSON of the library's DomainCheck (outside, margin)."""
+        ...
     def mu(
         self,
         pressure_pa: npt.NDArray[np.float64],
         velocity_m_s: npt.NDArray[np.float64],
         temperature_k: Optional[npt.NDArray[np.float64]] = None,
-        outside: str = "warn",
-        margin: float = 0.05,
+        check: str = "{}",
     ) -> _Arrays: ...
 
 class Law:
@@ -70,7 +71,7 @@ class Law:
         pressure_pa: npt.NDArray[np.float64],
         velocity_m_s: npt.NDArray[np.float64],
         temperature_k: Optional[npt.NDArray[np.float64]] = None,
-        outside: str = "warn",
+        outside: Optional[str] = None,
     ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_], Optional[str]]: ...
 
 def hertz_rows(settings: str) -> str:
@@ -99,6 +100,7 @@ def export_table(law: str, format: str, out: str, options: str = "{}") -> str:
 def windows(settings: str) -> str: ...
 def fit_flow_curves(settings: str) -> str: ...
 def fit_rate_sensitivity(settings: str) -> str: ...
+def rig_profiles() -> str: ...
 def settings_defaults(stage: str) -> str:
     """JSON of the settings of `stage` with their defaults."""
     ...
@@ -113,16 +115,12 @@ def report(settings: str) -> str: ...
 def example(name: str) -> str: ...
 def import_model(
     source: str,
-    features: Optional[Sequence[str]] = None,
-    target: Optional[str] = None,
-    domain: Optional[Sequence[tuple[float, float]]] = None,
+    is_json: bool,
+    settings: str,
     x_train: Optional[npt.NDArray[np.float64]] = None,
-    x_cal: Optional[npt.NDArray[np.float64]] = None,
-    y_cal: Optional[npt.NDArray[np.float64]] = None,
-    coverage: Optional[float] = None,
-    is_json: bool = False,
-    contact_json: Optional[str] = None,
-    contact_study: Optional[str] = None,
-    training_data: Optional[str] = None,
+    calibration_rows: Optional[tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]] = None,
     training_contact: Optional[tuple[list[str], list[float], list[float]]] = None,
-) -> Model: ...
+) -> Model:
+    """``settings``: JSON of the library's ImportSettings (features, target, domain,
+    training_data, calibration, coverage, contact); the rows beside it."""
+    ...

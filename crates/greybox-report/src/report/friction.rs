@@ -5,9 +5,9 @@ use super::page::{Block, Section, Table};
 use super::scan::Found;
 use super::{num, shown, Ctx};
 use anyhow::{Context, Result};
+use greybox_contact::ploughing::Correction;
 use greybox_core::dataset::FrictionDataset;
 use greybox_core::plot::{heatmap, lines, Heatmap, Line};
-use greybox_tribo::ploughing::Correction;
 use std::path::Path;
 
 pub fn section(dir: &Path, found: &Found, w: &mut Ctx) -> Option<Section> {

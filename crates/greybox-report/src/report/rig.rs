@@ -98,7 +98,7 @@ fn dynamics_blocks(dir: &Path, p: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
 }
 
 fn wear_table(dir: &Path, p: &Path) -> Result<Table> {
-    let tests = greybox_tribo::wear::read_wear_tests(p)?;
+    let tests = greybox_contact::wear::read_wear_tests(p)?;
     let mut t = Table::new(
         &format!("Wear tests: Archard specific wear rate ({})", shown(dir, p)),
         &[

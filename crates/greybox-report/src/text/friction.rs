@@ -2,11 +2,11 @@
 //! fit of the model families and a model's predictions.
 
 use super::table::Table;
+use greybox_contact::ploughing::Correction;
 use greybox_learn::protocol::FitReport;
 use greybox_model::modelfile::ModelFile;
 use greybox_pipeline::fit::FitOutputs;
 use greybox_pipeline::predict::PredictedPoint;
-use greybox_tribo::ploughing::Correction;
 use std::fmt::Write as _;
 
 /// The ploughing correction per load.

@@ -1,0 +1,227 @@
+#!/usr/bin/env python3
+"""What sets the chip's speed dependence: one set-up cut at a slow and at fast measured
+conditions, each variant changing one thing (docs/validation.md, "The chip's speed
+dependence: ablations").
+
+Every cut is the validation suite's cut of a condition of `orthogonal-cutting.csv` (the
+template with the condition's speed, uncut chip thickness, rake, clearance and edge radius;
+run at the template's `cutting_speed_m_s` and scaled back to the physical speed), refined
+20 → 10 µm as `validation/suite-refined-fast.toml`, at a fixed μ, run to its full length.
+The variants:
+
+* `baseline` — as the suite cuts it (time scaling: strain rate ÷ s, conductivity × s);
+* `mass-scaled` — no time scaling: cut at the physical speed, the mass scaled by s² more
+  instead (the same steps, inertia and wave-to-cut speed ratio; strain rate and conduction
+  physical without scaling);
+* `no-conduction` — the workpiece's conductivity 10⁻³ W/(m·K) (adiabatic);
+* `adiabatic-tool` — no tool temperature field (`[tool_thermal]` removed);
+* `heat-to-chip`, `heat-to-tool` — the friction heat's share into the workpiece 1 or 0;
+* `no-rate` — the flow stress without its strain-rate term (C = 0);
+* `no-softening` — without thermal softening (m = 50: (T*)^m ≈ 0 below the melt);
+* `mu-half`, `mu-1.5x` — μ × 0.5, × 1.5.
+
+    python3 scripts/chip_ablation.py GREYBOX validation/ti64-tanh-setup.toml \\
+        --data validation/orthogonal-cutting.csv --conditions D07 D12 D17 --mu 0.396 \\
+        --out /tmp/ablation [--variants baseline mass-scaled …] [--cut-length-mm 1.2] [--jobs 2]
+
+Prints a table per condition (F'c, F'f, h_c/h with their 95 % intervals, serrated share,
+segment pitch, peak rake temperature) beside the measured values, and per variant the
+chip ratio's change from the slowest to the fastest condition against the measured one.
+Relative paths in the template stay relative to its folder (the variants are written
+beside the outputs with absolute paths where needed).
+"""
+import argparse
+import concurrent.futures
+import csv
+import json
+import os
+import re
+import subprocess
+import time
+
+REFINEMENT = ('[refinement]\nregions = [{ ahead_m = 0.2e-3, behind_m = 0.02e-3, '
+              'below_m = 0.04e-3, above_m = 0.3e-3 }]\n')
+COARSE_SPACING_M = 2.0e-5
+
+
+def sections(text):
+    """The TOML text as [(header, lines)], the top level first with header ''."""
+    out = [('', [])]
+    for line in text.splitlines():
+        m = re.match(r'^\[([^\[\]]+)\]\s*$', line)
+        if m:
+            out.append((m.group(1).strip(), []))
+        else:
+            out[-1][1].append(line)
+    return out
+
+
+def join(parts):
+    text = []
+    for header, lines in parts:
+        if header:
+            text.append(f'[{header}]')
+        text.extend(lines)
+    return '\n'.join(text) + '\n'
+
+
+def set_key(parts, section, key, value):
+    """`key = value` in `section` (replaced, else added at the section's top)."""
+    for header, lines in parts:
+        if header == section:
+            pattern = re.compile(rf'^{re.escape(key)}\s*=')
+            for i, line in enumerate(lines):
+                if pattern.match(line):
+                    lines[i] = f'{key} = {value}'
+                    return
+            lines.insert(0, f'{key} = {value}')
+            return
+    raise SystemExit(f'the template has no [{section}] table')
+
+
+def get_key(parts, section, key):
+    for header, lines in parts:
+        if header == section:
+            for line in lines:
+                m = re.match(rf'^{re.escape(key)}\s*=\s*(.+?)\s*(#.*)?$', line)
+                if m:
+                    return m.group(1)
+    raise SystemExit(f'the template has no {key} in [{section}]')
+
+
+def remove_section(parts, section):
+    return [(h, l) for h, l in parts if h != section]
+
+
+def condition_rows(path):
+    with open(path, newline='', encoding='utf-8') as f:
+        lines = [line for line in f if not line.startswith('#')]
+    return {r['id']: r for r in csv.DictReader(lines)}
+
+
+def variant_text(template, cond, mu, variant, cut_length_m):
+    parts = sections(template)
+    run_speed = float(get_key(parts, '', 'cutting_speed_m_s'))
+    speed = float(cond['cutting_speed_m_per_min']) / 60.0
+    s = run_speed / speed
+    set_key(parts, '', 'uncut_chip_thickness_m', repr(float(cond['uncut_chip_thickness_mm']) * 1e-3))
+    set_key(parts, '', 'cut_length_m', repr(cut_length_m))
+    set_key(parts, '', 'spacing_m', repr(COARSE_SPACING_M))
+    set_key(parts, '', 'mu', repr(mu))
+    set_key(parts, 'insert', 'rake_deg', cond['rake_deg'])
+    set_key(parts, 'insert', 'clearance_deg', cond['clearance_deg'])
+    set_key(parts, 'insert', 'edge_radius_m', repr(float(cond['edge_radius_um']) * 1e-6))
+    set_key(parts, 'steady', 'stop_when_sure', 'false')
+    if variant == 'mass-scaled':
+        set_key(parts, '', 'cutting_speed_m_s', repr(speed))
+        mass = float(get_key(parts, 'numerics', 'mass_scaling'))
+        set_key(parts, 'numerics', 'mass_scaling', repr(mass * s * s))
+    else:
+        set_key(parts, '', 'physical_cutting_speed_m_s', repr(speed))
+    if variant == 'no-conduction':
+        set_key(parts, 'material.thermal', 'conductivity', '{ x = [0.0], y = [1.0e-3] }')
+    elif variant == 'adiabatic-tool':
+        parts = remove_section(parts, 'tool_thermal')
+    elif variant == 'heat-to-chip':
+        set_key(parts, 'numerics', 'friction_heat_share', '1.0')
+    elif variant == 'heat-to-tool':
+        set_key(parts, 'numerics', 'friction_heat_share', '0.0')
+    elif variant == 'no-rate':
+        set_key(parts, 'material.plasticity', 'c', '0.0')
+    elif variant == 'no-softening':
+        set_key(parts, 'material.plasticity', 'm', '50.0')
+    elif variant == 'mu-half':
+        set_key(parts, '', 'mu', repr(mu * 0.5))
+    elif variant == 'mu-1.5x':
+        set_key(parts, '', 'mu', repr(mu * 1.5))
+    elif variant not in ('baseline', 'mass-scaled'):
+        raise SystemExit(f'unknown variant {variant}')
+    return join(parts) + '\n' + REFINEMENT
+
+
+VARIANTS = ['baseline', 'mass-scaled', 'no-conduction', 'adiabatic-tool', 'heat-to-chip',
+            'heat-to-tool', 'no-rate', 'no-softening', 'mu-half', 'mu-1.5x']
+
+
+def run(greybox, cfg, out):
+    t0 = time.time()
+    r = subprocess.run([greybox, '-q', 'simulate', 'cutting', '--config', cfg, '--out', out,
+                        '--force'], capture_output=True, text=True,
+                       env={**os.environ, 'RAYON_NUM_THREADS': '1'})
+    wall = time.time() - t0
+    if r.returncode != 0:
+        return None, wall, r.stderr.strip().splitlines()[-1] if r.stderr.strip() else 'failed'
+    with open(os.path.join(out, 'summary.json'), encoding='utf-8') as f:
+        return json.load(f), wall, None
+
+
+def cell(summary, key, digits):
+    q = (summary.get('steady_state') or {}).get(key)
+    if not isinstance(q, dict) or q.get('mean') is None:
+        return '—'
+    ci = q.get('ci95')
+    return f"{q['mean']:.{digits}f}" + ('' if ci is None else f" ± {ci:.{digits}f}")
+
+
+def mean_of(summary, key):
+    q = (summary.get('steady_state') or {}).get(key) if summary else None
+    return q.get('mean') if isinstance(q, dict) else None
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument('greybox')
+    ap.add_argument('template')
+    ap.add_argument('--data', required=True)
+    ap.add_argument('--conditions', nargs='+', required=True)
+    ap.add_argument('--mu', type=float, required=True)
+    ap.add_argument('--out', required=True)
+    ap.add_argument('--variants', nargs='+', default=VARIANTS)
+    ap.add_argument('--cut-length-mm', type=float, default=1.2)
+    ap.add_argument('--jobs', type=int, default=2)
+    a = ap.parse_args()
+    template = open(a.template, encoding='utf-8').read()
+    rows = condition_rows(a.data)
+    os.makedirs(a.out, exist_ok=True)
+    jobs = {}
+    with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
+        for c in a.conditions:
+            for v in a.variants:
+                cfg = os.path.join(a.out, f'{c}-{v}.toml')
+                with open(cfg, 'w', encoding='utf-8') as f:
+                    f.write(variant_text(template, rows[c], a.mu, v, a.cut_length_mm * 1e-3))
+                jobs[(c, v)] = pool.submit(run, a.greybox, cfg, os.path.join(a.out, f'{c}-{v}'))
+        results = {k: f.result() for k, f in jobs.items()}
+    for c in a.conditions:
+        r = rows[c]
+        print(f"\n{c}: {r['cutting_speed_m_per_min']} m/min, h = {r['uncut_chip_thickness_mm']} mm; "
+              f"measured F'c {r['cutting_force_N_per_mm']}, F'f {r['feed_force_N_per_mm']} N/mm, "
+              f"h_c/h {r['chip_ratio']}")
+        print("| variant | F'c N/mm | F'f N/mm | h_c/h | serrated share | segment pitch mm | "
+              "rake peak °C | wall s |")
+        print('|---' * 8 + '|')
+        for v in a.variants:
+            s, wall, err = results[(c, v)]
+            if s is None:
+                print(f'| {v} | failed: {err} |||||| {wall:.0f} |')
+                continue
+            ss = s.get('steady_state') or {}
+            share = ss.get('serrated_share')
+            print(f"| {v} | {cell(s, 'cutting_force_n_per_mm', 1)} | {cell(s, 'feed_force_n_per_mm', 1)} "
+                  f"| {cell(s, 'compression_ratio', 3)} | "
+                  f"{'—' if share is None else f'{share:.2f}'} | {cell(s, 'segment_pitch_mm', 4)} "
+                  f"| {cell(s, 'rake_peak_temperature_c', 0)} | {wall:.0f} |")
+    speeds = sorted(a.conditions, key=lambda c: float(rows[c]['cutting_speed_m_per_min']))
+    slow, fast = speeds[0], speeds[1:]
+    measured = float(rows[slow]['chip_ratio']) - sum(float(rows[c]['chip_ratio']) for c in fast) / len(fast)
+    print(f"\nh_c/h at {slow} minus the mean over {', '.join(fast)} (measured {measured:+.3f}):")
+    for v in a.variants:
+        vals = [mean_of(results[(c, v)][0], 'compression_ratio') for c in speeds]
+        if any(x is None for x in vals):
+            print(f'  {v}: —')
+            continue
+        print(f'  {v}: {vals[0] - sum(vals[1:]) / len(vals[1:]):+.3f}')
+
+
+if __name__ == '__main__':
+    main()
