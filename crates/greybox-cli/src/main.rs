@@ -25,6 +25,7 @@ mod count_help;
 mod export_help;
 mod flags;
 mod output;
+mod stage_flags;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 

@@ -23,6 +23,7 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::Args))]
 #[serde(deny_unknown_fields, default)]
+#[allow(non_snake_case)]
 pub struct PlanSettings {
     /// Study TOML ([plan], [contact], …); the settings below override it.
     #[cfg_attr(feature = "cli", arg(long))]
@@ -32,12 +33,10 @@ pub struct PlanSettings {
     pub track_radius_mm: Option<f64>,
     /// Smallest normal force, N.
     #[cfg_attr(feature = "cli", arg(long = "normal-force-min-N"))]
-    #[serde(rename = "normal_force_min_N")]
-    pub normal_force_min_n: Option<f64>,
+    pub normal_force_min_N: Option<f64>,
     /// Largest normal force, N.
     #[cfg_attr(feature = "cli", arg(long = "normal-force-max-N"))]
-    #[serde(rename = "normal_force_max_N")]
-    pub normal_force_max_n: Option<f64>,
+    pub normal_force_max_N: Option<f64>,
     /// Number of normal forces (one pin each).
     #[cfg_attr(feature = "cli", arg(long = "normal-force-count"))]
     pub normal_force_count: Option<PinCount>,
@@ -89,8 +88,8 @@ impl PlanSettings {
         if self.track_radius_mm.is_some() {
             p.track_radius_mm = self.track_radius_mm;
         }
-        set(&mut p.normal_force_min_n, self.normal_force_min_n);
-        set(&mut p.normal_force_max_n, self.normal_force_max_n);
+        set(&mut p.normal_force_min_n, self.normal_force_min_N);
+        set(&mut p.normal_force_max_n, self.normal_force_max_N);
         set(&mut p.normal_force_count, self.normal_force_count);
         set(&mut p.velocity_min_m_per_min, self.velocity_min_m_per_min);
         set(&mut p.velocity_max_m_per_min, self.velocity_max_m_per_min);
@@ -110,8 +109,8 @@ impl PlanSettings {
     }
 
     fn sets_loads(&self) -> bool {
-        self.normal_force_min_n.is_some()
-            || self.normal_force_max_n.is_some()
+        self.normal_force_min_N.is_some()
+            || self.normal_force_max_N.is_some()
             || self.normal_force_count.is_some()
     }
 
