@@ -36,9 +36,9 @@
 //! | `greybox-report` | [`report`] | how results are shown: `report.html`, each stage's text tables, the demo |
 //! | `greybox-sweep` | [`sweep`] | many cuts: sweeps (local pool, Slurm), calibration, the validation suite |
 //! | `greybox-core` | [`core`] | SI units, `ContactState`, the `FrictionLaw` seam, safe outputs, provenance |
-//! | `greybox-contact` | [`contact`] | Hertzian pin-on-disk contact |
+//! | `greybox-contact` | [`contact`] | contact mechanics: Hertzian pin-on-disk contact, ploughing, wear |
 //! | `greybox-recording` | [`recording`] | recordings from any rig: text, xlsx and TDMS readers, rig profiles, column roles |
-//! | `greybox-tribo` | [`tribo`] | plans, identification of μ from recordings, the virtual rig, ploughing, dynamics, wear |
+//! | `greybox-tribo` | [`tribo`] | plans, identification of μ from recordings, the virtual rig, rig dynamics |
 //! | `greybox-model` | [`model`] | inference: model files, predictors, domain checks |
 //! | `greybox-learn` | [`learn`] | training: the four families, the article's protocol |
 //! | `greybox-import` | [`import`] | models trained elsewhere: XGBoost, scikit-learn, ONNX |
