@@ -146,6 +146,19 @@ pub fn refused(stage: &str, field: &str, message: impl Into<String>) -> SettingE
     SettingError::new(SettingPath::new(stage, field), message)
 }
 
+/// `value` where it is absent or a positive, finite number; else the setting `stage.field`
+/// refused ([`positive`]).
+pub fn positive_if_given(
+    stage: &str,
+    field: &str,
+    value: Option<f64>,
+) -> Result<Option<f64>, SettingError> {
+    if let Some(x) = value {
+        positive(stage, field, x)?;
+    }
+    Ok(value)
+}
+
 /// `Ok` where `value` is a positive, finite number; else the setting `stage.field` refused.
 pub fn positive(stage: &str, field: &str, value: f64) -> Result<(), SettingError> {
     match value.is_finite() && value > 0.0 {

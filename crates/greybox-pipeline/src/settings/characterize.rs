@@ -24,7 +24,7 @@ use crate::characterize::{
     DEFAULT_TIME_COLUMN,
 };
 use anyhow::Result;
-use greybox_core::setting::positive;
+use greybox_core::setting::positive_if_given;
 use greybox_tribo::frf::ImpactConfig;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -104,12 +104,7 @@ impl CharacterizeSettings {
             let why = "give at least one hammer recording";
             return Err(greybox_core::setting::refused("characterize", "recordings", why).into());
         }
-        let given = |field: &str, value: Option<f64>| -> Result<Option<f64>> {
-            if let Some(v) = value {
-                positive("characterize", field, v)?;
-            }
-            Ok(value)
-        };
+        let given = |field: &str, value| positive_if_given("characterize", field, value);
         let mut impact = ImpactConfig::default();
         if let Some(b) = given("block_s", self.block_s)? {
             impact.block_s = b;

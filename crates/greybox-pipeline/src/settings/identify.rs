@@ -227,12 +227,11 @@ impl Default for IdentifySettings {
     }
 }
 
-/// A positive, finite number (where given), or an error naming the setting.
+/// `v` where absent or positive, else `identify.<field>` refused.
 fn positive(v: Option<f64>, field: &str) -> Result<Option<f64>> {
-    if let Some(x) = v {
-        greybox_core::setting::positive("identify", field, x)?;
-    }
-    Ok(v)
+    Ok(greybox_core::setting::positive_if_given(
+        "identify", field, v,
+    )?)
 }
 
 impl IdentifySettings {

@@ -21,7 +21,7 @@ use greybox_contact::hertz::ARTICLE_PIN_TIP_RADIUS_MM;
 use greybox_contact::wear::Reference;
 #[cfg(feature = "cli")]
 use greybox_core::choice::clap_parsers::choice;
-use greybox_core::setting::{positive, SettingError, SettingPath};
+use greybox_core::setting::{positive_if_given, SettingError, SettingPath};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -142,9 +142,7 @@ impl WearSettings {
             ("hardness_GPa", self.hardness_GPa),
         ];
         for (field, value) in numbers {
-            if let Some(x) = value {
-                positive("wear", field, x)?;
-            }
+            positive_if_given("wear", field, value)?;
         }
         let reference = match self.reference {
             ReferenceForm::Sphere => Reference::Sphere {
