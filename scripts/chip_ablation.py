@@ -15,6 +15,8 @@ The variants:
   physical without scaling);
 * `no-conduction` — the workpiece's conductivity 10⁻³ W/(m·K) (adiabatic);
 * `adiabatic-tool` — no tool temperature field (`[tool_thermal]` removed);
+* `steady-tool` — the tool's thermal mass ÷ 200 (`thermal_mass_scaling`): the tool at its
+  steady temperature field within the first tenths of a mm of cut;
 * `heat-to-chip`, `heat-to-tool` — the friction heat's share into the workpiece 1 or 0;
 * `no-rate` — the flow stress without its strain-rate term (C = 0);
 * `no-softening` — without thermal softening (m = 50: (T*)^m ≈ 0 below the melt);
@@ -35,62 +37,14 @@ import concurrent.futures
 import csv
 import json
 import os
-import re
 import subprocess
 import time
+
+from setup_toml import get_key, join, remove_section, sections, set_key
 
 REFINEMENT = ('[refinement]\nregions = [{ ahead_m = 0.2e-3, behind_m = 0.02e-3, '
               'below_m = 0.04e-3, above_m = 0.3e-3 }]\n')
 COARSE_SPACING_M = 2.0e-5
-
-
-def sections(text):
-    """The TOML text as [(header, lines)], the top level first with header ''."""
-    out = [('', [])]
-    for line in text.splitlines():
-        m = re.match(r'^\[([^\[\]]+)\]\s*$', line)
-        if m:
-            out.append((m.group(1).strip(), []))
-        else:
-            out[-1][1].append(line)
-    return out
-
-
-def join(parts):
-    text = []
-    for header, lines in parts:
-        if header:
-            text.append(f'[{header}]')
-        text.extend(lines)
-    return '\n'.join(text) + '\n'
-
-
-def set_key(parts, section, key, value):
-    """`key = value` in `section` (replaced, else added at the section's top)."""
-    for header, lines in parts:
-        if header == section:
-            pattern = re.compile(rf'^{re.escape(key)}\s*=')
-            for i, line in enumerate(lines):
-                if pattern.match(line):
-                    lines[i] = f'{key} = {value}'
-                    return
-            lines.insert(0, f'{key} = {value}')
-            return
-    raise SystemExit(f'the template has no [{section}] table')
-
-
-def get_key(parts, section, key):
-    for header, lines in parts:
-        if header == section:
-            for line in lines:
-                m = re.match(rf'^{re.escape(key)}\s*=\s*(.+?)\s*(#.*)?$', line)
-                if m:
-                    return m.group(1)
-    raise SystemExit(f'the template has no {key} in [{section}]')
-
-
-def remove_section(parts, section):
-    return [(h, l) for h, l in parts if h != section]
 
 
 def condition_rows(path):
@@ -122,6 +76,8 @@ def variant_text(template, cond, mu, variant, cut_length_m):
         set_key(parts, 'material.thermal', 'conductivity', '{ x = [0.0], y = [1.0e-3] }')
     elif variant == 'adiabatic-tool':
         parts = remove_section(parts, 'tool_thermal')
+    elif variant == 'steady-tool':
+        set_key(parts, 'tool_thermal', 'thermal_mass_scaling', '200.0')
     elif variant == 'heat-to-chip':
         set_key(parts, 'numerics', 'friction_heat_share', '1.0')
     elif variant == 'heat-to-tool':
@@ -139,7 +95,7 @@ def variant_text(template, cond, mu, variant, cut_length_m):
     return join(parts) + '\n' + REFINEMENT
 
 
-VARIANTS = ['baseline', 'mass-scaled', 'no-conduction', 'adiabatic-tool', 'heat-to-chip',
+VARIANTS = ['baseline', 'mass-scaled', 'no-conduction', 'adiabatic-tool', 'steady-tool', 'heat-to-chip',
             'heat-to-tool', 'no-rate', 'no-softening', 'mu-half', 'mu-1.5x']
 
 

@@ -16,45 +16,35 @@ stated standard error, and the wall time.
 
 `--cut-length-mm` replaces `cut_length_m`, `--refine` adds the refined suites' region
 (20 µm away from the tool when `--coarse-spacing-um 20`), `--no-stop` runs every cut to its
-length, `--set KEY=VALUE` replaces or adds a top-level key (D09 of the suite is the TANH
-template with `physical_cutting_speed_m_s=0.16667`, 10 m/min run at 600 m/min).
+length, `--set KEY=VALUE` replaces or adds a key, `TABLE.KEY` inside a table (D09 of the suite
+is the TANH template with `physical_cutting_speed_m_s=0.16667`, 10 m/min run at 600 m/min;
+`tool_thermal.thermal_mass_scaling=200` a tool at its steady temperature sooner).
 """
 import argparse
 import json
 import os
-import re
 import statistics
 import subprocess
 import sys
 import time
 
+from setup_toml import set_path
+
 REGION = ('[refinement]\nregions = [{ ahead_m = 0.2e-3, behind_m = 0.02e-3, '
           'below_m = 0.04e-3, above_m = 0.3e-3 }]\n')
 
 
-def set_key(text, key, value, add=False):
-    """Replaces the top-level `key = …` line (before the first table) of a TOML text, or with
-    `add` adds it when there is none."""
-    head, sep, tail = text.partition('\n[')
-    pattern = re.compile(rf'^{re.escape(key)}\s*=.*$', re.M)
-    if not pattern.search(head):
-        if not add:
-            raise SystemExit(f'no top-level {key} in the set-up')
-        return f'{key} = {value}\n' + head + sep + tail
-    return pattern.sub(f'{key} = {value}', head, count=1) + sep + tail
-
-
 def variant(text, mu, args):
-    text = set_key(text, 'mu', repr(mu))
+    text = set_path(text, 'mu', repr(mu))
     if args.cut_length_mm:
-        text = set_key(text, 'cut_length_m', repr(args.cut_length_mm * 1e-3))
+        text = set_path(text, 'cut_length_m', repr(args.cut_length_mm * 1e-3))
     if args.coarse_spacing_um:
-        text = set_key(text, 'spacing_m', repr(args.coarse_spacing_um * 1e-6))
+        text = set_path(text, 'spacing_m', repr(args.coarse_spacing_um * 1e-6))
     for kv in args.set or []:
         key, _, value = kv.partition('=')
-        text = set_key(text, key.strip(), value.strip(), add=True)
+        text = set_path(text, key.strip(), value.strip())
     if args.no_stop:
-        text = re.sub(r'^stop_when_sure\s*=.*$', 'stop_when_sure = false', text, flags=re.M)
+        text = set_path(text, 'steady.stop_when_sure', 'false')
     if args.refine:
         text += '\n' + REGION
     return text
@@ -76,7 +66,7 @@ def main():
     ap.add_argument('--refine', action='store_true')
     ap.add_argument('--no-stop', action='store_true')
     ap.add_argument('--set', action='append', metavar='KEY=VALUE',
-                    help='a top-level key of the set-up replaced or added (e.g. '
+                    help='a key of the set-up replaced or added, TABLE.KEY in a table (e.g. '
                          'physical_cutting_speed_m_s=0.16667 for a condition run time-scaled)')
     args = ap.parse_args()
     base = open(args.config, encoding='utf-8').read()

@@ -21,8 +21,9 @@
 //!
 //! Time stepping: explicit (forward Euler) over a sub-cycle of N solver steps, N the largest
 //! that keeps the explicit scheme stable (Δt_tool ≤ 0.9 ρ c Δx² / (4 λ_max + n h_eff Δx),
-//! n = 4 contact particles per cell at most). The contact sees the tool temperature of the
-//! last update.
+//! n = 4 contact particles per cell at most; ρc divided by `thermal_mass_scaling`, see
+//! [`ToolThermalSetup::heat_capacity`]). The contact sees the tool temperature of the last
+//! update.
 
 use crate::geometry::RoundedPolygon;
 use greybox_material::Table1d;
@@ -52,6 +53,14 @@ pub struct ToolThermalSetup {
     /// Temperature of the tool's far boundaries, K (`None`: the workpiece's initial temperature).
     #[serde(default)]
     pub ambient_temperature_k: Option<f64>,
+    /// The tool's heat capacity ρ c divided by this factor (≥ 1; 1: as given). See
+    /// [`ToolThermalSetup::heat_capacity`].
+    #[serde(default = "unscaled")]
+    pub thermal_mass_scaling: f64,
+}
+
+fn unscaled() -> f64 {
+    1.0
 }
 
 fn default_coating() -> Table1d {
@@ -90,12 +99,34 @@ impl ToolThermalSetup {
             contact_conductance_w_m2k: 1e7,
             grid_spacing_m: 0.0,
             ambient_temperature_k: None,
+            thermal_mass_scaling: 1.0,
         }
+    }
+
+    /// The tool's heat capacity per volume at `t_k`, J/(m³·K): ρ c(T) / `thermal_mass_scaling`.
+    ///
+    /// Why a tool's thermal mass may be scaled: a simulated cut of a few millimetres lasts a
+    /// fraction of a millisecond, while the tool near the contact settles in about l²/α
+    /// (l = 0.1 mm, α = λ/(ρc) ≈ 3·10⁻⁵ m²/s for WC–Co: 0.4 ms) and the insert in tens of
+    /// milliseconds, so the tool is still warming when the cut ends and the forces drift with
+    /// it. A measured cut is averaged over seconds, with the tool at its steady field. That
+    /// field solves ∇·(λ ∇T) + Q = 0 and does not depend on ρc, so dividing ρc by a factor
+    /// s reaches the same steady field s times sooner (the idea of the separate steady-state
+    /// heat-transfer analysis of the tool in FE cutting studies, e.g. Yen, Söhner, Lilly &
+    /// Altan, J. Mater. Process. Technol. 146 (2004) 82–91). What is lost is the tool's own
+    /// transient, the first fraction of a second of a real cut. The explicit sub-cycle
+    /// shortens by the same factor (see the module docs).
+    pub fn heat_capacity(&self, t_k: f64) -> f64 {
+        self.density_kg_m3 * self.specific_heat.eval(t_k) / self.thermal_mass_scaling
     }
 
     pub fn validate(&self) -> greybox_core::Result<()> {
         greybox_core::rules::Rules::new("tool thermal")
             .positive("density_kg_m3", self.density_kg_m3)
+            .relation(
+                self.thermal_mass_scaling >= 1.0 && self.thermal_mass_scaling.is_finite(),
+                "thermal_mass_scaling must be a finite factor of at least 1 (the tool's ρc is divided by it)",
+            )
             .non_negative("coating_thickness_m", self.coating_thickness_m)
             .non_negative("contact_conductance_w_m2k", self.contact_conductance_w_m2k)
             .non_negative("grid_spacing_m", self.grid_spacing_m)
@@ -287,7 +318,8 @@ impl ToolThermal {
                 .y
                 .iter()
                 .copied()
-                .fold(f64::INFINITY, f64::min);
+                .fold(f64::INFINITY, f64::min)
+            / s.thermal_mass_scaling;
         let h = s.contact_conductance_w_m2k * self.conductivity_scale;
         let stable = 0.9 * rho_c_min * self.dx * self.dx / (4.0 * k_max + 4.0 * h * contact_length);
         self.substeps = ((stable / dt_solver).floor() as u64).max(1);
@@ -361,8 +393,7 @@ impl ToolThermal {
                     // Held: what flows in leaves to the ambient.
                     to_ambient += q;
                 } else {
-                    let rho_c = s.density_kg_m3 * s.specific_heat.eval(self.temp[c]);
-                    new[c] += q / (rho_c * dx * dx);
+                    new[c] += q / (s.heat_capacity(self.temp[c]) * dx * dx);
                 }
             }
         }
@@ -381,7 +412,9 @@ impl ToolThermal {
             if k != INTERIOR {
                 continue;
             }
-            e += s.density_kg_m3 * area * integrate(&s.specific_heat, reference_k, t);
+            e += s.density_kg_m3 / s.thermal_mass_scaling
+                * area
+                * integrate(&s.specific_heat, reference_k, t);
         }
         e
     }
@@ -490,6 +523,7 @@ mod tests {
             contact_conductance_w_m2k: 0.0,
             grid_spacing_m: 0.0,
             ambient_temperature_k: Some(300.0),
+            thermal_mass_scaling: 1.0,
         }
     }
 
@@ -558,28 +592,68 @@ mod tests {
         assert!(t.heat_to_ambient > 0.0);
     }
 
-    /// Heat put in is conserved: stored heat plus what left through the held cells.
-    #[test]
-    fn heat_is_conserved() {
+    /// A heated tool: a square with half its surface held at ambient, `power` W/m put into
+    /// the centre cell, run for `time` s in steps of `dt`.
+    fn heated_square(scaling: f64, power: f64, time: f64, dt: f64) -> ToolThermal {
         let (w, dx) = (0.2e-3, 10e-6);
         let shape =
             RoundedPolygon::new(vec![[0.0, 0.0], [w, 0.0], [w, w], [0.0, w]], 5e-6).unwrap();
-        let mut t = ToolThermal::new(
-            constant_setup(60.0, 14_900.0, 250.0),
-            &shape,
-            dx,
-            300.0,
-            0.5 * shape.perimeter(),
-            1.0,
-        );
-        let cell = t.cell_at([0.1e-3, 0.19e-3]);
-        let mut put = 0.0;
-        for _ in 0..2000 {
-            t.heat_in[cell] += 1e-3;
-            put += 1e-3;
-            t.conduct(2e-9);
+        let setup = ToolThermalSetup {
+            thermal_mass_scaling: scaling,
+            ..constant_setup(60.0, 14_900.0, 250.0)
+        };
+        let mut t = ToolThermal::new(setup, &shape, dx, 300.0, 0.5 * shape.perimeter(), 1.0);
+        let cell = t.cell_at([0.1e-3, 0.1e-3]);
+        assert_eq!(t.kind[cell], INTERIOR);
+        for _ in 0..(time / dt).round() as usize {
+            t.heat_in[cell] += power * dt;
+            t.conduct(dt);
         }
-        let kept = t.stored_heat(300.0) + t.heat_to_ambient;
-        assert!((kept / put - 1.0).abs() < 1e-9, "{kept} vs {put}");
+        t
+    }
+
+    /// Heat put in is conserved: stored heat plus what left through the held cells, with the
+    /// tool's thermal mass as given and scaled.
+    #[test]
+    fn heat_is_conserved() {
+        for scaling in [1.0, 25.0] {
+            let (power, time) = (5e5, 4e-6);
+            let t = heated_square(scaling, power, time, 2e-9 / scaling);
+            let kept = t.stored_heat(300.0) + t.heat_to_ambient;
+            let put = power * time;
+            assert!((kept / put - 1.0).abs() < 1e-9, "scaling {scaling}: {kept} vs {put}");
+        }
+    }
+
+    /// Dividing ρc by s runs the tool's temperature history s times faster and leaves its
+    /// steady field alone: ρc/s · dT/dt' = ∇·(λ∇T) + Q with t' = t/s is the unscaled
+    /// equation, so the scaled tool at t/s (steps dt/s) equals the unscaled one at t (steps
+    /// dt) to rounding — early in the transient and at the steady field (the square's
+    /// l²/α ≈ 2.5 ms; 20 ms is eight of them).
+    #[test]
+    fn a_scaled_thermal_mass_reaches_the_same_field_sooner() {
+        let (power, dt) = (5e3, 1e-6);
+        for time in [20e-6, 20e-3] {
+            let plain = heated_square(1.0, power, time, dt);
+            let scaled = heated_square(20.0, power, time / 20.0, dt / 20.0);
+            let rise = plain.max_temperature() - 300.0;
+            assert!(rise > 1.0, "the heated cell warms ({rise} K)");
+            for (a, b) in plain.temp.iter().zip(&scaled.temp) {
+                assert!((a - b).abs() < 1e-9 * rise, "{a} vs {b} at {time} s");
+            }
+        }
+        let half = heated_square(1.0, power, 10e-3, dt).max_temperature() - 300.0;
+        let full = heated_square(1.0, power, 20e-3, dt).max_temperature() - 300.0;
+        assert!((full - half).abs() < 0.01 * full, "{half} → {full} K: not yet steady");
+    }
+
+    #[test]
+    fn a_thermal_mass_scaling_below_one_is_refused() {
+        let setup = ToolThermalSetup {
+            thermal_mass_scaling: 0.5,
+            ..ToolThermalSetup::carbide_altin()
+        };
+        let e = setup.validate().unwrap_err().to_string();
+        assert!(e.contains("thermal_mass_scaling"), "{e}");
     }
 }
