@@ -621,7 +621,10 @@ mod tests {
             let t = heated_square(scaling, power, time, 2e-9 / scaling);
             let kept = t.stored_heat(300.0) + t.heat_to_ambient;
             let put = power * time;
-            assert!((kept / put - 1.0).abs() < 1e-9, "scaling {scaling}: {kept} vs {put}");
+            assert!(
+                (kept / put - 1.0).abs() < 1e-9,
+                "scaling {scaling}: {kept} vs {put}"
+            );
         }
     }
 
@@ -644,7 +647,10 @@ mod tests {
         }
         let half = heated_square(1.0, power, 10e-3, dt).max_temperature() - 300.0;
         let full = heated_square(1.0, power, 20e-3, dt).max_temperature() - 300.0;
-        assert!((full - half).abs() < 0.01 * full, "{half} → {full} K: not yet steady");
+        assert!(
+            (full - half).abs() < 0.01 * full,
+            "{half} → {full} K: not yet steady"
+        );
     }
 
     #[test]
