@@ -146,6 +146,13 @@ pub fn refused(stage: &str, field: &str, message: impl Into<String>) -> SettingE
     SettingError::new(SettingPath::new(stage, field), message)
 }
 
+/// A rule between several settings of one stage refused for `message` (one of
+/// `depth_um` and `track_width_um`, `mu_min` below `mu_max`).
+pub fn refused_together(stage: &str, fields: &[&str], message: impl Into<String>) -> SettingError {
+    let paths = fields.iter().map(|f| SettingPath::new(stage, *f)).collect();
+    SettingError::between(paths, message)
+}
+
 /// `value` where it is absent or a positive, finite number; else the setting `stage.field`
 /// refused ([`positive`]).
 pub fn positive_if_given(

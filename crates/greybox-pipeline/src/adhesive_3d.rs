@@ -89,10 +89,9 @@ pub fn validate(sim: &Simulation3dOptions) -> Result<()> {
     probe.elements_per_radius = sim.elements_per_radius;
     probe.slide_per_radius = sim.slide_per_radius;
     if let Err(e) = probe.mesh_spec().check_size() {
-        let both = ["sim3d_elements_per_radius", "sim3d_slide_per_radius"]
-            .map(|f| greybox_core::setting::SettingPath::new("adhesive", f));
+        let both = ["sim3d_elements_per_radius", "sim3d_slide_per_radius"];
         return Err(
-            greybox_core::setting::SettingError::between(both.to_vec(), e.to_string()).into(),
+            greybox_core::setting::refused_together("adhesive", &both, e.to_string()).into(),
         );
     }
     Ok(())

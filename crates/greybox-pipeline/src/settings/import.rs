@@ -22,7 +22,7 @@
 
 use crate::import::ContactSpec;
 use anyhow::Result;
-use greybox_core::setting::{SettingError, SettingPath};
+use greybox_core::setting::refused_together;
 use greybox_import::{Calibration, Domain, ImportOptions, DEFAULT_COVERAGE, DEFAULT_TARGET};
 use greybox_model::modelfile::{FeatureRange, ForcePressure};
 use serde::{Deserialize, Serialize};
@@ -103,9 +103,8 @@ impl ImportSettings {
                 force_to_pressure: rows.training_contact,
             },
             _ => {
-                let ways = ["domain", "training_data"].map(|f| SettingPath::new("import", f));
                 let why = "state the training domain one way: its ranges, the training data CSV, or (from Python) the training rows";
-                return Err(SettingError::between(ways.to_vec(), why).into());
+                return Err(refused_together("import", &["domain", "training_data"], why).into());
             }
         };
         let calibration = match (&self.calibration, rows.calibration) {

@@ -21,8 +21,7 @@ use crate::study::Study;
 use anyhow::Result;
 use greybox_core::outputs::check_file_output;
 use greybox_core::physics::{self, Quantity};
-use greybox_core::setting::refused;
-use greybox_core::setting::{SettingError, SettingPath};
+use greybox_core::setting::{refused, refused_together, SettingPath};
 use greybox_core::units::mpa_to_pa;
 use greybox_friction::greybox::{DEFAULT_BLEND_FRACTION, MAX_BLEND_FRACTION};
 use greybox_friction::spec::LawSpec;
@@ -104,9 +103,8 @@ impl GreyBoxSettings {
         let clamp = (!self.no_clamp).then_some((self.mu_min, self.mu_max));
         if let Some((lo, hi)) = clamp {
             if !(lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo < hi) {
-                let both = ["mu_min", "mu_max"].map(|f| SettingPath::new("law", f));
                 let why = format!("expected 0 ≤ mu_min < mu_max, got {lo} and {hi}");
-                return Err(SettingError::between(both.to_vec(), why).into());
+                return Err(refused_together("law", &["mu_min", "mu_max"], why).into());
             }
         }
         if let Some(k) = self.shear_cap_k_MPa {

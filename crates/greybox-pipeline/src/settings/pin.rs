@@ -15,7 +15,7 @@
 use crate::simulate::Indentation;
 use anyhow::Result;
 use greybox_contact::hertz::ARTICLE_PIN_TIP_RADIUS_MM;
-use greybox_core::setting::{SettingError, SettingPath};
+use greybox_core::setting::refused_together;
 use greybox_core::units::{m_per_min_to_m_per_s, mm_to_m, um_to_m};
 use greybox_sim::pin::PinSetup;
 use serde::{Deserialize, Serialize};
@@ -96,9 +96,8 @@ impl PinSettings {
             (Some(d), None) => Indentation::Depth(um_to_m(d)),
             (None, Some(w)) => Indentation::TrackWidth(um_to_m(w)),
             _ => {
-                let one_of = ["depth_um", "track_width_um"].map(|f| SettingPath::new("pin", f));
-                let e = SettingError::between(one_of.to_vec(), "give exactly one of them");
-                return Err(e.into());
+                let one_of = ["depth_um", "track_width_um"];
+                return Err(refused_together("pin", &one_of, "give exactly one of them").into());
             }
         }
         .depth_m(r)?;

@@ -21,7 +21,7 @@ use greybox_contact::hertz::ARTICLE_PIN_TIP_RADIUS_MM;
 use greybox_contact::wear::Reference;
 #[cfg(feature = "cli")]
 use greybox_core::choice::clap_parsers::choice;
-use greybox_core::setting::{positive_if_given, SettingError, SettingPath};
+use greybox_core::setting::{positive_if_given, refused_together};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -114,9 +114,8 @@ impl WearSettings {
                 ("scar_diameter_mm", self.scar_diameter_mm.is_some()),
             ];
             if let Some((field, _)) = one_test.iter().find(|(_, given)| *given) {
-                let both = ["tests", field].map(|f| SettingPath::new("wear", f));
                 let why = "give a tests file or one test's settings, not both";
-                return Err(SettingError::between(both.to_vec(), why).into());
+                return Err(refused_together("wear", &["tests", field], why).into());
             }
             return Ok(WearRun::Tests(wear_tests(t)?));
         }
@@ -125,12 +124,11 @@ impl WearSettings {
 
     /// The one test these settings state, every number checked and the volume given one way.
     pub fn input(&self) -> Result<WearInput> {
-        let at = |field: &str| SettingPath::new("wear", field);
         let (Some(f), Some(v), Some(t)) = (self.force_N, self.velocity_m_per_min, self.duration_s)
         else {
-            let fields = ["force_N", "velocity_m_per_min", "duration_s"].map(at);
+            let fields = ["force_N", "velocity_m_per_min", "duration_s"];
             let why = "give one test's load, velocity and duration (or a tests file, `tests`)";
-            return Err(SettingError::between(fields.to_vec(), why).into());
+            return Err(refused_together("wear", &fields, why).into());
         };
         let numbers = [
             ("force_N", Some(f)),
@@ -158,9 +156,9 @@ impl WearSettings {
             },
             (None, None, Some(d)) => WearVolume::ScarDiameter(d),
             _ => {
-                let fields = ["volume_mm3", "height_map", "scar_diameter_mm"].map(at);
+                let fields = ["volume_mm3", "height_map", "scar_diameter_mm"];
                 let why = "give exactly one way to the wear volume";
-                return Err(SettingError::between(fields.to_vec(), why).into());
+                return Err(refused_together("wear", &fields, why).into());
             }
         };
         Ok(WearInput {
