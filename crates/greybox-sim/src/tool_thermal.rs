@@ -20,7 +20,8 @@
 //! set-up gives the tool goes into the same cell.
 //!
 //! Time stepping: explicit (forward Euler) over a sub-cycle of N solver steps, N the largest
-//! that keeps the explicit scheme stable (Δt_tool ≤ 0.9 ρ c Δx² / (4 λ_max + n h_eff Δx),
+//! that keeps the explicit scheme stable (or, where even one solver step is too long for it,
+//! that step split into as many equal explicit steps as stability asks) (Δt_tool ≤ 0.9 ρ c Δx² / (4 λ_max + n h_eff Δx),
 //! n = 4 contact particles per cell at most; ρc divided by `thermal_mass_scaling`, see
 //! [`ToolThermalSetup::heat_capacity`]). The contact sees the tool temperature of the last
 //! update.
@@ -153,6 +154,10 @@ impl ToolThermalSetup {
     }
 }
 
+fn one_split() -> u64 {
+    1
+}
+
 /// What a cell is.
 const OUTSIDE: u8 = 0;
 const INTERIOR: u8 = 1;
@@ -182,6 +187,10 @@ pub struct ToolThermal {
     /// Solver steps per tool update, and steps since the last one.
     pub substeps: u64,
     pub pending_steps: u64,
+    /// Explicit steps per tool update (more than one where the tool's stable step is shorter
+    /// than the solver's).
+    #[serde(default = "one_split")]
+    pub splits: u64,
     /// Heat that left the tool through its ambient cells, J/m (cumulative).
     pub heat_to_ambient: f64,
 }
@@ -303,6 +312,7 @@ impl ToolThermal {
             heat_in: vec![0.0; n],
             substeps: 1,
             pending_steps: 0,
+            splits: 1,
             heat_to_ambient: 0.0,
         };
         t.substeps = 1;
@@ -322,7 +332,13 @@ impl ToolThermal {
             / s.thermal_mass_scaling;
         let h = s.contact_conductance_w_m2k * self.conductivity_scale;
         let stable = 0.9 * rho_c_min * self.dx * self.dx / (4.0 * k_max + 4.0 * h * contact_length);
-        self.substeps = ((stable / dt_solver).floor() as u64).max(1);
+        if stable >= dt_solver {
+            self.substeps = (stable / dt_solver).floor() as u64;
+            self.splits = 1;
+        } else {
+            self.substeps = 1;
+            self.splits = (dt_solver / stable).ceil() as u64;
+        }
     }
 
     /// The cell whose temperature the contact at tool-frame point `p` sees.
@@ -356,8 +372,22 @@ impl ToolThermal {
         }
     }
 
-    /// One explicit conduction step of `dt` seconds with the heat booked since the last one.
+    /// Advances the field by `dt` seconds with the heat booked since the last update: one
+    /// explicit step, or `splits` equal ones each taking its share of the booked heat.
     pub fn conduct(&mut self, dt: f64) {
+        let n = self.splits.max(1);
+        if n == 1 {
+            self.explicit_step(dt, 1.0);
+        } else {
+            for _ in 0..n {
+                self.explicit_step(dt / n as f64, 1.0 / n as f64);
+            }
+        }
+        self.heat_in.iter_mut().for_each(|q| *q = 0.0);
+    }
+
+    /// One explicit conduction step of `dt` seconds taking `share` of the booked heat.
+    fn explicit_step(&mut self, dt: f64, share: f64) {
         let (nx, ny, dx) = (self.nx, self.ny, self.dx);
         let s = &self.setup;
         let k: Vec<f64> = self
@@ -388,7 +418,7 @@ impl ToolThermal {
                     }
                 };
                 for_each_neighbour(i, j, nx, ny, &mut add);
-                let q = flow * dt + self.heat_in[c];
+                let q = flow * dt + self.heat_in[c] * share;
                 if self.kind[c] == AMBIENT {
                     // Held: what flows in leaves to the ambient.
                     to_ambient += q;
@@ -398,7 +428,6 @@ impl ToolThermal {
             }
         }
         self.temp = new;
-        self.heat_in.iter_mut().for_each(|q| *q = 0.0);
         self.heat_to_ambient += to_ambient;
     }
 
@@ -592,9 +621,9 @@ mod tests {
         assert!(t.heat_to_ambient > 0.0);
     }
 
-    /// A heated tool: a square with half its surface held at ambient, `power` W/m put into
-    /// the centre cell, run for `time` s in steps of `dt`.
-    fn heated_square(scaling: f64, power: f64, time: f64, dt: f64) -> ToolThermal {
+    /// A square tool with half its surface held at ambient and its centre cell, its ρc
+    /// divided by `scaling`.
+    fn square_tool(scaling: f64) -> (ToolThermal, usize) {
         let (w, dx) = (0.2e-3, 10e-6);
         let shape =
             RoundedPolygon::new(vec![[0.0, 0.0], [w, 0.0], [w, w], [0.0, w]], 5e-6).unwrap();
@@ -602,14 +631,58 @@ mod tests {
             thermal_mass_scaling: scaling,
             ..constant_setup(60.0, 14_900.0, 250.0)
         };
-        let mut t = ToolThermal::new(setup, &shape, dx, 300.0, 0.5 * shape.perimeter(), 1.0);
+        let t = ToolThermal::new(setup, &shape, dx, 300.0, 0.5 * shape.perimeter(), 1.0);
         let cell = t.cell_at([0.1e-3, 0.1e-3]);
         assert_eq!(t.kind[cell], INTERIOR);
+        (t, cell)
+    }
+
+    /// The square tool with `power` W/m put into its centre cell, run for `time` s in steps
+    /// of `dt`.
+    fn heated_square(scaling: f64, power: f64, time: f64, dt: f64) -> ToolThermal {
+        let (mut t, cell) = square_tool(scaling);
         for _ in 0..(time / dt).round() as usize {
             t.heat_in[cell] += power * dt;
             t.conduct(dt);
         }
         t
+    }
+
+    /// A solver step longer than the tool's stable step (a scaled thermal mass on a
+    /// time-scaled cut) is split into equal explicit steps, each with its share of the
+    /// booked heat: the same field as booking and conducting in the short steps, where one
+    /// long step would diverge.
+    #[test]
+    fn an_update_longer_than_the_tools_stable_step_is_split() {
+        let (power, dt_solver, steps) = (5e3, 1e-8, 400);
+        let (mut split, cell) = square_tool(1000.0);
+        let (mut fine, mut long) = (split.clone(), split.clone());
+        split.set_solver_step(dt_solver, 0.0);
+        let n = split.splits;
+        assert!(split.substeps == 1 && n > 1, "splits {n}");
+        for _ in 0..steps {
+            split.heat_in[cell] += power * dt_solver;
+            split.after_step(dt_solver);
+            for _ in 0..n {
+                fine.heat_in[cell] += power * dt_solver / n as f64;
+                fine.conduct(dt_solver / n as f64);
+            }
+            long.heat_in[cell] += power * dt_solver;
+            long.conduct(dt_solver);
+        }
+        let rise = split.max_temperature() - 300.0;
+        assert!(rise > 1.0 && rise < 1e4, "rise {rise} K");
+        for (a, b) in split.temp.iter().zip(&fine.temp) {
+            assert!((a - b).abs() < 1e-9 * rise, "{a} vs {b}");
+        }
+        let wild = long
+            .temp
+            .iter()
+            .any(|t| !t.is_finite() || (t - 300.0).abs() > 1e3 * rise);
+        assert!(
+            wild,
+            "one unsplit long step per update stays bounded: the test shows nothing"
+        );
     }
 
     /// Heat put in is conserved: stored heat plus what left through the held cells, with the
