@@ -35,10 +35,16 @@
 //! renewals its stretch spans, an interval from fewer than `min_contact_renewals` (default 3)
 //! is marked short, and a cut is never sure on one.
 //!
+//! **Drift.** Every quantity also states how much its batch means change across the stretch
+//! along their least-squares line, with an interval ([`greybox_core::stats::Drift`]). A
+//! change larger than its interval means the quantity was still settling (the forces of a
+//! cut whose tool is still warming fall along the cut): its mean is that of the stretch, not
+//! a steady value, and a force that drifts is never sure.
+//!
 //! **Run until sure** ([`RunUntilSure`]): with `stop_when_sure`, the force intervals are
 //! re-formed as the cut goes (every hundredth of its length), and the cut stops once the
-//! stretch spans `min_contact_renewals` renewals and F'c's and F'f's relative half-widths are
-//! at most the set-up's targets; otherwise it runs to its `cut_length_m`, the length limit,
+//! stretch spans `min_contact_renewals` renewals, neither force drifts and F'c's and F'f's
+//! relative half-widths are at most the set-up's targets; otherwise it runs to its `cut_length_m`, the length limit,
 //! and says that it hit it. (The sequential check is the relative-precision procedure of Law
 //! & Kelton, §9.4.1, on batch means, with a minimum length from the physics of the cut.)
 
@@ -249,10 +255,12 @@ fn long_enough(renewals: Option<f64>, st: &SteadySetup) -> bool {
     renewals.is_some_and(|r| r >= st.min_contact_renewals)
 }
 
-/// Whether the stretch spans enough renewals and F'c's and F'f's relative half-widths are at
-/// most the targets of `st`.
+/// Whether the stretch spans enough renewals, F'c's and F'f's relative half-widths are at
+/// most the targets of `st`, and neither force drifts across the stretch (a force still
+/// settling is not sure of its steady value however narrow its interval).
 fn forces_sure(f: &[MeanInterval; 2], renewals: Option<f64>, st: &SteadySetup) -> bool {
-    let within = |m: &MeanInterval, target: f64| m.relative().is_some_and(|r| r <= target);
+    let within =
+        |m: &MeanInterval, target: f64| !m.drifting() && m.relative().is_some_and(|r| r <= target);
     long_enough(renewals, st)
         && within(&f[0], st.cutting_force_rel_ci95)
         && within(&f[1], st.feed_force_rel_ci95)
@@ -424,6 +432,37 @@ mod tests {
             (0.90..=0.99).contains(&share),
             "coverage {share:.3} of {formed}"
         );
+    }
+
+    /// A feed force that falls by 15 % along the cut (a tool still warming) has a
+    /// narrow interval and is not sure; the same record without the fall is.
+    #[test]
+    fn a_drifting_force_is_never_sure() {
+        let st = SteadySetup {
+            cutting_force_rel_ci95: 0.05,
+            feed_force_rel_ci95: 0.05,
+            ..SteadySetup::default()
+        };
+        let level = history(1500, [100.0, 40.0], 17.3, 4.0, 8.0, 3);
+        let mut falling = level.clone();
+        for row in falling.rows.iter_mut() {
+            row[4] -= 6.0 * row[0] / 1500.0;
+        }
+        let sure = |h: &ForceHistory| {
+            let w = SteadyWindow::of(h, 100.0).expect("a window");
+            let f = w.forces(h);
+            (forces_sure(&f, Some(10.0), &st), f[1])
+        };
+        let (steady_sure, steady_ff) = sure(&level);
+        assert!(steady_sure && !steady_ff.drifting(), "{steady_ff:?}");
+        let (falling_sure, falling_ff) = sure(&falling);
+        assert!(
+            falling_ff.relative().is_some_and(|r| r <= 0.05),
+            "{falling_ff:?}"
+        );
+        assert!(falling_ff.drifting() && !falling_sure, "{falling_ff:?}");
+        let change = falling_ff.drift.expect("a drift").change;
+        assert!(change < -4.0, "the fall across the stretch: {change}");
     }
 
     #[test]

@@ -18,6 +18,13 @@ pub struct SteadyQuantity {
     /// Batches of whole units the interval rests on, and the units averaged.
     pub batches: usize,
     pub units: usize,
+    /// The change of the batch means across the stretch along their least-squares line,
+    /// and the half-width of its 95 % interval ([`greybox_core::stats::Drift`]); a change
+    /// larger than its half-width: the quantity was still drifting.
+    #[serde(default)]
+    pub drift: Option<f64>,
+    #[serde(default)]
+    pub drift_ci95: Option<f64>,
 }
 
 impl SteadyQuantity {
@@ -30,7 +37,14 @@ impl SteadyQuantity {
             rel_ci95: m.relative(),
             batches: m.batches,
             units: m.units,
+            drift: m.drift.map(|d| d.change * scale),
+            drift_ci95: m.drift.map(|d| d.half_width * scale.abs()),
         }
+    }
+
+    /// Whether the quantity drifted significantly across the stretch.
+    pub fn drifting(&self) -> bool {
+        matches!((self.drift, self.drift_ci95), (Some(d), Some(h)) if d.abs() > h)
     }
 }
 

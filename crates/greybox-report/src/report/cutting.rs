@@ -64,6 +64,26 @@ fn summary_table(v: &Value) -> Table {
         (Some(false), _) => "no".into(),
         _ => "n/a".into(),
     };
+    // a force's change across the steady stretch with its interval, and whether it settled
+    let drift = |force: &str| {
+        let q = |k: &str| {
+            v.pointer(&format!("/steady_state/{force}/{k}"))
+                .and_then(Value::as_f64)
+        };
+        match (q("drift"), q("drift_ci95")) {
+            (Some(d), Some(h)) => format!(
+                "{} ± {}{}",
+                num(d, 2),
+                num(h, 2),
+                if d.abs() > h {
+                    ": still drifting, the mean is the stretch's"
+                } else {
+                    ": none seen"
+                }
+            ),
+            _ => "n/a".into(),
+        }
+    };
     let rows: Vec<(&str, String)> = vec![
         (
             "friction law",
@@ -102,6 +122,14 @@ fn summary_table(v: &Value) -> Table {
         ),
         ("melting temperature (°C)", f("melt_temperature_c", 4)),
         ("steady stretch", steady),
+        (
+            "F'c drift across the stretch (N/mm, 95 % interval)",
+            drift("cutting_force_n_per_mm"),
+        ),
+        (
+            "F'f drift across the stretch (N/mm, 95 % interval)",
+            drift("feed_force_n_per_mm"),
+        ),
         ("intervals within the targets", sure),
         ("simulated cut length (mm)", f("simulated_cut_length_mm", 3)),
         ("particles", int("particles")),

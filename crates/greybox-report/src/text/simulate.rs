@@ -33,6 +33,18 @@ pub fn cut(s: &CutSummary) -> String {
         "  cutting force {:.1}{} N/mm, feed force {:.1}{} N/mm (95 % intervals; F_f/F_c = {:.3}, k_c = {:.0} N/mm²), {when}",
         s.cutting_force_n_per_mm, pm(s.cutting_force_ci95_n_per_mm), s.feed_force_n_per_mm, pm(s.feed_force_ci95_n_per_mm), s.force_ratio, s.specific_cutting_force_n_per_mm2
     );
+    if let Some(st) = &s.steady_state {
+        for (name, q) in [
+            ("F'c", &st.cutting_force_n_per_mm),
+            ("F'f", &st.feed_force_n_per_mm),
+        ] {
+            if let (true, Some(d), Some(h)) = (q.drifting(), q.drift, q.drift_ci95) {
+                let _ = writeln!(text,
+                    "  note: {name} drifts by {d:+.1} ± {h:.1} N/mm across the steady stretch (its batch means' line): the cut has not settled, the mean is that of the stretch; a longer cut_length_m"
+                );
+            }
+        }
+    }
     if s.short_stretch && s.steady {
         let _ = writeln!(text,
             "  note: the steady stretch spans fewer than {} renewals of the tool–chip contact: its intervals may understate the scatter (a longer cut_length_m)",
