@@ -64,26 +64,6 @@ fn summary_table(v: &Value) -> Table {
         (Some(false), _) => "no".into(),
         _ => "n/a".into(),
     };
-    // a force's change across the steady stretch with its interval, and whether it settled
-    let drift = |force: &str| {
-        let q = |k: &str| {
-            v.pointer(&format!("/steady_state/{force}/{k}"))
-                .and_then(Value::as_f64)
-        };
-        match (q("drift"), q("drift_ci95")) {
-            (Some(d), Some(h)) => format!(
-                "{} ± {}{}",
-                num(d, 2),
-                num(h, 2),
-                if d.abs() > h {
-                    ": still drifting, the mean is the stretch's"
-                } else {
-                    ": none seen"
-                }
-            ),
-            _ => "n/a".into(),
-        }
-    };
     let rows: Vec<(&str, String)> = vec![
         (
             "friction law",
@@ -124,11 +104,11 @@ fn summary_table(v: &Value) -> Table {
         ("steady stretch", steady),
         (
             "F'c drift across the stretch (N/mm, 95 % interval)",
-            drift("cutting_force_n_per_mm"),
+            drift_cell(v, "cutting_force_n_per_mm"),
         ),
         (
             "F'f drift across the stretch (N/mm, 95 % interval)",
-            drift("feed_force_n_per_mm"),
+            drift_cell(v, "feed_force_n_per_mm"),
         ),
         ("intervals within the targets", sure),
         ("simulated cut length (mm)", f("simulated_cut_length_mm", 3)),
@@ -141,6 +121,27 @@ fn summary_table(v: &Value) -> Table {
         t.row(vec![k.to_string(), val]);
     }
     t
+}
+
+/// A force's change across the steady stretch with its 95 % interval, and whether it settled.
+fn drift_cell(v: &Value, force: &str) -> String {
+    let q = |k: &str| {
+        v.pointer(&format!("/steady_state/{force}/{k}"))
+            .and_then(Value::as_f64)
+    };
+    match (q("drift"), q("drift_ci95")) {
+        (Some(d), Some(h)) => format!(
+            "{} ± {}{}",
+            num(d, 2),
+            num(h, 2),
+            if d.abs() > h {
+                ": still drifting, the mean is the stretch's"
+            } else {
+                ": none seen"
+            }
+        ),
+        _ => "n/a".into(),
+    }
 }
 
 fn cut_blocks(dir: &Path, cut: &Path, w: &mut Ctx) -> Result<Vec<Block>> {
