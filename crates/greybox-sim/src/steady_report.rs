@@ -44,7 +44,12 @@ impl SteadyQuantity {
 
     /// Whether the quantity drifted significantly across the stretch.
     pub fn drifting(&self) -> bool {
-        matches!((self.drift, self.drift_ci95), (Some(d), Some(h)) if d.abs() > h)
+        match (self.drift, self.drift_ci95) {
+            (Some(change), Some(half_width)) => {
+                greybox_core::stats::Drift { change, half_width }.significant()
+            }
+            _ => false,
+        }
     }
 }
 

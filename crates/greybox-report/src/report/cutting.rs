@@ -7,6 +7,8 @@ use super::scan::Found;
 use super::{num, shown, svg_figure, Ctx};
 use anyhow::{Context, Result};
 use greybox_core::plot::{lines, Line};
+use greybox_sim::steady_report::SteadyQuantity;
+use serde::Deserialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -125,16 +127,18 @@ fn summary_table(v: &Value) -> Table {
 
 /// A force's change across the steady stretch with its 95 % interval, and whether it settled.
 fn drift_cell(v: &Value, force: &str) -> String {
-    let q = |k: &str| {
-        v.pointer(&format!("/steady_state/{force}/{k}"))
-            .and_then(Value::as_f64)
-    };
-    match (q("drift"), q("drift_ci95")) {
-        (Some(d), Some(h)) => format!(
+    let quantity = v
+        .pointer(&format!("/steady_state/{force}"))
+        .and_then(|q| SteadyQuantity::deserialize(q).ok());
+    match quantity
+        .as_ref()
+        .map(|q| (q.drift, q.drift_ci95, q.drifting()))
+    {
+        Some((Some(d), Some(h), drifting)) => format!(
             "{} ± {}{}",
             num(d, 2),
             num(h, 2),
-            if d.abs() > h {
+            if drifting {
                 ": still drifting, the mean is the stretch's"
             } else {
                 ": none seen"
