@@ -375,13 +375,10 @@ impl ToolThermal {
     /// Advances the field by `dt` seconds with the heat booked since the last update: one
     /// explicit step, or `splits` equal ones each taking its share of the booked heat.
     pub fn conduct(&mut self, dt: f64) {
+        // n = 1: dt/1 and a share of 1 are exact, the single step of before
         let n = self.splits.max(1);
-        if n == 1 {
-            self.explicit_step(dt, 1.0);
-        } else {
-            for _ in 0..n {
-                self.explicit_step(dt / n as f64, 1.0 / n as f64);
-            }
+        for _ in 0..n {
+            self.explicit_step(dt / n as f64, 1.0 / n as f64);
         }
         self.heat_in.iter_mut().for_each(|q| *q = 0.0);
     }
