@@ -325,6 +325,10 @@ pub fn cut_case(setup: CuttingSetup, base: &Path) -> Result<CutCase> {
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct CutSummary {
     pub particles: usize,
+    /// Particles removed above `chip_break_height_m` (absent without a chip break; see
+    /// `greybox_sim::sink`); their energy is in the balance of `energy_error`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub chip_removed_particles: Option<u64>,
     pub steps: u64,
     /// Steps of the tool's approach, before any particle could move, that skipped the
     /// particle passes (their results would be the same); included in `steps` and left out
@@ -479,6 +483,9 @@ fn cut_summary(case: &CutCase, r: &CutRun, files: Vec<String>) -> CutSummary {
         .map(|s| greybox_sim::steady_report::SteadyReport::of(s, v, setup.uncut_chip_thickness_m));
     CutSummary {
         particles: r.sim.particle_count(),
+        chip_removed_particles: setup
+            .chip_break_height_m
+            .map(|_| r.sim.energy.removed_particles),
         steps: r.summary.steps,
         idle_steps: r.summary.idle_steps,
         dt_s: r.sim.dt,

@@ -182,9 +182,11 @@ impl Checkpoint {
                 .iter()
                 .zip(&sim.tools)
                 .all(|(a, b)| a.window_mu.len() == b.windows.len());
-        // A refined run has split particles since the set-up laid them out.
+        // A refined run has split particles since the set-up laid them out, one with a sink
+        // has removed some.
         let count_ok = self.particles.len() == sim.particles.len()
-            || sim.refinement.is_some() && self.particles.len() > sim.particles.len();
+            || sim.refinement.is_some() && self.particles.len() > sim.particles.len()
+            || sim.sink.is_some();
         if self.setup != setup || !shape_ok || !count_ok {
             return Err(SimError::Invalid(
                 "the checkpoint belongs to a different set-up (configuration changed since it was written)".into(),

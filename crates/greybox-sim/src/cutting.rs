@@ -8,6 +8,7 @@
 use crate::geometry::RoundedPolygon;
 use crate::model::{BoundaryGroup, Model, Numerics};
 use crate::particles::Particles;
+use crate::sink::Sink;
 use crate::tool::{ConstantMu, Motion, MotionSegment, Tool, Window};
 use crate::tool_thermal::{ToolThermal, ToolThermalSetup};
 use greybox_core::{ContactState, FrictionLaw};
@@ -212,6 +213,13 @@ pub struct CuttingSetup {
     /// it is not written out (case ids and files of earlier runs stay).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refinement: Option<CutRefinement>,
+    /// Height above the uncut surface (the top particle centres), m, where the chip breaks
+    /// off: free particles that rise above it leave the model (see [`crate::sink`]; `None`:
+    /// the chip stays whole). It must lie above the band the chip thickness is measured in
+    /// (h to 2h) by four spacings, and should lie above the tool–chip contact. Unset, it is
+    /// not written out (case ids and files of earlier runs stay).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chip_break_height_m: Option<f64>,
 }
 
 /// The refinement regions of a cut, in the frame of the cutting edge (the sharp-edge point,
@@ -375,6 +383,7 @@ impl CuttingSetup {
             tool_thermal: None,
             physical_cutting_speed_m_s: None,
             refinement: None,
+            chip_break_height_m: None,
         }
     }
 
@@ -440,6 +449,15 @@ impl CuttingSetup {
                 format!(
                     "physical_cutting_speed_m_s ({:?}) must be > 0 and at most cutting_speed_m_s ({}): the cut runs at cutting_speed_m_s and is scaled back",
                     self.physical_cutting_speed_m_s, self.cutting_speed_m_s
+                ),
+            )
+            .relation(
+                self.chip_break_height_m
+                    .is_none_or(|b| b.is_finite() && b > 2.0 * h + 4.0 * dx),
+                format!(
+                    "chip_break_height_m ({:?}) must be a height in m above 2 × uncut_chip_thickness_m + 4 spacings ({:e} m): the chip's thickness is measured between h and 2h above the surface",
+                    self.chip_break_height_m,
+                    2.0 * h + 4.0 * dx
                 ),
             )
             .positive("initial_temperature_k", self.initial_temperature_k)
@@ -653,6 +671,9 @@ impl CuttingSetup {
                 groups,
                 numerics,
                 refinement: self.refinement.as_ref().map(CutRefinement::refinement),
+                sink: self.chip_break_height_m.map(|height| Sink {
+                    y_above_m: top + height,
+                }),
             },
             duration,
         ))

@@ -44,7 +44,7 @@ pub enum Control {
 ///
 /// let material = Material::elastic_steel();
 /// let particles = Particles::block(0.0, 0.0, 4, 4, 10e-6, material.density_kg_m3, 293.15);
-/// let model = Model { particles, material, tools: vec![], groups: vec![], numerics: Numerics::default(), refinement: None };
+/// let model = Model { particles, material, tools: vec![], groups: vec![], numerics: Numerics::default(), refinement: None, sink: None };
 /// let mut sim = Solver::new(model)?;
 /// let mut stop = StopAfter(3);
 /// let summary = run(&mut sim, 1.0, "example", Hooks::new().observe(&mut stop))?;
@@ -91,7 +91,7 @@ pub trait Observer {
 ///
 /// let material = Material::elastic_steel();
 /// let particles = Particles::block(0.0, 0.0, 4, 4, 10e-6, material.density_kg_m3, 293.15);
-/// let model = Model { particles, material, tools: vec![], groups: vec![], numerics: Numerics::default(), refinement: None };
+/// let model = Model { particles, material, tools: vec![], groups: vec![], numerics: Numerics::default(), refinement: None, sink: None };
 /// let mut sim = Solver::new(model)?;
 /// let end = 3.0 * sim.dt; // three steps
 /// run(&mut sim, end, "example", Hooks::new().control(&mut Heater(1.0)))?;
@@ -138,7 +138,7 @@ pub trait Controller {
 ///
 /// let material = Material::elastic_steel();
 /// let particles = Particles::block(0.0, 0.0, 4, 4, 10e-6, material.density_kg_m3, 293.15);
-/// let model = Model { particles, material, tools: vec![], groups: vec![], numerics: Numerics::default(), refinement: None };
+/// let model = Model { particles, material, tools: vec![], groups: vec![], numerics: Numerics::default(), refinement: None, sink: None };
 /// let mut sim = Solver::new(model)?;
 /// let end = 4.5 * sim.dt;
 /// let mut steps = Steps::default();

@@ -32,6 +32,7 @@ pub mod plasticity;
 mod rates;
 pub mod refine;
 pub mod serration;
+pub mod sink;
 pub mod solver;
 pub mod steady;
 pub mod steady_report;

@@ -128,4 +128,7 @@ pub struct Model {
     pub numerics: Numerics,
     /// Regions, moving with a tool, where particles are split (`None`: one spacing).
     pub refinement: Option<crate::refine::Refinement>,
+    /// The line above which free particles leave the model (`None`: none leave; see
+    /// [`crate::sink`]).
+    pub sink: Option<crate::sink::Sink>,
 }

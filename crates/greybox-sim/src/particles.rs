@@ -130,6 +130,12 @@ pub struct Particles {
     pub spacing: f64,
 }
 
+/// Keeps `v[i]` where `keep[i]`, in order.
+fn retain_by<T: Copy>(v: &mut Vec<T>, keep: &[bool]) {
+    let mut k = keep.iter();
+    v.retain(|_| *k.next().unwrap_or(&true));
+}
+
 /// Deepest refinement level: a level-3 particle has 1/8 of the base spacing.
 pub const MAX_LEVEL: u8 = 3;
 
@@ -187,6 +193,20 @@ impl Particles {
     /// [`Particles::real_fields`], writable.
     pub fn real_fields_mut(&mut self) -> [&mut Vec<f64>; REAL_FIELDS] {
         real_fields!(self, &mut)
+    }
+
+    /// Keeps the particles with `keep[i]` and drops the others, every per-particle array
+    /// alike and in order (the kept particles keep their relative order, so a run that drops
+    /// the same particles stays the same bytes). Returns how many were dropped.
+    pub fn retain(&mut self, keep: &[bool]) -> usize {
+        debug_assert_eq!(keep.len(), self.len());
+        let before = self.len();
+        for field in self.real_fields_mut() {
+            retain_by(field, keep);
+        }
+        retain_by(&mut self.group, keep);
+        retain_by(&mut self.level, keep);
+        before - self.len()
     }
 
     /// Fills the levels of a state written before refinement existed (all level 0).

@@ -181,6 +181,7 @@ impl PinSetup {
                 groups,
                 numerics,
                 refinement: None,
+                sink: None,
             },
             press_time,
             slide_time,

@@ -39,6 +39,7 @@ use crate::particles::{mass_factor, spacing_factor, Particles, FREE};
 use crate::plasticity;
 use crate::rates::Rates;
 use crate::refine::{self, Refinement};
+use crate::sink::Sink;
 use crate::tool::Tool;
 use greybox_material::{FlowStress, Material, Thermal};
 use rayon::prelude::*;
@@ -108,6 +109,12 @@ pub struct EnergyBook {
     /// Heat into thermal tools (across the interface plus their share of friction heat).
     #[serde(default)]
     pub tool_heat: f64,
+    /// Kinetic and elastic energy carried out of the model by particles a [`Sink`] removed.
+    #[serde(default)]
+    pub removed: f64,
+    /// Particles a [`Sink`] removed.
+    #[serde(default)]
+    pub removed_particles: u64,
 }
 
 /// Energies of a state, J/m.
@@ -119,8 +126,11 @@ pub struct EnergyBalance {
     pub friction: f64,
     pub penalty: f64,
     pub viscous: f64,
+    /// Carried out by removed particles (see [`crate::sink`]).
+    pub removed: f64,
     pub external: f64,
-    /// (kinetic + elastic + plastic + friction + penalty + viscous − external) / external.
+    /// (kinetic + elastic + plastic + friction + penalty + viscous + removed − external) /
+    /// external.
     pub relative_error: f64,
 }
 
@@ -180,6 +190,8 @@ pub struct Solver {
     pub neighbours: NeighbourList,
     /// The regions where particles are split (see [`crate::refine`]).
     pub refinement: Option<Refinement>,
+    /// The line above which free particles leave the model (see [`crate::sink`]).
+    pub sink: Option<Sink>,
     /// Whether the pair passes use per-particle masses and smoothing lengths: with a
     /// refinement, or when the particles were refined (a restored state).
     pub(crate) refined: bool,
@@ -217,6 +229,7 @@ impl Solver {
             groups,
             numerics,
             refinement,
+            sink,
         } = model;
         numerics.validate()?;
         material.validate()?;
@@ -230,6 +243,9 @@ impl Solver {
         }
         if let Some(r) = &refinement {
             r.validate(tools.len()).map_err(SimError::Invalid)?;
+        }
+        if let Some(s) = &sink {
+            s.validate().map_err(SimError::Invalid)?;
         }
         if let Some(&g) = particles.group.iter().find(|&&g| g as usize > groups.len()) {
             return Err(SimError::Invalid(format!(
@@ -279,6 +295,7 @@ impl Solver {
             kernel,
             neighbours,
             refinement,
+            sink,
             refined,
             derived,
             dt,
@@ -373,9 +390,12 @@ impl Solver {
         // Splitting (every step, so that the splits depend only on where the tool is and a
         // resumed run makes the same ones) changes the particles: the lists are rebuilt.
         let split = self.refine();
+        // Removal (before the passes, every step, like splitting) changes them too.
+        let sunk = self.sink();
         // The displacement test runs inside the previous update; a fresh or restored solver
         // (lists built for other positions) is checked here.
         if split
+            || sunk
             || self.rebuild_due
             || (self.step == 0 || self.neighbours.reference().0.len() != self.particles.len())
                 && self
@@ -796,25 +816,21 @@ impl Solver {
 
     /// The energy balance of the current state.
     pub fn energy_balance(&self) -> EnergyBalance {
-        let p = &self.particles;
-        let d = self.derived;
-        let g = d.shear;
         // Serial sum in particle order: the same bytes whatever the thread count.
         let (mut kin, mut ela) = (0.0, 0.0);
-        for i in 0..p.len() {
-            let v2 = p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i];
-            let rho = p.rho[i];
-            let m = p.mass_of(i);
-            let vol = m / rho;
-            let ss =
-                p.sxx[i].powi(2) + p.syy[i].powi(2) + p.szz[i].powi(2) + 2.0 * p.sxy[i].powi(2);
-            // Linear EOS: e = c₀² [ln(ρ/ρ₀) + ρ₀/ρ − 1] per mass.
-            let vol_e = m * d.c0_sq * ((rho / d.rho0).ln() + d.rho0 / rho - 1.0);
-            kin += 0.5 * m * v2;
-            ela += vol * ss / (4.0 * g) + vol_e;
+        for i in 0..self.particles.len() {
+            let (k, e) = self.particle_energy(i);
+            kin += k;
+            ela += e;
         }
         let e = &self.energy;
-        let stored = kin + ela + e.plastic_work + e.friction_work + e.penalty_work + e.viscous_work;
+        let stored = kin
+            + ela
+            + e.plastic_work
+            + e.friction_work
+            + e.penalty_work
+            + e.viscous_work
+            + e.removed;
         EnergyBalance {
             kinetic: kin,
             elastic: ela,
@@ -822,10 +838,42 @@ impl Solver {
             friction: e.friction_work,
             penalty: e.penalty_work,
             viscous: e.viscous_work,
+            removed: e.removed,
             external: e.external_work,
             relative_error: (stored - e.external_work)
                 / e.external_work.abs().max(f64::MIN_POSITIVE),
         }
+    }
+
+    /// Kinetic energy ½ m v² and elastic energy of particle `i`, J/m: the deviatoric
+    /// (m/ρ) s:s / 4G plus the linear equation of state's m c₀² [ln(ρ/ρ₀) + ρ₀/ρ − 1].
+    fn particle_energy(&self, i: usize) -> (f64, f64) {
+        let p = &self.particles;
+        let d = self.derived;
+        let v2 = p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i];
+        let rho = p.rho[i];
+        let m = p.mass_of(i);
+        let ss = p.sxx[i].powi(2) + p.syy[i].powi(2) + p.szz[i].powi(2) + 2.0 * p.sxy[i].powi(2);
+        let vol_e = m * d.c0_sq * ((rho / d.rho0).ln() + d.rho0 / rho - 1.0);
+        (0.5 * m * v2, m / rho * ss / (4.0 * d.shear) + vol_e)
+    }
+
+    /// Removes the free particles above the sink's line (see [`crate::sink`]), booking the
+    /// energy they carry; returns whether any left (the per-particle arrays have then
+    /// shrunk and the neighbour lists must be rebuilt).
+    fn sink(&mut self) -> bool {
+        let Some(keep) = self.sink.and_then(|s| s.keep(&self.particles)) else {
+            return false;
+        };
+        // in particle order, serially: the same bytes whatever the thread count
+        for i in (0..keep.len()).filter(|&i| !keep[i]) {
+            let (k, e) = self.particle_energy(i);
+            self.energy.removed += k + e;
+        }
+        self.energy.removed_particles += self.particles.retain(&keep) as u64;
+        let n = self.particles.len();
+        self.scratch.for_particles(n);
+        true
     }
 
     /// Particle-steps per second helper: particle count.
@@ -1110,6 +1158,7 @@ mod tests {
                 ..Numerics::default()
             },
             refinement: None,
+            sink: None,
         }
     }
 

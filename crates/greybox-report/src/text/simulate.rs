@@ -11,6 +11,12 @@ pub fn cut(s: &CutSummary) -> String {
         "{} particles, {} steps ({} idle before first contact; dt {:.3e} s, mass scaling {}), {:.3} mm of cut in {:.1} s: {:.3e} particle-steps/s ({:.3e} per core, {} threads)",
         s.particles, s.steps, s.idle_steps, s.dt_s, s.mass_scaling, s.simulated_cut_length_mm, s.wall_s, s.particle_steps_per_s, s.particle_steps_per_s_per_core, s.threads
     );
+    if let Some(n) = s.chip_removed_particles {
+        let _ = writeln!(
+            text,
+            "  chip break: {n} particles left the model above chip_break_height_m (their energy is in the balance)"
+        );
+    }
     let _ = writeln!(
         text,
         "  friction: {}; {} windows, {} window updates",

@@ -24,6 +24,7 @@ pub fn block_model(
         groups,
         numerics: Numerics::default(),
         refinement: None,
+        sink: None,
     }
 }
 
@@ -62,6 +63,7 @@ pub fn coarse_cut() -> greybox_sim::cutting::CuttingSetup {
         tool_thermal: None,
         physical_cutting_speed_m_s: None,
         refinement: None,
+        chip_break_height_m: None,
     }
 }
 
