@@ -68,6 +68,10 @@ mod tests {
         assert!(p.check_lengths());
         assert_eq!(p.group, vec![0, 0, 0, 0, 0, 0, 1]);
         assert!(Sink { y_above_m: 1.0 }.keep(&p).is_none());
-        assert!(Sink { y_above_m: f64::NAN }.validate().is_err());
+        assert!(Sink {
+            y_above_m: f64::NAN
+        }
+        .validate()
+        .is_err());
     }
 }

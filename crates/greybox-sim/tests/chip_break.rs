@@ -59,7 +59,12 @@ fn the_chip_above_the_break_leaves_and_the_cut_below_is_untouched_until_then() {
     );
     // until the first particle crosses, the two cuts are the same cut, to the bit
     let before = |r: &CutRun| -> Vec<[f64; 6]> {
-        r.forces.rows.iter().filter(|row| row[0] < t_first).copied().collect()
+        r.forces
+            .rows
+            .iter()
+            .filter(|row| row[0] < t_first)
+            .copied()
+            .collect()
     };
     assert!(before(&a).len() > 5);
     assert_eq!(before(&a), before(&b));
@@ -70,7 +75,10 @@ fn the_chip_above_the_break_leaves_and_the_cut_below_is_untouched_until_then() {
         .filter(|&i| p.group[i] == FREE)
         .map(|i| p.y[i])
         .fold(f64::NEG_INFINITY, f64::max);
-    assert!(highest < line + 0.1 * whole.spacing_m, "{highest} above {line}");
+    assert!(
+        highest < line + 0.1 * whole.spacing_m,
+        "{highest} above {line}"
+    );
     // the energy they carried is booked: the balance closes as well as the whole chip's
     let (ea, eb) = (a.sim.energy_balance(), b.sim.energy_balance());
     assert!(eb.removed > 0.0);

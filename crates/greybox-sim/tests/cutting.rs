@@ -270,7 +270,10 @@ fn resume_equals_uninterrupted(setup: &greybox_sim::cutting::CuttingSetup, every
     let c = Checkpoint::read(&ck_path).unwrap();
     assert_eq!(c.step, 2 * every);
     if setup.chip_break_height_m.is_some() {
-        assert!(c.energy.removed_particles > 0, "the checkpoint precedes the break");
+        assert!(
+            c.energy.removed_particles > 0,
+            "the checkpoint precedes the break"
+        );
     }
     let mut ck = Checkpointer::new(&ck_path, every, &id);
     let resumed = CutRun::execute(
