@@ -23,6 +23,8 @@ The variants:
 * `no-softening` — without thermal softening (m = 50: (T*)^m ≈ 0 below the melt);
 * `tanh-s=X` — the TANH strain softening's exponent s set to X (Sima & Özel's model 3 has
   0.05, which keeps tanh(·)^s near 1 and the softening weak; Calamaz et al.'s model is s = 1);
+* `chip-break=X` — the chip breaks off X mm above the uncut surface (`chip_break_height_m`:
+  the chip's far part leaves the model instead of acting back on the contact);
 * `mu-half`, `mu-1.5x` — μ × 0.5, × 1.5.
 
     python3 scripts/chip_ablation.py GREYBOX validation/ti64-tanh-setup.toml \\
@@ -93,6 +95,8 @@ def variant_text(template, cond, mu, variant, cut_length_m):
         set_key(parts, 'material.plasticity', 'm', '50.0')
     elif variant.startswith('tanh-s='):
         set_key(parts, 'material.plasticity', 'tanh_s', repr(float(variant.split('=')[1])))
+    elif variant.startswith('chip-break='):
+        set_key(parts, '', 'chip_break_height_m', repr(float(variant.split('=')[1]) * 1e-3))
     elif variant == 'mu-half':
         set_key(parts, '', 'mu', repr(mu * 0.5))
     elif variant == 'mu-1.5x':
