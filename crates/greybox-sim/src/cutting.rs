@@ -575,6 +575,25 @@ impl CuttingSetup {
         (self.cut_length_m + 2.0 * self.spacing_m) / v + 0.5 * ramp
     }
 
+    /// The material and numerics a time-scaled cut runs with (see
+    /// [`CuttingSetup::physical_cutting_speed_m_s`]): the strain rate the flow stress sees ÷ s
+    /// and the workpiece's conductivity × s; unchanged at s = 1.
+    fn time_scaled_material(&self) -> (Material, Numerics) {
+        let speed_up = self.speed_up();
+        let mut material = self.material.clone();
+        let mut numerics = self.numerics.clone();
+        if speed_up != 1.0 {
+            numerics.strain_rate_scale /= speed_up;
+            material
+                .thermal
+                .conductivity
+                .y
+                .iter_mut()
+                .for_each(|k| *k *= speed_up);
+        }
+        (material, numerics)
+    }
+
     /// Builds the model with `law` in every friction window of the insert.
     pub fn model_with_law(&self, law: Arc<dyn FrictionLaw>) -> greybox_core::Result<(Model, f64)> {
         self.validate()?;
@@ -652,17 +671,7 @@ impl CuttingSetup {
             contacts: 0,
             thermal,
         };
-        let mut material = self.material.clone();
-        let mut numerics = self.numerics.clone();
-        if speed_up != 1.0 {
-            numerics.strain_rate_scale /= speed_up;
-            material
-                .thermal
-                .conductivity
-                .y
-                .iter_mut()
-                .for_each(|k| *k *= speed_up);
-        }
+        let (material, numerics) = self.time_scaled_material();
         Ok((
             Model {
                 particles: p,
