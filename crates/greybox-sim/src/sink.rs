@@ -5,9 +5,9 @@
 //! back on the tool–chip contact. Measured on the Ti6Al4V template refined to 5 µm, the rake
 //! contact lengthened from about 95 to 130–150 µm over 3 mm of cut while the flank load
 //! halved, and F'f fell by 10–25 % although nothing else drifted (docs/validation.md, "The
-//! chip that never breaks"). Real Ti6Al4V chips segment, curl and break long before that;
-//! FE cutting codes delete the chip far from the tool for the same reason (element deletion,
-//! e.g. Özel & Zeren, J. Manuf. Sci. Eng. 129 (2007) 255, on the ALE chip's free end).
+//! chip that never breaks"). Real Ti6Al4V chips segment, curl and break long before that, so
+//! a simulation of a measured cut, which is averaged over seconds of many broken chips, keeps
+//! only the chip near the tool.
 //!
 //! A [`Sink`] removes every free particle whose centre lies above `y_above_m` at the start
 //! of a step. What the removed particles carry away — kinetic energy ½ m v² and elastic
