@@ -6,7 +6,8 @@ dependence: ablations").
 Every cut is the validation suite's cut of a condition of `orthogonal-cutting.csv` (the
 template with the condition's speed, uncut chip thickness, rake, clearance and edge radius;
 run at the template's `cutting_speed_m_s` and scaled back to the physical speed), refined
-20 → 10 µm as `validation/suite-refined-fast.toml`, at a fixed μ, run to its full length.
+20 → 10 µm as `validation/suite-refined-fast.toml` (`--coarse-spacing-um 10`: 10 → 5 µm), at a
+fixed μ, run to its full length.
 The variants:
 
 * `baseline` — as the suite cuts it (time scaling: strain rate ÷ s, conductivity × s);
@@ -29,7 +30,8 @@ The variants:
 
     python3 scripts/chip_ablation.py GREYBOX validation/ti64-tanh-setup.toml \\
         --data validation/orthogonal-cutting.csv --conditions D07 D12 D17 --mu 0.396 \\
-        --out /tmp/ablation [--variants baseline mass-scaled …] [--cut-length-mm 1.2] [--jobs 2]
+        --out /tmp/ablation [--variants baseline mass-scaled …] [--cut-length-mm 1.2] [--jobs 2] \\
+        [--coarse-spacing-um 20]
 
 Prints a table per condition (F'c, F'f, h_c/h with their 95 % intervals, serrated share,
 segment pitch, peak rake temperature) beside the measured values, and per variant the
@@ -49,7 +51,6 @@ from setup_toml import get_key, join, remove_section, sections, set_key
 
 REFINEMENT = ('[refinement]\nregions = [{ ahead_m = 0.2e-3, behind_m = 0.02e-3, '
               'below_m = 0.04e-3, above_m = 0.3e-3 }]\n')
-COARSE_SPACING_M = 2.0e-5
 
 
 def condition_rows(path):
@@ -58,14 +59,14 @@ def condition_rows(path):
     return {r['id']: r for r in csv.DictReader(lines)}
 
 
-def variant_text(template, cond, mu, variant, cut_length_m):
+def variant_text(template, cond, mu, variant, cut_length_m, coarse_spacing_m):
     parts = sections(template)
     run_speed = float(get_key(parts, '', 'cutting_speed_m_s'))
     speed = float(cond['cutting_speed_m_per_min']) / 60.0
     s = run_speed / speed
     set_key(parts, '', 'uncut_chip_thickness_m', repr(float(cond['uncut_chip_thickness_mm']) * 1e-3))
     set_key(parts, '', 'cut_length_m', repr(cut_length_m))
-    set_key(parts, '', 'spacing_m', repr(COARSE_SPACING_M))
+    set_key(parts, '', 'spacing_m', repr(coarse_spacing_m))
     set_key(parts, '', 'mu', repr(mu))
     set_key(parts, 'insert', 'rake_deg', cond['rake_deg'])
     set_key(parts, 'insert', 'clearance_deg', cond['clearance_deg'])
@@ -146,6 +147,8 @@ def main():
     ap.add_argument('--variants', nargs='+', default=VARIANTS)
     ap.add_argument('--cut-length-mm', type=float, default=1.2)
     ap.add_argument('--jobs', type=int, default=2)
+    ap.add_argument('--coarse-spacing-um', type=float, default=20.0,
+                    help='the spacing away from the tool; the refined region has half of it')
     a = ap.parse_args()
     template = open(a.template, encoding='utf-8').read()
     rows = condition_rows(a.data)
@@ -156,7 +159,8 @@ def main():
             for v in a.variants:
                 cfg = os.path.join(a.out, f'{c}-{v}.toml')
                 with open(cfg, 'w', encoding='utf-8') as f:
-                    f.write(variant_text(template, rows[c], a.mu, v, a.cut_length_mm * 1e-3))
+                    f.write(variant_text(template, rows[c], a.mu, v, a.cut_length_mm * 1e-3,
+                                         a.coarse_spacing_um * 1e-6))
                 jobs[(c, v)] = pool.submit(run, a.greybox, cfg, os.path.join(a.out, f'{c}-{v}'))
         results = {k: f.result() for k, f in jobs.items()}
     for c in a.conditions:
