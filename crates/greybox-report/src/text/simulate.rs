@@ -50,6 +50,16 @@ pub fn cut(s: &CutSummary) -> String {
                 );
             }
         }
+        if let Some((true, Some(d), Some(h))) = st
+            .contact_length_mm
+            .as_ref()
+            .map(|q| (q.drifting(), q.drift, q.drift_ci95))
+        {
+            let _ = writeln!(text,
+                "  note: the tool–chip contact length drifts by {:+.1} ± {:.1} µm across the steady stretch: the contact has not settled and the forces follow it; a longer cut_length_m",
+                1e3 * d, 1e3 * h
+            );
+        }
     }
     if s.short_stretch && s.steady {
         let _ = writeln!(text,
