@@ -76,15 +76,6 @@ impl ChipSampler {
         let hc = mean(inside().filter_map(|s| s.thickness_m).collect())?;
         Some(l * hc / h)
     }
-
-    /// The contact length with the rake face as the chip's particles show it, m, per sample
-    /// that has one.
-    pub fn contact_length(&self) -> Samples {
-        self.samples
-            .iter()
-            .filter_map(|s| s.contact_length_m.map(|l| (s.time_s, l)))
-            .collect()
-    }
 }
 
 impl Observer for ChipSampler {

@@ -39,18 +39,11 @@
 //! along their least-squares line, with an interval ([`greybox_core::stats::Drift`]). A
 //! change larger than its interval means the quantity was still settling (the forces of a
 //! cut whose tool is still warming fall along the cut): its mean is that of the stretch, not
-//! a steady value, and a force that drifts is never sure. Nor is a cut whose tool–chip
-//! contact still lengthens: the contact is the cut's slowest state, and as it creeps up the
-//! rake it takes load from the edge and the flank, so F'f falls — but by less than its
-//! scatter for the first millimetres. Refined 5 µm Ti6Al4V cuts whose forces were sure at
-//! 2 mm had contacts lengthening significantly across the stretch (+8 ± 5 µm) and F'f falling
-//! by 8 N/mm over the next millimetre; cuts whose contact held agreed with each other
-//! (docs/validation.md, "The chip that never breaks").
+//! a steady value, and a force that drifts is never sure.
 //!
 //! **Run until sure** ([`RunUntilSure`]): with `stop_when_sure`, the force intervals are
 //! re-formed as the cut goes (every hundredth of its length), and the cut stops once the
-//! stretch spans `min_contact_renewals` renewals, neither force nor the contact length (as
-//! the chip's particles show it, [`ChipSampler::contact_length`]) drifts and F'c's and F'f's
+//! stretch spans `min_contact_renewals` renewals, neither force drifts and F'c's and F'f's
 //! relative half-widths are at most the set-up's targets; otherwise it runs to its `cut_length_m`, the length limit,
 //! and says that it hit it. (The sequential check is the relative-precision procedure of Law
 //! & Kelton, §9.4.1, on batch means, with a minimum length from the physics of the cut.)
@@ -241,12 +234,7 @@ impl SteadyState {
 
     /// Whether the stretch is long enough and the force intervals meet the set-up's targets.
     pub fn sure(&self, st: &SteadySetup) -> bool {
-        forces_sure(
-            &[self.cutting_force, self.feed_force],
-            self.contact_length.as_ref(),
-            self.renewals,
-            st,
-        )
+        forces_sure(&[self.cutting_force, self.feed_force], self.renewals, st)
     }
 
     /// The stretch spans fewer contact renewals than `st` asks (its intervals may understate
@@ -268,20 +256,12 @@ fn long_enough(renewals: Option<f64>, st: &SteadySetup) -> bool {
 }
 
 /// Whether the stretch spans enough renewals, F'c's and F'f's relative half-widths are at
-/// most the targets of `st`, and neither force nor the tool–chip contact length drifts
-/// across the stretch (a force still settling is not sure of its steady value however
-/// narrow its interval; a contact still lengthening moves the load from the edge and flank
-/// up the rake, and F'f follows it later: module docs, "Drift").
-fn forces_sure(
-    f: &[MeanInterval; 2],
-    contact: Option<&MeanInterval>,
-    renewals: Option<f64>,
-    st: &SteadySetup,
-) -> bool {
+/// most the targets of `st`, and neither force drifts across the stretch (a force still
+/// settling is not sure of its steady value however narrow its interval).
+fn forces_sure(f: &[MeanInterval; 2], renewals: Option<f64>, st: &SteadySetup) -> bool {
     let within =
         |m: &MeanInterval, target: f64| !m.drifting() && m.relative().is_some_and(|r| r <= target);
     long_enough(renewals, st)
-        && !contact.is_some_and(MeanInterval::drifting)
         && within(&f[0], st.cutting_force_rel_ci95)
         && within(&f[1], st.feed_force_rel_ci95)
 }
@@ -336,14 +316,11 @@ impl RunUntilSure {
         self.chip.contact_renewal_m(w.from_s, w.to_s)
     }
 
-    /// Whether the stretch so far is long enough, its force intervals meet the targets and
-    /// the chip's contact with the rake (as its particles show it, the length the renewals
-    /// are counted in) does not drift.
+    /// Whether the stretch so far is long enough and its force intervals meet the targets.
     fn sure_now(&self) -> bool {
         self.window().is_some_and(|w| {
             let r = renewals(&w, self.renewal_m(&w), self.speed_m_s);
-            let contact = w.mean(&self.chip.contact_length());
-            forces_sure(&w.forces(&self.forces), contact.as_ref(), r, &self.setup)
+            forces_sure(&w.forces(&self.forces), r, &self.setup)
         })
     }
 }
@@ -474,7 +451,7 @@ mod tests {
         let sure = |h: &ForceHistory| {
             let w = SteadyWindow::of(h, 100.0).expect("a window");
             let f = w.forces(h);
-            (forces_sure(&f, None, Some(10.0), &st), f[1])
+            (forces_sure(&f, Some(10.0), &st), f[1])
         };
         let (steady_sure, steady_ff) = sure(&level);
         assert!(steady_sure && !steady_ff.drifting(), "{steady_ff:?}");
@@ -486,40 +463,6 @@ mod tests {
         assert!(falling_ff.drifting() && !falling_sure, "{falling_ff:?}");
         let change = falling_ff.drift.expect("a drift").change;
         assert!(change < -4.0, "the fall across the stretch: {change}");
-    }
-
-    /// Steady forces with a contact that lengthens by 8 % across the stretch (under its
-    /// noise at every instant) are not sure; the same forces with the contact level are.
-    #[test]
-    fn a_lengthening_contact_is_never_sure() {
-        let st = SteadySetup {
-            cutting_force_rel_ci95: 0.05,
-            feed_force_rel_ci95: 0.05,
-            ..SteadySetup::default()
-        };
-        let h = history(1500, [100.0, 40.0], 17.3, 4.0, 8.0, 3);
-        let w = SteadyWindow::of(&h, 100.0).expect("a window");
-        let f = w.forces(&h);
-        let mut rng = ChaCha8Rng::seed_from_u64(5);
-        let contact = |creep: f64, rng: &mut ChaCha8Rng| -> Samples {
-            (1..=1500)
-                .map(|k| {
-                    let t = k as f64;
-                    (
-                        t,
-                        100e-6 * (1.0 + creep * t / 1500.0) + rng.gen_range(-8e-6..8e-6),
-                    )
-                })
-                .collect()
-        };
-        let level = w.mean(&contact(0.0, &mut rng)).expect("an interval");
-        let creeping = w.mean(&contact(0.08, &mut rng)).expect("an interval");
-        assert!(
-            !level.drifting() && creeping.drifting(),
-            "{level:?} {creeping:?}"
-        );
-        assert!(forces_sure(&f, Some(&level), Some(10.0), &st));
-        assert!(!forces_sure(&f, Some(&creeping), Some(10.0), &st));
     }
 
     #[test]
