@@ -97,6 +97,39 @@ impl Observer for ChipSampler {
     }
 }
 
+/// The contact length of the grey-box loop's intervals as they close, read off the tool's
+/// windows (each keeps its last closed interval, [`crate::tool::Window::last_interval`]):
+/// the same length [`contact_series`] gives per interval, available while the cut runs.
+#[derive(Debug, Clone)]
+pub struct LoopContact {
+    layout: EdgeLayout,
+    window_length: f64,
+    every: u64,
+}
+
+impl LoopContact {
+    /// For the loop of `setup` (`None`: its insert has no layout).
+    pub fn new(setup: &CuttingSetup) -> Option<Self> {
+        Some(LoopContact {
+            layout: setup.insert.layout().ok()?,
+            window_length: setup.friction.window_length_m,
+            every: setup.friction.update_every_steps.max(1),
+        })
+    }
+
+    /// The contact length of the interval the loop closed at this step of `sim`, m (`None`:
+    /// no interval closed, or no window in contact).
+    pub fn at_close(&self, sim: &Solver, tool: usize) -> Option<f64> {
+        if !sim.step.is_multiple_of(self.every) {
+            return None;
+        }
+        let t = sim.tools.get(tool)?;
+        let sums: Vec<_> = t.windows.iter().map(|w| w.last_interval).collect();
+        let profile = contact_profile(t, &self.layout, &sums, sim.particles.spacing);
+        contact_length(&profile, self.window_length, IN_CONTACT)
+    }
+}
+
 /// Per interval of the grey-box loop (at its end time): the contact length on the rake side
 /// (m), and the hottest and the normal-force-weighted mean temperature (K) of the rake and
 /// edge windows in contact for at least [`IN_CONTACT`] of their length.

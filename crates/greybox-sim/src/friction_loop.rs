@@ -116,6 +116,7 @@ impl FrictionUpdater {
         let lengths: Vec<f64> = tool.windows.iter().map(|w| w.length()).collect();
         self.smoothed.resize(sums.len(), None);
         for (k, w) in tool.windows.iter_mut().enumerate() {
+            w.last_interval = w.acc;
             w.acc = WindowAccumulator::default();
             if !update {
                 continue;

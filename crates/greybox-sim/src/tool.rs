@@ -185,6 +185,11 @@ pub struct Window {
     /// The μ the contact currently uses.
     pub mu: f64,
     pub acc: WindowAccumulator,
+    /// The sums of the last interval the grey-box loop closed (what it set μ from), kept so
+    /// that observers can read the contact of the loop's intervals
+    /// ([`crate::steady::RunUntilSure`]).
+    #[serde(default)]
+    pub last_interval: WindowAccumulator,
 }
 
 fn default_law() -> Arc<dyn FrictionLaw> {
@@ -212,6 +217,7 @@ impl Window {
             law,
             mu,
             acc: WindowAccumulator::default(),
+            last_interval: WindowAccumulator::default(),
         }
     }
     pub fn length(&self) -> f64 {
