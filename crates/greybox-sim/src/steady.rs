@@ -473,15 +473,20 @@ mod tests {
         );
     }
 
+    /// Targets of ±5 % on both forces (the records' noise meets them).
+    fn five_percent_targets() -> SteadySetup {
+        SteadySetup {
+            cutting_force_rel_ci95: 0.05,
+            feed_force_rel_ci95: 0.05,
+            ..SteadySetup::default()
+        }
+    }
+
     /// A feed force that falls by 15 % along the cut (a tool still warming) has a
     /// narrow interval and is not sure; the same record without the fall is.
     #[test]
     fn a_drifting_force_is_never_sure() {
-        let st = SteadySetup {
-            cutting_force_rel_ci95: 0.05,
-            feed_force_rel_ci95: 0.05,
-            ..SteadySetup::default()
-        };
+        let st = five_percent_targets();
         let level = history(1500, [100.0, 40.0], 17.3, 4.0, 8.0, 3);
         let mut falling = level.clone();
         for row in falling.rows.iter_mut() {
@@ -508,11 +513,7 @@ mod tests {
     /// noise at every instant) are not sure; the same forces with the contact level are.
     #[test]
     fn a_lengthening_contact_is_never_sure() {
-        let st = SteadySetup {
-            cutting_force_rel_ci95: 0.05,
-            feed_force_rel_ci95: 0.05,
-            ..SteadySetup::default()
-        };
+        let st = five_percent_targets();
         let h = history(1500, [100.0, 40.0], 17.3, 4.0, 8.0, 3);
         let w = SteadyWindow::of(&h, 100.0).expect("a window");
         let f = w.forces(&h);
