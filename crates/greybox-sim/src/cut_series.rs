@@ -98,13 +98,14 @@ impl Observer for ChipSampler {
 }
 
 /// The contact length of the grey-box loop's intervals as they close, read off the tool's
-/// windows (each keeps its last closed interval, [`crate::tool::Window::last_interval`]):
-/// the same length [`contact_series`] gives per interval, available while the cut runs.
+/// windows (each keeps its last closed interval, [`crate::tool::Window::last_interval`], and
+/// the tool the step it closed at, [`crate::tool::Tool::last_close_step`]): the same length
+/// [`contact_series`] gives per interval, available while the cut runs, at whatever cadence
+/// the loop closes.
 #[derive(Debug, Clone)]
 pub struct LoopContact {
     layout: EdgeLayout,
     window_length: f64,
-    every: u64,
 }
 
 impl LoopContact {
@@ -113,17 +114,16 @@ impl LoopContact {
         Some(LoopContact {
             layout: setup.insert.layout().ok()?,
             window_length: setup.friction.window_length_m,
-            every: setup.friction.update_every_steps.max(1),
         })
     }
 
     /// The contact length of the interval the loop closed at this step of `sim`, m (`None`:
-    /// no interval closed, or no window in contact).
+    /// no interval closed at this step, or no window in contact).
     pub fn at_close(&self, sim: &Solver, tool: usize) -> Option<f64> {
-        if !sim.step.is_multiple_of(self.every) {
+        let t = sim.tools.get(tool)?;
+        if t.last_close_step != Some(sim.step) {
             return None;
         }
-        let t = sim.tools.get(tool)?;
         let sums: Vec<_> = t.windows.iter().map(|w| w.last_interval).collect();
         let profile = contact_profile(t, &self.layout, &sums, sim.particles.spacing);
         contact_length(&profile, self.window_length, IN_CONTACT)

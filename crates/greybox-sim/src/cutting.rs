@@ -670,6 +670,7 @@ impl CuttingSetup {
             force: [0.0, 0.0],
             contacts: 0,
             thermal,
+            last_close_step: None,
         };
         let (material, numerics) = self.time_scaled_material();
         Ok((

@@ -112,6 +112,7 @@ impl FrictionUpdater {
             .tools
             .get_mut(self.tool)
             .ok_or_else(|| SimError::Invalid(format!("no tool {}", self.tool)))?;
+        tool.last_close_step = Some(step);
         let sums: Vec<WindowAccumulator> = tool.windows.iter().map(|w| w.acc).collect();
         let lengths: Vec<f64> = tool.windows.iter().map(|w| w.length()).collect();
         self.smoothed.resize(sums.len(), None);

@@ -255,6 +255,11 @@ pub struct Tool {
     /// Heat conduction in the tool; `None`: adiabatic (no heat enters the tool).
     #[serde(default)]
     pub thermal: Option<crate::tool_thermal::ToolThermal>,
+    /// The step at which the grey-box loop last closed an interval (each window's
+    /// [`Window::last_interval`] holds its sums); `None` before the first close. Observers
+    /// read the loop's intervals when it equals the current step, whatever the loop's cadence.
+    #[serde(default)]
+    pub last_close_step: Option<u64>,
 }
 
 impl Tool {
@@ -281,6 +286,7 @@ impl Tool {
             force: [0.0, 0.0],
             contacts: 0,
             thermal: None,
+            last_close_step: None,
         }
     }
 

@@ -100,3 +100,55 @@ fn a_cut_stops_once_sure_and_says_when_it_could_not_be() {
     assert!(!limit.summary.stopped_by_observer);
     assert!(limit.sim.time * v >= 0.999 * setup.cut_length_m);
 }
+
+/// Collects the grey-box loop's contact length as each interval closes, the way the stop rule
+/// reads it.
+struct ContactAtClose {
+    reader: greybox_sim::cut_series::LoopContact,
+    samples: Vec<(f64, f64)>,
+}
+
+impl greybox_sim::Observer for ContactAtClose {
+    fn after_step(
+        &mut self,
+        sim: &greybox_sim::Solver,
+    ) -> Result<greybox_sim::Control, greybox_sim::SimError> {
+        if let Some(l) = self.reader.at_close(sim, 0) {
+            self.samples.push((sim.time, l));
+        }
+        Ok(greybox_sim::Control::Continue)
+    }
+}
+
+#[test]
+fn the_stop_rule_reads_every_interval_the_loop_closes_at_its_own_cadence() {
+    let mut setup = common::coarse_cut();
+    setup.cut_length_m = 0.4e-3;
+    // the reader is made for the set-up as it was (every 100 steps); the loop then runs at a
+    // cadence no other step count of the cut shares
+    let mut seen = ContactAtClose {
+        reader: greybox_sim::cut_series::LoopContact::new(&setup).unwrap(),
+        samples: Vec::new(),
+    };
+    setup.friction.update_every_steps = 37;
+    let run = greybox_sim::cut_run::CutRun::execute(
+        &setup,
+        std::sync::Arc::new(greybox_sim::ConstantMu(setup.mu)),
+        1.0,
+        None,
+        &mut greybox_sim::Hooks::new().observe(&mut seen),
+    )
+    .unwrap();
+    let [series, _, _] = greybox_sim::cut_series::contact_series(
+        &run.updater,
+        &run.sim.tools[0],
+        &run.layout,
+        run.sim.particles.spacing,
+        setup.friction.window_length_m,
+    );
+    // the same samples, bit for bit; the summary's series also holds the partial interval
+    // closed when the cut ends
+    assert!(seen.samples.len() > 10, "{} samples", seen.samples.len());
+    assert!(series.len() - seen.samples.len() <= 1);
+    assert_eq!(seen.samples[..], series[..seen.samples.len()]);
+}
