@@ -47,6 +47,11 @@ fn characterize_two_loads_and_check_the_plan() {
     let c = &v["excitation_check"];
     assert!((c["max_excitation_hz"].as_f64().unwrap() - 397.89 / 60.0 * 3.0).abs() < 1e-9);
     assert_eq!(c["pass"], true);
+    // what the check rests on: only a radius was stated, so the velocities are the article's
+    assert!((c["max_spindle_rpm"].as_f64().unwrap() - 397.89).abs() < 0.01);
+    assert!((c["velocity_max_m_per_min"].as_f64().unwrap() - 250.0).abs() < 1e-9);
+    assert_eq!(c["track_radius_mm"], 100.0);
+    assert_eq!(c["velocities"], "the article's plan (no velocity stated)");
     for f in [
         "frf_500N.csv",
         "frf_2000N.csv",

@@ -14,6 +14,53 @@ use greybox_tribo::plan::Plan;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
+/// The plan the excitation check runs against, and whether its velocities were stated or
+/// are the article's (a track radius alone was given).
+#[derive(Debug, Clone)]
+pub struct ExcitationPlan {
+    pub plan: Plan,
+    pub velocities_stated: bool,
+}
+
+/// The article's excitation check and what it rests on: the plan's fastest step.
+#[derive(Debug, Clone, Serialize)]
+pub struct PlannedExcitationCheck {
+    #[serde(flatten)]
+    pub check: ExcitationCheck,
+    /// The plan's highest sliding velocity, m/min.
+    pub velocity_max_m_per_min: f64,
+    /// The track radius it is turned on, mm.
+    pub track_radius_mm: f64,
+    /// Its spindle speed, rpm: the rotation frequency whose harmonics are checked.
+    pub max_spindle_rpm: f64,
+    /// Where the velocities come from: "stated", or "the article's plan (no velocity
+    /// stated)" when only a track radius was given.
+    pub velocities: String,
+}
+
+impl PlannedExcitationCheck {
+    /// The check of `resonances` against `p`'s fastest step.
+    fn of(resonances: &[Resonance], p: &ExcitationPlan, harmonics: usize) -> Result<Self> {
+        let check = excitation_check(resonances, &p.plan, harmonics)?;
+        let fastest = p
+            .plan
+            .steps
+            .iter()
+            .max_by(|a, b| a.spindle_rpm.total_cmp(&b.spindle_rpm));
+        let velocities = match p.velocities_stated {
+            true => "stated",
+            false => "the article's plan (no velocity stated)",
+        };
+        Ok(PlannedExcitationCheck {
+            check,
+            velocity_max_m_per_min: fastest.map_or(0.0, |s| s.sliding_velocity_m_s * 60.0),
+            track_radius_mm: p.plan.spec.track_radius_m()? * 1e3,
+            max_spindle_rpm: fastest.map_or(0.0, |s| s.spindle_rpm),
+            velocities: velocities.into(),
+        })
+    }
+}
+
 /// Where the hammer and response signals are in a recording.
 #[derive(Debug, Clone)]
 pub struct ImpactChannels {
@@ -69,7 +116,7 @@ pub struct CharacterizeOptions {
     /// Harmonics of the spindle rotation frequency in the excitation check.
     pub harmonics: Harmonics,
     /// The campaign plan for the excitation check (none: no check).
-    pub plan: Option<Plan>,
+    pub plan: Option<ExcitationPlan>,
     /// The study file the plan came from, recorded in the provenance.
     pub study: Option<PathBuf>,
     /// Output directory: `frf_<load>.csv`, plots, report.json.
@@ -92,7 +139,7 @@ pub struct LoadResult {
 #[derive(Debug, Clone, Serialize)]
 pub struct CharacterizeReport {
     pub loads: Vec<LoadResult>,
-    pub excitation_check: Option<ExcitationCheck>,
+    pub excitation_check: Option<PlannedExcitationCheck>,
     pub files: Vec<String>,
 }
 
@@ -257,10 +304,10 @@ pub fn characterize(a: &CharacterizeOptions) -> Result<CharacterizeReport> {
         });
     }
     let check = match &a.plan {
-        Some(p) => Some(excitation_check(&all_res, p, a.harmonics.get())?),
+        Some(p) => Some(PlannedExcitationCheck::of(&all_res, p, a.harmonics.get())?),
         None => None,
     };
-    for p in plot_frfs(&series_f, check.as_ref(), out)? {
+    for p in plot_frfs(&series_f, check.as_ref().map(|c| &c.check), out)? {
         files.push(staged.shown(&p).display().to_string());
     }
     let report = CharacterizeReport {

@@ -55,11 +55,15 @@ impl Study {
             None => Ok(Study::default()),
         }
     }
-    /// Whether the study file at `path` has a `[plan]` section (its other sections are not
-    /// checked here).
-    pub fn declares_plan(path: &Path) -> Result<bool> {
+    /// The keys the study file at `path` states in its `[plan]` section (none without one;
+    /// its other sections are not checked here): what the article's defaults do not fill in.
+    pub fn declared_plan_keys(path: &Path) -> Result<Vec<String>> {
         let value: toml::Value = crate::config_toml::read(path, "study file")?;
-        Ok(value.get("plan").is_some())
+        Ok(value
+            .get("plan")
+            .and_then(toml::Value::as_table)
+            .map(|t| t.keys().cloned().collect())
+            .unwrap_or_default())
     }
     /// The study as TOML.
     pub fn to_toml(&self) -> Result<String> {

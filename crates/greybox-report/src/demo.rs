@@ -18,7 +18,7 @@ use greybox_model::modelfile::ModelFile;
 use greybox_model::Family;
 use greybox_pipeline::adhesive::{adhesive, AdhesiveOptions};
 use greybox_pipeline::characterize::{
-    characterize, CharacterizeOptions, CharacterizeReport, ImpactChannels,
+    characterize, CharacterizeOptions, CharacterizeReport, ExcitationPlan, ImpactChannels,
 };
 use greybox_pipeline::couple::{couple, CoupleOptions, EngineOptions};
 use greybox_pipeline::export::{export, ExportOptions};
@@ -345,7 +345,11 @@ fn dynamics(base: &Path, plan: &Plan) -> Result<CharacterizeReport> {
         },
         impact: ImpactConfig::default(),
         harmonics: greybox_pipeline::characterize::Harmonics::of(3),
-        plan: Some(plan.clone()),
+        // the demo study states its loads and velocities
+        plan: Some(ExcitationPlan {
+            plan: plan.clone(),
+            velocities_stated: true,
+        }),
         study: Some(study_file),
         out: base.join("characterize"),
         force: false,

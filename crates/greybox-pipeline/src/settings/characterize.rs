@@ -19,7 +19,7 @@
 
 use super::plan::PlanSettings;
 use crate::characterize::{
-    CharacterizeOptions, Harmonics, ImpactChannels, DEFAULT_CHARACTERIZE_DIR,
+    CharacterizeOptions, ExcitationPlan, Harmonics, ImpactChannels, DEFAULT_CHARACTERIZE_DIR,
     DEFAULT_HAMMER_CHANNEL, DEFAULT_HARMONICS, DEFAULT_RESPONSE_CHANNEL, DEFAULT_TDMS_GROUP,
     DEFAULT_TIME_COLUMN,
 };
@@ -97,8 +97,8 @@ impl Default for CharacterizeSettings {
 
 impl CharacterizeSettings {
     /// The characterisation's options: the record and window over the library's, and the
-    /// plan where one is stated (a study or any plan setting; its errors are the user's to
-    /// see, never a silent "no check").
+    /// plan where any of it is stated (its errors are the user's to see, never a silent "no
+    /// check"; a track radius alone checks against the article's velocities, and says so).
     pub fn options(&self) -> Result<CharacterizeOptions> {
         if self.recordings.is_empty() {
             let why = "give at least one hammer recording";
@@ -113,8 +113,12 @@ impl CharacterizeSettings {
             impact.exponential_end = e;
         }
         let sample_rate_hz = given("sample_rate_hz", self.sample_rate_hz)?;
-        let plan = match self.plan != PlanSettings::default() {
-            true => Some(self.plan.study()?.plan.build()?),
+        let stated = self.plan.stated()?;
+        let plan = match stated.any() {
+            true => Some(ExcitationPlan {
+                plan: self.plan.study()?.plan.build()?,
+                velocities_stated: stated.velocities,
+            }),
             false => None,
         };
         Ok(CharacterizeOptions {

@@ -5,9 +5,10 @@
 //! the study's `[recording]`, `[identify]` and `[contact]` sections; errors name the field.
 //!
 //! Without a study nothing is assumed: the contact takes the library's default
-//! convention (textbook-max) and loads and speeds come from the recordings. A study with a
-//! `[plan]` section (or a load or velocity range given here) is matched to the recordings
-//! unless `no_plan` is set.
+//! convention (textbook-max) and loads and speeds come from the recordings. A study whose
+//! `[plan]` states loads or velocities (or a load or velocity range given here) is matched to
+//! the recordings unless `no_plan` is set; a `[plan]` with only the track radius states no
+//! campaign, and its radius turns rpm channels into sliding speeds.
 //!
 //! ```
 //! use greybox_pipeline::settings::identify::IdentifySettings;
@@ -303,8 +304,10 @@ impl IdentifySettings {
     }
 
     /// The identification's options: the steps file, else the plan where one is given
-    /// (the study's `[plan]` or a range here, unless `no_plan`), else the loads and speeds
-    /// measured; without a plan, the plan settings' track radius serves the rpm channels.
+    /// (loads or velocities stated in the study's `[plan]` or here, unless `no_plan`: a
+    /// `[plan]` holding only a track radius is no campaign), else the loads and speeds
+    /// measured; without a plan, the study's or the flags' track radius serves the rpm
+    /// channels.
     pub fn options(&self, study: &Study) -> Result<IdentifyOptions> {
         let expect = if let Some(path) = &self.plan_steps {
             Expectation::Steps(read_expected_steps(path)?)
@@ -315,7 +318,7 @@ impl IdentifySettings {
         };
         let mut radii = self.track_radii_mm.clone();
         if radii.is_empty() && !matches!(expect, Expectation::Plan(_)) {
-            radii.extend(self.plan.track_radius_mm);
+            radii.extend(study.plan.track_radius_mm);
         }
         let side_inputs = [
             ("study", self.plan.study.as_ref()),
@@ -347,5 +350,34 @@ impl IdentifySettings {
             let stem = stem.unwrap_or_else(|| "dataset".into());
             self.out.with_file_name(format!("{stem}_inspect"))
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_study_with_only_a_track_radius_is_no_plan_but_gives_the_radius() {
+        let d = tempfile::tempdir().unwrap();
+        let path = d.path().join("study.toml");
+        std::fs::write(&path, "[plan]\ntrack_radius_mm = 80.0\n").unwrap();
+        let mut s = IdentifySettings {
+            recordings: vec!["r.csv".into()],
+            ..Default::default()
+        };
+        s.plan.study = Some(path.clone());
+        let (_, o) = s.prepare().unwrap();
+        assert!(matches!(o.expect, Expectation::None));
+        assert_eq!(o.track_radii_mm, [80.0]);
+        // a stated velocity makes it a campaign: aligned against the plan, radius in the plan
+        std::fs::write(
+            &path,
+            "[plan]\ntrack_radius_mm = 80.0\nvelocity_count = 3\n",
+        )
+        .unwrap();
+        let (_, o) = s.prepare().unwrap();
+        assert!(matches!(o.expect, Expectation::Plan(_)));
+        assert!(o.track_radii_mm.is_empty());
     }
 }

@@ -19,6 +19,43 @@ use greybox_tribo::plan::{PinCount, VelocityCount};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
+/// The `[plan]` keys that state the normal loads.
+const LOAD_KEYS: [&str; 4] = [
+    "normal_force_min_N",
+    "normal_force_max_N",
+    "normal_force_count",
+    "normal_forces_N",
+];
+/// The `[plan]` keys that state the sliding velocities.
+const VELOCITY_KEYS: [&str; 4] = [
+    "velocity_min_m_per_min",
+    "velocity_max_m_per_min",
+    "velocity_count",
+    "velocities_m_per_min",
+];
+
+/// What of a plan the user stated (flags or the study's `[plan]`); the rest is the article's.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct StatedPlan {
+    /// The normal loads (a range, a count or a list).
+    pub loads: bool,
+    /// The sliding velocities (a range, a count or a list).
+    pub velocities: bool,
+    /// The track radius on the disk.
+    pub track_radius: bool,
+}
+
+impl StatedPlan {
+    /// A campaign to align recordings against: its loads or its velocities are stated.
+    pub fn campaign(&self) -> bool {
+        self.loads || self.velocities
+    }
+    /// Anything stated at all.
+    pub fn any(&self) -> bool {
+        self.campaign() || self.track_radius
+    }
+}
+
 /// A study file and overrides of its `[plan]`; `None` keeps the study's value.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::Args))]
@@ -120,13 +157,27 @@ impl PlanSettings {
             || self.velocity_count.is_some()
     }
 
-    /// Whether a plan is given: a `[plan]` section in the study, or a load or velocity range.
-    pub fn gives_plan(&self) -> Result<bool> {
+    /// What of the plan is stated, here or in the study's `[plan]`, rather than filled in
+    /// by the article's defaults. The one answer to "is a plan given": identification
+    /// aligns against a plan only when its loads or velocities are stated
+    /// ([`StatedPlan::campaign`]); the excitation check needs the velocities and the track
+    /// radius and says when the velocities are the article's.
+    pub fn stated(&self) -> Result<StatedPlan> {
         let in_study = match &self.study {
-            Some(path) => Study::declares_plan(path)?,
-            None => false,
+            Some(path) => Study::declared_plan_keys(path)?,
+            None => Vec::new(),
         };
-        Ok(self.sets_loads() || self.sets_velocities() || in_study)
+        let study_names = |keys: &[&str]| in_study.iter().any(|k| keys.contains(&k.as_str()));
+        Ok(StatedPlan {
+            loads: self.sets_loads() || study_names(&LOAD_KEYS),
+            velocities: self.sets_velocities() || study_names(&VELOCITY_KEYS),
+            track_radius: self.track_radius_mm.is_some() || study_names(&["track_radius_mm"]),
+        })
+    }
+
+    /// Whether a campaign plan is given: its loads or velocities stated (see [`Self::stated`]).
+    pub fn gives_plan(&self) -> Result<bool> {
+        Ok(self.stated()?.campaign())
     }
 
     /// The study file as a stage input, for the provenance (when given).
@@ -136,5 +187,52 @@ impl PlanSettings {
             .map(|p| ("study", p))
             .into_iter()
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn study(text: &str) -> (tempfile::TempDir, PathBuf) {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("study.toml");
+        std::fs::write(&p, text).unwrap();
+        (d, p)
+    }
+
+    #[test]
+    fn a_plan_is_given_by_its_loads_or_velocities_not_by_a_radius() {
+        let radius_only = PlanSettings {
+            track_radius_mm: Some(80.0),
+            ..Default::default()
+        };
+        let s = radius_only.stated().unwrap();
+        assert!(s.any() && s.track_radius && !s.campaign());
+        assert!(!radius_only.gives_plan().unwrap());
+        let (_d, p) = study("[plan]\ntrack_radius_mm = 80.0\ndwell_s = 1.0\n");
+        let in_study = PlanSettings {
+            study: Some(p),
+            ..Default::default()
+        };
+        let s = in_study.stated().unwrap();
+        assert_eq!((s.track_radius, s.campaign()), (true, false));
+        let (_d, p) = study("[plan]\nvelocities_m_per_min = [20.0, 40.0]\n");
+        let speeds = PlanSettings {
+            study: Some(p),
+            ..Default::default()
+        };
+        let s = speeds.stated().unwrap();
+        assert_eq!(
+            (s.velocities, s.loads, s.track_radius),
+            (true, false, false)
+        );
+        assert!(speeds.gives_plan().unwrap());
+        let loads = PlanSettings {
+            normal_force_count: Some(PinCount::of(3)),
+            ..Default::default()
+        };
+        assert_eq!(loads.stated().unwrap().loads, true);
+        assert!(!PlanSettings::default().stated().unwrap().any());
     }
 }

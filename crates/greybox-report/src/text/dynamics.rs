@@ -54,15 +54,25 @@ pub fn characterize(r: &CharacterizeReport) -> String {
     }
     let _ = write!(text, "{}", t.render());
     let _ = match &r.excitation_check {
-        Some(c) => writeln!(text,
-            "dynamics check: first resonance {:.1} Hz vs highest spindle excitation {:.2} Hz ({} harmonics): ratio {:.1} -> {}",
-            c.first_resonance_hz,
-            c.max_excitation_hz,
-            c.harmonics,
-            c.ratio,
-            if c.pass { "PASS (at least an order of magnitude)" } else { "FAIL (less than an order of magnitude)" }
+        Some(p) => {
+            let c = &p.check;
+            writeln!(text,
+                "dynamics check: first resonance {:.1} Hz vs highest spindle excitation {:.2} Hz ({} harmonics of {:.1} rpm: {:.1} m/min on R = {} mm, velocities {}): ratio {:.1} -> {}",
+                c.first_resonance_hz,
+                c.max_excitation_hz,
+                c.harmonics,
+                p.max_spindle_rpm,
+                p.velocity_max_m_per_min,
+                p.track_radius_mm,
+                p.velocities,
+                c.ratio,
+                if c.pass { "PASS (at least an order of magnitude)" } else { "FAIL (less than an order of magnitude)" }
+            )
+        }
+        None => writeln!(
+            text,
+            "dynamics check: no plan given (a study with a [plan], or a track radius)"
         ),
-        None => writeln!(text, "dynamics check: no plan given (a study with a [plan], or a track radius)"),
     };
     text
 }
