@@ -232,7 +232,7 @@ mod tests {
             normal_force_count: Some(PinCount::of(3)),
             ..Default::default()
         };
-        assert_eq!(loads.stated().unwrap().loads, true);
+        assert!(loads.stated().unwrap().loads);
         assert!(!PlanSettings::default().stated().unwrap().any());
     }
 }
