@@ -130,7 +130,8 @@ impl LoopContact {
     }
 }
 
-/// Per interval of the grey-box loop (at its end time): the contact length on the rake side
+/// Per whole interval of the grey-box loop (at its end time; the partial one a run's end
+/// closes is left out, as the stop rule never sees it): the contact length on the rake side
 /// (m), and the hottest and the normal-force-weighted mean temperature (K) of the rake and
 /// edge windows in contact for at least [`IN_CONTACT`] of their length.
 pub fn contact_series(
@@ -141,7 +142,7 @@ pub fn contact_series(
     window_length: f64,
 ) -> [Samples; 3] {
     let mut out: [Samples; 3] = Default::default();
-    for iv in &updater.intervals {
+    for iv in updater.intervals.iter().filter(|iv| !iv.partial) {
         let profile = contact_profile(tool, layout, &iv.windows, spacing);
         let t = iv.t_end_s;
         if let Some(l) = contact_length(&profile, window_length, IN_CONTACT) {

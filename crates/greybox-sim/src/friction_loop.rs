@@ -70,6 +70,11 @@ pub struct Interval {
     pub t_start_s: f64,
     pub t_end_s: f64,
     pub windows: Vec<WindowAccumulator>,
+    /// Closed by the run's end before the loop's cadence came round (no μ update): shorter
+    /// than the others. The per-interval series leave it out, so that they hold the samples
+    /// the stop rule read while the cut ran ([`crate::cut_series::contact_series`]).
+    #[serde(default)]
+    pub partial: bool,
 }
 
 /// The controller running the loop on one tool.
@@ -177,6 +182,7 @@ impl FrictionUpdater {
             t_start_s: self.t_start,
             t_end_s: time,
             windows: sums,
+            partial: !update,
         });
         self.t_start = time;
         Ok(())
