@@ -71,7 +71,7 @@ pub fn characterize(r: &CharacterizeReport) -> String {
         }
         None => writeln!(
             text,
-            "dynamics check: no plan given (a study with a [plan], or a track radius)"
+            "dynamics check: none (no track radius or velocities stated: give them as flags or in the study's [plan])"
         ),
     };
     text
