@@ -22,7 +22,8 @@ pub struct ExcitationPlan {
     pub velocities_stated: bool,
 }
 
-/// The article's excitation check and what it rests on: the plan's fastest step.
+/// The article's excitation check and what it rests on: the plan's fastest step (its spindle
+/// speed is the check's `max_spindle_rpm`).
 #[derive(Debug, Clone, Serialize)]
 pub struct PlannedExcitationCheck {
     #[serde(flatten)]
@@ -31,8 +32,6 @@ pub struct PlannedExcitationCheck {
     pub velocity_max_m_per_min: f64,
     /// The track radius it is turned on, mm.
     pub track_radius_mm: f64,
-    /// Its spindle speed, rpm: the rotation frequency whose harmonics are checked.
-    pub max_spindle_rpm: f64,
     /// Where the velocities come from: "stated", or "the article's plan (no velocity
     /// stated)" when only a track radius was given.
     pub velocities: String,
@@ -42,20 +41,16 @@ impl PlannedExcitationCheck {
     /// The check of `resonances` against `p`'s fastest step.
     fn of(resonances: &[Resonance], p: &ExcitationPlan, harmonics: usize) -> Result<Self> {
         let check = excitation_check(resonances, &p.plan, harmonics)?;
-        let fastest = p
-            .plan
-            .steps
-            .iter()
-            .max_by(|a, b| a.spindle_rpm.total_cmp(&b.spindle_rpm));
+        let steps = p.plan.steps.iter();
+        let fastest_m_s = steps.map(|s| s.sliding_velocity_m_s).fold(0.0, f64::max);
         let velocities = match p.velocities_stated {
             true => "stated",
             false => "the article's plan (no velocity stated)",
         };
         Ok(PlannedExcitationCheck {
             check,
-            velocity_max_m_per_min: fastest.map_or(0.0, |s| s.sliding_velocity_m_s * 60.0),
+            velocity_max_m_per_min: fastest_m_s * 60.0,
             track_radius_mm: p.plan.spec.track_radius_m()? * 1e3,
-            max_spindle_rpm: fastest.map_or(0.0, |s| s.spindle_rpm),
             velocities: velocities.into(),
         })
     }

@@ -556,6 +556,8 @@ impl Frf {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ExcitationCheck {
     pub first_resonance_hz: f64,
+    /// The plan's highest spindle speed, rpm: its rotation frequency's harmonics are checked.
+    pub max_spindle_rpm: f64,
     pub max_excitation_hz: f64,
     pub harmonics: usize,
     /// first resonance / highest excitation frequency.
@@ -585,6 +587,7 @@ pub fn excitation_check(
     let ratio = first / max_exc;
     Ok(ExcitationCheck {
         first_resonance_hz: first,
+        max_spindle_rpm: max_rpm,
         max_excitation_hz: max_exc,
         harmonics,
         ratio,

@@ -61,7 +61,7 @@ pub fn characterize(r: &CharacterizeReport) -> String {
                 c.first_resonance_hz,
                 c.max_excitation_hz,
                 c.harmonics,
-                p.max_spindle_rpm,
+                c.max_spindle_rpm,
                 p.velocity_max_m_per_min,
                 p.track_radius_mm,
                 p.velocities,
