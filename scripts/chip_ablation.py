@@ -26,7 +26,10 @@ The variants:
   0.05, which keeps tanh(·)^s near 1 and the softening weak; Calamaz et al.'s model is s = 1);
 * `chip-break=X` — the chip breaks off X mm above the uncut surface (`chip_break_height_m`:
   the chip's far part leaves the model instead of acting back on the contact);
-* `mu-half`, `mu-1.5x` — μ × 0.5, × 1.5.
+* `mu-half`, `mu-1.5x` — μ × 0.5, × 1.5;
+* `damage`, `damage-gf=X` — Johnson–Cook damage with Lesuer's Ti6Al4V constants and
+  Hillerborg softening (`[material.damage]`, greybox_material::damage), the fracture energy
+  43.6 kJ/m² (plane-strain K_IC = 75 MPa√m) or X kJ/m².
 
     python3 scripts/chip_ablation.py GREYBOX validation/ti64-tanh-setup.toml \\
         --data validation/orthogonal-cutting.csv --conditions D07 D12 D17 --mu 0.396 \\
@@ -102,9 +105,27 @@ def variant_text(template, cond, mu, variant, cut_length_m, coarse_spacing_m):
         set_key(parts, '', 'mu', repr(mu * 0.5))
     elif variant == 'mu-1.5x':
         set_key(parts, '', 'mu', repr(mu * 1.5))
+    elif variant == 'damage' or variant.startswith('damage-gf='):
+        gf = float(variant.split('=')[1]) * 1e3 if '=' in variant else LESUER_FRACTURE_ENERGY
+        parts.append(('material.damage', damage_lines(parts, gf)))
     elif variant not in ('baseline', 'mass-scaled'):
         raise SystemExit(f'unknown variant {variant}')
     return join(parts) + '\n' + REFINEMENT
+
+
+# Plane-strain fracture energy K_IC² (1 − ν²)/E of Ti6Al4V, J/m²: K_IC = 75 MPa√m,
+# E = 113.8 GPa, ν = 0.342 (greybox_material::damage::JohnsonCookDamage::ti6al4v_lesuer).
+LESUER_FRACTURE_ENERGY = 75e6 ** 2 * (1 - 0.342 ** 2) / 113.8e9
+
+
+def damage_lines(parts, fracture_energy):
+    """Lesuer's Johnson–Cook damage constants for Ti6Al4V (LLNL UCRL-ID-134691, 2000) with
+    the flow stress's room and melting temperatures."""
+    room = get_key(parts, 'material.plasticity', 'room_temperature_k')
+    melt = get_key(parts, 'material.plasticity', 'melt_temperature_k')
+    return ['d1 = -0.09', 'd2 = 0.25', 'd3 = -0.5', 'd4 = 0.014', 'd5 = 3.87',
+            'ref_strain_rate = 1.0', f'room_temperature_k = {room}',
+            f'melt_temperature_k = {melt}', f'fracture_energy_j_m2 = {fracture_energy!r}', '']
 
 
 VARIANTS = ['baseline', 'mass-scaled', 'no-conduction', 'adiabatic-tool', 'steady-tool', 'heat-to-chip',

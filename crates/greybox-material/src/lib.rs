@@ -1,8 +1,9 @@
 //! Workpiece materials for the simulator: flow stress (Johnson–Cook, TANH Johnson–Cook,
-//! tabulated curves), isotropic elasticity and
+//! tabulated curves), ductile damage (Johnson–Cook), isotropic elasticity and
 //! temperature-dependent thermal properties. SI units throughout (Pa, K, kg/m³, W/(m·K),
 //! J/(kg·K)).
 
+pub mod damage;
 pub mod fit;
 pub mod flow_stress;
 pub mod flow_table;
@@ -11,6 +12,7 @@ pub mod material;
 pub mod table;
 pub mod tanh;
 
+pub use damage::JohnsonCookDamage;
 pub use flow_stress::FlowStress;
 pub use flow_table::FlowTable;
 pub use johnson_cook::JohnsonCook;

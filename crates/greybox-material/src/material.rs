@@ -1,7 +1,7 @@
 //! A workpiece material: density, isotropic elasticity, Johnson–Cook plasticity and
 //! temperature-dependent thermal properties.
 
-use crate::{FlowStress, JohnsonCook, Table1d};
+use crate::{FlowStress, JohnsonCook, JohnsonCookDamage, Table1d};
 use serde::{Deserialize, Serialize};
 
 /// Isotropic linear elasticity.
@@ -47,6 +47,9 @@ pub struct Material {
     pub elastic: Elastic,
     /// Flow-stress model; `None`: purely elastic.
     pub plasticity: Option<FlowStress>,
+    /// Ductile damage softening the flow stress (`[material.damage]`); `None`: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damage: Option<JohnsonCookDamage>,
     pub thermal: Thermal,
     /// Sources of the numbers, for reports.
     pub source: String,
@@ -67,6 +70,7 @@ impl Material {
                 poisson_ratio: 0.3,
             },
             plasticity: Some(JohnsonCook::aisi1045_article().into()),
+            damage: None,
             thermal: Self::aisi1045_thermal(),
             source: "J-C: article Table 4; thermal: NIST extended-Oxley AISI 1045 inputs".into(),
         }
@@ -82,6 +86,7 @@ impl Material {
                 poisson_ratio: 0.3,
             },
             plasticity: Some(JohnsonCook::aisi1045_jaspers().into()),
+            damage: None,
             thermal: Self::aisi1045_thermal(),
             source: "Jaspers & Dautzenberg 2002 via the NIST extended-Oxley inputs".into(),
         }
@@ -115,6 +120,7 @@ impl Material {
                 poisson_ratio: 0.342,
             },
             plasticity: Some(JohnsonCook::ti6al4v().into()),
+            damage: None,
             thermal: Thermal {
                 conductivity: Table1d::constant(7.3),
                 specific_heat: Table1d::constant(560.0),
@@ -148,6 +154,7 @@ impl Material {
                 poisson_ratio: 0.3,
             },
             plasticity: None,
+            damage: None,
             thermal: Thermal {
                 conductivity: Table1d::constant(50.0),
                 specific_heat: Table1d::constant(470.0),
@@ -181,6 +188,15 @@ impl Material {
             .finish()?;
         if let Some(f) = &self.plasticity {
             f.validate()?;
+        }
+        if let Some(d) = &self.damage {
+            if self.plasticity.is_none() {
+                return Err(greybox_core::Error::invalid(
+                    format!("material '{}'", self.name),
+                    "damage needs a flow stress: [material.damage] softens [material.plasticity], which is absent",
+                ));
+            }
+            d.validate()?;
         }
         self.thermal.conductivity.validate()?;
         self.thermal.specific_heat.validate()?;

@@ -81,7 +81,7 @@ impl Checkpoint {
                 format!("not a greybox-sim checkpoint: {e}"),
             )
         })?;
-        c.particles.fill_missing_levels();
+        c.particles.fill_missing_fields();
         if c.format != FORMAT || !c.particles.check_lengths() {
             return Err(greybox_core::Error::invalid(
                 path.display().to_string(),

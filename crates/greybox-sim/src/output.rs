@@ -55,6 +55,9 @@ pub fn write_vtk(
         if p.is_refined() {
             scalar(w, "spacing_m", &|i| p.spacing_of(i))?;
         }
+        if p.damage.iter().any(|&d| d > 0.0) {
+            scalar(w, "damage", &|i| p.damage[i])?;
+        }
         Ok(())
     })
 }

@@ -61,11 +61,12 @@ pub fn check_particle_budget(
 }
 
 /// Number of per-particle arrays of reals in [`Particles`].
-pub const REAL_FIELDS: usize = 13;
+pub const REAL_FIELDS: usize = 14;
 
 /// The names of the per-particle arrays of reals, in the order of `real_fields!`.
 pub const REAL_FIELD_NAMES: [&str; REAL_FIELDS] = [
     "x", "y", "vx", "vy", "rho", "p", "sxx", "sxy", "syy", "szz", "eps_p", "eps_rate", "temp",
+    "damage",
 ];
 
 /// The per-particle arrays of reals of `$p`, each borrowed with `$borrow` (`&` or `&mut`):
@@ -86,6 +87,7 @@ macro_rules! real_fields {
             $($borrow)+ $p.eps_p,
             $($borrow)+ $p.eps_rate,
             $($borrow)+ $p.temp,
+            $($borrow)+ $p.damage,
         ]
     };
 }
@@ -117,6 +119,11 @@ pub struct Particles {
     pub eps_rate: Vec<f64>,
     /// Temperature, K.
     pub temp: Vec<f64>,
+    /// Ductile damage state (`greybox_material::damage`): the initiation indicator ω in
+    /// [0, 1), then 1 + the degradation d; 0 without a damage model. Empty in a checkpoint
+    /// written before damage existed (read as all 0).
+    #[serde(default)]
+    pub damage: Vec<f64>,
     /// Boundary group (0 = free; others index `Model::groups`).
     pub group: Vec<u8>,
     /// Refinement level: a particle of level l has spacing Δx/2ˡ, mass m/4ˡ and smoothing
@@ -209,10 +216,14 @@ impl Particles {
         before - self.len()
     }
 
-    /// Fills the levels of a state written before refinement existed (all level 0).
-    pub fn fill_missing_levels(&mut self) {
+    /// Fills the arrays a state written before they existed lacks: the levels (all level
+    /// 0, before refinement) and the damage (all 0, before damage).
+    pub fn fill_missing_fields(&mut self) {
         if self.level.is_empty() {
             self.level = vec![0; self.len()];
+        }
+        if self.damage.is_empty() {
+            self.damage = vec![0.0; self.len()];
         }
     }
 
@@ -263,6 +274,7 @@ impl Particles {
             &mut p.szz,
             &mut p.eps_p,
             &mut p.eps_rate,
+            &mut p.damage,
         ] {
             *v = vec![0.0; n];
         }

@@ -30,7 +30,9 @@ pub struct Return {
 
 /// Returns the deviator `s` = [xx, xy, yy, zz] to the yield surface of `model` in place;
 /// `None` (and `s` untouched) when the trial stress is elastic. `guess` is a starting value
-/// for Δε (the previous step's increment; 0 when unknown).
+/// for Δε (the previous step's increment; 0 when unknown). `strength` in (0, 1] is the share
+/// of the flow stress a damaged particle keeps (1 − d, `greybox_material::damage`; 1 without
+/// damage, which leaves every result the same bytes).
 #[allow(clippy::too_many_arguments)] // the state of one particle and the step
 #[inline]
 pub fn radial_return(
@@ -42,13 +44,31 @@ pub fn radial_return(
     dt: f64,
     rate_scale: f64,
     guess: f64,
+    strength: f64,
 ) -> Option<Return> {
+    let state = State {
+        eps_p,
+        temperature_k,
+        dt,
+        rate_scale,
+        guess,
+        strength,
+    };
     match model {
-        FlowStress::JohnsonCook(jc) => {
-            johnson_cook_return(jc, shear, s, eps_p, temperature_k, dt, rate_scale, guess)
-        }
-        other => general_return(other, shear, s, eps_p, temperature_k, dt, rate_scale, guess),
+        FlowStress::JohnsonCook(jc) => johnson_cook_return(jc, shear, s, state),
+        other => general_return(other, shear, s, state),
     }
+}
+
+/// One particle's state and step as the return reads them (see [`radial_return`]).
+#[derive(Clone, Copy)]
+struct State {
+    eps_p: f64,
+    temperature_k: f64,
+    dt: f64,
+    rate_scale: f64,
+    guess: f64,
+    strength: f64,
 }
 
 /// Von Mises stress √(3/2 s:s) of the plane-strain deviator.
@@ -59,19 +79,22 @@ fn von_mises(s: &[f64; 4]) -> f64 {
 
 /// The J-C return, with the thermal factor and the strain hardening specialised (the hot
 /// path of every cut with a J-C material).
-#[allow(clippy::too_many_arguments)]
 fn johnson_cook_return(
     jc: &JohnsonCook,
     shear: f64,
     s: &mut [f64; 4],
-    eps_p: f64,
-    temperature_k: f64,
-    dt: f64,
-    rate_scale: f64,
-    guess: f64,
+    st: State,
 ) -> Option<Return> {
+    let State {
+        eps_p,
+        temperature_k,
+        dt,
+        rate_scale,
+        guess,
+        strength,
+    } = st;
     let trial = von_mises(s);
-    let soft = jc.thermal_factor(temperature_k);
+    let soft = jc.thermal_factor(temperature_k) * strength;
     // A·soft ≤ σ_y(0) since B ≥ 0 (validated): most elastic particles need no power of ε_p.
     if trial <= jc.a_pa * soft {
         return None;
@@ -110,24 +133,22 @@ fn johnson_cook_return(
 /// The return for any flow-stress model: σ_y and its slopes from the model. A model that
 /// may soften with strain (TANH, measured curves) is bracketed by [0, σ_tr/3G], where
 /// f = −σ_y ≤ 0.
-#[allow(clippy::too_many_arguments)]
-fn general_return(
-    model: &FlowStress,
-    shear: f64,
-    s: &mut [f64; 4],
-    eps_p: f64,
-    temperature_k: f64,
-    dt: f64,
-    rate_scale: f64,
-    guess: f64,
-) -> Option<Return> {
+fn general_return(model: &FlowStress, shear: f64, s: &mut [f64; 4], st: State) -> Option<Return> {
+    let State {
+        eps_p,
+        temperature_k,
+        dt,
+        rate_scale,
+        guess,
+        strength,
+    } = st;
     let trial = von_mises(s);
     let at = model.at_temperature(temperature_k);
     // Most particles of a cut are elastic: the floor needs no power of ε_p.
-    if trial <= at.floor() {
+    if trial <= at.floor() * strength {
         return None;
     }
-    let y0 = at.flow_stress(eps_p, 0.0);
+    let y0 = at.flow_stress(eps_p, 0.0) * strength;
     if trial <= y0 {
         return None;
     }
@@ -136,7 +157,12 @@ fn general_return(
         let rate = rate_scale * d / dt;
         let (y, dy_de, dy_dlnr) = at.flow_stress_slopes(eps_p + d, rate);
         let dlnr = if d > 0.0 { dy_dlnr / d } else { 0.0 };
-        (trial - g3 * d - y, -g3 - dy_de - dlnr)
+        // × strength term by term: at strength 1 the same operations in the same order as
+        // without damage, so the same bytes.
+        (
+            trial - g3 * d - y * strength,
+            -g3 - dy_de * strength - dlnr * strength,
+        )
     };
     let hi = if model.hardens_monotonically() {
         (trial - y0) / g3
@@ -208,7 +234,7 @@ mod tests {
         let g = 80e9;
         for (t, amp) in [(293.15, 2e9), (700.0, 1e9), (1700.0, 5e8), (2000.0, 5e8)] {
             let mut s = [amp, 0.3 * amp, -0.4 * amp, -0.6 * amp];
-            let r = radial_return(&jc, g, &mut s, 0.1, t, 1e-9, 1.0, 0.0).unwrap();
+            let r = radial_return(&jc, g, &mut s, 0.1, t, 1e-9, 1.0, 0.0, 1.0).unwrap();
             let vm = (1.5 * (s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + 2.0 * s[1] * s[1])).sqrt();
             let want = jc.flow_stress(0.1 + r.d_eps, r.d_eps / 1e-9, t);
             assert!(
@@ -220,7 +246,7 @@ mod tests {
         // Elastic: untouched.
         let mut s = [1e6, 0.0, -1e6, 0.0];
         assert_eq!(
-            radial_return(&jc, g, &mut s, 0.0, 293.15, 1e-9, 1.0, 0.0),
+            radial_return(&jc, g, &mut s, 0.0, 293.15, 1e-9, 1.0, 0.0, 1.0),
             None
         );
         assert_eq!(s, [1e6, 0.0, -1e6, 0.0]);
@@ -245,7 +271,7 @@ mod tests {
             let y0 = jc.flow_stress(eps_p, 0.0, 293.15);
             let amp = (y0 + over) / (1.5f64 * 2.0).sqrt();
             let mut s = [amp, 0.0, -amp, 0.0];
-            let r = radial_return(&jc, g, &mut s, eps_p, 293.15, dt, 1.0, guess).unwrap();
+            let r = radial_return(&jc, g, &mut s, eps_p, 293.15, dt, 1.0, guess, 1.0).unwrap();
             let vm = (1.5 * (s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + 2.0 * s[1] * s[1])).sqrt();
             let want = jc.flow_stress(eps_p + r.d_eps, r.d_eps / dt, 293.15);
             assert!(

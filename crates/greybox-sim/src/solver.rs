@@ -41,7 +41,7 @@ use crate::rates::Rates;
 use crate::refine::{self, Refinement};
 use crate::sink::Sink;
 use crate::tool::Tool;
-use greybox_material::{FlowStress, Material, Thermal};
+use greybox_material::{FlowStress, JohnsonCookDamage, Material, Thermal};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -709,6 +709,8 @@ impl Solver {
             dt: self.dt,
             d,
             flow: self.material.plasticity.as_ref(),
+            damage: self.material.damage.as_ref(),
+            spacing: self.particles.spacing,
             th: &self.material.thermal,
             thermal: self.numerics.thermal,
             rate_scale: self.numerics.strain_rate_scale,
@@ -739,12 +741,16 @@ impl Solver {
                 p.temp.par_chunks_mut(CH),
                 p.eps_rate.par_chunks_mut(CH),
                 p.level.par_chunks(CH),
+                p.damage.par_chunks_mut(CH),
             ),
         )
             .into_par_iter()
             .enumerate()
             .map(
-                |(c, (x, y, vx, vy, rho, pr, sxx, sxy, syy, szz, eps, (temp, erate, level)))| {
+                |(
+                    c,
+                    (x, y, vx, vy, rho, pr, sxx, sxy, syy, szz, eps, (temp, erate, level, damage)),
+                )| {
                     let chunk = UpdateChunk {
                         x,
                         y,
@@ -760,6 +766,7 @@ impl Solver {
                         temp,
                         erate,
                         level,
+                        damage,
                     };
                     update_chunk(&inputs, c * CH, chunk)
                 },
@@ -918,6 +925,11 @@ struct UpdateInputs<'a> {
     dt: f64,
     d: Derived,
     flow: Option<&'a FlowStress>,
+    /// Ductile damage softening the flow stress; `None`: none.
+    damage: Option<&'a JohnsonCookDamage>,
+    /// Spacing of a level-0 particle, m (the length the damage's fracture energy is spread
+    /// over).
+    spacing: f64,
     th: &'a Thermal,
     /// Whether temperatures evolve (conduction and heating).
     thermal: bool,
@@ -952,6 +964,7 @@ struct UpdateChunk<'a> {
     temp: &'a mut [f64],
     erate: &'a mut [f64],
     level: &'a [u8],
+    damage: &'a mut [f64],
 }
 
 /// Step 7 on one chunk whose first particle is `first`: (plastic work J/m, viscous power
@@ -999,6 +1012,12 @@ fn drift_and_stress_rate(
     let moved2 = (ch.x[k] - inp.x0[i]).powi(2) + (ch.y[k] - inp.y0[i]).powi(2);
     ch.rho[k] += dt * drho;
     ch.pr[k] = d.c0_sq * (ch.rho[k] - d.rho0);
+    if let Some(damage) = inp.damage {
+        // A damaged particle carries its compression but only (1 − d) of a tension.
+        if ch.pr[k] < 0.0 {
+            ch.pr[k] *= damage.strength(ch.damage[k]);
+        }
+    }
     let [nxx, nxy, nyy, dzz] = jaumann_update(
         [ch.sxx[k], ch.sxy[k], ch.syy[k]],
         lxx,
@@ -1033,6 +1052,7 @@ fn plastic_and_heating(
     let mut work = None;
     if let Some(flow) = inp.flow {
         let mut s = [ch.sxx[k], ch.sxy[k], ch.syy[k], ch.szz[k]];
+        let strength = inp.damage.map_or(1.0, |m| m.strength(ch.damage[k]));
         if let Some(ret) = plasticity::radial_return(
             flow,
             inp.d.shear,
@@ -1042,7 +1062,11 @@ fn plastic_and_heating(
             dt,
             inp.rate_scale,
             previous_increment,
+            strength,
         ) {
+            if let Some(damage) = inp.damage {
+                advance_damage(inp, damage, &ret, strength, k, ch);
+            }
             ch.sxx[k] = s[0];
             ch.sxy[k] = s[1];
             ch.syy[k] = s[2];
@@ -1060,6 +1084,33 @@ fn plastic_and_heating(
     }
     ch.temp[k] = t_new;
     work
+}
+
+/// The damage of particle `k` after its plastic increment `ret` (before the chunk's state
+/// takes the increment): the triaxiality −p/σ_vm with σ_vm the flow stress the return landed
+/// on, the rate as the flow stress sees it, the undamaged flow stress σ_y = σ/(1 − d).
+fn advance_damage(
+    inp: &UpdateInputs<'_>,
+    damage: &JohnsonCookDamage,
+    ret: &plasticity::Return,
+    strength: f64,
+    k: usize,
+    ch: &mut UpdateChunk<'_>,
+) {
+    let triaxiality = if ret.flow_stress > 0.0 {
+        -ch.pr[k] / ret.flow_stress
+    } else {
+        0.0
+    };
+    ch.damage[k] = damage.advance(
+        ch.damage[k],
+        ret.d_eps,
+        triaxiality,
+        inp.rate_scale * ret.d_eps / inp.dt,
+        ch.temp[k],
+        ret.flow_stress / strength,
+        inp.spacing * spacing_factor(ch.level[k]),
+    );
 }
 
 /// Whether particle `k` of the chunk is unstable after step 7: a non-finite state, a speed
