@@ -396,6 +396,10 @@ pub struct CutSummary {
     pub tool_max_temperature_c: Option<f64>,
     /// Heat into the tool over all heat generated (β W_plastic + W_friction) (thermal tools).
     pub tool_heat_share: Option<f64>,
+    /// How far ductile damage has gone in the particles at the end (a material with
+    /// `[material.damage]`; absent otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damage_at_end: Option<greybox_sim::particles::DamageState>,
     /// Time scaling: run speed over physical speed (1: none).
     pub speed_up: f64,
     pub files: Vec<String>,
@@ -542,6 +546,11 @@ fn cut_summary(case: &CutCase, r: &CutRun, files: Vec<String>) -> CutSummary {
                 0.0
             }
         }),
+        damage_at_end: setup
+            .material
+            .damage
+            .as_ref()
+            .map(|_| r.sim.particles.damage_state()),
         speed_up: setup.speed_up(),
         files,
     }

@@ -92,6 +92,19 @@ macro_rules! real_fields {
     };
 }
 
+/// How far ductile damage has gone in the particles of a state (`greybox_material::damage`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DamageState {
+    /// Particles in the state.
+    pub particles: usize,
+    /// Particles whose damage has initiated (ω = 1 reached).
+    pub initiated: usize,
+    /// Mean degradation d over the initiated particles (0 when none).
+    pub mean_degradation: f64,
+    /// Largest degradation d of any particle.
+    pub max_degradation: f64,
+}
+
 /// Boundary group index of free particles.
 pub const FREE: u8 = 0;
 
@@ -316,6 +329,29 @@ impl Particles {
             && self.temp.iter().all(|&t| t == t0)
     }
 
+    /// How far damage has gone (counts over the particles now in the state: a chip that
+    /// broke off took its particles with it).
+    pub fn damage_state(&self) -> DamageState {
+        let (mut initiated, mut sum, mut max) = (0usize, 0.0, 0.0f64);
+        for &d in &self.damage {
+            if d >= 1.0 {
+                initiated += 1;
+                sum += d - 1.0;
+                max = max.max(d - 1.0);
+            }
+        }
+        DamageState {
+            particles: self.len(),
+            initiated,
+            mean_degradation: if initiated > 0 {
+                sum / initiated as f64
+            } else {
+                0.0
+            },
+            max_degradation: max,
+        }
+    }
+
     /// Checks that every array has the particle count (after reading a checkpoint).
     pub fn check_lengths(&self) -> bool {
         let n = self.len();
@@ -323,5 +359,42 @@ impl Particles {
             && self.group.len() == n
             && self.level.len() == n
             && self.level.iter().all(|&l| l <= MAX_LEVEL)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Counts over the particles whose indicator reached 1; d = state − 1 there.
+    #[test]
+    fn damage_state_counts_initiated_particles() {
+        let mut p = Particles::block(0.0, 0.0, 5, 1, 1e-5, 4430.0, 293.15);
+        assert_eq!(
+            p.damage_state(),
+            DamageState {
+                particles: 5,
+                initiated: 0,
+                mean_degradation: 0.0,
+                max_degradation: 0.0
+            }
+        );
+        p.damage = vec![0.0, 0.99, 1.0, 1.5, 1.99];
+        let s = p.damage_state();
+        assert_eq!((s.particles, s.initiated), (5, 3));
+        assert!((s.mean_degradation - (0.0 + 0.5 + 0.99) / 3.0).abs() < 1e-15);
+        assert_eq!(s.max_degradation, 0.99f64.max(1.99 - 1.0));
+    }
+
+    /// A state written before damage existed reads with every particle undamaged.
+    #[test]
+    fn missing_damage_reads_as_zero() {
+        let mut p = Particles::block(0.0, 0.0, 3, 2, 1e-5, 4430.0, 293.15);
+        p.damage.clear();
+        p.level.clear();
+        assert!(!p.check_lengths());
+        p.fill_missing_fields();
+        assert!(p.check_lengths());
+        assert_eq!(p.damage, vec![0.0; 6]);
     }
 }

@@ -35,8 +35,16 @@ pub fn cut(s: &CutSummary) -> String {
         (Some(st), _) => format!("steady from {:.3} mm of cut; {}", st.from_mm, st.rests_on),
         (None, _) => format!("no steady stretch; mean from {:.3} mm of cut", s.averaged_from_mm),
     };
+    // Says "95 % intervals" only where one is printed: a cut without a steady stretch (or
+    // too short a one) has none, and its means say so.
+    let intervals =
+        if s.cutting_force_ci95_n_per_mm.is_some() || s.feed_force_ci95_n_per_mm.is_some() {
+            "95 % intervals"
+        } else {
+            "no interval"
+        };
     let _ = writeln!(text,
-        "  cutting force {:.1}{} N/mm, feed force {:.1}{} N/mm (95 % intervals; F_f/F_c = {:.3}, k_c = {:.0} N/mm²), {when}",
+        "  cutting force {:.1}{} N/mm, feed force {:.1}{} N/mm ({intervals}; F_f/F_c = {:.3}, k_c = {:.0} N/mm²), {when}",
         s.cutting_force_n_per_mm, pm(s.cutting_force_ci95_n_per_mm), s.feed_force_n_per_mm, pm(s.feed_force_ci95_n_per_mm), s.force_ratio, s.specific_cutting_force_n_per_mm2
     );
     if let Some(st) = &s.steady_state {
@@ -87,6 +95,12 @@ pub fn cut(s: &CutSummary) -> String {
         m.max_temperature_c,
         s.peak_temperature_c
     );
+    if let Some(d) = &s.damage_at_end {
+        let _ = writeln!(text,
+            "  damage: initiated in {} of {} particles at the end (mean degradation there {:.3}, largest {:.3})",
+            d.initiated, d.particles, d.mean_degradation, d.max_degradation
+        );
+    }
     if let Some(melt) = s.melt_temperature_c.filter(|&t| s.peak_temperature_c > t) {
         let _ = writeln!(text,
             "  note: the hottest particle passed the melting point ({melt:.0} °C); the flow stress is zero there and the model has no liquid phase (an adiabatic tool at high speed does this; docs/validation.md, \"Melting\")"
