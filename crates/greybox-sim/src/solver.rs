@@ -853,7 +853,10 @@ impl Solver {
     }
 
     /// Kinetic energy ½ m v² and elastic energy of particle `i`, J/m: the deviatoric
-    /// (m/ρ) s:s / 4G plus the linear equation of state's m c₀² [ln(ρ/ρ₀) + ρ₀/ρ − 1].
+    /// (m/ρ) s:s / 4G plus the linear equation of state's m c₀² [ln(ρ/ρ₀) + ρ₀/ρ − 1]; of a
+    /// damaged particle in tension, (1 − d) of the latter, as its pressure is (the share
+    /// of its present degradation: the energy released as d grew under tension is not
+    /// followed step by step).
     fn particle_energy(&self, i: usize) -> (f64, f64) {
         let p = &self.particles;
         let d = self.derived;
@@ -861,7 +864,10 @@ impl Solver {
         let rho = p.rho[i];
         let m = p.mass_of(i);
         let ss = p.sxx[i].powi(2) + p.syy[i].powi(2) + p.szz[i].powi(2) + 2.0 * p.sxy[i].powi(2);
-        let vol_e = m * d.c0_sq * ((rho / d.rho0).ln() + d.rho0 / rho - 1.0);
+        let mut vol_e = m * d.c0_sq * ((rho / d.rho0).ln() + d.rho0 / rho - 1.0);
+        if let Some(damage) = self.material.damage.as_ref().filter(|_| rho < d.rho0) {
+            vol_e *= damage.strength(p.damage[i]);
+        }
         (0.5 * m * v2, m / rho * ss / (4.0 * d.shear) + vol_e)
     }
 
