@@ -66,7 +66,7 @@ fn summary_table(v: &Value) -> Table {
         (Some(false), _) => "no".into(),
         _ => "n/a".into(),
     };
-    let rows: Vec<(&str, String)> = vec![
+    let mut rows: Vec<(&str, String)> = vec![
         (
             "friction law",
             v.get("law")
@@ -119,10 +119,32 @@ fn summary_table(v: &Value) -> Table {
         ("energy balance error", f("energy_error", 3)),
         ("wall time (s)", f("wall_s", 3)),
     ];
+    if let Some(d) = v.get("damage_at_end") {
+        rows.push(("ductile damage at the end", damage_cell(d)));
+    }
     for (k, val) in rows {
         t.row(vec![k.to_string(), val]);
     }
     t
+}
+
+/// How far damage went: the particles it initiated in and their mean and largest degradation.
+fn damage_cell(d: &Value) -> String {
+    let n = |k: &str| d.get(k).and_then(Value::as_u64);
+    let x = |k: &str| d.get(k).and_then(Value::as_f64);
+    match (
+        n("initiated"),
+        n("particles"),
+        x("mean_degradation"),
+        x("max_degradation"),
+    ) {
+        (Some(i), Some(p), Some(mean), Some(max)) => format!(
+            "initiated in {i} of {p} particles; degradation there {} on average, {} at most",
+            num(mean, 3),
+            num(max, 3)
+        ),
+        _ => "n/a".into(),
+    }
 }
 
 /// A force's change across the steady stretch with its 95 % interval, and whether it settled.
@@ -313,4 +335,28 @@ fn mu_history(mut rdr: csv::Reader<impl std::io::Read>) -> Result<String> {
         false,
         &[],
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn damage_cell_says_how_far_damage_went() {
+        let d = serde_json::json!({
+            "particles": 1594, "initiated": 378, "mean_degradation": 0.818, "max_degradation": 0.99
+        });
+        assert_eq!(
+            damage_cell(&d),
+            format!(
+                "initiated in 378 of 1594 particles; degradation there {} on average, {} at most",
+                num(0.818, 3),
+                num(0.99, 3)
+            )
+        );
+        assert_eq!(damage_cell(&serde_json::json!({"particles": 3})), "n/a");
+        let with = summary_table(&serde_json::json!({ "damage_at_end": d }));
+        let without = summary_table(&serde_json::json!({}));
+        assert_eq!(with.rows.len(), without.rows.len() + 1);
+    }
 }
