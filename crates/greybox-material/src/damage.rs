@@ -156,32 +156,28 @@ impl JohnsonCookDamage {
     /// triaxiality), D3 ≤ 0, D4 ≥ 0, D5 finite, ε̇_0 > 0, T_m > T_room > 0, G_f > 0,
     /// 0 ≤ d_max < 1.
     pub fn validate(&self) -> greybox_core::Result<()> {
-        greybox_core::rules::Rules::new("damage (Johnson-Cook)")
-            .finite("d1", self.d1)
-            .non_negative("d2", self.d2)
-            .relation(
-                self.d1 + self.d2 > 0.0,
-                format!(
-                    "d1 + d2 = {} must be > 0 (the strain at fracture at zero triaxiality)",
-                    self.d1 + self.d2
-                ),
-            )
-            .within("d3", self.d3, f64::MIN, 0.0)
-            .non_negative("d4", self.d4)
-            .finite("d5", self.d5)
-            .positive("ref_strain_rate", self.ref_strain_rate)
-            .positive("room_temperature_k", self.room_temperature_k)
-            .relation(
-                self.melt_temperature_k > self.room_temperature_k
-                    && self.melt_temperature_k.is_finite(),
-                format!(
-                    "melt_temperature_k ({}) must exceed room_temperature_k ({})",
-                    self.melt_temperature_k, self.room_temperature_k
-                ),
-            )
-            .positive("fracture_energy_j_m2", self.fracture_energy_j_m2)
-            .within("max_degradation", self.max_degradation, 0.0, 0.999_999)
-            .finish()
+        let mut rules = greybox_core::rules::Rules::new("damage (Johnson-Cook)");
+        crate::johnson_cook::add_reference_rules(
+            &mut rules,
+            self.ref_strain_rate,
+            self.room_temperature_k,
+            self.melt_temperature_k,
+        )
+        .finite("d1", self.d1)
+        .non_negative("d2", self.d2)
+        .relation(
+            self.d1 + self.d2 > 0.0,
+            format!(
+                "d1 + d2 = {} must be > 0 (the strain at fracture at zero triaxiality)",
+                self.d1 + self.d2
+            ),
+        )
+        .within("d3", self.d3, f64::MIN, 0.0)
+        .non_negative("d4", self.d4)
+        .finite("d5", self.d5)
+        .positive("fracture_energy_j_m2", self.fracture_energy_j_m2)
+        .within("max_degradation", self.max_degradation, 0.0, 0.999_999)
+        .finish()
     }
 }
 

@@ -141,18 +141,33 @@ impl JohnsonCook {
             .non_negative("b_pa", self.b_pa)
             .above_up_to("n", self.n, 0.0, 1.0)
             .non_negative("c", self.c)
-            .positive("m", self.m)
-            .positive("ref_strain_rate", self.ref_strain_rate)
-            .positive("room_temperature_k", self.room_temperature_k)
-            .relation(
-                self.melt_temperature_k > self.room_temperature_k
-                    && self.melt_temperature_k.is_finite(),
-                format!(
-                    "melt_temperature_k ({}) must exceed room_temperature_k ({})",
-                    self.melt_temperature_k, self.room_temperature_k
-                ),
-            )
+            .positive("m", self.m);
+        add_reference_rules(
+            rules,
+            self.ref_strain_rate,
+            self.room_temperature_k,
+            self.melt_temperature_k,
+        )
     }
+}
+
+/// The rules on a Johnson–Cook-type law's reference strain rate ε̇_0 > 0 and temperatures
+/// T_m > T_room > 0 (the flow stress's and the damage's).
+pub(crate) fn add_reference_rules(
+    rules: &mut greybox_core::rules::Rules,
+    ref_strain_rate: f64,
+    room_temperature_k: f64,
+    melt_temperature_k: f64,
+) -> &mut greybox_core::rules::Rules {
+    rules
+        .positive("ref_strain_rate", ref_strain_rate)
+        .positive("room_temperature_k", room_temperature_k)
+        .relation(
+            melt_temperature_k > room_temperature_k && melt_temperature_k.is_finite(),
+            format!(
+                "melt_temperature_k ({melt_temperature_k}) must exceed room_temperature_k ({room_temperature_k})"
+            ),
+        )
 }
 
 #[cfg(test)]

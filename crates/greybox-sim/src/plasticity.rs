@@ -85,28 +85,20 @@ fn johnson_cook_return(
     s: &mut [f64; 4],
     st: State,
 ) -> Option<Return> {
-    let State {
-        eps_p,
-        temperature_k,
-        dt,
-        rate_scale,
-        guess,
-        strength,
-    } = st;
     let trial = von_mises(s);
-    let soft = jc.thermal_factor(temperature_k) * strength;
+    let soft = jc.thermal_factor(st.temperature_k) * st.strength;
     // A·soft ≤ σ_y(0) since B ≥ 0 (validated): most elastic particles need no power of ε_p.
     if trial <= jc.a_pa * soft {
         return None;
     }
-    let y0 = jc.hardening(eps_p) * soft;
+    let y0 = jc.hardening(st.eps_p) * soft;
     if trial <= y0 {
         return None;
     }
     let g3 = 3.0 * shear;
     // f and f' at d: one power and one logarithm per evaluation.
     let eval = |d: f64| {
-        let e = eps_p + d;
+        let e = st.eps_p + d;
         let en = if e > 0.0 { e.powf(jc.n) } else { 0.0 };
         let h = jc.a_pa + jc.b_pa * en;
         let dh = if e > 0.0 {
@@ -114,7 +106,7 @@ fn johnson_cook_return(
         } else {
             0.0
         };
-        let r = rate_scale * d / (dt * jc.ref_strain_rate);
+        let r = st.rate_scale * d / (st.dt * jc.ref_strain_rate);
         let (rf, drf) = if r > 1.0 {
             (1.0 + jc.c * r.ln(), jc.c / d)
         } else {
@@ -126,7 +118,7 @@ fn johnson_cook_return(
     };
     // σ_y only grows with Δε, so the perfectly plastic increment (σ_tr − σ_y(0))/3G is an
     // upper bound: a tight bracket from the start.
-    let d = solve_increment(eval, trial, (trial - y0) / g3, guess);
+    let d = solve_increment(eval, trial, (trial - y0) / g3, st.guess);
     Some(scale_to_yield(s, trial, g3, d))
 }
 
@@ -134,34 +126,26 @@ fn johnson_cook_return(
 /// may soften with strain (TANH, measured curves) is bracketed by [0, σ_tr/3G], where
 /// f = −σ_y ≤ 0.
 fn general_return(model: &FlowStress, shear: f64, s: &mut [f64; 4], st: State) -> Option<Return> {
-    let State {
-        eps_p,
-        temperature_k,
-        dt,
-        rate_scale,
-        guess,
-        strength,
-    } = st;
     let trial = von_mises(s);
-    let at = model.at_temperature(temperature_k);
+    let at = model.at_temperature(st.temperature_k);
     // Most particles of a cut are elastic: the floor needs no power of ε_p.
-    if trial <= at.floor() * strength {
+    if trial <= at.floor() * st.strength {
         return None;
     }
-    let y0 = at.flow_stress(eps_p, 0.0) * strength;
+    let y0 = at.flow_stress(st.eps_p, 0.0) * st.strength;
     if trial <= y0 {
         return None;
     }
     let g3 = 3.0 * shear;
     let eval = |d: f64| {
-        let rate = rate_scale * d / dt;
-        let (y, dy_de, dy_dlnr) = at.flow_stress_slopes(eps_p + d, rate);
+        let rate = st.rate_scale * d / st.dt;
+        let (y, dy_de, dy_dlnr) = at.flow_stress_slopes(st.eps_p + d, rate);
         let dlnr = if d > 0.0 { dy_dlnr / d } else { 0.0 };
-        // × strength term by term: at strength 1 the same operations in the same order as
+        // × st.strength term by term: at st.strength 1 the same operations in the same order as
         // without damage, so the same bytes.
         (
-            trial - g3 * d - y * strength,
-            -g3 - dy_de * strength - dlnr * strength,
+            trial - g3 * d - y * st.strength,
+            -g3 - dy_de * st.strength - dlnr * st.strength,
         )
     };
     let hi = if model.hardens_monotonically() {
@@ -169,7 +153,7 @@ fn general_return(model: &FlowStress, shear: f64, s: &mut [f64; 4], st: State) -
     } else {
         trial / g3
     };
-    let d = solve_increment(eval, trial, hi, guess);
+    let d = solve_increment(eval, trial, hi, st.guess);
     Some(scale_to_yield(s, trial, g3, d))
 }
 
