@@ -29,46 +29,51 @@ pub struct Return {
 }
 
 /// Returns the deviator `s` = [xx, xy, yy, zz] to the yield surface of `model` in place;
-/// `None` (and `s` untouched) when the trial stress is elastic. `guess` is a starting value
-/// for Δε (the previous step's increment; 0 when unknown). `strength` in (0, 1] is the share
-/// of the flow stress a damaged particle keeps (1 − d, `greybox_material::damage`; 1 without
-/// damage, which leaves every result the same bytes).
-#[allow(clippy::too_many_arguments)] // the state of one particle and the step
+/// `None` (and `s` untouched) when the trial stress is elastic.
 #[inline]
 pub fn radial_return(
     model: &FlowStress,
     shear: f64,
     s: &mut [f64; 4],
-    eps_p: f64,
-    temperature_k: f64,
-    dt: f64,
-    rate_scale: f64,
-    guess: f64,
-    strength: f64,
+    st: State,
 ) -> Option<Return> {
-    let state = State {
-        eps_p,
-        temperature_k,
-        dt,
-        rate_scale,
-        guess,
-        strength,
-    };
     match model {
-        FlowStress::JohnsonCook(jc) => johnson_cook_return(jc, shear, s, state),
-        other => general_return(other, shear, s, state),
+        FlowStress::JohnsonCook(jc) => johnson_cook_return(jc, shear, s, st),
+        other => general_return(other, shear, s, st),
     }
 }
 
-/// One particle's state and step as the return reads them (see [`radial_return`]).
-#[derive(Clone, Copy)]
-struct State {
-    eps_p: f64,
-    temperature_k: f64,
-    dt: f64,
-    rate_scale: f64,
-    guess: f64,
-    strength: f64,
+/// One particle's state and step as the return reads them.
+#[derive(Debug, Clone, Copy)]
+pub struct State {
+    /// Equivalent plastic strain before the step.
+    pub eps_p: f64,
+    /// Temperature, K.
+    pub temperature_k: f64,
+    /// Time step, s.
+    pub dt: f64,
+    /// Factor on the strain rate seen by the flow stress (time scaling).
+    pub rate_scale: f64,
+    /// A starting value for Δε (the previous step's increment; 0 when unknown).
+    pub guess: f64,
+    /// The share of the flow stress a damaged particle keeps, in (0, 1] (1 − d,
+    /// `greybox_material::damage`; 1 without damage, which leaves every result the same
+    /// bytes).
+    pub strength: f64,
+}
+
+impl State {
+    /// An undamaged particle without a starting guess.
+    pub fn new(eps_p: f64, temperature_k: f64, dt: f64, rate_scale: f64) -> Self {
+        State {
+            eps_p,
+            temperature_k,
+            dt,
+            rate_scale,
+            guess: 0.0,
+            strength: 1.0,
+        }
+    }
 }
 
 /// Von Mises stress √(3/2 s:s) of the plane-strain deviator.
@@ -218,7 +223,7 @@ mod tests {
         let g = 80e9;
         for (t, amp) in [(293.15, 2e9), (700.0, 1e9), (1700.0, 5e8), (2000.0, 5e8)] {
             let mut s = [amp, 0.3 * amp, -0.4 * amp, -0.6 * amp];
-            let r = radial_return(&jc, g, &mut s, 0.1, t, 1e-9, 1.0, 0.0, 1.0).unwrap();
+            let r = radial_return(&jc, g, &mut s, State::new(0.1, t, 1e-9, 1.0)).unwrap();
             let vm = (1.5 * (s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + 2.0 * s[1] * s[1])).sqrt();
             let want = jc.flow_stress(0.1 + r.d_eps, r.d_eps / 1e-9, t);
             assert!(
@@ -230,7 +235,7 @@ mod tests {
         // Elastic: untouched.
         let mut s = [1e6, 0.0, -1e6, 0.0];
         assert_eq!(
-            radial_return(&jc, g, &mut s, 0.0, 293.15, 1e-9, 1.0, 0.0, 1.0),
+            radial_return(&jc, g, &mut s, State::new(0.0, 293.15, 1e-9, 1.0)),
             None
         );
         assert_eq!(s, [1e6, 0.0, -1e6, 0.0]);
@@ -255,7 +260,16 @@ mod tests {
             let y0 = jc.flow_stress(eps_p, 0.0, 293.15);
             let amp = (y0 + over) / (1.5f64 * 2.0).sqrt();
             let mut s = [amp, 0.0, -amp, 0.0];
-            let r = radial_return(&jc, g, &mut s, eps_p, 293.15, dt, 1.0, guess, 1.0).unwrap();
+            let r = radial_return(
+                &jc,
+                g,
+                &mut s,
+                State {
+                    guess,
+                    ..State::new(eps_p, 293.15, dt, 1.0)
+                },
+            )
+            .unwrap();
             let vm = (1.5 * (s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + 2.0 * s[1] * s[1])).sqrt();
             let want = jc.flow_stress(eps_p + r.d_eps, r.d_eps / dt, 293.15);
             assert!(

@@ -1059,17 +1059,15 @@ fn plastic_and_heating(
     if let Some(flow) = inp.flow {
         let mut s = [ch.sxx[k], ch.sxy[k], ch.syy[k], ch.szz[k]];
         let strength = inp.damage.map_or(1.0, |m| m.strength(ch.damage[k]));
-        if let Some(ret) = plasticity::radial_return(
-            flow,
-            inp.d.shear,
-            &mut s,
-            ch.eps[k],
-            ch.temp[k],
+        let state = plasticity::State {
+            eps_p: ch.eps[k],
+            temperature_k: ch.temp[k],
             dt,
-            inp.rate_scale,
-            previous_increment,
+            rate_scale: inp.rate_scale,
+            guess: previous_increment,
             strength,
-        ) {
+        };
+        if let Some(ret) = plasticity::radial_return(flow, inp.d.shear, &mut s, state) {
             if let Some(damage) = inp.damage {
                 advance_damage(inp, damage, &ret, strength, k, ch);
             }
