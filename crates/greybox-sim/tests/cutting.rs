@@ -233,6 +233,33 @@ fn a_run_with_a_chip_break_resumes_bit_for_bit() {
     resume_equals_uninterrupted(&setup, 4800);
 }
 
+/// The same with ductile damage: the damage state is in the checkpoint, and the run is the
+/// same bytes on one and on two threads. Damage must have initiated (a fracture energy of
+/// 2 kJ/m² at 20 µm spacing softens within the cut), or the test would prove nothing.
+#[test]
+fn a_run_with_damage_resumes_bit_for_bit_on_any_thread_count() {
+    let mut setup = coarse_cut();
+    setup.cut_length_m = 0.15e-3;
+    let mut damage = greybox_material::JohnsonCookDamage::ti6al4v_lesuer(293.15, 1773.0);
+    damage.fracture_energy_j_m2 = 2000.0;
+    setup.material.damage = Some(damage);
+    let r = CutRun::execute(
+        &setup,
+        Arc::new(VelocityLaw),
+        1.0,
+        None,
+        &mut greybox_sim::Hooks::new(),
+    )
+    .unwrap();
+    let state = r.sim.particles.damage_state();
+    assert!(
+        state.initiated > 20 && state.max_degradation > 0.1,
+        "{state:?}"
+    );
+    same_bytes_on_any_thread_count(&setup);
+    resume_equals_uninterrupted(&setup, 150);
+}
+
 /// Runs `setup` whole, and killed at 2.5 × `every` steps after a checkpoint at 2 × `every`
 /// and resumed from it; both must give the same bytes.
 fn resume_equals_uninterrupted(setup: &greybox_sim::cutting::CuttingSetup, every: u64) {
