@@ -84,6 +84,14 @@ pub fn cut(s: &CutSummary) -> String {
     if let Some(st) = &s.steady_state {
         let _ = writeln!(text, "  {}", steady_line(st));
     }
+    text.push_str(&measure_lines(s));
+    text
+}
+
+/// The chip's measures at the end, and what the material did there: how far damage went
+/// (with `[material.damage]`) and whether the hottest particle passed the melting point.
+fn measure_lines(s: &CutSummary) -> String {
+    let mut text = String::new();
     let opt = |v: Option<f64>, unit: &str| v.map_or("n/a".to_string(), |v| format!("{v:.3}{unit}"));
     let m = &s.measures;
     let _ = writeln!(text,
