@@ -22,6 +22,8 @@ The variants:
 * `heat-to-chip`, `heat-to-tool` — the friction heat's share into the workpiece 1 or 0;
 * `no-rate` — the flow stress without its strain-rate term (C = 0);
 * `no-softening` — without thermal softening (m = 50: (T*)^m ≈ 0 below the melt);
+* `m=X` — the thermal-softening exponent m set to X (the template's Sima–Özel set has 1;
+  published Ti6Al4V J-C sets range from about 0.7 to 1.1);
 * `tanh-s=X` — the TANH strain softening's exponent s set to X (Sima & Özel's model 3 has
   0.05, which keeps tanh(·)^s near 1 and the softening weak; Calamaz et al.'s model is s = 1);
 * `chip-break=X` — the chip breaks off X mm above the uncut surface (`chip_break_height_m`:
@@ -97,6 +99,8 @@ def variant_text(template, cond, mu, variant, cut_length_m, coarse_spacing_m):
         set_key(parts, 'material.plasticity', 'c', '0.0')
     elif variant == 'no-softening':
         set_key(parts, 'material.plasticity', 'm', '50.0')
+    elif variant.startswith('m='):
+        set_key(parts, 'material.plasticity', 'm', repr(float(variant.split('=')[1])))
     elif variant.startswith('tanh-s='):
         set_key(parts, 'material.plasticity', 'tanh_s', repr(float(variant.split('=')[1])))
     elif variant.startswith('chip-break='):
