@@ -1,4 +1,4 @@
-//! A workpiece material: density, isotropic elasticity, Johnson–Cook plasticity and
+//! A workpiece material: density, isotropic elasticity, a flow stress, optional ductile damage and
 //! temperature-dependent thermal properties.
 
 use crate::{FlowStress, JohnsonCook, JohnsonCookDamage, Table1d};
