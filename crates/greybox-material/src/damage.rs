@@ -60,6 +60,19 @@ fn default_max_degradation() -> f64 {
     0.99
 }
 
+/// Whether the state `damage` has initiated (ω reached 1).
+#[inline]
+pub fn initiated(damage: f64) -> bool {
+    damage >= 1.0
+}
+
+/// The degradation d ≥ 0 the state `damage` holds (0 before initiation), before any
+/// model's cap d_max: the one decoding of the state's two phases.
+#[inline]
+pub fn degradation_of(damage: f64) -> f64 {
+    (damage - 1.0).max(0.0)
+}
+
 /// Plane-strain fracture energy G = K_IC² (1 − ν²)/E, J/m², of a material with fracture
 /// toughness `k_ic` (Pa·√m), Young's modulus `e` (Pa) and Poisson's ratio `nu`
 /// (Irwin's relation, e.g. Anderson, *Fracture Mechanics*, 3rd ed., 2005, eq. 2.54).
@@ -110,7 +123,18 @@ impl JohnsonCookDamage {
     /// The degradation d in [0, d_max] of a particle with state `damage` (0 before initiation).
     #[inline]
     pub fn degradation(&self, damage: f64) -> f64 {
-        (damage - 1.0).clamp(0.0, self.max_degradation)
+        degradation_of(damage).min(self.max_degradation)
+    }
+
+    /// The share of its mean stress a particle with state `damage` keeps: 1 in compression,
+    /// 1 − d in tension (`tension`: the mean stress is tensile, p < 0).
+    #[inline]
+    pub fn mean_stress_share(&self, damage: f64, tension: bool) -> f64 {
+        if tension {
+            self.strength(damage)
+        } else {
+            1.0
+        }
     }
 
     /// The share 1 − d of the undamaged flow stress a particle with state `damage` keeps.
@@ -241,10 +265,20 @@ mod tests {
         // An increment across initiation spends the rest on softening.
         let s = d.advance(0.5, 0.08 + 0.1 * u_f / 1e-5, eta, rate, t, sy, 1e-5);
         assert!((d.degradation(s) - 0.1).abs() < 1e-9, "{s}");
+        // Tension keeps (1 − d) of its mean stress, compression all of it.
+        assert!((d.mean_stress_share(half_state(&d), true) - 0.5).abs() < 1e-12);
+        assert_eq!(d.mean_stress_share(half_state(&d), false), 1.0);
+        assert!(!initiated(0.999) && initiated(1.0));
         // Capped at d_max; no increment, no change.
         let full = d.advance(1.0, 1e3, eta, rate, t, sy, 1e-5);
         assert_eq!(full, 1.0 + d.max_degradation);
         assert_eq!(d.advance(0.3, 0.0, eta, rate, t, sy, 1e-5), 0.3);
+    }
+
+    /// A state halfway through the softening (d = 0.5).
+    fn half_state(d: &JohnsonCookDamage) -> f64 {
+        let u_f = 2.0 * d.fracture_energy_j_m2 / 1e9;
+        d.advance(1.0, 0.5 * u_f / 1e-5, 0.0, 0.5, 298.0, 1e9, 1e-5)
     }
 
     #[test]

@@ -333,12 +333,11 @@ impl Particles {
     /// broke off took its particles with it).
     pub fn damage_state(&self) -> DamageState {
         let (mut initiated, mut sum, mut max) = (0usize, 0.0, 0.0f64);
-        for &d in &self.damage {
-            if d >= 1.0 {
-                initiated += 1;
-                sum += d - 1.0;
-                max = max.max(d - 1.0);
-            }
+        use greybox_material::damage::{degradation_of, initiated as has_initiated};
+        for &d in self.damage.iter().filter(|&&d| has_initiated(d)) {
+            initiated += 1;
+            sum += degradation_of(d);
+            max = max.max(degradation_of(d));
         }
         DamageState {
             particles: self.len(),

@@ -865,8 +865,8 @@ impl Solver {
         let m = p.mass_of(i);
         let ss = p.sxx[i].powi(2) + p.syy[i].powi(2) + p.szz[i].powi(2) + 2.0 * p.sxy[i].powi(2);
         let mut vol_e = m * d.c0_sq * ((rho / d.rho0).ln() + d.rho0 / rho - 1.0);
-        if let Some(damage) = self.material.damage.as_ref().filter(|_| rho < d.rho0) {
-            vol_e *= damage.strength(p.damage[i]);
+        if let Some(damage) = &self.material.damage {
+            vol_e *= damage.mean_stress_share(p.damage[i], rho < d.rho0);
         }
         (0.5 * m * v2, m / rho * ss / (4.0 * d.shear) + vol_e)
     }
@@ -1019,10 +1019,7 @@ fn drift_and_stress_rate(
     ch.rho[k] += dt * drho;
     ch.pr[k] = d.c0_sq * (ch.rho[k] - d.rho0);
     if let Some(damage) = inp.damage {
-        // A damaged particle carries its compression but only (1 − d) of a tension.
-        if ch.pr[k] < 0.0 {
-            ch.pr[k] *= damage.strength(ch.damage[k]);
-        }
+        ch.pr[k] *= damage.mean_stress_share(ch.damage[k], ch.pr[k] < 0.0);
     }
     let [nxx, nxy, nyy, dzz] = jaumann_update(
         [ch.sxx[k], ch.sxy[k], ch.syy[k]],
