@@ -139,6 +139,12 @@ impl Checkpoint {
                 ));
             }
         }
+        if let Some(i) = p.damage.iter().position(|d| !(0.0..2.0).contains(d)) {
+            return Err(format!(
+                "particles.damage[{i}] = {}: expected a damage state in [0, 2) (ω before initiation, 1 + d after)",
+                p.damage[i]
+            ));
+        }
         for (k, t) in self.tools.iter().enumerate() {
             if t.position.iter().any(|x| !x.is_finite()) {
                 return Err(format!(

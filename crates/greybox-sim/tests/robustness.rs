@@ -96,6 +96,14 @@ fn damaged_checkpoints_are_refused_naming_the_field() {
         &|v| v["particles"]["mass"] = serde_json::json!(0.0),
         "particles.mass = 0",
     );
+    refused(
+        &|v| v["particles"]["damage"][3] = serde_json::json!(-0.5),
+        "particles.damage[3] = -0.5",
+    );
+    refused(
+        &|v| v["particles"]["damage"][4] = serde_json::json!(2.5),
+        "particles.damage[4] = 2.5",
+    );
     // windows at μ = 1000 (the block has no tool: one added to the state read)
     let mut c = Checkpoint::read(&path).unwrap();
     c.tools.push(greybox_sim::checkpoint::ToolState {
