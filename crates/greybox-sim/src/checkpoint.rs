@@ -256,8 +256,10 @@ impl Checkpointer {
 }
 
 impl CheckpointWriter for Checkpointer {
+    /// At the end of the coarse step that reached a multiple of `every` (every step is a
+    /// coarse step without local time stepping).
     fn checkpoint_due(&self, sim: &Solver) -> bool {
-        sim.step.is_multiple_of(self.every)
+        sim.at_sync() && sim.step / self.every != sim.sync_step() / self.every
     }
     fn write_checkpoint(
         &mut self,

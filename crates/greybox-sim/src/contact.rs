@@ -66,13 +66,41 @@ fn contact_point(
     p: &Particles,
     i: usize,
 ) -> Option<crate::geometry::SurfacePoint> {
+    let local = in_box(tool, (lo, hi), reach, p, i)?;
+    let sp = tool.shape.closest(local);
+    (sp.distance < 0.0 && p.group[i] == FREE).then_some(sp)
+}
+
+/// Particle `i`'s position in `tool`'s frame when it lies within `reach` of the tool's
+/// bounding box `(lo, hi)` (a cheap first test).
+#[inline]
+fn in_box(
+    tool: &Tool,
+    (lo, hi): ([f64; 2], [f64; 2]),
+    reach: f64,
+    p: &Particles,
+    i: usize,
+) -> Option<[f64; 2]> {
     let lx = p.x[i] - tool.position[0];
     let ly = p.y[i] - tool.position[1];
-    if lx < lo[0] - reach || lx > hi[0] + reach || ly < lo[1] - reach || ly > hi[1] + reach {
-        return None;
+    let outside =
+        lx < lo[0] - reach || lx > hi[0] + reach || ly < lo[1] - reach || ly > hi[1] + reach;
+    (!outside).then_some([lx, ly])
+}
+
+/// Sets `near[i]` for every particle closer than `distance` to a tool's surface (or inside
+/// a tool), leaving the others as they are.
+pub(crate) fn mark_near(tools: &[Tool], p: &Particles, distance: f64, near: &mut [bool]) {
+    use rayon::prelude::*;
+    for tool in tools {
+        let tool_box = tool.shape.bounding_box();
+        near.par_iter_mut().enumerate().for_each(|(i, near)| {
+            if !*near {
+                *near = in_box(tool, tool_box, distance, p, i)
+                    .is_some_and(|local| tool.shape.closest(local).distance < distance);
+            }
+        });
     }
-    let sp = tool.shape.closest([lx, ly]);
-    (sp.distance < 0.0 && p.group[i] == FREE).then_some(sp)
 }
 
 /// Whether any particle touches any tool: whether [`apply`] would make a contact force.

@@ -287,7 +287,11 @@ pub fn run(
     let mut last_good = sim.particles.clone();
     let mut last_good_at = (sim.step, sim.time);
     let mut stopped = false;
-    while sim.time < end_time_s - 0.5 * sim.dt {
+    // With local time stepping a run ends only at the end of a coarse step (see
+    // `Solver::at_sync`): past the end time, or asked to stop, it takes the coarse step's
+    // second step first.
+    let mut stop_asked = false;
+    while sim.time < end_time_s - 0.5 * sim.dt || !sim.at_sync() {
         greybox_core::interrupt::check()?;
         if let Err(e) = sim.step() {
             report_failure(&mut hooks, sim, &last_good, last_good_at);
@@ -301,7 +305,8 @@ pub fn run(
         progress.set_with(sim.step, || {
             format!("t = {:.4e} of {:.4e} s", sim.time, end_time_s)
         });
-        if stop {
+        stop_asked |= stop;
+        if stop_asked && sim.at_sync() {
             stopped = true;
             break;
         }

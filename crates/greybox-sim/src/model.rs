@@ -54,6 +54,14 @@ pub struct Numerics {
     /// otherwise run for months. Unset, it is not written out.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_steps: Option<StepCap>,
+    /// Local time stepping in a refined model (default off): the particles of the finest
+    /// level and those near a tool take every step Δt, the coarser ones one step of 2Δt per
+    /// two, with the pair impulses between the two exchanged so that momentum stays exact
+    /// (see the solver's `multirate` module and docs/cutting.md, "Local time stepping").
+    /// Without a refinement every particle is on the finest level and it changes nothing.
+    /// Unset (off), it is not written out.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub local_time_stepping: bool,
 }
 
 /// Values `numerics.max_particles` may be raised to: 10⁹ particles are about 4 TB.
@@ -82,6 +90,7 @@ impl Default for Numerics {
             max_speed_ratio: 0.5,
             max_particles: None,
             max_steps: None,
+            local_time_stepping: false,
         }
     }
 }

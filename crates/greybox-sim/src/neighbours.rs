@@ -156,8 +156,18 @@ impl NeighbourList {
             self.start.extend(ends.iter().map(|e| base + e));
             self.index.extend_from_slice(partners);
         }
+        self.build_reverse(n);
+        self.x0.clear();
+        self.x0.extend_from_slice(x);
+        self.y0.clear();
+        self.y0.extend_from_slice(y);
+        self.builds += 1;
+    }
+
+    /// The reverse lists of the half lists `start`/`index` of `n` particles: a counting sort
+    /// of the pairs by their second partner, in pair order.
+    fn build_reverse(&mut self, n: usize) {
         let total = self.index.len();
-        // Reverse lists: counting sort of the pairs by their second partner, in pair order.
         counting_offsets(&self.index, n, &mut self.rev_start);
         self.rev_pair.clear();
         self.rev_pair.resize(total, 0);
@@ -172,11 +182,39 @@ impl NeighbourList {
                 *slot += 1;
             }
         }
-        self.x0.clear();
-        self.x0.extend_from_slice(x);
-        self.y0.clear();
-        self.y0.extend_from_slice(y);
-        self.builds += 1;
+    }
+
+    /// Splits these lists by the particles' rates (local time stepping, see
+    /// [`crate::multirate`]): the pairs of two slow particles go to `slow`, every pair with a
+    /// fast partner to `fast`, each row keeping its order; both get their reverse lists. The
+    /// two lists together hold every pair of these once. Their build positions and counts are
+    /// not set: the displacement test stays with these lists.
+    pub fn split_by_rate(
+        &self,
+        fast: &[bool],
+        slow: &mut NeighbourList,
+        fast_out: &mut NeighbourList,
+    ) {
+        let n = self.start.len().saturating_sub(1);
+        for l in [&mut *slow, &mut *fast_out] {
+            l.start.clear();
+            l.start.push(0);
+            l.index.clear();
+        }
+        for (i, &fast_i) in fast.iter().enumerate().take(n) {
+            for &j in self.partners(i) {
+                let to = if fast_i || fast[j as usize] {
+                    &mut *fast_out
+                } else {
+                    &mut *slow
+                };
+                to.index.push(j);
+            }
+            slow.start.push(slow.index.len() as u32);
+            fast_out.start.push(fast_out.index.len() as u32);
+        }
+        slow.build_reverse(n);
+        fast_out.build_reverse(n);
     }
 
     /// Pair numbers of particle i's half-list row.

@@ -23,7 +23,9 @@
 //! 8. the tools move; energies are booked; non-finite or runaway states stop the run.
 //!
 //! A step while the particles are exactly at rest and no tool touches them does steps 4 and
-//! 8 only (see [`Solver::step`]).
+//! 8 only (see [`Solver::step`]). With `numerics.local_time_stepping` in a refined model the
+//! coarse particles away from the tools take one step of 2Δt per two steps, the pair
+//! impulses exchanged so that momentum stays exact (see [`multirate`]).
 //!
 //! Steps 5–7 make the velocity–stress update symplectic (the stress rate uses v_{n+1}):
 //! evaluating both from the old state is forward Euler for the elastic wave equation, which
@@ -44,6 +46,8 @@ use crate::tool::Tool;
 use greybox_material::{FlowStress, JohnsonCookDamage, Material, Thermal};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+
+mod multirate;
 
 /// Particles per parallel task of the pair passes.
 const PAIR_CHUNK: usize = 64;
@@ -215,8 +219,14 @@ pub struct Solver {
     /// Steps that skipped the particle passes because nothing could move (see
     /// [`Solver::step`]).
     pub idle_steps: u64,
-    /// Σ particles over the steps that did the particle passes (a refined run's count grows).
+    /// Σ particles over the steps that did the particle passes (a refined run's count grows;
+    /// with local time stepping a slow particle counts once per two steps).
     pub particle_steps: u64,
+    /// Local time stepping's state (see [`multirate`]); `None`: every particle takes every
+    /// step.
+    multirate: Option<multirate::Multirate>,
+    /// The step the latest coarse step started at (see [`Solver::at_sync`]).
+    sync_step: u64,
 }
 
 impl Solver {
@@ -284,6 +294,8 @@ impl Solver {
         }
         let n = particles.len();
         let ngroups = groups.len();
+        let multirate =
+            (numerics.local_time_stepping && refined).then(multirate::Multirate::default);
         let mut solver = Solver {
             inv_w_dx,
             particles,
@@ -312,6 +324,8 @@ impl Solver {
             at_rest: false,
             idle_steps: 0,
             particle_steps: 0,
+            multirate,
+            sync_step: 0,
         };
         solver.rebuild_lists();
         solver.check_rest();
@@ -370,7 +384,8 @@ impl Solver {
         self.derived.c_long
     }
 
-    /// Advances one step.
+    /// Advances one step (with local time stepping, the first or the second step of a
+    /// coarse step: see [`multirate`] and [`Solver::at_sync`]).
     ///
     /// While the particles are exactly at rest and no particle touches a tool (the approach
     /// before the first contact), a step does only its bookkeeping — contact (which
@@ -379,14 +394,49 @@ impl Solver {
     /// every value as it is (they add exact zeros; only the sign of a zero velocity could
     /// differ). The first step that is not idle ends this for good.
     pub fn step(&mut self) -> Result<(), SimError> {
+        if self.at_sync() {
+            self.sync_step = self.step;
+        }
         if self.idle() {
             self.apply_contact();
-            self.book_boundaries();
+            self.book_boundaries(Advance::All);
             self.advance_clock();
             self.idle_steps += 1;
             return Ok(());
         }
         self.at_rest = false;
+        if self.multirate.is_some() {
+            return self.multirate_step();
+        }
+        self.prepare_lists();
+        self.pack();
+        self.gather_forces();
+        self.apply_contact();
+        self.book_boundaries(Advance::All);
+        self.kick(Advance::All);
+        self.gather_kinematics();
+        self.update(Advance::All)?;
+        self.advance_clock();
+        self.particle_steps += self.particles.len() as u64;
+        Ok(())
+    }
+
+    /// Whether the state is at the end of a coarse step: always without local time
+    /// stepping; with it, after the second of a coarse step's two steps (between them the
+    /// slow particles lag one step behind, see [`multirate`]). Checkpoints are written and
+    /// runs end only here.
+    pub fn at_sync(&self) -> bool {
+        self.multirate.as_ref().is_none_or(|m| !m.mid_step())
+    }
+
+    /// The step the latest coarse step started at: `step − 1` after a step without local
+    /// time stepping, `step − 2` at the end of a coarse step with it.
+    pub fn sync_step(&self) -> u64 {
+        self.sync_step
+    }
+
+    /// Splits, removes and rebuilds the neighbour lists as the step's start needs.
+    fn prepare_lists(&mut self) {
         // Splitting (every step, so that the splits depend only on where the tool is and a
         // resumed run makes the same ones) changes the particles: the lists are rebuilt.
         let split = self.refine();
@@ -405,17 +455,6 @@ impl Solver {
             self.rebuild_lists();
             self.rebuild_due = false;
         }
-        self.pack();
-        self.gather_forces();
-        self.gather_incoming_forces();
-        self.apply_contact();
-        self.book_boundaries();
-        self.kick();
-        self.gather_kinematics();
-        self.update()?;
-        self.advance_clock();
-        self.particle_steps += self.particles.len() as u64;
-        Ok(())
     }
 
     /// Step 8's motion: the tools move by their velocity at the step's start, the clock by Δt.
@@ -498,14 +537,46 @@ impl Solver {
             });
     }
 
-    /// Step 3a: forces and conduction over the half list. Each pair's terms are computed
-    /// once: the first partner's share is summed in place, the second partner's share
-    /// (equal and opposite force, opposite heat flow) is stored for step 3b; the pair kernel
-    /// values are kept for step 6.
+    /// Steps 3a and 3b over the neighbour lists into the step's rates and per-pair buffers.
     fn gather_forces(&mut self) {
-        let table = &self.table;
-        let refined = self.refined;
-        let constants = ForceConstants {
+        let mut sc = std::mem::take(&mut self.scratch);
+        self.pair_forces(
+            &sc.packed,
+            &self.neighbours,
+            &mut sc.rates,
+            &mut sc.pair_wg,
+            &mut sc.pair_force,
+        );
+        self.scratch = sc;
+    }
+
+    /// Steps 3a and 3b over `list` into `rates` (see [`force_pass`], [`incoming_pass`]).
+    fn pair_forces(
+        &self,
+        packed: &[Packed],
+        list: &NeighbourList,
+        rates: &mut [Rates],
+        pair_wg: &mut Vec<[f64; 2]>,
+        pair_force: &mut Vec<[f64; 3]>,
+    ) {
+        let constants = self.force_constants();
+        force_pass(
+            self.refined,
+            &self.table,
+            &constants,
+            packed,
+            list,
+            rates,
+            pair_wg,
+            pair_force,
+        );
+        let heat = HeatInputs::of(&self.numerics, &self.material, &self.particles);
+        incoming_pass(&heat, list, pair_force, rates);
+    }
+
+    /// The constants of the force pass.
+    fn force_constants(&self) -> ForceConstants {
+        ForceConstants {
             mass: self.particles.mass,
             alpha: self.numerics.av_alpha,
             beta: self.numerics.av_beta,
@@ -516,81 +587,12 @@ impl Solver {
             } else {
                 0.0
             },
-        };
-        // Conduction needs no branch: k = 0 when thermal is off (see `pack`).
-        let packed = &self.scratch.packed;
-        let nl = &self.neighbours;
-        let npairs = nl.pair_count();
-        self.scratch.pair_wg.resize(npairs, [0.0; 2]);
-        self.scratch.pair_force.resize(npairs, [0.0; 3]);
-        let pair_wg = DisjointMut::new(&mut self.scratch.pair_wg);
-        let pair_force = DisjointMut::new(&mut self.scratch.pair_force);
-        self.scratch
-            .rates
-            .par_chunks_mut(PAIR_CHUNK)
-            .enumerate()
-            .for_each(|(ch, rates)| {
-                let first = ch * PAIR_CHUNK;
-                let pairs = nl.pairs_of_particles(first, first + rates.len());
-                // SAFETY: chunks hold disjoint particles, hence disjoint half-list rows (the
-                // row offsets are non-decreasing, see `NeighbourList`).
-                let (wg_out, force_out) = unsafe {
-                    (
-                        pair_wg.range(pairs.clone()),
-                        pair_force.range(pairs.clone()),
-                    )
-                };
-                pair_lanes::force_rows(
-                    refined,
-                    first,
-                    rates,
-                    packed,
-                    nl,
-                    table,
-                    &constants,
-                    wg_out,
-                    force_out,
-                    pairs.start,
-                );
-            });
+        }
     }
 
-    /// Step 3b: every particle adds the shares stored for it by step 3a, then turns the
-    /// conduction sum into dT/dt = sum / (ρ c) (heat capacity per volume kept physical under
-    /// mass scaling).
-    fn gather_incoming_forces(&mut self) {
-        let thermal = self.numerics.thermal;
-        let cp = &self.material.thermal.specific_heat;
-        let f_mass = self.numerics.mass_scaling;
-        let rho = &self.particles.rho;
-        let temp = &self.particles.temp;
-        let nl = &self.neighbours;
-        let shares = &self.scratch.pair_force;
-        self.scratch
-            .rates
-            .par_iter_mut()
-            .with_min_len(PAIR_CHUNK)
-            .enumerate()
-            .for_each(|(i, out)| {
-                let (mut ax, mut ay, mut cond) = (out.ax, out.ay, out.dtemp);
-                for &p in nl.incoming(i) {
-                    let [sx, sy, sc] = shares[p as usize];
-                    ax += sx;
-                    ay += sy;
-                    cond += sc;
-                }
-                out.ax = ax;
-                out.ay = ay;
-                out.dtemp = if thermal {
-                    cond / (rho[i] / f_mass * cp.eval(temp[i]))
-                } else {
-                    0.0
-                };
-            });
-    }
-
-    /// Step 5: v ← v + Δt a with the prescribed velocity components imposed.
-    fn kick(&mut self) {
+    /// Step 5: v ← v + Δt a with the prescribed velocity components imposed, for the
+    /// particles `advance` moves (by their step).
+    fn kick(&mut self, advance: Advance<'_>) {
         let dt = self.dt;
         let groups = &self.groups;
         let rates = &self.scratch.rates;
@@ -600,6 +602,9 @@ impl Solver {
             .zip(self.scratch.packed.par_iter_mut())
             .enumerate()
             .for_each(|(i, ((vx, vy), q))| {
+                let Some(dt) = advance.step_of(i, dt) else {
+                    return;
+                };
                 let mut nvx = *vx + dt * rates[i].ax;
                 let mut nvy = *vy + dt * rates[i].ay;
                 let g = p.group[i];
@@ -619,31 +624,18 @@ impl Solver {
             });
     }
 
-    /// Step 6: continuity, velocity gradient and XSPH from the new velocities. Each
-    /// particle visits its own half-list row and its incoming pairs, with the pair kernel
-    /// values of step 3a (this light pass recomputes the pair terms from both sides: storing
-    /// the partner's seven shares per pair and reading them back was slower).
+    /// Step 6: continuity, velocity gradient and XSPH from the new velocities (see
+    /// [`kinematics_pass`]).
     fn gather_kinematics(&mut self) {
-        let m = self.particles.mass;
-        let refined = self.refined;
-        let packed = &self.scratch.packed;
-        let nl = &self.neighbours;
-        let pair_wg = &self.scratch.pair_wg;
-        self.scratch
-            .rates
-            .par_chunks_mut(PAIR_CHUNK)
-            .enumerate()
-            .for_each(|(ch, rates)| {
-                pair_lanes::kinematics_rows(
-                    refined,
-                    ch * PAIR_CHUNK,
-                    rates,
-                    packed,
-                    nl,
-                    m,
-                    pair_wg,
-                );
-            });
+        let sc = &mut self.scratch;
+        kinematics_pass(
+            self.refined,
+            self.particles.mass,
+            &sc.packed,
+            &self.neighbours,
+            &sc.pair_wg,
+            &mut sc.rates,
+        );
     }
 
     /// Reaction forces and external work of the prescribed-velocity groups.
@@ -676,7 +668,11 @@ impl Solver {
         self.energy.tool_heat += w.tool_heat;
     }
 
-    fn book_boundaries(&mut self) {
+    ///
+    /// Of the particles `advance` moves: the reaction is that of the step's accelerations,
+    /// its work over each particle's own step (with local time stepping, the groups' force
+    /// is that of the fast particles' latest step and the slow ones' coarse step together).
+    fn book_boundaries(&mut self, advance: Advance<'_>) {
         if self.groups.is_empty() {
             return;
         }
@@ -684,29 +680,50 @@ impl Solver {
         for f in self.group_force.iter_mut() {
             *f = [0.0; 2];
         }
+        // The reactions of the particles moved by Δt and (with local time stepping) by 2Δt.
+        let mut slow_force = vec![[0.0; 2]; self.groups.len()];
         for i in 0..p.len() {
             let g = p.group[i];
+            let Some(dt_i) = advance.step_of(i, self.dt) else {
+                continue;
+            };
             if g != FREE {
-                let gf = &mut self.group_force[g as usize - 1];
+                let gf = if dt_i == self.dt {
+                    &mut self.group_force[g as usize - 1]
+                } else {
+                    &mut slow_force[g as usize - 1]
+                };
                 let m = p.mass_of(i);
                 gf[0] -= m * self.scratch.rates[i].ax;
                 gf[1] -= m * self.scratch.rates[i].ay;
             }
         }
-        let mut w = 0.0;
-        for (gf, g) in self.group_force.iter().zip(&self.groups) {
-            w += gf[0] * g.vx.unwrap_or(0.0) + gf[1] * g.vy.unwrap_or(0.0);
+        let work = |forces: &[[f64; 2]]| -> f64 {
+            let mut w = 0.0;
+            for (gf, g) in forces.iter().zip(&self.groups) {
+                w += gf[0] * g.vx.unwrap_or(0.0) + gf[1] * g.vy.unwrap_or(0.0);
+            }
+            w
+        };
+        self.energy.external_work += work(&self.group_force) * self.dt;
+        if let Advance::Both(_) = advance {
+            self.energy.external_work += work(&slow_force) * 2.0 * self.dt;
+            for (f, s) in self.group_force.iter_mut().zip(&slow_force) {
+                f[0] += s[0];
+                f[1] += s[1];
+            }
         }
-        self.energy.external_work += w * self.dt;
     }
 
     /// Step 7: drift, stress rate, plasticity, heating, checks — per chunk of particles in
-    /// parallel ([`update_chunk`]), then the chunks' sums booked in chunk order.
-    fn update(&mut self) -> Result<(), SimError> {
+    /// parallel ([`update_chunk`]), then the chunks' sums booked in chunk order; of the
+    /// particles `advance` moves, each by its own step.
+    fn update(&mut self, advance: Advance<'_>) -> Result<(), SimError> {
         let d = self.derived;
         let (x0, y0, moved_lim2) = self.neighbours.reference();
         let inputs = UpdateInputs {
             dt: self.dt,
+            advance,
             d,
             flow: self.material.plasticity.as_ref(),
             damage: self.material.damage.as_ref(),
@@ -922,6 +939,160 @@ fn pair_table(
 }
 
 /// Particles per parallel task of step 7.
+/// Which particles a pass moves, and by how much (see [`multirate`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Advance<'a> {
+    /// Every particle, by Δt.
+    All,
+    /// The fast particles (`true`) by Δt; the slow ones wait (a coarse step's first step).
+    Fast(&'a [bool]),
+    /// The fast particles by Δt, the slow ones by 2Δt (a coarse step's second step).
+    Both(&'a [bool]),
+}
+
+impl Advance<'_> {
+    /// The step particle `i` moves by, given Δt; `None`: it does not move.
+    #[inline]
+    pub(crate) fn step_of(&self, i: usize, dt: f64) -> Option<f64> {
+        match self {
+            Advance::All => Some(dt),
+            Advance::Fast(fast) => fast[i].then_some(dt),
+            Advance::Both(fast) => Some(if fast[i] { dt } else { 2.0 * dt }),
+        }
+    }
+}
+
+/// Step 3a over `list`: forces and conduction over the half list. Each pair's terms are
+/// computed once: the first partner's share is summed in place into `rates`, the second
+/// partner's share (equal and opposite force, opposite heat flow) is stored in `pair_force`
+/// for step 3b; the pair kernel values are kept in `pair_wg` for step 6.
+#[allow(clippy::too_many_arguments)]
+fn force_pass(
+    refined: bool,
+    table: &PairTable,
+    constants: &ForceConstants,
+    packed: &[Packed],
+    list: &NeighbourList,
+    rates: &mut [Rates],
+    pair_wg: &mut Vec<[f64; 2]>,
+    pair_force: &mut Vec<[f64; 3]>,
+) {
+    // Conduction needs no branch: k = 0 when thermal is off (see `pack`).
+    let npairs = list.pair_count();
+    pair_wg.resize(npairs, [0.0; 2]);
+    pair_force.resize(npairs, [0.0; 3]);
+    let pair_wg = DisjointMut::new(pair_wg);
+    let pair_force = DisjointMut::new(pair_force);
+    rates
+        .par_chunks_mut(PAIR_CHUNK)
+        .enumerate()
+        .for_each(|(ch, rates)| {
+            let first = ch * PAIR_CHUNK;
+            let pairs = list.pairs_of_particles(first, first + rates.len());
+            // SAFETY: chunks hold disjoint particles, hence disjoint half-list rows (the
+            // row offsets are non-decreasing, see `NeighbourList`).
+            let (wg_out, force_out) = unsafe {
+                (
+                    pair_wg.range(pairs.clone()),
+                    pair_force.range(pairs.clone()),
+                )
+            };
+            pair_lanes::force_rows(
+                refined,
+                first,
+                rates,
+                packed,
+                list,
+                table,
+                constants,
+                wg_out,
+                force_out,
+                pairs.start,
+            );
+        });
+}
+
+/// What step 3b reads to turn a conduction sum into dT/dt.
+struct HeatInputs<'a> {
+    thermal: bool,
+    specific_heat: &'a greybox_material::Table1d,
+    f_mass: f64,
+    rho: &'a [f64],
+    temp: &'a [f64],
+}
+
+impl<'a> HeatInputs<'a> {
+    fn of(numerics: &Numerics, material: &'a Material, particles: &'a Particles) -> Self {
+        HeatInputs {
+            thermal: numerics.thermal,
+            specific_heat: &material.thermal.specific_heat,
+            f_mass: numerics.mass_scaling,
+            rho: &particles.rho,
+            temp: &particles.temp,
+        }
+    }
+}
+
+/// Step 3b over `list`: every particle adds the shares `shares` stored for it, then turns the
+/// conduction sum into dT/dt = sum / (ρ c) (heat capacity per volume kept physical under mass
+/// scaling).
+fn incoming_pass(
+    heat: &HeatInputs<'_>,
+    list: &NeighbourList,
+    shares: &[[f64; 3]],
+    rates: &mut [Rates],
+) {
+    rates
+        .par_iter_mut()
+        .with_min_len(PAIR_CHUNK)
+        .enumerate()
+        .for_each(|(i, out)| {
+            let (mut ax, mut ay, mut cond) = (out.ax, out.ay, out.dtemp);
+            for &p in list.incoming(i) {
+                let [sx, sy, sc] = shares[p as usize];
+                ax += sx;
+                ay += sy;
+                cond += sc;
+            }
+            out.ax = ax;
+            out.ay = ay;
+            out.dtemp = if heat.thermal {
+                cond / (heat.rho[i] / heat.f_mass * heat.specific_heat.eval(heat.temp[i]))
+            } else {
+                0.0
+            };
+        });
+}
+
+/// Step 6 over `list`: continuity, velocity gradient and XSPH from the new velocities into
+/// `rates[i].kin`. Each particle visits its own half-list row and its incoming pairs, with
+/// the pair kernel values `pair_wg` of step 3a (this light pass recomputes the pair terms
+/// from both sides: storing the partner's seven shares per pair and reading them back was
+/// slower).
+fn kinematics_pass(
+    refined: bool,
+    mass: f64,
+    packed: &[Packed],
+    list: &NeighbourList,
+    pair_wg: &[[f64; 2]],
+    rates: &mut [Rates],
+) {
+    rates
+        .par_chunks_mut(PAIR_CHUNK)
+        .enumerate()
+        .for_each(|(ch, rates)| {
+            pair_lanes::kinematics_rows(
+                refined,
+                ch * PAIR_CHUNK,
+                rates,
+                packed,
+                list,
+                mass,
+                pair_wg,
+            );
+        });
+}
+
 const UPDATE_CHUNK: usize = 512;
 
 /// What step 7 reads besides the particles: the step's constants, the rates of steps 3–6
@@ -929,6 +1100,8 @@ const UPDATE_CHUNK: usize = 512;
 struct UpdateInputs<'a> {
     /// Δt, s.
     dt: f64,
+    /// Which particles move, by Δt or 2Δt.
+    advance: Advance<'a>,
     d: Derived,
     flow: Option<&'a FlowStress>,
     /// Ductile damage softening the flow stress; `None`: none.
@@ -987,10 +1160,13 @@ fn update_chunk(
     let mut moved2: f64 = 0.0;
     for k in 0..ch.x.len() {
         let i = first + k;
+        let Some(dt) = inp.advance.step_of(i, inp.dt) else {
+            continue;
+        };
         let r = &inp.rates[i];
         av += r.av_power;
-        moved2 = moved2.max(drift_and_stress_rate(inp, r, i, k, &mut ch));
-        if let Some(w) = plastic_and_heating(inp, r, k, &mut ch) {
+        moved2 = moved2.max(drift_and_stress_rate(inp, dt, r, i, k, &mut ch));
+        if let Some(w) = plastic_and_heating(inp, dt, r, k, &mut ch) {
             wp += w;
         }
         if bad == usize::MAX && unstable(inp, k, &ch) {
@@ -1001,16 +1177,17 @@ fn update_chunk(
 }
 
 /// Drift with the XSPH velocity, continuity, equation of state and the Jaumann stress rate of
-/// particle `i` (`k` in the chunk); returns its squared displacement since the neighbour
-/// build, m².
+/// particle `i` (`k` in the chunk) over its step `dt`; returns its squared displacement since
+/// the neighbour build, m².
 fn drift_and_stress_rate(
     inp: &UpdateInputs<'_>,
+    dt: f64,
     r: &Rates,
     i: usize,
     k: usize,
     ch: &mut UpdateChunk<'_>,
 ) -> f64 {
-    let (dt, d, eps_x) = (inp.dt, inp.d, inp.eps_x);
+    let (d, eps_x) = (inp.d, inp.eps_x);
     let [drho, lxx, lxy, lyx, lyy, xsx, xsy] = r.kin;
     let (nvx, nvy) = (ch.vx[k], ch.vy[k]);
     ch.x[k] += dt * (nvx + eps_x * xsx);
@@ -1038,14 +1215,14 @@ fn drift_and_stress_rate(
 }
 
 /// Conduction heating, the radial return and its plastic heating of particle `k` of the
-/// chunk; returns its plastic work (m/ρ) σ_y Δε_p, J/m, when it yielded.
+/// chunk over its step `dt`; returns its plastic work (m/ρ) σ_y Δε_p, J/m, when it yielded.
 fn plastic_and_heating(
     inp: &UpdateInputs<'_>,
+    dt: f64,
     r: &Rates,
     k: usize,
     ch: &mut UpdateChunk<'_>,
 ) -> Option<f64> {
-    let dt = inp.dt;
     let mut t_new = ch.temp[k];
     if inp.thermal {
         t_new += dt * r.dtemp;
@@ -1066,7 +1243,7 @@ fn plastic_and_heating(
         };
         if let Some(ret) = plasticity::radial_return(flow, inp.d.shear, &mut s, state) {
             if let Some(damage) = inp.damage {
-                advance_damage(inp, damage, &ret, strength, k, ch);
+                advance_damage(inp, dt, damage, &ret, strength, k, ch);
             }
             ch.sxx[k] = s[0];
             ch.sxy[k] = s[1];
@@ -1092,6 +1269,7 @@ fn plastic_and_heating(
 /// on, the rate as the flow stress sees it, the undamaged flow stress σ_y = σ/(1 − d).
 fn advance_damage(
     inp: &UpdateInputs<'_>,
+    dt: f64,
     damage: &JohnsonCookDamage,
     ret: &plasticity::Return,
     strength: f64,
@@ -1107,7 +1285,7 @@ fn advance_damage(
         ch.damage[k],
         ret.d_eps,
         triaxiality,
-        inp.rate_scale * ret.d_eps / inp.dt,
+        inp.rate_scale * ret.d_eps / dt,
         ch.temp[k],
         ret.flow_stress / strength,
         inp.spacing * spacing_factor(ch.level[k]),
