@@ -76,6 +76,48 @@ fn cutting_with_a_law_file_writes_profiles_and_resumes_bit_for_bit() {
     assert_eq!(last_vtk("a"), last_vtk("b"));
 }
 
+/// A refined cut with the machined surface coarsened behind the tool and local time
+/// stepping, set up in the TOML a user writes: the summary says how many particles the
+/// merges took away and what energy they averaged out, as JSON and as text.
+#[test]
+fn a_refined_cut_with_coarsening_says_what_the_merges_did() {
+    let d = tempfile::tempdir().unwrap();
+    coarse_config(d.path(), None);
+    let cut = d.path().join("cut.toml");
+    let mut toml = std::fs::read_to_string(&cut)
+        .unwrap()
+        .replace("cut_length_m = 0.25e-3", "cut_length_m = 0.3e-3")
+        .replace("[numerics]\n", "[numerics]\nlocal_time_stepping = true\n");
+    toml.push_str(
+        "\n[refinement]\nregions = [{ ahead_m = 0.2e-3, behind_m = 0.02e-3, below_m = 0.04e-3, \
+         above_m = 0.3e-3 }]\ncoarsen_behind_m = 0.06e-3\n",
+    );
+    std::fs::write(&cut, toml).unwrap();
+    let s = ok(&greybox(
+        &[
+            "simulate", "cutting", "--config", "cut.toml", "--out", "a", "--json",
+        ],
+        d.path(),
+    ));
+    let v: serde_json::Value = serde_json::from_str(&s).unwrap();
+    let merged = v["coarsened"]["particles"].as_u64().unwrap();
+    let share = v["coarsened"]["share_of_work"].as_f64().unwrap();
+    assert!(merged > 30 && merged % 3 == 0, "{merged}");
+    assert!(share > 0.0 && share < 0.01, "{share}");
+    let text = ok(&greybox(
+        &[
+            "-q", "simulate", "cutting", "--config", "cut.toml", "--out", "b",
+        ],
+        d.path(),
+    ));
+    assert!(
+        text.contains(&format!(
+            "coarsening: {merged} refined particles merged away"
+        )),
+        "{text}"
+    );
+}
+
 #[test]
 fn cutting_and_material_input_errors_name_the_problem() {
     let d = tempfile::tempdir().unwrap();

@@ -322,6 +322,17 @@ pub fn cut_case(setup: CuttingSetup, base: &Path) -> Result<CutCase> {
 }
 
 /// What a cut gave: forces, chip measures, speed, files.
+/// What coarsening did in a cut (see `greybox_sim::coarsen`).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Coarsened {
+    /// Particles merged away (three per merge).
+    pub particles: u64,
+    /// Kinetic and elastic energy the merges averaged out, J/m.
+    pub energy_j_per_m: f64,
+    /// That energy over the external work.
+    pub share_of_work: f64,
+}
+
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct CutSummary {
     pub particles: usize,
@@ -329,6 +340,11 @@ pub struct CutSummary {
     /// `greybox_sim::sink`); their energy is in the balance of `energy_error`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub chip_removed_particles: Option<u64>,
+    /// Refined particles merged away behind the tool (three per merge), and the kinetic and
+    /// elastic energy the merges averaged out, J/m (absent without `coarsen_behind_m`; see
+    /// `greybox_sim::coarsen`); the energy is in the balance of `energy_error`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub coarsened: Option<Coarsened>,
     pub steps: u64,
     /// Steps of the tool's approach, before any particle could move, that skipped the
     /// particle passes (their results would be the same); included in `steps` and left out
@@ -490,6 +506,16 @@ fn cut_summary(case: &CutCase, r: &CutRun, files: Vec<String>) -> CutSummary {
         chip_removed_particles: setup
             .chip_break_height_m
             .map(|_| r.sim.energy.removed_particles),
+        coarsened: setup
+            .refinement
+            .as_ref()
+            .and_then(|c| c.coarsen_behind_m)
+            .map(|_| Coarsened {
+                particles: r.sim.energy.coarsened_particles,
+                energy_j_per_m: r.sim.energy.coarsened,
+                share_of_work: r.sim.energy.coarsened
+                    / r.sim.energy.external_work.abs().max(f64::MIN_POSITIVE),
+            }),
         steps: r.summary.steps,
         idle_steps: r.summary.idle_steps,
         dt_s: r.sim.dt,

@@ -236,6 +236,13 @@ pub struct CutRefinement {
     /// How a particle is split (`square`: four children).
     #[serde(default)]
     pub pattern: crate::refine::SplitPattern,
+    /// Distance behind the cutting edge, m, beyond which the refined particles of the
+    /// machined surface are merged back to `spacing_m` (see [`crate::coarsen`]): the region
+    /// from there on, from the workpiece's bottom to half this distance above the edge (the
+    /// chip, rising along the rake face, stays clear of it for rake angles up to 45°).
+    /// `None` (unset, not written out): refined particles stay fine.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coarsen_behind_m: Option<f64>,
 }
 
 /// A refinement region around the cutting edge, m: how far it reaches ahead of the edge (in
@@ -250,8 +257,9 @@ pub struct CutRegion {
 }
 
 impl CutRefinement {
-    /// The solver's refinement (regions in the tool frame; the tool moves in −x).
-    pub fn refinement(&self) -> crate::refine::Refinement {
+    /// The solver's refinement (regions in the tool frame; the tool moves in −x) for a
+    /// workpiece laid out at spacing `dx` by [`Particles::workpiece`].
+    pub fn refinement(&self, dx: f64) -> crate::refine::Refinement {
         crate::refine::Refinement {
             tool: 0,
             regions: self
@@ -265,6 +273,18 @@ impl CutRefinement {
                 })
                 .collect(),
             pattern: self.pattern,
+            coarsening: self
+                .coarsen_behind_m
+                .map(|behind| crate::coarsen::Coarsening {
+                    // 1 m: everything behind; the workpiece's lattice has a point at (dx/2, dx/2)
+                    region: crate::refine::Region {
+                        x_min: behind,
+                        x_max: 1.0,
+                        y_min: -1.0,
+                        y_max: 0.5 * behind,
+                    },
+                    lattice_point: [0.5 * dx, 0.5 * dx],
+                }),
         }
     }
 
@@ -420,7 +440,7 @@ impl CuttingSetup {
         // The spacing the chip is cut at: the finest of a refinement.
         let dx = self.surface_spacing();
         if let Some(r) = &self.refinement {
-            r.refinement()
+            r.refinement(self.spacing_m)
                 .validate(1)
                 .map_err(|e| greybox_core::Error::invalid("cutting set-up [refinement]", e))?;
         }
@@ -680,7 +700,7 @@ impl CuttingSetup {
                 tools: vec![tool],
                 groups,
                 numerics,
-                refinement: self.refinement.as_ref().map(CutRefinement::refinement),
+                refinement: self.refinement.as_ref().map(|r| r.refinement(dx)),
                 sink: self.chip_break_height_m.map(|height| Sink {
                     y_above_m: top + height,
                 }),

@@ -12,6 +12,7 @@
 
 pub mod checkpoint;
 pub mod chip;
+pub mod coarsen;
 pub(crate) mod contact;
 pub mod cpu;
 pub mod cut_run;

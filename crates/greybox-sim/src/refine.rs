@@ -28,8 +28,10 @@
 //!
 //! **Regions.** A particle's target level is the number of regions (in the tool's frame,
 //! nested) that contain it; a particle below its target level is split until it reaches it.
-//! Particles are never merged back: the refined material leaves as chip and machined
-//! surface, so the fine count grows with the cut (see docs/validation.md for the cost).
+//! Particles are not merged back here: the refined material leaves as chip and machined
+//! surface, so the fine count grows with the cut (see docs/validation.md for the cost),
+//! unless a coarsening region behind the tool merges the machined surface back
+//! ([`crate::coarsen`]).
 
 use crate::particles::{spacing_factor, Particles, MAX_LEVEL};
 use serde::{Deserialize, Serialize};
@@ -49,6 +51,14 @@ impl Region {
     #[inline]
     pub fn contains(&self, x: f64, y: f64) -> bool {
         x >= self.x_min && x <= self.x_max && y >= self.y_min && y <= self.y_max
+    }
+
+    /// Whether the two regions share more than an edge.
+    pub fn overlaps(&self, other: &Region) -> bool {
+        self.x_min < other.x_max
+            && other.x_min < self.x_max
+            && self.y_min < other.y_max
+            && other.y_min < self.y_max
     }
 
     /// Whether `inner` lies inside this region.
@@ -77,6 +87,10 @@ pub struct Refinement {
     /// Region of level 1, level 2 inside it, …: at most [`MAX_LEVEL`].
     pub regions: Vec<Region>,
     pub pattern: SplitPattern,
+    /// Where refined particles are merged back to level 0 (see [`crate::coarsen`]); `None`:
+    /// never. Unset, it is not written out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coarsening: Option<crate::coarsen::Coarsening>,
 }
 
 impl Refinement {
@@ -120,6 +134,32 @@ impl Refinement {
                     k + 1,
                     k
                 ));
+            }
+        }
+        if let Some(c) = &self.coarsening {
+            let r = &c.region;
+            let finite = [
+                r.x_min,
+                r.x_max,
+                r.y_min,
+                r.y_max,
+                c.lattice_point[0],
+                c.lattice_point[1],
+            ]
+            .iter()
+            .all(|v| v.is_finite());
+            if !(finite && r.x_min < r.x_max && r.y_min < r.y_max) {
+                return Err(format!(
+                    "the coarsening region is empty or not finite: x {:e}..{:e} m, y {:e}..{:e} m",
+                    r.x_min, r.x_max, r.y_min, r.y_max
+                ));
+            }
+            if r.overlaps(&self.regions[0]) {
+                return Err(
+                    "the coarsening region overlaps refinement region 1: particles would be \
+                     split and merged back in turn"
+                        .into(),
+                );
             }
         }
         Ok(())
@@ -224,6 +264,7 @@ mod tests {
                 region(3.0 * dx, 5.0 * dx, 1.0 * dx, 3.0 * dx),
             ],
             pattern: SplitPattern::Square,
+            coarsening: None,
         };
         let n0 = p.len();
         let splits = split_in_regions(&mut p, &r, [0.0, 0.0]);
@@ -272,6 +313,7 @@ mod tests {
             tool: 0,
             regions: vec![region(15.0 * dx, 1.0, -1.0, 1.0)],
             pattern: SplitPattern::Square,
+            coarsening: None,
         };
         split_in_regions(&mut p, &r, [0.0, 0.0]);
         let h0 = 1.5 * dx;
@@ -315,10 +357,27 @@ mod tests {
             tool: 0,
             regions: vec![region(0.0, 1.0, 0.0, 1.0), region(0.5, 2.0, 0.2, 0.8)],
             pattern: SplitPattern::Square,
+            coarsening: None,
         };
         assert!(r.validate(1).unwrap_err().contains("inside region 1"));
         r.regions[1].x_max = 0.9;
         assert!(r.validate(1).is_ok());
+        let mut c = crate::coarsen::Coarsening {
+            region: region(0.9, 2.0, -1.0, 0.5),
+            lattice_point: [0.0, 0.0],
+        };
+        r.coarsening = Some(c);
+        assert!(r
+            .validate(1)
+            .unwrap_err()
+            .contains("overlaps refinement region 1"));
+        c.region.x_min = 1.0;
+        r.coarsening = Some(c);
+        assert!(r.validate(1).is_ok());
+        c.region.x_max = f64::INFINITY;
+        r.coarsening = Some(c);
+        assert!(r.validate(1).unwrap_err().contains("coarsening region"));
+        r.coarsening = None;
         assert!(r.validate(0).unwrap_err().contains("tool 0"));
         r.regions[0].y_max = f64::NAN;
         assert!(r.validate(1).unwrap_err().contains("not finite"));

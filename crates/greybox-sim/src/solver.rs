@@ -31,6 +31,7 @@
 //! evaluating both from the old state is forward Euler for the elastic wave equation, which
 //! amplifies every mode and is only kept alive by artificial viscosity at small Courant numbers.
 
+use crate::coarsen;
 use crate::contact;
 use crate::disjoint::DisjointMut;
 use crate::kernel::{CubicSpline, PairTable};
@@ -119,6 +120,13 @@ pub struct EnergyBook {
     /// Particles a [`Sink`] removed.
     #[serde(default)]
     pub removed_particles: u64,
+    /// Kinetic and elastic energy the merging of refined particles averaged out (see
+    /// [`crate::coarsen`]).
+    #[serde(default)]
+    pub coarsened: f64,
+    /// Particles merged away by coarsening (three per merge).
+    #[serde(default)]
+    pub coarsened_particles: u64,
 }
 
 /// Energies of a state, J/m.
@@ -132,9 +140,11 @@ pub struct EnergyBalance {
     pub viscous: f64,
     /// Carried out by removed particles (see [`crate::sink`]).
     pub removed: f64,
+    /// Averaged out by merged particles (see [`crate::coarsen`]).
+    pub coarsened: f64,
     pub external: f64,
-    /// (kinetic + elastic + plastic + friction + penalty + viscous + removed − external) /
-    /// external.
+    /// (kinetic + elastic + plastic + friction + penalty + viscous + removed + coarsened −
+    /// external) / external.
     pub relative_error: f64,
 }
 
@@ -361,6 +371,44 @@ impl Solver {
         true
     }
 
+    /// Merges the refined particles in the coarsening region at the tools' current positions
+    /// (see [`crate::coarsen`]), finest level first, booking the kinetic and elastic energy
+    /// the merges average out; returns whether any merged (the per-particle arrays have then
+    /// shrunk and the neighbour lists must be rebuilt).
+    fn coarsen(&mut self) -> bool {
+        let Some((c, tool, finest)) = self
+            .refinement
+            .as_ref()
+            .and_then(|r| Some((r.coarsening?, r.tool, r.finest_level())))
+        else {
+            return false;
+        };
+        let origin = self.tools[tool].position;
+        let mut merged = false;
+        for level in (1..=finest).rev() {
+            let groups = coarsen::merge_groups(&self.particles, level, &c, origin);
+            if groups.is_empty() {
+                continue;
+            }
+            // in group order, serially: the same bytes whatever the thread count
+            let energy = |s: &Solver, k: usize| {
+                let (kinetic, elastic) = s.particle_energy(k);
+                kinetic + elastic
+            };
+            let before: f64 = groups.iter().flatten().map(|&k| energy(self, k)).sum();
+            let keep = coarsen::merge(&mut self.particles, &groups);
+            let after: f64 = groups.iter().map(|g| energy(self, g[0])).sum();
+            self.energy.coarsened += before - after;
+            self.energy.coarsened_particles += self.particles.retain(&keep) as u64;
+            merged = true;
+        }
+        if merged {
+            let n = self.particles.len();
+            self.scratch.for_particles(n);
+        }
+        merged
+    }
+
     /// Notes whether the particles are exactly at rest — unstressed, at ρ₀ and one
     /// temperature, the boundary groups holding still — so that the steps before a tool
     /// first touches them skip the particle passes; called on a new or restored state.
@@ -440,11 +488,13 @@ impl Solver {
         // Splitting (every step, so that the splits depend only on where the tool is and a
         // resumed run makes the same ones) changes the particles: the lists are rebuilt.
         let split = self.refine();
-        // Removal (before the passes, every step, like splitting) changes them too.
+        // So do merging and removal (before the passes, every step, like splitting).
+        let merged = self.coarsen();
         let sunk = self.sink();
         // The displacement test runs inside the previous update; a fresh or restored solver
         // (lists built for other positions) is checked here.
         if split
+            || merged
             || sunk
             || self.rebuild_due
             || (self.step == 0 || self.neighbours.reference().0.len() != self.particles.len())
@@ -854,7 +904,8 @@ impl Solver {
             + e.friction_work
             + e.penalty_work
             + e.viscous_work
-            + e.removed;
+            + e.removed
+            + e.coarsened;
         EnergyBalance {
             kinetic: kin,
             elastic: ela,
@@ -863,6 +914,7 @@ impl Solver {
             penalty: e.penalty_work,
             viscous: e.viscous_work,
             removed: e.removed,
+            coarsened: e.coarsened,
             external: e.external_work,
             relative_error: (stored - e.external_work)
                 / e.external_work.abs().max(f64::MIN_POSITIVE),

@@ -283,6 +283,24 @@ fn a_run_with_local_time_stepping_resumes_bit_for_bit_on_any_thread_count() {
     resume_equals_uninterrupted(&setup, 151);
 }
 
+/// The same with the machined surface coarsened behind the tool and local time stepping:
+/// merges happen before the checkpoint (it holds merged particles) and after it, alike in
+/// the resumed run and on any thread count.
+#[test]
+fn a_run_with_coarsening_resumes_bit_for_bit_on_any_thread_count() {
+    let mut setup = common::refined(coarse_cut());
+    setup.refinement.as_mut().unwrap().coarsen_behind_m = Some(0.06e-3);
+    setup.numerics.local_time_stepping = true;
+    let r = common::cut_with_its_mu(&setup);
+    assert!(
+        r.sim.energy.coarsened_particles > 30,
+        "{} merged away",
+        r.sim.energy.coarsened_particles
+    );
+    same_bytes_on_any_thread_count(&setup);
+    resume_equals_uninterrupted(&setup, 2001);
+}
+
 /// Runs `setup` whole, and killed at 2.5 × `every` steps after a checkpoint at 2 × `every`
 /// and resumed from it; both must give the same bytes.
 fn resume_equals_uninterrupted(setup: &greybox_sim::cutting::CuttingSetup, every: u64) {
@@ -325,6 +343,16 @@ fn resume_equals_uninterrupted(setup: &greybox_sim::cutting::CuttingSetup, every
         assert!(
             c.energy.removed_particles > 0,
             "the checkpoint precedes the break"
+        );
+    }
+    if setup
+        .refinement
+        .as_ref()
+        .is_some_and(|r| r.coarsen_behind_m.is_some())
+    {
+        assert!(
+            c.energy.coarsened_particles > 0,
+            "the checkpoint precedes the first merge"
         );
     }
     let mut ck = Checkpointer::new(&ck_path, every, &id);

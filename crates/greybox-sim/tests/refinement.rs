@@ -33,6 +33,7 @@ fn half_refined_block_stepped(
             y_max: 1.0,
         }],
         pattern: SplitPattern::Square,
+        coarsening: None,
     };
     split_in_regions(&mut model.particles, &r, [0.0, 0.0]);
     assert_eq!(model.particles.len(), 144 + 4 * 144);
@@ -289,6 +290,55 @@ fn local_time_stepping_cuts_as_one_rate_does() {
         "chip multi-rate/one rate {ratio}"
     );
     assert!(m.sim.particle_steps < s.sim.particle_steps);
+}
+
+/// Coarsening the machined surface 0.1 mm behind the edge against the same refined cut
+/// without it: forces within 3 %, the chip within 2 %, the contact within one window, the
+/// energy balance (which books what the merges average out) within one point; fewer
+/// particles at the end, and what the merges took out a small share of the work done.
+/// Measured on this 0.3 mm cut: 45 particles merged away, F'c and F'f −0.01 %, chip
+/// +0.004 %, energy error 5.28 % against 5.27 %, the merges' share 0.06 % of the work.
+#[test]
+fn coarsening_the_machined_surface_keeps_the_cut() {
+    let fine_behind = refined(coarse_cut());
+    let mut coarsened = fine_behind.clone();
+    coarsened.refinement.as_mut().unwrap().coarsen_behind_m = Some(0.1e-3);
+    let run = |setup: &greybox_sim::cutting::CuttingSetup| {
+        CutRun::execute(
+            setup,
+            Arc::new(ConstantMu(0.35)),
+            1.0,
+            None,
+            &mut greybox_sim::Hooks::new(),
+        )
+        .unwrap()
+    };
+    let (f, c) = (run(&fine_behind), run(&coarsened));
+    for (name, k) in [("F'c", 0), ("F'f", 1)] {
+        let rel = (c.force[k] - f.force[k]) / f.force[k];
+        assert!(
+            rel.abs() < 0.03,
+            "{name}: coarsened {:.1} against fine {:.1} N/mm ({:+.1} %)",
+            c.force[k] * 1e-3,
+            f.force[k] * 1e-3,
+            100.0 * rel
+        );
+    }
+    let (ef, ec) = (f.sim.energy_balance(), c.sim.energy_balance());
+    assert!((ec.relative_error - ef.relative_error).abs() < 0.01);
+    assert!(
+        ec.coarsened > 0.0 && ec.coarsened < 0.01 * ec.external,
+        "{ec:?}"
+    );
+    assert_eq!(ef.coarsened, 0.0);
+    let merged = c.sim.energy.coarsened_particles;
+    assert!(merged > 0 && c.sim.particles.len() < f.sim.particles.len());
+    let contact = |x: &CutRun| x.measures.contact_length_mm.expect("contact");
+    assert!((contact(&c) - contact(&f)).abs() <= 0.02 + 1e-9);
+    let chip =
+        |x: &CutRun, setup| greybox_sim::chip::chip_thickness(&x.sim, setup, 0).expect("a chip");
+    let ratio = chip(&c, &coarsened) / chip(&f, &fine_behind);
+    assert!((ratio - 1.0).abs() < 0.02, "chip coarsened/fine {ratio}");
 }
 
 /// The bundled refined examples and suite regions read and validate as set-ups (the

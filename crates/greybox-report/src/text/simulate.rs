@@ -17,6 +17,15 @@ pub fn cut(s: &CutSummary) -> String {
             "  chip break: {n} particles left the model above chip_break_height_m (their energy is in the balance)"
         );
     }
+    if let Some(c) = &s.coarsened {
+        let _ = writeln!(
+            text,
+            "  coarsening: {} refined particles merged away behind the tool; the merges averaged out {:.3e} J/m, {:.3} % of the work (in the balance)",
+            c.particles,
+            c.energy_j_per_m,
+            100.0 * c.share_of_work
+        );
+    }
     let _ = writeln!(
         text,
         "  friction: {}; {} windows, {} window updates",

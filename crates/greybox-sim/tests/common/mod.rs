@@ -82,6 +82,7 @@ pub fn refined(
             above_m: 0.3e-3,
         }],
         pattern: Default::default(),
+        coarsen_behind_m: None,
     });
     setup
 }

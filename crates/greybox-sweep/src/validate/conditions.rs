@@ -122,6 +122,9 @@ pub fn condition_setup(
     if runs.refinement.is_some() {
         s.refinement.clone_from(&runs.refinement);
     }
+    if runs.local_time_stepping {
+        s.numerics.local_time_stepping = true;
+    }
     s.insert.rake_deg = c.rake_deg;
     s.insert.clearance_deg = c.clearance_deg;
     s.insert.edge_radius_m = c.edge_radius_m;
@@ -158,7 +161,8 @@ pub fn condition_setup(
 mod tests {
     use super::*;
 
-    /// A suite entry's `spacing_m` and `refinement` replace the template's; a refinement
+    /// A suite entry's `spacing_m` and `refinement` replace the template's (the refinement
+    /// with its coarsening), `local_time_stepping` turns it on; a refinement
     /// whose finest spacing leaves fewer than 4 particles across the uncut chip is refused
     /// for the condition it fails.
     #[test]
@@ -172,7 +176,8 @@ mod tests {
             calibration = []
             mu_bracket = [0.2, 0.8]
             spacing_m = 2.0e-5
-            refinement = { regions = [{ ahead_m = 0.2e-3, behind_m = 0.0, below_m = 0.04e-3, above_m = 0.3e-3 }] }
+            refinement = { regions = [{ ahead_m = 0.2e-3, behind_m = 0.0, below_m = 0.04e-3, above_m = 0.3e-3 }], coarsen_behind_m = 0.1e-3 }
+            local_time_stepping = true
             "#,
         )
         .unwrap();
@@ -196,6 +201,7 @@ mod tests {
         assert_eq!(s.spacing_m, 2e-5);
         assert_eq!(s.surface_spacing(), 1e-5);
         assert_eq!(s.refinement, runs.refinement);
+        assert!(s.numerics.local_time_stepping && !template.numerics.local_time_stepping);
         // Unrefined at 20 µm, 30 µm of chip would be 1.5 particles: with the refinement,
         // 3 fine particles, still too few.
         c.uncut_chip_thickness_m = 30e-6;

@@ -117,6 +117,10 @@ pub struct MaterialRuns {
     /// (the regions of a cutting set-up, `greybox_sim::cutting::CutRefinement`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refinement: Option<greybox_sim::cutting::CutRefinement>,
+    /// Local time stepping on (`numerics.local_time_stepping` of every cut; it acts only with
+    /// a refinement). Unset (off), it is not written out.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub local_time_stepping: bool,
 }
 
 /// The most refinement steps a material may ask for (each cuts every calibration condition
