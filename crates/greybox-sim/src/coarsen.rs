@@ -33,20 +33,7 @@
 //! the same material point.
 
 use crate::particles::{spacing_factor, Particles};
-use crate::refine::Region;
-use serde::{Deserialize, Serialize};
-
-/// Where refined particles are merged back to level 0.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Coarsening {
-    /// The region, in the frame of the refinement's tool, where particles are merged back.
-    pub region: Region,
-    /// A point of the level-0 lattice the particles were laid out on, m: the merge cells of
-    /// level l are centred on the points of level l (a split puts the first child at the
-    /// parent − Δx_l/4 in both directions).
-    pub lattice_point: [f64; 2],
-}
+use crate::refine::Coarsening;
 
 /// Four particles to merge (ascending indices; the first becomes the merged one).
 pub type MergeGroup = [usize; 4];
@@ -156,7 +143,7 @@ pub fn merge(p: &mut Particles, groups: &[MergeGroup]) -> Vec<bool> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::refine::{split_in_regions, Refinement, SplitPattern};
+    use crate::refine::{split_in_regions, Refinement, Region, SplitPattern};
 
     fn everywhere() -> Region {
         Region {

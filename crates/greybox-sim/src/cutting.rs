@@ -275,7 +275,7 @@ impl CutRefinement {
             pattern: self.pattern,
             coarsening: self
                 .coarsen_behind_m
-                .map(|behind| crate::coarsen::Coarsening {
+                .map(|behind| crate::refine::Coarsening {
                     // 1 m: everything behind; the workpiece's lattice has a point at (dx/2, dx/2)
                     region: crate::refine::Region {
                         x_min: behind,

@@ -70,6 +70,18 @@ impl Region {
     }
 }
 
+/// Where refined particles are merged back to level 0 (see the `coarsen` module).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Coarsening {
+    /// The region, in the frame of the refinement's tool, where particles are merged back.
+    pub region: Region,
+    /// A point of the level-0 lattice the particles were laid out on, m: the merge cells of
+    /// level l are centred on the points of level l (a split puts the first child at the
+    /// parent − Δx_l/4 in both directions).
+    pub lattice_point: [f64; 2],
+}
+
 /// How a particle is split.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -90,7 +102,7 @@ pub struct Refinement {
     /// Where refined particles are merged back to level 0 (see [`crate::coarsen`]); `None`:
     /// never. Unset, it is not written out.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub coarsening: Option<crate::coarsen::Coarsening>,
+    pub coarsening: Option<Coarsening>,
 }
 
 impl Refinement {
@@ -362,7 +374,7 @@ mod tests {
         assert!(r.validate(1).unwrap_err().contains("inside region 1"));
         r.regions[1].x_max = 0.9;
         assert!(r.validate(1).is_ok());
-        let mut c = crate::coarsen::Coarsening {
+        let mut c = Coarsening {
             region: region(0.9, 2.0, -1.0, 0.5),
             lattice_point: [0.0, 0.0],
         };
