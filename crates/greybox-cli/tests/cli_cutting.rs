@@ -102,7 +102,7 @@ fn a_refined_cut_with_coarsening_says_what_the_merges_did() {
     let v: serde_json::Value = serde_json::from_str(&s).unwrap();
     let merged = v["coarsened"]["particles"].as_u64().unwrap();
     let share = v["coarsened"]["share_of_work"].as_f64().unwrap();
-    assert!(merged > 30 && merged % 3 == 0, "{merged}");
+    assert!(merged > 30 && merged.is_multiple_of(3), "{merged}");
     assert!(share > 0.0 && share < 0.01, "{share}");
     let text = ok(&greybox(
         &[
