@@ -292,12 +292,16 @@ pub fn run(
     // second step first.
     let mut stop_asked = false;
     while sim.time < end_time_s - 0.5 * sim.dt || !sim.at_sync() {
-        greybox_core::interrupt::check()?;
+        // a stop on request, like a snapshot, only at the end of a coarse step (every step
+        // without local time stepping), where nothing is pending
+        if sim.at_sync() {
+            greybox_core::interrupt::check()?;
+        }
         if let Err(e) = sim.step() {
             report_failure(&mut hooks, sim, &last_good, last_good_at);
             return Err(e);
         }
-        if sim.step.is_multiple_of(SNAPSHOT_EVERY) {
+        if sim.at_sync() && sim.step / SNAPSHOT_EVERY != sim.sync_step() / SNAPSHOT_EVERY {
             last_good.clone_from(&sim.particles);
             last_good_at = (sim.step, sim.time);
         }

@@ -26,7 +26,7 @@
 //! over the coarse step — a slow pair 2Δt F_s on each, a fast pair Δt F_f on each at each of
 //! the two steps (the slow partner's share is only collected until its kick) — so the total
 //! momentum changes only by the contact and boundary impulses, as without local time
-//! stepping (the test `multirate.rs` checks it to round-off). The scheme is the impulse form
+//! stepping (`tests/refinement.rs` checks it to round-off). The scheme is the impulse form
 //! of multiple time stepping (Tuckerman, Berne & Martyna, J. Chem. Phys. 97, 1992, r-RESPA)
 //! applied by particle rate rather than by force kind: the slow particles are frozen over
 //! the coarse step and receive the fast pairs' impulses summed, the symplectic-Euler order
@@ -36,7 +36,8 @@
 //! velocity of t during both steps, and the slow side receives the fast pairs' forces of t and
 //! t + Δt: a first-order, local error at the rate boundary, of the size of the single-rate
 //! scheme's own time error there. The energy balance of a run with local time stepping is
-//! stated against the same run without it in docs/cutting.md, "Local time stepping".
+//! stated against the same run without it in docs/simulator.md, "Local time stepping", and
+//! docs/validation.md, "Dynamic refinement".
 //!
 //! Between the two steps of a coarse step the slow particles lag one step behind (their state
 //! is that of t); observers that read the state then see it so. Checkpoints are written and
