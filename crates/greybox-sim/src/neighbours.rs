@@ -184,8 +184,8 @@ impl NeighbourList {
         }
     }
 
-    /// Splits these lists by the particles' rates (local time stepping, see
-    /// [`crate::multirate`]): the pairs of two slow particles go to `slow`, every pair with a
+    /// Splits these lists by the particles' rates (the solver's local time stepping,
+    /// docs/simulator.md): the pairs of two slow particles go to `slow`, every pair with a
     /// fast partner to `fast`, each row keeping its order; both get their reverse lists. The
     /// two lists together hold every pair of these once. Their build positions and counts are
     /// not set: the displacement test stays with these lists.

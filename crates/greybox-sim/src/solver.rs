@@ -25,7 +25,8 @@
 //! A step while the particles are exactly at rest and no tool touches them does steps 4 and
 //! 8 only (see [`Solver::step`]). With `numerics.local_time_stepping` in a refined model the
 //! coarse particles away from the tools take one step of 2Δt per two steps, the pair
-//! impulses exchanged so that momentum stays exact (see [`multirate`]).
+//! impulses exchanged so that momentum stays exact (the `multirate` module; docs/simulator.md,
+//! "Local time stepping").
 //!
 //! Steps 5–7 make the velocity–stress update symplectic (the stress rate uses v_{n+1}):
 //! evaluating both from the old state is forward Euler for the elastic wave equation, which
@@ -435,7 +436,7 @@ impl Solver {
     }
 
     /// Advances one step (with local time stepping, the first or the second step of a
-    /// coarse step: see [`multirate`] and [`Solver::at_sync`]).
+    /// coarse step: see [`Solver::at_sync`] and docs/simulator.md, "Local time stepping").
     ///
     /// While the particles are exactly at rest and no particle touches a tool (the approach
     /// before the first contact), a step does only its bookkeeping — contact (which
@@ -473,8 +474,8 @@ impl Solver {
 
     /// Whether the state is at the end of a coarse step: always without local time
     /// stepping; with it, after the second of a coarse step's two steps (between them the
-    /// slow particles lag one step behind, see [`multirate`]). Checkpoints are written and
-    /// runs end only here.
+    /// slow particles lag one step behind). Checkpoints, failure snapshots, stops on request
+    /// and the ends of runs happen only here.
     pub fn at_sync(&self) -> bool {
         self.multirate.as_ref().is_none_or(|m| !m.mid_step())
     }
