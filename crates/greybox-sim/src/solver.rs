@@ -733,23 +733,24 @@ impl Solver {
         for f in self.group_force.iter_mut() {
             *f = [0.0; 2];
         }
-        // The reactions of the particles moved by Δt and (with local time stepping) by 2Δt.
-        let mut slow_force = vec![[0.0; 2]; self.groups.len()];
+        // The reactions of the particles moved by Δt and (with local time stepping, in a
+        // coarse step's second step) of those moved by 2Δt.
+        let both = matches!(advance, Advance::Both(_));
+        let mut slow_force = vec![[0.0; 2]; if both { self.groups.len() } else { 0 }];
         for i in 0..p.len() {
             let g = p.group[i];
-            let Some(dt_i) = advance.step_of(i, self.dt) else {
+            if g == FREE || advance.step_of(i, self.dt).is_none() {
                 continue;
-            };
-            if g != FREE {
-                let gf = if dt_i == self.dt {
-                    &mut self.group_force[g as usize - 1]
-                } else {
-                    &mut slow_force[g as usize - 1]
-                };
-                let m = p.mass_of(i);
-                gf[0] -= m * self.scratch.rates[i].ax;
-                gf[1] -= m * self.scratch.rates[i].ay;
             }
+            let forces = if advance.is_slow(i) {
+                &mut slow_force
+            } else {
+                &mut self.group_force
+            };
+            let gf = &mut forces[g as usize - 1];
+            let m = p.mass_of(i);
+            gf[0] -= m * self.scratch.rates[i].ax;
+            gf[1] -= m * self.scratch.rates[i].ay;
         }
         let work = |forces: &[[f64; 2]]| -> f64 {
             let mut w = 0.0;
@@ -759,7 +760,7 @@ impl Solver {
             w
         };
         self.energy.external_work += work(&self.group_force) * self.dt;
-        if let Advance::Both(_) = advance {
+        if both {
             self.energy.external_work += work(&slow_force) * 2.0 * self.dt;
             for (f, s) in self.group_force.iter_mut().zip(&slow_force) {
                 f[0] += s[0];

@@ -142,6 +142,7 @@ impl Solver {
 
     /// The coarse step's second step (see the module documentation).
     fn second_step(&mut self, mr: &mut Multirate) -> Result<(), SimError> {
+        // every particle: a controller may have changed a slow one between the two steps
         self.pack();
         self.fast_pair_forces(mr);
         self.apply_contact();

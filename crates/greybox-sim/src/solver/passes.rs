@@ -34,6 +34,12 @@ impl Advance<'_> {
             Advance::Both(fast) => Some(if fast[i] { dt } else { 2.0 * dt }),
         }
     }
+
+    /// Whether particle `i` moves by 2Δt (a slow particle in a coarse step's second step).
+    #[inline]
+    pub(crate) fn is_slow(&self, i: usize) -> bool {
+        matches!(self, Advance::Both(fast) if !fast[i])
+    }
 }
 
 /// Step 3a over `list`: forces and conduction over the half list. Each pair's terms are
