@@ -321,7 +321,6 @@ pub fn cut_case(setup: CuttingSetup, base: &Path) -> Result<CutCase> {
     })
 }
 
-/// What a cut gave: forces, chip measures, speed, files.
 /// What coarsening did in a cut (see `greybox_sim::coarsen`).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Coarsened {
@@ -333,6 +332,7 @@ pub struct Coarsened {
     pub share_of_work: f64,
 }
 
+/// What a cut gave: forces, chip measures, speed, files.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct CutSummary {
     pub particles: usize,
@@ -340,9 +340,10 @@ pub struct CutSummary {
     /// `greybox_sim::sink`); their energy is in the balance of `energy_error`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub chip_removed_particles: Option<u64>,
-    /// Refined particles merged away behind the tool (three per merge), and the kinetic and
-    /// elastic energy the merges averaged out, J/m (absent without `coarsen_behind_m`; see
-    /// `greybox_sim::coarsen`); the energy is in the balance of `energy_error`.
+    /// Refined particles merged away behind the tool and in the chip (three per merge), and
+    /// the kinetic and elastic energy the merges averaged out, J/m (absent without
+    /// `coarsen_behind_m` and `coarsen_chip_above_m`; see `greybox_sim::coarsen`); the energy
+    /// is in the balance of `energy_error`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub coarsened: Option<Coarsened>,
     pub steps: u64,
@@ -509,7 +510,7 @@ fn cut_summary(case: &CutCase, r: &CutRun, files: Vec<String>) -> CutSummary {
         coarsened: setup
             .refinement
             .as_ref()
-            .and_then(|c| c.coarsen_behind_m)
+            .filter(|c| c.coarsen_behind_m.is_some() || c.coarsen_chip_above_m.is_some())
             .map(|_| Coarsened {
                 particles: r.sim.energy.coarsened_particles,
                 energy_j_per_m: r.sim.energy.coarsened,

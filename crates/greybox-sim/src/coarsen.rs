@@ -1,16 +1,20 @@
-//! Coarsening: refined particles merged back where the tool has left them.
+//! Coarsening: refined particles merged back where they no longer need the resolution.
 //!
-//! Dynamic refinement ([`crate::refine`]) splits the material the cutting edge reaches; the
-//! chip leaves the model at its break, but the machined surface layer stays behind the tool,
-//! fine, for the rest of the cut (in a Ti6Al4V cut refined 10 → 5 µm, half of the fine
-//! particles after 1.25 mm: docs/validation.md, "Where the time goes"). A coarsening region,
-//! in the tool's frame and clear of every refinement region, merges them back: each
-//! particle of level l ≥ 1 in it joins the cell of the level-(l − 1) lattice it lies in, and
-//! a cell holding exactly four such particles (of one boundary group, their damage in one
-//! phase) becomes one particle of level l − 1, again until level 0. On an undisturbed
-//! lattice the four are a split particle's four children and the merge restores the parent
-//! where it was; where the material was sheared, any four particles in one cell merge and a
-//! cell with three or five stays fine.
+//! Dynamic refinement ([`crate::refine`]) splits the material the cutting edge reaches, and
+//! the split particles stay fine wherever they go: the machined surface layer the tool
+//! leaves behind (in a Ti6Al4V cut refined 10 → 5 µm, half of the fine particles after
+//! 1.25 mm: docs/validation.md, "Where the time goes") and the chip above the contact, up
+//! to its break. Coarsening regions, in the tool's frame and clear of every refinement
+//! region, merge them back: **the four children of one split** (the particles that share
+//! their family number at their level, [`Particles::family`]) become one particle of the
+//! level above once all four lie in a coarsening region, of one boundary group, their damage
+//! in one phase, and held together: each within one parent spacing of their centroid (a
+//! split puts them 0.35 of it away; a simple shear γ moves the farthest to
+//! ¼√((1 + γ)² + 1) of it, so the four of a chip sheared by γ ≤ 2.8 merge, and those the
+//! secondary shear zone drew apart stay fine). On an undisturbed lattice the merge restores
+//! the parent where it was. The rule does not look at a lattice, so it merges a sheared chip
+//! as well as the machined surface; a family that lost a member (to the chip's break) never
+//! merges.
 //!
 //! **The merged state** (four particles k of mass m each; volumes V_k = m/ρ_k, V = Σ V_k):
 //! * mass 4m (exact in binary, the level's mass), position the centroid, velocity the mean:
@@ -28,60 +32,56 @@
 //! on every thread count and after a resume.
 //!
 //! Refs: the merging half of adaptive particle refinement (Vacondio et al., CMAME 256, 2013,
-//! merge pairs in fluids; Feldman & Bonet, IJNME 72, 2007, split only); the lattice cells
-//! are this module's own rule for solids, whose history variables need a merge partner at
-//! the same material point.
+//! merge pairs in fluids; Feldman & Bonet, IJNME 72, 2007, split only); merging a split's own
+//! children back is this module's rule for solids, whose history variables need merge
+//! partners from one material point.
 
-use crate::particles::{spacing_factor, Particles};
+use crate::particles::{spacing_factor, Particles, NO_FAMILY};
 use crate::refine::Coarsening;
 
 /// Four particles to merge (ascending indices; the first becomes the merged one).
 pub type MergeGroup = [usize; 4];
 
-/// The groups of four particles of level `level` ≥ 1 in `c`'s region (placed at `origin`,
-/// the tool's position) that merge into one of level − 1: the cells of the level-(level − 1)
-/// lattice holding exactly four of them, of one boundary group and with their damage in
-/// one phase (all initiating, or all softening). Sorted by their first index.
+/// The groups of four particles of level `level` ≥ 1 in `c`'s regions (placed at `origin`,
+/// the tool's position) that merge into one of level − 1: the four children of one split,
+/// all in a region, of one boundary group, with their damage in one phase (all initiating,
+/// or all softening), each within one level-(level − 1) spacing of their centroid. Sorted
+/// by their first index.
 pub fn merge_groups(p: &Particles, level: u8, c: &Coarsening, origin: [f64; 2]) -> Vec<MergeGroup> {
     debug_assert!(level >= 1);
-    let cell = p.spacing * spacing_factor(level - 1);
-    let centre = lattice_point(c.lattice_point, p.spacing, level - 1);
-    let mut members: Vec<(i64, i64, usize)> = (0..p.len())
+    let slot = usize::from(level) - 1;
+    let parent_spacing = p.spacing * spacing_factor(level - 1);
+    let mut members: Vec<(u64, usize)> = (0..p.len())
         .filter(|&i| {
-            p.level[i] == level && c.region.contains(p.x[i] - origin[0], p.y[i] - origin[1])
+            p.level[i] == level
+                && p.family[i][slot] != NO_FAMILY
+                && c.contains(p.x[i] - origin[0], p.y[i] - origin[1])
         })
-        .map(|i| {
-            let ix = ((p.x[i] - centre[0]) / cell + 0.5).floor() as i64;
-            let iy = ((p.y[i] - centre[1]) / cell + 0.5).floor() as i64;
-            (iy, ix, i)
-        })
+        .map(|i| (p.family[i][slot], i))
         .collect();
     members.sort_unstable();
     let mut groups: Vec<MergeGroup> = members
-        .chunk_by(|a, b| (a.0, a.1) == (b.0, b.1))
-        .filter_map(|cell| {
-            let g: MergeGroup = match cell {
-                [a, b, c, d] => [a.2, b.2, c.2, d.2],
+        .chunk_by(|a, b| a.0 == b.0)
+        .filter_map(|family| {
+            let g: MergeGroup = match family {
+                [a, b, c, d] => [a.1, b.1, c.1, d.1],
                 _ => return None,
             };
             let same_group = g.iter().all(|&k| p.group[k] == p.group[g[0]]);
             let phase = |k: usize| p.damage[k] >= 1.0;
             let same_phase = g.iter().all(|&k| phase(k) == phase(g[0]));
-            (same_group && same_phase).then_some(g)
+            let centre = [
+                0.25 * g.map(|k| p.x[k]).iter().sum::<f64>(),
+                0.25 * g.map(|k| p.y[k]).iter().sum::<f64>(),
+            ];
+            let together = g
+                .iter()
+                .all(|&k| (p.x[k] - centre[0]).hypot(p.y[k] - centre[1]) <= parent_spacing);
+            (same_group && same_phase && together).then_some(g)
         })
         .collect();
-    for g in groups.iter_mut() {
-        g.sort_unstable();
-    }
     groups.sort_unstable();
     groups
-}
-
-/// A point of the level-`level` lattice, given a point of the level-0 lattice and the
-/// level-0 spacing: each split moves the first child by −Δx_l/4 from its parent.
-fn lattice_point(level0: [f64; 2], spacing: f64, level: u8) -> [f64; 2] {
-    let shift: f64 = (0..level).map(|l| 0.25 * spacing * spacing_factor(l)).sum();
-    [level0[0] - shift, level0[1] - shift]
 }
 
 /// Merges every group into its first particle (see the module documentation for the
@@ -133,6 +133,7 @@ pub fn merge(p: &mut Particles, groups: &[MergeGroup]) -> Vec<bool> {
             p.damage[first],
         ] = means;
         p.level[first] -= 1;
+        p.family[first][usize::from(p.level[first])] = NO_FAMILY;
         for &k in &g[1..] {
             keep[k] = false;
         }
@@ -181,8 +182,7 @@ mod tests {
             p.rho[i] *= 1.01;
         }
         let c = Coarsening {
-            region: everywhere(),
-            lattice_point: [0.5 * dx, -5.5 * dx],
+            regions: vec![everywhere()],
         };
         let (m0, q0) = (p.len() as f64 * p.mass_of(0), momentum(&p));
         let volume0: f64 = (0..p.len()).map(|i| p.mass_of(i) / p.rho[i]).sum();
@@ -227,12 +227,14 @@ mod tests {
         })
     }
 
-    /// A cell with three or five particles, or four of two boundary groups, or four with
-    /// damage in two phases, does not merge; particles outside the region are not looked at.
+    /// Only the four children of one split merge, and only when all four lie in a region,
+    /// belong to one boundary group, have their damage in one phase and are held together
+    /// (within one parent spacing of their centroid); a family that lost a member never
+    /// merges.
     #[test]
-    fn only_whole_cells_of_one_kind_merge() {
+    fn only_whole_families_of_one_kind_merge() {
         let dx = 1e-5;
-        let mut p = Particles::block(0.0, 0.0, 4, 1, dx, 4000.0, 300.0);
+        let mut p = Particles::block(0.0, 0.0, 6, 1, dx, 4000.0, 300.0);
         let r = Refinement {
             tool: 0,
             regions: vec![everywhere()],
@@ -241,32 +243,39 @@ mod tests {
         };
         split_in_regions(&mut p, &r, [0.0, 0.0]);
         let c = Coarsening {
-            region: Region {
-                x_max: 3.0 * dx,
+            regions: vec![Region {
+                x_max: 5.0 * dx,
                 ..everywhere()
-            },
-            lattice_point: [0.5 * dx, 0.5 * dx],
+            }],
         };
-        let cell_of = |p: &Particles, k: usize| (p.x[k] / dx).floor() as usize;
-        let in_cell = |p: &Particles, cell: usize| {
+        let family = |p: &Particles, parent: usize| {
             (0..p.len())
-                .filter(|&k| cell_of(p, k) == cell)
+                .filter(|&k| (p.x[k] / dx).floor() as usize == parent)
                 .collect::<Vec<_>>()
         };
-        // cell 0: a child moved into cell 1 (three and five); cell 2: a second group
-        let moved = in_cell(&p, 0)[0];
-        p.x[moved] += dx;
-        let k = in_cell(&p, 2)[0];
+        let merging = |p: &Particles| {
+            merge_groups(p, 1, &c, [0.0, 0.0])
+                .iter()
+                .map(|g| (p.x[g[0]] / dx).floor() as usize)
+                .collect::<Vec<_>>()
+        };
+        // the five parents inside the region merge, the sixth (outside) does not
+        assert_eq!(merging(&p), vec![0, 1, 2, 3, 4]);
+        // parent 0: a child drawn 1.6 spacings along x (1.47 from the four's centroid);
+        // parent 2: one child in a second boundary group; parent 3: damage in two phases;
+        // parent 4: a child lost
+        let drawn = family(&p, 0)[3];
+        p.x[drawn] += 1.6 * dx;
+        let k = family(&p, 2)[0];
         p.group[k] = 1;
-        let groups = merge_groups(&p, 1, &c, [0.0, 0.0]);
-        assert!(groups.is_empty(), "{groups:?}");
-        // cell 2 back to one group, damage in two phases
-        p.group.iter_mut().for_each(|g| *g = 0);
-        let k = in_cell(&p, 2)[1];
+        let k = family(&p, 3)[1];
         p.damage[k] = 1.2;
-        assert!(merge_groups(&p, 1, &c, [0.0, 0.0]).is_empty());
-        p.damage.iter_mut().for_each(|d| *d = 0.5);
-        // cell 2 merges; cell 3 lies outside the region
-        assert_eq!(merge_groups(&p, 1, &c, [0.0, 0.0]).len(), 1);
+        let mut keep = vec![true; p.len()];
+        keep[family(&p, 4)[2]] = false;
+        p.retain(&keep);
+        assert_eq!(merging(&p), vec![1]);
+        // drawn 0.9 spacings along x (0.96 from the four's centroid), parent 0 merges again
+        p.x[drawn] -= 0.7 * dx;
+        assert_eq!(merging(&p), vec![0, 1]);
     }
 }

@@ -243,6 +243,13 @@ pub struct CutRefinement {
     /// `None` (unset, not written out): refined particles stay fine.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coarsen_behind_m: Option<f64>,
+    /// Height above the cutting edge, m, beyond which the refined particles of the chip are
+    /// merged back to `spacing_m` (see [`crate::coarsen`]): the chip, past the contact and
+    /// the band the chip thickness is measured in, on its way to its break. It must be at
+    /// least 3h (the top of that band, [`crate::chip::chip_thickness`]) and at least the
+    /// first region's `above_m`. `None` (unset, not written out): the chip stays fine.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coarsen_chip_above_m: Option<f64>,
 }
 
 /// A refinement region around the cutting edge, m: how far it reaches ahead of the edge (in
@@ -257,9 +264,8 @@ pub struct CutRegion {
 }
 
 impl CutRefinement {
-    /// The solver's refinement (regions in the tool frame; the tool moves in −x) for a
-    /// workpiece laid out at spacing `dx` by [`Particles::workpiece`].
-    pub fn refinement(&self, dx: f64) -> crate::refine::Refinement {
+    /// The solver's refinement (regions in the tool frame; the tool moves in −x).
+    pub fn refinement(&self) -> crate::refine::Refinement {
         crate::refine::Refinement {
             tool: 0,
             regions: self
@@ -273,19 +279,30 @@ impl CutRefinement {
                 })
                 .collect(),
             pattern: self.pattern,
-            coarsening: self
-                .coarsen_behind_m
-                .map(|behind| crate::refine::Coarsening {
-                    // 1 m: everything behind; the workpiece's lattice has a point at (dx/2, dx/2)
-                    region: crate::refine::Region {
-                        x_min: behind,
-                        x_max: 1.0,
-                        y_min: -1.0,
-                        y_max: 0.5 * behind,
-                    },
-                    lattice_point: [0.5 * dx, 0.5 * dx],
-                }),
+            coarsening: self.coarsening(),
         }
+    }
+
+    /// The coarsening regions in the tool frame (1 m: everything beyond): the machined
+    /// surface from `coarsen_behind_m` behind the edge, from the workpiece's bottom to half
+    /// that distance above the edge (the chip, rising along the rake face, stays clear of it
+    /// for rake angles up to 45°); the chip above `coarsen_chip_above_m`.
+    fn coarsening(&self) -> Option<crate::refine::Coarsening> {
+        use crate::refine::Region;
+        let behind = self.coarsen_behind_m.map(|behind| Region {
+            x_min: behind,
+            x_max: 1.0,
+            y_min: -1.0,
+            y_max: 0.5 * behind,
+        });
+        let chip = self.coarsen_chip_above_m.map(|above| Region {
+            x_min: -1.0,
+            x_max: 1.0,
+            y_min: above,
+            y_max: 1.0,
+        });
+        let regions: Vec<Region> = behind.into_iter().chain(chip).collect();
+        (!regions.is_empty()).then_some(crate::refine::Coarsening { regions })
     }
 
     /// The finest spacing, m, for a level-0 spacing `dx`.
@@ -440,7 +457,7 @@ impl CuttingSetup {
         // The spacing the chip is cut at: the finest of a refinement.
         let dx = self.surface_spacing();
         if let Some(r) = &self.refinement {
-            r.refinement(self.spacing_m)
+            r.refinement()
                 .validate(1)
                 .map_err(|e| greybox_core::Error::invalid("cutting set-up [refinement]", e))?;
         }
@@ -459,6 +476,16 @@ impl CuttingSetup {
                 self.cutting_speed_m_s,
             )
             .positive("uncut_chip_thickness_m", h)
+            .relation(
+                self.refinement
+                    .as_ref()
+                    .and_then(|r| r.coarsen_chip_above_m)
+                    .is_none_or(|above| above >= 3.0 * h * (1.0 - 1e-9)),
+                format!(
+                    "refinement.coarsen_chip_above_m must be at least 3h = {:e} m: the chip thickness is measured from 2h to 3h above the edge, on particles that must not be merged",
+                    3.0 * h
+                ),
+            )
             .positive("cut_length_m", self.cut_length_m)
             .positive("spacing_m", self.spacing_m)
             .positive("workpiece_height_m", self.workpiece_height_m)
@@ -700,7 +727,7 @@ impl CuttingSetup {
                 tools: vec![tool],
                 groups,
                 numerics,
-                refinement: self.refinement.as_ref().map(|r| r.refinement(dx)),
+                refinement: self.refinement.as_ref().map(|r| r.refinement()),
                 sink: self.chip_break_height_m.map(|height| Sink {
                     y_above_m: top + height,
                 }),
@@ -717,6 +744,42 @@ impl CuttingSetup {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The chip's coarsening region must start at or above 3h (the band the chip thickness
+    /// is measured in stays fine) and clear of the refinement region.
+    #[test]
+    fn the_chip_is_coarsened_only_above_its_measuring_band_and_the_region() {
+        let mut s = CuttingSetup::iwf_ti64_reference();
+        let h = s.uncut_chip_thickness_m;
+        s.refinement = Some(CutRefinement {
+            regions: vec![CutRegion {
+                ahead_m: 0.2e-3,
+                behind_m: 0.02e-3,
+                below_m: 0.04e-3,
+                above_m: 3.0 * h,
+            }],
+            pattern: Default::default(),
+            coarsen_behind_m: Some(0.1e-3),
+            coarsen_chip_above_m: Some(3.0 * h),
+        });
+        s.validate().unwrap();
+        let r = s.refinement.as_mut().unwrap();
+        r.coarsen_chip_above_m = Some(2.9 * h);
+        r.regions[0].above_m = 2.9 * h;
+        let e = s.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("coarsen_chip_above_m must be at least 3h"),
+            "{e}"
+        );
+        let r = s.refinement.as_mut().unwrap();
+        r.coarsen_chip_above_m = Some(3.0 * h);
+        r.regions[0].above_m = 3.1 * h;
+        let e = s.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("coarsening region 2 overlaps refinement region 1"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn windows_tile_the_rake_and_flank_from_the_edge() {

@@ -144,6 +144,16 @@ pub struct Particles {
     /// existed (read as all 0).
     #[serde(default)]
     pub level: Vec<u8>,
+    /// The splits that made a refined particle: `family[i][l − 1]` numbers the split that
+    /// gave particle i level l, which its three siblings share ([`crate::refine::split`]);
+    /// [`NO_FAMILY`] for the levels above the particle's. Only four siblings merge back
+    /// ([`crate::coarsen`]). Empty in a checkpoint written before families existed (read
+    /// as no family: those particles stay fine).
+    #[serde(default)]
+    pub family: Vec<[u64; MAX_LEVEL as usize]>,
+    /// Splits made so far: the number the next split's children share.
+    #[serde(default)]
+    pub splits: u64,
     /// Mass of a level-0 particle per metre of thickness, kg/m.
     pub mass: f64,
     /// Initial spacing Δx of the level-0 particles, m.
@@ -158,6 +168,12 @@ fn retain_by<T: Copy>(v: &mut Vec<T>, keep: &[bool]) {
 
 /// Deepest refinement level: a level-3 particle has 1/8 of the base spacing.
 pub const MAX_LEVEL: u8 = 3;
+
+/// A particle's family at a level it was not split to ([`Particles::family`]).
+pub const NO_FAMILY: u64 = u64::MAX;
+
+/// The family of a particle no split has made.
+pub const UNSPLIT: [u64; MAX_LEVEL as usize] = [NO_FAMILY; MAX_LEVEL as usize];
 
 /// 1/2ˡ and 1/4ˡ for l = 0..=[`MAX_LEVEL`]: exact powers of two, so a child's spacing and
 /// mass are the parent's divided exactly and the children's masses add up to the parent's
@@ -205,7 +221,7 @@ impl Particles {
     }
 
     /// Every per-particle array of reals: what a check or a copy of a whole particle walks
-    /// (`group` and `level` are the other two per-particle arrays).
+    /// (`group`, `level` and `family` are the other per-particle arrays).
     pub fn real_fields(&self) -> [&Vec<f64>; REAL_FIELDS] {
         real_fields!(self, &)
     }
@@ -226,14 +242,19 @@ impl Particles {
         }
         retain_by(&mut self.group, keep);
         retain_by(&mut self.level, keep);
+        retain_by(&mut self.family, keep);
         before - self.len()
     }
 
     /// Fills the arrays a state written before they existed lacks: the levels (all level
-    /// 0, before refinement) and the damage (all 0, before damage).
+    /// 0, before refinement), the damage (all 0, before damage) and the families (none,
+    /// before coarsening by family).
     pub fn fill_missing_fields(&mut self) {
         if self.level.is_empty() {
             self.level = vec![0; self.len()];
+        }
+        if self.family.is_empty() {
+            self.family = vec![UNSPLIT; self.len()];
         }
         if self.damage.is_empty() {
             self.damage = vec![0.0; self.len()];
@@ -295,6 +316,7 @@ impl Particles {
         p.temp = vec![t0; n];
         p.group = vec![FREE; n];
         p.level = vec![0; n];
+        p.family = vec![UNSPLIT; n];
         p
     }
 
@@ -357,6 +379,7 @@ impl Particles {
         self.real_fields().iter().all(|v| v.len() == n)
             && self.group.len() == n
             && self.level.len() == n
+            && self.family.len() == n
             && self.level.iter().all(|&l| l <= MAX_LEVEL)
     }
 }
@@ -391,9 +414,11 @@ mod tests {
         let mut p = Particles::block(0.0, 0.0, 3, 2, 1e-5, 4430.0, 293.15);
         p.damage.clear();
         p.level.clear();
+        p.family.clear();
         assert!(!p.check_lengths());
         p.fill_missing_fields();
         assert!(p.check_lengths());
         assert_eq!(p.damage, vec![0.0; 6]);
+        assert_eq!(p.family, vec![UNSPLIT; 6]);
     }
 }

@@ -71,15 +71,19 @@ impl Region {
 }
 
 /// Where refined particles are merged back to level 0 (see the `coarsen` module).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Coarsening {
-    /// The region, in the frame of the refinement's tool, where particles are merged back.
-    pub region: Region,
-    /// A point of the level-0 lattice the particles were laid out on, m: the merge cells of
-    /// level l are centred on the points of level l (a split puts the first child at the
-    /// parent − Δx_l/4 in both directions).
-    pub lattice_point: [f64; 2],
+    /// The regions, in the frame of the refinement's tool, where particles are merged back.
+    pub regions: Vec<Region>,
+}
+
+impl Coarsening {
+    /// Whether tool-frame point (x, y) lies in a coarsening region.
+    #[inline]
+    pub fn contains(&self, x: f64, y: f64) -> bool {
+        self.regions.iter().any(|r| r.contains(x, y))
+    }
 }
 
 /// How a particle is split.
@@ -149,29 +153,30 @@ impl Refinement {
             }
         }
         if let Some(c) = &self.coarsening {
-            let r = &c.region;
-            let finite = [
-                r.x_min,
-                r.x_max,
-                r.y_min,
-                r.y_max,
-                c.lattice_point[0],
-                c.lattice_point[1],
-            ]
-            .iter()
-            .all(|v| v.is_finite());
-            if !(finite && r.x_min < r.x_max && r.y_min < r.y_max) {
-                return Err(format!(
-                    "the coarsening region is empty or not finite: x {:e}..{:e} m, y {:e}..{:e} m",
-                    r.x_min, r.x_max, r.y_min, r.y_max
-                ));
+            if c.regions.is_empty() {
+                return Err("coarsening needs at least one region".into());
             }
-            if r.overlaps(&self.regions[0]) {
-                return Err(
-                    "the coarsening region overlaps refinement region 1: particles would be \
-                     split and merged back in turn"
-                        .into(),
-                );
+            for (k, r) in c.regions.iter().enumerate() {
+                let finite = [r.x_min, r.x_max, r.y_min, r.y_max]
+                    .iter()
+                    .all(|v| v.is_finite());
+                if !(finite && r.x_min < r.x_max && r.y_min < r.y_max) {
+                    return Err(format!(
+                        "coarsening region {} is empty or not finite: x {:e}..{:e} m, y {:e}..{:e} m",
+                        k + 1,
+                        r.x_min,
+                        r.x_max,
+                        r.y_min,
+                        r.y_max
+                    ));
+                }
+                if r.overlaps(&self.regions[0]) {
+                    return Err(format!(
+                        "coarsening region {} overlaps refinement region 1: particles would \
+                         be split and merged back in turn",
+                        k + 1
+                    ));
+                }
             }
         }
         Ok(())
@@ -210,13 +215,16 @@ pub fn split_in_regions(p: &mut Particles, refinement: &Refinement, origin: [f64
 }
 
 /// Splits particle `i` into the children of `pattern`: `i` becomes the first, the others
-/// are appended.
+/// are appended; the four share the family number of this split at their level
+/// ([`Particles::family`]).
 pub fn split(p: &mut Particles, i: usize, pattern: SplitPattern) {
     let SplitPattern::Square = pattern;
     let d = 0.25 * p.spacing * spacing_factor(p.level[i]);
     let (x, y) = (p.x[i], p.y[i]);
     let level = p.level[i] + 1;
     p.level[i] = level;
+    p.family[i][usize::from(level) - 1] = p.splits;
+    p.splits += 1;
     p.x[i] = x - d;
     p.y[i] = y - d;
     for (ox, oy) in [(d, -d), (-d, d), (d, d)] {
@@ -234,6 +242,7 @@ fn copy_particle(p: &mut Particles, i: usize) {
     }
     p.group.push(p.group[i]);
     p.level.push(p.level[i]);
+    p.family.push(p.family[i]);
 }
 
 #[cfg(test)]
@@ -375,20 +384,22 @@ mod tests {
         r.regions[1].x_max = 0.9;
         assert!(r.validate(1).is_ok());
         let mut c = Coarsening {
-            region: region(0.9, 2.0, -1.0, 0.5),
-            lattice_point: [0.0, 0.0],
+            regions: vec![region(-1.0, 2.0, 1.0, 2.0), region(0.9, 2.0, -1.0, 0.5)],
         };
-        r.coarsening = Some(c);
+        r.coarsening = Some(c.clone());
         assert!(r
             .validate(1)
             .unwrap_err()
-            .contains("overlaps refinement region 1"));
-        c.region.x_min = 1.0;
-        r.coarsening = Some(c);
+            .contains("coarsening region 2 overlaps refinement region 1"));
+        c.regions[1].x_min = 1.0;
+        r.coarsening = Some(c.clone());
         assert!(r.validate(1).is_ok());
-        c.region.x_max = f64::INFINITY;
+        c.regions[1].x_max = f64::INFINITY;
+        r.coarsening = Some(c.clone());
+        assert!(r.validate(1).unwrap_err().contains("coarsening region 2"));
+        c.regions.clear();
         r.coarsening = Some(c);
-        assert!(r.validate(1).unwrap_err().contains("coarsening region"));
+        assert!(r.validate(1).unwrap_err().contains("at least one region"));
         r.coarsening = None;
         assert!(r.validate(0).unwrap_err().contains("tool 0"));
         r.regions[0].y_max = f64::NAN;

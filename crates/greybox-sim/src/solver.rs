@@ -374,7 +374,7 @@ impl Solver {
         true
     }
 
-    /// Merges the refined particles in the coarsening region at the tools' current positions
+    /// Merges the refined particles in the coarsening regions at the tools' current positions
     /// (see [`crate::coarsen`]), finest level first, booking the kinetic and elastic energy
     /// the merges average out; returns whether any merged (the per-particle arrays have then
     /// shrunk and the neighbour lists must be rebuilt).
@@ -382,7 +382,7 @@ impl Solver {
         let Some((c, tool, finest)) = self
             .refinement
             .as_ref()
-            .and_then(|r| Some((r.coarsening?, r.tool, r.finest_level())))
+            .and_then(|r| Some((r.coarsening.clone()?, r.tool, r.finest_level())))
         else {
             return false;
         };

@@ -283,13 +283,16 @@ fn a_run_with_local_time_stepping_resumes_bit_for_bit_on_any_thread_count() {
     resume_equals_uninterrupted(&setup, 151);
 }
 
-/// The same with the machined surface coarsened behind the tool and local time stepping:
-/// merges happen before the checkpoint (it holds merged particles) and after it, alike in
-/// the resumed run and on any thread count.
+/// The same with the machined surface coarsened behind the tool (and the chip above 3h)
+/// and local time stepping: merges happen before the checkpoint (it holds merged particles
+/// and the split families the later merges read) and after it, alike in the resumed run and
+/// on any thread count.
 #[test]
 fn a_run_with_coarsening_resumes_bit_for_bit_on_any_thread_count() {
     let mut setup = common::refined(coarse_cut());
-    setup.refinement.as_mut().unwrap().coarsen_behind_m = Some(0.06e-3);
+    let r = setup.refinement.as_mut().unwrap();
+    r.coarsen_behind_m = Some(0.06e-3);
+    r.coarsen_chip_above_m = Some(0.3e-3);
     setup.numerics.local_time_stepping = true;
     let r = common::cut_with_its_mu(&setup);
     assert!(

@@ -20,7 +20,7 @@ pub fn cut(s: &CutSummary) -> String {
     if let Some(c) = &s.coarsened {
         let _ = writeln!(
             text,
-            "  coarsening: {} refined particles merged away behind the tool; the merges averaged out {:.3e} J/m, {:.3} % of the work (in the balance)",
+            "  coarsening: {} refined particles merged away; the merges averaged out {:.3e} J/m, {:.3} % of the work (in the balance)",
             c.particles,
             c.energy_j_per_m,
             100.0 * c.share_of_work

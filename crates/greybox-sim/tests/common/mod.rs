@@ -83,6 +83,7 @@ pub fn refined(
         }],
         pattern: Default::default(),
         coarsen_behind_m: None,
+        coarsen_chip_above_m: None,
     });
     setup
 }
