@@ -451,15 +451,28 @@ impl CuttingSetup {
         self.cut_length_m + 0.2e-3
     }
 
+    /// The refinement's regions (the solver's checks) and the chip's coarsening height,
+    /// which must clear the band the chip thickness is measured in (2h to 3h above the
+    /// edge, [`crate::chip::chip_thickness`]).
+    fn validate_refinement(&self, r: &CutRefinement) -> greybox_core::Result<()> {
+        let invalid = |e| greybox_core::Error::invalid("cutting set-up [refinement]", e);
+        r.refinement().validate(1).map_err(invalid)?;
+        let three_h = 3.0 * self.uncut_chip_thickness_m;
+        match r.coarsen_chip_above_m {
+            Some(above) if !(above >= three_h * (1.0 - 1e-9)) => Err(invalid(format!(
+                "coarsen_chip_above_m ({above:e} m) must be at least 3h = {three_h:e} m: the chip thickness is measured from 2h to 3h above the edge, on particles that must not be merged"
+            ))),
+            _ => Ok(()),
+        }
+    }
+
     pub fn validate(&self) -> greybox_core::Result<()> {
         use greybox_core::physics::Quantity;
         let h = self.uncut_chip_thickness_m;
         // The spacing the chip is cut at: the finest of a refinement.
         let dx = self.surface_spacing();
         if let Some(r) = &self.refinement {
-            r.refinement()
-                .validate(1)
-                .map_err(|e| greybox_core::Error::invalid("cutting set-up [refinement]", e))?;
+            self.validate_refinement(r)?;
         }
         greybox_core::rules::Rules::new("cutting set-up")
             .section("insert", |r| {
@@ -476,16 +489,6 @@ impl CuttingSetup {
                 self.cutting_speed_m_s,
             )
             .positive("uncut_chip_thickness_m", h)
-            .relation(
-                self.refinement
-                    .as_ref()
-                    .and_then(|r| r.coarsen_chip_above_m)
-                    .is_none_or(|above| above >= 3.0 * h * (1.0 - 1e-9)),
-                format!(
-                    "refinement.coarsen_chip_above_m must be at least 3h = {:e} m: the chip thickness is measured from 2h to 3h above the edge, on particles that must not be merged",
-                    3.0 * h
-                ),
-            )
             .positive("cut_length_m", self.cut_length_m)
             .positive("spacing_m", self.spacing_m)
             .positive("workpiece_height_m", self.workpiece_height_m)
@@ -767,10 +770,7 @@ mod tests {
         r.coarsen_chip_above_m = Some(2.9 * h);
         r.regions[0].above_m = 2.9 * h;
         let e = s.validate().unwrap_err().to_string();
-        assert!(
-            e.contains("coarsen_chip_above_m must be at least 3h"),
-            "{e}"
-        );
+        assert!(e.contains("must be at least 3h"), "{e}");
         let r = s.refinement.as_mut().unwrap();
         r.coarsen_chip_above_m = Some(3.0 * h);
         r.regions[0].above_m = 3.1 * h;
