@@ -111,6 +111,27 @@ def test_a_cut_from_python_and_the_cli_gives_the_same_summary_and_forces(tmp_pat
     assert (tmp_path / "cli" / "forces.csv").read_bytes() == (tmp_path / "py" / "forces.csv").read_bytes()
 
 
+def test_a_refined_coarsened_cut_from_python_and_the_cli_says_the_same_merges(tmp_path):
+    """A short refined cut with local time stepping and both coarsening regions: the same
+    `coarsened` record (particles merged away, the energy the merges averaged out) and the
+    same force history bytes through gb.simulate_cut and `greybox simulate cutting`."""
+    src = gb.example("aisi1045-cut.toml")
+    src = src.replace("spacing_m = 1.0e-5", "spacing_m = 2.5e-5").replace("cut_length_m = 1.0e-3", "cut_length_m = 1.5e-4")
+    src = src.replace("[numerics]", "[numerics]\nlocal_time_stepping = true", 1)
+    src += (
+        "\n[refinement]\n"
+        "regions = [{ ahead_m = 0.1e-3, behind_m = 0.01e-3, below_m = 0.03e-3, above_m = 0.3e-3 }]\n"
+        "coarsen_behind_m = 0.03e-3\n"
+        "coarsen_chip_above_m = 0.3e-3\n"
+    )
+    (tmp_path / "cut.toml").write_text(src)
+    py = gb.simulate_cut(tmp_path / "cut.toml", tmp_path / "py", as_frame=False)
+    c = json.loads(cli("simulate", "cutting", "--config", "cut.toml", "--out", "cli", "--json", cwd=tmp_path))
+    assert c["coarsened"]["particles"] > 0, c["coarsened"]
+    assert py["coarsened"] == c["coarsened"]
+    assert (tmp_path / "cli" / "forces.csv").read_bytes() == (tmp_path / "py" / "forces.csv").read_bytes()
+
+
 def test_every_identify_flag_is_a_python_setting_with_the_same_effect(tmp_path, real_rigs):
     """The CLI's identify flags and Python's keyword settings are one library type: the same
     real export read with the rig, a channel map, a load unit and the convention given both

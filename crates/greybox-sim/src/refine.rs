@@ -61,6 +61,21 @@ impl Region {
             && other.y_min < self.y_max
     }
 
+    /// Checks that the region is finite and not empty; `what` names it in the error.
+    pub fn check(&self, what: &str) -> Result<(), String> {
+        let finite = [self.x_min, self.x_max, self.y_min, self.y_max]
+            .iter()
+            .all(|v| v.is_finite());
+        if finite && self.x_min < self.x_max && self.y_min < self.y_max {
+            Ok(())
+        } else {
+            Err(format!(
+                "{what} is empty or not finite: x {:e}..{:e} m, y {:e}..{:e} m",
+                self.x_min, self.x_max, self.y_min, self.y_max
+            ))
+        }
+    }
+
     /// Whether `inner` lies inside this region.
     pub fn encloses(&self, inner: &Region) -> bool {
         inner.x_min >= self.x_min
@@ -130,19 +145,7 @@ impl Refinement {
             ));
         }
         for (k, r) in self.regions.iter().enumerate() {
-            let finite = [r.x_min, r.x_max, r.y_min, r.y_max]
-                .iter()
-                .all(|v| v.is_finite());
-            if !(finite && r.x_min < r.x_max && r.y_min < r.y_max) {
-                return Err(format!(
-                    "refinement region {} is empty or not finite: x {:e}..{:e} m, y {:e}..{:e} m",
-                    k + 1,
-                    r.x_min,
-                    r.x_max,
-                    r.y_min,
-                    r.y_max
-                ));
-            }
+            r.check(&format!("refinement region {}", k + 1))?;
             if k > 0 && !self.regions[k - 1].encloses(r) {
                 return Err(format!(
                     "refinement region {} (level {}) must lie inside region {}",
@@ -157,19 +160,7 @@ impl Refinement {
                 return Err("coarsening needs at least one region".into());
             }
             for (k, r) in c.regions.iter().enumerate() {
-                let finite = [r.x_min, r.x_max, r.y_min, r.y_max]
-                    .iter()
-                    .all(|v| v.is_finite());
-                if !(finite && r.x_min < r.x_max && r.y_min < r.y_max) {
-                    return Err(format!(
-                        "coarsening region {} is empty or not finite: x {:e}..{:e} m, y {:e}..{:e} m",
-                        k + 1,
-                        r.x_min,
-                        r.x_max,
-                        r.y_min,
-                        r.y_max
-                    ));
-                }
+                r.check(&format!("coarsening region {}", k + 1))?;
                 if r.overlaps(&self.regions[0]) {
                     return Err(format!(
                         "coarsening region {} overlaps refinement region 1: particles would \
