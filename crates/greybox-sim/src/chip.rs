@@ -16,6 +16,16 @@ use crate::solver::Solver;
 use crate::tool::{Tool, WindowAccumulator, WindowStats};
 use serde::{Deserialize, Serialize};
 
+/// The band the chip thickness is measured in, in uncut chip thicknesses h above the
+/// original workpiece surface (which lies h above the cutting edge): from h to 2h.
+pub const MEASURING_BAND_H: [f64; 2] = [1.0, 2.0];
+
+/// The top of [`MEASURING_BAND_H`] above the cutting edge, m, for an uncut chip thickness
+/// `h`: what must stay fine for the chip to be measured at its own spacing.
+pub fn measuring_band_top_above_edge(h: f64) -> f64 {
+    (1.0 + MEASURING_BAND_H[1]) * h
+}
+
 /// Chip thickness from the particle positions, m (`None` before a chip has formed).
 pub fn chip_thickness(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<f64> {
     let t = sim.tools.get(tool)?;
@@ -31,8 +41,9 @@ pub fn chip_thickness(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option
     // occupy their own spacing).
     let (mut lo, mut hi, mut count) = (f64::INFINITY, f64::NEG_INFINITY, 0usize);
     let (mut dx_lo, mut dx_hi) = (dx, dx);
+    let band = MEASURING_BAND_H.map(|k| top + k * h);
     for i in 0..p.len() {
-        if p.group[i] != FREE || p.y[i] < top + h || p.y[i] > top + 2.0 * h {
+        if p.group[i] != FREE || p.y[i] < band[0] || p.y[i] > band[1] {
             continue;
         }
         let d = (p.x[i] - t.position[0]) * n[0] + (p.y[i] - t.position[1]) * n[1];

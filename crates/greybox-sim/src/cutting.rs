@@ -457,7 +457,7 @@ impl CuttingSetup {
     fn validate_refinement(&self, r: &CutRefinement) -> greybox_core::Result<()> {
         let invalid = |e| greybox_core::Error::invalid("cutting set-up [refinement]", e);
         r.refinement().validate(1).map_err(invalid)?;
-        let three_h = 3.0 * self.uncut_chip_thickness_m;
+        let three_h = crate::chip::measuring_band_top_above_edge(self.uncut_chip_thickness_m);
         match r.coarsen_chip_above_m {
             Some(above) if !(above >= three_h * (1.0 - 1e-9)) => Err(invalid(format!(
                 "coarsen_chip_above_m ({above:e} m) must be at least 3h = {three_h:e} m: the chip thickness is measured from 2h to 3h above the edge, on particles that must not be merged"

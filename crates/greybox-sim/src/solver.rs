@@ -379,17 +379,21 @@ impl Solver {
     /// the merges average out; returns whether any merged (the per-particle arrays have then
     /// shrunk and the neighbour lists must be rebuilt).
     fn coarsen(&mut self) -> bool {
-        let Some((c, tool, finest)) = self
+        let Some((tool, finest)) = self
             .refinement
             .as_ref()
-            .and_then(|r| Some((r.coarsening.clone()?, r.tool, r.finest_level())))
+            .filter(|r| r.coarsening.is_some())
+            .map(|r| (r.tool, r.finest_level()))
         else {
             return false;
         };
         let origin = self.tools[tool].position;
         let mut merged = false;
         for level in (1..=finest).rev() {
-            let groups = coarsen::merge_groups(&self.particles, level, &c, origin);
+            let groups = match self.refinement.as_ref().and_then(|r| r.coarsening.as_ref()) {
+                Some(c) => coarsen::merge_groups(&self.particles, level, c, origin),
+                None => Vec::new(),
+            };
             if groups.is_empty() {
                 continue;
             }

@@ -293,7 +293,11 @@ fn coarsening_the_machined_surface_and_the_chip_keeps_the_cut() {
     let chip_coarse = |run: &CutRun| {
         let (p, edge_y) = (&run.sim.particles, run.sim.tools[0].position[1]);
         (0..p.len())
-            .filter(|&i| p.group[i] == 0 && p.level[i] == 0 && p.y[i] - edge_y > 0.3e-3)
+            .filter(|&i| {
+                p.group[i] == greybox_sim::particles::FREE
+                    && p.level[i] == 0
+                    && p.y[i] - edge_y > 0.3e-3
+            })
             .count()
     };
     assert_eq!(chip_coarse(&f), 0);
