@@ -10,21 +10,11 @@
 //! * Contact length: the farthest rake-face window (distance from the edge, outer end) that
 //!   was in contact for at least `min_fraction` of its length on time average.
 
-use crate::cutting::{CuttingSetup, EdgeLayout, Face};
+use crate::cutting::{CuttingSetup, EdgeLayout, Face, MEASURING_BAND_H};
 use crate::particles::FREE;
 use crate::solver::Solver;
 use crate::tool::{Tool, WindowAccumulator, WindowStats};
 use serde::{Deserialize, Serialize};
-
-/// The band the chip thickness is measured in, in uncut chip thicknesses h above the
-/// original workpiece surface (which lies h above the cutting edge): from h to 2h.
-pub const MEASURING_BAND_H: [f64; 2] = [1.0, 2.0];
-
-/// The top of [`MEASURING_BAND_H`] above the cutting edge, m, for an uncut chip thickness
-/// `h`: what must stay fine for the chip to be measured at its own spacing.
-pub fn measuring_band_top_above_edge(h: f64) -> f64 {
-    (1.0 + MEASURING_BAND_H[1]) * h
-}
 
 /// Chip thickness from the particle positions, m (`None` before a chip has formed).
 pub fn chip_thickness(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<f64> {

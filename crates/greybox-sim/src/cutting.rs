@@ -16,6 +16,16 @@ use greybox_material::Material;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
+/// The band the chip thickness is measured in ([`crate::chip::chip_thickness`]), in uncut chip thicknesses h above the
+/// original workpiece surface (which lies h above the cutting edge): from h to 2h.
+pub const MEASURING_BAND_H: [f64; 2] = [1.0, 2.0];
+
+/// The top of [`MEASURING_BAND_H`] above the cutting edge, m, for an uncut chip thickness
+/// `h`: what must stay fine for the chip to be measured at its own spacing.
+pub fn measuring_band_top_above_edge(h: f64) -> f64 {
+    (1.0 + MEASURING_BAND_H[1]) * h
+}
+
 /// The insert geometry (SI units, angles in degrees).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -457,7 +467,7 @@ impl CuttingSetup {
     fn validate_refinement(&self, r: &CutRefinement) -> greybox_core::Result<()> {
         let invalid = |e| greybox_core::Error::invalid("cutting set-up [refinement]", e);
         r.refinement().validate(1).map_err(invalid)?;
-        let three_h = crate::chip::measuring_band_top_above_edge(self.uncut_chip_thickness_m);
+        let three_h = measuring_band_top_above_edge(self.uncut_chip_thickness_m);
         match r.coarsen_chip_above_m {
             Some(above) if !(above >= three_h * (1.0 - 1e-9)) => Err(invalid(format!(
                 "coarsen_chip_above_m ({above:e} m) must be at least 3h = {three_h:e} m: the chip thickness is measured from 2h to 3h above the edge, on particles that must not be merged"
