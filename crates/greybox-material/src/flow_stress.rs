@@ -103,6 +103,16 @@ impl FlowStress {
         }
     }
 
+    /// The largest strain hardening over every ε_p, Pa, where the model has one worth a
+    /// quick test ([`FlowAt::quasi_static_ceiling`]; TANH: [`TanhJohnsonCook::hardening_peak_pa`]);
+    /// `None` otherwise. Computed once per pass by the radial return's caller.
+    pub fn hardening_peak_pa(&self) -> Option<f64> {
+        match self {
+            FlowStress::Tanh(m) => Some(m.hardening_peak_pa()),
+            _ => None,
+        }
+    }
+
     /// Whether σ_y never falls as ε_p grows (J-C): the radial return may then bound the
     /// increment by the perfectly plastic one.
     pub fn hardens_monotonically(&self) -> bool {
@@ -187,6 +197,15 @@ impl FlowAt<'_> {
         match self {
             FlowAt::Tanh(m) => m.floor(),
             FlowAt::Any(..) => 0.0,
+        }
+    }
+
+    /// An upper bound of σ_y at this temperature over every ε_p ≥ 0 at ε̇_p ≤ ε̇₀, Pa, given
+    /// the model's [`FlowStress::hardening_peak_pa`]; infinite where none is kept.
+    pub fn quasi_static_ceiling(&self, hardening_peak_pa: Option<f64>) -> f64 {
+        match (self, hardening_peak_pa) {
+            (FlowAt::Tanh(m), Some(peak)) => m.quasi_static_ceiling(peak),
+            _ => f64::INFINITY,
         }
     }
 

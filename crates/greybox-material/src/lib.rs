@@ -23,10 +23,12 @@ pub use tanh::TanhJohnsonCook;
 /// x^e, with whole exponents up to 8 in size (the published sets use several: the
 /// Sima–Özel a = c = 2, b = 5, d = m = 1) taken by repeated multiplication (`powi`, within
 /// a few ulp) instead of a call of `pow`: the flow stress is evaluated several times per
-/// plastic particle and step.
+/// plastic particle and step. (The whole-number test compares with the exponent cast to
+/// an integer rather than calling `fract`, which costs a call of `trunc` on every
+/// particle's temperature factors.)
 #[inline]
 pub(crate) fn powf(x: f64, e: f64) -> f64 {
-    if e.fract() == 0.0 && e.abs() <= 8.0 {
+    if e.abs() <= 8.0 && f64::from(e as i32) == e {
         x.powi(e as i32)
     } else {
         x.powf(e)

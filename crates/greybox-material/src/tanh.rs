@@ -114,6 +114,13 @@ impl TanhJohnsonCook {
         }
     }
 
+    /// The largest hardening H = A + B ε^n exp(−ε^a) over every ε ≥ 0, Pa: with t = ε^a and
+    /// k = n/a, ε^n exp(−ε^a) = t^k e^(−t) peaks at t = k, so H_max = A + B k^k e^(−k).
+    pub fn hardening_peak_pa(&self) -> f64 {
+        let k = self.n / self.tanh_a;
+        self.a_pa + self.b_pa * k.powf(k) * (-k).exp()
+    }
+
     /// Checks the parameters (as J-C, plus a, c > 0 and b, d, s > 0).
     pub fn validate(&self) -> greybox_core::Result<()> {
         let mut rules = greybox_core::rules::Rules::new("TANH Johnson-Cook parameters");
@@ -146,6 +153,15 @@ impl TanhAt<'_> {
     /// without evaluating the model.
     pub fn floor(&self) -> f64 {
         self.model.a_pa * self.soft * self.d
+    }
+
+    /// An upper bound of σ_y at this temperature over every ε_p ≥ 0 at ε̇_p ≤ ε̇₀, Pa, from
+    /// the model's [`TanhJohnsonCook::hardening_peak_pa`] (computed once by the caller):
+    /// H_max·(1 − T*^m), since G ≤ 1 and the rate factor is 1 there. A trial stress above it
+    /// is plastic without evaluating the model. Raised by 10⁻¹² of itself so that the
+    /// round-off of evaluating σ_y near the peak (a few ulps) cannot cross it.
+    pub fn quasi_static_ceiling(&self, hardening_peak_pa: f64) -> f64 {
+        hardening_peak_pa * self.soft * (1.0 + 1e-12)
     }
 
     /// σ_y, ∂σ_y/∂ε_p and ∂σ_y/∂ln ε̇_p (Pa each) at this temperature.
@@ -267,6 +283,38 @@ mod tests {
         }
         let at0 = m.at_temperature(0.0);
         assert_eq!(at0.floor(), m.flow_stress(0.0, 0.0, 0.0));
+    }
+
+    /// The quasi-static ceiling the radial return tests bounds σ_y from above at every
+    /// temperature, strain and rate up to ε̇₀, and is reached at the hardening peak (ε where
+    /// ε^a = n/a) where G = 1 (T = 0 K: p = 0, and tanh(1/ε^c)^s → 1 only as ε → 0, so the
+    /// bound is tight within G there).
+    #[test]
+    fn quasi_static_ceiling_bounds_the_flow_stress_from_above() {
+        for m in [
+            TanhJohnsonCook::ti6al4v_sima_ozel_2010(),
+            TanhJohnsonCook {
+                tanh_s: 1.0,
+                n: 0.9,
+                tanh_a: 0.5,
+                ..TanhJohnsonCook::ti6al4v_sima_ozel_2010()
+            },
+        ] {
+            let peak = m.hardening_peak_pa();
+            let eps_peak = (m.n / m.tanh_a).powf(1.0 / m.tanh_a);
+            let h = |e: f64| m.a_pa + m.b_pa * e.powf(m.n) * (-e.powf(m.tanh_a)).exp();
+            assert!((h(eps_peak) / peak - 1.0).abs() < 1e-14);
+            for e in [0.0, 1e-6, 0.01, 0.1, 0.3, 0.5, 1.0, 2.0, 5.0, 50.0] {
+                assert!(h(e) <= peak * (1.0 + 1e-15), "H({e}) {} > {peak}", h(e));
+                for t in [0.0, 298.0, 700.0, 1300.0, 1878.0, 2500.0] {
+                    let ceiling = m.at_temperature(t).quasi_static_ceiling(peak);
+                    for r in [0.0, 0.5, 1.0] {
+                        let y = m.flow_stress(e, r, t);
+                        assert!(y <= ceiling, "T {t}, ε {e}, ε̇ {r}: σ_y {y} > {ceiling}");
+                    }
+                }
+            }
+        }
     }
 
     /// The analytic slopes the radial return uses agree with central differences.

@@ -114,17 +114,21 @@ impl NeighbourList {
         }
         let c2 = c * c;
         let (cs, ci, co) = (&self.cell_start, &self.cell_items, &self.cell_of);
-        // Partners j > i of particle i within the cut-off, pushed onto `row`.
+        // Partners j > i of particle i within the cut-off, pushed onto `row`. A cell lists
+        // its particles in ascending order (the counting sort above fills it in index
+        // order), so the partners j > i are the tail after a binary search.
         let visit = |i: usize, row: &mut Vec<u32>| {
             let cell = co[i] as usize;
             let (cx, cy) = (cell % ncx, cell / ncx);
             for gy in cy.saturating_sub(1)..=(cy + 1).min(ncy - 1) {
                 for gx in cx.saturating_sub(1)..=(cx + 1).min(ncx - 1) {
                     let g = gy * ncx + gx;
-                    for &j in &ci[cs[g] as usize..cs[g + 1] as usize] {
+                    let items = &ci[cs[g] as usize..cs[g + 1] as usize];
+                    let after_i = items.partition_point(|&j| j as usize <= i);
+                    for &j in &items[after_i..] {
                         let ju = j as usize;
                         let cut2 = reach.map_or(c2, |h| (h[i] + h[ju] + skin).powi(2));
-                        if ju > i && (x[i] - x[ju]).powi(2) + (y[i] - y[ju]).powi(2) < cut2 {
+                        if (x[i] - x[ju]).powi(2) + (y[i] - y[ju]).powi(2) < cut2 {
                             row.push(j);
                         }
                     }

@@ -20,6 +20,25 @@
 
 use greybox_material::{FlowStress, JohnsonCook};
 
+/// A flow-stress model prepared for the return: what does not depend on the particle,
+/// computed once per pass.
+#[derive(Debug, Clone, Copy)]
+pub struct YieldSurface<'a> {
+    model: &'a FlowStress,
+    /// [`FlowStress::hardening_peak_pa`]: with it, a trial stress above the quasi-static
+    /// ceiling at its temperature is plastic without evaluating σ_y(ε_p, 0).
+    hardening_peak_pa: Option<f64>,
+}
+
+impl<'a> YieldSurface<'a> {
+    pub fn new(model: &'a FlowStress) -> Self {
+        YieldSurface {
+            model,
+            hardening_peak_pa: model.hardening_peak_pa(),
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Return {
     /// Plastic strain increment.
@@ -32,14 +51,14 @@ pub struct Return {
 /// `None` (and `s` untouched) when the trial stress is elastic.
 #[inline]
 pub fn radial_return(
-    model: &FlowStress,
+    surface: &YieldSurface<'_>,
     shear: f64,
     s: &mut [f64; 4],
     st: State,
 ) -> Option<Return> {
-    match model {
+    match surface.model {
         FlowStress::JohnsonCook(jc) => johnson_cook_return(jc, shear, s, st),
-        other => general_return(other, shear, s, st),
+        _ => general_return(surface, shear, s, st),
     }
 }
 
@@ -130,17 +149,34 @@ fn johnson_cook_return(
 /// The return for any flow-stress model: σ_y and its slopes from the model. A model that
 /// may soften with strain (TANH, measured curves) is bracketed by [0, σ_tr/3G], where
 /// f = −σ_y ≤ 0.
-fn general_return(model: &FlowStress, shear: f64, s: &mut [f64; 4], st: State) -> Option<Return> {
+fn general_return(
+    surface: &YieldSurface<'_>,
+    shear: f64,
+    s: &mut [f64; 4],
+    st: State,
+) -> Option<Return> {
+    let model = surface.model;
     let trial = von_mises(s);
     let at = model.at_temperature(st.temperature_k);
     // Most particles of a cut are elastic: the floor needs no power of ε_p.
     if trial <= at.floor() * st.strength {
         return None;
     }
-    let y0 = at.flow_stress(st.eps_p, 0.0) * st.strength;
-    if trial <= y0 {
-        return None;
-    }
+    // Most yielding particles flow at rates whose factor lifts the trial stress above the
+    // quasi-static ceiling: those need no σ_y(ε_p, 0) to be known plastic (the same
+    // decision, so the same bytes). A model that hardens monotonically needs σ_y(ε_p, 0)
+    // for its bracket anyway.
+    let monotone = model.hardens_monotonically();
+    let above_ceiling = trial > at.quasi_static_ceiling(surface.hardening_peak_pa) * st.strength;
+    let y0 = if monotone || !above_ceiling {
+        let y0 = at.flow_stress(st.eps_p, 0.0) * st.strength;
+        if trial <= y0 {
+            return None;
+        }
+        y0
+    } else {
+        0.0
+    };
     let g3 = 3.0 * shear;
     let eval = |d: f64| {
         let rate = st.rate_scale * d / st.dt;
@@ -153,7 +189,7 @@ fn general_return(model: &FlowStress, shear: f64, s: &mut [f64; 4], st: State) -
             -g3 - dy_de * st.strength - dlnr * st.strength,
         )
     };
-    let hi = if model.hardens_monotonically() {
+    let hi = if monotone {
         (trial - y0) / g3
     } else {
         trial / g3
@@ -223,7 +259,13 @@ mod tests {
         let g = 80e9;
         for (t, amp) in [(293.15, 2e9), (700.0, 1e9), (1700.0, 5e8), (2000.0, 5e8)] {
             let mut s = [amp, 0.3 * amp, -0.4 * amp, -0.6 * amp];
-            let r = radial_return(&jc, g, &mut s, State::new(0.1, t, 1e-9, 1.0)).unwrap();
+            let r = radial_return(
+                &YieldSurface::new(&jc),
+                g,
+                &mut s,
+                State::new(0.1, t, 1e-9, 1.0),
+            )
+            .unwrap();
             let vm = (1.5 * (s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + 2.0 * s[1] * s[1])).sqrt();
             let want = jc.flow_stress(0.1 + r.d_eps, r.d_eps / 1e-9, t);
             assert!(
@@ -235,7 +277,12 @@ mod tests {
         // Elastic: untouched.
         let mut s = [1e6, 0.0, -1e6, 0.0];
         assert_eq!(
-            radial_return(&jc, g, &mut s, State::new(0.0, 293.15, 1e-9, 1.0)),
+            radial_return(
+                &YieldSurface::new(&jc),
+                g,
+                &mut s,
+                State::new(0.0, 293.15, 1e-9, 1.0)
+            ),
             None
         );
         assert_eq!(s, [1e6, 0.0, -1e6, 0.0]);
@@ -261,7 +308,7 @@ mod tests {
             let amp = (y0 + over) / (1.5f64 * 2.0).sqrt();
             let mut s = [amp, 0.0, -amp, 0.0];
             let r = radial_return(
-                &jc,
+                &YieldSurface::new(&jc),
                 g,
                 &mut s,
                 State {
@@ -277,5 +324,49 @@ mod tests {
                 "eps_p {eps_p}, overstress {over} Pa, guess {guess}: {vm} vs {want}"
             );
         }
+    }
+
+    /// The quasi-static ceiling only skips evaluating σ_y(ε_p, 0): every TANH return, elastic
+    /// or plastic, near the ceiling or far above it, at any temperature, damage share and
+    /// warm start, is the same bytes with and without it.
+    #[test]
+    fn the_quasi_static_ceiling_changes_no_return() {
+        let tanh = FlowStress::Tanh(greybox_material::TanhJohnsonCook::ti6al4v_sima_ozel_2010());
+        let with = YieldSurface::new(&tanh);
+        assert!(with.hardening_peak_pa.is_some());
+        let without = YieldSurface {
+            hardening_peak_pa: None,
+            ..with
+        };
+        let (g, dt) = (44e9, 1e-9);
+        let (mut skipped, mut plastic) = (0, 0);
+        for t in [293.0, 600.0, 900.0, 1300.0, 1800.0] {
+            let at = tanh.at_temperature(t);
+            let ceiling = at.quasi_static_ceiling(with.hardening_peak_pa);
+            for eps_p in [0.0, 0.05, 0.4853, 1.0, 3.0] {
+                for strength in [1.0, 0.6] {
+                    for over in [0.5, 0.9, 0.999, 1.0, 1.000_000_001, 1.01, 1.3, 2.0] {
+                        let vm = over * ceiling * strength;
+                        let amp = vm / 3f64.sqrt();
+                        let st = State {
+                            guess: 1e-4,
+                            strength,
+                            ..State::new(eps_p, t, dt, 1.0)
+                        };
+                        let (mut a, mut b) = ([amp, 0.0, -amp, 0.0], [amp, 0.0, -amp, 0.0]);
+                        let ra = radial_return(&with, g, &mut a, st);
+                        let rb = radial_return(&without, g, &mut b, st);
+                        assert_eq!(ra, rb, "T {t}, ε_p {eps_p}, {over} × ceiling");
+                        assert_eq!(a, b);
+                        skipped += usize::from(vm > ceiling * strength);
+                        plastic += usize::from(ra.is_some());
+                    }
+                }
+            }
+        }
+        assert!(
+            skipped > 0 && plastic > skipped,
+            "{skipped} skipped of {plastic} plastic"
+        );
     }
 }

@@ -6,7 +6,7 @@ use super::{Advance, Derived, SimError, Solver};
 use crate::particles::{mass_factor, spacing_factor};
 use crate::plasticity;
 use crate::rates::Rates;
-use greybox_material::{FlowStress, JohnsonCookDamage, Thermal};
+use greybox_material::{JohnsonCookDamage, Thermal};
 use rayon::prelude::*;
 
 impl Solver {
@@ -20,7 +20,11 @@ impl Solver {
             dt: self.dt,
             advance,
             d,
-            flow: self.material.plasticity.as_ref(),
+            flow: self
+                .material
+                .plasticity
+                .as_ref()
+                .map(plasticity::YieldSurface::new),
             damage: self.material.damage.as_ref(),
             spacing: self.particles.spacing,
             th: &self.material.thermal,
@@ -120,7 +124,7 @@ struct UpdateInputs<'a> {
     /// Which particles move, by Δt or 2Δt.
     advance: Advance<'a>,
     d: Derived,
-    flow: Option<&'a FlowStress>,
+    flow: Option<plasticity::YieldSurface<'a>>,
     /// Ductile damage softening the flow stress; `None`: none.
     damage: Option<&'a JohnsonCookDamage>,
     /// Spacing of a level-0 particle, m (the length the damage's fracture energy is spread
@@ -258,7 +262,7 @@ fn plastic_and_heating(
             guess: previous_increment,
             strength,
         };
-        if let Some(ret) = plasticity::radial_return(flow, inp.d.shear, &mut s, state) {
+        if let Some(ret) = plasticity::radial_return(&flow, inp.d.shear, &mut s, state) {
             if let Some(damage) = inp.damage {
                 advance_damage(inp, dt, damage, &ret, strength, k, ch);
             }
