@@ -7,7 +7,11 @@
 //! from the rake face plus one spacing. A serrated chip's thickness rises and falls along
 //! it: a *peak* is a local maximum that stands more than one particle spacing above the
 //! valleys on both sides of it (a smaller ripple is the particle lattice, not a segment),
-//! and a *valley* the least thickness between two peaks. Then
+//! and a *valley* the least thickness between two peaks. Where the chip holds particles of
+//! several spacings (a refined cut whose chip is coarsened, or whose chip began before the
+//! refinement), "one spacing" is the coarser of the two bins compared, each bin's being the
+//! coarser of its two extreme particles': a coarse lattice's ripple is no segment either.
+//! Then
 //!
 //! * the **segment pitch** p_c is the mean distance between neighbouring peaks along the
 //!   chip, m;
@@ -38,14 +42,26 @@ pub struct Serration {
 /// The chip's shape at one instant.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChipShape {
-    /// (distance along the rake face from the edge point, m; thickness, m) per bin holding at
-    /// least three particles.
-    pub profile: Vec<(f64, f64)>,
+    /// The thickness per bin along the rake face holding at least three particles, in order
+    /// along the chip.
+    pub profile: Vec<ProfileBin>,
     /// The finest particle spacing in the chip, m.
     pub fine: f64,
     /// The farthest chip particle along the rake face within one spacing of it, m: the
     /// tool–chip contact length as the chip's particles show it.
     pub contact_length_m: Option<f64>,
+}
+
+/// One bin of a chip's thickness profile.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProfileBin {
+    /// Distance along the rake face from the edge point, m.
+    pub along_m: f64,
+    /// Chip thickness, m.
+    pub thickness_m: f64,
+    /// The coarser spacing of the bin's two extreme particles, m: thickness ripples smaller
+    /// than it are the particle lattice.
+    pub spacing_m: f64,
 }
 
 /// The chip's thickness profile along the rake face and its contact with it (`None`: no
@@ -104,7 +120,11 @@ pub fn chip_shape(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<Chi
         .iter()
         .enumerate()
         .filter(|(_, b)| b.0 >= 3)
-        .map(|(k, b)| (s0 + (k as f64 + 0.5) * width, b.3 - b.1 + 0.5 * (b.2 + b.4)))
+        .map(|(k, b)| ProfileBin {
+            along_m: s0 + (k as f64 + 0.5) * width,
+            thickness_m: b.3 - b.1 + 0.5 * (b.2 + b.4),
+            spacing_m: b.2.max(b.4),
+        })
         .collect();
     Some(ChipShape {
         profile,
@@ -113,16 +133,16 @@ pub fn chip_shape(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<Chi
     })
 }
 
-/// The serration of a thickness `profile` (distance, thickness; in order along the chip)
-/// whose ripples smaller than `resolution` (one particle spacing) are no segments.
-pub fn serration_of(profile: &[(f64, f64)], resolution: f64) -> Option<Serration> {
-    let (peaks, valleys) = turning_points(profile, resolution);
+/// The serration of a thickness `profile` (in order along the chip) whose ripples smaller
+/// than the bins' spacing are no segments.
+pub fn serration_of(profile: &[ProfileBin]) -> Option<Serration> {
+    let (peaks, valleys) = turning_points(profile);
     if peaks.len() < 2 || valleys.is_empty() {
         return None;
     }
-    let mean = |v: &[(f64, f64)]| v.iter().map(|p| p.1).sum::<f64>() / v.len() as f64;
+    let mean = |v: &[ProfileBin]| v.iter().map(|p| p.thickness_m).sum::<f64>() / v.len() as f64;
     let (hi, lo) = (mean(&peaks), mean(&valleys));
-    let pitch = (peaks[peaks.len() - 1].0 - peaks[0].0) / (peaks.len() - 1) as f64;
+    let pitch = (peaks[peaks.len() - 1].along_m - peaks[0].along_m) / (peaks.len() - 1) as f64;
     Some(Serration {
         pitch_m: pitch,
         degree: (hi - lo) / hi,
@@ -135,17 +155,22 @@ pub fn serration_of(profile: &[(f64, f64)], resolution: f64) -> Option<Serration
 impl ChipShape {
     /// The chip's serration (`None`: no two segments).
     pub fn serration(&self) -> Option<Serration> {
-        serration_of(&self.profile, self.fine)
+        serration_of(&self.profile)
     }
 }
 
-/// Points of a thickness profile: (distance along the chip, thickness), m.
-type Points = Vec<(f64, f64)>;
+/// Bins of a thickness profile.
+type Points = Vec<ProfileBin>;
 
-/// The peaks of `profile` that stand more than `resolution` above the valleys on both sides,
-/// and the valleys between neighbouring peaks (a zigzag with hysteresis `resolution`).
-fn turning_points(profile: &[(f64, f64)], resolution: f64) -> (Points, Points) {
-    let mut extremes: Vec<((f64, f64), bool)> = Vec::new(); // (point, is a peak)
+/// The lattice's ripple between bins `a` and `b`: the coarser of their spacings, m.
+fn ripple(a: ProfileBin, b: ProfileBin) -> f64 {
+    a.spacing_m.max(b.spacing_m)
+}
+
+/// The peaks of `profile` that stand more than a spacing above the valleys on both sides,
+/// and the valleys between neighbouring peaks (a zigzag with a spacing's hysteresis).
+fn turning_points(profile: &[ProfileBin]) -> (Points, Points) {
+    let mut extremes: Vec<(ProfileBin, bool)> = Vec::new(); // (bin, is a peak)
     let Some(&first) = profile.first() else {
         return (Vec::new(), Vec::new());
     };
@@ -153,21 +178,21 @@ fn turning_points(profile: &[(f64, f64)], resolution: f64) -> (Points, Points) {
     let (mut hi, mut lo) = (first, first);
     let mut rising: Option<bool> = None;
     for &p in &profile[1..] {
-        if p.1 > hi.1 {
+        if p.thickness_m > hi.thickness_m {
             hi = p;
         }
-        if p.1 < lo.1 {
+        if p.thickness_m < lo.thickness_m {
             lo = p;
         }
         match rising {
-            Some(true) | None if p.1 < hi.1 - resolution => {
-                if rising.is_some() || hi.1 - lo.1 > resolution {
+            Some(true) | None if p.thickness_m < hi.thickness_m - ripple(p, hi) => {
+                if rising.is_some() || hi.thickness_m - lo.thickness_m > ripple(hi, lo) {
                     extremes.push((hi, true));
                 }
                 rising = Some(false);
                 lo = p;
             }
-            Some(false) | None if p.1 > lo.1 + resolution => {
+            Some(false) | None if p.thickness_m > lo.thickness_m + ripple(p, lo) => {
                 if rising.is_some() {
                     extremes.push((lo, false));
                 }
@@ -195,20 +220,28 @@ mod tests {
 
     /// A sawtooth chip: thickness 100 µm rising to 140 µm over each 50 µm segment, binned
     /// every 5 µm, with a 2 µm lattice ripple on top.
-    fn sawtooth() -> Vec<(f64, f64)> {
+    fn sawtooth() -> Vec<ProfileBin> {
         (0..80)
             .map(|k| {
                 let s = 5e-6 * k as f64;
                 let frac = (s / 50e-6).fract();
                 let ripple = if k % 2 == 0 { 2e-6 } else { 0.0 };
-                (s, 100e-6 + 40e-6 * frac + ripple)
+                bin(s, 100e-6 + 40e-6 * frac + ripple, 5e-6)
             })
             .collect()
     }
 
+    fn bin(along_m: f64, thickness_m: f64, spacing_m: f64) -> ProfileBin {
+        ProfileBin {
+            along_m,
+            thickness_m,
+            spacing_m,
+        }
+    }
+
     #[test]
     fn a_sawtooth_chip_has_its_pitch_and_degree() {
-        let s = serration_of(&sawtooth(), 5e-6).expect("serrated");
+        let s = serration_of(&sawtooth()).expect("serrated");
         assert!((s.pitch_m - 50e-6).abs() < 1e-9, "{s:?}");
         // peaks ≈ 135 + 2 (last bin before the drop, with the ripple), valleys 100 µm
         assert!((s.degree - (s.peak_m - s.valley_m) / s.peak_m).abs() < 1e-12);
@@ -218,14 +251,40 @@ mod tests {
 
     #[test]
     fn a_ripple_below_the_resolution_is_no_serration() {
-        let flat: Vec<(f64, f64)> = (0..80)
+        let flat: Vec<ProfileBin> = (0..80)
             .map(|k| {
-                (
-                    5e-6 * k as f64,
-                    100e-6 + if k % 3 == 0 { 3e-6 } else { 0.0 },
-                )
+                let t = 100e-6 + if k % 3 == 0 { 3e-6 } else { 0.0 };
+                bin(5e-6 * k as f64, t, 5e-6)
             })
             .collect();
-        assert_eq!(serration_of(&flat, 5e-6), None);
+        assert_eq!(serration_of(&flat), None);
+    }
+
+    /// A chip fine (5 µm) near the edge and coarsened (10 µm) beyond: the coarse part's
+    /// lattice ripple of 8 µm is more than a fine spacing but less than its own, so it is no
+    /// segment; the same ripple taken at the fine spacing would be, and a real 40 µm
+    /// sawtooth in the coarse part still is.
+    #[test]
+    fn a_coarse_lattice_ripple_is_no_serration() {
+        let chip = |coarse_spacing: f64, sawtooth: bool| -> Vec<ProfileBin> {
+            (0..120)
+                .map(|k| {
+                    let s = 5e-6 * k as f64;
+                    if k < 40 {
+                        return bin(s, 100e-6, 5e-6);
+                    }
+                    let t = if sawtooth {
+                        100e-6 + 40e-6 * (s / 50e-6).fract()
+                    } else {
+                        100e-6 + if (k / 2) % 2 == 0 { 8e-6 } else { 0.0 }
+                    };
+                    bin(s, t, coarse_spacing)
+                })
+                .collect()
+        };
+        assert_eq!(serration_of(&chip(10e-6, false)), None);
+        assert!(serration_of(&chip(5e-6, false)).is_some());
+        let s = serration_of(&chip(10e-6, true)).expect("serrated");
+        assert!((s.pitch_m - 50e-6).abs() < 1e-9, "{s:?}");
     }
 }
