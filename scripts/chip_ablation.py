@@ -31,7 +31,15 @@ The variants:
 * `mu-half`, `mu-1.5x` — μ × 0.5, × 1.5;
 * `damage`, `damage-gf=X` — Johnson–Cook damage with Lesuer's Ti6Al4V constants and
   Hillerborg softening (`[material.damage]`, greybox_material::damage), the fracture energy
-  43.6 kJ/m² (plane-strain K_IC = 75 MPa√m) or X kJ/m².
+  43.6 kJ/m² (plane-strain K_IC = 75 MPa√m) or X kJ/m²;
+* `shear-limit`, `shear-limit=X` — Coulomb friction capped by a limiting shear stress
+  (`[friction] shear_limit_pa`): the flow stress's A/√3, or X MPa;
+* `source-mu`, `source-mu-shear-limit` — the measurements' source's own friction: μ by
+  cutting speed from its Table (Ducobu, Pantalé & Lauwers, `Article.tex` of
+  `pantale/CIRP-2022-paper`, after Rech et al. 2013: 0.24 at 5 m/min falling to 0.17 at
+  40 m/min, linear between its speeds), without and with the limiting shear stress A/√3 it
+  uses (its heat partition β is not carried over: the thermal tool takes its share by
+  conduction here).
 
     python3 scripts/chip_ablation.py GREYBOX validation/ti64-tanh-setup.toml \\
         --data validation/orthogonal-cutting.csv --conditions D07 D12 D17 --mu 0.396 \\
@@ -112,9 +120,42 @@ def variant_text(template, cond, mu, variant, cut_length_m, coarse_spacing_m):
     elif variant == 'damage' or variant.startswith('damage-gf='):
         gf = float(variant.split('=')[1]) * 1e3 if '=' in variant else LESUER_FRACTURE_ENERGY
         parts.append(('material.damage', damage_lines(parts, gf)))
+    elif variant.startswith('shear-limit') or variant.startswith('source-mu'):
+        friction_variant(parts, variant, speed * 60.0)
     elif variant not in ('baseline', 'mass-scaled'):
         raise SystemExit(f'unknown variant {variant}')
     return join(parts) + '\n' + REFINEMENT
+
+
+# μ by cutting speed (m/min) of the measurements' source (Ducobu, Pantalé & Lauwers,
+# pantale/CIRP-2022-paper, Article.tex, table "Friction and heat transfer coefficients").
+SOURCE_MU = [(5.0, 0.24), (7.5, 0.22), (10.0, 0.21), (20.0, 0.19), (30.0, 0.18), (40.0, 0.17)]
+
+
+def source_mu(speed_m_per_min):
+    """The source's μ at a speed, linear between its speeds (its end values outside)."""
+    pts = SOURCE_MU
+    if speed_m_per_min <= pts[0][0]:
+        return pts[0][1]
+    for (v0, m0), (v1, m1) in zip(pts, pts[1:]):
+        if speed_m_per_min <= v1:
+            return m0 + (m1 - m0) * (speed_m_per_min - v0) / (v1 - v0)
+    return pts[-1][1]
+
+
+def friction_variant(parts, variant, speed_m_per_min):
+    """`shear-limit[=MPa]`, `source-mu`, `source-mu-shear-limit` (module doc)."""
+    if variant.startswith('source-mu'):
+        set_key(parts, '', 'mu', repr(source_mu(speed_m_per_min)))
+    if variant.startswith('shear-limit='):
+        tau = float(variant.split('=')[1]) * 1e6
+    elif variant in ('shear-limit', 'source-mu-shear-limit'):
+        tau = float(get_key(parts, 'material.plasticity', 'a_pa')) / 3 ** 0.5
+    elif variant == 'source-mu':
+        return
+    else:
+        raise SystemExit(f'unknown variant {variant}')
+    parts.append(('friction', [f'shear_limit_pa = {tau!r}']))
 
 
 # Plane-strain fracture energy K_IC² (1 − ν²)/E of Ti6Al4V, J/m²: K_IC = 75 MPa√m,
@@ -209,6 +250,9 @@ def main():
                   f"| {cell(s, 'rake_peak_temperature_c', 0)} | {wall:.0f} |")
     speeds = sorted(a.conditions, key=lambda c: float(rows[c]['cutting_speed_m_per_min']))
     slow, fast = speeds[0], speeds[1:]
+    if not fast:
+        print('\n(one condition: no speed dependence to state)')
+        return
     measured = float(rows[slow]['chip_ratio']) - sum(float(rows[c]['chip_ratio']) for c in fast) / len(fast)
     print(f"\nh_c/h at {slow} minus the mean over {', '.join(fast)} (measured {measured:+.3f}):")
     for v in a.variants:

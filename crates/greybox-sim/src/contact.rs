@@ -224,7 +224,12 @@ fn stick_slip(
     let win = tool.window_at(sp.s);
     let mu = win.map_or(0.0, |k| tool.windows[k].mu);
     let ft = ftx.hypot(fty);
-    let cap = mu * fn_;
+    // Coulomb's μ f_N, and at most the limiting shear stress over the particle's share of
+    // the surface (its spacing; forces per unit depth).
+    let coulomb = mu * fn_;
+    let cap = tool
+        .shear_limit_pa
+        .map_or(coulomb, |tau| coulomb.min(tau * p.spacing_of(i)));
     let slipping = ft > cap;
     if slipping {
         let s = cap / ft;

@@ -356,6 +356,13 @@ pub struct FrictionSetup {
     /// Smoothing of the state each window hands to its law, in time and along the tool
     /// (default: none; see [`crate::friction_loop`]).
     pub smoothing: crate::friction_loop::Smoothing,
+    /// The limiting shear stress τ_max of the tool–chip interface, Pa: the friction stress is
+    /// min(μσ_n, τ_max), Coulomb friction up to the shear the interface can carry (Zorev's
+    /// sticking zone near the edge, where μσ_n would exceed it; Abaqus's `TAUMAX`, set to the
+    /// material's shear yield A/√3 in Ducobu et al.'s Ti6Al4V model). `None` (unset, not
+    /// written out): Coulomb alone.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shear_limit_pa: Option<f64>,
 }
 
 impl Default for FrictionSetup {
@@ -366,6 +373,7 @@ impl Default for FrictionSetup {
             law_file: None,
             law: None,
             smoothing: Default::default(),
+            shear_limit_pa: None,
         }
     }
 }
@@ -533,6 +541,9 @@ impl CuttingSetup {
                         !(self.friction.law.is_some() && self.friction.law_file.is_some()),
                         "give either law (inline) or law_file, not both",
                     );
+                if let Some(tau) = self.friction.shear_limit_pa {
+                    r.positive("shear_limit_pa", tau);
+                }
             })
             .relation(
                 !(self.modelled_surface_m() / self.friction.window_length_m > MAX_WINDOWS),
@@ -731,6 +742,7 @@ impl CuttingSetup {
             contacts: 0,
             thermal,
             last_close_step: None,
+            shear_limit_pa: self.friction.shear_limit_pa,
         };
         let (material, numerics) = self.time_scaled_material();
         Ok((

@@ -260,6 +260,11 @@ pub struct Tool {
     /// read the loop's intervals when it equals the current step, whatever the loop's cadence.
     #[serde(default)]
     pub last_close_step: Option<u64>,
+    /// The limiting shear stress of the contact, Pa: a particle's friction force is at most
+    /// τ_max times its share of the surface (its spacing), besides μ f_N (`None`: Coulomb
+    /// alone; [`crate::cutting::FrictionSetup::shear_limit_pa`]).
+    #[serde(default)]
+    pub shear_limit_pa: Option<f64>,
 }
 
 impl Tool {
@@ -287,6 +292,7 @@ impl Tool {
             contacts: 0,
             thermal: None,
             last_close_step: None,
+            shear_limit_pa: None,
         }
     }
 

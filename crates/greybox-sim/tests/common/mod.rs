@@ -55,9 +55,7 @@ pub fn coarse_cut() -> greybox_sim::cutting::CuttingSetup {
         friction: FrictionSetup {
             window_length_m: 20e-6,
             update_every_steps: 100,
-            law_file: None,
-            law: None,
-            smoothing: Default::default(),
+            ..FrictionSetup::default()
         },
         steady: SteadySetup::default(),
         tool_thermal: None,
