@@ -286,9 +286,8 @@ mod tests {
     }
 
     /// The quasi-static ceiling the radial return tests bounds σ_y from above at every
-    /// temperature, strain and rate up to ε̇₀, and is reached at the hardening peak (ε where
-    /// ε^a = n/a) where G = 1 (T = 0 K: p = 0, and tanh(1/ε^c)^s → 1 only as ε → 0, so the
-    /// bound is tight within G there).
+    /// temperature, strain and rate up to ε̇₀; the hardening reaches its peak value at the
+    /// strain where ε^a = n/a (a set with a stronger, later hardening peak too).
     #[test]
     fn quasi_static_ceiling_bounds_the_flow_stress_from_above() {
         for m in [

@@ -16,8 +16,9 @@ use greybox_material::Material;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// The band the chip thickness is measured in ([`crate::chip::chip_thickness`]), in uncut chip thicknesses h above the
-/// original workpiece surface (which lies h above the cutting edge): from h to 2h.
+/// The band the chip thickness is measured in ([`crate::chip::chip_thickness`]), in uncut
+/// chip thicknesses h above the original workpiece surface (which lies h above the cutting
+/// edge): from h to 2h.
 pub const MEASURING_BAND_H: [f64; 2] = [1.0, 2.0];
 
 /// The top of [`MEASURING_BAND_H`] above the cutting edge, m, for an uncut chip thickness

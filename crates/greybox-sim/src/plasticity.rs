@@ -17,6 +17,9 @@
 //!
 //! Models that may soften as the strain grows (TANH Johnson–Cook, measured curves) cannot use
 //! the perfectly plastic upper bound; their bracket is [0, σ_tr/3G], where f = −σ_y ≤ 0.
+//! They need σ_y(ε_p, 0) only to tell an elastic step, and a TANH trial stress above the
+//! model's quasi-static ceiling at its temperature (the largest hardening, G ≤ 1, rate
+//! factor 1: [`YieldSurface`]) is plastic without it.
 
 use greybox_material::{FlowStress, JohnsonCook};
 
@@ -162,22 +165,23 @@ fn general_return(
     if trial <= at.floor() * st.strength {
         return None;
     }
-    // Most yielding particles flow at rates whose factor lifts the trial stress above the
-    // quasi-static ceiling: those need no σ_y(ε_p, 0) to be known plastic (the same
-    // decision, so the same bytes). A model that hardens monotonically needs σ_y(ε_p, 0)
-    // for its bracket anyway.
-    let monotone = model.hardens_monotonically();
-    let above_ceiling = trial > at.quasi_static_ceiling(surface.hardening_peak_pa) * st.strength;
-    let y0 = if monotone || !above_ceiling {
+    let g3 = 3.0 * shear;
+    let hi = if model.hardens_monotonically() {
         let y0 = at.flow_stress(st.eps_p, 0.0) * st.strength;
         if trial <= y0 {
             return None;
         }
-        y0
+        (trial - y0) / g3
     } else {
-        0.0
+        // Most yielding particles flow at rates whose factor lifts the trial stress above
+        // the quasi-static ceiling: those need no σ_y(ε_p, 0) to be known plastic (the same
+        // decision, so the same bytes).
+        let ceiling = at.quasi_static_ceiling(surface.hardening_peak_pa) * st.strength;
+        if trial <= ceiling && trial <= at.flow_stress(st.eps_p, 0.0) * st.strength {
+            return None;
+        }
+        trial / g3
     };
-    let g3 = 3.0 * shear;
     let eval = |d: f64| {
         let rate = st.rate_scale * d / st.dt;
         let (y, dy_de, dy_dlnr) = at.flow_stress_slopes(st.eps_p + d, rate);
@@ -188,11 +192,6 @@ fn general_return(
             trial - g3 * d - y * st.strength,
             -g3 - dy_de * st.strength - dlnr * st.strength,
         )
-    };
-    let hi = if monotone {
-        (trial - y0) / g3
-    } else {
-        trial / g3
     };
     let d = solve_increment(eval, trial, hi, st.guess);
     Some(scale_to_yield(s, trial, g3, d))
