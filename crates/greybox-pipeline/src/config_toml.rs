@@ -21,11 +21,20 @@ pub fn read_text(path: &Path, what: &str) -> Result<String> {
 
 /// Parses configuration text from `source` (a file name for messages) into `T`.
 pub fn parse<T: DeserializeOwned>(text: &str, source: &str, what: &str) -> Result<T> {
+    Ok(parse_with_raw(text, source, what)?.0)
+}
+
+/// [`parse`], and the TOML as written (for what a file states, beside what it means).
+pub fn parse_with_raw<T: DeserializeOwned>(
+    text: &str,
+    source: &str,
+    what: &str,
+) -> Result<(T, toml::Value)> {
     let value: T = toml::from_str(text).with_context(|| format!("{source}: invalid {what}"))?;
     let raw: toml::Value =
         toml::from_str(text).with_context(|| format!("{source}: invalid {what}"))?;
     check_finite(&raw, source)?;
-    Ok(value)
+    Ok((value, raw))
 }
 
 /// Refuses a TOML value holding ±∞ or NaN anywhere, naming its dotted key.

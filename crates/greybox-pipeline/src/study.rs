@@ -23,6 +23,10 @@ pub struct Study {
     pub identify: IdentifyConfig,
     pub recording: ChannelMap,
     pub fit: FitConfig,
+    /// The keys its file states in `[plan]` (none without a file or a `[plan]`): what the
+    /// article's defaults do not fill in. Read with the study, from the same text.
+    #[serde(skip)]
+    pub declared_plan_keys: Vec<String>,
 }
 
 impl Study {
@@ -37,7 +41,13 @@ impl Study {
     /// assert!(format!("{e:#}").contains("velocity_cnt"));
     /// ```
     pub fn parse(text: &str, source: &str) -> Result<Self> {
-        let study: Study = crate::config_toml::parse(text, source, "study file")?;
+        let (mut study, raw): (Study, toml::Value) =
+            crate::config_toml::parse_with_raw(text, source, "study file")?;
+        study.declared_plan_keys = raw
+            .get("plan")
+            .and_then(toml::Value::as_table)
+            .map(|t| t.keys().cloned().collect())
+            .unwrap_or_default();
         study
             .contact
             .validate()
@@ -54,16 +64,6 @@ impl Study {
             Some(p) => Self::load(p),
             None => Ok(Study::default()),
         }
-    }
-    /// The keys the study file at `path` states in its `[plan]` section (none without one;
-    /// its other sections are not checked here): what the article's defaults do not fill in.
-    pub fn declared_plan_keys(path: &Path) -> Result<Vec<String>> {
-        let value: toml::Value = crate::config_toml::read(path, "study file")?;
-        Ok(value
-            .get("plan")
-            .and_then(toml::Value::as_table)
-            .map(|t| t.keys().cloned().collect())
-            .unwrap_or_default())
     }
     /// The study as TOML.
     pub fn to_toml(&self) -> Result<String> {

@@ -113,10 +113,11 @@ impl CharacterizeSettings {
             impact.exponential_end = e;
         }
         let sample_rate_hz = given("sample_rate_hz", self.sample_rate_hz)?;
-        let stated = self.plan.stated()?;
+        let study = self.plan.study()?;
+        let stated = self.plan.stated_in(&study);
         let plan = match stated.any() {
             true => Some(ExcitationPlan {
-                plan: self.plan.study()?.plan.build()?,
+                plan: study.plan.build()?,
                 velocities_stated: stated.velocities,
             }),
             false => None,

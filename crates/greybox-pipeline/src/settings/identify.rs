@@ -311,7 +311,7 @@ impl IdentifySettings {
     pub fn options(&self, study: &Study) -> Result<IdentifyOptions> {
         let expect = if let Some(path) = &self.plan_steps {
             Expectation::Steps(read_expected_steps(path)?)
-        } else if !self.no_plan && self.plan.gives_plan()? {
+        } else if !self.no_plan && self.plan.stated_in(study).campaign() {
             Expectation::Plan(study.plan.build().context("cannot build the plan")?)
         } else {
             Expectation::None

@@ -8,8 +8,8 @@
 //!     ..Default::default() };
 //! let study = s.study()?;
 //! assert_eq!((study.plan.normal_force_count.get(), study.plan.velocity_max_m_per_min), (2, 200.0));
-//! assert!(s.gives_plan()?);
-//! assert!(!PlanSettings::default().gives_plan()?);
+//! assert!(s.stated_in(&study).campaign());
+//! assert!(!PlanSettings::default().stated_in(&study).campaign());
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
@@ -162,22 +162,17 @@ impl PlanSettings {
     /// aligns against a plan only when its loads or velocities are stated
     /// ([`StatedPlan::campaign`]); the excitation check needs the velocities and the track
     /// radius and says when the velocities are the article's.
-    pub fn stated(&self) -> Result<StatedPlan> {
-        let in_study = match &self.study {
-            Some(path) => Study::declared_plan_keys(path)?,
-            None => Vec::new(),
-        };
+    ///
+    /// `study` is the one these settings read ([`Self::study`]): its file's `[plan]` keys
+    /// come with it, so the file is read once.
+    pub fn stated_in(&self, study: &Study) -> StatedPlan {
+        let in_study = &study.declared_plan_keys;
         let study_names = |keys: &[&str]| in_study.iter().any(|k| keys.contains(&k.as_str()));
-        Ok(StatedPlan {
+        StatedPlan {
             loads: self.sets_loads() || study_names(&LOAD_KEYS),
             velocities: self.sets_velocities() || study_names(&VELOCITY_KEYS),
             track_radius: self.track_radius_mm.is_some() || study_names(&["track_radius_mm"]),
-        })
-    }
-
-    /// Whether a campaign plan is given: its loads or velocities stated (see [`Self::stated`]).
-    pub fn gives_plan(&self) -> Result<bool> {
-        Ok(self.stated()?.campaign())
+        }
     }
 
     /// The study file as a stage input, for the provenance (when given).
@@ -207,32 +202,42 @@ mod tests {
             track_radius_mm: Some(80.0),
             ..Default::default()
         };
-        let s = radius_only.stated().unwrap();
+        let stated = |p: &PlanSettings| p.stated_in(&p.study().unwrap());
+        let s = stated(&radius_only);
         assert!(s.any() && s.track_radius && !s.campaign());
-        assert!(!radius_only.gives_plan().unwrap());
         let (_d, p) = study("[plan]\ntrack_radius_mm = 80.0\ndwell_s = 1.0\n");
         let in_study = PlanSettings {
             study: Some(p),
             ..Default::default()
         };
-        let s = in_study.stated().unwrap();
+        let s = stated(&in_study);
         assert_eq!((s.track_radius, s.campaign()), (true, false));
         let (_d, p) = study("[plan]\nvelocities_m_per_min = [20.0, 40.0]\n");
         let speeds = PlanSettings {
             study: Some(p),
             ..Default::default()
         };
-        let s = speeds.stated().unwrap();
+        let s = stated(&speeds);
         assert_eq!(
             (s.velocities, s.loads, s.track_radius),
             (true, false, false)
         );
-        assert!(speeds.gives_plan().unwrap());
+        assert!(s.campaign());
         let loads = PlanSettings {
             normal_force_count: Some(PinCount::of(3)),
             ..Default::default()
         };
-        assert!(loads.stated().unwrap().loads);
-        assert!(!PlanSettings::default().stated().unwrap().any());
+        assert!(stated(&loads).loads);
+        assert!(!stated(&PlanSettings::default()).any());
+        // The keys come from the file the study was read from, not from a second reading.
+        let (d, p) = study("[plan]\nnormal_forces_N = [10.0, 20.0]\n");
+        let from_file = PlanSettings {
+            study: Some(p.clone()),
+            ..Default::default()
+        };
+        let read = from_file.study().unwrap();
+        std::fs::write(&p, "[plan]\ndwell_s = 1.0\n").unwrap();
+        assert!(from_file.stated_in(&read).loads);
+        drop(d);
     }
 }
