@@ -39,7 +39,11 @@ The variants:
   `pantale/CIRP-2022-paper`, after Rech et al. 2013: 0.24 at 5 m/min falling to 0.17 at
   40 m/min, linear between its speeds), without and with the limiting shear stress A/√3 it
   uses (its heat partition β is not carried over: the thermal tool takes its share by
-  conduction here).
+  conduction here);
+* `seo-jc`, `source-model` — the source's Ti6Al4V: Seo et al.'s J-C set (2005; A 997.9 MPa,
+  B 653.1 MPa, n 0.45, C 0.0198, m 0.7, T_room 293 K, T_m 1873 K) with its λ 6.3 W/(m·K) and
+  c_p 531 J/(kg·K) at the given μ; `source-model` with the source's friction as well (μ by
+  speed and τ_max = A/√3 = 576 MPa): the source's FE model in greybox's 2D cut.
 
     python3 scripts/chip_ablation.py GREYBOX validation/ti64-tanh-setup.toml \\
         --data validation/orthogonal-cutting.csv --conditions D07 D12 D17 --mu 0.396 \\
@@ -120,6 +124,10 @@ def variant_text(template, cond, mu, variant, cut_length_m, coarse_spacing_m):
     elif variant == 'damage' or variant.startswith('damage-gf='):
         gf = float(variant.split('=')[1]) * 1e3 if '=' in variant else LESUER_FRACTURE_ENERGY
         parts.append(('material.damage', damage_lines(parts, gf)))
+    elif variant in ('seo-jc', 'source-model'):
+        parts = source_material(parts)
+        if variant == 'source-model':
+            friction_variant(parts, 'source-mu-shear-limit', speed * 60.0)
     elif variant.startswith('shear-limit') or variant.startswith('source-mu'):
         friction_variant(parts, variant, speed * 60.0)
     elif variant not in ('baseline', 'mass-scaled'):
@@ -156,6 +164,18 @@ def friction_variant(parts, variant, speed_m_per_min):
     else:
         raise SystemExit(f'unknown variant {variant}')
     parts.append(('friction', [f'shear_limit_pa = {tau!r}']))
+
+
+def source_material(parts):
+    """The source's flow stress and thermal constants (module doc: `seo-jc`)."""
+    parts = remove_section(parts, 'material.plasticity')
+    parts.append(('material.plasticity', [
+        'model = "johnson_cook"', 'a_pa = 997.9e6', 'b_pa = 653.1e6', 'n = 0.45', 'c = 0.0198',
+        'm = 0.7', 'ref_strain_rate = 1.0', 'room_temperature_k = 293.0',
+        'melt_temperature_k = 1873.0']))
+    set_key(parts, 'material.thermal', 'conductivity', '{ x = [0.0], y = [6.3] }')
+    set_key(parts, 'material.thermal', 'specific_heat', '{ x = [0.0], y = [531.0] }')
+    return parts
 
 
 # Plane-strain fracture energy K_IC² (1 − ν²)/E of Ti6Al4V, J/m²: K_IC = 75 MPa√m,
