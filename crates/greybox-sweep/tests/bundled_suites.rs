@@ -21,7 +21,10 @@ fn every_bundled_suite_and_its_templates_read() {
             read_cutting_setup(&dir.join(&m.setup))
                 .unwrap_or_else(|e| panic!("{name}: {}: {e:#}", m.setup));
             for id in &m.calibration {
-                assert!(rows.iter().any(|r| &r.id == id), "{name}: no condition {id}");
+                assert!(
+                    rows.iter().any(|r| &r.id == id),
+                    "{name}: no condition {id}"
+                );
             }
         }
         suites += 1;
