@@ -40,9 +40,10 @@ The variants:
   40 m/min, linear between its speeds), without and with the limiting shear stress A/√3 it
   uses (its heat partition β is not carried over: the thermal tool takes its share by
   conduction here);
-* `seo-jc`, `source-model` — the source's Ti6Al4V: Seo et al.'s J-C set (2005; A 997.9 MPa,
-  B 653.1 MPa, n 0.45, C 0.0198, m 0.7, T_room 293 K, T_m 1873 K) with its λ 6.3 W/(m·K) and
-  c_p 531 J/(kg·K) at the given μ; `source-model` with the source's friction as well (μ by
+* `seo-jc`, `source-model` — the source's Ti6Al4V: the flow stress and thermal constants of
+  `validation/ti64-seo-setup.toml` (Seo et al.'s J-C set, 2005: A 997.9 MPa, B 653.1 MPa,
+  n 0.45, C 0.0198, m 0.7, T_room 293 K, T_m 1873 K; λ 6.3 W/(m·K), c_p 531 J/(kg·K)) at the
+  given μ; `source-model` with the source's friction as well (μ by
   speed and τ_max = A/√3 = 576 MPa): the source's FE model in greybox's 2D cut.
 
     python3 scripts/chip_ablation.py GREYBOX validation/ti64-tanh-setup.toml \\
@@ -166,15 +167,19 @@ def friction_variant(parts, variant, speed_m_per_min):
     parts.append(('friction', [f'shear_limit_pa = {tau!r}']))
 
 
+# The source's flow stress and thermal constants, as the Seo template states them.
+SOURCE_TEMPLATE = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'validation',
+                               'ti64-seo-setup.toml')
+
+
 def source_material(parts):
-    """The source's flow stress and thermal constants (module doc: `seo-jc`)."""
-    parts = remove_section(parts, 'material.plasticity')
-    parts.append(('material.plasticity', [
-        'model = "johnson_cook"', 'a_pa = 997.9e6', 'b_pa = 653.1e6', 'n = 0.45', 'c = 0.0198',
-        'm = 0.7', 'ref_strain_rate = 1.0', 'room_temperature_k = 293.0',
-        'melt_temperature_k = 1873.0']))
-    set_key(parts, 'material.thermal', 'conductivity', '{ x = [0.0], y = [6.3] }')
-    set_key(parts, 'material.thermal', 'specific_heat', '{ x = [0.0], y = [531.0] }')
+    """The template's `[material.plasticity]` and `[material.thermal]` replaced by those of
+    validation/ti64-seo-setup.toml (module doc: `seo-jc`)."""
+    with open(SOURCE_TEMPLATE) as f:
+        source = dict(sections(f.read()))
+    for name in ('material.plasticity', 'material.thermal'):
+        parts = remove_section(parts, name)
+        parts.append((name, source[name]))
     return parts
 
 
