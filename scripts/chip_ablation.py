@@ -44,7 +44,9 @@ The variants:
   `validation/ti64-seo-setup.toml` (Seo et al.'s J-C set, 2005: A 997.9 MPa, B 653.1 MPa,
   n 0.45, C 0.0198, m 0.7, T_room 293 K, T_m 1873 K; λ 6.3 W/(m·K), c_p 531 J/(kg·K)) at the
   given μ; `source-model` with the source's friction as well (μ by
-  speed and τ_max = A/√3 = 576 MPa): the source's FE model in greybox's 2D cut.
+  speed and τ_max = A/√3 = 576 MPa): the source's FE model in greybox's 2D cut;
+* `jc-of-tanh` — the TANH law without its TANH terms: plain J-C with the template's own A, B,
+  n, C, m (no hardening damping exp(−ε^a), no tanh softening).
 
     python3 scripts/chip_ablation.py GREYBOX validation/ti64-tanh-setup.toml \\
         --data validation/orthogonal-cutting.csv --conditions D07 D12 D17 --mu 0.396 \\
@@ -125,6 +127,11 @@ def variant_text(template, cond, mu, variant, cut_length_m, coarse_spacing_m):
     elif variant == 'damage' or variant.startswith('damage-gf='):
         gf = float(variant.split('=')[1]) * 1e3 if '=' in variant else LESUER_FRACTURE_ENERGY
         parts.append(('material.damage', damage_lines(parts, gf)))
+    elif variant == 'jc-of-tanh':
+        for header, lines in parts:
+            if header == 'material.plasticity':
+                lines[:] = [line for line in lines if not line.startswith('tanh_')]
+        set_key(parts, 'material.plasticity', 'model', '"johnson_cook"')
     elif variant in ('seo-jc', 'source-model'):
         parts = source_material(parts)
         if variant == 'source-model':
