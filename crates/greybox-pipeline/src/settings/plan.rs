@@ -9,7 +9,8 @@
 //! let study = s.study()?;
 //! assert_eq!((study.plan.normal_force_count.get(), study.plan.velocity_max_m_per_min), (2, 200.0));
 //! assert!(s.stated_in(&study).campaign());
-//! assert!(!PlanSettings::default().stated_in(&study).campaign());
+//! let none = PlanSettings::default();
+//! assert!(!none.stated_in(&none.study()?).campaign());
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
