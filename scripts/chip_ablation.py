@@ -45,6 +45,9 @@ The variants:
   n 0.45, C 0.0198, m 0.7, T_room 293 K, T_m 1873 K; λ 6.3 W/(m·K), c_p 531 J/(kg·K)) at the
   given μ; `source-model` with the source's friction as well (μ by
   speed and τ_max = A/√3 = 576 MPa): the source's FE model in greybox's 2D cut;
+* `seo-jc+KEY=X` (`+` repeated for several) — `seo-jc` with one flow-stress constant set to X
+  (`seo-jc+m=1.0`), and `seo-jc+template-thermal` with the template's own λ and c_p: which of
+  the source's constants gives the speed dependence;
 * `jc-of-tanh` — the TANH law without its TANH terms: plain J-C with the template's own A, B,
   n, C, m (no hardening damping exp(−ε^a), no tanh softening).
 
@@ -132,6 +135,16 @@ def variant_text(template, cond, mu, variant, cut_length_m, coarse_spacing_m):
             if header == 'material.plasticity':
                 lines[:] = [line for line in lines if not line.startswith('tanh_')]
         set_key(parts, 'material.plasticity', 'model', '"johnson_cook"')
+    elif variant.startswith('seo-jc+'):
+        thermal = dict(parts)['material.thermal'][:]
+        parts = source_material(parts)
+        for change in variant.split('+')[1:]:
+            if change == 'template-thermal':
+                parts = remove_section(parts, 'material.thermal')
+                parts.append(('material.thermal', thermal))
+            else:
+                key, value = change.split('=')
+                set_key(parts, 'material.plasticity', key, repr(float(value)))
     elif variant in ('seo-jc', 'source-model'):
         parts = source_material(parts)
         if variant == 'source-model':
