@@ -150,19 +150,23 @@ impl ForceHistory {
 
     /// Mean force (N/m) over rows with time in [t0, t1].
     pub fn mean_force(&self, t0: f64, t1: f64) -> Option<[f64; 2]> {
-        let sel: Vec<_> = self
+        Some([self.mean_column(3, t0, t1)?, self.mean_column(4, t0, t1)?])
+    }
+
+    /// Mean number of particles in contact over rows with time in [t0, t1].
+    pub fn mean_contacts(&self, t0: f64, t1: f64) -> Option<f64> {
+        self.mean_column(5, t0, t1)
+    }
+
+    /// Mean of row column `k` over rows with time in [t0, t1] (`None`: no such row).
+    fn mean_column(&self, k: usize, t0: f64, t1: f64) -> Option<f64> {
+        let sel: Vec<f64> = self
             .rows
             .iter()
             .filter(|r| r[0] >= t0 && r[0] <= t1)
+            .map(|r| r[k])
             .collect();
-        if sel.is_empty() {
-            return None;
-        }
-        let n = sel.len() as f64;
-        Some([
-            sel.iter().map(|r| r[3]).sum::<f64>() / n,
-            sel.iter().map(|r| r[4]).sum::<f64>() / n,
-        ])
+        (!sel.is_empty()).then(|| sel.iter().sum::<f64>() / sel.len() as f64)
     }
 }
 

@@ -67,7 +67,6 @@ fn slide(mu: f64, shear_limit_pa: Option<f64>, material: Material) -> Slide {
     model.numerics.thermal = false;
     let mut sim = Solver::new(model).unwrap();
     let mut hist = ForceHistory::new(0, 20);
-    let mut contacts = ContactCount::default();
     run(
         &mut sim,
         press + 0.5 * slide,
@@ -80,9 +79,7 @@ fn slide(mu: f64, shear_limit_pa: Option<f64>, material: Material) -> Slide {
         &mut sim,
         press + slide,
         "pin",
-        greybox_sim::Hooks::new()
-            .observe(&mut hist)
-            .observe(&mut contacts),
+        greybox_sim::Hooks::new().observe(&mut hist),
     )
     .unwrap();
     let f = hist.mean_force(press + 0.5 * slide, press + slide).unwrap();
@@ -95,28 +92,9 @@ fn slide(mu: f64, shear_limit_pa: Option<f64>, material: Material) -> Slide {
     Slide {
         tangential: f[0],
         normal: f[1],
-        contacts: contacts.mean(),
-    }
-}
-
-/// The mean number of particles in contact with the first tool over the steps it sees.
-#[derive(Default)]
-struct ContactCount {
-    sum: f64,
-    steps: f64,
-}
-
-impl ContactCount {
-    fn mean(&self) -> f64 {
-        self.sum / self.steps
-    }
-}
-
-impl greybox_sim::Observer for ContactCount {
-    fn after_step(&mut self, sim: &Solver) -> Result<greybox_sim::Control, greybox_sim::SimError> {
-        self.sum += sim.tools[0].contacts as f64;
-        self.steps += 1.0;
-        Ok(greybox_sim::Control::Continue)
+        contacts: hist
+            .mean_contacts(press + 0.5 * slide, press + slide)
+            .unwrap(),
     }
 }
 
