@@ -49,7 +49,11 @@ The variants:
   (`seo-jc+m=1.0`), and `seo-jc+template-thermal` with the template's own λ and c_p: which of
   the source's constants gives the speed dependence;
 * `jc-of-tanh` — the TANH law without its TANH terms: plain J-C with the template's own A, B,
-  n, C, m (no hardening damping exp(−ε^a), no tanh softening).
+  n, C, m (no hardening damping exp(−ε^a), no tanh softening);
+* `VARIANT@PATH=VALUE` (`@` repeated for several) — any variant above with set-up keys set
+  afterwards, `PATH` a dotted key of the set-up and `VALUE` a TOML value as written
+  (`seo-jc@numerics.av_alpha=0.5@numerics.xsph=0.0`: the SPH numerics under another flow
+  stress).
 
     python3 scripts/chip_ablation.py GREYBOX validation/ti64-tanh-setup.toml \\
         --data validation/orthogonal-cutting.csv --conditions D07 D12 D17 --mu 0.396 \\
@@ -70,7 +74,7 @@ import os
 import subprocess
 import time
 
-from setup_toml import get_key, join, remove_section, sections, set_key
+from setup_toml import get_key, join, remove_section, sections, set_key, set_path
 
 REFINEMENT = ('[refinement]\nregions = [{ ahead_m = 0.2e-3, behind_m = 0.02e-3, '
               'below_m = 0.04e-3, above_m = 0.3e-3 }]\n')
@@ -83,6 +87,18 @@ def condition_rows(path):
 
 
 def variant_text(template, cond, mu, variant, cut_length_m, coarse_spacing_m):
+    """The set-up of one cut: `variant`'s base (module doc), then its `@PATH=VALUE` keys."""
+    base, *overrides = variant.split('@')
+    text = base_variant_text(template, cond, mu, base, cut_length_m, coarse_spacing_m)
+    for override in overrides:
+        path, sep, value = override.partition('=')
+        if not sep or not path or not value:
+            raise SystemExit(f'{variant}: expected @PATH=VALUE, found @{override}')
+        text = set_path(text, path, value)
+    return text
+
+
+def base_variant_text(template, cond, mu, variant, cut_length_m, coarse_spacing_m):
     parts = sections(template)
     run_speed = float(get_key(parts, '', 'cutting_speed_m_s'))
     speed = float(cond['cutting_speed_m_per_min']) / 60.0

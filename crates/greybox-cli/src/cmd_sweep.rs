@@ -48,8 +48,8 @@ pub enum Sweep {
         #[arg(long)]
         json: bool,
     },
-    /// Find the Johnson–Cook C (and optionally a μ scale) that best matches measured forces
-    /// at several conditions, each iteration a sweep.
+    /// Find the Johnson–Cook C, or any set-up fields (and optionally a μ scale), that best
+    /// match measured forces and chip ratios at several conditions, each iteration a sweep.
     Calibrate {
         sweep_file: PathBuf,
         #[command(flatten)]

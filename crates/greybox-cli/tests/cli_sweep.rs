@@ -342,6 +342,97 @@ fn calibration_recovers_the_johnson_cook_c_the_measured_forces_were_made_with() 
     assert!(d.path().join("c/calibration.json").is_file());
 }
 
+/// A flow-stress constant fitted on the cutting force and the chip ratio together: the
+/// measured `chip_ratio` column counts in the error (training error = the mean of the F'c
+/// and h_c/h terms), and every residual carries the chip.
+#[test]
+fn calibration_fits_a_flow_stress_constant_on_forces_and_chip() {
+    let d = tempfile::tempdir().unwrap();
+    coarse_config(d.path(), None);
+    std::fs::write(
+        d.path().join("truth.toml"),
+        "[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\n[[axis]]\nfield = \"cutting_speed_m_s\"\nvalues = [2.0, 3.0, 4.0]\n[[axis]]\nfield = \"material.plasticity.n\"\nvalues = [0.45]\n",
+    )
+    .unwrap();
+    ok(&greybox(
+        &[
+            "-q",
+            "sweep",
+            "run",
+            "truth.toml",
+            "--out",
+            "t",
+            "--jobs",
+            "2",
+        ],
+        d.path(),
+    ));
+    ok(&greybox(&["sweep", "collect", "t"], d.path()));
+    measured_from(
+        d.path(),
+        &[
+            "cutting_speed_m_s",
+            "cutting_force_N_per_mm",
+            "compression_ratio",
+        ],
+    );
+    let m = std::fs::read_to_string(d.path().join("measured.csv")).unwrap();
+    std::fs::write(
+        d.path().join("measured.csv"),
+        m.replacen("compression_ratio", "chip_ratio", 1),
+    )
+    .unwrap();
+    std::fs::write(
+        d.path().join("cal.toml"),
+        "[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\n",
+    )
+    .unwrap();
+    let r: serde_json::Value = serde_json::from_str(&ok(&greybox(
+        &[
+            "-q",
+            "sweep",
+            "calibrate",
+            "cal.toml",
+            "--measured",
+            "measured.csv",
+            "--out",
+            "c",
+            "--fit",
+            "material.plasticity.n=0.1:0.8",
+            "--iterations",
+            "8",
+            "--jobs",
+            "2",
+            "--hold-out",
+            "3",
+            "--json",
+        ],
+        d.path(),
+    )))
+    .unwrap();
+    let n = r["parameters"][0][1].as_f64().unwrap();
+    assert!((n / 0.45 - 1.0).abs() < 0.15, "n = {n}: {r}");
+    let res = r["residuals"].as_array().unwrap();
+    let terms: Vec<f64> = res
+        .iter()
+        .filter(|x| !x["held_out"].as_bool().unwrap())
+        .flat_map(|x| {
+            let chip = x["chip_ratio_error"].as_f64().expect("a chip error");
+            [x["cutting_force_error"].as_f64().unwrap().abs(), chip.abs()]
+        })
+        .collect();
+    let mean = terms.iter().sum::<f64>() / terms.len() as f64;
+    let training = r["training_error"].as_f64().unwrap();
+    assert!(
+        (training - mean).abs() < 1e-12,
+        "{training} against {mean}: {r}"
+    );
+    for x in res {
+        assert!(x["measured_chip_ratio"].as_f64().unwrap() > 1.0, "{x}");
+        assert!(x["simulated_chip_ratio"].as_f64().unwrap() > 1.0, "{x}");
+    }
+}
+
 #[test]
 fn calibration_fits_a_parameter_of_an_inline_friction_law() {
     // the base cut with an inline law whose μ_ref is fitted (`--fit friction.law.mu_ref`)

@@ -97,7 +97,8 @@ impl ExecutorSettings {
 #[cfg_attr(feature = "cli", derive(clap::Args))]
 #[serde(deny_unknown_fields, default)]
 pub struct CalibrateSettings {
-    /// CSV: configuration fields per condition, cutting_force_N_per_mm[, feed_force_N_per_mm].
+    /// CSV: configuration fields per condition, cutting_force_N_per_mm[, feed_force_N_per_mm]
+    /// [, chip_ratio] (h_c/h: counted in the error where given).
     #[cfg_attr(feature = "cli", arg(long))]
     pub measured: PathBuf,
     /// Output directory.

@@ -93,14 +93,14 @@ pub fn calibration(r: &Calibration) -> String {
     }
     let _ = writeln!(
         t,
-        "; mean relative force error: training {:.2} %{}",
+        "; mean relative error: training {:.2} %{}",
         100.0 * r.training_error,
         r.held_out_error
             .map(|e| format!(", held out {:.2} %", 100.0 * e))
             .unwrap_or_default()
     );
     for x in &r.residuals {
-        let _ = writeln!(
+        let _ = write!(
             t,
             "  {:>3} {:<9} F'c measured {:.1} simulated {:.1} N/mm ({:+.1} %)",
             x.condition,
@@ -109,6 +109,21 @@ pub fn calibration(r: &Calibration) -> String {
             x.simulated_cutting_force_n_per_mm,
             100.0 * x.cutting_force_error
         );
+        if let (Some(m), Some(e)) = (x.measured_feed_force_n_per_mm, x.feed_force_error) {
+            let _ = write!(
+                t,
+                "; F'f {m:.1} / {:.1} N/mm ({:+.1} %)",
+                x.simulated_feed_force_n_per_mm,
+                100.0 * e
+            );
+        }
+        if let Some(m) = x.measured_chip_ratio {
+            let _ = match (x.simulated_chip_ratio, x.chip_ratio_error) {
+                (Some(s), Some(e)) => write!(t, "; h_c/h {m:.3} / {s:.3} ({:+.1} %)", 100.0 * e),
+                _ => write!(t, "; h_c/h {m:.3} / none (no chip measured)"),
+            };
+        }
+        t.push('\n');
     }
     t
 }
