@@ -240,13 +240,18 @@ pub struct CutCase {
 
 /// Reads a cutting set-up TOML and loads its law file (relative to the set-up's folder).
 pub fn read_cutting_setup(path: &Path) -> Result<CutCase> {
-    let mut setup: CuttingSetup = crate::config_toml::read(path, "cutting set-up")?;
+    let text = crate::config_toml::read_text(path, "cutting set-up")?;
+    cutting_setup_of_text(&text, path, &path.display().to_string())
+}
+
+/// [`read_cutting_setup`] of the set-up `text` that stands for the file at `path` (its
+/// directory resolves relative paths); `source` names it in messages.
+pub fn cutting_setup_of_text(text: &str, path: &Path, source: &str) -> Result<CutCase> {
+    let mut setup: CuttingSetup = crate::config_toml::parse(text, source, "cutting set-up")?;
     let base = path.parent().unwrap_or(Path::new("."));
-    let material_inputs = load_material_files(&mut setup.material, base)
-        .with_context(|| path.display().to_string())?;
-    setup
-        .validate()
-        .with_context(|| path.display().to_string())?;
+    let material_inputs =
+        load_material_files(&mut setup.material, base).with_context(|| source.to_string())?;
+    setup.validate().with_context(|| source.to_string())?;
     let mut case = cut_case(setup, base)?;
     case.inputs.insert(0, ("config", path.to_path_buf()));
     case.inputs.extend(material_inputs);

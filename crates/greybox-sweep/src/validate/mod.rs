@@ -30,13 +30,14 @@ pub mod variant;
 pub use conditions::{condition_setup, read_conditions, Condition};
 pub use report::{markdown, write_outputs};
 
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use batch::{Batches, CutJob, CutRunner};
 use cut::Cut;
 use fit::{best_shape, feed_error, fit_shapes, ErrorsAt, FactorErrors, ShapeFit};
 use greybox_sim::chip::RakeContact;
 use greybox_sim::cutting::CuttingSetup;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use variant::{FrictionVariant, Model, ModelLaw, VariantKind};
 
@@ -121,6 +122,38 @@ pub struct MaterialRuns {
     /// a refinement). Unset (off), it is not written out.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub local_time_stepping: bool,
+    /// Fields of the template set before it is read, by dotted path as a sweep's axes
+    /// (`set = { "material.plasticity.n" = 0.34 }`; the string `"none"` removes a field):
+    /// one template, several variants of it, without a copy of the file per variant.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub set: BTreeMap<String, toml::Value>,
+}
+
+impl MaterialRuns {
+    /// The entry's set-up template: its file with the entry's `set` fields applied.
+    fn template(&self, base: &Path) -> Result<CuttingSetup> {
+        let path = base.join(&self.setup);
+        if self.set.is_empty() {
+            return Ok(greybox_pipeline::simulate::read_cutting_setup(&path)?.setup);
+        }
+        let text = greybox_pipeline::config_toml::read_text(&path, "cutting set-up")?;
+        let mut v: toml::Value = greybox_pipeline::config_toml::parse(
+            &text,
+            &path.display().to_string(),
+            "cutting set-up",
+        )?;
+        for (field, value) in &self.set {
+            super::case::apply(&mut v, field, value)
+                .with_context(|| format!("material {}: set", self.label()))?;
+        }
+        let source = format!("{} with material {}'s set", path.display(), self.label());
+        Ok(greybox_pipeline::simulate::cutting_setup_of_text(
+            &toml::to_string(&v)?,
+            &path,
+            &source,
+        )?
+        .setup)
+    }
 }
 
 /// The most refinement steps a material may ask for (each cuts every calibration condition
@@ -840,8 +873,7 @@ fn material_plan<'a>(
         .collect();
     check_material(runs, &rows, suite, suite_path)?;
     let base = suite_path.parent().unwrap_or(Path::new("."));
-    let mut template =
-        greybox_pipeline::simulate::read_cutting_setup(&base.join(&runs.setup))?.setup;
+    let mut template = runs.template(base)?;
     if let Some(l) = runs.cut_length_m {
         if !(l > 0.0 && l.is_finite()) {
             bail!(
@@ -976,6 +1008,55 @@ pub fn validate_into(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A suite entry's `set` changes its template's fields by dotted path before the
+    /// template is read (the rest as in the file), removes one with "none", and a field the
+    /// set-up refuses is refused naming the file and the entry.
+    #[test]
+    fn a_suite_entry_sets_fields_of_its_template() {
+        let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation");
+        let entry = |set: &str| -> MaterialRuns {
+            toml::from_str(&format!(
+                "name = \"Ti6Al4V\"\nlabel = \"fitted\"\nsetup = \"ti64-seo-setup.toml\"\n\
+                 run_speed_m_per_min = 600.0\ncalibration = []\nmu_bracket = [0.1, 0.7]\nset = {set}\n"
+            ))
+            .unwrap()
+        };
+        let plain = entry("{}").template(&repo).unwrap();
+        let set = entry(r#"{ "material.plasticity.n" = 0.3, "chip_break_height_m" = "none" }"#)
+            .template(&repo)
+            .unwrap();
+        let n = |s: &CuttingSetup| match s.material.plasticity.as_ref().unwrap() {
+            greybox_material::FlowStress::JohnsonCook(jc) => jc.n,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!((n(&plain), n(&set)), (0.45, 0.3));
+        assert!(plain.chip_break_height_m.is_some() && set.chip_break_height_m.is_none());
+        let mut same = set.clone();
+        same.material = plain.material.clone();
+        same.chip_break_height_m = plain.chip_break_height_m;
+        assert_eq!(same, plain, "nothing else changes");
+        let e = format!(
+            "{:#}",
+            entry(r#"{ "material.plasticity.n" = -1.0 }"#)
+                .template(&repo)
+                .unwrap_err()
+        );
+        assert!(
+            e.contains("ti64-seo-setup.toml with material fitted's set") && e.contains("n"),
+            "{e}"
+        );
+        let e = format!(
+            "{:#}",
+            entry(r#"{ "material.plasticity.n.x" = 1.0 }"#)
+                .template(&repo)
+                .unwrap_err()
+        );
+        assert!(
+            e.contains("material fitted: set") && e.contains("'n' is not a table"),
+            "{e}"
+        );
+    }
 
     /// The shipped friction-sure suite, its conditions and options for planning it (thermal
     /// tool, half the cut length, in process).
