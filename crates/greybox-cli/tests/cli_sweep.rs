@@ -278,26 +278,12 @@ fn calibration_recovers_the_johnson_cook_c_the_measured_forces_were_made_with() 
     let d = tempfile::tempdir().unwrap();
     coarse_config(d.path(), None);
     // "measured": the cut at C = 0.03 at two speeds and a held-out third
-    std::fs::write(
-        d.path().join("truth.toml"),
-        "[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\nfraction = 0.4\n[[axis]]\nfield = \"cutting_speed_m_s\"\nvalues = [2.0, 3.0, 4.0]\n[[axis]]\nfield = \"material.plasticity.c\"\nvalues = [0.03]\n",
-    )
-    .unwrap();
-    ok(&greybox(
-        &[
-            "-q",
-            "sweep",
-            "run",
-            "truth.toml",
-            "--out",
-            "t",
-            "--jobs",
-            "2",
-        ],
+    measured_at(
         d.path(),
-    ));
-    ok(&greybox(&["sweep", "collect", "t"], d.path()));
-    measured_from(d.path(), &["cutting_speed_m_s", "cutting_force_N_per_mm"]);
+        0.4,
+        ("material.plasticity.c", 0.03),
+        &["cutting_force_N_per_mm"],
+    );
     std::fs::write(
         d.path().join("cal.toml"),
         "[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\nfraction = 0.4\n",
@@ -349,39 +335,12 @@ fn calibration_recovers_the_johnson_cook_c_the_measured_forces_were_made_with() 
 fn calibration_fits_a_flow_stress_constant_on_forces_and_chip() {
     let d = tempfile::tempdir().unwrap();
     coarse_config(d.path(), None);
-    std::fs::write(
-        d.path().join("truth.toml"),
-        "[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\n[[axis]]\nfield = \"cutting_speed_m_s\"\nvalues = [2.0, 3.0, 4.0]\n[[axis]]\nfield = \"material.plasticity.n\"\nvalues = [0.45]\n",
-    )
-    .unwrap();
-    ok(&greybox(
-        &[
-            "-q",
-            "sweep",
-            "run",
-            "truth.toml",
-            "--out",
-            "t",
-            "--jobs",
-            "2",
-        ],
+    measured_at(
         d.path(),
-    ));
-    ok(&greybox(&["sweep", "collect", "t"], d.path()));
-    measured_from(
-        d.path(),
-        &[
-            "cutting_speed_m_s",
-            "cutting_force_N_per_mm",
-            "compression_ratio",
-        ],
+        1.0,
+        ("material.plasticity.n", 0.45),
+        &["cutting_force_N_per_mm", "compression_ratio"],
     );
-    let m = std::fs::read_to_string(d.path().join("measured.csv")).unwrap();
-    std::fs::write(
-        d.path().join("measured.csv"),
-        m.replacen("compression_ratio", "chip_ratio", 1),
-    )
-    .unwrap();
     std::fs::write(
         d.path().join("cal.toml"),
         "[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\n",
@@ -442,32 +401,11 @@ fn calibration_fits_a_parameter_of_an_inline_friction_law() {
     cut += "\n[friction.law]\nlaw = \"power\"\nmu_ref = 0.3\np_ref_MPa = 1000.0\nv_ref_m_per_min = 150.0\nb = -0.2\nclamp = [0.05, 1.0]\n";
     std::fs::write(d.path().join("cut.toml"), cut).unwrap();
     // "measured": the cut with μ_ref = 0.5 at three speeds (the third held out)
-    std::fs::write(
-        d.path().join("truth.toml"),
-        "[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\nfraction = 0.4\n[[axis]]\nfield = \"cutting_speed_m_s\"\nvalues = [2.0, 3.0, 4.0]\n[[axis]]\nfield = \"friction.law.mu_ref\"\nvalues = [0.5]\n",
-    )
-    .unwrap();
-    ok(&greybox(
-        &[
-            "-q",
-            "sweep",
-            "run",
-            "truth.toml",
-            "--out",
-            "t",
-            "--jobs",
-            "2",
-        ],
+    measured_at(
         d.path(),
-    ));
-    ok(&greybox(&["sweep", "collect", "t"], d.path()));
-    measured_from(
-        d.path(),
-        &[
-            "cutting_speed_m_s",
-            "cutting_force_N_per_mm",
-            "feed_force_N_per_mm",
-        ],
+        0.4,
+        ("friction.law.mu_ref", 0.5),
+        &["cutting_force_N_per_mm", "feed_force_N_per_mm"],
     );
     std::fs::write(
         d.path().join("cal.toml"),
@@ -522,7 +460,34 @@ fn calibration_fits_a_parameter_of_an_inline_friction_law() {
 
 /// `measured.csv` from the collected sweep `t/results.csv` of `dir`: the `columns` of every
 /// case (the "measurements" of a calibration test).
-fn measured_from(dir: &std::path::Path, columns: &[&str]) {
+/// "Measured" conditions made by the base cut (`fraction` of its length) with `truth`'s field
+/// at its value, at cutting speeds 2, 3 and 4 m/s: `measured.csv` with the speed and
+/// `columns` of the sweep's `results.csv` (its `compression_ratio` as the measured
+/// `chip_ratio`).
+fn measured_at(dir: &std::path::Path, fraction: f64, truth: (&str, f64), columns: &[&str]) {
+    let (field, value) = truth;
+    std::fs::write(
+        dir.join("truth.toml"),
+        format!("[sweep]\nkind = \"cutting\"\nbase = \"cut.toml\"\nfraction = {fraction:?}\n[[axis]]\nfield = \"cutting_speed_m_s\"\nvalues = [2.0, 3.0, 4.0]\n[[axis]]\nfield = \"{field}\"\nvalues = [{value:?}]\n"),
+    )
+    .unwrap();
+    ok(&greybox(
+        &[
+            "-q",
+            "sweep",
+            "run",
+            "truth.toml",
+            "--out",
+            "t",
+            "--jobs",
+            "2",
+        ],
+        dir,
+    ));
+    ok(&greybox(&["sweep", "collect", "t"], dir));
+    let columns: Vec<&str> = std::iter::once("cutting_speed_m_s")
+        .chain(columns.iter().copied())
+        .collect();
     let csv = std::fs::read_to_string(dir.join("t/results.csv")).unwrap();
     let mut rdr = csv::Reader::from_reader(csv.as_bytes());
     let h = rdr.headers().unwrap().clone();
@@ -530,7 +495,7 @@ fn measured_from(dir: &std::path::Path, columns: &[&str]) {
         .iter()
         .map(|n| h.iter().position(|x| x == *n).unwrap())
         .collect();
-    let mut measured = columns.join(",") + "\n";
+    let mut measured = columns.join(",").replace("compression_ratio", "chip_ratio") + "\n";
     for r in rdr.records() {
         let r = r.unwrap();
         measured += &at.iter().map(|&k| &r[k]).collect::<Vec<_>>().join(",");

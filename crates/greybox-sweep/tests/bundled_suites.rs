@@ -1,7 +1,6 @@
 //! Every validation suite shipped in `validation/` reads, and every set-up template it names
-//! reads and validates as a cutting set-up: a suite that cannot start is found here, not an
-//! hour into a run.
-use greybox_pipeline::simulate::read_cutting_setup;
+//! reads and validates as a cutting set-up, with the entry's `set` fields applied: a suite
+//! that cannot start is found here, not an hour into a run.
 use greybox_sweep::validate::{read_conditions, Suite};
 use std::path::Path;
 
@@ -18,7 +17,7 @@ fn every_bundled_suite_and_its_templates_read() {
         let suite = Suite::read(&path).unwrap_or_else(|e| panic!("{name}: {e:#}"));
         let rows = read_conditions(&dir.join(&suite.data)).unwrap();
         for m in &suite.material {
-            read_cutting_setup(&dir.join(&m.setup))
+            m.template(&dir)
                 .unwrap_or_else(|e| panic!("{name}: {}: {e:#}", m.setup));
             for id in &m.calibration {
                 assert!(
@@ -29,5 +28,5 @@ fn every_bundled_suite_and_its_templates_read() {
         }
         suites += 1;
     }
-    assert!(suites >= 7, "{suites} suites in {}", dir.display());
+    assert!(suites >= 8, "{suites} suites in {}", dir.display());
 }

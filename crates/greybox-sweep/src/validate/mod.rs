@@ -131,7 +131,7 @@ pub struct MaterialRuns {
 
 impl MaterialRuns {
     /// The entry's set-up template: its file with the entry's `set` fields applied.
-    fn template(&self, base: &Path) -> Result<CuttingSetup> {
+    pub fn template(&self, base: &Path) -> Result<CuttingSetup> {
         let path = base.join(&self.setup);
         if self.set.is_empty() {
             return Ok(greybox_pipeline::simulate::read_cutting_setup(&path)?.setup);
