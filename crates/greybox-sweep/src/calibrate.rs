@@ -9,10 +9,10 @@
 //! F'c always; F'f where a friction parameter is fitted (friction shows in the feed force);
 //! the chip thickness ratio h_c/h wherever the measured file has it. Identifying the flow
 //! stress on forces *and* chip thickness is what the measurements' source recommends after
-//! its own FE model, with a J-C set chosen on F'c, missed h_c/h by 17 % (Ducobu, Pantalé &
-//! Lauwers, CIRP J. Manuf. Sci. Technol. 2022, after Kugalur-Palanisamy et al. 2022): a flow
-//! stress fitted to the cutting force alone is not determined by it, and the chip tells sets
-//! apart that give the same force.
+//! its own FE model, whose material parameters were chosen for their cutting force, missed
+//! h_c/h by 17 % (Ducobu, Pantalé & Lauwers 2022, `pantale/CIRP-2022-paper`, after Kugalur
+//! Palanisamy et al., Metals 12 (2022) 976): the cutting force alone does not determine the
+//! flow stress, and the chip tells apart sets that give the same force.
 //!
 //! The search is [`crate::search::coordinate_descent`]: golden-section on one field at a
 //! time (ln C and ln of the scale on a log scale), which needs no derivative and tolerates
