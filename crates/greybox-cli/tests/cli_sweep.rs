@@ -458,8 +458,6 @@ fn calibration_fits_a_parameter_of_an_inline_friction_law() {
     assert!(e.contains("friction.law") || e.contains("'q'"), "{e}");
 }
 
-/// `measured.csv` from the collected sweep `t/results.csv` of `dir`: the `columns` of every
-/// case (the "measurements" of a calibration test).
 /// "Measured" conditions made by the base cut (`fraction` of its length) with `truth`'s field
 /// at its value, at cutting speeds 2, 3 and 4 m/s: `measured.csv` with the speed and
 /// `columns` of the sweep's `results.csv` (its `compression_ratio` as the measured
