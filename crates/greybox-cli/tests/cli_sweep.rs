@@ -390,6 +390,31 @@ fn calibration_fits_a_flow_stress_constant_on_forces_and_chip() {
         assert!(x["measured_chip_ratio"].as_f64().unwrap() > 1.0, "{x}");
         assert!(x["simulated_chip_ratio"].as_f64().unwrap() > 1.0, "{x}");
     }
+    // how sure: each evaluation keeps its conditions' shares of the error, whose mean is
+    // its error; the fitted value lies inside its range, within what was tried
+    let evals = r["evaluations"].as_array().unwrap();
+    assert_eq!(evals.len(), 8, "{r}");
+    for e in evals {
+        let shares: Vec<f64> = e["condition_errors"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        assert_eq!(shares.len(), 2, "{e}");
+        let mean = shares.iter().sum::<f64>() / 2.0;
+        assert!((mean - e["error"].as_f64().unwrap()).abs() < 1e-12, "{e}");
+    }
+    let c = &r["certainty"];
+    assert_eq!(c["conditions"], 2, "{r}");
+    let f = &c["fields"][0];
+    let g = |k: &str| f[k].as_f64().unwrap();
+    assert_eq!(f["field"], "material.plasticity.n");
+    assert!(g("low") <= n && n <= g("high"), "{f}");
+    assert!(
+        f["tried"][0].as_f64().unwrap() <= g("low") && g("high") <= f["tried"][1].as_f64().unwrap()
+    );
+    assert!(r["training_error_ci95"].as_f64().unwrap() >= 0.0, "{r}");
 }
 
 #[test]

@@ -18,7 +18,13 @@
 //! time (ln C and ln of the scale on a log scale), which needs no derivative and tolerates
 //! the solver's small run-to-run differences between parameter values; every evaluation's
 //! cases are kept, so a repeated value costs nothing.
+//!
+//! How sure the result is comes from the same evaluations ([`crate::fit_certainty`]): each
+//! fitted value's range over the evaluations the training conditions cannot tell from the
+//! best (paired across the conditions), a side left open where the evaluations did not
+//! bound it, and the mean errors with their t-intervals across the conditions.
 
+use super::fit_certainty::{across_ci95, certainty, mean_or_infinite, Certainty, Evaluation};
 use super::launch::CaseCommand;
 use super::search::{coordinate_descent, FitField};
 use super::spec::{Axis, FieldValues, SweepFile};
@@ -178,11 +184,19 @@ pub struct Calibration {
     /// Mean relative error over the training conditions at the result (module doc: the
     /// forces and, where measured, the chip ratio).
     pub training_error: f64,
+    /// Half-width of its 95 % t-interval across the training conditions (`None`: one).
+    pub training_error_ci95: Option<f64>,
     /// The same over the held-out conditions (None: none held out).
     pub held_out_error: Option<f64>,
-    /// Every evaluation: the fitted fields' values, the μ scale (1 without one) and the
-    /// training error.
-    pub evaluations: Vec<(Vec<f64>, f64, f64)>,
+    pub held_out_error_ci95: Option<f64>,
+    /// The searched parameters: the fitted fields, then `friction scale` where fitted.
+    pub searched: Vec<String>,
+    /// Every evaluation: the searched parameters' values, in the order of `searched`, the
+    /// training error and each training condition's share of it.
+    pub evaluations: Vec<Evaluation>,
+    /// How sure the fit is of each searched parameter ([`crate::fit_certainty`]; `None`
+    /// with fewer than two training conditions).
+    pub certainty: Option<Certainty>,
     pub residuals: Vec<Residual>,
 }
 
@@ -273,30 +287,41 @@ fn parse_value(s: &str) -> toml::Value {
         .unwrap_or_else(|_| toml::Value::String(s.to_string()))
 }
 
-/// Mean relative error of simulated against measured quantities: F'c; F'f where measured
-/// and `with_feed` (a scale on μ or a friction field is fitted); h_c/h where measured (a cut
-/// without a chip ratio makes the error infinite).
-fn error(conds: &[&Condition], sim: &[Simulated], with_feed: bool) -> f64 {
-    let mut sum = 0.0;
-    let mut n = 0.0;
-    for (c, s) in conds.iter().zip(sim) {
-        let measured = [
-            Some((s.cutting_force, c.cutting_force_n_per_mm)),
-            c.feed_force_n_per_mm
-                .filter(|_| with_feed)
-                .map(|ff| (s.feed_force, ff)),
-            c.chip_ratio.map(|r| (s.chip_ratio, r)),
-        ];
-        for (simulated, m) in measured.into_iter().flatten() {
-            sum += ((simulated - m) / m).abs();
-            n += 1.0;
-        }
-    }
-    if sum.is_finite() {
-        sum / n
-    } else {
-        f64::INFINITY
-    }
+/// Each condition's share of the mean relative error of simulated against measured
+/// quantities: F'c; F'f where measured and `with_feed` (a scale on μ or a friction field is
+/// fitted); h_c/h where measured. A condition's share is the sum of its terms times
+/// (conditions / terms), so that the shares' mean is the mean over all terms; a cut without
+/// a chip ratio makes its share, and the mean ([`error`]), infinite.
+fn condition_errors(conds: &[&Condition], sim: &[Simulated], with_feed: bool) -> Vec<f64> {
+    let mut terms = 0usize;
+    let sums: Vec<f64> = conds
+        .iter()
+        .zip(sim)
+        .map(|(c, s)| {
+            let measured = [
+                Some((s.cutting_force, c.cutting_force_n_per_mm)),
+                c.feed_force_n_per_mm
+                    .filter(|_| with_feed)
+                    .map(|ff| (s.feed_force, ff)),
+                c.chip_ratio.map(|r| (s.chip_ratio, r)),
+            ];
+            measured
+                .into_iter()
+                .flatten()
+                .map(|(simulated, m)| {
+                    terms += 1;
+                    let e = ((simulated - m) / m).abs();
+                    if e.is_finite() {
+                        e
+                    } else {
+                        f64::INFINITY
+                    }
+                })
+                .sum()
+        })
+        .collect();
+    let per = conds.len() as f64 / terms.max(1) as f64;
+    sums.into_iter().map(|s| s * per).collect()
 }
 
 /// `field = value, …` for messages.
@@ -382,13 +407,15 @@ pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
             .any(|f| f.field.starts_with("friction.") || f.field == "mu");
     let (best, _) = coordinate_descent(&search, &start, sweeps, o.iterations, &mut |x| {
         let (values, scale) = split(x);
-        let e = error(
+        let shares = condition_errors(
             &training,
             &evaluate(o, &base, &dir, &training, &values, scale)?,
             with_feed,
         );
-        evals.push((values, scale.unwrap_or(1.0), e));
-        Ok(e)
+        let e = Evaluation::new(x.to_vec(), shares);
+        let objective = e.error;
+        evals.push(e);
+        Ok(objective)
     })?;
     let (values, scale) = split(&best);
     let all: Vec<&Condition> = conds.iter().collect();
@@ -405,12 +432,18 @@ pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
         .zip(&values)
         .map(|(f, &v)| (f.field.clone(), v))
         .collect();
+    let shares = |set: &[&Condition]| condition_errors(set, &sim_of(set), with_feed);
+    let (trained, held_shares) = (shares(&training), shares(&held));
     let result = Calibration {
         c: parameters.iter().find(|p| p.0 == C_FIELD).map(|p| p.1),
         parameters,
         friction_scale: scale,
-        training_error: error(&training, &sim_of(&training), with_feed),
-        held_out_error: (!held.is_empty()).then(|| error(&held, &sim_of(&held), with_feed)),
+        training_error: mean_or_infinite(&trained),
+        training_error_ci95: across_ci95(&trained),
+        held_out_error: (!held.is_empty()).then(|| mean_or_infinite(&held_shares)),
+        held_out_error_ci95: across_ci95(&held_shares),
+        searched: search.iter().map(|f| f.field.clone()).collect(),
+        certainty: certainty(&search, &evals),
         evaluations: evals,
         residuals,
     };
@@ -424,6 +457,11 @@ pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The mean relative error over `conds` (the mean of [`condition_errors`]).
+    fn error(conds: &[&Condition], sim: &[Simulated], with_feed: bool) -> f64 {
+        mean_or_infinite(&condition_errors(conds, sim, with_feed))
+    }
 
     fn measured(text: &str) -> Result<Vec<Condition>> {
         let d = tempfile::tempdir().unwrap();

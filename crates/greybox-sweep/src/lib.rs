@@ -23,6 +23,7 @@
 pub mod calibrate;
 pub mod case;
 pub mod collect;
+pub mod fit_certainty;
 pub mod launch;
 pub mod local;
 pub mod search;

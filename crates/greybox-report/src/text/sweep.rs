@@ -91,14 +91,37 @@ pub fn calibration(r: &Calibration) -> String {
         }
         let _ = write!(t, "mu scale = {s:.4}");
     }
+    let pm = |ci: Option<f64>| {
+        ci.map(|h| format!(" ± {:.2}", 100.0 * h))
+            .unwrap_or_default()
+    };
     let _ = writeln!(
         t,
-        "; mean relative error: training {:.2} %{}",
+        "; mean relative error: training {:.2}{} %{}",
         100.0 * r.training_error,
+        pm(r.training_error_ci95),
         r.held_out_error
-            .map(|e| format!(", held out {:.2} %", 100.0 * e))
+            .map(|e| format!(", held out {:.2}{} %", 100.0 * e, pm(r.held_out_error_ci95)))
             .unwrap_or_default()
     );
+    match &r.certainty {
+        Some(c) => {
+            let _ = writeln!(
+                t,
+                "how sure: {} of {} distinct evaluations cannot be told from the best, paired over the {} training conditions (95 %, corrected for the best's rivals):",
+                c.as_good_as_best, c.evaluations, c.conditions
+            );
+            for f in &c.fields {
+                let _ = writeln!(t, "  {} = {:.5}: {}", f.field, f.value, f.verdict);
+            }
+        }
+        None => {
+            let _ = writeln!(
+                t,
+                "how sure: cannot say (fewer than two training conditions with a finite error)"
+            );
+        }
+    }
     for x in &r.residuals {
         let _ = write!(
             t,
