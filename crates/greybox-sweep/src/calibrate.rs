@@ -291,7 +291,7 @@ fn parse_value(s: &str) -> toml::Value {
 /// quantities: F'c; F'f where measured and `with_feed` (a scale on μ or a friction field is
 /// fitted); h_c/h where measured. A condition's share is the sum of its terms times
 /// (conditions / terms), so that the shares' mean is the mean over all terms; a cut without
-/// a chip ratio makes its share, and the mean ([`error`]), infinite.
+/// a chip ratio makes its share, and so the mean, infinite.
 fn condition_errors(conds: &[&Condition], sim: &[Simulated], with_feed: bool) -> Vec<f64> {
     let mut terms = 0usize;
     let sums: Vec<f64> = conds
