@@ -81,6 +81,20 @@ pub fn mean(x: &[f64]) -> f64 {
     x.iter().sum::<f64>() / x.len() as f64
 }
 
+/// The sample standard deviation of `x` about its mean, s = √(Σ (x − x̄)²/(n − 1)) (NaN for
+/// fewer than two values).
+pub fn sample_sd(x: &[f64]) -> f64 {
+    let m = mean(x);
+    (x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (x.len() as f64 - 1.0)).sqrt()
+}
+
+/// The half-width of the `level` t-interval of the mean of the independent values `x`,
+/// t(1 − (1 − level)/2; n − 1) s/√n (`None` for fewer than two values).
+pub fn t_half_width(x: &[f64], level: f64) -> Option<f64> {
+    let n = x.len();
+    (n >= 2).then(|| t_factor(level, (n - 1) as f64) * sample_sd(x) / (n as f64).sqrt())
+}
+
 /// The sample autocorrelation ρ_k of `x` (its mean removed; the biased estimator, each lag
 /// over n) for k = 0..=max_lag (capped at n − 1); `None` for fewer than two samples or a
 /// constant series.

@@ -40,7 +40,7 @@
 //! rests on. Fewer than two give no interval at all.
 
 use super::search::FitField;
-use greybox_core::stats::t_factor;
+use greybox_core::stats::{mean, sample_sd, t_factor, t_half_width};
 use serde::Serialize;
 
 /// The confidence level of the comparisons and of the errors' intervals.
@@ -74,23 +74,13 @@ pub fn mean_or_infinite(x: &[f64]) -> f64 {
     x.iter().sum::<f64>() / x.len() as f64
 }
 
-/// The mean and the sample standard deviation of `x` (two entries or more).
-fn mean_sd(x: &[f64]) -> (f64, f64) {
-    let n = x.len() as f64;
-    let m = x.iter().sum::<f64>() / n;
-    let sd = (x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
-    (m, sd)
-}
-
 /// The half-width of the t-interval of the mean of `x` across its entries at [`LEVEL`]
 /// (`None` for fewer than two entries or a value that is not finite).
 pub fn across_ci95(x: &[f64]) -> Option<f64> {
-    let n = x.len();
-    if n < 2 || x.iter().any(|v| !v.is_finite()) {
+    if x.iter().any(|v| !v.is_finite()) {
         return None;
     }
-    let (_, sd) = mean_sd(x);
-    Some(t_factor(LEVEL, (n - 1) as f64) * sd / (n as f64).sqrt())
+    t_half_width(x, LEVEL)
 }
 
 /// One fitted field: its value and the range of the evaluations as good as the best.
@@ -134,10 +124,9 @@ fn as_good(k: &Evaluation, best: &Evaluation, comparisons: usize) -> bool {
         .map(|(a, b)| a - b)
         .collect();
     let n = d.len();
-    let (mean, sd) = mean_sd(&d);
     // the one-sided quantile 1 − α/m is the two-sided one at level 1 − 2α/m
     let level = 1.0 - 2.0 * (1.0 - LEVEL) / comparisons.max(1) as f64;
-    mean <= t_factor(level, (n - 1) as f64) * sd / (n as f64).sqrt()
+    mean(&d) <= t_factor(level, (n - 1) as f64) * sample_sd(&d) / (n as f64).sqrt()
 }
 
 /// The evaluations as good as `best`: first compared one at a time, then again with the
@@ -156,25 +145,22 @@ fn as_good_set<'a>(finite: &[&'a Evaluation], best: &Evaluation) -> Vec<&'a Eval
 /// The certainty of the fit over `fields` from its `evaluations` (module doc); `None` with
 /// fewer than two conditions or no evaluation with a finite error.
 pub fn certainty(fields: &[FitField], evaluations: &[Evaluation]) -> Option<Certainty> {
-    let best = evaluations
-        .iter()
-        .filter(|e| e.error.is_finite() && e.parameters.len() == fields.len())
-        .min_by(|a, b| a.error.total_cmp(&b.error))?;
-    let conditions = best.condition_errors.len();
-    if conditions < 2 {
-        return None;
-    }
     // a value tried again (a later sweep of the search) is the same cuts: counted once
     let mut finite: Vec<&Evaluation> = Vec::new();
     for e in evaluations {
         if e.error.is_finite()
             && e.parameters.len() == fields.len()
-            && e.condition_errors.len() == conditions
             && !finite.iter().any(|f| f.parameters == e.parameters)
         {
             finite.push(e);
         }
     }
+    let best = *finite.iter().min_by(|a, b| a.error.total_cmp(&b.error))?;
+    let conditions = best.condition_errors.len();
+    if conditions < 2 {
+        return None;
+    }
+    finite.retain(|e| e.condition_errors.len() == conditions);
     let good = as_good_set(&finite, best);
     let range = |set: &[&Evaluation], j: usize| {
         set.iter().fold([f64::INFINITY, f64::NEG_INFINITY], |r, e| {

@@ -19,7 +19,7 @@
 //!   1/√L with the steady stretch L, so L' = L̄ (Y/0.03)² plus the warm-up.
 
 use super::{held_out_groups, imputed_errors, Outcome, ToolModel};
-use greybox_core::stats::t_factor;
+use greybox_core::stats::t_half_width;
 use serde::Serialize;
 
 /// The difference a suite should be able to tell apart: 3 % of the measured value.
@@ -122,10 +122,7 @@ fn paired(pairs: &[(&Outcome, &Outcome)], k: usize) -> PairedDifference {
     let ci95 = imputed
         .as_ref()
         .map(|(v, _)| 1.96 * v.iter().map(|e| e * e).sum::<f64>().sqrt() / n as f64);
-    let across = (n >= 2).then(|| {
-        let sd = (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt();
-        t_factor(0.95, (n - 1) as f64) * sd / (n as f64).sqrt()
-    });
+    let across = t_half_width(&d, 0.95);
     let lengths: Vec<(f64, f64)> = pairs
         .iter()
         .flat_map(|(m, b)| [m, b])
