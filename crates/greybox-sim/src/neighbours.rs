@@ -3,8 +3,8 @@
 //! Lists hold every pair closer than 2h + skin; they are rebuilt when any particle has moved
 //! more than skin/2 since the last build, so no pair inside 2h is ever missed. With
 //! per-particle smoothing lengths (a refined model, [`NeighbourList::build_with_reach`]) a
-//! pair is kept within 2h_ij + skin = h_i + h_j + skin, the cells are sized by the largest
-//! such cut-off.
+//! pair is kept within 2h_ij + skin = h_i + h_j + skin; the cells are then as wide as the
+//! finest pair's cut-off and each particle scans only the cells its own cut-offs reach.
 //!
 //! Every pair is stored once, with its lower index first (the half list): particle i's
 //! partners j > i are `index[start[i]..start[i+1]]` (compressed rows), and pair `p` is the
@@ -81,30 +81,26 @@ impl NeighbourList {
     /// Rebuilds the lists for positions (x, y); with `reach` (per particle, m: the
     /// smoothing length h_i) a pair is kept only within h_i + h_j + skin, which must not
     /// exceed the cut-off the list was made with.
+    ///
+    /// With one smoothing length the cells are the cut-off wide and each particle scans the
+    /// 3 × 3 around its own. With several (a refined model, [`CellGrid::for_reach`]) the
+    /// cells are as wide as the finest pair's cut-off, 2h_min + skin, and particle i scans
+    /// the cells within h_i + h_max + skin, skipping each cell whose nearest point lies
+    /// beyond h_i + (the largest h in that cell) + skin: a fine particle among fine ones
+    /// tests the partners of about 3 × 3 fine cells instead of 3 × 3 cells of the coarsest
+    /// cut-off (16 times the area at a 4:1 spacing), and a coarse one the disc of its own
+    /// cut-off. The pairs are the same either way; their order in a row follows the scan.
     pub fn build_with_reach(&mut self, x: &[f64], y: &[f64], reach: Option<&[f64]>) {
         let n = x.len();
-        let c = self.cutoff;
         let skin = self.skin;
-        let (mut xmin, mut xmax, mut ymin, mut ymax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-        for i in 0..n {
-            xmin = xmin.min(x[i]);
-            xmax = xmax.max(x[i]);
-            ymin = ymin.min(y[i]);
-            ymax = ymax.max(y[i]);
-        }
-        let ncx = (((xmax - xmin) / c).floor() as usize + 1).max(1);
-        let ncy = (((ymax - ymin) / c).floor() as usize + 1).max(1);
+        let grid = CellGrid::for_reach(x, y, self.cutoff, skin, reach);
         // Counting sort of particles into cells.
         self.cell_of.resize(n, 0);
         self.cell_of
             .par_iter_mut()
             .enumerate()
-            .for_each(|(i, cell)| {
-                let cx = ((x[i] - xmin) / c) as usize;
-                let cy = ((y[i] - ymin) / c) as usize;
-                *cell = (cy.min(ncy - 1) * ncx + cx.min(ncx - 1)) as u32;
-            });
-        counting_offsets(&self.cell_of, ncx * ncy, &mut self.cell_start);
+            .for_each(|(i, cell)| *cell = grid.cell(x[i], y[i]) as u32);
+        counting_offsets(&self.cell_of, grid.nx * grid.ny, &mut self.cell_start);
         self.cell_items.resize(n, 0);
         self.cell_fill.clone_from(&self.cell_start);
         for i in 0..n {
@@ -112,6 +108,16 @@ impl NeighbourList {
             self.cell_items[self.cell_fill[cell] as usize] = i as u32;
             self.cell_fill[cell] += 1;
         }
+        // The largest reach in each cell (refined models only).
+        let mut cell_reach = Vec::new();
+        if let Some(h) = reach {
+            cell_reach.resize(grid.nx * grid.ny, f64::NEG_INFINITY);
+            for i in 0..n {
+                let r = &mut cell_reach[self.cell_of[i] as usize];
+                *r = r.max(h[i]);
+            }
+        }
+        let c = self.cutoff;
         let c2 = c * c;
         let (cs, ci, co) = (&self.cell_start, &self.cell_items, &self.cell_of);
         // Partners j > i of particle i within the cut-off, pushed onto `row`. A cell lists
@@ -119,10 +125,16 @@ impl NeighbourList {
         // order), so the partners j > i are the tail after a binary search.
         let visit = |i: usize, row: &mut Vec<u32>| {
             let cell = co[i] as usize;
-            let (cx, cy) = (cell % ncx, cell / ncx);
-            for gy in cy.saturating_sub(1)..=(cy + 1).min(ncy - 1) {
-                for gx in cx.saturating_sub(1)..=(cx + 1).min(ncx - 1) {
-                    let g = gy * ncx + gx;
+            let (cx, cy) = (cell % grid.nx, cell / grid.nx);
+            let ring = reach.map_or(1, |h| grid.ring(h[i] + grid.h_max + skin));
+            for gy in cy.saturating_sub(ring)..=(cy + ring).min(grid.ny - 1) {
+                for gx in cx.saturating_sub(ring)..=(cx + ring).min(grid.nx - 1) {
+                    let g = gy * grid.nx + gx;
+                    if let Some(h) = reach {
+                        if grid.beyond(gx, gy, x[i], y[i], h[i] + cell_reach[g] + skin) {
+                            continue;
+                        }
+                    }
                     let items = &ci[cs[g] as usize..cs[g + 1] as usize];
                     let after_i = items.partition_point(|&j| j as usize <= i);
                     for &j in &items[after_i..] {
@@ -262,6 +274,73 @@ impl NeighbourList {
     }
 }
 
+/// The square cells the particles are sorted into for a build: `nx` × `ny` cells of width
+/// `width` from (`x0`, `y0`).
+#[derive(Debug, Clone, Copy)]
+struct CellGrid {
+    x0: f64,
+    y0: f64,
+    width: f64,
+    nx: usize,
+    ny: usize,
+    /// The largest reach (smoothing length) of any particle, m; 0 without reaches.
+    h_max: f64,
+}
+
+impl CellGrid {
+    /// The grid over the particles' bounding box. Without reaches, or with one reach for
+    /// all, the cells are `cutoff` wide (the same cells, and so the same rows, as a uniform
+    /// model's); with several, 2 h_min + skin wide: the finest pair's cut-off.
+    fn for_reach(x: &[f64], y: &[f64], cutoff: f64, skin: f64, reach: Option<&[f64]>) -> Self {
+        let (mut xmin, mut xmax, mut ymin, mut ymax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for i in 0..x.len() {
+            xmin = xmin.min(x[i]);
+            xmax = xmax.max(x[i]);
+            ymin = ymin.min(y[i]);
+            ymax = ymax.max(y[i]);
+        }
+        let (h_min, h_max) = reach.map_or((0.0, 0.0), |h| {
+            h.iter()
+                .fold((f64::MAX, 0.0_f64), |(lo, hi), &v| (lo.min(v), hi.max(v)))
+        });
+        let width = if h_min < h_max {
+            2.0 * h_min + skin
+        } else {
+            cutoff
+        };
+        CellGrid {
+            x0: xmin,
+            y0: ymin,
+            width,
+            nx: (((xmax - xmin) / width).floor() as usize + 1).max(1),
+            ny: (((ymax - ymin) / width).floor() as usize + 1).max(1),
+            h_max,
+        }
+    }
+
+    /// The cell of the point (x, y), row-major.
+    fn cell(&self, x: f64, y: f64) -> usize {
+        let cx = ((x - self.x0) / self.width) as usize;
+        let cy = ((y - self.y0) / self.width) as usize;
+        cy.min(self.ny - 1) * self.nx + cx.min(self.nx - 1)
+    }
+
+    /// How many cells on each side a particle must scan to reach every partner within
+    /// `reach` m (at least 1).
+    fn ring(&self, reach: f64) -> usize {
+        ((reach / self.width).ceil() as usize).max(1)
+    }
+
+    /// Whether every point of cell (gx, gy) lies farther than `cut` from (x, y). The
+    /// margin of 10⁻⁹ of the cut keeps a particle that round-off sorted into the next cell.
+    fn beyond(&self, gx: usize, gy: usize, x: f64, y: f64, cut: f64) -> bool {
+        let gap = |p: f64, lo: f64| (lo - p).max(p - (lo + self.width)).max(0.0);
+        let dx = gap(x, self.x0 + gx as f64 * self.width);
+        let dy = gap(y, self.y0 + gy as f64 * self.width);
+        dx * dx + dy * dy > (cut * (1.0 + 1e-9)).powi(2)
+    }
+}
+
 /// Offsets of a counting sort: `offsets[k]..offsets[k + 1]` is where key k goes.
 fn counting_offsets(keys: &[u32], nkeys: usize, offsets: &mut Vec<u32>) {
     offsets.clear();
@@ -334,5 +413,55 @@ mod tests {
         assert!(!nl.needs_rebuild(&x, &y));
         x[7] += 0.2;
         assert!(nl.needs_rebuild(&x, &y));
+    }
+
+    /// Every pair within h_i + h_j + skin and no other, for three spacings side by side
+    /// (1, 1/2, 1/4, h = 1.2 spacing, jittered), as brute force finds them; and one reach for
+    /// all gives the rows of the plain build.
+    #[test]
+    fn per_particle_reach_matches_brute_force() {
+        let mut s = 777u64;
+        let mut rnd = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let (mut x, mut y, mut h) = (Vec::new(), Vec::new(), Vec::new());
+        for (x_from, spacing) in [(0.0, 1.0), (10.0, 0.5), (16.0, 0.25)] {
+            let per_row = (6.0 / spacing) as usize;
+            for row in 0..(12.0 / spacing) as usize {
+                for col in 0..per_row {
+                    x.push(x_from + (col as f64 + 0.5 + 0.3 * rnd()) * spacing);
+                    y.push((row as f64 + 0.5 + 0.3 * rnd()) * spacing);
+                    h.push(1.2 * spacing);
+                }
+            }
+        }
+        let skin = 0.05 * 1.2 * 0.25;
+        let mut nl = NeighbourList::new(2.0 * 1.2, skin);
+        nl.build_with_reach(&x, &y, Some(&h));
+        let n = x.len();
+        let mut got: Vec<(u32, u32)> = (0..n)
+            .flat_map(|i| nl.partners(i).iter().map(move |&j| (i as u32, j)))
+            .collect();
+        got.sort();
+        let mut want = Vec::new();
+        for i in 0..n {
+            for j in i + 1..n {
+                let d2 = (x[i] - x[j]).powi(2) + (y[i] - y[j]).powi(2);
+                if d2 < (h[i] + h[j] + skin).powi(2) {
+                    want.push((i as u32, j as u32));
+                }
+            }
+        }
+        assert_eq!(got.len(), want.len());
+        assert_eq!(got, want);
+        // one reach for all: the plain build's rows, in its order
+        let one = vec![1.2; n];
+        let (mut a, mut b) = (NeighbourList::new(2.4, skin), NeighbourList::new(2.4, skin));
+        a.build_with_reach(&x, &y, Some(&one));
+        b.build(&x, &y);
+        assert_eq!((a.start, a.index), (b.start, b.index));
     }
 }

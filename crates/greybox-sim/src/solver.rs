@@ -452,6 +452,12 @@ impl Solver {
         if self.at_sync() {
             self.sync_step = self.step;
         }
+        // The regions follow the tool during the approach too: a particle split only once
+        // it touched the tool would put its children up to half its spacing inside it.
+        // Children of particles at rest are at rest, so the approach stays idle.
+        if self.at_rest && self.refine() {
+            self.rebuild_due = true;
+        }
         if self.idle() {
             self.apply_contact();
             self.book_boundaries(Advance::All);
@@ -962,8 +968,40 @@ mod tests {
     /// every pass: every value equal (a zero's sign aside), through and after first contact.
     #[test]
     fn idle_approach_steps_change_nothing() {
-        let mut skipping = Solver::new(approach_model()).unwrap();
-        let mut full = Solver::new(approach_model()).unwrap();
+        idle_approach_changes_nothing(approach_model);
+    }
+
+    /// The same with a refinement region that reaches the block before the tool does: the
+    /// approach splits the particles as the region passes them, as the full run does, and
+    /// not all at once when the first coarse particle touches the tool (which put children
+    /// up to half a spacing inside it).
+    #[test]
+    fn a_refined_approach_splits_as_the_full_run_does() {
+        let refined = || {
+            let mut m = approach_model();
+            let dx = m.particles.spacing;
+            m.refinement = Some(crate::refine::Refinement {
+                tool: 0,
+                regions: vec![crate::refine::Region {
+                    x_min: -4.0 * dx,
+                    x_max: dx,
+                    y_min: -3.0 * dx,
+                    y_max: 6.0 * dx,
+                }],
+                pattern: Default::default(),
+                coarsening: None,
+            });
+            m
+        };
+        let split = idle_approach_changes_nothing(refined);
+        assert!(split.particles.is_refined());
+    }
+
+    /// Runs `model` once skipping the idle approach and once doing every pass, and checks
+    /// that every value is the same; returns the skipping solver.
+    fn idle_approach_changes_nothing(model: impl Fn() -> Model) -> Solver {
+        let mut skipping = Solver::new(model()).unwrap();
+        let mut full = Solver::new(model()).unwrap();
         full.at_rest = false;
         let mut idle_steps = 0;
         let mut steps_in_contact = 0;
@@ -1000,5 +1038,6 @@ mod tests {
         assert!(a.vx.iter().any(|&v| v != 0.0), "nothing moved");
         assert_eq!(skipping.time.to_bits(), full.time.to_bits());
         assert_eq!(skipping.energy.external_work, full.energy.external_work);
+        skipping
     }
 }
