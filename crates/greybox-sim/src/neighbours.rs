@@ -364,18 +364,23 @@ fn accumulate(offsets: &mut [u32]) {
 mod tests {
     use super::*;
 
+    /// Uniform numbers in [−0.5, 0.5) from a 64-bit linear congruential generator seeded
+    /// with `seed` (Knuth's MMIX constants): the lattices' jitter.
+    fn jitter(mut s: u64) -> impl FnMut() -> f64 {
+        move || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        }
+    }
+
     /// Same pairs as brute force, for a jittered lattice.
     #[test]
     fn matches_brute_force() {
         let mut x = Vec::new();
         let mut y = Vec::new();
-        let mut s = 12345u64;
-        let mut rnd = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rnd = jitter(12345);
         for j in 0..30 {
             for i in 0..40 {
                 x.push(i as f64 + 0.4 * rnd());
@@ -420,13 +425,7 @@ mod tests {
     /// all gives the rows of the plain build.
     #[test]
     fn per_particle_reach_matches_brute_force() {
-        let mut s = 777u64;
-        let mut rnd = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rnd = jitter(777);
         let (mut x, mut y, mut h) = (Vec::new(), Vec::new(), Vec::new());
         for (x_from, spacing) in [(0.0, 1.0), (10.0, 0.5), (16.0, 0.25)] {
             let per_row = (6.0 / spacing) as usize;
