@@ -40,6 +40,8 @@ pub struct NeighbourList {
     cell_items: Vec<u32>,
     cell_fill: Vec<u32>,
     cell_of: Vec<u32>,
+    /// The largest reach (smoothing length) in each cell, m (refined models only).
+    cell_reach: Vec<f64>,
     /// Cut-off radius (2h + skin), m.
     pub cutoff: f64,
     pub skin: f64,
@@ -109,17 +111,18 @@ impl NeighbourList {
             self.cell_fill[cell] += 1;
         }
         // The largest reach in each cell (refined models only).
-        let mut cell_reach = Vec::new();
+        self.cell_reach.clear();
         if let Some(h) = reach {
-            cell_reach.resize(grid.nx * grid.ny, f64::NEG_INFINITY);
-            for i in 0..n {
-                let r = &mut cell_reach[self.cell_of[i] as usize];
-                *r = r.max(h[i]);
+            self.cell_reach.resize(grid.nx * grid.ny, f64::NEG_INFINITY);
+            for (&cell, &hi) in self.cell_of.iter().zip(h) {
+                let r = &mut self.cell_reach[cell as usize];
+                *r = r.max(hi);
             }
         }
         let c = self.cutoff;
         let c2 = c * c;
         let (cs, ci, co) = (&self.cell_start, &self.cell_items, &self.cell_of);
+        let cell_reach = &self.cell_reach;
         // Partners j > i of particle i within the cut-off, pushed onto `row`. A cell lists
         // its particles in ascending order (the counting sort above fills it in index
         // order), so the partners j > i are the tail after a binary search.
