@@ -96,6 +96,7 @@ impl FlowStress {
 
     /// The model at temperature `t` (K), for evaluating it at many (ε_p, ε̇_p) with the
     /// temperature's factors computed once (the radial return's iterations).
+    #[inline]
     pub fn at_temperature(&self, t: f64) -> FlowAt<'_> {
         match self {
             FlowStress::Tanh(m) => FlowAt::Tanh(m.at_temperature(t)),
@@ -115,6 +116,7 @@ impl FlowStress {
 
     /// Whether σ_y never falls as ε_p grows (J-C): the radial return may then bound the
     /// increment by the perfectly plastic one.
+    #[inline]
     pub fn hardens_monotonically(&self) -> bool {
         matches!(self, FlowStress::JohnsonCook(_))
     }
@@ -193,6 +195,7 @@ impl FlowAt<'_> {
 
     /// A lower bound of σ_y at this temperature over every ε_p ≥ 0 and ε̇_p ≥ 0, Pa (0 where
     /// none is kept: J-C has its own specialised return with the same test, A·(1 − T*^m)).
+    #[inline]
     pub fn floor(&self) -> f64 {
         match self {
             FlowAt::Tanh(m) => m.floor(),
@@ -202,6 +205,7 @@ impl FlowAt<'_> {
 
     /// An upper bound of σ_y at this temperature over every ε_p ≥ 0 at ε̇_p ≤ ε̇₀, Pa, given
     /// the model's [`FlowStress::hardening_peak_pa`]; infinite where none is kept.
+    #[inline]
     pub fn quasi_static_ceiling(&self, hardening_peak_pa: Option<f64>) -> f64 {
         match (self, hardening_peak_pa) {
             (FlowAt::Tanh(m), Some(peak)) => m.quasi_static_ceiling(peak),

@@ -67,6 +67,9 @@ fn contact_point(
     i: usize,
 ) -> Option<crate::geometry::SurfacePoint> {
     let local = in_box(tool, (lo, hi), reach, p, i)?;
+    if tool.shape.surely_clear(local, 0.0) {
+        return None;
+    }
     let sp = tool.shape.closest(local);
     (sp.distance < 0.0 && p.group[i] == FREE).then_some(sp)
 }
@@ -96,8 +99,10 @@ pub(crate) fn mark_near(tools: &[Tool], p: &Particles, distance: f64, near: &mut
         let tool_box = tool.shape.bounding_box();
         near.par_iter_mut().enumerate().for_each(|(i, near)| {
             if !*near {
-                *near = in_box(tool, tool_box, distance, p, i)
-                    .is_some_and(|local| tool.shape.closest(local).distance < distance);
+                *near = in_box(tool, tool_box, distance, p, i).is_some_and(|local| {
+                    !tool.shape.surely_clear(local, distance)
+                        && tool.shape.closest(local).distance < distance
+                });
             }
         });
     }

@@ -301,7 +301,8 @@ fn a_run_with_coarsening_resumes_bit_for_bit_on_any_thread_count() {
         r.sim.energy.coarsened_particles
     );
     same_bytes_on_any_thread_count(&setup);
-    // the first merge is at step 4015 of 11036 (1668 idle): the checkpoint at 4402 holds
+    // the first merge is at step 4020 (1668 idle; 4015 before merges waited for
+    // the lists' rebuild): the checkpoint at 4402 holds
     // merged particles
     resume_equals_uninterrupted(&setup, 2201);
 }
