@@ -11,9 +11,10 @@
 //!
 //! Newton starts from the particle's previous increment when that lies inside the bracket:
 //! along a steady cut a particle's plastic rate changes little from step to step, and about
-//! three evaluations (a power and a logarithm each) remain. A start far from the root, such
-//! as a tiny first-yield increment on the steep ε^n branch, makes Newton crawl; bisection
-//! then takes over.
+//! two evaluations remain, the last Newton step taken without the evaluation that would
+//! only confirm it ([`solve_increment`]). A start far from the root, such as a tiny
+//! first-yield increment on the steep ε^n branch, makes Newton crawl; bisection then takes
+//! over.
 //!
 //! Models that may soften as the strain grows (TANH Johnson–Cook, measured curves) cannot use
 //! the perfectly plastic upper bound; their bracket is [0, σ_tr/3G], where f = −σ_y ≤ 0.

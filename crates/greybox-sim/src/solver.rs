@@ -511,10 +511,13 @@ impl Solver {
     /// cut's time). They depend only on the state at a rebuild, which a checkpoint's own
     /// rebuild and a resumed run's share: resume stays bit for bit.
     fn prepare_lists(&mut self) {
-        // The displacement test runs inside the previous update; a fresh or restored solver
-        // (lists built for other positions) is checked here.
+        // The displacement test runs inside the previous update; a restored solver (lists
+        // built for other positions) is checked here, and a new run's first step splits
+        // what its regions hold (a rebuild at the positions the lists were built at gives
+        // the same lists).
         let due = self.rebuild_due
-            || (self.step == 0 || self.neighbours.reference().0.len() != self.particles.len())
+            || self.step == 0
+            || self.neighbours.reference().0.len() != self.particles.len()
                 && self
                     .neighbours
                     .needs_rebuild(&self.particles.x, &self.particles.y);
