@@ -208,8 +208,9 @@ fn general_return(
 /// near the root, not as bisection's or a crawl's) and ten times that error, times |f'|,
 /// is below the residual tolerance, d + Δ_k is taken without evaluating f there. Along a
 /// steady cut the warm start is within about 10⁻³ of Δε, the second step is 10⁻⁶..10⁻⁵ of
-/// it, and the evaluation that only confirmed convergence is saved in about nine returns of
-/// ten (the Ti6Al4V template cut: 3.05 evaluations per plastic return before, 2.2 after).
+/// it, and the evaluation that only confirmed convergence is saved in most returns (the
+/// three-level Ti6Al4V template cut's first 0.6 mm: 3.10 evaluations per plastic
+/// return before, 2.24 after).
 #[inline(always)]
 fn solve_increment(eval: impl Fn(f64) -> (f64, f64), trial: f64, hi: f64, guess: f64) -> f64 {
     let (mut lo, mut hi) = (0.0, hi);
