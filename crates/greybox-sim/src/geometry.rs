@@ -192,14 +192,26 @@ impl RoundedPolygon {
     /// decide a case [`Self::closest`] would decide the other way.
     #[inline]
     pub fn surely_clear(&self, p: [f64; 2], gap: f64) -> bool {
-        let c = &self.cache;
         if self.vertices.len() < 3 {
             return false;
         }
-        self.vertices.iter().enumerate().any(|(e, v)| {
+        let (d, e) = self.farthest_edge_line(p);
+        d - self.radius > gap + 1e-12 * self.cache.len[e]
+    }
+
+    /// The largest signed distance from `p` to the core polygon's edge lines (positive
+    /// outside an edge), m, and that edge: ≤ 0 exactly when `p` is inside the convex core.
+    #[inline]
+    fn farthest_edge_line(&self, p: [f64; 2]) -> (f64, usize) {
+        let c = &self.cache;
+        let mut best = (f64::NEG_INFINITY, 0usize);
+        for (e, v) in self.vertices.iter().enumerate() {
             let d = c.normal[e][0] * (p[0] - v[0]) + c.normal[e][1] * (p[1] - v[1]);
-            d - self.radius > gap + 1e-12 * c.len[e]
-        })
+            if d > best.0 {
+                best = (d, e);
+            }
+        }
+        best
     }
 
     /// Closest point on the surface to `p` (local frame).
@@ -222,14 +234,7 @@ impl RoundedPolygon {
         }
         // Inside the core polygon (only possible with an interior, k ≥ 3).
         if k >= 3 {
-            let mut best = (f64::NEG_INFINITY, 0usize);
-            for e in 0..k {
-                let v = self.vertices[e];
-                let d = c.normal[e][0] * (p[0] - v[0]) + c.normal[e][1] * (p[1] - v[1]);
-                if d > best.0 {
-                    best = (d, e);
-                }
-            }
+            let best = self.farthest_edge_line(p);
             if best.0 <= 0.0 {
                 let e = best.1;
                 let v = self.vertices[e];

@@ -379,16 +379,16 @@ impl Solver {
 
     /// Merges the refined particles in the coarsening regions at the tools' current positions
     /// (see [`crate::coarsen`]), finest level first, booking the kinetic and elastic energy
-    /// the merges average out; returns whether any merged (the per-particle arrays have then
-    /// shrunk and the neighbour lists must be rebuilt).
-    fn coarsen(&mut self) -> bool {
+    /// the merges average out (the per-particle arrays may shrink: called just before the
+    /// neighbour lists are rebuilt).
+    fn coarsen(&mut self) {
         let Some((tool, finest)) = self
             .refinement
             .as_ref()
             .filter(|r| r.coarsening.is_some())
             .map(|r| (r.tool, r.finest_level()))
         else {
-            return false;
+            return;
         };
         let origin = self.tools[tool].position;
         let mut merged = false;
@@ -416,7 +416,6 @@ impl Solver {
             let n = self.particles.len();
             self.scratch.for_particles(n);
         }
-        merged
     }
 
     /// Notes whether the particles are exactly at rest — unstressed, at ρ₀ and one
@@ -866,11 +865,11 @@ impl Solver {
     }
 
     /// Removes the free particles above the sink's line (see [`crate::sink`]), booking the
-    /// energy they carry; returns whether any left (the per-particle arrays have then
-    /// shrunk and the neighbour lists must be rebuilt).
-    fn sink(&mut self) -> bool {
+    /// energy they carry (the per-particle arrays may shrink: called just before the
+    /// neighbour lists are rebuilt).
+    fn sink(&mut self) {
         let Some(keep) = self.sink.and_then(|s| s.keep(&self.particles)) else {
-            return false;
+            return;
         };
         // in particle order, serially: the same bytes whatever the thread count
         for i in (0..keep.len()).filter(|&i| !keep[i]) {
@@ -880,7 +879,6 @@ impl Solver {
         self.energy.removed_particles += self.particles.retain(&keep) as u64;
         let n = self.particles.len();
         self.scratch.for_particles(n);
-        true
     }
 
     /// Particle-steps per second helper: particle count.
