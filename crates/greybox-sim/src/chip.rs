@@ -1,10 +1,20 @@
 //! Measures of an orthogonal cut: chip thickness, shear angle, tool–chip contact length and
 //! the contact profiles along the tool (the article's Fig. 15, bottom).
 //!
-//! * Chip thickness h_c: the chip particles (free particles whose centres lie between h and
-//!   2h above the original workpiece surface, in front of the rake face) are projected on the
-//!   rake-face normal; h_c = (max − min) + Δx (a particle occupies Δx; with refinement, half
-//!   the spacing of each of the two outermost particles).
+//! * The chip's *band*: the free particles whose centres lie between h and 2h above the
+//!   original workpiece surface, in front of the rake face ([`MEASURING_BAND_H`]).
+//! * Chip thickness h_c, by continuity: the band's mass-weighted mean velocity relative to
+//!   the tool, v̄_chip, carries the volume the cut removes, h v_c = h_c |v̄_chip| (plane
+//!   strain, the chip's density that of the workpiece), so h_c = h v_c / |v̄_chip|. It is the
+//!   mean thickness of a continuous chip whatever its direction: a chip that has left the
+//!   rake face inside the band, or whose free side is ragged, measures the same.
+//! * Chip extent ([`chip_extent`]): the band projected on the rake-face normal,
+//!   (max − min) + Δx (a particle occupies Δx; with refinement, half the spacing of each of
+//!   the two outermost particles). The thickness measure until 2026-12-01: the outer size of
+//!   the chip, which exceeds its mean thickness t by the free side's roughness and, where the
+//!   chip's axis leaves the rake face at an angle θ inside the band, is
+//!   (h sin θ + t cos γ)/cos(γ − θ) for a straight chip (γ the rake angle; docs/validation.md,
+//!   "How thick is the chip?").
 //! * Shear angle from the chip compression ratio r = h/h_c (Merchant's continuity relation):
 //!   tan φ = r cos γ / (1 − r sin γ).
 //! * Contact length: the farthest rake-face window (distance from the edge, outer end) that
@@ -16,8 +26,13 @@ use crate::solver::Solver;
 use crate::tool::{Tool, WindowAccumulator, WindowStats};
 use serde::{Deserialize, Serialize};
 
-/// Chip thickness from the particle positions, m (`None` before a chip has formed).
-pub fn chip_thickness(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<f64> {
+/// The fewest band particles a chip measure rests on.
+const MIN_BAND_PARTICLES: usize = 3;
+
+/// The chip's band (module docs): each particle's index and its distance along the
+/// rake-face normal from the rake line, m (`None`: fewer than [`MIN_BAND_PARTICLES`], no
+/// chip yet).
+fn chip_band(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<Vec<(usize, f64)>> {
     let t = sim.tools.get(tool)?;
     let p = &sim.particles;
     let dx = p.spacing;
@@ -27,27 +42,52 @@ pub fn chip_thickness(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option
     // point, the tool's local origin.
     let n = [-g.cos(), g.sin()];
     let top = -0.5 * setup.surface_spacing();
-    // The extreme projections and the spacings of their particles (refined particles
-    // occupy their own spacing).
-    let (mut lo, mut hi, mut count) = (f64::INFINITY, f64::NEG_INFINITY, 0usize);
-    let (mut dx_lo, mut dx_hi) = (dx, dx);
     let band = MEASURING_BAND_H.map(|k| top + k * h);
-    for i in 0..p.len() {
-        if p.group[i] != FREE || p.y[i] < band[0] || p.y[i] > band[1] {
-            continue;
-        }
-        let d = (p.x[i] - t.position[0]) * n[0] + (p.y[i] - t.position[1]) * n[1];
-        if d > -dx && d < 10.0 * h {
-            if d < lo {
-                (lo, dx_lo) = (d, p.spacing_of(i));
-            }
-            if d > hi {
-                (hi, dx_hi) = (d, p.spacing_of(i));
-            }
-            count += 1;
-        }
+    let inside: Vec<(usize, f64)> = (0..p.len())
+        .filter(|&i| p.group[i] == FREE && p.y[i] >= band[0] && p.y[i] <= band[1])
+        .map(|i| {
+            let d = (p.x[i] - t.position[0]) * n[0] + (p.y[i] - t.position[1]) * n[1];
+            (i, d)
+        })
+        .filter(|&(_, d)| d > -dx && d < 10.0 * h)
+        .collect();
+    (inside.len() >= MIN_BAND_PARTICLES).then_some(inside)
+}
+
+/// Chip thickness by continuity, m (module docs): h_c = h v_c / |v̄_chip|, v̄_chip the band's
+/// mass-weighted mean velocity relative to the tool, v_c the tool's speed (`None` before a
+/// chip has formed, or with the tool or the chip at rest).
+pub fn chip_thickness(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<f64> {
+    let band = chip_band(sim, setup, tool)?;
+    let p = &sim.particles;
+    let v_tool = sim.tools[tool].motion.velocity(sim.time);
+    let (mut m, mut mvx, mut mvy) = (0.0, 0.0, 0.0);
+    for &(i, _) in &band {
+        let mi = p.mass_of(i);
+        m += mi;
+        mvx += mi * (p.vx[i] - v_tool[0]);
+        mvy += mi * (p.vy[i] - v_tool[1]);
     }
-    (count >= 3).then_some(hi - lo + 0.5 * (dx_lo + dx_hi))
+    let chip_speed = mvx.hypot(mvy) / m;
+    let cutting_speed = v_tool[0].hypot(v_tool[1]);
+    let h_c = setup.uncut_chip_thickness_m * cutting_speed / chip_speed;
+    (h_c.is_finite() && h_c > 0.0).then_some(h_c)
+}
+
+/// The chip's extent along the rake-face normal, m (module docs; `None` before a chip has
+/// formed).
+pub fn chip_extent(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<f64> {
+    let band = chip_band(sim, setup, tool)?;
+    let p = &sim.particles;
+    let outermost = |pick: fn(f64, f64) -> bool| {
+        band.iter()
+            .copied()
+            .reduce(|a, b| if pick(b.1, a.1) { b } else { a })
+            .map(|(i, d)| (d, p.spacing_of(i)))
+    };
+    let (lo, dx_lo) = outermost(|b, a| b < a)?;
+    let (hi, dx_hi) = outermost(|b, a| b > a)?;
+    Some(hi - lo + 0.5 * (dx_lo + dx_hi))
 }
 
 /// Shear angle φ (degrees) from the uncut and cut chip thickness and the rake angle γ.

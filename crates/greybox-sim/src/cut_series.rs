@@ -2,7 +2,7 @@
 //! thickness and serration), and the rake-face contact of every interval of the grey-box loop
 //! ([`contact_series`]: contact length, peak and mean temperature).
 
-use crate::chip::{chip_thickness, contact_length, contact_profile, IN_CONTACT};
+use crate::chip::{chip_extent, chip_thickness, contact_length, contact_profile, IN_CONTACT};
 use crate::cutting::{CuttingSetup, EdgeLayout, Face};
 use crate::executor::{Control, Observer};
 use crate::friction_loop::FrictionUpdater;
@@ -18,6 +18,8 @@ pub type Samples = Vec<(f64, f64)>;
 #[derive(Debug, Clone, Default)]
 pub struct CutSeries {
     pub chip_thickness: Samples,
+    /// The chip's extent along the rake-face normal, m ([`crate::chip::chip_extent`]).
+    pub chip_extent: Samples,
     pub contact_length: Samples,
     pub rake_peak_temperature: Samples,
     pub rake_mean_temperature: Samples,
@@ -25,12 +27,14 @@ pub struct CutSeries {
     pub serration: Vec<(f64, Option<Serration>)>,
 }
 
-/// One instant of the chip: its thickness (m), serration and contact length with the rake
-/// face (m, [`crate::serration::ChipShape::contact_length_m`]).
+/// One instant of the chip: its thickness and extent (m, [`crate::chip`]), serration and
+/// contact length with the rake face (m, [`crate::serration::ChipShape::contact_length_m`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ChipSample {
     pub time_s: f64,
     pub thickness_m: Option<f64>,
+    #[serde(default)]
+    pub extent_m: Option<f64>,
     pub serration: Option<Serration>,
     pub contact_length_m: Option<f64>,
 }
@@ -90,6 +94,7 @@ impl Observer for ChipSampler {
         self.samples.push(ChipSample {
             time_s: sim.time,
             thickness_m: chip_thickness(sim, setup, self.tool),
+            extent_m: chip_extent(sim, setup, self.tool),
             serration: shape.as_ref().and_then(|s| s.serration()),
             contact_length_m: shape.and_then(|s| s.contact_length_m),
         });
@@ -180,6 +185,11 @@ pub fn cut_series(
             .samples
             .iter()
             .filter_map(|s| s.thickness_m.map(|h| (s.time_s, h)))
+            .collect(),
+        chip_extent: chip
+            .samples
+            .iter()
+            .filter_map(|s| s.extent_m.map(|h| (s.time_s, h)))
             .collect(),
         contact_length,
         rake_peak_temperature,

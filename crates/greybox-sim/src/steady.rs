@@ -177,6 +177,9 @@ pub struct SteadyState {
     pub feed_force: MeanInterval,
     /// Chip thickness, m ([`crate::chip::chip_thickness`]).
     pub chip_thickness: Option<MeanInterval>,
+    /// The chip's extent along the rake-face normal, m ([`crate::chip::chip_extent`]).
+    #[serde(default)]
+    pub chip_extent: Option<MeanInterval>,
     /// Tool–chip contact length on the rake side, m.
     pub contact_length: Option<MeanInterval>,
     /// Hottest and contact-force-weighted mean window temperature along the rake face in
@@ -230,6 +233,7 @@ impl SteadyState {
             cutting_force,
             feed_force,
             chip_thickness: window.mean(&series.chip_thickness),
+            chip_extent: window.mean(&series.chip_extent),
             contact_length: window.mean(&series.contact_length),
             rake_peak_temperature: window.mean(&series.rake_peak_temperature),
             rake_mean_temperature: window.mean(&series.rake_mean_temperature),

@@ -69,6 +69,12 @@ pub struct SteadyReport {
     pub feed_force_n_per_mm: SteadyQuantity,
     pub chip_thickness_mm: Option<SteadyQuantity>,
     pub compression_ratio: Option<SteadyQuantity>,
+    /// The chip's extent along the rake-face normal, mm, and over h: its outer size, the
+    /// thickness measure until 2026-12-01 ([`crate::chip::chip_extent`]).
+    #[serde(default)]
+    pub chip_extent_mm: Option<SteadyQuantity>,
+    #[serde(default)]
+    pub extent_ratio: Option<SteadyQuantity>,
     pub contact_length_mm: Option<SteadyQuantity>,
     pub rake_peak_temperature_c: Option<SteadyQuantity>,
     pub rake_mean_temperature_c: Option<SteadyQuantity>,
@@ -102,6 +108,8 @@ impl SteadyReport {
             feed_force_n_per_mm: SteadyQuantity::of(&s.feed_force, 1e-3, 0.0),
             chip_thickness_mm: q(&s.chip_thickness, 1e3, 0.0),
             compression_ratio: q(&s.chip_thickness, 1.0 / h_m, 0.0),
+            chip_extent_mm: q(&s.chip_extent, 1e3, 0.0),
+            extent_ratio: q(&s.chip_extent, 1.0 / h_m, 0.0),
             contact_length_mm: q(&s.contact_length, 1e3, 0.0),
             rake_peak_temperature_c: q(&s.rake_peak_temperature, 1.0, kelvin),
             rake_mean_temperature_c: q(&s.rake_mean_temperature, 1.0, kelvin),
