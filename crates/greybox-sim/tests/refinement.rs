@@ -230,15 +230,16 @@ fn a_refined_cut_matches_the_uniform_fine_cut() {
     );
     // The contact: within one window (20 µm) of the fine cut's steady contact length. The
     // chip: this 0.3 mm cut ends while its chip is still rising (its steady means, 0.164 and
-    // 0.168 mm, rest on a growing chip), so the chips are compared as they stand at the end,
-    // within 3 % (coarse 0.1810, fine 0.1816, refined 0.1856 mm: +2.2 %; it was 0.1810 while
+    // 0.168 mm by the extent, rest on a growing chip), so the chips are compared as they
+    // stand at the end, by their extent (the shape; one instant's thickness by continuity
+    // scatters: refined/fine 0.91), within 3 % (coarse 0.1810, fine 0.1816, refined 0.1856 mm: +2.2 %; it was 0.1810 while
     // the tool's approach did not split, and the region split the workpiece's end only at
     // the first contact, with children inside the tool).
     let (m_r, m_f) = (&r.measures, &f.measures);
     let contact = |m: &greybox_sim::chip::CutMeasures| m.contact_length_mm.expect("contact");
     assert!((contact(m_r) - contact(m_f)).abs() <= 0.02 + 1e-9);
     let chip = |x: &CutRun, s: &greybox_sim::cutting::CuttingSetup| {
-        greybox_sim::chip::chip_thickness(&x.sim, s, 0).expect("a chip")
+        greybox_sim::chip::chip_extent(&x.sim, s, 0).expect("a chip")
     };
     let ratio = chip(&r, &refined(coarse_cut())) / chip(&f, &fine);
     assert!((ratio - 1.0).abs() < 0.03, "chip refined/fine {ratio}");
@@ -363,7 +364,7 @@ fn cut_at_035(setup: &greybox_sim::cutting::CuttingSetup) -> CutRun {
 }
 
 /// Cut `a` (set-up `sa`) against cut `b`: forces within 3 %, the energy-balance error within
-/// one point, the contact within one window (20 µm), the chip at the end within 2 %.
+/// one point, the contact within one window (20 µm), the chip's extent at the end within 2 %.
 fn cut_alike(
     a: &CutRun,
     sa: &greybox_sim::cutting::CuttingSetup,
@@ -393,8 +394,11 @@ fn cut_alike(
         (contact(a) - contact(b)).abs() <= 0.02 + 1e-9,
         "{what}: contact"
     );
+    // the chip's shape at the end: its extent (the thickness by continuity of one instant
+    // of a chip still rising scatters by up to ±14 % between such cuts; its steady mean
+    // does not, docs/validation.md, "How thick is the chip?")
     let chip =
-        |x: &CutRun, setup| greybox_sim::chip::chip_thickness(&x.sim, setup, 0).expect("a chip");
+        |x: &CutRun, setup| greybox_sim::chip::chip_extent(&x.sim, setup, 0).expect("a chip");
     let ratio = chip(a, sa) / chip(b, sb);
     assert!((ratio - 1.0).abs() < 0.02, "{what}: chip ratio {ratio}");
 }

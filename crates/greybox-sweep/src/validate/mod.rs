@@ -221,6 +221,9 @@ pub struct Outcome {
     pub simulated_feed_force_n_per_mm: f64,
     pub measured_chip_ratio: Option<f64>,
     pub simulated_chip_ratio: Option<f64>,
+    /// The chip's extent along the rake-face normal over h, the steady mean: the chip ratio
+    /// as measured until 2026-12-01 ([`greybox_sim::chip::chip_extent`]).
+    pub simulated_extent_ratio: Option<f64>,
     pub measured_contact_length_mm: Option<f64>,
     pub simulated_contact_length_mm: Option<f64>,
     /// Relative errors (simulated − measured)/measured.
@@ -720,6 +723,11 @@ fn outcome(arm: &Arm, c: &Condition, role: Role, mu: Option<f64>, cut: &Cut) -> 
         simulated_feed_force_n_per_mm: cut.feed_force_n_per_mm,
         measured_chip_ratio: c.chip_ratio,
         simulated_chip_ratio: cut.chip_ratio,
+        simulated_extent_ratio: cut
+            .steady_report
+            .as_ref()
+            .and_then(|s| s.extent_ratio.as_ref())
+            .map(|q| q.mean),
         measured_contact_length_mm: c.contact_length_m.map(|v| v * 1e3),
         simulated_contact_length_mm: cut.contact_length_mm,
         cutting_force_error: rel(cut.cutting_force_n_per_mm, fc),

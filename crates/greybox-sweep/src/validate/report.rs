@@ -7,7 +7,7 @@ use anyhow::Result;
 use std::path::{Path, PathBuf};
 
 /// The columns of `results.csv`, units in the names.
-const COLUMNS: [&str; 35] = [
+const COLUMNS: [&str; 36] = [
     "id",
     "material",
     "tool",
@@ -43,6 +43,7 @@ const COLUMNS: [&str; 35] = [
     "simulated_cut_length_mm",
     "wall_s",
     "measured_contact_length_mm",
+    "simulated_extent_ratio",
 ];
 
 fn opt(v: Option<f64>, d: usize) -> String {
@@ -89,6 +90,7 @@ fn record(o: &Outcome) -> Vec<String> {
         format!("{:.3}", o.simulated_cut_length_mm),
         format!("{:.1}", o.wall_s),
         opt(o.measured_contact_length_mm, 3),
+        opt(o.simulated_extent_ratio, 3),
     ]
 }
 
