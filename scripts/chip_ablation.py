@@ -60,9 +60,10 @@ The variants:
         --out /tmp/ablation [--variants baseline mass-scaled …] [--cut-length-mm 1.2] [--jobs 2] \\
         [--coarse-spacing-um 20]
 
-Prints a table per condition (F'c, F'f, h_c/h with their 95 % intervals, serrated share,
-segment pitch, peak rake temperature) beside the measured values, and per variant the
-chip ratio's change from the slowest to the fastest condition against the measured one.
+Prints a table per condition (F'c, F'f, h_c/h by continuity and the chip's extent over h, with
+their 95 % intervals, serrated share, segment pitch, peak rake temperature) beside the
+measured values, and per variant the chip ratio's change from the slowest to the fastest
+condition against the measured one.
 Relative paths in the template stay relative to its folder (the variants are written
 beside the outputs with absolute paths where needed).
 """
@@ -295,18 +296,18 @@ def main():
         print(f"\n{c}: {r['cutting_speed_m_per_min']} m/min, h = {r['uncut_chip_thickness_mm']} mm; "
               f"measured F'c {r['cutting_force_N_per_mm']}, F'f {r['feed_force_N_per_mm']} N/mm, "
               f"h_c/h {r['chip_ratio']}")
-        print("| variant | F'c N/mm | F'f N/mm | h_c/h | serrated share | segment pitch mm | "
+        print("| variant | F'c N/mm | F'f N/mm | h_c/h | extent/h | serrated share | segment pitch mm | "
               "rake peak °C | wall s |")
-        print('|---' * 8 + '|')
+        print('|---' * 9 + '|')
         for v in a.variants:
             s, wall, err = results[(c, v)]
             if s is None:
-                print(f'| {v} | failed: {err} |||||| {wall:.0f} |')
+                print(f'| {v} | failed: {err} ||||||| {wall:.0f} |')
                 continue
             ss = s.get('steady_state') or {}
             share = ss.get('serrated_share')
             print(f"| {v} | {cell(s, 'cutting_force_n_per_mm', 1)} | {cell(s, 'feed_force_n_per_mm', 1)} "
-                  f"| {cell(s, 'compression_ratio', 3)} | "
+                  f"| {cell(s, 'compression_ratio', 3)} | {cell(s, 'extent_ratio', 3)} | "
                   f"{'—' if share is None else f'{share:.2f}'} | {cell(s, 'segment_pitch_mm', 4)} "
                   f"| {cell(s, 'rake_peak_temperature_c', 0)} | {wall:.0f} |")
     speeds = sorted(a.conditions, key=lambda c: float(rows[c]['cutting_speed_m_per_min']))
