@@ -139,6 +139,7 @@ fn steady_line(st: &greybox_sim::steady_report::SteadyReport) -> String {
     };
     let parts: Vec<String> = [
         q("chip ratio", &st.compression_ratio, "", 3),
+        q("chip extent/h", &st.extent_ratio, "", 3),
         q("contact length", &st.contact_length_mm, " mm", 3),
         q("rake peak T", &st.rake_peak_temperature_c, " °C", 0),
         q("rake mean T", &st.rake_mean_temperature_c, " °C", 0),
