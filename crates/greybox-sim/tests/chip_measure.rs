@@ -24,8 +24,9 @@ struct LaidChip {
     thickness: f64,
     /// Angle of its axis from the rake face, away from the tool, rad.
     theta: f64,
-    /// Speed at the tool side over the mean, minus one, and the same at the free side with
-    /// the opposite sign: the secondary shear zone's profile across the chip.
+    /// Speed at the tool side over the mean, minus one (negative: slower, as in a secondary
+    /// shear zone), and the same at the free side with the opposite sign: a linear profile
+    /// across the chip.
     shear: f64,
     /// Particle-by-particle scatter of the velocity, relative to the mean speed.
     scatter: f64,
@@ -125,7 +126,7 @@ fn continuity_finds_the_thickness_of_a_chip_at_any_angle_and_the_extent_only_on_
             let chip = LaidChip {
                 thickness: thickness_h * h,
                 theta: f64::to_radians(theta_deg),
-                shear: 0.4,
+                shear: -0.4,
                 scatter: 0.1,
                 roughness,
             };
