@@ -58,11 +58,38 @@ fn chip_band(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<Vec<(usi
 /// mass-weighted mean velocity relative to the tool, v_c the tool's speed (`None` before a
 /// chip has formed, or with the tool or the chip at rest).
 pub fn chip_thickness(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<f64> {
-    let band = chip_band(sim, setup, tool)?;
+    thickness_of(sim, setup, tool, &chip_band(sim, setup, tool)?)
+}
+
+/// The chip's extent along the rake-face normal, m (module docs; `None` before a chip has
+/// formed).
+pub fn chip_extent(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<f64> {
+    extent_of(sim, &chip_band(sim, setup, tool)?)
+}
+
+/// Both chip measures of one instant, [`chip_thickness`] and [`chip_extent`], from one scan
+/// of the particles.
+pub fn chip_thickness_and_extent(
+    sim: &Solver,
+    setup: &CuttingSetup,
+    tool: usize,
+) -> (Option<f64>, Option<f64>) {
+    chip_band(sim, setup, tool).map_or((None, None), |band| {
+        (thickness_of(sim, setup, tool, &band), extent_of(sim, &band))
+    })
+}
+
+/// [`chip_thickness`] of the band `band`.
+fn thickness_of(
+    sim: &Solver,
+    setup: &CuttingSetup,
+    tool: usize,
+    band: &[(usize, f64)],
+) -> Option<f64> {
     let p = &sim.particles;
     let v_tool = sim.tools[tool].motion.velocity(sim.time);
     let (mut m, mut mvx, mut mvy) = (0.0, 0.0, 0.0);
-    for &(i, _) in &band {
+    for &(i, _) in band {
         let mi = p.mass_of(i);
         m += mi;
         mvx += mi * (p.vx[i] - v_tool[0]);
@@ -74,20 +101,13 @@ pub fn chip_thickness(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option
     (h_c.is_finite() && h_c > 0.0).then_some(h_c)
 }
 
-/// The chip's extent along the rake-face normal, m (module docs; `None` before a chip has
-/// formed).
-pub fn chip_extent(sim: &Solver, setup: &CuttingSetup, tool: usize) -> Option<f64> {
-    let band = chip_band(sim, setup, tool)?;
+/// [`chip_extent`] of the band `band`: the two outermost particles' distances and half
+/// their spacings (the first of equal ones).
+fn extent_of(sim: &Solver, band: &[(usize, f64)]) -> Option<f64> {
     let p = &sim.particles;
-    let outermost = |pick: fn(f64, f64) -> bool| {
-        band.iter()
-            .copied()
-            .reduce(|a, b| if pick(b.1, a.1) { b } else { a })
-            .map(|(i, d)| (d, p.spacing_of(i)))
-    };
-    let (lo, dx_lo) = outermost(|b, a| b < a)?;
-    let (hi, dx_hi) = outermost(|b, a| b > a)?;
-    Some(hi - lo + 0.5 * (dx_lo + dx_hi))
+    let &(i_lo, lo) = band.iter().reduce(|a, b| if b.1 < a.1 { b } else { a })?;
+    let &(i_hi, hi) = band.iter().reduce(|a, b| if b.1 > a.1 { b } else { a })?;
+    Some(hi - lo + 0.5 * (p.spacing_of(i_lo) + p.spacing_of(i_hi)))
 }
 
 /// Shear angle φ (degrees) from the uncut and cut chip thickness and the rake angle γ.

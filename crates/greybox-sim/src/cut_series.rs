@@ -2,7 +2,7 @@
 //! thickness and serration), and the rake-face contact of every interval of the grey-box loop
 //! ([`contact_series`]: contact length, peak and mean temperature).
 
-use crate::chip::{chip_extent, chip_thickness, contact_length, contact_profile, IN_CONTACT};
+use crate::chip::{chip_thickness_and_extent, contact_length, contact_profile, IN_CONTACT};
 use crate::cutting::{CuttingSetup, EdgeLayout, Face};
 use crate::executor::{Control, Observer};
 use crate::friction_loop::FrictionUpdater;
@@ -65,6 +65,14 @@ impl ChipSampler {
         self
     }
 
+    /// The samples' (time s, value) where `value` has one.
+    fn series(&self, value: impl Fn(&ChipSample) -> Option<f64>) -> Samples {
+        self.samples
+            .iter()
+            .filter_map(|s| value(s).map(|v| (s.time_s, v)))
+            .collect()
+    }
+
     /// The cut length over which the chip renews its contact with the rake face, m: a chip
     /// element flows at v h/h_c over the contact length l_c, in l_c h_c/h of cut (the means
     /// of the samples in (from_s, to_s]; `None` without a chip in contact).
@@ -91,10 +99,11 @@ impl Observer for ChipSampler {
             return Ok(Control::Continue);
         };
         let shape = chip_shape(sim, setup, self.tool);
+        let (thickness_m, extent_m) = chip_thickness_and_extent(sim, setup, self.tool);
         self.samples.push(ChipSample {
             time_s: sim.time,
-            thickness_m: chip_thickness(sim, setup, self.tool),
-            extent_m: chip_extent(sim, setup, self.tool),
+            thickness_m,
+            extent_m,
             serration: shape.as_ref().and_then(|s| s.serration()),
             contact_length_m: shape.and_then(|s| s.contact_length_m),
         });
@@ -181,16 +190,8 @@ pub fn cut_series(
     let [contact_length, rake_peak_temperature, rake_mean_temperature] =
         contact_series(updater, tool, layout, spacing, window_length);
     CutSeries {
-        chip_thickness: chip
-            .samples
-            .iter()
-            .filter_map(|s| s.thickness_m.map(|h| (s.time_s, h)))
-            .collect(),
-        chip_extent: chip
-            .samples
-            .iter()
-            .filter_map(|s| s.extent_m.map(|h| (s.time_s, h)))
-            .collect(),
+        chip_thickness: chip.series(|s| s.thickness_m),
+        chip_extent: chip.series(|s| s.extent_m),
         contact_length,
         rake_peak_temperature,
         rake_mean_temperature,
