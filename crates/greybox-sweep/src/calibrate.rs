@@ -15,7 +15,8 @@
 //! flow stress, and the chip tells apart sets that give the same force.
 //!
 //! The search is [`crate::search::coordinate_descent`]: golden-section on one field at a
-//! time (ln C and ln of the scale on a log scale), which needs no derivative and tolerates
+//! time (ln C and ln of the scale on a log scale), over every field again for each pass
+//! ([`default_passes`]), which needs no derivative and tolerates
 //! the solver's small run-to-run differences between parameter values; every evaluation's
 //! cases are kept, so a repeated value costs nothing.
 //!
@@ -150,6 +151,9 @@ pub struct CalibrateOptions {
     pub fields: Vec<FitField>,
     /// Evaluations per golden-section search.
     pub iterations: usize,
+    /// Passes of the coordinate search over every searched parameter (`None`: two where
+    /// more than one is searched, one otherwise; [`default_passes`]).
+    pub passes: Option<usize>,
     pub hold_out: HoldOut,
     /// Also scale the Coulomb `mu` of the base (bracket 0.5 … 2).
     pub friction_scale: bool,
@@ -191,6 +195,8 @@ pub struct Calibration {
     pub held_out_error_ci95: Option<f64>,
     /// The searched parameters: the fitted fields, then `friction scale` where fitted.
     pub searched: Vec<String>,
+    /// Passes of the coordinate search over `searched`.
+    pub passes: usize,
     /// Every evaluation: the searched parameters' values, in the order of `searched`, the
     /// training error and each training condition's share of it.
     pub evaluations: Vec<Evaluation>,
@@ -198,6 +204,19 @@ pub struct Calibration {
     /// with fewer than two training conditions).
     pub certainty: Option<Certainty>,
     pub residuals: Vec<Residual>,
+}
+
+/// Passes of the coordinate search over `searched` parameters where none is asked for: two
+/// where more than one is searched, since one golden section per coordinate leaves each
+/// parameter at its best for the others' *starting* values, and coupled parameters (the
+/// flow stress and the friction both move the forces) move each other's best; one
+/// otherwise.
+pub fn default_passes(searched: usize) -> usize {
+    if searched > 1 {
+        2
+    } else {
+        1
+    }
 }
 
 /// The sweep of `conds` with the fitted fields at `values` (and μ scaled by `scale`): what
@@ -389,8 +408,7 @@ pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
     if training.is_empty() {
         bail!("every condition is held out: nothing to calibrate on");
     }
-    // The search runs over the fields, then the scale (one more coordinate), twice over
-    // when both are fitted, as the fields and the friction move the forces together.
+    // The search runs over the fields, then the scale (one more coordinate).
     let mut search = o.fields.clone();
     if o.friction_scale {
         search.push(FitField::new("friction scale", SCALE_RANGE, true));
@@ -399,13 +417,13 @@ pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
     let split = |x: &[f64]| (x[..n].to_vec(), o.friction_scale.then(|| x[n]));
     let start: Vec<f64> = search.iter().map(FitField::middle).collect();
     let mut evals = Vec::new();
-    let sweeps = if o.friction_scale && n > 0 { 2 } else { 1 };
+    let passes = o.passes.unwrap_or_else(|| default_passes(search.len()));
     // friction shows in the feed force: it counts where friction is fitted
     let with_feed = o.friction_scale
         || o.fields
             .iter()
             .any(|f| f.field.starts_with("friction.") || f.field == "mu");
-    let (best, _) = coordinate_descent(&search, &start, sweeps, o.iterations, &mut |x| {
+    let (best, _) = coordinate_descent(&search, &start, passes, o.iterations, &mut |x| {
         let (values, scale) = split(x);
         let shares = condition_errors(
             &training,
@@ -443,6 +461,7 @@ pub fn calibrate(o: &CalibrateOptions) -> Result<Calibration> {
         held_out_error: (!held.is_empty()).then(|| mean_or_infinite(&held_shares)),
         held_out_error_ci95: across_ci95(&held_shares),
         searched: search.iter().map(|f| f.field.clone()).collect(),
+        passes,
         certainty: certainty(&search, &evals),
         evaluations: evals,
         residuals,
@@ -472,6 +491,13 @@ mod tests {
 
     /// The chip ratio column is a measurement, not a set-up field, and it counts in the error
     /// with the forces: |Δ|/measured of each measured quantity, averaged.
+    #[test]
+    fn several_searched_parameters_take_two_passes_by_default() {
+        assert_eq!(default_passes(1), 1);
+        assert_eq!(default_passes(2), 2);
+        assert_eq!(default_passes(4), 2);
+    }
+
     #[test]
     fn a_measured_chip_ratio_counts_in_the_error() {
         let conds = measured(

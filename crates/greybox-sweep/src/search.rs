@@ -167,6 +167,23 @@ mod tests {
     }
 
     #[test]
+    fn a_second_pass_moves_coupled_parameters_towards_their_joint_best() {
+        // f = (x + y − 1)² + 0.1 (x − y − 0.4)²: the best is x = 0.7, y = 0.3; each
+        // parameter's best moves with the other's value, as the flow stress's and the
+        // friction's do through the forces
+        let fields = [
+            FitField::new("x", [-1.0, 2.0], false),
+            FitField::new("y", [-1.0, 2.0], false),
+        ];
+        let mut f = |p: &[f64]| Ok((p[0] + p[1] - 1.0).powi(2) + 0.1 * (p[0] - p[1] - 0.4).powi(2));
+        let miss = |x: &[f64]| ((x[0] - 0.7f64).powi(2) + (x[1] - 0.3f64).powi(2)).sqrt();
+        let (one, _) = coordinate_descent(&fields, &[0.5, 0.5], 1, 40, &mut f).unwrap();
+        let (two, _) = coordinate_descent(&fields, &[0.5, 0.5], 2, 40, &mut f).unwrap();
+        assert!(miss(&one) > 0.05, "{one:?}");
+        assert!(miss(&two) < 0.8 * miss(&one), "{one:?} {two:?}");
+    }
+
+    #[test]
     fn coordinate_descent_fits_two_decoupled_parameters() {
         // ln μ = ln 0.4 + b ln(v/v_ref) at v/v_ref = 0.5, 1, 2, "measured" with b = −0.3
         let data: Vec<(f64, f64)> = [0.5, 1.0, 2.0]

@@ -26,6 +26,8 @@ use std::path::PathBuf;
 pub type Jobs = greybox_core::count::Count<1, 1_024>;
 /// Iterations of a calibration: each runs every calibration case once.
 pub type Iterations = greybox_core::count::Count<1, 1_000>;
+/// Passes of a calibration's coordinate search over every searched parameter.
+pub type Passes = greybox_core::count::Count<1, 10>;
 /// Every n-th condition held out of a calibration (2: every other one).
 pub type HoldOutEvery = greybox_core::count::Count<2, 1_000>;
 
@@ -116,6 +118,10 @@ pub struct CalibrateSettings {
     /// Evaluations per golden-section search.
     #[cfg_attr(feature = "cli", arg(long, default_value_t = Iterations::of(10)))]
     pub iterations: Iterations,
+    /// Passes of the search over every searched parameter (default: two where more than one
+    /// is searched, as coupled parameters move the forces together; one otherwise).
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub passes: Option<Passes>,
     /// Hold out every k-th condition (default 3) …
     #[cfg_attr(feature = "cli", arg(long = "hold-out-every", default_value_t = HoldOutEvery::of(3)))]
     pub hold_out_every: HoldOutEvery,
@@ -141,6 +147,7 @@ impl Default for CalibrateSettings {
             c_min: 0.001,
             c_max: 0.1,
             iterations: Iterations::of(10),
+            passes: None,
             hold_out_every: HoldOutEvery::of(3),
             hold_out: Vec::new(),
             friction_scale: false,
@@ -170,6 +177,7 @@ impl CalibrateSettings {
             command,
             fields: self.fields()?,
             iterations: self.iterations.get(),
+            passes: self.passes.map(Passes::get),
             hold_out: if self.hold_out.is_empty() {
                 HoldOut::Every(self.hold_out_every.get())
             } else {
