@@ -489,8 +489,6 @@ mod tests {
         read_measured(&p)
     }
 
-    /// The chip ratio column is a measurement, not a set-up field, and it counts in the error
-    /// with the forces: |Δ|/measured of each measured quantity, averaged.
     #[test]
     fn several_searched_parameters_take_two_passes_by_default() {
         assert_eq!(default_passes(1), 1);
@@ -498,6 +496,8 @@ mod tests {
         assert_eq!(default_passes(4), 2);
     }
 
+    /// The chip ratio column is a measurement, not a set-up field, and it counts in the error
+    /// with the forces: |Δ|/measured of each measured quantity, averaged.
     #[test]
     fn a_measured_chip_ratio_counts_in_the_error() {
         let conds = measured(
