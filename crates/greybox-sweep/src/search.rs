@@ -114,7 +114,7 @@ pub fn golden(
     })
 }
 
-/// Coordinate descent: `sweeps` passes over `fields`, each a golden-section search of one
+/// Coordinate descent: `passes` passes over `fields`, each a golden-section search of one
 /// field with the others held, starting from `start` (clamped into the brackets; not itself
 /// evaluated, as an evaluation can be a whole sweep of simulations). The first search's
 /// result is taken; later ones are kept only where they lower the objective. Returns the
@@ -122,7 +122,7 @@ pub fn golden(
 pub fn coordinate_descent(
     fields: &[FitField],
     start: &[f64],
-    sweeps: usize,
+    passes: usize,
     evaluations: usize,
     f: &mut dyn FnMut(&[f64]) -> Result<f64>,
 ) -> Result<(Vec<f64>, f64)> {
@@ -135,7 +135,7 @@ pub fn coordinate_descent(
     }
     let mut x: Vec<f64> = fields.iter().zip(start).map(|(d, &s)| d.clamp(s)).collect();
     let mut best = f64::INFINITY;
-    for _ in 0..sweeps.max(1) {
+    for _ in 0..passes.max(1) {
         for (k, field) in fields.iter().enumerate() {
             let mut trial = x.clone();
             let (v, fv) = golden(field, evaluations, &mut |v| {
