@@ -5,11 +5,93 @@
 mod common;
 use common::{err, greybox, ok, ti64_suite, without_wall_times};
 
+/// The held-out summary's goal checks: the suite's three goals, each interval's measured
+/// part recomputed here from the bundled data's dispersions (2σ over 3 repeats, the columns
+/// `dispersion_sigmas` and `repeats`) and the simulated and measured values, and a verdict
+/// that follows from the interval.
+fn goals_count_the_measurements_scatter(held: &serde_json::Value, rows: &[serde_json::Value]) {
+    let data = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../validation/orthogonal-cutting.csv"),
+    )
+    .unwrap();
+    let mut lines = data.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let table: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let value = |id: &str, name: &str| -> f64 {
+        let row = table.iter().find(|r| r[0] == id).unwrap();
+        row[col(name)].parse().unwrap()
+    };
+    let checks = held["goals"].as_array().unwrap();
+    let measures: Vec<&str> = checks
+        .iter()
+        .map(|c| c["measure"].as_str().unwrap())
+        .collect();
+    assert_eq!(measures, ["F'c", "F'f", "chip ratio"]);
+    let columns = [
+        (
+            "cutting_force_dispersion_N_per_mm",
+            "measured_cutting_force_n_per_mm",
+            "simulated_cutting_force_n_per_mm",
+        ),
+        (
+            "feed_force_dispersion_N_per_mm",
+            "measured_feed_force_n_per_mm",
+            "simulated_feed_force_n_per_mm",
+        ),
+        (
+            "chip_ratio_dispersion",
+            "measured_chip_ratio",
+            "simulated_chip_ratio",
+        ),
+    ];
+    for (c, (dispersion, measured, simulated)) in checks.iter().zip(columns) {
+        let sum_sq: f64 = rows
+            .iter()
+            .map(|o| {
+                let id = o["id"].as_str().unwrap();
+                let se_mean = value(id, dispersion)
+                    / (value(id, "dispersion_sigmas") * value(id, "repeats").sqrt());
+                let (m, s) = (
+                    o[measured].as_f64().unwrap(),
+                    o[simulated].as_f64().unwrap(),
+                );
+                (s / m * se_mean / m).powi(2)
+            })
+            .sum();
+        let expected = 1.96 * sum_sq.sqrt() / rows.len() as f64;
+        let f = |k: &str| c[k].as_f64().unwrap();
+        assert!((f("measured_ci95") - expected).abs() < 1e-9, "{c}");
+        assert_eq!(c["measured_uncertainty_known"], rows.len());
+        let h = f("ci95");
+        assert!(h >= f("measured_ci95") && h >= f("cuts_ci95"), "{c}");
+        let (mean, goal) = (f("mean_abs"), f("goal"));
+        let verdict = if mean + h <= goal {
+            "met"
+        } else if mean - h > goal {
+            "not met"
+        } else {
+            "cannot tell"
+        };
+        assert_eq!(c["verdict"], verdict, "{c}");
+    }
+    assert_eq!(
+        (checks[0]["goal"].as_f64(), checks[2]["goal"].as_f64()),
+        (Some(0.15), Some(0.08))
+    );
+}
+
 #[test]
 fn validation_subset_calibrates_on_one_condition_and_reports_the_held_out_ones() {
     let d = tempfile::tempdir().unwrap();
     // The bundled data and template; one calibration condition, two held out.
-    ti64_suite(d.path(), "suite.toml", &["D08"], "");
+    ti64_suite(
+        d.path(),
+        "suite.toml",
+        &["D08"],
+        "[goals]\nchip_ratio_percent = 8.0\n",
+    );
     let s = ok(&greybox(
         &[
             "bench",
@@ -65,6 +147,7 @@ fn validation_subset_calibrates_on_one_condition_and_reports_the_held_out_ones()
         + outcomes[2]["cutting_force_error"].as_f64().unwrap().abs())
         / 2.0;
     assert!((held["cutting_force_mean_abs"].as_f64().unwrap() - mean_abs).abs() < 1e-12);
+    goals_count_the_measurements_scatter(held, &outcomes[1..]);
     for f in ["results.csv", "summary.json", "validation.md", "forces.svg"] {
         assert!(d.path().join("out").join(f).exists(), "{f}");
     }

@@ -4,7 +4,7 @@
 
 use super::{MaterialRuns, ToolModel};
 use anyhow::{bail, Context, Result};
-use greybox_core::csvutil::{csv_error, parse_f64, record_line, Header};
+use greybox_core::csvutil::{csv_error, parse_f64, parse_u64, record_line, Header};
 use greybox_sim::cutting::CuttingSetup;
 use serde::Serialize;
 use std::path::Path;
@@ -25,10 +25,42 @@ pub struct Condition {
     pub cutting_force_dispersion_n_per_m: Option<f64>,
     pub feed_force_n_per_m: f64,
     pub feed_force_dispersion_n_per_m: Option<f64>,
-    /// Chip compression ratio h_c/h, where reported.
+    /// Chip compression ratio h_c/h, where reported, and its reported dispersion.
     pub chip_ratio: Option<f64>,
+    pub chip_ratio_dispersion: Option<f64>,
+    /// What the row's dispersions are (columns `dispersion_sigmas` and `repeats`), where the
+    /// data say: without it the measured values' own uncertainty cannot be counted.
+    pub dispersion: Option<DispersionMeaning>,
     /// Tool–chip contact length, m, where reported.
     pub contact_length_m: Option<f64>,
+}
+
+/// What a row's dispersion columns mean: `sigmas` standard deviations of the `repeats`
+/// measurements whose mean the row reports (a source drawing 2σ error bars over three
+/// repeated cuts: 2 and 3).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DispersionMeaning {
+    pub sigmas: f64,
+    pub repeats: u64,
+}
+
+impl Condition {
+    /// Standard errors of the measured means of F'c, F'f (N/m) and the chip ratio: the
+    /// reported dispersion d over `sigmas`, the standard deviation of one measurement,
+    /// over √repeats, se = d/(k √r). `None` where the row has no dispersion or does not say
+    /// what it is.
+    pub fn measured_standard_errors(&self) -> [Option<f64>; 3] {
+        let se = |d: Option<f64>| {
+            self.dispersion
+                .zip(d)
+                .map(|(m, d)| d / (m.sigmas * (m.repeats as f64).sqrt()))
+        };
+        [
+            se(self.cutting_force_dispersion_n_per_m),
+            se(self.feed_force_dispersion_n_per_m),
+            se(self.chip_ratio_dispersion),
+        ]
+    }
 }
 
 /// Reads the measured conditions.
@@ -54,12 +86,14 @@ pub fn read_conditions(path: &Path) -> Result<Vec<Condition>> {
         need("feed_force_N_per_mm")?,
     ];
     let opt = |n: &str| header.find(n);
-    let (c_fcd, c_ffd, c_ratio, c_lc) = (
+    let (c_fcd, c_ffd, c_ratio, c_ratio_d, c_lc) = (
         opt("cutting_force_dispersion_N_per_mm"),
         opt("feed_force_dispersion_N_per_mm"),
         opt("chip_ratio"),
+        opt("chip_ratio_dispersion"),
         opt("contact_length_mm"),
     );
+    let (c_sigmas, c_repeats) = (opt("dispersion_sigmas"), opt("repeats"));
     let mut out: Vec<Condition> = Vec::new();
     for (k, rec) in rdr.records().enumerate() {
         let rec = rec.map_err(|e| csv_error(&src, e))?;
@@ -81,6 +115,30 @@ pub fn read_conditions(path: &Path) -> Result<Vec<Condition>> {
                 )
             }
         };
+        let non_negative = |c: Option<usize>| -> Result<Option<f64>> {
+            match maybe(c)? {
+                Some(v) if v < 0.0 => bail!(
+                    "{src}: line {line}: column {}: expected a dispersion >= 0, got {v}",
+                    header.names()[c.unwrap_or_default()]
+                ),
+                v => Ok(v),
+            }
+        };
+        let dispersion = match (maybe(c_sigmas)?, c_repeats.filter(|&c| !rec[c].trim().is_empty())) {
+            (None, None) => None,
+            (Some(sigmas), Some(c)) => {
+                let repeats = parse_u64(&rec[c], &src, line, "repeats")?;
+                if sigmas <= 0.0 || repeats == 0 {
+                    bail!(
+                        "{src}: line {line}: columns dispersion_sigmas, repeats: expected a number of standard deviations > 0 and a count of repeated measurements >= 1, got {sigmas} and {repeats}"
+                    );
+                }
+                Some(DispersionMeaning { sigmas, repeats })
+            }
+            _ => bail!(
+                "{src}: line {line}: columns dispersion_sigmas, repeats: expected both (what the dispersions are: how many standard deviations, over how many repeated measurements) or neither"
+            ),
+        };
         let id = rec[cols[0]].trim().to_string();
         if id.is_empty() || out.iter().any(|c| c.id == id) {
             bail!("{src}: line {line}: column id: expected a unique, non-empty id, got '{id}'");
@@ -95,10 +153,12 @@ pub fn read_conditions(path: &Path) -> Result<Vec<Condition>> {
             clearance_deg: num(cols[6])?,
             edge_radius_m: num(cols[7])? * 1e-6,
             cutting_force_n_per_m: positive(cols[8], num(cols[8])?)? * 1e3,
-            cutting_force_dispersion_n_per_m: maybe(c_fcd)?.map(|v| v * 1e3),
+            cutting_force_dispersion_n_per_m: non_negative(c_fcd)?.map(|v| v * 1e3),
             feed_force_n_per_m: positive(cols[9], num(cols[9])?)? * 1e3,
-            feed_force_dispersion_n_per_m: maybe(c_ffd)?.map(|v| v * 1e3),
+            feed_force_dispersion_n_per_m: non_negative(c_ffd)?.map(|v| v * 1e3),
             chip_ratio: maybe(c_ratio)?,
+            chip_ratio_dispersion: non_negative(c_ratio_d)?,
+            dispersion,
             contact_length_m: maybe(c_lc)?.map(|v| v * 1e-3),
         });
     }
@@ -195,6 +255,8 @@ mod tests {
             feed_force_n_per_m: 5e4,
             feed_force_dispersion_n_per_m: None,
             chip_ratio: None,
+            chip_ratio_dispersion: None,
+            dispersion: None,
             contact_length_m: None,
         };
         let s = condition_setup(&template, &c, &runs, ToolModel::Adiabatic).unwrap();
@@ -223,11 +285,55 @@ mod tests {
         assert!((c[0].uncut_chip_thickness_m - 6e-5).abs() < 1e-15);
         assert!((c[0].cutting_force_n_per_m - 118_200.0).abs() < 1e-9);
         assert_eq!(c[0].chip_ratio, Some(1.23));
+        assert_eq!(c[0].dispersion, None);
+        assert_eq!(c[0].measured_standard_errors(), [None; 3]);
         std::fs::write(&p, "id,material,source,cutting_speed_m_per_min,uncut_chip_thickness_mm,rake_deg,clearance_deg,edge_radius_um,cutting_force_N_per_mm,feed_force_N_per_mm\nA,Ti,x,30,-0.06,15,2,20,118,50\n").unwrap();
         let e = format!("{:#}", read_conditions(&p).unwrap_err());
         assert!(
             e.contains("line 2") && e.contains("uncut_chip_thickness_mm"),
             "{e}"
         );
+    }
+
+    /// A row's dispersions are read with what they are (k standard deviations over r
+    /// repeats: se = d/(k √r)); half a meaning, a count of no repeats or a negative dispersion
+    /// is refused with the line and the columns named.
+    #[test]
+    fn reads_what_the_dispersions_are() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("c.csv");
+        let head = "id,material,source,cutting_speed_m_per_min,uncut_chip_thickness_mm,rake_deg,clearance_deg,edge_radius_um,cutting_force_N_per_mm,cutting_force_dispersion_N_per_mm,feed_force_N_per_mm,feed_force_dispersion_N_per_mm,chip_ratio,chip_ratio_dispersion,dispersion_sigmas,repeats\n";
+        let write = |rows: &str| std::fs::write(&p, format!("{head}{rows}")).unwrap();
+        write("A,Ti,x,30,0.06,15,2,20,118.2,12.0,50.3,6.0,1.23,0.30,2,3\nB,Ti,x,40,0.06,15,2,20,118.2,12.0,50.3,,1.20,,,\n");
+        let c = read_conditions(&p).unwrap();
+        let k3 = 2.0 * 3f64.sqrt();
+        let se = c[0].measured_standard_errors();
+        assert!((se[0].unwrap() - 12_000.0 / k3).abs() < 1e-9);
+        assert!((se[1].unwrap() - 6_000.0 / k3).abs() < 1e-9);
+        assert!((se[2].unwrap() - 0.30 / k3).abs() < 1e-12);
+        assert_eq!(c[1].measured_standard_errors(), [None; 3]);
+        for (row, needle) in [
+            ("A,Ti,x,30,0.06,15,2,20,118,12,50,6,1.2,0.3,2,\n", "both"),
+            (
+                "A,Ti,x,30,0.06,15,2,20,118,12,50,6,1.2,0.3,2,0\n",
+                "repeated measurements >= 1",
+            ),
+            (
+                "A,Ti,x,30,0.06,15,2,20,118,12,50,6,1.2,0.3,0,3\n",
+                "standard deviations > 0",
+            ),
+            (
+                "A,Ti,x,30,0.06,15,2,20,118,12,50,6,1.2,0.3,2,2.5\n",
+                "non-negative integer",
+            ),
+            (
+                "A,Ti,x,30,0.06,15,2,20,118,12,50,6,1.2,-0.3,2,3\n",
+                "chip_ratio_dispersion",
+            ),
+        ] {
+            write(row);
+            let e = format!("{:#}", read_conditions(&p).unwrap_err());
+            assert!(e.contains("line 2") && e.contains(needle), "{row}: {e}");
+        }
     }
 }
