@@ -18,7 +18,7 @@
 //! * the cut length at which the resolution would be ±[`RESOLVE`]: the interval narrows as
 //!   1/√L with the steady stretch L, so L' = L̄ (Y/0.03)² plus the warm-up.
 
-use super::{held_out_groups, imputed_errors, Outcome, ToolModel};
+use super::{held_out_groups, imputed_errors, mean_ci95, Outcome, ToolModel};
 use greybox_core::stats::t_half_width;
 use serde::Serialize;
 
@@ -119,9 +119,7 @@ fn paired(pairs: &[(&Outcome, &Outcome)], k: usize) -> PairedDifference {
         .flat_map(|(m, b)| [m.error_se[k], b.error_se[k]])
         .collect();
     let imputed = imputed_errors(&se);
-    let ci95 = imputed
-        .as_ref()
-        .map(|(v, _)| 1.96 * v.iter().map(|e| e * e).sum::<f64>().sqrt() / n as f64);
+    let ci95 = imputed.as_ref().map(|(v, _)| mean_ci95(v, n));
     let across = t_half_width(&d, 0.95);
     let lengths: Vec<(f64, f64)> = pairs
         .iter()

@@ -16,7 +16,7 @@
 //! A goal g is **met** when the whole interval lies at or below g, **not met** when it lies
 //! above, and otherwise the evidence **cannot tell**: the suite says so instead of choosing.
 
-use super::{imputed_errors, Outcome};
+use super::{imputed_errors, mean_ci95, Outcome};
 use serde::{Deserialize, Serialize};
 
 /// The suite file's `[goals]`: the held-out mean |error| each measure should stay within, %
@@ -169,28 +169,25 @@ pub fn check(rows: &[&Outcome], goals: &Goals) -> Vec<GoalCheck> {
             if used.is_empty() {
                 return None;
             }
-            let n = used.len() as f64;
+            let n = used.len();
             let mean_abs = used
                 .iter()
                 .filter_map(|o| error(o, k))
                 .map(f64::abs)
                 .sum::<f64>()
-                / n;
-            let half = |sum_sq: f64| 1.96 * sum_sq.sqrt() / n;
+                / n as f64;
             let cut_se: Vec<Option<f64>> = used.iter().map(|o| o.error_se[k]).collect();
-            let cuts = imputed_errors(&cut_se).map(|(v, _)| v.iter().map(|e| e * e).sum::<f64>());
-            let measured: f64 = used
-                .iter()
-                .filter_map(|o| o.measured_error_se[k])
-                .map(|e| e * e)
-                .sum();
-            let ci95 = cuts.map(|c| half(c + measured));
+            let cuts = imputed_errors(&cut_se).map(|(v, _)| v);
+            let measured: Vec<f64> = used.iter().filter_map(|o| o.measured_error_se[k]).collect();
+            let ci95 = cuts
+                .as_ref()
+                .map(|c| mean_ci95(c.iter().chain(&measured), n));
             Some(GoalCheck {
                 measure: measure.to_string(),
                 goal,
                 mean_abs,
-                cuts_ci95: cuts.map(half),
-                measured_ci95: half(measured),
+                cuts_ci95: cuts.as_ref().map(|c| mean_ci95(c, n)),
+                measured_ci95: mean_ci95(&measured, n),
                 ci95,
                 conditions: used.len(),
                 measured_uncertainty_known: used

@@ -399,6 +399,12 @@ pub(crate) fn imputed_errors(se: &[Option<f64>]) -> Option<(Vec<f64>, usize)> {
     Some((se.iter().map(|e| e.unwrap_or(median)).collect(), missing))
 }
 
+/// Half-width of the 95 % interval of a mean over `n` terms whose standard errors are `se`
+/// (independent): 1.96 √(Σ se²)/n. The one rule wherever the suite combines scatter.
+pub(crate) fn mean_ci95<'a>(se: impl IntoIterator<Item = &'a f64>, n: usize) -> f64 {
+    1.96 * se.into_iter().map(|e| e * e).sum::<f64>().sqrt() / n as f64
+}
+
 /// The items, each once, in the order first met.
 fn distinct<T: PartialEq>(items: impl IntoIterator<Item = T>) -> Vec<T> {
     let mut once: Vec<T> = Vec::new();
@@ -826,8 +832,7 @@ fn summarise(
             .filter(|o| of(o))
             .map(|o| o.error_se[k])
             .collect();
-        imputed_errors(&se)
-            .map(|(v, _)| 1.96 * v.iter().map(|e| e * e).sum::<f64>().sqrt() / v.len() as f64)
+        imputed_errors(&se).map(|(v, _)| mean_ci95(&v, v.len()))
     };
     let imputed = |k: usize| {
         rows.iter()
