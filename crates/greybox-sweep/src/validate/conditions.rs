@@ -44,6 +44,33 @@ pub struct DispersionMeaning {
     pub repeats: u64,
 }
 
+impl DispersionMeaning {
+    /// A row's meaning from its `dispersion_sigmas` and `repeats` cells (`None`: both empty
+    /// or absent); one without the other, no repeats or k ≤ 0 is refused naming the line.
+    fn of_row(
+        sigmas: Option<f64>,
+        repeats: Option<&str>,
+        src: &str,
+        line: u64,
+    ) -> Result<Option<Self>> {
+        match (sigmas, repeats.filter(|r| !r.trim().is_empty())) {
+            (None, None) => Ok(None),
+            (Some(sigmas), Some(r)) => {
+                let repeats = parse_u64(r, src, line, "repeats")?;
+                if sigmas <= 0.0 || repeats == 0 {
+                    bail!(
+                        "{src}: line {line}: columns dispersion_sigmas, repeats: expected a number of standard deviations > 0 and a count of repeated measurements >= 1, got {sigmas} and {repeats}"
+                    );
+                }
+                Ok(Some(DispersionMeaning { sigmas, repeats }))
+            }
+            _ => bail!(
+                "{src}: line {line}: columns dispersion_sigmas, repeats: expected both (what the dispersions are: how many standard deviations, over how many repeated measurements) or neither"
+            ),
+        }
+    }
+}
+
 impl Condition {
     /// Standard errors of the measured means of F'c, F'f (N/m) and the chip ratio: the
     /// reported dispersion d over `sigmas`, the standard deviation of one measurement,
@@ -124,21 +151,8 @@ pub fn read_conditions(path: &Path) -> Result<Vec<Condition>> {
                 v => Ok(v),
             }
         };
-        let dispersion = match (maybe(c_sigmas)?, c_repeats.filter(|&c| !rec[c].trim().is_empty())) {
-            (None, None) => None,
-            (Some(sigmas), Some(c)) => {
-                let repeats = parse_u64(&rec[c], &src, line, "repeats")?;
-                if sigmas <= 0.0 || repeats == 0 {
-                    bail!(
-                        "{src}: line {line}: columns dispersion_sigmas, repeats: expected a number of standard deviations > 0 and a count of repeated measurements >= 1, got {sigmas} and {repeats}"
-                    );
-                }
-                Some(DispersionMeaning { sigmas, repeats })
-            }
-            _ => bail!(
-                "{src}: line {line}: columns dispersion_sigmas, repeats: expected both (what the dispersions are: how many standard deviations, over how many repeated measurements) or neither"
-            ),
-        };
+        let dispersion =
+            DispersionMeaning::of_row(maybe(c_sigmas)?, c_repeats.map(|c| &rec[c]), &src, line)?;
         let id = rec[cols[0]].trim().to_string();
         if id.is_empty() || out.iter().any(|c| c.id == id) {
             bail!("{src}: line {line}: column id: expected a unique, non-empty id, got '{id}'");
