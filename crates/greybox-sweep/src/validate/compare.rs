@@ -13,6 +13,10 @@
 //!   has e's standard error where the error is clear of zero; a cut that could not say is
 //!   given the median of the others', and the verdict counts them). This is the
 //!   **resolution**: a difference inside it cannot be told from the cuts' scatter;
+//! * the measured values' share, 1.96 √(Σ se_d,i²)/n with se_d,i = |sign(e_m)(1 + e_m) −
+//!   sign(e_b)(1 + e_b)| σ_m,i/m_i: both models are held against the same measured mean, so
+//!   its scatter nearly cancels where their errors share a sign and doubles where they do
+//!   not ([`super::goals`]). The verdict is taken on both intervals together;
 //! * the paired t-interval across the conditions, d̄ ± t(0.975; n − 1) s_d/√n: whether the
 //!   difference holds from condition to condition (it includes the scatter);
 //! * the cut length at which the resolution would be ±[`RESOLVE`]: the interval narrows as
@@ -34,6 +38,9 @@ pub struct PairedDifference {
     /// Half-width of its 95 % interval from the cuts' own scatter (`None`: a cut could not
     /// say how sure it is).
     pub ci95: Option<f64>,
+    /// Half-width of its 95 % interval from the measured values' own scatter (0 where the
+    /// data do not say what their dispersions are); the verdict uses both together.
+    pub measured_ci95: f64,
     /// Half-width of the paired t-interval across the conditions (`None`: one condition).
     pub across_conditions_ci95: Option<f64>,
     /// Conditions where the model's |error| is the smaller.
@@ -139,7 +146,18 @@ fn paired(pairs: &[(&Outcome, &Outcome)], k: usize) -> PairedDifference {
         .flat_map(|(m, b)| [m, b])
         .filter(|o| o.short_stretch)
         .count();
-    let mut verdict = verdict(mean, ci95);
+    // Both models are held against the same measured value m: a change δ of it moves
+    // |e_model| − |e_base| by −(sign(e_m)(1 + e_m) − sign(e_b)(1 + e_b)) δ/m, which is small
+    // where the errors share a sign and doubles where they do not.
+    let measured_se: Vec<f64> = pairs
+        .iter()
+        .filter_map(|(m, b)| {
+            let (sm, sb) = (m.measured_error_se[k]?, b.measured_error_se[k]?);
+            Some((error(m, k).signum() * sm - error(b, k).signum() * sb).abs())
+        })
+        .collect();
+    let measured_ci95 = mean_ci95(&measured_se, n);
+    let mut verdict = verdict(mean, ci95.map(|c| c.hypot(measured_ci95)));
     if short > 0 && ci95.is_some() {
         verdict += &format!(
             " ({short} of {} cuts averaged fewer contact renewals than asked: the scatter may be larger)",
@@ -155,6 +173,7 @@ fn paired(pairs: &[(&Outcome, &Outcome)], k: usize) -> PairedDifference {
     PairedDifference {
         mean,
         ci95,
+        measured_ci95,
         across_conditions_ci95: across,
         conditions_better: d.iter().filter(|x| **x < 0.0).count(),
         conditions: n,
@@ -204,6 +223,37 @@ pub fn feed_resolution_length_mm(outcomes: &[Outcome]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::validate::test_support::outcome;
+
+    /// The measured value is common to both models: its scatter nearly cancels in the
+    /// difference of two errors of one sign, and adds where the signs differ; the verdict
+    /// counts it.
+    #[test]
+    fn the_measured_values_scatter_counts_where_the_models_errors_differ_in_sign() {
+        // chip ratio errors +10 % and +6 %: se_d = |1.10 − 1.06| σ/m
+        let (m, b) = (
+            outcome(0.10, Some(0.001), Some(1.10 * 0.05)),
+            outcome(0.06, Some(0.001), Some(1.06 * 0.05)),
+        );
+        let same = paired(&[(&m, &b)], 2);
+        assert!((same.measured_ci95 - 1.96 * 0.04 * 0.05).abs() < 1e-12);
+        assert!(same.verdict.starts_with("worse by 4.0"), "{}", same.verdict);
+        // +3 % against −7 %: se_d = |1.03 + 0.93| σ/m, and the 4-point difference is lost in it
+        let (m, b) = (
+            outcome(0.03, Some(0.001), Some(1.03 * 0.05)),
+            outcome(-0.07, Some(0.001), Some(0.93 * 0.05)),
+        );
+        let opposite = paired(&[(&m, &b)], 2);
+        assert!((opposite.measured_ci95 - 1.96 * 1.96 * 0.05).abs() < 1e-12);
+        assert!((opposite.mean + 0.04).abs() < 1e-12);
+        assert!(
+            opposite.verdict.starts_with("no difference can be seen"),
+            "{}",
+            opposite.verdict
+        );
+        // the cuts' resolution is kept apart from it
+        assert!((opposite.ci95.unwrap() - 1.96 * 0.001 * 2f64.sqrt()).abs() < 1e-12);
+    }
 
     #[test]
     fn a_difference_inside_the_scatter_is_not_called() {

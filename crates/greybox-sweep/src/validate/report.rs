@@ -268,7 +268,7 @@ fn comparisons(v: &Validation) -> String {
     if v.comparisons.is_empty() {
         return String::new();
     }
-    let mut s = String::from("\nFriction models against the first one, paired on the held-out conditions: the mean of |error| − |baseline's error| (negative: closer to the measurements) with its 95 % interval from the cuts' scatter, the paired interval across the conditions, the conditions where the model is closer, and the cut length at which the scatter's interval would be ±3 points.\n\n| material | tool | friction | against | measure | difference | across conditions | closer in | verdict | cut length for ±3 points |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    let mut s = String::from("\nFriction models against the first one, paired on the held-out conditions: the mean of |error| − |baseline's error| (negative: closer to the measurements) with its 95 % interval from the cuts' scatter (the verdict adds the measured values' own), the paired interval across the conditions, the conditions where the model is closer, and the cut length at which the scatter's interval would be ±3 points.\n\n| material | tool | friction | against | measure | difference | across conditions | closer in | verdict | cut length for ±3 points |\n|---|---|---|---|---|---|---|---|---|---|\n");
     for c in &v.comparisons {
         let rows = [
             ("F'c", Some(&c.cutting_force)),
