@@ -91,7 +91,7 @@ impl Goals {
         let set: Vec<String> = MEASURES
             .iter()
             .zip(self.fractions())
-            .filter_map(|(m, g)| g.map(|g| format!("{m} ≤ {} %", 100.0 * g)))
+            .filter_map(|(m, g)| g.map(|g| format!("{m} ≤ {} %", percent(g))))
             .collect();
         if set.is_empty() {
             "none set".to_string()
@@ -99,6 +99,12 @@ impl Goals {
             set.join(", ")
         }
     }
+}
+
+/// A goal fraction as the percentage it was given as (to 0.01 %: 0.073 is "7.3", not
+/// "7.300000000000001").
+fn percent(fraction: f64) -> f64 {
+    (fraction * 1e4).round() / 100.0
 }
 
 /// What the evidence says of a goal.
@@ -228,7 +234,7 @@ pub fn describe(c: &GoalCheck) -> String {
         "{} {:.1}{pm} % against ≤ {} %: {}{note}",
         c.measure,
         100.0 * c.mean_abs,
-        100.0 * c.goal,
+        percent(c.goal),
         c.verdict
     )
 }
@@ -359,6 +365,12 @@ mod tests {
         let g: Goals = toml::from_str("chip_ratio_percent = 8.0").unwrap();
         assert_eq!(g.fractions(), [Some(0.15), Some(0.30), Some(0.08)]);
         assert_eq!(g.describe(), "F'c ≤ 15 %, F'f ≤ 30 %, chip ratio ≤ 8 %");
+        let odd: Goals =
+            toml::from_str("chip_ratio_percent = 7.3\nfeed_force_percent = 29.9").unwrap();
+        assert_eq!(
+            odd.describe(),
+            "F'c ≤ 15 %, F'f ≤ 29.9 %, chip ratio ≤ 7.3 %"
+        );
         let bad: Goals = toml::from_str("feed_force_percent = 0.0").unwrap();
         let e = bad.check("s.toml").unwrap_err().to_string();
         assert!(
