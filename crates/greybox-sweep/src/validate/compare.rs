@@ -104,13 +104,9 @@ pub fn compare(outcomes: &[Outcome]) -> Vec<Comparison> {
     out
 }
 
-/// The error of measure `k` (0 F'c, 1 F'f, 2 chip ratio) of an outcome.
+/// The error of measure `k` of an outcome (the pairs compared on the chip ratio all have one).
 fn error(o: &Outcome, k: usize) -> f64 {
-    match k {
-        0 => o.cutting_force_error,
-        1 => o.feed_force_error,
-        _ => o.chip_ratio_error.unwrap_or(f64::NAN),
-    }
+    o.error(k).unwrap_or(f64::NAN)
 }
 
 /// The paired difference of measure `k` over `pairs` (model, baseline).

@@ -56,27 +56,22 @@ pub const MEASURES: [&str; 3] = ["F'c", "F'f", "chip ratio"];
 impl Goals {
     /// The goals as fractions, per measure (`None`: not checked).
     pub fn fractions(&self) -> [Option<f64>; 3] {
+        self.fields().map(|(_, g)| g.map(|p| p / 100.0))
+    }
+
+    /// Each goal's field name in the suite file and its value, %, in the order of
+    /// [`MEASURES`].
+    fn fields(&self) -> [(&'static str, Option<f64>); 3] {
         [
-            self.cutting_force_percent,
-            self.feed_force_percent,
-            self.chip_ratio_percent,
+            ("cutting_force_percent", self.cutting_force_percent),
+            ("feed_force_percent", self.feed_force_percent),
+            ("chip_ratio_percent", self.chip_ratio_percent),
         ]
-        .map(|g| g.map(|p| p / 100.0))
     }
 
     /// Every goal is a percentage in (0, 100]: the file and field named otherwise.
     pub fn check(&self, source: &str) -> anyhow::Result<()> {
-        let names = [
-            "cutting_force_percent",
-            "feed_force_percent",
-            "chip_ratio_percent",
-        ];
-        let given = [
-            self.cutting_force_percent,
-            self.feed_force_percent,
-            self.chip_ratio_percent,
-        ];
-        for (name, g) in names.iter().zip(given) {
+        for (name, g) in self.fields() {
             if let Some(g) = g.filter(|g| !(*g > 0.0 && *g <= 100.0)) {
                 anyhow::bail!(
                     "{source}: [goals] {name}: expected a percentage in (0, 100], got {g}"
@@ -156,11 +151,6 @@ pub struct GoalCheck {
 
 /// The goals `goals` checked on the held-out outcomes `rows` of one friction model.
 pub fn check(rows: &[&Outcome], goals: &Goals) -> Vec<GoalCheck> {
-    let error = |o: &Outcome, k: usize| match k {
-        0 => Some(o.cutting_force_error),
-        1 => Some(o.feed_force_error),
-        _ => o.chip_ratio_error,
-    };
     MEASURES
         .iter()
         .zip(goals.fractions())
@@ -170,7 +160,7 @@ pub fn check(rows: &[&Outcome], goals: &Goals) -> Vec<GoalCheck> {
             let used: Vec<&Outcome> = rows
                 .iter()
                 .copied()
-                .filter(|o| error(o, k).is_some())
+                .filter(|o| o.error(k).is_some())
                 .collect();
             if used.is_empty() {
                 return None;
@@ -178,7 +168,7 @@ pub fn check(rows: &[&Outcome], goals: &Goals) -> Vec<GoalCheck> {
             let n = used.len();
             let mean_abs = used
                 .iter()
-                .filter_map(|o| error(o, k))
+                .filter_map(|o| o.error(k))
                 .map(f64::abs)
                 .sum::<f64>()
                 / n as f64;

@@ -263,6 +263,18 @@ pub struct Outcome {
     pub wall_s: f64,
 }
 
+impl Outcome {
+    /// The relative error of measure `k` in the order of `error_se` (0 F'c, 1 F'f, 2 chip
+    /// ratio; `None`: no chip ratio measured or simulated).
+    pub fn error(&self, k: usize) -> Option<f64> {
+        match k {
+            0 => Some(self.cutting_force_error),
+            1 => Some(self.feed_force_error),
+            _ => self.chip_ratio_error,
+        }
+    }
+}
+
 /// Mean errors of one material, tool model and friction model over one role.
 #[derive(Debug, Clone, Serialize)]
 pub struct ErrorSummary {
