@@ -7,7 +7,11 @@ cuts' scatter (each simulated value's stated interval, a value without one given
 of the others') and the measured means' scatter (the dispersion over its number of standard
 deviations and the square root of the repeats, carried into the error as (s/m) se_m/m), and
 the verdict against each goal: met when the interval lies at or below it, not met when it
-lies above, otherwise cannot tell.
+lies above, otherwise cannot tell. Then how each signed error moves with the cutting speed:
+the least-squares line of the signed error against ln v_c over the held-out conditions, its
+slope per doubling of v_c with the slope's 95 % t-interval (n − 2 degrees of freedom, the
+t quantile found here by integrating Student's density), and whether the interval lies on
+one side of zero.
 
     python3 scripts/goal_check_reference.py out/results.csv validation/orthogonal-cutting.csv \
         --goals 15 30 8
@@ -26,6 +30,38 @@ def measured_rows(path):
 
 def number(text):
     return float(text) if text not in ("", None) else None
+
+
+def t_quantile(p, dof):
+    """Student's t quantile by bisection on its CDF (the density integrated by Simpson's rule)."""
+    c = math.exp(math.lgamma((dof + 1) / 2) - math.lgamma(dof / 2)) / math.sqrt(dof * math.pi)
+
+    def cdf(x):
+        steps = 4000
+        h = x / steps
+        f = lambda t: c * (1 + t * t / dof) ** (-(dof + 1) / 2)
+        total = f(0) + f(x) + sum((4 if i % 2 else 2) * f(i * h) for i in range(1, steps))
+        return 0.5 + total * h / 3
+
+    lo, hi = 0.0, 100.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if cdf(mid) < p else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def speed_trend(points):
+    """(per doubling, half-width) of the signed error against ln v, or None."""
+    n = len(points)
+    if n < 3 or len({v for v, _ in points}) < 2:
+        return None
+    xs = [math.log(v) for v, _ in points]
+    es = [e for _, e in points]
+    slope, intercept = statistics.linear_regression(xs, es)
+    sxx = sum((x - statistics.fmean(xs)) ** 2 for x in xs)
+    ss = sum((e - intercept - slope * x) ** 2 for x, e in zip(xs, es))
+    half = t_quantile(0.975, n - 2) * math.sqrt(ss / (n - 2) / sxx) if n > 2 else None
+    return slope * math.log(2), half * math.log(2)
 
 
 def main():
@@ -71,6 +107,14 @@ def main():
             verdict = "met" if mean + half <= g else "not met" if mean - half > g else "cannot tell"
             print(f"  {name}: {100 * mean:.2f} ± {100 * half:.2f} % (cuts ± {100 * 1.96 * math.sqrt(cut_var) / n:.2f},"
                   f" measurements ± {100 * 1.96 * math.sqrt(meas_var) / n:.2f}) against ≤ {goal:g} %: {verdict}")
+            trend = speed_trend([(number(r["cutting_speed_m_per_min"]),
+                                  number(r[f"simulated_{key}{suffix}"]) / number(r[f"measured_{key}{suffix}"]) - 1.0)
+                                 for r in used])
+            if trend:
+                slope, half = trend
+                reading = ("rises with speed" if slope - half > 0 else
+                           "falls with speed" if slope + half < 0 else "no trend resolved")
+                print(f"    signed error {100 * slope:+.2f} ± {100 * half:.2f} points per doubling of v_c: {reading}")
 
 
 if __name__ == "__main__":

@@ -28,6 +28,7 @@ pub mod goals;
 pub mod report;
 #[cfg(test)]
 mod test_support;
+pub mod trend;
 pub mod variant;
 
 pub use conditions::{condition_setup, read_conditions, Condition};
@@ -313,6 +314,10 @@ pub struct ErrorSummary {
     /// all of them together (`None`: none checked).
     pub goals: Vec<goals::GoalCheck>,
     pub goal: Option<goals::Verdict>,
+    /// How each measure's signed error moves with the cutting speed over these conditions,
+    /// with its interval ([`trend`]; a measure left out where fewer than three conditions
+    /// or a single speed have it).
+    pub speed_trends: Vec<trend::SpeedTrend>,
     /// What the friction model cost in all (calibration and every condition): cuts run and
     /// their summed wall time, s.
     pub cuts: usize,
@@ -881,6 +886,7 @@ fn summarise(
         mean_mu_applied: of_some(mus, &|m| m),
         goals: checks.clone(),
         goal: goals::Verdict::all(checks.iter().map(|c| c.verdict)),
+        speed_trends: trend::trends(&rows),
         cuts: cal.cuts,
         cut_seconds: cal.cut_seconds,
     })

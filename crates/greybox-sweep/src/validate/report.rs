@@ -207,6 +207,7 @@ pub fn markdown(v: &Validation) -> String {
     }
     s += "\n";
     s += &comparisons(v);
+    s += &speed_trends(v);
     s += &where_models_differ(v);
     s += "\n| id | material | tool | friction | role | v_c m/min | h mm | F'c meas / sim N/mm | F'f meas / sim N/mm | h_c/h meas / sim | μ applied | p MPa (rake) | v_slide m/min (rake) | l_c mm | T_peak °C |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     let range = |r: Option<[f64; 2]>| r.map_or("—".into(), |[a, b]| format!("{a:.0}–{b:.0}"));
@@ -297,6 +298,52 @@ fn comparisons(v: &Validation) -> String {
         }
     }
     s
+}
+
+/// How each model's signed errors move with the cutting speed, per role ([`super::trend`]).
+fn speed_trends(v: &Validation) -> String {
+    let rows: Vec<String> = v
+        .summaries
+        .iter()
+        .filter(|e| !e.speed_trends.is_empty())
+        .map(|e| {
+            let cells: Vec<String> = e
+                .speed_trends
+                .iter()
+                .map(|t| {
+                    format!(
+                        "{:+.1}{} ({}; {} at the slowest, {} at the fastest)",
+                        100.0 * t.per_doubling,
+                        plus_minus(t.per_doubling_ci95.map(|h| 100.0 * h), 1),
+                        t.reading,
+                        pct(t.at_slowest),
+                        pct(t.at_fastest)
+                    )
+                })
+                .collect();
+            let cell_of = |m: &str| {
+                e.speed_trends
+                    .iter()
+                    .position(|t| t.measure == m)
+                    .map_or("—".to_string(), |i| cells[i].clone())
+            };
+            format!(
+                "| {} | {} | {} | {} {} | {} | {} | {} |\n",
+                cell(&e.material),
+                e.tool.name(),
+                cell(&e.friction),
+                e.conditions,
+                e.role,
+                cell_of("F'c"),
+                cell_of("F'f"),
+                cell_of("chip ratio")
+            )
+        })
+        .collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    format!("\nHow the signed errors move with the cutting speed: the least-squares line of each error against ln v_c, as the change per doubling of v_c in points with its 95 % interval from the scatter about the line (rises or falls: the whole interval on one side of zero; otherwise no trend resolved), and the line's error at the slowest and the fastest speed. Zero: the simulated value follows the measured one's speed dependence.\n\n| material | tool | friction | conditions | F'c per doubling of v_c | F'f per doubling | chip ratio per doubling |\n|---|---|---|---|---|---|---|\n{}", rows.concat())
 }
 
 /// Simulated against measured F'c and F'f, held-out conditions, one colour per material
