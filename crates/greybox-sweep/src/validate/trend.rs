@@ -243,6 +243,7 @@ mod tests {
         }
         let coverage = covered as f64 / trials as f64;
         let specificity = flat_read_flat as f64 / flat as f64;
+        eprintln!("coverage {coverage:.3}, a flat truth read flat {specificity:.3}");
         assert!((0.93..=0.97).contains(&coverage), "coverage {coverage}");
         assert!(
             (0.93..=0.97).contains(&specificity),
