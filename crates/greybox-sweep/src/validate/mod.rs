@@ -1141,6 +1141,35 @@ mod tests {
         (suite_path, suite, conditions, o)
     }
 
+    /// Every suite shipped in validation/ plans without a cut: its goals, data, set-up
+    /// templates (with each entry's `set`) and friction models all read, as `bench validate`
+    /// reads them before its first cut, and every entry has held-out conditions.
+    #[test]
+    fn every_bundled_suite_plans() {
+        let (_, _, _, o) = friction_sure_suite();
+        let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation");
+        let mut suites: Vec<PathBuf> = std::fs::read_dir(&repo)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| {
+                let name = p.file_name().unwrap().to_string_lossy();
+                name.starts_with("suite") && name.ends_with(".toml")
+            })
+            .collect();
+        suites.sort();
+        assert!(suites.len() >= 10, "{suites:?}");
+        for path in &suites {
+            let suite = Suite::read(path).unwrap();
+            suite.goals.check(&path.display().to_string()).unwrap();
+            let conditions = read_conditions(&repo.join(&suite.data)).unwrap();
+            for runs in &suite.material {
+                let plan = material_plan(runs, &conditions, &suite, path, &o)
+                    .unwrap_or_else(|e| panic!("{}: {e:#}", path.display()));
+                assert!(!plan.held_out.is_empty() && !plan.models.is_empty());
+            }
+        }
+    }
+
     /// A suite entry's `cut_length_m` replaces the template's before the run's fraction;
     /// a length that is not positive is refused, naming the entry.
     #[test]
