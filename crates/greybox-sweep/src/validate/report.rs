@@ -307,36 +307,23 @@ fn speed_trends(v: &Validation) -> String {
         .iter()
         .filter(|e| !e.speed_trends.is_empty())
         .map(|e| {
-            let cells: Vec<String> = e
-                .speed_trends
+            let cells: Vec<String> = super::goals::MEASURES
                 .iter()
-                .map(|t| {
-                    format!(
-                        "{:+.1}{} ({}; {} at the slowest, {} at the fastest)",
-                        100.0 * t.per_doubling,
-                        plus_minus(t.per_doubling_ci95.map(|h| 100.0 * h), 1),
-                        t.reading,
-                        pct(t.at_slowest),
-                        pct(t.at_fastest)
-                    )
+                .map(|m| {
+                    e.speed_trends
+                        .iter()
+                        .find(|t| t.measure == *m)
+                        .map_or("—".to_string(), super::trend::describe)
                 })
                 .collect();
-            let cell_of = |m: &str| {
-                e.speed_trends
-                    .iter()
-                    .position(|t| t.measure == m)
-                    .map_or("—".to_string(), |i| cells[i].clone())
-            };
             format!(
-                "| {} | {} | {} | {} {} | {} | {} | {} |\n",
+                "| {} | {} | {} | {} {} | {} |\n",
                 cell(&e.material),
                 e.tool.name(),
                 cell(&e.friction),
                 e.conditions,
                 e.role,
-                cell_of("F'c"),
-                cell_of("F'f"),
-                cell_of("chip ratio")
+                cells.join(" | ")
             )
         })
         .collect();
@@ -346,8 +333,6 @@ fn speed_trends(v: &Validation) -> String {
     format!("\nHow the signed errors move with the cutting speed: the least-squares line of each error against ln v_c, as the change per doubling of v_c in points with its 95 % interval from the scatter about the line (rises or falls: the whole interval on one side of zero; otherwise no trend resolved), and the line's error at the slowest and the fastest speed. Zero: the simulated value follows the measured one's speed dependence.\n\n| material | tool | friction | conditions | F'c per doubling of v_c | F'f per doubling | chip ratio per doubling |\n|---|---|---|---|---|---|---|\n{}", rows.concat())
 }
 
-/// Simulated against measured F'c and F'f, held-out conditions, one colour per material
-/// entry, tool model and force.
 /// The held-out errors grouped by cutting speed and by uncut chip thickness, per material
 /// and tool model, one column per friction model (mean signed F'c / F'f error of the
 /// group): where the models differ.
@@ -402,6 +387,8 @@ fn where_models_differ(v: &Validation) -> String {
     s
 }
 
+/// Simulated against measured F'c and F'f, held-out conditions, one colour per material
+/// entry, tool model and force.
 fn force_plot(v: &Validation) -> String {
     let labels = distinct(
         v.outcomes

@@ -130,15 +130,17 @@ pub fn trends(rows: &[&Outcome]) -> Vec<SpeedTrend> {
         .collect()
 }
 
-/// "chip ratio +4.1 ± 2.0 points per doubling of v_c (rises with speed)" for a table cell.
+/// "+4.1 ± 2.0 (rises with speed; −9.0 % at the slowest, +3.1 % at the fastest)": a trend
+/// for a table cell, in points per doubling of v_c.
 pub fn describe(t: &SpeedTrend) -> String {
     format!(
-        "{} {:+.1}{} points per doubling ({})",
-        t.measure,
+        "{:+.1}{} ({}; {:+.1} % at the slowest, {:+.1} % at the fastest)",
         100.0 * t.per_doubling,
         t.per_doubling_ci95
             .map_or(String::new(), |h| format!(" ± {:.1}", 100.0 * h)),
-        t.reading
+        t.reading,
+        100.0 * t.at_slowest,
+        100.0 * t.at_fastest
     )
 }
 
@@ -269,6 +271,10 @@ mod tests {
         assert_eq!(t[0].measure, "F'c");
         assert_eq!(t[0].reading, TrendReading::Falls);
         assert_eq!(t[1].reading, TrendReading::Rises);
-        assert!(describe(&t[1]).starts_with("F'f +"), "{}", describe(&t[1]));
+        let cell = describe(&t[1]);
+        assert!(
+            cell.starts_with('+') && cell.contains("(rises with speed; "),
+            "{cell}"
+        );
     }
 }
