@@ -46,10 +46,9 @@ pub struct SpeedTrend {
     pub conditions: usize,
     pub speeds: usize,
     /// Change of the signed relative error per doubling of the cutting speed (fraction) and
-    /// the half-width of its 95 % interval (`None`: exactly as many conditions as the line
-    /// has parameters, so no scatter is left to judge it by).
+    /// the half-width of its 95 % interval.
     pub per_doubling: f64,
-    pub per_doubling_ci95: Option<f64>,
+    pub per_doubling_ci95: f64,
     /// The line's signed error at the slowest and the fastest speed (fractions).
     pub at_slowest: f64,
     pub at_fastest: f64,
@@ -85,16 +84,17 @@ pub fn fit(measure: &str, points: &[(f64, f64)]) -> Option<SpeedTrend> {
         .zip(points)
         .map(|(v, p)| (p.1 - e_mean - slope * (v - x_mean)).powi(2))
         .sum();
-    let dof = n - 2;
-    let ci95 = (dof > 0).then(|| {
-        let s = (residual_ss / dof as f64).sqrt();
-        t_factor(LEVEL, dof as f64) * s / sxx.sqrt() * std::f64::consts::LN_2
-    });
+    // n ≥ 3: at least one degree of freedom is left for the scatter about the line
+    let dof = (n - 2) as f64;
+    let ci95 =
+        t_factor(LEVEL, dof) * (residual_ss / dof).sqrt() / sxx.sqrt() * std::f64::consts::LN_2;
     let per_doubling = slope * std::f64::consts::LN_2;
-    let reading = match ci95 {
-        Some(h) if per_doubling - h > 0.0 => TrendReading::Rises,
-        Some(h) if per_doubling + h < 0.0 => TrendReading::Falls,
-        _ => TrendReading::NoneResolved,
+    let reading = if per_doubling - ci95 > 0.0 {
+        TrendReading::Rises
+    } else if per_doubling + ci95 < 0.0 {
+        TrendReading::Falls
+    } else {
+        TrendReading::NoneResolved
     };
     let at = |v: f64| e_mean + slope * (v - x_mean);
     let (lo, hi) = x
@@ -134,10 +134,9 @@ pub fn trends(rows: &[&Outcome]) -> Vec<SpeedTrend> {
 /// for a table cell, in points per doubling of v_c.
 pub fn describe(t: &SpeedTrend) -> String {
     format!(
-        "{:+.1}{} ({}; {:+.1} % at the slowest, {:+.1} % at the fastest)",
+        "{:+.1} ± {:.1} ({}; {:+.1} % at the slowest, {:+.1} % at the fastest)",
         100.0 * t.per_doubling,
-        t.per_doubling_ci95
-            .map_or(String::new(), |h| format!(" ± {:.1}", 100.0 * h)),
+        100.0 * t.per_doubling_ci95,
         t.reading,
         100.0 * t.at_slowest,
         100.0 * t.at_fastest
@@ -160,7 +159,7 @@ mod tests {
             .collect();
         let t = fit("F'c", &pts).unwrap();
         assert!((t.per_doubling - 0.05 * 2f64.ln()).abs() < 1e-12);
-        assert!(t.per_doubling_ci95.unwrap() < 1e-9);
+        assert!(t.per_doubling_ci95 < 1e-9);
         assert_eq!(t.reading, TrendReading::Rises);
         assert!((t.at_slowest - (0.02 + 0.05 * 0.5f64.ln())).abs() < 1e-12);
         assert!((t.at_fastest - (0.02 + 0.05 * 4f64.ln())).abs() < 1e-12);
@@ -194,7 +193,7 @@ mod tests {
         // fitted 0.16 + 0.08 u: residuals 0, 0.02, −0.06, 0.06, −0.02 → SS 0.008, s² 0.008/3
         let s = (0.008f64 / 3.0).sqrt();
         let t3 = 3.182_446_305_284_263; // t(0.975; 3)
-        assert!((t.per_doubling_ci95.unwrap() - t3 * s / 10f64.sqrt()).abs() < 1e-9);
+        assert!((t.per_doubling_ci95 - t3 * s / 10f64.sqrt()).abs() < 1e-9);
         assert_eq!(t.reading, TrendReading::Rises);
     }
 
@@ -232,7 +231,7 @@ mod tests {
             let Some(t) = fit("chip ratio", &pts) else {
                 continue;
             };
-            let h = t.per_doubling_ci95.unwrap();
+            let h = t.per_doubling_ci95;
             if (t.per_doubling - true_slope * 2f64.ln()).abs() <= h {
                 covered += 1;
             }
