@@ -60,7 +60,7 @@ def speed_trend(points):
     slope, intercept = statistics.linear_regression(xs, es)
     sxx = sum((x - statistics.fmean(xs)) ** 2 for x in xs)
     ss = sum((e - intercept - slope * x) ** 2 for x, e in zip(xs, es))
-    half = t_quantile(0.975, n - 2) * math.sqrt(ss / (n - 2) / sxx) if n > 2 else None
+    half = t_quantile(0.975, n - 2) * math.sqrt(ss / (n - 2) / sxx)
     return slope * math.log(2), half * math.log(2)
 
 

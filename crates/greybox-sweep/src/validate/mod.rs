@@ -498,15 +498,9 @@ fn run_suite(
     cuts: Option<&Path>,
 ) -> Result<Validation> {
     check_options(o)?;
-    suite.goals.check(&suite_path.display().to_string())?;
     let base = suite_path.parent().unwrap_or(Path::new("."));
     let conditions = read_conditions(&base.join(&suite.data))?;
-    check_only(o, &conditions, &suite.data)?;
-    let plans = suite
-        .material
-        .iter()
-        .map(|runs| material_plan(runs, &conditions, suite, suite_path, o))
-        .collect::<Result<Vec<_>>>()?;
+    let plans = plan_suite(suite, suite_path, o, &conditions)?;
     let tools = distinct(o.tools.iter().copied());
     let groups: Vec<(&Plan, ToolModel)> = plans
         .iter()
@@ -549,6 +543,23 @@ fn run_suite(
         fraction: o.fraction,
         goals: suite.goals.clone(),
     })
+}
+
+/// Everything a suite's run reads and checks before its first cut: its goals, the `--only`
+/// ids and each material's plan (template with its `set`, friction models, conditions).
+fn plan_suite<'a>(
+    suite: &'a Suite,
+    suite_path: &Path,
+    o: &ValidateOptions,
+    conditions: &'a [Condition],
+) -> Result<Vec<Plan<'a>>> {
+    suite.goals.check(&suite_path.display().to_string())?;
+    check_only(o, conditions, &suite.data)?;
+    suite
+        .material
+        .iter()
+        .map(|runs| material_plan(runs, conditions, suite, suite_path, o))
+        .collect()
 }
 
 /// Per arm, shape and factor of `at(arm, shape)`, the calibration conditions' F'f errors:
@@ -1160,11 +1171,10 @@ mod tests {
         assert!(suites.len() >= 10, "{suites:?}");
         for path in &suites {
             let suite = Suite::read(path).unwrap();
-            suite.goals.check(&path.display().to_string()).unwrap();
             let conditions = read_conditions(&repo.join(&suite.data)).unwrap();
-            for runs in &suite.material {
-                let plan = material_plan(runs, &conditions, &suite, path, &o)
-                    .unwrap_or_else(|e| panic!("{}: {e:#}", path.display()));
+            let plans = plan_suite(&suite, path, &o, &conditions)
+                .unwrap_or_else(|e| panic!("{}: {e:#}", path.display()));
+            for plan in &plans {
                 assert!(!plan.held_out.is_empty() && !plan.models.is_empty());
             }
         }

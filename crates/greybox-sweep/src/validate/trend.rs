@@ -56,7 +56,7 @@ pub struct SpeedTrend {
 }
 
 /// The least-squares line e = α + β ln(v/v̄) through `(v, e)` pairs: the trend or `None`
-/// (fewer than three pairs, or one speed).
+/// (fewer than three pairs, one speed, or a speed or error that is not a finite number).
 pub fn fit(measure: &str, points: &[(f64, f64)]) -> Option<SpeedTrend> {
     let n = points.len();
     let x: Vec<f64> = points.iter().map(|(v, _)| v.ln()).collect();
@@ -66,7 +66,11 @@ pub fn fit(measure: &str, points: &[(f64, f64)]) -> Option<SpeedTrend> {
         s.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * b.abs().max(1.0));
         s.len()
     };
-    if n < 3 || speeds < 2 || x.iter().any(|v| !v.is_finite()) {
+    let finite = x
+        .iter()
+        .chain(points.iter().map(|p| &p.1))
+        .all(|v| v.is_finite());
+    if n < 3 || speeds < 2 || !finite {
         return None;
     }
     let nf = n as f64;
@@ -172,6 +176,9 @@ mod tests {
         assert!(fit("F'c", &[(5.0, 0.1), (5.0, 0.2), (5.0, -0.1)]).is_none());
         let t = fit("F'c", &[(5.0, 0.1), (5.0, 0.2), (10.0, -0.1)]).unwrap();
         assert_eq!(t.speeds, 2);
+        // a cut that gave no number makes no trend, not a NaN one
+        assert!(fit("F'c", &[(5.0, 0.1), (10.0, f64::NAN), (20.0, -0.1)]).is_none());
+        assert!(fit("F'c", &[(0.0, 0.1), (10.0, 0.2), (20.0, -0.1)]).is_none());
     }
 
     /// Against an independent reference: the textbook slope interval, here from a
